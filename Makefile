@@ -1,0 +1,30 @@
+# Thin wrapper over CMake. `make demo` and `make test` install what is
+# missing (Debian packages, via .ci/deps), configure build/, build and run.
+BUILD ?= build
+CMAKE_FLAGS ?=
+JOBS ?= $(shell nproc 2>/dev/null || echo 2)
+
+.PHONY: all deps configure build demo test bench clean
+
+all: build
+
+deps:
+	@bash .ci/deps
+
+configure: deps
+	cmake -S . -B $(BUILD) -DGEOM_WERROR=ON $(CMAKE_FLAGS)
+
+build: configure
+	cmake --build $(BUILD) -j $(JOBS)
+
+demo: build
+	@bash tools/demo.sh $(BUILD)
+
+test: build
+	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)
+
+bench: build
+	cmake --build $(BUILD) --target bench
+
+clean:
+	rm -rf $(BUILD)

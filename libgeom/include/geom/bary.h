@@ -1,0 +1,103 @@
+/*
+ * libgeom bary: barycentric and generalized barycentric coordinates, and
+ * attribute interpolation (including perspective-correct interpolation).
+ *
+ * Robustness contract for the simplex functions (triangle 2D/3D, tetrahedron):
+ *  - every coordinate is the ratio of two determinants, each evaluated
+ *    exactly (expansion arithmetic) and rounded once, so each coordinate has a
+ *    relative error of at most ~3 ulp of its own magnitude, whatever the
+ *    triangle's shape or the coordinates' offset from the origin;
+ *  - signs are exact: a point exactly on an edge (face) gets exactly 0 for the
+ *    opposite coordinate, a point exactly at a vertex gets exactly (1, 0, 0);
+ *  - the coordinates are not renormalised to sum to 1; their sum is 1 within
+ *    a few ulp of the largest coordinate;
+ *  - a zero-area triangle (zero-volume tetrahedron) returns
+ *    GEOM_ERR_DEGENERATE and zero coordinates, never NaN; NaN/Inf input
+ *    returns GEOM_ERR_INVALID_ARG and zero coordinates.
+ * A fast path with a floating-point error filter answers the well-conditioned
+ * cases; the exact path is taken only when the filter cannot certify ~1e-12
+ * relative accuracy.
+ */
+#ifndef GEOM_BARY_H
+#define GEOM_BARY_H
+
+#include "geom/core.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/**
+ * Barycentric coordinates of p with respect to the 2D triangle (a, b, c):
+ * p = l[0] a + l[1] b + l[2] c with l summing to 1. Each point is 2 doubles;
+ * l receives 3 doubles. Either orientation of the triangle is accepted.
+ * Returns GEOM_OK, GEOM_ERR_DEGENERATE (collinear vertices) or
+ * GEOM_ERR_INVALID_ARG (NULL pointer or non-finite input).
+ */
+geom_status geom_bary_tri2(const double a[2], const double b[2], const double c[2],
+                           const double p[2], double l[3]);
+
+/**
+ * Barycentric coordinates of the orthogonal projection of p onto the plane of
+ * the 3D triangle (a, b, c); each point is 3 doubles, l receives 3 doubles.
+ * l[i] = (n . n_i) / (n . n) with n = (b-a)x(c-a) and n_i the normal of the
+ * sub-triangle opposite vertex i, with numerator and denominator evaluated
+ * exactly. Same statuses and guarantees as geom_bary_tri2.
+ */
+geom_status geom_bary_tri3(const double a[3], const double b[3], const double c[3],
+                           const double p[3], double l[3]);
+
+/**
+ * Barycentric coordinates of p in the tetrahedron (a, b, c, d); l receives 4
+ * doubles. GEOM_ERR_DEGENERATE for a coplanar tetrahedron.
+ */
+geom_status geom_bary_tet(const double a[3], const double b[3], const double c[3],
+                          const double d[3], const double p[3], double l[4]);
+
+/**
+ * Mean value coordinates (Floater 2003; the formulation of Hormann and Floater
+ * 2006, valid for arbitrary simple polygons, convex or not) of p with respect
+ * to the polygon with n >= 3 vertices `poly` (2*n doubles, x0 y0 x1 y1 ...,
+ * either orientation). w receives n doubles summing to 1 that reproduce p
+ * (linear precision). Points exactly on an edge get the edge's linear
+ * interpolation weights (others exactly 0); a vertex gets exactly 1 there.
+ * Defined everywhere in the plane; accuracy ~1e-13 relative away from the
+ * boundary. GEOM_ERR_DEGENERATE if the polygon has a zero-length edge or zero
+ * area; GEOM_ERR_INVALID_ARG for n < 3, NULL or non-finite input.
+ */
+geom_status geom_bary_mean_value(size_t n, const double *poly, const double p[2], double *w);
+
+/**
+ * Wachspress coordinates (Wachspress 1975; Meyer et al. 2002) of p inside the
+ * strictly convex polygon `poly` (2*n doubles, either orientation); w receives
+ * n doubles. Boundary points are handled exactly as in
+ * geom_bary_mean_value. GEOM_ERR_DOMAIN if the polygon is not convex or p lies
+ * outside it (w set to 0); GEOM_ERR_DEGENERATE for collinear consecutive
+ * vertices.
+ */
+geom_status geom_bary_wachspress(size_t n, const double *poly, const double p[2], double *w);
+
+/**
+ * Interpolate k vertex attributes: out[j] = sum_i l[i] * attr[i*ncomp + j] for
+ * j < ncomp, with k weights l (k doubles) and attr holding k*ncomp doubles.
+ * GEOM_ERR_INVALID_ARG for NULL pointers or k == 0.
+ */
+geom_status geom_bary_interpolate(size_t k, const double *l, size_t ncomp, const double *attr,
+                                  double *out);
+
+/**
+ * Perspective-correct weights: given screen-space barycentric coordinates l
+ * (3 doubles) of a fragment and the clip-space w of the triangle's vertices
+ * (3 doubles, all non-zero and of the same sign for a triangle in front of the
+ * camera), compute the weights lp (3 doubles) with which attributes are
+ * interpolated: lp[i] = (l[i]/w[i]) / sum_j (l[j]/w[j]), i.e. interpolating
+ * a/w and 1/w linearly in screen space. GEOM_ERR_DEGENERATE if a w is zero or
+ * the sum vanishes; GEOM_ERR_INVALID_ARG for non-finite input.
+ */
+geom_status geom_bary_perspective(const double l[3], const double w[3], double lp[3]);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* GEOM_BARY_H */

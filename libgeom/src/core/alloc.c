@@ -1,0 +1,53 @@
+/* Allocation through the optional geom_allocator. */
+#include "core/internal.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+void *geom_alloc(const geom_allocator *a, size_t size)
+{
+    if (size == 0)
+        size = 1;
+    if (a && a->alloc_fn)
+        return a->alloc_fn(a->user, size);
+    return malloc(size);
+}
+
+void *geom_realloc(const geom_allocator *a, void *ptr, size_t old_size, size_t new_size)
+{
+    if (new_size == 0)
+        new_size = 1;
+    if (!a || !a->alloc_fn)
+        return realloc(ptr, new_size);
+    if (a->realloc_fn)
+        return a->realloc_fn(a->user, ptr, old_size, new_size);
+    void *q = a->alloc_fn(a->user, new_size);
+    if (!q)
+        return NULL;
+    if (ptr) {
+        memcpy(q, ptr, old_size < new_size ? old_size : new_size);
+        if (a->free_fn)
+            a->free_fn(a->user, ptr, old_size);
+    }
+    return q;
+}
+
+void geom_free(const geom_allocator *a, void *ptr, size_t size)
+{
+    if (!ptr)
+        return;
+    if (a && a->alloc_fn) {
+        if (a->free_fn)
+            a->free_fn(a->user, ptr, size);
+        return;
+    }
+    free(ptr);
+}
+
+geom_status geom_size_mul(size_t n, size_t size, size_t *out)
+{
+    if (size && n > SIZE_MAX / size)
+        return GEOM_ERR_LIMIT;
+    *out = n * size;
+    return GEOM_OK;
+}
