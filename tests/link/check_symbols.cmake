@@ -1,3 +1,4 @@
+cmake_policy(SET CMP0057 NEW)
 # Fails if EXE defines a geom_<module>_ symbol of a module not in ALLOWED.
 # Every public function is named geom_<module>_<verb>, except the core's
 # geom_vecN_/geom_matN_/geom_aabb_/geom_ray_/geom_orient/... which count as core.

@@ -3,20 +3,25 @@
  * attribute interpolation (including perspective-correct interpolation).
  *
  * Robustness contract for the simplex functions (triangle 2D/3D, tetrahedron):
- *  - every coordinate is the ratio of two determinants, each evaluated
- *    exactly (expansion arithmetic) and rounded once, so each coordinate has a
- *    relative error of at most ~3 ulp of its own magnitude, whatever the
- *    triangle's shape or the coordinates' offset from the origin;
+ *  - every coordinate is the ratio of two determinants. A fast path evaluates
+ *    them in floating point with a rigorous error bound and accepts a value
+ *    only when its relative error is certified to be at most 2^-42; the
+ *    determinants it cannot certify are evaluated exactly (expansion
+ *    arithmetic) and rounded once. So each coordinate has a relative error of
+ *    at most 2^-41 + 2^-53 (about 4.6e-13) of its own magnitude, and a few
+ *    ulp where the exact path was taken, whatever the triangle's shape or the
+ *    coordinates' offset from the origin;
  *  - signs are exact: a point exactly on an edge (face) gets exactly 0 for the
  *    opposite coordinate, a point exactly at a vertex gets exactly (1, 0, 0);
+ *    a nonzero coordinate too small for a double is +-DBL_TRUE_MIN, one too
+ *    large (a point extremely far from a tiny triangle) is +-Inf;
  *  - the coordinates are not renormalised to sum to 1; their sum is 1 within
- *    a few ulp of the largest coordinate;
+ *    about 1e-12 of the largest coordinate (a few ulp on the exact path);
  *  - a zero-area triangle (zero-volume tetrahedron) returns
  *    GEOM_ERR_DEGENERATE and zero coordinates, never NaN; NaN/Inf input
  *    returns GEOM_ERR_INVALID_ARG and zero coordinates.
- * A fast path with a floating-point error filter answers the well-conditioned
- * cases; the exact path is taken only when the filter cannot certify ~1e-12
- * relative accuracy.
+ * The fast path answers the well-conditioned cases (points not too close to
+ * an edge of a not too thin simplex); the rest takes the exact path.
  */
 #ifndef GEOM_BARY_H
 #define GEOM_BARY_H
@@ -41,8 +46,9 @@ geom_status geom_bary_tri2(const double a[2], const double b[2], const double c[
  * Barycentric coordinates of the orthogonal projection of p onto the plane of
  * the 3D triangle (a, b, c); each point is 3 doubles, l receives 3 doubles.
  * l[i] = (n . n_i) / (n . n) with n = (b-a)x(c-a) and n_i the normal of the
- * sub-triangle opposite vertex i, with numerator and denominator evaluated
- * exactly. Same statuses and guarantees as geom_bary_tri2.
+ * sub-triangle opposite vertex i, with numerator and denominator (degree-4
+ * polynomials in the input) certified or evaluated exactly as above. Same
+ * statuses and guarantees as geom_bary_tri2.
  */
 geom_status geom_bary_tri3(const double a[3], const double b[3], const double c[3],
                            const double p[3], double l[3]);
@@ -63,7 +69,8 @@ geom_status geom_bary_tet(const double a[3], const double b[3], const double c[3
  * interpolation weights (others exactly 0); a vertex gets exactly 1 there.
  * Defined everywhere in the plane; accuracy ~1e-13 relative away from the
  * boundary. GEOM_ERR_DEGENERATE if the polygon has a zero-length edge or zero
- * area; GEOM_ERR_INVALID_ARG for n < 3, NULL or non-finite input.
+ * area (all vertices collinear), or, for a self-intersecting polygon, if the
+ * weights cancel; GEOM_ERR_INVALID_ARG for n < 3, NULL or non-finite input.
  */
 geom_status geom_bary_mean_value(size_t n, const double *poly, const double p[2], double *w);
 

@@ -249,7 +249,14 @@ double geom_incircle(const double a[2], const double b[2], const double c[2],
 /**
  * Exact determinant-style helpers used by the barycentric module: the value
  * of orient2d / orient3d rounded to the nearest double (relative error
- * <= 2^-52), at higher cost than the sign-only predicates.
+ * <= 2^-52), at higher cost than the sign-only predicates. The sign is always
+ * exact: a value beyond the double range gives +-Inf, a nonzero value below
+ * the smallest subnormal gives +-DBL_TRUE_MIN (never 0), and values in the
+ * subnormal range are rounded to it. NaN if any input is NaN/Inf.
+ *
+ * For all the predicates above, when the floating-point filter cannot
+ * certify the sign, the returned magnitude is this exactly rounded value
+ * (with the same range rules), so a nonzero determinant never returns 0.
  */
 double geom_orient2d_exact(const double a[2], const double b[2], const double c[2]);
 double geom_orient3d_exact(const double a[3], const double b[3], const double c[3],

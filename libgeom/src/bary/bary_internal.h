@@ -1,0 +1,148 @@
+/* Private helpers shared by the barycentric sources. Not installed. */
+#ifndef GEOM_SRC_BARY_INTERNAL_H
+#define GEOM_SRC_BARY_INTERNAL_H
+
+#include "core/expansion.h"
+#include "core/internal.h"
+#include "geom/bary.h"
+
+#include <string.h>
+
+/* Shewchuk's stage-A relative error bounds (eps = 2^-53). */
+#define GEOM_BARY_EPS 0x1p-53
+#define GEOM_BARY_CCW_A ((3.0 + 16.0 * GEOM_BARY_EPS) * GEOM_BARY_EPS)
+#define GEOM_BARY_O3D_A ((7.0 + 56.0 * GEOM_BARY_EPS) * GEOM_BARY_EPS)
+/* Absolute allowance for underflowed products (see predicates.c); normal,
+ * since subnormal operands are slow. */
+#define GEOM_BARY_TINY 0x1p-960
+/* Filter sums at or above this go to the exact path (no overflow). */
+#define GEOM_BARY_BIG 0x1p1000
+
+/*
+ * The fast paths accept a floating-point determinant only when its certified
+ * relative error is at most 2^-42 (about 2.3e-13): |det| >= A * 2^42 * sum,
+ * where A * sum bounds the absolute error. A coordinate (ratio of two such
+ * values, then rounded) is then within 2^-41 + 2^-53 (about 4.6e-13) of its
+ * exact value, relatively. The polygon coordinates use 2^-46.
+ */
+#define GEOM_BARY_REL 0x1p42
+#define GEOM_BARY_REL_POLY 0x1p46
+
+/* x1*y2 - y1*x2 with a certified relative error (1), or not certified (0).
+ * An exactly zero value (both products with a zero factor) is certified. */
+static inline int geom_bary_det2(double x1, double y2, double y1, double x2, double rel,
+                                 double *out)
+{
+    double t1 = x1 * y2, t2 = y1 * x2;
+    double det = t1 - t2;
+    double sum = fabs(t1) + fabs(t2);
+    *out = det;
+    if (fabs(det) >= (GEOM_BARY_CCW_A * rel) * sum + GEOM_BARY_TINY && sum < GEOM_BARY_BIG)
+        return 1;
+    if (sum == 0.0 && (x1 == 0.0 || y2 == 0.0) && (y1 == 0.0 || x2 == 0.0)) {
+        *out = 0.0;
+        return 1;
+    }
+    return 0;
+}
+
+/* orient2d(a, b, c) = (a-c) x (b-c) as an xval with relative error at most
+ * 2^-46 and the exact sign (exact value when the filter cannot certify). */
+static inline geom_xval geom_bary_orient2d_acc(const double a[2], const double b[2],
+                                               const double c[2])
+{
+    double det;
+    if (geom_bary_det2(a[0] - c[0], b[1] - c[1], a[1] - c[1], b[0] - c[0], GEOM_BARY_REL_POLY,
+                       &det))
+        return geom_xval_from_double(det);
+    return geom_core_xeval_orient2d(a, b, c);
+}
+
+/* n doubles of v all finite? */
+static inline int geom_bary_finite(const double *v, size_t n)
+{
+    for (size_t i = 0; i < n; i++)
+        if (!isfinite(v[i]))
+            return 0;
+    return 1;
+}
+
+static inline void geom_bary_zero(double *w, size_t n)
+{
+    if (w)
+        for (size_t i = 0; i < n; i++)
+            w[i] = 0.0;
+}
+
+/* Is p (collinear with a and b, a != b) strictly between a and b? Exact. */
+static inline int geom_bary_between(const double a[2], const double b[2], const double p[2])
+{
+    if (a[0] != b[0])
+        return (a[0] < p[0] && p[0] < b[0]) || (b[0] < p[0] && p[0] < a[0]);
+    return (a[1] < p[1] && p[1] < b[1]) || (b[1] < p[1] && p[1] < a[1]);
+}
+
+/* Linear-interpolation weights of p strictly inside the segment (a, b):
+ * *wa = |b-p| / |b-a|, *wb = |p-a| / |b-a|, computed along the axis of the
+ * larger extent (each within a few ulp). */
+static inline void geom_bary_edge_weights(const double a[2], const double b[2], const double p[2],
+                                          double *wa, double *wb)
+{
+    int k = fabs(b[0] - a[0]) >= fabs(b[1] - a[1]) ? 0 : 1;
+    double s = 1.0;
+    double len = b[k] - a[k];
+    if (!isfinite(len) || !isfinite(fabs(b[1 - k] - a[1 - k]))) {
+        /* Coordinates near DBL_MAX: halve everything (exact at this size). */
+        s = 0.25;
+        k = fabs(b[0] * s - a[0] * s) >= fabs(b[1] * s - a[1] * s) ? 0 : 1;
+        len = b[k] * s - a[k] * s;
+    }
+    *wa = (b[k] * s - p[k] * s) / len;
+    *wb = (p[k] * s - a[k] * s) / len;
+}
+
+/* Power-of-two scaling of polygon coordinates: x -> (x * f[0]) * f[1]. */
+typedef struct geom_bary_scale {
+    double f[2];
+    int k; /* total exponent: the scale is 2^k */
+} geom_bary_scale;
+
+/* A scale bringing the largest magnitude among the polygon and p near 1, or
+ * the identity when everything is comfortably in range. */
+static inline geom_bary_scale geom_bary_scale_for(size_t n, const double *poly, const double p[2])
+{
+    double mx = fmax(fabs(p[0]), fabs(p[1]));
+    for (size_t i = 0; i < 2 * n; i++)
+        mx = fmax(mx, fabs(poly[i]));
+    geom_bary_scale s = {{1.0, 1.0}, 0};
+    if (mx == 0.0 || (mx > 0x1p-400 && mx < 0x1p400))
+        return s;
+    int e;
+    (void)frexp(mx, &e);
+    s.k = -e;
+    s.f[0] = ldexp(1.0, s.k / 2);
+    s.f[1] = ldexp(1.0, s.k - s.k / 2);
+    return s;
+}
+
+static inline double geom_bary_scaled(const geom_bary_scale *s, double x)
+{
+    return (x * s->f[0]) * s->f[1];
+}
+
+/* Normalise weights held as xvals: the caller has stored them in two passes;
+ * this helper just divides w by its sum. Returns 0 if the sum is not a
+ * usable positive or negative finite number. */
+static inline int geom_bary_normalise(size_t n, double *w)
+{
+    double sum = 0.0;
+    for (size_t i = 0; i < n; i++)
+        sum += w[i];
+    if (!(sum != 0.0) || !isfinite(sum))
+        return 0;
+    for (size_t i = 0; i < n; i++)
+        w[i] /= sum;
+    return 1;
+}
+
+#endif

@@ -1,0 +1,119 @@
+/*
+ * Barycentric coordinates of the orthogonal projection of p onto the plane of
+ * a 3D triangle: l[i] = (n . n_i) / (n . n), n = (b-a) x (c-a), n_i the normal
+ * of the sub-triangle opposite vertex i with p in place of vertex i. Both
+ * are degree-4 polynomials in the input. Fast path in floating point with a
+ * running-error bound (each degree-4 term passes through at most 11
+ * roundings, so the error is below 12 eps times the same sum of absolute
+ * values); whatever the filter cannot certify is evaluated exactly
+ * (expansions).
+ */
+#include "bary/bary_internal.h"
+
+/* 12 eps * 2^42: the accepted relative error is 2^-42. */
+#define TRI3_K (12.0 * GEOM_BARY_EPS * GEOM_BARY_REL)
+
+static void set3(double l[3], double x, double y, double z)
+{
+    l[0] = x;
+    l[1] = y;
+    l[2] = z;
+}
+
+static double quot(double n, double d)
+{
+    double r = n / d;
+    if (r == 0.0 && n != 0.0)
+        r = copysign(DBL_TRUE_MIN, n) * copysign(1.0, d);
+    return r;
+}
+
+static int same3(const double a[3], const double b[3])
+{
+    return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
+}
+
+/* n = u x v in floating point, with the sums of the absolute products. */
+static void cross_abs(const double u[3], const double v[3], double n[3], double na[3])
+{
+    for (int k = 0; k < 3; k++) {
+        int i = (k + 1) % 3, j = (k + 2) % 3;
+        double t1 = u[i] * v[j], t2 = u[j] * v[i];
+        n[k] = t1 - t2;
+        na[k] = fabs(t1) + fabs(t2);
+    }
+}
+
+/* x . y with the certification test; returns 1 if accepted. */
+static int dot_certified(const double x[3], const double xa[3], const double y[3],
+                         const double ya[3], double *out)
+{
+    double v = x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
+    double perm = xa[0] * ya[0] + xa[1] * ya[1] + xa[2] * ya[2];
+    /* Products that underflow are off by 2^-1075 and then multiplied by at
+     * most one absolute sum. */
+    double tiny = GEOM_BARY_TINY * (1.0 + xa[0] + xa[1] + xa[2] + ya[0] + ya[1] + ya[2]);
+    *out = v;
+    return fabs(v) >= TRI3_K * perm + tiny && perm < GEOM_BARY_BIG;
+}
+
+geom_status geom_bary_tri3(const double a[3], const double b[3], const double c[3],
+                           const double p[3], double l[3])
+{
+    if (!l)
+        return GEOM_ERR_INVALID_ARG;
+    if (!a || !b || !c || !p || !geom_isfinite3(a) || !geom_isfinite3(b) || !geom_isfinite3(c) ||
+        !geom_isfinite3(p)) {
+        set3(l, 0.0, 0.0, 0.0);
+        return GEOM_ERR_INVALID_ARG;
+    }
+    double u[3], v[3], e0[3], f0[3], e1[3], f1[3], f2[3];
+    for (int k = 0; k < 3; k++) {
+        u[k] = b[k] - a[k];
+        v[k] = c[k] - a[k];
+        e0[k] = c[k] - b[k];
+        f0[k] = p[k] - b[k];
+        e1[k] = a[k] - c[k];
+        f1[k] = p[k] - c[k];
+        f2[k] = p[k] - a[k];
+    }
+    double n[3], na[3], m[3], ma[3], d, nv[3];
+    cross_abs(u, v, n, na);
+    unsigned slow = 0; /* bit i: numerator i uncertified; bit 3: denominator */
+    if (!dot_certified(n, na, n, na, &d))
+        slow |= 8u;
+    cross_abs(e0, f0, m, ma);
+    if (!dot_certified(n, na, m, ma, &nv[0]))
+        slow |= 1u;
+    cross_abs(e1, f1, m, ma);
+    if (!dot_certified(n, na, m, ma, &nv[1]))
+        slow |= 2u;
+    cross_abs(u, f2, m, ma);
+    if (!dot_certified(n, na, m, ma, &nv[2]))
+        slow |= 4u;
+    if (!slow) {
+        set3(l, quot(nv[0], d), quot(nv[1], d), quot(nv[2], d));
+        return GEOM_OK;
+    }
+    /* Evaluate exactly what the filter could not certify. */
+    geom_xval num[3], den;
+    geom_core_xeval_tri3(a, b, c, p, slow, num, &den);
+    if (!(slow & 8u))
+        den = geom_xval_from_double(d);
+    if (den.m == 0.0) {
+        set3(l, 0.0, 0.0, 0.0);
+        return GEOM_ERR_DEGENERATE;
+    }
+    if (same3(p, a)) {
+        set3(l, 1.0, 0.0, 0.0);
+    } else if (same3(p, b)) {
+        set3(l, 0.0, 1.0, 0.0);
+    } else if (same3(p, c)) {
+        set3(l, 0.0, 0.0, 1.0);
+    } else {
+        for (int i = 0; i < 3; i++)
+            l[i] = (slow & (1u << i)) ? geom_xval_ratio(num[i], den)
+                                      : geom_xval_ratio(geom_xval_from_double(nv[i]), den);
+    }
+    return GEOM_OK;
+}

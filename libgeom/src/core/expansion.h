@@ -1,0 +1,218 @@
+/*
+ * Private exact-arithmetic toolkit shared by the predicates (core) and the
+ * barycentric module (bary). Not installed.
+ *
+ * Floating-point expansions after J. R. Shewchuk, "Adaptive Precision
+ * Floating-Point Arithmetic and Fast Robust Geometric Predicates", Discrete &
+ * Computational Geometry 18 (1997): a number is represented exactly as an
+ * unevaluated sum of doubles ordered by increasing magnitude, built from the
+ * error-free transformations two-sum and two-product (Dekker/Veltkamp
+ * splitting; no fused multiply-add is assumed, the library is compiled with
+ * -ffp-contract=off). Expansions here are zero-eliminated: a zero value is
+ * the one-component expansion {0}.
+ *
+ * The algorithms are exact only without overflow and underflow, so the
+ * exact evaluators below first scale their input by a power of two (exact);
+ * when the input's dynamic range is too wide for any scaling to keep every
+ * component in the normal range, they fall back to a small arbitrary-
+ * precision binary integer ("big float") evaluation, so every result is
+ * exact for all finite input.
+ */
+#ifndef GEOM_SRC_CORE_EXPANSION_H
+#define GEOM_SRC_CORE_EXPANSION_H
+
+#include <float.h>
+#include <math.h>
+
+#if !defined(FLT_EVAL_METHOD) || (FLT_EVAL_METHOD != 0)
+#error "libgeom's exact predicates need FLT_EVAL_METHOD == 0 (no x87 excess precision)"
+#endif
+
+/* -------------------------------------------------- error-free transforms */
+
+/* 2^27 + 1: splits a 53-bit significand into two 26-bit halves. */
+#define GEOM_XP_SPLITTER 134217729.0
+
+/* x + y == a + b exactly, x = fl(a + b) (Knuth's two-sum). */
+static inline void geom_two_sum(double a, double b, double *x, double *y)
+{
+    double s = a + b;
+    double bv = s - a;
+    double av = s - bv;
+    *x = s;
+    *y = (a - av) + (b - bv);
+}
+
+/* As geom_two_sum, requires |a| >= |b| (or a == 0) (Dekker's fast two-sum). */
+static inline void geom_fast_two_sum(double a, double b, double *x, double *y)
+{
+    double s = a + b;
+    *x = s;
+    *y = b - (s - a);
+}
+
+/* x + y == a - b exactly, x = fl(a - b). */
+static inline void geom_two_diff(double a, double b, double *x, double *y)
+{
+    double d = a - b;
+    double bv = a - d;
+    double av = d + bv;
+    *x = d;
+    *y = (a - av) + (bv - b);
+}
+
+/* a == hi + lo with hi and lo each fitting in 26 bits (Veltkamp). */
+static inline void geom_split(double a, double *hi, double *lo)
+{
+    double c = GEOM_XP_SPLITTER * a;
+    double big = c - a;
+    double h = c - big;
+    *hi = h;
+    *lo = a - h;
+}
+
+/* x + y == a * b exactly, x = fl(a * b) (Dekker's two-product). */
+static inline void geom_two_product(double a, double b, double *x, double *y)
+{
+    double p = a * b;
+    double ah, al, bh, bl;
+    geom_split(a, &ah, &al);
+    geom_split(b, &bh, &bl);
+    double e1 = p - ah * bh;
+    double e2 = e1 - al * bh;
+    double e3 = e2 - ah * bl;
+    *x = p;
+    *y = al * bl - e3;
+}
+
+/* ------------------------------------------------------------- expansions */
+
+/* h = e + f; h must hold elen + flen doubles and not alias e or f. Returns
+ * the length of h (>= 1). Inputs must be strongly nonoverlapping (as every
+ * expansion produced by these functions is). */
+int geom_core_xp_sum(int elen, const double *e, int flen, const double *f, double *h);
+/* h = e * b; h must hold 2 * elen doubles and not alias e. */
+int geom_core_xp_scale(int elen, const double *e, double b, double *h);
+/* h = e * f; h must hold 2 * elen * flen doubles, work 2 * (flen + elen * flen)
+ * doubles; neither may alias an input. */
+int geom_core_xp_mul(int elen, const double *e, int flen, const double *f, double *h,
+                     double *work);
+/* e = -e in place. */
+void geom_core_xp_negate(int elen, double *e);
+/* h = a - b as an expansion of at most 2 components; returns its length. */
+int geom_core_xp_diff(double a, double b, double h[2]);
+/* Compress e in place (Shewchuk's Compress): same value, nonadjacent
+ * components, usually far fewer; returns the new length. */
+int geom_core_xp_compress(int elen, double *e);
+/* Nearest-ish double to the expansion's value: within 1 ulp (relative error
+ * < 2^-52), with the exact sign, 0 only for a zero expansion. Compresses e in
+ * place. */
+double geom_core_xp_approx(int elen, double *e);
+
+/* ---------------------------------------------------------- exact values */
+
+/* An exact value rounded to 53 bits, with an unbounded exponent: the value is
+ * m * 2^e with m == 0 (and e == 0) or 0.5 <= |m| < 1; m is within 1 ulp of
+ * the exact value's significand and has its exact sign. */
+typedef struct geom_xval {
+    double m;
+    int e;
+} geom_xval;
+
+static inline geom_xval geom_xval_from_double(double x)
+{
+    geom_xval v;
+    if (x == 0.0) {
+        v.m = 0.0;
+        v.e = 0;
+    } else {
+        v.m = frexp(x, &v.e);
+    }
+    return v;
+}
+
+/* a / b (b.m != 0), renormalised. */
+static inline geom_xval geom_xval_div(geom_xval a, geom_xval b)
+{
+    if (a.m == 0.0)
+        return a;
+    geom_xval r;
+    int k;
+    r.m = frexp(a.m / b.m, &k);
+    r.e = a.e - b.e + k;
+    return r;
+}
+
+static inline geom_xval geom_xval_mul(geom_xval a, geom_xval b)
+{
+    geom_xval r;
+    if (a.m == 0.0 || b.m == 0.0) {
+        r.m = 0.0;
+        r.e = 0;
+        return r;
+    }
+    int k;
+    r.m = frexp(a.m * b.m, &k);
+    r.e = a.e + b.e + k;
+    return r;
+}
+
+/* a + b rounded (a few ulp; terms more than 2^1100 apart contribute nothing). */
+static inline geom_xval geom_xval_add(geom_xval a, geom_xval b)
+{
+    if (b.m == 0.0)
+        return a;
+    if (a.m == 0.0)
+        return b;
+    if (a.e < b.e) {
+        geom_xval t = a;
+        a = b;
+        b = t;
+    }
+    int d = a.e - b.e;
+    double s = d > 1100 ? a.m : a.m + ldexp(b.m, -d);
+    geom_xval r = {0.0, 0};
+    if (s != 0.0) {
+        int k;
+        r.m = frexp(s, &k);
+        r.e = a.e + k;
+    }
+    return r;
+}
+
+/* The double nearest m * 2^e; beyond the double range the result is +-Inf,
+ * below it the sign is kept (+-DBL_TRUE_MIN) rather than rounding to 0. */
+static inline double geom_xval_to_double(geom_xval v)
+{
+    if (v.m == 0.0)
+        return 0.0;
+    if (v.e > 1100)
+        return copysign(INFINITY, v.m);
+    if (v.e < -1100)
+        return copysign(DBL_TRUE_MIN, v.m);
+    double r = ldexp(v.m, v.e);
+    return r == 0.0 ? copysign(DBL_TRUE_MIN, v.m) : r;
+}
+
+/* The double nearest n / d (d.m != 0), with the same range rules. */
+static inline double geom_xval_ratio(geom_xval n, geom_xval d)
+{
+    return geom_xval_to_double(geom_xval_div(n, d));
+}
+
+/* Exact values of the determinants, for all finite input (the caller checks
+ * finiteness). orient2d = (a-c) x (b-c); orient3d = det[a-d; b-d; c-d];
+ * incircle = the lifted 3x3 determinant of a-d, b-d, c-d. */
+geom_xval geom_core_xeval_orient2d(const double a[2], const double b[2], const double c[2]);
+geom_xval geom_core_xeval_orient3d(const double a[3], const double b[3], const double c[3],
+                                   const double d[3]);
+geom_xval geom_core_xeval_incircle(const double a[2], const double b[2], const double c[2],
+                                   const double d[2]);
+/* Barycentric numerators and denominator of the 3D triangle (a, b, c) for p:
+ * n = (b-a) x (c-a), num[0] = n . ((c-b) x (p-b)), num[1] = n . ((a-c) x (p-c)),
+ * num[2] = n . ((b-a) x (p-a)), *den = n . n; all exact. Only num[i] with bit
+ * i of mask set, and *den if bit 3 is set, are computed. */
+void geom_core_xeval_tri3(const double a[3], const double b[3], const double c[3],
+                          const double p[3], unsigned mask, geom_xval num[3], geom_xval *den);
+
+#endif

@@ -1,0 +1,128 @@
+/*
+ * Exact geometric predicates: orient2d, orient3d, incircle (Shewchuk 1997).
+ *
+ * Each predicate first evaluates the determinant in floating point together
+ * with a bound on its rounding error (Shewchuk's "stage A" bounds, plus an
+ * absolute term that covers gradual underflow of the products); when the
+ * value exceeds the bound its sign is certain and it is returned as is.
+ * Otherwise the determinant is evaluated exactly (expansion arithmetic on
+ * power-of-two scaled input, or a big-float fallback for extreme dynamic
+ * range; see expansion.c) and rounded.
+ */
+#include "core/expansion.h"
+#include "core/internal.h"
+
+/* Shewchuk's machine epsilon: half an ulp of 1. */
+#define GEOM_EPS 0x1p-53
+static const double ccw_errbound_a = (3.0 + 16.0 * GEOM_EPS) * GEOM_EPS;
+static const double o3d_errbound_a = (7.0 + 56.0 * GEOM_EPS) * GEOM_EPS;
+static const double icc_errbound_a = (10.0 + 96.0 * GEOM_EPS) * GEOM_EPS;
+/* Absolute error allowance for products that underflow: each such product
+ * is off by at most 2^-1075, far below this. It is a normal number on
+ * purpose: arithmetic on subnormal operands is very slow on common CPUs.
+ * (Determinants below about 2^-960 simply take the exact path.) */
+#define GEOM_UNDERFLOW_TINY 0x1p-960
+
+static int finite2(const double p[2])
+{
+    return isfinite(p[0]) && isfinite(p[1]);
+}
+
+/* Sign-preserving double of an exact value. */
+static double xval_result(geom_xval v)
+{
+    return geom_xval_to_double(v);
+}
+
+static double orient2d_slow(const double a[2], const double b[2], const double c[2], double acx,
+                            double bcy, double acy, double bcx)
+{
+    if (!finite2(a) || !finite2(b) || !finite2(c))
+        return NAN;
+    /* Both products have an exactly zero factor: the determinant is 0. */
+    if ((acx == 0.0 || bcy == 0.0) && (acy == 0.0 || bcx == 0.0))
+        return 0.0;
+    return xval_result(geom_core_xeval_orient2d(a, b, c));
+}
+
+double geom_orient2d(const double a[2], const double b[2], const double c[2])
+{
+    double acx = a[0] - c[0], bcx = b[0] - c[0];
+    double acy = a[1] - c[1], bcy = b[1] - c[1];
+    double detleft = acx * bcy;
+    double detright = acy * bcx;
+    double det = detleft - detright;
+    double errbound = ccw_errbound_a * (fabs(detleft) + fabs(detright)) + GEOM_UNDERFLOW_TINY;
+    /* Inf/NaN anywhere makes errbound Inf or NaN and the tests fail. */
+    if (det > errbound || -det > errbound)
+        return det;
+    return orient2d_slow(a, b, c, acx, bcy, acy, bcx);
+}
+
+double geom_orient2d_exact(const double a[2], const double b[2], const double c[2])
+{
+    if (!finite2(a) || !finite2(b) || !finite2(c))
+        return NAN;
+    return xval_result(geom_core_xeval_orient2d(a, b, c));
+}
+
+double geom_orient3d(const double a[3], const double b[3], const double c[3], const double d[3])
+{
+    double adx = a[0] - d[0], bdx = b[0] - d[0], cdx = c[0] - d[0];
+    double ady = a[1] - d[1], bdy = b[1] - d[1], cdy = c[1] - d[1];
+    double adz = a[2] - d[2], bdz = b[2] - d[2], cdz = c[2] - d[2];
+
+    double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy;
+    double cdxady = cdx * ady, adxcdy = adx * cdy;
+    double adxbdy = adx * bdy, bdxady = bdx * ady;
+
+    double det = adz * (bdxcdy - cdxbdy) + bdz * (cdxady - adxcdy) + cdz * (adxbdy - bdxady);
+    double aadz = fabs(adz), abdz = fabs(bdz), acdz = fabs(cdz);
+    double permanent = (fabs(bdxcdy) + fabs(cdxbdy)) * aadz + (fabs(cdxady) + fabs(adxcdy)) * abdz +
+                       (fabs(adxbdy) + fabs(bdxady)) * acdz;
+    /* An underflowed inner product is off by 2^-1075 and then multiplied by
+     * a z difference. */
+    double errbound =
+        o3d_errbound_a * permanent + GEOM_UNDERFLOW_TINY * (1.0 + aadz + abdz + acdz);
+    if (det > errbound || -det > errbound)
+        return det;
+    if (!geom_isfinite3(a) || !geom_isfinite3(b) || !geom_isfinite3(c) || !geom_isfinite3(d))
+        return NAN;
+    return xval_result(geom_core_xeval_orient3d(a, b, c, d));
+}
+
+double geom_orient3d_exact(const double a[3], const double b[3], const double c[3],
+                           const double d[3])
+{
+    if (!geom_isfinite3(a) || !geom_isfinite3(b) || !geom_isfinite3(c) || !geom_isfinite3(d))
+        return NAN;
+    return xval_result(geom_core_xeval_orient3d(a, b, c, d));
+}
+
+double geom_incircle(const double a[2], const double b[2], const double c[2], const double d[2])
+{
+    double adx = a[0] - d[0], bdx = b[0] - d[0], cdx = c[0] - d[0];
+    double ady = a[1] - d[1], bdy = b[1] - d[1], cdy = c[1] - d[1];
+
+    double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy;
+    double alift = adx * adx + ady * ady;
+    double cdxady = cdx * ady, adxcdy = adx * cdy;
+    double blift = bdx * bdx + bdy * bdy;
+    double adxbdy = adx * bdy, bdxady = bdx * ady;
+    double clift = cdx * cdx + cdy * cdy;
+
+    double det = alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady);
+    double pa = fabs(bdxcdy) + fabs(cdxbdy);
+    double pb = fabs(cdxady) + fabs(adxcdy);
+    double pc = fabs(adxbdy) + fabs(bdxady);
+    double permanent = pa * alift + pb * blift + pc * clift;
+    /* Underflowed products (inner ones, squares) are off by 2^-1075 each and
+     * are multiplied by a lift or by a cofactor. */
+    double errbound = icc_errbound_a * permanent +
+                      GEOM_UNDERFLOW_TINY * (1.0 + alift + blift + clift + pa + pb + pc);
+    if (det > errbound || -det > errbound)
+        return det;
+    if (!finite2(a) || !finite2(b) || !finite2(c) || !finite2(d))
+        return NAN;
+    return xval_result(geom_core_xeval_incircle(a, b, c, d));
+}
