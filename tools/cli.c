@@ -1,0 +1,587 @@
+/* The command-line layer shared by the geom-<verb> tools: see cli.h. */
+#include "cli.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+#include <time.h>
+#include <unistd.h>
+
+/* ------------------------------------------------------------ tool and options */
+
+static const char common_shortopts[] = "hVo:";
+
+static const struct option common_longopts[] = {
+    {"help", no_argument, NULL, CLI_OPT_HELP},
+    {"version", no_argument, NULL, CLI_OPT_VERSION},
+    {"output", required_argument, NULL, CLI_OPT_OUTPUT},
+    {"json", no_argument, NULL, CLI_OPT_JSON},
+};
+#define N_COMMON_LONGOPTS (sizeof common_longopts / sizeof common_longopts[0])
+
+void cli_print_usage(const cli_tool *tool, FILE *fp)
+{
+    fprintf(fp, "Usage: %s %s\n", tool->name, tool->synopsis ? tool->synopsis : "[OPTION]...");
+    if (tool->description)
+        fprintf(fp, "%s\n", tool->description);
+    fputs("\nOptions:\n"
+          "  -o, --output=FILE  write the output to FILE ('-', the default: standard\n"
+          "                     output); FILE is written to a temporary file and\n"
+          "                     renamed on success, so a failed run leaves no FILE\n"
+          "      --json         machine-readable JSON output\n",
+          fp);
+    if (tool->options_help)
+        fputs(tool->options_help, fp);
+    fputs("  -h, --help         show this help and exit\n"
+          "  -V, --version      show the version and exit\n",
+          fp);
+    if (tool->details)
+        fprintf(fp, "\n%s", tool->details);
+    fputs("\nExit status: 0 on success, 1 on an error (message on stderr), 2 on a usage\n"
+          "error.\n",
+          fp);
+}
+
+void cli_print_version(const cli_tool *tool, FILE *fp)
+{
+    fprintf(fp, "%s (libgeom) %s\n", tool->name, geom_version_string());
+}
+
+static void vreport(const cli_tool *tool, const char *fmt, va_list ap)
+{
+    fprintf(stderr, "%s: ", tool->name);
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+}
+
+static void usage_hint(const cli_tool *tool)
+{
+    fprintf(stderr, "Try '%s --help' for more information.\n", tool->name);
+}
+
+int cli_usage_error(const cli_tool *tool, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vreport(tool, fmt, ap);
+    va_end(ap);
+    usage_hint(tool);
+    return CLI_EXIT_USAGE;
+}
+
+int cli_error(const cli_tool *tool, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vreport(tool, fmt, ap);
+    va_end(ap);
+    return CLI_EXIT_ERROR;
+}
+
+int cli_parse_args(const cli_tool *tool, int argc, char **argv, const char *shortopts,
+                   const struct option *longopts, cli_option_fn on_option, void *user,
+                   cli_common *common, int *first_operand)
+{
+    size_t n_long = 0;
+    if (longopts)
+        while (longopts[n_long].name)
+            n_long++;
+    size_t short_len = shortopts ? strlen(shortopts) : 0;
+
+    char *all_short = malloc(sizeof common_shortopts + short_len);
+    struct option *all_long = calloc(N_COMMON_LONGOPTS + n_long + 1, sizeof *all_long);
+    if (!all_short || !all_long) {
+        free(all_short);
+        free(all_long);
+        return cli_error(tool, "out of memory");
+    }
+    memcpy(all_short, common_shortopts, sizeof common_shortopts - 1);
+    if (short_len)
+        memcpy(all_short + sizeof common_shortopts - 1, shortopts, short_len);
+    all_short[sizeof common_shortopts - 1 + short_len] = '\0';
+    memcpy(all_long, common_longopts, sizeof common_longopts);
+    if (n_long)
+        memcpy(all_long + N_COMMON_LONGOPTS, longopts, n_long * sizeof *longopts);
+
+    common->output = NULL;
+    common->json = false;
+
+    /* getopt reports unknown options itself, prefixed with argv[0]; show the
+     * tool's name there rather than however it was invoked. */
+    char *argv0 = argc > 0 ? argv[0] : NULL;
+    if (argc > 0)
+        argv[0] = (char *)tool->name;
+    optind = 0; /* full re-initialisation (glibc, musl, BSD) */
+    opterr = 1;
+
+    int rc = CLI_CONTINUE;
+    int opt;
+    while (rc == CLI_CONTINUE && (opt = getopt_long(argc, argv, all_short, all_long, NULL)) != -1) {
+        switch (opt) {
+        case CLI_OPT_HELP:
+            cli_print_usage(tool, stdout);
+            rc = fflush(stdout) == 0 ? CLI_EXIT_OK : CLI_EXIT_ERROR;
+            break;
+        case CLI_OPT_VERSION:
+            cli_print_version(tool, stdout);
+            rc = fflush(stdout) == 0 ? CLI_EXIT_OK : CLI_EXIT_ERROR;
+            break;
+        case CLI_OPT_OUTPUT:
+            if (optarg[0] == '\0')
+                rc = cli_usage_error(tool, "empty output file name");
+            else
+                common->output = optarg;
+            break;
+        case CLI_OPT_JSON:
+            common->json = true;
+            break;
+        case '?':
+            usage_hint(tool);
+            rc = CLI_EXIT_USAGE;
+            break;
+        default:
+            if (on_option)
+                rc = on_option(tool, user, opt, optarg);
+            else
+                rc = cli_usage_error(tool, "unhandled option");
+            break;
+        }
+    }
+    if (argc > 0)
+        argv[0] = argv0;
+    free(all_short);
+    free(all_long);
+    *first_operand = optind < argc ? optind : argc;
+    return rc;
+}
+
+/* -------------------------------------------------------------- diagnostics */
+
+geom_status cli_diag_set(geom_diag *d, geom_status status, const char *source, size_t line,
+                         size_t column, const char *fmt, ...)
+{
+    if (!d)
+        return status;
+    memset(d, 0, sizeof *d);
+    d->status = status;
+    if (source)
+        snprintf(d->source, sizeof d->source, "%s", source);
+    d->line = line;
+    d->column = column;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(d->message, sizeof d->message, fmt, ap);
+    va_end(ap);
+    return status;
+}
+
+void cli_diag_locate(geom_diag *d, const char *source, size_t line)
+{
+    if (!d)
+        return;
+    snprintf(d->source, sizeof d->source, "%s", source ? source : "");
+    d->line = line;
+}
+
+int cli_print_diag(const cli_tool *tool, const geom_diag *d)
+{
+    char small[512];
+    size_t need = geom_diag_format(d, small, sizeof small);
+    if (need < sizeof small) {
+        fprintf(stderr, "%s: %s\n", tool->name, small);
+        return CLI_EXIT_ERROR;
+    }
+    char *big = malloc(need + 1);
+    if (big) {
+        geom_diag_format(d, big, need + 1);
+        fprintf(stderr, "%s: %s\n", tool->name, big);
+        free(big);
+    } else {
+        fprintf(stderr, "%s: %s\n", tool->name, small); /* truncated */
+    }
+    return CLI_EXIT_ERROR;
+}
+
+/* -------------------------------------------------------------------- input */
+
+geom_status cli_input_open(cli_input *in, const char *path, geom_diag *diag)
+{
+    memset(in, 0, sizeof *in);
+    if (!path || strcmp(path, "-") == 0) {
+        in->fp = stdin;
+        in->name = "<stdin>";
+        in->is_stdin = true;
+        return GEOM_OK;
+    }
+    in->fp = fopen(path, "rb");
+    if (!in->fp)
+        return cli_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "%s", strerror(errno));
+    in->name = path;
+    return GEOM_OK;
+}
+
+void cli_input_close(cli_input *in)
+{
+    if (in->fp && !in->is_stdin)
+        fclose(in->fp);
+    in->fp = NULL;
+}
+
+/* -------------------------------------------------------------------- lines */
+
+void cli_lines_init(cli_lines *r, FILE *fp, const char *source)
+{
+    memset(r, 0, sizeof *r);
+    r->fp = fp;
+    r->source = source;
+}
+
+void cli_lines_free(cli_lines *r)
+{
+    free(r->buf);
+    r->buf = NULL;
+    r->cap = 0;
+}
+
+int cli_lines_next(cli_lines *r, char **line, size_t *len, geom_diag *diag)
+{
+    errno = 0;
+    ssize_t n = getline(&r->buf, &r->cap, r->fp);
+    if (n < 0) {
+        if (ferror(r->fp))
+            return cli_diag_set(diag, GEOM_ERR_IO, r->source, r->lineno + 1, 0, "read error: %s",
+                                strerror(errno ? errno : EIO));
+        if (errno == ENOMEM || errno == EOVERFLOW)
+            return cli_diag_set(diag, GEOM_ERR_NOMEM, r->source, r->lineno + 1, 0,
+                                "line too long: %s", strerror(errno));
+        return 0;
+    }
+    r->lineno++;
+    size_t m = (size_t)n;
+    const char *nul = memchr(r->buf, '\0', m);
+    if (nul)
+        return cli_diag_set(diag, GEOM_ERR_PARSE, r->source, r->lineno,
+                            (size_t)(nul - r->buf) + 1, "NUL byte in input");
+    if (m > 0 && r->buf[m - 1] == '\n')
+        m--;
+    if (m > 0 && r->buf[m - 1] == '\r')
+        m--;
+    r->buf[m] = '\0';
+    *line = r->buf;
+    *len = m;
+    return 1;
+}
+
+static bool is_space(char c)
+{
+    return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f';
+}
+
+bool cli_line_is_blank_or_comment(const char *line, size_t len)
+{
+    size_t i = 0;
+    while (i < len && is_space(line[i]))
+        i++;
+    return i == len || line[i] == '#';
+}
+
+/* ------------------------------------------------------------------ numbers */
+
+/* Quote at most 40 bytes of a token for a message, escaping non-printables. */
+static void quote_token(const char *s, size_t len, char *out, size_t size)
+{
+    static const char hex[] = "0123456789abcdef";
+    size_t o = 0, i = 0;
+    const size_t show = 40;
+    for (; i < len && i < show && o + 5 < size; i++) {
+        unsigned char c = (unsigned char)s[i];
+        if (c >= 0x20 && c < 0x7f && c != '\\') {
+            out[o++] = (char)c;
+        } else {
+            out[o++] = '\\';
+            out[o++] = 'x';
+            out[o++] = hex[c >> 4];
+            out[o++] = hex[c & 15];
+        }
+    }
+    if (i < len && o + 4 < size) {
+        memcpy(out + o, "...", 3);
+        o += 3;
+    }
+    out[o] = '\0';
+}
+
+geom_status cli_parse_double(const char *text, size_t len, unsigned flags, double *out,
+                             geom_diag *diag)
+{
+    char small[64];
+    char q[192];
+    *out = 0.0;
+    if (len == 0)
+        return cli_diag_set(diag, GEOM_ERR_PARSE, NULL, 0, 1, "empty number");
+    char *buf = small;
+    if (len >= sizeof small) {
+        buf = malloc(len + 1);
+        if (!buf)
+            return cli_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 1, "out of memory");
+    }
+    memcpy(buf, text, len);
+    buf[len] = '\0';
+
+    geom_status st = GEOM_OK;
+    char *end = NULL;
+    errno = 0;
+    double v = strtod(buf, &end);
+    int err = errno;
+    if (end != buf + len || end == buf) {
+        quote_token(text, len, q, sizeof q);
+        st = cli_diag_set(diag, GEOM_ERR_PARSE, NULL, 0, 1, "invalid number '%s'", q);
+    } else if (isinf(v) && err == ERANGE) {
+        quote_token(text, len, q, sizeof q);
+        st = cli_diag_set(diag, GEOM_ERR_PARSE, NULL, 0, 1, "number out of range '%s'", q);
+    } else if (!isfinite(v) && !(flags & CLI_NUM_ALLOW_NONFINITE)) {
+        quote_token(text, len, q, sizeof q);
+        st = cli_diag_set(diag, GEOM_ERR_PARSE, NULL, 0, 1, "%s not allowed '%s'",
+                          isnan(v) ? "NaN" : "infinity", q);
+    } else {
+        *out = v;
+    }
+    if (buf != small)
+        free(buf);
+    return st;
+}
+
+static size_t skip_space(const char *s, size_t i, size_t len)
+{
+    while (i < len && is_space(s[i]))
+        i++;
+    return i;
+}
+
+geom_status cli_parse_numbers(const char *text, size_t len, unsigned flags, double *out,
+                              size_t max, size_t *count, geom_diag *diag)
+{
+    if (count)
+        *count = 0;
+    if (!text || !count || (max > 0 && !out))
+        return cli_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+                            "cli_parse_numbers: NULL argument");
+    const char *nul = memchr(text, '\0', len);
+    if (nul)
+        return cli_diag_set(diag, GEOM_ERR_PARSE, NULL, 0, (size_t)(nul - text) + 1,
+                            "NUL byte in input");
+
+    size_t n = 0;
+    size_t i = skip_space(text, 0, len);
+    while (i < len) {
+        if (text[i] == ',')
+            return cli_diag_set(diag, GEOM_ERR_PARSE, NULL, 0, i + 1,
+                                n == 0 ? "unexpected comma before the first number"
+                                       : "empty field between commas");
+        size_t start = i;
+        while (i < len && !is_space(text[i]) && text[i] != ',')
+            i++;
+        if (n == max)
+            return cli_diag_set(diag, GEOM_ERR_LIMIT, NULL, 0, start + 1,
+                                "too many numbers (expected at most %zu)", max);
+        double v;
+        geom_status st = cli_parse_double(text + start, i - start, flags, &v, diag);
+        if (st != GEOM_OK) {
+            if (diag)
+                diag->column = start + 1;
+            return st;
+        }
+        out[n++] = v;
+        *count = n;
+        i = skip_space(text, i, len);
+        if (i < len && text[i] == ',') {
+            size_t comma = i;
+            i = skip_space(text, i + 1, len);
+            if (i == len)
+                return cli_diag_set(diag, GEOM_ERR_PARSE, NULL, 0, comma + 1,
+                                    "trailing comma after the last number");
+        }
+    }
+    return GEOM_OK;
+}
+
+/* ------------------------------------------------------------------- output */
+
+void cli_print_double(FILE *fp, double v)
+{
+    fprintf(fp, "%.17g", v);
+}
+
+void cli_json_number(FILE *fp, double v)
+{
+    if (isfinite(v))
+        fprintf(fp, "%.17g", v);
+    else
+        fputs("null", fp);
+}
+
+void cli_json_string(FILE *fp, const char *s)
+{
+    fputc('"', fp);
+    for (; *s; s++) {
+        unsigned char c = (unsigned char)*s;
+        switch (c) {
+        case '"': fputs("\\\"", fp); break;
+        case '\\': fputs("\\\\", fp); break;
+        case '\b': fputs("\\b", fp); break;
+        case '\f': fputs("\\f", fp); break;
+        case '\n': fputs("\\n", fp); break;
+        case '\r': fputs("\\r", fp); break;
+        case '\t': fputs("\\t", fp); break;
+        default:
+            if (c < 0x20)
+                fprintf(fp, "\\u%04x", c);
+            else
+                fputc(c, fp);
+        }
+    }
+    fputc('"', fp);
+}
+
+geom_status cli_output_open(cli_output *out, const char *path, geom_diag *diag)
+{
+    memset(out, 0, sizeof *out);
+    if (!path || strcmp(path, "-") == 0) {
+        out->fp = stdout;
+        return GEOM_OK;
+    }
+    const char *slash = strrchr(path, '/');
+    size_t dir_len = slash ? (size_t)(slash - path) + 1 : 0; /* keeps the '/' */
+    const char *base = path + dir_len;
+    if (base[0] == '\0')
+        return cli_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "not a file name");
+
+    struct stat st;
+    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
+        return cli_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "is a directory");
+
+    static const char suffix[] = ".XXXXXX";
+    size_t plen = strlen(path);
+    out->path = malloc(plen + 1);
+    out->tmp = malloc(plen + 1 + sizeof suffix); /* path + '.' + suffix + NUL */
+    if (!out->path || !out->tmp) {
+        free(out->path);
+        free(out->tmp);
+        memset(out, 0, sizeof *out);
+        return cli_diag_set(diag, GEOM_ERR_NOMEM, path, 0, 0, "out of memory");
+    }
+    memcpy(out->path, path, plen + 1);
+    memcpy(out->tmp, path, dir_len);
+    out->tmp[dir_len] = '.';
+    memcpy(out->tmp + dir_len + 1, base, plen - dir_len);
+    memcpy(out->tmp + plen + 1, suffix, sizeof suffix);
+
+    int fd = mkstemp(out->tmp);
+    if (fd < 0) {
+        int e = errno;
+        free(out->path);
+        free(out->tmp);
+        memset(out, 0, sizeof *out);
+        return cli_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "cannot create output file: %s",
+                            strerror(e));
+    }
+    /* mkstemp makes the file 0600: give it the mode of the file it replaces,
+     * or the mode a new file would get (0666 less the umask). */
+    mode_t mode;
+    if (stat(path, &st) == 0 && S_ISREG(st.st_mode)) {
+        mode = st.st_mode & 07777;
+    } else {
+        mode_t mask = umask(0);
+        umask(mask);
+        mode = 0666 & ~mask;
+    }
+    if (fchmod(fd, mode) != 0 || !(out->fp = fdopen(fd, "wb"))) {
+        int e = errno;
+        close(fd);
+        unlink(out->tmp);
+        free(out->path);
+        free(out->tmp);
+        memset(out, 0, sizeof *out);
+        return cli_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "cannot create output file: %s",
+                            strerror(e));
+    }
+    return GEOM_OK;
+}
+
+static void output_release(cli_output *out)
+{
+    free(out->path);
+    free(out->tmp);
+    memset(out, 0, sizeof *out);
+}
+
+geom_status cli_output_commit(cli_output *out, geom_diag *diag)
+{
+    if (!out->fp)
+        return cli_diag_set(diag, GEOM_ERR_IO, NULL, 0, 0, "output is not open");
+    if (!out->tmp) { /* standard output */
+        int bad = fflush(out->fp) != 0 || ferror(out->fp);
+        int e = errno;
+        out->fp = NULL;
+        if (bad)
+            return cli_diag_set(diag, GEOM_ERR_IO, "<stdout>", 0, 0, "write error: %s",
+                                strerror(e ? e : EIO));
+        return GEOM_OK;
+    }
+    int e = 0;
+    if (fflush(out->fp) != 0 || ferror(out->fp))
+        e = errno ? errno : EIO;
+    else if (fsync(fileno(out->fp)) != 0 && errno != EINVAL && errno != EROFS)
+        e = errno;
+    if (fclose(out->fp) != 0 && !e)
+        e = errno ? errno : EIO;
+    out->fp = NULL;
+    if (!e && rename(out->tmp, out->path) != 0)
+        e = errno;
+    geom_status st = GEOM_OK;
+    if (e) {
+        unlink(out->tmp);
+        st = cli_diag_set(diag, GEOM_ERR_IO, out->path, 0, 0, "write error: %s", strerror(e));
+    }
+    output_release(out);
+    return st;
+}
+
+void cli_output_abort(cli_output *out)
+{
+    if (out->fp && !out->tmp) {
+        fflush(out->fp); /* keep what was already streamed to stdout */
+        out->fp = NULL;
+        return;
+    }
+    if (out->fp)
+        fclose(out->fp);
+    out->fp = NULL;
+    if (out->tmp)
+        unlink(out->tmp);
+    output_release(out);
+}
+
+/* -------------------------------------------------------------------- timer */
+
+static double monotonic_seconds(void)
+{
+    struct timespec ts;
+    if (clock_gettime(CLOCK_MONOTONIC, &ts) != 0)
+        return 0.0;
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+void cli_timer_start(cli_timer *t)
+{
+    t->start = monotonic_seconds();
+}
+
+double cli_timer_elapsed(const cli_timer *t)
+{
+    return monotonic_seconds() - t->start;
+}

@@ -1,0 +1,302 @@
+/*
+ * The command-line layer shared by every geom-<verb> tool.
+ *
+ * Conventions every tool follows (and gets from this file):
+ *  - options are parsed with getopt_long; every tool accepts
+ *      -h, --help       usage on stdout, exit 0
+ *      -V, --version    "geom-<verb> (libgeom) X.Y.Z" on stdout, exit 0
+ *      -o, --output=FILE  write the result to FILE ("-": standard output,
+ *                       the default); FILE is written through a temporary
+ *                       file in the same directory and renamed into place
+ *                       only when the run succeeds, so a failed run never
+ *                       leaves a partial (or clobbers an existing) FILE
+ *      --json           machine-readable output on stdout (or FILE)
+ *  - an input operand FILE or "-" (standard input, the default);
+ *  - exit status CLI_EXIT_OK (0) on success, CLI_EXIT_ERROR (1) on an error
+ *    (a message on stderr prefixed with the tool name, e.g.
+ *    "geom-bary: in.txt:3:7: invalid number 'x'"), CLI_EXIT_USAGE (2) on a
+ *    usage error (bad option or operand);
+ *  - doubles are printed with 17 significant digits ("%.17g") so that they
+ *    read back exactly;
+ *  - text input is read line by line with no length limit; CRLF line ends and
+ *    a missing final newline are accepted, a NUL byte is an error;
+ *  - numbers are parsed strictly (the whole token must be a number, NaN and
+ *    infinities are rejected unless a tool opts in) and an error names the
+ *    1-based line and column.
+ *
+ * Everything is reentrant: no global state besides what getopt_long itself
+ * keeps (optind, opterr, optarg, optopt). Functions that can fail return a
+ * geom_status and fill an optional geom_diag (NULL allowed) with the message;
+ * cli_print_diag() prints it. Nothing here calls exit().
+ *
+ * The build defines _POSIX_C_SOURCE=200809L for every user of this header
+ * (getline, mkstemp, fdopen, clock_gettime).
+ *
+ * A minimal tool:
+ *
+ *     static const cli_tool tool = { "geom-foo", "[OPTION]... [FILE]",
+ *                                    "Does foo to FILE.", NULL, NULL };
+ *     int main(int argc, char **argv) {
+ *         cli_common common; int first;
+ *         int rc = cli_parse_args(&tool, argc, argv, NULL, NULL, NULL, NULL,
+ *                                 &common, &first);
+ *         if (rc != CLI_CONTINUE) return rc;
+ *         ... cli_input_open / cli_output_open / cli_lines_next ...
+ *     }
+ */
+#ifndef GEOM_TOOLS_CLI_H
+#define GEOM_TOOLS_CLI_H
+
+#include <getopt.h>
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdio.h>
+
+#include "geom/core.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(__GNUC__) || defined(__clang__)
+#define CLI_PRINTF(fmt, args) __attribute__((format(printf, fmt, args)))
+#else
+#define CLI_PRINTF(fmt, args)
+#endif
+
+/* ------------------------------------------------------------ exit statuses */
+
+#define CLI_EXIT_OK 0    /**< success */
+#define CLI_EXIT_ERROR 1 /**< bad input, I/O error, out of memory, ... */
+#define CLI_EXIT_USAGE 2 /**< unknown option, missing argument, extra operand */
+/** Returned by cli_parse_args when the tool should go on running. */
+#define CLI_CONTINUE (-1)
+
+/* ---------------------------------------------------------- tool and options */
+
+/** Static description of a tool, used for --help, --version and messages. */
+typedef struct cli_tool {
+    const char *name;         /**< "geom-<verb>": message prefix and --version */
+    const char *synopsis;     /**< after the name on the Usage line: "[OPTION]... [FILE]" */
+    const char *description;  /**< what the tool does (may span lines) */
+    const char *options_help; /**< the tool's own option lines, "  -x, --xx   ...\n", or NULL */
+    const char *details;      /**< text after the option list (input format, ...), or NULL */
+} cli_tool;
+
+/** Values of the options every tool has, filled by cli_parse_args. */
+typedef struct cli_common {
+    const char *output; /**< -o/--output argument; NULL when not given (stdout) */
+    bool json;          /**< --json was given */
+} cli_common;
+
+/** getopt_long values of the common options. A tool's own short options must
+ *  not use h, V or o; its long-only options should use values from
+ *  CLI_OPT_TOOL_BASE upwards. */
+enum {
+    CLI_OPT_HELP = 'h',
+    CLI_OPT_VERSION = 'V',
+    CLI_OPT_OUTPUT = 'o',
+    CLI_OPT_JSON = 0x1000,
+    CLI_OPT_TOOL_BASE = 0x2000
+};
+
+/**
+ * Called by cli_parse_args for every option that is not a common one: `opt`
+ * is getopt_long's return value, `arg` its argument (NULL if none). Return
+ * CLI_CONTINUE to go on, or an exit status (normally CLI_EXIT_USAGE after
+ * cli_usage_error()) to stop.
+ */
+typedef int (*cli_option_fn)(const cli_tool *tool, void *user, int opt, const char *arg);
+
+/**
+ * Parse argv with getopt_long: the common options plus the tool's own
+ * (`shortopts` in getopt syntax without the leading ':' and `longopts`
+ * terminated by a zero entry; either may be NULL). Operands may come before
+ * or after options (GNU permutation); "--" ends the options.
+ *
+ * On --help prints the usage to stdout and returns CLI_EXIT_OK; on --version
+ * prints the version line and returns CLI_EXIT_OK; on an unknown option or a
+ * missing argument prints a message and a hint to stderr and returns
+ * CLI_EXIT_USAGE; on an allocation failure returns CLI_EXIT_ERROR. Otherwise
+ * fills *common, sets *first_operand to the index in argv of the first
+ * operand (argc if none) and returns CLI_CONTINUE.
+ * Resets getopt (optind) before parsing, so it may be called more than once.
+ */
+int cli_parse_args(const cli_tool *tool, int argc, char **argv, const char *shortopts,
+                   const struct option *longopts, cli_option_fn on_option, void *user,
+                   cli_common *common, int *first_operand);
+
+/** Print the full --help text of `tool` to fp. */
+void cli_print_usage(const cli_tool *tool, FILE *fp);
+
+/** Print "geom-<verb> (libgeom) X.Y.Z" (the linked library's version) to fp. */
+void cli_print_version(const cli_tool *tool, FILE *fp);
+
+/** Print "tool: <message>" and a "Try 'tool --help'" hint to stderr; returns
+ *  CLI_EXIT_USAGE so callers can `return cli_usage_error(...)`. */
+int cli_usage_error(const cli_tool *tool, const char *fmt, ...) CLI_PRINTF(2, 3);
+
+/** Print "tool: <message>" to stderr; returns CLI_EXIT_ERROR. */
+int cli_error(const cli_tool *tool, const char *fmt, ...) CLI_PRINTF(2, 3);
+
+/* -------------------------------------------------------------- diagnostics */
+
+/** Fill d (if not NULL): clear it, then set status, source (NULL: ""),
+ *  line, column (0: unknown) and a printf-style message. Returns status. */
+geom_status cli_diag_set(geom_diag *d, geom_status status, const char *source, size_t line,
+                         size_t column, const char *fmt, ...) CLI_PRINTF(6, 7);
+
+/** Set the source and line of a diagnostic filled by a function that only
+ *  knows the column (cli_parse_numbers). NULL d is a no-op. */
+void cli_diag_locate(geom_diag *d, const char *source, size_t line);
+
+/** Print d as "tool: source:line:col: message" (parts omitted when unknown,
+ *  see geom_diag_format) to stderr. Returns CLI_EXIT_ERROR. */
+int cli_print_diag(const cli_tool *tool, const geom_diag *d);
+
+/* -------------------------------------------------------------------- input */
+
+/** An open input: a file, or standard input. */
+typedef struct cli_input {
+    FILE *fp;
+    const char *name; /**< the path, or "<stdin>": the source of diagnostics */
+    bool is_stdin;
+} cli_input;
+
+/** Open `path` for reading in binary mode; NULL or "-" means standard input
+ *  (named "<stdin>"). GEOM_ERR_IO (with the system's reason) on failure. */
+geom_status cli_input_open(cli_input *in, const char *path, geom_diag *diag);
+
+/** Close an input opened by cli_input_open (standard input is left open).
+ *  Safe on a zeroed or already closed cli_input. */
+void cli_input_close(cli_input *in);
+
+/* -------------------------------------------------------------------- lines */
+
+/** Reads lines of any length from a FILE, counting them. Zero-initialise or
+ *  use cli_lines_init; release with cli_lines_free. */
+typedef struct cli_lines {
+    FILE *fp;
+    const char *source; /**< name for diagnostics */
+    char *buf;
+    size_t cap;
+    size_t lineno; /**< 1-based number of the line last returned */
+} cli_lines;
+
+void cli_lines_init(cli_lines *r, FILE *fp, const char *source);
+void cli_lines_free(cli_lines *r);
+
+/**
+ * Read the next line. Returns 1 with *line pointing at its text (without the
+ * line end: "\n", "\r\n", or a final "\r"; NUL-terminated, valid until the
+ * next call, writable) and *len its length; 0 at end of input (a last line
+ * without a newline is returned first); or a negative status: GEOM_ERR_PARSE
+ * for a NUL byte in the line (diag has line and column), GEOM_ERR_IO for a
+ * read error, GEOM_ERR_NOMEM.
+ */
+int cli_lines_next(cli_lines *r, char **line, size_t *len, geom_diag *diag);
+
+/** True if the line is empty, only whitespace, or its first non-whitespace
+ *  character is '#' (a comment). */
+bool cli_line_is_blank_or_comment(const char *line, size_t len);
+
+/* ------------------------------------------------------------------ numbers */
+
+/** cli_parse_numbers / cli_parse_double flag: accept "nan", "inf",
+ *  "infinity" (any case, signed) instead of rejecting them. */
+#define CLI_NUM_ALLOW_NONFINITE 1u
+
+/**
+ * Parse one number: the whole of text[0..len) must be a number that strtod
+ * accepts (decimal or hexadecimal floating point, C locale). Rejects an empty
+ * token, trailing garbage, a value that overflows to infinity, and NaN/Inf
+ * unless `flags` has CLI_NUM_ALLOW_NONFINITE. Values that underflow are
+ * accepted (rounded to a subnormal or zero, as strtod does).
+ * `text` need not be NUL-terminated and is never read beyond len bytes.
+ * Returns GEOM_OK or GEOM_ERR_PARSE (diag: column 1, message naming the
+ * token), GEOM_ERR_NOMEM.
+ */
+geom_status cli_parse_double(const char *text, size_t len, unsigned flags, double *out,
+                             geom_diag *diag);
+
+/**
+ * Parse a line of numbers separated by whitespace (space, tab, CR, VT, FF)
+ * and/or single commas: "1 2 3", "1,2,3" and "1, 2 ,3" are the same; an empty
+ * field ("1,,2"), a leading or a trailing comma is an error. Each number
+ * follows cli_parse_double's rules.
+ *
+ * text: len bytes, need not be NUL-terminated, never read beyond len; a NUL
+ * byte in it is an error. out: room for `max` doubles (may be NULL if max is
+ * 0). On GEOM_OK *count is the number of values stored (0 for a blank line).
+ * On error *count is the number parsed before the error and diag gets the
+ * 1-based column (the first byte of the bad token) and a message, without
+ * source or line (see cli_diag_locate). Statuses: GEOM_OK; GEOM_ERR_PARSE
+ * for a malformed number, NaN/Inf, overflow, a misplaced comma or a NUL byte;
+ * GEOM_ERR_LIMIT when there are more than `max` numbers (the column is the
+ * first one too many); GEOM_ERR_INVALID_ARG for NULL text/count; GEOM_ERR_NOMEM.
+ */
+geom_status cli_parse_numbers(const char *text, size_t len, unsigned flags, double *out,
+                              size_t max, size_t *count, geom_diag *diag);
+
+/* ------------------------------------------------------------------- output */
+
+/** Print v with 17 significant digits ("%.17g"): reads back exactly. */
+void cli_print_double(FILE *fp, double v);
+
+/** Print v as a JSON number ("%.17g"), or null when v is NaN or infinite. */
+void cli_json_number(FILE *fp, double v);
+
+/** Print s as a JSON string literal with quotes and escapes (control
+ *  characters as \u00XX; bytes >= 0x80 are passed through). */
+void cli_json_string(FILE *fp, const char *s);
+
+/** A destination for a tool's output: standard output, or a file written
+ *  through a temporary file in its directory and renamed on success. */
+typedef struct cli_output {
+    FILE *fp;   /**< write here */
+    char *path; /**< the destination (NULL: standard output) */
+    char *tmp;  /**< the temporary file while open */
+} cli_output;
+
+/**
+ * Open the output. NULL or "-" means standard output. Otherwise creates a
+ * temporary file ".<name>.XXXXXX" in the destination's directory (mode 0666
+ * less the umask, or the mode of the file it will replace) and points out->fp
+ * at it; nothing is visible under `path` until cli_output_commit, which
+ * replaces `path` itself (a symbolic link there is replaced, not followed).
+ * GEOM_ERR_IO if `path` is a directory or the temporary file cannot be
+ * created, GEOM_ERR_NOMEM.
+ */
+geom_status cli_output_open(cli_output *out, const char *path, geom_diag *diag);
+
+/**
+ * Finish a successful run: flush, check for write errors, close, and rename
+ * the temporary file onto the destination (atomically replacing any existing
+ * file). For standard output, flushes and checks for write errors. On any
+ * failure removes the temporary file (the destination is untouched) and
+ * returns GEOM_ERR_IO. The output is closed afterwards either way.
+ */
+geom_status cli_output_commit(cli_output *out, geom_diag *diag);
+
+/** Abandon a failed run: close and remove the temporary file (standard output
+ *  is only flushed). Safe on a zeroed or already finished cli_output. */
+void cli_output_abort(cli_output *out);
+
+/* -------------------------------------------------------------------- timer */
+
+/** Monotonic wall-clock timer for the time reports tools print. */
+typedef struct cli_timer {
+    double start; /**< seconds, CLOCK_MONOTONIC */
+} cli_timer;
+
+/** Start (or restart) the timer. */
+void cli_timer_start(cli_timer *t);
+
+/** Seconds elapsed since cli_timer_start. */
+double cli_timer_elapsed(const cli_timer *t);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* GEOM_TOOLS_CLI_H */
