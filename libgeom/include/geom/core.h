@@ -99,6 +99,32 @@ typedef struct geom_allocator {
     void *user;
 } geom_allocator;
 
+/* ------------------------------------------------------------- error report */
+
+#ifndef GEOM_ERROR_REPORT_DEFINED
+#define GEOM_ERROR_REPORT_DEFINED
+/** How geom_error_report::max_error was obtained. */
+enum {
+    GEOM_ERROR_NONE = 0,     /**< nothing measured (e.g. nothing was approximated) */
+    GEOM_ERROR_BOUND = 1,    /**< a guaranteed upper bound (up to rounding) */
+    GEOM_ERROR_SAMPLED = 2,  /**< measured at sample points: a lower estimate */
+    GEOM_ERROR_ESTIMATE = 3  /**< an a-posteriori estimate (e.g. two quadrature orders) */
+};
+
+/**
+ * What an approximating function achieved (tessellation, isosurfaces,
+ * subdivision toward the limit, root finding, quadrature): the error
+ * measure, in the units the function states, how it was measured, and the
+ * work done. Tools print it next to the run time.
+ */
+typedef struct geom_error_report {
+    double max_error;   /**< largest error over the pieces (or the total, where stated) */
+    double mean_error;  /**< mean over the pieces */
+    int method;         /**< GEOM_ERROR_BOUND, GEOM_ERROR_SAMPLED or GEOM_ERROR_ESTIMATE */
+    size_t evaluations; /**< function evaluations (or samples) performed */
+} geom_error_report;
+#endif
+
 /* ------------------------------------------------------------------ vectors */
 
 typedef struct geom_vec2 { double x, y; } geom_vec2;
