@@ -1,0 +1,199 @@
+/* Attribute channels: VERTEX, FACE, EDGE values and CORNER (face-varying)
+ * pools with per-halfedge indices. */
+#include "mesh/mesh_internal.h"
+
+#define INV GEOM_INVALID_INDEX
+
+static size_t domain_count(const geom_mesh *m, geom_mesh_domain d)
+{
+    switch (d) {
+    case GEOM_MESH_DOMAIN_VERTEX: return m->nv;
+    case GEOM_MESH_DOMAIN_FACE: return m->nf;
+    case GEOM_MESH_DOMAIN_EDGE: return m->nh / 2;
+    case GEOM_MESH_DOMAIN_CORNER: break;
+    }
+    return 0;
+}
+
+static size_t domain_capacity(const geom_mesh *m, geom_mesh_domain d)
+{
+    switch (d) {
+    case GEOM_MESH_DOMAIN_VERTEX: return m->cap_v;
+    case GEOM_MESH_DOMAIN_FACE: return m->cap_f;
+    case GEOM_MESH_DOMAIN_EDGE: return m->cap_h / 2;
+    case GEOM_MESH_DOMAIN_CORNER: break;
+    }
+    return 0;
+}
+
+void geom_mesh__channel_free(geom_mesh *m, geom_mesh__channel *c)
+{
+    const geom_allocator *a = &m->alloc;
+    if (c->domain == GEOM_MESH_DOMAIN_CORNER) {
+        geom_free(a, c->data, c->data_cap * c->ncomp * sizeof(double));
+        geom_free(a, c->corner, m->cap_h * sizeof(uint32_t));
+    } else
+        geom_free(a, c->data, domain_capacity(m, c->domain) * c->ncomp * sizeof(double));
+    c->data = NULL;
+    c->corner = NULL;
+    c->data_cap = c->pool = 0;
+}
+
+geom_status geom_mesh__pool_reserve(geom_mesh *m, geom_mesh__channel *c, size_t n)
+{
+    if (n <= c->data_cap)
+        return GEOM_OK;
+    if (n > (size_t)UINT32_MAX - 1)
+        return GEOM_ERR_LIMIT;
+    size_t nc = c->data_cap < 16 ? 16 : c->data_cap;
+    while (nc < n)
+        nc = nc > SIZE_MAX / 4 ? n : nc * 2;
+    if (nc > (size_t)UINT32_MAX - 1)
+        nc = (size_t)UINT32_MAX - 1;
+    size_t ob = c->data_cap * c->ncomp * sizeof(double), nb;
+    if (geom_size_mul(nc, c->ncomp * sizeof(double), &nb) != GEOM_OK)
+        return GEOM_ERR_LIMIT;
+    double *d = geom_realloc(&m->alloc, c->data, ob, nb);
+    if (!d)
+        return GEOM_ERR_NOMEM;
+    c->data = d;
+    c->data_cap = nc;
+    return GEOM_OK;
+}
+
+size_t geom_mesh_channel_count(const geom_mesh *m) { return m ? m->n_channels : 0; }
+
+geom_status geom_mesh_channel_add(geom_mesh *m, const char *name, geom_mesh_domain domain,
+                                  size_t ncomp, uint32_t *id)
+{
+    if (!m || !name || ncomp < 1 || ncomp > 4096 || (unsigned)domain > GEOM_MESH_DOMAIN_CORNER)
+        return GEOM_ERR_INVALID_ARG;
+    size_t len = strlen(name);
+    if (len == 0 || len >= GEOM_MESH__NAME_MAX)
+        return GEOM_ERR_INVALID_ARG;
+    if (geom_mesh_channel_find(m, name, domain) != INV)
+        return GEOM_ERR_INVALID_ARG;
+    if (m->n_channels >= (size_t)UINT32_MAX - 1)
+        return GEOM_ERR_LIMIT;
+    geom_status s = geom_mesh__reserve_some(m);
+    if (s != GEOM_OK)
+        return s;
+    void *arr = m->channels;
+    s = geom_mesh__grow(&m->alloc, &arr, &m->cap_channels, m->n_channels + 1,
+                        sizeof *m->channels);
+    m->channels = arr;
+    if (s != GEOM_OK)
+        return s;
+    geom_mesh__channel c;
+    memset(&c, 0, sizeof c);
+    memcpy(c.name, name, len + 1);
+    c.domain = domain;
+    c.ncomp = ncomp;
+    if (domain == GEOM_MESH_DOMAIN_CORNER) {
+        size_t nb;
+        if (geom_size_mul(m->cap_h, sizeof(uint32_t), &nb) != GEOM_OK)
+            return GEOM_ERR_LIMIT;
+        c.corner = geom_alloc(&m->alloc, nb);
+        if (!c.corner)
+            return GEOM_ERR_NOMEM;
+        for (size_t i = 0; i < m->cap_h; ++i)
+            c.corner[i] = INV;
+    } else {
+        size_t cap = domain_capacity(m, domain), nb;
+        if (geom_size_mul(cap, ncomp * sizeof(double), &nb) != GEOM_OK)
+            return GEOM_ERR_LIMIT;
+        c.data = geom_alloc(&m->alloc, nb);
+        if (!c.data)
+            return GEOM_ERR_NOMEM;
+        memset(c.data, 0, nb);
+        c.data_cap = cap;
+    }
+    m->channels[m->n_channels] = c;
+    if (id)
+        *id = (uint32_t)m->n_channels;
+    m->n_channels++;
+    return GEOM_OK;
+}
+
+uint32_t geom_mesh_channel_find(const geom_mesh *m, const char *name, geom_mesh_domain domain)
+{
+    if (!m || !name)
+        return INV;
+    for (size_t i = 0; i < m->n_channels; ++i)
+        if (m->channels[i].domain == domain && strcmp(m->channels[i].name, name) == 0)
+            return (uint32_t)i;
+    return INV;
+}
+
+geom_status geom_mesh_channel_remove(geom_mesh *m, uint32_t id)
+{
+    if (!m || id == 0 || (size_t)id >= m->n_channels)
+        return GEOM_ERR_INVALID_ARG;
+    geom_mesh__channel_free(m, &m->channels[id]);
+    memmove(&m->channels[id], &m->channels[id + 1],
+            (m->n_channels - id - 1) * sizeof *m->channels);
+    m->n_channels--;
+    return GEOM_OK;
+}
+
+#define CHOK(m, id) ((m) && (size_t)(id) < (m)->n_channels)
+
+const char *geom_mesh_channel_name(const geom_mesh *m, uint32_t id)
+{
+    return CHOK(m, id) ? m->channels[id].name : NULL;
+}
+
+geom_mesh_domain geom_mesh_channel_domain(const geom_mesh *m, uint32_t id)
+{
+    return CHOK(m, id) ? m->channels[id].domain : GEOM_MESH_DOMAIN_VERTEX;
+}
+
+size_t geom_mesh_channel_ncomp(const geom_mesh *m, uint32_t id)
+{
+    return CHOK(m, id) ? m->channels[id].ncomp : 0;
+}
+
+size_t geom_mesh_channel_size(const geom_mesh *m, uint32_t id)
+{
+    if (!CHOK(m, id))
+        return 0;
+    const geom_mesh__channel *c = &m->channels[id];
+    return c->domain == GEOM_MESH_DOMAIN_CORNER ? c->pool : domain_count(m, c->domain);
+}
+
+double *geom_mesh_channel_data(geom_mesh *m, uint32_t id)
+{
+    return CHOK(m, id) ? m->channels[id].data : NULL;
+}
+
+const double *geom_mesh_channel_cdata(const geom_mesh *m, uint32_t id)
+{
+    return CHOK(m, id) ? m->channels[id].data : NULL;
+}
+
+geom_status geom_mesh_corner_pool_resize(geom_mesh *m, uint32_t id, size_t n)
+{
+    if (!CHOK(m, id) || m->channels[id].domain != GEOM_MESH_DOMAIN_CORNER)
+        return GEOM_ERR_INVALID_ARG;
+    geom_mesh__channel *c = &m->channels[id];
+    geom_status s = geom_mesh__pool_reserve(m, c, n);
+    if (s != GEOM_OK)
+        return s;
+    if (n > c->pool)
+        memset(c->data + c->pool * c->ncomp, 0, (n - c->pool) * c->ncomp * sizeof(double));
+    c->pool = n;
+    return GEOM_OK;
+}
+
+uint32_t *geom_mesh_corner_indices(geom_mesh *m, uint32_t id)
+{
+    return CHOK(m, id) ? m->channels[id].corner : NULL;
+}
+
+const uint32_t *geom_mesh_corner_cindices(const geom_mesh *m, uint32_t id)
+{
+    return CHOK(m, id) ? m->channels[id].corner : NULL;
+}
+
+double *geom_mesh_positions(geom_mesh *m) { return m ? m->channels[0].data : NULL; }
+const double *geom_mesh_cpositions(const geom_mesh *m) { return m ? m->channels[0].data : NULL; }

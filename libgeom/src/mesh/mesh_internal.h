@@ -1,0 +1,227 @@
+/*
+ * Private layout of geom_mesh, shared by the sources of the mesh module (and
+ * readable by meshio). Not installed.
+ *
+ * Arrays (all owned, allocated through m->alloc with geom_alloc/geom_free):
+ *
+ *   element      count        capacity  arrays
+ *   vertex       nv           cap_v     v_he, v_del, vertex channels, vertex_origin
+ *   halfedge     nh (= 2*ne)  cap_h     he_next, he_prev, he_vertex, he_face,
+ *                                       corner index arrays of CORNER channels
+ *   edge         nh / 2       cap_h/2   e_del, EDGE channels
+ *   face         nf           cap_f     f_he, f_del, FACE channels, face_origin,
+ *                                       face_flipped, face_group
+ *
+ * Conventions (as the public header): opposite(h) = h ^ 1, edge(h) = h >> 1;
+ * he_vertex[h] is the vertex h points TO; he_face[h] is GEOM_INVALID_INDEX on
+ * a boundary halfedge; v_he[v] is an outgoing halfedge, a boundary one when v
+ * is on a boundary, GEOM_INVALID_INDEX for an isolated vertex; f_he[f] is one
+ * halfedge of f. *_del[i] is 1 for an element marked deleted (0 otherwise);
+ * n_del_* count them.
+ *
+ * Hot loops in other mesh sources may read these arrays directly (read-only
+ * unless the function owns the mesh change); always keep every array of a
+ * domain in sync through geom_mesh__resize().
+ *
+ * Channels: channels[0] is "position" (VERTEX, 3 comps). For VERTEX, FACE and
+ * EDGE channels `data` holds capacity*ncomp doubles (values beyond the count
+ * are scratch); for CORNER channels `data` holds pool_cap*ncomp doubles of
+ * which `pool` values are in use, and `corner` holds cap_h pool indices (one
+ * per halfedge; GEOM_INVALID_INDEX on boundary halfedges and unset corners).
+ *
+ * Soup origin (set by geom_mesh_build, NULL otherwise):
+ *   vertex_origin[v]: the input vertex of output vertex v;
+ *   face_origin[f]:   the input face of output face f;
+ *   face_flipped[f]:  1 if build reversed face f. Input corner k (0-based, in
+ *                     the input face's order) of an n-gon then sits at the
+ *                     halfedge reached from f_he[f] by k next-steps when not
+ *                     flipped, by (n - k) % n next-steps when flipped; see
+ *                     geom_mesh__input_corner_he().
+ * Edits keep the maps in sync: added vertices/faces get GEOM_INVALID_INDEX
+ * (flag 0), compaction compacts them, triangulation copies the face's origin
+ * to its triangles and drops face_flipped (input corners no longer exist).
+ * Example (OBJ reader): after geom_mesh_build, for output face f with input
+ * face fi = face_origin[f] and its k-th `v/vt/vn` corner, store the pool
+ * index at corner[geom_mesh__input_corner_he(m, f, k)]; vertex splitting
+ * never touches corner slots, so detached/split vertices keep their data.
+ *
+ * Compaction remaps polylines (dropping deleted vertices) but leaves tag
+ * integers alone (they are file-level indices).
+ *
+ * Sources: mesh.c (storage, lifetime, navigation, add/delete, compaction),
+ * channels.c, circulate.c, meta.c (tags, groups, mtllibs, polylines),
+ * build.c, soup.c (to_soup, origin maps, input-corner helpers), topology.c,
+ * validate.c, triangulate.c.
+ */
+#ifndef GEOM_SRC_MESH_INTERNAL_H
+#define GEOM_SRC_MESH_INTERNAL_H
+
+#include "core/internal.h"
+#include "geom/mesh.h"
+
+#include <string.h>
+
+#define GEOM_MESH__NAME_MAX 64 /* channel name buffer, including the NUL */
+
+typedef struct geom_mesh__channel {
+    char name[GEOM_MESH__NAME_MAX];
+    geom_mesh_domain domain;
+    size_t ncomp;
+    double *data;     /* see above */
+    size_t data_cap;  /* values allocated in data (not doubles) */
+    size_t pool;      /* CORNER: values in use */
+    uint32_t *corner; /* CORNER: cap_h entries; NULL for other domains */
+} geom_mesh__channel;
+
+typedef struct geom_mesh__tag {
+    char *name;
+    size_t nint, nfloat, nstring;
+    int64_t *ints;
+    double *floats;
+    char **strings;
+} geom_mesh__tag;
+
+typedef struct geom_mesh__group {
+    char *s[4]; /* group, object, material, smoothing (NULL when unset) */
+} geom_mesh__group;
+
+struct geom_mesh {
+    geom_allocator alloc; /* copy of the user's allocator (zeroed = libc) */
+
+    size_t nv, nh, nf;          /* element counts (edges = nh / 2) */
+    size_t cap_v, cap_h, cap_f; /* capacities (cap_h even) */
+    size_t n_del_v, n_del_e, n_del_f;
+
+    uint32_t *he_next, *he_prev, *he_vertex, *he_face;
+    uint32_t *v_he, *f_he;
+    uint8_t *v_del, *e_del, *f_del;
+
+    geom_mesh__channel *channels;
+    size_t n_channels, cap_channels;
+
+    uint32_t *vertex_origin; /* cap_v entries or NULL */
+    uint32_t *face_origin;   /* cap_f entries or NULL */
+    uint8_t *face_flipped;   /* cap_f entries or NULL */
+    uint32_t *face_group;    /* cap_f entries or NULL */
+
+    geom_mesh__group *groups;
+    size_t n_groups, cap_groups;
+    geom_mesh__tag *tags;
+    size_t n_tags, cap_tags;
+    char **mtllibs;
+    size_t n_mtllibs, cap_mtllibs;
+    size_t n_polylines, cap_polylines;
+    size_t *pl_off;          /* cap_polylines + 1 offsets into pl_verts */
+    uint32_t *pl_verts;
+    size_t pl_nverts, cap_pl_verts;
+};
+
+/* ----------------------------------------------------------- accessors */
+
+static inline uint32_t geom_mesh__opp(uint32_t h) { return h ^ 1u; }
+static inline uint32_t geom_mesh__next(const geom_mesh *m, uint32_t h) { return m->he_next[h]; }
+static inline uint32_t geom_mesh__prev(const geom_mesh *m, uint32_t h) { return m->he_prev[h]; }
+static inline uint32_t geom_mesh__to(const geom_mesh *m, uint32_t h) { return m->he_vertex[h]; }
+static inline uint32_t geom_mesh__from(const geom_mesh *m, uint32_t h)
+{
+    return m->he_vertex[h ^ 1u];
+}
+static inline bool geom_mesh__is_bnd(const geom_mesh *m, uint32_t h)
+{
+    return m->he_face[h] == GEOM_INVALID_INDEX;
+}
+/* Counter-clockwise rotation of an outgoing halfedge around its origin. */
+static inline uint32_t geom_mesh__ccw(const geom_mesh *m, uint32_t h)
+{
+    return m->he_prev[h] ^ 1u;
+}
+/* Clockwise rotation of an outgoing halfedge around its origin. */
+static inline uint32_t geom_mesh__cw(const geom_mesh *m, uint32_t h)
+{
+    return m->he_next[h ^ 1u];
+}
+/* Positions (channel 0): 3 doubles per vertex. */
+static inline double *geom_mesh__pos(const geom_mesh *m) { return m->channels[0].data; }
+static inline void geom_mesh__link(geom_mesh *m, uint32_t a, uint32_t b)
+{
+    m->he_next[a] = b;
+    m->he_prev[b] = a;
+}
+
+/* ------------------------------------------------ growable-array helper */
+
+/* Grow *p (elements of `elem` bytes, capacity *cap) to hold at least `need`
+ * elements (doubling). New elements are uninitialised. GEOM_ERR_NOMEM /
+ * GEOM_ERR_LIMIT; *p and *cap unchanged on failure. */
+geom_status geom_mesh__grow(const geom_allocator *a, void **p, size_t *cap, size_t need,
+                            size_t elem);
+
+/* Duplicate a string (NULL gives NULL in *out); GEOM_ERR_NOMEM. */
+geom_status geom_mesh__strdup(const geom_allocator *a, const char *s, char **out);
+/* Free a string made by geom_mesh__strdup (NULL allowed). */
+void geom_mesh__strfree(const geom_allocator *a, char *s);
+
+/* -------------------------------------------- element storage (mesh.c) */
+
+/* Make room for nv vertices, nh halfedges and nf faces in every array of
+ * every domain (channels, corner index arrays, origin maps, groups). Counts
+ * are unchanged. GEOM_ERR_NOMEM / GEOM_ERR_LIMIT (nothing changed then). */
+geom_status geom_mesh__reserve(geom_mesh *m, size_t nv, size_t nh, size_t nf);
+
+/* Make every domain's capacity nonzero (so optional arrays and channels
+ * can be allocated at the domain capacity). */
+geom_status geom_mesh__reserve_some(geom_mesh *m);
+
+/* Set the element counts (nh even), reserving as needed. New elements are
+ * initialised: links GEOM_INVALID_INDEX, not deleted, channel values zero,
+ * corner indices, origins and face groups GEOM_INVALID_INDEX, flipped 0.
+ * Shrinking just drops the tail (no link fix-up). This is what keeps the
+ * channels in sync with the element counts
+ * (geom_mesh__channel_resize_all is the same function). */
+geom_status geom_mesh__resize(geom_mesh *m, size_t nv, size_t nh, size_t nf);
+#define geom_mesh__channel_resize_all geom_mesh__resize
+
+/* Free every element, channel except position (emptied), origin maps and
+ * metadata; capacities are kept for position only. */
+void geom_mesh__clear_all(geom_mesh *m);
+
+/* Set v_he[v] to a boundary outgoing halfedge if v has one (pmp's
+ * adjust_outgoing_halfedge). v must not be isolated. */
+void geom_mesh__adjust_outgoing(geom_mesh *m, uint32_t v);
+
+/* Allocate the vertex_origin / face_origin / face_flipped arrays at the
+ * current capacity (filled with GEOM_INVALID_INDEX / 0) if absent. */
+geom_status geom_mesh__ensure_origins(geom_mesh *m);
+
+/* ------------------------------------------------------ channels.c */
+
+/* Free channel i's storage (does not remove it from the list). */
+void geom_mesh__channel_free(geom_mesh *m, geom_mesh__channel *c);
+/* Grow a CORNER channel's pool capacity to at least n values (no zeroing). */
+geom_status geom_mesh__pool_reserve(geom_mesh *m, geom_mesh__channel *c, size_t n);
+
+/* ---------------------------------------------------------- meta.c */
+
+void geom_mesh__meta_free(geom_mesh *m);
+/* Deep-copy tags, groups, mtllibs and polylines of src into dst (which has
+ * none). GEOM_ERR_NOMEM (dst may then hold part of them; free with
+ * geom_mesh__meta_free). */
+geom_status geom_mesh__meta_copy(geom_mesh *dst, const geom_mesh *src);
+/* Rewrite polyline vertex indices through vmap (old -> new or
+ * GEOM_INVALID_INDEX: such entries are dropped). */
+void geom_mesh__polylines_remap(geom_mesh *m, const uint32_t *vmap);
+
+/* ------------------------------------------------------- soup helpers */
+
+/* After geom_mesh_build: the halfedge of output face f holding input corner
+ * k (k < face valence), i.e. the halfedge pointing to the face's k-th input
+ * vertex; its corner-channel slot is that input corner's. Uses face_flipped
+ * (treated as not flipped when absent). GEOM_INVALID_INDEX for a bad f/k.
+ * O(k). */
+uint32_t geom_mesh__input_corner_he(const geom_mesh *m, uint32_t f, uint32_t k);
+/* All corners of output face f in input order: out[k] =
+ * geom_mesh__input_corner_he(m, f, k) for k < valence (out must hold the
+ * face valence). Returns the valence (0 for a bad f). O(valence). */
+size_t geom_mesh__input_corners(const geom_mesh *m, uint32_t f, uint32_t *out);
+
+#endif
