@@ -1,0 +1,221 @@
+/*
+ * Private B-spline kernels of the curve module, shared with the surface
+ * module (include "curve/bspline_basis.h"). Not installed.
+ *
+ * These functions do no argument checking: callers validate once (see
+ * geom_curve_nurbs_validate / geom_curve_check_eval) and then call them in
+ * inner loops. All knot vectors follow the rules in geom/curve.h: degree
+ * p >= 0, n >= p+1 control points, n+p+1 nondecreasing knots, u_p < u_n.
+ *
+ * Scratch memory: functions that need temporary arrays whose size grows with
+ * the degree take them from the caller (`work`, sized by the matching
+ * *_work() function), so they never allocate. geom_curve_scratch gives
+ * callers a stack buffer with a heap fallback.
+ *
+ * Symbols are prefixed geom_curve_ so that the link-minimality check
+ * (tests/link) attributes them to this module.
+ */
+#ifndef GEOM_SRC_CURVE_BSPLINE_BASIS_H
+#define GEOM_SRC_CURVE_BSPLINE_BASIS_H
+
+#include "core/internal.h"
+#include "geom/curve.h"
+
+#include <string.h>
+
+/* ------------------------------------------------------------------ scratch */
+
+/** Doubles held on the stack by a geom_curve_scratch (8 KiB). */
+#define GEOM_CURVE_SCRATCH_LOCAL 1024
+
+/**
+ * Temporary storage: `mem` points into `local` when the request fits, else to
+ * a malloc'd block. Always pair geom_curve_scratch_init with
+ * geom_curve_scratch_free (also after a failed init: it is then a no-op).
+ */
+typedef struct geom_curve_scratch {
+    double *mem;
+    size_t size; /* doubles */
+    int heap;
+    double local[GEOM_CURVE_SCRATCH_LOCAL];
+} geom_curve_scratch;
+
+/** Make s->mem hold at least ndoubles doubles. GEOM_ERR_NOMEM or
+ *  GEOM_ERR_LIMIT (size overflow) on failure, with s->mem == NULL. */
+geom_status geom_curve_scratch_init(geom_curve_scratch *s, size_t ndoubles);
+void geom_curve_scratch_free(geom_curve_scratch *s);
+
+/* ---------------------------------------------------------- span and basis */
+
+/**
+ * A2.1 with the module's rules: the span k in [p, n-1] with u_k < u_{k+1}
+ * such that u_k <= u < u_{k+1} (left == 0) or u_k < u <= u_{k+1} (left != 0);
+ * u <= u_p gives the first non-empty span, u >= u_n the last. Binary
+ * search, O(log n). Memory-safe for any knots (the result is always in
+ * [p, n-1]).
+ */
+size_t geom_curve_bs_span(int p, size_t n, const double *U, double u, int left);
+
+/** Doubles of work needed by geom_curve_bs_basis: 2*(p+1). */
+static inline size_t geom_curve_bs_basis_work(int p)
+{
+    return 2 * ((size_t)p + 1);
+}
+
+/**
+ * A2.2: N[0..p] = N_{k-p,p}(u) .. N_{k,p}(u) for span k. The recurrence is
+ * evaluated as saved + (right * N) / den rather than right * (N / den), so a
+ * basis function that equals 1 (u at a knot of multiplicity >= p, e.g. the
+ * ends of a clamped curve) is exactly 1 and the others exactly 0.
+ */
+void geom_curve_bs_basis(int p, const double *U, size_t k, double u, double *N, double *work);
+
+/** Doubles of work needed by geom_curve_bs_ders: (p+1)^2 + 4*(p+1). */
+static inline size_t geom_curve_bs_ders_work(int p)
+{
+    size_t q = (size_t)p + 1;
+    return q * q + 4 * q;
+}
+
+/**
+ * A2.3: ders[j*(p+1) + r] = j-th derivative of N_{k-p+r,p} at u, for
+ * j = 0..nd (rows above p are zero). Row 0 equals geom_curve_bs_basis.
+ */
+void geom_curve_bs_ders(int p, const double *U, size_t k, double u, int nd, double *ders,
+                        double *work);
+
+/* ------------------------------------------------------ homogeneous points */
+
+/** Homogeneous dimension: dim + 1 for rational curves, dim otherwise. */
+#define GEOM_CURVE_HDIM_MAX (GEOM_CURVE_MAX_DIM + 1)
+
+static inline size_t geom_curve_hdim(const geom_nurbs_curve *c)
+{
+    return c->dim + (c->weights ? 1 : 0);
+}
+
+/** h = (w P_i, w) for rational curves, P_i otherwise (hdim doubles). */
+static inline void geom_curve_hget(const geom_nurbs_curve *c, size_t i, double *h)
+{
+    const double *P = c->points + i * c->dim;
+    if (c->weights) {
+        double w = c->weights[i];
+        for (size_t d = 0; d < c->dim; ++d)
+            h[d] = w * P[d];
+        h[c->dim] = w;
+    } else {
+        for (size_t d = 0; d < c->dim; ++d)
+            h[d] = P[d];
+    }
+}
+
+/** r = a*x + b*y on D components (r may alias x or y). */
+static inline void geom_curve_hcomb(size_t D, double *r, double a, const double *x, double b,
+                                    const double *y)
+{
+    for (size_t d = 0; d < D; ++d)
+        r[d] = a * x[d] + b * y[d];
+}
+
+/**
+ * Output curve being built in homogeneous form inside the caller's split
+ * buffers: point i is pts[i*dim ..] (holding w*P while building) and w[i]
+ * (w == NULL for polynomial curves).
+ */
+typedef struct geom_curve_hbuf {
+    double *pts;
+    double *w;
+    size_t dim;
+} geom_curve_hbuf;
+
+static inline void geom_curve_hbuf_set(const geom_curve_hbuf *b, size_t i, const double *h)
+{
+    memcpy(b->pts + i * b->dim, h, b->dim * sizeof(double));
+    if (b->w)
+        b->w[i] = h[b->dim];
+}
+
+static inline void geom_curve_hbuf_get(const geom_curve_hbuf *b, size_t i, double *h)
+{
+    memcpy(h, b->pts + i * b->dim, b->dim * sizeof(double));
+    if (b->w)
+        h[b->dim] = b->w[i];
+}
+
+/** Turn points [0, n) of b from (w P, w) back into Euclidean P. */
+void geom_curve_hbuf_finish(const geom_curve_hbuf *b, size_t n);
+
+/* -------------------------------------------------------- shared helpers */
+
+/**
+ * Cheap checks done on every evaluation: non-NULL curve and arrays,
+ * degree >= 1, n >= degree+1, 1 <= dim <= GEOM_CURVE_MAX_DIM.
+ */
+geom_status geom_curve_check_cheap(const geom_nurbs_curve *c);
+
+/** Validation shared by the knot operations (insert.c): a valid curve
+ *  (geom_curve_nurbs_validate) and non-NULL output buffers. */
+geom_status geom_curve_check_knot_op(const geom_nurbs_curve *c, const double *knots,
+                                     const double *points, const double *weights,
+                                     const geom_nurbs_curve *out, geom_diag *diag);
+
+/**
+ * Reduce and check an evaluation parameter: NaN/Inf -> GEOM_ERR_INVALID_ARG;
+ * outside [u_p, u_n] -> GEOM_ERR_DOMAIN unless GEOM_CURVE_WRAP, which
+ * reduces it. On success *u_eval is the parameter and *left whether to use
+ * the left limit.
+ */
+geom_status geom_curve_prepare_param(const geom_nurbs_curve *c, double u, unsigned flags,
+                                     double *u_eval, int *left);
+
+/** The same for a bare knot vector (degree p, n control points). */
+geom_status geom_curve_prepare_param_knots(int p, size_t n, const double *U, double u,
+                                           unsigned flags, double *u_eval, int *left);
+
+/**
+ * Homogeneous derivatives 0..nd at u in span k: out[j*D + d] (D = hdim).
+ * work: geom_curve_bs_ders_work(p) + (nd+1)*(p+1) doubles.
+ */
+void geom_curve_hderivs(const geom_nurbs_curve *c, size_t k, double u, int nd, double *out,
+                        double *work);
+
+/** Doubles of work for geom_curve_span_derivs. */
+static inline size_t geom_curve_span_derivs_work(const geom_nurbs_curve *c, int nd)
+{
+    size_t q = (size_t)c->degree + 1, nd1 = (size_t)nd + 1;
+    return nd1 * geom_curve_hdim(c) + nd1 * q + geom_curve_bs_ders_work(c->degree);
+}
+
+/**
+ * Euclidean point and derivatives 0..nd at u evaluated on span k (u may be
+ * either end of the span: this is how one-sided values at a knot are
+ * obtained without a span search). ders: (nd+1)*dim doubles; the point is
+ * bit-identical to geom_curve_nurbs_eval's on the same span.
+ */
+void geom_curve_span_derivs(const geom_nurbs_curve *c, size_t k, double u, int nd, double *ders,
+                            double *work);
+
+/** Doubles of work for geom_curve_span_bezier: (p+1)*hdim. */
+static inline size_t geom_curve_span_bezier_work(const geom_nurbs_curve *c)
+{
+    return ((size_t)c->degree + 1) * geom_curve_hdim(c);
+}
+
+/**
+ * Homogeneous Bezier control points (p+1)*hdim of the polynomial piece on
+ * the non-empty span k, by blossoming: b_j = f(u_k^(p-j), u_{k+1}^j), each
+ * blossom value from the de Boor recurrence with those arguments. Valid for
+ * any knot vector (clamped or not). End points equal the curve's end values
+ * at u_k and u_{k+1}.
+ */
+void geom_curve_span_bezier(const geom_nurbs_curve *c, size_t k, double *out, double *work);
+
+/**
+ * de Casteljau split of a homogeneous Bezier segment (p+1 points of D
+ * doubles) at t: left and right receive (p+1)*D doubles each (either may
+ * alias b; then b is overwritten). work: (p+1)*D doubles.
+ */
+void geom_curve_hsplit(int p, size_t D, const double *b, double t, double *left, double *right,
+                       double *work);
+
+#endif
