@@ -23,7 +23,10 @@ demo: build
 test: build
 	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)
 
-bench: build
+bench:
+	@bash .ci/deps bench
+	cmake -S . -B $(BUILD) -DGEOM_WERROR=ON $(CMAKE_FLAGS)
+	cmake --build $(BUILD) -j $(JOBS)
 	cmake --build $(BUILD) --target bench
 
 clean:

@@ -240,6 +240,20 @@ static void test_nonfinite_rejected(void **state)
             uint32_t t[3];
             assert_int_equal(geom_polygon_triangulate(3, xyz, t), GEOM_ERR_INVALID_ARG);
         }
+    /* a quad whose position later becomes infinite: triangulation refuses
+     * without touching the mesh (it used to write through garbage indices) */
+    double quad[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+    uint32_t qs[1] = {4}, qi[4] = {0, 1, 2, 3};
+    assert_int_equal(geom_mesh_build(m, 4, quad, 1, qs, qi, NULL, NULL, NULL), GEOM_OK);
+    geom_mesh_positions(m)[4] = INFINITY;
+    assert_int_equal(geom_mesh_triangulate(m, NULL), GEOM_ERR_INVALID_ARG);
+    assert_int_equal(geom_mesh_n_faces(m), 1);
+    assert_valid(m);
+    uint32_t t4[6];
+    assert_int_equal(geom_polygon_triangulate(4, geom_mesh_cpositions(m), t4),
+                     GEOM_ERR_INVALID_ARG);
+    for (int i = 0; i < 6; ++i)
+        assert_true(t4[i] < 4); /* a fan, never garbage */
     /* the largest finite coordinates are accepted */
     double big[9] = {-1.7e308, -1.7e308, 0, 1.7e308, -1.7e308, 0, 0, 1.7e308, 0};
     assert_int_equal(geom_mesh_build(m, 3, big, 1, sz, ix, NULL, NULL, NULL), GEOM_OK);

@@ -433,14 +433,16 @@ geom_status geom_mesh_validate(const geom_mesh *m, geom_mesh_defect *defects,
  * exact orient2d predicate; tris receives (n-2)*3 indices into the polygon.
  * Ties (collinear vertices) are resolved so no zero-area triangle is made
  * when another choice exists. GEOM_ERR_DEGENERATE for a zero-area polygon
- * (a fan is still written), GEOM_ERR_INVALID_ARG for n < 3.
+ * (a fan is still written), GEOM_ERR_INVALID_ARG for n < 3, NULL pointers
+ * or a non-finite coordinate (a fan is written in that last case too).
  */
 geom_status geom_polygon_triangulate(size_t n, const double *pts, uint32_t *tris);
 
 /** Triangulate every face with more than three vertices in place (ear
  *  clipping as above), keeping corner-channel indices, face channels (copied
  *  to the new faces) and face groups. *n_new_faces (may be NULL) receives the
- *  number of faces added. */
+ *  number of faces added. GEOM_ERR_INVALID_ARG (mesh unchanged) if such a
+ *  face has a non-finite vertex position; GEOM_ERR_NOMEM. */
 geom_status geom_mesh_triangulate(geom_mesh *m, size_t *n_new_faces);
 
 /* --------------------------------------------------------------- normals */

@@ -159,15 +159,15 @@ geom_status geom_polygon_triangulate(size_t n, const double *pts, uint32_t *tris
     if (n > (size_t)UINT32_MAX - 1)
         return GEOM_ERR_LIMIT;
     double nrm[3];
-    if (!newell(n, pts, nrm))
-        return GEOM_ERR_INVALID_ARG;
-    if (nrm[0] == 0.0 && nrm[1] == 0.0 && nrm[2] == 0.0) {
+    int finite = newell(n, pts, nrm);
+    if (!finite || (nrm[0] == 0.0 && nrm[1] == 0.0 && nrm[2] == 0.0)) {
+        /* Non-finite or zero-area: still a valid (fan) triangulation. */
         for (size_t i = 0; i + 2 < n; ++i) {
             tris[3 * i] = 0;
             tris[3 * i + 1] = (uint32_t)(i + 1);
             tris[3 * i + 2] = (uint32_t)(i + 2);
         }
-        return GEOM_ERR_DEGENERATE;
+        return finite ? GEOM_ERR_DEGENERATE : GEOM_ERR_INVALID_ARG;
     }
     if (n == 3) {
         tris[0] = 0;
@@ -340,6 +340,10 @@ geom_status geom_mesh_triangulate(geom_mesh *m, size_t *n_new_faces)
             add += n - 3;
             if (n > nmax)
                 nmax = n;
+            uint32_t h = m->f_he[f];
+            for (size_t k = 0; k < n; ++k, h = m->he_next[h])
+                if (!geom_isfinite3(geom_mesh__pos(m) + 3 * (size_t)m->he_vertex[h]))
+                    return GEOM_ERR_INVALID_ARG; /* nothing changed yet */
         }
     }
     if (add == 0)
