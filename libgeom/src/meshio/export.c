@@ -1,0 +1,260 @@
+/* meshio export view: the mesh as output vertices (one per distinct corner
+ * attribute combination at a vertex) and faces over them, for the formats
+ * that store attributes per vertex (OFF, PLY, glTF). */
+#include "meshio/meshio_internal.h"
+
+static const char *const attr_names[MIO_NATTR] = {"normal", "uv", "color", "tangent"};
+static const unsigned attr_bits[MIO_NATTR] = {GEOM_MESHIO_ATTR_NORMAL, GEOM_MESHIO_ATTR_UV,
+                                              GEOM_MESHIO_ATTR_COLOR, GEOM_MESHIO_ATTR_TANGENT};
+
+uint32_t geom_meshio__attr_channel(const geom_mesh *m, int which, unsigned omit)
+{
+    if (which < 0 || which >= MIO_NATTR || (omit & attr_bits[which]))
+        return GEOM_INVALID_INDEX;
+    uint32_t id = geom_mesh_channel_find(m, attr_names[which], GEOM_MESH_DOMAIN_CORNER);
+    if (id == GEOM_INVALID_INDEX)
+        id = geom_mesh_channel_find(m, attr_names[which], GEOM_MESH_DOMAIN_VERTEX);
+    return id;
+}
+
+geom_status geom_meshio__check_finite(const geom_mesh *m, mio_sink *k)
+{
+    const double *p = geom_mesh_cpositions(m);
+    size_t nv = geom_mesh_n_vertices(m);
+    for (size_t v = 0; v < nv; v++)
+        if (!geom_mesh_vertex_is_deleted(m, (uint32_t)v) && !geom_isfinite3(p + 3 * v))
+            return geom_meshio__sink_fail(k, GEOM_ERR_INVALID_ARG,
+                                          "vertex %zu has a non-finite coordinate", v);
+    return GEOM_OK;
+}
+
+geom_status geom_meshio__vertex_map(const geom_mesh *m, const geom_allocator *a,
+                                    uint32_t **map, size_t *n_live)
+{
+    size_t nv = geom_mesh_n_vertices(m);
+    size_t bytes;
+    if (geom_size_mul(nv, sizeof(uint32_t), &bytes) != GEOM_OK)
+        return GEOM_ERR_LIMIT;
+    uint32_t *mp = geom_alloc(a, bytes);
+    if (!mp)
+        return GEOM_ERR_NOMEM;
+    size_t k = 0;
+    for (size_t v = 0; v < nv; v++)
+        mp[v] = geom_mesh_vertex_is_deleted(m, (uint32_t)v) ? GEOM_INVALID_INDEX
+                                                             : (uint32_t)k++;
+    *map = mp;
+    *n_live = k;
+    return GEOM_OK;
+}
+
+void geom_meshio__export_free(mio_export *e)
+{
+    const geom_allocator *a = e->alloc;
+    geom_free(a, e->vert, e->cap_v * sizeof(uint32_t));
+    for (int i = 0; i < MIO_NATTR; i++)
+        geom_free(a, e->aidx[i], e->cap_v * sizeof(uint32_t));
+    geom_free(a, e->fsize, e->nf * sizeof(uint32_t));
+    geom_free(a, e->fface, e->nf * sizeof(uint32_t));
+    geom_free(a, e->fidx, e->nidx * sizeof(uint32_t));
+    memset(e, 0, sizeof *e);
+}
+
+/* Grow the per-output-vertex arrays to hold n entries. */
+static geom_status grow_out(mio_export *e, size_t n)
+{
+    if (n <= e->cap_v)
+        return GEOM_OK;
+    size_t cap = e->cap_v ? e->cap_v : 16;
+    while (cap < n)
+        cap *= 2;
+    size_t old = e->cap_v;
+    size_t tmp = old;
+    if (geom_meshio__grow(e->alloc, (void **)&e->vert, &tmp, cap, sizeof(uint32_t)) != GEOM_OK)
+        return GEOM_ERR_NOMEM;
+    for (int i = 0; i < MIO_NATTR; i++) {
+        tmp = old;
+        if (geom_meshio__grow(e->alloc, (void **)&e->aidx[i], &tmp, cap, sizeof(uint32_t)) !=
+            GEOM_OK) {
+            /* keep the arrays' sizes consistent for export_free: shrink
+             * what was grown is not possible, so record the larger cap
+             * only when all succeeded; free the grown ones now */
+            for (int j = 0; j <= i; j++) {
+                geom_free(e->alloc, e->aidx[j], (j < i ? cap : old) * sizeof(uint32_t));
+                e->aidx[j] = NULL;
+            }
+            for (int j = i + 1; j < MIO_NATTR; j++) {
+                geom_free(e->alloc, e->aidx[j], old * sizeof(uint32_t));
+                e->aidx[j] = NULL;
+            }
+            geom_free(e->alloc, e->vert, cap * sizeof(uint32_t));
+            e->vert = NULL;
+            e->cap_v = 0;
+            return GEOM_ERR_NOMEM;
+        }
+    }
+    e->cap_v = cap;
+    return GEOM_OK;
+}
+
+geom_status geom_meshio__export_build(mio_export *e, const geom_mesh *m,
+                                      const uint32_t chan[MIO_NATTR],
+                                      const geom_allocator *alloc)
+{
+    memset(e, 0, sizeof *e);
+    e->alloc = alloc;
+    size_t nv = geom_mesh_n_vertices(m), nf = geom_mesh_n_faces(m);
+    const uint32_t *cidx[MIO_NATTR] = {NULL, NULL, NULL, NULL};
+    int ncorner = 0;
+    for (int a = 0; a < MIO_NATTR; a++) {
+        e->chan[a] = chan[a];
+        if (chan[a] != GEOM_INVALID_INDEX &&
+            geom_mesh_channel_domain(m, chan[a]) == GEOM_MESH_DOMAIN_CORNER) {
+            cidx[a] = geom_mesh_corner_cindices(m, chan[a]);
+            ncorner += cidx[a] != NULL;
+        }
+    }
+    uint32_t *vmap = NULL;
+    size_t nlive = 0;
+    geom_status st = geom_meshio__vertex_map(m, alloc, &vmap, &nlive);
+    if (st != GEOM_OK)
+        return st;
+    if (nlive > UINT32_MAX - 1) {
+        geom_free(alloc, vmap, nv * sizeof(uint32_t));
+        return GEOM_ERR_LIMIT;
+    }
+    /* live faces and their sizes */
+    size_t nlf = 0, nidx = 0;
+    for (size_t f = 0; f < nf; f++) {
+        if (geom_mesh_face_is_deleted(m, (uint32_t)f))
+            continue;
+        nlf++;
+        nidx += geom_mesh_face_valence(m, (uint32_t)f);
+    }
+    e->nf = nlf;
+    e->nidx = nidx;
+    e->fsize = geom_alloc(alloc, nlf * sizeof(uint32_t));
+    e->fface = geom_alloc(alloc, nlf * sizeof(uint32_t));
+    e->fidx = geom_alloc(alloc, nidx * sizeof(uint32_t));
+    st = (e->fsize && e->fface && e->fidx) ? grow_out(e, nlive) : GEOM_ERR_NOMEM;
+    uint8_t *primary_set = NULL;
+    mio_hash hash;
+    memset(&hash, 0, sizeof hash);
+    if (st == GEOM_OK) {
+        /* the first nlive outputs are the live vertices; their attribute
+         * tuple is set by the first corner seen (or stays unset) */
+        for (size_t v = 0; v < nv; v++) {
+            uint32_t o = vmap[v];
+            if (o == GEOM_INVALID_INDEX)
+                continue;
+            e->vert[o] = (uint32_t)v;
+            for (int a = 0; a < MIO_NATTR; a++)
+                e->aidx[a][o] = chan[a] == GEOM_INVALID_INDEX ? GEOM_INVALID_INDEX
+                                : cidx[a]                     ? GEOM_INVALID_INDEX
+                                                              : (uint32_t)v;
+        }
+        e->nv = nlive;
+        if (ncorner) {
+            primary_set = geom_alloc(alloc, nv ? nv : 1);
+            if (!primary_set)
+                st = GEOM_ERR_NOMEM;
+            else
+                memset(primary_set, 0, nv ? nv : 1);
+        }
+    }
+    size_t fi = 0, ii = 0;
+    for (size_t f = 0; f < nf && st == GEOM_OK; f++) {
+        if (geom_mesh_face_is_deleted(m, (uint32_t)f))
+            continue;
+        uint32_t h0 = geom_mesh_face_he(m, (uint32_t)f), h = h0;
+        size_t cnt = 0;
+        do {
+            uint32_t v = geom_mesh_he_vertex(m, h);
+            uint32_t out = vmap[v];
+            if (ncorner) {
+                uint32_t key[MIO_NATTR];
+                for (int a = 0; a < MIO_NATTR; a++)
+                    key[a] = cidx[a] ? cidx[a][h] : e->aidx[a][out];
+                if (!primary_set[v]) {
+                    primary_set[v] = 1;
+                    for (int a = 0; a < MIO_NATTR; a++)
+                        e->aidx[a][out] = key[a];
+                } else {
+                    int same = 1;
+                    for (int a = 0; a < MIO_NATTR; a++)
+                        same &= e->aidx[a][out] == key[a];
+                    if (!same) {
+                        uint64_t hv = geom_meshio__mix(0, v);
+                        for (int a = 0; a < MIO_NATTR; a++)
+                            hv = geom_meshio__mix(hv, key[a]);
+                        size_t it = 0;
+                        uint32_t cand;
+                        out = GEOM_INVALID_INDEX;
+                        while ((cand = geom_meshio__hash_next(&hash, hv, &it)) != UINT32_MAX) {
+                            int eq = e->vert[cand] == v;
+                            for (int a = 0; a < MIO_NATTR && eq; a++)
+                                eq = e->aidx[a][cand] == key[a];
+                            if (eq) {
+                                out = cand;
+                                break;
+                            }
+                        }
+                        if (out == GEOM_INVALID_INDEX) {
+                            if (e->nv >= UINT32_MAX - 1) {
+                                st = GEOM_ERR_LIMIT;
+                                break;
+                            }
+                            st = grow_out(e, e->nv + 1);
+                            if (st == GEOM_OK)
+                                st = geom_meshio__hash_reserve(&hash, alloc, hash.n + 1);
+                            if (st != GEOM_OK)
+                                break;
+                            /* the table may have been rebuilt: find the slot again */
+                            it = 0;
+                            while (geom_meshio__hash_next(&hash, hv, &it) != UINT32_MAX) {
+                            }
+                            out = (uint32_t)e->nv++;
+                            e->vert[out] = v;
+                            for (int a = 0; a < MIO_NATTR; a++)
+                                e->aidx[a][out] = key[a];
+                            geom_meshio__hash_insert_at(&hash, hv, it, out);
+                        }
+                    }
+                }
+            }
+            e->fidx[ii++] = out;
+            cnt++;
+            h = geom_mesh_he_next(m, h);
+        } while (h != h0 && cnt < nidx);
+        e->fsize[fi] = (uint32_t)cnt;
+        e->fface[fi] = (uint32_t)f;
+        if (cnt > e->max_valence)
+            e->max_valence = cnt;
+        fi++;
+    }
+    geom_free(alloc, primary_set, nv ? nv : 1);
+    geom_meshio__hash_free(&hash, alloc);
+    geom_free(alloc, vmap, nv * sizeof(uint32_t));
+    if (st != GEOM_OK)
+        geom_meshio__export_free(e);
+    return st;
+}
+
+size_t geom_meshio__export_value(const mio_export *e, const geom_mesh *m, int a, size_t k,
+                                 double *out, size_t max)
+{
+    uint32_t id = e->chan[a];
+    if (id == GEOM_INVALID_INDEX)
+        return 0;
+    size_t nc = geom_mesh_channel_ncomp(m, id);
+    size_t n = nc < max ? nc : max;
+    uint32_t ix = e->aidx[a][k];
+    const double *d = geom_mesh_channel_cdata(m, id);
+    if (ix == GEOM_INVALID_INDEX || ix >= geom_mesh_channel_size(m, id) || !d) {
+        for (size_t i = 0; i < n; i++)
+            out[i] = 0.0;
+    } else {
+        for (size_t i = 0; i < n; i++)
+            out[i] = d[(size_t)ix * nc + i];
+    }
+    return nc;
+}

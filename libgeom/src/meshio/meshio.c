@@ -1,0 +1,339 @@
+/* meshio entry points: format names and detection, reading from a file or
+ * memory, writing to a file (atomically) or memory. */
+#include "meshio/meshio_internal.h"
+
+#include <errno.h>
+#include <stdio.h>
+
+/* ---------------------------------------------------------------- formats */
+
+static const struct {
+    const char *name;
+    geom_meshio_format format;
+} mio_formats[] = {{"obj", GEOM_MESHIO_FORMAT_OBJ},
+                   {"off", GEOM_MESHIO_FORMAT_OFF},
+                   {"ply", GEOM_MESHIO_FORMAT_PLY},
+                   {"stl", GEOM_MESHIO_FORMAT_STL},
+                   {"glb", GEOM_MESHIO_FORMAT_GLB}};
+
+geom_meshio_format geom_meshio_format_from_name(const char *name)
+{
+    if (!name)
+        return GEOM_MESHIO_FORMAT_AUTO;
+    const char *base = strrchr(name, '/');
+    base = base ? base + 1 : name;
+    const char *dot = strrchr(base, '.');
+    const char *ext = dot ? dot + 1 : base;
+    for (size_t i = 0; i < sizeof mio_formats / sizeof mio_formats[0]; i++)
+        if (geom_meshio__tok_ieq(ext, strlen(ext), mio_formats[i].name))
+            return mio_formats[i].format;
+    return GEOM_MESHIO_FORMAT_AUTO;
+}
+
+const char *geom_meshio_format_name(geom_meshio_format format)
+{
+    if (format == GEOM_MESHIO_FORMAT_AUTO)
+        return "auto";
+    for (size_t i = 0; i < sizeof mio_formats / sizeof mio_formats[0]; i++)
+        if (mio_formats[i].format == format)
+            return mio_formats[i].name;
+    return "unknown";
+}
+
+geom_meshio_format geom_meshio_format_sniff(const void *data, size_t size)
+{
+    const unsigned char *p = data;
+    if (!p || size == 0)
+        return GEOM_MESHIO_FORMAT_OBJ;
+    if (size >= 4 && memcmp(p, "ply", 3) == 0 && (p[3] == '\n' || p[3] == '\r'))
+        return GEOM_MESHIO_FORMAT_PLY;
+    if (size >= 4 && memcmp(p, "glTF", 4) == 0)
+        return GEOM_MESHIO_FORMAT_GLB;
+    if (size >= 84) {
+        uint32_t n = (uint32_t)p[80] | (uint32_t)p[81] << 8 | (uint32_t)p[82] << 16 |
+                     (uint32_t)p[83] << 24;
+        if ((uint64_t)84 + (uint64_t)50 * n == (uint64_t)size)
+            return GEOM_MESHIO_FORMAT_STL;
+    }
+    /* first token, skipping blank lines and '#' comments */
+    size_t i = 0;
+    for (;;) {
+        while (i < size && mio_is_space((char)p[i]))
+            i++;
+        if (i < size && p[i] == '#') {
+            while (i < size && p[i] != '\n')
+                i++;
+            continue;
+        }
+        break;
+    }
+    size_t b = i;
+    while (i < size && !mio_is_space((char)p[i]) && p[i] != '#')
+        i++;
+    const char *t = (const char *)p + b;
+    size_t tl = i - b;
+    if (tl >= 3 && tl <= 8 && memcmp(t + tl - 3, "OFF", 3) == 0)
+        return GEOM_MESHIO_FORMAT_OFF;
+    if (tl == 5 && geom_meshio__tok_ieq(t, tl, "solid"))
+        return GEOM_MESHIO_FORMAT_STL;
+    return GEOM_MESHIO_FORMAT_OBJ;
+}
+
+/* ------------------------------------------------------------------ reading */
+
+geom_status geom_meshio_read_memory(const void *data, size_t size, const char *source_name,
+                                    const geom_meshio_read_options *opt, geom_mesh **out,
+                                    geom_mesh_build_report *report, geom_diag *diag)
+{
+    geom_meshio_read_stats local_stats;
+    const char *src = source_name ? source_name : "<memory>";
+    if (out)
+        *out = NULL;
+    if (report)
+        memset(report, 0, sizeof *report);
+    geom_diag_clear(diag);
+    if (!out || (!data && size))
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, src, 0, 0,
+                             "NULL output or data pointer");
+    mio_ctx c;
+    memset(&c, 0, sizeof c);
+    c.alloc = opt ? opt->alloc : NULL;
+    c.source = src;
+    c.diag = diag;
+    c.max_elements = opt && opt->max_elements ? opt->max_elements
+                                              : GEOM_MESHIO_DEFAULT_MAX_ELEMENTS;
+    if (c.max_elements > UINT32_MAX - 1)
+        c.max_elements = UINT32_MAX - 1;
+    c.skip_invalid = opt ? opt->build.skip_invalid_faces : 0;
+    c.stats = opt && opt->stats ? opt->stats : &local_stats;
+    memset(c.stats, 0, sizeof *c.stats);
+    c.data = data;
+    c.size = size;
+
+    geom_meshio_format fmt = opt ? opt->format : GEOM_MESHIO_FORMAT_AUTO;
+    if (fmt == GEOM_MESHIO_FORMAT_AUTO)
+        fmt = geom_meshio_format_from_name(source_name);
+    if (fmt == GEOM_MESHIO_FORMAT_AUTO)
+        fmt = geom_meshio_format_sniff(data, size);
+    c.stats->format = fmt;
+
+    mio_soup s;
+    memset(&s, 0, sizeof s);
+    geom_status st;
+    switch (fmt) {
+    case GEOM_MESHIO_FORMAT_OBJ: st = geom_meshio__read_obj(&c, &s); break;
+    case GEOM_MESHIO_FORMAT_OFF: st = geom_meshio__read_off(&c, &s); break;
+    case GEOM_MESHIO_FORMAT_PLY: st = geom_meshio__read_ply(&c, &s); break;
+    case GEOM_MESHIO_FORMAT_STL: st = geom_meshio__read_stl(&c, &s); break;
+    case GEOM_MESHIO_FORMAT_GLB:
+        st = geom_diag_set(diag, GEOM_ERR_INVALID_ARG, src, 0, 0,
+                           "reading glTF binary files is not supported");
+        break;
+    default:
+        st = geom_diag_set(diag, GEOM_ERR_INVALID_ARG, src, 0, 0, "unknown format %d",
+                           (int)fmt);
+        break;
+    }
+    if (st == GEOM_ERR_NOMEM && diag && diag->status != GEOM_ERR_NOMEM)
+        geom_diag_set(diag, st, src, 0, 0, "out of memory");
+    if (st == GEOM_OK)
+        st = geom_meshio__soup_finish(&c, &s, opt, out, report);
+    geom_meshio__soup_free(&s, c.alloc);
+    if (st != GEOM_OK && report)
+        memset(report, 0, sizeof *report);
+    return st;
+}
+
+geom_status geom_meshio_read(const char *path, const geom_meshio_read_options *opt,
+                             geom_mesh **out, geom_mesh_build_report *report, geom_diag *diag)
+{
+    if (out)
+        *out = NULL;
+    geom_diag_clear(diag);
+    if (!path || !out)
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0, "NULL path or output");
+    const geom_allocator *a = opt ? opt->alloc : NULL;
+    errno = 0;
+    FILE *fp = fopen(path, "rb");
+    if (!fp) {
+        char reason[128] = "unknown error";
+        if (errno)
+            geom_meshio__sys_reason(errno, reason, sizeof reason);
+        return geom_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "cannot open: %s", reason);
+    }
+    unsigned char *buf = NULL;
+    size_t n = 0, cap = 0;
+    geom_status st = GEOM_OK;
+    for (;;) {
+        if (n == cap) {
+            st = geom_meshio__grow(a, (void **)&buf, &cap, cap < 65536 ? 65536 : cap * 2, 1);
+            if (st != GEOM_OK) {
+                geom_diag_set(diag, st, path, 0, 0, "out of memory reading the file");
+                break;
+            }
+        }
+        size_t got = fread(buf + n, 1, cap - n, fp);
+        n += got;
+        if (got == 0) {
+            if (ferror(fp))
+                st = geom_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "read error after %zu bytes",
+                                   n);
+            break;
+        }
+    }
+    fclose(fp);
+    if (st == GEOM_OK) {
+        geom_meshio_read_options o;
+        if (opt)
+            o = *opt;
+        else
+            memset(&o, 0, sizeof o);
+        if (o.format == GEOM_MESHIO_FORMAT_AUTO)
+            o.format = geom_meshio_format_from_name(path);
+        st = geom_meshio_read_memory(buf, n, path, &o, out, report, diag);
+    }
+    geom_free(a, buf, cap);
+    return st;
+}
+
+/* ------------------------------------------------------------------ writing */
+
+static geom_status write_dispatch(const geom_mesh *m, const geom_meshio_write_options *o,
+                                  geom_meshio_format fmt, mio_sink *k)
+{
+    switch (fmt) {
+    case GEOM_MESHIO_FORMAT_OBJ: return geom_meshio__write_obj(m, o, k);
+    case GEOM_MESHIO_FORMAT_OFF: return geom_meshio__write_off(m, o, k);
+    case GEOM_MESHIO_FORMAT_PLY: return geom_meshio__write_ply(m, o, k);
+    case GEOM_MESHIO_FORMAT_STL: return geom_meshio__write_stl(m, o, k);
+    case GEOM_MESHIO_FORMAT_GLB: return geom_meshio__write_glb(m, o, k);
+    default: break;
+    }
+    return geom_meshio__sink_fail(k, GEOM_ERR_INVALID_ARG, "unknown output format %d", (int)fmt);
+}
+
+static geom_status check_write_args(const geom_mesh *m, const geom_meshio_write_options *o,
+                                    geom_meshio_format fmt, geom_diag *diag, const char *path)
+{
+    if (!m)
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0, "NULL mesh");
+    if (fmt < GEOM_MESHIO_FORMAT_OBJ || fmt > GEOM_MESHIO_FORMAT_GLB)
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0,
+                             "output format not given and not recognised from the name");
+    if ((unsigned)o->encoding > GEOM_MESHIO_ENCODING_BINARY_BE)
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0, "unknown encoding %d",
+                             (int)o->encoding);
+    if (fmt == GEOM_MESHIO_FORMAT_STL && o->encoding == GEOM_MESHIO_ENCODING_BINARY_BE)
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0,
+                             "binary STL is little endian only");
+    return GEOM_OK;
+}
+
+geom_status geom_meshio_write_memory(const geom_mesh *m, const geom_meshio_write_options *opt,
+                                     void **data, size_t *size, geom_diag *diag)
+{
+    geom_diag_clear(diag);
+    if (data)
+        *data = NULL;
+    if (size)
+        *size = 0;
+    if (!data || !size)
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "NULL output pointer");
+    geom_meshio_write_options o;
+    if (opt)
+        o = *opt;
+    else
+        memset(&o, 0, sizeof o);
+    geom_status st = check_write_args(m, &o, o.format, diag, NULL);
+    if (st != GEOM_OK)
+        return st;
+    mio_sink k;
+    memset(&k, 0, sizeof k);
+    k.alloc = o.alloc;
+    k.diag = diag;
+    k.precision = o.precision;
+    st = write_dispatch(m, &o, o.format, &k);
+    if (st == GEOM_OK)
+        st = k.status;
+    if (st == GEOM_OK) {
+        /* the NUL after the data */
+        st = geom_meshio__grow(k.alloc, (void **)&k.buf, &k.cap, k.n + 1, 1);
+        if (st != GEOM_OK)
+            geom_diag_set(diag, st, NULL, 0, 0, "out of memory");
+    }
+    if (st != GEOM_OK) {
+        geom_free(k.alloc, k.buf, k.cap);
+        if (diag && diag->status == GEOM_OK)
+            geom_diag_set(diag, st, NULL, 0, 0, "%s", geom_status_str(st));
+        return st;
+    }
+    k.buf[k.n] = 0;
+    /* hand out an allocation of exactly n + 1 bytes so that
+     * geom_meshio_buffer_free(data, size) passes the right size */
+    if (k.cap != k.n + 1) {
+        void *q = geom_realloc(k.alloc, k.buf, k.cap, k.n + 1);
+        if (!q) {
+            geom_free(k.alloc, k.buf, k.cap);
+            return geom_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "out of memory");
+        }
+        k.buf = q;
+    }
+    *data = k.buf;
+    *size = k.n;
+    return GEOM_OK;
+}
+
+void geom_meshio_buffer_free(void *data, size_t size, const geom_allocator *alloc)
+{
+    if (data)
+        geom_free(alloc, data, size + 1);
+}
+
+geom_status geom_meshio_write(const geom_mesh *m, const char *path,
+                              const geom_meshio_write_options *opt, geom_diag *diag)
+{
+    geom_diag_clear(diag);
+    if (!path)
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "NULL path");
+    geom_meshio_write_options o;
+    if (opt)
+        o = *opt;
+    else
+        memset(&o, 0, sizeof o);
+    geom_meshio_format fmt = o.format ? o.format : geom_meshio_format_from_name(path);
+    geom_status st = check_write_args(m, &o, fmt, diag, path);
+    if (st != GEOM_OK)
+        return st;
+    mio_atomic at;
+    st = geom_meshio__atomic_open(&at, path, o.alloc, diag);
+    if (st != GEOM_OK)
+        return st;
+    mio_sink k;
+    memset(&k, 0, sizeof k);
+    k.alloc = o.alloc;
+    k.diag = diag;
+    k.precision = o.precision;
+    k.cap = 1 << 16;
+    k.buf = geom_alloc(o.alloc, k.cap);
+    k.flush_fn = geom_meshio__atomic_write;
+    k.user = &at;
+    if (!k.buf) {
+        geom_meshio__atomic_abort(&at);
+        return geom_diag_set(diag, GEOM_ERR_NOMEM, path, 0, 0, "out of memory");
+    }
+    st = write_dispatch(m, &o, fmt, &k);
+    if (st == GEOM_OK)
+        st = k.status;
+    if (st == GEOM_OK)
+        st = geom_meshio__sink_flush(&k);
+    geom_free(o.alloc, k.buf, k.cap);
+    if (st != GEOM_OK) {
+        geom_meshio__atomic_abort(&at);
+        if (diag && diag->status == GEOM_OK)
+            geom_diag_set(diag, st, path, 0, 0, "%s", geom_status_str(st));
+        if (diag && diag->source[0] == '\0')
+            snprintf(diag->source, sizeof diag->source, "%s", path);
+        return st;
+    }
+    return geom_meshio__atomic_commit(&at, diag);
+}

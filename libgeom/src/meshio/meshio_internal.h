@@ -1,0 +1,366 @@
+/*
+ * Private helpers of the meshio module: growable arrays, a hash index, text
+ * lines and tokens, strict number parsing and exact number formatting, the
+ * polygon soup every reader fills (and geom_mesh_build turns into a mesh),
+ * the output sink every writer writes to, and the "export view" that
+ * unwelds corner attributes for per-vertex formats. Not installed.
+ *
+ * Shared functions are named geom_meshio__<name> (two underscores) so that
+ * they count as the meshio module's symbols and never clash with public ones.
+ */
+#ifndef GEOM_SRC_MESHIO_INTERNAL_H
+#define GEOM_SRC_MESHIO_INTERNAL_H
+
+#include "core/internal.h"
+#include "geom/mesh.h"
+#include "geom/meshio.h"
+
+#include <stdint.h>
+#include <string.h>
+
+/* ------------------------------------------------------- growable arrays */
+
+/* Grow *p (elements of `elem` bytes, capacity *cap elements) to at least
+ * `need` elements (by doubling, at least 16). GEOM_ERR_NOMEM or
+ * GEOM_ERR_LIMIT; *p and *cap unchanged on failure. */
+geom_status geom_meshio__grow(const geom_allocator *a, void **p, size_t *cap, size_t need,
+                              size_t elem);
+
+#define MIO_ARR(T)                                                                         \
+    struct {                                                                               \
+        T *p;                                                                              \
+        size_t n, cap;                                                                     \
+    }
+
+/* Make room for `extra` more elements in arr; evaluates to a geom_status. */
+#define MIO_RESERVE(alloc, arr, extra)                                                     \
+    ((arr).n + (extra) <= (arr).cap                                                        \
+         ? GEOM_OK                                                                         \
+         : geom_meshio__grow((alloc), (void **)&(arr).p, &(arr).cap, (arr).n + (extra),   \
+                             sizeof *(arr).p))
+
+/* Append one value; evaluates to a geom_status. */
+#define MIO_PUSH(alloc, arr, val)                                                          \
+    (MIO_RESERVE(alloc, arr, 1) == GEOM_OK ? ((arr).p[(arr).n++] = (val), GEOM_OK)        \
+                                           : GEOM_ERR_NOMEM)
+
+#define MIO_FREE(alloc, arr)                                                               \
+    do {                                                                                   \
+        geom_free((alloc), (arr).p, (arr).cap * sizeof *(arr).p);                          \
+        (arr).p = NULL;                                                                    \
+        (arr).n = (arr).cap = 0;                                                           \
+    } while (0)
+
+/* ------------------------------------------------------------ hash index */
+
+/* Open-addressing set of uint32 element ids keyed by a caller-computed
+ * 64-bit hash; the caller compares candidates itself. Zero-initialise. */
+typedef struct mio_hash {
+    uint64_t *slot; /* (hash high 32 bits << 32) | (id + 1); 0 = empty */
+    size_t cap, n;
+} mio_hash;
+
+uint64_t geom_meshio__mix(uint64_t h, uint64_t v);
+/* Make room for n entries (load <= 1/2). */
+geom_status geom_meshio__hash_reserve(mio_hash *h, const geom_allocator *a, size_t n);
+/* Iterate the candidates for `hash`: start with *it = 0; returns the next
+ * candidate id, or UINT32_MAX when there is none (then *it is the free slot
+ * where geom_meshio__hash_insert_at may insert). */
+uint32_t geom_meshio__hash_next(const mio_hash *h, uint64_t hash, size_t *it);
+/* Insert id at the free slot found by the last hash_next (no growth here:
+ * reserve first). */
+void geom_meshio__hash_insert_at(mio_hash *h, uint64_t hash, size_t it, uint32_t id);
+void geom_meshio__hash_free(mio_hash *h, const geom_allocator *a);
+
+/* ---------------------------------------------------------------- numbers */
+
+/* Strict decimal number: [+-](digits[.digits*]|.digits)([eE][+-]digits)?,
+ * whole token, correctly rounded. Returns 0, or -1 (syntax), -2 (overflow
+ * to infinity), -3 (longer than 500 bytes). */
+int geom_meshio__parse_double(const char *s, size_t len, double *out);
+/* Strict integer [+-]digits. 0, -1 (syntax), -2 (out of int64 range). */
+int geom_meshio__parse_int64(const char *s, size_t len, int64_t *out);
+/* Format a finite double into buf (>= 32 bytes) with '.' as the decimal
+ * point: precision 0 = shortest of %.15g/%.16g/%.17g that reads back
+ * exactly, else %.*g with min(precision, 17). Returns the length. */
+size_t geom_meshio__format_double(char *buf, double x, int precision);
+
+/* -------------------------------------------------------- reading context */
+
+typedef struct mio_ctx {
+    const geom_allocator *alloc;
+    const char *source;
+    geom_diag *diag;
+    size_t max_elements;          /* resolved (<= UINT32_MAX - 1) */
+    int skip_invalid;             /* build.skip_invalid_faces */
+    geom_meshio_read_stats *stats; /* never NULL */
+    const unsigned char *data;
+    size_t size;
+} mio_ctx;
+
+geom_status geom_meshio__err_line(mio_ctx *c, geom_status st, size_t line, size_t col,
+                                  const char *fmt, ...) GEOM_PRINTF(5, 6);
+geom_status geom_meshio__err_off(mio_ctx *c, geom_status st, uint64_t off, const char *fmt,
+                                 ...) GEOM_PRINTF(4, 5);
+
+/* ------------------------------------------------------------ text lines */
+
+/* Physical lines ("\n", "\r\n" or a lone final "\r" end), optionally joined
+ * by a trailing backslash (OBJ). */
+typedef struct mio_lines {
+    const char *data;
+    size_t size, pos;
+    size_t lineno;      /* first physical line of the current logical line */
+    size_t next_lineno; /* number of the next physical line */
+    int join_backslash;
+    MIO_ARR(char) join; /* scratch for joined lines */
+} mio_lines;
+
+void geom_meshio__lines_init(mio_lines *l, const void *data, size_t size, int join_backslash);
+void geom_meshio__lines_free(mio_lines *l, const geom_allocator *a);
+/* 1 with the line in *s, *len (not NUL-terminated), 0 at the end,
+ * GEOM_ERR_NOMEM. */
+int geom_meshio__lines_next(mio_lines *l, const geom_allocator *a, const char **s, size_t *len);
+
+static inline int mio_is_space(char ch)
+{
+    return ch == ' ' || ch == '\t' || ch == '\r' || ch == '\v' || ch == '\f' || ch == '\n';
+}
+
+/* Next whitespace-separated token of s[0..len) from *pos; '#' starts a
+ * comment to the end when `comments` is set. 1 with *t, *tl, else 0. */
+static inline int mio_token(const char *s, size_t len, size_t *pos, int comments,
+                            const char **t, size_t *tl)
+{
+    size_t i = *pos;
+    while (i < len && mio_is_space(s[i]))
+        i++;
+    if (i >= len || (comments && s[i] == '#')) {
+        *pos = len;
+        return 0;
+    }
+    size_t b = i;
+    while (i < len && !mio_is_space(s[i]))
+        i++;
+    *t = s + b;
+    *tl = i - b;
+    *pos = i;
+    return 1;
+}
+
+static inline int mio_tok_eq(const char *t, size_t tl, const char *word)
+{
+    size_t n = strlen(word);
+    return tl == n && memcmp(t, word, n) == 0;
+}
+
+/* Case-insensitive ASCII comparison of a token with a lower-case word. */
+int geom_meshio__tok_ieq(const char *t, size_t tl, const char *word);
+
+/* A token cursor over whole text (PLY ascii data, ASCII STL): tokens
+ * separated by any whitespace, lines counted for diagnostics. */
+typedef struct mio_cursor {
+    const char *data;
+    size_t size, pos;
+    size_t line;       /* 1-based line of pos */
+    size_t line_start; /* offset of that line's first byte */
+} mio_cursor;
+
+/* Next token: 1 with *t, *tl and its line and column, 0 at the end. */
+int geom_meshio__cursor_next(mio_cursor *cur, const char **t, size_t *tl, size_t *line,
+                             size_t *col);
+
+/* --------------------------------------------------------------- the soup */
+
+enum { MIO_MAX_CHANNELS = 8 };
+
+typedef struct mio_chan {
+    char name[32];
+    geom_mesh_domain domain; /* VERTEX, FACE or CORNER */
+    size_t ncomp;
+    MIO_ARR(double) val;   /* VERTEX/FACE: per element; CORNER: the value pool */
+    MIO_ARR(uint32_t) idx; /* CORNER: pool index per soup corner (GEOM_INVALID_INDEX: none) */
+} mio_chan;
+
+typedef struct mio_tagrec {
+    size_t name; /* offset in strings */
+    size_t nint, nfloat, nstring;
+    size_t ints, floats, strs; /* offsets in tag_ints, tag_floats, tag_strs */
+} mio_tagrec;
+
+#define MIO_NOSTR SIZE_MAX
+
+typedef struct mio_soup {
+    MIO_ARR(double) pos;      /* 3 per vertex */
+    MIO_ARR(uint32_t) fsize;  /* per face */
+    MIO_ARR(uint32_t) fidx;   /* per corner */
+    MIO_ARR(uint64_t) floc;   /* per face: line (text) or byte offset (binary) */
+    int loc_is_offset;
+    mio_chan chan[MIO_MAX_CHANNELS];
+    size_t nchan;
+    MIO_ARR(uint32_t) fgroup; /* per face, when groups exist */
+    MIO_ARR(size_t) groups;   /* 4 string offsets per group (MIO_NOSTR: unset) */
+    MIO_ARR(char) strings;    /* NUL-terminated strings */
+    MIO_ARR(mio_tagrec) tags;
+    MIO_ARR(int64_t) tag_ints;
+    MIO_ARR(double) tag_floats;
+    MIO_ARR(size_t) tag_strs;
+    MIO_ARR(size_t) mtllibs;  /* string offsets */
+    MIO_ARR(size_t) pl_off;   /* polyline start offsets into pl_verts (n+1 when used) */
+    MIO_ARR(uint32_t) pl_verts;
+} mio_soup;
+
+void geom_meshio__soup_free(mio_soup *s, const geom_allocator *a);
+static inline size_t mio_soup_nv(const mio_soup *s) { return s->pos.n / 3; }
+/* The channel (name, domain), created with ncomp comps if absent; for VERTEX
+ * and FACE channels created late, existing elements get `fill` (ncomp
+ * values, NULL = zeros). NULL on NOMEM or when MIO_MAX_CHANNELS is reached. */
+mio_chan *geom_meshio__soup_chan(mio_soup *s, const geom_allocator *a, const char *name,
+                                 geom_mesh_domain domain, size_t ncomp, const double *fill);
+/* Append a string (len bytes) to the pool; *off receives its offset. */
+geom_status geom_meshio__soup_str(mio_soup *s, const geom_allocator *a, const char *str,
+                                  size_t len, size_t *off);
+/* Limit checks: GEOM_ERR_LIMIT (with a diag) when n exceeds c->max_elements. */
+geom_status geom_meshio__check_count(mio_ctx *c, size_t n, const char *what, uint64_t loc,
+                                     int loc_is_offset);
+/* Validate the faces (sizes >= 3, indices in range and not repeated within
+ * a face): with skip_invalid off, the first invalid face is a parse error
+ * at its location. Then build the mesh (*out) and copy channels, groups,
+ * tags, mtllibs and polylines into it. */
+geom_status geom_meshio__soup_finish(mio_ctx *c, mio_soup *s, const geom_meshio_read_options *opt,
+                                     geom_mesh **out, geom_mesh_build_report *report);
+
+/* Format readers: fill the soup from c->data[0..c->size). */
+geom_status geom_meshio__read_obj(mio_ctx *c, mio_soup *s);
+geom_status geom_meshio__read_off(mio_ctx *c, mio_soup *s);
+geom_status geom_meshio__read_ply(mio_ctx *c, mio_soup *s);
+geom_status geom_meshio__read_stl(mio_ctx *c, mio_soup *s);
+
+/* ------------------------------------------------------------------- sink */
+
+/* Writers append bytes to a sink: a memory buffer that either grows (memory
+ * output) or is flushed through flush_fn when it fills (file output). The
+ * first error sticks in `status` and makes later writes no-ops. */
+typedef struct mio_sink {
+    const geom_allocator *alloc;
+    unsigned char *buf;
+    size_t n, cap;
+    geom_status (*flush_fn)(void *user, const void *data, size_t n, geom_diag *diag);
+    void *user;
+    geom_diag *diag;
+    geom_status status;
+    int precision;
+    uint64_t total; /* bytes written so far (flushed + buffered) */
+} mio_sink;
+
+void geom_meshio__put(mio_sink *k, const void *p, size_t n);
+static inline void mio_putc(mio_sink *k, char ch)
+{
+    if (k->n < k->cap && k->status == GEOM_OK) {
+        k->buf[k->n++] = (unsigned char)ch;
+        k->total++;
+    } else {
+        geom_meshio__put(k, &ch, 1);
+    }
+}
+void geom_meshio__puts(mio_sink *k, const char *s);
+/* A finite double as text (k->precision); non-finite: GEOM_ERR_INVALID_ARG. */
+void geom_meshio__put_double(mio_sink *k, double x);
+void geom_meshio__put_u64(mio_sink *k, uint64_t v);
+void geom_meshio__put_i64(mio_sink *k, int64_t v);
+/* Binary scalars in little (be = 0) or big (be = 1) endian order. */
+void geom_meshio__put_u16(mio_sink *k, uint16_t v, int be);
+void geom_meshio__put_u32(mio_sink *k, uint32_t v, int be);
+void geom_meshio__put_f32(mio_sink *k, float v, int be);
+void geom_meshio__put_f64(mio_sink *k, double v, int be);
+/* Flush buffered bytes (file sinks). */
+geom_status geom_meshio__sink_flush(mio_sink *k);
+/* Fail the sink with a status and message (first error wins). */
+geom_status geom_meshio__sink_fail(mio_sink *k, geom_status st, const char *fmt, ...)
+    GEOM_PRINTF(3, 4);
+
+/* ---------------------------------------------------- atomic file output */
+
+typedef struct mio_atomic {
+    char *path; /* destination */
+    char *tmp;  /* temporary file */
+    size_t path_size, tmp_size;
+    int fd;
+    const geom_allocator *alloc;
+} mio_atomic;
+
+/* Create the temporary file next to path. GEOM_ERR_IO / GEOM_ERR_NOMEM. */
+geom_status geom_meshio__atomic_open(mio_atomic *a, const char *path, const geom_allocator *al,
+                                     geom_diag *diag);
+/* Flush function for a sink writing to a->fd (user = a). */
+geom_status geom_meshio__atomic_write(void *user, const void *data, size_t n, geom_diag *diag);
+/* Close and rename onto the destination; on failure remove the temporary. */
+geom_status geom_meshio__atomic_commit(mio_atomic *a, geom_diag *diag);
+/* Close and remove the temporary file. */
+void geom_meshio__atomic_abort(mio_atomic *a);
+/* The system's text for errno value err (reentrant strerror_r). */
+void geom_meshio__sys_reason(int err, char *buf, size_t size);
+
+/* ------------------------------------------------------------ export view */
+
+enum { MIO_ATTR_NORMAL = 0, MIO_ATTR_UV = 1, MIO_ATTR_COLOR = 2, MIO_ATTR_TANGENT = 3,
+       MIO_NATTR = 4 };
+
+/* The attribute channel to write for `which` (CORNER channel of that name
+ * first, else VERTEX), or GEOM_INVALID_INDEX if absent or omitted. */
+uint32_t geom_meshio__attr_channel(const geom_mesh *m, int which, unsigned omit);
+
+/* A mesh seen as output vertices (one per distinct (vertex, corner indices
+ * of the selected CORNER channels)) and faces over them. Output vertex k
+ * comes from mesh vertex vert[k]; attribute a's value index is
+ * aidx[a][k] (a vertex index for VERTEX channels, a pool index for CORNER
+ * channels, GEOM_INVALID_INDEX for none). When no selected channel has
+ * seams, output vertex i is the i-th live vertex. */
+typedef struct mio_export {
+    const geom_allocator *alloc;
+    size_t nv;            /* output vertices */
+    uint32_t *vert;       /* nv */
+    uint32_t *aidx[MIO_NATTR];
+    uint32_t chan[MIO_NATTR]; /* channel ids (GEOM_INVALID_INDEX: not written) */
+    size_t nf;            /* live faces */
+    uint32_t *fsize;      /* nf */
+    uint32_t *fface;      /* nf: the mesh face */
+    uint32_t *fidx;       /* sum of fsize: output vertex indices */
+    size_t nidx;
+    size_t max_valence;
+    size_t cap_v;
+} mio_export;
+
+/* Build the view for the channels in chan[] (GEOM_INVALID_INDEX entries are
+ * skipped). GEOM_ERR_NOMEM / GEOM_ERR_LIMIT. */
+geom_status geom_meshio__export_build(mio_export *e, const geom_mesh *m,
+                                      const uint32_t chan[MIO_NATTR],
+                                      const geom_allocator *alloc);
+void geom_meshio__export_free(mio_export *e);
+/* The ncomp values of attribute a at output vertex k into out (zeros when
+ * the corner has no value); returns the channel's ncomp (0 if no channel). */
+size_t geom_meshio__export_value(const mio_export *e, const geom_mesh *m, int a, size_t k,
+                                 double *out, size_t max);
+
+/* Format writers. */
+geom_status geom_meshio__write_obj(const geom_mesh *m, const geom_meshio_write_options *o,
+                                   mio_sink *k);
+geom_status geom_meshio__write_off(const geom_mesh *m, const geom_meshio_write_options *o,
+                                   mio_sink *k);
+geom_status geom_meshio__write_ply(const geom_mesh *m, const geom_meshio_write_options *o,
+                                   mio_sink *k);
+geom_status geom_meshio__write_stl(const geom_mesh *m, const geom_meshio_write_options *o,
+                                   mio_sink *k);
+geom_status geom_meshio__write_glb(const geom_mesh *m, const geom_meshio_write_options *o,
+                                   mio_sink *k);
+
+/* GEOM_OK if every live vertex position is finite, else fails the sink
+ * with GEOM_ERR_INVALID_ARG naming the vertex. */
+geom_status geom_meshio__check_finite(const geom_mesh *m, mio_sink *k);
+
+/* Live vertices densely renumbered: map[v] = new index or GEOM_INVALID_INDEX
+ * for deleted vertices (n_vertices entries, allocated); *n_live the count. */
+geom_status geom_meshio__vertex_map(const geom_mesh *m, const geom_allocator *a,
+                                    uint32_t **map, size_t *n_live);
+
+#endif

@@ -1,0 +1,125 @@
+/* meshio output sink: buffered bytes, text numbers and binary scalars. */
+#include "meshio/meshio_internal.h"
+
+#include <stdio.h>
+
+geom_status geom_meshio__sink_fail(mio_sink *k, geom_status st, const char *fmt, ...)
+{
+    if (k->status != GEOM_OK)
+        return k->status;
+    k->status = st;
+    if (k->diag) {
+        char msg[GEOM_DIAG_MESSAGE_MAX];
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(msg, sizeof msg, fmt, ap);
+        va_end(ap);
+        geom_diag_set(k->diag, st, NULL, 0, 0, "%s", msg);
+    }
+    return st;
+}
+
+geom_status geom_meshio__sink_flush(mio_sink *k)
+{
+    if (k->status != GEOM_OK || !k->flush_fn || k->n == 0)
+        return k->status;
+    geom_status st = k->flush_fn(k->user, k->buf, k->n, k->diag);
+    if (st != GEOM_OK) {
+        k->status = st;
+        return st;
+    }
+    k->n = 0;
+    return GEOM_OK;
+}
+
+void geom_meshio__put(mio_sink *k, const void *p, size_t n)
+{
+    if (k->status != GEOM_OK || n == 0)
+        return;
+    const unsigned char *src = p;
+    while (n > 0) {
+        if (k->n == k->cap) {
+            if (k->flush_fn) {
+                if (geom_meshio__sink_flush(k) != GEOM_OK)
+                    return;
+            } else {
+                /* memory sink: keep one spare byte for the final NUL */
+                geom_status st = geom_meshio__grow(k->alloc, (void **)&k->buf, &k->cap,
+                                                   k->n + n + 1, 1);
+                if (st != GEOM_OK) {
+                    geom_meshio__sink_fail(k, st, "out of memory for %llu bytes of output",
+                                           (unsigned long long)(k->total + n));
+                    return;
+                }
+            }
+        }
+        size_t room = k->cap - k->n;
+        size_t c = n < room ? n : room;
+        memcpy(k->buf + k->n, src, c);
+        k->n += c;
+        k->total += c;
+        src += c;
+        n -= c;
+    }
+}
+
+void geom_meshio__puts(mio_sink *k, const char *s) { geom_meshio__put(k, s, strlen(s)); }
+
+void geom_meshio__put_double(mio_sink *k, double x)
+{
+    if (!isfinite(x)) {
+        geom_meshio__sink_fail(k, GEOM_ERR_INVALID_ARG, "cannot write a non-finite value");
+        return;
+    }
+    char buf[40];
+    size_t n = geom_meshio__format_double(buf, x, k->precision);
+    geom_meshio__put(k, buf, n);
+}
+
+void geom_meshio__put_u64(mio_sink *k, uint64_t v)
+{
+    char buf[24];
+    size_t i = sizeof buf;
+    do {
+        buf[--i] = (char)('0' + v % 10);
+        v /= 10;
+    } while (v);
+    geom_meshio__put(k, buf + i, sizeof buf - i);
+}
+
+void geom_meshio__put_i64(mio_sink *k, int64_t v)
+{
+    if (v < 0) {
+        mio_putc(k, '-');
+        geom_meshio__put_u64(k, (uint64_t)0 - (uint64_t)v);
+    } else {
+        geom_meshio__put_u64(k, (uint64_t)v);
+    }
+}
+
+static void put_uint(mio_sink *k, uint64_t v, int bytes, int be)
+{
+    unsigned char b[8];
+    for (int i = 0; i < bytes; i++) {
+        unsigned char byte = (unsigned char)(v >> (8 * i));
+        b[be ? bytes - 1 - i : i] = byte;
+    }
+    geom_meshio__put(k, b, (size_t)bytes);
+}
+
+void geom_meshio__put_u16(mio_sink *k, uint16_t v, int be) { put_uint(k, v, 2, be); }
+void geom_meshio__put_u32(mio_sink *k, uint32_t v, int be) { put_uint(k, v, 4, be); }
+
+void geom_meshio__put_f32(mio_sink *k, float v, int be)
+{
+    uint32_t u;
+    memcpy(&u, &v, 4);
+    put_uint(k, u, 4, be);
+}
+
+void geom_meshio__put_f64(mio_sink *k, double v, int be)
+{
+    uint64_t u;
+    memcpy(&u, &v, 8);
+    put_uint(k, u, 8, be);
+}
