@@ -463,7 +463,9 @@ typedef enum geom_normal_weight {
  * Vertex normals with the given weighting into `normals` (3*n_vertices
  * doubles), normalised. Degenerate faces contribute nothing; a vertex
  * without a usable face (isolated, or only degenerate faces) gets (0,0,0)
- * and is counted in *n_zero (may be NULL). Never produces NaN.
+ * and is counted in *n_zero (may be NULL; live vertices only, deleted ones
+ * get a zero normal uncounted). Never produces NaN. Max weights are negative
+ * at reflex corners of non-convex polygons, as sin(angle) implies.
  * Accuracy: each normal within ~1e-15 (a few ulp) of the exactly weighted
  * sum, normalised.
  */
@@ -501,7 +503,10 @@ geom_status geom_mesh_corner_normals(geom_mesh *m, const geom_corner_normal_opti
  * (Gram-Schmidt); w = +1 or -1 is the bitangent sign so that
  * bitangent = w * cross(normal, tangent). Stores the CORNER channel
  * "tangent" (4 comps). Faces with degenerate UVs get a tangent built from
- * the normal alone. GEOM_ERR_INVALID_ARG if there is no "uv" channel.
+ * the normal alone. Polygons with more than four sides are fan-triangulated
+ * for the per-face tangents. Corners are grouped by (vertex, normal value,
+ * uv value): unlike MikkTSpace, two distinct vertices at the same position
+ * are not merged. GEOM_ERR_INVALID_ARG if there is no "uv" channel.
  */
 geom_status geom_mesh_tangents(geom_mesh *m, uint32_t *id);
 
@@ -509,7 +514,8 @@ typedef struct geom_uv_report {
     size_t charts;            /**< connected components of faces across non-seam edges */
     size_t seam_edges;        /**< edges whose two sides have different uv indices */
     size_t flipped_faces;     /**< faces whose uv-space signed area is negative */
-    size_t degenerate_uv_faces; /**< zero uv-space area */
+    size_t degenerate_uv_faces; /**< zero uv-space area, or a missing uv index (such
+                                     faces belong to no chart) */
     double uv_area;           /**< total |uv-space area| */
     double uv_min[2], uv_max[2];
 } geom_uv_report;
@@ -567,7 +573,9 @@ typedef struct geom_clip_options {
  * polygons), vertex and corner channels are interpolated linearly along cut
  * edges, face channels copied. Vertices within 1e-12 (relative to the bbox)
  * of the plane are snapped onto it so no sliver faces are made.
- * GEOM_ERR_DEGENERATE for a zero plane normal.
+ * When nothing is cut the result is a clone; otherwise tags and polylines
+ * are dropped, and a face lying in the plane is kept only if it faces away
+ * from the kept side. GEOM_ERR_DEGENERATE for a zero plane normal.
  */
 geom_status geom_mesh_clip_plane(const geom_mesh *m, const double plane[4],
                                  const geom_clip_options *opt, geom_mesh **out);

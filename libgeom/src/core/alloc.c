@@ -17,6 +17,8 @@ void *geom_realloc(const geom_allocator *a, void *ptr, size_t old_size, size_t n
 {
     if (new_size == 0)
         new_size = 1;
+    if (old_size == 0)
+        old_size = 1;
     if (!a || !a->alloc_fn)
         return realloc(ptr, new_size);
     if (a->realloc_fn)
@@ -36,6 +38,8 @@ void geom_free(const geom_allocator *a, void *ptr, size_t size)
 {
     if (!ptr)
         return;
+    if (size == 0) /* geom_alloc turned a 0-byte request into 1 byte */
+        size = 1;
     if (a && a->alloc_fn) {
         if (a->free_fn)
             a->free_fn(a->user, ptr, size);

@@ -1,0 +1,273 @@
+/* geom-module: meshio */
+/*
+ * geom-normals: compute per-corner normals of a mesh and write it.
+ *
+ *   geom-normals [--weight uniform|area|angle|max] [--crease DEG] [--split-uv]
+ *                IN -o OUT
+ *
+ * Normals are computed with geom_mesh_corner_normals: around each vertex,
+ * corners are grouped into fans bounded by hard edges (dihedral angle above
+ * --crease, boundary edges, and with --split-uv the seams of the "uv"
+ * channel) and each fan gets the weighted average of its faces' normals.
+ * Without --crease nothing is split and the result is the smooth vertex
+ * normal at every corner. The CORNER channel "normal" replaces any normal
+ * the input had (a VERTEX "normal" channel is removed). OUT's format comes
+ * from --format or its extension ("-": standard output, needs --format).
+ * With --json a summary (faces, vertices, normals, zero normals, seconds) is
+ * printed on standard output (OUT must then be a file).
+ *
+ * Exit status 0 on success, 1 on a read, parse or write error, 2 on a usage
+ * error.
+ */
+#include "cli.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "geom/meshio.h"
+
+static const cli_tool tool = {
+    "geom-normals",
+    "[OPTION]... IN [-o OUT]",
+    "Compute per-corner normals of the mesh in IN and write the mesh to OUT\n"
+    "(standard output when OUT is '-' or absent; then --format is needed).",
+    "  -w, --weight=W       face weights: angle (default; Thuermer & Wuethrich),\n"
+    "                       uniform, area, max (Max 1999)\n"
+    "  -c, --crease=DEG     split the normals at edges whose dihedral angle\n"
+    "                       exceeds DEG degrees (0 < DEG < 180); default: no\n"
+    "                       splitting (smooth vertex normals)\n"
+    "      --split-uv       also split at the seams of the \"uv\" channel\n"
+    "  -f, --format=FMT     output format (obj, off, ply, stl, glb); default: from\n"
+    "                       OUT's extension\n"
+    "  -i, --input-format=FMT  input format (obj, off, ply, stl); default: from\n"
+    "                       IN's extension, else from the content\n",
+    "The normals are stored as the mesh's per-corner \"normal\" channel, so OBJ\n"
+    "output shares vn values within smooth fans and splits them at hard edges.\n"
+    "With --json, prints {\"faces\", \"vertices\", \"normals\", \"zero_normals\",\n"
+    "\"seconds\"} on standard output (OUT must be a file).\n",
+};
+
+enum { OPT_SPLIT_UV = CLI_OPT_TOOL_BASE };
+
+typedef struct normals_opts {
+    geom_corner_normal_options no;
+    int split_uv;
+    geom_meshio_format in_format, out_format;
+} normals_opts;
+
+static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
+{
+    normals_opts *o = user;
+    switch (opt) {
+    case 'w':
+        if (strcmp(arg, "angle") == 0)
+            o->no.weight = GEOM_NORMAL_WEIGHT_ANGLE;
+        else if (strcmp(arg, "uniform") == 0)
+            o->no.weight = GEOM_NORMAL_WEIGHT_UNIFORM;
+        else if (strcmp(arg, "area") == 0)
+            o->no.weight = GEOM_NORMAL_WEIGHT_AREA;
+        else if (strcmp(arg, "max") == 0)
+            o->no.weight = GEOM_NORMAL_WEIGHT_MAX;
+        else
+            return cli_usage_error(t, "unknown weight '%s' (uniform, area, angle, max)", arg);
+        return CLI_CONTINUE;
+    case 'c': {
+        double d;
+        if (cli_parse_double(arg, strlen(arg), 0, &d, NULL) != GEOM_OK || !(d > 0.0) ||
+            !(d < 180.0))
+            return cli_usage_error(t, "--crease takes an angle in degrees in (0, 180), not '%s'",
+                                   arg);
+        o->no.crease_degrees = d;
+        return CLI_CONTINUE;
+    }
+    case OPT_SPLIT_UV:
+        o->split_uv = 1;
+        return CLI_CONTINUE;
+    case 'f':
+        o->out_format = geom_meshio_format_from_name(arg);
+        if (o->out_format == GEOM_MESHIO_FORMAT_AUTO)
+            return cli_usage_error(t, "unknown output format '%s' (obj, off, ply, stl, glb)", arg);
+        return CLI_CONTINUE;
+    case 'i':
+        o->in_format = geom_meshio_format_from_name(arg);
+        if (o->in_format == GEOM_MESHIO_FORMAT_AUTO || o->in_format == GEOM_MESHIO_FORMAT_GLB)
+            return cli_usage_error(t, "unknown input format '%s' (obj, off, ply, stl)", arg);
+        return CLI_CONTINUE;
+    default:
+        break;
+    }
+    return CLI_EXIT_USAGE;
+}
+
+/* Read IN ("-": standard input) into a mesh; repairs go to stderr. */
+static geom_status read_mesh(const char *path, geom_meshio_format fmt, geom_mesh **m,
+                             geom_diag *diag)
+{
+    cli_input in;
+    geom_status st = cli_input_open(&in, path, diag);
+    if (st != GEOM_OK)
+        return st;
+    size_t cap = 1 << 16, n = 0;
+    unsigned char *buf = malloc(cap);
+    while (buf) {
+        if (n == cap) {
+            unsigned char *q = cap > ((size_t)-1) / 2 ? NULL : realloc(buf, cap * 2);
+            if (!q) {
+                free(buf);
+                buf = NULL;
+                break;
+            }
+            buf = q;
+            cap *= 2;
+        }
+        size_t got = fread(buf + n, 1, cap - n, in.fp);
+        n += got;
+        if (got == 0)
+            break;
+    }
+    if (!buf) {
+        cli_input_close(&in);
+        return cli_diag_set(diag, GEOM_ERR_NOMEM, path, 0, 0, "out of memory");
+    }
+    if (ferror(in.fp)) {
+        free(buf);
+        st = cli_diag_set(diag, GEOM_ERR_IO, in.name, 0, 0, "read error");
+        cli_input_close(&in);
+        return st;
+    }
+    geom_meshio_read_options ro;
+    memset(&ro, 0, sizeof ro);
+    ro.format = fmt;
+    geom_mesh_build_report r;
+    st = geom_meshio_read_memory(buf, n, in.name, &ro, m, &r, diag);
+    free(buf);
+    if (st == GEOM_OK) {
+        /* repairs made while building the mesh are worth knowing */
+        const struct {
+            const char *what;
+            size_t n;
+        } items[] = {{"invalid faces skipped", r.invalid_faces},
+                     {"faces flipped", r.flipped_faces},
+                     {"non-manifold edges", r.nonmanifold_edges},
+                     {"faces detached", r.detached_faces},
+                     {"vertices split", r.split_vertices},
+                     {"non-orientable components cut", r.nonorientable_components}};
+        for (size_t i = 0; i < sizeof items / sizeof items[0]; i++)
+            if (items[i].n)
+                fprintf(stderr, "%s: %s: repaired: %zu %s\n", tool.name, in.name, items[i].n,
+                        items[i].what);
+    }
+    cli_input_close(&in);
+    return st;
+}
+
+/* Write m to path ("-": standard output; format needed). */
+static geom_status write_mesh(const geom_mesh *m, const char *path, geom_meshio_format fmt,
+                              geom_diag *diag)
+{
+    geom_meshio_write_options wo;
+    memset(&wo, 0, sizeof wo);
+    wo.format = fmt;
+    if (strcmp(path, "-") != 0)
+        return geom_meshio_write(m, path, &wo, diag);
+    void *buf = NULL;
+    size_t n = 0;
+    geom_status st = geom_meshio_write_memory(m, &wo, &buf, &n, diag);
+    if (st != GEOM_OK)
+        return st;
+    cli_output out;
+    st = cli_output_open(&out, NULL, diag);
+    if (st == GEOM_OK) {
+        fwrite(buf, 1, n, out.fp);
+        st = cli_output_commit(&out, diag);
+    }
+    geom_meshio_buffer_free(buf, n, NULL);
+    return st;
+}
+
+int main(int argc, char **argv)
+{
+    static const struct option longopts[] = {{"weight", required_argument, NULL, 'w'},
+                                             {"crease", required_argument, NULL, 'c'},
+                                             {"split-uv", no_argument, NULL, OPT_SPLIT_UV},
+                                             {"format", required_argument, NULL, 'f'},
+                                             {"input-format", required_argument, NULL, 'i'},
+                                             {NULL, 0, NULL, 0}};
+    normals_opts no;
+    memset(&no, 0, sizeof no);
+    cli_common common;
+    int first;
+    int rc = cli_parse_args(&tool, argc, argv, "w:c:f:i:", longopts, on_option, &no, &common,
+                            &first);
+    if (rc != CLI_CONTINUE)
+        return rc;
+    if (argc - first < 1)
+        return cli_usage_error(&tool, "missing input operand");
+    if (argc - first > 1)
+        return cli_usage_error(&tool, "extra operand '%s'", argv[first + 1]);
+    const char *out_path = common.output ? common.output : "-";
+    int to_stdout = strcmp(out_path, "-") == 0;
+    if (no.out_format == GEOM_MESHIO_FORMAT_AUTO) {
+        if (to_stdout)
+            return cli_usage_error(&tool, "writing to standard output needs --format");
+        no.out_format = geom_meshio_format_from_name(out_path);
+        if (no.out_format == GEOM_MESHIO_FORMAT_AUTO)
+            return cli_usage_error(&tool, "cannot tell the output format from '%s': use --format",
+                                   out_path);
+    }
+    if (common.json && to_stdout)
+        return cli_usage_error(&tool, "--json needs the mesh written to a file (-o OUT)");
+
+    geom_diag diag;
+    geom_diag_clear(&diag);
+    geom_mesh *m = NULL;
+    if (read_mesh(argv[first], no.in_format, &m, &diag) != GEOM_OK)
+        return cli_print_diag(&tool, &diag);
+    if (no.split_uv) {
+        uint32_t uv = geom_mesh_channel_find(m, "uv", GEOM_MESH_DOMAIN_CORNER);
+        if (uv == GEOM_INVALID_INDEX) {
+            geom_mesh_destroy(m);
+            return cli_error(&tool, "%s: --split-uv: the mesh has no per-corner \"uv\" channel",
+                             argv[first]);
+        }
+        no.no.split_at_channel_plus_one = uv + 1;
+    }
+    cli_timer timer;
+    cli_timer_start(&timer);
+    uint32_t vn = geom_mesh_channel_find(m, "normal", GEOM_MESH_DOMAIN_VERTEX);
+    geom_status st = GEOM_OK;
+    if (vn != GEOM_INVALID_INDEX) {
+        if (no.no.split_at_channel_plus_one > vn + 1)
+            no.no.split_at_channel_plus_one--; /* ids after vn shift down */
+        st = geom_mesh_channel_remove(m, vn);
+    }
+    uint32_t id = GEOM_INVALID_INDEX;
+    if (st == GEOM_OK)
+        st = geom_mesh_corner_normals(m, &no.no, &id);
+    double secs = cli_timer_elapsed(&timer);
+    if (st != GEOM_OK) {
+        geom_mesh_destroy(m);
+        return cli_error(&tool, "%s: computing normals failed: %s", argv[first],
+                         geom_status_str(st));
+    }
+    size_t zero = 0, nn = geom_mesh_channel_size(m, id);
+    const double *d = geom_mesh_channel_cdata(m, id);
+    for (size_t i = 0; i < nn; i++)
+        zero += d[3 * i] == 0.0 && d[3 * i + 1] == 0.0 && d[3 * i + 2] == 0.0;
+    st = write_mesh(m, out_path, no.out_format, &diag);
+    if (st != GEOM_OK) {
+        geom_mesh_destroy(m);
+        return cli_print_diag(&tool, &diag);
+    }
+    if (common.json) {
+        printf("{\"faces\":%zu,\"vertices\":%zu,\"normals\":%zu,\"zero_normals\":%zu,\"seconds\":",
+               geom_mesh_n_live_faces(m), geom_mesh_n_live_vertices(m), nn, zero);
+        cli_json_number(stdout, secs);
+        printf("}\n");
+    } else if (zero) {
+        fprintf(stderr, "%s: %s: %zu normals are zero (fans of degenerate faces only)\n",
+                tool.name, argv[first], zero);
+    }
+    geom_mesh_destroy(m);
+    return CLI_EXIT_OK;
+}

@@ -1,0 +1,291 @@
+/* geom-module: meshio */
+/*
+ * geom-tangents: compute MikkTSpace-compatible tangent frames and write the
+ * mesh (normally as glTF binary, which carries them as TANGENT).
+ *
+ *   geom-tangents [--crease DEG] IN -o OUT.glb
+ *
+ * IN must have per-corner texture coordinates (OBJ vt, or PLY texcoord
+ * lists); a per-vertex "uv" channel (OFF/PLY) is turned into a per-corner one
+ * first. Normals: the input's per-corner normals when it has them (OBJ vn),
+ * otherwise computed by geom_mesh_corner_normals (smooth, angle weights, or
+ * split at --crease DEG; --crease also recomputes existing normals). The
+ * tangents (geom_mesh_tangents) are stored as the CORNER channel "tangent"
+ * (x y z and the bitangent sign w, bitangent = w cross(normal, tangent)).
+ * OUT's format comes from --format or its extension; glTF stores TANGENT,
+ * other formats drop it. With --json a summary is printed on standard output
+ * (OUT must be a file).
+ *
+ * Exit status 0 on success, 1 on a read, parse or write error or a mesh
+ * without texture coordinates, 2 on a usage error.
+ */
+#include "cli.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "geom/meshio.h"
+
+static const cli_tool tool = {
+    "geom-tangents",
+    "[OPTION]... IN [-o OUT]",
+    "Compute MikkTSpace-compatible per-corner tangent frames of the mesh in IN\n"
+    "(which needs texture coordinates) and write the mesh to OUT, normally a\n"
+    "glTF binary (.glb) file.",
+    "  -c, --crease=DEG     (re)compute the normals first, split at edges whose\n"
+    "                       dihedral angle exceeds DEG degrees (0 < DEG < 180);\n"
+    "                       default: keep the input's normals, or compute smooth\n"
+    "                       ones when it has none\n"
+    "  -f, --format=FMT     output format (glb, obj, off, ply, stl); default: from\n"
+    "                       OUT's extension\n"
+    "  -i, --input-format=FMT  input format (obj, off, ply, stl); default: from\n"
+    "                       IN's extension, else from the content\n",
+    "Tangents follow MikkTSpace (the convention of Blender and glTF): per-face\n"
+    "tangents from UV derivatives, angle-weighted over corners sharing position,\n"
+    "normal and uv, orthogonalised against the normal; w = +-1 is the bitangent\n"
+    "sign. With --json, prints {\"faces\", \"corners\", \"tangents\", \"mirrored\",\n"
+    "\"seconds\"} on standard output (OUT must be a file).\n",
+};
+
+typedef struct tan_opts {
+    double crease;
+    geom_meshio_format in_format, out_format;
+} tan_opts;
+
+static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
+{
+    tan_opts *o = user;
+    switch (opt) {
+    case 'c': {
+        double d;
+        if (cli_parse_double(arg, strlen(arg), 0, &d, NULL) != GEOM_OK || !(d > 0.0) ||
+            !(d < 180.0))
+            return cli_usage_error(t, "--crease takes an angle in degrees in (0, 180), not '%s'",
+                                   arg);
+        o->crease = d;
+        return CLI_CONTINUE;
+    }
+    case 'f':
+        o->out_format = geom_meshio_format_from_name(arg);
+        if (o->out_format == GEOM_MESHIO_FORMAT_AUTO)
+            return cli_usage_error(t, "unknown output format '%s' (obj, off, ply, stl, glb)", arg);
+        return CLI_CONTINUE;
+    case 'i':
+        o->in_format = geom_meshio_format_from_name(arg);
+        if (o->in_format == GEOM_MESHIO_FORMAT_AUTO || o->in_format == GEOM_MESHIO_FORMAT_GLB)
+            return cli_usage_error(t, "unknown input format '%s' (obj, off, ply, stl)", arg);
+        return CLI_CONTINUE;
+    default:
+        break;
+    }
+    return CLI_EXIT_USAGE;
+}
+
+/* Read IN ("-": standard input) into a mesh; repairs go to stderr. */
+static geom_status read_mesh(const char *path, geom_meshio_format fmt, geom_mesh **m,
+                             geom_diag *diag)
+{
+    cli_input in;
+    geom_status st = cli_input_open(&in, path, diag);
+    if (st != GEOM_OK)
+        return st;
+    size_t cap = 1 << 16, n = 0;
+    unsigned char *buf = malloc(cap);
+    while (buf) {
+        if (n == cap) {
+            unsigned char *q = cap > ((size_t)-1) / 2 ? NULL : realloc(buf, cap * 2);
+            if (!q) {
+                free(buf);
+                buf = NULL;
+                break;
+            }
+            buf = q;
+            cap *= 2;
+        }
+        size_t got = fread(buf + n, 1, cap - n, in.fp);
+        n += got;
+        if (got == 0)
+            break;
+    }
+    if (!buf) {
+        cli_input_close(&in);
+        return cli_diag_set(diag, GEOM_ERR_NOMEM, path, 0, 0, "out of memory");
+    }
+    if (ferror(in.fp)) {
+        free(buf);
+        st = cli_diag_set(diag, GEOM_ERR_IO, in.name, 0, 0, "read error");
+        cli_input_close(&in);
+        return st;
+    }
+    geom_meshio_read_options ro;
+    memset(&ro, 0, sizeof ro);
+    ro.format = fmt;
+    geom_mesh_build_report r;
+    st = geom_meshio_read_memory(buf, n, in.name, &ro, m, &r, diag);
+    free(buf);
+    if (st == GEOM_OK) {
+        /* repairs made while building the mesh are worth knowing */
+        const struct {
+            const char *what;
+            size_t n;
+        } items[] = {{"invalid faces skipped", r.invalid_faces},
+                     {"faces flipped", r.flipped_faces},
+                     {"non-manifold edges", r.nonmanifold_edges},
+                     {"faces detached", r.detached_faces},
+                     {"vertices split", r.split_vertices},
+                     {"non-orientable components cut", r.nonorientable_components}};
+        for (size_t i = 0; i < sizeof items / sizeof items[0]; i++)
+            if (items[i].n)
+                fprintf(stderr, "%s: %s: repaired: %zu %s\n", tool.name, in.name, items[i].n,
+                        items[i].what);
+    }
+    cli_input_close(&in);
+    return st;
+}
+
+/* Write m to path ("-": standard output; format needed). */
+static geom_status write_mesh(const geom_mesh *m, const char *path, geom_meshio_format fmt,
+                              geom_diag *diag)
+{
+    geom_meshio_write_options wo;
+    memset(&wo, 0, sizeof wo);
+    wo.format = fmt;
+    if (strcmp(path, "-") != 0)
+        return geom_meshio_write(m, path, &wo, diag);
+    void *buf = NULL;
+    size_t n = 0;
+    geom_status st = geom_meshio_write_memory(m, &wo, &buf, &n, diag);
+    if (st != GEOM_OK)
+        return st;
+    cli_output out;
+    st = cli_output_open(&out, NULL, diag);
+    if (st == GEOM_OK) {
+        fwrite(buf, 1, n, out.fp);
+        st = cli_output_commit(&out, diag);
+    }
+    geom_meshio_buffer_free(buf, n, NULL);
+    return st;
+}
+
+/* Turn a VERTEX channel into a CORNER channel of the same name (one pool
+ * value per vertex, every corner of v pointing at it). */
+static geom_status vertex_to_corner(geom_mesh *m, const char *name)
+{
+    uint32_t vid = geom_mesh_channel_find(m, name, GEOM_MESH_DOMAIN_VERTEX);
+    if (vid == GEOM_INVALID_INDEX)
+        return GEOM_OK;
+    size_t nc = geom_mesh_channel_ncomp(m, vid), nv = geom_mesh_n_vertices(m);
+    double *copy = malloc((nv ? nv : 1) * nc * sizeof(double));
+    if (!copy)
+        return GEOM_ERR_NOMEM;
+    memcpy(copy, geom_mesh_channel_cdata(m, vid), nv * nc * sizeof(double));
+    geom_status st = geom_mesh_channel_remove(m, vid);
+    uint32_t cid = GEOM_INVALID_INDEX;
+    if (st == GEOM_OK)
+        st = geom_mesh_channel_add(m, name, GEOM_MESH_DOMAIN_CORNER, nc, &cid);
+    if (st == GEOM_OK)
+        st = geom_mesh_corner_pool_resize(m, cid, nv);
+    if (st == GEOM_OK) {
+        memcpy(geom_mesh_channel_data(m, cid), copy, nv * nc * sizeof(double));
+        uint32_t *ix = geom_mesh_corner_indices(m, cid);
+        size_t nh = geom_mesh_n_halfedges(m);
+        for (uint32_t h = 0; h < nh; h++)
+            ix[h] = geom_mesh_he_face(m, h) == GEOM_INVALID_INDEX ? GEOM_INVALID_INDEX
+                                                                 : geom_mesh_he_vertex(m, h);
+    }
+    free(copy);
+    return st;
+}
+
+int main(int argc, char **argv)
+{
+    static const struct option longopts[] = {{"crease", required_argument, NULL, 'c'},
+                                             {"format", required_argument, NULL, 'f'},
+                                             {"input-format", required_argument, NULL, 'i'},
+                                             {NULL, 0, NULL, 0}};
+    tan_opts to;
+    memset(&to, 0, sizeof to);
+    cli_common common;
+    int first;
+    int rc = cli_parse_args(&tool, argc, argv, "c:f:i:", longopts, on_option, &to, &common,
+                            &first);
+    if (rc != CLI_CONTINUE)
+        return rc;
+    if (argc - first < 1)
+        return cli_usage_error(&tool, "missing input operand");
+    if (argc - first > 1)
+        return cli_usage_error(&tool, "extra operand '%s'", argv[first + 1]);
+    const char *out_path = common.output ? common.output : "-";
+    int to_stdout = strcmp(out_path, "-") == 0;
+    if (to.out_format == GEOM_MESHIO_FORMAT_AUTO) {
+        if (to_stdout)
+            return cli_usage_error(&tool, "writing to standard output needs --format");
+        to.out_format = geom_meshio_format_from_name(out_path);
+        if (to.out_format == GEOM_MESHIO_FORMAT_AUTO)
+            return cli_usage_error(&tool, "cannot tell the output format from '%s': use --format",
+                                   out_path);
+    }
+    if (common.json && to_stdout)
+        return cli_usage_error(&tool, "--json needs the mesh written to a file (-o OUT)");
+
+    geom_diag diag;
+    geom_diag_clear(&diag);
+    geom_mesh *m = NULL;
+    if (read_mesh(argv[first], to.in_format, &m, &diag) != GEOM_OK)
+        return cli_print_diag(&tool, &diag);
+    geom_status st = GEOM_OK;
+    if (geom_mesh_channel_find(m, "uv", GEOM_MESH_DOMAIN_CORNER) == GEOM_INVALID_INDEX)
+        st = vertex_to_corner(m, "uv");
+    if (st == GEOM_OK &&
+        geom_mesh_channel_find(m, "uv", GEOM_MESH_DOMAIN_CORNER) == GEOM_INVALID_INDEX) {
+        geom_mesh_destroy(m);
+        return cli_error(&tool, "%s: the mesh has no texture coordinates", argv[first]);
+    }
+    cli_timer timer;
+    cli_timer_start(&timer);
+    if (st == GEOM_OK && (to.crease > 0.0 ||
+                          geom_mesh_channel_find(m, "normal", GEOM_MESH_DOMAIN_CORNER) ==
+                              GEOM_INVALID_INDEX)) {
+        /* a per-vertex normal from OFF/PLY would be ambiguous next to the
+         * computed per-corner one */
+        uint32_t vn = geom_mesh_channel_find(m, "normal", GEOM_MESH_DOMAIN_VERTEX);
+        if (vn != GEOM_INVALID_INDEX)
+            st = geom_mesh_channel_remove(m, vn);
+        geom_corner_normal_options no;
+        memset(&no, 0, sizeof no);
+        no.crease_degrees = to.crease;
+        if (st == GEOM_OK)
+            st = geom_mesh_corner_normals(m, &no, NULL);
+    }
+    uint32_t tid = GEOM_INVALID_INDEX;
+    if (st == GEOM_OK)
+        st = geom_mesh_tangents(m, &tid);
+    double secs = cli_timer_elapsed(&timer);
+    if (st != GEOM_OK) {
+        geom_mesh_destroy(m);
+        return cli_error(&tool, "%s: computing tangents failed: %s", argv[first],
+                         geom_status_str(st));
+    }
+    size_t nt = geom_mesh_channel_size(m, tid), mirrored = 0, corners = 0;
+    const double *d = geom_mesh_channel_cdata(m, tid);
+    const uint32_t *ix = geom_mesh_corner_cindices(m, tid);
+    for (uint32_t h = 0; h < geom_mesh_n_halfedges(m); h++) {
+        if (ix[h] == GEOM_INVALID_INDEX)
+            continue;
+        corners++;
+        mirrored += d[4 * (size_t)ix[h] + 3] < 0.0;
+    }
+    st = write_mesh(m, out_path, to.out_format, &diag);
+    if (st != GEOM_OK) {
+        geom_mesh_destroy(m);
+        return cli_print_diag(&tool, &diag);
+    }
+    if (common.json) {
+        printf("{\"faces\":%zu,\"corners\":%zu,\"tangents\":%zu,\"mirrored\":%zu,\"seconds\":",
+               geom_mesh_n_live_faces(m), corners, nt, mirrored);
+        cli_json_number(stdout, secs);
+        printf("}\n");
+    }
+    geom_mesh_destroy(m);
+    return CLI_EXIT_OK;
+}
