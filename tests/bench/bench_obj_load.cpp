@@ -11,13 +11,8 @@
 // parsed positions against strtod (correctly rounded): the largest error in
 // units in the last place over all coordinates.
 //
-// Build (the lead adds this to tests/bench/CMakeLists.txt):
-//   find_package(tinyobjloader CONFIG QUIET)
-//   if(tinyobjloader_FOUND)
-//     enable_language(CXX)
-//     geom_add_bench(bench_obj_load.cpp MODULES meshio
-//                    LIBS tinyobjloader::tinyobjloader_double)
-//   endif()
+// Built by tests/bench/CMakeLists.txt when tinyobjloader is found; `make bench`
+// installs it and runs this.
 // or by hand (one line):
 //   g++ -O2 -DTINYOBJLOADER_USE_DOUBLE tests/bench/bench_obj_load.cpp
 //       -Ilibgeom/include build/libgeom/libgeom.a -ltinyobjloader_double -lm
