@@ -1,0 +1,561 @@
+/*
+ * libgeom implicit: implicit functions f(x, y, z) and their isolines.
+ *
+ *  - Expressions: a small language over x, y, z (and t) compiled once into a
+ *    flat program (a postfix tape run by a loop, no recursion at evaluation
+ *    time) that gives the value, the exact gradient (forward-mode dual
+ *    numbers) and interval bounds over a box.
+ *  - Fields: a plain callback interface (value, optional gradient, user
+ *    pointer) for user functions, with adapters from expressions and from
+ *    sampled volumes.
+ *  - Sampled volumes: dense float or double grids read from raw files and
+ *    from NRRD, evaluated by trilinear interpolation.
+ *  - Marching squares: isolines of f(x, y, z0) on a regular grid, saddles
+ *    resolved by the asymptotic decider, vertices shared between cells and
+ *    refined on their edge by safeguarded root finding, joined into
+ *    polylines.
+ *
+ * Sign convention everywhere: f < 0 is inside, f > 0 outside.
+ *
+ * Nothing here keeps global state or prints. A compiled expression and a
+ * volume are immutable after creation (except geom_implicit_expr_set_time),
+ * so any number of threads may evaluate them at once.
+ *
+ * ---------------------------------------------------------------- language
+ *
+ * Grammar (whitespace, including newlines, is ignored between tokens):
+ *
+ *     expr    := term (('+' | '-') term)*
+ *     term    := unary (('*' | '/') unary)*
+ *     unary   := ('-' | '+') unary | power
+ *     power   := primary ('^' unary)?          right associative:
+ *                                              2^3^2 = 2^9, -x^2 = -(x^2),
+ *                                              x^-1 is allowed
+ *     primary := NUMBER | NAME | NAME '(' [expr (',' expr)*] ')' | '(' expr ')'
+ *
+ * NUMBER is decimal with optional fraction and exponent ("2", "0.5", ".5",
+ * "1e-3", "1.E+2"); it is read as strtod reads it in the C locale (correctly
+ * rounded). Names are case-sensitive.
+ *
+ * Variables: x, y, z, t (t is a parameter set with geom_implicit_expr_set_time;
+ * the gradient is with respect to x, y, z only). Constants: pi, e.
+ *
+ * Functions (all arguments are expressions; n-ary means two or more):
+ *   sqrt(a) abs(a) sin(a) cos(a) tan(a) exp(a) log(a)   (log is natural)
+ *   pow(a, b) = a ^ b (a constant integer exponent is evaluated as an exact
+ *       integer power, so (-2)^3 = -8; otherwise as C's pow)
+ *   min(a, b, ...) max(a, b, ...)  n-ary
+ *   clamp(v, lo, hi) = min(max(v, lo), hi)
+ *   atan2(y, x)  in (-pi, pi]
+ *
+ * Primitives (negative inside; c = (cx, cy, cz) is a centre, p - c the
+ * point relative to it, q = p - c; every distance is Euclidean):
+ *   sphere(r), sphere(cx, cy, cz, r)
+ *       |q| - r: the exact signed distance.
+ *   ellipsoid(a, b, c), ellipsoid(cx, cy, cz, a, b, c)
+ *       semi-axes a, b, c along x, y, z: (|(qx/a, qy/b, qz/c)| - 1) * min(a, b, c),
+ *       which is exact for a sphere, zero exactly on the ellipsoid, and a
+ *       1-Lipschitz lower bound of the distance otherwise.
+ *   torus(R, r), torus(cx, cy, cz, R, r)
+ *       axis z, major radius R, minor radius r:
+ *       |(sqrt(qx^2 + qy^2) - R, qz)| - r, the exact signed distance.
+ *   box(hx, hy, hz), box(cx, cy, cz, hx, hy, hz)
+ *       half-extents h: with d = |q| - h (componentwise),
+ *       |max(d, 0)| + min(max(dx, dy, dz), 0), the exact signed distance.
+ *   cylinder(r, h), cylinder(cx, cy, cz, r, h)
+ *       capped, axis z, radius r, half-height h: with
+ *       d = (sqrt(qx^2 + qy^2) - r, |qz| - h),
+ *       |max(d, 0)| + min(max(d1, d2), 0), the exact signed distance.
+ *   plane(nx, ny, nz, d)
+ *       (n . p - d) / |n|: the half-space n . p <= d is inside; the exact
+ *       signed distance.
+ *   capsule(ax, ay, az, bx, by, bz, r)
+ *       distance to the segment ab minus r (a sphere when a == b), exact.
+ *   gyroid(), gyroid(s), gyroid(s, th)
+ *       g = sin(sx)cos(sy) + sin(sy)cos(sz) + sin(sz)cos(sx); gyroid() is g
+ *       with s = 1, gyroid(s) is g / s (the gyroid of period 2 pi / s, its
+ *       labyrinth with g < 0 inside), gyroid(s, th) is |g| / s - th, a
+ *       sheet of half-thickness about th around the surface.
+ * CSG (a, b are any expressions, treated as signed distances):
+ *   union(a, b, ...) = min, intersection(a, b, ...) = max (n-ary),
+ *   difference(a, b, ...) = max(a, -b, ...),
+ *   smooth_union(a, b, k) = smin(a, b, k),
+ *   smooth_intersection(a, b, k) = -smin(-a, -b, k),
+ *   smooth_difference(a, b, k) = -smin(-a, b, k),
+ *   with the polynomial (quadratic) smooth minimum of Quilez:
+ *   smin(a, b, k) = min(a, b) - max(k - |a - b|, 0)^2 / (4k), which is
+ *   min(a, b) when |a - b| >= k and for k <= 0.
+ *
+ * Derivative conventions (the gradient is exact wherever f is
+ * differentiable; at kinks a one-sided choice is made):
+ *   - min(a, b) takes a's gradient when a <= b, max(a, b) when a >= b (ties
+ *     go to the first argument; for the n-ary forms, the leftmost argument
+ *     among equal ones); clamp(v, lo, hi) takes v's gradient when
+ *     lo <= v <= hi;
+ *   - abs(a) at a == 0 has derivative 0 (the minimal-norm subgradient);
+ *   - a derivative that would be (infinite or NaN) * 0, e.g. sqrt at 0 where
+ *     the argument has zero derivative (the centre of a sphere), is 0;
+ *   - atan2 at the origin has derivative 0.
+ *
+ * Non-finite values: NaN propagates through every operation, including min,
+ * max, clamp (unlike C's fmin) and powers (unlike C's pow(1, NaN) and
+ * pow(NaN, 0), which are 1); sqrt and log of negative numbers, and
+ * pow of a negative base with a non-integer exponent, give NaN; division by
+ * zero gives +-inf or NaN as in IEEE 754.
+ *
+ * Interval bounds: each operation maps intervals to an interval enclosing
+ * the values the point evaluation can produce at any point of the box
+ * where that value is finite. Results of + - * / are rounded outward by one
+ * ulp (nextafter); sqrt likewise (it is correctly rounded); exp, log, pow,
+ * sin, cos, tan and atan2 results are widened by 4 ulp relative plus
+ * nextafter (glibc documents at most 1-2 ulp for these). Even integer
+ * powers and abs are never negative; division by an interval containing 0
+ * gives [-inf, inf]; sqrt and log use only the part of the interval inside
+ * their domain. An interval [NaN, NaN] means no point of the box has a
+ * defined value. The bounds are not tight (the dependency problem of
+ * interval arithmetic: x - x gives [-w, w]).
+ *
+ * Limits: the text is at most max_length bytes; parentheses, calls and
+ * unary operators nest at most max_depth deep (the parser's recursion is
+ * bounded by it); evaluation uses a fixed stack of GEOM_IMPLICIT_STACK_MAX
+ * slots. Exceeding any of these is GEOM_ERR_LIMIT.
+ */
+#ifndef GEOM_IMPLICIT_H
+#define GEOM_IMPLICIT_H
+
+#include "geom/core.h"
+#include "geom/mesh.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ------------------------------------------------------------ error report */
+
+#ifndef GEOM_ERROR_REPORT_DEFINED
+#define GEOM_ERROR_REPORT_DEFINED
+/** How geom_error_report::max_error was obtained. */
+enum {
+    GEOM_ERROR_NONE = 0,     /**< nothing measured (e.g. nothing was approximated) */
+    GEOM_ERROR_BOUND = 1,    /**< a guaranteed upper bound (up to rounding) */
+    GEOM_ERROR_SAMPLED = 2,  /**< measured at sample points: a lower estimate */
+    GEOM_ERROR_ESTIMATE = 3  /**< an a-posteriori estimate (e.g. two quadrature orders) */
+};
+
+/**
+ * What an approximating function achieved: the error measure (in the units
+ * the function states), how it was measured, and the work done.
+ */
+typedef struct geom_error_report {
+    double max_error;   /**< largest error over the pieces (or the total, where stated) */
+    double mean_error;  /**< mean over the pieces */
+    int method;         /**< GEOM_ERROR_BOUND, GEOM_ERROR_SAMPLED or GEOM_ERROR_ESTIMATE */
+    size_t evaluations; /**< curve (or derivative) evaluations performed */
+} geom_error_report;
+#endif
+
+/* ------------------------------------------------------------- expressions */
+
+/** Slots of the fixed evaluation stack; a program needing more is rejected. */
+#define GEOM_IMPLICIT_STACK_MAX 512
+/** Default and largest accepted geom_implicit_expr_options::max_depth. */
+#define GEOM_IMPLICIT_DEPTH_DEFAULT 64
+#define GEOM_IMPLICIT_DEPTH_MAX 1000
+/** Default geom_implicit_expr_options::max_length (bytes). */
+#define GEOM_IMPLICIT_LENGTH_DEFAULT 65536
+
+/** A compiled expression (opaque). */
+typedef struct geom_implicit_expr geom_implicit_expr;
+
+/** Compilation options; a zero-initialised struct (or NULL) gives the defaults. */
+typedef struct geom_implicit_expr_options {
+    /** Allocator for the program; NULL = libc. It must outlive the expression. */
+    const geom_allocator *alloc;
+    /** Longest accepted text in bytes; 0 = GEOM_IMPLICIT_LENGTH_DEFAULT. */
+    size_t max_length;
+    /** Deepest nesting of parentheses, calls and unary operators;
+     *  0 = GEOM_IMPLICIT_DEPTH_DEFAULT; values above GEOM_IMPLICIT_DEPTH_MAX
+     *  are treated as GEOM_IMPLICIT_DEPTH_MAX. */
+    size_t max_depth;
+} geom_implicit_expr_options;
+
+/**
+ * Parse and compile `len` bytes of `text` (need not be NUL-terminated, never
+ * read beyond len; a NUL byte in it is an error) into *out. Constant
+ * subexpressions are folded.
+ *
+ * Statuses: GEOM_OK; GEOM_ERR_PARSE for a syntax error, an unknown name or a
+ * wrong number of arguments: diag gets line 1 (or the line of a multi-line
+ * text), the 1-based column of the offending token and a message naming
+ * what was found and what was expected ("expected ')' to close '(' at
+ * column 3, found end of input", "unknown function 'spher'", "'sphere'
+ * takes 1 or 4 arguments, got 2"); GEOM_ERR_LIMIT when the text is longer
+ * than max_length, nests deeper than max_depth or needs more than
+ * GEOM_IMPLICIT_STACK_MAX stack slots (diag has the column);
+ * GEOM_ERR_INVALID_ARG for NULL text (with len > 0) or NULL out;
+ * GEOM_ERR_NOMEM. On error *out is NULL. diag's source is "expression".
+ */
+geom_status geom_implicit_expr_compile(const char *text, size_t len,
+                                       const geom_implicit_expr_options *opt,
+                                       geom_implicit_expr **out, geom_diag *diag);
+
+/** Free a compiled expression. NULL is a no-op. */
+void geom_implicit_expr_destroy(geom_implicit_expr *e);
+
+/** Set the value of the variable t (initially 0). Not to be called while
+ *  other threads evaluate e. */
+void geom_implicit_expr_set_time(geom_implicit_expr *e, double t);
+
+/** Number of instructions of the compiled program (after constant folding). */
+size_t geom_implicit_expr_size(const geom_implicit_expr *e);
+
+/** Bits of geom_implicit_expr_variables(). */
+#define GEOM_IMPLICIT_VAR_X 1u
+#define GEOM_IMPLICIT_VAR_Y 2u
+#define GEOM_IMPLICIT_VAR_Z 4u
+#define GEOM_IMPLICIT_VAR_T 8u
+/** Which variables the expression reads (GEOM_IMPLICIT_VAR_* bits). */
+unsigned geom_implicit_expr_variables(const geom_implicit_expr *e);
+
+/**
+ * f(p) for p = 3 doubles (x, y, z). Accuracy: each operation is the
+ * correctly rounded IEEE operation or the C library's function (a few ulp),
+ * so the error is that of evaluating the written formula in double
+ * precision. Non-finite values follow the rules above.
+ */
+double geom_implicit_expr_eval(const geom_implicit_expr *e, const double p[3]);
+
+/**
+ * f at n points: p holds 3*n doubles (point i at p[3i..3i+2]), out receives
+ * n doubles, each exactly what geom_implicit_expr_eval gives (the program
+ * runs over 32 points at a time, which amortises the interpreter's
+ * dispatch: several times faster than n single evaluations for long
+ * programs). NULL e or p (n > 0) fills out with NaN; NULL out is a no-op.
+ */
+void geom_implicit_expr_eval_many(const geom_implicit_expr *e, size_t n, const double *p,
+                                  double *out);
+
+/**
+ * f(p) (returned, the same value as geom_implicit_expr_eval) and its exact
+ * gradient in grad (3 doubles) by forward-mode dual numbers, with the kink
+ * conventions above.
+ */
+double geom_implicit_expr_eval_grad(const geom_implicit_expr *e, const double p[3],
+                                    double grad[3]);
+
+/**
+ * Interval bounds of f over the box lo..hi (3 doubles each, lo <= hi
+ * componentwise, infinite bounds allowed): out[0] <= f(p) <= out[1] for
+ * every p in the box where f(p) is finite, as computed by
+ * geom_implicit_expr_eval (see "Interval bounds" above). out is
+ * {NaN, NaN} when f is defined nowhere in the box.
+ * Statuses: GEOM_OK; GEOM_ERR_INVALID_ARG for NULL pointers, NaN bounds or
+ * lo > hi (out set to {NaN, NaN}).
+ */
+geom_status geom_implicit_expr_eval_interval(const geom_implicit_expr *e, const double lo[3],
+                                             const double hi[3], double out[2]);
+
+/* ------------------------------------------------------------------ fields */
+
+/** Value of a field at p (3 doubles). */
+typedef double (*geom_implicit_value_fn)(void *user, const double p[3]);
+/** Value of a field at p, and its gradient in grad (3 doubles). */
+typedef double (*geom_implicit_grad_fn)(void *user, const double p[3], double grad[3]);
+
+/**
+ * A scalar field given by callbacks: how user functions, compiled
+ * expressions and volumes are passed to the contouring functions. The
+ * callbacks must be safe to call concurrently if the consumer is parallel.
+ */
+typedef struct geom_implicit_field {
+    geom_implicit_value_fn value; /**< required */
+    geom_implicit_grad_fn gradient; /**< optional (NULL: finite differences where needed) */
+    void *user;                   /**< passed to both callbacks */
+    /** Nonzero when value() is the exact function (an expression or a
+     *  user formula) rather than an interpolant of samples: root refinement
+     *  on edges is then meaningful. */
+    int exact;
+} geom_implicit_field;
+
+/** Callbacks over a compiled expression (user = the geom_implicit_expr *):
+ *  the same as geom_implicit_expr_eval / geom_implicit_expr_eval_grad. */
+double geom_implicit_expr_value_cb(void *user, const double p[3]);
+double geom_implicit_expr_grad_cb(void *user, const double p[3], double grad[3]);
+
+/** Fill *out with e's callbacks (exact = 1). e must outlive the field. */
+void geom_implicit_field_from_expr(const geom_implicit_expr *e, geom_implicit_field *out);
+
+/* ----------------------------------------------------------------- volumes */
+
+/** Sample type of a volume. */
+typedef enum geom_implicit_scalar {
+    GEOM_IMPLICIT_SCALAR_F32 = 1, /**< IEEE 754 binary32 */
+    GEOM_IMPLICIT_SCALAR_F64 = 2  /**< IEEE 754 binary64 */
+} geom_implicit_scalar;
+
+/**
+ * Shape and placement of a dense sampled volume: sample (i, j, k) sits at
+ * origin + (i*spacing[0], j*spacing[1], k*spacing[2]) and is element
+ * i + dims[0]*(j + dims[1]*k) of the data (x fastest).
+ * Zero-initialised fields take defaults where stated.
+ */
+typedef struct geom_implicit_volume_desc {
+    size_t dims[3];            /**< samples per axis, each >= 1 */
+    geom_implicit_scalar type; /**< required (0 is invalid) */
+    double spacing[3];         /**< > 0; 0 = 1 */
+    double origin[3];          /**< default 0 */
+    int big_endian;            /**< raw files only: nonzero = big-endian samples */
+} geom_implicit_volume_desc;
+
+/** A dense sampled volume (opaque). */
+typedef struct geom_implicit_volume geom_implicit_volume;
+
+/**
+ * A new volume with every sample 0 (fill it through geom_implicit_volume_data).
+ * Statuses: GEOM_ERR_INVALID_ARG (NULL desc/out, a zero dimension, a bad
+ * type, a non-finite origin or a spacing that is negative or non-finite);
+ * GEOM_ERR_LIMIT when the sample count or byte size overflows size_t;
+ * GEOM_ERR_NOMEM.
+ */
+geom_status geom_implicit_volume_create(const geom_implicit_volume_desc *desc,
+                                        const geom_allocator *alloc,
+                                        geom_implicit_volume **out);
+
+/**
+ * Read a raw volume: desc->dims[0]*dims[1]*dims[2] samples of desc->type,
+ * little-endian (big-endian with desc->big_endian), x fastest, no header.
+ * The file's size is checked against the dims before anything is
+ * allocated: it must be exactly the expected number of bytes.
+ * Statuses: GEOM_OK; GEOM_ERR_INVALID_ARG (as geom_implicit_volume_create,
+ * NULL path); GEOM_ERR_IO (cannot open or read: diag has the reason);
+ * GEOM_ERR_PARSE (wrong file size: diag says both sizes);
+ * GEOM_ERR_LIMIT; GEOM_ERR_NOMEM. NaN and infinite samples are kept.
+ */
+geom_status geom_implicit_volume_read_raw(const char *path, const geom_implicit_volume_desc *desc,
+                                          const geom_allocator *alloc,
+                                          geom_implicit_volume **out, geom_diag *diag);
+
+/**
+ * Read a NRRD file (Teem's format, versions NRRD0001..NRRD0005): attached
+ * data (after the blank line ending the header) or detached ("data file:"
+ * naming one file, relative to the header's directory; "LIST" and
+ * multi-file forms are not supported), with "byte skip" (-1: the data ends
+ * the file) and "line skip". Needed fields: type (float or double, any of
+ * their NRRD spellings), dimension (1 to 3; missing axes have size 1),
+ * sizes, encoding (raw, or ascii/text/txt), endian (for raw data).
+ * Placement from "spacings" or from "space directions" (axis-aligned only)
+ * with "space origin"; "axis mins" when there is no spacing information
+ * gives the origin. Other fields are ignored.
+ * gzip, bzip2 and hex encodings are GEOM_ERR_PARSE with a message saying
+ * so (libgeom's core has no compression library): decompress first, e.g.
+ * `unu save -f nrrd -e raw`.
+ * The data's size is checked against the sizes before allocating.
+ * Statuses: GEOM_OK; GEOM_ERR_IO; GEOM_ERR_PARSE (diag: file, line and
+ * column of the bad header field, or the byte offset for short data);
+ * GEOM_ERR_LIMIT; GEOM_ERR_NOMEM; GEOM_ERR_INVALID_ARG for NULL arguments.
+ */
+geom_status geom_implicit_volume_read_nrrd(const char *path, const geom_allocator *alloc,
+                                           geom_implicit_volume **out, geom_diag *diag);
+
+/**
+ * As geom_implicit_volume_read_nrrd, from `size` bytes at `data` (never
+ * read beyond size) holding a NRRD file with attached data; source_name
+ * (NULL: "<memory>") names it in diagnostics. A detached header is
+ * GEOM_ERR_PARSE.
+ */
+geom_status geom_implicit_volume_read_nrrd_memory(const void *data, size_t size,
+                                                  const char *source_name,
+                                                  const geom_allocator *alloc,
+                                                  geom_implicit_volume **out, geom_diag *diag);
+
+/** Free a volume. NULL is a no-op. */
+void geom_implicit_volume_destroy(geom_implicit_volume *v);
+
+/** The volume's shape (spacing filled in, never 0; big_endian 0). */
+void geom_implicit_volume_get_desc(const geom_implicit_volume *v, geom_implicit_volume_desc *out);
+
+/** The samples: dims[0]*dims[1]*dims[2] floats or doubles (by type), x
+ *  fastest, in the machine's byte order. */
+void *geom_implicit_volume_data(geom_implicit_volume *v);
+const void *geom_implicit_volume_cdata(const geom_implicit_volume *v);
+
+/** Sample (i, j, k) as a double; NaN when out of range. */
+double geom_implicit_volume_at(const geom_implicit_volume *v, size_t i, size_t j, size_t k);
+
+/** The box spanned by the samples: origin .. origin + (dims - 1) * spacing. */
+geom_aabb geom_implicit_volume_bounds(const geom_implicit_volume *v);
+
+/**
+ * Trilinear interpolation of the samples at p (3 doubles). Points outside
+ * the sample box are clamped onto it (the field is extended constantly
+ * along the box's normals); NaN coordinates give NaN. Exact at sample
+ * positions.
+ */
+double geom_implicit_volume_eval(const geom_implicit_volume *v, const double p[3]);
+
+/**
+ * The trilinear value (as geom_implicit_volume_eval) and a gradient: the
+ * trilinear interpolation of the per-sample central-difference gradients
+ * ((s[i+1] - s[i-1]) / (2 spacing), one-sided at the border, 0 along an
+ * axis with one sample). Second-order accurate at samples for smooth
+ * data; outside the box the clamped point's gradient.
+ */
+double geom_implicit_volume_eval_grad(const geom_implicit_volume *v, const double p[3],
+                                      double grad[3]);
+
+/** Callbacks over a volume (user = the geom_implicit_volume *). */
+double geom_implicit_volume_value_cb(void *user, const double p[3]);
+double geom_implicit_volume_grad_cb(void *user, const double p[3], double grad[3]);
+
+/** Fill *out with v's callbacks (exact = 0). v must outlive the field. */
+void geom_implicit_field_from_volume(const geom_implicit_volume *v, geom_implicit_field *out);
+
+/* ------------------------------------------------ adapters to geom/iso.h */
+
+/* The marching cubes module (geom/iso.h) defines its own field and grid
+ * structs so that it does not depend on this module; these functions fill
+ * them. Include geom/iso.h to use them. */
+struct geom_iso_field;
+struct geom_iso_grid;
+
+/**
+ * Fill a geom_iso_field with e's callbacks: value (geom_implicit_expr_eval),
+ * gradient (exact, dual numbers), values (geom_implicit_expr_eval_many, the
+ * batch path) and exact = 1. e must outlive the field.
+ * GEOM_ERR_INVALID_ARG for NULL e or out (out zeroed when not NULL).
+ */
+geom_status geom_implicit_expr_to_iso_field(const geom_implicit_expr *e,
+                                            struct geom_iso_field *out);
+
+/**
+ * Fill a geom_iso_field with v's callbacks (trilinear value,
+ * central-difference gradient, exact = 0). v must outlive the field.
+ * GEOM_ERR_INVALID_ARG for NULL arguments.
+ */
+geom_status geom_implicit_volume_to_iso_field(const geom_implicit_volume *v,
+                                              struct geom_iso_field *out);
+
+/**
+ * Describe v's samples as a geom_iso_grid (borrowing the data: v must
+ * outlive the grid), so that marching cubes reads them directly.
+ * GEOM_ERR_INVALID_ARG for NULL arguments.
+ */
+geom_status geom_implicit_volume_to_iso_grid(const geom_implicit_volume *v,
+                                             struct geom_iso_grid *out);
+
+/* -------------------------------------------------------- marching squares */
+
+/** Root refinement choice of geom_implicit_contour_options::refine. */
+enum {
+    GEOM_IMPLICIT_REFINE_AUTO = 0,  /**< refine when field->exact */
+    GEOM_IMPLICIT_REFINE_ALWAYS = 1,
+    GEOM_IMPLICIT_REFINE_NEVER = 2  /**< linear interpolation only */
+};
+
+/** Options of geom_implicit_contour; zero-initialised = defaults. */
+typedef struct geom_implicit_contour_options {
+    double iso;          /**< the isovalue (default 0) */
+    double z;            /**< the field is evaluated at (x, y, z) (default 0) */
+    int refine;          /**< GEOM_IMPLICIT_REFINE_* (default AUTO) */
+    int max_iterations;  /**< root finding iterations per edge; 0 = 100 */
+    const geom_allocator *alloc; /**< for the result and temporaries; NULL = libc */
+} geom_implicit_contour_options;
+
+/** What geom_implicit_contour achieved. */
+typedef struct geom_implicit_contour_report {
+    /** error.max_error / mean_error: max and mean over vertices of
+     *  |f(v) - iso| / |(df/dx, df/dy)(v)| (a first-order estimate of the
+     *  distance to the true isoline of the field in the plane; method
+     *  GEOM_ERROR_SAMPLED; the gradient from field->gradient, else central
+     *  differences with step 1e-6 of the cell size). Vertices where the
+     *  gradient is zero or non-finite are left out (counted in
+     *  unmeasured). error.evaluations: every field evaluation made
+     *  (samples, root finding, error measure). */
+    geom_error_report error;
+    size_t unmeasured;    /**< vertices left out of the error measure */
+    double seconds;       /**< wall-clock time of the whole call */
+    size_t cells;         /**< cells processed */
+    size_t saddles;       /**< ambiguous cells decided by the asymptotic decider */
+    size_t skipped_cells; /**< cells with a NaN corner value (no segment made) */
+    size_t refined;       /**< vertices refined by root finding */
+} geom_implicit_contour_report;
+
+/**
+ * Isolines: vertices (2 doubles each) and polylines of vertex indices. A
+ * closed polyline lists each vertex once (the closing segment goes from the
+ * last back to the first); an open one starts and ends on the grid's
+ * border, at a NaN region, at a vertex where more than two segments meet
+ * (isolines crossing at a grid node), or where an isoline made of grid
+ * nodes with f == iso ends (a zero set of zero width, e.g. the maximum
+ * line of -(x - c)^2). Polylines are oriented with
+ * the inside (f < iso) on their left, so closed loops around inside regions
+ * run counter-clockwise.
+ */
+typedef struct geom_implicit_isolines {
+    size_t n_vertices;
+    double *xy;             /**< 2 * n_vertices */
+    size_t n_polylines;
+    size_t *start;          /**< n_polylines + 1 offsets into indices */
+    uint32_t *indices;      /**< start[n_polylines] vertex indices */
+    unsigned char *closed;  /**< n_polylines flags: 1 = closed loop */
+    geom_implicit_contour_report report;
+    geom_allocator alloc;   /**< the allocator used (internal) */
+} geom_implicit_isolines;
+
+/**
+ * Marching squares on the grid of nx by ny cells covering
+ * bounds = {x0, y0, x1, y1} (x0 < x1, y0 < y1): the field is sampled at the
+ * (nx + 1) * (ny + 1) nodes x_i = (x0 (nx - i) + x1 i) / nx (likewise y),
+ * z = opt->z. A node is inside when f < iso and outside when f >= iso
+ * (values equal to iso are outside, so an isoline through a node passes
+ * exactly through it, with one shared vertex and no zero-length or
+ * duplicate segment). Each edge with one inside and one outside end holds
+ * one vertex, shared by the cells on both sides (keyed by edge id; a
+ * crossing at a node with f == iso is keyed by the node); its position is
+ * linear interpolation (the edge's midpoint when an end value is
+ * infinite), then (refine) safeguarded root finding on the edge (Illinois
+ * regula falsi, bisecting whenever the bracket has not halved in two
+ * steps) until the bracket ends are adjacent doubles, f is exactly iso, f
+ * is NaN or max_iterations is reached; the bracket end with the smaller |f|
+ * is kept (at a jump of f, a point next to the jump). A cell whose corners alternate (a saddle)
+ * is resolved by the asymptotic decider of Nielson and Hamann (1991): the
+ * inside corners are joined when the bilinear interpolant is < iso at its
+ * saddle point (its sign computed from an accurately rounded 2x2
+ * determinant), which reproduces the topology of the bilinear interpolant
+ * of the node values. Cells with a NaN corner make no segments; infinite
+ * values are classified by sign (interpolation then starts at the edge's
+ * midpoint).
+ *
+ * Accuracy: with linear interpolation the vertex error is O(h^2) for
+ * smooth f; with refinement it is the root of f along the edge to about an
+ * ulp of the coordinates (see report->error).
+ *
+ * Statuses: GEOM_OK; GEOM_ERR_INVALID_ARG (NULL field/value/bounds/out,
+ * non-finite or empty bounds, nx or ny 0, non-finite iso or z);
+ * GEOM_ERR_LIMIT (more than 2^32 - 2 vertices or a grid too large for
+ * size_t); GEOM_ERR_NOMEM. On error *out is zeroed (nothing to free).
+ */
+geom_status geom_implicit_contour(const geom_implicit_field *field, const double bounds[4],
+                                  size_t nx, size_t ny,
+                                  const geom_implicit_contour_options *opt,
+                                  geom_implicit_isolines *out, geom_diag *diag);
+
+/** Free what geom_implicit_contour allocated and zero *c. NULL or a zeroed
+ *  struct is a no-op. */
+void geom_implicit_isolines_free(geom_implicit_isolines *c);
+
+/**
+ * Append the contour to mesh m as vertices (x, y, z) and polylines (a closed
+ * loop repeats its first vertex at the end, as OBJ `l` lines do). Vertex
+ * indices are offset by m's vertex count before the call.
+ * Statuses: GEOM_OK; GEOM_ERR_INVALID_ARG (NULL, non-finite z);
+ * GEOM_ERR_NOMEM; GEOM_ERR_LIMIT (too many vertices for uint32_t).
+ */
+geom_status geom_implicit_isolines_to_mesh(const geom_implicit_isolines *c, double z,
+                                          geom_mesh *m);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* GEOM_IMPLICIT_H */

@@ -1,0 +1,678 @@
+/*
+ * Evaluation of compiled expressions: values (double), exact gradients
+ * (forward-mode dual numbers with three derivative components) and interval
+ * bounds (outward-rounded interval arithmetic), all from one interpreter
+ * written over a numeric type (expr_template.h).
+ */
+#include "implicit/implicit_internal.h"
+
+#include <float.h>
+#include <math.h>
+#include <string.h>
+
+/* ================================================================ doubles */
+
+/* NaN-propagating min and max (ties: the first argument). */
+static inline double d_min(double a, double b)
+{
+    if (isnan(a) || isnan(b))
+        return NAN;
+    return a <= b ? a : b;
+}
+static inline double d_max(double a, double b)
+{
+    if (isnan(a) || isnan(b))
+        return NAN;
+    return a >= b ? a : b;
+}
+static inline double d_cst(double c) { return c; }
+static inline double d_add(double a, double b) { return a + b; }
+static inline double d_sub(double a, double b) { return a - b; }
+static inline double d_mul(double a, double b) { return a * b; }
+static inline double d_div(double a, double b) { return a / b; }
+static inline double d_neg(double a) { return -a; }
+static inline double d_sqr(double a) { return a * a; }
+/* Powers with NaN propagation (C's pow(1, NaN) and pow(NaN, 0) are 1). */
+static inline double d_powi(double a, int n)
+{
+    if (isnan(a))
+        return a;
+    if (n == 2)
+        return a * a;
+    return pow(a, (double)n);
+}
+static inline double d_pow(double a, double b)
+{
+    if (isnan(a) || isnan(b))
+        return NAN;
+    /* a negative base needs an integer exponent, -inf included (C's
+     * pow(-inf, 0.5) is +inf) */
+    if (a < 0.0 && b != nearbyint(b))
+        return NAN;
+    return pow(a, b);
+}
+static inline double d_sqrt(double a) { return sqrt(a); }
+static inline double d_abs(double a) { return fabs(a); }
+static inline double d_sin(double a) { return sin(a); }
+static inline double d_cos(double a) { return cos(a); }
+static inline double d_tan(double a) { return tan(a); }
+static inline double d_exp(double a) { return exp(a); }
+static inline double d_log(double a) { return log(a); }
+static inline double d_atan2(double a, double b) { return atan2(a, b); }
+
+#define NUM double
+#define F(name) d_##name
+#include "implicit/expr_template.h"
+#undef NUM
+#undef F
+
+/* Batch evaluation: the program runs over LANES points at a time, so the
+ * dispatch is paid once per instruction and lane, not per point, and the
+ * simple operations become loops the compiler vectorises. Each lane does
+ * exactly what d_run does, so the values are identical. */
+enum { LANES = 32, BATCH_STACK = 64 };
+
+static void d_run_batch(const expr_ins *code, size_t ncode, size_t n, const double *p, double t,
+                        double *out)
+{
+    double st[BATCH_STACK][LANES];
+    double args[8];
+    for (size_t base = 0; base < n; base += LANES) {
+        size_t L = n - base < LANES ? n - base : LANES;
+        const double *P = p + 3 * base;
+        size_t sp = 0;
+        for (size_t i = 0; i < ncode; i++) {
+            const expr_ins *in = &code[i];
+            double *a = sp >= 1 ? st[sp - 1] : NULL, *b = sp >= 2 ? st[sp - 2] : NULL;
+            size_t l;
+            switch ((expr_op)in->op) {
+            case OP_CONST:
+                for (l = 0; l < L; l++)
+                    st[sp][l] = in->c;
+                sp++;
+                break;
+            case OP_X: case OP_Y: case OP_Z: {
+                int axis = in->op - OP_X;
+                for (l = 0; l < L; l++)
+                    st[sp][l] = P[3 * l + (size_t)axis];
+                sp++;
+                break;
+            }
+            case OP_T:
+                for (l = 0; l < L; l++)
+                    st[sp][l] = t;
+                sp++;
+                break;
+            case OP_ADD: for (l = 0; l < L; l++) b[l] = b[l] + a[l]; sp--; break;
+            case OP_SUB: for (l = 0; l < L; l++) b[l] = b[l] - a[l]; sp--; break;
+            case OP_MUL: for (l = 0; l < L; l++) b[l] = b[l] * a[l]; sp--; break;
+            case OP_DIV: for (l = 0; l < L; l++) b[l] = b[l] / a[l]; sp--; break;
+            case OP_NEG: for (l = 0; l < L; l++) a[l] = -a[l]; break;
+            case OP_POW: for (l = 0; l < L; l++) b[l] = d_pow(b[l], a[l]); sp--; break;
+            case OP_POWI:
+                if (in->n == 2)
+                    for (l = 0; l < L; l++)
+                        a[l] = a[l] * a[l];
+                else
+                    for (l = 0; l < L; l++)
+                        a[l] = d_powi(a[l], in->n);
+                break;
+            case OP_SQRT: for (l = 0; l < L; l++) a[l] = sqrt(a[l]); break;
+            case OP_ABS: for (l = 0; l < L; l++) a[l] = fabs(a[l]); break;
+            case OP_SIN: for (l = 0; l < L; l++) a[l] = sin(a[l]); break;
+            case OP_COS: for (l = 0; l < L; l++) a[l] = cos(a[l]); break;
+            case OP_TAN: for (l = 0; l < L; l++) a[l] = tan(a[l]); break;
+            case OP_EXP: for (l = 0; l < L; l++) a[l] = exp(a[l]); break;
+            case OP_LOG: for (l = 0; l < L; l++) a[l] = log(a[l]); break;
+            case OP_MIN: for (l = 0; l < L; l++) b[l] = d_min(b[l], a[l]); sp--; break;
+            case OP_MAX: for (l = 0; l < L; l++) b[l] = d_max(b[l], a[l]); sp--; break;
+            case OP_ATAN2: for (l = 0; l < L; l++) b[l] = atan2(b[l], a[l]); sp--; break;
+            case OP_CLAMP:
+                for (l = 0; l < L; l++)
+                    st[sp - 3][l] = d_clamp(st[sp - 3][l], b[l], a[l]);
+                sp -= 2;
+                break;
+            case OP_SMIN:
+                for (l = 0; l < L; l++)
+                    st[sp - 3][l] = d_smin(st[sp - 3][l], b[l], a[l]);
+                sp -= 2;
+                break;
+            case OP_SMAX:
+                for (l = 0; l < L; l++)
+                    st[sp - 3][l] = -d_smin(-st[sp - 3][l], -b[l], a[l]);
+                sp -= 2;
+                break;
+            case OP_COUNT:
+                break;
+            default: { /* primitives */
+                size_t k = (size_t)geom_implicit_op_arity(in->op);
+                size_t first = sp - k;
+                for (l = 0; l < L; l++) {
+                    for (size_t q = 0; q < k; q++)
+                        args[q] = st[first + q][l];
+                    st[first][l] = d_prim(in->op, P[3 * l], P[3 * l + 1], P[3 * l + 2],
+                                          k ? args : NULL);
+                }
+                sp = first + 1;
+                break;
+            }
+            }
+        }
+        for (size_t l = 0; l < L; l++)
+            out[base + l] = st[0][l];
+    }
+}
+
+/* ================================================================== duals */
+
+typedef struct dual {
+    double v;
+    double d[3];
+} dual;
+
+/* f'(x) * dx where a zero dx absorbs an infinite or NaN f'(x). */
+static inline double chain(double fp, double dx)
+{
+    return dx == 0.0 ? 0.0 : fp * dx;
+}
+
+static inline dual g_cst(double c)
+{
+    dual r = {c, {0.0, 0.0, 0.0}};
+    return r;
+}
+static inline dual g_unary(double v, double fp, dual a)
+{
+    dual r;
+    r.v = v;
+    for (int i = 0; i < 3; i++)
+        r.d[i] = chain(fp, a.d[i]);
+    return r;
+}
+static inline dual g_add(dual a, dual b)
+{
+    dual r;
+    r.v = a.v + b.v;
+    for (int i = 0; i < 3; i++)
+        r.d[i] = a.d[i] + b.d[i];
+    return r;
+}
+static inline dual g_sub(dual a, dual b)
+{
+    dual r;
+    r.v = a.v - b.v;
+    for (int i = 0; i < 3; i++)
+        r.d[i] = a.d[i] - b.d[i];
+    return r;
+}
+static inline dual g_mul(dual a, dual b)
+{
+    dual r;
+    r.v = a.v * b.v;
+    for (int i = 0; i < 3; i++)
+        r.d[i] = chain(b.v, a.d[i]) + chain(a.v, b.d[i]);
+    return r;
+}
+static inline dual g_div(dual a, dual b)
+{
+    dual r;
+    r.v = a.v / b.v;
+    for (int i = 0; i < 3; i++)
+        r.d[i] = chain(1.0 / b.v, a.d[i]) - chain(r.v / b.v, b.d[i]);
+    return r;
+}
+static inline dual g_neg(dual a)
+{
+    dual r;
+    r.v = -a.v;
+    for (int i = 0; i < 3; i++)
+        r.d[i] = -a.d[i];
+    return r;
+}
+static inline dual g_sqr(dual a) { return g_unary(a.v * a.v, 2.0 * a.v, a); }
+static inline dual g_powi(dual a, int n)
+{
+    if (n == 0)
+        return g_cst(d_powi(a.v, 0));
+    double fp = (double)n * (n == 2 ? a.v : pow(a.v, (double)(n - 1)));
+    return g_unary(d_powi(a.v, n), fp, a);
+}
+static inline dual g_pow(dual a, dual b)
+{
+    dual r;
+    r.v = d_pow(a.v, b.v);
+    double fa = b.v * pow(a.v, b.v - 1.0);
+    double fb = r.v * log(a.v);
+    for (int i = 0; i < 3; i++)
+        r.d[i] = chain(fa, a.d[i]) + chain(fb, b.d[i]);
+    return r;
+}
+static inline dual g_sqrt(dual a)
+{
+    double v = sqrt(a.v);
+    return g_unary(v, 0.5 / v, a);
+}
+static inline dual g_abs(dual a)
+{
+    double s = a.v > 0.0 ? 1.0 : a.v < 0.0 ? -1.0 : a.v == 0.0 ? 0.0 : NAN;
+    return g_unary(fabs(a.v), s, a);
+}
+static inline dual g_sin(dual a) { return g_unary(sin(a.v), cos(a.v), a); }
+static inline dual g_cos(dual a) { return g_unary(cos(a.v), -sin(a.v), a); }
+static inline dual g_tan(dual a)
+{
+    double v = tan(a.v);
+    return g_unary(v, 1.0 + v * v, a);
+}
+static inline dual g_exp(dual a)
+{
+    double v = exp(a.v);
+    return g_unary(v, v, a);
+}
+static inline dual g_log(dual a) { return g_unary(log(a.v), 1.0 / a.v, a); }
+static inline dual g_nan(void)
+{
+    dual r = {NAN, {NAN, NAN, NAN}};
+    return r;
+}
+static inline dual g_min(dual a, dual b)
+{
+    if (isnan(a.v) || isnan(b.v))
+        return g_nan();
+    return a.v <= b.v ? a : b;
+}
+static inline dual g_max(dual a, dual b)
+{
+    if (isnan(a.v) || isnan(b.v))
+        return g_nan();
+    return a.v >= b.v ? a : b;
+}
+static inline dual g_atan2(dual y, dual x)
+{
+    dual r;
+    r.v = atan2(y.v, x.v);
+    double r2 = x.v * x.v + y.v * y.v;
+    for (int i = 0; i < 3; i++)
+        r.d[i] = r2 == 0.0 ? 0.0 : chain(x.v / r2, y.d[i]) - chain(y.v / r2, x.d[i]);
+    return r;
+}
+
+#define NUM dual
+#define F(name) g_##name
+#include "implicit/expr_template.h"
+#undef NUM
+#undef F
+
+/* ============================================================== intervals */
+
+/* [lo, hi]; lo = hi = NaN is the empty interval (no defined value). */
+typedef struct ival {
+    double lo, hi;
+} ival;
+
+static inline ival iv_make(double lo, double hi)
+{
+    ival r = {lo, hi};
+    return r;
+}
+static inline ival iv_empty(void) { return iv_make(NAN, NAN); }
+static inline ival iv_whole(void) { return iv_make(-INFINITY, INFINITY); }
+static inline int iv_isempty(ival a) { return isnan(a.lo) || isnan(a.hi); }
+static inline double dn1(double x) { return nextafter(x, -INFINITY); }
+static inline double up1(double x) { return nextafter(x, INFINITY); }
+/* Margins for the C library's functions: 4 ulp relative (plus a few
+ * subnormal steps), then one more step outward. */
+static inline double dnm(double x)
+{
+    if (!isfinite(x))
+        return x;
+    return dn1(x - (fabs(x) * (4.0 * DBL_EPSILON) + 4.0 * DBL_TRUE_MIN));
+}
+static inline double upm(double x)
+{
+    if (!isfinite(x))
+        return x;
+    return up1(x + (fabs(x) * (4.0 * DBL_EPSILON) + 4.0 * DBL_TRUE_MIN));
+}
+/* Endpoints that came out NaN (inf - inf, inf / inf) mean "unbounded". */
+static inline ival iv_fix(double lo, double hi)
+{
+    if (isnan(lo))
+        lo = -INFINITY;
+    if (isnan(hi))
+        hi = INFINITY;
+    return iv_make(lo, hi);
+}
+static inline double min2(double a, double b) { return a < b ? a : b; }
+static inline double max2(double a, double b) { return a > b ? a : b; }
+
+static inline ival i_cst(double c) { return iv_make(c, c); }
+static inline ival i_add(ival a, ival b)
+{
+    if (iv_isempty(a) || iv_isempty(b))
+        return iv_empty();
+    return iv_fix(dn1(a.lo + b.lo), up1(a.hi + b.hi));
+}
+static inline ival i_sub(ival a, ival b)
+{
+    if (iv_isempty(a) || iv_isempty(b))
+        return iv_empty();
+    return iv_fix(dn1(a.lo - b.hi), up1(a.hi - b.lo));
+}
+static inline ival i_neg(ival a) { return iv_make(-a.hi, -a.lo); }
+/* Product where 0 * inf = 0 (the set product over the reals). */
+static inline double mul0(double a, double b)
+{
+    return (a == 0.0 || b == 0.0) ? 0.0 : a * b;
+}
+static inline ival i_mul(ival a, ival b)
+{
+    if (iv_isempty(a) || iv_isempty(b))
+        return iv_empty();
+    double p[4] = {mul0(a.lo, b.lo), mul0(a.lo, b.hi), mul0(a.hi, b.lo), mul0(a.hi, b.hi)};
+    double lo = p[0], hi = p[0];
+    for (int i = 1; i < 4; i++) {
+        lo = min2(lo, p[i]);
+        hi = max2(hi, p[i]);
+    }
+    return iv_fix(dn1(lo), up1(hi));
+}
+static inline ival i_div(ival a, ival b)
+{
+    if (iv_isempty(a) || iv_isempty(b))
+        return iv_empty();
+    if (b.lo <= 0.0 && b.hi >= 0.0)
+        return iv_whole();
+    double q[4] = {a.lo / b.lo, a.lo / b.hi, a.hi / b.lo, a.hi / b.hi};
+    double lo = q[0], hi = q[0];
+    for (int i = 0; i < 4; i++) {
+        if (isnan(q[i]))
+            return iv_whole();
+        lo = min2(lo, q[i]);
+        hi = max2(hi, q[i]);
+    }
+    return iv_fix(dn1(lo), up1(hi));
+}
+static inline ival i_sqr(ival a)
+{
+    if (iv_isempty(a))
+        return a;
+    double l2 = a.lo * a.lo, h2 = a.hi * a.hi;
+    if (a.lo >= 0.0)
+        return iv_make(max2(0.0, dn1(l2)), up1(h2));
+    if (a.hi <= 0.0)
+        return iv_make(max2(0.0, dn1(h2)), up1(l2));
+    return iv_make(0.0, up1(max2(l2, h2)));
+}
+/* a^n, n >= 0 (pow from the C library, so the margins apply). */
+static ival i_powi_pos(ival a, int n)
+{
+    if (n == 0)
+        return iv_make(1.0, 1.0);
+    if (n == 1)
+        return a;
+    if (n == 2)
+        return i_sqr(a);
+    double pl = pow(a.lo, (double)n), ph = pow(a.hi, (double)n);
+    if (n % 2) /* odd: increasing */
+        return iv_fix(dnm(pl), upm(ph));
+    if (a.lo >= 0.0)
+        return iv_fix(max2(0.0, dnm(pl)), upm(ph));
+    if (a.hi <= 0.0)
+        return iv_fix(max2(0.0, dnm(ph)), upm(pl));
+    return iv_fix(0.0, upm(max2(pl, ph)));
+}
+static inline ival i_powi(ival a, int n)
+{
+    if (iv_isempty(a))
+        return a;
+    if (n >= 0)
+        return i_powi_pos(a, n);
+    /* n < 0: the point value is pow(a, n), 1 / a^|n| up to an ulp. */
+    ival p = i_powi_pos(a, -n);
+    ival r;
+    if (p.lo > 0.0 || p.hi < 0.0) {
+        r = iv_make(1.0 / p.hi, 1.0 / p.lo);
+    } else if (p.lo >= 0.0) {
+        r = iv_make(1.0 / p.hi, INFINITY);
+    } else if (p.hi <= 0.0) {
+        r = iv_make(-INFINITY, 1.0 / p.lo);
+    } else {
+        return iv_whole();
+    }
+    return iv_fix(dnm(r.lo), upm(r.hi));
+}
+static inline ival i_sqrt(ival a)
+{
+    if (iv_isempty(a) || a.hi < 0.0)
+        return iv_empty();
+    double lo = max2(a.lo, 0.0);
+    return iv_make(max2(0.0, dn1(sqrt(lo))), up1(sqrt(a.hi)));
+}
+static inline ival i_log(ival a)
+{
+    if (iv_isempty(a) || a.hi < 0.0)
+        return iv_empty();
+    double lo = max2(a.lo, 0.0);
+    return iv_make(dnm(log(lo)), upm(log(a.hi)));
+}
+static inline ival i_exp(ival a)
+{
+    if (iv_isempty(a))
+        return a;
+    return iv_make(max2(0.0, dnm(exp(a.lo))), upm(exp(a.hi)));
+}
+/* a ^ b over intervals: integer point exponents exactly, otherwise
+ * exp(b log a) over the part of a where the power is defined. */
+static ival i_pow(ival a, ival b)
+{
+    if (iv_isempty(a) || iv_isempty(b))
+        return iv_empty();
+    if (b.lo == b.hi && b.lo == nearbyint(b.lo) && fabs(b.lo) <= 1073741824.0) {
+        /* The point value is the C library's pow: widen by its margin. */
+        ival r = i_powi(a, (int)b.lo);
+        return iv_isempty(r) ? r : iv_fix(dnm(r.lo), upm(r.hi));
+    }
+    if (a.lo < 0.0) {
+        /* Negative bases are defined only for integer exponents. */
+        int has_int = floor(b.hi) >= b.lo;
+        if (has_int)
+            return iv_whole();
+        if (a.hi < 0.0)
+            return iv_empty();
+        a.lo = 0.0;
+    }
+    /* For a >= 0: a^b = exp(b log a), monotone in each argument. */
+    ival l = i_log(a);
+    ival e = i_mul(b, l);
+    ival r = i_exp(e);
+    /* pow(0, 0) = 1 and pow(0, b > 0) = 0 are limits the product covers;
+     * make sure exact corner values are inside. */
+    if (a.lo == 0.0) {
+        if (b.lo <= 0.0 && b.hi >= 0.0) {
+            r.lo = min2(r.lo, 0.0);
+            r.hi = max2(r.hi, 1.0);
+        }
+        if (b.hi > 0.0)
+            r.lo = min2(r.lo, 0.0);
+        if (b.lo < 0.0)
+            r.hi = INFINITY;
+    }
+    return r;
+}
+static inline ival i_abs(ival a)
+{
+    if (iv_isempty(a))
+        return a;
+    if (a.lo >= 0.0)
+        return a;
+    if (a.hi <= 0.0)
+        return iv_make(-a.hi, -a.lo);
+    return iv_make(0.0, max2(-a.lo, a.hi));
+}
+static inline ival i_min(ival a, ival b)
+{
+    if (iv_isempty(a) || iv_isempty(b))
+        return iv_empty();
+    return iv_make(min2(a.lo, b.lo), min2(a.hi, b.hi));
+}
+static inline ival i_max(ival a, ival b)
+{
+    if (iv_isempty(a) || iv_isempty(b))
+        return iv_empty();
+    return iv_make(max2(a.lo, b.lo), max2(a.hi, b.hi));
+}
+
+#define TWO_PI (2.0 * GEOM_PI)
+/* Does [lo, hi] (possibly) contain phase + k*period for an integer k?
+ * Errs on the side of yes. */
+static int may_contain(double lo, double hi, double phase, double period)
+{
+    double k0 = ceil((lo - phase) / period - 1e-6);
+    return k0 <= (hi - phase) / period + 1e-6;
+}
+/* sin or cos over a: endpoint values, plus the extremes +-1 where a may
+ * contain a maximum (at pmax + 2k pi) or a minimum (at pmax + pi + 2k pi). */
+static ival i_periodic(ival a, double (*fn)(double), double pmax)
+{
+    if (iv_isempty(a))
+        return a;
+    if (!isfinite(a.lo) || !isfinite(a.hi) || a.hi - a.lo >= TWO_PI || fabs(a.lo) > 1e8 ||
+        fabs(a.hi) > 1e8)
+        return iv_make(-1.0, 1.0);
+    double s0 = fn(a.lo), s1 = fn(a.hi);
+    double lo = max2(-1.0, dnm(min2(s0, s1))), hi = min2(1.0, upm(max2(s0, s1)));
+    if (may_contain(a.lo, a.hi, pmax, TWO_PI))
+        hi = 1.0;
+    if (may_contain(a.lo, a.hi, pmax + GEOM_PI, TWO_PI))
+        lo = -1.0;
+    return iv_make(lo, hi);
+}
+static inline ival i_sin(ival a) { return i_periodic(a, sin, 0.5 * GEOM_PI); }
+static inline ival i_cos(ival a) { return i_periodic(a, cos, 0.0); }
+static inline ival i_tan(ival a)
+{
+    if (iv_isempty(a))
+        return a;
+    if (!isfinite(a.lo) || !isfinite(a.hi) || a.hi - a.lo >= GEOM_PI || fabs(a.lo) > 1e8 ||
+        fabs(a.hi) > 1e8 || may_contain(a.lo, a.hi, 0.5 * GEOM_PI, GEOM_PI))
+        return iv_whole();
+    return iv_make(dnm(tan(a.lo)), upm(tan(a.hi)));
+}
+static inline ival i_atan2(ival y, ival x)
+{
+    if (iv_isempty(y) || iv_isempty(x))
+        return iv_empty();
+    double pi_up = up1(GEOM_PI);
+    /* Around the origin, or across/along the branch cut (x < 0, y = 0). */
+    if ((x.lo <= 0.0 && x.hi >= 0.0 && y.lo <= 0.0 && y.hi >= 0.0) ||
+        (x.lo < 0.0 && y.lo <= 0.0 && y.hi >= 0.0))
+        return iv_make(-pi_up, pi_up);
+    /* Elsewhere atan2 is continuous on the box and its extremes are at the
+     * corners (the angular extent of a convex set seen from outside). */
+    double c[4] = {atan2(y.lo, x.lo), atan2(y.lo, x.hi), atan2(y.hi, x.lo), atan2(y.hi, x.hi)};
+    double lo = c[0], hi = c[0];
+    for (int i = 1; i < 4; i++) {
+        lo = min2(lo, c[i]);
+        hi = max2(hi, c[i]);
+    }
+    return iv_make(max2(-pi_up, dnm(lo)), min2(pi_up, upm(hi)));
+}
+
+#define NUM ival
+#define F(name) i_##name
+#include "implicit/expr_template.h"
+#undef NUM
+#undef F
+
+/* ================================================================ public */
+
+double geom_implicit_run_double(const expr_ins *code, size_t n, double x, double y, double z,
+                            double t)
+{
+    return d_run(code, n, x, y, z, t);
+}
+
+double geom_implicit_expr_eval(const geom_implicit_expr *e, const double p[3])
+{
+    if (!e || !p)
+        return NAN;
+    return d_run(e->code, e->n, p[0], p[1], p[2], e->t);
+}
+
+void geom_implicit_expr_eval_many(const geom_implicit_expr *e, size_t n, const double *p,
+                                  double *out)
+{
+    if (!out)
+        return;
+    if (!e || (!p && n > 0)) {
+        for (size_t i = 0; i < n; i++)
+            out[i] = NAN;
+        return;
+    }
+    if (e->max_stack <= BATCH_STACK) {
+        d_run_batch(e->code, e->n, n, p, e->t, out);
+        return;
+    }
+    for (size_t i = 0; i < n; i++)
+        out[i] = d_run(e->code, e->n, p[3 * i], p[3 * i + 1], p[3 * i + 2], e->t);
+}
+
+double geom_implicit_expr_eval_grad(const geom_implicit_expr *e, const double p[3],
+                                    double grad[3])
+{
+    if (!e || !p) {
+        if (grad)
+            grad[0] = grad[1] = grad[2] = NAN;
+        return NAN;
+    }
+    dual x = {p[0], {1.0, 0.0, 0.0}};
+    dual y = {p[1], {0.0, 1.0, 0.0}};
+    dual z = {p[2], {0.0, 0.0, 1.0}};
+    dual r = g_run(e->code, e->n, x, y, z, g_cst(e->t));
+    if (grad) {
+        grad[0] = r.d[0];
+        grad[1] = r.d[1];
+        grad[2] = r.d[2];
+    }
+    return r.v;
+}
+
+geom_status geom_implicit_expr_eval_interval(const geom_implicit_expr *e, const double lo[3],
+                                             const double hi[3], double out[2])
+{
+    if (out)
+        out[0] = out[1] = NAN;
+    if (!e || !lo || !hi || !out)
+        return GEOM_ERR_INVALID_ARG;
+    for (int i = 0; i < 3; i++)
+        if (isnan(lo[i]) || isnan(hi[i]) || lo[i] > hi[i])
+            return GEOM_ERR_INVALID_ARG;
+    ival r = i_run(e->code, e->n, iv_make(lo[0], hi[0]), iv_make(lo[1], hi[1]),
+                   iv_make(lo[2], hi[2]), i_cst(e->t));
+    out[0] = r.lo;
+    out[1] = r.hi;
+    if (iv_isempty(r))
+        out[0] = out[1] = NAN;
+    return GEOM_OK;
+}
+
+double geom_implicit_expr_value_cb(void *user, const double p[3])
+{
+    return geom_implicit_expr_eval((const geom_implicit_expr *)user, p);
+}
+
+double geom_implicit_expr_grad_cb(void *user, const double p[3], double grad[3])
+{
+    return geom_implicit_expr_eval_grad((const geom_implicit_expr *)user, p, grad);
+}
+
+void geom_implicit_field_from_expr(const geom_implicit_expr *e, geom_implicit_field *out)
+{
+    if (!out)
+        return;
+    out->value = geom_implicit_expr_value_cb;
+    out->gradient = geom_implicit_expr_grad_cb;
+    out->user = (void *)(uintptr_t)e;
+    out->exact = 1;
+}

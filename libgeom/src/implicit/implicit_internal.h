@@ -1,0 +1,55 @@
+/* Private to the implicit module: the compiled program. Not installed. */
+#ifndef GEOM_SRC_IMPLICIT_INTERNAL_H
+#define GEOM_SRC_IMPLICIT_INTERNAL_H
+
+#include "geom/implicit.h"
+#include "core/internal.h"
+
+/* Opcodes of the postfix program. Each pops its arguments off the
+ * evaluation stack (the last argument on top) and pushes one result. */
+typedef enum expr_op {
+    OP_CONST, /* push c */
+    OP_X, OP_Y, OP_Z, OP_T,
+    OP_ADD, OP_SUB, OP_MUL, OP_DIV, OP_NEG,
+    OP_POW,  /* a ^ b */
+    OP_POWI, /* a ^ n, n = ins.n */
+    OP_SQRT, OP_ABS, OP_SIN, OP_COS, OP_TAN, OP_EXP, OP_LOG,
+    OP_MIN, OP_MAX, OP_CLAMP, OP_ATAN2,
+    OP_SMIN, /* smin(a, b, k) */
+    OP_SMAX, /* -smin(-a, -b, k) */
+    OP_SPHERE1, OP_SPHERE4,
+    OP_ELLIPSOID3, OP_ELLIPSOID6,
+    OP_TORUS2, OP_TORUS5,
+    OP_BOX3, OP_BOX6,
+    OP_CYLINDER2, OP_CYLINDER5,
+    OP_PLANE4,
+    OP_CAPSULE7,
+    OP_GYROID0, OP_GYROID1, OP_GYROID2,
+    OP_COUNT
+} expr_op;
+
+typedef struct expr_ins {
+    int op;   /* expr_op */
+    int n;    /* OP_POWI exponent */
+    double c; /* OP_CONST value */
+} expr_ins;
+
+struct geom_implicit_expr {
+    expr_ins *code;
+    size_t n;         /* instructions */
+    size_t cap;       /* allocated instructions */
+    size_t max_stack; /* deepest stack the program reaches */
+    unsigned vars;    /* GEOM_IMPLICIT_VAR_* */
+    double t;
+    geom_allocator alloc;
+};
+
+/* Number of arguments an opcode pops (0 for pushes). */
+int geom_implicit_op_arity(int op);
+
+/* Point evaluation of a program fragment of n instructions needing at most
+ * GEOM_IMPLICIT_STACK_MAX slots (used for constant folding). */
+double geom_implicit_run_double(const expr_ins *code, size_t n, double x, double y, double z,
+                            double t);
+
+#endif
