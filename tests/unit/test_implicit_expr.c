@@ -94,6 +94,15 @@ static void test_arithmetic(void **state)
     assert_true(geom_implicit_expr_eval(e, p) == 6.0);
     assert_int_equal(geom_implicit_expr_variables(e), GEOM_IMPLICIT_VAR_X | GEOM_IMPLICIT_VAR_T);
     geom_implicit_expr_destroy(e);
+    /* primitives read the point although no variable is written out */
+    e = compile_ok("sphere(1)");
+    assert_int_equal(geom_implicit_expr_variables(e),
+                     GEOM_IMPLICIT_VAR_X | GEOM_IMPLICIT_VAR_Y | GEOM_IMPLICIT_VAR_Z);
+    geom_implicit_expr_destroy(e);
+    e = compile_ok("gyroid() + t");
+    assert_int_equal(geom_implicit_expr_variables(e), GEOM_IMPLICIT_VAR_X | GEOM_IMPLICIT_VAR_Y |
+                                                          GEOM_IMPLICIT_VAR_Z | GEOM_IMPLICIT_VAR_T);
+    geom_implicit_expr_destroy(e);
 }
 
 static void test_constant_folding(void **state)

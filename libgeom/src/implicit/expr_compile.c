@@ -15,6 +15,20 @@
 
 /* ------------------------------------------------------------ op arities */
 
+/* The named primitives, which evaluate at the point (x, y, z). */
+static int op_is_primitive(int op)
+{
+    switch ((expr_op)op) {
+    case OP_SPHERE1: case OP_SPHERE4: case OP_ELLIPSOID3: case OP_ELLIPSOID6:
+    case OP_TORUS2: case OP_TORUS5: case OP_BOX3: case OP_BOX6: case OP_CYLINDER2:
+    case OP_CYLINDER5: case OP_PLANE4: case OP_CAPSULE7: case OP_GYROID0: case OP_GYROID1:
+    case OP_GYROID2:
+        return 1;
+    default:
+        return 0;
+    }
+}
+
 int geom_implicit_op_arity(int op)
 {
     switch ((expr_op)op) {
@@ -450,6 +464,8 @@ static void parse_call(parser *P, const fn_def *fn, size_t name_pos)
                 fn->counts, strcmp(fn->counts, "1") == 0 ? "" : "s", count);
         return;
     }
+    if (op_is_primitive(op)) /* primitives read the point itself */
+        P->vars |= GEOM_IMPLICIT_VAR_X | GEOM_IMPLICIT_VAR_Y | GEOM_IMPLICIT_VAR_Z;
     emit(P, op, 0, 0.0, name_pos);
 }
 
