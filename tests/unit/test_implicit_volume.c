@@ -17,7 +17,6 @@
 #include <string.h>
 
 #include "geom/implicit.h"
-#include "geom/iso.h"
 
 static char path_buf[4096];
 
@@ -398,56 +397,6 @@ static void test_nrrd_memory(void **state)
                      GEOM_ERR_INVALID_ARG);
 }
 
-/* The adapters to the marching cubes module's structs. */
-static double sphere_fn(double x, double y, double z) { return sqrt(x * x + y * y + z * z) - 1; }
-
-static void test_iso_adapters(void **state)
-{
-    (void)state;
-    const char *text = "smooth_union(sphere(1), torus(1.5, 0.3), 0.2) + 0.1*gyroid(3)";
-    geom_implicit_expr *e;
-    assert_int_equal(geom_implicit_expr_compile(text, strlen(text), NULL, &e, NULL), GEOM_OK);
-    geom_iso_field f;
-    assert_int_equal(geom_implicit_expr_to_iso_field(e, &f), GEOM_OK);
-    assert_true(f.exact == 1 && f.values != NULL && f.gradient != NULL);
-    enum { N = 1000 };
-    double *pts = malloc(3 * N * sizeof(double)), *vals = malloc(N * sizeof(double));
-    for (int i = 0; i < N; i++) {
-        pts[3 * i] = -2 + 4.0 * (i % 10) / 9.0;
-        pts[3 * i + 1] = -2 + 4.0 * ((i / 10) % 10) / 9.0;
-        pts[3 * i + 2] = -2 + 4.0 * (i / 100) / 9.0;
-    }
-    f.values(f.user, N, pts, vals);
-    for (int i = 0; i < N; i++) {
-        double g1[3], g2[3];
-        assert_true(vals[i] == f.value(f.user, &pts[3 * i]));
-        assert_true(vals[i] == geom_implicit_expr_eval(e, &pts[3 * i]));
-        f.gradient(f.user, &pts[3 * i], g1);
-        geom_implicit_expr_eval_grad(e, &pts[3 * i], g2);
-        assert_memory_equal(g1, g2, sizeof g1);
-    }
-    free(pts);
-    free(vals);
-    geom_implicit_expr_destroy(e);
-    assert_int_equal(geom_implicit_expr_to_iso_field(NULL, &f), GEOM_ERR_INVALID_ARG);
-    assert_null(f.value);
-
-    geom_implicit_volume *v = make_volume(9, 9, 9, GEOM_IMPLICIT_SCALAR_F32, 0.25, -1, sphere_fn);
-    assert_int_equal(geom_implicit_volume_to_iso_field(v, &f), GEOM_OK);
-    assert_false(f.exact);
-    double p[3] = {0.1, 0.2, 0.3}, g[3], g2[3];
-    assert_true(f.value(f.user, p) == geom_implicit_volume_eval(v, p));
-    f.gradient(f.user, p, g);
-    geom_implicit_volume_eval_grad(v, p, g2);
-    assert_memory_equal(g, g2, sizeof g);
-    geom_iso_grid grid;
-    assert_int_equal(geom_implicit_volume_to_iso_grid(v, &grid), GEOM_OK);
-    assert_true(grid.dims[0] == 9 && grid.type == GEOM_ISO_SCALAR_F32);
-    assert_true(grid.spacing[1] == 0.5 && grid.origin[2] == -1);
-    assert_ptr_equal(grid.data, geom_implicit_volume_cdata(v));
-    geom_implicit_volume_destroy(v);
-}
-
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -455,7 +404,6 @@ int main(void)
         cmocka_unit_test(test_read_raw),
         cmocka_unit_test(test_read_nrrd_files),
         cmocka_unit_test(test_nrrd_memory),
-        cmocka_unit_test(test_iso_adapters),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -101,8 +101,6 @@ typedef struct geom_allocator {
 
 /* ------------------------------------------------------------- error report */
 
-#ifndef GEOM_ERROR_REPORT_DEFINED
-#define GEOM_ERROR_REPORT_DEFINED
 /** How geom_error_report::max_error was obtained. */
 enum {
     GEOM_ERROR_NONE = 0,     /**< nothing measured (e.g. nothing was approximated) */
@@ -123,7 +121,6 @@ typedef struct geom_error_report {
     int method;         /**< GEOM_ERROR_BOUND, GEOM_ERROR_SAMPLED or GEOM_ERROR_ESTIMATE */
     size_t evaluations; /**< function evaluations (or samples) performed */
 } geom_error_report;
-#endif
 
 /* ------------------------------------------------------------------ vectors */
 

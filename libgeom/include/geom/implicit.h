@@ -130,29 +130,6 @@
 extern "C" {
 #endif
 
-/* ------------------------------------------------------------ error report */
-
-#ifndef GEOM_ERROR_REPORT_DEFINED
-#define GEOM_ERROR_REPORT_DEFINED
-/** How geom_error_report::max_error was obtained. */
-enum {
-    GEOM_ERROR_NONE = 0,     /**< nothing measured (e.g. nothing was approximated) */
-    GEOM_ERROR_BOUND = 1,    /**< a guaranteed upper bound (up to rounding) */
-    GEOM_ERROR_SAMPLED = 2,  /**< measured at sample points: a lower estimate */
-    GEOM_ERROR_ESTIMATE = 3  /**< an a-posteriori estimate (e.g. two quadrature orders) */
-};
-
-/**
- * What an approximating function achieved: the error measure (in the units
- * the function states), how it was measured, and the work done.
- */
-typedef struct geom_error_report {
-    double max_error;   /**< largest error over the pieces (or the total, where stated) */
-    double mean_error;  /**< mean over the pieces */
-    int method;         /**< GEOM_ERROR_BOUND, GEOM_ERROR_SAMPLED or GEOM_ERROR_ESTIMATE */
-    size_t evaluations; /**< curve (or derivative) evaluations performed */
-} geom_error_report;
-#endif
 
 /* ------------------------------------------------------------- expressions */
 
@@ -409,39 +386,6 @@ double geom_implicit_volume_grad_cb(void *user, const double p[3], double grad[3
 
 /** Fill *out with v's callbacks (exact = 0). v must outlive the field. */
 void geom_implicit_field_from_volume(const geom_implicit_volume *v, geom_implicit_field *out);
-
-/* ------------------------------------------------ adapters to geom/iso.h */
-
-/* The marching cubes module (geom/iso.h) defines its own field and grid
- * structs so that it does not depend on this module; these functions fill
- * them. Include geom/iso.h to use them. */
-struct geom_iso_field;
-struct geom_iso_grid;
-
-/**
- * Fill a geom_iso_field with e's callbacks: value (geom_implicit_expr_eval),
- * gradient (exact, dual numbers), values (geom_implicit_expr_eval_many, the
- * batch path) and exact = 1. e must outlive the field.
- * GEOM_ERR_INVALID_ARG for NULL e or out (out zeroed when not NULL).
- */
-geom_status geom_implicit_expr_to_iso_field(const geom_implicit_expr *e,
-                                            struct geom_iso_field *out);
-
-/**
- * Fill a geom_iso_field with v's callbacks (trilinear value,
- * central-difference gradient, exact = 0). v must outlive the field.
- * GEOM_ERR_INVALID_ARG for NULL arguments.
- */
-geom_status geom_implicit_volume_to_iso_field(const geom_implicit_volume *v,
-                                              struct geom_iso_field *out);
-
-/**
- * Describe v's samples as a geom_iso_grid (borrowing the data: v must
- * outlive the grid), so that marching cubes reads them directly.
- * GEOM_ERR_INVALID_ARG for NULL arguments.
- */
-geom_status geom_implicit_volume_to_iso_grid(const geom_implicit_volume *v,
-                                             struct geom_iso_grid *out);
 
 /* -------------------------------------------------------- marching squares */
 

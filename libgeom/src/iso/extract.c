@@ -1,0 +1,1242 @@
+/*
+ * The marching cubes driver: slabs of cell layers, each evaluated two node
+ * layers at a time, processed in parallel (OpenMP) and merged in order.
+ *
+ * Within a slab, vertices are created lazily in scan order (cell layers,
+ * rows, cells) and shared by edge through per-layer index arrays. Vertices
+ * on the slab's first and last node layers are also made by the
+ * neighbouring slab; each slab lists them by key, and the merge maps the
+ * copies of slab s's first layer onto those of slab s-1's last layer. The
+ * slab partition depends only on the grid size, so the output does not
+ * depend on the number of threads.
+ */
+#include "iso/iso_internal.h"
+
+#include <float.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#ifdef GEOM_ISO_OPENMP
+#include <omp.h>
+#endif
+
+#define NONE UINT32_MAX
+/* Infinities become +-ISO_BIG and NaN +ISO_BIG: finite stand-ins (the
+ * deciders scale each cell's values by a power of two, so no product
+ * overflows). */
+#define ISO_BIG DBL_MAX
+
+typedef struct iso_key {
+    uint64_t key;
+    uint32_t id;
+} iso_key;
+
+typedef struct ctx {
+    const geom_iso_field *field; /* refinement, normals (never NULL) */
+    const geom_iso_grid *grid;   /* samples, or NULL: evaluate field */
+    size_t n[3];                 /* cells per axis */
+    const double *coord[3];      /* node coordinates, n + 1 each */
+    double iso;
+    int refine, normals, caps;
+    int max_iter;
+    double tau[3];
+    double dstep[3]; /* central-difference steps */
+    const iso_case_table *cases;
+    const geom_allocator *alloc;
+} ctx;
+
+typedef struct slab {
+    size_t k0, k1;
+    double *xyz, *nrm;
+    size_t nv, capv, capn;
+    uint32_t *tri;
+    size_t ntri, captri;
+    uint32_t *cap;
+    size_t ncap, capcap;
+    iso_key *bot, *top;
+    size_t nbot, capbot, ntop, captop;
+    size_t evaluations, active, ambiguous, tunnels, iso_nodes, nan_nodes, refined;
+    geom_status status;
+} slab;
+
+/* One node layer: values, signs, per-row sign-change ranges, and the
+ * vertex ids of its x and y edges and nodes. An id slot is valid when it is
+ * at least the layer's epoch (the slab's vertex count when the layer was
+ * evaluated): ids only grow, so stale ids from earlier layers never pass,
+ * and no clearing is needed. */
+typedef struct layer {
+    double *buf;    /* values, when they are not read from the grid itself */
+    const double *v; /* the layer's raw values (buf, or the grid's samples) */
+    uint8_t *s;
+    uint32_t *rlo, *rhi; /* per row: first cell with a sign change, last + 1 */
+    uint32_t *xv, *yv, *nv;
+    uint32_t epoch;
+} layer;
+
+/* A thread's working memory, reused for every slab the thread runs. Id
+ * slots hold base + (the slab's local vertex id); base grows from slab to
+ * slab, so slots left by earlier slabs (or layers) are below every epoch
+ * and the arrays never need clearing, except when base would overflow. */
+typedef struct work {
+    layer L[2];
+    uint32_t *zv;
+    uint32_t zepoch;
+    uint32_t base;
+    double *pts;
+    size_t k; /* current cell layer */
+    layer *lb, *lt;
+    int ok;
+} work;
+
+/* ------------------------------------------------------------ growth */
+
+static int grow(const geom_allocator *a, void **p, size_t *cap, size_t need, size_t elem)
+{
+    if (need <= *cap)
+        return 1;
+    size_t nc = *cap ? *cap : 64;
+    while (nc < need) {
+        if (nc > SIZE_MAX / 2 / elem)
+            return 0;
+        nc *= 2;
+    }
+    void *q = geom_realloc(a, *p, *cap * elem, nc * elem);
+    if (!q)
+        return 0;
+    *p = q;
+    *cap = nc;
+    return 1;
+}
+
+static void slab_free(const geom_allocator *a, slab *s)
+{
+    geom_free(a, s->xyz, s->capv * 3 * sizeof(double));
+    geom_free(a, s->nrm, s->capn * 3 * sizeof(double));
+    geom_free(a, s->tri, s->captri * 3 * sizeof(uint32_t));
+    geom_free(a, s->cap, s->capcap * 3 * sizeof(uint32_t));
+    geom_free(a, s->bot, s->capbot * sizeof(iso_key));
+    geom_free(a, s->top, s->captop * sizeof(iso_key));
+    s->xyz = s->nrm = NULL;
+    s->tri = s->cap = NULL;
+    s->bot = s->top = NULL;
+    s->capv = s->capn = s->captri = s->capcap = s->capbot = s->captop = 0;
+}
+
+/* ---------------------------------------------------------- vertices */
+
+static uint32_t add_vertex(slab *s, const ctx *c, const double p[3], int axis, double dir)
+{
+    if (s->status != GEOM_OK)
+        return 0;
+    if (s->nv >= (size_t)UINT32_MAX / 2 - 2) { /* ids + the thread's slot base fit 32 bits */
+        s->status = GEOM_ERR_LIMIT;
+        return 0;
+    }
+    if (!grow(c->alloc, (void **)&s->xyz, &s->capv, s->nv + 1, 3 * sizeof(double)) ||
+        (c->normals &&
+         !grow(c->alloc, (void **)&s->nrm, &s->capn, s->nv + 1, 3 * sizeof(double)))) {
+        s->status = GEOM_ERR_NOMEM;
+        return 0;
+    }
+    double *x = s->xyz + 3 * s->nv;
+    x[0] = p[0];
+    x[1] = p[1];
+    x[2] = p[2];
+    if (c->normals) {
+        double g[3];
+        iso_field_gradient(c->field, p, c->dstep, g, &s->evaluations);
+        double n = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+        double *o = s->nrm + 3 * s->nv;
+        if (n > 0 && isfinite(n)) {
+            o[0] = g[0] / n;
+            o[1] = g[1] / n;
+            o[2] = g[2] / n;
+        } else {
+            o[0] = o[1] = o[2] = 0;
+            o[axis] = dir;
+        }
+    }
+    return (uint32_t)s->nv++;
+}
+
+static void add_key(slab *s, const ctx *c, size_t layer_k, uint64_t key, uint32_t id)
+{
+    if (layer_k == s->k0 && s->k0 > 0) {
+        if (!grow(c->alloc, (void **)&s->bot, &s->capbot, s->nbot + 1, sizeof(iso_key))) {
+            s->status = GEOM_ERR_NOMEM;
+            return;
+        }
+        s->bot[s->nbot].key = key;
+        s->bot[s->nbot].id = id;
+        s->nbot++;
+    } else if (layer_k == s->k1 && s->k1 < c->n[2]) {
+        if (!grow(c->alloc, (void **)&s->top, &s->captop, s->ntop + 1, sizeof(iso_key))) {
+            s->status = GEOM_ERR_NOMEM;
+            return;
+        }
+        s->top[s->ntop].key = key;
+        s->top[s->ntop].id = id;
+        s->ntop++;
+    }
+}
+
+/* Root of phi(t) = f(p(t)) - iso on [0, 1], phi(0) = ga, phi(1) = gb of
+ * opposite signs: Illinois regula falsi, with a bisection step whenever two
+ * steps did not halve the bracket. Returns the t with the smallest |phi|. */
+static double refine_root(slab *s, const ctx *c, const double pa[3], int axis, double b,
+                          double ga, double gb, double t0)
+{
+    double lo = 0, hi = 1, flo = ga, fhi = gb;
+    double best = t0, fbest = HUGE_VAL;
+    int side = 0;
+    double width_ref = 1;
+    double t = t0;
+    for (int it = 0; it < c->max_iter; it++) {
+        if (!(t > lo && t < hi))
+            t = 0.5 * (lo + hi);
+        if (!(t > lo && t < hi))
+            break;
+        double p[3] = {pa[0], pa[1], pa[2]};
+        p[axis] = pa[axis] + t * (b - pa[axis]);
+        double ft = c->field->value(c->field->user, p) - c->iso;
+        s->evaluations++;
+        if (!isfinite(ft))
+            break;
+        if (fabs(ft) < fbest) {
+            fbest = fabs(ft);
+            best = t;
+        }
+        if (ft == 0)
+            break;
+        if ((ft > 0) == (flo > 0)) {
+            lo = t;
+            flo = ft;
+            if (side == -1)
+                fhi *= 0.5;
+            side = -1;
+        } else {
+            hi = t;
+            fhi = ft;
+            if (side == 1)
+                flo *= 0.5;
+            side = 1;
+        }
+        if (hi - lo <= 4 * DBL_EPSILON)
+            break;
+        if (it % 2 == 1) {
+            if (hi - lo > 0.5 * width_ref)
+                t = 0.5 * (lo + hi);
+            else
+                t = (lo * fhi - hi * flo) / (fhi - flo);
+            width_ref = hi - lo;
+        } else {
+            t = (lo * fhi - hi * flo) / (fhi - flo);
+        }
+    }
+    return best;
+}
+
+/* The vertex on the edge from node (i, j, k) along axis, whose end values
+ * are ga (at the node) and gb (at the next node along axis). */
+static uint32_t edge_vertex(slab *s, const ctx *c, size_t i, size_t j, size_t k, int axis,
+                            double ga, double gb)
+{
+    size_t idx[3] = {i, j, k};
+    double pa[3] = {c->coord[0][i], c->coord[1][j], c->coord[2][k]};
+    double b = c->coord[axis][idx[axis] + 1];
+    double t;
+    if (ga == 0)
+        t = 0;
+    else if (gb == 0)
+        t = 1;
+    else if (fabs(ga) > 0x1p1020 || fabs(gb) > 0x1p1020)
+        t = (0.25 * ga) / (0.25 * ga - 0.25 * gb); /* ga - gb would overflow */
+    else
+        t = ga / (ga - gb);
+    if (!(t >= 0))
+        t = 0;
+    if (t > 1)
+        t = 1;
+    if (c->refine && t > 0 && t < 1 && fabs(ga) < ISO_BIG && fabs(gb) < ISO_BIG) {
+        t = refine_root(s, c, pa, axis, b, ga, gb, t);
+        s->refined++;
+    }
+    double tau = c->tau[axis];
+    if (t < tau)
+        t = tau;
+    if (t > 1 - tau)
+        t = 1 - tau;
+    double p[3] = {pa[0], pa[1], pa[2]};
+    p[axis] = pa[axis] + t * (b - pa[axis]);
+    return add_vertex(s, c, p, axis, gb > ga ? 1.0 : -1.0);
+}
+
+/* ------------------------------------------------------------- layers */
+
+static void eval_layer(slab *s, const ctx *c, work *w, size_t k, layer *L, int count)
+{
+    size_t nx = c->n[0], nx1 = nx + 1, ny1 = c->n[1] + 1;
+    const double iso = c->iso;
+    size_t niso = 0, nnan = 0;
+    if (c->grid && c->grid->type == GEOM_ISO_SCALAR_F64) {
+        /* read in place: a layer of the grid is nx1 * ny1 contiguous doubles */
+        L->v = (const double *)c->grid->data + k * nx1 * ny1;
+    } else {
+        double *b = L->buf;
+        L->v = b;
+        for (size_t j = 0; j < ny1; j++) {
+            double *row = b + j * nx1;
+            if (c->grid) {
+                const float *src = (const float *)c->grid->data + nx1 * (j + ny1 * k);
+                for (size_t i = 0; i < nx1; i++)
+                    row[i] = (double)src[i];
+                continue;
+            }
+            const geom_iso_field *f = c->field;
+            double y = c->coord[1][j], z = c->coord[2][k];
+            if (f->values) {
+                for (size_t i = 0; i < nx1; i++) {
+                    w->pts[3 * i] = c->coord[0][i];
+                    w->pts[3 * i + 1] = y;
+                    w->pts[3 * i + 2] = z;
+                }
+                f->values(f->user, nx1, w->pts, row);
+            } else {
+                double p[3] = {0, y, z};
+                for (size_t i = 0; i < nx1; i++) {
+                    p[0] = c->coord[0][i];
+                    row[i] = f->value(f->user, p);
+                }
+            }
+            s->evaluations += nx1;
+        }
+    }
+    for (size_t j = 0; j < ny1; j++) {
+        const double *row = L->v + j * nx1;
+        uint8_t *sr = L->s + j * nx1;
+        /* outside: v - iso > 0, or NaN; zeros and NaN counted on a second
+         * pass over the (rare) rows that have any */
+        int special = 0;
+        for (size_t i = 0; i < nx1; i++) {
+            double d = row[i] - iso;
+            sr[i] = !(d <= 0);
+            special |= !(d < 0 || d > 0);
+        }
+        if (special)
+            for (size_t i = 0; i < nx1; i++) {
+                double d = row[i] - iso;
+                niso += d == 0;
+                nnan += d != d;
+            }
+        /* first and last sign change, 8 bytes at a time */
+        uint32_t lo = (uint32_t)nx, hi = 0;
+        size_t i = 0;
+        while (i + 8 < nx1) {
+            uint64_t a, b;
+            memcpy(&a, sr + i, 8);
+            memcpy(&b, sr + i + 1, 8);
+            if (a != b)
+                break;
+            i += 8;
+        }
+        for (; i < nx; i++)
+            if (sr[i] != sr[i + 1]) {
+                lo = (uint32_t)i;
+                break;
+            }
+        if (lo < nx) {
+            size_t e = nx; /* scan changes at positions < e */
+            while (e >= 8 + (size_t)lo) {
+                uint64_t a, b;
+                memcpy(&a, sr + e - 8, 8);
+                memcpy(&b, sr + e - 7, 8);
+                if (a != b)
+                    break;
+                e -= 8;
+            }
+            for (size_t q = e; q-- > lo;)
+                if (sr[q] != sr[q + 1]) {
+                    hi = (uint32_t)q + 1;
+                    break;
+                }
+        }
+        L->rlo[j] = lo;
+        L->rhi[j] = hi;
+    }
+    if (count) {
+        s->iso_nodes += niso;
+        s->nan_nodes += nnan;
+    }
+    L->epoch = w->base + (uint32_t)s->nv;
+}
+
+/* f - iso of a raw value; infinities as +-ISO_BIG, NaN as +ISO_BIG (the
+ * difference of two finite values may overflow too: clamped likewise). */
+static inline double shifted(double v, double iso)
+{
+    double d = v - iso;
+    if (!(d >= -ISO_BIG && d <= ISO_BIG))
+        d = d < 0 ? -ISO_BIG : ISO_BIG;
+    return d;
+}
+
+/* f - iso at corner cc of cell (i, j) of the current cell layer. */
+static inline double corner_value(const ctx *c, const work *w, size_t i, size_t j, int cc)
+{
+    const layer *L = (cc >> 2) ? w->lt : w->lb;
+    size_t nx1 = c->n[0] + 1;
+    return shifted(L->v[(j + (size_t)((cc >> 1) & 1)) * nx1 + i + (size_t)(cc & 1)], c->iso);
+}
+
+/* Make the vertex of cell edge e of cell (i, j) (not made yet). */
+static uint32_t make_edge_vertex(slab *s, const ctx *c, work *w, size_t i, size_t j, int e,
+                                 const double *g, uint32_t *slot)
+{
+    size_t nx1 = c->n[0] + 1;
+    size_t k = w->k;
+    size_t ni, nj, nk;
+    int axis;
+    if (e < 4) {
+        ni = i;
+        nj = j + (size_t)(e & 1);
+        nk = k + (size_t)(e >> 1);
+        axis = 0;
+    } else if (e < 8) {
+        ni = i + (size_t)(e & 1);
+        nj = j;
+        nk = k + (size_t)((e - 4) >> 1);
+        axis = 1;
+    } else {
+        ni = i + (size_t)(e & 1);
+        nj = j + (size_t)((e - 8) >> 1);
+        nk = k;
+        axis = 2;
+    }
+    int a = iso_edge_corners[e][0], b = iso_edge_corners[e][1];
+    double ga, gb;
+    if (g) {
+        ga = g[a];
+        gb = g[b];
+    } else {
+        ga = corner_value(c, w, i, j, a);
+        gb = corner_value(c, w, i, j, b);
+    }
+    uint32_t id = edge_vertex(s, c, ni, nj, nk, axis, ga, gb);
+    *slot = w->base + id;
+    if (axis < 2)
+        add_key(s, c, nk, ((uint64_t)(nj * nx1 + ni) << 2) | (uint64_t)axis, id);
+    return id;
+}
+
+/* Vertex of cell edge e of cell (i, j) in the current cell layer; g: the
+ * cell's corner values, or NULL to read them from the layers. */
+static inline uint32_t cell_edge_vertex(slab *s, const ctx *c, work *w, size_t i, size_t j,
+                                        int e, const double *g)
+{
+    size_t nx = c->n[0], nx1 = nx + 1;
+    uint32_t *slot, epoch;
+    if (e < 4) {
+        layer *L = (e >> 1) ? w->lt : w->lb;
+        slot = &L->xv[(j + (size_t)(e & 1)) * nx + i];
+        epoch = L->epoch;
+    } else if (e < 8) {
+        layer *L = ((e - 4) >> 1) ? w->lt : w->lb;
+        slot = &L->yv[j * nx1 + i + (size_t)(e & 1)];
+        epoch = L->epoch;
+    } else {
+        slot = &w->zv[(j + (size_t)((e - 8) >> 1)) * nx1 + i + (size_t)(e & 1)];
+        epoch = w->zepoch;
+    }
+    uint32_t id = *slot;
+    if (id != NONE && id >= epoch)
+        return id - w->base;
+    return make_edge_vertex(s, c, w, i, j, e, g, slot);
+}
+
+/* Vertex at grid node of cell corner cc (caps only). */
+static uint32_t cell_node_vertex(slab *s, const ctx *c, work *w, size_t i, size_t j, int cc)
+{
+    size_t nx1 = c->n[0] + 1;
+    int x = cc & 1, y = (cc >> 1) & 1, z = cc >> 2;
+    layer *L = z ? w->lt : w->lb;
+    size_t ni = i + (size_t)x, nj = j + (size_t)y, nk = w->k + (size_t)z;
+    uint32_t *slot = &L->nv[nj * nx1 + ni];
+    if (*slot != NONE && *slot >= L->epoch)
+        return *slot - w->base;
+    double p[3] = {c->coord[0][ni], c->coord[1][nj], c->coord[2][nk]};
+    /* A cap vertex: the outward normal of the box face is not known here;
+     * use the field's gradient (fallback +x). */
+    uint32_t id = add_vertex(s, c, p, 0, 1.0);
+    *slot = w->base + id;
+    add_key(s, c, nk, ((uint64_t)(nj * nx1 + ni) << 2) | 2u, id);
+    return id;
+}
+
+static void push_tri(slab *s, const ctx *c, uint32_t **arr, size_t *n, size_t *cap, uint32_t a,
+                     uint32_t b, uint32_t d)
+{
+    if (s->status != GEOM_OK)
+        return;
+    if (!grow(c->alloc, (void **)arr, cap, *n + 1, 3 * sizeof(uint32_t))) {
+        s->status = GEOM_ERR_NOMEM;
+        return;
+    }
+    uint32_t *t = *arr + 3 * *n;
+    t[0] = a;
+    t[1] = b;
+    t[2] = d;
+    (*n)++;
+}
+
+static void do_cell(slab *s, const ctx *c, work *w, size_t i, size_t j, const double g[8],
+                    unsigned mask)
+{
+    const iso_case *cs = &c->cases->cases[mask];
+    if (cs->simple) {
+        /* one contour, nothing ambiguous: triangulate it directly */
+        int n = cs->n;
+        uint32_t vid[12];
+        for (int q = 0; q < n; q++) {
+            vid[q] = cell_edge_vertex(s, c, w, i, j, cs->edges[q], g);
+            if (s->status != GEOM_OK)
+                return;
+        }
+        const double *p[12];
+        unsigned fm[12];
+        for (int q = 0; q < n; q++) {
+            p[q] = s->xyz + 3 * (size_t)vid[q];
+            fm[q] = iso_edge_faces(cs->edges[q]);
+        }
+        uint8_t t[12][3];
+        int forced;
+        int nt = iso_polygon_tris(n, p, fm, t, &forced);
+        if (forced)
+            goto general;
+        for (int q = 0; q < nt; q++)
+            push_tri(s, c, &s->tri, &s->ntri, &s->captri, vid[t[q][0]], vid[t[q][1]],
+                     vid[t[q][2]]);
+        s->active++;
+        return;
+    }
+general:;
+    double vpos[12][3];
+    uint32_t vid[12];
+    for (int e = 0; e < 12; e++) {
+        int a = iso_edge_corners[e][0], b = iso_edge_corners[e][1];
+        if ((g[a] > 0) == (g[b] > 0))
+            continue;
+        vid[e] = cell_edge_vertex(s, c, w, i, j, e, g);
+        if (s->status != GEOM_OK)
+            return;
+        const double *x = s->xyz + 3 * (size_t)vid[e];
+        vpos[e][0] = x[0];
+        vpos[e][1] = x[1];
+        vpos[e][2] = x[2];
+    }
+    double lo[3] = {c->coord[0][i], c->coord[1][j], c->coord[2][w->k]};
+    double size[3] = {c->coord[0][i + 1] - lo[0], c->coord[1][j + 1] - lo[1],
+                      c->coord[2][w->k + 1] - lo[2]};
+    iso_cell_result r;
+    iso_cell_triangulate(g, (const double(*)[3])vpos, lo, size, &r);
+    uint32_t inner[ISO_CELL_MAX_INNER];
+    for (int q = 0; q < r.ninner; q++)
+        inner[q] = add_vertex(s, c, r.inner[q], 0, 1.0);
+    s->active++;
+    s->tunnels += (size_t)r.tunnels;
+    /* Count each ambiguous face once: the low faces of every cell, and the
+     * high faces on the grid's far boundary. */
+    for (int f = 0; f < 6; f++) {
+        if (!((r.ambiguous >> f) & 1u))
+            continue;
+        int hi = f & 1, axis = f >> 1;
+        size_t idx = axis == 0 ? i : axis == 1 ? j : w->k;
+        if (!hi || idx + 1 == c->n[axis])
+            s->ambiguous++;
+    }
+    for (int t = 0; t < r.ntris; t++) {
+        uint32_t v[3];
+        for (int q = 0; q < 3; q++) {
+            int ref = r.tris[t][q];
+            v[q] = ref < 12 ? vid[ref] : inner[ref - 12];
+        }
+        push_tri(s, c, &s->tri, &s->ntri, &s->captri, v[0], v[1], v[2]);
+    }
+}
+
+/* The cap on face f of cell (i, j) (a face on the box boundary): the part
+ * of the face where the interpolant is inside, counter-clockwise seen from
+ * outside the box. */
+static void do_cap(slab *s, const ctx *c, work *w, size_t i, size_t j, int f, const double g[8])
+{
+    const uint8_t *p = iso_face_corners[f];
+    int in[4], nin = 0, changes = 0;
+    for (int k = 0; k < 4; k++) {
+        in[k] = !(g[p[k]] > 0);
+        nin += in[k];
+    }
+    if (nin == 0)
+        return;
+    for (int k = 0; k < 4; k++)
+        changes += in[k] != in[(k + 1) & 3];
+    if (changes == 4) {
+        int jn[2];
+        if (!iso_face_join(f, g, jn)) {
+            /* inside corners separated: one triangle each */
+            for (int k = 0; k < 4; k++) {
+                if (!in[k])
+                    continue;
+                int km = (k + 3) & 3, kp = (k + 1) & 3;
+                int e0 = -1, e1 = -1;
+                for (int e = 0; e < 12; e++) {
+                    int a = iso_edge_corners[e][0], b = iso_edge_corners[e][1];
+                    if ((a == p[km] && b == p[k]) || (a == p[k] && b == p[km]))
+                        e0 = e;
+                    if ((a == p[k] && b == p[kp]) || (a == p[kp] && b == p[k]))
+                        e1 = e;
+                }
+                uint32_t v0 = cell_edge_vertex(s, c, w, i, j, e0, g);
+                uint32_t v1 = cell_node_vertex(s, c, w, i, j, p[k]);
+                uint32_t v2 = cell_edge_vertex(s, c, w, i, j, e1, g);
+                push_tri(s, c, &s->cap, &s->ncap, &s->capcap, v0, v1, v2);
+            }
+            return;
+        }
+    }
+    uint32_t poly[8];
+    int np = 0;
+    for (int k = 0; k < 4; k++) {
+        int kp = (k + 1) & 3;
+        if (in[k])
+            poly[np++] = cell_node_vertex(s, c, w, i, j, p[k]);
+        if (in[k] != in[kp]) {
+            int ee = -1;
+            for (int e = 0; e < 12; e++) {
+                int a = iso_edge_corners[e][0], b = iso_edge_corners[e][1];
+                if ((a == p[k] && b == p[kp]) || (a == p[kp] && b == p[k]))
+                    ee = e;
+            }
+            poly[np++] = cell_edge_vertex(s, c, w, i, j, ee, g);
+        }
+    }
+    if (s->status != GEOM_OK)
+        return;
+    for (int q = 1; q + 1 < np; q++)
+        push_tri(s, c, &s->cap, &s->ncap, &s->capcap, poly[0], poly[q], poly[q + 1]);
+}
+
+static int cmp_key(const void *a, const void *b)
+{
+    uint64_t x = ((const iso_key *)a)->key, y = ((const iso_key *)b)->key;
+    return x < y ? -1 : x > y;
+}
+
+static void visit_cell(slab *s, const ctx *c, work *w, size_t i, size_t j, int capcell);
+
+/* A cell whose case is simple (one contour, no ambiguity): its polygon,
+ * triangulated, without loading the corner values unless a vertex must be
+ * made. */
+static void simple_cell(slab *s, const ctx *c, work *w, size_t i, size_t j, const iso_case *cs)
+{
+    int n = cs->n;
+    uint32_t vid[12];
+    for (int q = 0; q < n; q++)
+        vid[q] = cell_edge_vertex(s, c, w, i, j, cs->edges[q], NULL);
+    if (s->status != GEOM_OK)
+        return;
+    const double *p[12];
+    unsigned fm[12];
+    for (int q = 0; q < n; q++) {
+        p[q] = s->xyz + 3 * (size_t)vid[q];
+        fm[q] = iso_edge_faces(cs->edges[q]);
+    }
+    uint8_t t[12][3];
+    int forced;
+    int nt = iso_polygon_tris(n, p, fm, t, &forced);
+    if (forced) {
+        visit_cell(s, c, w, i, j, 0); /* the general path adds an inner vertex */
+        return;
+    }
+    if (!grow(c->alloc, (void **)&s->tri, &s->captri, s->ntri + (size_t)nt,
+              3 * sizeof(uint32_t))) {
+        s->status = GEOM_ERR_NOMEM;
+        return;
+    }
+    uint32_t *o = s->tri + 3 * s->ntri;
+    for (int q = 0; q < nt; q++) {
+        o[3 * q] = vid[t[q][0]];
+        o[3 * q + 1] = vid[t[q][1]];
+        o[3 * q + 2] = vid[t[q][2]];
+    }
+    s->ntri += (size_t)nt;
+    s->active++;
+}
+
+/* Cell (i, j) of the current cell layer: its surface and, on the box
+ * boundary, its caps. */
+static void visit_cell(slab *s, const ctx *c, work *w, size_t i, size_t j, int capcell)
+{
+    size_t nx1 = c->n[0] + 1;
+    const double *gb = w->lb->v, *gt = w->lt->v;
+    size_t q0 = j * nx1 + i, q1 = q0 + nx1;
+    const double iso = c->iso;
+    double g[8] = {shifted(gb[q0], iso), shifted(gb[q0 + 1], iso), shifted(gb[q1], iso),
+                   shifted(gb[q1 + 1], iso), shifted(gt[q0], iso), shifted(gt[q0 + 1], iso),
+                   shifted(gt[q1], iso), shifted(gt[q1 + 1], iso)};
+    unsigned mask = 0;
+    for (int q = 0; q < 8; q++)
+        mask |= (unsigned)(g[q] > 0) << q;
+    if (mask == 0xFFu)
+        return; /* all outside: no surface, no cap */
+    if (mask != 0)
+        do_cell(s, c, w, i, j, g, mask);
+    if (capcell) {
+        size_t k = w->k;
+        if (i == 0)
+            do_cap(s, c, w, i, j, 0, g);
+        if (i + 1 == c->n[0])
+            do_cap(s, c, w, i, j, 1, g);
+        if (j == 0)
+            do_cap(s, c, w, i, j, 2, g);
+        if (j + 1 == c->n[1])
+            do_cap(s, c, w, i, j, 3, g);
+        if (k == 0)
+            do_cap(s, c, w, i, j, 4, g);
+        if (k + 1 == c->n[2])
+            do_cap(s, c, w, i, j, 5, g);
+    }
+}
+
+static void work_free(const ctx *c, work *w)
+{
+    size_t nx = c->n[0], ny = c->n[1], nx1 = nx + 1, ny1 = ny + 1, nn = nx1 * ny1;
+    const geom_allocator *al = c->alloc;
+    for (int l = 0; l < 2; l++) {
+        geom_free(al, w->L[l].buf, nn * sizeof(double));
+        geom_free(al, w->L[l].s, nn);
+        geom_free(al, w->L[l].rlo, ny1 * sizeof(uint32_t));
+        geom_free(al, w->L[l].rhi, ny1 * sizeof(uint32_t));
+        geom_free(al, w->L[l].xv, nx * ny1 * sizeof(uint32_t));
+        geom_free(al, w->L[l].yv, nx1 * ny * sizeof(uint32_t));
+        geom_free(al, w->L[l].nv, nn * sizeof(uint32_t));
+    }
+    geom_free(al, w->zv, nn * sizeof(uint32_t));
+    geom_free(al, w->pts, 3 * nx1 * sizeof(double));
+    memset(w, 0, sizeof *w);
+}
+
+static void work_clear_slots(const ctx *c, work *w)
+{
+    size_t nx = c->n[0], ny = c->n[1], nx1 = nx + 1, ny1 = ny + 1, nn = nx1 * ny1;
+    for (int l = 0; l < 2; l++) {
+        memset(w->L[l].xv, 0xFF, nx * ny1 * sizeof(uint32_t));
+        memset(w->L[l].yv, 0xFF, nx1 * ny * sizeof(uint32_t));
+        if (c->caps)
+            memset(w->L[l].nv, 0xFF, nn * sizeof(uint32_t));
+    }
+    memset(w->zv, 0xFF, nn * sizeof(uint32_t));
+    w->base = 0;
+}
+
+static void work_init(const ctx *c, work *w)
+{
+    size_t nx = c->n[0], ny = c->n[1], nx1 = nx + 1, ny1 = ny + 1, nn = nx1 * ny1;
+    const geom_allocator *al = c->alloc;
+    memset(w, 0, sizeof *w);
+    int ok = 1;
+    for (int l = 0; l < 2; l++) {
+        w->L[l].buf = geom_alloc(al, nn * sizeof(double));
+        w->L[l].s = geom_alloc(al, nn);
+        w->L[l].rlo = geom_alloc(al, ny1 * sizeof(uint32_t));
+        w->L[l].rhi = geom_alloc(al, ny1 * sizeof(uint32_t));
+        w->L[l].xv = geom_alloc(al, nx * ny1 * sizeof(uint32_t));
+        w->L[l].yv = geom_alloc(al, nx1 * ny * sizeof(uint32_t));
+        w->L[l].nv = c->caps ? geom_alloc(al, nn * sizeof(uint32_t)) : NULL;
+        ok = ok && w->L[l].buf && w->L[l].s && w->L[l].rlo && w->L[l].rhi && w->L[l].xv &&
+             w->L[l].yv && (!c->caps || w->L[l].nv);
+    }
+    w->zv = geom_alloc(al, nn * sizeof(uint32_t));
+    if (!c->grid && c->field->values) {
+        w->pts = geom_alloc(al, 3 * nx1 * sizeof(double));
+        ok = ok && w->pts;
+    }
+    ok = ok && w->zv;
+    if (!ok) {
+        work_free(c, w);
+        return;
+    }
+    work_clear_slots(c, w);
+    w->ok = 1;
+}
+
+static void run_slab(const ctx *c, slab *s, work *wp)
+{
+    size_t nx = c->n[0], ny = c->n[1], nz = c->n[2];
+    size_t nx1 = nx + 1;
+    if (!wp->ok) {
+        s->status = GEOM_ERR_NOMEM;
+        return;
+    }
+    if (wp->base > UINT32_MAX / 2)
+        work_clear_slots(c, wp);
+    work *w = wp;
+    w->lb = &w->L[0];
+    w->lt = &w->L[1];
+    eval_layer(s, c, w, s->k0, w->lb, 1);
+    for (size_t k = s->k0; k < s->k1 && s->status == GEOM_OK; k++) {
+        w->k = k;
+        eval_layer(s, c, w, k + 1, w->lt, k + 1 < s->k1 || k + 1 == nz);
+        w->zepoch = w->base + (uint32_t)s->nv;
+        int zcap = c->caps && (k == 0 || k + 1 == nz);
+        for (size_t j = 0; j < ny && s->status == GEOM_OK; j++) {
+            /* Flying-edges-style trimming: the four node rows of this cell
+             * row are constant outside [L, R) and agree there. */
+            const layer *lb = w->lb, *lt = w->lt;
+            size_t q0 = j * nx1, q1 = q0 + nx1;
+            size_t L = lb->rlo[j], R = lb->rhi[j];
+            const uint32_t los[3] = {lb->rlo[j + 1], lt->rlo[j], lt->rlo[j + 1]};
+            const uint32_t his[3] = {lb->rhi[j + 1], lt->rhi[j], lt->rhi[j + 1]};
+            for (int q = 0; q < 3; q++) {
+                if (los[q] < L)
+                    L = los[q];
+                if (his[q] > R)
+                    R = his[q];
+            }
+            uint8_t f0 = lb->s[q0], f1 = lb->s[q1], f2 = lt->s[q0], f3 = lt->s[q1];
+            if (f0 != f1 || f0 != f2 || f0 != f3)
+                L = 0;
+            uint8_t e0 = lb->s[q0 + nx], e1 = lb->s[q1 + nx], e2 = lt->s[q0 + nx],
+                    e3 = lt->s[q1 + nx];
+            if (e0 != e1 || e0 != e2 || e0 != e3)
+                R = nx;
+            if (c->caps && (zcap || j == 0 || j + 1 == ny)) {
+                for (size_t i = 0; i < nx; i++)
+                    visit_cell(s, c, w, i, j, 1);
+                continue;
+            }
+            if (c->caps && L > 0)
+                visit_cell(s, c, w, 0, j, 1);
+            if (L < R) {
+                /* outside masks from the sign bytes, one x column at a time */
+                const uint8_t *b0 = lb->s + q0, *b1 = lb->s + q1, *t0 = lt->s + q0,
+                              *t1 = lt->s + q1;
+                unsigned prev = (unsigned)b0[L] | (unsigned)b1[L] << 2 | (unsigned)t0[L] << 4 |
+                                (unsigned)t1[L] << 6;
+                for (size_t i = L; i < R; i++) {
+                    unsigned nxt = (unsigned)b0[i + 1] | (unsigned)b1[i + 1] << 2 |
+                                   (unsigned)t0[i + 1] << 4 | (unsigned)t1[i + 1] << 6;
+                    unsigned mask = prev | nxt << 1;
+                    prev = nxt;
+                    int capcell = c->caps && (i == 0 || i + 1 == nx);
+                    if (capcell)
+                        visit_cell(s, c, w, i, j, 1);
+                    else if (c->cases->cases[mask].simple)
+                        simple_cell(s, c, w, i, j, &c->cases->cases[mask]);
+                    else if (mask != 0 && mask != 0xFFu)
+                        visit_cell(s, c, w, i, j, 0);
+                }
+            }
+            /* the last cell, when outside [L, R) and not the first one */
+            if (c->caps && R < nx && !(nx == 1 && L > 0))
+                visit_cell(s, c, w, nx - 1, j, 1);
+        }
+        layer *tmp = w->lb;
+        w->lb = w->lt;
+        w->lt = tmp;
+    }
+    if (s->status == GEOM_OK) {
+        if (s->nbot > 1)
+            qsort(s->bot, s->nbot, sizeof(iso_key), cmp_key);
+        if (s->ntop > 1)
+            qsort(s->top, s->ntop, sizeof(iso_key), cmp_key);
+    }
+    /* next slab on this thread: ids above every slot written so far */
+    w->base += (uint32_t)s->nv + 1;
+}
+
+/* ------------------------------------------------------------ driver */
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    timespec_get(&ts, TIME_UTC);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static double axis_tau(const double *coord, size_t n)
+{
+    double m = fmax(fabs(coord[0]), fabs(coord[n]));
+    double hmin = HUGE_VAL;
+    for (size_t i = 0; i < n; i++)
+        hmin = fmin(hmin, coord[i + 1] - coord[i]);
+    double tau = 0x1p-26;
+    if (hmin > 0 && isfinite(hmin))
+        tau = fmax(tau, 8 * DBL_EPSILON * m / hmin);
+    return fmin(tau, 0.25);
+}
+
+static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_surface *out,
+                           double t_start, geom_diag *diag)
+{
+    ctx c = *c0;
+    iso_case_table table;
+    iso_case_table_init(&table);
+    c.cases = &table;
+    const geom_allocator *al = c.alloc;
+    size_t nz = c.n[2];
+    size_t layers = opt && opt->slab_layers ? opt->slab_layers : 0;
+    if (layers == 0) {
+        layers = (nz + 63) / 64;
+        if (layers < 8)
+            layers = 8;
+    }
+    size_t nslabs = (nz + layers - 1) / layers;
+    slab *sl = geom_alloc(al, nslabs * sizeof(slab));
+    if (!sl)
+        return geom_diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "geom_iso: out of memory");
+    memset(sl, 0, nslabs * sizeof(slab));
+    for (size_t q = 0; q < nslabs; q++) {
+        sl[q].k0 = q * layers;
+        sl[q].k1 = (q + 1) * layers < nz ? (q + 1) * layers : nz;
+    }
+    int threads = opt ? opt->threads : 0;
+    int used = 1;
+#ifdef GEOM_ISO_OPENMP
+    int nth = threads > 0 ? threads : omp_get_max_threads();
+    if (threads <= 0) {
+        /* automatic: no more threads than the work pays for (starting a
+         * team costs more than a small grid's extraction) */
+        size_t cells = c.n[0] * c.n[1] * c.n[2];
+        size_t per = c.grid ? (size_t)1 << 21 : (size_t)1 << 16;
+        size_t want = 1 + cells / per;
+        if ((size_t)nth > want)
+            nth = (int)want;
+    }
+    if ((size_t)nth > nslabs)
+        nth = (int)nslabs;
+    if (nth < 1)
+        nth = 1;
+    used = nth;
+    long long ns = (long long)nslabs;
+#pragma omp parallel num_threads(nth)
+    {
+        work w;
+        work_init(&c, &w);
+#pragma omp for schedule(dynamic, 1)
+        for (long long q = 0; q < ns; q++)
+            run_slab(&c, &sl[q], &w);
+        work_free(&c, &w);
+    }
+#else
+    {
+        work w;
+        work_init(&c, &w);
+        for (size_t q = 0; q < nslabs; q++)
+            run_slab(&c, &sl[q], &w);
+        work_free(&c, &w);
+    }
+#endif
+    geom_status st = GEOM_OK;
+    for (size_t q = 0; q < nslabs; q++)
+        if (sl[q].status != GEOM_OK && st == GEOM_OK)
+            st = sl[q].status;
+
+    /* Merge in order. */
+    uint32_t **remap = NULL;
+    size_t nv = 0, nt = 0, ncap = 0;
+    if (st == GEOM_OK) {
+        remap = geom_alloc(al, nslabs * sizeof(uint32_t *));
+        if (!remap)
+            st = GEOM_ERR_NOMEM;
+        else
+            memset(remap, 0, nslabs * sizeof(uint32_t *));
+    }
+    for (size_t q = 0; q < nslabs && st == GEOM_OK; q++) {
+        slab *s = &sl[q];
+        remap[q] = geom_alloc(al, (s->nv ? s->nv : 1) * sizeof(uint32_t));
+        if (!remap[q]) {
+            st = GEOM_ERR_NOMEM;
+            break;
+        }
+        for (size_t v = 0; v < s->nv; v++)
+            remap[q][v] = NONE;
+        if (q > 0) {
+            slab *p = &sl[q - 1];
+            size_t a = 0, b = 0;
+            while (a < s->nbot && b < p->ntop) {
+                if (s->bot[a].key < p->top[b].key)
+                    a++;
+                else if (s->bot[a].key > p->top[b].key)
+                    b++;
+                else {
+                    remap[q][s->bot[a].id] = remap[q - 1][p->top[b].id];
+                    a++;
+                    b++;
+                }
+            }
+        }
+        for (size_t v = 0; v < s->nv; v++) {
+            if (remap[q][v] != NONE)
+                continue;
+            if (nv >= (size_t)UINT32_MAX - 1) {
+                st = GEOM_ERR_LIMIT;
+                break;
+            }
+            remap[q][v] = (uint32_t)nv++;
+        }
+        nt += s->ntri;
+        ncap += s->ncap;
+    }
+    if (st == GEOM_OK) {
+        size_t tb;
+        if (geom_size_mul(nt + ncap, 3 * sizeof(uint32_t), &tb) != GEOM_OK ||
+            nv > SIZE_MAX / (3 * sizeof(double)))
+            st = GEOM_ERR_LIMIT;
+        else {
+            out->n_vertices = nv;
+            out->n_triangles = nt + ncap;
+            out->xyz = geom_alloc(al, (nv ? nv : 1) * 3 * sizeof(double));
+            out->normals = c.normals ? geom_alloc(al, (nv ? nv : 1) * 3 * sizeof(double)) : NULL;
+            out->tris = geom_alloc(al, tb ? tb : 1);
+            if (!out->xyz || !out->tris || (c.normals && !out->normals))
+                st = GEOM_ERR_NOMEM;
+        }
+    }
+    if (st == GEOM_OK) {
+        size_t to = 0;
+        for (size_t q = 0; q < nslabs; q++) {
+            slab *s = &sl[q];
+            for (size_t v = 0; v < s->nv; v++) {
+                uint32_t gi = remap[q][v];
+                memcpy(out->xyz + 3 * (size_t)gi, s->xyz + 3 * v, 3 * sizeof(double));
+                if (c.normals)
+                    memcpy(out->normals + 3 * (size_t)gi, s->nrm + 3 * v, 3 * sizeof(double));
+            }
+            for (size_t t = 0; t < 3 * s->ntri; t++)
+                out->tris[to++] = remap[q][s->tri[t]];
+        }
+        for (size_t q = 0; q < nslabs; q++) {
+            slab *s = &sl[q];
+            for (size_t t = 0; t < 3 * s->ncap; t++)
+                out->tris[to++] = remap[q][s->cap[t]];
+        }
+        out->n_vertices = nv;
+        out->n_triangles = nt + ncap;
+        out->n_cap_triangles = ncap;
+    }
+    geom_iso_report *r = &out->report;
+    for (size_t q = 0; q < nslabs; q++) {
+        slab *s = &sl[q];
+        r->vertex_error.evaluations += s->evaluations;
+        r->active_cells += s->active;
+        r->ambiguous_faces += s->ambiguous;
+        r->tunnels += s->tunnels;
+        r->iso_nodes += s->iso_nodes;
+        r->nan_nodes += s->nan_nodes;
+        r->refined += s->refined;
+        if (remap)
+            geom_free(al, remap[q], (s->nv ? s->nv : 1) * sizeof(uint32_t));
+        slab_free(al, s);
+    }
+    if (remap)
+        geom_free(al, remap, nslabs * sizeof(uint32_t *));
+    geom_free(al, sl, nslabs * sizeof(slab));
+    r->slabs = nslabs;
+    r->threads = used;
+    r->cells = c.n[0] * c.n[1] * c.n[2];
+
+    if (st == GEOM_OK) {
+        int err = opt ? opt->error : GEOM_ISO_ERROR_AUTO;
+        int measure = err == GEOM_ISO_ERROR_ALWAYS ||
+                      (err == GEOM_ISO_ERROR_AUTO && c.field->exact && !c.grid);
+        if (measure) {
+            double te = now_seconds();
+            iso_err_acc acc;
+            size_t nst = out->n_triangles - out->n_cap_triangles;
+            uint8_t *mask = NULL;
+            if (out->n_cap_triangles) {
+                /* vertices of the caps only (box nodes) are not on the surface */
+                mask = geom_alloc(al, out->n_vertices ? out->n_vertices : 1);
+                if (!mask)
+                    st = GEOM_ERR_NOMEM;
+                else {
+                    memset(mask, 0, out->n_vertices);
+                    for (size_t q = 0; q < 3 * nst; q++)
+                        mask[out->tris[q]] = 1;
+                }
+            }
+            if (st == GEOM_OK)
+                st = iso_measure(c.field, c.iso, out->n_vertices, out->xyz, mask, nst, out->tris,
+                                 c.dstep, threads, al, &acc);
+            geom_free(al, mask, out->n_vertices ? out->n_vertices : 1);
+            if (st == GEOM_OK) {
+                r->vertex_error.max_error = acc.vmax;
+                r->vertex_error.mean_error = acc.vcount ? acc.vsum / (double)acc.vcount : 0;
+                r->vertex_error.method = GEOM_ERROR_SAMPLED;
+                r->sample_error.max_error = acc.smax;
+                r->sample_error.mean_error = acc.scount ? acc.ssum / (double)acc.scount : 0;
+                r->sample_error.method = GEOM_ERROR_SAMPLED;
+                r->unmeasured = acc.unmeasured;
+                r->vertex_error.evaluations += acc.evaluations;
+            }
+            r->error_seconds = now_seconds() - te;
+        }
+        r->sample_error.evaluations = r->vertex_error.evaluations;
+    }
+    if (st != GEOM_OK) {
+        geom_iso_surface_free(out);
+        memset(out, 0, sizeof *out);
+        return geom_diag_set(diag, st, "", 0, 0, "geom_iso: %s", geom_status_str(st));
+    }
+    r->seconds = now_seconds() - t_start;
+    return GEOM_OK;
+}
+
+static void init_out(geom_iso_surface *out, const geom_iso_options *opt)
+{
+    memset(out, 0, sizeof *out);
+    if (opt && opt->alloc)
+        out->alloc = *opt->alloc;
+}
+
+geom_status geom_iso_extract(const geom_iso_field *field, const double bounds[6],
+                             const size_t res[3], const geom_iso_options *opt,
+                             geom_iso_surface *out, geom_diag *diag)
+{
+    double t0 = now_seconds();
+    if (!out)
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "geom_iso_extract: NULL out");
+    memset(out, 0, sizeof *out);
+    if (!field || !field->value || !bounds || !res)
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+                             "geom_iso_extract: NULL argument");
+    double iso = opt ? opt->iso : 0.0;
+    if (!isfinite(iso))
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+                             "geom_iso_extract: non-finite isovalue");
+    for (int a = 0; a < 3; a++) {
+        if (!isfinite(bounds[a]) || !isfinite(bounds[a + 3]) || !(bounds[a] < bounds[a + 3]))
+            return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+                                 "geom_iso_extract: bounds must be finite with min < max");
+        if (res[a] == 0)
+            return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+                                 "geom_iso_extract: zero resolution");
+        if (res[a] >= (size_t)UINT32_MAX / 4)
+            return geom_diag_set(diag, GEOM_ERR_LIMIT, "", 0, 0,
+                                 "geom_iso_extract: resolution too large");
+    }
+    size_t layer;
+    if (geom_size_mul(res[0] + 1, res[1] + 1, &layer) != GEOM_OK ||
+        geom_size_mul(layer, 8 * sizeof(double), &layer) != GEOM_OK)
+        return geom_diag_set(diag, GEOM_ERR_LIMIT, "", 0, 0, "geom_iso_extract: grid too large");
+    init_out(out, opt);
+    const geom_allocator *al = opt ? opt->alloc : NULL;
+    double *coord[3] = {NULL, NULL, NULL};
+    geom_status st = GEOM_OK;
+    for (int a = 0; a < 3 && st == GEOM_OK; a++) {
+        coord[a] = geom_alloc(al, (res[a] + 1) * sizeof(double));
+        if (!coord[a]) {
+            st = GEOM_ERR_NOMEM;
+            break;
+        }
+        double lo = bounds[a], hi = bounds[a + 3];
+        double n = (double)res[a];
+        for (size_t i = 0; i <= res[a]; i++)
+            coord[a][i] = (lo * (n - (double)i) + hi * (double)i) / n;
+        coord[a][0] = lo;
+        coord[a][res[a]] = hi;
+        for (size_t i = 0; i < res[a]; i++)
+            if (!(coord[a][i + 1] > coord[a][i]))
+                st = GEOM_ERR_INVALID_ARG; /* cells too small for double precision */
+    }
+    if (st == GEOM_OK) {
+        ctx c;
+        memset(&c, 0, sizeof c);
+        c.field = field;
+        c.grid = NULL;
+        for (int a = 0; a < 3; a++) {
+            c.n[a] = res[a];
+            c.coord[a] = coord[a];
+            c.tau[a] = axis_tau(coord[a], res[a]);
+            c.dstep[a] = 1e-3 * (bounds[a + 3] - bounds[a]) / (double)res[a];
+        }
+        c.iso = iso;
+        c.refine = opt && opt->refine && field->exact;
+        c.normals = opt && opt->normals;
+        c.caps = opt && opt->caps;
+        c.max_iter = opt && opt->max_iterations > 0 ? opt->max_iterations : 64;
+        c.alloc = al;
+        st = extract(&c, opt, out, t0, diag);
+    } else {
+        geom_diag_set(diag, st, "", 0, 0, "geom_iso_extract: %s", geom_status_str(st));
+    }
+    for (int a = 0; a < 3; a++)
+        geom_free(al, coord[a], (res[a] + 1) * sizeof(double));
+    return st;
+}
+
+geom_status geom_iso_extract_grid(const geom_iso_grid *grid, const geom_iso_options *opt,
+                                  geom_iso_surface *out, geom_diag *diag)
+{
+    double t0 = now_seconds();
+    if (!out)
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+                             "geom_iso_extract_grid: NULL out");
+    memset(out, 0, sizeof *out);
+    geom_status st = geom_iso_grid_check(grid);
+    if (st != GEOM_OK)
+        return geom_diag_set(diag, st, "", 0, 0, "geom_iso_extract_grid: invalid grid");
+    double iso = opt ? opt->iso : 0.0;
+    if (!isfinite(iso))
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+                             "geom_iso_extract_grid: non-finite isovalue");
+    init_out(out, opt);
+    if (grid->dims[0] < 2 || grid->dims[1] < 2 || grid->dims[2] < 2) {
+        out->report.seconds = now_seconds() - t0;
+        return GEOM_OK;
+    }
+    for (int a = 0; a < 3; a++)
+        if (grid->dims[a] - 1 >= (size_t)UINT32_MAX / 4)
+            return geom_diag_set(diag, GEOM_ERR_LIMIT, "", 0, 0,
+                                 "geom_iso_extract_grid: grid too large");
+    const geom_allocator *al = opt ? opt->alloc : NULL;
+    geom_iso_field field;
+    geom_iso_field_from_grid(grid, &field);
+    double *coord[3] = {NULL, NULL, NULL};
+    for (int a = 0; a < 3 && st == GEOM_OK; a++) {
+        coord[a] = geom_alloc(al, grid->dims[a] * sizeof(double));
+        if (!coord[a]) {
+            st = GEOM_ERR_NOMEM;
+            break;
+        }
+        double sp = grid->spacing[a] > 0 ? grid->spacing[a] : 1.0;
+        for (size_t i = 0; i < grid->dims[a]; i++)
+            coord[a][i] = grid->origin[a] + (double)i * sp;
+        for (size_t i = 0; i + 1 < grid->dims[a]; i++)
+            if (!(coord[a][i + 1] > coord[a][i]))
+                st = GEOM_ERR_INVALID_ARG;
+    }
+    if (st == GEOM_OK) {
+        ctx c;
+        memset(&c, 0, sizeof c);
+        c.field = &field;
+        c.grid = grid;
+        for (int a = 0; a < 3; a++) {
+            c.n[a] = grid->dims[a] - 1;
+            c.coord[a] = coord[a];
+            c.tau[a] = axis_tau(coord[a], c.n[a]);
+            c.dstep[a] = 1e-3 * (grid->spacing[a] > 0 ? grid->spacing[a] : 1.0);
+        }
+        c.iso = iso;
+        c.refine = 0;
+        c.normals = opt && opt->normals;
+        c.caps = opt && opt->caps;
+        c.max_iter = 64;
+        c.alloc = al;
+        st = extract(&c, opt, out, t0, diag);
+    } else {
+        geom_diag_set(diag, st, "", 0, 0, "geom_iso_extract_grid: %s", geom_status_str(st));
+    }
+    for (int a = 0; a < 3; a++)
+        geom_free(al, coord[a], grid->dims[a] * sizeof(double));
+    return st;
+}

@@ -1,0 +1,380 @@
+/* geom-module: iso implicit meshio */
+/*
+ * geom-iso: isosurface of an expression or of a sampled volume by a
+ * topologically correct marching cubes.
+ *
+ *   geom-iso (--expr E | --volume FILE [--dims X,Y,Z --type f32|f64]
+ *            [--spacing SX,SY,SZ] [--origin OX,OY,OZ] [--big-endian])
+ *            [--bounds X0,Y0,Z0,X1,Y1,Z1 --res N[,NY,NZ]] [--iso V] [--refine]
+ *            [--normals] [--caps] [--threads N] [--json] -o OUT.obj
+ *
+ * --expr: libgeom's expression language (geom/implicit.h), contoured over
+ * the box --bounds split into --res cells per axis (required). --volume: a
+ * raw file (little-endian, x fastest; --dims and --type required) or, when
+ * --dims is absent, a NRRD file (.nrrd/.nhdr); its own samples are the grid
+ * nodes (no --bounds or --res needed; given, they resample the volume's
+ * trilinear interpolant). Inside is f <= V. Prints the vertex and triangle
+ * counts, the achieved error (for expressions: max of |f - V| / |grad f|
+ * over vertices and triangle samples) and the time; --json prints
+ * {"vertices", "triangles", "max_error", "seconds", ...}.
+ *
+ * Exit status 0 on success, 1 on an input, expression or write error, 2 on
+ * a usage error.
+ */
+#include "cli.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "geom/implicit.h"
+#include "geom/iso.h"
+#include "geom/meshio.h"
+
+static const cli_tool tool = {
+    "geom-iso",
+    "(--expr E | --volume FILE [--dims X,Y,Z --type f32|f64]) [OPTION]... -o OUT",
+    "Isosurface f = V of the expression E over a box, or of the sampled volume\n"
+    "in FILE, by marching cubes reproducing the topology of the trilinear\n"
+    "interpolant in every cell, written to OUT (OBJ, OFF, PLY, STL or GLB, from\n"
+    "the extension; standard output when OUT is '-': then OBJ).",
+    "  -e, --expr=E         the function, e.g. 'torus(1, 0.3)'; inside is f <= V\n"
+    "      --volume=FILE    a raw volume (with --dims and --type) or NRRD file\n"
+    "      --dims=X,Y,Z     samples per axis of a raw volume\n"
+    "      --type=T         f32 or f64: the raw samples' type\n"
+    "      --spacing=SX,SY,SZ  sample spacing of a raw volume (default 1,1,1)\n"
+    "      --origin=OX,OY,OZ   position of the first sample (default 0,0,0)\n"
+    "      --big-endian     the raw samples are big-endian\n"
+    "  -b, --bounds=X0,Y0,Z0,X1,Y1,Z1  the box (required with --expr)\n"
+    "  -r, --res=N[,NY,NZ]  cells per axis (required with --expr; NY = NZ = N\n"
+    "                       when omitted), at most 100000\n"
+    "  -i, --iso=V          the isovalue (default 0)\n"
+    "      --refine         refine vertices on their edges by root finding\n"
+    "                       (expressions only)\n"
+    "  -n, --normals        write vertex normals (exact gradient for expressions,\n"
+    "                       central differences for volumes)\n"
+    "      --caps           close the surface against the box where it leaves it\n"
+    "  -t, --threads=N      threads (default: all; the result is the same)\n",
+    "The summary (vertices, triangles, max_error, seconds) goes to standard\n"
+    "output, or to standard error when the mesh does. With --json it is a JSON\n"
+    "object on standard output with the keys vertices, triangles, max_error,\n"
+    "seconds, mean_error, vertex_max_error, cap_triangles, tunnels,\n"
+    "ambiguous_faces (OUT must then be a file). max_error is null for volumes\n"
+    "(their interpolant is what is contoured).\n",
+};
+
+enum {
+    OPT_VOLUME = CLI_OPT_TOOL_BASE,
+    OPT_DIMS,
+    OPT_TYPE,
+    OPT_SPACING,
+    OPT_ORIGIN,
+    OPT_BIG_ENDIAN,
+    OPT_REFINE,
+    OPT_CAPS
+};
+
+typedef struct iso_args {
+    const char *expr, *volume;
+    int have_dims, have_type, have_bounds, have_res;
+    size_t dims[3];
+    geom_implicit_scalar type;
+    double spacing[3], origin[3], bounds[6];
+    size_t res[3];
+    double iso;
+    int refine, normals, caps, threads, big_endian;
+} iso_args;
+
+/* Parse exactly n numbers (or 1 or n when one_or_n) separated by commas. */
+static int parse_list(const char *arg, double *out, size_t n, int one_or_n)
+{
+    size_t count = 0;
+    if (cli_parse_numbers(arg, strlen(arg), 0, out, n, &count, NULL) != GEOM_OK)
+        return 0;
+    if (count == n)
+        return 1;
+    if (one_or_n && count == 1) {
+        for (size_t i = 1; i < n; i++)
+            out[i] = out[0];
+        return 1;
+    }
+    return 0;
+}
+
+static int parse_sizes(const char *arg, size_t *out, int one_or_three, size_t max)
+{
+    double v[3];
+    if (!parse_list(arg, v, 3, one_or_three))
+        return 0;
+    for (int a = 0; a < 3; a++) {
+        if (!(v[a] >= 1) || v[a] > (double)max || v[a] != floor(v[a]))
+            return 0;
+        out[a] = (size_t)v[a];
+    }
+    return 1;
+}
+
+static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
+{
+    iso_args *a = user;
+    switch (opt) {
+    case 'e':
+        a->expr = arg;
+        return CLI_CONTINUE;
+    case OPT_VOLUME:
+        a->volume = arg;
+        return CLI_CONTINUE;
+    case OPT_DIMS:
+        if (!parse_sizes(arg, a->dims, 0, (size_t)1 << 31))
+            return cli_usage_error(t, "--dims takes three positive integers X,Y,Z, not '%s'", arg);
+        a->have_dims = 1;
+        return CLI_CONTINUE;
+    case OPT_TYPE:
+        if (strcmp(arg, "f32") == 0)
+            a->type = GEOM_IMPLICIT_SCALAR_F32;
+        else if (strcmp(arg, "f64") == 0)
+            a->type = GEOM_IMPLICIT_SCALAR_F64;
+        else
+            return cli_usage_error(t, "--type takes f32 or f64, not '%s'", arg);
+        a->have_type = 1;
+        return CLI_CONTINUE;
+    case OPT_SPACING:
+        if (!parse_list(arg, a->spacing, 3, 0) || !(a->spacing[0] > 0) || !(a->spacing[1] > 0) ||
+            !(a->spacing[2] > 0))
+            return cli_usage_error(t, "--spacing takes three positive numbers, not '%s'", arg);
+        return CLI_CONTINUE;
+    case OPT_ORIGIN:
+        if (!parse_list(arg, a->origin, 3, 0))
+            return cli_usage_error(t, "--origin takes three numbers X,Y,Z, not '%s'", arg);
+        return CLI_CONTINUE;
+    case OPT_BIG_ENDIAN:
+        a->big_endian = 1;
+        return CLI_CONTINUE;
+    case 'b':
+        if (!parse_list(arg, a->bounds, 6, 0) || !(a->bounds[0] < a->bounds[3]) ||
+            !(a->bounds[1] < a->bounds[4]) || !(a->bounds[2] < a->bounds[5]))
+            return cli_usage_error(
+                t, "--bounds takes X0,Y0,Z0,X1,Y1,Z1 with X0 < X1, Y0 < Y1, Z0 < Z1, not '%s'",
+                arg);
+        a->have_bounds = 1;
+        return CLI_CONTINUE;
+    case 'r':
+        if (!parse_sizes(arg, a->res, 1, 100000))
+            return cli_usage_error(t, "--res takes N or N,NY,NZ (1 to 100000), not '%s'", arg);
+        a->have_res = 1;
+        return CLI_CONTINUE;
+    case 'i':
+        if (cli_parse_double(arg, strlen(arg), 0, &a->iso, NULL) != GEOM_OK)
+            return cli_usage_error(t, "--iso takes a finite number, not '%s'", arg);
+        return CLI_CONTINUE;
+    case OPT_REFINE:
+        a->refine = 1;
+        return CLI_CONTINUE;
+    case 'n':
+        a->normals = 1;
+        return CLI_CONTINUE;
+    case OPT_CAPS:
+        a->caps = 1;
+        return CLI_CONTINUE;
+    case 't': {
+        double v;
+        if (cli_parse_double(arg, strlen(arg), 0, &v, NULL) != GEOM_OK || !(v >= 1) ||
+            v > 4096 || v != floor(v))
+            return cli_usage_error(t, "--threads takes an integer from 1 to 4096, not '%s'", arg);
+        a->threads = (int)v;
+        return CLI_CONTINUE;
+    }
+    default:
+        break;
+    }
+    return CLI_EXIT_USAGE;
+}
+
+static int ends_with(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), m = strlen(suffix);
+    return n >= m && strcmp(s + n - m, suffix) == 0;
+}
+
+static geom_status write_surface(const geom_iso_surface *s, const char *path, geom_diag *diag)
+{
+    geom_mesh *m = geom_mesh_create(NULL);
+    if (!m)
+        return cli_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "out of memory");
+    geom_status st = geom_iso_surface_to_mesh(s, m, diag);
+    if (st == GEOM_OK) {
+        geom_meshio_write_options wo;
+        memset(&wo, 0, sizeof wo);
+        if (strcmp(path, "-") == 0) {
+            wo.format = GEOM_MESHIO_FORMAT_OBJ;
+            void *buf = NULL;
+            size_t n = 0;
+            st = geom_meshio_write_memory(m, &wo, &buf, &n, diag);
+            if (st == GEOM_OK) {
+                cli_output out;
+                st = cli_output_open(&out, NULL, diag);
+                if (st == GEOM_OK) {
+                    fwrite(buf, 1, n, out.fp);
+                    st = cli_output_commit(&out, diag);
+                }
+                geom_meshio_buffer_free(buf, n, NULL);
+            }
+        } else {
+            st = geom_meshio_write(m, path, &wo, diag);
+        }
+    }
+    geom_mesh_destroy(m);
+    return st;
+}
+
+int main(int argc, char **argv)
+{
+    static const struct option longopts[] = {{"expr", required_argument, NULL, 'e'},
+                                             {"volume", required_argument, NULL, OPT_VOLUME},
+                                             {"dims", required_argument, NULL, OPT_DIMS},
+                                             {"type", required_argument, NULL, OPT_TYPE},
+                                             {"spacing", required_argument, NULL, OPT_SPACING},
+                                             {"origin", required_argument, NULL, OPT_ORIGIN},
+                                             {"big-endian", no_argument, NULL, OPT_BIG_ENDIAN},
+                                             {"bounds", required_argument, NULL, 'b'},
+                                             {"res", required_argument, NULL, 'r'},
+                                             {"iso", required_argument, NULL, 'i'},
+                                             {"refine", no_argument, NULL, OPT_REFINE},
+                                             {"normals", no_argument, NULL, 'n'},
+                                             {"caps", no_argument, NULL, OPT_CAPS},
+                                             {"threads", required_argument, NULL, 't'},
+                                             {NULL, 0, NULL, 0}};
+    iso_args a;
+    memset(&a, 0, sizeof a);
+    a.spacing[0] = a.spacing[1] = a.spacing[2] = 1;
+    cli_common common;
+    int first;
+    int rc = cli_parse_args(&tool, argc, argv, "e:b:r:i:nt:", longopts, on_option, &a, &common,
+                            &first);
+    if (rc != CLI_CONTINUE)
+        return rc;
+    if (first < argc)
+        return cli_usage_error(&tool, "unexpected operand '%s'", argv[first]);
+    if (!a.expr == !a.volume)
+        return cli_usage_error(&tool, "give exactly one of --expr and --volume");
+    if (a.expr && (!a.have_bounds || !a.have_res))
+        return cli_usage_error(&tool, "--expr needs --bounds and --res");
+    if (a.have_bounds != a.have_res)
+        return cli_usage_error(&tool, "--bounds and --res go together");
+    if (a.volume && a.have_dims != a.have_type)
+        return cli_usage_error(&tool, "a raw volume needs both --dims and --type");
+    if (a.volume && !a.have_dims && !ends_with(a.volume, ".nrrd") && !ends_with(a.volume, ".nhdr"))
+        return cli_usage_error(&tool, "a raw volume needs --dims and --type (or give a .nrrd)");
+    if (a.expr && (a.have_dims || a.have_type))
+        return cli_usage_error(&tool, "--dims and --type apply to --volume only");
+    const char *out_path = common.output ? common.output : "-";
+    int to_stdout = strcmp(out_path, "-") == 0;
+    if (!to_stdout && geom_meshio_format_from_name(out_path) == GEOM_MESHIO_FORMAT_AUTO)
+        return cli_usage_error(&tool, "cannot tell the output format from '%s'", out_path);
+    if (common.json && to_stdout)
+        return cli_usage_error(&tool, "--json needs the mesh written to a file (-o OUT)");
+
+    geom_diag diag;
+    geom_diag_clear(&diag);
+    cli_timer timer;
+    cli_timer_start(&timer);
+    geom_implicit_expr *expr = NULL;
+    geom_implicit_volume *vol = NULL;
+    geom_iso_options o;
+    memset(&o, 0, sizeof o);
+    o.iso = a.iso;
+    o.refine = a.refine;
+    o.normals = a.normals;
+    o.caps = a.caps;
+    o.threads = a.threads;
+    geom_iso_surface s;
+    memset(&s, 0, sizeof s);
+    geom_status st;
+    if (a.expr) {
+        st = geom_implicit_expr_compile(a.expr, strlen(a.expr), NULL, &expr, &diag);
+        if (st != GEOM_OK)
+            return cli_print_diag(&tool, &diag);
+        geom_iso_field f;
+        st = geom_iso_field_from_expr(expr, &f);
+        if (st == GEOM_OK)
+            st = geom_iso_extract(&f, a.bounds, a.res, &o, &s, &diag);
+    } else {
+        if (a.have_dims) {
+            geom_implicit_volume_desc d;
+            memset(&d, 0, sizeof d);
+            for (int k = 0; k < 3; k++) {
+                d.dims[k] = a.dims[k];
+                d.spacing[k] = a.spacing[k];
+                d.origin[k] = a.origin[k];
+            }
+            d.type = a.type;
+            d.big_endian = a.big_endian;
+            st = geom_implicit_volume_read_raw(a.volume, &d, NULL, &vol, &diag);
+        } else {
+            st = geom_implicit_volume_read_nrrd(a.volume, NULL, &vol, &diag);
+        }
+        if (st != GEOM_OK)
+            return cli_print_diag(&tool, &diag);
+        if (a.have_bounds) {
+            geom_iso_field f;
+            st = geom_iso_field_from_volume(vol, &f);
+            if (st == GEOM_OK)
+                st = geom_iso_extract(&f, a.bounds, a.res, &o, &s, &diag);
+        } else {
+            geom_iso_grid g;
+            st = geom_iso_grid_from_volume(vol, &g);
+            if (st == GEOM_OK)
+                st = geom_iso_extract_grid(&g, &o, &s, &diag);
+        }
+    }
+    if (st != GEOM_OK) {
+        geom_implicit_expr_destroy(expr);
+        geom_implicit_volume_destroy(vol);
+        if (diag.status == GEOM_OK)
+            cli_diag_set(&diag, st, NULL, 0, 0, "%s", geom_status_str(st));
+        return cli_print_diag(&tool, &diag);
+    }
+    double secs = s.report.seconds;
+    st = write_surface(&s, out_path, &diag);
+    double total = cli_timer_elapsed(&timer);
+    if (st != GEOM_OK) {
+        geom_iso_surface_free(&s);
+        geom_implicit_expr_destroy(expr);
+        geom_implicit_volume_destroy(vol);
+        return cli_print_diag(&tool, &diag);
+    }
+    const geom_iso_report *r = &s.report;
+    int measured = r->vertex_error.method != GEOM_ERROR_NONE;
+    double maxe = measured ? fmax(r->vertex_error.max_error, r->sample_error.max_error) : NAN;
+    double meane = measured ? r->sample_error.mean_error : NAN;
+    if (common.json) {
+        printf("{\"vertices\":%zu,\"triangles\":%zu,\"max_error\":", s.n_vertices, s.n_triangles);
+        cli_json_number(stdout, maxe);
+        printf(",\"seconds\":");
+        cli_json_number(stdout, secs);
+        printf(",\"mean_error\":");
+        cli_json_number(stdout, meane);
+        printf(",\"vertex_max_error\":");
+        cli_json_number(stdout, measured ? r->vertex_error.max_error : NAN);
+        printf(",\"cap_triangles\":%zu,\"tunnels\":%zu,\"ambiguous_faces\":%zu,"
+               "\"iso_nodes\":%zu,\"cells\":%zu,\"total_seconds\":",
+               s.n_cap_triangles, r->tunnels, r->ambiguous_faces, r->iso_nodes, r->cells);
+        cli_json_number(stdout, total);
+        printf("}\n");
+    } else {
+        FILE *fp = to_stdout ? stderr : stdout;
+        fprintf(fp, "vertices %zu\ntriangles %zu\n", s.n_vertices, s.n_triangles);
+        if (measured)
+            fprintf(fp,
+                    "max_error %.6g (|f - iso| / |grad f|, max over vertices and triangle "
+                    "samples; vertices %.6g, mean %.6g)\n",
+                    maxe, r->vertex_error.max_error, meane);
+        else
+            fprintf(fp, "max_error not measured (sampled volume)\n");
+        fprintf(fp, "seconds %.6g (extraction; %.6g in all)\n", secs, total);
+    }
+    geom_iso_surface_free(&s);
+    geom_implicit_expr_destroy(expr);
+    geom_implicit_volume_destroy(vol);
+    return CLI_EXIT_OK;
+}
