@@ -1,0 +1,68 @@
+/*
+ * Private kernels of the surface module. Not installed.
+ *
+ * The span functions do no argument checking: callers check the surface
+ * once (geom_surface_check_cheap or geom_surface_validate) and locate the
+ * spans, then call them in inner loops with caller-provided work memory
+ * (sizes from the matching *_work functions; geom_curve_scratch gives a
+ * stack buffer with a heap fallback).
+ */
+#ifndef GEOM_SRC_SURFACE_INTERNAL_H
+#define GEOM_SRC_SURFACE_INTERNAL_H
+
+#include "curve/bspline_basis.h"
+#include "geom/surface.h"
+
+/** Largest derivative order geom_surface_derivs accepts. */
+#define GEOM_SURFACE_MAX_DERIV 64
+/** Highest total derivative order the limit normal looks at. */
+#define GEOM_SURFACE_NORMAL_ORDER 9
+
+/** Non-NULL arrays, degrees >= 1, counts >= degree+1. */
+geom_status geom_surface_check_cheap(const geom_nurbs_surface *s);
+
+/**
+ * Check (u, v) and find the spans: NaN/Inf -> GEOM_ERR_INVALID_ARG, outside
+ * the domain -> GEOM_ERR_DOMAIN; flags GEOM_SURFACE_U_LEFT/V_LEFT.
+ */
+geom_status geom_surface_locate(const geom_nurbs_surface *s, double u, double v, unsigned flags,
+                                size_t *ku, size_t *kv);
+
+/** Doubles of work for geom_surface_span_point. */
+size_t geom_surface_point_work(const geom_nurbs_surface *s);
+
+/** S(u, v) on spans (ku, kv) (A3.5/A4.3, exact control points where the
+ *  basis is one-hot). */
+void geom_surface_span_point(const geom_nurbs_surface *s, size_t ku, size_t kv, double u,
+                             double v, double out[3], double *work);
+
+/** Doubles of work for geom_surface_span_derivs with order d. */
+size_t geom_surface_derivs_work(const geom_nurbs_surface *s, int d);
+
+/**
+ * All S^(k,l), k + l <= d, on spans (ku, kv): ders[3*(k*(d+1)+l)], zero for
+ * k + l > d. Derivatives from control points relative to the span's first
+ * control point; S^(0,0) from geom_surface_span_point.
+ */
+void geom_surface_span_derivs(const geom_nurbs_surface *s, size_t ku, size_t kv, double u,
+                              double v, int d, double *ders, double *work);
+
+/** Doubles of work for geom_surface_span_normal. */
+size_t geom_surface_normal_work(const geom_nurbs_surface *s);
+
+/**
+ * Unit normal on spans (ku, kv) at (u, v) (see geom_surface_normal); su, sv
+ * in {-1, +1}: the directions toward the interior of the region the point
+ * belongs to (the domain, or a tessellation cell). tangent (NULL allowed)
+ * receives the unit direction of dP/du (its limit at a degenerate point; if
+ * dP/du vanishes along the whole approach, a unit vector perpendicular to
+ * the normal in the plane it spans with dP/dv). Returns GEOM_SURFACE_NORMAL_*;
+ * n (and tangent) are zero for GEOM_SURFACE_NORMAL_NONE.
+ */
+int geom_surface_span_normal(const geom_nurbs_surface *s, size_t ku, size_t kv, double u, double v,
+                             int su, int sv, double n[3], double tangent[3], double *work);
+
+/** Binomial coefficient as a double (exact up to 2^53). */
+double geom_surface_binom(int n, int k);
+
+#endif

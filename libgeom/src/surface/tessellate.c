@@ -1,0 +1,1746 @@
+/*
+ * Crack-free tessellation of sets of NURBS surfaces (see surface.h).
+ *
+ * Structure: every surface is cut into cells (non-empty knot spans); the
+ * grid nodes and cell edges of a surface are shared by its cells. Boundary
+ * nodes of all surfaces are welded by exact position, boundary edges with
+ * the same welded end nodes whose curves coincide become partners, and
+ * edges whose points all coincide are collapsed (poles). Each edge is
+ * sampled once (by its owner: the lower id of a pair), with the count the
+ * finer of the cells around it wants, so neighbouring cells use the very
+ * same vertices. Cells are triangulated in parameter space: as a grid when
+ * their edges carry exactly the cell's grid, otherwise an interior grid
+ * joined to the edge samples by strips.
+ *
+ * Adaptive sizing: Filip, Magedson and Markot's bound
+ * (du^2 Muu + 2 du dv Muv + dv^2 Mvv) / 8 with sampled second derivatives,
+ * then every triangle is checked against the surface (dense barycentric
+ * sampling at its parameter-space position) and the cells over the
+ * tolerance are refined until all pass.
+ */
+#include "surface/surface_internal.h"
+
+#include <float.h>
+#include <string.h>
+
+#define NONE32 UINT32_MAX
+#define LOCATE SIZE_MAX
+#define MAX_GRID 65536u
+#define MAX_PASSES 40
+
+/* ------------------------------------------------------------ structures */
+
+typedef struct ts_surf {
+    const geom_nurbs_surface *s;
+    uint32_t orig; /* index of the input surface (a surface is cut into
+                      pieces at its discontinuities) */
+    size_t nbu, nbv;
+    double *ub, *vb;    /* nbu+1, nbv+1 break values */
+    size_t *ku, *kv;    /* span per cell column / row, or LOCATE */
+    size_t cell0, node0, uedge0, vedge0;
+    double dom[4];
+    int flip;
+} ts_surf;
+
+typedef struct ts_cell {
+    uint32_t surf, a, b;
+    double u0, u1, v0, v1;
+    size_t ku, kv;
+    uint32_t M, N;
+    uint32_t eb, et, el, er; /* bottom, top, left, right edges */
+    uint32_t vbase;          /* first interior vertex */
+    double err, ang;   /* largest chordal error and normal angle of its triangles */
+    double esum;       /* sum of the per-triangle maximum errors */
+    size_t ecnt;       /* triangles checked */
+    uint32_t sig[6];
+    int checked;
+} ts_cell;
+
+typedef struct ts_node {
+    double p[3];
+    uint32_t parent;
+    uint32_t vert;
+    uint8_t boundary;
+} ts_node;
+
+typedef struct ts_edge {
+    uint32_t surf;
+    uint32_t cellA, cellB; /* below/left and above/right cells (NONE32 if absent) */
+    uint32_t n0, n1;
+    uint8_t dir;      /* 0: u varies (constant v), 1: v varies */
+    uint8_t boundary; /* on the surface's domain boundary */
+    uint8_t collapsed;
+    uint8_t reversed; /* parameter direction opposite to the owner's */
+    int8_t tau;       /* CCW traversal sign as a boundary edge */
+    uint32_t partner;
+    uint32_t owner;
+    double c, t0, t1; /* constant parameter, varying range */
+    uint32_t nseg;
+    uint32_t vbase; /* owner: first of its nseg-1 interior vertices */
+} ts_edge;
+
+/* exact-value pool with deduplication */
+typedef struct ts_pool {
+    size_t ncomp;
+    double *vals;
+    size_t n, cap;
+    uint32_t *hash; /* open addressing, NONE32 empty */
+    size_t hcap;
+} ts_pool;
+
+typedef struct ts {
+    const geom_allocator *alloc;
+    const geom_surface_tess_options *opt;
+    geom_diag *diag;
+    ts_surf *surf;
+    size_t nsurf;
+    ts_cell *cells;
+    size_t ncells;
+    ts_node *nodes;
+    size_t nnodes;
+    ts_edge *edges;
+    size_t nedges;
+    double tol, weld_tol, ang_tol;
+    int adaptive;
+    int ksub;
+    size_t max_tri;
+    /* vertices of the current pass */
+    double *pos;
+    size_t nverts, cap_verts;
+    /* per-cell local samples */
+    double *lu, *lv;
+    uint32_t *lvert;
+    double *lnorm;
+    size_t nloc, cap_loc;
+    /* triangles of the current cell (local sample indices) */
+    uint32_t *ltri;
+    size_t nltri, cap_ltri;
+    /* output */
+    uint32_t *tri;    /* 3 per triangle: global vertex ids */
+    uint32_t *tcorn;  /* 9 per triangle: normal, uv, tangent pool indices */
+    uint32_t *tsurf;  /* surface per triangle */
+    size_t cap_tsurf;
+    size_t ntri, cap_tri, cap_tcorn;
+    ts_pool pn, puv, pt;
+    /* scratch for evaluation */
+    geom_curve_scratch sc;
+    size_t evals;
+    size_t limit_normals;
+    int counting; /* count limit normals (the output pass) */
+} ts;
+
+/* --------------------------------------------------------------- memory */
+
+static void *ts_alloc(ts *T, size_t n, size_t size)
+{
+    size_t bytes;
+    if (geom_size_mul(n ? n : 1, size, &bytes) != GEOM_OK)
+        return NULL;
+    return geom_alloc(T->alloc, bytes);
+}
+
+static void ts_free(ts *T, void *p, size_t n, size_t size)
+{
+    geom_free(T->alloc, p, (n ? n : 1) * size);
+}
+
+static geom_status ts_grow(ts *T, void **p, size_t *cap, size_t need, size_t size)
+{
+    if (need <= *cap)
+        return GEOM_OK;
+    size_t nc = *cap ? *cap : 64;
+    while (nc < need) {
+        if (nc > SIZE_MAX / 2 / size)
+            return GEOM_ERR_LIMIT;
+        nc *= 2;
+    }
+    void *q = geom_realloc(T->alloc, *p, *cap * size, nc * size);
+    if (!q)
+        return GEOM_ERR_NOMEM;
+    *p = q;
+    *cap = nc;
+    return GEOM_OK;
+}
+
+/* ----------------------------------------------------------------- pools */
+
+static uint64_t hash_vals(const double *v, size_t n)
+{
+    uint64_t h = 1469598103934665603ull;
+    for (size_t i = 0; i < n; ++i) {
+        double x = v[i] == 0.0 ? 0.0 : v[i];
+        uint64_t b;
+        memcpy(&b, &x, sizeof b);
+        h ^= b;
+        h *= 1099511628211ull;
+        h ^= h >> 29;
+    }
+    return h;
+}
+
+static geom_status pool_rehash(ts *T, ts_pool *P, size_t hcap)
+{
+    uint32_t *h = ts_alloc(T, hcap, sizeof(uint32_t));
+    if (!h)
+        return GEOM_ERR_NOMEM;
+    for (size_t i = 0; i < hcap; ++i)
+        h[i] = NONE32;
+    for (size_t k = 0; k < P->n; ++k) {
+        size_t slot = (size_t)hash_vals(P->vals + k * P->ncomp, P->ncomp) & (hcap - 1);
+        while (h[slot] != NONE32)
+            slot = (slot + 1) & (hcap - 1);
+        h[slot] = (uint32_t)k;
+    }
+    if (P->hash)
+        ts_free(T, P->hash, P->hcap, sizeof(uint32_t));
+    P->hash = h;
+    P->hcap = hcap;
+    return GEOM_OK;
+}
+
+static geom_status pool_add(ts *T, ts_pool *P, const double *v, uint32_t *idx)
+{
+    if (2 * (P->n + 1) > P->hcap) {
+        geom_status st = pool_rehash(T, P, P->hcap ? 2 * P->hcap : 1024);
+        if (st != GEOM_OK)
+            return st;
+    }
+    size_t nc = P->ncomp;
+    double key[4];
+    for (size_t c = 0; c < nc; ++c)
+        key[c] = v[c] == 0.0 ? 0.0 : v[c];
+    size_t slot = (size_t)hash_vals(key, nc) & (P->hcap - 1);
+    while (P->hash[slot] != NONE32) {
+        if (memcmp(P->vals + (size_t)P->hash[slot] * nc, key, nc * sizeof(double)) == 0) {
+            *idx = P->hash[slot];
+            return GEOM_OK;
+        }
+        slot = (slot + 1) & (P->hcap - 1);
+    }
+    if (P->n >= NONE32 - 1)
+        return GEOM_ERR_LIMIT;
+    size_t cap = P->cap;
+    geom_status st = ts_grow(T, (void **)&P->vals, &cap, (P->n + 1) * nc, sizeof(double));
+    if (st != GEOM_OK)
+        return st;
+    P->cap = cap;
+    memcpy(P->vals + P->n * nc, key, nc * sizeof(double));
+    P->hash[slot] = (uint32_t)P->n;
+    *idx = (uint32_t)P->n++;
+    return GEOM_OK;
+}
+
+static void pool_free(ts *T, ts_pool *P)
+{
+    if (P->vals)
+        ts_free(T, P->vals, P->cap, sizeof(double));
+    if (P->hash)
+        ts_free(T, P->hash, P->hcap, sizeof(uint32_t));
+    memset(P, 0, sizeof *P);
+}
+
+/* ------------------------------------------------------------ evaluation */
+
+static void cell_spans(const ts *T, const ts_cell *c, double u, double v, size_t *ku, size_t *kv)
+{
+    if (c->ku != LOCATE) {
+        *ku = c->ku;
+        *kv = c->kv;
+        return;
+    }
+    /* right limits, except at the cell's upper ends (a piece ends at a
+     * discontinuity or at the end of the domain) */
+    const geom_nurbs_surface *s = T->surf[c->surf].s;
+    *ku = geom_curve_bs_span(s->degree_u, s->nu, s->knots_u, u, u >= c->u1);
+    *kv = geom_curve_bs_span(s->degree_v, s->nv, s->knots_v, v, v >= c->v1);
+}
+
+static void cell_point(ts *T, const ts_cell *c, double u, double v, double *out)
+{
+    size_t ku, kv;
+    cell_spans(T, c, u, v, &ku, &kv);
+    geom_surface_span_point(T->surf[c->surf].s, ku, kv, u, v, out, T->sc.mem);
+    T->evals++;
+}
+
+static void cell_derivs(ts *T, const ts_cell *c, double u, double v, int d, double *out)
+{
+    size_t ku, kv;
+    cell_spans(T, c, u, v, &ku, &kv);
+    geom_surface_span_derivs(T->surf[c->surf].s, ku, kv, u, v, d, out, T->sc.mem);
+    T->evals++;
+}
+
+/* Normal (and unit dP/du) at (u, v) of cell c, the limit entering the cell
+ * at degenerate points; falls back to the cell centre's normal. */
+static void cell_normal(ts *T, const ts_cell *c, double u, double v, double *n, double *t)
+{
+    size_t ku, kv;
+    cell_spans(T, c, u, v, &ku, &kv);
+    double mu = 0.5 * (c->u0 + c->u1), mv = 0.5 * (c->v0 + c->v1);
+    int su = u < mu ? 1 : -1, sv = v < mv ? 1 : -1;
+    const geom_nurbs_surface *s = T->surf[c->surf].s;
+    int how = geom_surface_span_normal(s, ku, kv, u, v, su, sv, n, t, T->sc.mem);
+    T->evals++;
+    if (how == GEOM_SURFACE_NORMAL_LIMIT && T->counting)
+        T->limit_normals++;
+    if (how == GEOM_SURFACE_NORMAL_NONE) {
+        cell_spans(T, c, mu, mv, &ku, &kv);
+        how = geom_surface_span_normal(s, ku, kv, mu, mv, 1, 1, n, t, T->sc.mem);
+        if (how == GEOM_SURFACE_NORMAL_NONE) {
+            n[0] = n[1] = 0.0, n[2] = 1.0;
+            t[0] = 1.0, t[1] = t[2] = 0.0;
+        }
+    }
+}
+
+static double dist3(const double *a, const double *b)
+{
+    double d[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+    double m = fmax(fabs(d[0]), fmax(fabs(d[1]), fabs(d[2])));
+    if (!(m > 0.0))
+        return 0.0;
+    d[0] /= m, d[1] /= m, d[2] /= m;
+    return m * sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+}
+
+/* The cell an edge is evaluated through. */
+static const ts_cell *edge_cell(const ts *T, const ts_edge *e)
+{
+    return &T->cells[e->cellB != NONE32 ? e->cellB : e->cellA];
+}
+
+static void edge_uv(const ts_edge *e, double t, double *u, double *v)
+{
+    double x = t <= 0.0 ? e->t0 : (t >= 1.0 ? e->t1 : e->t0 + t * (e->t1 - e->t0));
+    if (e->dir == 0) {
+        *u = x;
+        *v = e->c;
+    } else {
+        *u = e->c;
+        *v = x;
+    }
+}
+
+static void edge_point(ts *T, const ts_edge *e, double t, double *out)
+{
+    double u, v;
+    edge_uv(e, t, &u, &v);
+    cell_point(T, edge_cell(T, e), u, v, out);
+}
+
+/* ---------------------------------------------------------- union-find */
+
+static uint32_t node_find(ts *T, uint32_t a)
+{
+    while (T->nodes[a].parent != a) {
+        T->nodes[a].parent = T->nodes[T->nodes[a].parent].parent;
+        a = T->nodes[a].parent;
+    }
+    return a;
+}
+
+static void node_union(ts *T, uint32_t a, uint32_t b)
+{
+    a = node_find(T, a);
+    b = node_find(T, b);
+    if (a == b)
+        return;
+    if (a < b)
+        T->nodes[b].parent = a;
+    else
+        T->nodes[a].parent = b;
+}
+
+/* ------------------------------------------------------------ topology */
+
+/* Cells, nodes (with their positions) and edges of every piece. */
+static geom_status build_cells(ts *T, size_t ncells, size_t nnodes, size_t nedges)
+{
+    T->ncells = ncells;
+    T->nnodes = nnodes;
+    T->nedges = nedges;
+    T->cells = ts_alloc(T, ncells, sizeof(ts_cell));
+    T->nodes = ts_alloc(T, nnodes, sizeof(ts_node));
+    T->edges = ts_alloc(T, nedges, sizeof(ts_edge));
+    if (!T->cells || !T->nodes || !T->edges)
+        return GEOM_ERR_NOMEM;
+    memset(T->cells, 0, ncells * sizeof(ts_cell));
+    memset(T->nodes, 0, nnodes * sizeof(ts_node));
+    memset(T->edges, 0, nedges * sizeof(ts_edge));
+    for (size_t k = 0; k < T->nsurf; ++k) {
+        ts_surf *ss = &T->surf[k];
+        size_t nbu = ss->nbu, nbv = ss->nbv;
+        for (size_t a = 0; a < nbu; ++a)
+            for (size_t b = 0; b < nbv; ++b) {
+                ts_cell *c = &T->cells[ss->cell0 + a * nbv + b];
+                c->surf = (uint32_t)k;
+                c->a = (uint32_t)a;
+                c->b = (uint32_t)b;
+                c->u0 = ss->ub[a], c->u1 = ss->ub[a + 1];
+                c->v0 = ss->vb[b], c->v1 = ss->vb[b + 1];
+                c->ku = ss->ku[a];
+                c->kv = ss->kv[b];
+                c->eb = (uint32_t)(ss->uedge0 + b * nbu + a);
+                c->et = (uint32_t)(ss->uedge0 + (b + 1) * nbu + a);
+                c->el = (uint32_t)(ss->vedge0 + a * nbv + b);
+                c->er = (uint32_t)(ss->vedge0 + (a + 1) * nbv + b);
+            }
+        for (size_t a = 0; a <= nbu; ++a)
+            for (size_t b = 0; b <= nbv; ++b) {
+                uint32_t id = (uint32_t)(ss->node0 + a * (nbv + 1) + b);
+                ts_node *nd = &T->nodes[id];
+                nd->parent = id;
+                nd->vert = NONE32;
+                nd->boundary = a == 0 || a == nbu || b == 0 || b == nbv;
+                const ts_cell *c =
+                    &T->cells[ss->cell0 + (a < nbu ? a : nbu - 1) * nbv + (b < nbv ? b : nbv - 1)];
+                cell_point(T, c, ss->ub[a], ss->vb[b], nd->p);
+            }
+        for (size_t b = 0; b <= nbv; ++b)
+            for (size_t a = 0; a < nbu; ++a) {
+                ts_edge *e = &T->edges[ss->uedge0 + b * nbu + a];
+                e->surf = (uint32_t)k;
+                e->dir = 0;
+                e->cellA = b > 0 ? (uint32_t)(ss->cell0 + a * nbv + b - 1) : NONE32;
+                e->cellB = b < nbv ? (uint32_t)(ss->cell0 + a * nbv + b) : NONE32;
+                e->n0 = (uint32_t)(ss->node0 + a * (nbv + 1) + b);
+                e->n1 = (uint32_t)(ss->node0 + (a + 1) * (nbv + 1) + b);
+                e->boundary = b == 0 || b == nbv;
+                e->tau = b == 0 ? 1 : -1;
+                e->c = ss->vb[b];
+                e->t0 = ss->ub[a];
+                e->t1 = ss->ub[a + 1];
+                e->partner = NONE32;
+            }
+        for (size_t a = 0; a <= nbu; ++a)
+            for (size_t b = 0; b < nbv; ++b) {
+                ts_edge *e = &T->edges[ss->vedge0 + a * nbv + b];
+                e->surf = (uint32_t)k;
+                e->dir = 1;
+                e->cellA = a > 0 ? (uint32_t)(ss->cell0 + (a - 1) * nbv + b) : NONE32;
+                e->cellB = a < nbu ? (uint32_t)(ss->cell0 + a * nbv + b) : NONE32;
+                e->n0 = (uint32_t)(ss->node0 + a * (nbv + 1) + b);
+                e->n1 = (uint32_t)(ss->node0 + a * (nbv + 1) + b + 1);
+                e->boundary = a == 0 || a == nbu;
+                e->tau = a == 0 ? -1 : 1;
+                e->c = ss->ub[a];
+                e->t0 = ss->vb[b];
+                e->t1 = ss->vb[b + 1];
+                e->partner = NONE32;
+            }
+    }
+    for (size_t i = 0; i < nedges; ++i)
+        T->edges[i].owner = (uint32_t)i;
+    return GEOM_OK;
+}
+
+/*
+ * Non-empty spans of one direction: breaks b[0..nb], span index k[a] of
+ * [b[a], b[a+1]], and disc[a] = 1 where break a (0 < a < nb) is a knot of
+ * multiplicity > p (the surface is discontinuous there). Returns nb.
+ */
+static size_t dir_spans(int p, size_t n, const double *U, double *b, size_t *k, uint8_t *disc)
+{
+    size_t nb = 0;
+    for (size_t i = (size_t)p; i < n; ++i)
+        if (U[i] < U[i + 1]) {
+            if (b) {
+                b[nb] = U[i];
+                k[nb] = i;
+                b[nb + 1] = U[i + 1];
+                size_t mult = 0;
+                for (size_t j = 0; j < n + (size_t)p + 1; ++j)
+                    mult += U[j] == U[i];
+                disc[nb] = nb > 0 && mult > (size_t)p;
+            }
+            nb++;
+        }
+    return nb;
+}
+
+/*
+ * Cut every surface into pieces at its discontinuities (knots of
+ * multiplicity degree+1 inside the domain: each piece is continuous, and
+ * pieces only meet through welding), then each piece into cells.
+ */
+static geom_status build_structure(ts *T, const geom_nurbs_surface *S, size_t n)
+{
+    const geom_surface_tess_options *o = T->opt;
+    int per_surface = o->mode == GEOM_SURFACE_TESS_UNIFORM && o->per_surface;
+    size_t maxb = 1, npieces = 0;
+    for (size_t k = 0; k < n; ++k) {
+        size_t a = dir_spans(S[k].degree_u, S[k].nu, S[k].knots_u, NULL, NULL, NULL);
+        size_t b = dir_spans(S[k].degree_v, S[k].nv, S[k].knots_v, NULL, NULL, NULL);
+        maxb = a > maxb ? a : maxb;
+        maxb = b > maxb ? b : maxb;
+    }
+    double *bu = ts_alloc(T, maxb + 1, sizeof(double)), *bv = ts_alloc(T, maxb + 1, sizeof(double));
+    size_t *kbu = ts_alloc(T, maxb, sizeof(size_t)), *kbv = ts_alloc(T, maxb, sizeof(size_t));
+    uint8_t *du = ts_alloc(T, maxb, 1), *dv = ts_alloc(T, maxb, 1);
+    geom_status st = GEOM_OK;
+    if (!bu || !bv || !kbu || !kbv || !du || !dv) {
+        st = GEOM_ERR_NOMEM;
+        goto done;
+    }
+    for (size_t k = 0; k < n; ++k) {
+        size_t a = dir_spans(S[k].degree_u, S[k].nu, S[k].knots_u, bu, kbu, du);
+        size_t b = dir_spans(S[k].degree_v, S[k].nv, S[k].knots_v, bv, kbv, dv);
+        size_t pu = 1, pv = 1;
+        for (size_t i = 1; i < a; ++i)
+            pu += du[i];
+        for (size_t j = 1; j < b; ++j)
+            pv += dv[j];
+        npieces += pu * pv;
+    }
+    if (npieces >= NONE32 / 8) {
+        st = GEOM_ERR_LIMIT;
+        goto done;
+    }
+    T->surf = ts_alloc(T, npieces, sizeof(ts_surf));
+    if (!T->surf) {
+        st = GEOM_ERR_NOMEM;
+        goto done;
+    }
+    memset(T->surf, 0, npieces * sizeof(ts_surf));
+    T->nsurf = npieces;
+    size_t ncells = 0, nnodes = 0, nedges = 0, piece = 0;
+    for (size_t k = 0; k < n; ++k) {
+        const geom_nurbs_surface *s = &S[k];
+        size_t a = dir_spans(s->degree_u, s->nu, s->knots_u, bu, kbu, du);
+        size_t b = dir_spans(s->degree_v, s->nv, s->knots_v, bv, kbv, dv);
+        for (size_t a0 = 0; a0 < a;) {
+            size_t a1 = a0 + 1;
+            while (a1 < a && !du[a1])
+                ++a1;
+            for (size_t b0 = 0; b0 < b;) {
+                size_t b1 = b0 + 1;
+                while (b1 < b && !dv[b1])
+                    ++b1;
+                /* piece: spans a0..a1-1 by b0..b1-1 */
+                ts_surf *ss = &T->surf[piece++];
+                ss->s = s;
+                ss->orig = (uint32_t)k;
+                geom_surface_domain(s, ss->dom);
+                size_t nbu = per_surface ? 1 : a1 - a0, nbv = per_surface ? 1 : b1 - b0;
+                ss->nbu = nbu;
+                ss->nbv = nbv;
+                ss->ub = ts_alloc(T, nbu + 1, sizeof(double));
+                ss->vb = ts_alloc(T, nbv + 1, sizeof(double));
+                ss->ku = ts_alloc(T, nbu, sizeof(size_t));
+                ss->kv = ts_alloc(T, nbv, sizeof(size_t));
+                if (!ss->ub || !ss->vb || !ss->ku || !ss->kv) {
+                    st = GEOM_ERR_NOMEM;
+                    goto done;
+                }
+                if (per_surface) {
+                    ss->ub[0] = bu[a0], ss->ub[1] = bu[a1];
+                    ss->vb[0] = bv[b0], ss->vb[1] = bv[b1];
+                    ss->ku[0] = ss->kv[0] = LOCATE;
+                } else {
+                    memcpy(ss->ub, bu + a0, (nbu + 1) * sizeof(double));
+                    memcpy(ss->vb, bv + b0, (nbv + 1) * sizeof(double));
+                    memcpy(ss->ku, kbu + a0, nbu * sizeof(size_t));
+                    memcpy(ss->kv, kbv + b0, nbv * sizeof(size_t));
+                }
+                ss->cell0 = ncells;
+                ss->node0 = nnodes;
+                ss->uedge0 = nedges;
+                ss->vedge0 = nedges + nbu * (nbv + 1);
+                ncells += nbu * nbv;
+                nnodes += (nbu + 1) * (nbv + 1);
+                nedges += nbu * (nbv + 1) + (nbu + 1) * nbv;
+                if (ncells >= NONE32 / 4 || nnodes >= NONE32 / 4 || nedges >= NONE32 / 4) {
+                    st = GEOM_ERR_LIMIT;
+                    goto done;
+                }
+                b0 = b1;
+            }
+            a0 = a1;
+        }
+    }
+    st = build_cells(T, ncells, nnodes, nedges);
+done:
+    if (bu)
+        ts_free(T, bu, maxb + 1, sizeof(double));
+    if (bv)
+        ts_free(T, bv, maxb + 1, sizeof(double));
+    if (kbu)
+        ts_free(T, kbu, maxb, sizeof(size_t));
+    if (kbv)
+        ts_free(T, kbv, maxb, sizeof(size_t));
+    if (du)
+        ts_free(T, du, maxb, 1);
+    if (dv)
+        ts_free(T, dv, maxb, 1);
+    return st;
+}
+
+static int cmp_pos(const ts *T, uint32_t a, uint32_t b)
+{
+    const double *p = T->nodes[a].p, *q = T->nodes[b].p;
+    for (int k = 0; k < 3; ++k) {
+        if (p[k] < q[k])
+            return -1;
+        if (p[k] > q[k])
+            return 1;
+    }
+    return 0;
+}
+
+/* Heap sort of node ids by position (no qsort: it takes no context). */
+static void sift_nodes(const ts *T, uint32_t *v, size_t i, size_t n)
+{
+    for (;;) {
+        size_t l = 2 * i + 1, m = i;
+        if (l < n && cmp_pos(T, v[l], v[m]) > 0)
+            m = l;
+        if (l + 1 < n && cmp_pos(T, v[l + 1], v[m]) > 0)
+            m = l + 1;
+        if (m == i)
+            return;
+        uint32_t t = v[i];
+        v[i] = v[m];
+        v[m] = t;
+        i = m;
+    }
+}
+
+static void sort_nodes(const ts *T, uint32_t *v, size_t n)
+{
+    for (size_t i = n / 2; i-- > 0;)
+        sift_nodes(T, v, i, n);
+    for (size_t k = n; k-- > 1;) {
+        uint32_t t = v[0];
+        v[0] = v[k];
+        v[k] = t;
+        sift_nodes(T, v, 0, k);
+    }
+}
+
+typedef struct ekey {
+    uint32_t lo, hi, id;
+} ekey;
+
+static int ekey_less(const ekey *a, const ekey *b)
+{
+    if (a->lo != b->lo)
+        return a->lo < b->lo;
+    if (a->hi != b->hi)
+        return a->hi < b->hi;
+    return a->id < b->id;
+}
+
+static void sift_keys(ekey *v, size_t i, size_t n)
+{
+    for (;;) {
+        size_t l = 2 * i + 1, m = i;
+        if (l < n && ekey_less(&v[m], &v[l]))
+            m = l;
+        if (l + 1 < n && ekey_less(&v[m], &v[l + 1]))
+            m = l + 1;
+        if (m == i)
+            return;
+        ekey t = v[i];
+        v[i] = v[m];
+        v[m] = t;
+        i = m;
+    }
+}
+
+static void sort_keys(ekey *v, size_t n)
+{
+    for (size_t i = n / 2; i-- > 0;)
+        sift_keys(v, i, n);
+    for (size_t k = n; k-- > 1;) {
+        ekey t = v[0];
+        v[0] = v[k];
+        v[k] = t;
+        sift_keys(v, 0, k);
+    }
+}
+
+static const double probe_t[3] = {0.2113248654051871, 0.5, 0.7886751345948129};
+
+/* Do e and o trace the same curve (o reversed if rev)? */
+static int edges_coincide(ts *T, const ts_edge *e, const ts_edge *o, int rev)
+{
+    for (int k = 0; k < 3; ++k) {
+        double p[3], q[3];
+        edge_point(T, e, probe_t[k], p);
+        edge_point(T, o, rev ? 1.0 - probe_t[k] : probe_t[k], q);
+        if (!(dist3(p, q) <= T->weld_tol))
+            return 0;
+    }
+    return 1;
+}
+
+static geom_status weld(ts *T, geom_surface_tess_stats *stats)
+{
+    /* collapsed edges: both ends and the probes at one point */
+    for (size_t i = 0; i < T->nedges; ++i) {
+        ts_edge *e = &T->edges[i];
+        const double *p0 = T->nodes[e->n0].p;
+        if (!(dist3(p0, T->nodes[e->n1].p) <= T->weld_tol))
+            continue;
+        int col = 1;
+        for (int k = 0; k < 3 && col; ++k) {
+            double p[3];
+            edge_point(T, e, probe_t[k], p);
+            col = dist3(p, p0) <= T->weld_tol;
+        }
+        if (col) {
+            e->collapsed = 1;
+            node_union(T, e->n0, e->n1);
+            if (stats)
+                stats->collapsed_edges++;
+        }
+    }
+    if (T->opt->no_weld)
+        return GEOM_OK;
+    /* boundary nodes by exact position */
+    size_t nb = 0;
+    for (size_t i = 0; i < T->nnodes; ++i)
+        nb += T->nodes[i].boundary;
+    uint32_t *ids = ts_alloc(T, nb, sizeof(uint32_t));
+    if (!ids)
+        return GEOM_ERR_NOMEM;
+    nb = 0;
+    for (size_t i = 0; i < T->nnodes; ++i)
+        if (T->nodes[i].boundary)
+            ids[nb++] = (uint32_t)i;
+    sort_nodes(T, ids, nb);
+    for (size_t i = 1; i < nb; ++i)
+        if (cmp_pos(T, ids[i - 1], ids[i]) == 0)
+            node_union(T, ids[i - 1], ids[i]);
+    ts_free(T, ids, nb, sizeof(uint32_t));
+    /* boundary edges with the same welded ends */
+    size_t ne = 0;
+    for (size_t i = 0; i < T->nedges; ++i)
+        ne += T->edges[i].boundary && !T->edges[i].collapsed;
+    ekey *keys = ts_alloc(T, ne, sizeof(ekey));
+    if (!keys)
+        return GEOM_ERR_NOMEM;
+    ne = 0;
+    for (size_t i = 0; i < T->nedges; ++i) {
+        const ts_edge *e = &T->edges[i];
+        if (!e->boundary || e->collapsed)
+            continue;
+        uint32_t a = node_find(T, e->n0), b = node_find(T, e->n1);
+        keys[ne].lo = a < b ? a : b;
+        keys[ne].hi = a < b ? b : a;
+        keys[ne].id = (uint32_t)i;
+        ne++;
+    }
+    sort_keys(keys, ne);
+    for (size_t i = 0; i < ne;) {
+        size_t j = i;
+        while (j < ne && keys[j].lo == keys[i].lo && keys[j].hi == keys[i].hi)
+            ++j;
+        for (size_t x = i; x < j; ++x) {
+            ts_edge *e = &T->edges[keys[x].id];
+            if (e->partner != NONE32)
+                continue;
+            for (size_t y = x + 1; y < j; ++y) {
+                ts_edge *o = &T->edges[keys[y].id];
+                if (o->partner != NONE32)
+                    continue;
+                uint32_t e0 = node_find(T, e->n0), e1 = node_find(T, e->n1);
+                uint32_t o0 = node_find(T, o->n0), o1 = node_find(T, o->n1);
+                int rev = -1;
+                if (e0 == o0 && e1 == o1 && edges_coincide(T, e, o, 0))
+                    rev = 0;
+                else if (e0 == o1 && e1 == o0 && edges_coincide(T, e, o, 1))
+                    rev = 1;
+                if (rev < 0)
+                    continue;
+                e->partner = keys[y].id;
+                o->partner = keys[x].id;
+                /* the lower id owns the samples */
+                o->owner = keys[x].id;
+                o->reversed = (uint8_t)rev;
+                if (stats)
+                    stats->welded_edges++;
+                break;
+            }
+        }
+        i = j;
+    }
+    ts_free(T, keys, ne, sizeof(ekey));
+    return GEOM_OK;
+}
+
+/* Flip surfaces so that every welded edge is traversed in opposite
+ * directions by its two cells (breadth-first over the welded pairs). */
+static geom_status orient(ts *T, geom_surface_tess_stats *stats)
+{
+    if (T->opt->keep_orientation || T->opt->no_weld)
+        return GEOM_OK;
+    size_t n = T->nsurf;
+    /* adjacency in CSR form over edge pairs */
+    size_t *deg = ts_alloc(T, n + 1, sizeof(size_t));
+    if (!deg)
+        return GEOM_ERR_NOMEM;
+    memset(deg, 0, (n + 1) * sizeof(size_t));
+    size_t pairs = 0;
+    for (size_t i = 0; i < T->nedges; ++i) {
+        const ts_edge *e = &T->edges[i];
+        if (e->partner != NONE32 && e->owner == i) {
+            deg[e->surf]++;
+            deg[T->edges[e->partner].surf]++;
+            pairs++;
+        }
+    }
+    size_t *start = ts_alloc(T, n + 1, sizeof(size_t));
+    uint32_t *adj = ts_alloc(T, 2 * pairs, sizeof(uint32_t));
+    uint8_t *rel = ts_alloc(T, 2 * pairs, 1);
+    int8_t *state = ts_alloc(T, n, 1);
+    uint32_t *queue = ts_alloc(T, n, sizeof(uint32_t));
+    geom_status st = GEOM_OK;
+    if (!start || !adj || !rel || !state || !queue) {
+        st = GEOM_ERR_NOMEM;
+        goto done;
+    }
+    start[0] = 0;
+    for (size_t k = 0; k < n; ++k)
+        start[k + 1] = start[k] + deg[k];
+    memset(deg, 0, (n + 1) * sizeof(size_t));
+    for (size_t i = 0; i < T->nedges; ++i) {
+        const ts_edge *e = &T->edges[i];
+        if (e->partner == NONE32 || e->owner != i)
+            continue;
+        const ts_edge *o = &T->edges[e->partner];
+        const ts_edge *ne = o; /* the non-owner holds the orientation */
+        int sign = e->tau * ne->tau * (ne->reversed ? -1 : 1);
+        uint8_t r = sign > 0; /* same traversal: one of them must flip */
+        uint32_t a = e->surf, b = o->surf;
+        adj[start[a] + deg[a]] = b;
+        rel[start[a] + deg[a]++] = r;
+        adj[start[b] + deg[b]] = a;
+        rel[start[b] + deg[b]++] = r;
+    }
+    for (size_t k = 0; k < n; ++k)
+        state[k] = -1;
+    for (size_t k = 0; k < n; ++k) {
+        if (state[k] >= 0)
+            continue;
+        state[k] = 0;
+        size_t qh = 0, qt = 0;
+        queue[qt++] = (uint32_t)k;
+        while (qh < qt) {
+            uint32_t a = queue[qh++];
+            for (size_t x = start[a]; x < start[a + 1]; ++x) {
+                uint32_t b = adj[x];
+                int want = state[a] ^ rel[x];
+                if (state[b] < 0) {
+                    state[b] = (int8_t)want;
+                    queue[qt++] = b;
+                }
+                /* a conflict (a non-orientable arrangement) keeps the
+                 * first assignment */
+            }
+        }
+    }
+    for (size_t k = 0; k < n; ++k) {
+        T->surf[k].flip = state[k] == 1;
+        if (stats && state[k] == 1)
+            stats->flipped_surfaces++;
+    }
+done:
+    ts_free(T, deg, n + 1, sizeof(size_t));
+    if (start)
+        ts_free(T, start, n + 1, sizeof(size_t));
+    if (adj)
+        ts_free(T, adj, 2 * pairs, sizeof(uint32_t));
+    if (rel)
+        ts_free(T, rel, 2 * pairs, 1);
+    if (state)
+        ts_free(T, state, n, 1);
+    if (queue)
+        ts_free(T, queue, n, sizeof(uint32_t));
+    return st;
+}
+
+/* --------------------------------------------------------------- sizing */
+
+static uint32_t grid_count(double extent, double h)
+{
+    if (!(h > 0.0) || !isfinite(h))
+        return 1;
+    double m = ceil(extent / h - 1e-9);
+    if (!(m >= 1.0))
+        return 1;
+    if (m > (double)MAX_GRID)
+        return MAX_GRID + 1;
+    return (uint32_t)m;
+}
+
+/*
+ * Steps (hu, hv) that keep Muu hu^2 + 2 Muv hu hv + Mvv hv^2 <= B with the
+ * largest quad area hu hv: the optimum has hu/hv = sqrt(Mvv/Muu). A zero
+ * second derivative in one direction lets that step cover the whole cell.
+ */
+static void grid_steps(double B, double Muu, double Muv, double Mvv, double du, double dv,
+                       double *hu, double *hv)
+{
+    if (Muu > 0.0 && Mvv > 0.0) {
+        double r = sqrt(Mvv / Muu);
+        double t = sqrt(B / (Muu * r * r + 2.0 * Muv * r + Mvv));
+        *hu = r * t;
+        *hv = t;
+    } else if (Mvv > 0.0) { /* Muu == 0: one column, then hv from the quadratic */
+        *hu = du;
+        double b = Muv * du;
+        *hv = (sqrt(b * b + B * Mvv) - b) / Mvv;
+    } else if (Muu > 0.0) {
+        *hv = dv;
+        double b = Muv * dv;
+        *hu = (sqrt(b * b + B * Muu) - b) / Muu;
+    } else if (Muv > 0.0) {
+        *hu = *hv = sqrt(B / (2.0 * Muv));
+    } else {
+        *hu = du;
+        *hv = dv;
+    }
+}
+
+/* Initial adaptive demand of a cell from sampled second derivatives. */
+static void size_cell(ts *T, ts_cell *c)
+{
+    const geom_nurbs_surface *s = T->surf[c->surf].s;
+    int pm = s->degree_u > s->degree_v ? s->degree_u : s->degree_v;
+    int G = pm + 2;
+    if (G < 4)
+        G = 4;
+    if (G > 9)
+        G = 9;
+    double Muu = 0.0, Muv = 0.0, Mvv = 0.0;
+    double D[27];
+    for (int i = 0; i < G; ++i)
+        for (int j = 0; j < G; ++j) {
+            double u = c->u0 + (c->u1 - c->u0) * (double)i / (double)(G - 1);
+            double v = c->v0 + (c->v1 - c->v0) * (double)j / (double)(G - 1);
+            if (i == G - 1)
+                u = c->u1;
+            if (j == G - 1)
+                v = c->v1;
+            cell_derivs(T, c, u, v, 2, D);
+            /* d = 2: (k,l) at 3*(3k + l) */
+            double x = sqrt(D[18] * D[18] + D[19] * D[19] + D[20] * D[20]);
+            double y = sqrt(D[12] * D[12] + D[13] * D[13] + D[14] * D[14]);
+            double z = sqrt(D[6] * D[6] + D[7] * D[7] + D[8] * D[8]);
+            if (isfinite(x))
+                Muu = fmax(Muu, x);
+            if (isfinite(y))
+                Muv = fmax(Muv, y);
+            if (isfinite(z))
+                Mvv = fmax(Mvv, z);
+        }
+    double du = c->u1 - c->u0, dv = c->v1 - c->v0;
+    double hu, hv;
+    grid_steps(8.0 * T->tol, Muu, Muv, Mvv, du, dv, &hu, &hv);
+    c->M = grid_count(du, hu);
+    c->N = grid_count(dv, hv);
+}
+
+/* ---------------------------------------------------- per-pass vertices */
+
+static geom_status add_vertex(ts *T, const double *p, uint32_t *id)
+{
+    if (T->nverts >= NONE32 - 1)
+        return GEOM_ERR_LIMIT;
+    geom_status st =
+        ts_grow(T, (void **)&T->pos, &T->cap_verts, 3 * (T->nverts + 1), sizeof(double));
+    if (st != GEOM_OK)
+        return st;
+    if (p)
+        memcpy(T->pos + 3 * T->nverts, p, 3 * sizeof(double));
+    *id = (uint32_t)T->nverts++;
+    return GEOM_OK;
+}
+
+static uint32_t edge_demand(const ts *T, const ts_edge *e)
+{
+    uint32_t d = 1;
+    const uint32_t cs[2] = {e->cellA, e->cellB};
+    for (int k = 0; k < 2; ++k)
+        if (cs[k] != NONE32) {
+            const ts_cell *c = &T->cells[cs[k]];
+            uint32_t x = e->dir == 0 ? c->M : c->N;
+            if (x > d)
+                d = x;
+        }
+    return d;
+}
+
+/* Edge sample counts, vertex ids and positions of nodes and edge samples. */
+static geom_status assign_vertices(ts *T)
+{
+    T->nverts = 0;
+    for (size_t i = 0; i < T->nnodes; ++i)
+        T->nodes[i].vert = NONE32;
+    geom_status st;
+    for (size_t i = 0; i < T->nnodes; ++i) {
+        uint32_t r = node_find(T, (uint32_t)i);
+        if (T->nodes[r].vert == NONE32) {
+            st = add_vertex(T, T->nodes[r].p, &T->nodes[r].vert);
+            if (st != GEOM_OK)
+                return st;
+        }
+    }
+    for (size_t i = 0; i < T->nedges; ++i) {
+        ts_edge *e = &T->edges[i];
+        if (e->owner != i)
+            continue;
+        uint32_t d = edge_demand(T, e);
+        if (e->partner != NONE32) {
+            uint32_t d2 = edge_demand(T, &T->edges[e->partner]);
+            if (d2 > d)
+                d = d2;
+        }
+        e->nseg = d;
+        if (e->partner != NONE32)
+            T->edges[e->partner].nseg = d;
+        if (e->collapsed || d < 2)
+            continue;
+        e->vbase = (uint32_t)T->nverts;
+        for (uint32_t k = 1; k < d; ++k) {
+            double p[3];
+            edge_point(T, e, (double)k / (double)d, p);
+            uint32_t id;
+            st = add_vertex(T, p, &id);
+            if (st != GEOM_OK)
+                return st;
+        }
+    }
+    return GEOM_OK;
+}
+
+static uint32_t edge_vertex(ts *T, const ts_edge *e, uint32_t k)
+{
+    if (e->collapsed)
+        return T->nodes[node_find(T, e->n0)].vert;
+    if (k == 0)
+        return T->nodes[node_find(T, e->n0)].vert;
+    if (k == e->nseg)
+        return T->nodes[node_find(T, e->n1)].vert;
+    const ts_edge *o = &T->edges[e->owner];
+    uint32_t kk = (e->owner != (uint32_t)(e - T->edges) && e->reversed) ? e->nseg - k : k;
+    return o->vbase + kk - 1;
+}
+
+/* ----------------------------------------------------- cell triangulation */
+
+static geom_status local_add(ts *T, double u, double v, uint32_t vert, uint32_t *idx)
+{
+    if (T->nloc >= T->cap_loc) {
+        size_t nc = T->cap_loc ? 2 * T->cap_loc : 256;
+        double *a = geom_realloc(T->alloc, T->lu, T->cap_loc * sizeof(double), nc * sizeof(double));
+        if (!a)
+            return GEOM_ERR_NOMEM;
+        T->lu = a;
+        double *b = geom_realloc(T->alloc, T->lv, T->cap_loc * sizeof(double), nc * sizeof(double));
+        if (!b)
+            return GEOM_ERR_NOMEM;
+        T->lv = b;
+        uint32_t *c =
+            geom_realloc(T->alloc, T->lvert, T->cap_loc * sizeof(uint32_t), nc * sizeof(uint32_t));
+        if (!c)
+            return GEOM_ERR_NOMEM;
+        T->lvert = c;
+        double *d = geom_realloc(T->alloc, T->lnorm, T->cap_loc * 6 * sizeof(double),
+                                 nc * 6 * sizeof(double));
+        if (!d)
+            return GEOM_ERR_NOMEM;
+        T->lnorm = d;
+        T->cap_loc = nc;
+    }
+    T->lu[T->nloc] = u;
+    T->lv[T->nloc] = v;
+    T->lvert[T->nloc] = vert;
+    *idx = (uint32_t)T->nloc++;
+    return GEOM_OK;
+}
+
+static geom_status local_tri(ts *T, uint32_t a, uint32_t b, uint32_t c)
+{
+    if (T->lvert[a] == T->lvert[b] || T->lvert[b] == T->lvert[c] || T->lvert[a] == T->lvert[c])
+        return GEOM_OK; /* on a collapsed edge */
+    geom_status st = ts_grow(T, (void **)&T->ltri, &T->cap_ltri, 3 * (T->nltri + 1),
+                             sizeof(uint32_t));
+    if (st != GEOM_OK)
+        return st;
+    T->ltri[3 * T->nltri] = a;
+    T->ltri[3 * T->nltri + 1] = b;
+    T->ltri[3 * T->nltri + 2] = c;
+    T->nltri++;
+    return GEOM_OK;
+}
+
+/* Quad a b c d (counter-clockwise) as two triangles along the shorter
+ * diagonal. */
+static geom_status local_quad(ts *T, uint32_t a, uint32_t b, uint32_t c, uint32_t d)
+{
+    double ac = dist3(T->pos + 3 * (size_t)T->lvert[a], T->pos + 3 * (size_t)T->lvert[c]);
+    double bd = dist3(T->pos + 3 * (size_t)T->lvert[b], T->pos + 3 * (size_t)T->lvert[d]);
+    geom_status st;
+    if (ac <= bd) {
+        st = local_tri(T, a, b, c);
+        if (st == GEOM_OK)
+            st = local_tri(T, a, c, d);
+    } else {
+        st = local_tri(T, a, b, d);
+        if (st == GEOM_OK)
+            st = local_tri(T, b, c, d);
+    }
+    return st;
+}
+
+/* Join the outer polyline o (no points, fractions fo) to the inner one i
+ * (ni points, fi), both running in the cell's counter-clockwise direction
+ * with the cell's inside to their left. */
+static geom_status stitch(ts *T, const uint32_t *o, const double *fo, size_t no, const uint32_t *in,
+                          const double *fi, size_t ni)
+{
+    size_t a = 0, b = 0;
+    while (a + 1 < no || b + 1 < ni) {
+        int outer;
+        if (a + 1 >= no)
+            outer = 0;
+        else if (b + 1 >= ni)
+            outer = 1;
+        else
+            outer = fo[a + 1] <= fi[b + 1];
+        geom_status st;
+        if (outer) {
+            st = local_tri(T, o[a], o[a + 1], in[b]);
+            ++a;
+        } else {
+            st = local_tri(T, o[a], in[b + 1], in[b]);
+            ++b;
+        }
+        if (st != GEOM_OK)
+            return st;
+    }
+    return GEOM_OK;
+}
+
+/* Samples and triangles of cell c into the local arrays; interior vertex
+ * positions into T->pos (ids from c->vbase). */
+static geom_status triangulate_cell(ts *T, ts_cell *c)
+{
+    T->nloc = 0;
+    T->nltri = 0;
+    const ts_edge *E[4] = {&T->edges[c->eb], &T->edges[c->er], &T->edges[c->et],
+                           &T->edges[c->el]};
+    uint32_t nb = E[0]->nseg, nr = E[1]->nseg, nt = E[2]->nseg, nl = E[3]->nseg;
+    uint32_t M = c->M, N = c->N;
+    int direct = nb == M && nt == M && nl == N && nr == N;
+    if (!direct) {
+        if (M < 2)
+            M = 2;
+        if (N < 2)
+            N = 2;
+    }
+    c->sig[0] = M, c->sig[1] = N, c->sig[2] = nb, c->sig[3] = nr, c->sig[4] = nt, c->sig[5] = nl;
+    double du = c->u1 - c->u0, dv = c->v1 - c->v0;
+    /* edge samples, each in its own parameter direction */
+    uint32_t first[4];
+    const uint32_t cnt[4] = {nb, nr, nt, nl};
+    geom_status st = GEOM_OK;
+    for (int k = 0; k < 4; ++k) {
+        first[k] = (uint32_t)T->nloc;
+        for (uint32_t i = 0; i <= cnt[k]; ++i) {
+            double f = (double)i / (double)cnt[k];
+            double u, v;
+            if (k == 0 || k == 2) {
+                u = i == cnt[k] ? c->u1 : c->u0 + f * du;
+                v = k == 0 ? c->v0 : c->v1;
+            } else {
+                v = i == cnt[k] ? c->v1 : c->v0 + f * dv;
+                u = k == 3 ? c->u0 : c->u1;
+            }
+            uint32_t idx;
+            st = local_add(T, u, v, edge_vertex(T, E[k], i), &idx);
+            if (st != GEOM_OK)
+                return st;
+        }
+    }
+    /* interior grid (i, j), 1 <= i <= M-1, 1 <= j <= N-1 */
+    uint32_t gfirst = (uint32_t)T->nloc;
+    c->vbase = (uint32_t)T->nverts;
+    for (uint32_t i = 1; i < M; ++i)
+        for (uint32_t j = 1; j < N; ++j) {
+            double u = c->u0 + du * (double)i / (double)M;
+            double v = c->v0 + dv * (double)j / (double)N;
+            double p[3];
+            cell_point(T, c, u, v, p);
+            uint32_t vid, idx;
+            st = add_vertex(T, p, &vid);
+            if (st == GEOM_OK)
+                st = local_add(T, u, v, vid, &idx);
+            if (st != GEOM_OK)
+                return st;
+        }
+#define G(i, j) (gfirst + ((i)-1) * (N - 1) + ((j)-1))
+    if (direct) {
+        for (uint32_t i = 0; i < M; ++i)
+            for (uint32_t j = 0; j < N; ++j) {
+                uint32_t q[4];
+                const uint32_t ii[4] = {i, i + 1, i + 1, i}, jj[4] = {j, j, j + 1, j + 1};
+                for (int k = 0; k < 4; ++k) {
+                    uint32_t x = ii[k], y = jj[k];
+                    if (y == 0)
+                        q[k] = first[0] + x;
+                    else if (y == N)
+                        q[k] = first[2] + x;
+                    else if (x == 0)
+                        q[k] = first[3] + y;
+                    else if (x == M)
+                        q[k] = first[1] + y;
+                    else
+                        q[k] = G(x, y);
+                }
+                st = local_quad(T, q[0], q[1], q[2], q[3]);
+                if (st != GEOM_OK)
+                    return st;
+            }
+        return GEOM_OK;
+    }
+    for (uint32_t i = 1; i + 1 < M; ++i)
+        for (uint32_t j = 1; j + 1 < N; ++j) {
+            st = local_quad(T, G(i, j), G(i + 1, j), G(i + 1, j + 1), G(i, j + 1));
+            if (st != GEOM_OK)
+                return st;
+        }
+    /* the ring: four strips, counter-clockwise */
+    uint32_t cap = (nb > nr ? nb : nr);
+    cap = cap > nt ? cap : nt;
+    cap = cap > nl ? cap : nl;
+    cap = (cap > M ? cap : M);
+    cap = (cap > N ? cap : N) + 2;
+    uint32_t *oi = ts_alloc(T, 2 * (size_t)cap, sizeof(uint32_t));
+    double *of = ts_alloc(T, 2 * (size_t)cap, sizeof(double));
+    if (!oi || !of) {
+        if (oi)
+            ts_free(T, oi, 2 * (size_t)cap, sizeof(uint32_t));
+        if (of)
+            ts_free(T, of, 2 * (size_t)cap, sizeof(double));
+        return GEOM_ERR_NOMEM;
+    }
+    uint32_t *ii = oi + cap;
+    double *fi = of + cap;
+    for (int side = 0; side < 4 && st == GEOM_OK; ++side) {
+        uint32_t n = cnt[side];
+        size_t no = 0, ni = 0;
+        for (uint32_t k = 0; k <= n; ++k) {
+            uint32_t kk = side < 2 ? k : n - k; /* top and left run backwards */
+            oi[no] = first[side] + kk;
+            of[no++] = (double)k / (double)n;
+        }
+        if (side == 0)
+            for (uint32_t i = 1; i < M; ++i)
+                ii[ni] = G(i, 1), fi[ni++] = (double)i / (double)M;
+        else if (side == 1)
+            for (uint32_t j = 1; j < N; ++j)
+                ii[ni] = G(M - 1, j), fi[ni++] = (double)j / (double)N;
+        else if (side == 2)
+            for (uint32_t i = M - 1; i >= 1; --i)
+                ii[ni] = G(i, N - 1), fi[ni++] = 1.0 - (double)i / (double)M;
+        else
+            for (uint32_t j = N - 1; j >= 1; --j)
+                ii[ni] = G(1, j), fi[ni++] = 1.0 - (double)j / (double)N;
+        st = stitch(T, oi, of, no, ii, fi, ni);
+    }
+#undef G
+    ts_free(T, oi, 2 * (size_t)cap, sizeof(uint32_t));
+    ts_free(T, of, 2 * (size_t)cap, sizeof(double));
+    return st;
+}
+
+/* ---------------------------------------------------------------- checks */
+
+static double angle_between(const double *a, const double *b)
+{
+    double c[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+                   a[0] * b[1] - a[1] * b[0]};
+    double s = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    double d = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    return atan2(s, d) * (180.0 / GEOM_PI);
+}
+
+/* Chordal error (and normal angle) of the cell's local triangles. */
+static void check_cell(ts *T, ts_cell *c)
+{
+    int K = T->ksub;
+    double cell_max = 0.0, ang_max = 0.0, esum = 0.0;
+    if (T->ang_tol > 0.0)
+        for (size_t k = 0; k < T->nloc; ++k)
+            cell_normal(T, c, T->lu[k], T->lv[k], T->lnorm + 6 * k, T->lnorm + 6 * k + 3);
+    for (size_t t = 0; t < T->nltri; ++t) {
+        const uint32_t *L = T->ltri + 3 * t;
+        const double *X[3];
+        double U[3], V[3];
+        for (int k = 0; k < 3; ++k) {
+            X[k] = T->pos + 3 * (size_t)T->lvert[L[k]];
+            U[k] = T->lu[L[k]];
+            V[k] = T->lv[L[k]];
+        }
+        double tmax = 0.0;
+        for (int i = 0; i <= K; ++i)
+            for (int j = 0; i + j <= K; ++j) {
+                int k = K - i - j;
+                if (i == K || j == K || k == K)
+                    continue;
+                double b0 = (double)i / K, b1 = (double)j / K, b2 = (double)k / K;
+                double u = b0 * U[0] + b1 * U[1] + b2 * U[2];
+                double v = b0 * V[0] + b1 * V[1] + b2 * V[2];
+                double L3[3], S3[3];
+                for (int d = 0; d < 3; ++d)
+                    L3[d] = b0 * X[0][d] + b1 * X[1][d] + b2 * X[2][d];
+                cell_point(T, c, u, v, S3);
+                double e = dist3(L3, S3);
+                if (e > tmax)
+                    tmax = e;
+            }
+        if (tmax > cell_max)
+            cell_max = tmax;
+        esum += tmax;
+        if (T->ang_tol > 0.0) {
+            for (int a = 0; a < 3; ++a)
+                for (int b = a + 1; b < 3; ++b) {
+                    double g = angle_between(T->lnorm + 6 * (size_t)L[a], T->lnorm + 6 * (size_t)L[b]);
+                    if (g > ang_max)
+                        ang_max = g;
+                }
+        }
+    }
+    c->err = cell_max;
+    c->ang = ang_max;
+    c->esum = esum;
+    c->ecnt = T->nltri;
+    c->checked = 1;
+}
+
+/* ---------------------------------------------------------------- output */
+
+static geom_status emit_cell(ts *T, ts_cell *c, unsigned attrs, int uv_norm)
+{
+    const ts_surf *ss = &T->surf[c->surf];
+    int flip = ss->flip;
+    uint32_t *cn = NULL, *cuv = NULL, *ct = NULL;
+    size_t nl = T->nloc;
+    geom_status st = GEOM_OK;
+    if (attrs) {
+        cn = ts_alloc(T, 3 * nl, sizeof(uint32_t));
+        if (!cn)
+            return GEOM_ERR_NOMEM;
+        cuv = cn + nl;
+        ct = cn + 2 * nl;
+        for (size_t k = 0; k < nl && st == GEOM_OK; ++k) {
+            double u = T->lu[k], v = T->lv[k];
+            cn[k] = cuv[k] = ct[k] = NONE32;
+            if (attrs & (GEOM_SURFACE_ATTR_NORMAL | GEOM_SURFACE_ATTR_TANGENT)) {
+                double n[3], t[3];
+                T->counting = 1;
+                cell_normal(T, c, u, v, n, t);
+                T->counting = 0;
+                if (flip)
+                    n[0] = -n[0], n[1] = -n[1], n[2] = -n[2];
+                if (attrs & GEOM_SURFACE_ATTR_NORMAL)
+                    st = pool_add(T, &T->pn, n, &cn[k]);
+                if (st == GEOM_OK && (attrs & GEOM_SURFACE_ATTR_TANGENT)) {
+                    double t4[4] = {t[0], t[1], t[2], flip ? -1.0 : 1.0};
+                    st = pool_add(T, &T->pt, t4, &ct[k]);
+                }
+            }
+            if (st == GEOM_OK && (attrs & GEOM_SURFACE_ATTR_UV)) {
+                double uv[2] = {u, v};
+                if (uv_norm) {
+                    uv[0] = (u - ss->dom[0]) / (ss->dom[1] - ss->dom[0]);
+                    uv[1] = (v - ss->dom[2]) / (ss->dom[3] - ss->dom[2]);
+                }
+                st = pool_add(T, &T->puv, uv, &cuv[k]);
+            }
+        }
+    }
+    for (size_t t = 0; t < T->nltri && st == GEOM_OK; ++t) {
+        uint32_t L[3] = {T->ltri[3 * t], T->ltri[3 * t + 1], T->ltri[3 * t + 2]};
+        if (flip) {
+            uint32_t x = L[1];
+            L[1] = L[2];
+            L[2] = x;
+        }
+        if (T->ntri >= T->max_tri) {
+            st = GEOM_ERR_LIMIT;
+            break;
+        }
+        st = ts_grow(T, (void **)&T->tri, &T->cap_tri, 3 * (T->ntri + 1), sizeof(uint32_t));
+        if (st == GEOM_OK && attrs)
+            st = ts_grow(T, (void **)&T->tcorn, &T->cap_tcorn, 9 * (T->ntri + 1),
+                         sizeof(uint32_t));
+        if (st == GEOM_OK)
+            st = ts_grow(T, (void **)&T->tsurf, &T->cap_tsurf, T->ntri + 1, sizeof(uint32_t));
+        if (st != GEOM_OK)
+            break;
+        T->tsurf[T->ntri] = T->surf[c->surf].orig;
+        for (int k = 0; k < 3; ++k)
+            T->tri[3 * T->ntri + (size_t)k] = T->lvert[L[k]];
+        if (attrs)
+            for (int k = 0; k < 3; ++k) {
+                T->tcorn[9 * T->ntri + (size_t)k] = cn[L[k]];
+                T->tcorn[9 * T->ntri + 3 + (size_t)k] = cuv[L[k]];
+                T->tcorn[9 * T->ntri + 6 + (size_t)k] = ct[L[k]];
+            }
+        T->ntri++;
+    }
+    if (cn)
+        ts_free(T, cn, 3 * nl, sizeof(uint32_t));
+    return st;
+}
+
+/* ------------------------------------------------------------------ main */
+
+static void ts_release(ts *T)
+{
+    for (size_t k = 0; k < T->nsurf && T->surf; ++k) {
+        ts_surf *s = &T->surf[k];
+        if (s->ub)
+            ts_free(T, s->ub, s->nbu + 1, sizeof(double));
+        if (s->vb)
+            ts_free(T, s->vb, s->nbv + 1, sizeof(double));
+        if (s->ku)
+            ts_free(T, s->ku, s->nbu, sizeof(size_t));
+        if (s->kv)
+            ts_free(T, s->kv, s->nbv, sizeof(size_t));
+    }
+    if (T->surf)
+        ts_free(T, T->surf, T->nsurf, sizeof(ts_surf));
+    if (T->cells)
+        ts_free(T, T->cells, T->ncells, sizeof(ts_cell));
+    if (T->nodes)
+        ts_free(T, T->nodes, T->nnodes, sizeof(ts_node));
+    if (T->edges)
+        ts_free(T, T->edges, T->nedges, sizeof(ts_edge));
+    if (T->pos)
+        ts_free(T, T->pos, T->cap_verts, sizeof(double));
+    if (T->lu)
+        ts_free(T, T->lu, T->cap_loc, sizeof(double));
+    if (T->lv)
+        ts_free(T, T->lv, T->cap_loc, sizeof(double));
+    if (T->lvert)
+        ts_free(T, T->lvert, T->cap_loc, sizeof(uint32_t));
+    if (T->lnorm)
+        ts_free(T, T->lnorm, 6 * T->cap_loc, sizeof(double));
+    if (T->ltri)
+        ts_free(T, T->ltri, T->cap_ltri, sizeof(uint32_t));
+    if (T->tri)
+        ts_free(T, T->tri, T->cap_tri, sizeof(uint32_t));
+    if (T->tcorn)
+        ts_free(T, T->tcorn, T->cap_tcorn, sizeof(uint32_t));
+    if (T->tsurf)
+        ts_free(T, T->tsurf, T->cap_tsurf, sizeof(uint32_t));
+    pool_free(T, &T->pn);
+    pool_free(T, &T->puv);
+    pool_free(T, &T->pt);
+    geom_curve_scratch_free(&T->sc);
+}
+
+static int sig_changed(const ts_cell *c, const uint32_t *old)
+{
+    for (int k = 0; k < 6; ++k)
+        if (c->sig[k] != old[k])
+            return 1;
+    return 0;
+}
+
+/* Build the mesh from the emitted triangles: compact vertices, build, then
+ * the corner channels. */
+static geom_status build_mesh(ts *T, geom_mesh *out, unsigned attrs, geom_diag *diag)
+{
+    uint32_t *map = ts_alloc(T, T->nverts, sizeof(uint32_t));
+    if (!map)
+        return GEOM_ERR_NOMEM;
+    for (size_t i = 0; i < T->nverts; ++i)
+        map[i] = NONE32;
+    size_t nv = 0;
+    for (size_t t = 0; t < 3 * T->ntri; ++t) {
+        uint32_t v = T->tri[t];
+        if (map[v] == NONE32) {
+            /* compact positions in place: new index nv <= v */
+            map[v] = (uint32_t)nv;
+            nv++;
+        }
+        T->tri[t] = map[v];
+    }
+    double *xyz = ts_alloc(T, 3 * nv, sizeof(double));
+    uint32_t *sizes = ts_alloc(T, T->ntri, sizeof(uint32_t));
+    geom_status st = GEOM_OK;
+    if (!xyz || !sizes) {
+        st = GEOM_ERR_NOMEM;
+        goto done;
+    }
+    for (size_t i = 0; i < T->nverts; ++i)
+        if (map[i] != NONE32)
+            memcpy(xyz + 3 * (size_t)map[i], T->pos + 3 * i, 3 * sizeof(double));
+    for (size_t t = 0; t < T->ntri; ++t)
+        sizes[t] = 3;
+    geom_mesh_clear(out);
+    geom_mesh_build_options bo;
+    memset(&bo, 0, sizeof bo);
+    bo.keep_orientation = T->opt->keep_orientation || T->opt->no_weld;
+    st = geom_mesh_build(out, nv, xyz, T->ntri, sizes, T->tri, &bo, NULL, diag);
+    if (st != GEOM_OK)
+        goto done;
+    const uint32_t *vorig = geom_mesh_vertex_origin(out);
+    const uint32_t *forig = geom_mesh_face_origin(out);
+    if (T->opt->attributes & GEOM_SURFACE_ATTR_SOURCE) {
+        uint32_t id;
+        st = geom_mesh_channel_add(out, "surface", GEOM_MESH_DOMAIN_FACE, 1, &id);
+        if (st != GEOM_OK)
+            goto done;
+        double *data = geom_mesh_channel_data(out, id);
+        size_t nf = geom_mesh_n_faces(out);
+        for (size_t f = 0; f < nf; ++f) {
+            size_t t = forig ? forig[f] : f;
+            data[f] = t < T->ntri ? (double)T->tsurf[t] : -1.0;
+        }
+    }
+    if (!attrs)
+        goto done;
+    static const char *const names[3] = {"normal", "uv", "tangent"};
+    static const size_t ncomp[3] = {3, 2, 4};
+    const unsigned bits[3] = {GEOM_SURFACE_ATTR_NORMAL, GEOM_SURFACE_ATTR_UV,
+                              GEOM_SURFACE_ATTR_TANGENT};
+    ts_pool *pools[3] = {&T->pn, &T->puv, &T->pt};
+    for (int ch = 0; ch < 3 && st == GEOM_OK; ++ch) {
+        if (!(attrs & bits[ch]))
+            continue;
+        uint32_t id;
+        st = geom_mesh_channel_add(out, names[ch], GEOM_MESH_DOMAIN_CORNER, ncomp[ch], &id);
+        if (st == GEOM_OK)
+            st = geom_mesh_corner_pool_resize(out, id, pools[ch]->n);
+        if (st != GEOM_OK)
+            break;
+        double *data = geom_mesh_channel_data(out, id);
+        if (pools[ch]->n)
+            memcpy(data, pools[ch]->vals, pools[ch]->n * ncomp[ch] * sizeof(double));
+        uint32_t *ci = geom_mesh_corner_indices(out, id);
+        size_t nf = geom_mesh_n_faces(out);
+        for (size_t f = 0; f < nf; ++f) {
+            size_t t = forig ? forig[f] : f;
+            if (t >= T->ntri)
+                continue;
+            uint32_t h0 = geom_mesh_face_he(out, (uint32_t)f), h = h0;
+            do {
+                uint32_t v = geom_mesh_he_vertex(out, h);
+                uint32_t vo = vorig ? vorig[v] : v;
+                for (int k = 0; k < 3; ++k)
+                    if (T->tri[3 * t + (size_t)k] == vo) {
+                        ci[h] = T->tcorn[9 * t + 3 * (size_t)ch + (size_t)k];
+                        break;
+                    }
+                h = geom_mesh_he_next(out, h);
+            } while (h != h0 && h != GEOM_INVALID_INDEX);
+        }
+    }
+done:
+    ts_free(T, map, T->nverts, sizeof(uint32_t));
+    if (xyz)
+        ts_free(T, xyz, 3 * nv, sizeof(double));
+    if (sizes)
+        ts_free(T, sizes, T->ntri, sizeof(uint32_t));
+    return st;
+}
+
+geom_status geom_surface_tessellate(const geom_nurbs_surface *surfaces, size_t n,
+                                    const geom_surface_tess_options *options, geom_mesh *out,
+                                    geom_error_report *report, geom_surface_tess_stats *stats,
+                                    geom_diag *diag)
+{
+    geom_surface_tess_options defaults;
+    memset(&defaults, 0, sizeof defaults);
+    const geom_surface_tess_options *o = options ? options : &defaults;
+    if (report)
+        memset(report, 0, sizeof *report);
+    if (stats)
+        memset(stats, 0, sizeof *stats);
+    if (!surfaces || n == 0 || !out)
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+                             "tessellate: NULL surfaces or mesh, or no surface");
+    if (o->mode != GEOM_SURFACE_TESS_ADAPTIVE && o->mode != GEOM_SURFACE_TESS_UNIFORM)
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+                             "tessellate: unknown mode %d", (int)o->mode);
+    if (!isfinite(o->tolerance) || o->tolerance < 0.0 || !isfinite(o->angle_degrees) ||
+        o->angle_degrees < 0.0 || o->grid_u < 0 || o->grid_v < 0 ||
+        o->grid_u > (int)MAX_GRID || o->grid_v > (int)MAX_GRID || o->check_subdivisions < 0 ||
+        o->check_subdivisions > 64)
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+                             "tessellate: an option is negative, not finite or too large");
+    if (n >= NONE32 / 8)
+        return geom_diag_set(diag, GEOM_ERR_LIMIT, NULL, 0, 0, "tessellate: too many surfaces");
+    geom_aabb box = geom_aabb_empty();
+    size_t work = 0;
+    for (size_t k = 0; k < n; ++k) {
+        geom_diag d;
+        geom_diag_clear(&d);
+        if (geom_surface_validate(&surfaces[k], &d) != GEOM_OK)
+            return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+                                 "tessellate: surface %zu: %s", k, d.message);
+        const geom_nurbs_surface *s = &surfaces[k];
+        for (size_t i = 0; i < s->nu * s->nv; ++i)
+            box = geom_aabb_extend(box, geom_vec3_make(s->points[3 * i], s->points[3 * i + 1],
+                                                       s->points[3 * i + 2]));
+        size_t w = geom_surface_normal_work(s);
+        if (w > work)
+            work = w;
+    }
+    double diagl = geom_vec3_length(geom_vec3_sub(box.max, box.min));
+    double maxabs = 0.0;
+    if (!geom_aabb_is_empty(box))
+        maxabs = fmax(fmax(fmax(fabs(box.min.x), fabs(box.max.x)),
+                           fmax(fabs(box.min.y), fabs(box.max.y))),
+                      fmax(fabs(box.min.z), fabs(box.max.z)));
+    ts T;
+    memset(&T, 0, sizeof T);
+    T.alloc = o->alloc;
+    T.opt = o;
+    T.diag = diag;
+    T.adaptive = o->mode == GEOM_SURFACE_TESS_ADAPTIVE;
+    T.tol = o->tolerance > 0.0 ? o->tolerance : 1e-3 * diagl;
+    if (!(T.tol > 0.0))
+        T.tol = DBL_MIN;
+    /* welding: the model's size, and the resolution of its coordinates */
+    T.weld_tol = 1e-9 * diagl + 256.0 * DBL_EPSILON * maxabs;
+    T.ang_tol = T.adaptive ? o->angle_degrees : 0.0;
+    T.ksub = o->check_subdivisions ? o->check_subdivisions : 4;
+    T.max_tri = o->max_triangles ? o->max_triangles : ((size_t)1 << 24);
+    T.pn.ncomp = 3;
+    T.puv.ncomp = 2;
+    T.pt.ncomp = 4;
+    unsigned attrs = o->attributes &
+                     (GEOM_SURFACE_ATTR_NORMAL | GEOM_SURFACE_ATTR_UV | GEOM_SURFACE_ATTR_TANGENT);
+    geom_status st = geom_curve_scratch_init(&T.sc, work);
+    if (st != GEOM_OK)
+        return geom_diag_set(diag, st, NULL, 0, 0, "tessellate: out of memory");
+    st = build_structure(&T, surfaces, n);
+    if (st == GEOM_OK)
+        st = weld(&T, stats);
+    if (st == GEOM_OK)
+        st = orient(&T, stats);
+    if (st != GEOM_OK)
+        goto fail;
+    /* initial demands */
+    uint32_t gu = o->grid_u ? (uint32_t)o->grid_u : 8, gv = o->grid_v ? (uint32_t)o->grid_v : 8;
+    for (size_t i = 0; i < T.ncells; ++i) {
+        ts_cell *c = &T.cells[i];
+        if (T.adaptive) {
+            size_cell(&T, c);
+        } else {
+            c->M = gu;
+            c->N = gv;
+        }
+    }
+    size_t passes = 0;
+    for (;;) {
+        double est = 0.0;
+        int over = 0;
+        for (size_t i = 0; i < T.ncells; ++i) {
+            est += 2.0 * (double)T.cells[i].M * (double)T.cells[i].N;
+            over |= T.cells[i].M > MAX_GRID || T.cells[i].N > MAX_GRID;
+        }
+        if (over || est > (double)T.max_tri) {
+            st = geom_diag_set(diag, GEOM_ERR_LIMIT, NULL, 0, 0,
+                               "tessellate: the tolerance needs more than %zu triangles (or "
+                               "more than %u quads along a cell)",
+                               T.max_tri, MAX_GRID);
+            goto fail;
+        }
+        st = assign_vertices(&T);
+        if (st != GEOM_OK)
+            goto fail;
+        int failing = 0;
+        for (size_t i = 0; i < T.ncells; ++i) {
+            ts_cell *c = &T.cells[i];
+            uint32_t old[6];
+            memcpy(old, c->sig, sizeof old);
+            st = triangulate_cell(&T, c);
+            if (st != GEOM_OK)
+                goto fail;
+            if (!c->checked || sig_changed(c, old))
+                check_cell(&T, c);
+            if (T.adaptive && (c->err > T.tol || (T.ang_tol > 0.0 && c->ang > T.ang_tol)))
+                failing = 1;
+        }
+        passes++;
+        if (!failing || !T.adaptive || passes >= MAX_PASSES)
+            break;
+        for (size_t i = 0; i < T.ncells; ++i) {
+            ts_cell *c = &T.cells[i];
+            double f = 1.0;
+            if (c->err > T.tol)
+                f = fmax(f, 1.1 * sqrt(c->err / T.tol));
+            if (T.ang_tol > 0.0 && c->ang > T.ang_tol)
+                f = fmax(f, 1.1 * c->ang / T.ang_tol);
+            if (f <= 1.0)
+                continue;
+            f = fmin(fmax(f, 1.25), 4.0);
+            c->M = (uint32_t)fmin(ceil((double)c->M * f), (double)MAX_GRID + 1);
+            c->N = (uint32_t)fmin(ceil((double)c->N * f), (double)MAX_GRID + 1);
+            if (stats)
+                stats->refinements++;
+        }
+    }
+    /* final pass: the same triangulation, with the attributes, and the
+     * error summary of exactly these triangles */
+    st = assign_vertices(&T);
+    if (st != GEOM_OK)
+        goto fail;
+    double emax = 0.0, esum = 0.0;
+    size_t ecount = 0;
+    for (size_t i = 0; i < T.ncells; ++i) {
+        ts_cell *c = &T.cells[i];
+        uint32_t old[6];
+        memcpy(old, c->sig, sizeof old);
+        st = triangulate_cell(&T, c);
+        if (st != GEOM_OK)
+            goto fail;
+        if (!c->checked || sig_changed(c, old))
+            check_cell(&T, c);
+        emax = fmax(emax, c->err);
+        esum += c->esum;
+        ecount += c->ecnt;
+        st = emit_cell(&T, c, attrs, o->uv_normalized);
+        if (st == GEOM_ERR_LIMIT)
+            st = geom_diag_set(diag, GEOM_ERR_LIMIT, NULL, 0, 0,
+                               "tessellate: more than %zu triangles", T.max_tri);
+        if (st != GEOM_OK)
+            goto fail;
+    }
+    st = build_mesh(&T, out, attrs, diag);
+    if (st != GEOM_OK)
+        goto fail;
+    if (report) {
+        report->max_error = emax;
+        report->mean_error = ecount ? esum / (double)ecount : 0.0;
+        report->method = GEOM_ERROR_SAMPLED;
+        report->evaluations = T.evals;
+    }
+    if (stats) {
+        stats->cells = T.ncells;
+        stats->triangles = geom_mesh_n_faces(out);
+        stats->vertices = geom_mesh_n_vertices(out);
+        stats->limit_normals = T.limit_normals;
+        for (size_t i = 0; i < T.nedges; ++i) {
+            const ts_edge *e = &T.edges[i];
+            stats->boundary_edges += e->boundary && !e->collapsed && e->partner == NONE32;
+        }
+    }
+    ts_release(&T);
+    return GEOM_OK;
+fail:
+    if (st == GEOM_ERR_NOMEM)
+        geom_diag_set(diag, st, NULL, 0, 0, "tessellate: out of memory");
+    ts_release(&T);
+    return st;
+}
