@@ -8,6 +8,30 @@ out="$build/demo"
 mkdir -p "$out"
 section() { printf '\n== %s\n' "$*"; }
 
+section "surfaces to OBJ with normals and UVs: Newell's teapot (32 Bezier patches), tolerance 1e-3"
+"$bin/geom-tessellate" "$root/data/teapot.bpt" -o "$out/teapot.obj" --tol 1e-3 --normals --uvs
+"$bin/geom-info" "$out/teapot.obj" | grep -E '^(faces|components|boundary_loops|manifold):'
+
+section "NURBS sphere, torus and a B-spline patch (data/surfaces.json): adaptive vs uniform"
+"$bin/geom-tessellate" "$root/data/surfaces.json" -o "$out/surfaces.obj" --tol 1e-3 --normals --uvs
+"$bin/geom-tessellate" "$root/data/surfaces.json" -o "$out/surfaces_grid.obj" --grid 16,16 --normals --uvs
+
+section "curves to polylines (data/surfaces.json)"
+"$bin/geom-curve" "$root/data/surfaces.json" -o "$out/curves.obj" --tol 1e-3
+
+section "implicit surfaces by marching cubes: a torus, refined on the exact function"
+"$bin/geom-iso" --expr 'torus(1, 0.35)' --bounds -1.5,-1.5,-0.5,1.5,1.5,0.5 --res 96,96,32 \
+  --refine --normals -o "$out/torus_iso.obj"
+"$bin/geom-info" "$out/torus_iso.obj" | grep -E '^(vertices|faces|genus|manifold|closed):'
+
+section "a gyroid clipped to a box, closed with caps"
+"$bin/geom-iso" --expr 'gyroid(6)' --bounds -1,-1,-1,1,1,1 --res 64 --caps -o "$out/gyroid.obj"
+"$bin/geom-info" "$out/gyroid.obj" | grep -E '^(faces|genus|closed):'
+
+section "isolines by marching squares (geom-contour), refined"
+"$bin/geom-contour" --expr 'smooth_union(sphere(0, 0, 0, 0.6), sphere(0.7, 0.3, 0, 0.5), 0.2)' \
+  --bounds -1,-1,1.5,1 --res 200 -o "$out/contour.svg"
+
 section "barycentric coordinates (geom-bary data/bary_points.txt)"
 "$bin/geom-bary" "$root/data/bary_points.txt"
 
@@ -24,3 +48,4 @@ section "feature edges and a plane clip with caps"
 grep -c '^l ' "$out/cube_features.obj" | sed 's/^/polylines: /'
 "$bin/geom-clip" --plane 1,1,1,-1.5 --cap "$root/data/cube_seams.obj" -o "$out/cube_clipped.obj"
 "$bin/geom-info" "$out/cube_clipped.obj"
+
