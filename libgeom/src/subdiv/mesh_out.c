@@ -1,0 +1,520 @@
+/*
+ * Whole-mesh subdivision: refine a geom_mesh and all its channels and
+ * build the refined geom_mesh (holes left out), with the error report.
+ */
+#include "subdiv_internal.h"
+
+#include <stdlib.h>
+
+typedef struct outmap {
+    uint32_t nf_out;      /* faces kept (not holes) */
+    uint32_t *face_level; /* per soup face: the level face */
+    uint32_t *vert_new;   /* per level vertex: soup vertex or SD_INVALID */
+    uint32_t *vert_old;   /* per soup vertex: level vertex */
+    uint32_t nv_out;
+} outmap;
+
+/* Values of the level-0 vertices / faces of a mesh channel. */
+static double *level0_vertex_data(const geom_allocator *a, const geom_mesh *m, const sd_level *l0,
+                                  uint32_t ch, size_t nc)
+{
+    double *d = sd_calloc(a, (size_t)l0->nv * nc, sizeof(double));
+    if (!d)
+        return NULL;
+    const double *src = geom_mesh_channel_cdata(m, ch);
+    size_t n = geom_mesh_channel_size(m, ch);
+    for (uint32_t v = 0; v < l0->nv && v < n; v++)
+        memcpy(d + (size_t)v * nc, src + (size_t)v * nc, nc * sizeof(double));
+    return d;
+}
+
+static double *level0_face_data(const geom_allocator *a, const geom_mesh *m, const sd_level *l0,
+                                uint32_t ch, size_t nc)
+{
+    double *d = sd_calloc(a, (size_t)l0->nf * nc, sizeof(double));
+    if (!d)
+        return NULL;
+    const double *src = geom_mesh_channel_cdata(m, ch);
+    uint32_t f0 = 0;
+    for (uint32_t f = 0; f < geom_mesh_n_faces(m) && f0 < l0->nf; f++) {
+        if (geom_mesh_face_is_deleted(m, f))
+            continue;
+        memcpy(d + (size_t)f0 * nc, src + (size_t)f * nc, nc * sizeof(double));
+        f0++;
+    }
+    return d;
+}
+
+/* Refine data from level 0 to `level` (vertex, face or face-varying). */
+enum { KIND_VERTEX, KIND_FACE, KIND_FVAR };
+
+static geom_status refine_data(const geom_subdiv_refiner *r, int level, int kind, uint32_t fch,
+                               size_t nc, double *d0, double **out)
+{
+    const geom_allocator *a = sd_alloc(r);
+    double *cur = d0;
+    size_t cur_n = kind == KIND_VERTEX ? r->lv[0]->nv
+                   : kind == KIND_FACE ? r->lv[0]->nf
+                                       : r->lv[0]->fvar[fch].nvalues;
+    for (int l = 1; l <= level; l++) {
+        const sd_level *c = r->lv[l];
+        size_t n = kind == KIND_VERTEX ? c->nv : kind == KIND_FACE ? c->nf : c->fvar[fch].nvalues;
+        double *next = sd_calloc(a, n * nc, sizeof(double));
+        if (!next) {
+            sd_free(a, cur, cur_n * nc, sizeof(double));
+            return GEOM_ERR_NOMEM;
+        }
+        geom_status st = kind == KIND_VERTEX ? geom_subdiv_interpolate(r, l, nc, cur, next)
+                         : kind == KIND_FACE ? geom_subdiv_interpolate_face(r, l, nc, cur, next)
+                                             : geom_subdiv_interpolate_fvar(r, fch, l, nc, cur, next);
+        sd_free(a, cur, cur_n * nc, sizeof(double));
+        if (st != GEOM_OK) {
+            sd_free(a, next, n * nc, sizeof(double));
+            return st;
+        }
+        cur = next;
+        cur_n = n;
+    }
+    *out = cur;
+    return GEOM_OK;
+}
+
+static size_t data_count(const geom_subdiv_refiner *r, int level, int kind, uint32_t fch)
+{
+    const sd_level *c = r->lv[level];
+    return kind == KIND_VERTEX ? c->nv : kind == KIND_FACE ? c->nf : c->fvar[fch].nvalues;
+}
+
+static int is_option_tag(const char *n)
+{
+    return strcmp(n, "interpolateboundary") == 0 || strcmp(n, "facevaryinginterpolateboundary") == 0 ||
+           strcmp(n, "facevaryingpropagatecorners") == 0 || strcmp(n, "creasemethod") == 0 ||
+           strcmp(n, "smoothtriangles") == 0;
+}
+
+static geom_status add_tags(const geom_subdiv_refiner *r, const sd_level *l, const outmap *om,
+                            const geom_mesh *like, geom_mesh *out)
+{
+    const geom_allocator *a = sd_alloc(r);
+    geom_status st = GEOM_OK;
+    if (like) {
+        for (size_t i = 0; st == GEOM_OK && i < geom_mesh_tag_count(like); i++) {
+            geom_mesh_tag t;
+            if (geom_mesh_tag_get(like, i, &t) == GEOM_OK && t.name && is_option_tag(t.name))
+                st = geom_mesh_tag_add(out, &t);
+        }
+    }
+    if (st != GEOM_OK || r->o.scheme == GEOM_SUBDIV_BUTTERFLY || r->o.scheme == GEOM_SUBDIV_SQRT3)
+        return st;
+    /* creases still sharp (not boundaries or non-manifold edges) */
+    size_t n = 0;
+    for (uint32_t e = 0; e < l->ne; e++)
+        if (l->esharp[e] > 0.0f && !(l->etag[e] & (SD_E_BOUNDARY | SD_E_NONMANIFOLD)) &&
+            om->vert_new[l->ev[2 * (size_t)e]] != SD_INVALID &&
+            om->vert_new[l->ev[2 * (size_t)e + 1]] != SD_INVALID)
+            n++;
+    if (n) {
+        int64_t *iv = sd_calloc(a, 2 * n, sizeof(int64_t));
+        double *fv = sd_calloc(a, n, sizeof(double));
+        if (!iv || !fv) {
+            sd_free(a, iv, 2 * n, sizeof(int64_t));
+            sd_free(a, fv, n, sizeof(double));
+            return GEOM_ERR_NOMEM;
+        }
+        size_t k = 0;
+        for (uint32_t e = 0; e < l->ne; e++) {
+            if (l->esharp[e] > 0.0f && !(l->etag[e] & (SD_E_BOUNDARY | SD_E_NONMANIFOLD)) &&
+                om->vert_new[l->ev[2 * (size_t)e]] != SD_INVALID &&
+                om->vert_new[l->ev[2 * (size_t)e + 1]] != SD_INVALID) {
+                iv[2 * k] = om->vert_new[l->ev[2 * (size_t)e]];
+                iv[2 * k + 1] = om->vert_new[l->ev[2 * (size_t)e + 1]];
+                fv[k] = l->esharp[e];
+                k++;
+            }
+        }
+        geom_mesh_tag t = {"crease", 2 * n, n, 0, iv, fv, NULL};
+        st = geom_mesh_tag_add(out, &t);
+        sd_free(a, iv, 2 * n, sizeof(int64_t));
+        sd_free(a, fv, n, sizeof(double));
+        if (st != GEOM_OK)
+            return st;
+    }
+    n = 0;
+    for (uint32_t v = 0; v < l->nv; v++)
+        if (l->vsharp[v] > 0.0f && !(l->vtag[v] & SD_V_NONMANIFOLD) && om->vert_new[v] != SD_INVALID)
+            n++;
+    if (n) {
+        int64_t *iv = sd_calloc(a, n, sizeof(int64_t));
+        double *fv = sd_calloc(a, n, sizeof(double));
+        if (!iv || !fv) {
+            sd_free(a, iv, n, sizeof(int64_t));
+            sd_free(a, fv, n, sizeof(double));
+            return GEOM_ERR_NOMEM;
+        }
+        size_t k = 0;
+        for (uint32_t v = 0; v < l->nv; v++) {
+            if (l->vsharp[v] > 0.0f && !(l->vtag[v] & SD_V_NONMANIFOLD) &&
+                om->vert_new[v] != SD_INVALID) {
+                iv[k] = om->vert_new[v];
+                fv[k] = l->vsharp[v];
+                k++;
+            }
+        }
+        geom_mesh_tag t = {"corner", n, n, 0, iv, fv, NULL};
+        st = geom_mesh_tag_add(out, &t);
+        sd_free(a, iv, n, sizeof(int64_t));
+        sd_free(a, fv, n, sizeof(double));
+    }
+    return st;
+}
+
+static geom_status copy_groups(const geom_subdiv_refiner *r, int level, const outmap *om,
+                               const geom_mesh *like, geom_mesh *out)
+{
+    const uint32_t *g = geom_mesh_face_cgroups(like);
+    if (!g || geom_mesh_group_count(like) == 0)
+        return GEOM_OK;
+    for (size_t i = 0; i < geom_mesh_group_count(like); i++) {
+        geom_mesh_group gr;
+        geom_status st = geom_mesh_group_get(like, i, &gr);
+        if (st == GEOM_OK)
+            st = geom_mesh_group_add(out, &gr, NULL);
+        if (st != GEOM_OK)
+            return st;
+    }
+    uint32_t *og = geom_mesh_face_groups(out);
+    if (!og)
+        return GEOM_ERR_NOMEM;
+    const sd_level *l0 = r->lv[0];
+    const geom_allocator *a = sd_alloc(r);
+    uint32_t *g0 = sd_calloc(a, l0->nf, sizeof(uint32_t));
+    if (!g0)
+        return GEOM_ERR_NOMEM;
+    uint32_t f0 = 0;
+    for (uint32_t f = 0; f < geom_mesh_n_faces(like) && f0 < l0->nf; f++)
+        if (!geom_mesh_face_is_deleted(like, f))
+            g0[f0++] = g[f];
+    const uint32_t *forig = geom_mesh_face_origin(out);
+    for (uint32_t f = 0; f < geom_mesh_n_faces(out); f++) {
+        uint32_t sf = forig ? forig[f] : f;
+        uint32_t lf = om->face_level[sf];
+        for (int l = level; l > 0; l--)
+            lf = r->lv[l]->face_parent[lf];
+        og[f] = g0[lf];
+    }
+    sd_free(a, g0, l0->nf, sizeof(uint32_t));
+    return GEOM_OK;
+}
+
+geom_status geom_subdiv_build_mesh(const geom_subdiv_refiner *r, int level, const double *positions,
+                                   const double *normals, const geom_mesh *like, geom_mesh **out,
+                                   size_t *hole_faces, geom_diag *diag)
+{
+    if (out)
+        *out = NULL;
+    if (hole_faces)
+        *hole_faces = 0;
+    if (!r || !positions || !out || level < 0 || level >= r->nlevels)
+        return GEOM_ERR_INVALID_ARG;
+    const geom_allocator *a = sd_alloc(r);
+    const sd_level *l = r->lv[level];
+    outmap om;
+    memset(&om, 0, sizeof om);
+    geom_status st = GEOM_ERR_NOMEM;
+    uint32_t *sizes = NULL, *idx = NULL;
+    double *pos = NULL;
+    geom_mesh *m = NULL;
+    size_t nidx = 0;
+    om.face_level = sd_calloc(a, l->nf, sizeof(uint32_t));
+    om.vert_new = sd_calloc(a, l->nv, sizeof(uint32_t));
+    om.vert_old = sd_calloc(a, l->nv, sizeof(uint32_t));
+    sizes = sd_calloc(a, l->nf, sizeof(uint32_t));
+    if (!om.face_level || !om.vert_new || !om.vert_old || !sizes)
+        goto done;
+    int any_hole = 0;
+    for (uint32_t f = 0; f < l->nf; f++) {
+        if (l->fhole[f]) {
+            any_hole = 1;
+            if (hole_faces)
+                (*hole_faces)++;
+            continue;
+        }
+        om.face_level[om.nf_out] = f;
+        sizes[om.nf_out++] = l->fv_off[f + 1] - l->fv_off[f];
+        nidx += l->fv_off[f + 1] - l->fv_off[f];
+    }
+    for (uint32_t v = 0; v < l->nv; v++)
+        om.vert_new[v] = any_hole ? SD_INVALID : v;
+    if (any_hole) {
+        for (uint32_t i = 0; i < om.nf_out; i++) {
+            uint32_t f = om.face_level[i];
+            for (uint32_t k = l->fv_off[f]; k < l->fv_off[f + 1]; k++)
+                om.vert_new[l->fv[k]] = 0;
+        }
+        for (uint32_t v = 0; v < l->nv; v++)
+            if (om.vert_new[v] == 0)
+                om.vert_new[v] = om.nv_out, om.vert_old[om.nv_out++] = v;
+    } else {
+        om.nv_out = l->nv;
+        for (uint32_t v = 0; v < l->nv; v++)
+            om.vert_old[v] = v;
+    }
+    idx = sd_calloc(a, nidx, sizeof(uint32_t));
+    pos = sd_calloc(a, 3 * (size_t)om.nv_out, sizeof(double));
+    if (!idx || !pos)
+        goto done;
+    for (uint32_t v = 0; v < om.nv_out; v++)
+        memcpy(pos + 3 * (size_t)v, positions + 3 * (size_t)om.vert_old[v], 3 * sizeof(double));
+    size_t k = 0;
+    for (uint32_t i = 0; i < om.nf_out; i++) {
+        uint32_t f = om.face_level[i];
+        for (uint32_t j = l->fv_off[f]; j < l->fv_off[f + 1]; j++)
+            idx[k++] = om.vert_new[l->fv[j]];
+    }
+    m = geom_mesh_create(a);
+    if (!m)
+        goto done;
+    geom_mesh_build_options bo;
+    memset(&bo, 0, sizeof bo);
+    bo.skip_invalid_faces = 1;
+    bo.keep_orientation = 1;
+    st = geom_mesh_build(m, om.nv_out, pos, om.nf_out, sizes, idx, &bo, NULL, diag);
+    if (st != GEOM_OK)
+        goto done;
+    const uint32_t *vorig = geom_mesh_vertex_origin(m);
+    const uint32_t *forig = geom_mesh_face_origin(m);
+    size_t nvm = geom_mesh_n_vertices(m), nfm = geom_mesh_n_faces(m);
+    if (like) {
+        /* vertex channels */
+        for (uint32_t ch = 1; st == GEOM_OK && ch < geom_mesh_channel_count(like); ch++) {
+            geom_mesh_domain dom = geom_mesh_channel_domain(like, ch);
+            size_t nc = geom_mesh_channel_ncomp(like, ch);
+            const char *name = geom_mesh_channel_name(like, ch);
+            if (dom == GEOM_MESH_DOMAIN_VERTEX || dom == GEOM_MESH_DOMAIN_FACE) {
+                int kind = dom == GEOM_MESH_DOMAIN_VERTEX ? KIND_VERTEX : KIND_FACE;
+                double *d0 = kind == KIND_VERTEX ? level0_vertex_data(a, like, r->lv[0], ch, nc)
+                                                 : level0_face_data(a, like, r->lv[0], ch, nc);
+                double *dl = NULL;
+                if (!d0) {
+                    st = GEOM_ERR_NOMEM;
+                    break;
+                }
+                st = refine_data(r, level, kind, 0, nc, d0, &dl);
+                if (st != GEOM_OK)
+                    break;
+                uint32_t id;
+                st = geom_mesh_channel_add(m, name, dom, nc, &id);
+                if (st == GEOM_OK) {
+                    double *dst = geom_mesh_channel_data(m, id);
+                    if (kind == KIND_VERTEX) {
+                        for (size_t v = 0; v < nvm; v++) {
+                            uint32_t sv = vorig ? vorig[v] : (uint32_t)v;
+                            memcpy(dst + v * nc, dl + (size_t)om.vert_old[sv] * nc,
+                                   nc * sizeof(double));
+                        }
+                    } else {
+                        for (size_t f = 0; f < nfm; f++) {
+                            uint32_t sf = forig ? forig[f] : (uint32_t)f;
+                            memcpy(dst + f * nc, dl + (size_t)om.face_level[sf] * nc,
+                                   nc * sizeof(double));
+                        }
+                    }
+                }
+                sd_free(a, dl, data_count(r, level, kind, 0) * nc, sizeof(double));
+            }
+        }
+        /* face-varying channels */
+        for (uint32_t fc = 0; st == GEOM_OK && fc < r->n_fvar_mesh; fc++) {
+            uint32_t ch = r->fvar_mesh_channel[fc];
+            if (ch >= geom_mesh_channel_count(like) ||
+                geom_mesh_channel_domain(like, ch) != GEOM_MESH_DOMAIN_CORNER)
+                continue;
+            size_t nc = geom_mesh_channel_ncomp(like, ch);
+            size_t pool = geom_mesh_channel_size(like, ch);
+            double *d0 = sd_calloc(a, pool * nc, sizeof(double)), *dl = NULL;
+            if (!d0) {
+                st = GEOM_ERR_NOMEM;
+                break;
+            }
+            memcpy(d0, geom_mesh_channel_cdata(like, ch), pool * nc * sizeof(double));
+            st = refine_data(r, level, KIND_FVAR, fc, nc, d0, &dl);
+            if (st != GEOM_OK)
+                break;
+            size_t nvals = data_count(r, level, KIND_FVAR, fc);
+            uint32_t id;
+            st = geom_mesh_channel_add(m, geom_mesh_channel_name(like, ch), GEOM_MESH_DOMAIN_CORNER,
+                                       nc, &id);
+            if (st == GEOM_OK)
+                st = geom_mesh_corner_pool_resize(m, id, nvals);
+            if (st == GEOM_OK) {
+                memcpy(geom_mesh_channel_data(m, id), dl, nvals * nc * sizeof(double));
+                uint32_t *ci = geom_mesh_corner_indices(m, id);
+                const uint32_t *fvals = l->fvar[fc].fvals;
+                for (size_t f = 0; f < nfm; f++) {
+                    uint32_t sf = forig ? forig[f] : (uint32_t)f, lf = om.face_level[sf];
+                    uint32_t h0 = geom_mesh_face_he(m, (uint32_t)f), h = h0;
+                    do {
+                        uint32_t sv = geom_mesh_he_vertex(m, h);
+                        uint32_t lv = om.vert_old[vorig ? vorig[sv] : sv];
+                        for (uint32_t j = l->fv_off[lf]; j < l->fv_off[lf + 1]; j++) {
+                            if (l->fv[j] == lv) {
+                                ci[h] = fvals[j];
+                                break;
+                            }
+                        }
+                        h = geom_mesh_he_next(m, h);
+                    } while (h != h0);
+                }
+            }
+            sd_free(a, dl, nvals * nc, sizeof(double));
+        }
+        if (st == GEOM_OK)
+            st = copy_groups(r, level, &om, like, m);
+        for (size_t i = 0; st == GEOM_OK && i < geom_mesh_mtllib_count(like); i++)
+            st = geom_mesh_mtllib_add(m, geom_mesh_mtllib_get(like, i));
+    }
+    if (st == GEOM_OK && normals) {
+        uint32_t id = geom_mesh_channel_find(m, "normal", GEOM_MESH_DOMAIN_CORNER);
+        if (id != GEOM_INVALID_INDEX)
+            st = geom_mesh_channel_remove(m, id);
+        id = geom_mesh_channel_find(m, "normal", GEOM_MESH_DOMAIN_VERTEX);
+        if (st == GEOM_OK && id == GEOM_INVALID_INDEX)
+            st = geom_mesh_channel_add(m, "normal", GEOM_MESH_DOMAIN_VERTEX, 3, &id);
+        if (st == GEOM_OK) {
+            double *dst = geom_mesh_channel_data(m, id);
+            for (size_t v = 0; v < nvm; v++) {
+                uint32_t sv = vorig ? vorig[v] : (uint32_t)v;
+                memcpy(dst + 3 * v, normals + 3 * (size_t)om.vert_old[sv], 3 * sizeof(double));
+            }
+        }
+    }
+    if (st == GEOM_OK)
+        st = add_tags(r, l, &om, like, m);
+done:
+    sd_free(a, om.face_level, l->nf, sizeof(uint32_t));
+    sd_free(a, om.vert_new, l->nv, sizeof(uint32_t));
+    sd_free(a, om.vert_old, l->nv, sizeof(uint32_t));
+    sd_free(a, sizes, l->nf, sizeof(uint32_t));
+    sd_free(a, idx, nidx, sizeof(uint32_t));
+    sd_free(a, pos, 3 * (size_t)om.nv_out, sizeof(double));
+    if (st != GEOM_OK) {
+        geom_mesh_destroy(m);
+        return st;
+    }
+    *out = m;
+    return GEOM_OK;
+}
+
+geom_status geom_subdiv_mesh(const geom_mesh *m, const geom_subdiv_options *opt, int levels,
+                             unsigned flags, geom_mesh **out, geom_subdiv_report *report,
+                             geom_diag *diag)
+{
+    if (out)
+        *out = NULL;
+    if (report)
+        memset(report, 0, sizeof *report);
+    if (!m || !out || levels < 0 || levels > GEOM_SUBDIV_MAX_LEVEL)
+        return GEOM_ERR_INVALID_ARG;
+    geom_subdiv_refiner *r = NULL;
+    geom_status st = geom_subdiv_refiner_create(m, opt, &r, diag);
+    if (st != GEOM_OK)
+        return st;
+    st = geom_subdiv_refiner_refine(r, levels);
+    if (st != GEOM_OK) {
+        geom_subdiv_refiner_destroy(r);
+        return st;
+    }
+    geom_allocator acopy = r->alloc;
+    const geom_allocator *a = r->has_alloc ? &acopy : NULL;
+    const sd_level *l0 = r->lv[0], *ll = r->lv[levels];
+    double *pos = level0_vertex_data(a, m, l0, 0, 3), *lp = NULL;
+    if (!pos) {
+        geom_subdiv_refiner_destroy(r);
+        return GEOM_ERR_NOMEM;
+    }
+    geom_aabb box = geom_aabb_empty();
+    for (uint32_t v = 0; v < l0->nv; v++)
+        if (l0->vf_off[v + 1] > l0->vf_off[v])
+            box = geom_aabb_extend(box, geom_vec3_make(pos[3 * v], pos[3 * v + 1], pos[3 * v + 2]));
+    st = refine_data(r, levels, KIND_VERTEX, 0, 3, pos, &pos);
+    if (st != GEOM_OK) {
+        geom_subdiv_refiner_destroy(r);
+        return st;
+    }
+    size_t nv = ll->nv;
+    lp = sd_calloc(a, 3 * nv, sizeof(double));
+    if (!lp)
+        st = GEOM_ERR_NOMEM;
+    else
+        st = geom_subdiv_limit(r, 3, pos, lp, NULL, NULL);
+    double maxd = 0.0, sum = 0.0;
+    size_t counted = 0;
+    if (st == GEOM_OK) {
+        for (size_t v = 0; v < nv; v++) {
+            if (ll->vf_off[v + 1] == ll->vf_off[v])
+                continue;
+            double dx = pos[3 * v] - lp[3 * v], dy = pos[3 * v + 1] - lp[3 * v + 1],
+                   dz = pos[3 * v + 2] - lp[3 * v + 2];
+            double d = sqrt(dx * dx + dy * dy + dz * dz);
+            if (d > maxd)
+                maxd = d;
+            sum += d * d;
+            counted++;
+        }
+    }
+    geom_mesh *res = NULL;
+    size_t holes = 0;
+    double *nrm = NULL;
+    int generic = r->o.scheme == GEOM_SUBDIV_BUTTERFLY || r->o.scheme == GEOM_SUBDIV_SQRT3;
+    if (st == GEOM_OK && (flags & GEOM_SUBDIV_NORMALS) && !generic) {
+        nrm = sd_calloc(a, 3 * nv, sizeof(double));
+        st = nrm ? geom_subdiv_limit_normals(r, pos, nrm, NULL) : GEOM_ERR_NOMEM;
+    }
+    if (st == GEOM_OK && (flags & GEOM_SUBDIV_LIMIT))
+        memcpy(pos, lp, 3 * nv * sizeof(double));
+    if (st == GEOM_OK)
+        st = geom_subdiv_build_mesh(r, levels, pos, nrm, m, &res, &holes, diag);
+    if (st == GEOM_OK && (flags & GEOM_SUBDIV_NORMALS) && generic) {
+        uint32_t id = geom_mesh_channel_find(res, "normal", GEOM_MESH_DOMAIN_CORNER);
+        if (id != GEOM_INVALID_INDEX)
+            st = geom_mesh_channel_remove(res, id);
+        id = geom_mesh_channel_find(res, "normal", GEOM_MESH_DOMAIN_VERTEX);
+        if (st == GEOM_OK && id == GEOM_INVALID_INDEX)
+            st = geom_mesh_channel_add(res, "normal", GEOM_MESH_DOMAIN_VERTEX, 3, &id);
+        if (st == GEOM_OK)
+            st = geom_mesh_vertex_normals(res, GEOM_NORMAL_WEIGHT_ANGLE,
+                                          geom_mesh_channel_data(res, id), NULL);
+    }
+    sd_free(a, nrm, 3 * nv, sizeof(double));
+    if (st == GEOM_OK && report) {
+        report->levels = levels;
+        report->vertices = geom_mesh_n_vertices(res);
+        report->faces = geom_mesh_n_faces(res);
+        report->input_faces = l0->nf;
+        report->hole_faces = holes;
+        report->fvar_channels = r->n_fvar_mesh;
+        size_t dropped = 0, corner = 0;
+        for (uint32_t ch = 0; ch < geom_mesh_channel_count(m); ch++) {
+            geom_mesh_domain d = geom_mesh_channel_domain(m, ch);
+            if (d == GEOM_MESH_DOMAIN_EDGE)
+                dropped++;
+            if (d == GEOM_MESH_DOMAIN_CORNER)
+                corner++;
+        }
+        report->dropped_channels = dropped + (corner - r->n_fvar_mesh);
+        report->max_limit_distance = (flags & GEOM_SUBDIV_LIMIT) ? 0.0 : maxd;
+        report->rms_limit_distance =
+            (flags & GEOM_SUBDIV_LIMIT) || counted == 0 ? 0.0 : sqrt(sum / (double)counted);
+        report->bbox_diagonal =
+            geom_aabb_is_empty(box) ? 0.0 : geom_vec3_length(geom_vec3_sub(box.max, box.min));
+    }
+    sd_free(a, pos, 3 * nv, sizeof(double));
+    sd_free(a, lp, 3 * nv, sizeof(double));
+    geom_subdiv_refiner_destroy(r);
+    if (st != GEOM_OK) {
+        geom_mesh_destroy(res);
+        return st;
+    }
+    *out = res;
+    return GEOM_OK;
+}

@@ -1,0 +1,465 @@
+/* geom-module: subdiv meshio */
+/*
+ * geom-subdivide: subdivide a mesh.
+ *
+ *   geom-subdivide [--scheme catmull-clark|loop|bilinear|butterfly|sqrt3]
+ *                  [--levels N] [--limit] [--boundary none|edge|corner]
+ *                  [--fvar none|corners|corners1|corners2|boundaries|all]
+ *                  [--creasing uniform|chaikin] [--normals] [IN] [-o OUT]
+ *
+ * Refines IN (standard input when absent or "-") uniformly N times
+ * (default 1) with geom_subdiv (the rules of
+ * OpenSubdiv 3 for Catmull-Clark, Loop and bilinear; OBJ `t` tags for
+ * creases, corners, holes and options are honoured) and writes OUT with
+ * its UVs and other channels refined. --limit moves the final vertices to
+ * their limit positions; --normals adds limit normals. Loop, butterfly and
+ * sqrt3 need triangles: other polygons are triangulated first (reported).
+ *
+ * After the run a summary goes to standard error: the face and vertex
+ * counts, the time, and for each level its counts, the time it took
+ * (topology and positions) and the distance from its vertices to their
+ * limit positions (max and rms; the error of stopping at that level). With
+ * --json the same is printed on standard output as one JSON object (OUT
+ * must then be a file).
+ *
+ * Exit status 0 on success, 1 on a read, subdivision or write error, 2 on a
+ * usage error.
+ */
+#include "cli.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "geom/meshio.h"
+#include "geom/subdiv.h"
+
+static const cli_tool tool = {
+    "geom-subdivide",
+    "[OPTION]... [IN] [-o OUT]",
+    "Subdivide the mesh in IN (standard input when IN is '-' or absent; then its\n"
+    "format comes from --input-format or the content) and write it to OUT\n"
+    "(standard output when OUT is '-' or absent; then --format is needed).",
+    "  -s, --scheme=S       catmull-clark (default), loop, bilinear, butterfly,\n"
+    "                       sqrt3\n"
+    "  -n, --levels=N       levels of uniform refinement, 0..12 (default 1)\n"
+    "  -l, --limit          move the result's vertices to the limit surface\n"
+    "  -b, --boundary=B     vertex boundary interpolation: none (boundary faces\n"
+    "                       become holes), edge (default), corner (edge and corner)\n"
+    "      --fvar=F         UV (face-varying) boundaries: none (smooth), corners,\n"
+    "                       corners1, corners2, boundaries, all (linear; default)\n"
+    "      --creasing=C     semi-sharp crease decay: uniform (default), chaikin\n"
+    "      --normals        add per-vertex normals: limit normals (catmull-clark,\n"
+    "                       loop, bilinear), angle-weighted (butterfly, sqrt3)\n"
+    "  -f, --format=FMT     output format (obj, off, ply, stl, glb); default: from\n"
+    "                       OUT's extension\n"
+    "  -i, --input-format=FMT  input format (obj, off, ply, stl); default: from\n"
+    "                       IN's extension, else from the content\n",
+    "Options given here override the file's `t` tags (interpolateboundary,\n"
+    "facevaryinginterpolateboundary, creasemethod); creases, corners and holes\n"
+    "come from `t crease`, `t corner` and `t hole`. Without a tag or option the\n"
+    "defaults are OpenSubdiv's: boundary edges sharp, corners smooth, uniform\n"
+    "creasing, linear UVs.\n"
+    "With --json, prints {\"scheme\", \"levels\", \"input\", \"output\", \"seconds\",\n"
+    "\"bbox_diagonal\", \"triangulated_faces\", \"hole_faces\", \"per_level\": [{\"level\",\n"
+    "\"faces\", \"vertices\", \"seconds\", \"max_limit_distance\",\n"
+    "\"rms_limit_distance\"}]} on standard output (OUT must be a file).\n",
+};
+
+enum { OPT_FVAR = CLI_OPT_TOOL_BASE, OPT_CREASING, OPT_NORMALS };
+
+typedef struct sub_opts {
+    geom_subdiv_options so;
+    int levels;
+    int limit, normals;
+    geom_meshio_format in_format, out_format;
+} sub_opts;
+
+static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
+{
+    sub_opts *o = user;
+    switch (opt) {
+    case 's':
+        if (geom_subdiv_scheme_from_name(arg, &o->so.scheme) != GEOM_OK)
+            return cli_usage_error(t, "unknown scheme '%s' (catmull-clark, loop, bilinear, "
+                                      "butterfly, sqrt3)",
+                                   arg);
+        return CLI_CONTINUE;
+    case 'n': {
+        double d;
+        if (cli_parse_double(arg, strlen(arg), 0, &d, NULL) != GEOM_OK || d != floor(d) ||
+            d < 0 || d > GEOM_SUBDIV_MAX_LEVEL)
+            return cli_usage_error(t, "--levels takes an integer from 0 to %d, not '%s'",
+                                   GEOM_SUBDIV_MAX_LEVEL, arg);
+        o->levels = (int)d;
+        return CLI_CONTINUE;
+    }
+    case 'l':
+        o->limit = 1;
+        return CLI_CONTINUE;
+    case 'b':
+        if (strcmp(arg, "none") == 0)
+            o->so.boundary = GEOM_SUBDIV_BOUNDARY_NONE;
+        else if (strcmp(arg, "edge") == 0)
+            o->so.boundary = GEOM_SUBDIV_BOUNDARY_EDGE_ONLY;
+        else if (strcmp(arg, "corner") == 0)
+            o->so.boundary = GEOM_SUBDIV_BOUNDARY_EDGE_AND_CORNER;
+        else
+            return cli_usage_error(t, "unknown boundary rule '%s' (none, edge, corner)", arg);
+        return CLI_CONTINUE;
+    case OPT_FVAR: {
+        static const char *const names[] = {"none", "corners", "corners1", "corners2",
+                                            "boundaries", "all"};
+        for (int i = 0; i < 6; i++) {
+            if (strcmp(arg, names[i]) == 0) {
+                o->so.fvar_boundary = (geom_subdiv_fvar)(i + 1);
+                return CLI_CONTINUE;
+            }
+        }
+        return cli_usage_error(t, "unknown --fvar rule '%s' (none, corners, corners1, "
+                                  "corners2, boundaries, all)",
+                               arg);
+    }
+    case OPT_CREASING:
+        if (strcmp(arg, "uniform") == 0)
+            o->so.crease_method = GEOM_SUBDIV_CREASE_UNIFORM;
+        else if (strcmp(arg, "chaikin") == 0)
+            o->so.crease_method = GEOM_SUBDIV_CREASE_CHAIKIN;
+        else
+            return cli_usage_error(t, "unknown --creasing '%s' (uniform, chaikin)", arg);
+        return CLI_CONTINUE;
+    case OPT_NORMALS:
+        o->normals = 1;
+        return CLI_CONTINUE;
+    case 'f':
+        o->out_format = geom_meshio_format_from_name(arg);
+        if (o->out_format == GEOM_MESHIO_FORMAT_AUTO)
+            return cli_usage_error(t, "unknown output format '%s' (obj, off, ply, stl, glb)", arg);
+        return CLI_CONTINUE;
+    case 'i':
+        o->in_format = geom_meshio_format_from_name(arg);
+        if (o->in_format == GEOM_MESHIO_FORMAT_AUTO || o->in_format == GEOM_MESHIO_FORMAT_GLB)
+            return cli_usage_error(t, "unknown input format '%s' (obj, off, ply, stl)", arg);
+        return CLI_CONTINUE;
+    default:
+        break;
+    }
+    return CLI_EXIT_USAGE;
+}
+
+/* Read IN ("-": standard input) into a mesh; repairs go to stderr. */
+static geom_status read_mesh(const char *path, geom_meshio_format fmt, geom_mesh **m,
+                             geom_diag *diag)
+{
+    cli_input in;
+    geom_status st = cli_input_open(&in, path, diag);
+    if (st != GEOM_OK)
+        return st;
+    size_t cap = 1 << 16, n = 0;
+    unsigned char *buf = malloc(cap);
+    while (buf) {
+        if (n == cap) {
+            unsigned char *q = cap > ((size_t)-1) / 2 ? NULL : realloc(buf, cap * 2);
+            if (!q) {
+                free(buf);
+                buf = NULL;
+                break;
+            }
+            buf = q;
+            cap *= 2;
+        }
+        size_t got = fread(buf + n, 1, cap - n, in.fp);
+        n += got;
+        if (got == 0)
+            break;
+    }
+    if (!buf) {
+        cli_input_close(&in);
+        return cli_diag_set(diag, GEOM_ERR_NOMEM, path, 0, 0, "out of memory");
+    }
+    if (ferror(in.fp)) {
+        free(buf);
+        st = cli_diag_set(diag, GEOM_ERR_IO, in.name, 0, 0, "read error");
+        cli_input_close(&in);
+        return st;
+    }
+    geom_meshio_read_options ro;
+    memset(&ro, 0, sizeof ro);
+    ro.format = fmt;
+    geom_mesh_build_report r;
+    st = geom_meshio_read_memory(buf, n, in.name, &ro, m, &r, diag);
+    free(buf);
+    if (st == GEOM_OK) {
+        const struct {
+            const char *what;
+            size_t n;
+        } items[] = {{"invalid faces skipped", r.invalid_faces},
+                     {"faces flipped", r.flipped_faces},
+                     {"non-manifold edges", r.nonmanifold_edges},
+                     {"faces detached", r.detached_faces},
+                     {"vertices split", r.split_vertices},
+                     {"non-orientable components cut", r.nonorientable_components}};
+        for (size_t i = 0; i < sizeof items / sizeof items[0]; i++)
+            if (items[i].n)
+                fprintf(stderr, "%s: %s: repaired: %zu %s\n", tool.name, in.name, items[i].n,
+                        items[i].what);
+    }
+    cli_input_close(&in);
+    return st;
+}
+
+static geom_status write_mesh(const geom_mesh *m, const char *path, geom_meshio_format fmt,
+                              geom_diag *diag)
+{
+    geom_meshio_write_options wo;
+    memset(&wo, 0, sizeof wo);
+    wo.format = fmt;
+    if (strcmp(path, "-") != 0)
+        return geom_meshio_write(m, path, &wo, diag);
+    void *buf = NULL;
+    size_t n = 0;
+    geom_status st = geom_meshio_write_memory(m, &wo, &buf, &n, diag);
+    if (st != GEOM_OK)
+        return st;
+    cli_output out;
+    st = cli_output_open(&out, NULL, diag);
+    if (st == GEOM_OK) {
+        fwrite(buf, 1, n, out.fp);
+        st = cli_output_commit(&out, diag);
+    }
+    geom_meshio_buffer_free(buf, n, NULL);
+    return st;
+}
+
+typedef struct level_stat {
+    size_t faces, vertices;
+    double seconds, max_dist, rms_dist;
+} level_stat;
+
+/* Distance from each vertex (with a face) of the deepest level to its limit. */
+static geom_status limit_distance(const geom_subdiv_refiner *r, const double *pos, size_t nv,
+                                  double *maxd, double *rms, double **lim_out)
+{
+    double *lim = malloc((3 * nv + 1) * sizeof(double));
+    if (!lim)
+        return GEOM_ERR_NOMEM;
+    geom_status st = geom_subdiv_limit(r, 3, pos, lim, NULL, NULL);
+    double mx = 0.0, sum = 0.0;
+    for (size_t v = 0; st == GEOM_OK && v < nv; v++) {
+        double d = hypot(hypot(pos[3 * v] - lim[3 * v], pos[3 * v + 1] - lim[3 * v + 1]),
+                         pos[3 * v + 2] - lim[3 * v + 2]);
+        if (d > mx)
+            mx = d;
+        sum += d * d;
+    }
+    *maxd = mx;
+    *rms = nv ? sqrt(sum / (double)nv) : 0.0;
+    if (lim_out && st == GEOM_OK)
+        *lim_out = lim;
+    else
+        free(lim);
+    return st;
+}
+
+int main(int argc, char **argv)
+{
+    static const struct option longopts[] = {{"scheme", required_argument, NULL, 's'},
+                                             {"levels", required_argument, NULL, 'n'},
+                                             {"limit", no_argument, NULL, 'l'},
+                                             {"boundary", required_argument, NULL, 'b'},
+                                             {"fvar", required_argument, NULL, OPT_FVAR},
+                                             {"creasing", required_argument, NULL, OPT_CREASING},
+                                             {"normals", no_argument, NULL, OPT_NORMALS},
+                                             {"format", required_argument, NULL, 'f'},
+                                             {"input-format", required_argument, NULL, 'i'},
+                                             {NULL, 0, NULL, 0}};
+    sub_opts so;
+    memset(&so, 0, sizeof so);
+    so.levels = 1;
+    cli_common common;
+    int first;
+    int rc = cli_parse_args(&tool, argc, argv, "s:n:lb:f:i:", longopts, on_option, &so, &common,
+                            &first);
+    if (rc != CLI_CONTINUE)
+        return rc;
+    if (argc - first > 1)
+        return cli_usage_error(&tool, "extra operand '%s'", argv[first + 1]);
+    const char *out_path = common.output ? common.output : "-";
+    int to_stdout = strcmp(out_path, "-") == 0;
+    if (so.out_format == GEOM_MESHIO_FORMAT_AUTO) {
+        if (to_stdout)
+            return cli_usage_error(&tool, "writing to standard output needs --format");
+        so.out_format = geom_meshio_format_from_name(out_path);
+        if (so.out_format == GEOM_MESHIO_FORMAT_AUTO)
+            return cli_usage_error(&tool, "cannot tell the output format from '%s': use --format",
+                                   out_path);
+    }
+    if (common.json && to_stdout)
+        return cli_usage_error(&tool, "--json needs the mesh written to a file (-o OUT)");
+
+    geom_diag diag;
+    geom_diag_clear(&diag);
+    geom_mesh *m = NULL;
+    const char *in_path = argc > first ? argv[first] : "-";
+    if (read_mesh(in_path, so.in_format, &m, &diag) != GEOM_OK)
+        return cli_print_diag(&tool, &diag);
+    size_t in_faces = geom_mesh_n_live_faces(m), in_verts = geom_mesh_n_live_vertices(m);
+    size_t triangulated = 0;
+    if (so.so.scheme == GEOM_SUBDIV_LOOP || so.so.scheme == GEOM_SUBDIV_BUTTERFLY ||
+        so.so.scheme == GEOM_SUBDIV_SQRT3) {
+        int need = 0;
+        for (uint32_t f = 0; f < geom_mesh_n_faces(m); f++)
+            if (!geom_mesh_face_is_deleted(m, f) && geom_mesh_face_valence(m, f) != 3)
+                need = 1;
+        if (need) {
+            geom_status ts = geom_mesh_triangulate(m, &triangulated);
+            if (ts != GEOM_OK && ts != GEOM_ERR_DEGENERATE) {
+                geom_mesh_destroy(m);
+                return cli_error(&tool, "%s: triangulation failed: %s", in_path,
+                                 geom_status_str(ts));
+            }
+            fprintf(stderr, "%s: %s: %s needs triangles: %zu faces added by triangulation\n",
+                    tool.name, in_path, geom_subdiv_scheme_name(so.so.scheme), triangulated);
+        }
+    }
+
+    cli_timer total;
+    cli_timer_start(&total);
+    geom_subdiv_refiner *r = NULL;
+    geom_status st = geom_subdiv_refiner_create(m, &so.so, &r, &diag);
+    if (st != GEOM_OK) {
+        geom_mesh_destroy(m);
+        if (diag.message[0]) {
+            if (!diag.source[0])
+                cli_diag_locate(&diag, in_path, 0);
+            return cli_print_diag(&tool, &diag);
+        }
+        return cli_error(&tool, "%s: %s", in_path, geom_status_str(st));
+    }
+    double setup = cli_timer_elapsed(&total);
+    level_stat ls[GEOM_SUBDIV_MAX_LEVEL + 1];
+    memset(ls, 0, sizeof ls);
+    geom_subdiv_level_info li;
+    geom_subdiv_refiner_level_info(r, 0, &li);
+    double *pos = malloc((3 * li.vertices + 1) * sizeof(double));
+    double bbox = 0.0;
+    if (!pos) {
+        st = GEOM_ERR_NOMEM;
+    } else {
+        memcpy(pos, geom_mesh_cpositions(m), 3 * li.vertices * sizeof(double));
+        geom_aabb b = geom_mesh_bbox(m);
+        if (!geom_aabb_is_empty(b))
+            bbox = geom_vec3_length(geom_vec3_sub(b.max, b.min));
+    }
+    double work = setup;
+    for (int l = 1; st == GEOM_OK && l <= so.levels; l++) {
+        cli_timer t;
+        cli_timer_start(&t);
+        st = geom_subdiv_refiner_refine(r, 1);
+        double *next = NULL;
+        if (st == GEOM_OK) {
+            geom_subdiv_refiner_level_info(r, l, &li);
+            next = malloc((3 * li.vertices + 1) * sizeof(double));
+            st = next ? geom_subdiv_interpolate(r, l, 3, pos, next) : GEOM_ERR_NOMEM;
+        }
+        ls[l].seconds = cli_timer_elapsed(&t);
+        work += ls[l].seconds;
+        free(pos);
+        pos = next;
+        if (st == GEOM_OK) {
+            ls[l].faces = li.faces;
+            ls[l].vertices = li.vertices;
+            st = limit_distance(r, pos, li.vertices, &ls[l].max_dist, &ls[l].rms_dist, NULL);
+        }
+    }
+    geom_mesh *out = NULL;
+    size_t holes = 0;
+    if (st == GEOM_OK) {
+        cli_timer t;
+        cli_timer_start(&t);
+        double *nrm = NULL;
+        int generic = so.so.scheme == GEOM_SUBDIV_BUTTERFLY || so.so.scheme == GEOM_SUBDIV_SQRT3;
+        if (st == GEOM_OK && so.normals && !generic) {
+            geom_subdiv_refiner_level_info(r, so.levels, &li);
+            nrm = malloc((3 * li.vertices + 1) * sizeof(double));
+            st = nrm ? geom_subdiv_limit_normals(r, pos, nrm, NULL) : GEOM_ERR_NOMEM;
+        }
+        if (so.limit) {
+            double mx, rms, *lim = NULL;
+            geom_subdiv_refiner_level_info(r, so.levels, &li);
+            st = limit_distance(r, pos, li.vertices, &mx, &rms, &lim);
+            if (st == GEOM_OK) {
+                free(pos);
+                pos = lim;
+            }
+        }
+        if (st == GEOM_OK)
+            st = geom_subdiv_build_mesh(r, so.levels, pos, nrm, m, &out, &holes, &diag);
+        free(nrm);
+        if (st == GEOM_OK && so.normals && generic) {
+            uint32_t id = geom_mesh_channel_find(out, "normal", GEOM_MESH_DOMAIN_CORNER);
+            if (id != GEOM_INVALID_INDEX)
+                st = geom_mesh_channel_remove(out, id);
+            id = geom_mesh_channel_find(out, "normal", GEOM_MESH_DOMAIN_VERTEX);
+            if (st == GEOM_OK && id == GEOM_INVALID_INDEX)
+                st = geom_mesh_channel_add(out, "normal", GEOM_MESH_DOMAIN_VERTEX, 3, &id);
+            if (st == GEOM_OK)
+                st = geom_mesh_vertex_normals(out, GEOM_NORMAL_WEIGHT_ANGLE,
+                                              geom_mesh_channel_data(out, id), NULL);
+        }
+        work += cli_timer_elapsed(&t);
+    }
+    free(pos);
+    geom_subdiv_refiner_destroy(r);
+    if (st != GEOM_OK) {
+        geom_mesh_destroy(m);
+        geom_mesh_destroy(out);
+        if (diag.message[0])
+            return cli_print_diag(&tool, &diag);
+        return cli_error(&tool, "%s: subdivision failed: %s", in_path, geom_status_str(st));
+    }
+    st = write_mesh(out, out_path, so.out_format, &diag);
+    if (st != GEOM_OK) {
+        geom_mesh_destroy(m);
+        geom_mesh_destroy(out);
+        return cli_print_diag(&tool, &diag);
+    }
+    size_t out_faces = geom_mesh_n_live_faces(out), out_verts = geom_mesh_n_live_vertices(out);
+    const char *scheme = geom_subdiv_scheme_name(so.so.scheme);
+    if (common.json) {
+        printf("{\"scheme\":");
+        cli_json_string(stdout, scheme);
+        printf(",\"levels\":%d,\"input\":{\"faces\":%zu,\"vertices\":%zu},"
+               "\"output\":{\"faces\":%zu,\"vertices\":%zu},\"seconds\":",
+               so.levels, in_faces, in_verts, out_faces, out_verts);
+        cli_json_number(stdout, work);
+        printf(",\"bbox_diagonal\":");
+        cli_json_number(stdout, bbox);
+        printf(",\"triangulated_faces\":%zu,\"hole_faces\":%zu,\"per_level\":[", triangulated,
+               holes);
+        for (int l = 1; l <= so.levels; l++) {
+            printf("%s{\"level\":%d,\"faces\":%zu,\"vertices\":%zu,\"seconds\":", l > 1 ? "," : "",
+                   l, ls[l].faces, ls[l].vertices);
+            cli_json_number(stdout, ls[l].seconds);
+            printf(",\"max_limit_distance\":");
+            cli_json_number(stdout, ls[l].max_dist);
+            printf(",\"rms_limit_distance\":");
+            cli_json_number(stdout, ls[l].rms_dist);
+            printf("}");
+        }
+        printf("]}\n");
+    } else {
+        fprintf(stderr, "%s: %s, %d level%s: %zu -> %zu faces, %zu -> %zu vertices, %.6g s\n",
+                tool.name, scheme, so.levels, so.levels == 1 ? "" : "s", in_faces, out_faces,
+                in_verts, out_verts, work);
+        for (int l = 1; l <= so.levels; l++)
+            fprintf(stderr,
+                    "%s:   level %d: %zu faces, %zu vertices, %.6g s, distance to limit max "
+                    "%.3g rms %.3g\n",
+                    tool.name, l, ls[l].faces, ls[l].vertices, ls[l].seconds, ls[l].max_dist,
+                    ls[l].rms_dist);
+    }
+    geom_mesh_destroy(m);
+    geom_mesh_destroy(out);
+    return CLI_EXIT_OK;
+}
