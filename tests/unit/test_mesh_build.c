@@ -39,6 +39,31 @@ static void assert_valid(const geom_mesh *m)
         fail_msg("%zu defects, first kind %d element %u", n, (int)d[0].kind, d[0].element);
 }
 
+static int cmp_u64(const void *a, const void *b)
+{
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* No two edges join the same two vertices (a polygon mesh: rebuilding its
+ * soup needs no repair). */
+static void assert_no_double_edges(const geom_mesh *m)
+{
+    size_t ne = geom_mesh_n_edges(m), n = 0;
+    uint64_t *key = malloc((ne + 1) * sizeof(uint64_t));
+    assert_non_null(key);
+    for (uint32_t e = 0; e < ne; ++e) {
+        uint32_t a = geom_mesh_he_vertex(m, 2 * e), b = geom_mesh_he_vertex(m, 2 * e + 1);
+        key[n++] = a < b ? ((uint64_t)a << 32 | b) : ((uint64_t)b << 32 | a);
+    }
+    qsort(key, n, sizeof key[0], cmp_u64);
+    for (size_t i = 1; i < n; ++i)
+        if (key[i] == key[i - 1])
+            fail_msg("two edges join vertices %u and %u", (unsigned)(key[i] >> 32),
+                     (unsigned)(key[i] & 0xffffffffu));
+    free(key);
+}
+
 /* Build and check everything that must hold for any input. */
 static geom_mesh *build(const soup *s, const geom_mesh_build_options *opt,
                         geom_mesh_build_report *r)
@@ -50,6 +75,7 @@ static geom_mesh *build(const soup *s, const geom_mesh_build_options *opt,
     if (st != GEOM_OK)
         fail_msg("build failed: %s", diag.message);
     assert_valid(m);
+    assert_no_double_edges(m);
     const uint32_t *vo = geom_mesh_vertex_origin(m), *fo = geom_mesh_face_origin(m);
     assert_non_null(vo);
     assert_non_null(fo);
@@ -362,6 +388,130 @@ static void test_three_faces_on_edge(void **state)
     geom_mesh_destroy(m);
 }
 
+/* Outward tetrahedra (0,1,2,3) and (0,1,4,5) sharing edge 0-1, each face
+ * of one listed between faces of the other. Regression: compatible pairs
+ * were glued in input order (tet A's first face with tet B's first face,
+ * then the second faces), which joined both tetrahedra into one surface
+ * with two edges between vertices 0 and 1 and split no vertex; the faces
+ * that close a surface around both ends of the edge are now glued first. */
+static void test_interleaved_tets_on_edge(void **state)
+{
+    (void)state;
+    double xyz[6 * 3] = {0, 0, 0, 0, 0, 1, 1, 0, 0, 0, 1, 0, -1, 0, 0, 0, -1, 0};
+    uint32_t sz8[8] = {3, 3, 3, 3, 3, 3, 3, 3};
+    /* A0 B0 A1 B1 (the four faces on edge 0-1), then the others */
+    uint32_t id8[24] = {0, 2, 1, 0, 4, 1, 0, 1, 3, 0, 1, 5, 0, 3, 2, 1, 2, 3, 0, 5, 4, 1, 4, 5};
+    soup s = {6, 8, xyz, sz8, id8};
+    geom_mesh_build_report r;
+    geom_mesh *m = build(&s, NULL, &r);
+    assert_int_equal(r.flipped_faces, 0);
+    assert_int_equal(r.nonmanifold_edges, 1);
+    /* faces 0 and 2 are kept (tet A's), 1 and 3 detached onto copies of
+     * vertices 0 and 1 */
+    assert_int_equal(r.detached_faces, 2);
+    assert_int_equal(r.first_detached_faces[0], 1);
+    assert_int_equal(r.first_detached_faces[1], 3);
+    assert_int_equal(r.split_vertices, 2);
+    assert_int_equal(r.added_vertices, 2);
+    geom_mesh_topology t = topo(m);
+    assert_int_equal(t.vertices, 8);
+    assert_int_equal(t.edges, 12);
+    assert_int_equal(t.components, 2);
+    assert_true(t.closed);
+    assert_int_equal(t.euler, 4);
+    assert_int_equal(t.genus, 0);
+    assert_true(fabs(volume(m) - 2.0 / 6.0) < 1e-15);
+    /* the output is a polygon mesh: its soup builds again without repair */
+    size_t ni;
+    uint32_t osz[8], oix[24];
+    assert_int_equal(geom_mesh_to_soup(m, osz, oix, &ni), GEOM_OK);
+    soup s2 = {geom_mesh_n_vertices(m), 8, geom_mesh_cpositions(m), osz, oix};
+    geom_mesh_build_report r2;
+    geom_mesh *m2 = build(&s2, NULL, &r2);
+    assert_int_equal(r2.flipped_faces + r2.nonmanifold_edges + r2.detached_faces +
+                         r2.split_vertices + r2.added_vertices,
+                     0);
+    geom_mesh_destroy(m2);
+    geom_mesh_destroy(m);
+
+    /* every order of the eight faces gives the same two tetrahedra */
+    uint64_t rng = 77;
+    for (int it = 0; it < 200; ++it) {
+        uint32_t perm[8] = {0, 1, 2, 3, 4, 5, 6, 7}, id[24];
+        for (int i = 7; i > 0; --i) {
+            rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+            int j = (int)((rng >> 33) % (uint64_t)(i + 1));
+            uint32_t tmp = perm[i];
+            perm[i] = perm[j];
+            perm[j] = tmp;
+        }
+        for (int f = 0; f < 8; ++f)
+            memcpy(id + 3 * f, id8 + 3 * perm[f], 3 * sizeof(uint32_t));
+        soup sp = {6, 8, xyz, sz8, id};
+        m = build(&sp, NULL, &r);
+        t = topo(m);
+        assert_int_equal(t.components, 2);
+        assert_true(t.closed);
+        assert_int_equal(t.edges, 12);
+        assert_int_equal(r.added_vertices, 2);
+        assert_true(fabs(fabs(volume(m)) - 2.0 / 6.0) < 1e-15);
+        geom_mesh_destroy(m);
+    }
+}
+
+/* A cube with an open square tube standing on its top face: each of the
+ * four top edges has three faces (top, side, tube). The cube's two faces are
+ * glued on every one of them (each glue joins fans whose other ends are the
+ * next top edge's unglued uses; those meet and are glued in turn), so the
+ * cube stays closed and the tube is detached with its two boundary loops. */
+static void test_tube_on_cube(void **state)
+{
+    (void)state;
+    double xyz[12 * 3];
+    memcpy(xyz, cube_xyz, sizeof cube_xyz);
+    for (int i = 0; i < 4; ++i) {
+        xyz[3 * (8 + i)] = cube_xyz[3 * (4 + i)];
+        xyz[3 * (8 + i) + 1] = cube_xyz[3 * (4 + i) + 1];
+        xyz[3 * (8 + i) + 2] = 2;
+    }
+    uint32_t sizes[10] = {4, 4, 4, 4, 4, 4, 4, 4, 4, 4}, idx[40];
+    memcpy(idx, cube_idx, sizeof cube_idx);
+    for (uint32_t i = 0; i < 4; ++i) {
+        uint32_t a = 4 + i, b = 4 + (i + 1) % 4;
+        uint32_t q[4] = {a, b, b + 4, a + 4};
+        memcpy(idx + 24 + 4 * i, q, sizeof q);
+    }
+    soup s = {12, 10, xyz, sizes, idx};
+    geom_mesh_build_report r;
+    geom_mesh *m = build(&s, NULL, &r);
+    assert_int_equal(r.nonmanifold_edges, 4);
+    assert_int_equal(r.detached_faces, 4);
+    for (int i = 0; i < 4; ++i)
+        assert_int_equal(r.first_detached_faces[i], 6 + i);
+    assert_int_equal(r.added_vertices, 4);
+    geom_mesh_topology t = topo(m);
+    assert_int_equal(t.components, 2);
+    assert_int_equal(t.boundary_loops, 2);
+    assert_int_equal(t.vertices, 16);
+    assert_int_equal(t.euler, 2);
+    assert_int_equal(t.genus, 0);
+    /* the cube's faces form a closed component */
+    uint32_t fc[10];
+    size_t nc;
+    assert_int_equal(geom_mesh_components(m, &nc, NULL, fc), GEOM_OK);
+    for (uint32_t f = 0; f < 10; ++f) {
+        assert_int_equal(fc[f] == fc[0], f < 6);
+        uint32_t h0 = geom_mesh_face_he(m, f), h = h0;
+        size_t nb = 0;
+        do {
+            nb += geom_mesh_he_is_boundary(m, geom_mesh_he_opposite(m, h));
+            h = geom_mesh_he_next(m, h);
+        } while (h != h0);
+        assert_int_equal(nb, f < 6 ? 0 : 2); /* a tube quad: bottom and top edges */
+    }
+    geom_mesh_destroy(m);
+}
+
 static void test_moebius(void **state)
 {
     (void)state;
@@ -628,6 +778,8 @@ int main(void)
         cmocka_unit_test(test_random_orientation_grid),
         cmocka_unit_test(test_two_tets_one_vertex),
         cmocka_unit_test(test_three_faces_on_edge),
+        cmocka_unit_test(test_interleaved_tets_on_edge),
+        cmocka_unit_test(test_tube_on_cube),
         cmocka_unit_test(test_moebius),
         cmocka_unit_test(test_bowtie_and_pillow),
         cmocka_unit_test(test_invalid_faces),

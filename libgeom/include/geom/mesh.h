@@ -214,10 +214,12 @@ typedef struct geom_mesh_build_report {
  * whose vertex indices are listed consecutively in `indices` (sum of sizes).
  * The result is a manifold, consistently oriented half-edge mesh: each
  * connected set of faces is oriented like its first face (breadth-first
- * over manifold edges); a non-manifold edge keeps its first two compatible
- * faces and the others are detached (their vertices duplicated on that
- * edge); a vertex whose faces form several fans is split into one vertex per
- * fan. Output vertex i < nverts corresponds to input vertex i; added
+ * over manifold edges); an edge used by more than two faces keeps glued the
+ * pairs of its faces that already meet around both of its vertices (the faces
+ * of one closed surface), then its first compatible remaining pair when that
+ * joins no two vertices twice; the other faces are detached onto other copies
+ * of the edge's vertices; a vertex whose faces form several fans is split into
+ * one vertex per fan. No output has two edges between the same two vertices. Output vertex i < nverts corresponds to input vertex i; added
  * vertices follow, and the VERTEX-domain int map
  * geom_mesh_vertex_origin() gives the input vertex of each. Face i of the
  * output is input face i unless invalid faces were skipped (then faces keep

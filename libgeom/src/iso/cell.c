@@ -24,13 +24,13 @@
 #include <float.h>
 #include <string.h>
 
-const uint8_t iso_edge_corners[12][2] = {
+const uint8_t geom_iso__edge_corners[12][2] = {
     {0, 1}, {2, 3}, {4, 5}, {6, 7}, /* along x */
     {0, 2}, {1, 3}, {4, 6}, {5, 7}, /* along y */
     {0, 4}, {1, 5}, {2, 6}, {3, 7}  /* along z */
 };
 
-const uint8_t iso_face_corners[6][4] = {
+const uint8_t geom_iso__face_corners[6][4] = {
     {0, 4, 6, 2}, /* x = 0 */
     {1, 3, 7, 5}, /* x = 1 */
     {0, 1, 5, 4}, /* y = 0 */
@@ -50,7 +50,7 @@ static int edge_between(int a, int b)
     return 8 + (lo & 3);
 }
 
-int iso_face_decider(double g00, double g10, double g01, double g11)
+int geom_iso__face_decider(double g00, double g10, double g01, double g11)
 {
     /* Sign of the bilinear interpolant at its saddle relative to the
      * isovalue: (g00 g11 - g10 g01) / (g00 + g11 - g10 - g01). On an
@@ -79,14 +79,14 @@ int iso_face_decider(double g00, double g10, double g01, double g11)
     return ((g00 + g11) - (g10 + g01)) < 0;
 }
 
-int iso_face_join(int f, const double g[8], int joined[2])
+int geom_iso__face_join(int f, const double g[8], int joined[2])
 {
     int axis = f >> 1, side = f & 1;
     int au = axis == 0 ? 1 : 0;
     int av = axis == 2 ? 1 : 2;
     int c00 = side << axis;
     int c10 = c00 | (1 << au), c01 = c00 | (1 << av), c11 = c10 | (1 << av);
-    int d = iso_face_decider(g[c00], g[c10], g[c01], g[c11]);
+    int d = geom_iso__face_decider(g[c00], g[c10], g[c01], g[c11]);
     joined[0] = d ? c00 : c10;
     joined[1] = d ? c11 : c01;
     return !(g[joined[0]] > 0);
@@ -238,7 +238,7 @@ static void sweep_join(const double g0[8], uf *u)
             if (s[adj[a][0]] == s[adj[a][1]])
                 uf_union(u, cur[adj[a][0]], cur[adj[a][1]]);
         if (s[0] == s[3] && s[1] == s[2] && s[0] != s[1]) {
-            if (iso_face_decider(v[0], v[1], v[2], v[3]))
+            if (geom_iso__face_decider(v[0], v[1], v[2], v[3]))
                 uf_union(u, cur[0], cur[3]);
             else
                 uf_union(u, cur[1], cur[2]);
@@ -301,7 +301,7 @@ static inline double tri_cost2(const double *p, const double *q, const double *r
     return c0 * c0 + c1 * c1 + c2 * c2;
 }
 
-int iso_polygon_tris(int n, const double *const p[], const unsigned fm[], uint8_t (*tri)[3],
+int geom_iso__polygon_tris(int n, const double *const p[], const unsigned fm[], uint8_t (*tri)[3],
                      int *forced)
 {
     *forced = 0;
@@ -508,7 +508,7 @@ static int inner_vertex(const cell_ctx *cc, iso_cell_result *out, const double q
 }
 
 /* Triangulation of the polygon v[0..n-1] keeping its orientation: without
- * new vertices when possible (iso_polygon_tris), else (when every choice
+ * new vertices when possible (geom_iso__polygon_tris), else (when every choice
  * would put a chord in a cell face) as a fan around an inner vertex. */
 static void tri_polygon(const int *v, int n, const cell_ctx *cc, iso_cell_result *out)
 {
@@ -522,7 +522,7 @@ static void tri_polygon(const int *v, int n, const cell_ctx *cc, iso_cell_result
         fm[i] = ref_faces(v[i]);
     }
     int forced;
-    int nt = iso_polygon_tris(n, p, fm, t, &forced);
+    int nt = geom_iso__polygon_tris(n, p, fm, t, &forced);
     if (forced) {
         double q[3] = {0, 0, 0};
         for (int i = 0; i < n; i++)
@@ -887,7 +887,7 @@ static int tri_tube_ring(const int *a, int na, const int *b, int nb, int core_ou
 
 /* ----------------------------------------------------------- case table */
 
-void iso_case_table_init(iso_case_table *t)
+void geom_iso__case_table_init(iso_case_table *t)
 {
     for (int cs = 0; cs < 256; cs++) {
         iso_case *c = &t->cases[cs];
@@ -899,7 +899,7 @@ void iso_case_table_init(iso_case_table *t)
             next[e] = -1;
         int ambiguous = 0;
         for (int f = 0; f < 6; f++) {
-            const uint8_t *p = iso_face_corners[f];
+            const uint8_t *p = geom_iso__face_corners[f];
             int sg[4], changes = 0;
             for (int k = 0; k < 4; k++)
                 sg[k] = (cs >> p[k]) & 1;
@@ -992,7 +992,7 @@ static int cell_self_intersects(const iso_cell_result *out, const double (*vpos)
 
 /* ------------------------------------------------------------- the cell */
 
-void iso_cell_triangulate(const double g[8], const double vpos[12][3], const double lo[3],
+void geom_iso__cell_triangulate(const double g[8], const double vpos[12][3], const double lo[3],
                           const double size[3], iso_cell_result *out)
 {
     out->ntris = 0;
@@ -1012,7 +1012,7 @@ void iso_cell_triangulate(const double g[8], const double vpos[12][3], const dou
         next[e] = -1;
     int joined[6][2];
     for (int f = 0; f < 6; f++) {
-        const uint8_t *p = iso_face_corners[f];
+        const uint8_t *p = geom_iso__face_corners[f];
         int s[4];
         int changes = 0;
         for (int k = 0; k < 4; k++)
@@ -1030,7 +1030,7 @@ void iso_cell_triangulate(const double g[8], const double vpos[12][3], const dou
             }
             next[from] = to;
         } else if (changes == 4) {
-            int inside_joined = iso_face_join(f, g, joined[f]);
+            int inside_joined = geom_iso__face_join(f, g, joined[f]);
             for (int k = 0; k < 4; k++) {
                 int km = (k + 3) & 3, kp = (k + 1) & 3;
                 if (inside_joined && s[k])
@@ -1070,7 +1070,7 @@ void iso_cell_triangulate(const double g[8], const double vpos[12][3], const dou
     uf u;
     uf_init(&u, UF_MAX);
     for (int e = 0; e < 12; e++) {
-        int a = iso_edge_corners[e][0], b = iso_edge_corners[e][1];
+        int a = geom_iso__edge_corners[e][0], b = geom_iso__edge_corners[e][1];
         if (((outside >> a) & 1u) == ((outside >> b) & 1u))
             uf_union(&u, a, b);
     }
@@ -1083,7 +1083,7 @@ void iso_cell_triangulate(const double g[8], const double vpos[12][3], const dou
     int rin[7], rout[7], group[7];
     for (int i = 0; i < nc; i++) {
         int e = verts[cstart[i]];
-        int a = iso_edge_corners[e][0], b = iso_edge_corners[e][1];
+        int a = geom_iso__edge_corners[e][0], b = geom_iso__edge_corners[e][1];
         int in = g[a] > 0 ? b : a;
         int ou = g[a] > 0 ? a : b;
         rin[i] = uf_find(&u, in);
@@ -1117,7 +1117,7 @@ void iso_cell_triangulate(const double g[8], const double vpos[12][3], const dou
                 int pin[2], pout[2];
                 for (int q = 0; q < 2; q++) {
                     int e = verts[cstart[members[q]]];
-                    int a = iso_edge_corners[e][0], b = iso_edge_corners[e][1];
+                    int a = geom_iso__edge_corners[e][0], b = geom_iso__edge_corners[e][1];
                     pin[q] = uf_find(&surf, g[a] > 0 ? b : a);
                     pout[q] = uf_find(&surf, g[a] > 0 ? a : b);
                 }

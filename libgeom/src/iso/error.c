@@ -7,7 +7,7 @@
 #include <omp.h>
 #endif
 
-void iso_field_gradient(const geom_iso_field *f, const double p[3], const double h[3],
+void geom_iso__field_gradient(const geom_iso_field *f, const double p[3], const double h[3],
                         double g[3], size_t *evals)
 {
     if (f->gradient) {
@@ -30,13 +30,13 @@ void iso_field_gradient(const geom_iso_field *f, const double p[3], const double
     *evals += 6;
 }
 
-int iso_point_error(const geom_iso_field *f, double iso, const double p[3], const double h[3],
+int geom_iso__point_error(const geom_iso_field *f, double iso, const double p[3], const double h[3],
                     double *e, size_t *evals)
 {
     double v = f->value(f->user, p);
     *evals += 1;
     double g[3];
-    iso_field_gradient(f, p, h, g, evals);
+    geom_iso__field_gradient(f, p, h, g, evals);
     double n = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
     double d = fabs(v - iso);
     if (!isfinite(d) || !(n > 0) || !isfinite(n))
@@ -65,7 +65,7 @@ static void acc_sample(iso_err_acc *a, double e)
 
 /* Measure over vertices and triangles in fixed chunks (so the sums do not
  * depend on the thread count), in parallel when OpenMP is there. */
-geom_status iso_measure(const geom_iso_field *f, double iso, size_t nv, const double *xyz,
+geom_status geom_iso__measure(const geom_iso_field *f, double iso, size_t nv, const double *xyz,
                         const uint8_t *vmask, size_t nt, const uint32_t *tris, const double h[3],
                         int threads, const geom_allocator *alloc, iso_err_acc *total)
 {
@@ -96,7 +96,7 @@ geom_status iso_measure(const geom_iso_field *f, double iso, size_t nv, const do
             for (size_t v = b; v < end; v++) {
                 if (vmask && !vmask[v])
                     continue;
-                if (iso_point_error(f, iso, xyz + 3 * v, h, &e, &a->evaluations))
+                if (geom_iso__point_error(f, iso, xyz + 3 * v, h, &e, &a->evaluations))
                     acc_vertex(a, e);
                 else
                     a->unmeasured++;
@@ -114,7 +114,7 @@ geom_status iso_measure(const geom_iso_field *f, double iso, size_t nv, const do
                     s[3][c] = 0.5 * (p[2][c] + p[0][c]);
                 }
                 for (int k = 0; k < 4; k++) {
-                    if (iso_point_error(f, iso, s[k], h, &e, &a->evaluations))
+                    if (geom_iso__point_error(f, iso, s[k], h, &e, &a->evaluations))
                         acc_sample(a, e);
                     else
                         a->unmeasured++;
@@ -173,7 +173,7 @@ geom_status geom_iso_measure_error(const geom_iso_field *field, double iso, size
     double step = ext > 0 ? 1e-5 * ext : 1e-5;
     double h[3] = {step, step, step};
     iso_err_acc acc;
-    geom_status st = iso_measure(field, iso, n_vertices, xyz, NULL, n_triangles, tris, h, 1, NULL,
+    geom_status st = geom_iso__measure(field, iso, n_vertices, xyz, NULL, n_triangles, tris, h, 1, NULL,
                                  &acc);
     if (st != GEOM_OK)
         return st;

@@ -144,7 +144,7 @@ static uint32_t add_vertex(slab *s, const ctx *c, const double p[3], int axis, d
     x[2] = p[2];
     if (c->normals) {
         double g[3];
-        iso_field_gradient(c->field, p, c->dstep, g, &s->evaluations);
+        geom_iso__field_gradient(c->field, p, c->dstep, g, &s->evaluations);
         double n = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
         double *o = s->nrm + 3 * s->nv;
         if (n > 0 && isfinite(n)) {
@@ -412,7 +412,7 @@ static uint32_t make_edge_vertex(slab *s, const ctx *c, work *w, size_t i, size_
         nk = k;
         axis = 2;
     }
-    int a = iso_edge_corners[e][0], b = iso_edge_corners[e][1];
+    int a = geom_iso__edge_corners[e][0], b = geom_iso__edge_corners[e][1];
     double ga, gb;
     if (g) {
         ga = g[a];
@@ -509,7 +509,7 @@ static void do_cell(slab *s, const ctx *c, work *w, size_t i, size_t j, const do
         }
         uint8_t t[12][3];
         int forced;
-        int nt = iso_polygon_tris(n, p, fm, t, &forced);
+        int nt = geom_iso__polygon_tris(n, p, fm, t, &forced);
         if (forced)
             goto general;
         for (int q = 0; q < nt; q++)
@@ -522,7 +522,7 @@ general:;
     double vpos[12][3];
     uint32_t vid[12];
     for (int e = 0; e < 12; e++) {
-        int a = iso_edge_corners[e][0], b = iso_edge_corners[e][1];
+        int a = geom_iso__edge_corners[e][0], b = geom_iso__edge_corners[e][1];
         if ((g[a] > 0) == (g[b] > 0))
             continue;
         vid[e] = cell_edge_vertex(s, c, w, i, j, e, g);
@@ -537,7 +537,7 @@ general:;
     double size[3] = {c->coord[0][i + 1] - lo[0], c->coord[1][j + 1] - lo[1],
                       c->coord[2][w->k + 1] - lo[2]};
     iso_cell_result r;
-    iso_cell_triangulate(g, (const double(*)[3])vpos, lo, size, &r);
+    geom_iso__cell_triangulate(g, (const double(*)[3])vpos, lo, size, &r);
     uint32_t inner[ISO_CELL_MAX_INNER];
     for (int q = 0; q < r.ninner; q++)
         inner[q] = add_vertex(s, c, r.inner[q], 0, 1.0);
@@ -568,7 +568,7 @@ general:;
  * outside the box. */
 static void do_cap(slab *s, const ctx *c, work *w, size_t i, size_t j, int f, const double g[8])
 {
-    const uint8_t *p = iso_face_corners[f];
+    const uint8_t *p = geom_iso__face_corners[f];
     int in[4], nin = 0, changes = 0;
     for (int k = 0; k < 4; k++) {
         in[k] = !(g[p[k]] > 0);
@@ -580,7 +580,7 @@ static void do_cap(slab *s, const ctx *c, work *w, size_t i, size_t j, int f, co
         changes += in[k] != in[(k + 1) & 3];
     if (changes == 4) {
         int jn[2];
-        if (!iso_face_join(f, g, jn)) {
+        if (!geom_iso__face_join(f, g, jn)) {
             /* inside corners separated: one triangle each */
             for (int k = 0; k < 4; k++) {
                 if (!in[k])
@@ -588,7 +588,7 @@ static void do_cap(slab *s, const ctx *c, work *w, size_t i, size_t j, int f, co
                 int km = (k + 3) & 3, kp = (k + 1) & 3;
                 int e0 = -1, e1 = -1;
                 for (int e = 0; e < 12; e++) {
-                    int a = iso_edge_corners[e][0], b = iso_edge_corners[e][1];
+                    int a = geom_iso__edge_corners[e][0], b = geom_iso__edge_corners[e][1];
                     if ((a == p[km] && b == p[k]) || (a == p[k] && b == p[km]))
                         e0 = e;
                     if ((a == p[k] && b == p[kp]) || (a == p[kp] && b == p[k]))
@@ -611,7 +611,7 @@ static void do_cap(slab *s, const ctx *c, work *w, size_t i, size_t j, int f, co
         if (in[k] != in[kp]) {
             int ee = -1;
             for (int e = 0; e < 12; e++) {
-                int a = iso_edge_corners[e][0], b = iso_edge_corners[e][1];
+                int a = geom_iso__edge_corners[e][0], b = geom_iso__edge_corners[e][1];
                 if ((a == p[k] && b == p[kp]) || (a == p[kp] && b == p[k]))
                     ee = e;
             }
@@ -651,7 +651,7 @@ static void simple_cell(slab *s, const ctx *c, work *w, size_t i, size_t j, cons
     }
     uint8_t t[12][3];
     int forced;
-    int nt = iso_polygon_tris(n, p, fm, t, &forced);
+    int nt = geom_iso__polygon_tris(n, p, fm, t, &forced);
     if (forced) {
         visit_cell(s, c, w, i, j, 0); /* the general path adds an inner vertex */
         return;
@@ -879,7 +879,7 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
 {
     ctx c = *c0;
     iso_case_table table;
-    iso_case_table_init(&table);
+    geom_iso__case_table_init(&table);
     c.cases = &table;
     const geom_allocator *al = c.alloc;
     size_t nz = c.n[2];
@@ -1065,7 +1065,7 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
                 }
             }
             if (st == GEOM_OK)
-                st = iso_measure(c.field, c.iso, out->n_vertices, out->xyz, mask, nst, out->tris,
+                st = geom_iso__measure(c.field, c.iso, out->n_vertices, out->xyz, mask, nst, out->tris,
                                  c.dstep, threads, al, &acc);
             geom_free(al, mask, out->n_vertices ? out->n_vertices : 1);
             if (st == GEOM_OK) {

@@ -13,11 +13,20 @@
  *  4. pair the uses of each undirected edge: two uses glue when their
  *     oriented directions are opposite. An edge used twice the same way (a
  *     non-orientable cut, or keep_orientation) glues nothing, and the face
- *     with more such edges (the later one on a tie) is reported detached;
- *     an edge used
- *     more than twice glues its first compatible pair ("kept"), then further
- *     compatible pairs among the rest, whose faces are reported detached
- *     (they end up on their own copies of the edge's vertices);
+ *     with more such edges (the later one on a tie) is reported detached.
+ *     An edge used more than twice first glues nothing; with the fans of
+ *     corners that the other edges make (as in step 6, on corners), it then
+ *     glues each pair of its uses whose faces already meet around both of
+ *     its vertices (the two ends of one fan at each end: two closed
+ *     surfaces touching along the edge stay two closed surfaces, as CGAL's
+ *     orient_polygon_soup makes them), then the first compatible pair of
+ *     the uses left unless that would make two edges join the same two
+ *     vertices. So no two output edges ever join the same two vertices
+ *     (gluing compatible pairs in input order, as this once did, could: two
+ *     tetrahedra on one edge with their faces interleaved became one
+ *     surface with a doubled edge). The faces outside the edge's first
+ *     glued pair ("kept") are reported detached: they end up on other
+ *     copies of the edge's vertices (at least one of the two differs);
  *  5. one edge per pair or unpaired use; face cycles in oriented order;
  *  6. vertex fans: corners at a vertex linked through glued edges form
  *     paths or cycles (each edge use is glued at most once). Union-find over
@@ -100,6 +109,152 @@ static void uf_union(uint32_t *parent, uint32_t a, uint32_t b)
 }
 
 enum { FL_DETACHED = 1, FL_NONMANIFOLD = 2 };
+
+/*
+ * Corner fans, for edges with more than two faces (step 4). Corner c is the
+ * corner of face cf[c] that its ORIENTED boundary leaves: it goes from
+ * src(c) to dst(c) (cv -> cb, or cb -> cv when the face is flipped). The
+ * fan of c is the set of corners leaving src(c) that glued edges join into
+ * one path or cycle around it (each outgoing and each incoming edge of a
+ * corner is glued at most once), kept with union-find; a path has one
+ * corner whose outgoing edge is unglued (out_end) and one whose incoming
+ * edge is (in_end), a cycle none (INV).
+ */
+typedef struct cfans {
+    const uint32_t *cf, *fs;
+    const uint8_t *flip;
+    uint32_t *partner;
+    uint32_t *fan;     /* union-find parent, per corner */
+    uint32_t *out_end; /* per fan root */
+    uint32_t *in_end;  /* per fan root */
+} cfans;
+
+/* The corner after c in its face's oriented order (the one leaving dst(c)). */
+static uint32_t cf_next(const cfans *k, uint32_t c)
+{
+    uint32_t f = k->cf[c], s = k->fs[f], e = k->fs[f + 1];
+    if (!k->flip[f])
+        return c + 1 < e ? c + 1 : s;
+    return c > s ? c - 1 : e - 1;
+}
+
+/* The corner before c in its face's oriented order (its edge arrives at src(c)). */
+static uint32_t cf_prev(const cfans *k, uint32_t c)
+{
+    uint32_t f = k->cf[c], s = k->fs[f], e = k->fs[f + 1];
+    if (!k->flip[f])
+        return c > s ? c - 1 : e - 1;
+    return c + 1 < e ? c + 1 : s;
+}
+
+/* a's outgoing edge was glued to b's incoming edge (a and b leave the same
+ * vertex): join their fans, or close the path into a cycle. */
+static void cf_join(cfans *k, uint32_t a, uint32_t b)
+{
+    uint32_t ra = uf_find(k->fan, a), rb = uf_find(k->fan, b);
+    if (ra == rb) {
+        k->out_end[ra] = k->in_end[ra] = INV;
+        return;
+    }
+    uint32_t in = k->in_end[ra], out = k->out_end[rb];
+    uf_union(k->fan, ra, rb);
+    uint32_t r = uf_find(k->fan, ra);
+    k->in_end[r] = in;
+    k->out_end[r] = out;
+}
+
+/* Glue the edges of corners x (src -> dst) and y (dst -> src). */
+static void cf_glue(cfans *k, uint32_t x, uint32_t y)
+{
+    k->partner[x] = y;
+    k->partner[y] = x;
+    cf_join(k, x, cf_next(k, y)); /* around src(x) */
+    cf_join(k, y, cf_next(k, x)); /* around dst(x) */
+}
+
+/* Class of fan root r once fans a0, a1 (around one vertex) and b0, b1
+ * (around the other) are joined. */
+static uint32_t cf_map(uint32_t r, uint32_t a0, uint32_t a1, uint32_t b0, uint32_t b1)
+{
+    if (r == a1)
+        return a0;
+    if (r == b1)
+        return b0;
+    return r;
+}
+
+/*
+ * May the unglued uses x (src -> dst) and y (dst -> src) of an edge with
+ * more than two faces be glued without making two edges join the same two
+ * vertices? Only the vertices of the fans joined at src (x's and
+ * next(y)'s) and at dst (next(x)'s and y's) change. The edges at them are
+ * the new edge x-y, the other ends of the four fans (unglued uses) and the
+ * fans' inner (glued) edges. Two inner edges never join the same two
+ * vertices (before the glue they were in distinct fans, and an input edge
+ * has at most one glued pair outside cycle fans), so it is enough to
+ * compare the new edge and the other ends with each other, and each other
+ * end with the glued pair of its own input edge (eglue, set in step 4c).
+ * Two other ends that meet are uses of one input edge in opposite
+ * directions, the two ends of one fan at each of its vertices once the
+ * glue is made: the glue is allowed when they are glued too (closing those
+ * fans); they are returned in close (2 per pair, *nclose pairs). Returns 1
+ * when the glue is safe.
+ */
+static int glue_ok(const cfans *k, const uint32_t *eglue, uint32_t x, uint32_t y,
+                   uint32_t close[4], int *nclose)
+{
+    uint32_t a0 = uf_find(k->fan, x), a1 = uf_find(k->fan, cf_next(k, y));
+    uint32_t b0 = uf_find(k->fan, cf_next(k, x)), b1 = uf_find(k->fan, y);
+    /* the other ends: in ends' unglued edge is the previous corner's */
+    uint32_t w[5] = {x, INV, INV, INV, INV};
+    int n = 1;
+    *nclose = 0;
+    if (a0 != a1) {
+        w[n++] = k->in_end[a0] == INV ? INV : cf_prev(k, k->in_end[a0]);
+        w[n++] = k->out_end[a1];
+    }
+    if (b0 != b1) {
+        w[n++] = k->in_end[b1] == INV ? INV : cf_prev(k, k->in_end[b1]);
+        w[n++] = k->out_end[b0];
+    }
+    /* vertex classes (unordered pairs) of the new edge (w[0] = x, whose
+     * classes are those of the glued edge) and of each other end */
+    uint32_t p[5][2];
+    for (int e = 0; e < n; ++e) {
+        if (w[e] == INV || (e > 0 && (w[e] == x || w[e] == y)))
+            return 0; /* cannot happen: a path fan has both ends */
+        p[e][0] = cf_map(uf_find(k->fan, w[e]), a0, a1, b0, b1);
+        p[e][1] = cf_map(uf_find(k->fan, cf_next(k, w[e])), a0, a1, b0, b1);
+        uint32_t g = e > 0 ? eglue[w[e]] : INV;
+        if (g != INV) {
+            uint32_t q0 = cf_map(uf_find(k->fan, g), a0, a1, b0, b1);
+            uint32_t q1 = cf_map(uf_find(k->fan, cf_next(k, g)), a0, a1, b0, b1);
+            if ((q0 == p[e][0] && q1 == p[e][1]) || (q0 == p[e][1] && q1 == p[e][0]))
+                return 0;
+        }
+    }
+    uint8_t paired[5] = {0, 0, 0, 0, 0};
+    for (int e = 0; e < n; ++e)
+        for (int f = e + 1; f < n; ++f) {
+            if (w[e] == w[f]) {
+                /* one use ending fans at both of its vertices: nothing meets */
+                continue;
+            }
+            int same_fwd = p[e][0] == p[f][0] && p[e][1] == p[f][1];
+            int same_rev = p[e][0] == p[f][1] && p[e][1] == p[f][0];
+            if (!same_fwd && !same_rev)
+                continue;
+            /* the new edge meeting another use, a use meeting two, or two
+             * uses the same way round: refuse */
+            if (e == 0 || paired[e] || paired[f] || !same_rev || *nclose == 2)
+                return 0;
+            paired[e] = paired[f] = 1;
+            close[2 * *nclose] = w[e];
+            close[2 * *nclose + 1] = w[f];
+            (*nclose)++;
+        }
+    return 1;
+}
 
 geom_status geom_mesh_build(geom_mesh *m, size_t nverts, const double *xyz, size_t nfaces,
                             const uint32_t *face_sizes, const uint32_t *indices,
@@ -309,6 +464,7 @@ geom_status geom_mesh_build(geom_mesh *m, size_t nverts, const double *xyz, size
     }
     for (size_t c = 0; c < C; ++c)
         partner[c] = INV;
+    int have_multi = 0;
     for (size_t i = 0; i < C;) {
         size_t j = i + 1;
         uint32_t lo = LO(order[i]), hi = HI(order[i]);
@@ -330,43 +486,122 @@ geom_status geom_mesh_build(geom_mesh *m, size_t nverts, const double *xyz, size
             }
         } else if (k > 2) {
             rep->nonmanifold_edges++;
-            /* pair the a-th use of direction 0 with the a-th use of direction 1 */
-            size_t ia = i, ib = i;
-            int first = 1;
-            for (;;) {
-                while (ia < j && ODIR(order[ia]) != 0)
-                    ++ia;
-                while (ib < j && ODIR(order[ib]) != 1)
-                    ++ib;
-                if (ia >= j || ib >= j)
-                    break;
-                uint32_t ca = order[ia], cbb = order[ib];
-                partner[ca] = cbb;
-                partner[cbb] = ca;
-                if (first) {
-                    first = 0;
-                    /* mark the kept pair so the loop below skips them */
-                    fflag[cf[ca]] |= 0x80;
-                    fflag[cf[cbb]] |= 0x80;
-                }
-                ++ia;
-                ++ib;
-            }
-            /* every face of the run other than the kept pair is detached; with
-             * no pair at all, the first use keeps the edge */
-            uint32_t keep_c = first ? order[i] : INV;
-            for (size_t r = i; r < j; ++r) {
-                uint32_t c = order[r], f = cf[c];
-                fflag[f] |= FL_NONMANIFOLD;
-                if (fflag[f] & 0x80)
-                    continue;
-                if (c != keep_c)
-                    fflag[f] |= FL_DETACHED;
-            }
+            have_multi = 1;
             for (size_t r = i; r < j; ++r)
-                fflag[cf[order[r]]] &= (uint8_t)~0x80u;
+                fflag[cf[order[r]]] |= FL_NONMANIFOLD;
         }
         i = j;
+    }
+    if (have_multi) {
+        /* Edges with more than two faces. Nothing of them is glued yet; then
+         *  a. fans of corners from the two-face edges glued above;
+         *  b. each pair of an edge's uses that are the two ends of one fan
+         *     at each of the edge's vertices is glued (their faces already
+         *     meet around both vertices: e.g. two closed surfaces touching
+         *     along the edge). This only closes fans into cycles, and
+         *     leaving such a pair unglued would give two edges between the
+         *     same two vertices;
+         *  c. on each edge, in edge order, the first compatible pair of the
+         *     uses b left unglued (the first use of each direction) is glued
+         *     unless that would make two edges join the same two vertices
+         *     (checked exactly: see glue_ok; at most one such pair per edge,
+         *     which glue_ok relies on);
+         *  d. on each such edge, the faces outside its first glued pair
+         *     (with no pair: outside its first use) are reported detached. */
+        cfans K = {cf, fs, flip, partner, bs_alloc(&S, C, sizeof(uint32_t)),
+                   bs_alloc(&S, C, sizeof(uint32_t)), bs_alloc(&S, C, sizeof(uint32_t))};
+        uint32_t *eglue = bs_alloc(&S, C, sizeof(uint32_t));
+        uint32_t *slot = tmp; /* free until step 6 */
+        if (!K.fan || !K.out_end || !K.in_end || !eglue) {
+            st = GEOM_ERR_NOMEM;
+            goto out;
+        }
+        for (size_t c = 0; c < C; ++c) {
+            K.fan[c] = K.out_end[c] = K.in_end[c] = (uint32_t)c;
+            slot[c] = eglue[c] = INV;
+        }
+        /* a. */
+        for (size_t c = 0; c < C; ++c)
+            if (partner[c] != INV && partner[c] > c) {
+                uint32_t p = partner[c];
+                cf_join(&K, (uint32_t)c, cf_next(&K, p));
+                cf_join(&K, p, cf_next(&K, (uint32_t)c));
+            }
+        /* b.: the fans of use x at the edge's lower and higher vertex */
+#define SRC(x) (flip[cf[x]] ? cb[x] : cv[x])
+#define FAN_LO(x) uf_find(K.fan, SRC(x) == LO(x) ? (x) : cf_next(&K, (x)))
+#define FAN_HI(x) uf_find(K.fan, SRC(x) == LO(x) ? cf_next(&K, (x)) : (x))
+        for (size_t i = 0; i < C;) {
+            size_t j = i + 1;
+            while (j < C && LO(order[j]) == LO(order[i]) && HI(order[j]) == HI(order[i]))
+                ++j;
+            if (j - i > 2) {
+                /* a fan has two ends, so at most two uses share one */
+                for (size_t r = i; r < j; ++r) {
+                    uint32_t x = order[r], fl = FAN_LO(x), y = slot[fl];
+                    if (y == INV)
+                        slot[fl] = x;
+                    else if (partner[y] == INV && FAN_HI(y) == FAN_HI(x) && ODIR(x) != ODIR(y))
+                        cf_glue(&K, y, x); /* closes both fans: roots unchanged */
+                }
+                for (size_t r = i; r < j; ++r)
+                    slot[FAN_LO(order[r])] = INV;
+            }
+            i = j;
+        }
+#undef SRC
+#undef FAN_LO
+#undef FAN_HI
+        /* c. */
+        for (size_t i = 0; i < C;) {
+            size_t j = i + 1;
+            while (j < C && LO(order[j]) == LO(order[i]) && HI(order[j]) == HI(order[i]))
+                ++j;
+            uint32_t a = INV, b = INV;
+            for (size_t r = i; r < j && j - i > 2; ++r) {
+                uint32_t x = order[r];
+                if (partner[x] != INV)
+                    continue;
+                if (ODIR(x) == 0 && a == INV)
+                    a = x;
+                if (ODIR(x) == 1 && b == INV)
+                    b = x;
+            }
+            uint32_t close[4];
+            int nclose = 0;
+            if (j - i > 2 && a != INV && b != INV &&
+                glue_ok(&K, eglue, a, b, close, &nclose)) {
+                cf_glue(&K, a, b);
+                for (size_t r = i; r < j; ++r)
+                    eglue[order[r]] = a;
+                for (int e = 0; e < nclose; ++e)
+                    cf_glue(&K, close[2 * e], close[2 * e + 1]);
+            }
+            i = j;
+        }
+        /* d. */
+        for (size_t i = 0; i < C;) {
+            size_t j = i + 1;
+            while (j < C && LO(order[j]) == LO(order[i]) && HI(order[j]) == HI(order[i]))
+                ++j;
+            if (j - i > 2) {
+                uint32_t keep_c = order[i];
+                for (size_t r = i; r < j; ++r)
+                    if (partner[order[r]] != INV) {
+                        keep_c = order[r];
+                        break;
+                    }
+                fflag[cf[keep_c]] |= 0x80;
+                if (partner[keep_c] != INV)
+                    fflag[cf[partner[keep_c]]] |= 0x80;
+                for (size_t r = i; r < j; ++r)
+                    if (!(fflag[cf[order[r]]] & 0x80))
+                        fflag[cf[order[r]]] |= FL_DETACHED;
+                for (size_t r = i; r < j; ++r)
+                    fflag[cf[order[r]]] &= (uint8_t)~0x80u;
+            }
+            i = j;
+        }
     }
 #undef ODIR
 #undef LO
