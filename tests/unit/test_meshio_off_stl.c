@@ -130,6 +130,21 @@ static void test_off_variants(void **state)
     geom_mesh_destroy(m);
 }
 
+/* A comment glued to a number, as in CGAL's mesh_with_colors.off. */
+static void test_off_glued_comment(void **state)
+{
+    (void)state;
+    geom_mesh *m = NULL;
+    geom_diag d;
+    const char *off = "OFF\n3 1 0\n0 0 0#first\n1 0 0\n0 1 0 # last\n3 0 1 2#red\n";
+    assert_int_equal(mt_read(off, (size_t)-1, GEOM_MESHIO_FORMAT_OFF, 0, &m, NULL, &d, NULL),
+                     GEOM_OK);
+    assert_int_equal(geom_mesh_n_vertices(m), 3);
+    assert_int_equal(geom_mesh_n_faces(m), 1);
+    assert_true(geom_mesh_cpositions(m)[3] == 1.0);
+    geom_mesh_destroy(m);
+}
+
 static void test_off_malformed(void **state)
 {
     (void)state;
@@ -407,6 +422,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_tetra_off),   cmocka_unit_test(test_off_variants),
+        cmocka_unit_test(test_off_glued_comment),
         cmocka_unit_test(test_off_malformed), cmocka_unit_test(test_wedge_stl),
         cmocka_unit_test(test_stl_ascii),   cmocka_unit_test(test_stl_malformed),
         cmocka_unit_test(test_stl_polygons),

@@ -127,8 +127,10 @@ static inline int mio_is_space(char ch)
     return ch == ' ' || ch == '\t' || ch == '\r' || ch == '\v' || ch == '\f' || ch == '\n';
 }
 
-/* Next whitespace-separated token of s[0..len) from *pos; '#' starts a
- * comment to the end when `comments` is set. 1 with *t, *tl, else 0. */
+/* Next whitespace-separated token of s[0..len) from *pos; '#' at the start
+ * of a token begins a comment to the end when `comments` is nonzero, and
+ * also right after a token when it is 2 (OFF: "0#red" is the token "0"; OBJ
+ * names may contain '#'). 1 with *t, *tl, else 0. */
 static inline int mio_token(const char *s, size_t len, size_t *pos, int comments,
                             const char **t, size_t *tl)
 {
@@ -140,7 +142,7 @@ static inline int mio_token(const char *s, size_t len, size_t *pos, int comments
         return 0;
     }
     size_t b = i;
-    while (i < len && !mio_is_space(s[i]))
+    while (i < len && !mio_is_space(s[i]) && !(comments == 2 && s[i] == '#'))
         i++;
     *t = s + b;
     *tl = i - b;

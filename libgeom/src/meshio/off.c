@@ -27,7 +27,7 @@ static int off_next_line(off_reader *r)
         size_t p = 0;
         const char *t = NULL;
         size_t tl = 0;
-        if (mio_token(r->line, r->len, &p, 1, &t, &tl))
+        if (mio_token(r->line, r->len, &p, 2, &t, &tl))
             return 1;
     }
 }
@@ -40,7 +40,7 @@ static size_t off_tokens(off_reader *r, const char **toks, size_t *lens, size_t 
     const char *t = NULL;
     size_t tl = 0;
     *total = 0;
-    while (mio_token(r->line, r->len, &p, 1, &t, &tl)) {
+    while (mio_token(r->line, r->len, &p, 2, &t, &tl)) {
         if (n < max) {
             toks[n] = t;
             lens[n] = tl;
@@ -130,7 +130,7 @@ geom_status geom_meshio__read_off(mio_ctx *c, mio_soup *s)
     {
         const char *t = NULL;
         size_t tl = 0;
-        mio_token(r.line, r.len, &r.pos, 1, &t, &tl);
+        mio_token(r.line, r.len, &r.pos, 2, &t, &tl);
         size_t i = 0;
         if (tl >= 2 && t[0] == 'S' && t[1] == 'T') {
             has_st = 1;
@@ -297,7 +297,7 @@ geom_status geom_meshio__read_off(mio_ctx *c, mio_soup *s)
         size_t p = 0;
         const char *t = NULL;
         size_t tl = 0;
-        mio_token(r.line, r.len, &p, 1, &t, &tl);
+        mio_token(r.line, r.len, &p, 2, &t, &tl);
         int64_t cnt;
         if (geom_meshio__parse_int64(t, tl, &cnt) != 0 || cnt < 0 ||
             (uint64_t)cnt > r.len) {
@@ -315,7 +315,7 @@ geom_status geom_meshio__read_off(mio_ctx *c, mio_soup *s)
             goto done;
         }
         for (int64_t i = 0; i < cnt; i++) {
-            if (!mio_token(r.line, r.len, &p, 1, &t, &tl)) {
+            if (!mio_token(r.line, r.len, &p, 2, &t, &tl)) {
                 st = geom_meshio__err_line(c, GEOM_ERR_PARSE, r.lineno, r.len + 1,
                                            "face %zu declares %lld vertices but the line has %lld",
                                            f + 1, (long long)cnt, (long long)i);
