@@ -1,0 +1,48 @@
+"""Python bindings of libgeom (numpy arrays in and out) over its C ABI.
+
+Loaded with cffi in ABI mode: no compiler is needed, only the shared library
+libgeom.so (found through the GEOM_LIBRARY environment variable, next to
+this package, or by the system loader; see geom._ffi).
+
+Submodules:
+  geom.core      GeomError, status names, exact predicates, 4x4 transforms
+  geom.bary      barycentric, mean value, Wachspress, perspective weights
+  geom.mesh      Mesh (half-edge mesh, file I/O, normals, features, clipping,
+                 subdivision)
+  geom.curve     NurbsCurve (evaluation, derivatives, exact circles, ...)
+  geom.surface   NurbsSurface, .bpt patches, tessellation to a Mesh
+  geom.implicit  Expression, marching_cubes
+
+Every error status of the C library raises geom.GeomError, which carries the
+status (``.code`` e.g. "ERR_PARSE", ``.name`` e.g. "parse error") and the
+diagnostic (``.message``, ``.source``, ``.line``, ``.column``,
+``.location`` = "file:line:column: message").
+"""
+
+from ._ffi import has_module, library_path
+from .core import (STATUS, GeomError, incircle, orient2d, orient2d_exact, orient3d,
+                   orient3d_exact, status_name, version)
+
+__version__ = version()
+
+from . import bary, core  # noqa: E402
+
+__all__ = ["GeomError", "STATUS", "status_name", "version", "orient2d", "orient3d", "incircle",
+           "orient2d_exact", "orient3d_exact", "bary", "core", "has_module", "library_path"]
+
+if has_module("mesh") and has_module("meshio"):
+    from . import mesh  # noqa: E402
+    from .mesh import Mesh  # noqa: E402
+    __all__ += ["mesh", "Mesh"]
+if has_module("curve"):
+    from . import curve  # noqa: E402
+    from .curve import NurbsCurve  # noqa: E402
+    __all__ += ["curve", "NurbsCurve"]
+if has_module("surface") and has_module("meshio"):
+    from . import surface  # noqa: E402
+    from .surface import NurbsSurface, tessellate  # noqa: E402
+    __all__ += ["surface", "NurbsSurface", "tessellate"]
+if has_module("implicit") and has_module("iso") and has_module("meshio"):
+    from . import implicit  # noqa: E402
+    from .implicit import Expression, marching_cubes  # noqa: E402
+    __all__ += ["implicit", "Expression", "marching_cubes"]

@@ -1,0 +1,695 @@
+"""cffi declarations of libgeom's C ABI and the loaded library (ABI mode).
+
+The declarations below are copied from the public headers
+(libgeom/include/geom/<module>.h) with comments removed, one dictionary entry
+per module, so that no C compiler is needed at import time: ``ffi.dlopen``
+loads the shared library built by CMake. ``tests/test_abi.py`` parses the
+headers and checks that every declaration here is still identical to the
+header's (functions, structs and enums) and that every function is exported
+by the loaded library, so drift between the headers and these bindings is
+caught by the test suite.
+
+The library is looked up, first match wins:
+  1. the path in the environment variable GEOM_LIBRARY (an error if it does
+     not load: a wrong explicit path is never silently replaced);
+  2. libgeom.so (or .so.0, .dylib, geom.dll) next to this file, for a
+     package installed together with its library;
+  3. the system loader: ctypes.util.find_library("geom"), then
+     "libgeom.so.0".
+"""
+
+import ctypes.util
+import os
+
+import cffi
+
+#: Values of the header macros used as array sizes in the declarations.
+MACROS = {
+    "GEOM_DIAG_MESSAGE_MAX": 256,
+    "GEOM_MESH_REPORT_FIRST": 8,
+}
+
+#: Modules in dependency order (as GEOM_ALL_MODULES).
+MODULE_ORDER = ("core", "bary", "mesh", "meshio", "curve", "surface", "subdiv", "implicit", "iso")
+
+CDEFS = {
+    "core": """
+typedef enum geom_status {
+    GEOM_OK = 0,
+    GEOM_ERR_NOMEM = -1,
+    GEOM_ERR_INVALID_ARG = -2,
+    GEOM_ERR_PARSE = -3,
+    GEOM_ERR_IO = -4,
+    GEOM_ERR_DEGENERATE = -5,
+    GEOM_ERR_NONMANIFOLD = -6,
+    GEOM_ERR_DOMAIN = -7,
+    GEOM_ERR_LIMIT = -8
+} geom_status;
+const char *geom_version_string(void);
+const char *geom_status_str(geom_status s);
+typedef struct geom_diag {
+    geom_status status;
+    char message[GEOM_DIAG_MESSAGE_MAX];
+    char source[GEOM_DIAG_MESSAGE_MAX];
+    size_t line;
+    size_t column;
+    uint64_t byte_offset;
+} geom_diag;
+void geom_diag_clear(geom_diag *d);
+size_t geom_diag_format(const geom_diag *d, char *buf, size_t size);
+typedef struct geom_allocator {
+    void *(*alloc_fn)(void *user, size_t size);
+    void *(*realloc_fn)(void *user, void *ptr, size_t old_size, size_t new_size);
+    void (*free_fn)(void *user, void *ptr, size_t size);
+    void *user;
+} geom_allocator;
+typedef struct geom_error_report {
+    double max_error;
+    double mean_error;
+    int method;
+    size_t evaluations;
+} geom_error_report;
+typedef struct geom_vec2 {
+    double x, y;
+} geom_vec2;
+typedef struct geom_vec3 {
+    double x, y, z;
+} geom_vec3;
+typedef struct geom_vec4 {
+    double x, y, z, w;
+} geom_vec4;
+typedef struct geom_mat3 {
+    double m[9];
+} geom_mat3;
+typedef struct geom_mat4 {
+    double m[16];
+} geom_mat4;
+geom_mat4 geom_mat4_identity(void);
+geom_mat4 geom_mat4_mul(geom_mat4 a, geom_mat4 b);
+geom_mat4 geom_mat4_transpose(geom_mat4 a);
+double geom_mat4_determinant(geom_mat4 a);
+geom_status geom_mat4_inverse(geom_mat4 a, geom_mat4 *out);
+geom_status geom_mat4_normal_matrix(geom_mat4 a, geom_mat3 *out);
+geom_mat4 geom_mat4_translate(geom_vec3 t);
+geom_mat4 geom_mat4_scale(geom_vec3 s);
+geom_status geom_mat4_rotate(geom_vec3 axis, double radians, geom_mat4 *out);
+geom_status geom_mat4_transform_point(geom_mat4 a, geom_vec3 p, geom_vec3 *out);
+geom_status geom_mat4_lookat(geom_vec3 eye, geom_vec3 center, geom_vec3 up, geom_mat4 *out);
+geom_status geom_mat4_perspective(double fovy_radians, double aspect, double near_z, double
+    far_z, geom_mat4 *out);
+geom_status geom_mat4_ortho(double left, double right, double bottom, double top, double near_z,
+    double far_z, geom_mat4 *out);
+double geom_orient2d(const double a[2], const double b[2], const double c[2]);
+double geom_orient3d(const double a[3], const double b[3], const double c[3], const double
+    d[3]);
+double geom_incircle(const double a[2], const double b[2], const double c[2], const double
+    d[2]);
+double geom_orient2d_exact(const double a[2], const double b[2], const double c[2]);
+double geom_orient3d_exact(const double a[3], const double b[3], const double c[3], const double
+    d[3]);
+typedef struct geom_aabb {
+    geom_vec3 min;
+    geom_vec3 max;
+} geom_aabb;
+""",
+    "bary": """
+geom_status geom_bary_tri2(const double a[2], const double b[2], const double c[2], const double
+    p[2], double l[3]);
+geom_status geom_bary_tri3(const double a[3], const double b[3], const double c[3], const double
+    p[3], double l[3]);
+geom_status geom_bary_tet(const double a[3], const double b[3], const double c[3], const double
+    d[3], const double p[3], double l[4]);
+geom_status geom_bary_mean_value(size_t n, const double *poly, const double p[2], double *w);
+geom_status geom_bary_wachspress(size_t n, const double *poly, const double p[2], double *w);
+geom_status geom_bary_interpolate(size_t k, const double *l, size_t ncomp, const double *attr,
+    double *out);
+geom_status geom_bary_perspective(const double l[3], const double w[3], double lp[3]);
+""",
+    "mesh": """
+typedef struct geom_mesh geom_mesh;
+geom_mesh *geom_mesh_create(const geom_allocator *alloc);
+void geom_mesh_destroy(geom_mesh *m);
+geom_status geom_mesh_clone(const geom_mesh *m, geom_mesh **out);
+size_t geom_mesh_n_vertices(const geom_mesh *m);
+size_t geom_mesh_n_halfedges(const geom_mesh *m);
+size_t geom_mesh_n_edges(const geom_mesh *m);
+size_t geom_mesh_n_faces(const geom_mesh *m);
+size_t geom_mesh_n_live_vertices(const geom_mesh *m);
+size_t geom_mesh_n_live_edges(const geom_mesh *m);
+size_t geom_mesh_n_live_faces(const geom_mesh *m);
+uint32_t geom_mesh_he_next(const geom_mesh *m, uint32_t h);
+uint32_t geom_mesh_he_vertex(const geom_mesh *m, uint32_t h);
+uint32_t geom_mesh_he_face(const geom_mesh *m, uint32_t h);
+uint32_t geom_mesh_face_he(const geom_mesh *m, uint32_t f);
+bool geom_mesh_face_is_deleted(const geom_mesh *m, uint32_t f);
+size_t geom_mesh_face_valence(const geom_mesh *m, uint32_t f);
+typedef struct geom_mesh_build_options {
+    int skip_invalid_faces;
+    int keep_orientation;
+} geom_mesh_build_options;
+typedef struct geom_mesh_build_report {
+    size_t invalid_faces;
+    uint32_t first_invalid_faces[GEOM_MESH_REPORT_FIRST];
+    size_t flipped_faces;
+    uint32_t first_flipped_faces[GEOM_MESH_REPORT_FIRST];
+    size_t nonmanifold_edges;
+    uint32_t first_nonmanifold_faces[GEOM_MESH_REPORT_FIRST];
+    size_t detached_faces;
+    uint32_t first_detached_faces[GEOM_MESH_REPORT_FIRST];
+    size_t split_vertices;
+    uint32_t first_split_vertices[GEOM_MESH_REPORT_FIRST];
+    size_t added_vertices;
+    size_t isolated_vertices;
+    size_t nonorientable_components;
+} geom_mesh_build_report;
+geom_status geom_mesh_build(geom_mesh *m, size_t nverts, const double *xyz, size_t nfaces, const
+    uint32_t *face_sizes, const uint32_t *indices, const geom_mesh_build_options *opt,
+    geom_mesh_build_report *report, geom_diag *diag);
+const uint32_t *geom_mesh_vertex_origin(const geom_mesh *m);
+const uint32_t *geom_mesh_face_origin(const geom_mesh *m);
+geom_status geom_mesh_to_soup(const geom_mesh *m, uint32_t *face_sizes, uint32_t *indices,
+    size_t *n_indices);
+typedef enum geom_mesh_domain {
+    GEOM_MESH_DOMAIN_VERTEX = 0,
+    GEOM_MESH_DOMAIN_FACE = 1,
+    GEOM_MESH_DOMAIN_EDGE = 2,
+    GEOM_MESH_DOMAIN_CORNER = 3
+} geom_mesh_domain;
+size_t geom_mesh_channel_count(const geom_mesh *m);
+geom_status geom_mesh_channel_add(geom_mesh *m, const char *name, geom_mesh_domain domain,
+    size_t ncomp, uint32_t *id);
+uint32_t geom_mesh_channel_find(const geom_mesh *m, const char *name, geom_mesh_domain domain);
+geom_status geom_mesh_channel_remove(geom_mesh *m, uint32_t id);
+const char *geom_mesh_channel_name(const geom_mesh *m, uint32_t id);
+geom_mesh_domain geom_mesh_channel_domain(const geom_mesh *m, uint32_t id);
+size_t geom_mesh_channel_ncomp(const geom_mesh *m, uint32_t id);
+size_t geom_mesh_channel_size(const geom_mesh *m, uint32_t id);
+double *geom_mesh_channel_data(geom_mesh *m, uint32_t id);
+const double *geom_mesh_channel_cdata(const geom_mesh *m, uint32_t id);
+geom_status geom_mesh_corner_pool_resize(geom_mesh *m, uint32_t id, size_t n);
+uint32_t *geom_mesh_corner_indices(geom_mesh *m, uint32_t id);
+const uint32_t *geom_mesh_corner_cindices(const geom_mesh *m, uint32_t id);
+double *geom_mesh_positions(geom_mesh *m);
+const double *geom_mesh_cpositions(const geom_mesh *m);
+size_t geom_mesh_tag_count(const geom_mesh *m);
+size_t geom_mesh_group_count(const geom_mesh *m);
+size_t geom_mesh_polyline_count(const geom_mesh *m);
+geom_status geom_mesh_polyline_get(const geom_mesh *m, size_t i, size_t *n, const uint32_t
+    **verts);
+geom_aabb geom_mesh_bbox(const geom_mesh *m);
+geom_status geom_mesh_boundary_loops(const geom_mesh *m, size_t *n_loops, uint32_t
+    *loop_of_halfedge);
+geom_status geom_mesh_components(const geom_mesh *m, size_t *n, uint32_t *vertex_component,
+    uint32_t *face_component);
+typedef struct geom_mesh_topology {
+    size_t vertices, edges, faces;
+    size_t boundary_loops;
+    size_t components;
+    long euler;
+    long genus;
+    bool manifold;
+    bool closed;
+    size_t degenerate_faces;
+    size_t isolated_vertices;
+} geom_mesh_topology;
+geom_status geom_mesh_topology_summary(const geom_mesh *m, geom_mesh_topology *t);
+typedef enum geom_mesh_defect_kind {
+    GEOM_MESH_DEFECT_BAD_INDEX = 1,
+    GEOM_MESH_DEFECT_NEXT_PREV = 2,
+    GEOM_MESH_DEFECT_FACE_CYCLE = 3,
+    GEOM_MESH_DEFECT_VERTEX_HALFEDGE = 4,
+    GEOM_MESH_DEFECT_BOUNDARY_NOT_FIRST = 5,
+    GEOM_MESH_DEFECT_NONMANIFOLD_VERTEX = 6,
+    GEOM_MESH_DEFECT_DELETED_REFERENCE = 7,
+    GEOM_MESH_DEFECT_SMALL_FACE = 8,
+    GEOM_MESH_DEFECT_CHANNEL = 9
+} geom_mesh_defect_kind;
+typedef struct geom_mesh_defect {
+    geom_mesh_defect_kind kind;
+    uint32_t element;
+} geom_mesh_defect;
+geom_status geom_mesh_validate(const geom_mesh *m, geom_mesh_defect *defects, size_t
+    max_defects, size_t *n_defects);
+geom_status geom_polygon_triangulate(size_t n, const double *pts, uint32_t *tris);
+geom_status geom_mesh_triangulate(geom_mesh *m, size_t *n_new_faces);
+geom_status geom_mesh_face_normal(const geom_mesh *m, uint32_t f, double out[3]);
+typedef enum geom_normal_weight {
+    GEOM_NORMAL_WEIGHT_ANGLE = 0,
+    GEOM_NORMAL_WEIGHT_UNIFORM = 1,
+    GEOM_NORMAL_WEIGHT_AREA = 2,
+    GEOM_NORMAL_WEIGHT_MAX = 3
+} geom_normal_weight;
+geom_status geom_mesh_vertex_normals(const geom_mesh *m, geom_normal_weight weight, double
+    *normals, size_t *n_zero);
+typedef struct geom_corner_normal_options {
+    geom_normal_weight weight;
+    double crease_degrees;
+    uint32_t split_at_channel_plus_one;
+} geom_corner_normal_options;
+geom_status geom_mesh_corner_normals(geom_mesh *m, const geom_corner_normal_options *opt,
+    uint32_t *id);
+geom_status geom_mesh_tangents(geom_mesh *m, uint32_t *id);
+typedef struct geom_uv_report {
+    size_t charts;
+    size_t seam_edges;
+    size_t flipped_faces;
+    size_t degenerate_uv_faces;
+    double uv_area;
+    double uv_min[2], uv_max[2];
+} geom_uv_report;
+geom_status geom_mesh_uv_data(const geom_mesh *m, uint32_t uv_channel, geom_uv_report *report,
+    double *chart_bounds, uint32_t *face_chart, uint8_t *seam_edge);
+typedef enum geom_feature_kind {
+    GEOM_FEATURE_BOUNDARY = 1,
+    GEOM_FEATURE_CREASE = 2,
+    GEOM_FEATURE_SILHOUETTE = 4
+} geom_feature_kind;
+typedef struct geom_feature_options {
+    unsigned kinds;
+    double crease_degrees;
+    double eye[3];
+} geom_feature_options;
+geom_status geom_mesh_features(geom_mesh *m, const geom_feature_options *opt, uint8_t
+    *edge_kind, size_t *n_polylines);
+typedef struct geom_clip_options {
+    int cap;
+} geom_clip_options;
+geom_status geom_mesh_clip_plane(const geom_mesh *m, const double plane[4], const
+    geom_clip_options *opt, geom_mesh **out);
+geom_status geom_mesh_clip_frustum(const geom_mesh *m, geom_mat4 view_proj, const
+    geom_clip_options *opt, geom_mesh **out);
+""",
+    "meshio": """
+typedef enum geom_meshio_format {
+    GEOM_MESHIO_FORMAT_AUTO = 0,
+    GEOM_MESHIO_FORMAT_OBJ = 1,
+    GEOM_MESHIO_FORMAT_OFF = 2,
+    GEOM_MESHIO_FORMAT_PLY = 3,
+    GEOM_MESHIO_FORMAT_STL = 4,
+    GEOM_MESHIO_FORMAT_GLB = 5
+} geom_meshio_format;
+geom_meshio_format geom_meshio_format_from_name(const char *name);
+const char *geom_meshio_format_name(geom_meshio_format format);
+typedef struct geom_meshio_read_stats {
+    geom_meshio_format format;
+    int binary;
+    size_t skipped_statements;
+    char first_skipped[32];
+    size_t skipped_elements;
+    size_t skipped_properties;
+    size_t welded_corners;
+    size_t input_vertices;
+    size_t input_faces;
+} geom_meshio_read_stats;
+typedef struct geom_meshio_read_options {
+    geom_meshio_format format;
+    geom_mesh_build_options build;
+    size_t max_elements;
+    const geom_allocator *alloc;
+    geom_meshio_read_stats *stats;
+} geom_meshio_read_options;
+geom_status geom_meshio_read(const char *path, const geom_meshio_read_options *opt, geom_mesh
+    **out, geom_mesh_build_report *report, geom_diag *diag);
+geom_status geom_meshio_read_memory(const void *data, size_t size, const char *source_name,
+    const geom_meshio_read_options *opt, geom_mesh **out, geom_mesh_build_report *report,
+    geom_diag *diag);
+typedef enum geom_meshio_encoding {
+    GEOM_MESHIO_ENCODING_DEFAULT = 0,
+    GEOM_MESHIO_ENCODING_ASCII = 1,
+    GEOM_MESHIO_ENCODING_BINARY_LE = 2,
+    GEOM_MESHIO_ENCODING_BINARY_BE = 3
+} geom_meshio_encoding;
+typedef struct geom_meshio_write_options {
+    geom_meshio_format format;
+    geom_meshio_encoding encoding;
+    unsigned omit;
+    int precision;
+    int ply_float;
+    int gltf_keep_v;
+    const geom_allocator *alloc;
+} geom_meshio_write_options;
+geom_status geom_meshio_write(const geom_mesh *m, const char *path, const
+    geom_meshio_write_options *opt, geom_diag *diag);
+geom_status geom_meshio_write_memory(const geom_mesh *m, const geom_meshio_write_options *opt,
+    void **data, size_t *size, geom_diag *diag);
+void geom_meshio_buffer_free(void *data, size_t size, const geom_allocator *alloc);
+""",
+    "curve": """
+typedef struct geom_nurbs_curve {
+    int degree;
+    size_t n;
+    size_t dim;
+    const double *knots;
+    const double *points;
+    const double *weights;
+} geom_nurbs_curve;
+geom_status geom_curve_bezier_eval(int degree, size_t dim, const double *ctrl, double t, double
+    *out);
+geom_status geom_curve_bezier_derivs(int degree, size_t dim, const double *ctrl, double t, int
+    nderiv, double *ders);
+typedef enum geom_knot_kind {
+    GEOM_KNOTS_CLAMPED = 0,
+    GEOM_KNOTS_UNCLAMPED = 1,
+    GEOM_KNOTS_PERIODIC = 2
+} geom_knot_kind;
+geom_status geom_curve_bspline_uniform_knots(geom_knot_kind kind, int degree, size_t n, double
+    *knots);
+geom_status geom_curve_nurbs_validate(const geom_nurbs_curve *c, size_t nknots, geom_diag
+    *diag);
+geom_status geom_curve_nurbs_domain(const geom_nurbs_curve *c, double *u0, double *u1);
+geom_status geom_curve_nurbs_eval(const geom_nurbs_curve *c, double u, unsigned flags, double
+    *out);
+geom_status geom_curve_nurbs_derivs(const geom_nurbs_curve *c, double u, int nderiv, unsigned
+    flags, double *ders);
+geom_status geom_curve_nurbs_curvature(const geom_nurbs_curve *c, double u, unsigned flags,
+    double *curvature, double *torsion);
+geom_status geom_curve_nurbs_insert_knot(const geom_nurbs_curve *c, double u, size_t times,
+    double *knots, double *points, double *weights, geom_nurbs_curve *out, geom_diag *diag);
+geom_status geom_curve_nurbs_elevate_bound(const geom_nurbs_curve *c, int times, size_t *n,
+    size_t *nknots);
+geom_status geom_curve_nurbs_elevate(const geom_nurbs_curve *c, int times, double *knots, double
+    *points, double *weights, geom_nurbs_curve *out, geom_diag *diag);
+geom_status geom_curve_nurbs_arc_bound(double start, double end, size_t *n, size_t *nknots);
+geom_status geom_curve_nurbs_arc(size_t dim, const double *center, const double *xaxis, const
+    double *yaxis, double radius, double start, double end, double *knots, double *points,
+    double *weights, geom_nurbs_curve *out, geom_diag *diag);
+geom_status geom_curve_nurbs_circle(size_t dim, const double *center, const double *xaxis, const
+    double *yaxis, double radius, double *knots, double *points, double *weights,
+    geom_nurbs_curve *out, geom_diag *diag);
+geom_status geom_curve_nurbs_arc_length(const geom_nurbs_curve *c, double u0, double u1, double
+    rel_tol, double *length, geom_error_report *report, geom_diag *diag);
+geom_status geom_curve_nurbs_closest_point(const geom_nurbs_curve *c, const double *q, double
+    *u, double *point, double *distance, geom_diag *diag);
+typedef struct geom_curve_polyline_options {
+    double tolerance;
+    int method;
+    size_t max_points;
+} geom_curve_polyline_options;
+geom_status geom_curve_nurbs_polyline(const geom_nurbs_curve *c, const
+    geom_curve_polyline_options *options, double *params, double *points, size_t capacity,
+    size_t *count, geom_error_report *report, geom_diag *diag);
+""",
+    "surface": """
+typedef struct geom_nurbs_surface {
+    int degree_u, degree_v;
+    size_t nu, nv;
+    const double *knots_u;
+    const double *knots_v;
+    const double *points;
+    const double *weights;
+} geom_nurbs_surface;
+geom_status geom_surface_validate(const geom_nurbs_surface *s, geom_diag *diag);
+geom_status geom_surface_domain(const geom_nurbs_surface *s, double domain[4]);
+geom_status geom_surface_eval(const geom_nurbs_surface *s, double u, double v, unsigned flags,
+    double out[3]);
+geom_status geom_surface_derivs(const geom_nurbs_surface *s, double u, double v, int d, unsigned
+    flags, double *ders);
+geom_status geom_surface_normal(const geom_nurbs_surface *s, double u, double v, unsigned flags,
+    double n[3], int *how);
+geom_status geom_surface_bezier(int degree_u, int degree_v, const double *points, const double
+    *weights, double *knots_u, double *knots_v, geom_nurbs_surface *out);
+geom_status geom_surface_bilinear(const double p00[3], const double p10[3], const double p01[3],
+    const double p11[3], double *knots_u, double *knots_v, double *points, geom_nurbs_surface
+    *out);
+typedef struct geom_surface_frame {
+    double center[3];
+    double zaxis[3];
+    double xaxis[3];
+} geom_surface_frame;
+geom_status geom_surface_sphere(const geom_surface_frame *frame, double radius, double *knots_u,
+    double *knots_v, double *points, double *weights, geom_nurbs_surface *out);
+geom_status geom_surface_cylinder(const geom_surface_frame *frame, double radius, double height,
+    double *knots_u, double *knots_v, double *points, double *weights, geom_nurbs_surface *out);
+geom_status geom_surface_cone(const geom_surface_frame *frame, double r0, double r1, double
+    height, double *knots_u, double *knots_v, double *points, double *weights,
+    geom_nurbs_surface *out);
+geom_status geom_surface_torus(const geom_surface_frame *frame, double major_radius, double
+    minor_radius, double *knots_u, double *knots_v, double *points, double *weights,
+    geom_nurbs_surface *out);
+typedef struct geom_surface_set geom_surface_set;
+void geom_surface_set_destroy(geom_surface_set *set);
+size_t geom_surface_set_count(const geom_surface_set *set);
+const geom_nurbs_surface *geom_surface_set_data(const geom_surface_set *set);
+const char *geom_surface_set_name(const geom_surface_set *set, size_t i);
+geom_status geom_surface_read_bpt(const char *path, const geom_allocator *alloc,
+    geom_surface_set **out, geom_diag *diag);
+geom_status geom_surface_read_bpt_memory(const void *data, size_t size, const char *source_name,
+    const geom_allocator *alloc, geom_surface_set **out, geom_diag *diag);
+typedef enum geom_surface_tess_mode {
+    GEOM_SURFACE_TESS_ADAPTIVE = 0,
+    GEOM_SURFACE_TESS_UNIFORM = 1
+} geom_surface_tess_mode;
+typedef struct geom_surface_tess_options {
+    geom_surface_tess_mode mode;
+    double tolerance;
+    double angle_degrees;
+    int grid_u, grid_v;
+    int per_surface;
+    unsigned attributes;
+    int uv_normalized;
+    int no_weld;
+    int keep_orientation;
+    int check_subdivisions;
+    size_t max_triangles;
+    const geom_allocator *alloc;
+} geom_surface_tess_options;
+typedef struct geom_surface_tess_stats {
+    size_t cells;
+    size_t triangles;
+    size_t vertices;
+    size_t welded_edges;
+    size_t collapsed_edges;
+    size_t flipped_surfaces;
+    size_t boundary_edges;
+    size_t refinements;
+    size_t limit_normals;
+} geom_surface_tess_stats;
+geom_status geom_surface_tessellate(const geom_nurbs_surface *surfaces, size_t n, const
+    geom_surface_tess_options *options, geom_mesh *out, geom_error_report *report,
+    geom_surface_tess_stats *stats, geom_diag *diag);
+""",
+    "subdiv": """
+typedef enum geom_subdiv_scheme {
+    GEOM_SUBDIV_CATMULL_CLARK = 0,
+    GEOM_SUBDIV_LOOP = 1,
+    GEOM_SUBDIV_BILINEAR = 2,
+    GEOM_SUBDIV_BUTTERFLY = 3,
+    GEOM_SUBDIV_SQRT3 = 4
+} geom_subdiv_scheme;
+typedef enum geom_subdiv_boundary {
+    GEOM_SUBDIV_BOUNDARY_DEFAULT = 0,
+    GEOM_SUBDIV_BOUNDARY_NONE = 1,
+    GEOM_SUBDIV_BOUNDARY_EDGE_ONLY = 2,
+    GEOM_SUBDIV_BOUNDARY_EDGE_AND_CORNER = 3
+} geom_subdiv_boundary;
+typedef enum geom_subdiv_fvar {
+    GEOM_SUBDIV_FVAR_DEFAULT = 0,
+    GEOM_SUBDIV_FVAR_NONE = 1,
+    GEOM_SUBDIV_FVAR_CORNERS_ONLY = 2,
+    GEOM_SUBDIV_FVAR_CORNERS_PLUS1 = 3,
+    GEOM_SUBDIV_FVAR_CORNERS_PLUS2 = 4,
+    GEOM_SUBDIV_FVAR_BOUNDARIES = 5,
+    GEOM_SUBDIV_FVAR_ALL = 6
+} geom_subdiv_fvar;
+typedef enum geom_subdiv_crease {
+    GEOM_SUBDIV_CREASE_DEFAULT = 0,
+    GEOM_SUBDIV_CREASE_UNIFORM = 1,
+    GEOM_SUBDIV_CREASE_CHAIKIN = 2
+} geom_subdiv_crease;
+typedef enum geom_subdiv_triangles {
+    GEOM_SUBDIV_TRIANGLES_DEFAULT = 0,
+    GEOM_SUBDIV_TRIANGLES_CATMARK = 1,
+    GEOM_SUBDIV_TRIANGLES_SMOOTH = 2
+} geom_subdiv_triangles;
+typedef struct geom_subdiv_options {
+    geom_subdiv_scheme scheme;
+    geom_subdiv_boundary boundary;
+    geom_subdiv_fvar fvar_boundary;
+    geom_subdiv_crease crease_method;
+    geom_subdiv_triangles triangles;
+    int ignore_tags;
+    size_t n_creases;
+    const uint32_t *crease_verts;
+    const double *crease_sharpness;
+    size_t n_corners;
+    const uint32_t *corner_verts;
+    const double *corner_sharpness;
+    size_t n_holes;
+    const uint32_t *hole_faces;
+    int partial_last_level;
+    const geom_allocator *alloc;
+} geom_subdiv_options;
+geom_status geom_subdiv_scheme_from_name(const char *name, geom_subdiv_scheme *out);
+const char *geom_subdiv_scheme_name(geom_subdiv_scheme s);
+typedef struct geom_subdiv_report {
+    int levels;
+    size_t vertices, faces;
+    size_t input_faces;
+    size_t hole_faces;
+    size_t fvar_channels;
+    size_t dropped_channels;
+    double max_limit_distance;
+    double rms_limit_distance;
+    double bbox_diagonal;
+} geom_subdiv_report;
+geom_status geom_subdiv_mesh(const geom_mesh *m, const geom_subdiv_options *opt, int levels,
+    unsigned flags, geom_mesh **out, geom_subdiv_report *report, geom_diag *diag);
+""",
+    "iso": """
+typedef double (*geom_iso_value_fn)(void *user, const double p[3]);
+typedef void (*geom_iso_gradient_fn)(void *user, const double p[3], double g[3]);
+typedef void (*geom_iso_values_fn)(void *user, size_t n, const double *p, double *out);
+typedef struct geom_iso_field {
+    geom_iso_value_fn value;
+    geom_iso_gradient_fn gradient;
+    geom_iso_values_fn values;
+    void *user;
+    int exact;
+} geom_iso_field;
+typedef enum geom_iso_scalar {
+    GEOM_ISO_SCALAR_F32 = 1,
+    GEOM_ISO_SCALAR_F64 = 2
+} geom_iso_scalar;
+typedef struct geom_iso_grid {
+    size_t dims[3];
+    geom_iso_scalar type;
+    const void *data;
+    double spacing[3];
+    double origin[3];
+} geom_iso_grid;
+geom_status geom_iso_grid_check(const geom_iso_grid *g);
+typedef struct geom_iso_options {
+    double iso;
+    int refine;
+    int max_iterations;
+    int normals;
+    int caps;
+    int error;
+    int threads;
+    size_t slab_layers;
+    const geom_allocator *alloc;
+} geom_iso_options;
+typedef struct geom_iso_report {
+    geom_error_report vertex_error;
+    geom_error_report sample_error;
+    size_t unmeasured;
+    double seconds;
+    double error_seconds;
+    size_t cells;
+    size_t active_cells;
+    size_t ambiguous_faces;
+    size_t tunnels;
+    size_t iso_nodes;
+    size_t nan_nodes;
+    size_t refined;
+    size_t slabs;
+    int threads;
+} geom_iso_report;
+typedef struct geom_iso_surface {
+    size_t n_vertices;
+    double *xyz;
+    double *normals;
+    size_t n_triangles;
+    uint32_t *tris;
+    size_t n_cap_triangles;
+    geom_iso_report report;
+    geom_allocator alloc;
+} geom_iso_surface;
+geom_status geom_iso_extract(const geom_iso_field *field, const double bounds[6], const size_t
+    res[3], const geom_iso_options *opt, geom_iso_surface *out, geom_diag *diag);
+geom_status geom_iso_extract_grid(const geom_iso_grid *grid, const geom_iso_options *opt,
+    geom_iso_surface *out, geom_diag *diag);
+void geom_iso_surface_free(geom_iso_surface *s);
+geom_status geom_iso_surface_to_mesh(const geom_iso_surface *s, geom_mesh *m, geom_diag *diag);
+geom_status geom_iso_field_from_expr(const geom_implicit_expr *e, geom_iso_field *out);
+""",
+    "implicit": """
+typedef struct geom_implicit_expr geom_implicit_expr;
+typedef struct geom_implicit_expr_options {
+    const geom_allocator *alloc;
+    size_t max_length;
+    size_t max_depth;
+} geom_implicit_expr_options;
+geom_status geom_implicit_expr_compile(const char *text, size_t len, const
+    geom_implicit_expr_options *opt, geom_implicit_expr **out, geom_diag *diag);
+void geom_implicit_expr_destroy(geom_implicit_expr *e);
+void geom_implicit_expr_set_time(geom_implicit_expr *e, double t);
+size_t geom_implicit_expr_size(const geom_implicit_expr *e);
+unsigned geom_implicit_expr_variables(const geom_implicit_expr *e);
+double geom_implicit_expr_eval(const geom_implicit_expr *e, const double p[3]);
+void geom_implicit_expr_eval_many(const geom_implicit_expr *e, size_t n, const double *p, double
+    *out);
+double geom_implicit_expr_eval_grad(const geom_implicit_expr *e, const double p[3], double
+    grad[3]);
+geom_status geom_implicit_expr_eval_interval(const geom_implicit_expr *e, const double lo[3],
+    const double hi[3], double out[2]);
+""",
+}
+
+#: One function per module whose presence in the library tells that the
+#: module was built (a library configured with GEOM_MODULES=core;bary has
+#: no mesh functions).
+MODULE_PROBES = {
+    "core": "geom_status_str",
+    "bary": "geom_bary_tri2",
+    "mesh": "geom_mesh_create",
+    "meshio": "geom_meshio_read",
+    "curve": "geom_curve_nurbs_eval",
+    "surface": "geom_surface_tessellate",
+    "subdiv": "geom_subdiv_mesh",
+    "iso": "geom_iso_extract",
+    "implicit": "geom_implicit_expr_compile",
+}
+
+
+def expand_macros(text):
+    """The declarations with the header macros replaced by their values."""
+    for name, value in MACROS.items():
+        text = text.replace(name, str(value))
+    return text
+
+
+ffi = cffi.FFI()
+for _module in MODULE_ORDER:
+    ffi.cdef(expand_macros(CDEFS[_module]))
+
+_LOCAL_NAMES = ("libgeom.so", "libgeom.so.0", "libgeom.dylib", "geom.dll")
+
+
+def _load():
+    explicit = os.environ.get("GEOM_LIBRARY")
+    if explicit:
+        try:
+            return ffi.dlopen(explicit), explicit
+        except OSError as exc:
+            raise ImportError(
+                "geom: GEOM_LIBRARY=%r could not be loaded: %s" % (explicit, exc)) from exc
+    here = os.path.dirname(os.path.abspath(__file__))
+    tried = []
+    for name in _LOCAL_NAMES:
+        path = os.path.join(here, name)
+        if os.path.exists(path):
+            return ffi.dlopen(path), path
+        tried.append(path)
+    for name in (ctypes.util.find_library("geom"), "libgeom.so.0"):
+        if not name:
+            continue
+        try:
+            return ffi.dlopen(name), name
+        except OSError:
+            tried.append(name)
+    raise ImportError(
+        "geom: libgeom shared library not found; set GEOM_LIBRARY to the path of "
+        "libgeom.so (e.g. build/libgeom/libgeom.so). Tried: " + ", ".join(tried))
+
+
+lib, library_path = _load()
+
+
+def has_module(name):
+    """True if the loaded library contains the C module `name`."""
+    try:
+        getattr(lib, MODULE_PROBES[name])
+    except (AttributeError, KeyError):
+        return False
+    return True

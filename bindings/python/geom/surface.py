@@ -1,0 +1,282 @@
+"""B-spline and NURBS tensor-product surfaces, exact quadrics, Bezier patch
+files and crack-free tessellation (geom/surface.h).
+
+A NurbsSurface holds read-only numpy arrays: knots_u, knots_v, points
+(nu, nv, 3) (point (i, j): i along u, j along v) and weights (nu, nv) or
+None. tessellate() returns a Mesh and the error report of the check against
+the exact surfaces.
+"""
+
+import os
+
+import numpy as np
+
+from ._ffi import ffi, lib
+from .core import check, dptr, error_report, new_diag, struct_dict
+from .mesh import Mesh
+
+U_LEFT = 1
+V_LEFT = 2
+_NORMAL_HOW = {0: "regular", 1: "limit", 2: "none"}
+_ATTRS = {"normal": 1, "uv": 2, "tangent": 4, "source": 8}
+
+
+def _frozen(arr):
+    arr = np.ascontiguousarray(arr, dtype=np.float64).copy()
+    arr.flags.writeable = False
+    return arr
+
+
+class NurbsSurface:
+    """A B-spline (weights None) or NURBS surface: degrees (pu, pv), knots_u
+    (nu + pu + 1), knots_v (nv + pv + 1), points (nu, nv, 3), weights
+    (nu, nv) or None. Validated with geom_surface_validate unless
+    validate=False."""
+
+    def __init__(self, degree_u, degree_v, knots_u, knots_v, points, weights=None,
+                 validate=True, name=None):
+        self._pu, self._pv = int(degree_u), int(degree_v)
+        self._ku = _frozen(knots_u).reshape(-1)
+        self._kv = _frozen(knots_v).reshape(-1)
+        pts = np.asarray(points, dtype=np.float64)
+        if pts.ndim != 3 or pts.shape[2] != 3:
+            raise ValueError("points must have shape (nu, nv, 3), got %s" % (pts.shape,))
+        self._points = _frozen(pts)
+        nu, nv = pts.shape[:2]
+        self._weights = None
+        if weights is not None:
+            self._weights = _frozen(weights).reshape(nu, nv)
+        self.name = name
+        s = ffi.new("geom_nurbs_surface *")
+        s.degree_u, s.degree_v, s.nu, s.nv = self._pu, self._pv, nu, nv
+        self._keep = [ffi.from_buffer("double[]", a) for a in (self._ku, self._kv, self._points)]
+        s.knots_u, s.knots_v, s.points = self._keep
+        if self._weights is not None:
+            self._keep.append(ffi.from_buffer("double[]", self._weights))
+            s.weights = self._keep[3]
+        self._s = s
+        if validate:
+            diag = new_diag()
+            check(lib.geom_surface_validate(s, diag), diag, context="NurbsSurface")
+        nku, nkv = nu + self._pu + 1, nv + self._pv + 1
+        if validate and (self._ku.size != nku or self._kv.size != nkv):
+            raise ValueError("knot counts must be nu + pu + 1 = %d and nv + pv + 1 = %d"
+                             % (nku, nkv))
+
+    @classmethod
+    def _from_c(cls, s, name=None):
+        nu, nv, pu, pv = int(s.nu), int(s.nv), int(s.degree_u), int(s.degree_v)
+
+        def grab(ptr, count):
+            return np.frombuffer(ffi.buffer(ptr, 8 * count), dtype=np.float64)
+        pts = grab(s.points, 3 * nu * nv).reshape(nu, nv, 3)
+        w = None if s.weights == ffi.NULL else grab(s.weights, nu * nv)
+        return cls(pu, pv, grab(s.knots_u, nu + pu + 1), grab(s.knots_v, nv + pv + 1), pts, w,
+                   validate=False, name=name)
+
+    degree_u = property(lambda self: self._pu)
+    degree_v = property(lambda self: self._pv)
+    knots_u = property(lambda self: self._ku)
+    knots_v = property(lambda self: self._kv)
+    points = property(lambda self: self._points)
+    weights = property(lambda self: self._weights)
+    rational = property(lambda self: self._weights is not None)
+
+    def __repr__(self):
+        nu, nv = self._points.shape[:2]
+        return "<geom.NurbsSurface degrees (%d, %d), %dx%d points%s>" % (
+            self._pu, self._pv, nu, nv, ", rational" if self.rational else "")
+
+    @property
+    def domain(self):
+        """(u0, u1, v0, v1)."""
+        d = ffi.new("double[4]")
+        check(lib.geom_surface_domain(self._s, d), context="domain")
+        return tuple(float(x) for x in d)
+
+    def _uv(self, u, v):
+        uu, vv = np.broadcast_arrays(np.asarray(u, dtype=np.float64),
+                                     np.asarray(v, dtype=np.float64))
+        return uu.reshape(-1), vv.reshape(-1), uu.ndim == 0, uu.shape
+
+    def eval(self, u, v, flags=0):
+        """S(u, v): (3,) for scalars, S + (3,) for arrays (broadcast)."""
+        us, vs, scalar, shape = self._uv(u, v)
+        out = np.zeros((us.size, 3))
+        po = ffi.from_buffer("double[]", out)
+        for i in range(us.size):
+            check(lib.geom_surface_eval(self._s, us[i], vs[i], flags, po + 3 * i),
+                  context="eval(%r, %r)" % (us[i], vs[i]))
+        return out[0] if scalar else out.reshape(shape + (3,))
+
+    __call__ = eval
+
+    def derivs(self, u, v, d=1, flags=0):
+        """All partial derivatives S^(k,l), k + l <= d, at scalar (u, v):
+        a (d + 1, d + 1, 3) array, entry [k, l] = d^(k+l) S / du^k dv^l
+        (zero where k + l > d)."""
+        out = np.zeros((d + 1, d + 1, 3))
+        check(lib.geom_surface_derivs(self._s, float(u), float(v), int(d), flags, dptr(out)),
+              context="derivs")
+        return out
+
+    def normal(self, u, v, flags=0, return_how=False):
+        """Unit normal along Su x Sv, defined at degenerate points too (poles,
+        apexes) as the limit; (0, 0, 0) where the surface is a single point.
+        Shapes as eval(). return_how=True also returns, per point, "regular",
+        "limit" or "none"."""
+        us, vs, scalar, shape = self._uv(u, v)
+        out = np.zeros((us.size, 3))
+        po = ffi.from_buffer("double[]", out)
+        how = ffi.new("int *")
+        hows = []
+        for i in range(us.size):
+            st = lib.geom_surface_normal(self._s, us[i], vs[i], flags, po + 3 * i, how)
+            if st != 0 and st != lib.GEOM_ERR_DEGENERATE:
+                check(st, context="normal(%r, %r)" % (us[i], vs[i]))
+            hows.append(_NORMAL_HOW.get(how[0], "none"))
+        res = out[0] if scalar else out.reshape(shape + (3,))
+        if return_how:
+            return res, (hows[0] if scalar else np.array(hows).reshape(shape))
+        return res
+
+    # ------------------------------------------------------ constructors
+
+    @classmethod
+    def bezier(cls, points, weights=None):
+        """A Bezier patch from (pu + 1, pv + 1, 3) control points."""
+        pts = np.ascontiguousarray(points, dtype=np.float64)
+        pu, pv = pts.shape[0] - 1, pts.shape[1] - 1
+        ku, kv = np.zeros(2 * pu + 2), np.zeros(2 * pv + 2)
+        w = None if weights is None else np.ascontiguousarray(weights, dtype=np.float64)
+        out = ffi.new("geom_nurbs_surface *")
+        check(lib.geom_surface_bezier(pu, pv, dptr(pts), dptr(w) if w is not None else ffi.NULL,
+                                      dptr(ku), dptr(kv), out), context="bezier")
+        return cls._from_c(out)
+
+    @classmethod
+    def bilinear(cls, p00, p10, p01, p11):
+        """The bilinear patch through four corners."""
+        ku, kv, pts = np.zeros(4), np.zeros(4), np.zeros(12)
+        c = [np.ascontiguousarray(p, dtype=np.float64).reshape(3) for p in (p00, p10, p01, p11)]
+        out = ffi.new("geom_nurbs_surface *")
+        check(lib.geom_surface_bilinear(*[dptr(x) for x in c], dptr(ku), dptr(kv), dptr(pts), out),
+              context="bilinear")
+        return cls._from_c(out)
+
+    @classmethod
+    def sphere(cls, radius, center=(0, 0, 0), zaxis=(0, 0, 1), xaxis=(1, 0, 0)):
+        """The exact NURBS sphere (degrees 2 x 2, 9 x 5 points)."""
+        return cls._quadric(lib.geom_surface_sphere, (radius,), 9, 5, 12, 8,
+                            center, zaxis, xaxis, "sphere")
+
+    @classmethod
+    def cylinder(cls, radius, height, center=(0, 0, 0), zaxis=(0, 0, 1), xaxis=(1, 0, 0)):
+        """The exact circular cylinder along +z of the frame."""
+        return cls._quadric(lib.geom_surface_cylinder, (radius, height), 9, 2, 12, 4,
+                            center, zaxis, xaxis, "cylinder")
+
+    @classmethod
+    def cone(cls, r0, r1, height, center=(0, 0, 0), zaxis=(0, 0, 1), xaxis=(1, 0, 0)):
+        """The exact cone (frustum) with radius r0 at v = 0 and r1 at v = 1."""
+        return cls._quadric(lib.geom_surface_cone, (r0, r1, height), 9, 2, 12, 4,
+                            center, zaxis, xaxis, "cone")
+
+    @classmethod
+    def torus(cls, major_radius, minor_radius, center=(0, 0, 0), zaxis=(0, 0, 1),
+              xaxis=(1, 0, 0)):
+        """The exact torus about the frame's z axis (degrees 2 x 2, 9 x 9)."""
+        return cls._quadric(lib.geom_surface_torus, (major_radius, minor_radius), 9, 9, 12, 12,
+                            center, zaxis, xaxis, "torus")
+
+    @classmethod
+    def _quadric(cls, fn, args, nu, nv, nku, nkv, center, zaxis, xaxis, what):
+        frame = ffi.new("geom_surface_frame *")
+        frame.center = [float(x) for x in np.asarray(center, dtype=np.float64).reshape(3)]
+        frame.zaxis = [float(x) for x in np.asarray(zaxis, dtype=np.float64).reshape(3)]
+        frame.xaxis = [float(x) for x in np.asarray(xaxis, dtype=np.float64).reshape(3)]
+        ku, kv = np.zeros(nku), np.zeros(nkv)
+        pts, w = np.zeros(3 * nu * nv), np.zeros(nu * nv)
+        out = ffi.new("geom_nurbs_surface *")
+        check(fn(frame, *args, dptr(ku), dptr(kv), dptr(pts), dptr(w), out), context=what)
+        return cls._from_c(out)
+
+
+def read_bpt(path_or_bytes, source_name=None):
+    """Bezier patches from a .bpt file (Newell's teapot format): a list of
+    bicubic NurbsSurface. Accepts a path or the file's bytes."""
+    out = ffi.new("geom_surface_set **")
+    diag = new_diag()
+    if isinstance(path_or_bytes, (bytes, bytearray, memoryview)):
+        data = bytes(path_or_bytes)
+        name = ffi.NULL if source_name is None else str(source_name).encode()
+        st = lib.geom_surface_read_bpt_memory(data, len(data), name, ffi.NULL, out, diag)
+    else:
+        st = lib.geom_surface_read_bpt(os.fsencode(os.fspath(path_or_bytes)), ffi.NULL, out, diag)
+    check(st, diag, context="read_bpt")
+    sset = ffi.gc(out[0], lib.geom_surface_set_destroy)
+    try:
+        n = lib.geom_surface_set_count(sset)
+        views = lib.geom_surface_set_data(sset)
+        res = []
+        for i in range(n):
+            nm = lib.geom_surface_set_name(sset, i)
+            res.append(NurbsSurface._from_c(views[i], name=ffi.string(nm).decode() or None))
+        return res
+    finally:
+        ffi.release(sset)
+
+
+def tessellate(surfaces, tolerance=0.0, mode="adaptive", grid=(8, 8), per_surface=False,
+               angle_degrees=0.0, attributes=("normal", "uv"), uv_normalized=False,
+               no_weld=False, keep_orientation=False, check_subdivisions=0, max_triangles=0):
+    """Crack-free triangulation of one NurbsSurface or a list of them
+    (geom_surface_tessellate), welded along shared boundaries.
+
+    mode "adaptive": each cell's grid sized to the chordal `tolerance`
+    (0: 1e-3 of the control box diagonal), then checked against the exact
+    surface and refined; "uniform": grid = (quads along u, along v) per knot
+    span (per surface with per_surface=True). attributes: corner channels
+    among "normal", "uv", "tangent", and "source" (a face channel with the
+    surface index).
+
+    Returns (mesh, report): report has the sampled error against the exact
+    surfaces (max_error, mean_error, method, evaluations) and the
+    tessellation statistics under "stats".
+    """
+    if isinstance(surfaces, NurbsSurface):
+        surfaces = [surfaces]
+    surfaces = list(surfaces)
+    arr = ffi.new("geom_nurbs_surface[]", len(surfaces))
+    for i, s in enumerate(surfaces):
+        arr[i] = s._s[0]
+    opt = ffi.new("geom_surface_tess_options *")
+    opt.mode = {"adaptive": 0, "uniform": 1}[mode]
+    opt.tolerance = tolerance
+    opt.angle_degrees = angle_degrees
+    opt.grid_u, opt.grid_v = int(grid[0]), int(grid[1])
+    opt.per_surface = 1 if per_surface else 0
+    bits = 0
+    for a in attributes:
+        bits |= _ATTRS[a]
+    opt.attributes = bits
+    opt.uv_normalized = 1 if uv_normalized else 0
+    opt.no_weld = 1 if no_weld else 0
+    opt.keep_orientation = 1 if keep_orientation else 0
+    opt.check_subdivisions = int(check_subdivisions)
+    opt.max_triangles = int(max_triangles)
+    mesh = Mesh()
+    rep = ffi.new("geom_error_report *")
+    stats = ffi.new("geom_surface_tess_stats *")
+    diag = new_diag()
+    st = lib.geom_surface_tessellate(arr, len(surfaces), opt, mesh._ptr, rep, stats, diag)
+    if st != 0:
+        mesh.close()
+        check(st, diag, context="tessellate")
+    report = error_report(rep)
+    report["stats"] = struct_dict(stats[0], "geom_surface_tess_stats")
+    del surfaces
+    return mesh, report
+
+
+__all__ = ["NurbsSurface", "read_bpt", "tessellate"]

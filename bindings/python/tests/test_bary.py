@@ -1,0 +1,147 @@
+"""bary: coordinates reproduce their points, closed forms (bilinear
+Wachspress weights on a rectangle, barycentrics from mean value coordinates
+on a triangle), exact zeros on edges, and the error modes."""
+
+from fractions import Fraction
+
+import numpy as np
+import pytest
+
+import geom
+from geom import bary
+
+
+def test_tri2_reproduces_points_and_matches_solve():
+    rng = np.random.default_rng(10)
+    a, b, c = rng.normal(size=(3, 2))
+    p = rng.normal(size=(500, 2)) * 3
+    l = bary.tri2(a, b, c, p)
+    assert l.shape == (500, 3)
+    assert np.allclose(l @ np.array([a, b, c]), p, atol=1e-12)
+    assert np.allclose(l.sum(axis=1), 1, atol=1e-12)
+    A = np.array([[a[0], b[0], c[0]], [a[1], b[1], c[1]], [1, 1, 1]])
+    want = np.linalg.solve(A, np.column_stack([p, np.ones(len(p))]).T).T
+    assert np.allclose(l, want, rtol=1e-10, atol=1e-12)
+    # One row equals the scalar call.
+    assert np.array_equal(bary.tri2(a, b, c, p[7]), l[7])
+
+
+def test_tri2_exact_on_edges_and_vertices():
+    a, b, c = [0.1, 0.2], [3.7, 0.2], [0.1, 5.3]
+    assert list(bary.tri2(a, b, c, a)) == [1.0, 0.0, 0.0]
+    mid = [(0.1 + 3.7) / 2, 0.2]  # on the edge ab (same y)
+    l = bary.tri2(a, b, c, mid)
+    assert l[2] == 0.0
+    # Rational reference for a point one ulp off the edge: the sign is exact.
+    p = [mid[0], np.nextafter(0.2, 1.0)]
+    l = bary.tri2(a, b, c, p)
+    fa, fb, fc, fp = ([Fraction(x) for x in q] for q in (a, b, c, p))
+    area = (fb[0] - fa[0]) * (fc[1] - fa[1]) - (fb[1] - fa[1]) * (fc[0] - fa[0])
+    l2 = ((fb[0] - fa[0]) * (fp[1] - fa[1]) - (fb[1] - fa[1]) * (fp[0] - fa[0])) / area
+    assert l[2] > 0 and abs(l[2] - float(l2)) <= 1e-12 * abs(float(l2))
+
+
+def test_tri3_projects_and_tet_reproduces():
+    rng = np.random.default_rng(11)
+    a, b, c = rng.normal(size=(3, 3))
+    n = np.cross(b - a, c - a)
+    q = rng.random((100, 3)) @ np.array([a, b, c]) / 1.5
+    l_in = bary.tri3(a, b, c, q)
+    # Moving a point along the normal does not change its coordinates.
+    l_off = bary.tri3(a, b, c, q + rng.normal(size=(100, 1)) * n)
+    assert np.allclose(l_in, l_off, atol=1e-12)
+    proj = q - ((q - a) @ n)[:, None] / (n @ n) * n
+    assert np.allclose(l_in @ np.array([a, b, c]), proj, atol=1e-12)
+    d = rng.normal(size=3)
+    p = rng.normal(size=(100, 3))
+    l = bary.tet(a, b, c, d, p)
+    assert l.shape == (100, 4)
+    assert np.allclose(l @ np.array([a, b, c, d]), p, atol=1e-11)
+    assert np.allclose(l.sum(axis=1), 1, atol=1e-12)
+
+
+def test_degenerate_raises_or_gives_nan():
+    a, b, c = [0, 0], [1, 1], [2, 2]  # collinear
+    with pytest.raises(geom.GeomError) as info:
+        bary.tri2(a, b, c, [0.5, 0.0])
+    assert info.value.code == "ERR_DEGENERATE"
+    # Vectorised: the failing row is named; with errors="nan" it becomes NaN.
+    A = np.array([[0, 0], [0, 0], [0, 0]], dtype=float)
+    B = np.array([[1, 0], [1, 1], [1, 0]], dtype=float)
+    C = np.array([[0, 1], [2, 2], [0, 1]], dtype=float)
+    P = np.full((3, 2), 0.25)
+    with pytest.raises(geom.GeomError, match=r"row 1"):
+        bary.tri2(A, B, C, P)
+    l = bary.tri2(A, B, C, P, errors="nan")
+    assert np.isnan(l[1]).all()
+    assert np.allclose(l[[0, 2]], [[0.5, 0.25, 0.25]] * 2)
+    with pytest.raises(geom.GeomError) as info:
+        bary.tri2([0, 0], [1, 0], [0, 1], [np.inf, 0])
+    assert info.value.code == "ERR_INVALID_ARG"
+    with pytest.raises(geom.GeomError) as info:
+        bary.tet([0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0], [0.2, 0.2, 0.2])
+    assert info.value.code == "ERR_DEGENERATE"
+    with pytest.raises(ValueError):
+        bary.tri2(a, b, c, [0, 0], errors="ignore")
+
+
+def test_mean_value_linear_precision_nonconvex():
+    L = np.array([[0, 0], [2, 0], [2, 1], [1, 1], [1, 2], [0, 2]], dtype=float)
+    rng = np.random.default_rng(12)
+    p = rng.random((400, 2)) * 2
+    inside = ~((p[:, 0] > 1) & (p[:, 1] > 1))
+    p = p[inside]
+    w = bary.mean_value(L, p)
+    assert w.shape == (len(p), 6)
+    assert np.allclose(w.sum(axis=1), 1, atol=1e-13)
+    assert np.allclose(w @ L, p, atol=1e-12)
+    # On a triangle, mean value coordinates are the barycentric coordinates.
+    T = np.array([[0, 0], [3, 0.5], [1, 2]])
+    q = rng.random((50, 2))
+    assert np.allclose(bary.mean_value(T, q), bary.tri2(T[0], T[1], T[2], q), atol=1e-13)
+    # At a vertex: exactly 1 there.
+    assert list(bary.mean_value(L, L[3])) == [0, 0, 0, 1, 0, 0]
+
+
+def test_wachspress_is_bilinear_on_a_rectangle():
+    R = np.array([[0, 0], [2, 0], [2, 3], [0, 3]], dtype=float)
+    rng = np.random.default_rng(13)
+    p = rng.random((200, 2)) * [2, 3]
+    w = bary.wachspress(R, p)
+    s, t = p[:, 0] / 2, p[:, 1] / 3
+    want = np.column_stack([(1 - s) * (1 - t), s * (1 - t), s * t, (1 - s) * t])
+    assert np.allclose(w, want, atol=1e-13)
+    hexagon = np.column_stack([np.cos(np.arange(6) * np.pi / 3), np.sin(np.arange(6) * np.pi / 3)])
+    q = (rng.random((100, 2)) - 0.5) * 1.2
+    assert np.allclose(bary.wachspress(hexagon, q) @ hexagon, q, atol=1e-13)
+    with pytest.raises(geom.GeomError) as info:
+        bary.wachspress(R, [5, 5])
+    assert info.value.code == "ERR_DOMAIN"
+    L = np.array([[0, 0], [2, 0], [2, 1], [1, 1], [1, 2], [0, 2]], dtype=float)
+    with pytest.raises(geom.GeomError) as info:
+        bary.wachspress(L, [0.5, 0.5])
+    assert info.value.code == "ERR_DOMAIN"
+    out = bary.wachspress(R, [[1, 1], [5, 5]], errors="nan")
+    assert np.isnan(out[1]).all() and np.allclose(out[0].sum(), 1)
+
+
+def test_perspective_weights_closed_form():
+    rng = np.random.default_rng(14)
+    l = rng.random((100, 3))
+    l /= l.sum(axis=1, keepdims=True)
+    w = rng.random((100, 3)) + 0.5
+    want = (l / w) / (l / w).sum(axis=1, keepdims=True)
+    assert np.allclose(bary.perspective(l, w), want, rtol=1e-14)
+    # Broadcasting one set of w; and a zero w is degenerate.
+    assert np.allclose(bary.perspective(l, w[0]),
+                       (l / w[0]) / (l / w[0]).sum(axis=1, keepdims=True), rtol=1e-14)
+    with pytest.raises(geom.GeomError) as info:
+        bary.perspective([1 / 3] * 3, [1, 0, 1])
+    assert info.value.code == "ERR_DEGENERATE"
+
+
+def test_interpolate():
+    attr = np.array([[1.0, 10], [2, 20], [3, 30]])
+    assert np.allclose(bary.interpolate([0.2, 0.3, 0.5], attr), [0.2 + 0.6 + 1.5, 23])
+    W = np.random.default_rng(15).random((10, 3))
+    assert np.allclose(bary.interpolate(W, attr), W @ attr)
