@@ -19,7 +19,7 @@ static inline const char *mt_path(char *buf, size_t size, int shared, const char
 {
     const char *dir = getenv(shared ? "GEOM_SHARED_DATA" : "GEOM_TEST_DATA");
     if (!dir)
-        dir = shared ? "../shared/data" : "data";
+        dir = shared ? "tests/data" : "data";
     snprintf(buf, size, "%s/%s", dir, name);
     return buf;
 }

@@ -1,7 +1,7 @@
 /*
  * Per-cell topology of the marching cubes against independent references:
  *  - the single-cell cases of CGAL's Isosurfacing_3 TMC test suite
- *    (../shared/data/tmc-cases.tsv: components, Euler characteristic and
+ *    (tests/data/tmc-cases.tsv: components, Euler characteristic and
  *    boundary loops of the trilinear interpolant's level set in one cell),
  *    alone and embedded in a closing 4x4x4 grid (manifold, watertight, no
  *    duplicate points or faces, no degenerate faces), and under the 48
@@ -42,7 +42,7 @@ static int load_cases(void **state)
     (void)state;
     const char *dir = getenv("GEOM_SHARED_DATA");
     char path[4096];
-    snprintf(path, sizeof path, "%s/tmc-cases.tsv", dir ? dir : "../shared/data");
+    snprintf(path, sizeof path, "%s/tmc-cases.tsv", dir ? dir : "tests/data");
     FILE *f = fopen(path, "r");
     if (!f) {
         fprintf(stderr, "cannot open %s\n", path);

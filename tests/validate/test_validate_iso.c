@@ -173,7 +173,7 @@ static void test_tmc_embedded(void **state)
     (void)state;
     const char *dir = getenv("GEOM_SHARED_DATA");
     char path[4096];
-    snprintf(path, sizeof path, "%s/tmc-cases.tsv", dir ? dir : "../shared/data");
+    snprintf(path, sizeof path, "%s/tmc-cases.tsv", dir ? dir : "tests/data");
     FILE *f = fopen(path, "r");
     assert_non_null(f);
     char line[4096];

@@ -1,6 +1,6 @@
 /*
  * Mesh topology against CGAL on real meshes that nobody here made: every
- * OpenSubdiv regression shape (../shared/data/osd-shapes), meshes of CGAL's
+ * OpenSubdiv regression shape (tests/data/osd-shapes), meshes of CGAL's
  * demo data (Debian libcgal-demo: /usr/share/doc/libcgal-dev/data.tar.gz,
  * extracted at test time into a temporary directory under the working
  * directory, i.e. the build tree, and removed afterwards) and assimp's test
@@ -459,7 +459,7 @@ static void test_osd_shapes(void **state)
     (void)state;
     const char *shared = getenv("GEOM_SHARED_DATA");
     char dir[1024];
-    snprintf(dir, sizeof dir, "%s/osd-shapes", shared ? shared : "../shared/data");
+    snprintf(dir, sizeof dir, "%s/osd-shapes", shared ? shared : "tests/data");
     DIR *d = opendir(dir);
     assert_non_null(d);
     char *names[512];

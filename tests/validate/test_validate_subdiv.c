@@ -1,6 +1,6 @@
 /*
  * Subdivision against OpenSubdiv 3 (Far): every regression shape of
- * ../shared/data/osd-shapes is read with the libgeom OBJ reader, refined to
+ * tests/data/osd-shapes is read with the libgeom OBJ reader, refined to
  * levels 1..3 by geom_subdiv and by Far (through geom_validate_osd), and
  * compared vertex by vertex (both order child vertices face points, edge
  * points, vertex points, so matching is by index): topology identical
@@ -572,7 +572,7 @@ static void test_all_shapes(void **state)
     (void)state;
     const char *shared = getenv("GEOM_SHARED_DATA");
     char dir[1024];
-    snprintf(dir, sizeof dir, "%s/osd-shapes", shared ? shared : "../shared/data");
+    snprintf(dir, sizeof dir, "%s/osd-shapes", shared ? shared : "tests/data");
     DIR *d = opendir(dir);
     assert_non_null(d);
     char *names[512];

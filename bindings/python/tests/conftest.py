@@ -23,4 +23,4 @@ def include_dir():
 
 @pytest.fixture(scope="session")
 def shared_data_dir():
-    return os.environ.get("GEOM_SHARED_DATA", os.path.join(REPO, "..", "shared", "data"))
+    return os.environ.get("GEOM_SHARED_DATA", os.path.join(REPO, "tests", "data"))
