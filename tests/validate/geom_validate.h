@@ -20,7 +20,10 @@
  *  - polygon soups and meshes (validate_mesh.cpp): CGAL's
  *    Polygon_mesh_processing on a CGAL::Surface_mesh with the kernel
  *    CGAL::Exact_predicates_inexact_constructions_kernel (exact predicates,
- *    constructions in double).
+ *    constructions in double);
+ *  - subdivision surfaces (validate_subdiv_cgal.cpp): CGAL's
+ *    Subdivision_method_3 Loop and Catmull-Clark on a CGAL::Surface_mesh
+ *    over CGAL::Simple_cartesian<double>.
  */
 #ifndef GEOM_VALIDATE_H
 #define GEOM_VALIDATE_H
@@ -230,6 +233,69 @@ int gv_soup_check(size_t nverts, const double *xyz, size_t nfaces, const uint32_
  */
 int gv_vertex_normals(size_t nverts, const double *xyz, size_t nfaces, const uint32_t *face_sizes,
                       const uint32_t *indices, int weighting, double *normals, size_t *ncopies);
+
+/* ------------------------------------------------------------ subdivision */
+
+/*
+ * CGAL's subdivision surfaces (validate_subdiv_cgal.cpp):
+ * CGAL::Subdivision_method_3::Loop_subdivision and CatmullClark_subdivision
+ * with CGAL::parameters::number_of_iterations(levels), on a
+ * CGAL::Surface_mesh over CGAL::Simple_cartesian<double> (every weight and
+ * sum in double). What CGAL 5.5 computes (subdivision_masks_3.h, read for
+ * this); interior rules only matter for the closed meshes this is meant for:
+ *  - Loop (triangles; 1-to-4 split): edge point (3 (p1 + p2) + f1 + f2) / 8
+ *    over the two opposite vertices; vertex point of valence n:
+ *    (1 - C_n) v + (C_n / n) sum(neighbours), C_n = 5/8 - (3 + 2 cos(2 pi /
+ *    n))^2 / 64 = 5/8 - (3/8 + cos(2 pi / n) / 4)^2, i.e. Loop's original
+ *    weights (beta = C_n / n; 3/16 at n = 3 and 1/16 at n = 6, where Warren's
+ *    simplified weights coincide), with n = 6 special-cased as (10 v +
+ *    sum) / 16. These are OpenSubdiv's (Sdc::Scheme<SCHEME_LOOP>) weights.
+ *  - Catmull-Clark (any polygons; quads out): face point = centroid; edge
+ *    point = (p1 + p2 + f1 + f2) / 4; vertex point = (Q + 2 R + (n - 3) v)
+ *    / n with Q the mean of the n adjacent face points and R the mean of the
+ *    n edge midpoints: the original Catmull-Clark rule, OpenSubdiv's too.
+ *  - boundary edges (not what this is validated on): midpoints, and
+ *    vertices (p- + 6 v + p+) / 8 for both schemes (OpenSubdiv's "edge
+ *    only" crease rule); no creases or corners.
+ * The arithmetic order differs from OpenSubdiv's, so results agree with it
+ * (and libgeom) to rounding, not to the bit.
+ */
+
+/** Schemes of gv_subdiv_cgal. */
+#define GV_SUBDIV_LOOP 0
+#define GV_SUBDIV_CATMULL_CLARK 1
+/** Most levels gv_subdiv_cgal accepts (faces grow 4 times per level). */
+#define GV_SUBDIV_MAX_LEVELS 8
+
+/** A refined mesh from gv_subdiv_cgal; free with gv_subdiv_result_free. */
+typedef struct gv_subdiv_result {
+    size_t nverts;        /**< refined vertices */
+    double *xyz;          /**< 3 * nverts coordinates */
+    size_t nfaces;        /**< refined faces */
+    uint32_t *face_sizes; /**< nfaces sizes (3 for Loop, 4 for Catmull-Clark) */
+    size_t nindices;      /**< sum of face_sizes */
+    uint32_t *indices;    /**< vertex indices of each face in turn, CGAL's orientation */
+} gv_subdiv_result;
+
+/**
+ * Refine the polygon mesh (nverts vertices, 3 doubles each; nfaces faces of
+ * face_sizes[i] vertices listed one face after another in indices) `levels`
+ * times (0..GV_SUBDIV_MAX_LEVELS) with CGAL's scheme (GV_SUBDIV_LOOP or
+ * GV_SUBDIV_CATMULL_CLARK; rules above) and fill *out with the refined
+ * vertices and faces, numbered in CGAL's iteration order (NOT OpenSubdiv's:
+ * compare positions as sets). The faces must make an oriented 2-manifold
+ * (with or without boundary) that CGAL::Surface_mesh::add_face accepts in
+ * the given order. Returns GV_OK, GV_ERR_INVALID (NULL pointer, no vertex or
+ * face, unknown scheme, bad levels, non-finite coordinate, index out of
+ * range, face of fewer than 3 vertices, non-triangle for Loop, a face
+ * add_face refuses) or GV_ERR_INTERNAL (an exception, out of memory); *out
+ * is zeroed on error.
+ */
+int gv_subdiv_cgal(int scheme, int levels, size_t nverts, const double *xyz, size_t nfaces,
+                   const uint32_t *face_sizes, const uint32_t *indices, gv_subdiv_result *out);
+
+/** Free the buffers of a gv_subdiv_result and zero it; NULL is a no-op. */
+void gv_subdiv_result_free(gv_subdiv_result *r);
 
 #ifdef __cplusplus
 }
