@@ -27,6 +27,7 @@
  * error (including an invalid plane or frustum).
  */
 #include "cli.h"
+#include "cli_mesh.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -180,92 +181,6 @@ static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
     return CLI_EXIT_USAGE;
 }
 
-/* Read IN ("-": standard input) into a mesh; repairs go to stderr. */
-static geom_status read_mesh(const char *path, geom_meshio_format fmt, geom_mesh **m,
-                             geom_diag *diag)
-{
-    cli_input in;
-    geom_status st = cli_input_open(&in, path, diag);
-    if (st != GEOM_OK)
-        return st;
-    size_t cap = 1 << 16, n = 0;
-    unsigned char *buf = malloc(cap);
-    while (buf) {
-        if (n == cap) {
-            unsigned char *q = cap > ((size_t)-1) / 2 ? NULL : realloc(buf, cap * 2);
-            if (!q) {
-                free(buf);
-                buf = NULL;
-                break;
-            }
-            buf = q;
-            cap *= 2;
-        }
-        size_t got = fread(buf + n, 1, cap - n, in.fp);
-        n += got;
-        if (got == 0)
-            break;
-    }
-    if (!buf) {
-        cli_input_close(&in);
-        return cli_diag_set(diag, GEOM_ERR_NOMEM, path, 0, 0, "out of memory");
-    }
-    if (ferror(in.fp)) {
-        free(buf);
-        st = cli_diag_set(diag, GEOM_ERR_IO, in.name, 0, 0, "read error");
-        cli_input_close(&in);
-        return st;
-    }
-    geom_meshio_read_options ro;
-    memset(&ro, 0, sizeof ro);
-    ro.format = fmt;
-    geom_mesh_build_report r;
-    st = geom_meshio_read_memory(buf, n, in.name, &ro, m, &r, diag);
-    free(buf);
-    if (st == GEOM_OK) {
-        /* repairs made while building the mesh are worth knowing */
-        const struct {
-            const char *what;
-            size_t n;
-        } items[] = {{"invalid faces skipped", r.invalid_faces},
-                     {"faces flipped", r.flipped_faces},
-                     {"non-manifold edges", r.nonmanifold_edges},
-                     {"faces detached", r.detached_faces},
-                     {"vertices split", r.split_vertices},
-                     {"non-orientable components cut", r.nonorientable_components}};
-        for (size_t i = 0; i < sizeof items / sizeof items[0]; i++)
-            if (items[i].n)
-                fprintf(stderr, "%s: %s: repaired: %zu %s\n", tool.name, in.name, items[i].n,
-                        items[i].what);
-    }
-    cli_input_close(&in);
-    return st;
-}
-
-/* Write m to path ("-": standard output; format needed). */
-static geom_status write_mesh(const geom_mesh *m, const char *path, geom_meshio_format fmt,
-                              geom_diag *diag)
-{
-    geom_meshio_write_options wo;
-    memset(&wo, 0, sizeof wo);
-    wo.format = fmt;
-    if (strcmp(path, "-") != 0)
-        return geom_meshio_write(m, path, &wo, diag);
-    void *buf = NULL;
-    size_t n = 0;
-    geom_status st = geom_meshio_write_memory(m, &wo, &buf, &n, diag);
-    if (st != GEOM_OK)
-        return st;
-    cli_output out;
-    st = cli_output_open(&out, NULL, diag);
-    if (st == GEOM_OK) {
-        fwrite(buf, 1, n, out.fp);
-        st = cli_output_commit(&out, diag);
-    }
-    geom_meshio_buffer_free(buf, n, NULL);
-    return st;
-}
-
 int main(int argc, char **argv)
 {
     static const struct option longopts[] = {{"plane", required_argument, NULL, 'p'},
@@ -305,7 +220,7 @@ int main(int argc, char **argv)
     geom_diag diag;
     geom_diag_clear(&diag);
     geom_mesh *m = NULL;
-    if (read_mesh(argv[first], co.in_format, &m, &diag) != GEOM_OK)
+    if (cli_mesh_read(tool.name, argv[first], co.in_format, &m, &diag) != GEOM_OK)
         return cli_print_diag(&tool, &diag);
     size_t in_faces = geom_mesh_n_live_faces(m);
     geom_clip_options opt;
@@ -331,7 +246,7 @@ int main(int argc, char **argv)
         geom_mesh_destroy(m);
         return cli_error(&tool, "%s: clipping failed: %s", argv[first], geom_status_str(st));
     }
-    st = write_mesh(m, out_path, co.out_format, &diag);
+    st = cli_mesh_write(m, out_path, co.out_format, &diag);
     if (st != GEOM_OK) {
         geom_mesh_destroy(m);
         return cli_print_diag(&tool, &diag);

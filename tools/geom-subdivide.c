@@ -26,6 +26,7 @@
  * usage error.
  */
 #include "cli.h"
+#include "cli_mesh.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -205,29 +206,6 @@ static geom_status read_mesh(const char *path, geom_meshio_format fmt, geom_mesh
                         items[i].what);
     }
     cli_input_close(&in);
-    return st;
-}
-
-static geom_status write_mesh(const geom_mesh *m, const char *path, geom_meshio_format fmt,
-                              geom_diag *diag)
-{
-    geom_meshio_write_options wo;
-    memset(&wo, 0, sizeof wo);
-    wo.format = fmt;
-    if (strcmp(path, "-") != 0)
-        return geom_meshio_write(m, path, &wo, diag);
-    void *buf = NULL;
-    size_t n = 0;
-    geom_status st = geom_meshio_write_memory(m, &wo, &buf, &n, diag);
-    if (st != GEOM_OK)
-        return st;
-    cli_output out;
-    st = cli_output_open(&out, NULL, diag);
-    if (st == GEOM_OK) {
-        fwrite(buf, 1, n, out.fp);
-        st = cli_output_commit(&out, diag);
-    }
-    geom_meshio_buffer_free(buf, n, NULL);
     return st;
 }
 
@@ -418,7 +396,7 @@ int main(int argc, char **argv)
             return cli_print_diag(&tool, &diag);
         return cli_error(&tool, "%s: subdivision failed: %s", in_path, geom_status_str(st));
     }
-    st = write_mesh(out, out_path, so.out_format, &diag);
+    st = cli_mesh_write(out, out_path, so.out_format, &diag);
     if (st != GEOM_OK) {
         geom_mesh_destroy(m);
         geom_mesh_destroy(out);

@@ -28,6 +28,7 @@
  * 2 on a usage error.
  */
 #include "cli.h"
+#include "cli_mesh.h"
 
 #include <ctype.h>
 #include <stdlib.h>
@@ -233,29 +234,6 @@ static geom_status read_surfaces(const char *path, geom_surface_set **set, geom_
     return st;
 }
 
-static geom_status write_mesh(const geom_mesh *m, const char *path, geom_meshio_format fmt,
-                              geom_diag *diag)
-{
-    geom_meshio_write_options wo;
-    memset(&wo, 0, sizeof wo);
-    wo.format = fmt;
-    if (strcmp(path, "-") != 0)
-        return geom_meshio_write(m, path, &wo, diag);
-    void *buf = NULL;
-    size_t n = 0;
-    geom_status st = geom_meshio_write_memory(m, &wo, &buf, &n, diag);
-    if (st != GEOM_OK)
-        return st;
-    cli_output out;
-    st = cli_output_open(&out, NULL, diag);
-    if (st == GEOM_OK) {
-        fwrite(buf, 1, n, out.fp);
-        st = cli_output_commit(&out, diag);
-    }
-    geom_meshio_buffer_free(buf, n, NULL);
-    return st;
-}
-
 int main(int argc, char **argv)
 {
     static const struct option longopts[] = {
@@ -345,7 +323,7 @@ int main(int argc, char **argv)
             snprintf(diag.source, sizeof diag.source, "%s", argv[first]);
         return cli_print_diag(&tool, &diag);
     }
-    st = write_mesh(m, out_path, o.format, &diag);
+    st = cli_mesh_write(m, out_path, o.format, &diag);
     geom_mesh_destroy(m);
     if (st != GEOM_OK)
         return cli_print_diag(&tool, &diag);

@@ -1,0 +1,37 @@
+/*
+ * Mesh input and output shared by the tools that read or write meshes
+ * (geom-normals, geom-tangents, geom-features, geom-clip, geom-subdivide,
+ * geom-tessellate, ...). Built into geom_cli_mesh when the meshio module is.
+ */
+#ifndef GEOM_TOOLS_CLI_MESH_H
+#define GEOM_TOOLS_CLI_MESH_H
+
+#include "cli.h"
+#include "geom/meshio.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/**
+ * Read the mesh in path ("-": standard input, read whole into memory) with
+ * format fmt (GEOM_MESHIO_FORMAT_AUTO: from the name or the content) into
+ * *m. The repairs geom_mesh_build made are printed to stderr as
+ * "<tool_name>: <file>: repaired: N <what>". Returns the reader's status
+ * (diag filled), GEOM_ERR_NOMEM or GEOM_ERR_IO.
+ */
+geom_status cli_mesh_read(const char *tool_name, const char *path, geom_meshio_format fmt,
+                          geom_mesh **m, geom_diag *diag);
+
+/**
+ * Write m to path atomically ("-": standard output, where fmt must not be
+ * AUTO), with default write options and format fmt (AUTO: from the name).
+ */
+geom_status cli_mesh_write(const geom_mesh *m, const char *path, geom_meshio_format fmt,
+                           geom_diag *diag);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif
