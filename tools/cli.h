@@ -171,6 +171,14 @@ geom_status cli_input_open(cli_input *in, const char *path, geom_diag *diag);
  *  Safe on a zeroed or already closed cli_input. */
 void cli_input_close(cli_input *in);
 
+/**
+ * Read all of fp (a file or a pipe) into a malloc'd buffer: *data (free with
+ * free()) and *size bytes. GEOM_ERR_NOMEM or GEOM_ERR_IO (diag names `name`);
+ * *data is untouched on failure.
+ */
+geom_status cli_read_all(FILE *fp, const char *name, unsigned char **data, size_t *size,
+                         geom_diag *diag);
+
 /* -------------------------------------------------------------------- lines */
 
 /** Reads lines of any length from a FILE, counting them. Zero-initialise or

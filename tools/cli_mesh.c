@@ -11,31 +11,10 @@ geom_status cli_mesh_read(const char *tool_name, const char *path, geom_meshio_f
     geom_status st = cli_input_open(&in, path, diag);
     if (st != GEOM_OK)
         return st;
-    size_t cap = 1 << 16, n = 0;
-    unsigned char *buf = malloc(cap);
-    while (buf) {
-        if (n == cap) {
-            unsigned char *q = cap > ((size_t)-1) / 2 ? NULL : realloc(buf, cap * 2);
-            if (!q) {
-                free(buf);
-                buf = NULL;
-                break;
-            }
-            buf = q;
-            cap *= 2;
-        }
-        size_t got = fread(buf + n, 1, cap - n, in.fp);
-        n += got;
-        if (got == 0)
-            break;
-    }
-    if (!buf) {
-        cli_input_close(&in);
-        return cli_diag_set(diag, GEOM_ERR_NOMEM, path, 0, 0, "out of memory");
-    }
-    if (ferror(in.fp)) {
-        free(buf);
-        st = cli_diag_set(diag, GEOM_ERR_IO, in.name, 0, 0, "read error");
+    unsigned char *buf = NULL;
+    size_t n = 0;
+    st = cli_read_all(in.fp, in.name, &buf, &n, diag);
+    if (st != GEOM_OK) {
         cli_input_close(&in);
         return st;
     }

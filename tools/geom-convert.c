@@ -106,37 +106,6 @@ static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
     return CLI_EXIT_USAGE;
 }
 
-static geom_status slurp(FILE *fp, const char *name, unsigned char **data, size_t *size,
-                         geom_diag *diag)
-{
-    size_t cap = 1 << 16, n = 0;
-    unsigned char *buf = malloc(cap);
-    if (!buf)
-        return cli_diag_set(diag, GEOM_ERR_NOMEM, name, 0, 0, "out of memory");
-    for (;;) {
-        if (n == cap) {
-            unsigned char *q = cap > ((size_t)-1) / 2 ? NULL : realloc(buf, cap * 2);
-            if (!q) {
-                free(buf);
-                return cli_diag_set(diag, GEOM_ERR_NOMEM, name, 0, 0, "out of memory");
-            }
-            buf = q;
-            cap *= 2;
-        }
-        size_t got = fread(buf + n, 1, cap - n, fp);
-        n += got;
-        if (got == 0)
-            break;
-    }
-    if (ferror(fp)) {
-        free(buf);
-        return cli_diag_set(diag, GEOM_ERR_IO, name, 0, 0, "read error");
-    }
-    *data = buf;
-    *size = n;
-    return GEOM_OK;
-}
-
 static void report_repairs(const char *name, const geom_mesh_build_report *r,
                            const geom_meshio_read_stats *s)
 {
@@ -219,7 +188,7 @@ int main(int argc, char **argv)
         return cli_print_diag(&tool, &diag);
     unsigned char *data = NULL;
     size_t size = 0;
-    geom_status st = slurp(in.fp, in.name, &data, &size, &diag);
+    geom_status st = cli_read_all(in.fp, in.name, &data, &size, &diag);
     char *name = strdup(in.name);
     cli_input_close(&in);
     if (st != GEOM_OK || !name) {

@@ -148,67 +148,6 @@ static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
     return CLI_EXIT_USAGE;
 }
 
-/* Read IN ("-": standard input) into a mesh; repairs go to stderr. */
-static geom_status read_mesh(const char *path, geom_meshio_format fmt, geom_mesh **m,
-                             geom_diag *diag)
-{
-    cli_input in;
-    geom_status st = cli_input_open(&in, path, diag);
-    if (st != GEOM_OK)
-        return st;
-    size_t cap = 1 << 16, n = 0;
-    unsigned char *buf = malloc(cap);
-    while (buf) {
-        if (n == cap) {
-            unsigned char *q = cap > ((size_t)-1) / 2 ? NULL : realloc(buf, cap * 2);
-            if (!q) {
-                free(buf);
-                buf = NULL;
-                break;
-            }
-            buf = q;
-            cap *= 2;
-        }
-        size_t got = fread(buf + n, 1, cap - n, in.fp);
-        n += got;
-        if (got == 0)
-            break;
-    }
-    if (!buf) {
-        cli_input_close(&in);
-        return cli_diag_set(diag, GEOM_ERR_NOMEM, path, 0, 0, "out of memory");
-    }
-    if (ferror(in.fp)) {
-        free(buf);
-        st = cli_diag_set(diag, GEOM_ERR_IO, in.name, 0, 0, "read error");
-        cli_input_close(&in);
-        return st;
-    }
-    geom_meshio_read_options ro;
-    memset(&ro, 0, sizeof ro);
-    ro.format = fmt;
-    geom_mesh_build_report r;
-    st = geom_meshio_read_memory(buf, n, in.name, &ro, m, &r, diag);
-    free(buf);
-    if (st == GEOM_OK) {
-        const struct {
-            const char *what;
-            size_t n;
-        } items[] = {{"invalid faces skipped", r.invalid_faces},
-                     {"faces flipped", r.flipped_faces},
-                     {"non-manifold edges", r.nonmanifold_edges},
-                     {"faces detached", r.detached_faces},
-                     {"vertices split", r.split_vertices},
-                     {"non-orientable components cut", r.nonorientable_components}};
-        for (size_t i = 0; i < sizeof items / sizeof items[0]; i++)
-            if (items[i].n)
-                fprintf(stderr, "%s: %s: repaired: %zu %s\n", tool.name, in.name, items[i].n,
-                        items[i].what);
-    }
-    cli_input_close(&in);
-    return st;
-}
-
 typedef struct level_stat {
     size_t faces, vertices;
     double seconds, max_dist, rms_dist;
@@ -279,7 +218,7 @@ int main(int argc, char **argv)
     geom_diag_clear(&diag);
     geom_mesh *m = NULL;
     const char *in_path = argc > first ? argv[first] : "-";
-    if (read_mesh(in_path, so.in_format, &m, &diag) != GEOM_OK)
+    if (cli_mesh_read(tool.name, in_path, so.in_format, &m, &diag) != GEOM_OK)
         return cli_print_diag(&tool, &diag);
     size_t in_faces = geom_mesh_n_live_faces(m), in_verts = geom_mesh_n_live_vertices(m);
     size_t triangulated = 0;
