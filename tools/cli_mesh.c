@@ -66,3 +66,15 @@ geom_status cli_mesh_write(const geom_mesh *m, const char *path, geom_meshio_for
     geom_meshio_buffer_free(buf, n, NULL);
     return st;
 }
+
+int cli_mesh_format_option(const cli_tool *t, const char *arg, int input,
+                           geom_meshio_format *out)
+{
+    geom_meshio_format f = geom_meshio_format_from_name(arg);
+    if (f == GEOM_MESHIO_FORMAT_AUTO || (input && f == GEOM_MESHIO_FORMAT_GLB))
+        return cli_usage_error(t, input ? "unknown input format '%s' (obj, off, ply, stl)"
+                                        : "unknown output format '%s' (obj, off, ply, stl, glb)",
+                               arg);
+    *out = f;
+    return CLI_CONTINUE;
+}

@@ -30,6 +30,14 @@ geom_status cli_mesh_read(const char *tool_name, const char *path, geom_meshio_f
 geom_status cli_mesh_write(const geom_mesh *m, const char *path, geom_meshio_format fmt,
                            geom_diag *diag);
 
+/**
+ * Parse a --format (input = 0: obj, off, ply, stl, glb) or --input-format
+ * (input = 1: obj, off, ply, stl) option argument into *out. Returns
+ * CLI_CONTINUE, or the usage-error exit status after printing the message.
+ */
+int cli_mesh_format_option(const cli_tool *t, const char *arg, int input,
+                           geom_meshio_format *out);
+
 #ifdef __cplusplus
 }
 #endif

@@ -17,6 +17,7 @@
  * error.
  */
 #include "cli.h"
+#include "cli_mesh.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -73,16 +74,9 @@ static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
     convert_opts *o = user;
     switch (opt) {
     case 'f':
-        o->w.format = geom_meshio_format_from_name(arg);
-        if (o->w.format == GEOM_MESHIO_FORMAT_AUTO)
-            return cli_usage_error(t, "unknown output format '%s' (obj, off, ply, stl, glb)",
-                                   arg);
-        return CLI_CONTINUE;
+        return cli_mesh_format_option(t, arg, 0, &o->w.format);
     case 'i':
-        o->in_format = geom_meshio_format_from_name(arg);
-        if (o->in_format == GEOM_MESHIO_FORMAT_AUTO || o->in_format == GEOM_MESHIO_FORMAT_GLB)
-            return cli_usage_error(t, "unknown input format '%s' (obj, off, ply, stl)", arg);
-        return CLI_CONTINUE;
+        return cli_mesh_format_option(t, arg, 1, &o->in_format);
     case OPT_ASCII: o->ascii = 1; return CLI_CONTINUE;
     case OPT_BIG_ENDIAN: o->big_endian = 1; return CLI_CONTINUE;
     case OPT_FLOAT: o->w.ply_float = 1; return CLI_CONTINUE;

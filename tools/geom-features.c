@@ -106,10 +106,7 @@ static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
         o->with_mesh = 1;
         return CLI_CONTINUE;
     case 'i':
-        o->in_format = geom_meshio_format_from_name(arg);
-        if (o->in_format == GEOM_MESHIO_FORMAT_AUTO || o->in_format == GEOM_MESHIO_FORMAT_GLB)
-            return cli_usage_error(t, "unknown input format '%s' (obj, off, ply, stl)", arg);
-        return CLI_CONTINUE;
+        return cli_mesh_format_option(t, arg, 1, &o->in_format);
     default:
         break;
     }

@@ -17,6 +17,7 @@
  * FILE:LINE:COL or the byte offset), 2 on a usage error.
  */
 #include "cli.h"
+#include "cli_mesh.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -52,10 +53,7 @@ static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
 {
     info_opts *o = user;
     if (opt == 'f') {
-        o->format = geom_meshio_format_from_name(arg);
-        if (o->format == GEOM_MESHIO_FORMAT_AUTO || o->format == GEOM_MESHIO_FORMAT_GLB)
-            return cli_usage_error(t, "unknown input format '%s' (obj, off, ply, stl)", arg);
-        return CLI_CONTINUE;
+        return cli_mesh_format_option(t, arg, 1, &o->format);
     }
     if (opt == OPT_SKIP_INVALID) {
         o->skip_invalid = 1;

@@ -67,15 +67,9 @@ static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
         return CLI_CONTINUE;
     }
     case 'f':
-        o->out_format = geom_meshio_format_from_name(arg);
-        if (o->out_format == GEOM_MESHIO_FORMAT_AUTO)
-            return cli_usage_error(t, "unknown output format '%s' (obj, off, ply, stl, glb)", arg);
-        return CLI_CONTINUE;
+        return cli_mesh_format_option(t, arg, 0, &o->out_format);
     case 'i':
-        o->in_format = geom_meshio_format_from_name(arg);
-        if (o->in_format == GEOM_MESHIO_FORMAT_AUTO || o->in_format == GEOM_MESHIO_FORMAT_GLB)
-            return cli_usage_error(t, "unknown input format '%s' (obj, off, ply, stl)", arg);
-        return CLI_CONTINUE;
+        return cli_mesh_format_option(t, arg, 1, &o->in_format);
     default:
         break;
     }

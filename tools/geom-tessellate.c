@@ -131,10 +131,7 @@ static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
         o->to.no_weld = 1;
         return CLI_CONTINUE;
     case 'f':
-        o->format = geom_meshio_format_from_name(arg);
-        if (o->format == GEOM_MESHIO_FORMAT_AUTO)
-            return cli_usage_error(t, "unknown output format '%s' (obj, off, ply, stl, glb)", arg);
-        return CLI_CONTINUE;
+        return cli_mesh_format_option(t, arg, 0, &o->format);
     default:
         break;
     }
