@@ -18,6 +18,7 @@ def _strip(text):
     text = re.sub(r"/\*.*?\*/", " ", text, flags=re.S)
     text = re.sub(r"//[^\n]*", " ", text)
     text = re.sub(r"^\s*#.*$", " ", text, flags=re.M)
+    text = re.sub(r"\bGEOM_API\b", " ", text)
     return text.replace('extern "C" {', " ")
 
 

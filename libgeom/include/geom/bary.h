@@ -39,7 +39,7 @@ extern "C" {
  * Returns GEOM_OK, GEOM_ERR_DEGENERATE (collinear vertices) or
  * GEOM_ERR_INVALID_ARG (NULL pointer or non-finite input).
  */
-geom_status geom_bary_tri2(const double a[2], const double b[2], const double c[2],
+GEOM_API geom_status geom_bary_tri2(const double a[2], const double b[2], const double c[2],
                            const double p[2], double l[3]);
 
 /**
@@ -50,14 +50,14 @@ geom_status geom_bary_tri2(const double a[2], const double b[2], const double c[
  * polynomials in the input) certified or evaluated exactly as above. Same
  * statuses and guarantees as geom_bary_tri2.
  */
-geom_status geom_bary_tri3(const double a[3], const double b[3], const double c[3],
+GEOM_API geom_status geom_bary_tri3(const double a[3], const double b[3], const double c[3],
                            const double p[3], double l[3]);
 
 /**
  * Barycentric coordinates of p in the tetrahedron (a, b, c, d); l receives 4
  * doubles. GEOM_ERR_DEGENERATE for a coplanar tetrahedron.
  */
-geom_status geom_bary_tet(const double a[3], const double b[3], const double c[3],
+GEOM_API geom_status geom_bary_tet(const double a[3], const double b[3], const double c[3],
                           const double d[3], const double p[3], double l[4]);
 
 /**
@@ -72,7 +72,7 @@ geom_status geom_bary_tet(const double a[3], const double b[3], const double c[3
  * area (all vertices collinear), or, for a self-intersecting polygon, if the
  * weights cancel; GEOM_ERR_INVALID_ARG for n < 3, NULL or non-finite input.
  */
-geom_status geom_bary_mean_value(size_t n, const double *poly, const double p[2], double *w);
+GEOM_API geom_status geom_bary_mean_value(size_t n, const double *poly, const double p[2], double *w);
 
 /**
  * Wachspress coordinates (Wachspress 1975; Meyer et al. 2002) of p inside the
@@ -82,14 +82,14 @@ geom_status geom_bary_mean_value(size_t n, const double *poly, const double p[2]
  * outside it (w set to 0); GEOM_ERR_DEGENERATE for collinear consecutive
  * vertices.
  */
-geom_status geom_bary_wachspress(size_t n, const double *poly, const double p[2], double *w);
+GEOM_API geom_status geom_bary_wachspress(size_t n, const double *poly, const double p[2], double *w);
 
 /**
  * Interpolate k vertex attributes: out[j] = sum_i l[i] * attr[i*ncomp + j] for
  * j < ncomp, with k weights l (k doubles) and attr holding k*ncomp doubles.
  * GEOM_ERR_INVALID_ARG for NULL pointers or k == 0.
  */
-geom_status geom_bary_interpolate(size_t k, const double *l, size_t ncomp, const double *attr,
+GEOM_API geom_status geom_bary_interpolate(size_t k, const double *l, size_t ncomp, const double *attr,
                                   double *out);
 
 /**
@@ -101,7 +101,7 @@ geom_status geom_bary_interpolate(size_t k, const double *l, size_t ncomp, const
  * a/w and 1/w linearly in screen space. GEOM_ERR_DEGENERATE if a w is zero or
  * the sum vanishes; GEOM_ERR_INVALID_ARG for non-finite input.
  */
-geom_status geom_bary_perspective(const double l[3], const double w[3], double lp[3]);
+GEOM_API geom_status geom_bary_perspective(const double l[3], const double w[3], double lp[3]);
 
 #ifdef __cplusplus
 }

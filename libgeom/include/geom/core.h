@@ -23,6 +23,18 @@
 #include <stddef.h>
 #include <stdint.h>
 
+/* Every public function is declared GEOM_API: the shared library is built
+ * with -fvisibility=hidden, so only these symbols are exported. */
+#ifndef GEOM_API
+#  if defined(_WIN32) && defined(GEOM_SHARED_BUILD)
+#    define GEOM_API __declspec(dllexport)
+#  elif defined(__GNUC__) || defined(__clang__)
+#    define GEOM_API __attribute__((visibility("default")))
+#  else
+#    define GEOM_API
+#  endif
+#endif
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -37,7 +49,7 @@ extern "C" {
 #define GEOM_VERSION (GEOM_VERSION_MAJOR * 10000 + GEOM_VERSION_MINOR * 100 + GEOM_VERSION_PATCH)
 
 /** The version string of the library actually linked (may differ from the header's). */
-const char *geom_version_string(void);
+GEOM_API const char *geom_version_string(void);
 
 /* ------------------------------------------------------------------- status */
 
@@ -55,7 +67,7 @@ typedef enum geom_status {
 
 /** A short, static, human-readable name for a status ("ok", "out of memory", ...).
  *  Unknown values give "unknown status". Never NULL. */
-const char *geom_status_str(geom_status s);
+GEOM_API const char *geom_status_str(geom_status s);
 
 /* -------------------------------------------------------------- diagnostics */
 
@@ -77,12 +89,12 @@ typedef struct geom_diag {
 } geom_diag;
 
 /** Reset a diagnostic to "no error". NULL is a no-op. */
-void geom_diag_clear(geom_diag *d);
+GEOM_API void geom_diag_clear(geom_diag *d);
 
 /** Format `d` as "source:line:column: message" (parts omitted when unknown)
  *  into buf (at most size bytes, always NUL-terminated when size > 0).
  *  Returns the number of characters the full text needs, excluding the NUL. */
-size_t geom_diag_format(const geom_diag *d, char *buf, size_t size);
+GEOM_API size_t geom_diag_format(const geom_diag *d, char *buf, size_t size);
 
 /* ---------------------------------------------------------------- allocator */
 
@@ -128,38 +140,38 @@ typedef struct geom_vec2 { double x, y; } geom_vec2;
 typedef struct geom_vec3 { double x, y, z; } geom_vec3;
 typedef struct geom_vec4 { double x, y, z, w; } geom_vec4;
 
-geom_vec2 geom_vec2_make(double x, double y);
-geom_vec2 geom_vec2_add(geom_vec2 a, geom_vec2 b);
-geom_vec2 geom_vec2_sub(geom_vec2 a, geom_vec2 b);
-geom_vec2 geom_vec2_scale(geom_vec2 a, double s);
-double geom_vec2_dot(geom_vec2 a, geom_vec2 b);
+GEOM_API geom_vec2 geom_vec2_make(double x, double y);
+GEOM_API geom_vec2 geom_vec2_add(geom_vec2 a, geom_vec2 b);
+GEOM_API geom_vec2 geom_vec2_sub(geom_vec2 a, geom_vec2 b);
+GEOM_API geom_vec2 geom_vec2_scale(geom_vec2 a, double s);
+GEOM_API double geom_vec2_dot(geom_vec2 a, geom_vec2 b);
 /** z component of the 3D cross product (a.x*b.y - a.y*b.x). */
-double geom_vec2_cross(geom_vec2 a, geom_vec2 b);
+GEOM_API double geom_vec2_cross(geom_vec2 a, geom_vec2 b);
 /** Euclidean length without overflow or underflow (hypot). */
-double geom_vec2_length(geom_vec2 a);
+GEOM_API double geom_vec2_length(geom_vec2 a);
 /** Unit vector in the direction of a. GEOM_ERR_DEGENERATE if a is zero
  *  (out set to (0,0)), GEOM_ERR_INVALID_ARG if a has NaN/Inf (out set to (0,0)). */
-geom_status geom_vec2_normalize(geom_vec2 a, geom_vec2 *out);
+GEOM_API geom_status geom_vec2_normalize(geom_vec2 a, geom_vec2 *out);
 
-geom_vec3 geom_vec3_make(double x, double y, double z);
-geom_vec3 geom_vec3_add(geom_vec3 a, geom_vec3 b);
-geom_vec3 geom_vec3_sub(geom_vec3 a, geom_vec3 b);
-geom_vec3 geom_vec3_scale(geom_vec3 a, double s);
-geom_vec3 geom_vec3_neg(geom_vec3 a);
+GEOM_API geom_vec3 geom_vec3_make(double x, double y, double z);
+GEOM_API geom_vec3 geom_vec3_add(geom_vec3 a, geom_vec3 b);
+GEOM_API geom_vec3 geom_vec3_sub(geom_vec3 a, geom_vec3 b);
+GEOM_API geom_vec3 geom_vec3_scale(geom_vec3 a, double s);
+GEOM_API geom_vec3 geom_vec3_neg(geom_vec3 a);
 /** a + t*(b - a). */
-geom_vec3 geom_vec3_lerp(geom_vec3 a, geom_vec3 b, double t);
-double geom_vec3_dot(geom_vec3 a, geom_vec3 b);
-geom_vec3 geom_vec3_cross(geom_vec3 a, geom_vec3 b);
+GEOM_API geom_vec3 geom_vec3_lerp(geom_vec3 a, geom_vec3 b, double t);
+GEOM_API double geom_vec3_dot(geom_vec3 a, geom_vec3 b);
+GEOM_API geom_vec3 geom_vec3_cross(geom_vec3 a, geom_vec3 b);
 /** Euclidean length, scaled so that it neither overflows nor underflows for
  *  any finite input (relative error a few ulp). */
-double geom_vec3_length(geom_vec3 a);
+GEOM_API double geom_vec3_length(geom_vec3 a);
 /** Unit vector in the direction of a (accurate to a few ulp even for
  *  components near DBL_MAX or subnormal). GEOM_ERR_DEGENERATE if a is the zero
  *  vector, GEOM_ERR_INVALID_ARG if it has NaN/Inf; out is then (0,0,0),
  *  never NaN. */
-geom_status geom_vec3_normalize(geom_vec3 a, geom_vec3 *out);
+GEOM_API geom_status geom_vec3_normalize(geom_vec3 a, geom_vec3 *out);
 /** Mirror direction: i - 2 (n.i) n, n must be unit length. */
-geom_vec3 geom_vec3_reflect(geom_vec3 i, geom_vec3 n);
+GEOM_API geom_vec3 geom_vec3_reflect(geom_vec3 i, geom_vec3 n);
 /**
  * Refraction by Snell's law of the unit incident direction i at a surface with
  * unit normal n (pointing against i, i.e. n.i <= 0) with eta = n1/n2.
@@ -167,12 +179,12 @@ geom_vec3 geom_vec3_reflect(geom_vec3 i, geom_vec3 n);
  * total internal reflection, in which case *out is the reflected direction.
  * GEOM_ERR_INVALID_ARG for NaN/Inf input or eta <= 0.
  */
-geom_status geom_vec3_refract(geom_vec3 i, geom_vec3 n, double eta, geom_vec3 *out);
+GEOM_API geom_status geom_vec3_refract(geom_vec3 i, geom_vec3 n, double eta, geom_vec3 *out);
 
-geom_vec4 geom_vec4_make(double x, double y, double z, double w);
+GEOM_API geom_vec4 geom_vec4_make(double x, double y, double z, double w);
 /** (x/w, y/w, z/w). GEOM_ERR_DEGENERATE when w == 0, GEOM_ERR_INVALID_ARG
  *  when w is NaN/Inf (out set to (0,0,0) in both cases). */
-geom_status geom_vec4_homogeneous_divide(geom_vec4 a, geom_vec3 *out);
+GEOM_API geom_status geom_vec4_homogeneous_divide(geom_vec4 a, geom_vec3 *out);
 
 /* ----------------------------------------------------------------- matrices */
 
@@ -181,68 +193,68 @@ typedef struct geom_mat3 { double m[9]; } geom_mat3;
 /** 4x4 matrix, column-major: element (r, c) is m[4*c + r]. */
 typedef struct geom_mat4 { double m[16]; } geom_mat4;
 
-geom_mat3 geom_mat3_identity(void);
-geom_mat3 geom_mat3_mul(geom_mat3 a, geom_mat3 b);
-geom_vec3 geom_mat3_mul_vec3(geom_mat3 a, geom_vec3 v);
-geom_mat3 geom_mat3_transpose(geom_mat3 a);
-double geom_mat3_determinant(geom_mat3 a);
+GEOM_API geom_mat3 geom_mat3_identity(void);
+GEOM_API geom_mat3 geom_mat3_mul(geom_mat3 a, geom_mat3 b);
+GEOM_API geom_vec3 geom_mat3_mul_vec3(geom_mat3 a, geom_vec3 v);
+GEOM_API geom_mat3 geom_mat3_transpose(geom_mat3 a);
+GEOM_API double geom_mat3_determinant(geom_mat3 a);
 /**
  * Inverse by the adjugate. GEOM_ERR_DEGENERATE when the matrix is singular or
  * so ill-conditioned that |det| <= 1e-14 * product of the column norms
  * (Hadamard's bound); *out is then the identity. GEOM_ERR_INVALID_ARG on
  * NaN/Inf. Relative accuracy ~ cond(A) * 1e-16.
  */
-geom_status geom_mat3_inverse(geom_mat3 a, geom_mat3 *out);
+GEOM_API geom_status geom_mat3_inverse(geom_mat3 a, geom_mat3 *out);
 
-geom_mat4 geom_mat4_identity(void);
+GEOM_API geom_mat4 geom_mat4_identity(void);
 /** a*b: applying the result applies b first, then a. */
-geom_mat4 geom_mat4_mul(geom_mat4 a, geom_mat4 b);
-geom_vec4 geom_mat4_mul_vec4(geom_mat4 a, geom_vec4 v);
-geom_mat4 geom_mat4_transpose(geom_mat4 a);
-double geom_mat4_determinant(geom_mat4 a);
+GEOM_API geom_mat4 geom_mat4_mul(geom_mat4 a, geom_mat4 b);
+GEOM_API geom_vec4 geom_mat4_mul_vec4(geom_mat4 a, geom_vec4 v);
+GEOM_API geom_mat4 geom_mat4_transpose(geom_mat4 a);
+GEOM_API double geom_mat4_determinant(geom_mat4 a);
 /** Inverse by cofactors; the same singularity rule and statuses as
  *  geom_mat3_inverse (threshold on the 4 column norms). */
-geom_status geom_mat4_inverse(geom_mat4 a, geom_mat4 *out);
+GEOM_API geom_status geom_mat4_inverse(geom_mat4 a, geom_mat4 *out);
 /** Upper-left 3x3 block. */
-geom_mat3 geom_mat4_upper3(geom_mat4 a);
+GEOM_API geom_mat3 geom_mat4_upper3(geom_mat4 a);
 /**
  * Normal matrix: the inverse-transpose of the upper-left 3x3 block, which maps
  * surface normals under the affine transform a (normals then need
  * renormalising). GEOM_ERR_DEGENERATE if that block is singular.
  */
-geom_status geom_mat4_normal_matrix(geom_mat4 a, geom_mat3 *out);
+GEOM_API geom_status geom_mat4_normal_matrix(geom_mat4 a, geom_mat3 *out);
 
-geom_mat4 geom_mat4_translate(geom_vec3 t);
-geom_mat4 geom_mat4_scale(geom_vec3 s);
+GEOM_API geom_mat4 geom_mat4_translate(geom_vec3 t);
+GEOM_API geom_mat4 geom_mat4_scale(geom_vec3 s);
 /**
  * Rotation by `radians` about `axis` through the origin, counter-clockwise
  * when looking from the axis tip toward the origin (right-handed, as
  * glRotate). The axis need not be unit length; GEOM_ERR_DEGENERATE if it is
  * zero (out = identity).
  */
-geom_status geom_mat4_rotate(geom_vec3 axis, double radians, geom_mat4 *out);
+GEOM_API geom_status geom_mat4_rotate(geom_vec3 axis, double radians, geom_mat4 *out);
 /** Transform a point (w = 1) with homogeneous divide; GEOM_ERR_DEGENERATE if
  *  the resulting w is 0. */
-geom_status geom_mat4_transform_point(geom_mat4 a, geom_vec3 p, geom_vec3 *out);
+GEOM_API geom_status geom_mat4_transform_point(geom_mat4 a, geom_vec3 p, geom_vec3 *out);
 /** Transform a direction (w = 0): upper 3x3 times v. */
-geom_vec3 geom_mat4_transform_dir(geom_mat4 a, geom_vec3 v);
+GEOM_API geom_vec3 geom_mat4_transform_dir(geom_mat4 a, geom_vec3 v);
 /**
  * View matrix as gluLookAt: camera at eye, looking at center, with `up`
  * projected to the screen's vertical. GEOM_ERR_DEGENERATE if eye == center or
  * up is parallel to the view direction (out = identity).
  */
-geom_status geom_mat4_lookat(geom_vec3 eye, geom_vec3 center, geom_vec3 up, geom_mat4 *out);
+GEOM_API geom_status geom_mat4_lookat(geom_vec3 eye, geom_vec3 center, geom_vec3 up, geom_mat4 *out);
 /**
  * Perspective projection as gluPerspective (OpenGL convention: right-handed
  * eye space looking down -z, clip depth mapped to [-1, 1] for z in
  * [-near, -far]). fovy_radians in (0, pi), aspect > 0, 0 < near < far;
  * otherwise GEOM_ERR_DOMAIN (out = identity).
  */
-geom_status geom_mat4_perspective(double fovy_radians, double aspect, double near_z,
+GEOM_API geom_status geom_mat4_perspective(double fovy_radians, double aspect, double near_z,
                                   double far_z, geom_mat4 *out);
 /** Orthographic projection as glOrtho (depth to [-1, 1]). GEOM_ERR_DOMAIN if
  *  left == right, bottom == top or near == far. */
-geom_status geom_mat4_ortho(double left, double right, double bottom, double top,
+GEOM_API geom_status geom_mat4_ortho(double left, double right, double bottom, double top,
                             double near_z, double far_z, geom_mat4 *out);
 
 /* --------------------------------------------------------------- predicates */
@@ -254,19 +266,19 @@ geom_status geom_mat4_ortho(double left, double right, double bottom, double top
  * fallback built from error-free transformations, after Shewchuk 1997); the
  * magnitude approximates twice the signed area. NaN if any input is NaN/Inf.
  */
-double geom_orient2d(const double a[2], const double b[2], const double c[2]);
+GEOM_API double geom_orient2d(const double a[2], const double b[2], const double c[2]);
 /**
  * Orientation of four 3D points: positive if d lies below the plane through
  * a, b, c (a, b, c counter-clockwise seen from above), i.e. the sign of
  * det[a-d; b-d; c-d]. Exact sign, magnitude ~ six times the signed volume.
  */
-double geom_orient3d(const double a[3], const double b[3], const double c[3],
+GEOM_API double geom_orient3d(const double a[3], const double b[3], const double c[3],
                      const double d[3]);
 /**
  * In-circle test: positive if d lies inside the circle through a, b, c (given
  * counter-clockwise), negative outside, zero on it. Exact sign.
  */
-double geom_incircle(const double a[2], const double b[2], const double c[2],
+GEOM_API double geom_incircle(const double a[2], const double b[2], const double c[2],
                      const double d[2]);
 
 /**
@@ -281,8 +293,8 @@ double geom_incircle(const double a[2], const double b[2], const double c[2],
  * certify the sign, the returned magnitude is this exactly rounded value
  * (with the same range rules), so a nonzero determinant never returns 0.
  */
-double geom_orient2d_exact(const double a[2], const double b[2], const double c[2]);
-double geom_orient3d_exact(const double a[3], const double b[3], const double c[3],
+GEOM_API double geom_orient2d_exact(const double a[2], const double b[2], const double c[2]);
+GEOM_API double geom_orient3d_exact(const double a[3], const double b[3], const double c[3],
                            const double d[3]);
 
 /* ------------------------------------------------------------ rays and boxes */
@@ -302,11 +314,11 @@ typedef struct geom_aabb {
 } geom_aabb;
 
 /** The empty box (min = +inf, max = -inf), the identity for union. */
-geom_aabb geom_aabb_empty(void);
-bool geom_aabb_is_empty(geom_aabb b);
-geom_aabb geom_aabb_extend(geom_aabb b, geom_vec3 p);
-geom_aabb geom_aabb_union(geom_aabb a, geom_aabb b);
-bool geom_aabb_contains(geom_aabb b, geom_vec3 p);
+GEOM_API geom_aabb geom_aabb_empty(void);
+GEOM_API bool geom_aabb_is_empty(geom_aabb b);
+GEOM_API geom_aabb geom_aabb_extend(geom_aabb b, geom_vec3 p);
+GEOM_API geom_aabb geom_aabb_union(geom_aabb a, geom_aabb b);
+GEOM_API bool geom_aabb_contains(geom_aabb b, geom_vec3 p);
 
 /**
  * Slab test (Kay-Kajiya with the NaN-safe ordering of Williams et al. 2005 and
@@ -318,7 +330,7 @@ bool geom_aabb_contains(geom_aabb b, geom_vec3 p);
  * spurious hit. The interval is widened by 2*gamma(3) so that a ray tangent to
  * a face is never lost to rounding.
  */
-bool geom_ray_aabb(const geom_ray *r, geom_aabb b, double *t0, double *t1);
+GEOM_API bool geom_ray_aabb(const geom_ray *r, geom_aabb b, double *t0, double *t1);
 
 #ifdef __cplusplus
 }

@@ -109,7 +109,7 @@ typedef struct geom_nurbs_curve {
  * b1 = p0 + m0/3, b2 = p1 - m1/3, b3 = p1. Each input is dim doubles;
  * bezier receives 4*dim doubles. Exact up to one rounding per operation.
  */
-geom_status geom_curve_hermite_to_bezier(size_t dim, const double *p0, const double *m0,
+GEOM_API geom_status geom_curve_hermite_to_bezier(size_t dim, const double *p0, const double *m0,
                                          const double *p1, const double *m1, double *bezier);
 
 /**
@@ -118,7 +118,7 @@ geom_status geom_curve_hermite_to_bezier(size_t dim, const double *p0, const dou
  * Casteljau's algorithm. ders receives (nderiv+1)*dim doubles (derivative k
  * at [k*dim, (k+1)*dim); orders above 3 are zero).
  */
-geom_status geom_curve_hermite_eval(size_t dim, const double *p0, const double *m0,
+GEOM_API geom_status geom_curve_hermite_eval(size_t dim, const double *p0, const double *m0,
                                     const double *p1, const double *m1, double t, int nderiv,
                                     double *ders);
 
@@ -134,7 +134,7 @@ geom_status geom_curve_hermite_eval(size_t dim, const double *p0, const double *
  * result is a cubic B-spline that reproduces the spline exactly (C1).
  * GEOM_ERR_DOMAIN if params are not strictly increasing.
  */
-geom_status geom_curve_hermite_spline_to_bezier(size_t dim, size_t n, const double *points,
+GEOM_API geom_status geom_curve_hermite_spline_to_bezier(size_t dim, size_t n, const double *points,
                                                 const double *tangents, const double *params,
                                                 double *bezier);
 
@@ -145,7 +145,7 @@ geom_status geom_curve_hermite_spline_to_bezier(size_t dim, size_t n, const doub
  * params[nseg]. params: nseg+1 strictly increasing finite values, or NULL
  * for 0, 1, ..., nseg. knots receives nseg*p + p + 2 doubles.
  */
-geom_status geom_curve_piecewise_bezier_knots(int degree, size_t nseg, const double *params,
+GEOM_API geom_status geom_curve_piecewise_bezier_knots(int degree, size_t nseg, const double *params,
                                               double *knots);
 
 /** How Catmull-Rom and Kochanek-Bartels splines treat their end points. */
@@ -165,7 +165,7 @@ typedef enum geom_curve_end {
 /** Number of segments of a Catmull-Rom or Kochanek-Bartels spline of n
  *  points with the given end treatment (see geom_curve_end).
  *  GEOM_ERR_INVALID_ARG if n is too small for that treatment. */
-geom_status geom_curve_catmull_rom_segments(size_t n, geom_curve_end ends, size_t *nseg);
+GEOM_API geom_status geom_curve_catmull_rom_segments(size_t n, geom_curve_end ends, size_t *nseg);
 
 /**
  * One Catmull-Rom segment from p1 to p2 (neighbours p0, p3) evaluated
@@ -175,7 +175,7 @@ geom_status geom_curve_catmull_rom_segments(size_t n, geom_curve_end ends, size_
  * GEOM_ERR_DEGENERATE if alpha > 0 and two consecutive points coincide.
  * out: dim doubles. Accuracy: a few ulp of the point magnitudes.
  */
-geom_status geom_curve_catmull_rom_eval(size_t dim, const double *p0, const double *p1,
+GEOM_API geom_status geom_curve_catmull_rom_eval(size_t dim, const double *p0, const double *p1,
                                         const double *p2, const double *p3, double alpha, double s,
                                         double *out);
 
@@ -195,7 +195,7 @@ geom_status geom_curve_catmull_rom_eval(size_t dim, const double *p0, const doub
  * GEOM_ERR_DEGENERATE (with a reason in diag) if alpha > 0 and two
  * consecutive points coincide.
  */
-geom_status geom_curve_catmull_rom_to_bezier(size_t dim, size_t n, const double *points,
+GEOM_API geom_status geom_curve_catmull_rom_to_bezier(size_t dim, size_t n, const double *points,
                                              double alpha, geom_curve_end ends, double *bezier,
                                              double *params, geom_diag *diag);
 
@@ -218,7 +218,7 @@ typedef struct geom_kb_params {
  * Catmull-Rom), 1 means the same for every point, n means one per point.
  * bezier: (3*nseg+1)*dim doubles. All parameters must be finite.
  */
-geom_status geom_curve_kochanek_bartels_to_bezier(size_t dim, size_t n, const double *points,
+GEOM_API geom_status geom_curve_kochanek_bartels_to_bezier(size_t dim, size_t n, const double *points,
                                                   const geom_kb_params *tcb, size_t ntcb,
                                                   geom_curve_end ends, double *bezier,
                                                   geom_diag *diag);
@@ -232,7 +232,7 @@ geom_status geom_curve_kochanek_bartels_to_bezier(size_t dim, size_t n, const do
  * doubles. t == 0 and t == 1 give the end points exactly. Accuracy for t in
  * [0, 1]: absolute error <= about 2 p eps max|ctrl| (convex combinations).
  */
-geom_status geom_curve_bezier_eval(int degree, size_t dim, const double *ctrl, double t,
+GEOM_API geom_status geom_curve_bezier_eval(int degree, size_t dim, const double *ctrl, double t,
                                    double *out);
 
 /**
@@ -241,7 +241,7 @@ geom_status geom_curve_bezier_eval(int degree, size_t dim, const double *ctrl, d
  * control points, the hodographs), each evaluated by de Casteljau.
  * ders: (nderiv+1)*dim doubles; orders above p are zero.
  */
-geom_status geom_curve_bezier_derivs(int degree, size_t dim, const double *ctrl, double t,
+GEOM_API geom_status geom_curve_bezier_derivs(int degree, size_t dim, const double *ctrl, double t,
                                      int nderiv, double *ders);
 
 /**
@@ -250,7 +250,7 @@ geom_status geom_curve_bezier_derivs(int degree, size_t dim, const double *ctrl,
  * [t, 1], each (p+1)*dim doubles; either may be NULL. The shared point is
  * bit-identical in both.
  */
-geom_status geom_curve_bezier_split(int degree, size_t dim, const double *ctrl, double t,
+GEOM_API geom_status geom_curve_bezier_split(int degree, size_t dim, const double *ctrl, double t,
                                     double *left, double *right);
 
 /**
@@ -258,12 +258,12 @@ geom_status geom_curve_bezier_split(int degree, size_t dim, const double *ctrl, 
  * Q_i = i/(p+1) P_{i-1} + (1 - i/(p+1)) P_i, convex combinations). out:
  * (p+times+1)*dim doubles. The curve is unchanged up to rounding.
  */
-geom_status geom_curve_bezier_elevate(int degree, size_t dim, const double *ctrl, int times,
+GEOM_API geom_status geom_curve_bezier_elevate(int degree, size_t dim, const double *ctrl, int times,
                                       double *out);
 
 /** Box of the control polygon (contains the curve on [0, 1]). min, max: dim
  *  doubles each. */
-geom_status geom_curve_bezier_bbox(int degree, size_t dim, const double *ctrl, double *min,
+GEOM_API geom_status geom_curve_bezier_bbox(int degree, size_t dim, const double *ctrl, double *min,
                                    double *max);
 
 /**
@@ -274,7 +274,7 @@ geom_status geom_curve_bezier_bbox(int degree, size_t dim, const double *ctrl, d
  * the curve) is below 1e-15 times the coordinate's extent. The returned box
  * contains the curve and exceeds its exact extent by at most that gap.
  */
-geom_status geom_curve_bezier_bbox_tight(int degree, size_t dim, const double *ctrl, double *min,
+GEOM_API geom_status geom_curve_bezier_bbox_tight(int degree, size_t dim, const double *ctrl, double *min,
                                          double *max);
 
 /* ---------------------------------------------- B-spline basis and knots */
@@ -286,7 +286,7 @@ geom_status geom_curve_bezier_bbox_tight(int degree, size_t dim, const double *c
  * above apply. knots: n+degree+1 doubles. GEOM_ERR_DOMAIN if u is outside
  * the domain (unless GEOM_CURVE_WRAP), GEOM_ERR_INVALID_ARG if u is NaN/Inf.
  */
-geom_status geom_curve_bspline_find_span(int degree, size_t n, const double *knots, double u,
+GEOM_API geom_status geom_curve_bspline_find_span(int degree, size_t n, const double *knots, double u,
                                          unsigned flags, size_t *span);
 
 /**
@@ -296,7 +296,7 @@ geom_status geom_curve_bspline_find_span(int degree, size_t n, const double *kno
  * >= p) comes out exactly 1. basis: degree+1 doubles; span may be NULL.
  * Accuracy: each value within a few ulp of 1 (they sum to 1).
  */
-geom_status geom_curve_bspline_basis(int degree, size_t n, const double *knots, double u,
+GEOM_API geom_status geom_curve_bspline_basis(int degree, size_t n, const double *knots, double u,
                                      unsigned flags, size_t *span, double *basis);
 
 /**
@@ -304,7 +304,7 @@ geom_status geom_curve_bspline_basis(int degree, size_t n, const double *knots, 
  * ders: (nderiv+1)*(degree+1) doubles, ders[k*(p+1) + j] = k-th derivative
  * of N_{span-p+j,p}(u); orders above p are zero. span may be NULL.
  */
-geom_status geom_curve_bspline_basis_derivs(int degree, size_t n, const double *knots, double u,
+GEOM_API geom_status geom_curve_bspline_basis_derivs(int degree, size_t n, const double *knots, double u,
                                             int nderiv, unsigned flags, size_t *span, double *ders);
 
 /** Kinds of uniform knot vectors for geom_curve_bspline_uniform_knots(). */
@@ -320,7 +320,7 @@ typedef enum geom_knot_kind {
 
 /** Uniform knot vector for n >= degree+1 >= 2 control points. knots:
  *  n+degree+1 doubles. */
-geom_status geom_curve_bspline_uniform_knots(geom_knot_kind kind, int degree, size_t n,
+GEOM_API geom_status geom_curve_bspline_uniform_knots(geom_knot_kind kind, int degree, size_t n,
                                              double *knots);
 
 /* ------------------------------------------------------ NURBS / B-splines */
@@ -334,10 +334,10 @@ geom_status geom_curve_bspline_uniform_knots(geom_knot_kind kind, int degree, si
  * GEOM_OK, or GEOM_ERR_INVALID_ARG with the first violation in diag (e.g.
  * "knot 5 (0.2) is smaller than knot 4 (0.3)").
  */
-geom_status geom_curve_nurbs_validate(const geom_nurbs_curve *c, size_t nknots, geom_diag *diag);
+GEOM_API geom_status geom_curve_nurbs_validate(const geom_nurbs_curve *c, size_t nknots, geom_diag *diag);
 
 /** The parameter domain [u_p, u_n]. Either pointer may be NULL. */
-geom_status geom_curve_nurbs_domain(const geom_nurbs_curve *c, double *u0, double *u1);
+GEOM_API geom_status geom_curve_nurbs_domain(const geom_nurbs_curve *c, double *u0, double *u1);
 
 /**
  * A3.1 / A4.1: the point at u (rules at knots and ends above; flags
@@ -348,7 +348,7 @@ geom_status geom_curve_nurbs_domain(const geom_nurbs_curve *c, double *u0, doubl
  * GEOM_ERR_INVALID_ARG (u NaN/Inf, bad sizes), GEOM_ERR_DOMAIN (u outside
  * the domain without GEOM_CURVE_WRAP).
  */
-geom_status geom_curve_nurbs_eval(const geom_nurbs_curve *c, double u, unsigned flags, double *out);
+GEOM_API geom_status geom_curve_nurbs_eval(const geom_nurbs_curve *c, double u, unsigned flags, double *out);
 
 /**
  * A3.2 / A4.2: the point and derivatives 0..nderiv (nderiv >= 0) at u. For a
@@ -360,7 +360,7 @@ geom_status geom_curve_nurbs_eval(const geom_nurbs_curve *c, double u, unsigned 
  * Accuracy: derivative k to about eps * max|P| / h^k, h the smallest knot
  * difference its basis functions divide by. GEOM_ERR_LIMIT if nderiv > 4096.
  */
-geom_status geom_curve_nurbs_derivs(const geom_nurbs_curve *c, double u, int nderiv, unsigned flags,
+GEOM_API geom_status geom_curve_nurbs_derivs(const geom_nurbs_curve *c, double u, int nderiv, unsigned flags,
                                     double *ders);
 
 /**
@@ -371,7 +371,7 @@ geom_status geom_curve_nurbs_derivs(const geom_nurbs_curve *c, double u, int nde
  * 0); 0 for dim == 2; GEOM_ERR_INVALID_ARG if requested for dim 1 or 4.
  * GEOM_ERR_DEGENERATE if C'(u) == 0 (curvature undefined).
  */
-geom_status geom_curve_nurbs_curvature(const geom_nurbs_curve *c, double u, unsigned flags,
+GEOM_API geom_status geom_curve_nurbs_curvature(const geom_nurbs_curve *c, double u, unsigned flags,
                                        double *curvature, double *torsion);
 
 /**
@@ -383,7 +383,7 @@ geom_status geom_curve_nurbs_curvature(const geom_nurbs_curve *c, double u, unsi
  * knots: m+2p+1 doubles; points: (m+p)*dim; weights_out: m+p doubles (only
  * when weights != NULL). *out describes the result (borrowing the buffers).
  */
-geom_status geom_curve_nurbs_periodic(int degree, size_t m, size_t dim, const double *points,
+GEOM_API geom_status geom_curve_nurbs_periodic(int degree, size_t m, size_t dim, const double *points,
                                       const double *weights, double *knots, double *points_out,
                                       double *weights_out, geom_nurbs_curve *out);
 
@@ -404,7 +404,7 @@ geom_status geom_curve_nurbs_periodic(int degree, size_t m, size_t dim, const do
  * exceed the degree. knots: n+p+1+times doubles; points: (n+times)*dim;
  * weights: n+times.
  */
-geom_status geom_curve_nurbs_insert_knot(const geom_nurbs_curve *c, double u, size_t times,
+GEOM_API geom_status geom_curve_nurbs_insert_knot(const geom_nurbs_curve *c, double u, size_t times,
                                          double *knots, double *points, double *weights,
                                          geom_nurbs_curve *out, geom_diag *diag);
 
@@ -415,7 +415,7 @@ geom_status geom_curve_nurbs_insert_knot(const geom_nurbs_curve *c, double u, si
  * multiplicity would exceed the degree). knots: n+p+1+nx; points:
  * (n+nx)*dim; weights: n+nx.
  */
-geom_status geom_curve_nurbs_refine(const geom_nurbs_curve *c, const double *x, size_t nx,
+GEOM_API geom_status geom_curve_nurbs_refine(const geom_nurbs_curve *c, const double *x, size_t nx,
                                     double *knots, double *points, double *weights,
                                     geom_nurbs_curve *out, geom_diag *diag);
 
@@ -430,7 +430,7 @@ geom_status geom_curve_nurbs_refine(const geom_nurbs_curve *c, const double *x, 
  * result is smaller by *removed). GEOM_ERR_DOMAIN if u is not an interior
  * knot.
  */
-geom_status geom_curve_nurbs_remove_knot(const geom_nurbs_curve *c, double u, size_t times,
+GEOM_API geom_status geom_curve_nurbs_remove_knot(const geom_nurbs_curve *c, double u, size_t times,
                                          double tol, double *knots, double *points, double *weights,
                                          geom_nurbs_curve *out, size_t *removed, geom_diag *diag);
 
@@ -439,7 +439,7 @@ geom_status geom_curve_nurbs_remove_knot(const geom_nurbs_curve *c, double u, si
  * distinct knot values strictly inside the domain, n + times*(s+1) points
  * and that + p + times + 1 knots. Either output may be NULL.
  */
-geom_status geom_curve_nurbs_elevate_bound(const geom_nurbs_curve *c, int times, size_t *n,
+GEOM_API geom_status geom_curve_nurbs_elevate_bound(const geom_nurbs_curve *c, int times, size_t *n,
                                            size_t *nknots);
 
 /**
@@ -450,7 +450,7 @@ geom_status geom_curve_nurbs_elevate_bound(const geom_nurbs_curve *c, int times,
  * Buffer sizes from geom_curve_nurbs_elevate_bound(); *out has degree
  * p + times.
  */
-geom_status geom_curve_nurbs_elevate(const geom_nurbs_curve *c, int times, double *knots,
+GEOM_API geom_status geom_curve_nurbs_elevate(const geom_nurbs_curve *c, int times, double *knots,
                                      double *points, double *weights, geom_nurbs_curve *out,
                                      geom_diag *diag);
 
@@ -461,11 +461,11 @@ geom_status geom_curve_nurbs_elevate(const geom_nurbs_curve *c, int times, doubl
  * repeated p+1 times. A clamped curve is copied unchanged. Sizes: at most
  * n + 2p points (knots: that + p + 1); *out gives the actual n.
  */
-geom_status geom_curve_nurbs_clamp(const geom_nurbs_curve *c, double *knots, double *points,
+GEOM_API geom_status geom_curve_nurbs_clamp(const geom_nurbs_curve *c, double *knots, double *points,
                                    double *weights, geom_nurbs_curve *out, geom_diag *diag);
 
 /** Number of non-empty knot spans in the domain (= Bezier segments). */
-geom_status geom_curve_nurbs_segments(const geom_nurbs_curve *c, size_t *nseg);
+GEOM_API geom_status geom_curve_nurbs_segments(const geom_nurbs_curve *c, size_t *nseg);
 
 /**
  * A5.6: the Bezier segments of the curve, one per non-empty span, in order.
@@ -476,7 +476,7 @@ geom_status geom_curve_nurbs_segments(const geom_nurbs_curve *c, size_t *nseg);
  * Clamped curves use A5.6; others get each span's segment by blossoming
  * (the de Boor recurrence with the span's end knots as arguments).
  */
-geom_status geom_curve_nurbs_decompose(const geom_nurbs_curve *c, double *bezier_points,
+GEOM_API geom_status geom_curve_nurbs_decompose(const geom_nurbs_curve *c, double *bezier_points,
                                        double *bezier_weights, double *breaks, geom_diag *diag);
 
 /* ------------------------------------------------------------------ conics */
@@ -487,7 +487,7 @@ geom_status geom_curve_nurbs_decompose(const geom_nurbs_curve *c, double *bezier
  * pieces of at most 90 degrees, n = 2*narcs + 1, nknots = n + 3.
  * GEOM_ERR_DOMAIN if the sweep is 0 or above 2 pi (by more than 1e-12).
  */
-geom_status geom_curve_nurbs_arc_bound(double start, double end, size_t *n, size_t *nknots);
+GEOM_API geom_status geom_curve_nurbs_arc_bound(double start, double end, size_t *n, size_t *nknots);
 
 /**
  * A7.1: exact rational quadratic arc of the ellipse
@@ -501,7 +501,7 @@ geom_status geom_curve_nurbs_arc_bound(double start, double end, size_t *n, size
  * points: n*dim; weights: n. GEOM_ERR_DEGENERATE if the axes are parallel
  * or zero.
  */
-geom_status geom_curve_nurbs_ellipse_arc(size_t dim, const double *center, const double *xaxis,
+GEOM_API geom_status geom_curve_nurbs_ellipse_arc(size_t dim, const double *center, const double *xaxis,
                                          const double *yaxis, double start, double end,
                                          double *knots, double *points, double *weights,
                                          geom_nurbs_curve *out, geom_diag *diag);
@@ -511,7 +511,7 @@ geom_status geom_curve_nurbs_ellipse_arc(size_t dim, const double *center, const
  * r*xaxis and r*yaxis, where xaxis, yaxis must be orthonormal (within
  * 1e-12; GEOM_ERR_INVALID_ARG otherwise).
  */
-geom_status geom_curve_nurbs_arc(size_t dim, const double *center, const double *xaxis,
+GEOM_API geom_status geom_curve_nurbs_arc(size_t dim, const double *center, const double *xaxis,
                                  const double *yaxis, double radius, double start, double end,
                                  double *knots, double *points, double *weights,
                                  geom_nurbs_curve *out, geom_diag *diag);
@@ -523,7 +523,7 @@ geom_status geom_curve_nurbs_arc(size_t dim, const double *center, const double 
  * 1 and sqrt(2)/2. C(0) = C(1) = center + r*xaxis. knots: 12 doubles;
  * points: 9*dim; weights: 9. Axes as in geom_curve_nurbs_arc.
  */
-geom_status geom_curve_nurbs_circle(size_t dim, const double *center, const double *xaxis,
+GEOM_API geom_status geom_curve_nurbs_circle(size_t dim, const double *center, const double *xaxis,
                                     const double *yaxis, double radius, double *knots,
                                     double *points, double *weights, geom_nurbs_curve *out,
                                     geom_diag *diag);
@@ -541,7 +541,7 @@ geom_status geom_curve_nurbs_circle(size_t dim, const double *center, const doub
  * the point cannot lie on such an arc. knots: 6 doubles; points: 3*dim;
  * weights: 3 (w0 = w2 = 1).
  */
-geom_status geom_curve_nurbs_conic(size_t dim, const double *p0, const double *t0, const double *p2,
+GEOM_API geom_status geom_curve_nurbs_conic(size_t dim, const double *p0, const double *t0, const double *p2,
                                    const double *t2, const double *point, double weight,
                                    double *knots, double *points, double *weights,
                                    geom_nurbs_curve *out, geom_diag *diag);
@@ -567,7 +567,7 @@ geom_status geom_curve_nurbs_conic(size_t dim, const double *p0, const double *t
  * curves far from the origin the speed is only known to about
  * eps * |offset| / span, which bounds the reachable tolerance.
  */
-geom_status geom_curve_nurbs_arc_length(const geom_nurbs_curve *c, double u0, double u1,
+GEOM_API geom_status geom_curve_nurbs_arc_length(const geom_nurbs_curve *c, double u0, double u1,
                                         double rel_tol, double *length, geom_error_report *report,
                                         geom_diag *diag);
 
@@ -587,7 +587,7 @@ geom_status geom_curve_nurbs_arc_length(const geom_nurbs_curve *c, double u0, do
  * that where the minimum is flat). Degrees above about 300 overflow the
  * binomials of the sign test.
  */
-geom_status geom_curve_nurbs_closest_point(const geom_nurbs_curve *c, const double *q, double *u,
+GEOM_API geom_status geom_curve_nurbs_closest_point(const geom_nurbs_curve *c, const double *q, double *u,
                                            double *point, double *distance, geom_diag *diag);
 
 /** Options for geom_curve_nurbs_polyline; valid when zero-initialised. */
@@ -621,7 +621,7 @@ typedef struct geom_curve_polyline_options {
  * measured deviation (bound or sampled), method, evaluations = de Casteljau
  * subdivisions plus sample evaluations.
  */
-geom_status geom_curve_nurbs_polyline(const geom_nurbs_curve *c,
+GEOM_API geom_status geom_curve_nurbs_polyline(const geom_nurbs_curve *c,
                                       const geom_curve_polyline_options *options, double *params,
                                       double *points, size_t capacity, size_t *count,
                                       geom_error_report *report, geom_diag *diag);

@@ -172,19 +172,19 @@ typedef struct geom_implicit_expr_options {
  * GEOM_ERR_INVALID_ARG for NULL text (with len > 0) or NULL out;
  * GEOM_ERR_NOMEM. On error *out is NULL. diag's source is "expression".
  */
-geom_status geom_implicit_expr_compile(const char *text, size_t len,
+GEOM_API geom_status geom_implicit_expr_compile(const char *text, size_t len,
                                        const geom_implicit_expr_options *opt,
                                        geom_implicit_expr **out, geom_diag *diag);
 
 /** Free a compiled expression. NULL is a no-op. */
-void geom_implicit_expr_destroy(geom_implicit_expr *e);
+GEOM_API void geom_implicit_expr_destroy(geom_implicit_expr *e);
 
 /** Set the value of the variable t (initially 0). Not to be called while
  *  other threads evaluate e. */
-void geom_implicit_expr_set_time(geom_implicit_expr *e, double t);
+GEOM_API void geom_implicit_expr_set_time(geom_implicit_expr *e, double t);
 
 /** Number of instructions of the compiled program (after constant folding). */
-size_t geom_implicit_expr_size(const geom_implicit_expr *e);
+GEOM_API size_t geom_implicit_expr_size(const geom_implicit_expr *e);
 
 /** Bits of geom_implicit_expr_variables(). */
 #define GEOM_IMPLICIT_VAR_X 1u
@@ -192,7 +192,7 @@ size_t geom_implicit_expr_size(const geom_implicit_expr *e);
 #define GEOM_IMPLICIT_VAR_Z 4u
 #define GEOM_IMPLICIT_VAR_T 8u
 /** Which variables the expression reads (GEOM_IMPLICIT_VAR_* bits). */
-unsigned geom_implicit_expr_variables(const geom_implicit_expr *e);
+GEOM_API unsigned geom_implicit_expr_variables(const geom_implicit_expr *e);
 
 /**
  * f(p) for p = 3 doubles (x, y, z). Accuracy: each operation is the
@@ -200,7 +200,7 @@ unsigned geom_implicit_expr_variables(const geom_implicit_expr *e);
  * so the error is that of evaluating the written formula in double
  * precision. Non-finite values follow the rules above.
  */
-double geom_implicit_expr_eval(const geom_implicit_expr *e, const double p[3]);
+GEOM_API double geom_implicit_expr_eval(const geom_implicit_expr *e, const double p[3]);
 
 /**
  * f at n points: p holds 3*n doubles (point i at p[3i..3i+2]), out receives
@@ -209,7 +209,7 @@ double geom_implicit_expr_eval(const geom_implicit_expr *e, const double p[3]);
  * dispatch: several times faster than n single evaluations for long
  * programs). NULL e or p (n > 0) fills out with NaN; NULL out is a no-op.
  */
-void geom_implicit_expr_eval_many(const geom_implicit_expr *e, size_t n, const double *p,
+GEOM_API void geom_implicit_expr_eval_many(const geom_implicit_expr *e, size_t n, const double *p,
                                   double *out);
 
 /**
@@ -217,7 +217,7 @@ void geom_implicit_expr_eval_many(const geom_implicit_expr *e, size_t n, const d
  * gradient in grad (3 doubles) by forward-mode dual numbers, with the kink
  * conventions above.
  */
-double geom_implicit_expr_eval_grad(const geom_implicit_expr *e, const double p[3],
+GEOM_API double geom_implicit_expr_eval_grad(const geom_implicit_expr *e, const double p[3],
                                     double grad[3]);
 
 /**
@@ -229,7 +229,7 @@ double geom_implicit_expr_eval_grad(const geom_implicit_expr *e, const double p[
  * Statuses: GEOM_OK; GEOM_ERR_INVALID_ARG for NULL pointers, NaN bounds or
  * lo > hi (out set to {NaN, NaN}).
  */
-geom_status geom_implicit_expr_eval_interval(const geom_implicit_expr *e, const double lo[3],
+GEOM_API geom_status geom_implicit_expr_eval_interval(const geom_implicit_expr *e, const double lo[3],
                                              const double hi[3], double out[2]);
 
 /* ------------------------------------------------------------------ fields */
@@ -256,11 +256,11 @@ typedef struct geom_implicit_field {
 
 /** Callbacks over a compiled expression (user = the geom_implicit_expr *):
  *  the same as geom_implicit_expr_eval / geom_implicit_expr_eval_grad. */
-double geom_implicit_expr_value_cb(void *user, const double p[3]);
-double geom_implicit_expr_grad_cb(void *user, const double p[3], double grad[3]);
+GEOM_API double geom_implicit_expr_value_cb(void *user, const double p[3]);
+GEOM_API double geom_implicit_expr_grad_cb(void *user, const double p[3], double grad[3]);
 
 /** Fill *out with e's callbacks (exact = 1). e must outlive the field. */
-void geom_implicit_field_from_expr(const geom_implicit_expr *e, geom_implicit_field *out);
+GEOM_API void geom_implicit_field_from_expr(const geom_implicit_expr *e, geom_implicit_field *out);
 
 /* ----------------------------------------------------------------- volumes */
 
@@ -294,7 +294,7 @@ typedef struct geom_implicit_volume geom_implicit_volume;
  * GEOM_ERR_LIMIT when the sample count or byte size overflows size_t;
  * GEOM_ERR_NOMEM.
  */
-geom_status geom_implicit_volume_create(const geom_implicit_volume_desc *desc,
+GEOM_API geom_status geom_implicit_volume_create(const geom_implicit_volume_desc *desc,
                                         const geom_allocator *alloc,
                                         geom_implicit_volume **out);
 
@@ -308,7 +308,7 @@ geom_status geom_implicit_volume_create(const geom_implicit_volume_desc *desc,
  * GEOM_ERR_PARSE (wrong file size: diag says both sizes);
  * GEOM_ERR_LIMIT; GEOM_ERR_NOMEM. NaN and infinite samples are kept.
  */
-geom_status geom_implicit_volume_read_raw(const char *path, const geom_implicit_volume_desc *desc,
+GEOM_API geom_status geom_implicit_volume_read_raw(const char *path, const geom_implicit_volume_desc *desc,
                                           const geom_allocator *alloc,
                                           geom_implicit_volume **out, geom_diag *diag);
 
@@ -331,7 +331,7 @@ geom_status geom_implicit_volume_read_raw(const char *path, const geom_implicit_
  * column of the bad header field, or the byte offset for short data);
  * GEOM_ERR_LIMIT; GEOM_ERR_NOMEM; GEOM_ERR_INVALID_ARG for NULL arguments.
  */
-geom_status geom_implicit_volume_read_nrrd(const char *path, const geom_allocator *alloc,
+GEOM_API geom_status geom_implicit_volume_read_nrrd(const char *path, const geom_allocator *alloc,
                                            geom_implicit_volume **out, geom_diag *diag);
 
 /**
@@ -340,27 +340,27 @@ geom_status geom_implicit_volume_read_nrrd(const char *path, const geom_allocato
  * (NULL: "<memory>") names it in diagnostics. A detached header is
  * GEOM_ERR_PARSE.
  */
-geom_status geom_implicit_volume_read_nrrd_memory(const void *data, size_t size,
+GEOM_API geom_status geom_implicit_volume_read_nrrd_memory(const void *data, size_t size,
                                                   const char *source_name,
                                                   const geom_allocator *alloc,
                                                   geom_implicit_volume **out, geom_diag *diag);
 
 /** Free a volume. NULL is a no-op. */
-void geom_implicit_volume_destroy(geom_implicit_volume *v);
+GEOM_API void geom_implicit_volume_destroy(geom_implicit_volume *v);
 
 /** The volume's shape (spacing filled in, never 0; big_endian 0). */
-void geom_implicit_volume_get_desc(const geom_implicit_volume *v, geom_implicit_volume_desc *out);
+GEOM_API void geom_implicit_volume_get_desc(const geom_implicit_volume *v, geom_implicit_volume_desc *out);
 
 /** The samples: dims[0]*dims[1]*dims[2] floats or doubles (by type), x
  *  fastest, in the machine's byte order. */
-void *geom_implicit_volume_data(geom_implicit_volume *v);
-const void *geom_implicit_volume_cdata(const geom_implicit_volume *v);
+GEOM_API void *geom_implicit_volume_data(geom_implicit_volume *v);
+GEOM_API const void *geom_implicit_volume_cdata(const geom_implicit_volume *v);
 
 /** Sample (i, j, k) as a double; NaN when out of range. */
-double geom_implicit_volume_at(const geom_implicit_volume *v, size_t i, size_t j, size_t k);
+GEOM_API double geom_implicit_volume_at(const geom_implicit_volume *v, size_t i, size_t j, size_t k);
 
 /** The box spanned by the samples: origin .. origin + (dims - 1) * spacing. */
-geom_aabb geom_implicit_volume_bounds(const geom_implicit_volume *v);
+GEOM_API geom_aabb geom_implicit_volume_bounds(const geom_implicit_volume *v);
 
 /**
  * Trilinear interpolation of the samples at p (3 doubles). Points outside
@@ -368,7 +368,7 @@ geom_aabb geom_implicit_volume_bounds(const geom_implicit_volume *v);
  * along the box's normals); NaN coordinates give NaN. Exact at sample
  * positions.
  */
-double geom_implicit_volume_eval(const geom_implicit_volume *v, const double p[3]);
+GEOM_API double geom_implicit_volume_eval(const geom_implicit_volume *v, const double p[3]);
 
 /**
  * The trilinear value (as geom_implicit_volume_eval) and a gradient: the
@@ -377,15 +377,15 @@ double geom_implicit_volume_eval(const geom_implicit_volume *v, const double p[3
  * axis with one sample). Second-order accurate at samples for smooth
  * data; outside the box the clamped point's gradient.
  */
-double geom_implicit_volume_eval_grad(const geom_implicit_volume *v, const double p[3],
+GEOM_API double geom_implicit_volume_eval_grad(const geom_implicit_volume *v, const double p[3],
                                       double grad[3]);
 
 /** Callbacks over a volume (user = the geom_implicit_volume *). */
-double geom_implicit_volume_value_cb(void *user, const double p[3]);
-double geom_implicit_volume_grad_cb(void *user, const double p[3], double grad[3]);
+GEOM_API double geom_implicit_volume_value_cb(void *user, const double p[3]);
+GEOM_API double geom_implicit_volume_grad_cb(void *user, const double p[3], double grad[3]);
 
 /** Fill *out with v's callbacks (exact = 0). v must outlive the field. */
-void geom_implicit_field_from_volume(const geom_implicit_volume *v, geom_implicit_field *out);
+GEOM_API void geom_implicit_field_from_volume(const geom_implicit_volume *v, geom_implicit_field *out);
 
 /* -------------------------------------------------------- marching squares */
 
@@ -479,14 +479,14 @@ typedef struct geom_implicit_isolines {
  * GEOM_ERR_LIMIT (more than 2^32 - 2 vertices or a grid too large for
  * size_t); GEOM_ERR_NOMEM. On error *out is zeroed (nothing to free).
  */
-geom_status geom_implicit_contour(const geom_implicit_field *field, const double bounds[4],
+GEOM_API geom_status geom_implicit_contour(const geom_implicit_field *field, const double bounds[4],
                                   size_t nx, size_t ny,
                                   const geom_implicit_contour_options *opt,
                                   geom_implicit_isolines *out, geom_diag *diag);
 
 /** Free what geom_implicit_contour allocated and zero *c. NULL or a zeroed
  *  struct is a no-op. */
-void geom_implicit_isolines_free(geom_implicit_isolines *c);
+GEOM_API void geom_implicit_isolines_free(geom_implicit_isolines *c);
 
 /**
  * Append the contour to mesh m as vertices (x, y, z) and polylines (a closed
@@ -495,7 +495,7 @@ void geom_implicit_isolines_free(geom_implicit_isolines *c);
  * Statuses: GEOM_OK; GEOM_ERR_INVALID_ARG (NULL, non-finite z);
  * GEOM_ERR_NOMEM; GEOM_ERR_LIMIT (too many vertices for uint32_t).
  */
-geom_status geom_implicit_isolines_to_mesh(const geom_implicit_isolines *c, double z,
+GEOM_API geom_status geom_implicit_isolines_to_mesh(const geom_implicit_isolines *c, double z,
                                           geom_mesh *m);
 
 #ifdef __cplusplus

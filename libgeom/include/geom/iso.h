@@ -97,7 +97,7 @@ typedef struct geom_iso_grid {
  * data, a zero dimension, a bad type, a negative or non-finite spacing, a
  * non-finite origin), GEOM_ERR_LIMIT (sample count overflows size_t).
  */
-geom_status geom_iso_grid_check(const geom_iso_grid *g);
+GEOM_API geom_status geom_iso_grid_check(const geom_iso_grid *g);
 
 /**
  * Trilinear interpolation of the samples at p (3 doubles). Points outside
@@ -106,7 +106,7 @@ geom_status geom_iso_grid_check(const geom_iso_grid *g);
  * the spacing is computed exactly (e.g. power-of-two spacings). NaN
  * coordinates give NaN. g must have passed geom_iso_grid_check.
  */
-double geom_iso_grid_value(const geom_iso_grid *g, const double p[3]);
+GEOM_API double geom_iso_grid_value(const geom_iso_grid *g, const double p[3]);
 
 /**
  * Gradient at p (3 doubles) into grad (3 doubles): the trilinear
@@ -115,17 +115,17 @@ double geom_iso_grid_value(const geom_iso_grid *g, const double p[3]);
  * 0 along an axis with one sample. Second-order accurate at samples for
  * smooth data. Outside the box, the gradient at the clamped point.
  */
-void geom_iso_grid_gradient(const geom_iso_grid *g, const double p[3], double grad[3]);
+GEOM_API void geom_iso_grid_gradient(const geom_iso_grid *g, const double p[3], double grad[3]);
 
 /** Callbacks over a grid (user = the const geom_iso_grid *). */
-double geom_iso_grid_value_cb(void *user, const double p[3]);
-void geom_iso_grid_gradient_cb(void *user, const double p[3], double grad[3]);
+GEOM_API double geom_iso_grid_value_cb(void *user, const double p[3]);
+GEOM_API void geom_iso_grid_gradient_cb(void *user, const double p[3], double grad[3]);
 
 /**
  * Fill *out with g's callbacks (value, gradient, no batch, exact = 0).
  * g must outlive the field. GEOM_ERR_INVALID_ARG as geom_iso_grid_check.
  */
-geom_status geom_iso_field_from_grid(const geom_iso_grid *g, geom_iso_field *out);
+GEOM_API geom_status geom_iso_field_from_grid(const geom_iso_grid *g, geom_iso_field *out);
 
 /* -------------------------------------------------------------- extraction */
 
@@ -281,7 +281,7 @@ typedef struct geom_iso_surface {
  * large for size_t); GEOM_ERR_NOMEM. On error *out is zeroed (nothing to
  * free).
  */
-geom_status geom_iso_extract(const geom_iso_field *field, const double bounds[6],
+GEOM_API geom_status geom_iso_extract(const geom_iso_field *field, const double bounds[6],
                              const size_t res[3], const geom_iso_options *opt,
                              geom_iso_surface *out, geom_diag *diag);
 
@@ -295,12 +295,12 @@ geom_status geom_iso_extract(const geom_iso_field *field, const double bounds[6]
  * gives an empty surface.
  * Statuses: as geom_iso_extract, GEOM_ERR_INVALID_ARG as geom_iso_grid_check.
  */
-geom_status geom_iso_extract_grid(const geom_iso_grid *grid, const geom_iso_options *opt,
+GEOM_API geom_status geom_iso_extract_grid(const geom_iso_grid *grid, const geom_iso_options *opt,
                                   geom_iso_surface *out, geom_diag *diag);
 
 /** Free what an extraction allocated and zero *s. NULL or a zeroed struct
  *  is a no-op. */
-void geom_iso_surface_free(geom_iso_surface *s);
+GEOM_API void geom_iso_surface_free(geom_iso_surface *s);
 
 /**
  * Replace m's contents with the surface (geom_mesh_build of the triangle
@@ -310,7 +310,7 @@ void geom_iso_surface_free(geom_iso_surface *s);
  * GEOM_ERR_LIMIT; GEOM_ERR_NONMANIFOLD if the mesh builder had to repair
  * anything (it never should: the mesh is then left as built).
  */
-geom_status geom_iso_surface_to_mesh(const geom_iso_surface *s, geom_mesh *m, geom_diag *diag);
+GEOM_API geom_status geom_iso_surface_to_mesh(const geom_iso_surface *s, geom_mesh *m, geom_diag *diag);
 
 /**
  * Measure the error of any triangle mesh against a field: as
@@ -321,7 +321,7 @@ geom_status geom_iso_surface_to_mesh(const geom_iso_surface *s, geom_mesh *m, ge
  * Statuses: GEOM_OK; GEOM_ERR_INVALID_ARG (NULL field/value, NULL arrays
  * with nonzero counts, an index out of range, non-finite iso).
  */
-geom_status geom_iso_measure_error(const geom_iso_field *field, double iso, size_t n_vertices,
+GEOM_API geom_status geom_iso_measure_error(const geom_iso_field *field, double iso, size_t n_vertices,
                                    const double *xyz, size_t n_triangles, const uint32_t *tris,
                                    geom_error_report *vertex_error,
                                    geom_error_report *sample_error, size_t *unmeasured);
@@ -335,21 +335,21 @@ geom_status geom_iso_measure_error(const geom_iso_field *field, double iso, size
  * outlive the field. GEOM_ERR_INVALID_ARG for NULL e or out (out zeroed
  * when not NULL).
  */
-geom_status geom_iso_field_from_expr(const geom_implicit_expr *e, geom_iso_field *out);
+GEOM_API geom_status geom_iso_field_from_expr(const geom_implicit_expr *e, geom_iso_field *out);
 
 /**
  * Fill a geom_iso_field with the sampled volume v's callbacks (trilinear
  * value, central-difference gradient, exact = 0). v must outlive the field.
  * GEOM_ERR_INVALID_ARG for NULL arguments.
  */
-geom_status geom_iso_field_from_volume(const geom_implicit_volume *v, geom_iso_field *out);
+GEOM_API geom_status geom_iso_field_from_volume(const geom_implicit_volume *v, geom_iso_field *out);
 
 /**
  * Describe v's samples as a geom_iso_grid (borrowing the data: v must
  * outlive the grid), so that marching cubes reads them directly.
  * GEOM_ERR_INVALID_ARG for NULL arguments.
  */
-geom_status geom_iso_grid_from_volume(const geom_implicit_volume *v, geom_iso_grid *out);
+GEOM_API geom_status geom_iso_grid_from_volume(const geom_implicit_volume *v, geom_iso_grid *out);
 
 #ifdef __cplusplus
 }

@@ -46,70 +46,70 @@ typedef struct geom_mesh geom_mesh;
 
 /** A new empty mesh (with the "position" channel). alloc may be NULL.
  *  Returns NULL when out of memory. */
-geom_mesh *geom_mesh_create(const geom_allocator *alloc);
+GEOM_API geom_mesh *geom_mesh_create(const geom_allocator *alloc);
 /** Free a mesh and everything it owns. NULL is a no-op. */
-void geom_mesh_destroy(geom_mesh *m);
+GEOM_API void geom_mesh_destroy(geom_mesh *m);
 /** Deep copy (topology, channels, tags, polylines, metadata).
  *  GEOM_ERR_NOMEM / GEOM_ERR_INVALID_ARG. */
-geom_status geom_mesh_clone(const geom_mesh *m, geom_mesh **out);
+GEOM_API geom_status geom_mesh_clone(const geom_mesh *m, geom_mesh **out);
 /** Remove every element, channel (except "position"), tag and polyline. */
-void geom_mesh_clear(geom_mesh *m);
+GEOM_API void geom_mesh_clear(geom_mesh *m);
 
 /* --------------------------------------------------------------- counts */
 
 /** Sizes of the element arrays, including elements marked deleted. */
-size_t geom_mesh_n_vertices(const geom_mesh *m);
-size_t geom_mesh_n_halfedges(const geom_mesh *m); /**< = 2 * n_edges */
-size_t geom_mesh_n_edges(const geom_mesh *m);
-size_t geom_mesh_n_faces(const geom_mesh *m);
+GEOM_API size_t geom_mesh_n_vertices(const geom_mesh *m);
+GEOM_API size_t geom_mesh_n_halfedges(const geom_mesh *m); /**< = 2 * n_edges */
+GEOM_API size_t geom_mesh_n_edges(const geom_mesh *m);
+GEOM_API size_t geom_mesh_n_faces(const geom_mesh *m);
 /** Counts of live (not deleted) elements. */
-size_t geom_mesh_n_live_vertices(const geom_mesh *m);
-size_t geom_mesh_n_live_edges(const geom_mesh *m);
-size_t geom_mesh_n_live_faces(const geom_mesh *m);
+GEOM_API size_t geom_mesh_n_live_vertices(const geom_mesh *m);
+GEOM_API size_t geom_mesh_n_live_edges(const geom_mesh *m);
+GEOM_API size_t geom_mesh_n_live_faces(const geom_mesh *m);
 
 /* ----------------------------------------------------------- navigation */
 /* All take valid indices (behaviour for out-of-range indices: return
  * GEOM_INVALID_INDEX / false, never read out of bounds). */
 
-uint32_t geom_mesh_he_next(const geom_mesh *m, uint32_t h);
-uint32_t geom_mesh_he_prev(const geom_mesh *m, uint32_t h);
+GEOM_API uint32_t geom_mesh_he_next(const geom_mesh *m, uint32_t h);
+GEOM_API uint32_t geom_mesh_he_prev(const geom_mesh *m, uint32_t h);
 /** h ^ 1. */
-uint32_t geom_mesh_he_opposite(const geom_mesh *m, uint32_t h);
+GEOM_API uint32_t geom_mesh_he_opposite(const geom_mesh *m, uint32_t h);
 /** The vertex h points to. */
-uint32_t geom_mesh_he_vertex(const geom_mesh *m, uint32_t h);
+GEOM_API uint32_t geom_mesh_he_vertex(const geom_mesh *m, uint32_t h);
 /** The vertex h starts from (= vertex of the opposite). */
-uint32_t geom_mesh_he_from(const geom_mesh *m, uint32_t h);
+GEOM_API uint32_t geom_mesh_he_from(const geom_mesh *m, uint32_t h);
 /** The face of h, GEOM_INVALID_INDEX on a boundary halfedge. */
-uint32_t geom_mesh_he_face(const geom_mesh *m, uint32_t h);
+GEOM_API uint32_t geom_mesh_he_face(const geom_mesh *m, uint32_t h);
 /** h >> 1. */
-uint32_t geom_mesh_he_edge(const geom_mesh *m, uint32_t h);
+GEOM_API uint32_t geom_mesh_he_edge(const geom_mesh *m, uint32_t h);
 /** Halfedge 0 or 1 of edge e: 2e + i. */
-uint32_t geom_mesh_edge_he(const geom_mesh *m, uint32_t e, int i);
+GEOM_API uint32_t geom_mesh_edge_he(const geom_mesh *m, uint32_t e, int i);
 /** The outgoing halfedge of v (boundary one if v is on a boundary);
  *  GEOM_INVALID_INDEX for an isolated vertex. */
-uint32_t geom_mesh_vertex_he(const geom_mesh *m, uint32_t v);
+GEOM_API uint32_t geom_mesh_vertex_he(const geom_mesh *m, uint32_t v);
 /** One halfedge of face f. */
-uint32_t geom_mesh_face_he(const geom_mesh *m, uint32_t f);
+GEOM_API uint32_t geom_mesh_face_he(const geom_mesh *m, uint32_t f);
 
-bool geom_mesh_he_is_boundary(const geom_mesh *m, uint32_t h);
+GEOM_API bool geom_mesh_he_is_boundary(const geom_mesh *m, uint32_t h);
 /** True if either halfedge of e is a boundary halfedge. */
-bool geom_mesh_edge_is_boundary(const geom_mesh *m, uint32_t e);
+GEOM_API bool geom_mesh_edge_is_boundary(const geom_mesh *m, uint32_t e);
 /** True if v has a boundary outgoing halfedge or is isolated. */
-bool geom_mesh_vertex_is_boundary(const geom_mesh *m, uint32_t v);
-bool geom_mesh_vertex_is_isolated(const geom_mesh *m, uint32_t v);
+GEOM_API bool geom_mesh_vertex_is_boundary(const geom_mesh *m, uint32_t v);
+GEOM_API bool geom_mesh_vertex_is_isolated(const geom_mesh *m, uint32_t v);
 /** Number of edges at v. */
-size_t geom_mesh_vertex_valence(const geom_mesh *m, uint32_t v);
+GEOM_API size_t geom_mesh_vertex_valence(const geom_mesh *m, uint32_t v);
 /** Number of vertices (= edges) of f. */
-size_t geom_mesh_face_valence(const geom_mesh *m, uint32_t f);
+GEOM_API size_t geom_mesh_face_valence(const geom_mesh *m, uint32_t f);
 /** The edge between a and b (either direction), or GEOM_INVALID_INDEX.
  *  Also see geom_mesh_find_halfedge. */
-uint32_t geom_mesh_find_edge(const geom_mesh *m, uint32_t a, uint32_t b);
+GEOM_API uint32_t geom_mesh_find_edge(const geom_mesh *m, uint32_t a, uint32_t b);
 /** The halfedge from a to b, or GEOM_INVALID_INDEX. */
-uint32_t geom_mesh_find_halfedge(const geom_mesh *m, uint32_t a, uint32_t b);
+GEOM_API uint32_t geom_mesh_find_halfedge(const geom_mesh *m, uint32_t a, uint32_t b);
 
-bool geom_mesh_vertex_is_deleted(const geom_mesh *m, uint32_t v);
-bool geom_mesh_edge_is_deleted(const geom_mesh *m, uint32_t e);
-bool geom_mesh_face_is_deleted(const geom_mesh *m, uint32_t f);
+GEOM_API bool geom_mesh_vertex_is_deleted(const geom_mesh *m, uint32_t v);
+GEOM_API bool geom_mesh_edge_is_deleted(const geom_mesh *m, uint32_t e);
+GEOM_API bool geom_mesh_face_is_deleted(const geom_mesh *m, uint32_t f);
 
 /* ---------------------------------------------------------- circulators */
 
@@ -139,17 +139,17 @@ typedef struct geom_mesh_circ {
     int active;
 } geom_mesh_circ;
 
-geom_mesh_circ geom_mesh_circ_begin(const geom_mesh *m, geom_mesh_circ_kind kind, uint32_t elem);
+GEOM_API geom_mesh_circ geom_mesh_circ_begin(const geom_mesh *m, geom_mesh_circ_kind kind, uint32_t elem);
 /** Writes the next element (halfedge, face or vertex index, by kind) and
  *  returns true, or returns false when the cycle is complete. */
-bool geom_mesh_circ_next(geom_mesh_circ *c, uint32_t *out);
+GEOM_API bool geom_mesh_circ_next(geom_mesh_circ *c, uint32_t *out);
 
 /* ---------------------------------------------------- low-level editing */
 
 /** Append a vertex at p (3 doubles); *out receives its index (may be NULL).
  *  Other vertex channels get zeros. GEOM_ERR_NOMEM, GEOM_ERR_LIMIT
  *  (2^32-1 elements). */
-geom_status geom_mesh_add_vertex(geom_mesh *m, const double p[3], uint32_t *out);
+GEOM_API geom_status geom_mesh_add_vertex(geom_mesh *m, const double p[3], uint32_t *out);
 /**
  * Add a face over n >= 3 existing vertices (in counter-clockwise order),
  * linking halfedges as a manifold polygon mesh requires (as pmp's add_face).
@@ -159,12 +159,12 @@ geom_status geom_mesh_add_vertex(geom_mesh *m, const double p[3], uint32_t *out)
  * unchanged in every error case). Corner channel indices of the new
  * halfedges are GEOM_INVALID_INDEX; set them with geom_mesh_corner_indices.
  */
-geom_status geom_mesh_add_face(geom_mesh *m, size_t n, const uint32_t *verts, uint32_t *out);
+GEOM_API geom_status geom_mesh_add_face(geom_mesh *m, size_t n, const uint32_t *verts, uint32_t *out);
 /** Mark face f deleted, together with edges and vertices left without
  *  faces (as pmp's delete_face). */
-geom_status geom_mesh_delete_face(geom_mesh *m, uint32_t f);
+GEOM_API geom_status geom_mesh_delete_face(geom_mesh *m, uint32_t f);
 /** Mark v and its incident faces deleted. */
-geom_status geom_mesh_delete_vertex(geom_mesh *m, uint32_t v);
+GEOM_API geom_status geom_mesh_delete_vertex(geom_mesh *m, uint32_t v);
 /**
  * Remove every deleted element and renumber the rest (keeping relative
  * order), channels and corner pools included (unused corner values are
@@ -172,7 +172,7 @@ geom_status geom_mesh_delete_vertex(geom_mesh *m, uint32_t v);
  * index or GEOM_INVALID_INDEX (n_vertices / n_faces entries, sizes before
  * compaction).
  */
-geom_status geom_mesh_compact(geom_mesh *m, uint32_t *vertex_map, uint32_t *face_map);
+GEOM_API geom_status geom_mesh_compact(geom_mesh *m, uint32_t *vertex_map, uint32_t *face_map);
 
 /* ---------------------------------------------------- building from soup */
 
@@ -230,16 +230,16 @@ typedef struct geom_mesh_build_report {
  * diag names the face) or non-finite coordinates, GEOM_ERR_NOMEM,
  * GEOM_ERR_LIMIT.
  */
-geom_status geom_mesh_build(geom_mesh *m, size_t nverts, const double *xyz, size_t nfaces,
+GEOM_API geom_status geom_mesh_build(geom_mesh *m, size_t nverts, const double *xyz, size_t nfaces,
                             const uint32_t *face_sizes, const uint32_t *indices,
                             const geom_mesh_build_options *opt, geom_mesh_build_report *report,
                             geom_diag *diag);
 
 /** For each output vertex, the input vertex it came from (n_vertices
  *  entries), after geom_mesh_build; NULL if the mesh was not built from a soup. */
-const uint32_t *geom_mesh_vertex_origin(const geom_mesh *m);
+GEOM_API const uint32_t *geom_mesh_vertex_origin(const geom_mesh *m);
 /** For each output face, the input face it came from (n_faces entries). */
-const uint32_t *geom_mesh_face_origin(const geom_mesh *m);
+GEOM_API const uint32_t *geom_mesh_face_origin(const geom_mesh *m);
 
 /**
  * The mesh as a soup: face_sizes (n_live_faces entries) and indices
@@ -250,7 +250,7 @@ const uint32_t *geom_mesh_face_origin(const geom_mesh *m);
  * face's counter-clockwise order; face_he(f) is chosen by geom_mesh_build so
  * that a soup round-trips with each face starting at its first input vertex.
  */
-geom_status geom_mesh_to_soup(const geom_mesh *m, uint32_t *face_sizes, uint32_t *indices,
+GEOM_API geom_status geom_mesh_to_soup(const geom_mesh *m, uint32_t *face_sizes, uint32_t *indices,
                               size_t *n_indices);
 
 /* -------------------------------------------------------------- channels */
@@ -264,7 +264,7 @@ typedef enum geom_mesh_domain {
 
 /** Number of channels; channel ids are 0 .. count-1 (0 is "position").
  *  Removing a channel renumbers the ones after it. */
-size_t geom_mesh_channel_count(const geom_mesh *m);
+GEOM_API size_t geom_mesh_channel_count(const geom_mesh *m);
 /**
  * Add a channel with `ncomp` >= 1 doubles per value, zero-filled. For CORNER
  * channels the pool starts empty and every corner index is
@@ -272,31 +272,31 @@ size_t geom_mesh_channel_count(const geom_mesh *m);
  * GEOM_ERR_INVALID_ARG if a channel of that name already exists in that
  * domain or the name is empty or longer than 63 bytes.
  */
-geom_status geom_mesh_channel_add(geom_mesh *m, const char *name, geom_mesh_domain domain,
+GEOM_API geom_status geom_mesh_channel_add(geom_mesh *m, const char *name, geom_mesh_domain domain,
                                   size_t ncomp, uint32_t *id);
 /** The id of the channel `name` in `domain`, or GEOM_INVALID_INDEX. */
-uint32_t geom_mesh_channel_find(const geom_mesh *m, const char *name, geom_mesh_domain domain);
+GEOM_API uint32_t geom_mesh_channel_find(const geom_mesh *m, const char *name, geom_mesh_domain domain);
 /** Remove a channel (not channel 0). */
-geom_status geom_mesh_channel_remove(geom_mesh *m, uint32_t id);
-const char *geom_mesh_channel_name(const geom_mesh *m, uint32_t id);
-geom_mesh_domain geom_mesh_channel_domain(const geom_mesh *m, uint32_t id);
-size_t geom_mesh_channel_ncomp(const geom_mesh *m, uint32_t id);
+GEOM_API geom_status geom_mesh_channel_remove(geom_mesh *m, uint32_t id);
+GEOM_API const char *geom_mesh_channel_name(const geom_mesh *m, uint32_t id);
+GEOM_API geom_mesh_domain geom_mesh_channel_domain(const geom_mesh *m, uint32_t id);
+GEOM_API size_t geom_mesh_channel_ncomp(const geom_mesh *m, uint32_t id);
 /** Number of values: the element count for VERTEX/FACE/EDGE, the pool size
  *  for CORNER. */
-size_t geom_mesh_channel_size(const geom_mesh *m, uint32_t id);
+GEOM_API size_t geom_mesh_channel_size(const geom_mesh *m, uint32_t id);
 /** The values, size * ncomp doubles, row-major. Valid until the mesh's
  *  element counts or the pool size change. */
-double *geom_mesh_channel_data(geom_mesh *m, uint32_t id);
-const double *geom_mesh_channel_cdata(const geom_mesh *m, uint32_t id);
+GEOM_API double *geom_mesh_channel_data(geom_mesh *m, uint32_t id);
+GEOM_API const double *geom_mesh_channel_cdata(const geom_mesh *m, uint32_t id);
 /** Resize a CORNER channel's value pool to n values (new ones zeroed). */
-geom_status geom_mesh_corner_pool_resize(geom_mesh *m, uint32_t id, size_t n);
+GEOM_API geom_status geom_mesh_corner_pool_resize(geom_mesh *m, uint32_t id, size_t n);
 /** The per-halfedge pool indices of a CORNER channel (n_halfedges entries);
  *  NULL for other domains. */
-uint32_t *geom_mesh_corner_indices(geom_mesh *m, uint32_t id);
-const uint32_t *geom_mesh_corner_cindices(const geom_mesh *m, uint32_t id);
+GEOM_API uint32_t *geom_mesh_corner_indices(geom_mesh *m, uint32_t id);
+GEOM_API const uint32_t *geom_mesh_corner_cindices(const geom_mesh *m, uint32_t id);
 /** Shorthand for channel 0's data: 3*n_vertices doubles. */
-double *geom_mesh_positions(geom_mesh *m);
-const double *geom_mesh_cpositions(const geom_mesh *m);
+GEOM_API double *geom_mesh_positions(geom_mesh *m);
+GEOM_API const double *geom_mesh_cpositions(const geom_mesh *m);
 
 /* ------------------------------------------------------ tags and metadata */
 
@@ -314,12 +314,12 @@ typedef struct geom_mesh_tag {
     const char *const *strings;
 } geom_mesh_tag;
 
-size_t geom_mesh_tag_count(const geom_mesh *m);
+GEOM_API size_t geom_mesh_tag_count(const geom_mesh *m);
 /** View of tag i (pointers valid until the tags change). GEOM_ERR_INVALID_ARG
  *  if i is out of range. */
-geom_status geom_mesh_tag_get(const geom_mesh *m, size_t i, geom_mesh_tag *out);
+GEOM_API geom_status geom_mesh_tag_get(const geom_mesh *m, size_t i, geom_mesh_tag *out);
 /** Append a copy of *tag. */
-geom_status geom_mesh_tag_add(geom_mesh *m, const geom_mesh_tag *tag);
+GEOM_API geom_status geom_mesh_tag_add(geom_mesh *m, const geom_mesh_tag *tag);
 
 /**
  * Face groups: the OBJ `g`, `o`, `usemtl` and `s` state of each face, kept on
@@ -334,38 +334,38 @@ typedef struct geom_mesh_group {
     const char *smoothing; /**< s value */
 } geom_mesh_group;
 
-size_t geom_mesh_group_count(const geom_mesh *m);
-geom_status geom_mesh_group_get(const geom_mesh *m, size_t i, geom_mesh_group *out);
+GEOM_API size_t geom_mesh_group_count(const geom_mesh *m);
+GEOM_API geom_status geom_mesh_group_get(const geom_mesh *m, size_t i, geom_mesh_group *out);
 /** Append a copy of *g; *id receives its index. */
-geom_status geom_mesh_group_add(geom_mesh *m, const geom_mesh_group *g, uint32_t *id);
+GEOM_API geom_status geom_mesh_group_add(geom_mesh *m, const geom_mesh_group *g, uint32_t *id);
 /** Per-face group ids (n_faces entries), allocated on first call to the
  *  mutable accessor (initialised to GEOM_INVALID_INDEX); the const accessor
  *  returns NULL if there are none. NULL on out of memory. */
-uint32_t *geom_mesh_face_groups(geom_mesh *m);
-const uint32_t *geom_mesh_face_cgroups(const geom_mesh *m);
+GEOM_API uint32_t *geom_mesh_face_groups(geom_mesh *m);
+GEOM_API const uint32_t *geom_mesh_face_cgroups(const geom_mesh *m);
 /** Material libraries (`mtllib` arguments), in file order. */
-size_t geom_mesh_mtllib_count(const geom_mesh *m);
-const char *geom_mesh_mtllib_get(const geom_mesh *m, size_t i);
-geom_status geom_mesh_mtllib_add(geom_mesh *m, const char *name);
+GEOM_API size_t geom_mesh_mtllib_count(const geom_mesh *m);
+GEOM_API const char *geom_mesh_mtllib_get(const geom_mesh *m, size_t i);
+GEOM_API geom_status geom_mesh_mtllib_add(geom_mesh *m, const char *name);
 
 /** Polylines (OBJ `l`, feature edges): lists of vertex indices. */
-size_t geom_mesh_polyline_count(const geom_mesh *m);
+GEOM_API size_t geom_mesh_polyline_count(const geom_mesh *m);
 /** View of polyline i: *n vertices at *verts (valid until polylines change). */
-geom_status geom_mesh_polyline_get(const geom_mesh *m, size_t i, size_t *n,
+GEOM_API geom_status geom_mesh_polyline_get(const geom_mesh *m, size_t i, size_t *n,
                                    const uint32_t **verts);
-geom_status geom_mesh_polyline_add(geom_mesh *m, size_t n, const uint32_t *verts);
+GEOM_API geom_status geom_mesh_polyline_add(geom_mesh *m, size_t n, const uint32_t *verts);
 
 /* ---------------------------------------------------------------- queries */
 
 /** Bounding box of live vertices (empty box for no vertices). */
-geom_aabb geom_mesh_bbox(const geom_mesh *m);
+GEOM_API geom_aabb geom_mesh_bbox(const geom_mesh *m);
 
 /**
  * Boundary loops: *n_loops receives their number. If loop_of_halfedge is
  * non-NULL it receives, per halfedge, the loop id of a boundary halfedge and
  * GEOM_INVALID_INDEX otherwise (n_halfedges entries).
  */
-geom_status geom_mesh_boundary_loops(const geom_mesh *m, size_t *n_loops,
+GEOM_API geom_status geom_mesh_boundary_loops(const geom_mesh *m, size_t *n_loops,
                                      uint32_t *loop_of_halfedge);
 
 /**
@@ -373,7 +373,7 @@ geom_status geom_mesh_boundary_loops(const geom_mesh *m, size_t *n_loops,
  * components of their own). *n receives the count; vertex_component
  * (n_vertices entries) and face_component (n_faces) may be NULL.
  */
-geom_status geom_mesh_components(const geom_mesh *m, size_t *n, uint32_t *vertex_component,
+GEOM_API geom_status geom_mesh_components(const geom_mesh *m, size_t *n, uint32_t *vertex_component,
                                  uint32_t *face_component);
 
 /** Per-component topology, and the mesh's summary. */
@@ -391,14 +391,14 @@ typedef struct geom_mesh_topology {
 
 /** Fill *t. components/genus: isolated vertices count as components of
  *  genus 0. */
-geom_status geom_mesh_topology_summary(const geom_mesh *m, geom_mesh_topology *t);
+GEOM_API geom_status geom_mesh_topology_summary(const geom_mesh *m, geom_mesh_topology *t);
 
 /**
  * A face is degenerate when its area (Newell normal length / 2) is at most
  * 1e-14 times the square of its longest edge, or it has two coincident
  * vertices.
  */
-bool geom_mesh_face_is_degenerate(const geom_mesh *m, uint32_t f);
+GEOM_API bool geom_mesh_face_is_degenerate(const geom_mesh *m, uint32_t f);
 
 typedef enum geom_mesh_defect_kind {
     GEOM_MESH_DEFECT_BAD_INDEX = 1,          /**< a link points outside its array */
@@ -423,7 +423,7 @@ typedef struct geom_mesh_defect {
  * total found to *n_defects. GEOM_OK even when defects exist (the count
  * says); GEOM_ERR_INVALID_ARG for a NULL mesh.
  */
-geom_status geom_mesh_validate(const geom_mesh *m, geom_mesh_defect *defects,
+GEOM_API geom_status geom_mesh_validate(const geom_mesh *m, geom_mesh_defect *defects,
                                size_t max_defects, size_t *n_defects);
 
 /* --------------------------------------------------------- triangulation */
@@ -438,21 +438,21 @@ geom_status geom_mesh_validate(const geom_mesh *m, geom_mesh_defect *defects,
  * (a fan is still written), GEOM_ERR_INVALID_ARG for n < 3, NULL pointers
  * or a non-finite coordinate (a fan is written in that last case too).
  */
-geom_status geom_polygon_triangulate(size_t n, const double *pts, uint32_t *tris);
+GEOM_API geom_status geom_polygon_triangulate(size_t n, const double *pts, uint32_t *tris);
 
 /** Triangulate every face with more than three vertices in place (ear
  *  clipping as above), keeping corner-channel indices, face channels (copied
  *  to the new faces) and face groups. *n_new_faces (may be NULL) receives the
  *  number of faces added. GEOM_ERR_INVALID_ARG (mesh unchanged) if such a
  *  face has a non-finite vertex position; GEOM_ERR_NOMEM. */
-geom_status geom_mesh_triangulate(geom_mesh *m, size_t *n_new_faces);
+GEOM_API geom_status geom_mesh_triangulate(geom_mesh *m, size_t *n_new_faces);
 
 /* --------------------------------------------------------------- normals */
 
 /** Face normal by Newell's method (exact for planar polygons, a robust
  *  average for non-planar ones), normalised; out is 3 doubles. A degenerate
  *  face gives (0,0,0) and GEOM_ERR_DEGENERATE. */
-geom_status geom_mesh_face_normal(const geom_mesh *m, uint32_t f, double out[3]);
+GEOM_API geom_status geom_mesh_face_normal(const geom_mesh *m, uint32_t f, double out[3]);
 
 typedef enum geom_normal_weight {
     GEOM_NORMAL_WEIGHT_ANGLE = 0,   /**< incident angle (Thuermer & Wuethrich 1998); default */
@@ -471,7 +471,7 @@ typedef enum geom_normal_weight {
  * Accuracy: each normal within ~1e-15 (a few ulp) of the exactly weighted
  * sum, normalised.
  */
-geom_status geom_mesh_vertex_normals(const geom_mesh *m, geom_normal_weight weight,
+GEOM_API geom_status geom_mesh_vertex_normals(const geom_mesh *m, geom_normal_weight weight,
                                      double *normals, size_t *n_zero);
 
 typedef struct geom_corner_normal_options {
@@ -491,7 +491,7 @@ typedef struct geom_corner_normal_options {
  * seams of another corner channel); each fan gets the weighted average of
  * its faces' normals, so hard edges stay hard. *id receives the channel id.
  */
-geom_status geom_mesh_corner_normals(geom_mesh *m, const geom_corner_normal_options *opt,
+GEOM_API geom_status geom_mesh_corner_normals(geom_mesh *m, const geom_corner_normal_options *opt,
                                      uint32_t *id);
 
 /* --------------------------------------------------- tangents and UV data */
@@ -510,7 +510,7 @@ geom_status geom_mesh_corner_normals(geom_mesh *m, const geom_corner_normal_opti
  * uv value): unlike MikkTSpace, two distinct vertices at the same position
  * are not merged. GEOM_ERR_INVALID_ARG if there is no "uv" channel.
  */
-geom_status geom_mesh_tangents(geom_mesh *m, uint32_t *id);
+GEOM_API geom_status geom_mesh_tangents(geom_mesh *m, uint32_t *id);
 
 typedef struct geom_uv_report {
     size_t charts;            /**< connected components of faces across non-seam edges */
@@ -529,7 +529,7 @@ typedef struct geom_uv_report {
  * per-face chart ids (n_faces entries) and per-edge seam flags (n_edges
  * bytes, 1 on seams). Any of the output arrays may be NULL.
  */
-geom_status geom_mesh_uv_data(const geom_mesh *m, uint32_t uv_channel, geom_uv_report *report,
+GEOM_API geom_status geom_mesh_uv_data(const geom_mesh *m, uint32_t uv_channel, geom_uv_report *report,
                               double *chart_bounds, uint32_t *face_chart, uint8_t *seam_edge);
 
 /* ---------------------------------------------------------- feature edges */
@@ -555,7 +555,7 @@ typedef struct geom_feature_options {
  * the eye to the edge's midpoint. *n_polylines (may be NULL) receives the
  * number added.
  */
-geom_status geom_mesh_features(geom_mesh *m, const geom_feature_options *opt, uint8_t *edge_kind,
+GEOM_API geom_status geom_mesh_features(geom_mesh *m, const geom_feature_options *opt, uint8_t *edge_kind,
                                size_t *n_polylines);
 
 /* ------------------------------------------------------------- clipping */
@@ -579,14 +579,14 @@ typedef struct geom_clip_options {
  * are dropped, and a face lying in the plane is kept only if it faces away
  * from the kept side. GEOM_ERR_DEGENERATE for a zero plane normal.
  */
-geom_status geom_mesh_clip_plane(const geom_mesh *m, const double plane[4],
+GEOM_API geom_status geom_mesh_clip_plane(const geom_mesh *m, const double plane[4],
                                  const geom_clip_options *opt, geom_mesh **out);
 
 /**
  * Clip against the six planes of a view frustum given by a view-projection
  * matrix (OpenGL clip convention, Gribb-Hartmann plane extraction).
  */
-geom_status geom_mesh_clip_frustum(const geom_mesh *m, geom_mat4 view_proj,
+GEOM_API geom_status geom_mesh_clip_frustum(const geom_mesh *m, geom_mat4 view_proj,
                                    const geom_clip_options *opt, geom_mesh **out);
 
 #ifdef __cplusplus

@@ -81,11 +81,11 @@ typedef enum geom_meshio_format {
  * (not recognised); ".gltf" (JSON glTF, not written by this module) is not
  * recognised either.
  */
-geom_meshio_format geom_meshio_format_from_name(const char *name);
+GEOM_API geom_meshio_format geom_meshio_format_from_name(const char *name);
 
 /** Lower-case name of a format ("obj", ..., "glb"; "auto" for AUTO,
  *  "unknown" for other values). Never NULL. */
-const char *geom_meshio_format_name(geom_meshio_format format);
+GEOM_API const char *geom_meshio_format_name(geom_meshio_format format);
 
 /**
  * Guess the format of file content: PLY ("ply" magic line), GLB ("glTF"
@@ -93,7 +93,7 @@ const char *geom_meshio_format_name(geom_meshio_format format);
  * (first token ends in "OFF"), ASCII STL (first token "solid"), else OBJ.
  * data may be NULL when size is 0 (gives OBJ).
  */
-geom_meshio_format geom_meshio_format_sniff(const void *data, size_t size);
+GEOM_API geom_meshio_format geom_meshio_format_sniff(const void *data, size_t size);
 
 /* ------------------------------------------------------------------ reading */
 
@@ -149,7 +149,7 @@ typedef struct geom_meshio_read_options {
  * (more elements than opt->max_elements, or indices beyond 2^32-2);
  * GEOM_ERR_NOMEM; and the statuses of geom_mesh_build.
  */
-geom_status geom_meshio_read(const char *path, const geom_meshio_read_options *opt,
+GEOM_API geom_status geom_meshio_read(const char *path, const geom_meshio_read_options *opt,
                              geom_mesh **out, geom_mesh_build_report *report, geom_diag *diag);
 
 /**
@@ -159,7 +159,7 @@ geom_status geom_meshio_read(const char *path, const geom_meshio_read_options *o
  * gives the extension; without a recognised extension the content is
  * sniffed. Otherwise as geom_meshio_read (no GEOM_ERR_IO).
  */
-geom_status geom_meshio_read_memory(const void *data, size_t size, const char *source_name,
+GEOM_API geom_status geom_meshio_read_memory(const void *data, size_t size, const char *source_name,
                                     const geom_meshio_read_options *opt, geom_mesh **out,
                                     geom_mesh_build_report *report, geom_diag *diag);
 
@@ -237,7 +237,7 @@ typedef struct geom_meshio_write_options {
  * count beyond what the format can store); GEOM_ERR_NOMEM; the statuses of
  * geom_mesh_clone/geom_mesh_triangulate for formats that need triangles.
  */
-geom_status geom_meshio_write(const geom_mesh *m, const char *path,
+GEOM_API geom_status geom_meshio_write(const geom_mesh *m, const char *path,
                               const geom_meshio_write_options *opt, geom_diag *diag);
 
 /**
@@ -249,13 +249,13 @@ geom_status geom_meshio_write(const geom_mesh *m, const char *path,
  * opt->format must not be AUTO. On error *data is NULL and *size 0.
  * Statuses as geom_meshio_write without GEOM_ERR_IO.
  */
-geom_status geom_meshio_write_memory(const geom_mesh *m, const geom_meshio_write_options *opt,
+GEOM_API geom_status geom_meshio_write_memory(const geom_mesh *m, const geom_meshio_write_options *opt,
                                      void **data, size_t *size, geom_diag *diag);
 
 /** Free a buffer from geom_meshio_write_memory made with the allocator
  *  `alloc` (NULL: libc); `size` is the *size it returned. NULL data is a
  *  no-op. */
-void geom_meshio_buffer_free(void *data, size_t size, const geom_allocator *alloc);
+GEOM_API void geom_meshio_buffer_free(void *data, size_t size, const geom_allocator *alloc);
 
 #ifdef __cplusplus
 }

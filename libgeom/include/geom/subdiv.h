@@ -176,9 +176,9 @@ typedef struct geom_subdiv_options {
 
 /** Parse a scheme name ("catmull-clark" or "catmark", "loop", "bilinear",
  *  "butterfly", "sqrt3"); GEOM_ERR_INVALID_ARG for anything else. */
-geom_status geom_subdiv_scheme_from_name(const char *name, geom_subdiv_scheme *out);
+GEOM_API geom_status geom_subdiv_scheme_from_name(const char *name, geom_subdiv_scheme *out);
 /** Lower-case name of a scheme ("catmull-clark", ...; "unknown" otherwise). */
-const char *geom_subdiv_scheme_name(geom_subdiv_scheme s);
+GEOM_API const char *geom_subdiv_scheme_name(geom_subdiv_scheme s);
 
 /* --------------------------------------------------------------- refiner */
 
@@ -196,7 +196,7 @@ typedef struct geom_subdiv_refiner geom_subdiv_refiner;
  * index: diag says which); GEOM_ERR_LIMIT (a vertex with more than 65535
  * edges or faces); GEOM_ERR_NOMEM.
  */
-geom_status geom_subdiv_refiner_create(const geom_mesh *m, const geom_subdiv_options *opt,
+GEOM_API geom_status geom_subdiv_refiner_create(const geom_mesh *m, const geom_subdiv_options *opt,
                                        geom_subdiv_refiner **out, geom_diag *diag);
 
 /**
@@ -206,13 +206,13 @@ geom_status geom_subdiv_refiner_create(const geom_mesh *m, const geom_subdiv_opt
  * (non-manifold topology as OpenSubdiv accepts it). Sharp features come from
  * the option arrays only. Statuses as geom_subdiv_refiner_create.
  */
-geom_status geom_subdiv_refiner_create_soup(size_t nverts, size_t nfaces,
+GEOM_API geom_status geom_subdiv_refiner_create_soup(size_t nverts, size_t nfaces,
                                             const uint32_t *face_sizes, const uint32_t *indices,
                                             const geom_subdiv_options *opt,
                                             geom_subdiv_refiner **out, geom_diag *diag);
 
 /** Free a refiner. NULL is a no-op. */
-void geom_subdiv_refiner_destroy(geom_subdiv_refiner *r);
+GEOM_API void geom_subdiv_refiner_destroy(geom_subdiv_refiner *r);
 
 /**
  * Add a face-varying channel (before refining): n_values values and, for
@@ -221,15 +221,15 @@ void geom_subdiv_refiner_destroy(geom_subdiv_refiner *r);
  * *channel receives the channel index. GEOM_ERR_INVALID_ARG for an index
  * >= n_values or after geom_subdiv_refiner_refine; GEOM_ERR_NOMEM.
  */
-geom_status geom_subdiv_refiner_add_fvar(geom_subdiv_refiner *r, size_t n_values,
+GEOM_API geom_status geom_subdiv_refiner_add_fvar(geom_subdiv_refiner *r, size_t n_values,
                                          const uint32_t *face_values, uint32_t *channel);
 
 /** Number of face-varying channels. */
-size_t geom_subdiv_refiner_fvar_count(const geom_subdiv_refiner *r);
+GEOM_API size_t geom_subdiv_refiner_fvar_count(const geom_subdiv_refiner *r);
 /** For a refiner made from a mesh: the mesh CORNER channel id that
  *  face-varying channel `channel` was made from; GEOM_INVALID_INDEX for
  *  channels added with geom_subdiv_refiner_add_fvar or out of range. */
-uint32_t geom_subdiv_refiner_fvar_mesh_channel(const geom_subdiv_refiner *r, uint32_t channel);
+GEOM_API uint32_t geom_subdiv_refiner_fvar_mesh_channel(const geom_subdiv_refiner *r, uint32_t channel);
 
 /**
  * Refine uniformly `levels` more times (topology, sharpness and rules of
@@ -240,13 +240,13 @@ uint32_t geom_subdiv_refiner_fvar_mesh_channel(const geom_subdiv_refiner *r, uin
  * failure are kept); GEOM_ERR_INVALID_ARG for NULL r or levels < 0.
  */
 #define GEOM_SUBDIV_MAX_LEVEL 12
-geom_status geom_subdiv_refiner_refine(geom_subdiv_refiner *r, int levels);
+GEOM_API geom_status geom_subdiv_refiner_refine(geom_subdiv_refiner *r, int levels);
 
 /** Deepest level refined so far (0 before refining). */
-int geom_subdiv_refiner_max_level(const geom_subdiv_refiner *r);
+GEOM_API int geom_subdiv_refiner_max_level(const geom_subdiv_refiner *r);
 /** The refiner's scheme and effective options (after tags). */
-geom_subdiv_scheme geom_subdiv_refiner_scheme(const geom_subdiv_refiner *r);
-geom_subdiv_options geom_subdiv_refiner_options(const geom_subdiv_refiner *r);
+GEOM_API geom_subdiv_scheme geom_subdiv_refiner_scheme(const geom_subdiv_refiner *r);
+GEOM_API geom_subdiv_options geom_subdiv_refiner_options(const geom_subdiv_refiner *r);
 
 typedef struct geom_subdiv_level_info {
     size_t vertices, edges, faces;
@@ -257,7 +257,7 @@ typedef struct geom_subdiv_level_info {
 } geom_subdiv_level_info;
 
 /** Sizes of level `level` (0..max_level). GEOM_ERR_INVALID_ARG otherwise. */
-geom_status geom_subdiv_refiner_level_info(const geom_subdiv_refiner *r, int level,
+GEOM_API geom_status geom_subdiv_refiner_level_info(const geom_subdiv_refiner *r, int level,
                                            geom_subdiv_level_info *info);
 
 /**
@@ -265,17 +265,17 @@ geom_status geom_subdiv_refiner_level_info(const geom_subdiv_refiner *r, int lev
  * (face_vertices entries); either may be NULL. Hole faces are included;
  * is_hole (faces bytes, may be NULL) flags them.
  */
-geom_status geom_subdiv_refiner_faces(const geom_subdiv_refiner *r, int level,
+GEOM_API geom_status geom_subdiv_refiner_faces(const geom_subdiv_refiner *r, int level,
                                       uint32_t *face_sizes, uint32_t *indices, uint8_t *is_hole);
 
 /** Edge vertices of a level: 2 per edge (edges entries * 2), and optionally
  *  each edge's sharpness (edges floats; 10 = infinite). */
-geom_status geom_subdiv_refiner_edges(const geom_subdiv_refiner *r, int level, uint32_t *verts,
+GEOM_API geom_status geom_subdiv_refiner_edges(const geom_subdiv_refiner *r, int level, uint32_t *verts,
                                       float *sharpness);
 
 /** Vertex sharpness of a level (vertices floats) and the rule of each vertex
  *  (vertices bytes: 1 smooth, 2 dart, 4 crease, 8 corner); either may be NULL. */
-geom_status geom_subdiv_refiner_vertex_rules(const geom_subdiv_refiner *r, int level,
+GEOM_API geom_status geom_subdiv_refiner_vertex_rules(const geom_subdiv_refiner *r, int level,
                                              float *sharpness, uint8_t *rule);
 
 /** What a child vertex comes from. */
@@ -291,15 +291,15 @@ typedef enum geom_subdiv_origin {
  * GEOM_INVALID_INDEX when there is none (face points of Loop, butterfly and
  * sqrt3's edges) or the arguments are out of range.
  */
-uint32_t geom_subdiv_refiner_child_vertex(const geom_subdiv_refiner *r, int level,
+GEOM_API uint32_t geom_subdiv_refiner_child_vertex(const geom_subdiv_refiner *r, int level,
                                           geom_subdiv_origin kind, uint32_t index);
 /** Child-to-parent map: what vertex v of level `level` (>= 1) comes from.
  *  GEOM_ERR_INVALID_ARG for out-of-range arguments. */
-geom_status geom_subdiv_refiner_vertex_parent(const geom_subdiv_refiner *r, int level, uint32_t v,
+GEOM_API geom_status geom_subdiv_refiner_vertex_parent(const geom_subdiv_refiner *r, int level, uint32_t v,
                                               geom_subdiv_origin *kind, uint32_t *parent);
 /** The parent face (of level `level`-1) of face f of level `level` >= 1,
  *  GEOM_INVALID_INDEX when out of range. */
-uint32_t geom_subdiv_refiner_face_parent(const geom_subdiv_refiner *r, int level, uint32_t f);
+GEOM_API uint32_t geom_subdiv_refiner_face_parent(const geom_subdiv_refiner *r, int level, uint32_t f);
 
 /* ------------------------------------------------------- data refinement */
 
@@ -312,7 +312,7 @@ uint32_t geom_subdiv_refiner_face_parent(const geom_subdiv_refiner *r, int level
  * (src and dst must not overlap). ncomp >= 1. GEOM_ERR_INVALID_ARG
  * otherwise; GEOM_ERR_NOMEM (scratch of a few kB).
  */
-geom_status geom_subdiv_interpolate(const geom_subdiv_refiner *r, int level, size_t ncomp,
+GEOM_API geom_status geom_subdiv_interpolate(const geom_subdiv_refiner *r, int level, size_t ncomp,
                                     const double *src, double *dst);
 
 /**
@@ -320,21 +320,21 @@ geom_status geom_subdiv_interpolate(const geom_subdiv_refiner *r, int level, siz
  * whatever the scheme (face point = mean of the face, edge point = midpoint,
  * vertex point = the vertex). Same arguments as geom_subdiv_interpolate.
  */
-geom_status geom_subdiv_interpolate_varying(const geom_subdiv_refiner *r, int level, size_t ncomp,
+GEOM_API geom_status geom_subdiv_interpolate_varying(const geom_subdiv_refiner *r, int level, size_t ncomp,
                                             const double *src, double *dst);
 
 /** Face data: each face of `level` gets the value of its parent face
  *  (ncomp doubles per face). */
-geom_status geom_subdiv_interpolate_face(const geom_subdiv_refiner *r, int level, size_t ncomp,
+GEOM_API geom_status geom_subdiv_interpolate_face(const geom_subdiv_refiner *r, int level, size_t ncomp,
                                          const double *src, double *dst);
 
 /** Number of values of face-varying channel `channel` at `level` (0 if out
  *  of range). At level 0 it is the n_values given to add_fvar. */
-size_t geom_subdiv_fvar_size(const geom_subdiv_refiner *r, uint32_t channel, int level);
+GEOM_API size_t geom_subdiv_fvar_size(const geom_subdiv_refiner *r, uint32_t channel, int level);
 
 /** The value index of every face-vertex of `level` (face_vertices entries)
  *  for face-varying channel `channel`. */
-geom_status geom_subdiv_fvar_face_values(const geom_subdiv_refiner *r, uint32_t channel, int level,
+GEOM_API geom_status geom_subdiv_fvar_face_values(const geom_subdiv_refiner *r, uint32_t channel, int level,
                                          uint32_t *face_values);
 
 /**
@@ -344,7 +344,7 @@ geom_status geom_subdiv_fvar_face_values(const geom_subdiv_refiner *r, uint32_t 
  * has ncomp doubles per value of level-1 (geom_subdiv_fvar_size), dst per
  * value of level. GEOM_ERR_INVALID_ARG for bad arguments, GEOM_ERR_NOMEM.
  */
-geom_status geom_subdiv_interpolate_fvar(const geom_subdiv_refiner *r, uint32_t channel,
+GEOM_API geom_status geom_subdiv_interpolate_fvar(const geom_subdiv_refiner *r, uint32_t channel,
                                          int level, size_t ncomp, const double *src,
                                          double *dst);
 
@@ -374,7 +374,7 @@ geom_status geom_subdiv_interpolate_fvar(const geom_subdiv_refiner *r, uint32_t 
  * GEOM_ERR_INVALID_ARG for NULL arguments, ncomp 0, or a deepest level
  * made with partial_last_level; GEOM_ERR_NOMEM.
  */
-geom_status geom_subdiv_limit(const geom_subdiv_refiner *r, size_t ncomp, const double *src,
+GEOM_API geom_status geom_subdiv_limit(const geom_subdiv_refiner *r, size_t ncomp, const double *src,
                               double *pos, double *tan1, double *tan2);
 
 /**
@@ -384,14 +384,14 @@ geom_status geom_subdiv_limit(const geom_subdiv_refiner *r, size_t ncomp, const 
  * zero gets (0,0,0) and is counted in *n_degenerate (may be NULL).
  * GEOM_ERR_INVALID_ARG for butterfly and sqrt3.
  */
-geom_status geom_subdiv_limit_normals(const geom_subdiv_refiner *r, const double *src,
+GEOM_API geom_status geom_subdiv_limit_normals(const geom_subdiv_refiner *r, const double *src,
                                       double *normals, size_t *n_degenerate);
 
 /** Limit of face-varying data at the deepest level (OpenSubdiv
  *  LimitFaceVarying): per value of the channel at that level (ncomp
  *  doubles each); values stay where linear (option "all", bilinear,
  *  butterfly, sqrt3). GEOM_ERR_INVALID_ARG, GEOM_ERR_NOMEM. */
-geom_status geom_subdiv_limit_fvar(const geom_subdiv_refiner *r, uint32_t channel, size_t ncomp,
+GEOM_API geom_status geom_subdiv_limit_fvar(const geom_subdiv_refiner *r, uint32_t channel, size_t ncomp,
                                    const double *src, double *dst);
 
 /* ------------------------------------------------------- whole-mesh call */
@@ -435,7 +435,7 @@ typedef struct geom_subdiv_report {
  * geom_subdiv_refiner_create and geom_subdiv_refiner_refine, and those of
  * geom_mesh_build for the output.
  */
-geom_status geom_subdiv_mesh(const geom_mesh *m, const geom_subdiv_options *opt, int levels,
+GEOM_API geom_status geom_subdiv_mesh(const geom_mesh *m, const geom_subdiv_options *opt, int levels,
                              unsigned flags, geom_mesh **out, geom_subdiv_report *report,
                              geom_diag *diag);
 
@@ -452,7 +452,7 @@ geom_status geom_subdiv_mesh(const geom_mesh *m, const geom_subdiv_options *opt,
  * Statuses: GEOM_OK, GEOM_ERR_INVALID_ARG, GEOM_ERR_NOMEM, and those of
  * geom_mesh_build.
  */
-geom_status geom_subdiv_build_mesh(const geom_subdiv_refiner *r, int level, const double *positions,
+GEOM_API geom_status geom_subdiv_build_mesh(const geom_subdiv_refiner *r, int level, const double *positions,
                                    const double *normals, const geom_mesh *like, geom_mesh **out,
                                    size_t *hole_faces, geom_diag *diag);
 

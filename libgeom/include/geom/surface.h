@@ -87,10 +87,10 @@ enum {
  * violation in diag (e.g. "knots_v: knot 3 (0.2) is smaller than knot 2
  * (0.5)", "weights: weight (2, 1) is -1, not > 0").
  */
-geom_status geom_surface_validate(const geom_nurbs_surface *s, geom_diag *diag);
+GEOM_API geom_status geom_surface_validate(const geom_nurbs_surface *s, geom_diag *diag);
 
 /** The domain as 4 doubles: u0, u1, v0, v1. */
-geom_status geom_surface_domain(const geom_nurbs_surface *s, double domain[4]);
+GEOM_API geom_status geom_surface_domain(const geom_nurbs_surface *s, double domain[4]);
 
 /**
  * A3.5 / A4.3: the point S(u, v) (3 doubles) with the rule at knots above.
@@ -99,7 +99,7 @@ geom_status geom_surface_domain(const geom_nurbs_surface *s, double domain[4]);
  * Accuracy: absolute error a few ulp of max |P| over the span's control
  * points. GEOM_ERR_DOMAIN for (u, v) outside the domain.
  */
-geom_status geom_surface_eval(const geom_nurbs_surface *s, double u, double v, unsigned flags,
+GEOM_API geom_status geom_surface_eval(const geom_nurbs_surface *s, double u, double v, unsigned flags,
                               double out[3]);
 
 /**
@@ -117,7 +117,7 @@ geom_status geom_surface_eval(const geom_nurbs_surface *s, double u, double v, u
  * points) / (hu^k hv^l), h the knot differences the basis divides by.
  * GEOM_ERR_LIMIT if d > 64.
  */
-geom_status geom_surface_derivs(const geom_nurbs_surface *s, double u, double v, int d,
+GEOM_API geom_status geom_surface_derivs(const geom_nurbs_surface *s, double u, double v, int d,
                                 unsigned flags, double *ders);
 
 /** How a normal was obtained (geom_surface_normal's *how). */
@@ -157,7 +157,7 @@ enum {
  * _NONE when every coefficient vanishes: then n = (0, 0, 0) and the status
  * is GEOM_ERR_DEGENERATE (never NaN). flags as for geom_surface_eval.
  */
-geom_status geom_surface_normal(const geom_nurbs_surface *s, double u, double v, unsigned flags,
+GEOM_API geom_status geom_surface_normal(const geom_nurbs_surface *s, double u, double v, unsigned flags,
                                 double n[3], int *how);
 
 /* ----------------------------------------------------------- construction */
@@ -172,7 +172,7 @@ geom_status geom_surface_normal(const geom_nurbs_surface *s, double u, double v,
  * Knots {0 x (p+1), 1 x (p+1)} of a Bezier patch of degree p >= 1 in one
  * direction (knots: 2p+2 doubles).
  */
-geom_status geom_surface_bezier_knots(int degree, double *knots);
+GEOM_API geom_status geom_surface_bezier_knots(int degree, double *knots);
 
 /**
  * A Bezier patch of degrees (pu, pv) >= 1 over [0,1]^2 from (pu+1)(pv+1)
@@ -180,7 +180,7 @@ geom_status geom_surface_bezier_knots(int degree, double *knots);
  * fills knots_u (2pu+2) and knots_v (2pv+2) and *out, which borrows
  * points, weights and the knots.
  */
-geom_status geom_surface_bezier(int degree_u, int degree_v, const double *points,
+GEOM_API geom_status geom_surface_bezier(int degree_u, int degree_v, const double *points,
                                 const double *weights, double *knots_u, double *knots_v,
                                 geom_nurbs_surface *out);
 
@@ -189,7 +189,7 @@ geom_status geom_surface_bezier(int degree_u, int degree_v, const double *points
  * over [0,1]^2 (degree 1 x 1, 2 x 2 points). knots_u, knots_v: 4 doubles;
  * points: 12.
  */
-geom_status geom_surface_bilinear(const double p00[3], const double p10[3], const double p01[3],
+GEOM_API geom_status geom_surface_bilinear(const double p00[3], const double p10[3], const double p01[3],
                                   const double p11[3], double *knots_u, double *knots_v,
                                   double *points, geom_nurbs_surface *out);
 
@@ -199,7 +199,7 @@ geom_status geom_surface_bilinear(const double p00[3], const double p10[3], cons
  * (GEOM_ERR_DEGENERATE). Degrees (p, 1), nu = c->n, nv = 2, knots_u are c's
  * knots, knots_v {0,0,1,1}. Rational when c is.
  */
-geom_status geom_surface_extrude(const geom_nurbs_curve *c, const double d[3], double *knots_u,
+GEOM_API geom_status geom_surface_extrude(const geom_nurbs_curve *c, const double d[3], double *knots_u,
                                  double *knots_v, double *points, double *weights,
                                  geom_nurbs_surface *out, geom_diag *diag);
 
@@ -208,7 +208,7 @@ geom_status geom_surface_extrude(const geom_nurbs_curve *c, const double d[3], d
  * points along u and nknots_u knots (either pointer may be NULL). The
  * surface has degree max(p0, p1) in u, 1 in v, nv = 2.
  */
-geom_status geom_surface_ruled_bound(const geom_nurbs_curve *c0, const geom_nurbs_curve *c1,
+GEOM_API geom_status geom_surface_ruled_bound(const geom_nurbs_curve *c0, const geom_nurbs_curve *c1,
                                      size_t *nu, size_t *nknots_u);
 
 /**
@@ -225,7 +225,7 @@ geom_status geom_surface_ruled_bound(const geom_nurbs_curve *c0, const geom_nurb
  * geom_surface_ruled_bound (knots_v: 4). May allocate scratch memory:
  * GEOM_ERR_NOMEM.
  */
-geom_status geom_surface_ruled(const geom_nurbs_curve *c0, const geom_nurbs_curve *c1,
+GEOM_API geom_status geom_surface_ruled(const geom_nurbs_curve *c0, const geom_nurbs_curve *c1,
                                double *knots_u, double *knots_v, double *points, double *weights,
                                geom_nurbs_surface *out, geom_diag *diag);
 
@@ -235,7 +235,7 @@ geom_status geom_surface_ruled(const geom_nurbs_curve *c0, const geom_nurbs_curv
  * around the axis (narcs = number of arcs of at most 90 degrees,
  * geom_curve_nurbs_arc_bound) and nknots_u = nu + 3; nv = n.
  */
-geom_status geom_surface_revolve_bound(double angle, size_t *nu, size_t *nknots_u);
+GEOM_API geom_status geom_surface_revolve_bound(double angle, size_t *nu, size_t *nknots_u);
 
 /**
  * A8.1: exact surface of revolution of the profile curve c (dimension 2,
@@ -259,7 +259,7 @@ geom_status geom_surface_revolve_bound(double angle, size_t *nu, size_t *nknots_
  * c->degree + 1; points: 3*nu*c->n; weights: nu*c->n (always rational).
  * GEOM_ERR_DEGENERATE for a zero axis, GEOM_ERR_DOMAIN for a bad angle.
  */
-geom_status geom_surface_revolve(const geom_nurbs_curve *c, const double origin[3],
+GEOM_API geom_status geom_surface_revolve(const geom_nurbs_curve *c, const double origin[3],
                                  const double axis[3], const double *xaxis, double angle,
                                  double *knots_u, double *knots_v, double *points, double *weights,
                                  geom_nurbs_surface *out, geom_diag *diag);
@@ -286,7 +286,7 @@ typedef struct geom_surface_frame {
  * j = 4 are the poles (exactly center -+ r z), rows i = 0 and i = 8 are
  * identical (the seam).
  */
-geom_status geom_surface_sphere(const geom_surface_frame *frame, double radius, double *knots_u,
+GEOM_API geom_status geom_surface_sphere(const geom_surface_frame *frame, double radius, double *knots_u,
                                 double *knots_v, double *points, double *weights,
                                 geom_nurbs_surface *out);
 
@@ -296,7 +296,7 @@ geom_status geom_surface_sphere(const geom_surface_frame *frame, double radius, 
  * (12), knots_v {0,0,1,1} (4), points 54, weights 18. Su x Sv points
  * outward for h > 0.
  */
-geom_status geom_surface_cylinder(const geom_surface_frame *frame, double radius, double height,
+GEOM_API geom_status geom_surface_cylinder(const geom_surface_frame *frame, double radius, double height,
                                   double *knots_u, double *knots_v, double *points,
                                   double *weights, geom_nurbs_surface *out);
 
@@ -306,7 +306,7 @@ geom_status geom_surface_cylinder(const geom_surface_frame *frame, double radius
  * sizes as the cylinder. A zero radius gives an apex (a collapsed row),
  * where geom_surface_normal returns the normal along each ruling.
  */
-geom_status geom_surface_cone(const geom_surface_frame *frame, double r0, double r1,
+GEOM_API geom_status geom_surface_cone(const geom_surface_frame *frame, double r0, double r1,
                               double height, double *knots_u, double *knots_v, double *points,
                               double *weights, geom_nurbs_surface *out);
 
@@ -319,7 +319,7 @@ geom_status geom_surface_cone(const geom_surface_frame *frame, double r0, double
  * axis, v around the tube starting on the outer equator; Su x Sv points
  * outward; rows i = 0, 8 and columns j = 0, 8 are the identical seams.
  */
-geom_status geom_surface_torus(const geom_surface_frame *frame, double major_radius,
+GEOM_API geom_status geom_surface_torus(const geom_surface_frame *frame, double major_radius,
                                double minor_radius, double *knots_u, double *knots_v,
                                double *points, double *weights, geom_nurbs_surface *out);
 
@@ -333,22 +333,22 @@ geom_status geom_surface_torus(const geom_surface_frame *frame, double major_rad
 typedef struct geom_surface_set geom_surface_set;
 
 /** A new empty set (alloc NULL: libc). NULL when out of memory. */
-geom_surface_set *geom_surface_set_create(const geom_allocator *alloc);
+GEOM_API geom_surface_set *geom_surface_set_create(const geom_allocator *alloc);
 /** Free the set and its surfaces. NULL is a no-op. */
-void geom_surface_set_destroy(geom_surface_set *set);
+GEOM_API void geom_surface_set_destroy(geom_surface_set *set);
 /** Number of surfaces. */
-size_t geom_surface_set_count(const geom_surface_set *set);
+GEOM_API size_t geom_surface_set_count(const geom_surface_set *set);
 /**
  * Append a deep copy of s (not validated here) with an optional name (NULL
  * or up to 63 bytes kept). GEOM_ERR_INVALID_ARG for NULL set/s or missing
  * arrays, GEOM_ERR_NOMEM, GEOM_ERR_LIMIT (size overflow).
  */
-geom_status geom_surface_set_add(geom_surface_set *set, const geom_nurbs_surface *s,
+GEOM_API geom_status geom_surface_set_add(geom_surface_set *set, const geom_nurbs_surface *s,
                                  const char *name);
 /** The views of all surfaces: count entries (NULL when empty). */
-const geom_nurbs_surface *geom_surface_set_data(const geom_surface_set *set);
+GEOM_API const geom_nurbs_surface *geom_surface_set_data(const geom_surface_set *set);
 /** The name of surface i ("" when unnamed; NULL if i is out of range). */
-const char *geom_surface_set_name(const geom_surface_set *set, size_t i);
+GEOM_API const char *geom_surface_set_name(const geom_surface_set *set, size_t i);
 
 /* -------------------------------------------------------------- .bpt files */
 
@@ -370,13 +370,13 @@ const char *geom_surface_set_name(const geom_surface_set *set, size_t i);
  * GEOM_ERR_NOMEM. data need not be NUL-terminated (size bytes);
  * source_name (NULL: "<memory>") names it in diagnostics.
  */
-geom_status geom_surface_read_bpt_memory(const void *data, size_t size, const char *source_name,
+GEOM_API geom_status geom_surface_read_bpt_memory(const void *data, size_t size, const char *source_name,
                                          const geom_allocator *alloc, geom_surface_set **out,
                                          geom_diag *diag);
 
 /** geom_surface_read_bpt_memory on the contents of the file at path
  *  (GEOM_ERR_IO with the system's reason when it cannot be read). */
-geom_status geom_surface_read_bpt(const char *path, const geom_allocator *alloc,
+GEOM_API geom_status geom_surface_read_bpt(const char *path, const geom_allocator *alloc,
                                   geom_surface_set **out, geom_diag *diag);
 
 /* ------------------------------------------------------------ tessellation */
@@ -509,7 +509,7 @@ typedef struct geom_surface_tess_stats {
  * invalid surface, bad options); GEOM_ERR_LIMIT; GEOM_ERR_NOMEM; and
  * geom_mesh_build's.
  */
-geom_status geom_surface_tessellate(const geom_nurbs_surface *surfaces, size_t n,
+GEOM_API geom_status geom_surface_tessellate(const geom_nurbs_surface *surfaces, size_t n,
                                     const geom_surface_tess_options *options, geom_mesh *out,
                                     geom_error_report *report, geom_surface_tess_stats *stats,
                                     geom_diag *diag);
