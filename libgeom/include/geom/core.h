@@ -134,6 +134,59 @@ typedef struct geom_error_report {
     size_t evaluations; /**< function evaluations (or samples) performed */
 } geom_error_report;
 
+/* ------------------------------------------------------------------ numbers */
+
+/** Buffer size for geom_format_double / geom_format_double_digits (longest
+ *  output "-2.2250738585072014e-308" is 24 characters, plus the NUL). */
+#define GEOM_DOUBLE_CHARS 32
+
+/**
+ * The shortest decimal that reads back as exactly x (Ryu: Ulf Adams, "Ryu:
+ * Fast Float-to-String Conversion", PLDI 2018), into buf, NUL-terminated,
+ * independent of the locale. Returns the length (at most 24).
+ *
+ * Syntax: an optional '-', then the n shortest significant digits d1..dn
+ * (the ones closest to x among the shortest; ties to even) with decimal
+ * exponent X (x = d1.d2..dn * 10^X), written as printf's "%.<P>g" would with
+ * P = max(n, 15) and no trailing zeros: fixed notation ("0.001", "12.5",
+ * "100000") when -4 <= X < P, else "d1.d2..dne+XX" / "e-XX" with at least
+ * two exponent digits ("1e+20", "2.5e-07"). Zero is "0" or "-0". NaN is
+ * "nan" and infinities "inf" / "-inf": geom_parse_double reads those back
+ * (the mesh readers refuse them as non-finite).
+ */
+GEOM_API size_t geom_format_double(double x, char buf[GEOM_DOUBLE_CHARS]);
+
+/**
+ * x with `digits` significant digits (1..17; larger values mean 17, 0 or
+ * negative means geom_format_double's shortest form), correctly rounded, in
+ * printf's "%.<digits>g" syntax with '.' as the decimal point whatever the
+ * locale. NaN and infinities as in geom_format_double. Returns the length.
+ */
+GEOM_API size_t geom_format_double_digits(double x, int digits, char buf[GEOM_DOUBLE_CHARS]);
+
+/**
+ * Parse a decimal number at the start of [s, end) (no leading spaces, not
+ * NUL-terminated), correctly rounded to the nearest double, ties to even
+ * (Eisel-Lemire: Daniel Lemire, "Number Parsing at a Gigabyte per Second",
+ * Softw. Pract. Exp. 2021; with an exact fallback through a bounded copy for
+ * the rare inputs it cannot decide). Any number of digits is accepted.
+ *
+ * Syntax: [+-]? (digits [. digits?] | . digits) ([eE] [+-]? digits)?, or
+ * [+-]? followed by "inf", "infinity" or "nan" in any case. An 'e' not
+ * followed by exponent digits is not consumed. No hexadecimal floats, no
+ * locale decimal point. *stop (if stop is not NULL) receives the end of the
+ * longest prefix read (s when nothing is read); callers that want a whole
+ * token compare it with end.
+ *
+ * Returns GEOM_OK (also for the spelled "inf"/"nan", so check isfinite when
+ * they are not wanted; values below the subnormal range read as +-0),
+ * GEOM_ERR_DOMAIN when a finite spelling overflows (*out = +-infinity),
+ * GEOM_ERR_PARSE when no number starts at s (*out = 0), GEOM_ERR_INVALID_ARG
+ * for NULL s, end or out, or end < s.
+ */
+GEOM_API geom_status geom_parse_double(const char *s, const char *end, double *out,
+                                       const char **stop);
+
 /* ------------------------------------------------------------------ vectors */
 
 typedef struct geom_vec2 { double x, y; } geom_vec2;
