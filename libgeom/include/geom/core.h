@@ -171,10 +171,12 @@ GEOM_API size_t geom_format_double_digits(double x, int digits, char buf[GEOM_DO
  * Softw. Pract. Exp. 2021; with an exact fallback through a bounded copy for
  * the rare inputs it cannot decide). Any number of digits is accepted.
  *
- * Syntax: [+-]? (digits [. digits?] | . digits) ([eE] [+-]? digits)?, or
- * [+-]? followed by "inf", "infinity" or "nan" in any case. An 'e' not
- * followed by exponent digits is not consumed. No hexadecimal floats, no
- * locale decimal point. *stop (if stop is not NULL) receives the end of the
+ * Syntax: [+-]? (digits [. digits?] | . digits) ([eE] [+-]? digits)?, or a
+ * C99 hexadecimal float [+-]? 0[xX] (hexdigits [. hexdigits?] | . hexdigits)
+ * ([pP] [+-]? digits)?, or [+-]? followed by "inf", "infinity" or "nan" in
+ * any case. An exponent letter not followed by digits is not consumed (nor
+ * is an "x" without hexadecimal digits after it: "0x" reads as 0). No
+ * locale decimal point, no "nan(...)". *stop (if stop is not NULL) receives the end of the
  * longest prefix read (s when nothing is read); callers that want a whole
  * token compare it with end.
  *

@@ -19,7 +19,8 @@
  * nonzero digits were cut (no halfway point between two doubles has more
  * than 767 significant digits, so the cut never changes the rounding).
  * Small exact cases (w <= 2^53, |q| <= 22) use one exact multiplication or
- * division (Clinger 1990).
+ * division (Clinger 1990). C99 hexadecimal input ("0x1.8p-3") is rounded
+ * directly from its bits.
  */
 #include "core/internal.h"
 #include "core/numbers_internal.h"
@@ -151,6 +152,103 @@ static double fallback(const char *b, const char *e, int64_t exp10)
     return strtod(buf, NULL);
 }
 
+static int hex_value(char ch)
+{
+    if (ch >= '0' && ch <= '9')
+        return ch - '0';
+    ch = (char)(ch | 0x20);
+    return ch >= 'a' && ch <= 'f' ? ch - 'a' + 10 : -1;
+}
+
+/* C99 hexadecimal significand after "0x" at p, with an optional binary
+ * exponent "p[+-]digits": the value, correctly rounded (ties to even), in
+ * *v. Returns the end, or NULL when no hexadecimal digit follows. */
+static const char *parse_hex(const char *p, const char *end, double *v)
+{
+    uint64_t m = 0;
+    int64_t be = 0;
+    int n = 0, any = 0, sticky = 0;
+    for (int frac = 0;; p++) {
+        if (p < end && *p == '.' && !frac) {
+            frac = 1;
+            continue;
+        }
+        int d = p < end ? hex_value(*p) : -1;
+        if (d < 0)
+            break;
+        any = 1;
+        if (n < 16) {
+            if (n || d) {
+                m = m << 4 | (uint64_t)d;
+                n++;
+            }
+            be -= frac ? 4 : 0;
+        } else {
+            sticky |= d != 0;
+            be += frac ? 0 : 4;
+        }
+    }
+    if (!any)
+        return NULL;
+    if (p < end && (*p | 0x20) == 'p') {
+        const char *q = p + 1;
+        int eneg = 0;
+        int64_t ev = 0;
+        if (q < end && (*q == '+' || *q == '-')) {
+            eneg = *q == '-';
+            q++;
+        }
+        if (q < end && is_digit(*q)) {
+            while (q < end && is_digit(*q)) {
+                if (ev < 1000000000)
+                    ev = ev * 10 + (*q - '0');
+                q++;
+            }
+            be += eneg ? -ev : ev;
+            p = q;
+        }
+    }
+    if (m == 0) {
+        *v = 0.0;
+        return p;
+    }
+    const int lz = clz64(m);
+    m <<= lz;
+    be -= lz;
+    int64_t e = be + 63; /* m * 2^be lies in [2^e, 2^(e+1)) */
+    if (e > 1023) {
+        *v = INFINITY;
+        return p;
+    }
+    int64_t shift = e >= -1022 ? 11 : 11 + (-1022 - e);
+    if (shift > 64) {
+        *v = 0.0;
+        return p;
+    }
+    prs_u128 wide = (prs_u128)m << 1 | (prs_u128)(sticky != 0); /* one extra sticky bit */
+    uint64_t kept = (uint64_t)(wide >> (shift + 1));
+    prs_u128 rem = wide & ((((prs_u128)1) << (shift + 1)) - 1);
+    prs_u128 half = ((prs_u128)1) << shift;
+    if (rem > half || (rem == half && (kept & 1)))
+        kept++;
+    uint64_t bits;
+    if (e >= -1022) {
+        if (kept == UINT64_C(1) << 53) {
+            kept >>= 1;
+            e++;
+        }
+        if (e > 1023) {
+            *v = INFINITY;
+            return p;
+        }
+        bits = ((uint64_t)(e + 1023) << 52) | (kept & ((UINT64_C(1) << 52) - 1));
+    } else {
+        bits = kept; /* 2^52 after rounding is the smallest normal */
+    }
+    *v = from_bits(bits);
+    return p;
+}
+
 static int lower_eq(const char *p, const char *end, const char *word)
 {
     for (; *word; word++, p++)
@@ -192,6 +290,17 @@ geom_status geom_parse_double(const char *s, const char *end, double *out, const
         if (stop)
             *stop = p;
         return GEOM_OK;
+    }
+
+    if (end - p >= 2 && p[0] == '0' && (p[1] | 0x20) == 'x') {
+        double v;
+        const char *q = parse_hex(p + 2, end, &v);
+        if (q) {
+            *out = neg ? -v : v;
+            if (stop)
+                *stop = q;
+            return isinf(v) ? GEOM_ERR_DOMAIN : GEOM_OK;
+        }
     }
 
     /* significand: the first 19 significant digits in w; value is
