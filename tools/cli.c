@@ -231,35 +231,9 @@ void cli_input_close(cli_input *in)
     in->fp = NULL;
 }
 
-geom_status cli_read_all(FILE *fp, const char *name, unsigned char **data, size_t *size,
-                         geom_diag *diag)
+geom_status cli_read_all(FILE *fp, const char *name, geom_file *out, geom_diag *diag)
 {
-    size_t cap = 1 << 16, n = 0;
-    unsigned char *buf = malloc(cap);
-    if (!buf)
-        return cli_diag_set(diag, GEOM_ERR_NOMEM, name, 0, 0, "out of memory");
-    for (;;) {
-        if (n == cap) {
-            unsigned char *q = cap > ((size_t)-1) / 2 ? NULL : realloc(buf, cap * 2);
-            if (!q) {
-                free(buf);
-                return cli_diag_set(diag, GEOM_ERR_NOMEM, name, 0, 0, "out of memory");
-            }
-            buf = q;
-            cap *= 2;
-        }
-        size_t got = fread(buf + n, 1, cap - n, fp);
-        n += got;
-        if (got == 0)
-            break;
-    }
-    if (ferror(fp)) {
-        free(buf);
-        return cli_diag_set(diag, GEOM_ERR_IO, name, 0, 0, "read error");
-    }
-    *data = buf;
-    *size = n;
-    return GEOM_OK;
+    return geom_file_map_fd(fileno(fp), name, NULL, out, diag);
 }
 
 /* -------------------------------------------------------------------- lines */

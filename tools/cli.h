@@ -172,12 +172,11 @@ geom_status cli_input_open(cli_input *in, const char *path, geom_diag *diag);
 void cli_input_close(cli_input *in);
 
 /**
- * Read all of fp (a file or a pipe) into a malloc'd buffer: *data (free with
- * free()) and *size bytes. GEOM_ERR_NOMEM or GEOM_ERR_IO (diag names `name`);
- * *data is untouched on failure.
+ * All of fp (a file or a pipe, nothing read from it yet) through
+ * geom_file_map_fd: mapped when it is a regular file, else read. Release
+ * with geom_file_unmap. GEOM_ERR_NOMEM or GEOM_ERR_IO (diag names `name`).
  */
-geom_status cli_read_all(FILE *fp, const char *name, unsigned char **data, size_t *size,
-                         geom_diag *diag);
+geom_status cli_read_all(FILE *fp, const char *name, geom_file *out, geom_diag *diag);
 
 /* -------------------------------------------------------------------- lines */
 

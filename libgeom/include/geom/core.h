@@ -189,6 +189,49 @@ GEOM_API size_t geom_format_double_digits(double x, int digits, char buf[GEOM_DO
 GEOM_API geom_status geom_parse_double(const char *s, const char *end, double *out,
                                        const char **stop);
 
+/* -------------------------------------------------------------------- files */
+
+/**
+ * A whole file's bytes, read-only. Regular files are mapped into memory
+ * (mmap, MAP_PRIVATE, with a sequential-access hint): no copy, pages are
+ * read on first touch. Pipes, terminals and other descriptors are read with
+ * read() into an allocated buffer. `data` is not NUL-terminated; it is
+ * valid until geom_file_unmap. A mapped file that another process truncates
+ * while mapped may fault on access (as with any mapping). The impl_ fields
+ * are private.
+ */
+typedef struct geom_file {
+    const unsigned char *data; /**< size bytes (never NULL after a map call) */
+    size_t size;
+    void *impl_base;
+    size_t impl_size;
+    int impl_mapped;
+    const geom_allocator *impl_alloc;
+} geom_file;
+
+/**
+ * Map (or read) the file at `path` into *out. alloc (NULL = libc) is used
+ * only when the file has to be read. Returns GEOM_OK, GEOM_ERR_IO (cannot
+ * open or read, a directory; diag names the path and the system's reason),
+ * GEOM_ERR_NOMEM, GEOM_ERR_LIMIT (too large for memory), GEOM_ERR_INVALID_ARG
+ * (NULL path or out). On failure *out is empty (size 0).
+ */
+GEOM_API geom_status geom_file_map(const char *path, const geom_allocator *alloc,
+                                   geom_file *out, geom_diag *diag);
+
+/**
+ * As geom_file_map, for an open descriptor (e.g. 0 for standard input): a
+ * regular file positioned at its start is mapped; anything else is read
+ * from its current position to its end. The descriptor stays open and may
+ * be closed right after the call. `name` is used in diagnostics.
+ */
+GEOM_API geom_status geom_file_map_fd(int fd, const char *name, const geom_allocator *alloc,
+                                      geom_file *out, geom_diag *diag);
+
+/** Release what geom_file_map / geom_file_map_fd returned. NULL and an
+ *  already released or zeroed geom_file are no-ops. */
+GEOM_API void geom_file_unmap(geom_file *f);
+
 /* ------------------------------------------------------------------ vectors */
 
 typedef struct geom_vec2 { double x, y; } geom_vec2;

@@ -153,35 +153,8 @@ geom_status geom_meshio_read(const char *path, const geom_meshio_read_options *o
     if (!path || !out)
         return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0, "NULL path or output");
     const geom_allocator *a = opt ? opt->alloc : NULL;
-    errno = 0;
-    FILE *fp = fopen(path, "rb");
-    if (!fp) {
-        char reason[128] = "unknown error";
-        if (errno)
-            geom_meshio__sys_reason(errno, reason, sizeof reason);
-        return geom_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "cannot open: %s", reason);
-    }
-    unsigned char *buf = NULL;
-    size_t n = 0, cap = 0;
-    geom_status st = GEOM_OK;
-    for (;;) {
-        if (n == cap) {
-            st = geom_meshio__grow(a, (void **)&buf, &cap, cap < 65536 ? 65536 : cap * 2, 1);
-            if (st != GEOM_OK) {
-                geom_diag_set(diag, st, path, 0, 0, "out of memory reading the file");
-                break;
-            }
-        }
-        size_t got = fread(buf + n, 1, cap - n, fp);
-        n += got;
-        if (got == 0) {
-            if (ferror(fp))
-                st = geom_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "read error after %zu bytes",
-                                   n);
-            break;
-        }
-    }
-    fclose(fp);
+    geom_file f;
+    geom_status st = geom_file_map(path, a, &f, diag);
     if (st == GEOM_OK) {
         geom_meshio_read_options o;
         if (opt)
@@ -190,9 +163,9 @@ geom_status geom_meshio_read(const char *path, const geom_meshio_read_options *o
             memset(&o, 0, sizeof o);
         if (o.format == GEOM_MESHIO_FORMAT_AUTO)
             o.format = geom_meshio_format_from_name(path);
-        st = geom_meshio_read_memory(buf, n, path, &o, out, report, diag);
+        st = geom_meshio_read_memory(f.data, f.size, path, &o, out, report, diag);
     }
-    geom_free(a, buf, cap);
+    geom_file_unmap(&f);
     return st;
 }
 

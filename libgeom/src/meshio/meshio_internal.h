@@ -297,8 +297,6 @@ geom_status geom_meshio__atomic_write(void *user, const void *data, size_t n, ge
 geom_status geom_meshio__atomic_commit(mio_atomic *a, geom_diag *diag);
 /* Close and remove the temporary file. */
 void geom_meshio__atomic_abort(mio_atomic *a);
-/* The system's text for errno value err (reentrant strerror_r). */
-void geom_meshio__sys_reason(int err, char *buf, size_t size);
 
 /* ------------------------------------------------------------ export view */
 
