@@ -21,7 +21,7 @@ geom_status cli_mesh_read(const char *tool_name, const char *path, geom_meshio_f
     memset(&ro, 0, sizeof ro);
     ro.format = fmt;
     geom_mesh_build_report r;
-    st = geom_meshio_read_memory(file.data, file.size, in.name, &ro, m, &r, diag);
+    st = geom_meshio_read_file(&file, in.name, &ro, m, &r, diag);
     geom_file_unmap(&file);
     if (st == GEOM_OK) {
         /* repairs made while building the mesh are worth knowing */

@@ -210,7 +210,7 @@ int main(int argc, char **argv)
     ro.stats = &stats;
     geom_mesh *m = NULL;
     geom_mesh_build_report report;
-    st = geom_meshio_read_memory(file.data, file.size, name, &ro, &m, &report, &diag);
+    st = geom_meshio_read_file(&file, name, &ro, &m, &report, &diag);
     geom_file_unmap(&file);
     if (st != GEOM_OK) {
         free(name);

@@ -1,6 +1,7 @@
 /* Reading whole files: mapped when they are regular files, read otherwise
  * (pipes, terminals, standard input). POSIX. */
 #define _POSIX_C_SOURCE 200809L
+#define _DEFAULT_SOURCE /* madvise */
 
 #include "core/internal.h"
 
@@ -129,6 +130,17 @@ geom_status geom_file_map(const char *path, const geom_allocator *alloc, geom_fi
     geom_status s = geom_file_map_fd(fd, path, alloc, out, diag);
     close(fd); /* a mapping outlives its descriptor */
     return s;
+}
+
+void geom__file_drop_pages(geom_file *f)
+{
+    /* a private read-only file mapping: dropped pages read back from the file */
+    if (f && f->impl_mapped && f->impl_size) {
+#ifdef MADV_DONTNEED
+        /* not posix_madvise: glibc ignores POSIX_MADV_DONTNEED */
+        madvise(f->impl_base, f->impl_size, MADV_DONTNEED);
+#endif
+    }
 }
 
 void geom_file_unmap(geom_file *f)

@@ -81,9 +81,11 @@ geom_meshio_format geom_meshio_format_sniff(const void *data, size_t size)
 
 /* ------------------------------------------------------------------ reading */
 
-geom_status geom_meshio_read_memory(const void *data, size_t size, const char *source_name,
-                                    const geom_meshio_read_options *opt, geom_mesh **out,
-                                    geom_mesh_build_report *report, geom_diag *diag)
+/* Parse, then (when `file` is given) let the file's pages go before the
+ * mesh is built: the soup holds everything that is needed. */
+static geom_status read_data(const void *data, size_t size, geom_file *file,
+                             const char *source_name, const geom_meshio_read_options *opt,
+                             geom_mesh **out, geom_mesh_build_report *report, geom_diag *diag)
 {
     geom_meshio_read_stats local_stats;
     const char *src = source_name ? source_name : "<memory>";
@@ -136,12 +138,33 @@ geom_status geom_meshio_read_memory(const void *data, size_t size, const char *s
     }
     if (st == GEOM_ERR_NOMEM && diag && diag->status != GEOM_ERR_NOMEM)
         geom_diag_set(diag, st, src, 0, 0, "out of memory");
+    if (file)
+        geom__file_drop_pages(file);
     if (st == GEOM_OK)
         st = geom_meshio__soup_finish(&c, &s, opt, out, report);
     geom_meshio__soup_free(&s, c.alloc);
     if (st != GEOM_OK && report)
         memset(report, 0, sizeof *report);
     return st;
+}
+
+geom_status geom_meshio_read_memory(const void *data, size_t size, const char *source_name,
+                                    const geom_meshio_read_options *opt, geom_mesh **out,
+                                    geom_mesh_build_report *report, geom_diag *diag)
+{
+    return read_data(data, size, NULL, source_name, opt, out, report, diag);
+}
+
+geom_status geom_meshio_read_file(geom_file *file, const char *source_name,
+                                  const geom_meshio_read_options *opt, geom_mesh **out,
+                                  geom_mesh_build_report *report, geom_diag *diag)
+{
+    if (!file) {
+        if (out)
+            *out = NULL;
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, source_name, 0, 0, "NULL file");
+    }
+    return read_data(file->data, file->size, file, source_name, opt, out, report, diag);
 }
 
 geom_status geom_meshio_read(const char *path, const geom_meshio_read_options *opt,
@@ -163,7 +186,7 @@ geom_status geom_meshio_read(const char *path, const geom_meshio_read_options *o
             memset(&o, 0, sizeof o);
         if (o.format == GEOM_MESHIO_FORMAT_AUTO)
             o.format = geom_meshio_format_from_name(path);
-        st = geom_meshio_read_memory(f.data, f.size, path, &o, out, report, diag);
+        st = geom_meshio_read_file(&f, path, &o, out, report, diag);
     }
     geom_file_unmap(&f);
     return st;
