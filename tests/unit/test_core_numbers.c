@@ -332,7 +332,8 @@ static void test_parse_syntax(void **state)
         assert_true(same_bits(v, cases[i].v));
     }
     double v;
-    assert_true(geom_parse_double("nan", "nan" + 3, &v, NULL) == GEOM_OK && isnan(v));
+    static const char nan_text[] = "nan";
+    assert_true(geom_parse_double(nan_text, nan_text + 3, &v, NULL) == GEOM_OK && isnan(v));
     /* the end bounds the input: no read past it */
     const char t[] = {'1', '2', '5', 'e', '2'};
     assert_int_equal(geom_parse_double(t, t + 3, &v, NULL), GEOM_OK);

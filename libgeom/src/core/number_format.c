@@ -174,23 +174,38 @@ static dec ryu(uint64_t mant, uint32_t bexp)
     return d;
 }
 
+/* number of decimal digits of v (v < 10^17 here) */
 static int decimal_length(uint64_t v)
 {
     int n = 1;
-    while (v >= 10) {
-        v /= 10;
+    uint64_t t = 10;
+    while (n < 20 && v >= t) {
         n++;
+        if (n == 20)
+            break;
+        t *= 10;
     }
     return n;
 }
 
-/* The n digits of v into p (most significant first). */
+static const char digit_pairs[201] = "00010203040506070809101112131415161718192021222324"
+                                     "25262728293031323334353637383940414243444546474849"
+                                     "50515253545556575859606162636465666768697071727374"
+                                     "75767778798081828384858687888990919293949596979899";
+
+/* The n digits of v into p (most significant first), two at a time. */
 static void put_digits(char *p, uint64_t v, int n)
 {
-    for (int i = n - 1; i >= 0; i--) {
-        p[i] = (char)('0' + v % 10);
-        v /= 10;
+    int i = n;
+    while (i >= 2) {
+        unsigned r = (unsigned)(v % 100);
+        v /= 100;
+        i -= 2;
+        p[i] = digit_pairs[2 * r];
+        p[i + 1] = digit_pairs[2 * r + 1];
     }
+    if (i)
+        p[0] = (char)('0' + v);
 }
 
 size_t geom_format_double(double x, char buf[GEOM_DOUBLE_CHARS])
