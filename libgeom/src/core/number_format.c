@@ -188,24 +188,19 @@ static int decimal_length(uint64_t v)
     return n;
 }
 
-static const char digit_pairs[201] = "00010203040506070809101112131415161718192021222324"
-                                     "25262728293031323334353637383940414243444546474849"
-                                     "50515253545556575859606162636465666768697071727374"
-                                     "75767778798081828384858687888990919293949596979899";
-
-/* The n digits of v into p (most significant first), two at a time. */
-static void put_digits(char *p, uint64_t v, int n)
+/* The n digits of v at p, with a '.' after the first `point` digits when
+ * 0 < point < n; returns the end. Written in place, last digit first (no
+ * staging buffer: reading back bytes just stored one at a time stalls). */
+static char *emit_digits(char *p, uint64_t v, int n, int point)
 {
-    int i = n;
-    while (i >= 2) {
-        unsigned r = (unsigned)(v % 100);
-        v /= 100;
-        i -= 2;
-        p[i] = digit_pairs[2 * r];
-        p[i + 1] = digit_pairs[2 * r + 1];
+    const int gap = point > 0 && point < n;
+    for (int i = n - 1; i >= 0; i--) {
+        p[i + (gap && i >= point)] = (char)('0' + v % 10);
+        v /= 10;
     }
-    if (i)
-        p[0] = (char)('0' + v);
+    if (gap)
+        p[point] = '.';
+    return p + n + gap;
 }
 
 size_t geom_format_double(double x, char buf[GEOM_DOUBLE_CHARS])
@@ -239,9 +234,7 @@ size_t geom_format_double(double x, char buf[GEOM_DOUBLE_CHARS])
         d.digits /= 10;
         d.exp++;
     }
-    char dig[20];
     const int n = decimal_length(d.digits);
-    put_digits(dig, d.digits, n);
     const int X = d.exp + n - 1; /* exponent of the first digit */
     const int P = n > 15 ? n : 15;
     if (X >= -4 && X < P) {
@@ -251,27 +244,16 @@ size_t geom_format_double(double x, char buf[GEOM_DOUBLE_CHARS])
             *p++ = '.';
             for (int i = -1; i > X; i--)
                 *p++ = '0';
-            memcpy(p, dig, (size_t)n);
-            p += n;
+            p = emit_digits(p, d.digits, n, 0);
         } else if (X + 1 >= n) {
-            memcpy(p, dig, (size_t)n);
-            p += n;
+            p = emit_digits(p, d.digits, n, 0);
             for (int i = n; i <= X; i++)
                 *p++ = '0';
         } else {
-            memcpy(p, dig, (size_t)X + 1);
-            p += X + 1;
-            *p++ = '.';
-            memcpy(p, dig + X + 1, (size_t)(n - X - 1));
-            p += n - X - 1;
+            p = emit_digits(p, d.digits, n, X + 1);
         }
     } else {
-        *p++ = dig[0];
-        if (n > 1) {
-            *p++ = '.';
-            memcpy(p, dig + 1, (size_t)n - 1);
-            p += n - 1;
-        }
+        p = emit_digits(p, d.digits, n, 1);
         *p++ = 'e';
         int e = X;
         if (e < 0) {
