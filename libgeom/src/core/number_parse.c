@@ -152,6 +152,31 @@ static double fallback(const char *b, const char *e, int64_t exp10)
     return strtod(buf, NULL);
 }
 
+/* An exponent "<letter>[+-]digits" at p (letter in either case): its value
+ * (clamped to +-10^9) in *ev and the end; p and 0 when there is none. */
+static const char *parse_exponent(const char *p, const char *end, char letter, int64_t *ev)
+{
+    *ev = 0;
+    if (p >= end || (*p | 0x20) != letter)
+        return p;
+    const char *q = p + 1;
+    int neg = 0;
+    if (q < end && (*q == '+' || *q == '-')) {
+        neg = *q == '-';
+        q++;
+    }
+    if (q >= end || !is_digit(*q))
+        return p;
+    int64_t v = 0;
+    while (q < end && is_digit(*q)) {
+        if (v < 1000000000)
+            v = v * 10 + (*q - '0');
+        q++;
+    }
+    *ev = neg ? -v : v;
+    return q;
+}
+
 static int hex_value(char ch)
 {
     if (ch >= '0' && ch <= '9')
@@ -190,24 +215,9 @@ static const char *parse_hex(const char *p, const char *end, double *v)
     }
     if (!any)
         return NULL;
-    if (p < end && (*p | 0x20) == 'p') {
-        const char *q = p + 1;
-        int eneg = 0;
-        int64_t ev = 0;
-        if (q < end && (*q == '+' || *q == '-')) {
-            eneg = *q == '-';
-            q++;
-        }
-        if (q < end && is_digit(*q)) {
-            while (q < end && is_digit(*q)) {
-                if (ev < 1000000000)
-                    ev = ev * 10 + (*q - '0');
-                q++;
-            }
-            be += eneg ? -ev : ev;
-            p = q;
-        }
-    }
+    int64_t ev = 0;
+    p = parse_exponent(p, end, 'p', &ev);
+    be += ev;
     if (m == 0) {
         *v = 0.0;
         return p;
@@ -347,24 +357,7 @@ geom_status geom_parse_double(const char *s, const char *end, double *out, const
         return GEOM_ERR_PARSE;
     const char *mend = p;
     int64_t ev = 0;
-    if (p < end && (*p | 0x20) == 'e') {
-        const char *q = p + 1;
-        int eneg = 0;
-        if (q < end && (*q == '+' || *q == '-')) {
-            eneg = *q == '-';
-            q++;
-        }
-        if (q < end && is_digit(*q)) {
-            while (q < end && is_digit(*q)) {
-                if (ev < 1000000000)
-                    ev = ev * 10 + (*q - '0');
-                q++;
-            }
-            if (eneg)
-                ev = -ev;
-            p = q;
-        }
-    }
+    p = parse_exponent(p, end, 'e', &ev);
     if (stop)
         *stop = p;
 
