@@ -231,35 +231,9 @@ void cli_input_close(cli_input *in)
     in->fp = NULL;
 }
 
-geom_status cli_read_all(FILE *fp, const char *name, unsigned char **data, size_t *size,
-                         geom_diag *diag)
+geom_status cli_read_all(FILE *fp, const char *name, geom_file *out, geom_diag *diag)
 {
-    size_t cap = 1 << 16, n = 0;
-    unsigned char *buf = malloc(cap);
-    if (!buf)
-        return cli_diag_set(diag, GEOM_ERR_NOMEM, name, 0, 0, "out of memory");
-    for (;;) {
-        if (n == cap) {
-            unsigned char *q = cap > ((size_t)-1) / 2 ? NULL : realloc(buf, cap * 2);
-            if (!q) {
-                free(buf);
-                return cli_diag_set(diag, GEOM_ERR_NOMEM, name, 0, 0, "out of memory");
-            }
-            buf = q;
-            cap *= 2;
-        }
-        size_t got = fread(buf + n, 1, cap - n, fp);
-        n += got;
-        if (got == 0)
-            break;
-    }
-    if (ferror(fp)) {
-        free(buf);
-        return cli_diag_set(diag, GEOM_ERR_IO, name, 0, 0, "read error");
-    }
-    *data = buf;
-    *size = n;
-    return GEOM_OK;
+    return geom_file_map_fd(fileno(fp), name, NULL, out, diag);
 }
 
 /* -------------------------------------------------------------------- lines */
@@ -349,41 +323,28 @@ static void quote_token(const char *s, size_t len, char *out, size_t size)
 geom_status cli_parse_double(const char *text, size_t len, unsigned flags, double *out,
                              geom_diag *diag)
 {
-    char small[64];
     char q[192];
     *out = 0.0;
     if (len == 0)
         return cli_diag_set(diag, GEOM_ERR_PARSE, NULL, 0, 1, "empty number");
-    char *buf = small;
-    if (len >= sizeof small) {
-        buf = malloc(len + 1);
-        if (!buf)
-            return cli_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 1, "out of memory");
+    const char *stop;
+    double v;
+    geom_status st = geom_parse_double(text, text + len, &v, &stop);
+    if (stop != text + len || st == GEOM_ERR_PARSE) {
+        quote_token(text, len, q, sizeof q);
+        return cli_diag_set(diag, GEOM_ERR_PARSE, NULL, 0, 1, "invalid number '%s'", q);
     }
-    memcpy(buf, text, len);
-    buf[len] = '\0';
-
-    geom_status st = GEOM_OK;
-    char *end = NULL;
-    errno = 0;
-    double v = strtod(buf, &end);
-    int err = errno;
-    if (end != buf + len || end == buf) {
+    if (st == GEOM_ERR_DOMAIN) {
         quote_token(text, len, q, sizeof q);
-        st = cli_diag_set(diag, GEOM_ERR_PARSE, NULL, 0, 1, "invalid number '%s'", q);
-    } else if (isinf(v) && err == ERANGE) {
-        quote_token(text, len, q, sizeof q);
-        st = cli_diag_set(diag, GEOM_ERR_PARSE, NULL, 0, 1, "number out of range '%s'", q);
-    } else if (!isfinite(v) && !(flags & CLI_NUM_ALLOW_NONFINITE)) {
-        quote_token(text, len, q, sizeof q);
-        st = cli_diag_set(diag, GEOM_ERR_PARSE, NULL, 0, 1, "%s not allowed '%s'",
-                          isnan(v) ? "NaN" : "infinity", q);
-    } else {
-        *out = v;
+        return cli_diag_set(diag, GEOM_ERR_PARSE, NULL, 0, 1, "number out of range '%s'", q);
     }
-    if (buf != small)
-        free(buf);
-    return st;
+    if (!isfinite(v) && !(flags & CLI_NUM_ALLOW_NONFINITE)) {
+        quote_token(text, len, q, sizeof q);
+        return cli_diag_set(diag, GEOM_ERR_PARSE, NULL, 0, 1, "%s not allowed '%s'",
+                            isnan(v) ? "NaN" : "infinity", q);
+    }
+    *out = v;
+    return GEOM_OK;
 }
 
 static size_t skip_space(const char *s, size_t i, size_t len)
@@ -444,13 +405,14 @@ geom_status cli_parse_numbers(const char *text, size_t len, unsigned flags, doub
 
 void cli_print_double(FILE *fp, double v)
 {
-    fprintf(fp, "%.17g", v);
+    char buf[GEOM_DOUBLE_CHARS];
+    fwrite(buf, 1, geom_format_double_digits(v, 17, buf), fp);
 }
 
 void cli_json_number(FILE *fp, double v)
 {
     if (isfinite(v))
-        fprintf(fp, "%.17g", v);
+        cli_print_double(fp, v);
     else
         fputs("null", fp);
 }

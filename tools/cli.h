@@ -172,12 +172,11 @@ geom_status cli_input_open(cli_input *in, const char *path, geom_diag *diag);
 void cli_input_close(cli_input *in);
 
 /**
- * Read all of fp (a file or a pipe) into a malloc'd buffer: *data (free with
- * free()) and *size bytes. GEOM_ERR_NOMEM or GEOM_ERR_IO (diag names `name`);
- * *data is untouched on failure.
+ * All of fp (a file or a pipe, nothing read from it yet) through
+ * geom_file_map_fd: mapped when it is a regular file, else read. Release
+ * with geom_file_unmap. GEOM_ERR_NOMEM or GEOM_ERR_IO (diag names `name`).
  */
-geom_status cli_read_all(FILE *fp, const char *name, unsigned char **data, size_t *size,
-                         geom_diag *diag);
+geom_status cli_read_all(FILE *fp, const char *name, geom_file *out, geom_diag *diag);
 
 /* -------------------------------------------------------------------- lines */
 
@@ -215,8 +214,10 @@ bool cli_line_is_blank_or_comment(const char *line, size_t len);
 #define CLI_NUM_ALLOW_NONFINITE 1u
 
 /**
- * Parse one number: the whole of text[0..len) must be a number that strtod
- * accepts (decimal or hexadecimal floating point, C locale). Rejects an empty
+ * Parse one number: the whole of text[0..len) must be a number that
+ * geom_parse_double reads (decimal or hexadecimal floating point, "inf",
+ * "infinity", "nan"; '.' as the decimal point whatever the locale; correctly
+ * rounded). Rejects an empty
  * token, trailing garbage, a value that overflows to infinity, and NaN/Inf
  * unless `flags` has CLI_NUM_ALLOW_NONFINITE. Values that underflow are
  * accepted (rounded to a subnormal or zero, as strtod does).
@@ -248,10 +249,12 @@ geom_status cli_parse_numbers(const char *text, size_t len, unsigned flags, doub
 
 /* ------------------------------------------------------------------- output */
 
-/** Print v with 17 significant digits ("%.17g"): reads back exactly. */
+/** Print v with 17 significant digits, as "%.17g" in the C locale
+ *  (geom_format_double_digits): reads back exactly. */
 void cli_print_double(FILE *fp, double v);
 
-/** Print v as a JSON number ("%.17g"), or null when v is NaN or infinite. */
+/** Print v as a JSON number (cli_print_double), or null when v is NaN or
+ *  infinite. */
 void cli_json_number(FILE *fp, double v);
 
 /** Print s as a JSON string literal with quotes and escapes (control

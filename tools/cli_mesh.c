@@ -11,9 +11,8 @@ geom_status cli_mesh_read(const char *tool_name, const char *path, geom_meshio_f
     geom_status st = cli_input_open(&in, path, diag);
     if (st != GEOM_OK)
         return st;
-    unsigned char *buf = NULL;
-    size_t n = 0;
-    st = cli_read_all(in.fp, in.name, &buf, &n, diag);
+    geom_file file;
+    st = cli_read_all(in.fp, in.name, &file, diag);
     if (st != GEOM_OK) {
         cli_input_close(&in);
         return st;
@@ -22,8 +21,8 @@ geom_status cli_mesh_read(const char *tool_name, const char *path, geom_meshio_f
     memset(&ro, 0, sizeof ro);
     ro.format = fmt;
     geom_mesh_build_report r;
-    st = geom_meshio_read_memory(buf, n, in.name, &ro, m, &r, diag);
-    free(buf);
+    st = geom_meshio_read_file(&file, in.name, &ro, m, &r, diag);
+    geom_file_unmap(&file);
     if (st == GEOM_OK) {
         /* repairs made while building the mesh are worth knowing */
         const struct {

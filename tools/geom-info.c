@@ -190,13 +190,12 @@ int main(int argc, char **argv)
     cli_input in;
     if (cli_input_open(&in, first < argc ? argv[first] : NULL, &diag) != GEOM_OK)
         return cli_print_diag(&tool, &diag);
-    unsigned char *data = NULL;
-    size_t size = 0;
-    geom_status st = cli_read_all(in.fp, in.name, &data, &size, &diag);
+    geom_file file;
+    geom_status st = cli_read_all(in.fp, in.name, &file, &diag);
     char *name = strdup(in.name);
     cli_input_close(&in);
     if (st != GEOM_OK || !name) {
-        free(data);
+        geom_file_unmap(&file);
         free(name);
         if (st == GEOM_OK)
             cli_diag_set(&diag, GEOM_ERR_NOMEM, NULL, 0, 0, "out of memory");
@@ -211,8 +210,8 @@ int main(int argc, char **argv)
     ro.stats = &stats;
     geom_mesh *m = NULL;
     geom_mesh_build_report report;
-    st = geom_meshio_read_memory(data, size, name, &ro, &m, &report, &diag);
-    free(data);
+    st = geom_meshio_read_file(&file, name, &ro, &m, &report, &diag);
+    geom_file_unmap(&file);
     if (st != GEOM_OK) {
         free(name);
         return cli_print_diag(&tool, &diag);

@@ -42,8 +42,9 @@ static const cli_tool tool = {
     "                       OUT's extension\n"
     "  -i, --input-format=FMT  input format (obj, off, ply, stl); default: from\n"
     "                       IN's extension, else from the content\n",
-    "The normals are stored as the mesh's per-corner \"normal\" channel, so OBJ\n"
-    "output shares vn values within smooth fans and splits them at hard edges.\n"
+    "Without --crease and --split-uv the normals are one per vertex (a vertex\n"
+    "\"normal\" channel); with them, the mesh's per-corner \"normal\" channel, so\n"
+    "OBJ output shares vn values within smooth fans and splits them at hard edges.\n"
     "With --json, prints {\"faces\", \"vertices\", \"normals\", \"zero_normals\",\n"
     "\"seconds\"} on standard output (OUT must be a file).\n",
 };
@@ -151,18 +152,32 @@ int main(int argc, char **argv)
         st = geom_mesh_channel_remove(m, vn);
     }
     uint32_t id = GEOM_INVALID_INDEX;
-    if (st == GEOM_OK)
+    size_t zero = 0, nn = 0;
+    if (st == GEOM_OK && no.no.crease_degrees == 0.0 && !no.no.split_at_channel_plus_one) {
+        /* nothing splits the fans: one normal per vertex is the answer */
+        uint32_t cn = geom_mesh_channel_find(m, "normal", GEOM_MESH_DOMAIN_CORNER);
+        if (cn != GEOM_INVALID_INDEX)
+            st = geom_mesh_channel_remove(m, cn);
+        if (st == GEOM_OK)
+            st = geom_mesh_channel_add(m, "normal", GEOM_MESH_DOMAIN_VERTEX, 3, &id);
+        if (st == GEOM_OK)
+            st = geom_mesh_vertex_normals(m, no.no.weight, geom_mesh_channel_data(m, id), &zero);
+        nn = geom_mesh_n_live_vertices(m);
+    } else if (st == GEOM_OK) {
         st = geom_mesh_corner_normals(m, &no.no, &id);
+        if (st == GEOM_OK) {
+            nn = geom_mesh_channel_size(m, id);
+            const double *d = geom_mesh_channel_cdata(m, id);
+            for (size_t i = 0; i < nn; i++)
+                zero += d[3 * i] == 0.0 && d[3 * i + 1] == 0.0 && d[3 * i + 2] == 0.0;
+        }
+    }
     double secs = cli_timer_elapsed(&timer);
     if (st != GEOM_OK) {
         geom_mesh_destroy(m);
         return cli_error(&tool, "%s: computing normals failed: %s", argv[first],
                          geom_status_str(st));
     }
-    size_t zero = 0, nn = geom_mesh_channel_size(m, id);
-    const double *d = geom_mesh_channel_cdata(m, id);
-    for (size_t i = 0; i < nn; i++)
-        zero += d[3 * i] == 0.0 && d[3 * i + 1] == 0.0 && d[3 * i + 2] == 0.0;
     st = cli_mesh_write(m, out_path, no.out_format, &diag);
     if (st != GEOM_OK) {
         geom_mesh_destroy(m);

@@ -850,6 +850,37 @@ static void test_atomic_write(void **state)
 }
 
 /* Reading with an allocator that fails at every point: no leak, NOMEM. */
+/* geom_meshio_read_file releases a mapped file's pages before building the
+ * mesh: the mapping must still hold the file's bytes afterwards. */
+static void test_read_file_mapped(void **state)
+{
+    (void)state;
+    char path[] = "/tmp/geom-meshio-map-XXXXXX";
+    int fd = mkstemp(path);
+    assert_true(fd >= 0);
+    const char text[] = "v 0 0 0\nv 1 0 0\nv 0.1 1e-3 0\nv 0 0 1\nf 1 2 3\nf 1 3 4\n";
+    assert_int_equal(write(fd, text, sizeof text - 1), (ssize_t)(sizeof text - 1));
+    close(fd);
+    geom_file f;
+    geom_diag d;
+    assert_int_equal(geom_file_map(path, NULL, &f, &d), GEOM_OK);
+    geom_meshio_read_options o;
+    memset(&o, 0, sizeof o);
+    o.format = GEOM_MESHIO_FORMAT_OBJ;
+    geom_mesh *m = NULL;
+    assert_int_equal(geom_meshio_read_file(&f, path, &o, &m, NULL, &d), GEOM_OK);
+    assert_int_equal(geom_mesh_n_faces(m), 2);
+    const double *p = geom_mesh_positions(m);
+    assert_true(p[6] == 0.1 && p[7] == 1e-3);
+    assert_int_equal(f.size, sizeof text - 1);
+    assert_memory_equal(f.data, text, sizeof text - 1);
+    geom_file_unmap(&f);
+    geom_mesh_destroy(m);
+    assert_int_equal(geom_meshio_read_file(NULL, path, &o, &m, NULL, &d), GEOM_ERR_INVALID_ARG);
+    assert_null(m);
+    unlink(path);
+}
+
 static void test_read_nomem(void **state)
 {
     (void)state;
@@ -886,6 +917,7 @@ int main(void)
         cmocka_unit_test(test_skip_invalid),    cmocka_unit_test(test_limits),
         cmocka_unit_test(test_osd_shapes),      cmocka_unit_test(test_format_names),
         cmocka_unit_test(test_atomic_write),    cmocka_unit_test(test_read_nomem),
+        cmocka_unit_test(test_read_file_mapped),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

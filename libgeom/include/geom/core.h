@@ -134,6 +134,104 @@ typedef struct geom_error_report {
     size_t evaluations; /**< function evaluations (or samples) performed */
 } geom_error_report;
 
+/* ------------------------------------------------------------------ numbers */
+
+/** Buffer size for geom_format_double / geom_format_double_digits (longest
+ *  output "-2.2250738585072014e-308" is 24 characters, plus the NUL). */
+#define GEOM_DOUBLE_CHARS 32
+
+/**
+ * The shortest decimal that reads back as exactly x (Ryu: Ulf Adams, "Ryu:
+ * Fast Float-to-String Conversion", PLDI 2018), into buf, NUL-terminated,
+ * independent of the locale. Returns the length (at most 24).
+ *
+ * Syntax: an optional '-', then the n shortest significant digits d1..dn
+ * (the ones closest to x among the shortest; ties to even) with decimal
+ * exponent X (x = d1.d2..dn * 10^X), written as printf's "%.<P>g" would with
+ * P = max(n, 15) and no trailing zeros: fixed notation ("0.001", "12.5",
+ * "100000") when -4 <= X < P, else "d1.d2..dne+XX" / "e-XX" with at least
+ * two exponent digits ("1e+20", "2.5e-07"). Zero is "0" or "-0". NaN is
+ * "nan" and infinities "inf" / "-inf": geom_parse_double reads those back
+ * (the mesh readers refuse them as non-finite).
+ */
+GEOM_API size_t geom_format_double(double x, char buf[GEOM_DOUBLE_CHARS]);
+
+/**
+ * x with `digits` significant digits (1..17; larger values mean 17, 0 or
+ * negative means geom_format_double's shortest form), correctly rounded, in
+ * printf's "%.<digits>g" syntax with '.' as the decimal point whatever the
+ * locale. NaN and infinities as in geom_format_double. Returns the length.
+ */
+GEOM_API size_t geom_format_double_digits(double x, int digits, char buf[GEOM_DOUBLE_CHARS]);
+
+/**
+ * Parse a decimal number at the start of [s, end) (no leading spaces, not
+ * NUL-terminated), correctly rounded to the nearest double, ties to even
+ * (Eisel-Lemire: Daniel Lemire, "Number Parsing at a Gigabyte per Second",
+ * Softw. Pract. Exp. 2021; with an exact fallback through a bounded copy for
+ * the rare inputs it cannot decide). Any number of digits is accepted.
+ *
+ * Syntax: [+-]? (digits [. digits?] | . digits) ([eE] [+-]? digits)?, or a
+ * C99 hexadecimal float [+-]? 0[xX] (hexdigits [. hexdigits?] | . hexdigits)
+ * ([pP] [+-]? digits)?, or [+-]? followed by "inf", "infinity" or "nan" in
+ * any case. An exponent letter not followed by digits is not consumed (nor
+ * is an "x" without hexadecimal digits after it: "0x" reads as 0). No
+ * locale decimal point, no "nan(...)". *stop (if stop is not NULL) receives the end of the
+ * longest prefix read (s when nothing is read); callers that want a whole
+ * token compare it with end.
+ *
+ * Returns GEOM_OK (also for the spelled "inf"/"nan", so check isfinite when
+ * they are not wanted; values below the subnormal range read as +-0),
+ * GEOM_ERR_DOMAIN when a finite spelling overflows (*out = +-infinity),
+ * GEOM_ERR_PARSE when no number starts at s (*out = 0), GEOM_ERR_INVALID_ARG
+ * for NULL s, end or out, or end < s.
+ */
+GEOM_API geom_status geom_parse_double(const char *s, const char *end, double *out,
+                                       const char **stop);
+
+/* -------------------------------------------------------------------- files */
+
+/**
+ * A whole file's bytes, read-only. Regular files are mapped into memory
+ * (mmap, MAP_PRIVATE, with a sequential-access hint): no copy, pages are
+ * read on first touch. Pipes, terminals and other descriptors are read with
+ * read() into an allocated buffer. `data` is not NUL-terminated; it is
+ * valid until geom_file_unmap. A mapped file that another process truncates
+ * while mapped may fault on access (as with any mapping). The impl_ fields
+ * are private.
+ */
+typedef struct geom_file {
+    const unsigned char *data; /**< size bytes (never NULL after a map call) */
+    size_t size;
+    void *impl_base;
+    size_t impl_size;
+    int impl_mapped;
+    const geom_allocator *impl_alloc;
+} geom_file;
+
+/**
+ * Map (or read) the file at `path` into *out. alloc (NULL = libc) is used
+ * only when the file has to be read. Returns GEOM_OK, GEOM_ERR_IO (cannot
+ * open or read, a directory; diag names the path and the system's reason),
+ * GEOM_ERR_NOMEM, GEOM_ERR_LIMIT (too large for memory), GEOM_ERR_INVALID_ARG
+ * (NULL path or out). On failure *out is empty (size 0).
+ */
+GEOM_API geom_status geom_file_map(const char *path, const geom_allocator *alloc,
+                                   geom_file *out, geom_diag *diag);
+
+/**
+ * As geom_file_map, for an open descriptor (e.g. 0 for standard input): a
+ * regular file positioned at its start is mapped; anything else is read
+ * from its current position to its end. The descriptor stays open and may
+ * be closed right after the call. `name` is used in diagnostics.
+ */
+GEOM_API geom_status geom_file_map_fd(int fd, const char *name, const geom_allocator *alloc,
+                                      geom_file *out, geom_diag *diag);
+
+/** Release what geom_file_map / geom_file_map_fd returned. NULL and an
+ *  already released or zeroed geom_file are no-ops. */
+GEOM_API void geom_file_unmap(geom_file *f);
+
 /* ------------------------------------------------------------------ vectors */
 
 typedef struct geom_vec2 { double x, y; } geom_vec2;

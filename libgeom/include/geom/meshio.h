@@ -136,8 +136,8 @@ typedef struct geom_meshio_read_options {
 } geom_meshio_read_options;
 
 /**
- * Read a mesh file. `path` is opened with fopen in binary mode and read
- * whole, then parsed as geom_meshio_read_memory would (diagnostics name
+ * Read a mesh file. `path` is mapped (geom_file_map: regular files) or
+ * read whole, then parsed as geom_meshio_read_file would (diagnostics name
  * `path` as the source). *out receives a new mesh (free with
  * geom_mesh_destroy) on GEOM_OK and NULL otherwise. opt, report and diag may
  * be NULL; report is geom_mesh_build's report (zeroed on a parse error).
@@ -162,6 +162,18 @@ GEOM_API geom_status geom_meshio_read(const char *path, const geom_meshio_read_o
 GEOM_API geom_status geom_meshio_read_memory(const void *data, size_t size, const char *source_name,
                                     const geom_meshio_read_options *opt, geom_mesh **out,
                                     geom_mesh_build_report *report, geom_diag *diag);
+
+/**
+ * As geom_meshio_read_memory over file->data (from geom_file_map or
+ * geom_file_map_fd), except that once the text is parsed and before the mesh
+ * is built, the pages of a mapped file are released (the mapping stays
+ * valid and reads back the same bytes from the file if touched again), so
+ * the file and the mesh are not both in memory. The caller still releases
+ * the file with geom_file_unmap.
+ */
+GEOM_API geom_status geom_meshio_read_file(geom_file *file, const char *source_name,
+                                           const geom_meshio_read_options *opt, geom_mesh **out,
+                                           geom_mesh_build_report *report, geom_diag *diag);
 
 /* ------------------------------------------------------------------ writing */
 

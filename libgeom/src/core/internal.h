@@ -31,6 +31,13 @@ void geom_free(const geom_allocator *a, void *ptr, size_t size);
 /* n*size with overflow check: returns 0 and sets *out, or GEOM_ERR_LIMIT. */
 geom_status geom_size_mul(size_t n, size_t size, size_t *out);
 
+/* The system's text for errno value err into buf (reentrant strerror_r). */
+void geom__sys_reason(int err, char *buf, size_t size);
+
+/* Release the memory pages of a mapped geom_file (no-op when it was read):
+ * the mapping stays valid and reads the file's bytes again if touched. */
+void geom__file_drop_pages(geom_file *f);
+
 static inline int geom_isfinite3(const double p[3])
 {
     return isfinite(p[0]) && isfinite(p[1]) && isfinite(p[2]);

@@ -12,23 +12,10 @@
 #include <time.h>
 #include <unistd.h>
 
-void geom_meshio__sys_reason(int err, char *buf, size_t size)
-{
-    buf[0] = '\0';
-#if defined(__GLIBC__) && defined(_GNU_SOURCE)
-    const char *s = strerror_r(err, buf, size);
-    if (s != buf)
-        snprintf(buf, size, "%s", s);
-#else
-    if (strerror_r(err, buf, size) != 0)
-        snprintf(buf, size, "error %d", err);
-#endif
-}
-
 static geom_status io_error(geom_diag *d, const char *path, int err, const char *what)
 {
     char reason[128];
-    geom_meshio__sys_reason(err, reason, sizeof reason);
+    geom__sys_reason(err, reason, sizeof reason);
     return geom_diag_set(d, GEOM_ERR_IO, path, 0, 0, "%s: %s", what, reason);
 }
 

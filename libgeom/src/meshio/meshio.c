@@ -81,9 +81,11 @@ geom_meshio_format geom_meshio_format_sniff(const void *data, size_t size)
 
 /* ------------------------------------------------------------------ reading */
 
-geom_status geom_meshio_read_memory(const void *data, size_t size, const char *source_name,
-                                    const geom_meshio_read_options *opt, geom_mesh **out,
-                                    geom_mesh_build_report *report, geom_diag *diag)
+/* Parse, then (when `file` is given) let the file's pages go before the
+ * mesh is built: the soup holds everything that is needed. */
+static geom_status read_data(const void *data, size_t size, geom_file *file,
+                             const char *source_name, const geom_meshio_read_options *opt,
+                             geom_mesh **out, geom_mesh_build_report *report, geom_diag *diag)
 {
     geom_meshio_read_stats local_stats;
     const char *src = source_name ? source_name : "<memory>";
@@ -136,12 +138,33 @@ geom_status geom_meshio_read_memory(const void *data, size_t size, const char *s
     }
     if (st == GEOM_ERR_NOMEM && diag && diag->status != GEOM_ERR_NOMEM)
         geom_diag_set(diag, st, src, 0, 0, "out of memory");
+    if (file)
+        geom__file_drop_pages(file);
     if (st == GEOM_OK)
         st = geom_meshio__soup_finish(&c, &s, opt, out, report);
     geom_meshio__soup_free(&s, c.alloc);
     if (st != GEOM_OK && report)
         memset(report, 0, sizeof *report);
     return st;
+}
+
+geom_status geom_meshio_read_memory(const void *data, size_t size, const char *source_name,
+                                    const geom_meshio_read_options *opt, geom_mesh **out,
+                                    geom_mesh_build_report *report, geom_diag *diag)
+{
+    return read_data(data, size, NULL, source_name, opt, out, report, diag);
+}
+
+geom_status geom_meshio_read_file(geom_file *file, const char *source_name,
+                                  const geom_meshio_read_options *opt, geom_mesh **out,
+                                  geom_mesh_build_report *report, geom_diag *diag)
+{
+    if (!file) {
+        if (out)
+            *out = NULL;
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, source_name, 0, 0, "NULL file");
+    }
+    return read_data(file->data, file->size, file, source_name, opt, out, report, diag);
 }
 
 geom_status geom_meshio_read(const char *path, const geom_meshio_read_options *opt,
@@ -153,35 +176,8 @@ geom_status geom_meshio_read(const char *path, const geom_meshio_read_options *o
     if (!path || !out)
         return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0, "NULL path or output");
     const geom_allocator *a = opt ? opt->alloc : NULL;
-    errno = 0;
-    FILE *fp = fopen(path, "rb");
-    if (!fp) {
-        char reason[128] = "unknown error";
-        if (errno)
-            geom_meshio__sys_reason(errno, reason, sizeof reason);
-        return geom_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "cannot open: %s", reason);
-    }
-    unsigned char *buf = NULL;
-    size_t n = 0, cap = 0;
-    geom_status st = GEOM_OK;
-    for (;;) {
-        if (n == cap) {
-            st = geom_meshio__grow(a, (void **)&buf, &cap, cap < 65536 ? 65536 : cap * 2, 1);
-            if (st != GEOM_OK) {
-                geom_diag_set(diag, st, path, 0, 0, "out of memory reading the file");
-                break;
-            }
-        }
-        size_t got = fread(buf + n, 1, cap - n, fp);
-        n += got;
-        if (got == 0) {
-            if (ferror(fp))
-                st = geom_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "read error after %zu bytes",
-                                   n);
-            break;
-        }
-    }
-    fclose(fp);
+    geom_file f;
+    geom_status st = geom_file_map(path, a, &f, diag);
     if (st == GEOM_OK) {
         geom_meshio_read_options o;
         if (opt)
@@ -190,9 +186,9 @@ geom_status geom_meshio_read(const char *path, const geom_meshio_read_options *o
             memset(&o, 0, sizeof o);
         if (o.format == GEOM_MESHIO_FORMAT_AUTO)
             o.format = geom_meshio_format_from_name(path);
-        st = geom_meshio_read_memory(buf, n, path, &o, out, report, diag);
+        st = geom_meshio_read_file(&f, path, &o, out, report, diag);
     }
-    geom_free(a, buf, cap);
+    geom_file_unmap(&f);
     return st;
 }
 

@@ -74,16 +74,12 @@ void geom_meshio__hash_free(mio_hash *h, const geom_allocator *a);
 
 /* ---------------------------------------------------------------- numbers */
 
-/* Strict decimal number: [+-](digits[.digits*]|.digits)([eE][+-]digits)?,
- * whole token, correctly rounded. Returns 0, or -1 (syntax), -2 (overflow
- * to infinity), -3 (longer than 500 bytes). */
+/* Strict decimal number, the whole token, through geom_parse_double
+ * (correctly rounded; no hexadecimal, "inf" or "nan"). Returns 0, or -1
+ * (syntax), -2 (overflow to infinity). */
 int geom_meshio__parse_double(const char *s, size_t len, double *out);
 /* Strict integer [+-]digits. 0, -1 (syntax), -2 (out of int64 range). */
 int geom_meshio__parse_int64(const char *s, size_t len, int64_t *out);
-/* Format a finite double into buf (>= 32 bytes) with '.' as the decimal
- * point: precision 0 = shortest of %.15g/%.16g/%.17g that reads back
- * exactly, else %.*g with min(precision, 17). Returns the length. */
-size_t geom_meshio__format_double(char *buf, double x, int precision);
 
 /* -------------------------------------------------------- reading context */
 
@@ -266,7 +262,8 @@ static inline void mio_putc(mio_sink *k, char ch)
     }
 }
 void geom_meshio__puts(mio_sink *k, const char *s);
-/* A finite double as text (k->precision); non-finite: GEOM_ERR_INVALID_ARG. */
+/* A finite double as text: geom_format_double_digits with k->precision (0:
+ * the shortest that reads back exactly); non-finite: GEOM_ERR_INVALID_ARG. */
 void geom_meshio__put_double(mio_sink *k, double x);
 void geom_meshio__put_u64(mio_sink *k, uint64_t v);
 void geom_meshio__put_i64(mio_sink *k, int64_t v);
@@ -300,8 +297,6 @@ geom_status geom_meshio__atomic_write(void *user, const void *data, size_t n, ge
 geom_status geom_meshio__atomic_commit(mio_atomic *a, geom_diag *diag);
 /* Close and remove the temporary file. */
 void geom_meshio__atomic_abort(mio_atomic *a);
-/* The system's text for errno value err (reentrant strerror_r). */
-void geom_meshio__sys_reason(int err, char *buf, size_t size);
 
 /* ------------------------------------------------------------ export view */
 

@@ -405,8 +405,8 @@ static void put_color(mio_sink *k, double v)
         geom_meshio__put_double(k, v); /* fails the sink */
         return;
     }
-    char buf[40];
-    size_t n = geom_meshio__format_double(buf, v, k->precision);
+    char buf[GEOM_DOUBLE_CHARS];
+    size_t n = geom_format_double_digits(v, k->precision, buf);
     geom_meshio__put(k, buf, n);
     if (!memchr(buf, '.', n) && !memchr(buf, 'e', n))
         geom_meshio__puts(k, ".0");

@@ -71,8 +71,8 @@ void geom_meshio__put_double(mio_sink *k, double x)
         geom_meshio__sink_fail(k, GEOM_ERR_INVALID_ARG, "cannot write a non-finite value");
         return;
     }
-    char buf[40];
-    size_t n = geom_meshio__format_double(buf, x, k->precision);
+    char buf[GEOM_DOUBLE_CHARS];
+    size_t n = geom_format_double_digits(x, k->precision, buf);
     geom_meshio__put(k, buf, n);
 }
 

@@ -363,6 +363,7 @@ geom_status geom_meshio__soup_finish(mio_ctx *c, mio_soup *s, const geom_meshio_
     geom_status st = validate_faces(c, s, &n_invalid);
     if (st != GEOM_OK)
         return st;
+    MIO_FREE(c->alloc, s->floc); /* face locations serve diagnostics only: done */
     c->stats->input_vertices = mio_soup_nv(s);
     c->stats->input_faces = s->fsize.n;
     geom_mesh *m = geom_mesh_create(c->alloc);

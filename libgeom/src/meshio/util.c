@@ -1,7 +1,6 @@
 /* meshio helpers: growable arrays, hash index, numbers, text lines. */
 #include "meshio/meshio_internal.h"
 
-#include <locale.h>
 #include <stdio.h>
 #include <stdlib.h>
 
@@ -122,123 +121,18 @@ void geom_meshio__hash_free(mio_hash *h, const geom_allocator *a)
 
 /* ---------------------------------------------------------------- numbers */
 
-static const double mio_pow10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
-                                     1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
-                                     1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
-
 static int is_digit(char ch) { return ch >= '0' && ch <= '9'; }
-
-/* strtod on a NUL-terminated copy; retry with the locale's decimal point
- * when '.' is not it. */
-static int slow_double(const char *s, size_t len, double *out)
-{
-    char buf[512];
-    if (len >= sizeof buf)
-        return -3;
-    memcpy(buf, s, len);
-    buf[len] = '\0';
-    char *end = NULL;
-    double v = strtod(buf, &end);
-    if (end != buf + len) {
-        const struct lconv *lc = localeconv();
-        const char *dp = lc && lc->decimal_point ? lc->decimal_point : ".";
-        size_t dl = strlen(dp);
-        char buf2[600];
-        size_t j = 0;
-        for (size_t i = 0; i < len; i++) {
-            if (buf[i] == '.' && dl < 8) {
-                memcpy(buf2 + j, dp, dl);
-                j += dl;
-            } else {
-                buf2[j++] = buf[i];
-            }
-        }
-        buf2[j] = '\0';
-        v = strtod(buf2, &end);
-        if (end != buf2 + j)
-            return -1;
-    }
-    if (!isfinite(v))
-        return -2;
-    *out = v;
-    return 0;
-}
 
 int geom_meshio__parse_double(const char *s, size_t len, double *out)
 {
-    size_t i = 0;
-    int neg = 0;
-    if (i < len && (s[i] == '+' || s[i] == '-')) {
-        neg = s[i] == '-';
-        i++;
-    }
-    uint64_t mant = 0;
-    int nd = 0, dropped = 0, any = 0;
-    long e10 = 0;
-    while (i < len && is_digit(s[i])) {
-        int d = s[i] - '0';
-        any = 1;
-        if (mant == 0 && d == 0) {
-            /* leading zero */
-        } else if (nd < 19) {
-            mant = mant * 10 + (uint64_t)d;
-            nd++;
-        } else {
-            e10++;
-            dropped |= d != 0;
-        }
-        i++;
-    }
-    if (i < len && s[i] == '.') {
-        i++;
-        while (i < len && is_digit(s[i])) {
-            int d = s[i] - '0';
-            any = 1;
-            if (mant == 0 && d == 0) {
-                e10--;
-            } else if (nd < 19) {
-                mant = mant * 10 + (uint64_t)d;
-                nd++;
-                e10--;
-            } else {
-                dropped |= d != 0;
-            }
-            i++;
-        }
-    }
-    if (!any)
+    /* mesh files hold decimal numbers only: no "0x" (core reads them) */
+    if ((len > 1 && (s[1] | 0x20) == 'x') || (len > 2 && (s[2] | 0x20) == 'x'))
         return -1;
-    if (i < len && (s[i] == 'e' || s[i] == 'E')) {
-        i++;
-        int eneg = 0;
-        long ev = 0;
-        if (i < len && (s[i] == '+' || s[i] == '-')) {
-            eneg = s[i] == '-';
-            i++;
-        }
-        if (i >= len || !is_digit(s[i]))
-            return -1;
-        while (i < len && is_digit(s[i])) {
-            if (ev < 100000)
-                ev = ev * 10 + (s[i] - '0');
-            i++;
-        }
-        e10 += eneg ? -ev : ev;
-    }
-    if (i != len)
+    const char *stop;
+    geom_status st = geom_parse_double(s, s + len, out, &stop);
+    if (stop != s + len || (st == GEOM_OK && !isfinite(*out)))
         return -1;
-    if (mant == 0 && !dropped) {
-        *out = neg ? -0.0 : 0.0;
-        return 0;
-    }
-    if (!dropped && mant <= (UINT64_C(1) << 53) && e10 >= -22 && e10 <= 22) {
-        /* Clinger's fast path: both operands exact, one rounding. */
-        double v = (double)mant;
-        v = e10 < 0 ? v / mio_pow10[-e10] : v * mio_pow10[e10];
-        *out = neg ? -v : v;
-        return 0;
-    }
-    return slow_double(s, len, out);
+    return st == GEOM_OK ? 0 : -2;
 }
 
 int geom_meshio__parse_int64(const char *s, size_t len, int64_t *out)
@@ -265,41 +159,6 @@ int geom_meshio__parse_int64(const char *s, size_t len, int64_t *out)
         return -2;
     *out = neg ? (int64_t)(0 - v) : (int64_t)v;
     return 0;
-}
-
-/* Make snprintf's output locale-proof: any run of bytes that is not a digit,
- * sign or exponent letter becomes '.'. */
-static size_t normalize_number(char *buf, size_t n)
-{
-    size_t j = 0;
-    for (size_t i = 0; i < n; i++) {
-        char ch = buf[i];
-        if (is_digit(ch) || ch == '-' || ch == '+' || ch == 'e' || ch == 'E') {
-            buf[j++] = ch;
-        } else if (j == 0 || buf[j - 1] != '.') {
-            buf[j++] = '.';
-        }
-    }
-    buf[j] = '\0';
-    return j;
-}
-
-size_t geom_meshio__format_double(char *buf, double x, int precision)
-{
-    int n;
-    if (precision > 0) {
-        n = snprintf(buf, 32, "%.*g", precision > 17 ? 17 : precision, x);
-        return normalize_number(buf, n < 0 ? 0 : (size_t)n);
-    }
-    for (int p = 15; p <= 17; p++) {
-        n = snprintf(buf, 32, "%.*g", p, x);
-        size_t len = normalize_number(buf, n < 0 ? 0 : (size_t)n);
-        double y;
-        if (p == 17 || (geom_meshio__parse_double(buf, len, &y) == 0 &&
-                        memcmp(&x, &y, sizeof x) == 0))
-            return len;
-    }
-    return 0; /* not reached */
 }
 
 /* ------------------------------------------------------------- diagnostics */

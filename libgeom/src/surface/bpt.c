@@ -309,42 +309,10 @@ geom_status geom_surface_read_bpt(const char *path, const geom_allocator *alloc,
     if (!path || !out)
         return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "bpt: NULL argument");
     *out = NULL;
-    FILE *fp = fopen(path, "rb");
-    if (!fp)
-        return geom_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "cannot open: %s", strerror(errno));
-    size_t cap = 1 << 16, n = 0;
-    char *buf = geom_alloc(alloc, cap);
-    geom_status st = GEOM_OK;
-    while (buf) {
-        if (n == cap) {
-            if (cap > SIZE_MAX / 2) {
-                st = GEOM_ERR_LIMIT;
-                break;
-            }
-            char *q = geom_realloc(alloc, buf, cap, 2 * cap);
-            if (!q) {
-                geom_free(alloc, buf, cap);
-                buf = NULL;
-                break;
-            }
-            buf = q;
-            cap *= 2;
-        }
-        size_t got = fread(buf + n, 1, cap - n, fp);
-        n += got;
-        if (got == 0)
-            break;
-    }
-    int err = ferror(fp);
-    fclose(fp);
-    if (!buf)
-        return geom_diag_set(diag, GEOM_ERR_NOMEM, path, 0, 0, "out of memory");
-    if (st != GEOM_OK || err) {
-        geom_free(alloc, buf, cap);
-        return geom_diag_set(diag, st != GEOM_OK ? st : GEOM_ERR_IO, path, 0, 0,
-                             st != GEOM_OK ? "file too large" : "read error");
-    }
-    st = geom_surface_read_bpt_memory(buf, n, path, alloc, out, diag);
-    geom_free(alloc, buf, cap);
+    geom_file f;
+    geom_status st = geom_file_map(path, alloc, &f, diag);
+    if (st == GEOM_OK)
+        st = geom_surface_read_bpt_memory(f.data, f.size, path, alloc, out, diag);
+    geom_file_unmap(&f);
     return st;
 }

@@ -1,0 +1,68 @@
+#!/bin/sh
+# Whole-process benchmark: libgeom's tools against peer programs on the same
+# input, runs alternating (ours, peer, ours, peer, ...), N runs each. Prints
+# each run's wall and cpu seconds and peak RSS (/usr/bin/time -v), then the
+# medians and the ratios ours/peer.
+#
+#   geom-info IN.obj                       vs peer_tinyobj_info IN.obj
+#   geom-normals --weight area IN -o OUT   vs peer_openmesh_normals IN OUT
+#
+# Usage: tests/bench/whole_process.sh [BUILD_DIR] [N]   (default build, 5)
+# The input is a 1000 x 600 torus (1.2M triangles, 63 MB) made by
+# make_torus_obj.py in $TMPDIR (kept between calls). The peers are built by
+# tests/bench/CMakeLists.txt when libtinyobjloader-dev and libopenmesh-dev
+# are installed: cmake --build BUILD --target geom-info geom-normals
+# peer_tinyobj_info peer_openmesh_normals
+set -eu
+here=$(cd "$(dirname "$0")" && pwd)
+build=${1:-build}
+n=${2:-5}
+tmp=${TMPDIR:-/tmp}
+obj=$tmp/geom_whole_process_torus.obj
+[ -s "$obj" ] || /usr/bin/python3 "$here/make_torus_obj.py" "$obj" 1000 600
+
+# one run: prints "wall cpu peak_kb"
+run() {
+    /usr/bin/time -f '%e %U %S %M' -o "$tmp/geom_wp_time" "$@" >/dev/null 2>"$tmp/geom_wp_err" ||
+        { cat "$tmp/geom_wp_err" >&2; exit 1; }
+    awk '{printf "%s %.3f %s\n", $1, $2 + $3, $4}' "$tmp/geom_wp_time"
+}
+
+median() { sort -n | awk '{a[NR] = $1} END {print (NR % 2) ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2}'; }
+
+compare() {
+    name=$1
+    shift
+    ours=$1
+    peer=$2
+    : >"$tmp/geom_wp_a"
+    : >"$tmp/geom_wp_b"
+    i=0
+    while [ $i -lt "$n" ]; do
+        # shellcheck disable=SC2086
+        run $ours >>"$tmp/geom_wp_a"
+        # shellcheck disable=SC2086
+        run $peer >>"$tmp/geom_wp_b"
+        i=$((i + 1))
+    done
+    aw=$(cut -d' ' -f1 "$tmp/geom_wp_a" | median)
+    ac=$(cut -d' ' -f2 "$tmp/geom_wp_a" | median)
+    am=$(cut -d' ' -f3 "$tmp/geom_wp_a" | median)
+    bw=$(cut -d' ' -f1 "$tmp/geom_wp_b" | median)
+    bc=$(cut -d' ' -f2 "$tmp/geom_wp_b" | median)
+    bm=$(cut -d' ' -f3 "$tmp/geom_wp_b" | median)
+    echo "$name ($n runs each, alternating; medians)"
+    echo "  ours: wall $aw s  cpu $ac s  peak $((am / 1024)) MiB   ($ours)"
+    echo "  peer: wall $bw s  cpu $bc s  peak $((bm / 1024)) MiB   ($peer)"
+    awk -v aw="$aw" -v bw="$bw" -v ac="$ac" -v bc="$bc" -v am="$am" -v bm="$bm" \
+        'BEGIN {printf "  ours/peer: wall %.2f  cpu %.2f  peak %.2f\n", aw / bw, ac / bc, am / bm}'
+}
+
+compare "geom-info vs tinyobjloader load" \
+    "$build/tools/geom-info $obj" \
+    "$build/tests/bench/peer_tinyobj_info $obj"
+compare "geom-normals --weight area vs OpenMesh read + area normals + write" \
+    "$build/tools/geom-normals --weight area $obj -o $tmp/geom_wp_ours.obj" \
+    "$build/tests/bench/peer_openmesh_normals $obj $tmp/geom_wp_peer.obj"
+rm -f "$tmp/geom_wp_a" "$tmp/geom_wp_b" "$tmp/geom_wp_time" "$tmp/geom_wp_err" \
+    "$tmp/geom_wp_ours.obj" "$tmp/geom_wp_peer.obj"
