@@ -143,9 +143,26 @@ uint32_t geom_mesh_he_face(const geom_mesh *m, uint32_t h);
 uint32_t geom_mesh_face_he(const geom_mesh *m, uint32_t f);
 bool geom_mesh_face_is_deleted(const geom_mesh *m, uint32_t f);
 size_t geom_mesh_face_valence(const geom_mesh *m, uint32_t f);
+typedef enum geom_mesh_domain {
+    GEOM_MESH_DOMAIN_VERTEX = 0,
+    GEOM_MESH_DOMAIN_FACE = 1,
+    GEOM_MESH_DOMAIN_EDGE = 2,
+    GEOM_MESH_DOMAIN_CORNER = 3
+} geom_mesh_domain;
+typedef struct geom_mesh_build_channel {
+    const char *name;
+    geom_mesh_domain domain;
+    size_t ncomp;
+    size_t n_values;
+    const double *values;
+    const uint32_t *indices;
+} geom_mesh_build_channel;
 typedef struct geom_mesh_build_options {
     int skip_invalid_faces;
     int keep_orientation;
+    int trusted;
+    const geom_mesh_build_channel *channels;
+    size_t n_channels;
 } geom_mesh_build_options;
 typedef struct geom_mesh_build_report {
     size_t invalid_faces;
@@ -169,12 +186,6 @@ const uint32_t *geom_mesh_vertex_origin(const geom_mesh *m);
 const uint32_t *geom_mesh_face_origin(const geom_mesh *m);
 geom_status geom_mesh_to_soup(const geom_mesh *m, uint32_t *face_sizes, uint32_t *indices,
     size_t *n_indices);
-typedef enum geom_mesh_domain {
-    GEOM_MESH_DOMAIN_VERTEX = 0,
-    GEOM_MESH_DOMAIN_FACE = 1,
-    GEOM_MESH_DOMAIN_EDGE = 2,
-    GEOM_MESH_DOMAIN_CORNER = 3
-} geom_mesh_domain;
 size_t geom_mesh_channel_count(const geom_mesh *m);
 geom_status geom_mesh_channel_add(geom_mesh *m, const char *name, geom_mesh_domain domain,
     size_t ncomp, uint32_t *id);
