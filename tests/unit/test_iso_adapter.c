@@ -90,10 +90,48 @@ static void test_iso_adapters(void **state)
     geom_implicit_volume_destroy(v);
 }
 
+/* The error report measured through the batched value-and-gradient
+ * callback equals, bit for bit, the one measured point by point (value and
+ * gradient callbacks), with the same evaluation count. */
+static void test_batched_error_report(void **state)
+{
+    (void)state;
+    const char *src = "min(torus(-0.7,0,0,0.9,0.3), torus(0.7,0,0,0.9,0.3))";
+    geom_implicit_expr *e = NULL;
+    assert_int_equal(geom_implicit_expr_compile(src, strlen(src), NULL, &e, NULL), GEOM_OK);
+    geom_iso_field f;
+    assert_int_equal(geom_iso_field_from_expr(e, &f), GEOM_OK);
+    assert_non_null(f.gradients);
+    double b[6] = {-2.16, -1.296, -0.432, 2.16, 1.296, 0.432};
+    size_t r[3] = {40, 24, 9};
+    geom_iso_surface s[2];
+    for (int k = 0; k < 2; k++) {
+        geom_iso_options o;
+        memset(&o, 0, sizeof o);
+        o.threads = 1;
+        geom_iso_field g = f;
+        if (k)
+            g.gradients = NULL;
+        memset(&s[k], 0, sizeof s[k]);
+        assert_int_equal(geom_iso_extract(&g, b, r, &o, &s[k], NULL), GEOM_OK);
+    }
+    assert_true(s[0].n_triangles > 1000);
+    assert_int_equal(s[0].report.vertex_error.method, GEOM_ERROR_SAMPLED);
+    assert_memory_equal(&s[0].report.vertex_error, &s[1].report.vertex_error,
+                        sizeof s[0].report.vertex_error);
+    assert_memory_equal(&s[0].report.sample_error, &s[1].report.sample_error,
+                        sizeof s[0].report.sample_error);
+    assert_int_equal(s[0].report.unmeasured, s[1].report.unmeasured);
+    geom_iso_surface_free(&s[0]);
+    geom_iso_surface_free(&s[1]);
+    geom_implicit_expr_destroy(e);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_iso_adapters),
+        cmocka_unit_test(test_batched_error_report),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

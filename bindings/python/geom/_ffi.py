@@ -550,12 +550,15 @@ geom_status geom_subdiv_mesh(const geom_mesh *m, const geom_subdiv_options *opt,
 typedef double (*geom_iso_value_fn)(void *user, const double p[3]);
 typedef void (*geom_iso_gradient_fn)(void *user, const double p[3], double g[3]);
 typedef void (*geom_iso_values_fn)(void *user, size_t n, const double *p, double *out);
+typedef void (*geom_iso_gradients_fn)(void *user, size_t n, const double *p, double *values,
+    double *grads);
 typedef struct geom_iso_field {
     geom_iso_value_fn value;
     geom_iso_gradient_fn gradient;
     geom_iso_values_fn values;
     void *user;
     int exact;
+    geom_iso_gradients_fn gradients;
 } geom_iso_field;
 typedef enum geom_iso_scalar {
     GEOM_ISO_SCALAR_F32 = 1,
@@ -632,6 +635,8 @@ void geom_implicit_expr_eval_many(const geom_implicit_expr *e, size_t n, const d
     *out);
 double geom_implicit_expr_eval_grad(const geom_implicit_expr *e, const double p[3], double
     grad[3]);
+void geom_implicit_expr_eval_grad_many(const geom_implicit_expr *e, size_t n, const double *p,
+    double *values, double *grads);
 geom_status geom_implicit_expr_eval_interval(const geom_implicit_expr *e, const double lo[3],
     const double hi[3], double out[2]);
 """,

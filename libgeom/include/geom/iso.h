@@ -54,6 +54,12 @@ typedef void (*geom_iso_gradient_fn)(void *user, const double p[3], double g[3])
  *  gives at each point. The extractor calls it with the nodes of one grid
  *  row at a time (constant y and z, increasing x). */
 typedef void (*geom_iso_values_fn)(void *user, size_t n, const double *p, double *out);
+/** Values and gradients at n points: p holds 3*n doubles, values receives
+ *  n doubles and grads 3*n. Must give exactly what value() and gradient()
+ *  give at each point. The error report calls it with batches of vertices
+ *  and triangle samples. */
+typedef void (*geom_iso_gradients_fn)(void *user, size_t n, const double *p, double *values,
+                                      double *grads);
 
 /**
  * A scalar field given by callbacks. Only `value` is required.
@@ -68,6 +74,9 @@ typedef struct geom_iso_field {
      *  an interpolant of samples: vertices may then be refined by root
      *  finding and the error is measured by default. */
     int exact;
+    /** optional batch of values and gradients (speed only; used with
+     *  `gradient`) */
+    geom_iso_gradients_fn gradients;
 } geom_iso_field;
 
 /* ------------------------------------------------------------ sampled grid */
@@ -331,7 +340,8 @@ GEOM_API geom_status geom_iso_measure_error(const geom_iso_field *field, double 
 /**
  * Fill a geom_iso_field with the compiled expression e's callbacks: value
  * (geom_implicit_expr_eval), gradient (exact, dual numbers), values
- * (geom_implicit_expr_eval_many, the batch path) and exact = 1. e must
+ * (geom_implicit_expr_eval_many, the batch path), gradients
+ * (geom_implicit_expr_eval_grad_many) and exact = 1. e must
  * outlive the field. GEOM_ERR_INVALID_ARG for NULL e or out (out zeroed
  * when not NULL).
  */

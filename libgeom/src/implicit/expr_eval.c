@@ -638,6 +638,134 @@ double geom_implicit_expr_eval_grad(const geom_implicit_expr *e, const double p[
     return r.v;
 }
 
+/* Batch of value-and-gradient evaluations: as d_run_batch, the program runs
+ * over GLANES points at a time (dual numbers per lane), so the dispatch is
+ * paid once per instruction and lane group; each lane does exactly what
+ * g_run does, so values and gradients are identical to it. */
+enum { GLANES = 16 };
+
+static void g_run_batch(const expr_ins *code, size_t ncode, size_t n, const double *p, double t,
+                        double *vals, double *grads)
+{
+    dual st[BATCH_STACK][GLANES];
+    dual args[8];
+    const dual tt = g_cst(t);
+    for (size_t base = 0; base < n; base += GLANES) {
+        size_t L = n - base < GLANES ? n - base : GLANES;
+        const double *P = p + 3 * base;
+        dual X[GLANES], Y[GLANES], Z[GLANES];
+        size_t l;
+        for (l = 0; l < L; l++) {
+            dual x = {P[3 * l], {1.0, 0.0, 0.0}};
+            dual y = {P[3 * l + 1], {0.0, 1.0, 0.0}};
+            dual z = {P[3 * l + 2], {0.0, 0.0, 1.0}};
+            X[l] = x;
+            Y[l] = y;
+            Z[l] = z;
+        }
+        size_t sp = 0;
+        for (l = 0; l < L; l++)
+            st[0][l] = g_cst(NAN);
+        for (size_t i = 0; i < ncode; i++) {
+            const expr_ins *in = &code[i];
+            dual *a = sp >= 1 ? st[sp - 1] : NULL, *b = sp >= 2 ? st[sp - 2] : NULL;
+            switch ((expr_op)in->op) {
+            case OP_CONST:
+                for (l = 0; l < L; l++)
+                    st[sp][l] = g_cst(in->c);
+                sp++;
+                break;
+            case OP_X: memcpy(st[sp], X, L * sizeof(dual)); sp++; break;
+            case OP_Y: memcpy(st[sp], Y, L * sizeof(dual)); sp++; break;
+            case OP_Z: memcpy(st[sp], Z, L * sizeof(dual)); sp++; break;
+            case OP_T:
+                for (l = 0; l < L; l++)
+                    st[sp][l] = tt;
+                sp++;
+                break;
+            case OP_ADD: for (l = 0; l < L; l++) b[l] = g_add(b[l], a[l]); sp--; break;
+            case OP_SUB: for (l = 0; l < L; l++) b[l] = g_sub(b[l], a[l]); sp--; break;
+            case OP_MUL: for (l = 0; l < L; l++) b[l] = g_mul(b[l], a[l]); sp--; break;
+            case OP_DIV: for (l = 0; l < L; l++) b[l] = g_div(b[l], a[l]); sp--; break;
+            case OP_NEG: for (l = 0; l < L; l++) a[l] = g_neg(a[l]); break;
+            case OP_POW: for (l = 0; l < L; l++) b[l] = g_pow(b[l], a[l]); sp--; break;
+            case OP_POWI: for (l = 0; l < L; l++) a[l] = g_powi(a[l], in->n); break;
+            case OP_SQRT: for (l = 0; l < L; l++) a[l] = g_sqrt(a[l]); break;
+            case OP_ABS: for (l = 0; l < L; l++) a[l] = g_abs(a[l]); break;
+            case OP_SIN: for (l = 0; l < L; l++) a[l] = g_sin(a[l]); break;
+            case OP_COS: for (l = 0; l < L; l++) a[l] = g_cos(a[l]); break;
+            case OP_TAN: for (l = 0; l < L; l++) a[l] = g_tan(a[l]); break;
+            case OP_EXP: for (l = 0; l < L; l++) a[l] = g_exp(a[l]); break;
+            case OP_LOG: for (l = 0; l < L; l++) a[l] = g_log(a[l]); break;
+            case OP_MIN: for (l = 0; l < L; l++) b[l] = g_min(b[l], a[l]); sp--; break;
+            case OP_MAX: for (l = 0; l < L; l++) b[l] = g_max(b[l], a[l]); sp--; break;
+            case OP_ATAN2: for (l = 0; l < L; l++) b[l] = g_atan2(b[l], a[l]); sp--; break;
+            case OP_CLAMP:
+                for (l = 0; l < L; l++)
+                    st[sp - 3][l] = g_clamp(st[sp - 3][l], b[l], a[l]);
+                sp -= 2;
+                break;
+            case OP_SMIN:
+                for (l = 0; l < L; l++)
+                    st[sp - 3][l] = g_smin(st[sp - 3][l], b[l], a[l]);
+                sp -= 2;
+                break;
+            case OP_SMAX:
+                for (l = 0; l < L; l++)
+                    st[sp - 3][l] = g_neg(g_smin(g_neg(st[sp - 3][l]), g_neg(b[l]), a[l]));
+                sp -= 2;
+                break;
+            case OP_COUNT:
+                break;
+            default: { /* primitives */
+                size_t k = (size_t)geom_implicit_op_arity(in->op);
+                size_t first = sp - k;
+                for (l = 0; l < L; l++) {
+                    for (size_t q = 0; q < k; q++)
+                        args[q] = st[first + q][l];
+                    st[first][l] = g_prim(in->op, X[l], Y[l], Z[l], k ? args : NULL);
+                }
+                sp = first + 1;
+                break;
+            }
+            }
+        }
+        for (l = 0; l < L; l++) {
+            vals[base + l] = st[0][l].v;
+            if (grads) {
+                grads[3 * (base + l)] = st[0][l].d[0];
+                grads[3 * (base + l) + 1] = st[0][l].d[1];
+                grads[3 * (base + l) + 2] = st[0][l].d[2];
+            }
+        }
+    }
+}
+
+void geom_implicit_expr_eval_grad_many(const geom_implicit_expr *e, size_t n, const double *p,
+                                       double *values, double *grads)
+{
+    if (!values)
+        return;
+    if (!e || (!p && n > 0)) {
+        for (size_t i = 0; i < n; i++) {
+            values[i] = NAN;
+            if (grads)
+                grads[3 * i] = grads[3 * i + 1] = grads[3 * i + 2] = NAN;
+        }
+        return;
+    }
+    if (e->max_stack <= BATCH_STACK) {
+        g_run_batch(e->code, e->n, n, p, e->t, values, grads);
+        return;
+    }
+    for (size_t i = 0; i < n; i++) {
+        double g[3];
+        values[i] = geom_implicit_expr_eval_grad(e, p + 3 * i, g);
+        if (grads)
+            memcpy(grads + 3 * i, g, sizeof g);
+    }
+}
+
 geom_status geom_implicit_expr_eval_interval(const geom_implicit_expr *e, const double lo[3],
                                              const double hi[3], double out[2])
 {
