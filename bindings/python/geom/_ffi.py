@@ -582,6 +582,7 @@ typedef struct geom_iso_options {
     int threads;
     size_t slab_layers;
     const geom_allocator *alloc;
+    int inside;
 } geom_iso_options;
 typedef struct geom_iso_report {
     geom_error_report vertex_error;
@@ -598,6 +599,7 @@ typedef struct geom_iso_report {
     size_t refined;
     size_t slabs;
     int threads;
+    double signed_volume;
 } geom_iso_report;
 typedef struct geom_iso_surface {
     size_t n_vertices;

@@ -24,9 +24,10 @@
  *    slabs with OpenMP when the library was built with it; slabs are merged
  *    in order, so the output is identical whatever the number of threads.
  *
- * Sign convention: a point is inside when f <= iso and outside when
- * f > iso. Triangles are counter-clockwise seen from outside: their normals
- * point toward increasing f.
+ * Sign convention: by default a point is inside when f <= iso and outside
+ * when f > iso (geom_iso_options::inside selects f >= iso instead).
+ * Triangles are counter-clockwise seen from outside: their normals point
+ * away from the inside (toward increasing f by default).
  *
  * Nothing here keeps global state or prints. The field's callbacks must be
  * safe to call concurrently when more than one thread is used.
@@ -173,7 +174,22 @@ typedef struct geom_iso_options {
      *  extraction thread when more than one is used: it must then be
      *  thread-safe. */
     const geom_allocator *alloc;
+    /** Which side of the isovalue is inside: GEOM_ISO_INSIDE_BELOW (0, the
+     *  default: f <= iso, the surface at iso + epsilon) or
+     *  GEOM_ISO_INSIDE_ABOVE (f >= iso, the surface at iso - epsilon: a CT
+     *  volume, dense inside). Triangles are counter-clockwise and normals
+     *  point away from the inside either way, and caps close the inside
+     *  part. Above is the extraction of -f at -iso (negation is exact, so
+     *  the vertices are the same; for a grid, a negated copy of the
+     *  samples is made). Any other value: GEOM_ERR_INVALID_ARG. */
+    int inside;
 } geom_iso_options;
+
+/** geom_iso_options::inside values. */
+enum {
+    GEOM_ISO_INSIDE_BELOW = 0, /**< f <= iso is inside (default) */
+    GEOM_ISO_INSIDE_ABOVE = 1  /**< f >= iso is inside */
+};
 
 /** What an extraction did and achieved. */
 typedef struct geom_iso_report {
@@ -199,6 +215,11 @@ typedef struct geom_iso_report {
     size_t refined;          /**< vertices refined by root finding */
     size_t slabs;            /**< slabs processed */
     int threads;             /**< threads used */
+    /** Signed volume enclosed by all the triangles, caps included
+     *  (divergence theorem): positive when they face away from the inside
+     *  as they should; the inside part's volume when the surface is closed
+     *  (e.g. with caps). */
+    double signed_volume;
 } geom_iso_report;
 
 /** An extracted surface: an indexed triangle mesh. */
