@@ -413,6 +413,8 @@ int main(int argc, char **argv)
         cli_json_number(stdout, total);
         printf(",\"signed_volume\":");
         cli_json_number(stdout, r->signed_volume);
+        printf(",\"error\":");
+        cli_json_error_report(stdout, &r->error, "|f - iso| / |grad f| at vertices and triangle samples");
         printf(",\"inside\":\"%s\",\"inside_detected\":%s}\n",
                o.inside == GEOM_ISO_INSIDE_ABOVE ? "above" : "below", detected ? "true" : "false");
     } else {

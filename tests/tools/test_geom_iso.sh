@@ -272,6 +272,9 @@ expect_rc 0 "expression, inside above"
 echo "$out" >"$T/ns.json"
 check "-sphere(1), inside above: closed, outward" "$T/ns.obj" --closed --euler 2 \
     --volume "$($PY -c "print(4*$PI/3)")" 0.02
+jtrue "error report object" "$T/ns.json" \
+    "j['error']['max'] == j['max_error'] and j['error']['mean'] == j['mean_error'] and j['error']['method'] == 'sampled' and j['error']['tolerance'] is None and j['error']['pieces'] > j['vertices']"
+jtrue "volume: error not measured" "$T/ct.json" "j['error']['method'] == 'none' and j['error']['max'] is None"
 run --expr 'sphere(1)' --bounds -1.3,-1.27,-1.31,1.29,1.33,1.3 --res 24 -o "$T/ps.obj"
 checks=$((checks + 1))
 cmp -s "$T/ns.obj" "$T/ps.obj" || fail "-sphere(1) above and sphere(1) below differ"

@@ -68,6 +68,9 @@ typedef struct geom_error_report {
     double mean_error;
     int method;
     size_t evaluations;
+    double tolerance;
+    size_t pieces;
+    double seconds;
 } geom_error_report;
 typedef struct geom_vec2 {
     double x, y;
@@ -542,6 +545,7 @@ typedef struct geom_subdiv_report {
     double max_limit_distance;
     double rms_limit_distance;
     double bbox_diagonal;
+    geom_error_report error;
 } geom_subdiv_report;
 geom_status geom_subdiv_mesh(const geom_mesh *m, const geom_subdiv_options *opt, int levels,
     unsigned flags, geom_mesh **out, geom_subdiv_report *report, geom_diag *diag);
@@ -600,6 +604,7 @@ typedef struct geom_iso_report {
     size_t slabs;
     int threads;
     double signed_volume;
+    geom_error_report error;
 } geom_iso_report;
 typedef struct geom_iso_surface {
     size_t n_vertices;

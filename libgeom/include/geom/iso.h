@@ -220,6 +220,11 @@ typedef struct geom_iso_report {
      *  as they should; the inside part's volume when the surface is closed
      *  (e.g. with caps). */
     double signed_volume;
+    /** The report every approximating operation gives (geom/core.h): max
+     *  of vertex_error and sample_error, mean over the triangle samples,
+     *  pieces = vertices and samples measured, seconds = the whole call,
+     *  tolerance 0 (a fixed grid). */
+    geom_error_report error;
 } geom_iso_report;
 
 /** An extracted surface: an indexed triangle mesh. */

@@ -31,6 +31,10 @@ void geom_free(const geom_allocator *a, void *ptr, size_t size);
 /* n*size with overflow check: returns 0 and sets *out, or GEOM_ERR_LIMIT. */
 geom_status geom_size_mul(size_t n, size_t size, size_t *out);
 
+/* Monotonic wall-clock seconds (an arbitrary origin), for the error
+ * reports' timings (core/clock.c). */
+double geom__seconds(void);
+
 static inline int geom_isfinite3(const double p[3])
 {
     return isfinite(p[0]) && isfinite(p[1]) && isfinite(p[2]);

@@ -857,12 +857,7 @@ static void run_slab(const ctx *c, slab *s, work *wp)
 
 /* ------------------------------------------------------------ driver */
 
-static double now_seconds(void)
-{
-    struct timespec ts;
-    timespec_get(&ts, TIME_UTC);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
+static double now_seconds(void) { return geom__seconds(); }
 
 static double axis_tau(const double *coord, size_t n)
 {
@@ -1079,6 +1074,12 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
                 r->sample_error.method = GEOM_ERROR_SAMPLED;
                 r->unmeasured = acc.unmeasured;
                 r->vertex_error.evaluations += acc.evaluations;
+                r->vertex_error.pieces = acc.vcount;
+                r->sample_error.pieces = acc.scount;
+                r->error.max_error = fmax(acc.vmax, acc.smax);
+                r->error.mean_error = r->sample_error.mean_error;
+                r->error.method = GEOM_ERROR_SAMPLED;
+                r->error.pieces = acc.vcount + acc.scount;
             }
             r->error_seconds = now_seconds() - te;
         }
@@ -1090,6 +1091,8 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
         return geom_diag_set(diag, st, "", 0, 0, "geom_iso: %s", geom_status_str(st));
     }
     r->seconds = now_seconds() - t_start;
+    r->error.evaluations = r->vertex_error.evaluations;
+    r->error.seconds = r->vertex_error.seconds = r->sample_error.seconds = r->seconds;
     return GEOM_OK;
 }
 

@@ -454,6 +454,7 @@ geom_status geom_subdiv_mesh(const geom_mesh *m, const geom_subdiv_options *opt,
                              unsigned flags, geom_mesh **out, geom_subdiv_report *report,
                              geom_diag *diag)
 {
+    double t0 = geom__seconds();
     if (out)
         *out = NULL;
     if (report)
@@ -492,7 +493,7 @@ geom_status geom_subdiv_mesh(const geom_mesh *m, const geom_subdiv_options *opt,
         st = GEOM_ERR_NOMEM;
     else
         st = geom_subdiv_limit(r, 3, pos, lp, NULL, NULL);
-    double maxd = 0.0, sum = 0.0;
+    double maxd = 0.0, sum = 0.0, sum1 = 0.0;
     size_t counted = 0;
     if (st == GEOM_OK) {
         for (size_t v = 0; v < nv; v++) {
@@ -504,6 +505,7 @@ geom_status geom_subdiv_mesh(const geom_mesh *m, const geom_subdiv_options *opt,
             if (d > maxd)
                 maxd = d;
             sum += d * d;
+            sum1 += d;
             counted++;
         }
     }
@@ -552,6 +554,13 @@ geom_status geom_subdiv_mesh(const geom_mesh *m, const geom_subdiv_options *opt,
             (flags & GEOM_SUBDIV_LIMIT) || counted == 0 ? 0.0 : sqrt(sum / (double)counted);
         report->bbox_diagonal =
             geom_aabb_is_empty(box) ? 0.0 : geom_vec3_length(geom_vec3_sub(box.max, box.min));
+        geom_error_report *e = &report->error;
+        int on_limit = (flags & GEOM_SUBDIV_LIMIT) != 0;
+        e->max_error = report->max_limit_distance;
+        e->mean_error = on_limit || counted == 0 ? 0.0 : sum1 / (double)counted;
+        e->method = on_limit ? GEOM_ERROR_BOUND : GEOM_ERROR_SAMPLED;
+        e->evaluations = e->pieces = counted;
+        e->seconds = geom__seconds() - t0;
     }
     sd_free(a, pos, 3 * nv, sizeof(double));
     sd_free(a, lp, 3 * nv, sizeof(double));

@@ -1556,6 +1556,7 @@ geom_status geom_surface_tessellate(const geom_nurbs_surface *surfaces, size_t n
                                     geom_error_report *report, geom_surface_tess_stats *stats,
                                     geom_diag *diag)
 {
+    double t0 = geom__seconds();
     geom_surface_tess_options defaults;
     memset(&defaults, 0, sizeof defaults);
     const geom_surface_tess_options *o = options ? options : &defaults;
@@ -1723,6 +1724,9 @@ geom_status geom_surface_tessellate(const geom_nurbs_surface *surfaces, size_t n
         report->mean_error = ecount ? esum / (double)ecount : 0.0;
         report->method = GEOM_ERROR_SAMPLED;
         report->evaluations = T.evals;
+        report->tolerance = T.adaptive ? T.tol : 0.0; /* uniform grids have none */
+        report->pieces = ecount;
+        report->seconds = geom__seconds() - t0;
     }
     if (stats) {
         stats->cells = T.ncells;
