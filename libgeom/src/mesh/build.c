@@ -257,6 +257,26 @@ static int glue_ok(const cfans *k, const uint32_t *eglue, uint32_t x, uint32_t y
     return 1;
 }
 
+/* Step 5's numbering, shared by both paths: one edge per glued pair or
+ * unglued use, in the order of its first corner; corner c becomes halfedge
+ * he_of[c] (2e for the first use, 2e + 1 for its partner). Returns the
+ * halfedge count. */
+static size_t number_edges(size_t C, const uint32_t *partner, uint32_t *he_of)
+{
+    size_t E = 0;
+    for (size_t c = 0; c < C; ++c)
+        he_of[c] = INV;
+    for (size_t c = 0; c < C; ++c) {
+        if (he_of[c] != INV)
+            continue;
+        he_of[c] = (uint32_t)(2 * E);
+        if (partner[c] != INV)
+            he_of[partner[c]] = (uint32_t)(2 * E + 1);
+        E++;
+    }
+    return 2 * E;
+}
+
 /* The repairing build (steps 1-7 above). Arguments are checked by the
  * caller; rep is zeroed. */
 static geom_status build_repair(geom_mesh *m, size_t nverts, const double *xyz, size_t nfaces,
@@ -594,18 +614,7 @@ static geom_status build_repair(geom_mesh *m, size_t nverts, const double *xyz, 
 
     /* ---- 5. edges and face cycles */
     uint32_t *he_of = order; /* order is no longer needed */
-    size_t E = 0;
-    for (size_t c = 0; c < C; ++c)
-        he_of[c] = INV;
-    for (size_t c = 0; c < C; ++c) {
-        if (he_of[c] != INV)
-            continue;
-        he_of[c] = (uint32_t)(2 * E);
-        if (partner[c] != INV)
-            he_of[partner[c]] = (uint32_t)(2 * E + 1);
-        E++;
-    }
-    size_t H = 2 * E;
+    size_t H = number_edges(C, partner, he_of);
 
     geom_mesh__clear_all(m);
     if ((st = geom_mesh__resize(m, nverts, H, F)) != GEOM_OK ||
@@ -854,18 +863,7 @@ static int build_trusted(geom_mesh *m, size_t nverts, const double *xyz, size_t 
 
     /* edges in the order of their first corner (as build_repair step 5) */
     uint32_t *he_of = outc;
-    size_t E = 0;
-    for (size_t c = 0; c < C; ++c)
-        he_of[c] = INV;
-    for (size_t c = 0; c < C; ++c) {
-        if (he_of[c] != INV)
-            continue;
-        he_of[c] = (uint32_t)(2 * E);
-        if (partner[c] != INV)
-            he_of[partner[c]] = (uint32_t)(2 * E + 1);
-        E++;
-    }
-    const size_t H = 2 * E;
+    const size_t H = number_edges(C, partner, he_of);
     geom_mesh__clear_all(m);
     if ((st = geom_mesh__resize(m, nverts, H, F)) != GEOM_OK ||
         (st = geom_mesh__ensure_origins(m)) != GEOM_OK)
