@@ -417,6 +417,23 @@ void cli_json_number(FILE *fp, double v)
         fputs("null", fp);
 }
 
+void cli_json_error_report(FILE *fp, const geom_error_report *r, const char *measure)
+{
+    static const char *const methods[4] = {"none", "bound", "sampled", "estimate"};
+    int m = r->method >= 0 && r->method < 4 ? r->method : 0;
+    fputs("{\"max\":", fp);
+    cli_json_number(fp, m ? r->max_error : NAN);
+    fputs(",\"mean\":", fp);
+    cli_json_number(fp, m ? r->mean_error : NAN);
+    fprintf(fp, ",\"method\":\"%s\",\"measure\":", methods[m]);
+    cli_json_string(fp, measure ? measure : "");
+    fputs(",\"tolerance\":", fp);
+    cli_json_number(fp, r->tolerance > 0 ? r->tolerance : NAN);
+    fprintf(fp, ",\"evaluations\":%zu,\"pieces\":%zu,\"seconds\":", r->evaluations, r->pieces);
+    cli_json_number(fp, r->seconds);
+    fputc('}', fp);
+}
+
 void cli_json_string(FILE *fp, const char *s)
 {
     fputc('"', fp);

@@ -257,6 +257,12 @@ void cli_print_double(FILE *fp, double v);
  *  infinite. */
 void cli_json_number(FILE *fp, double v);
 
+/** Print r as the JSON object every approximating tool writes under the key
+ *  "error": {"max", "mean", "method" ("bound", "sampled", "estimate" or
+ *  "none"), "measure" (what max and mean are, e.g. "chordal distance"),
+ *  "tolerance" (null when none), "evaluations", "pieces", "seconds"}. */
+void cli_json_error_report(FILE *fp, const geom_error_report *r, const char *measure);
+
 /** Print s as a JSON string literal with quotes and escapes (control
  *  characters as \u00XX; bytes >= 0x80 are passed through). */
 void cli_json_string(FILE *fp, const char *s);

@@ -293,6 +293,8 @@ int main(int argc, char **argv)
         cli_json_number(stdout, er->mean_error);
         printf(",\"seconds\":");
         cli_json_number(stdout, secs);
+        printf(",\"error\":");
+        cli_json_error_report(stdout, er, "|f - iso| / |grad f| at vertices");
         printf("}\n");
     } else {
         FILE *fp = to_stdout ? stderr : stdout;

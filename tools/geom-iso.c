@@ -13,7 +13,9 @@
  * raw file (little-endian, x fastest; --dims and --type required) or, when
  * --dims is absent, a NRRD file (.nrrd/.nhdr); its own samples are the grid
  * nodes (no --bounds or --res needed; given, they resample the volume's
- * trilinear interpolant). Inside is f <= V. Prints the vertex and triangle
+ * trilinear interpolant). Inside is f <= V (--inside below, the default for
+ * expressions) or f >= V (--inside above; for volumes the default is
+ * detected from the boundary samples). Prints the vertex and triangle
  * counts, the achieved error (for expressions: max of |f - V| / |grad f|
  * over vertices and triangle samples) and the time; --json prints
  * {"vertices", "triangles", "max_error", "seconds", ...}.
@@ -38,7 +40,7 @@ static const cli_tool tool = {
     "in FILE, by marching cubes reproducing the topology of the trilinear\n"
     "interpolant in every cell, written to OUT (OBJ, OFF, PLY, STL or GLB, from\n"
     "the extension; standard output when OUT is '-': then OBJ).",
-    "  -e, --expr=E         the function, e.g. 'torus(1, 0.3)'; inside is f <= V\n"
+    "  -e, --expr=E         the function, e.g. 'torus(1, 0.3)'\n"
     "      --volume=FILE    a raw volume (with --dims and --type) or NRRD file\n"
     "      --dims=X,Y,Z     samples per axis of a raw volume\n"
     "      --type=T         f32 or f64: the raw samples' type\n"
@@ -54,12 +56,16 @@ static const cli_tool tool = {
     "  -n, --normals        write vertex normals (exact gradient for expressions,\n"
     "                       central differences for volumes)\n"
     "      --caps           close the surface against the box where it leaves it\n"
+    "      --inside=SIDE    below (f <= V is inside; the default for --expr) or\n"
+    "                       above (f >= V, e.g. CT: dense inside); for --volume\n"
+    "                       the default is detected: above when most samples on\n"
+    "                       the volume's boundary lie below V\n"
     "  -t, --threads=N      threads (default: all; the result is the same)\n",
     "The summary (vertices, triangles, max_error, seconds) goes to standard\n"
     "output, or to standard error when the mesh does. With --json it is a JSON\n"
     "object on standard output with the keys vertices, triangles, max_error,\n"
     "seconds, mean_error, vertex_max_error, cap_triangles, tunnels,\n"
-    "ambiguous_faces (OUT must then be a file). max_error is null for volumes\n"
+    "ambiguous_faces, signed_volume, inside (OUT must then be a file). max_error is null for volumes\n"
     "(their interpolant is what is contoured).\n",
 };
 
@@ -71,7 +77,8 @@ enum {
     OPT_ORIGIN,
     OPT_BIG_ENDIAN,
     OPT_REFINE,
-    OPT_CAPS
+    OPT_CAPS,
+    OPT_INSIDE
 };
 
 typedef struct iso_args {
@@ -83,6 +90,7 @@ typedef struct iso_args {
     size_t res[3];
     double iso;
     int refine, normals, caps, threads, big_endian;
+    int inside; /* -1: not given, else GEOM_ISO_INSIDE_* */
 } iso_args;
 
 /* Parse exactly n numbers (or 1 or n when one_or_n) separated by commas. */
@@ -176,6 +184,14 @@ static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
     case OPT_CAPS:
         a->caps = 1;
         return CLI_CONTINUE;
+    case OPT_INSIDE:
+        if (strcmp(arg, "below") == 0)
+            a->inside = GEOM_ISO_INSIDE_BELOW;
+        else if (strcmp(arg, "above") == 0)
+            a->inside = GEOM_ISO_INSIDE_ABOVE;
+        else
+            return cli_usage_error(t, "--inside takes below or above, not '%s'", arg);
+        return CLI_CONTINUE;
     case 't': {
         double v;
         if (cli_parse_double(arg, strlen(arg), 0, &v, NULL) != GEOM_OK || !(v >= 1) ||
@@ -227,6 +243,31 @@ static geom_status write_surface(const geom_iso_surface *s, const char *path, ge
     return st;
 }
 
+/* Samples on the volume's boundary (its six faces) below iso, and in all. */
+static void boundary_below(const geom_implicit_volume *vol, double iso, size_t *below,
+                           size_t *total)
+{
+    geom_implicit_volume_desc d;
+    geom_implicit_volume_get_desc(vol, &d);
+    const void *data = geom_implicit_volume_cdata(vol);
+    size_t nx = d.dims[0], ny = d.dims[1], nz = d.dims[2];
+    *below = *total = 0;
+    for (size_t k = 0; k < nz; k++)
+        for (size_t j = 0; j < ny; j++)
+            for (size_t i = 0; i < nx; i++) {
+                if (!(i == 0 || j == 0 || k == 0 || i + 1 == nx || j + 1 == ny || k + 1 == nz)) {
+                    i = nx - 2; /* jump to the last column of this row */
+                    continue;
+                }
+                size_t at = i + nx * (j + ny * k);
+                double v = d.type == GEOM_IMPLICIT_SCALAR_F32 ? (double)((const float *)data)[at]
+                                                              : ((const double *)data)[at];
+                (*total)++;
+                if (v < iso)
+                    (*below)++;
+            }
+}
+
 int main(int argc, char **argv)
 {
     static const struct option longopts[] = {{"expr", required_argument, NULL, 'e'},
@@ -242,10 +283,12 @@ int main(int argc, char **argv)
                                              {"refine", no_argument, NULL, OPT_REFINE},
                                              {"normals", no_argument, NULL, 'n'},
                                              {"caps", no_argument, NULL, OPT_CAPS},
+                                             {"inside", required_argument, NULL, OPT_INSIDE},
                                              {"threads", required_argument, NULL, 't'},
                                              {NULL, 0, NULL, 0}};
     iso_args a;
     memset(&a, 0, sizeof a);
+    a.inside = -1;
     a.spacing[0] = a.spacing[1] = a.spacing[2] = 1;
     cli_common common;
     int first;
@@ -287,6 +330,9 @@ int main(int argc, char **argv)
     o.normals = a.normals;
     o.caps = a.caps;
     o.threads = a.threads;
+    o.inside = a.inside < 0 ? GEOM_ISO_INSIDE_BELOW : a.inside;
+    int detected = 0;
+    size_t nb_below = 0, nb_total = 0;
     geom_iso_surface s;
     memset(&s, 0, sizeof s);
     geom_status st;
@@ -315,6 +361,11 @@ int main(int argc, char **argv)
         }
         if (st != GEOM_OK)
             return cli_print_diag(&tool, &diag);
+        if (a.inside < 0) {
+            boundary_below(vol, a.iso, &nb_below, &nb_total);
+            detected = 1;
+            o.inside = 2 * nb_below > nb_total ? GEOM_ISO_INSIDE_ABOVE : GEOM_ISO_INSIDE_BELOW;
+        }
         if (a.have_bounds) {
             geom_iso_field f;
             st = geom_iso_field_from_volume(vol, &f);
@@ -360,7 +411,12 @@ int main(int argc, char **argv)
                "\"iso_nodes\":%zu,\"cells\":%zu,\"total_seconds\":",
                s.n_cap_triangles, r->tunnels, r->ambiguous_faces, r->iso_nodes, r->cells);
         cli_json_number(stdout, total);
-        printf("}\n");
+        printf(",\"signed_volume\":");
+        cli_json_number(stdout, r->signed_volume);
+        printf(",\"error\":");
+        cli_json_error_report(stdout, &r->error, "|f - iso| / |grad f| at vertices and triangle samples");
+        printf(",\"inside\":\"%s\",\"inside_detected\":%s}\n",
+               o.inside == GEOM_ISO_INSIDE_ABOVE ? "above" : "below", detected ? "true" : "false");
     } else {
         FILE *fp = to_stdout ? stderr : stdout;
         fprintf(fp, "vertices %zu\ntriangles %zu\n", s.n_vertices, s.n_triangles);
@@ -371,6 +427,14 @@ int main(int argc, char **argv)
                     maxe, r->vertex_error.max_error, meane);
         else
             fprintf(fp, "max_error not measured (sampled volume)\n");
+        fprintf(fp, "signed_volume %.6g (inside %s%s)\n", r->signed_volume,
+                o.inside == GEOM_ISO_INSIDE_ABOVE ? "above: f >= iso" : "below: f <= iso",
+                detected ? (o.inside == GEOM_ISO_INSIDE_ABOVE
+                                ? ", detected: most boundary samples lie below the iso value"
+                                : ", detected: most boundary samples lie above the iso value")
+                         : "");
+        if (detected)
+            fprintf(fp, "boundary samples below iso %zu of %zu\n", nb_below, nb_total);
         fprintf(fp, "seconds %.6g (extraction; %.6g in all)\n", secs, total);
     }
     geom_iso_surface_free(&s);

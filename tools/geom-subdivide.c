@@ -144,26 +144,28 @@ static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
 
 typedef struct level_stat {
     size_t faces, vertices;
-    double seconds, max_dist, rms_dist;
+    double seconds, max_dist, rms_dist, mean_dist;
 } level_stat;
 
 /* Distance from each vertex (with a face) of the deepest level to its limit. */
 static geom_status limit_distance(const geom_subdiv_refiner *r, const double *pos, size_t nv,
-                                  double *maxd, double *rms, double **lim_out)
+                                  double *maxd, double *rms, double *mean, double **lim_out)
 {
     double *lim = malloc((3 * nv + 1) * sizeof(double));
     if (!lim)
         return GEOM_ERR_NOMEM;
     geom_status st = geom_subdiv_limit(r, 3, pos, lim, NULL, NULL);
-    double mx = 0.0, sum = 0.0;
+    double mx = 0.0, sum = 0.0, sum1 = 0.0;
     for (size_t v = 0; st == GEOM_OK && v < nv; v++) {
         double d = hypot(hypot(pos[3 * v] - lim[3 * v], pos[3 * v + 1] - lim[3 * v + 1]),
                          pos[3 * v + 2] - lim[3 * v + 2]);
         if (d > mx)
             mx = d;
         sum += d * d;
+        sum1 += d;
     }
     *maxd = mx;
+    *mean = nv ? sum1 / (double)nv : 0.0;
     *rms = nv ? sqrt(sum / (double)nv) : 0.0;
     if (lim_out && st == GEOM_OK)
         *lim_out = lim;
@@ -263,6 +265,7 @@ int main(int argc, char **argv)
             bbox = geom_vec3_length(geom_vec3_sub(b.max, b.min));
     }
     double work = setup;
+    double *lim_last = NULL; /* the last level's limit positions, with --limit */
     for (int l = 1; st == GEOM_OK && l <= so.levels; l++) {
         cli_timer t;
         cli_timer_start(&t);
@@ -280,7 +283,8 @@ int main(int argc, char **argv)
         if (st == GEOM_OK) {
             ls[l].faces = li.faces;
             ls[l].vertices = li.vertices;
-            st = limit_distance(r, pos, li.vertices, &ls[l].max_dist, &ls[l].rms_dist, NULL);
+            st = limit_distance(r, pos, li.vertices, &ls[l].max_dist, &ls[l].rms_dist,
+                                &ls[l].mean_dist, l == so.levels && so.limit ? &lim_last : NULL);
         }
     }
     geom_mesh *out = NULL;
@@ -296,9 +300,11 @@ int main(int argc, char **argv)
             st = nrm ? geom_subdiv_limit_normals(r, pos, nrm, NULL) : GEOM_ERR_NOMEM;
         }
         if (so.limit) {
-            double mx, rms, *lim = NULL;
+            double mx, rms, mean, *lim = lim_last;
+            lim_last = NULL;
             geom_subdiv_refiner_level_info(r, so.levels, &li);
-            st = limit_distance(r, pos, li.vertices, &mx, &rms, &lim);
+            if (!lim) /* no level: level 0 itself */
+                st = limit_distance(r, pos, li.vertices, &mx, &rms, &mean, &lim);
             if (st == GEOM_OK) {
                 free(pos);
                 pos = lim;
@@ -321,6 +327,7 @@ int main(int argc, char **argv)
         work += cli_timer_elapsed(&t);
     }
     free(pos);
+    free(lim_last);
     geom_subdiv_refiner_destroy(r);
     if (st != GEOM_OK) {
         geom_mesh_destroy(m);
@@ -358,7 +365,19 @@ int main(int argc, char **argv)
             cli_json_number(stdout, ls[l].rms_dist);
             printf("}");
         }
-        printf("]}\n");
+        /* the error report, as every approximating tool prints it: the
+         * distance of the last level's vertices to their limit positions */
+        geom_error_report er;
+        memset(&er, 0, sizeof er);
+        int L = so.levels;
+        er.max_error = so.limit ? 0.0 : ls[L].max_dist;
+        er.mean_error = so.limit ? 0.0 : ls[L].mean_dist;
+        er.method = L == 0 ? GEOM_ERROR_NONE : so.limit ? GEOM_ERROR_BOUND : GEOM_ERROR_SAMPLED;
+        er.evaluations = er.pieces = L ? ls[L].vertices : 0;
+        er.seconds = work;
+        printf("],\"error\":");
+        cli_json_error_report(stdout, &er, "distance to the limit surface");
+        printf("}\n");
     } else {
         fprintf(stderr, "%s: %s, %d level%s: %zu -> %zu faces, %zu -> %zu vertices, %.6g s\n",
                 tool.name, scheme, so.levels, so.levels == 1 ? "" : "s", in_faces, out_faces,

@@ -342,6 +342,8 @@ int main(int argc, char **argv)
                 report.evaluations, stats.cells, stats.welded_edges, stats.collapsed_edges,
                 stats.flipped_surfaces);
         cli_json_number(rep, secs);
+        fprintf(rep, ",\"error\":");
+        cli_json_error_report(rep, &report, "chordal distance");
         fprintf(rep, "}\n");
     } else {
         fprintf(rep, "surfaces: %zu\n", ns);

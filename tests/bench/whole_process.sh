@@ -6,13 +6,18 @@
 #
 #   geom-info IN.obj                       vs peer_tinyobj_info IN.obj
 #   geom-normals --weight area IN -o OUT   vs peer_openmesh_normals IN OUT
+#   geom-subdivide --scheme loop --levels 1 vs peer_subdiv_far (OpenSubdiv Far
+#                                             with OBJ in and out), bunny00.off
+#   geom-iso 320x192x64 on two tori          vs peer_iso_vtk (vtkFlyingEdges3D)
 #
 # Usage: tests/bench/whole_process.sh [BUILD_DIR] [N]   (default build, 5)
 # The input is a 1000 x 600 torus (1.2M triangles, 63 MB) made by
 # make_torus_obj.py in $TMPDIR (kept between calls). The peers are built by
 # tests/bench/CMakeLists.txt when libtinyobjloader-dev and libopenmesh-dev
 # are installed: cmake --build BUILD --target geom-info geom-normals
-# peer_tinyobj_info peer_openmesh_normals
+# peer_tinyobj_info peer_openmesh_normals geom-subdivide geom-iso geom-convert
+# peer_subdiv_far peer_iso_vtk (the last two when OpenSubdiv and VTK are
+# found). bunny00.off comes from libcgal-demo's data.tar.gz.
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
 build=${1:-build}
@@ -64,5 +69,17 @@ compare "geom-info vs tinyobjloader load" \
 compare "geom-normals --weight area vs OpenMesh read + area normals + write" \
     "$build/tools/geom-normals --weight area $obj -o $tmp/geom_wp_ours.obj" \
     "$build/tests/bench/peer_openmesh_normals $obj $tmp/geom_wp_peer.obj"
+bunny=$tmp/geom_whole_process_bunny.obj
+if [ ! -s "$bunny" ]; then
+    tar -xzf /usr/share/doc/libcgal-dev/data.tar.gz -C "$tmp" data/meshes/bunny00.off
+    "$build/tools/geom-convert" "$tmp/data/meshes/bunny00.off" -o "$bunny"
+fi
+compare "geom-subdivide --scheme loop --levels 1 vs OpenSubdiv Far + OBJ I/O (bunny, 75k triangles)" \
+    "$build/tools/geom-subdivide --scheme loop --levels 1 $bunny -o $tmp/geom_wp_ours.obj" \
+    "$build/tests/bench/peer_subdiv_far loop 1 $bunny $tmp/geom_wp_peer.obj"
+tt='min(torus(-0.7,0,0,0.9,0.3),torus(0.7,0,0,0.9,0.3))'
+compare "geom-iso 320x192x64 two tori vs vtkFlyingEdges3D + OBJ" \
+    "$build/tools/geom-iso -e $tt -b -2.16,-1.296,-0.432,2.16,1.296,0.432 -r 320,192,64 -o $tmp/geom_wp_ours.obj" \
+    "$build/tests/bench/peer_iso_vtk 320 192 64 $tmp/geom_wp_peer.obj"
 rm -f "$tmp/geom_wp_a" "$tmp/geom_wp_b" "$tmp/geom_wp_time" "$tmp/geom_wp_err" \
     "$tmp/geom_wp_ours.obj" "$tmp/geom_wp_peer.obj"

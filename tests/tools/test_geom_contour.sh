@@ -81,6 +81,9 @@ if mode == 'json':
     # json FILE key=value... (value: int exact, or <X / >X)
     d = json.load(open(sys.argv[2]))
     assert set(d) >= {'vertices', 'polylines', 'max_error', 'seconds'}, d
+    e = d['error']  # the report every approximating tool prints
+    assert e['max'] == d['max_error'] and e['mean'] == d['mean_error'], e
+    assert e['pieces'] == d['vertices'] and e['tolerance'] is None, e
     for kv in sys.argv[3:]:
         k, v = kv.split('=')
         if v.startswith('<'):

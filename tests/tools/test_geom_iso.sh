@@ -234,6 +234,53 @@ run --volume "$T/v64.raw" --dims 20,18,16 --type f64 --bounds 2,2,2,17,15,13 --r
 expect_rc 0 "volume resampled"
 check "volume resampled with caps: closed" "$T/x.obj" --closed --inside 2 2 2 17 15 13
 
+# ------------------------------------------------------ orientation (inside)
+# A CT-like volume, dense inside: 1000 - 100 |p - c| (above 500 within
+# radius 5). The boundary samples lie below 500, so inside is detected as
+# above: the surface faces outward (positive enclosed volume, as the file
+# says and as --json says). --inside below forces the other side: the same
+# surface inside out (negative volume).
+"$PY" - "$T" <<'EOF2'
+import sys, struct, math
+d = sys.argv[1]
+nx, ny, nz = 20, 18, 16
+c = (9.5, 8.7, 7.4)
+vals = [1000 - 100 * math.sqrt((i - c[0])**2 + (j - c[1])**2 + (k - c[2])**2)
+        for k in range(nz) for j in range(ny) for i in range(nx)]
+open(d + '/ct.raw', 'wb').write(struct.pack('<%df' % len(vals), *vals))
+EOF2
+V5=$($PY -c "print(4*$PI/3*125)")
+run --volume "$T/ct.raw" --dims 20,18,16 --type f32 --iso 500 --json -o "$T/ct.obj"
+expect_rc 0 "CT volume"
+echo "$out" >"$T/ct.json"
+check "CT volume: detected inside above, outward" "$T/ct.obj" --closed --euler 2 --json "$T/ct.json" \
+    --volume "$V5" 0.05
+jtrue "CT volume: inside above, detected" "$T/ct.json" "j['inside'] == 'above' and j['inside_detected']"
+jtrue "CT volume: signed volume positive" "$T/ct.json" "abs(j['signed_volume'] - $V5) < 0.05 * $V5"
+run --volume "$T/ct.raw" --dims 20,18,16 --type f32 --iso 500 --inside below --json -o "$T/ct2.obj"
+expect_rc 0 "CT volume, inside below"
+echo "$out" >"$T/ct2.json"
+jtrue "CT volume, inside below: inside out" "$T/ct2.json" \
+    "j['inside'] == 'below' and not j['inside_detected'] and j['signed_volume'] < -0.9 * $V5"
+run --volume "$T/v32.raw" --dims 20,18,16 --type f32 --json -o "$T/sd.obj"
+echo "$out" >"$T/sd.json"
+jtrue "distance volume: detected inside below" "$T/sd.json" \
+    "j['inside'] == 'below' and j['inside_detected'] and j['signed_volume'] > 0"
+# An expression with inside above: -sphere(1) is the sphere again.
+run --expr '-sphere(1)' --inside above --bounds -1.3,-1.27,-1.31,1.29,1.33,1.3 --res 24 --json -o "$T/ns.obj"
+expect_rc 0 "expression, inside above"
+echo "$out" >"$T/ns.json"
+check "-sphere(1), inside above: closed, outward" "$T/ns.obj" --closed --euler 2 \
+    --volume "$($PY -c "print(4*$PI/3)")" 0.02
+jtrue "error report object" "$T/ns.json" \
+    "j['error']['max'] == j['max_error'] and j['error']['mean'] == j['mean_error'] and j['error']['method'] == 'sampled' and j['error']['tolerance'] is None and j['error']['pieces'] > j['vertices']"
+jtrue "volume: error not measured" "$T/ct.json" "j['error']['method'] == 'none' and j['error']['max'] is None"
+run --expr 'sphere(1)' --bounds -1.3,-1.27,-1.31,1.29,1.33,1.3 --res 24 -o "$T/ps.obj"
+checks=$((checks + 1))
+cmp -s "$T/ns.obj" "$T/ps.obj" || fail "-sphere(1) above and sphere(1) below differ"
+run --expr 'sphere(1)' --inside sideways --bounds 0,0,0,1,1,1 --res 4 -o "$T/e.obj"
+expect_rc 2 "--inside sideways"
+
 # ------------------------------------------------------------- errors
 run --expr 'sphere(1' --bounds 0,0,0,1,1,1 --res 4 -o "$T/e.obj"
 expect_rc 1 "bad expression"

@@ -141,6 +141,12 @@ for a, b in zip(pl, pl[1:]):
     assert b['max_limit_distance'] < a['max_limit_distance'] / 2
     assert b['rms_limit_distance'] <= b['max_limit_distance']
 assert d['seconds'] >= 0 and all(x['seconds'] >= 0 for x in pl)
+# the error report every approximating tool prints: the last level's
+# distance to the limit, measured at its vertices
+e = d['error']
+assert e['max'] == pl[-1]['max_limit_distance'] and e['method'] == 'sampled'
+assert 0 < e['mean'] <= pl[-1]['rms_limit_distance'] <= e['max']
+assert e['pieces'] == 386 and e['tolerance'] is None and e['seconds'] >= 0
 EOF
 
 # --- Loop on quads: triangulated first, 4x faces per level

@@ -104,6 +104,10 @@ for k in ("max_error", "triangles", "seconds", "vertices", "mean_error"):
     assert k in r, "missing key %s" % k
 assert 0 < r["max_error"] <= 3e-3, r["max_error"]
 assert r["seconds"] >= 0
+e = r["error"]  # the report every approximating tool prints
+assert e["max"] == r["max_error"] and e["mean"] == r["mean_error"], e
+assert e["method"] == "sampled" and e["tolerance"] == 3e-3 and e["pieces"] > 0, e
+assert e["evaluations"] == r["evaluations"] and e["seconds"] >= 0, e
 V, VT, VN, F = read_obj(sys.argv[2])
 assert r["triangles"] == len(F), (r["triangles"], len(F))
 assert r["vertices"] == len(V)
@@ -130,6 +134,7 @@ exec(open(sys.argv[3]).read())
 r = json.load(open(sys.argv[1]))
 assert r["triangles"] == 32 * 2 * 16 - 8 * 4, r["triangles"]
 assert r["mode"] == "uniform"
+assert r["error"]["tolerance"] is None and r["error"]["max"] == r["max_error"]
 V, VT, VN, F = read_obj(sys.argv[2])
 assert not VT and not VN, "attributes written that were not asked for"
 assert len(F) == r["triangles"]

@@ -247,7 +247,7 @@ static void test_tetra_flipped(void **state)
     geom_mesh_destroy(m);
 
     /* keep_orientation: the inconsistent face is detached, nothing flipped */
-    geom_mesh_build_options keep = {0, 1};
+    geom_mesh_build_options keep = {.keep_orientation = 1};
     m = build(&s, &keep, &r);
     assert_int_equal(r.flipped_faces, 0);
     assert_int_equal(r.nonmanifold_edges, 3);
@@ -339,7 +339,7 @@ static void test_three_faces_on_edge(void **state)
     uint32_t sizes[3] = {3, 3, 3}, idx[9] = {0, 1, 2, 1, 0, 3, 0, 1, 4};
     soup s = {5, 3, xyz, sizes, idx};
     geom_mesh_build_report r;
-    geom_mesh_build_options keep = {0, 1}; /* do not flip the fin */
+    geom_mesh_build_options keep = {.keep_orientation = 1}; /* do not flip the fin */
     geom_mesh *m = build(&s, &keep, &r);
     assert_int_equal(r.nonmanifold_edges, 1);
     assert_int_equal(r.detached_faces, 1);
@@ -556,7 +556,7 @@ static void test_moebius(void **state)
     assert_int_equal(t.faces, N);
     geom_mesh_destroy(m);
 
-    geom_mesh_build_options keep = {0, 1};
+    geom_mesh_build_options keep = {.keep_orientation = 1};
     m = build(&s, &keep, &r);
     assert_int_equal(r.flipped_faces, 0);
     assert_int_equal(r.nonmanifold_edges, 1);
@@ -619,7 +619,7 @@ static void test_invalid_faces(void **state)
     assert_valid(m);
     geom_mesh_destroy(m);
 
-    geom_mesh_build_options skip = {1, 0};
+    geom_mesh_build_options skip = {.skip_invalid_faces = 1};
     soup s = {4, 5, xyz, sizes, idx};
     m = build(&s, &skip, &r);
     assert_int_equal(r.invalid_faces, 3);
@@ -749,7 +749,7 @@ static void test_random_soups(void **state)
         }
         soup s = {nv, nf, xyz, sizes, idx};
         for (int mode = 0; mode < 2; ++mode) {
-            geom_mesh_build_options o = {1, mode};
+            geom_mesh_build_options o = {.skip_invalid_faces = 1, .keep_orientation = mode};
             geom_mesh_build_report r;
             geom_mesh *m = build(&s, &o, &r);
             if (mode)

@@ -345,7 +345,7 @@ static void test_degenerate_faces(void **state)
     sf(&s, 4, f2);
     sf(&s, 3, f3);
     sf(&s, 3, f4);
-    geom_mesh_build_options skip = {0, 1};
+    geom_mesh_build_options skip = {.keep_orientation = 1};
     geom_mesh *m = geom_mesh_create(NULL);
     geom_mesh_build_report r;
     assert_int_equal(

@@ -68,6 +68,9 @@ typedef struct geom_error_report {
     double mean_error;
     int method;
     size_t evaluations;
+    double tolerance;
+    size_t pieces;
+    double seconds;
 } geom_error_report;
 typedef struct geom_vec2 {
     double x, y;
@@ -143,9 +146,26 @@ uint32_t geom_mesh_he_face(const geom_mesh *m, uint32_t h);
 uint32_t geom_mesh_face_he(const geom_mesh *m, uint32_t f);
 bool geom_mesh_face_is_deleted(const geom_mesh *m, uint32_t f);
 size_t geom_mesh_face_valence(const geom_mesh *m, uint32_t f);
+typedef enum geom_mesh_domain {
+    GEOM_MESH_DOMAIN_VERTEX = 0,
+    GEOM_MESH_DOMAIN_FACE = 1,
+    GEOM_MESH_DOMAIN_EDGE = 2,
+    GEOM_MESH_DOMAIN_CORNER = 3
+} geom_mesh_domain;
+typedef struct geom_mesh_build_channel {
+    const char *name;
+    geom_mesh_domain domain;
+    size_t ncomp;
+    size_t n_values;
+    const double *values;
+    const uint32_t *indices;
+} geom_mesh_build_channel;
 typedef struct geom_mesh_build_options {
     int skip_invalid_faces;
     int keep_orientation;
+    int trusted;
+    const geom_mesh_build_channel *channels;
+    size_t n_channels;
 } geom_mesh_build_options;
 typedef struct geom_mesh_build_report {
     size_t invalid_faces;
@@ -169,12 +189,6 @@ const uint32_t *geom_mesh_vertex_origin(const geom_mesh *m);
 const uint32_t *geom_mesh_face_origin(const geom_mesh *m);
 geom_status geom_mesh_to_soup(const geom_mesh *m, uint32_t *face_sizes, uint32_t *indices,
     size_t *n_indices);
-typedef enum geom_mesh_domain {
-    GEOM_MESH_DOMAIN_VERTEX = 0,
-    GEOM_MESH_DOMAIN_FACE = 1,
-    GEOM_MESH_DOMAIN_EDGE = 2,
-    GEOM_MESH_DOMAIN_CORNER = 3
-} geom_mesh_domain;
 size_t geom_mesh_channel_count(const geom_mesh *m);
 geom_status geom_mesh_channel_add(geom_mesh *m, const char *name, geom_mesh_domain domain,
     size_t ncomp, uint32_t *id);
@@ -531,6 +545,7 @@ typedef struct geom_subdiv_report {
     double max_limit_distance;
     double rms_limit_distance;
     double bbox_diagonal;
+    geom_error_report error;
 } geom_subdiv_report;
 geom_status geom_subdiv_mesh(const geom_mesh *m, const geom_subdiv_options *opt, int levels,
     unsigned flags, geom_mesh **out, geom_subdiv_report *report, geom_diag *diag);
@@ -539,12 +554,15 @@ geom_status geom_subdiv_mesh(const geom_mesh *m, const geom_subdiv_options *opt,
 typedef double (*geom_iso_value_fn)(void *user, const double p[3]);
 typedef void (*geom_iso_gradient_fn)(void *user, const double p[3], double g[3]);
 typedef void (*geom_iso_values_fn)(void *user, size_t n, const double *p, double *out);
+typedef void (*geom_iso_gradients_fn)(void *user, size_t n, const double *p, double *values,
+    double *grads);
 typedef struct geom_iso_field {
     geom_iso_value_fn value;
     geom_iso_gradient_fn gradient;
     geom_iso_values_fn values;
     void *user;
     int exact;
+    geom_iso_gradients_fn gradients;
 } geom_iso_field;
 typedef enum geom_iso_scalar {
     GEOM_ISO_SCALAR_F32 = 1,
@@ -568,6 +586,7 @@ typedef struct geom_iso_options {
     int threads;
     size_t slab_layers;
     const geom_allocator *alloc;
+    int inside;
 } geom_iso_options;
 typedef struct geom_iso_report {
     geom_error_report vertex_error;
@@ -584,6 +603,8 @@ typedef struct geom_iso_report {
     size_t refined;
     size_t slabs;
     int threads;
+    double signed_volume;
+    geom_error_report error;
 } geom_iso_report;
 typedef struct geom_iso_surface {
     size_t n_vertices;
@@ -621,6 +642,8 @@ void geom_implicit_expr_eval_many(const geom_implicit_expr *e, size_t n, const d
     *out);
 double geom_implicit_expr_eval_grad(const geom_implicit_expr *e, const double p[3], double
     grad[3]);
+void geom_implicit_expr_eval_grad_many(const geom_implicit_expr *e, size_t n, const double *p,
+    double *values, double *grads);
 geom_status geom_implicit_expr_eval_interval(const geom_implicit_expr *e, const double lo[3],
     const double hi[3], double out[2]);
 """,

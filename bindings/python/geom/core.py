@@ -111,6 +111,9 @@ def error_report(rep):
         "mean_error": float(rep.mean_error),
         "method": _ERROR_METHODS.get(int(rep.method), str(int(rep.method))),
         "evaluations": int(rep.evaluations),
+        "tolerance": float(rep.tolerance),
+        "pieces": int(rep.pieces),
+        "seconds": float(rep.seconds),
     }
 
 
@@ -118,7 +121,8 @@ def struct_dict(cdata, ctype):
     """The scalar fields of a C struct as a dict (numbers as Python ints or
     floats, bools as bool, nested structs recursively, arrays as lists)."""
     out = {}
-    for name, field in ffi.typeof(ctype).fields:
+    t = ctype if isinstance(ctype, ffi.CType) else ffi.typeof(ctype)
+    for name, field in t.fields:
         value = getattr(cdata, name)
         kind = field.type.kind
         if kind == "struct":

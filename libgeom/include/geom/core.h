@@ -123,15 +123,23 @@ enum {
 
 /**
  * What an approximating function achieved (tessellation, isosurfaces,
- * subdivision toward the limit, root finding, quadrature): the error
- * measure, in the units the function states, how it was measured, and the
- * work done. Tools print it next to the run time.
+ * contours, subdivision toward the limit, root finding, quadrature): the
+ * error measure, in the units the function states, how it was measured,
+ * the tolerance it worked to, the work done and the time taken. Every
+ * approximating operation fills one the same way, and the tools print it
+ * the same way (`--json`: an "error" object with these fields).
  */
 typedef struct geom_error_report {
     double max_error;   /**< largest error over the pieces (or the total, where stated) */
     double mean_error;  /**< mean over the pieces */
     int method;         /**< GEOM_ERROR_BOUND, GEOM_ERROR_SAMPLED or GEOM_ERROR_ESTIMATE */
     size_t evaluations; /**< function evaluations (or samples) performed */
+    /** The tolerance the operation worked to, in the units of max_error
+     *  (the effective one, after defaults); 0 when it has none (a fixed
+     *  grid, a fixed number of levels). */
+    double tolerance;
+    size_t pieces;      /**< elements the error was measured over (triangles, vertices, ...) */
+    double seconds;     /**< wall-clock time of the operation, the measurement included */
 } geom_error_report;
 
 /* ------------------------------------------------------------------ numbers */

@@ -221,6 +221,16 @@ GEOM_API double geom_implicit_expr_eval_grad(const geom_implicit_expr *e, const 
                                     double grad[3]);
 
 /**
+ * Values and exact gradients at n points: p holds 3*n doubles, values
+ * receives n doubles and grads (may be NULL) 3*n, each exactly what
+ * geom_implicit_expr_eval_grad gives (the program runs over 16 points at a
+ * time, as geom_implicit_expr_eval_many). NULL e or p (n > 0) fills the
+ * outputs with NaN; NULL values is a no-op.
+ */
+GEOM_API void geom_implicit_expr_eval_grad_many(const geom_implicit_expr *e, size_t n,
+                                                const double *p, double *values, double *grads);
+
+/**
  * Interval bounds of f over the box lo..hi (3 doubles each, lo <= hi
  * componentwise, infinite bounds allowed): out[0] <= f(p) <= out[1] for
  * every p in the box where f(p) is finite, as computed by

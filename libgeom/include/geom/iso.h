@@ -24,9 +24,10 @@
  *    slabs with OpenMP when the library was built with it; slabs are merged
  *    in order, so the output is identical whatever the number of threads.
  *
- * Sign convention: a point is inside when f <= iso and outside when
- * f > iso. Triangles are counter-clockwise seen from outside: their normals
- * point toward increasing f.
+ * Sign convention: by default a point is inside when f <= iso and outside
+ * when f > iso (geom_iso_options::inside selects f >= iso instead).
+ * Triangles are counter-clockwise seen from outside: their normals point
+ * away from the inside (toward increasing f by default).
  *
  * Nothing here keeps global state or prints. The field's callbacks must be
  * safe to call concurrently when more than one thread is used.
@@ -54,6 +55,12 @@ typedef void (*geom_iso_gradient_fn)(void *user, const double p[3], double g[3])
  *  gives at each point. The extractor calls it with the nodes of one grid
  *  row at a time (constant y and z, increasing x). */
 typedef void (*geom_iso_values_fn)(void *user, size_t n, const double *p, double *out);
+/** Values and gradients at n points: p holds 3*n doubles, values receives
+ *  n doubles and grads 3*n. Must give exactly what value() and gradient()
+ *  give at each point. The error report calls it with batches of vertices
+ *  and triangle samples. */
+typedef void (*geom_iso_gradients_fn)(void *user, size_t n, const double *p, double *values,
+                                      double *grads);
 
 /**
  * A scalar field given by callbacks. Only `value` is required.
@@ -68,6 +75,9 @@ typedef struct geom_iso_field {
      *  an interpolant of samples: vertices may then be refined by root
      *  finding and the error is measured by default. */
     int exact;
+    /** optional batch of values and gradients (speed only; used with
+     *  `gradient`) */
+    geom_iso_gradients_fn gradients;
 } geom_iso_field;
 
 /* ------------------------------------------------------------ sampled grid */
@@ -164,7 +174,22 @@ typedef struct geom_iso_options {
      *  extraction thread when more than one is used: it must then be
      *  thread-safe. */
     const geom_allocator *alloc;
+    /** Which side of the isovalue is inside: GEOM_ISO_INSIDE_BELOW (0, the
+     *  default: f <= iso, the surface at iso + epsilon) or
+     *  GEOM_ISO_INSIDE_ABOVE (f >= iso, the surface at iso - epsilon: a CT
+     *  volume, dense inside). Triangles are counter-clockwise and normals
+     *  point away from the inside either way, and caps close the inside
+     *  part. Above is the extraction of -f at -iso (negation is exact, so
+     *  the vertices are the same; for a grid, a negated copy of the
+     *  samples is made). Any other value: GEOM_ERR_INVALID_ARG. */
+    int inside;
 } geom_iso_options;
+
+/** geom_iso_options::inside values. */
+enum {
+    GEOM_ISO_INSIDE_BELOW = 0, /**< f <= iso is inside (default) */
+    GEOM_ISO_INSIDE_ABOVE = 1  /**< f >= iso is inside */
+};
 
 /** What an extraction did and achieved. */
 typedef struct geom_iso_report {
@@ -190,6 +215,16 @@ typedef struct geom_iso_report {
     size_t refined;          /**< vertices refined by root finding */
     size_t slabs;            /**< slabs processed */
     int threads;             /**< threads used */
+    /** Signed volume enclosed by all the triangles, caps included
+     *  (divergence theorem): positive when they face away from the inside
+     *  as they should; the inside part's volume when the surface is closed
+     *  (e.g. with caps). */
+    double signed_volume;
+    /** The report every approximating operation gives (geom/core.h): max
+     *  of vertex_error and sample_error, mean over the triangle samples,
+     *  pieces = vertices and samples measured, seconds = the whole call,
+     *  tolerance 0 (a fixed grid). */
+    geom_error_report error;
 } geom_iso_report;
 
 /** An extracted surface: an indexed triangle mesh. */
@@ -331,7 +366,8 @@ GEOM_API geom_status geom_iso_measure_error(const geom_iso_field *field, double 
 /**
  * Fill a geom_iso_field with the compiled expression e's callbacks: value
  * (geom_implicit_expr_eval), gradient (exact, dual numbers), values
- * (geom_implicit_expr_eval_many, the batch path) and exact = 1. e must
+ * (geom_implicit_expr_eval_many, the batch path), gradients
+ * (geom_implicit_expr_eval_grad_many) and exact = 1. e must
  * outlive the field. GEOM_ERR_INVALID_ARG for NULL e or out (out zeroed
  * when not NULL).
  */

@@ -176,6 +176,35 @@ GEOM_API geom_status geom_mesh_compact(geom_mesh *m, uint32_t *vertex_map, uint3
 
 /* ---------------------------------------------------- building from soup */
 
+/** The element kind an attribute channel's values belong to (see the
+ *  module comment). */
+typedef enum geom_mesh_domain {
+    GEOM_MESH_DOMAIN_VERTEX = 0,
+    GEOM_MESH_DOMAIN_FACE = 1,
+    GEOM_MESH_DOMAIN_EDGE = 2,
+    GEOM_MESH_DOMAIN_CORNER = 3
+} geom_mesh_domain;
+
+
+/**
+ * One attribute stream for geom_mesh_build (as an OpenSubdiv FVarChannel):
+ * the channel `name` in `domain` with `ncomp` doubles per value.
+ *  - VERTEX: `values` holds nverts * ncomp doubles (input vertex order);
+ *  - FACE: `values` holds nfaces * ncomp doubles (input face order);
+ *  - CORNER: `values` is a pool of n_values values and `indices` holds one
+ *    pool index per face corner, parallel to the build's `indices` (the sum
+ *    of face_sizes entries; GEOM_INVALID_INDEX = no value at that corner).
+ * EDGE channels are not accepted (edges do not exist before the build).
+ */
+typedef struct geom_mesh_build_channel {
+    const char *name;
+    geom_mesh_domain domain;
+    size_t ncomp;           /**< >= 1 */
+    size_t n_values;        /**< CORNER: pool size; ignored for VERTEX and FACE */
+    const double *values;   /**< see above; may be NULL when there are no values */
+    const uint32_t *indices; /**< CORNER only: one pool index per face corner */
+} geom_mesh_build_channel;
+
 typedef struct geom_mesh_build_options {
     /** Nonzero: faces with out-of-range or repeated indices (or fewer than 3)
      *  are skipped and counted instead of failing the build. */
@@ -183,6 +212,30 @@ typedef struct geom_mesh_build_options {
     /** Nonzero: do not reorient faces for consistency (a face that cannot be
      *  linked is then detached as for non-manifold edges). */
     int keep_orientation;
+    /**
+     * Nonzero: the input is known to be a valid oriented manifold polygon
+     * mesh (what the library's own tessellation, marching cubes, subdivision
+     * and clipping produce): every index in range, no repeated vertex in a
+     * face, every edge used by at most two faces and then in opposite
+     * directions, the faces around each vertex one fan. The repair passes
+     * (validation, orientation, non-manifold edges and vertices) are skipped
+     * and the halfedges are linked directly; the result is the one the
+     * repairing build gives for such input, element for element. The edge
+     * pairing and the vertex fans are still checked on the way (at no extra
+     * pass); input that fails them is built by the repairing path instead,
+     * and the report says what it changed. Debug builds (NDEBUG undefined)
+     * also validate the result.
+     */
+    int trusted;
+    /** Attribute streams attached to the result, in this order
+     *  (n_channels entries; NULL when 0), each a new channel (the build
+     *  replaces m's channels; "position" and two streams of one name and
+     *  domain are GEOM_ERR_INVALID_ARG). Vertices that the repairing path
+     *  adds take the values of their input vertex (geom_mesh_vertex_origin),
+     *  faces and corners those of their input face and corner; skipped
+     *  faces' values are dropped. */
+    const geom_mesh_build_channel *channels;
+    size_t n_channels;
 } geom_mesh_build_options;
 
 #define GEOM_MESH_REPORT_FIRST 8
@@ -224,11 +277,15 @@ typedef struct geom_mesh_build_report {
  * geom_mesh_vertex_origin() gives the input vertex of each. Face i of the
  * output is input face i unless invalid faces were skipped (then faces keep
  * their order without the skipped ones; geom_mesh_face_origin() maps them).
+ * opt->channels attach attribute streams (vertex, face and corner values)
+ * in the same call; opt->trusted skips the repairs for input known to need
+ * none (see geom_mesh_build_options).
  * report and diag may be NULL; opt NULL means defaults.
  * Returns GEOM_OK (repairs are not errors: see the report),
  * GEOM_ERR_INVALID_ARG for an invalid face when skip_invalid_faces is 0 (the
- * diag names the face) or non-finite coordinates, GEOM_ERR_NOMEM,
- * GEOM_ERR_LIMIT.
+ * diag names the face), non-finite coordinates, or an invalid stream (EDGE
+ * domain, "position", a repeated name, ncomp 0, NULL values or indices, a
+ * corner index past the pool), GEOM_ERR_NOMEM, GEOM_ERR_LIMIT.
  */
 GEOM_API geom_status geom_mesh_build(geom_mesh *m, size_t nverts, const double *xyz, size_t nfaces,
                             const uint32_t *face_sizes, const uint32_t *indices,
@@ -254,13 +311,6 @@ GEOM_API geom_status geom_mesh_to_soup(const geom_mesh *m, uint32_t *face_sizes,
                               size_t *n_indices);
 
 /* -------------------------------------------------------------- channels */
-
-typedef enum geom_mesh_domain {
-    GEOM_MESH_DOMAIN_VERTEX = 0,
-    GEOM_MESH_DOMAIN_FACE = 1,
-    GEOM_MESH_DOMAIN_EDGE = 2,
-    GEOM_MESH_DOMAIN_CORNER = 3
-} geom_mesh_domain;
 
 /** Number of channels; channel ids are 0 .. count-1 (0 is "position").
  *  Removing a channel renumbers the ones after it. */

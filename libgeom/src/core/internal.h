@@ -37,6 +37,9 @@ void geom__sys_reason(int err, char *buf, size_t size);
 /* Release the memory pages of a mapped geom_file (no-op when it was read):
  * the mapping stays valid and reads the file's bytes again if touched. */
 void geom__file_drop_pages(geom_file *f);
+/* Monotonic wall-clock seconds (an arbitrary origin), for the error
+ * reports' timings (core/clock.c). */
+double geom__seconds(void);
 
 static inline int geom_isfinite3(const double p[3])
 {

@@ -4,7 +4,6 @@
  * regula falsi with a bisection fallback), and joining into polylines.
  * Rows are processed one at a time, so memory is O(nx) plus the output.
  */
-#define _POSIX_C_SOURCE 200809L /* clock_gettime */
 #include "implicit/implicit_internal.h"
 
 #include <float.h>
@@ -13,13 +12,7 @@
 
 #define NOV UINT32_MAX /* no vertex yet */
 
-static double now_seconds(void)
-{
-    struct timespec ts;
-    if (clock_gettime(CLOCK_MONOTONIC, &ts) != 0)
-        return 0.0;
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
+static double now_seconds(void) { return geom__seconds(); }
 
 typedef struct ctx {
     const geom_implicit_field *f;
@@ -496,6 +489,7 @@ static void measure(ctx *c, double hstep, geom_implicit_contour_report *rep)
     rep->error.max_error = mx;
     rep->error.mean_error = n ? sum / (double)n : 0.0;
     rep->error.method = n ? GEOM_ERROR_SAMPLED : GEOM_ERROR_NONE;
+    rep->error.pieces = n;
 }
 
 geom_status geom_implicit_contour(const geom_implicit_field *field, const double bounds[4],
@@ -665,6 +659,7 @@ geom_status geom_implicit_contour(const geom_implicit_field *field, const double
         rep->refined = c.refined;
         rep->error.evaluations = c.evals;
         rep->seconds = now_seconds() - t0;
+        rep->error.seconds = rep->seconds;
     }
 cleanup:
     geom_free(c.alloc, X, n1 * sizeof(double));

@@ -66,100 +66,30 @@ static inline double d_atan2(double a, double b) { return atan2(a, b); }
 #undef NUM
 #undef F
 
-/* Batch evaluation: the program runs over LANES points at a time, so the
- * dispatch is paid once per instruction and lane, not per point, and the
- * simple operations become loops the compiler vectorises. Each lane does
- * exactly what d_run does, so the values are identical. */
-enum { LANES = 32, BATCH_STACK = 64 };
+/* Batch evaluation (expr_batch_template.h): LANES points at a time. */
+enum { LANES = 32, GLANES = 16, BATCH_STACK = 64 };
+
+#define NUM double
+#define F(name) d_##name
+#define BATCH_LANES LANES
+#include "implicit/expr_batch_template.h"
+#undef BATCH_LANES
+#undef NUM
+#undef F
 
 static void d_run_batch(const expr_ins *code, size_t ncode, size_t n, const double *p, double t,
                         double *out)
 {
-    double st[BATCH_STACK][LANES];
-    double args[8];
+    double X[LANES], Y[LANES], Z[LANES];
     for (size_t base = 0; base < n; base += LANES) {
         size_t L = n - base < LANES ? n - base : LANES;
         const double *P = p + 3 * base;
-        size_t sp = 0;
-        for (size_t i = 0; i < ncode; i++) {
-            const expr_ins *in = &code[i];
-            double *a = sp >= 1 ? st[sp - 1] : NULL, *b = sp >= 2 ? st[sp - 2] : NULL;
-            size_t l;
-            switch ((expr_op)in->op) {
-            case OP_CONST:
-                for (l = 0; l < L; l++)
-                    st[sp][l] = in->c;
-                sp++;
-                break;
-            case OP_X: case OP_Y: case OP_Z: {
-                int axis = in->op - OP_X;
-                for (l = 0; l < L; l++)
-                    st[sp][l] = P[3 * l + (size_t)axis];
-                sp++;
-                break;
-            }
-            case OP_T:
-                for (l = 0; l < L; l++)
-                    st[sp][l] = t;
-                sp++;
-                break;
-            case OP_ADD: for (l = 0; l < L; l++) b[l] = b[l] + a[l]; sp--; break;
-            case OP_SUB: for (l = 0; l < L; l++) b[l] = b[l] - a[l]; sp--; break;
-            case OP_MUL: for (l = 0; l < L; l++) b[l] = b[l] * a[l]; sp--; break;
-            case OP_DIV: for (l = 0; l < L; l++) b[l] = b[l] / a[l]; sp--; break;
-            case OP_NEG: for (l = 0; l < L; l++) a[l] = -a[l]; break;
-            case OP_POW: for (l = 0; l < L; l++) b[l] = d_pow(b[l], a[l]); sp--; break;
-            case OP_POWI:
-                if (in->n == 2)
-                    for (l = 0; l < L; l++)
-                        a[l] = a[l] * a[l];
-                else
-                    for (l = 0; l < L; l++)
-                        a[l] = d_powi(a[l], in->n);
-                break;
-            case OP_SQRT: for (l = 0; l < L; l++) a[l] = sqrt(a[l]); break;
-            case OP_ABS: for (l = 0; l < L; l++) a[l] = fabs(a[l]); break;
-            case OP_SIN: for (l = 0; l < L; l++) a[l] = sin(a[l]); break;
-            case OP_COS: for (l = 0; l < L; l++) a[l] = cos(a[l]); break;
-            case OP_TAN: for (l = 0; l < L; l++) a[l] = tan(a[l]); break;
-            case OP_EXP: for (l = 0; l < L; l++) a[l] = exp(a[l]); break;
-            case OP_LOG: for (l = 0; l < L; l++) a[l] = log(a[l]); break;
-            case OP_MIN: for (l = 0; l < L; l++) b[l] = d_min(b[l], a[l]); sp--; break;
-            case OP_MAX: for (l = 0; l < L; l++) b[l] = d_max(b[l], a[l]); sp--; break;
-            case OP_ATAN2: for (l = 0; l < L; l++) b[l] = atan2(b[l], a[l]); sp--; break;
-            case OP_CLAMP:
-                for (l = 0; l < L; l++)
-                    st[sp - 3][l] = d_clamp(st[sp - 3][l], b[l], a[l]);
-                sp -= 2;
-                break;
-            case OP_SMIN:
-                for (l = 0; l < L; l++)
-                    st[sp - 3][l] = d_smin(st[sp - 3][l], b[l], a[l]);
-                sp -= 2;
-                break;
-            case OP_SMAX:
-                for (l = 0; l < L; l++)
-                    st[sp - 3][l] = -d_smin(-st[sp - 3][l], -b[l], a[l]);
-                sp -= 2;
-                break;
-            case OP_COUNT:
-                break;
-            default: { /* primitives */
-                size_t k = (size_t)geom_implicit_op_arity(in->op);
-                size_t first = sp - k;
-                for (l = 0; l < L; l++) {
-                    for (size_t q = 0; q < k; q++)
-                        args[q] = st[first + q][l];
-                    st[first][l] = d_prim(in->op, P[3 * l], P[3 * l + 1], P[3 * l + 2],
-                                          k ? args : NULL);
-                }
-                sp = first + 1;
-                break;
-            }
-            }
+        for (size_t l = 0; l < L; l++) {
+            X[l] = P[3 * l];
+            Y[l] = P[3 * l + 1];
+            Z[l] = P[3 * l + 2];
         }
-        for (size_t l = 0; l < L; l++)
-            out[base + l] = st[0][l];
+        d_run_lanes(code, ncode, L, X, Y, Z, t, out + base);
     }
 }
 
@@ -636,6 +566,65 @@ double geom_implicit_expr_eval_grad(const geom_implicit_expr *e, const double p[
         grad[2] = r.d[2];
     }
     return r.v;
+}
+
+/* Batch of value-and-gradient evaluations: as d_run_batch, over GLANES
+ * points at a time with dual numbers; identical to g_run per point. */
+#define NUM dual
+#define F(name) g_##name
+#define BATCH_LANES GLANES
+#include "implicit/expr_batch_template.h"
+#undef BATCH_LANES
+#undef NUM
+#undef F
+
+static void g_run_batch(const expr_ins *code, size_t ncode, size_t n, const double *p, double t,
+                        double *vals, double *grads)
+{
+    dual X[GLANES], Y[GLANES], Z[GLANES], R[GLANES];
+    for (size_t base = 0; base < n; base += GLANES) {
+        size_t L = n - base < GLANES ? n - base : GLANES;
+        const double *P = p + 3 * base;
+        for (size_t l = 0; l < L; l++) {
+            dual x = {P[3 * l], {1.0, 0.0, 0.0}};
+            dual y = {P[3 * l + 1], {0.0, 1.0, 0.0}};
+            dual z = {P[3 * l + 2], {0.0, 0.0, 1.0}};
+            X[l] = x;
+            Y[l] = y;
+            Z[l] = z;
+        }
+        g_run_lanes(code, ncode, L, X, Y, Z, g_cst(t), R);
+        for (size_t l = 0; l < L; l++) {
+            vals[base + l] = R[l].v;
+            if (grads)
+                memcpy(grads + 3 * (base + l), R[l].d, 3 * sizeof(double));
+        }
+    }
+}
+
+void geom_implicit_expr_eval_grad_many(const geom_implicit_expr *e, size_t n, const double *p,
+                                       double *values, double *grads)
+{
+    if (!values)
+        return;
+    if (!e || (!p && n > 0)) {
+        for (size_t i = 0; i < n; i++) {
+            values[i] = NAN;
+            if (grads)
+                grads[3 * i] = grads[3 * i + 1] = grads[3 * i + 2] = NAN;
+        }
+        return;
+    }
+    if (e->max_stack <= BATCH_STACK) {
+        g_run_batch(e->code, e->n, n, p, e->t, values, grads);
+        return;
+    }
+    for (size_t i = 0; i < n; i++) {
+        double g[3];
+        values[i] = geom_implicit_expr_eval_grad(e, p + 3 * i, g);
+        if (grads)
+            memcpy(grads + 3 * i, g, sizeof g);
+    }
 }
 
 geom_status geom_implicit_expr_eval_interval(const geom_implicit_expr *e, const double lo[3],

@@ -46,6 +46,18 @@ int geom_iso__point_error(const geom_iso_field *f, double iso, const double p[3]
 }
 
 #define CHUNK 2048
+#define SUB 512 /* points per batch of value-and-gradient evaluations */
+
+/* The error measure from a value and a gradient (as geom_iso__point_error). */
+static int error_of(double iso, double v, const double g[3], double *e)
+{
+    double n = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+    double d = fabs(v - iso);
+    if (!isfinite(d) || !(n > 0) || !isfinite(n))
+        return 0;
+    *e = d / n;
+    return 1;
+}
 
 static void acc_vertex(iso_err_acc *a, double e)
 {
@@ -91,6 +103,52 @@ geom_status geom_iso__measure(const geom_iso_field *f, double iso, size_t nv, co
     for (long long ci = 0; ci < nch; ci++) {
         iso_err_acc *a = &acc[ci];
         double e;
+        if (f->gradients && f->gradient) {
+            /* batched: the same points in the same order, values and
+             * gradients from one call per SUB points */
+            double pts[3 * SUB], val[SUB], grd[3 * SUB];
+            int kind[SUB]; /* 1 vertex, 0 triangle sample */
+            size_t np = 0;
+            int is_v = (size_t)ci < nvc;
+            size_t b = is_v ? (size_t)ci * CHUNK : ((size_t)ci - nvc) * CHUNK;
+            size_t end = is_v ? (b + CHUNK < nv ? b + CHUNK : nv) : (b + CHUNK < nt ? b + CHUNK : nt);
+            for (size_t i = b; i <= end; i++) {
+                if (i == end || np + 4 > SUB) {
+                    f->gradients(f->user, np, pts, val, grd);
+                    a->evaluations += 2 * np;
+                    for (size_t k = 0; k < np; k++) {
+                        if (error_of(iso, val[k], grd + 3 * k, &e)) {
+                            if (kind[k])
+                                acc_vertex(a, e);
+                            else
+                                acc_sample(a, e);
+                        } else
+                            a->unmeasured++;
+                    }
+                    np = 0;
+                    if (i == end)
+                        break;
+                }
+                if (is_v) {
+                    if (vmask && !vmask[i])
+                        continue;
+                    memcpy(pts + 3 * np, xyz + 3 * i, 3 * sizeof(double));
+                    kind[np++] = 1;
+                    continue;
+                }
+                const double *p[3] = {xyz + 3 * (size_t)tris[3 * i], xyz + 3 * (size_t)tris[3 * i + 1],
+                                      xyz + 3 * (size_t)tris[3 * i + 2]};
+                for (int c = 0; c < 3; c++) {
+                    pts[3 * np + (size_t)c] = (p[0][c] + p[1][c] + p[2][c]) / 3.0;
+                    pts[3 * (np + 1) + (size_t)c] = 0.5 * (p[0][c] + p[1][c]);
+                    pts[3 * (np + 2) + (size_t)c] = 0.5 * (p[1][c] + p[2][c]);
+                    pts[3 * (np + 3) + (size_t)c] = 0.5 * (p[2][c] + p[0][c]);
+                }
+                for (int k = 0; k < 4; k++)
+                    kind[np++] = 0;
+            }
+            continue;
+        }
         if ((size_t)ci < nvc) {
             size_t b = (size_t)ci * CHUNK, end = b + CHUNK < nv ? b + CHUNK : nv;
             for (size_t v = b; v < end; v++) {

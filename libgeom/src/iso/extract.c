@@ -12,6 +12,8 @@
  */
 #include "iso/iso_internal.h"
 
+#include <stdint.h>
+
 #include <float.h>
 #include <stdlib.h>
 #include <string.h>
@@ -855,12 +857,7 @@ static void run_slab(const ctx *c, slab *s, work *wp)
 
 /* ------------------------------------------------------------ driver */
 
-static double now_seconds(void)
-{
-    struct timespec ts;
-    timespec_get(&ts, TIME_UTC);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
+static double now_seconds(void) { return geom__seconds(); }
 
 static double axis_tau(const double *coord, size_t n)
 {
@@ -1077,6 +1074,12 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
                 r->sample_error.method = GEOM_ERROR_SAMPLED;
                 r->unmeasured = acc.unmeasured;
                 r->vertex_error.evaluations += acc.evaluations;
+                r->vertex_error.pieces = acc.vcount;
+                r->sample_error.pieces = acc.scount;
+                r->error.max_error = fmax(acc.vmax, acc.smax);
+                r->error.mean_error = r->sample_error.mean_error;
+                r->error.method = GEOM_ERROR_SAMPLED;
+                r->error.pieces = acc.vcount + acc.scount;
             }
             r->error_seconds = now_seconds() - te;
         }
@@ -1088,6 +1091,8 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
         return geom_diag_set(diag, st, "", 0, 0, "geom_iso: %s", geom_status_str(st));
     }
     r->seconds = now_seconds() - t_start;
+    r->error.evaluations = r->vertex_error.evaluations;
+    r->error.seconds = r->vertex_error.seconds = r->sample_error.seconds = r->seconds;
     return GEOM_OK;
 }
 
@@ -1098,9 +1103,9 @@ static void init_out(geom_iso_surface *out, const geom_iso_options *opt)
         out->alloc = *opt->alloc;
 }
 
-geom_status geom_iso_extract(const geom_iso_field *field, const double bounds[6],
-                             const size_t res[3], const geom_iso_options *opt,
-                             geom_iso_surface *out, geom_diag *diag)
+static geom_status extract_field(const geom_iso_field *field, const double bounds[6],
+                                 const size_t res[3], const geom_iso_options *opt,
+                                 geom_iso_surface *out, geom_diag *diag)
 {
     double t0 = now_seconds();
     if (!out)
@@ -1174,8 +1179,8 @@ geom_status geom_iso_extract(const geom_iso_field *field, const double bounds[6]
     return st;
 }
 
-geom_status geom_iso_extract_grid(const geom_iso_grid *grid, const geom_iso_options *opt,
-                                  geom_iso_surface *out, geom_diag *diag)
+static geom_status extract_grid(const geom_iso_grid *grid, const geom_iso_options *opt,
+                                geom_iso_surface *out, geom_diag *diag)
 {
     double t0 = now_seconds();
     if (!out)
@@ -1238,5 +1243,140 @@ geom_status geom_iso_extract_grid(const geom_iso_grid *grid, const geom_iso_opti
     }
     for (int a = 0; a < 3; a++)
         geom_free(al, coord[a], grid->dims[a] * sizeof(double));
+    return st;
+}
+
+/* ------------------------------------------------------ inside above iso */
+
+/* "Inside above": the extraction of -f at -iso. Negation is exact, so the
+ * vertices are those of f at iso (edge parameters (iso - f0) / (f1 - f0)
+ * unchanged bit for bit), the classification is f >= iso inside (f > iso -
+ * epsilon), and the winding, normals and caps follow the inside. */
+static double neg_value(void *u, const double p[3])
+{
+    const geom_iso_field *f = u;
+    return -f->value(f->user, p);
+}
+
+static void neg_gradient(void *u, const double p[3], double g[3])
+{
+    const geom_iso_field *f = u;
+    f->gradient(f->user, p, g);
+    g[0] = -g[0];
+    g[1] = -g[1];
+    g[2] = -g[2];
+}
+
+static void neg_values(void *u, size_t n, const double *p, double *out)
+{
+    const geom_iso_field *f = u;
+    f->values(f->user, n, p, out);
+    for (size_t i = 0; i < n; i++)
+        out[i] = -out[i];
+}
+
+static void neg_gradients(void *u, size_t n, const double *p, double *v, double *g)
+{
+    const geom_iso_field *f = u;
+    f->gradients(f->user, n, p, v, g);
+    for (size_t i = 0; i < n; i++)
+        v[i] = -v[i];
+    for (size_t i = 0; i < 3 * n; i++)
+        g[i] = -g[i];
+}
+
+/* Signed volume enclosed by the triangles (divergence theorem; exact for a
+ * closed surface, e.g. with caps): positive when they face outward. */
+static void signed_volume(geom_iso_surface *out)
+{
+    double v = 0.0;
+    for (size_t t = 0; t < out->n_triangles; t++) {
+        const double *a = out->xyz + 3 * (size_t)out->tris[3 * t];
+        const double *b = out->xyz + 3 * (size_t)out->tris[3 * t + 1];
+        const double *c = out->xyz + 3 * (size_t)out->tris[3 * t + 2];
+        v += a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2]) +
+             a[2] * (b[0] * c[1] - b[1] * c[0]);
+    }
+    out->report.signed_volume = v / 6.0;
+}
+
+geom_status geom_iso_extract(const geom_iso_field *field, const double bounds[6],
+                             const size_t res[3], const geom_iso_options *opt,
+                             geom_iso_surface *out, geom_diag *diag)
+{
+    geom_status st;
+    if (opt && opt->inside == GEOM_ISO_INSIDE_ABOVE && field && field->value) {
+        geom_iso_field neg;
+        memset(&neg, 0, sizeof neg);
+        neg.value = neg_value;
+        neg.gradient = field->gradient ? neg_gradient : NULL;
+        neg.values = field->values ? neg_values : NULL;
+        neg.gradients = field->gradients ? neg_gradients : NULL;
+        neg.user = (void *)(uintptr_t)field;
+        neg.exact = field->exact;
+        geom_iso_options o = *opt;
+        o.iso = -opt->iso;
+        st = extract_field(&neg, bounds, res, &o, out, diag);
+    } else if (opt && opt->inside != GEOM_ISO_INSIDE_BELOW && opt->inside != GEOM_ISO_INSIDE_ABOVE) {
+        if (out)
+            memset(out, 0, sizeof *out);
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+                             "geom_iso_extract: inside must be GEOM_ISO_INSIDE_BELOW or _ABOVE");
+    } else
+        st = extract_field(field, bounds, res, opt, out, diag);
+    if (st == GEOM_OK)
+        signed_volume(out);
+    return st;
+}
+
+geom_status geom_iso_extract_grid(const geom_iso_grid *grid, const geom_iso_options *opt,
+                                  geom_iso_surface *out, geom_diag *diag)
+{
+    if (opt && opt->inside != GEOM_ISO_INSIDE_BELOW && opt->inside != GEOM_ISO_INSIDE_ABOVE) {
+        if (out)
+            memset(out, 0, sizeof *out);
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+                             "geom_iso_extract_grid: inside must be GEOM_ISO_INSIDE_BELOW or _ABOVE");
+    }
+    if (!(opt && opt->inside == GEOM_ISO_INSIDE_ABOVE) || geom_iso_grid_check(grid) != GEOM_OK) {
+        geom_status st = extract_grid(grid, opt, out, diag);
+        if (st == GEOM_OK)
+            signed_volume(out);
+        return st;
+    }
+    /* a negated copy of the samples (exact in either type) */
+    const geom_allocator *al = opt->alloc;
+    size_t n = grid->dims[0] * grid->dims[1] * grid->dims[2];
+    size_t es = grid->type == GEOM_ISO_SCALAR_F32 ? sizeof(float) : sizeof(double), bytes;
+    if (geom_size_mul(n, es, &bytes) != GEOM_OK) {
+        if (out)
+            memset(out, 0, sizeof *out);
+        return geom_diag_set(diag, GEOM_ERR_LIMIT, "", 0, 0, "geom_iso_extract_grid: grid too large");
+    }
+    void *neg = geom_alloc(al, bytes ? bytes : 1);
+    if (!neg) {
+        if (out)
+            memset(out, 0, sizeof *out);
+        return geom_diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "geom_iso_extract_grid: out of memory");
+    }
+    if (grid->type == GEOM_ISO_SCALAR_F32) {
+        const float *src = grid->data;
+        float *d = neg;
+        for (size_t i = 0; i < n; i++)
+            d[i] = -src[i];
+    } else {
+        const double *src = grid->data;
+        double *d = neg;
+        for (size_t i = 0; i < n; i++)
+            d[i] = -src[i];
+    }
+    geom_iso_grid g = *grid;
+    g.data = neg;
+    geom_iso_options o = *opt;
+    o.iso = -opt->iso;
+    geom_status st = extract_grid(&g, &o, out, diag);
+    geom_free(al, neg, bytes ? bytes : 1);
+    if (st == GEOM_OK)
+        signed_volume(out);
     return st;
 }

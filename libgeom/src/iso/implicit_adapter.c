@@ -19,6 +19,11 @@ static void expr_values(void *user, size_t n, const double *p, double *out)
     geom_implicit_expr_eval_many((const geom_implicit_expr *)user, n, p, out);
 }
 
+static void expr_gradients(void *user, size_t n, const double *p, double *values, double *grads)
+{
+    geom_implicit_expr_eval_grad_many((const geom_implicit_expr *)user, n, p, values, grads);
+}
+
 geom_status geom_iso_field_from_expr(const geom_implicit_expr *e,
                                             geom_iso_field *out)
 {
@@ -30,6 +35,7 @@ geom_status geom_iso_field_from_expr(const geom_implicit_expr *e,
     out->value = geom_implicit_expr_value_cb;
     out->gradient = expr_gradient;
     out->values = expr_values;
+    out->gradients = expr_gradients;
     out->user = (void *)(uintptr_t)e;
     out->exact = 1;
     return GEOM_OK;

@@ -28,27 +28,23 @@ geom_status geom_iso_surface_to_mesh(const geom_iso_surface *s, geom_mesh *m, ge
         return geom_diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "geom_iso_surface_to_mesh: out of memory");
     for (size_t t = 0; t < nt; t++)
         sizes[t] = 3;
+    geom_mesh_build_channel nch;
+    memset(&nch, 0, sizeof nch);
+    nch.name = "normal";
+    nch.domain = GEOM_MESH_DOMAIN_VERTEX;
+    nch.ncomp = 3;
+    nch.values = s->normals;
     geom_mesh_build_options bo;
     memset(&bo, 0, sizeof bo);
     bo.keep_orientation = 1;
+    bo.trusted = 1; /* marching cubes output: oriented and manifold */
+    bo.channels = &nch;
+    bo.n_channels = s->normals ? 1 : 0;
     geom_mesh_build_report rep;
     geom_status st = geom_mesh_build(m, s->n_vertices, s->xyz, nt, sizes, s->tris, &bo, &rep, diag);
     geom_free(a, sizes, (nt ? nt : 1) * sizeof(uint32_t));
     if (st != GEOM_OK)
         return st;
-    if (s->normals) {
-        uint32_t id = geom_mesh_channel_find(m, "normal", GEOM_MESH_DOMAIN_VERTEX);
-        if (id == GEOM_INVALID_INDEX) {
-            st = geom_mesh_channel_add(m, "normal", GEOM_MESH_DOMAIN_VERTEX, 3, &id);
-            if (st != GEOM_OK)
-                return geom_diag_set(diag, st, "", 0, 0, "geom_iso_surface_to_mesh: %s",
-                                     geom_status_str(st));
-        }
-        double *d = geom_mesh_channel_data(m, id);
-        size_t n = geom_mesh_n_vertices(m);
-        for (size_t v = 0; v < n && v < s->n_vertices; v++)
-            memcpy(d + 3 * v, s->normals + 3 * v, 3 * sizeof(double));
-    }
     if (rep.invalid_faces || rep.flipped_faces || rep.nonmanifold_edges || rep.detached_faces ||
         rep.split_vertices || rep.added_vertices || rep.nonorientable_components)
         return geom_diag_set(diag, GEOM_ERR_NONMANIFOLD, "", 0, 0,

@@ -49,6 +49,7 @@
  */
 #include "mesh/mesh_internal.h"
 
+#include <assert.h>
 #include <stdio.h>
 
 #define INV GEOM_INVALID_INDEX
@@ -256,28 +257,32 @@ static int glue_ok(const cfans *k, const uint32_t *eglue, uint32_t x, uint32_t y
     return 1;
 }
 
-geom_status geom_mesh_build(geom_mesh *m, size_t nverts, const double *xyz, size_t nfaces,
-                            const uint32_t *face_sizes, const uint32_t *indices,
-                            const geom_mesh_build_options *opt, geom_mesh_build_report *report,
-                            geom_diag *diag)
+/* Step 5's numbering, shared by both paths: one edge per glued pair or
+ * unglued use, in the order of its first corner; corner c becomes halfedge
+ * he_of[c] (2e for the first use, 2e + 1 for its partner). Returns the
+ * halfedge count. */
+static size_t number_edges(size_t C, const uint32_t *partner, uint32_t *he_of)
 {
-    geom_mesh_build_report rep_local;
-    geom_mesh_build_report *rep = report ? report : &rep_local;
-    memset(rep, 0, sizeof *rep);
-    if (!m || (nverts && !xyz) || (nfaces && !face_sizes))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
-                             "geom_mesh_build: NULL argument");
-    if (nverts >= (size_t)UINT32_MAX || nfaces >= (size_t)UINT32_MAX)
-        return geom_diag_set(diag, GEOM_ERR_LIMIT, "", 0, 0,
-                             "geom_mesh_build: more than 2^32-2 vertices or faces");
-    int skip = opt && opt->skip_invalid_faces;
-    int keep = opt && opt->keep_orientation;
+    size_t E = 0;
+    for (size_t c = 0; c < C; ++c)
+        he_of[c] = INV;
+    for (size_t c = 0; c < C; ++c) {
+        if (he_of[c] != INV)
+            continue;
+        he_of[c] = (uint32_t)(2 * E);
+        if (partner[c] != INV)
+            he_of[partner[c]] = (uint32_t)(2 * E + 1);
+        E++;
+    }
+    return 2 * E;
+}
 
-    for (size_t i = 0; i < nverts; ++i)
-        if (!geom_isfinite3(xyz + 3 * i))
-            return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
-                                 "geom_mesh_build: vertex %zu has a non-finite coordinate", i);
-
+/* The repairing build (steps 1-7 above). Arguments are checked by the
+ * caller; rep is zeroed. */
+static geom_status build_repair(geom_mesh *m, size_t nverts, const double *xyz, size_t nfaces,
+                                const uint32_t *face_sizes, const uint32_t *indices, int skip,
+                                int keep, geom_mesh_build_report *rep, geom_diag *diag)
+{
     bscratch S;
     memset(&S, 0, sizeof S);
     S.a = &m->alloc;
@@ -609,18 +614,7 @@ geom_status geom_mesh_build(geom_mesh *m, size_t nverts, const double *xyz, size
 
     /* ---- 5. edges and face cycles */
     uint32_t *he_of = order; /* order is no longer needed */
-    size_t E = 0;
-    for (size_t c = 0; c < C; ++c)
-        he_of[c] = INV;
-    for (size_t c = 0; c < C; ++c) {
-        if (he_of[c] != INV)
-            continue;
-        he_of[c] = (uint32_t)(2 * E);
-        if (partner[c] != INV)
-            he_of[partner[c]] = (uint32_t)(2 * E + 1);
-        E++;
-    }
-    size_t H = 2 * E;
+    size_t H = number_edges(C, partner, he_of);
 
     geom_mesh__clear_all(m);
     if ((st = geom_mesh__resize(m, nverts, H, F)) != GEOM_OK ||
@@ -756,5 +750,365 @@ fail_mesh:
     geom_mesh__clear_all(m);
 out:
     bs_free_all(&S);
+    return st;
+}
+
+/* ------------------------------------------------------------ trusted path */
+
+/* Returned by build_trusted when the input needs the repairing path. */
+#define NEEDS_REPAIR 1
+
+/*
+ * The build for input known to be an oriented manifold mesh: the same
+ * element numbering as build_repair gives it (edges in the order of their
+ * first corner, faces and vertices as input), without the orientation and
+ * non-manifold passes. Edge uses are paired through per-vertex lists of
+ * outgoing corners; a directed edge used twice, an edge used the same way
+ * twice or a vertex whose faces form more than one fan returns NEEDS_REPAIR
+ * (m is then cleared), as does an index out of range, a face with fewer
+ * than 3 or repeated vertices.
+ */
+static int build_trusted(geom_mesh *m, size_t nverts, const double *xyz, size_t nfaces,
+                         const uint32_t *face_sizes, const uint32_t *indices,
+                         geom_mesh_build_report *rep, geom_status *stp)
+{
+    bscratch S;
+    memset(&S, 0, sizeof S);
+    S.a = &m->alloc;
+    geom_status st = GEOM_OK;
+    int repair = 0;
+    size_t C = 0;
+    for (size_t f = 0; f < nfaces; ++f) {
+        if (face_sizes[f] < 3)
+            return NEEDS_REPAIR;
+        C += face_sizes[f];
+    }
+    if (C > (size_t)INT32_MAX - 2 || (C && !indices))
+        return NEEDS_REPAIR;
+    const size_t F = nfaces;
+    const uint32_t *cv = indices;
+    uint32_t *fs = bs_alloc(&S, F + 1, sizeof(uint32_t));
+    uint32_t *cb = bs_alloc(&S, C, sizeof(uint32_t));
+    uint32_t *cnt = bs_alloc(&S, nverts + 1, sizeof(uint32_t));
+    uint32_t *outc = bs_alloc(&S, C, sizeof(uint32_t));
+    uint32_t *partner = bs_alloc(&S, C, sizeof(uint32_t));
+    if (!fs || !cb || !cnt || !outc || !partner) {
+        st = GEOM_ERR_NOMEM;
+        goto out;
+    }
+    /* faces, next vertex of each corner, range and repeat checks */
+    {
+        memset(cnt, 0xff, (nverts + 1) * sizeof(uint32_t));
+        size_t c = 0;
+        for (size_t f = 0; f < F; ++f) {
+            size_t n = face_sizes[f];
+            fs[f] = (uint32_t)c;
+            for (size_t k = 0; k < n; ++k) {
+                uint32_t v = cv[c + k];
+                if ((size_t)v >= nverts) {
+                    repair = 1;
+                    goto out;
+                }
+                cb[c + k] = cv[c + (k + 1 < n ? k + 1 : 0)];
+            }
+            if (n == 3) {
+                if (cv[c] == cv[c + 1] || cv[c + 1] == cv[c + 2] || cv[c] == cv[c + 2]) {
+                    repair = 1;
+                    goto out;
+                }
+            } else {
+                for (size_t k = 0; k < n; ++k) {
+                    if (cnt[cv[c + k]] == (uint32_t)f) {
+                        repair = 1;
+                        goto out;
+                    }
+                    cnt[cv[c + k]] = (uint32_t)f;
+                }
+            }
+            c += n;
+        }
+        fs[F] = (uint32_t)C;
+    }
+    /* outgoing corners of each vertex (counting sort by source vertex) */
+    memset(cnt, 0, (nverts + 1) * sizeof(uint32_t));
+    for (size_t c = 0; c < C; ++c)
+        cnt[cv[c] + 1]++;
+    for (size_t v = 0; v < nverts; ++v)
+        cnt[v + 1] += cnt[v];
+    for (size_t c = 0; c < C; ++c)
+        outc[cnt[cv[c]]++] = (uint32_t)c;
+    /* cnt[v] is now the end of v's list, cnt[v - 1] (0 for v = 0) its start */
+    for (size_t c = 0; c < C; ++c)
+        partner[c] = INV;
+    for (size_t c = 0; c < C; ++c) {
+        if (partner[c] != INV)
+            continue;
+        uint32_t a = cv[c], b = cb[c];
+        uint32_t s = b ? cnt[b - 1] : 0, e = cnt[b], found = INV;
+        for (uint32_t i = s; i < e; ++i) {
+            uint32_t d = outc[i];
+            if (cb[d] == a) {
+                if (found != INV || partner[d] != INV) {
+                    repair = 1; /* an edge with more than two uses */
+                    goto out;
+                }
+                found = d;
+            }
+        }
+        if (found != INV) {
+            partner[c] = found;
+            partner[found] = (uint32_t)c;
+        }
+    }
+
+    /* edges in the order of their first corner (as build_repair step 5) */
+    uint32_t *he_of = outc;
+    const size_t H = number_edges(C, partner, he_of);
+    geom_mesh__clear_all(m);
+    if ((st = geom_mesh__resize(m, nverts, H, F)) != GEOM_OK ||
+        (st = geom_mesh__ensure_origins(m)) != GEOM_OK)
+        goto fail_mesh;
+    for (size_t f = 0; f < F; ++f) {
+        uint32_t s = fs[f], e = fs[f + 1];
+        m->face_origin[f] = (uint32_t)f;
+        for (uint32_t c = s; c < e; ++c) {
+            uint32_t h = he_of[c], cn = c + 1 < e ? c + 1 : s;
+            m->he_vertex[h] = cb[c];
+            m->he_face[h] = (uint32_t)f;
+            geom_mesh__link(m, h, he_of[cn]);
+            if (partner[c] == INV)
+                m->he_vertex[h ^ 1u] = cv[c]; /* boundary halfedge */
+        }
+        m->f_he[f] = he_of[e - 1];
+    }
+    /* outgoing halfedges: the lowest interior one, then the boundary one;
+     * cnt counts each vertex's outgoing halfedges for the fan check */
+    memset(cnt, 0, (nverts + 1) * sizeof(uint32_t));
+    for (size_t h = 0; h < H; ++h) {
+        uint32_t x = m->he_vertex[h ^ 1u];
+        cnt[x]++;
+        if (m->he_face[h] != INV && m->v_he[x] == INV)
+            m->v_he[x] = (uint32_t)h;
+    }
+    for (size_t b = 1; b < H; b += 2) {
+        if (m->he_face[b] != INV)
+            continue;
+        uint32_t x = m->he_vertex[b ^ 1u];
+        if (m->he_face[m->v_he[x]] == INV) {
+            repair = 1; /* two boundary gaps at x */
+            goto fail_mesh;
+        }
+        m->v_he[x] = (uint32_t)b;
+    }
+    for (size_t b = 1; b < H; b += 2)
+        if (m->he_face[b] == INV)
+            geom_mesh__link(m, (uint32_t)b, m->v_he[m->he_vertex[b]]);
+    /* one fan per vertex: rotating from v_he visits every outgoing halfedge */
+    for (size_t v = 0; v < nverts; ++v) {
+        uint32_t h0 = m->v_he[v], h = h0, n = 0;
+        if (h0 == INV) {
+            rep->isolated_vertices++;
+            continue;
+        }
+        do {
+            h = m->he_next[h ^ 1u];
+            n++;
+        } while (h != h0 && n <= cnt[v]);
+        if (n != cnt[v]) {
+            repair = 1;
+            goto fail_mesh;
+        }
+    }
+    {
+        double *pos = geom_mesh__pos(m);
+        if (nverts)
+            memcpy(pos, xyz, 3 * nverts * sizeof(double));
+        for (size_t v = 0; v < nverts; ++v)
+            m->vertex_origin[v] = (uint32_t)v;
+    }
+    goto out;
+
+fail_mesh:
+    geom_mesh__clear_all(m);
+out:
+    bs_free_all(&S);
+    *stp = st;
+    return repair ? NEEDS_REPAIR : 0;
+}
+
+/* --------------------------------------------------------- attribute streams */
+
+static geom_status check_streams(const geom_mesh_build_options *opt, size_t nverts, size_t nfaces,
+                                 size_t ncorners, geom_diag *diag)
+{
+    size_t n = opt ? opt->n_channels : 0;
+    if (n && !opt->channels)
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+                             "geom_mesh_build: NULL channels");
+    for (size_t i = 0; i < n; ++i) {
+        const geom_mesh_build_channel *c = &opt->channels[i];
+        const char *why = NULL;
+        size_t nvals = c->domain == GEOM_MESH_DOMAIN_VERTEX ? nverts
+                       : c->domain == GEOM_MESH_DOMAIN_FACE ? nfaces
+                                                            : c->n_values;
+        if (!c->name || !c->name[0] || strlen(c->name) >= GEOM_MESH__NAME_MAX)
+            why = "empty or too long name";
+        else if (c->domain != GEOM_MESH_DOMAIN_VERTEX && c->domain != GEOM_MESH_DOMAIN_FACE &&
+                 c->domain != GEOM_MESH_DOMAIN_CORNER)
+            why = "domain must be VERTEX, FACE or CORNER";
+        else if (c->ncomp == 0)
+            why = "ncomp is 0";
+        else if (nvals && !c->values)
+            why = "NULL values";
+        else if (c->domain == GEOM_MESH_DOMAIN_VERTEX && strcmp(c->name, "position") == 0)
+            why = "\"position\" is the positions argument";
+        else if (c->domain == GEOM_MESH_DOMAIN_CORNER) {
+            if (ncorners && !c->indices)
+                why = "NULL corner indices";
+            else if (c->n_values >= (size_t)UINT32_MAX)
+                why = "pool too large";
+            else
+                for (size_t k = 0; k < ncorners && !why; ++k)
+                    if (c->indices[k] != INV && (size_t)c->indices[k] >= c->n_values)
+                        why = "corner index past the pool";
+        }
+        for (size_t j = 0; j < i && !why; ++j)
+            if (opt->channels[j].domain == c->domain &&
+                strcmp(opt->channels[j].name, c->name) == 0)
+                why = "repeated name";
+        if (why)
+            return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+                                 "geom_mesh_build: channel %zu: %s", i, why);
+    }
+    return GEOM_OK;
+}
+
+/* Attach the streams to the built mesh (which has its origin maps).
+ * fstart: the input faces' first corners (nfaces + 1 entries). */
+static geom_status attach_streams(geom_mesh *m, const geom_mesh_build_options *opt,
+                                  const uint32_t *fstart)
+{
+    size_t n = opt ? opt->n_channels : 0;
+    for (size_t i = 0; i < n; ++i) {
+        const geom_mesh_build_channel *c = &opt->channels[i];
+        const size_t nc = c->ncomp;
+        uint32_t id;
+        geom_status st = geom_mesh_channel_add(m, c->name, c->domain, nc, &id);
+        if (st != GEOM_OK)
+            return st;
+        if (c->domain == GEOM_MESH_DOMAIN_VERTEX) {
+            double *d = m->channels[id].data;
+            for (size_t v = 0; v < m->nv; ++v)
+                memcpy(d + v * nc, c->values + (size_t)m->vertex_origin[v] * nc,
+                       nc * sizeof(double));
+        } else if (c->domain == GEOM_MESH_DOMAIN_FACE) {
+            double *d = m->channels[id].data;
+            for (size_t f = 0; f < m->nf; ++f)
+                memcpy(d + f * nc, c->values + (size_t)m->face_origin[f] * nc,
+                       nc * sizeof(double));
+        } else {
+            if ((st = geom_mesh_corner_pool_resize(m, id, c->n_values)) != GEOM_OK)
+                return st;
+            geom_mesh__channel *ch = &m->channels[id];
+            if (c->n_values)
+                memcpy(ch->data, c->values, c->n_values * nc * sizeof(double));
+            uint32_t *ci = ch->corner;
+            for (size_t f = 0; f < m->nf; ++f) {
+                /* input corner k: k next-steps from f_he when not flipped,
+                 * (n - k) % n (k prev-steps) when flipped */
+                const uint32_t *src = c->indices + fstart[m->face_origin[f]];
+                uint32_t h0 = m->f_he[f], h = h0;
+                size_t k = 0;
+                if (!m->face_flipped[f]) {
+                    do {
+                        ci[h] = src[k++];
+                        h = m->he_next[h];
+                    } while (h != h0);
+                } else {
+                    do {
+                        ci[h] = src[k++];
+                        h = m->he_prev[h];
+                    } while (h != h0);
+                }
+            }
+        }
+    }
+    return GEOM_OK;
+}
+
+geom_status geom_mesh_build(geom_mesh *m, size_t nverts, const double *xyz, size_t nfaces,
+                            const uint32_t *face_sizes, const uint32_t *indices,
+                            const geom_mesh_build_options *opt, geom_mesh_build_report *report,
+                            geom_diag *diag)
+{
+    geom_mesh_build_report rep_local;
+    geom_mesh_build_report *rep = report ? report : &rep_local;
+    memset(rep, 0, sizeof *rep);
+    if (!m || (nverts && !xyz) || (nfaces && !face_sizes))
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+                             "geom_mesh_build: NULL argument");
+    if (nverts >= (size_t)UINT32_MAX || nfaces >= (size_t)UINT32_MAX)
+        return geom_diag_set(diag, GEOM_ERR_LIMIT, "", 0, 0,
+                             "geom_mesh_build: more than 2^32-2 vertices or faces");
+    for (size_t i = 0; i < nverts; ++i)
+        if (!geom_isfinite3(xyz + 3 * i))
+            return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+                                 "geom_mesh_build: vertex %zu has a non-finite coordinate", i);
+    size_t nch = opt ? opt->n_channels : 0;
+    uint32_t *fstart = NULL;
+    size_t ncorners = 0;
+    geom_status st;
+    if (nch) {
+        /* input corner offsets of the faces, for the streams */
+        size_t bytes;
+        if (geom_size_mul(nfaces + 1, sizeof(uint32_t), &bytes) != GEOM_OK)
+            return GEOM_ERR_LIMIT;
+        fstart = geom_alloc(&m->alloc, bytes);
+        if (!fstart)
+            return geom_diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "geom_mesh_build: out of memory");
+        for (size_t f = 0; f < nfaces; ++f) {
+            fstart[f] = (uint32_t)ncorners;
+            ncorners += face_sizes[f];
+            if (ncorners > (size_t)INT32_MAX) {
+                geom_free(&m->alloc, fstart, bytes);
+                return geom_diag_set(diag, GEOM_ERR_LIMIT, "", 0, 0,
+                                     "geom_mesh_build: more than 2^31 face corners");
+            }
+        }
+        fstart[nfaces] = (uint32_t)ncorners;
+        if ((st = check_streams(opt, nverts, nfaces, ncorners, diag)) != GEOM_OK) {
+            geom_free(&m->alloc, fstart, bytes);
+            return st;
+        }
+    }
+    int repair = 1;
+    st = GEOM_OK;
+    if (opt && opt->trusted)
+        repair = build_trusted(m, nverts, xyz, nfaces, face_sizes, indices, rep, &st) == NEEDS_REPAIR;
+    if (repair && st == GEOM_OK) {
+        memset(rep, 0, sizeof *rep);
+        st = build_repair(m, nverts, xyz, nfaces, face_sizes, indices,
+                          opt && opt->skip_invalid_faces, opt && opt->keep_orientation, rep,
+                          diag);
+    }
+    if (st == GEOM_OK && nch) {
+        st = attach_streams(m, opt, fstart);
+        if (st != GEOM_OK)
+            geom_mesh__clear_all(m);
+    }
+    if (fstart)
+        geom_free(&m->alloc, fstart, (nfaces + 1) * sizeof(uint32_t));
+#ifndef NDEBUG
+    if (st == GEOM_OK && opt && opt->trusted && !repair) {
+        /* the trusted path must give what the repairing one gives: a mesh
+         * that passes every check (when the check itself can run: it may
+         * run out of memory) */
+        size_t nd = 0;
+        geom_status vs = geom_mesh_validate(m, NULL, 0, &nd);
+        assert(vs != GEOM_OK || nd == 0);
+        (void)vs;
+        (void)nd;
+    }
+#endif
     return st;
 }

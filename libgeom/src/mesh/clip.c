@@ -32,7 +32,9 @@
  *    channel and in a FACE "normal" channel, zero in every other corner and
  *    face channel; vertex channels are those of the shared boundary
  *    vertices.
- * The result is built with geom_mesh_build (orientation kept). Face groups
+ * The result is built once by geom_mesh_build (orientation kept, trusted:
+ * repaired only where the pieces need it) with its vertex, face and corner
+ * channels; EDGE channels are added after the others. Face groups
  * and material libraries are copied; tags and polylines are not (their
  * indices refer to the input). When every live vertex lies strictly above
  * the plane nothing is cut and the result is a clone (tags and polylines
@@ -1125,33 +1127,107 @@ static geom_status copy_meta(const geom_mesh *m, geom_mesh *o, const clip_ctx *c
     return GEOM_OK;
 }
 
-static geom_status copy_channels(const geom_mesh *m, geom_mesh *o, const clip_ctx *c,
-                                 const src_info *vsrc, size_t nvout, const uint32_t *soff,
-                                 const uint32_t *cutrank, size_t ncut)
+/* The attribute streams of the output soup (every channel but EDGE ones),
+ * built before the mesh so geom_mesh_build attaches them in one go. */
+typedef struct clip_streams {
+    geom_mesh_build_channel *ch; /* one per VERTEX/FACE/CORNER input channel */
+    size_t n;
+    double **vals;  /* owned values, per stream */
+    size_t *nvals;  /* doubles allocated */
+    uint32_t **idx; /* owned corner indices (CORNER streams) */
+    size_t nidx;    /* entries of each idx array */
+} clip_streams;
+
+static void clip_streams_free(const geom_allocator *al, clip_streams *S, size_t nin)
+{
+    /* the entries are initialised only when all four arrays were allocated */
+    for (size_t i = 0; S->ch && S->vals && S->nvals && S->idx && i < nin; i++) {
+        geom_free(al, S->vals[i], (S->nvals[i] ? S->nvals[i] : 1) * sizeof(double));
+        geom_free(al, S->idx[i], (S->nidx ? S->nidx : 1) * sizeof(uint32_t));
+    }
+    geom_free(al, S->ch, (nin ? nin : 1) * sizeof *S->ch);
+    geom_free(al, S->vals, (nin ? nin : 1) * sizeof *S->vals);
+    geom_free(al, S->nvals, (nin ? nin : 1) * sizeof *S->nvals);
+    geom_free(al, S->idx, (nin ? nin : 1) * sizeof *S->idx);
+    memset(S, 0, sizeof *S);
+}
+
+/* Soup faces geom_mesh_build would skip (fewer than 3 or repeated
+ * vertices): their corners get no values, as they get no faces. */
+static geom_status soup_face_ok(const geom_allocator *al, const clip_ctx *c, const uint32_t *indices,
+                                const uint32_t *soff, size_t nout, uint8_t **out)
+{
+    uint8_t *ok = geom_alloc(al, c->nf ? c->nf : 1);
+    uint32_t *stamp = geom_alloc(al, (nout ? nout : 1) * sizeof(uint32_t));
+    if (!ok || !stamp) {
+        geom_free(al, ok, c->nf ? c->nf : 1);
+        geom_free(al, stamp, (nout ? nout : 1) * sizeof(uint32_t));
+        return GEOM_ERR_NOMEM;
+    }
+    for (size_t v = 0; v < nout; v++)
+        stamp[v] = INV;
+    for (size_t f = 0; f < c->nf; f++) {
+        ok[f] = c->fsize[f] >= 3;
+        for (uint32_t q = soff[f]; q < soff[f + 1] && ok[f]; q++) {
+            uint32_t v = indices[q];
+            if (v >= nout || stamp[v] == (uint32_t)f)
+                ok[f] = 0;
+            else
+                stamp[v] = (uint32_t)f;
+        }
+    }
+    geom_free(al, stamp, (nout ? nout : 1) * sizeof(uint32_t));
+    *out = ok;
+    return GEOM_OK;
+}
+
+static geom_status make_streams(const geom_mesh *m, const clip_ctx *c, const src_info *vsrc,
+                                size_t nvout, const uint32_t *soff, const uint8_t *face_ok,
+                                const uint32_t *cutrank, size_t ncut, clip_streams *S)
 {
     const geom_allocator *al = c->al;
-    const uint32_t *vorig = geom_mesh_vertex_origin(o);
-    const uint32_t *fmap = geom_mesh_face_origin(o);
+    const size_t nin = m->n_channels;
     geom_status st = GEOM_OK;
-    uint32_t *cp_idx = NULL, *cp_a = NULL, *cp_b = NULL, *hbuf = NULL;
-    size_t hcap = 0;
+    uint32_t *cp_idx = NULL, *cp_a = NULL, *cp_b = NULL;
     double capn[3] = {-c->n[0], -c->n[1], -c->n[2]};
-
-    for (uint32_t ci = 1; ci < m->n_channels; ci++) {
+    S->nidx = soff[c->nf];
+    S->ch = geom_alloc(al, (nin ? nin : 1) * sizeof *S->ch);
+    S->vals = geom_alloc(al, (nin ? nin : 1) * sizeof *S->vals);
+    S->nvals = geom_alloc(al, (nin ? nin : 1) * sizeof *S->nvals);
+    S->idx = geom_alloc(al, (nin ? nin : 1) * sizeof *S->idx);
+    if (!S->ch || !S->vals || !S->nvals || !S->idx)
+        return GEOM_ERR_NOMEM;
+    for (size_t i = 0; i < nin; i++) {
+        S->vals[i] = NULL;
+        S->nvals[i] = 0;
+        S->idx[i] = NULL;
+    }
+    for (uint32_t ci = 1; ci < nin; ci++) {
         const geom_mesh__channel *ch = &m->channels[ci];
-        uint32_t oid;
-        st = geom_mesh_channel_add(o, ch->name, ch->domain, ch->ncomp, &oid);
-        if (st != GEOM_OK)
-            goto done;
         const size_t nc = ch->ncomp;
         int is_normal = nc == 3 && strcmp(ch->name, "normal") == 0;
+        geom_mesh_build_channel *out = &S->ch[S->n];
+        size_t nv = ch->domain == GEOM_MESH_DOMAIN_VERTEX ? nvout
+                    : ch->domain == GEOM_MESH_DOMAIN_FACE ? c->nf
+                                                          : ch->pool + 2 * ncut + 1;
+        if (ch->domain == GEOM_MESH_DOMAIN_EDGE)
+            continue; /* after the build: edges do not exist before */
+        double *d = geom_alloc(al, (nv * nc > 0 ? nv * nc : 1) * sizeof(double));
+        if (!d) {
+            st = GEOM_ERR_NOMEM;
+            goto done;
+        }
+        S->vals[S->n] = d;
+        S->nvals[S->n] = nv * nc;
+        memset(d, 0, nv * nc * sizeof(double));
+        memset(out, 0, sizeof *out);
+        out->name = ch->name;
+        out->domain = ch->domain;
+        out->ncomp = nc;
+        out->values = d;
         if (ch->domain == GEOM_MESH_DOMAIN_VERTEX) {
-            double *d = geom_mesh_channel_data(o, oid);
-            for (size_t v = 0; v < o->nv; v++) {
-                uint32_t sv = vorig ? vorig[v] : (uint32_t)v;
-                if (sv >= nvout)
-                    continue;
-                const src_info *si = &vsrc[sv];
+            for (size_t v = 0; v < nvout; v++) {
+                const src_info *si = &vsrc[v];
                 const double *a = ch->data + (size_t)si->a * nc;
                 if (si->b == INV) {
                     memcpy(d + v * nc, a, nc * sizeof(double));
@@ -1162,46 +1238,24 @@ static geom_status copy_channels(const geom_mesh *m, geom_mesh *o, const clip_ct
                 }
             }
         } else if (ch->domain == GEOM_MESH_DOMAIN_FACE) {
-            double *d = geom_mesh_channel_data(o, oid);
-            for (size_t f = 0; f < o->nf; f++) {
-                uint32_t sf = fmap ? fmap[f] : (uint32_t)f;
-                uint32_t of = sf < c->nf ? c->forig[sf] : INV;
+            for (size_t f = 0; f < c->nf; f++) {
+                uint32_t of = c->forig[f];
                 if (of != INV)
                     memcpy(d + f * nc, ch->data + (size_t)of * nc, nc * sizeof(double));
                 else if (is_normal)
                     memcpy(d + f * nc, capn, sizeof capn);
             }
-        } else if (ch->domain == GEOM_MESH_DOMAIN_EDGE) {
-            double *d = geom_mesh_channel_data(o, oid);
-            for (size_t e = 0; e < o->nh / 2; e++) {
-                if (o->e_del[e])
-                    continue;
-                uint32_t x = o->he_vertex[2 * e], y = o->he_vertex[2 * e + 1];
-                uint32_t sx = vorig ? vorig[x] : x, sy = vorig ? vorig[y] : y;
-                if (sx >= nvout || sy >= nvout)
-                    continue;
-                const src_info *a = &vsrc[sx], *bb = &vsrc[sy];
-                uint32_t oe = INV;
-                if (a->b == INV && bb->b == INV) {
-                    oe = geom_mesh_find_edge(m, a->a, bb->a);
-                } else if (a->b == INV || bb->b == INV) {
-                    const src_info *kept = a->b == INV ? a : bb, *cut = a->b == INV ? bb : a;
-                    if (kept->a == cut->a || kept->a == cut->b)
-                        oe = geom_mesh_find_edge(m, cut->a, cut->b);
-                }
-                if (oe != INV)
-                    memcpy(d + e * nc, ch->data + (size_t)oe * nc, nc * sizeof(double));
-            }
         } else {
-            /* CORNER */
+            /* CORNER: the input pool, then the values of new corners made as
+             * they are met (soup faces in order, corners in order) */
             const size_t P = ch->pool;
             const uint32_t *idx = ch->corner;
-            size_t cap_total = P + 2 * ncut + 1;
-            st = geom_mesh_corner_pool_resize(o, oid, cap_total);
-            if (st != GEOM_OK)
+            uint32_t *cix = geom_alloc(al, (S->nidx ? S->nidx : 1) * sizeof(uint32_t));
+            if (!cix) {
+                st = GEOM_ERR_NOMEM;
                 goto done;
-            double *d = geom_mesh_channel_data(o, oid);
-            uint32_t *oix = geom_mesh_corner_indices(o, oid);
+            }
+            S->idx[S->n] = cix;
             if (P)
                 memcpy(d, ch->data, P * nc * sizeof(double));
             size_t np = P;
@@ -1217,27 +1271,13 @@ static geom_status copy_channels(const geom_mesh *m, geom_mesh *o, const clip_ct
             }
             for (size_t i = 0; i < 2 * ncut; i++)
                 cp_idx[i] = INV;
-            for (size_t f = 0; f < o->nf; f++) {
-                uint32_t sf = fmap ? fmap[f] : (uint32_t)f;
-                if (sf >= c->nf)
-                    continue;
-                size_t val = geom_mesh_face_valence(o, (uint32_t)f);
-                if (val > hcap) {
-                    size_t nc2 = val * 2;
-                    uint32_t *h2 = geom_realloc(al, hbuf, hcap * 4, nc2 * 4);
-                    if (!h2) {
-                        st = GEOM_ERR_NOMEM;
-                        goto done;
-                    }
-                    hbuf = h2;
-                    hcap = nc2;
-                }
-                size_t k = geom_mesh__input_corners(o, (uint32_t)f, hbuf);
-                if (k != c->fsize[sf])
-                    continue;
-                for (size_t j = 0; j < k; j++) {
-                    size_t q = soff[sf] + j;
+            for (size_t sf = 0; sf < c->nf; sf++) {
+                for (size_t q = soff[sf]; q < soff[sf + 1]; q++) {
                     uint32_t res = INV;
+                    if (!face_ok[sf]) {
+                        cix[q] = INV;
+                        continue;
+                    }
                     if (c->ckind[q] == CK_KEEP) {
                         res = idx[c->csrc[q]];
                     } else if (c->ckind[q] == CK_CUT) {
@@ -1279,20 +1319,58 @@ static geom_status copy_channels(const geom_mesh *m, geom_mesh *o, const clip_ct
                         }
                         res = cap_entry;
                     }
-                    oix[hbuf[j]] = res;
+                    cix[q] = res;
                 }
             }
-            st = geom_mesh_corner_pool_resize(o, oid, np);
-            if (st != GEOM_OK)
-                goto done;
+            out->n_values = np;
+            out->indices = cix;
         }
+        S->n++;
     }
 done:
     geom_free(al, cp_idx, (2 * ncut + 1) * 4);
     geom_free(al, cp_a, (2 * ncut + 1) * 4);
     geom_free(al, cp_b, (2 * ncut + 1) * 4);
-    geom_free(al, hbuf, hcap * 4);
     return st;
+}
+
+/* EDGE channels, after the build: the kept parts of old edges keep their
+ * values, new edges get zeros. */
+static geom_status copy_edge_channels(const geom_mesh *m, geom_mesh *o, const src_info *vsrc,
+                                      size_t nvout)
+{
+    const uint32_t *vorig = geom_mesh_vertex_origin(o);
+    for (uint32_t ci = 1; ci < m->n_channels; ci++) {
+        const geom_mesh__channel *ch = &m->channels[ci];
+        if (ch->domain != GEOM_MESH_DOMAIN_EDGE)
+            continue;
+        uint32_t oid;
+        geom_status st = geom_mesh_channel_add(o, ch->name, ch->domain, ch->ncomp, &oid);
+        if (st != GEOM_OK)
+            return st;
+        const size_t nc = ch->ncomp;
+        double *d = geom_mesh_channel_data(o, oid);
+        for (size_t e = 0; e < o->nh / 2; e++) {
+            if (o->e_del[e])
+                continue;
+            uint32_t x = o->he_vertex[2 * e], y = o->he_vertex[2 * e + 1];
+            uint32_t sx = vorig ? vorig[x] : x, sy = vorig ? vorig[y] : y;
+            if (sx >= nvout || sy >= nvout)
+                continue;
+            const src_info *a = &vsrc[sx], *bb = &vsrc[sy];
+            uint32_t oe = INV;
+            if (a->b == INV && bb->b == INV) {
+                oe = geom_mesh_find_edge(m, a->a, bb->a);
+            } else if (a->b == INV || bb->b == INV) {
+                const src_info *kept = a->b == INV ? a : bb, *cut = a->b == INV ? bb : a;
+                if (kept->a == cut->a || kept->a == cut->b)
+                    oe = geom_mesh_find_edge(m, cut->a, cut->b);
+            }
+            if (oe != INV)
+                memcpy(d + e * nc, ch->data + (size_t)oe * nc, nc * sizeof(double));
+        }
+    }
+    return GEOM_OK;
 }
 
 geom_status geom_mesh_clip_plane(const geom_mesh *m, const double plane[4],
@@ -1447,21 +1525,31 @@ geom_status geom_mesh_clip_plane(const geom_mesh *m, const double plane[4],
     for (size_t f = 0; f < c.nf; f++)
         soff[f + 1] = soff[f] + c.fsize[f];
 
-    o = geom_mesh_create(al);
-    if (!o) {
-        st = GEOM_ERR_NOMEM;
-        goto done;
-    }
     {
-        geom_mesh_build_options bo;
-        memset(&bo, 0, sizeof bo);
-        bo.keep_orientation = 1;
-        bo.skip_invalid_faces = 1;
-        st = geom_mesh_build(o, nout, xyz, c.nf, c.fsize, indices, &bo, NULL, NULL);
+        uint8_t *face_ok = NULL;
+        clip_streams S;
+        memset(&S, 0, sizeof S);
+        st = soup_face_ok(al, &c, indices, soff, nout, &face_ok);
+        if (st == GEOM_OK)
+            st = make_streams(m, &c, vsrc, nout, soff, face_ok, cutrank, ncut, &S);
+        if (st == GEOM_OK && !(o = geom_mesh_create(al)))
+            st = GEOM_ERR_NOMEM;
+        if (st == GEOM_OK) {
+            geom_mesh_build_options bo;
+            memset(&bo, 0, sizeof bo);
+            bo.keep_orientation = 1;
+            bo.skip_invalid_faces = 1;
+            bo.trusted = 1; /* pieces of an oriented manifold; else repaired */
+            bo.channels = S.ch;
+            bo.n_channels = S.n;
+            st = geom_mesh_build(o, nout, xyz, c.nf, c.fsize, indices, &bo, NULL, NULL);
+        }
+        clip_streams_free(al, &S, m->n_channels);
+        geom_free(al, face_ok, c.nf ? c.nf : 1);
         if (st != GEOM_OK)
             goto done;
     }
-    st = copy_channels(m, o, &c, vsrc, nout, soff, cutrank, ncut);
+    st = copy_edge_channels(m, o, vsrc, nout);
     if (st == GEOM_OK)
         st = copy_meta(m, o, &c, geom_mesh_face_origin(o));
     if (st != GEOM_OK)

@@ -206,6 +206,33 @@ static geom_status copy_groups(const geom_subdiv_refiner *r, int level, const ou
     return GEOM_OK;
 }
 
+/* Values per output (soup) vertex or face from values per level element:
+ * `lv` itself when nothing was left out, else a gathered copy (*own). */
+static const double *soup_values(const geom_allocator *a, const double *lv, size_t nc,
+                                 const uint32_t *map, size_t n, int gather, double **own,
+                                 size_t *own_n)
+{
+    if (!gather)
+        return lv;
+    double *d = sd_calloc(a, n * nc, sizeof(double));
+    if (!d)
+        return NULL;
+    for (size_t i = 0; i < n; i++)
+        memcpy(d + i * nc, lv + (size_t)map[i] * nc, nc * sizeof(double));
+    *own = d;
+    *own_n = n * nc;
+    return d;
+}
+
+typedef struct sd_stream_mem {
+    double *d;    /* refined values (level order) */
+    size_t nd;
+    double *g;    /* gathered values (soup order) */
+    size_t ng;
+    uint32_t *ix; /* gathered corner indices */
+    size_t nix;
+} sd_stream_mem;
+
 geom_status geom_subdiv_build_mesh(const geom_subdiv_refiner *r, int level, const double *positions,
                                    const double *normals, const geom_mesh *like, geom_mesh **out,
                                    size_t *hole_faces, geom_diag *diag)
@@ -225,11 +252,14 @@ geom_status geom_subdiv_build_mesh(const geom_subdiv_refiner *r, int level, cons
     double *pos = NULL;
     geom_mesh *m = NULL;
     size_t nidx = 0;
+    size_t nlike = like ? geom_mesh_channel_count(like) : 0;
+    geom_mesh_build_channel *chans = sd_calloc(a, nlike + 1, sizeof *chans);
+    sd_stream_mem *mem = sd_calloc(a, nlike + 1, sizeof *mem);
+    size_t nch = 0;
     om.face_level = sd_calloc(a, l->nf, sizeof(uint32_t));
     om.vert_new = sd_calloc(a, l->nv, sizeof(uint32_t));
     om.vert_old = sd_calloc(a, l->nv, sizeof(uint32_t));
-    sizes = sd_calloc(a, l->nf, sizeof(uint32_t));
-    if (!om.face_level || !om.vert_new || !om.vert_old || !sizes)
+    if (!chans || !mem || !om.face_level || !om.vert_new || !om.vert_old)
         goto done;
     int any_hole = 0;
     for (uint32_t f = 0; f < l->nf; f++) {
@@ -239,8 +269,7 @@ geom_status geom_subdiv_build_mesh(const geom_subdiv_refiner *r, int level, cons
                 (*hole_faces)++;
             continue;
         }
-        om.face_level[om.nf_out] = f;
-        sizes[om.nf_out++] = l->fv_off[f + 1] - l->fv_off[f];
+        om.face_level[om.nf_out++] = f;
         nidx += l->fv_off[f + 1] - l->fv_off[f];
     }
     for (uint32_t v = 0; v < l->nv; v++)
@@ -259,142 +288,158 @@ geom_status geom_subdiv_build_mesh(const geom_subdiv_refiner *r, int level, cons
         for (uint32_t v = 0; v < l->nv; v++)
             om.vert_old[v] = v;
     }
-    idx = sd_calloc(a, nidx, sizeof(uint32_t));
-    pos = sd_calloc(a, 3 * (size_t)om.nv_out, sizeof(double));
-    if (!idx || !pos)
+    /* the soup: the level's own arrays when no face was left out */
+    sizes = sd_calloc(a, om.nf_out, sizeof(uint32_t));
+    if (!sizes)
         goto done;
-    for (uint32_t v = 0; v < om.nv_out; v++)
-        memcpy(pos + 3 * (size_t)v, positions + 3 * (size_t)om.vert_old[v], 3 * sizeof(double));
-    size_t k = 0;
     for (uint32_t i = 0; i < om.nf_out; i++) {
         uint32_t f = om.face_level[i];
-        for (uint32_t j = l->fv_off[f]; j < l->fv_off[f + 1]; j++)
-            idx[k++] = om.vert_new[l->fv[j]];
+        sizes[i] = l->fv_off[f + 1] - l->fv_off[f];
     }
-    m = geom_mesh_create(a);
-    if (!m)
-        goto done;
-    geom_mesh_build_options bo;
-    memset(&bo, 0, sizeof bo);
-    bo.skip_invalid_faces = 1;
-    bo.keep_orientation = 1;
-    st = geom_mesh_build(m, om.nv_out, pos, om.nf_out, sizes, idx, &bo, NULL, diag);
-    if (st != GEOM_OK)
-        goto done;
-    const uint32_t *vorig = geom_mesh_vertex_origin(m);
-    const uint32_t *forig = geom_mesh_face_origin(m);
-    size_t nvm = geom_mesh_n_vertices(m), nfm = geom_mesh_n_faces(m);
-    if (like) {
-        /* vertex channels */
-        for (uint32_t ch = 1; st == GEOM_OK && ch < geom_mesh_channel_count(like); ch++) {
-            geom_mesh_domain dom = geom_mesh_channel_domain(like, ch);
-            size_t nc = geom_mesh_channel_ncomp(like, ch);
-            const char *name = geom_mesh_channel_name(like, ch);
-            if (dom == GEOM_MESH_DOMAIN_VERTEX || dom == GEOM_MESH_DOMAIN_FACE) {
-                int kind = dom == GEOM_MESH_DOMAIN_VERTEX ? KIND_VERTEX : KIND_FACE;
-                double *d0 = kind == KIND_VERTEX ? level0_vertex_data(a, like, r->lv[0], ch, nc)
-                                                 : level0_face_data(a, like, r->lv[0], ch, nc);
-                double *dl = NULL;
-                if (!d0) {
-                    st = GEOM_ERR_NOMEM;
-                    break;
-                }
-                st = refine_data(r, level, kind, 0, nc, d0, &dl);
-                if (st != GEOM_OK)
-                    break;
-                uint32_t id;
-                st = geom_mesh_channel_add(m, name, dom, nc, &id);
-                if (st == GEOM_OK) {
-                    double *dst = geom_mesh_channel_data(m, id);
-                    if (kind == KIND_VERTEX) {
-                        for (size_t v = 0; v < nvm; v++) {
-                            uint32_t sv = vorig ? vorig[v] : (uint32_t)v;
-                            memcpy(dst + v * nc, dl + (size_t)om.vert_old[sv] * nc,
-                                   nc * sizeof(double));
-                        }
-                    } else {
-                        for (size_t f = 0; f < nfm; f++) {
-                            uint32_t sf = forig ? forig[f] : (uint32_t)f;
-                            memcpy(dst + f * nc, dl + (size_t)om.face_level[sf] * nc,
-                                   nc * sizeof(double));
-                        }
-                    }
-                }
-                sd_free(a, dl, data_count(r, level, kind, 0) * nc, sizeof(double));
-            }
+    const uint32_t *soup_idx = l->fv + l->fv_off[0];
+    const double *soup_pos = positions;
+    if (any_hole) {
+        idx = sd_calloc(a, nidx, sizeof(uint32_t));
+        pos = sd_calloc(a, 3 * (size_t)om.nv_out, sizeof(double));
+        if (!idx || !pos)
+            goto done;
+        for (uint32_t v = 0; v < om.nv_out; v++)
+            memcpy(pos + 3 * (size_t)v, positions + 3 * (size_t)om.vert_old[v], 3 * sizeof(double));
+        size_t k = 0;
+        for (uint32_t i = 0; i < om.nf_out; i++) {
+            uint32_t f = om.face_level[i];
+            for (uint32_t j = l->fv_off[f]; j < l->fv_off[f + 1]; j++)
+                idx[k++] = om.vert_new[l->fv[j]];
         }
-        /* face-varying channels */
-        for (uint32_t fc = 0; st == GEOM_OK && fc < r->n_fvar_mesh; fc++) {
-            uint32_t ch = r->fvar_mesh_channel[fc];
-            if (ch >= geom_mesh_channel_count(like) ||
-                geom_mesh_channel_domain(like, ch) != GEOM_MESH_DOMAIN_CORNER)
-                continue;
-            size_t nc = geom_mesh_channel_ncomp(like, ch);
-            size_t pool = geom_mesh_channel_size(like, ch);
-            double *d0 = sd_calloc(a, pool * nc, sizeof(double)), *dl = NULL;
+        soup_idx = idx;
+        soup_pos = pos;
+    }
+    st = GEOM_OK;
+    /* attribute streams: vertex and face channels refined, then the
+     * face-varying ones, then the normals (replacing any "normal" channel) */
+    int have_vnormal = 0;
+    for (uint32_t ch = 1; st == GEOM_OK && ch < nlike; ch++) {
+        geom_mesh_domain dom = geom_mesh_channel_domain(like, ch);
+        if (dom != GEOM_MESH_DOMAIN_VERTEX && dom != GEOM_MESH_DOMAIN_FACE)
+            continue;
+        size_t nc = geom_mesh_channel_ncomp(like, ch);
+        const char *name = geom_mesh_channel_name(like, ch);
+        sd_stream_mem *sm = &mem[nch];
+        const double *lv;
+        if (normals && dom == GEOM_MESH_DOMAIN_VERTEX && nc == 3 && strcmp(name, "normal") == 0) {
+            have_vnormal = 1;
+            lv = normals;
+        } else {
+            int kind = dom == GEOM_MESH_DOMAIN_VERTEX ? KIND_VERTEX : KIND_FACE;
+            double *d0 = kind == KIND_VERTEX ? level0_vertex_data(a, like, r->lv[0], ch, nc)
+                                             : level0_face_data(a, like, r->lv[0], ch, nc);
             if (!d0) {
                 st = GEOM_ERR_NOMEM;
                 break;
             }
-            memcpy(d0, geom_mesh_channel_cdata(like, ch), pool * nc * sizeof(double));
-            st = refine_data(r, level, KIND_FVAR, fc, nc, d0, &dl);
+            st = refine_data(r, level, kind, 0, nc, d0, &sm->d);
             if (st != GEOM_OK)
                 break;
-            size_t nvals = data_count(r, level, KIND_FVAR, fc);
-            uint32_t id;
-            st = geom_mesh_channel_add(m, geom_mesh_channel_name(like, ch), GEOM_MESH_DOMAIN_CORNER,
-                                       nc, &id);
-            if (st == GEOM_OK)
-                st = geom_mesh_corner_pool_resize(m, id, nvals);
-            if (st == GEOM_OK) {
-                memcpy(geom_mesh_channel_data(m, id), dl, nvals * nc * sizeof(double));
-                uint32_t *ci = geom_mesh_corner_indices(m, id);
-                const uint32_t *fvals = l->fvar[fc].fvals;
-                for (size_t f = 0; f < nfm; f++) {
-                    uint32_t sf = forig ? forig[f] : (uint32_t)f, lf = om.face_level[sf];
-                    uint32_t h0 = geom_mesh_face_he(m, (uint32_t)f), h = h0;
-                    do {
-                        uint32_t sv = geom_mesh_he_vertex(m, h);
-                        uint32_t lv = om.vert_old[vorig ? vorig[sv] : sv];
-                        for (uint32_t j = l->fv_off[lf]; j < l->fv_off[lf + 1]; j++) {
-                            if (l->fv[j] == lv) {
-                                ci[h] = fvals[j];
-                                break;
-                            }
-                        }
-                        h = geom_mesh_he_next(m, h);
-                    } while (h != h0);
-                }
-            }
-            sd_free(a, dl, nvals * nc, sizeof(double));
+            sm->nd = data_count(r, level, kind, 0) * nc;
+            lv = sm->d;
         }
-        if (st == GEOM_OK)
-            st = copy_groups(r, level, &om, like, m);
+        int vert = dom == GEOM_MESH_DOMAIN_VERTEX;
+        const double *vals =
+            soup_values(a, lv, nc, vert ? om.vert_old : om.face_level, vert ? om.nv_out : om.nf_out,
+                        any_hole, &sm->g, &sm->ng);
+        if (!vals) {
+            st = GEOM_ERR_NOMEM;
+            break;
+        }
+        geom_mesh_build_channel c = {name, dom, nc, 0, vals, NULL};
+        chans[nch++] = c;
+    }
+    for (uint32_t fc = 0; st == GEOM_OK && fc < r->n_fvar_mesh; fc++) {
+        uint32_t ch = r->fvar_mesh_channel[fc];
+        if (ch >= nlike || geom_mesh_channel_domain(like, ch) != GEOM_MESH_DOMAIN_CORNER)
+            continue;
+        const char *name = geom_mesh_channel_name(like, ch);
+        if (normals && strcmp(name, "normal") == 0)
+            continue; /* replaced by the vertex normals */
+        size_t nc = geom_mesh_channel_ncomp(like, ch);
+        size_t pool = geom_mesh_channel_size(like, ch);
+        sd_stream_mem *sm = &mem[nch];
+        double *d0 = sd_calloc(a, pool * nc, sizeof(double));
+        if (!d0) {
+            st = GEOM_ERR_NOMEM;
+            break;
+        }
+        if (pool)
+            memcpy(d0, geom_mesh_channel_cdata(like, ch), pool * nc * sizeof(double));
+        st = refine_data(r, level, KIND_FVAR, fc, nc, d0, &sm->d);
+        if (st != GEOM_OK)
+            break;
+        size_t nvals = data_count(r, level, KIND_FVAR, fc);
+        sm->nd = nvals * nc;
+        const uint32_t *fvals = l->fvar[fc].fvals;
+        const uint32_t *cix = fvals + l->fv_off[0];
+        if (any_hole) {
+            sm->ix = sd_calloc(a, nidx, sizeof(uint32_t));
+            if (!sm->ix) {
+                st = GEOM_ERR_NOMEM;
+                break;
+            }
+            sm->nix = nidx;
+            size_t k = 0;
+            for (uint32_t i = 0; i < om.nf_out; i++) {
+                uint32_t f = om.face_level[i];
+                for (uint32_t j = l->fv_off[f]; j < l->fv_off[f + 1]; j++)
+                    sm->ix[k++] = fvals[j];
+            }
+            cix = sm->ix;
+        }
+        geom_mesh_build_channel c = {name, GEOM_MESH_DOMAIN_CORNER, nc, nvals, sm->d, cix};
+        chans[nch++] = c;
+    }
+    if (st == GEOM_OK && normals && !have_vnormal) {
+        sd_stream_mem *sm = &mem[nch];
+        const double *vals =
+            soup_values(a, normals, 3, om.vert_old, om.nv_out, any_hole, &sm->g, &sm->ng);
+        if (!vals)
+            st = GEOM_ERR_NOMEM;
+        geom_mesh_build_channel c = {"normal", GEOM_MESH_DOMAIN_VERTEX, 3, 0, vals, NULL};
+        chans[nch++] = c;
+    }
+    if (st != GEOM_OK)
+        goto done;
+    m = geom_mesh_create(a);
+    if (!m) {
+        st = GEOM_ERR_NOMEM;
+        goto done;
+    }
+    geom_mesh_build_options bo;
+    memset(&bo, 0, sizeof bo);
+    bo.skip_invalid_faces = 1;
+    bo.keep_orientation = 1;
+    bo.trusted = 1; /* refined manifold topology; holes may leave bowties: then repaired */
+    bo.channels = chans;
+    bo.n_channels = nch;
+    st = geom_mesh_build(m, om.nv_out, soup_pos, om.nf_out, sizes, soup_idx, &bo, NULL, diag);
+    if (st == GEOM_OK && like) {
+        st = copy_groups(r, level, &om, like, m);
         for (size_t i = 0; st == GEOM_OK && i < geom_mesh_mtllib_count(like); i++)
             st = geom_mesh_mtllib_add(m, geom_mesh_mtllib_get(like, i));
-    }
-    if (st == GEOM_OK && normals) {
-        uint32_t id = geom_mesh_channel_find(m, "normal", GEOM_MESH_DOMAIN_CORNER);
-        if (id != GEOM_INVALID_INDEX)
-            st = geom_mesh_channel_remove(m, id);
-        id = geom_mesh_channel_find(m, "normal", GEOM_MESH_DOMAIN_VERTEX);
-        if (st == GEOM_OK && id == GEOM_INVALID_INDEX)
-            st = geom_mesh_channel_add(m, "normal", GEOM_MESH_DOMAIN_VERTEX, 3, &id);
-        if (st == GEOM_OK) {
-            double *dst = geom_mesh_channel_data(m, id);
-            for (size_t v = 0; v < nvm; v++) {
-                uint32_t sv = vorig ? vorig[v] : (uint32_t)v;
-                memcpy(dst + 3 * v, normals + 3 * (size_t)om.vert_old[sv], 3 * sizeof(double));
-            }
-        }
     }
     if (st == GEOM_OK)
         st = add_tags(r, l, &om, like, m);
 done:
+    if (mem)
+        for (size_t i = 0; i < nlike + 1; i++) {
+            sd_free(a, mem[i].d, mem[i].nd, sizeof(double));
+            sd_free(a, mem[i].g, mem[i].ng, sizeof(double));
+            sd_free(a, mem[i].ix, mem[i].nix, sizeof(uint32_t));
+        }
+    sd_free(a, mem, nlike + 1, sizeof *mem);
+    sd_free(a, chans, nlike + 1, sizeof *chans);
     sd_free(a, om.face_level, l->nf, sizeof(uint32_t));
     sd_free(a, om.vert_new, l->nv, sizeof(uint32_t));
     sd_free(a, om.vert_old, l->nv, sizeof(uint32_t));
-    sd_free(a, sizes, l->nf, sizeof(uint32_t));
+    sd_free(a, sizes, om.nf_out, sizeof(uint32_t));
     sd_free(a, idx, nidx, sizeof(uint32_t));
     sd_free(a, pos, 3 * (size_t)om.nv_out, sizeof(double));
     if (st != GEOM_OK) {
@@ -409,6 +454,7 @@ geom_status geom_subdiv_mesh(const geom_mesh *m, const geom_subdiv_options *opt,
                              unsigned flags, geom_mesh **out, geom_subdiv_report *report,
                              geom_diag *diag)
 {
+    double t0 = geom__seconds();
     if (out)
         *out = NULL;
     if (report)
@@ -447,7 +493,7 @@ geom_status geom_subdiv_mesh(const geom_mesh *m, const geom_subdiv_options *opt,
         st = GEOM_ERR_NOMEM;
     else
         st = geom_subdiv_limit(r, 3, pos, lp, NULL, NULL);
-    double maxd = 0.0, sum = 0.0;
+    double maxd = 0.0, sum = 0.0, sum1 = 0.0;
     size_t counted = 0;
     if (st == GEOM_OK) {
         for (size_t v = 0; v < nv; v++) {
@@ -459,6 +505,7 @@ geom_status geom_subdiv_mesh(const geom_mesh *m, const geom_subdiv_options *opt,
             if (d > maxd)
                 maxd = d;
             sum += d * d;
+            sum1 += d;
             counted++;
         }
     }
@@ -507,6 +554,13 @@ geom_status geom_subdiv_mesh(const geom_mesh *m, const geom_subdiv_options *opt,
             (flags & GEOM_SUBDIV_LIMIT) || counted == 0 ? 0.0 : sqrt(sum / (double)counted);
         report->bbox_diagonal =
             geom_aabb_is_empty(box) ? 0.0 : geom_vec3_length(geom_vec3_sub(box.max, box.min));
+        geom_error_report *e = &report->error;
+        int on_limit = (flags & GEOM_SUBDIV_LIMIT) != 0;
+        e->max_error = report->max_limit_distance;
+        e->mean_error = on_limit || counted == 0 ? 0.0 : sum1 / (double)counted;
+        e->method = on_limit ? GEOM_ERROR_BOUND : GEOM_ERROR_SAMPLED;
+        e->evaluations = e->pieces = counted;
+        e->seconds = geom__seconds() - t0;
     }
     sd_free(a, pos, 3 * nv, sizeof(double));
     sd_free(a, lp, 3 * nv, sizeof(double));

@@ -1454,8 +1454,8 @@ static int sig_changed(const ts_cell *c, const uint32_t *old)
     return 0;
 }
 
-/* Build the mesh from the emitted triangles: compact vertices, build, then
- * the corner channels. */
+/* Build the mesh from the emitted triangles: compact vertices, then one
+ * build with the face and corner channels. */
 static geom_status build_mesh(ts *T, geom_mesh *out, unsigned attrs, geom_diag *diag)
 {
     uint32_t *map = ts_alloc(T, T->nverts, sizeof(uint32_t));
@@ -1475,6 +1475,8 @@ static geom_status build_mesh(ts *T, geom_mesh *out, unsigned attrs, geom_diag *
     }
     double *xyz = ts_alloc(T, 3 * nv, sizeof(double));
     uint32_t *sizes = ts_alloc(T, T->ntri, sizeof(uint32_t));
+    uint32_t *cidx[3] = {NULL, NULL, NULL};
+    double *surf = NULL;
     geom_status st = GEOM_OK;
     if (!xyz || !sizes) {
         st = GEOM_ERR_NOMEM;
@@ -1485,66 +1487,62 @@ static geom_status build_mesh(ts *T, geom_mesh *out, unsigned attrs, geom_diag *
             memcpy(xyz + 3 * (size_t)map[i], T->pos + 3 * i, 3 * sizeof(double));
     for (size_t t = 0; t < T->ntri; ++t)
         sizes[t] = 3;
-    geom_mesh_clear(out);
-    geom_mesh_build_options bo;
-    memset(&bo, 0, sizeof bo);
-    bo.keep_orientation = T->opt->keep_orientation || T->opt->no_weld;
-    st = geom_mesh_build(out, nv, xyz, T->ntri, sizes, T->tri, &bo, NULL, diag);
-    if (st != GEOM_OK)
-        goto done;
-    const uint32_t *vorig = geom_mesh_vertex_origin(out);
-    const uint32_t *forig = geom_mesh_face_origin(out);
-    if (T->opt->attributes & GEOM_SURFACE_ATTR_SOURCE) {
-        uint32_t id;
-        st = geom_mesh_channel_add(out, "surface", GEOM_MESH_DOMAIN_FACE, 1, &id);
-        if (st != GEOM_OK)
-            goto done;
-        double *data = geom_mesh_channel_data(out, id);
-        size_t nf = geom_mesh_n_faces(out);
-        for (size_t f = 0; f < nf; ++f) {
-            size_t t = forig ? forig[f] : f;
-            data[f] = t < T->ntri ? (double)T->tsurf[t] : -1.0;
-        }
-    }
-    if (!attrs)
-        goto done;
+    /* the streams: the source surface per face, then the corner channels */
     static const char *const names[3] = {"normal", "uv", "tangent"};
     static const size_t ncomp[3] = {3, 2, 4};
     const unsigned bits[3] = {GEOM_SURFACE_ATTR_NORMAL, GEOM_SURFACE_ATTR_UV,
                               GEOM_SURFACE_ATTR_TANGENT};
     ts_pool *pools[3] = {&T->pn, &T->puv, &T->pt};
-    for (int ch = 0; ch < 3 && st == GEOM_OK; ++ch) {
+    geom_mesh_build_channel chans[4];
+    size_t nch = 0;
+    memset(chans, 0, sizeof chans);
+    if (T->opt->attributes & GEOM_SURFACE_ATTR_SOURCE) {
+        surf = ts_alloc(T, T->ntri, sizeof(double));
+        if (!surf) {
+            st = GEOM_ERR_NOMEM;
+            goto done;
+        }
+        for (size_t t = 0; t < T->ntri; ++t)
+            surf[t] = (double)T->tsurf[t];
+        chans[nch].name = "surface";
+        chans[nch].domain = GEOM_MESH_DOMAIN_FACE;
+        chans[nch].ncomp = 1;
+        chans[nch].values = surf;
+        nch++;
+    }
+    for (int ch = 0; ch < 3; ++ch) {
         if (!(attrs & bits[ch]))
             continue;
-        uint32_t id;
-        st = geom_mesh_channel_add(out, names[ch], GEOM_MESH_DOMAIN_CORNER, ncomp[ch], &id);
-        if (st == GEOM_OK)
-            st = geom_mesh_corner_pool_resize(out, id, pools[ch]->n);
-        if (st != GEOM_OK)
-            break;
-        double *data = geom_mesh_channel_data(out, id);
-        if (pools[ch]->n)
-            memcpy(data, pools[ch]->vals, pools[ch]->n * ncomp[ch] * sizeof(double));
-        uint32_t *ci = geom_mesh_corner_indices(out, id);
-        size_t nf = geom_mesh_n_faces(out);
-        for (size_t f = 0; f < nf; ++f) {
-            size_t t = forig ? forig[f] : f;
-            if (t >= T->ntri)
-                continue;
-            uint32_t h0 = geom_mesh_face_he(out, (uint32_t)f), h = h0;
-            do {
-                uint32_t v = geom_mesh_he_vertex(out, h);
-                uint32_t vo = vorig ? vorig[v] : v;
-                for (int k = 0; k < 3; ++k)
-                    if (T->tri[3 * t + (size_t)k] == vo) {
-                        ci[h] = T->tcorn[9 * t + 3 * (size_t)ch + (size_t)k];
-                        break;
-                    }
-                h = geom_mesh_he_next(out, h);
-            } while (h != h0 && h != GEOM_INVALID_INDEX);
+        cidx[ch] = ts_alloc(T, 3 * T->ntri, sizeof(uint32_t));
+        if (!cidx[ch]) {
+            st = GEOM_ERR_NOMEM;
+            goto done;
         }
+        for (size_t t = 0; t < T->ntri; ++t)
+            for (size_t k = 0; k < 3; ++k)
+                cidx[ch][3 * t + k] = T->tcorn[9 * t + 3 * (size_t)ch + k];
+        chans[nch].name = names[ch];
+        chans[nch].domain = GEOM_MESH_DOMAIN_CORNER;
+        chans[nch].ncomp = ncomp[ch];
+        chans[nch].n_values = pools[ch]->n;
+        chans[nch].values = pools[ch]->vals;
+        chans[nch].indices = cidx[ch];
+        nch++;
     }
+    geom_mesh_clear(out);
+    geom_mesh_build_options bo;
+    memset(&bo, 0, sizeof bo);
+    bo.keep_orientation = T->opt->keep_orientation || T->opt->no_weld;
+    bo.trusted = 1; /* patches oriented alike need no repair; others fall back */
+    bo.channels = chans;
+    bo.n_channels = nch;
+    st = geom_mesh_build(out, nv, xyz, T->ntri, sizes, T->tri, &bo, NULL, diag);
 done:
+    for (int ch = 0; ch < 3; ++ch)
+        if (cidx[ch])
+            ts_free(T, cidx[ch], 3 * T->ntri, sizeof(uint32_t));
+    if (surf)
+        ts_free(T, surf, T->ntri, sizeof(double));
     ts_free(T, map, T->nverts, sizeof(uint32_t));
     if (xyz)
         ts_free(T, xyz, 3 * nv, sizeof(double));
@@ -1558,6 +1556,7 @@ geom_status geom_surface_tessellate(const geom_nurbs_surface *surfaces, size_t n
                                     geom_error_report *report, geom_surface_tess_stats *stats,
                                     geom_diag *diag)
 {
+    double t0 = geom__seconds();
     geom_surface_tess_options defaults;
     memset(&defaults, 0, sizeof defaults);
     const geom_surface_tess_options *o = options ? options : &defaults;
@@ -1725,6 +1724,9 @@ geom_status geom_surface_tessellate(const geom_nurbs_surface *surfaces, size_t n
         report->mean_error = ecount ? esum / (double)ecount : 0.0;
         report->method = GEOM_ERROR_SAMPLED;
         report->evaluations = T.evals;
+        report->tolerance = T.adaptive ? T.tol : 0.0; /* uniform grids have none */
+        report->pieces = ecount;
+        report->seconds = geom__seconds() - t0;
     }
     if (stats) {
         stats->cells = T.ncells;
