@@ -294,6 +294,21 @@ geom_status cli_output_commit(cli_output *out, geom_diag *diag);
  *  is only flushed). Safe on a zeroed or already finished cli_output. */
 void cli_output_abort(cli_output *out);
 
+/* ------------------------------------------------------------ decompression */
+
+/**
+ * Decompress a zlib or gzip stream (concatenated gzip members included) of
+ * in_size bytes into out (out_cap bytes): a geom_implicit_inflate_fn for the
+ * volume readers. GEOM_OK with *out_size; GEOM_ERR_LIMIT when out is too
+ * small; GEOM_ERR_PARSE for corrupt or truncated data, or always when the
+ * tools were built without zlib (cli_have_inflate() is then false).
+ */
+geom_status cli_inflate(void *user, const void *in, size_t in_size, void *out, size_t out_cap,
+                        size_t *out_size);
+
+/** Whether cli_inflate works (the build found zlib). */
+bool cli_have_inflate(void);
+
 /* ------------------------------------------------------------------- limits */
 
 /*

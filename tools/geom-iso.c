@@ -3,7 +3,7 @@
  * geom-iso: isosurface of an expression or of a sampled volume by a
  * topologically correct marching cubes.
  *
- *   geom-iso (--expr E | --volume FILE [--dims X,Y,Z --type f32|f64]
+ *   geom-iso (--expr E | --volume FILE [--dims X,Y,Z --type T [--skip BYTES]]
  *            [--spacing SX,SY,SZ] [--origin OX,OY,OZ] [--big-endian])
  *            [--bounds X0,Y0,Z0,X1,Y1,Z1 --res N[,NY,NZ]] [--iso V] [--refine]
  *            [--normals] [--caps] [--threads N] [--json] -o OUT.obj
@@ -11,7 +11,8 @@
  * --expr: libgeom's expression language (geom/implicit.h), contoured over
  * the box --bounds split into --res cells per axis (required). --volume: a
  * raw file (little-endian, x fastest; --dims and --type required) or, when
- * --dims is absent, a NRRD file (.nrrd/.nhdr); its own samples are the grid
+ * --dims is absent, NRRD, MetaImage, INRIMAGE or NIfTI-1 (gzip too; see
+ * geom_implicit_volume_read and docs/formats.md); its own samples are the grid
  * nodes (no --bounds or --res needed; given, they resample the volume's
  * trilinear interpolant). Inside is f <= V. Prints the vertex and triangle
  * counts, the achieved error (for expressions: max of |f - V| / |grad f|
@@ -33,15 +34,20 @@
 
 static const cli_tool tool = {
     "geom-iso",
-    "(--expr E | --volume FILE [--dims X,Y,Z --type f32|f64]) [OPTION]... -o OUT",
+    "(--expr E | --volume FILE [--dims X,Y,Z --type T]) [OPTION]... -o OUT",
     "Isosurface f = V of the expression E over a box, or of the sampled volume\n"
     "in FILE, by marching cubes reproducing the topology of the trilinear\n"
     "interpolant in every cell, written to OUT (OBJ, OFF, PLY, STL or GLB, from\n"
     "the extension; standard output when OUT is '-': then OBJ).",
     "  -e, --expr=E         the function, e.g. 'torus(1, 0.3)'; inside is f <= V\n"
-    "      --volume=FILE    a raw volume (with --dims and --type) or NRRD file\n"
+    "      --volume=FILE    a volume: NRRD (.nrrd, .nhdr), MetaImage (.mha, .mhd),\n"
+    "                       INRIMAGE (.inr), NIfTI-1 (.nii), each also gzipped,\n"
+    "                       with spacing and origin from the header; or raw\n"
+    "                       samples with --dims and --type\n"
     "      --dims=X,Y,Z     samples per axis of a raw volume\n"
-    "      --type=T         f32 or f64: the raw samples' type\n"
+    "      --type=T         the raw samples' type: u8, i8, u16, i16, u32, i32,\n"
+    "                       f32, f64\n"
+    "      --skip=BYTES     header bytes before the raw samples (default 0)\n"
     "      --spacing=SX,SY,SZ  sample spacing of a raw volume (default 1,1,1)\n"
     "      --origin=OX,OY,OZ   position of the first sample (default 0,0,0)\n"
     "      --big-endian     the raw samples are big-endian\n"
@@ -70,6 +76,7 @@ enum {
     OPT_SPACING,
     OPT_ORIGIN,
     OPT_BIG_ENDIAN,
+    OPT_SKIP,
     OPT_REFINE,
     OPT_CAPS
 };
@@ -78,7 +85,8 @@ typedef struct iso_args {
     const char *expr, *volume;
     int have_dims, have_type, have_bounds, have_res;
     size_t dims[3];
-    geom_implicit_scalar type;
+    geom_implicit_sample type;
+    double skip;
     double spacing[3], origin[3], bounds[6];
     size_t res[3];
     double iso;
@@ -130,13 +138,15 @@ static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
         a->have_dims = 1;
         return CLI_CONTINUE;
     case OPT_TYPE:
-        if (strcmp(arg, "f32") == 0)
-            a->type = GEOM_IMPLICIT_SCALAR_F32;
-        else if (strcmp(arg, "f64") == 0)
-            a->type = GEOM_IMPLICIT_SCALAR_F64;
-        else
-            return cli_usage_error(t, "--type takes f32 or f64, not '%s'", arg);
+        if (geom_implicit_sample_parse(arg, &a->type) != GEOM_OK)
+            return cli_usage_error(t, "--type takes u8, i8, u16, i16, u32, i32, f32 or f64, not "
+                                      "'%s'", arg);
         a->have_type = 1;
+        return CLI_CONTINUE;
+    case OPT_SKIP:
+        if (cli_parse_double(arg, strlen(arg), 0, &a->skip, NULL) != GEOM_OK || !(a->skip >= 0) ||
+            a->skip != floor(a->skip) || a->skip > 9e15)
+            return cli_usage_error(t, "--skip takes a byte count >= 0, not '%s'", arg);
         return CLI_CONTINUE;
     case OPT_SPACING:
         if (!parse_list(arg, a->spacing, 3, 0) || !(a->spacing[0] > 0) || !(a->spacing[1] > 0) ||
@@ -190,12 +200,6 @@ static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
     return CLI_EXIT_USAGE;
 }
 
-static int ends_with(const char *s, const char *suffix)
-{
-    size_t n = strlen(s), m = strlen(suffix);
-    return n >= m && strcmp(s + n - m, suffix) == 0;
-}
-
 static geom_status write_surface(const geom_iso_surface *s, const char *path, geom_diag *diag)
 {
     geom_mesh *m = geom_mesh_create(NULL);
@@ -236,6 +240,7 @@ int main(int argc, char **argv)
                                              {"spacing", required_argument, NULL, OPT_SPACING},
                                              {"origin", required_argument, NULL, OPT_ORIGIN},
                                              {"big-endian", no_argument, NULL, OPT_BIG_ENDIAN},
+                                             {"skip", required_argument, NULL, OPT_SKIP},
                                              {"bounds", required_argument, NULL, 'b'},
                                              {"res", required_argument, NULL, 'r'},
                                              {"iso", required_argument, NULL, 'i'},
@@ -263,10 +268,10 @@ int main(int argc, char **argv)
         return cli_usage_error(&tool, "--bounds and --res go together");
     if (a.volume && a.have_dims != a.have_type)
         return cli_usage_error(&tool, "a raw volume needs both --dims and --type");
-    if (a.volume && !a.have_dims && !ends_with(a.volume, ".nrrd") && !ends_with(a.volume, ".nhdr"))
-        return cli_usage_error(&tool, "a raw volume needs --dims and --type (or give a .nrrd)");
     if (a.expr && (a.have_dims || a.have_type))
         return cli_usage_error(&tool, "--dims and --type apply to --volume only");
+    if (a.skip > 0 && !a.have_dims)
+        return cli_usage_error(&tool, "--skip applies to raw volumes (with --dims and --type)");
     const char *out_path = common.output ? common.output : "-";
     int to_stdout = strcmp(out_path, "-") == 0;
     if (!to_stdout && geom_meshio_format_from_name(out_path) == GEOM_MESHIO_FORMAT_AUTO)
@@ -299,20 +304,21 @@ int main(int argc, char **argv)
         if (st == GEOM_OK)
             st = geom_iso_extract(&f, a.bounds, a.res, &o, &s, &diag);
     } else {
+        geom_implicit_volume_read_options ro;
+        memset(&ro, 0, sizeof ro);
         if (a.have_dims) {
-            geom_implicit_volume_desc d;
-            memset(&d, 0, sizeof d);
+            ro.format = GEOM_IMPLICIT_VOLUME_RAW;
             for (int k = 0; k < 3; k++) {
-                d.dims[k] = a.dims[k];
-                d.spacing[k] = a.spacing[k];
-                d.origin[k] = a.origin[k];
+                ro.dims[k] = a.dims[k];
+                ro.spacing[k] = a.spacing[k];
+                ro.origin[k] = a.origin[k];
             }
-            d.type = a.type;
-            d.big_endian = a.big_endian;
-            st = geom_implicit_volume_read_raw(a.volume, &d, NULL, &vol, &diag);
-        } else {
-            st = geom_implicit_volume_read_nrrd(a.volume, NULL, &vol, &diag);
+            ro.sample = a.type;
+            ro.big_endian = a.big_endian;
+            ro.skip = (uint64_t)a.skip;
         }
+        ro.inflate = cli_inflate;
+        st = geom_implicit_volume_read(a.volume, &ro, NULL, &vol, NULL, &diag);
         if (st != GEOM_OK)
             return cli_print_diag(&tool, &diag);
         if (a.have_bounds) {
