@@ -349,11 +349,20 @@ static geom_status inflate_all(vf_ctx *c, const unsigned char *in, size_t n, siz
         return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
                              "compressed data and no decompressor (libgeom has no zlib: the "
                              "caller must pass an inflate callback, as the tools do)");
+    /* deflate expands at most 1032:1, so a size claim beyond that is false
+     * (and is refused before allocating it) */
+    size_t most = n > (SIZE_MAX - 4096) / 1032 ? SIZE_MAX - 1 : n * 1032 + 4096;
+    if (expect > most)
+        return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
+                             "%zu compressed bytes cannot hold the %zu bytes the header declares",
+                             n, expect);
     size_t cap = expect;
     if (cap == 0) {
         cap = n >= 4 ? (size_t)load_uint(in + n - 4, 4, 0) : 0; /* gzip ISIZE (mod 2^32) */
         if (cap < n)
             cap = n * 4 + 64;
+        if (cap > most)
+            cap = most;
     }
     for (int tries = 0; tries < 40; tries++) {
         size_t alloc_size = cap + 1; /* one spare byte: a full buffer means "maybe more" */
@@ -383,10 +392,10 @@ static geom_status inflate_all(vf_ctx *c, const unsigned char *in, size_t n, siz
                                  0, "%s", st == GEOM_ERR_LIMIT
                                               ? "compressed data inflates to more than expected"
                                               : "corrupt compressed data");
-        if (cap > SIZE_MAX / 2)
-            return geom_diag_set(c->diag, GEOM_ERR_LIMIT, c->name, 0, 0,
-                                 "decompressed data too large");
-        cap *= 2;
+        if (cap >= most)
+            return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
+                                 "compressed data inflates to more than 1032 times its size");
+        cap = cap > most / 2 ? most : cap * 2;
     }
     return geom_diag_set(c->diag, GEOM_ERR_LIMIT, c->name, 0, 0, "decompressed data too large");
 }
