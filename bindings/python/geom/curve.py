@@ -105,11 +105,16 @@ class NurbsCurve:
         S + (dim,)). GeomError ERR_DOMAIN outside the domain unless wrap."""
         us, scalar, shape = _params(u)
         dim = self.dim
-        out = np.zeros((us.size, dim))
-        po = ffi.from_buffer("double[]", out)
-        fl = _flags(left, wrap)
-        for i, x in enumerate(us):
-            check(lib.geom_curve_nurbs_eval(self._c, x, fl, po + dim * i), context="eval(%r)" % x)
+        out = np.empty((us.size, dim))
+        status = np.empty(us.size, dtype=np.int32)
+        uc = np.ascontiguousarray(us, dtype=np.float64)
+        check(lib.geom_curve_nurbs_eval_many(self._c, uc.size, ffi.from_buffer("double[]", uc),
+                                             _flags(left, wrap), ffi.from_buffer("double[]", out),
+                                             ffi.from_buffer("int32_t[]", status), ffi.NULL),
+              context="eval")
+        bad = np.nonzero(status)[0]
+        if bad.size:
+            check(int(status[bad[0]]), context="eval(%r)" % float(uc[bad[0]]))
         return out[0] if scalar else out.reshape(shape + (dim,))
 
     __call__ = eval

@@ -626,6 +626,19 @@ GEOM_API geom_status geom_curve_nurbs_polyline(const geom_nurbs_curve *c,
                                       double *points, size_t capacity, size_t *count,
                                       geom_error_report *report, geom_diag *diag);
 
+/* ------------------------------------------------------------ batches */
+
+/**
+ * geom_curve_nurbs_eval at n parameters u (n doubles) in one call (for
+ * bindings; same results): out receives n*dim doubles, row by row; a row
+ * whose evaluation fails is NaN, its status (n int32 values, NULL allowed)
+ * the geom_status, counted in *n_failed (NULL allowed). Returns GEOM_OK, or
+ * GEOM_ERR_INVALID_ARG for NULL c/u/out or a bad dim with n > 0.
+ */
+GEOM_API geom_status geom_curve_nurbs_eval_many(const geom_nurbs_curve *c, size_t n, const double *u,
+                                                unsigned flags, double *out, int32_t *status,
+                                                size_t *n_failed);
+
 #ifdef __cplusplus
 }
 #endif

@@ -515,6 +515,14 @@ GEOM_API geom_status geom_implicit_sample_parse(const char *name, geom_implicit_
 /** Bytes per sample of s (1, 2, 4 or 8), 0 for an invalid value. */
 GEOM_API size_t geom_implicit_sample_size(geom_implicit_sample s);
 
+/**
+ * geom_implicit_volume_eval (grad NULL) or geom_implicit_volume_eval_grad
+ * at n points p (3*n doubles) in one call: out receives n values, grad (NULL
+ * allowed) 3*n gradient components. A NULL v or p gives NaN values.
+ */
+GEOM_API void geom_implicit_volume_eval_many(const geom_implicit_volume *v, size_t n,
+                                             const double *p, double *out, double *grad);
+
 /** "raw", "nrrd", "metaimage", "inrimage", "nifti"; "auto" for 0. */
 GEOM_API const char *geom_implicit_volume_format_name(geom_implicit_volume_format f);
 

@@ -514,6 +514,20 @@ GEOM_API geom_status geom_surface_tessellate(const geom_nurbs_surface *surfaces,
                                     geom_error_report *report, geom_surface_tess_stats *stats,
                                     geom_diag *diag);
 
+/* ------------------------------------------------------------ batches */
+
+/**
+ * geom_surface_eval (normals == 0) or geom_surface_normal (normals != 0)
+ * at n parameter pairs uv (2*n doubles: u0 v0 u1 v1 ...) in one call (for
+ * bindings; same results): out receives 3*n doubles; a failing row is NaN
+ * with its geom_status in status (n int32 values, NULL allowed), counted in
+ * *n_failed (NULL allowed). Returns GEOM_OK, or GEOM_ERR_INVALID_ARG for
+ * NULL s/uv/out with n > 0.
+ */
+GEOM_API geom_status geom_surface_eval_many(const geom_nurbs_surface *s, size_t n, const double *uv,
+                                            unsigned flags, int normals, double *out,
+                                            int32_t *status, size_t *n_failed);
+
 #ifdef __cplusplus
 }
 #endif
