@@ -13,8 +13,11 @@ The library is looked up, first match wins:
   1. the path in the environment variable GEOM_LIBRARY (an error if it does
      not load: a wrong explicit path is never silently replaced);
   2. libgeom.so (or .so.0, .dylib, geom.dll) next to this file, for a
-     package installed together with its library;
-  3. the system loader: ctypes.util.find_library("geom"), then
+     package installed together with its library (pip install
+     bindings/python builds and bundles it);
+  3. the library named in _libpath.py, which `cmake --install` writes next
+     to this file;
+  4. the system loader: ctypes.util.find_library("geom"), then
      "libgeom.so.0".
 """
 
@@ -780,6 +783,12 @@ def _load():
         if os.path.exists(path):
             return ffi.dlopen(path), path
         tried.append(path)
+    try:
+        from ._libpath import LIBRARY
+    except ImportError:
+        LIBRARY = None
+    if LIBRARY and os.path.exists(LIBRARY):
+        return ffi.dlopen(LIBRARY), LIBRARY
     for name in (ctypes.util.find_library("geom"), "libgeom.so.0"):
         if not name:
             continue
