@@ -60,7 +60,8 @@ static const cli_tool tool = {
     "  -n, --normals        write vertex normals (exact gradient for expressions,\n"
     "                       central differences for volumes)\n"
     "      --caps           close the surface against the box where it leaves it\n"
-    "  -t, --threads=N      threads (default: all; the result is the same)\n",
+    "  -t, --threads=N      threads (default: all; the result is the same)\n"
+    CLI_LIMIT_HELP,
     "The summary (vertices, triangles, max_error, seconds) goes to standard\n"
     "output, or to standard error when the mesh does. With --json it is a JSON\n"
     "object on standard output with the keys vertices, triangles, max_error,\n"
@@ -91,6 +92,7 @@ typedef struct iso_args {
     size_t res[3];
     double iso;
     int refine, normals, caps, threads, big_endian;
+    cli_limits lim;
 } iso_args;
 
 /* Parse exactly n numbers (or 1 or n when one_or_n) separated by commas. */
@@ -125,6 +127,9 @@ static int parse_sizes(const char *arg, size_t *out, int one_or_three, size_t ma
 static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
 {
     iso_args *a = user;
+    int lrc = cli_limits_option(t, &a->lim, opt, arg);
+    if (lrc != CLI_NOT_HANDLED)
+        return lrc;
     switch (opt) {
     case 'e':
         a->expr = arg;
@@ -248,6 +253,7 @@ int main(int argc, char **argv)
                                              {"normals", no_argument, NULL, 'n'},
                                              {"caps", no_argument, NULL, OPT_CAPS},
                                              {"threads", required_argument, NULL, 't'},
+                                             CLI_LIMIT_LONGOPTS,
                                              {NULL, 0, NULL, 0}};
     iso_args a;
     memset(&a, 0, sizeof a);
@@ -301,6 +307,13 @@ int main(int argc, char **argv)
             return cli_print_diag(&tool, &diag);
         geom_iso_field f;
         st = geom_iso_field_from_expr(expr, &f);
+        double est = 0.0;
+        if (st == GEOM_OK && geom_iso_estimate_triangles(&f, a.bounds, a.res, a.iso, &est) ==
+                                 GEOM_OK &&
+            cli_limits_check(&tool, &a.lim, "the isosurface", est, est * 80.0) != CLI_CONTINUE) {
+            geom_implicit_expr_destroy(expr);
+            return CLI_EXIT_ERROR;
+        }
         if (st == GEOM_OK)
             st = geom_iso_extract(&f, a.bounds, a.res, &o, &s, &diag);
     } else {
@@ -324,11 +337,26 @@ int main(int argc, char **argv)
         if (a.have_bounds) {
             geom_iso_field f;
             st = geom_iso_field_from_volume(vol, &f);
+            double est = 0.0;
+            if (st == GEOM_OK && geom_iso_estimate_triangles(&f, a.bounds, a.res, a.iso, &est) ==
+                                     GEOM_OK &&
+                cli_limits_check(&tool, &a.lim, "the isosurface", est, est * 80.0) !=
+                    CLI_CONTINUE) {
+                geom_implicit_volume_destroy(vol);
+                return CLI_EXIT_ERROR;
+            }
             if (st == GEOM_OK)
                 st = geom_iso_extract(&f, a.bounds, a.res, &o, &s, &diag);
         } else {
             geom_iso_grid g;
             st = geom_iso_grid_from_volume(vol, &g);
+            double est = 0.0;
+            if (st == GEOM_OK && geom_iso_grid_estimate_triangles(&g, a.iso, &est) == GEOM_OK &&
+                cli_limits_check(&tool, &a.lim, "the isosurface", est, est * 80.0) !=
+                    CLI_CONTINUE) {
+                geom_implicit_volume_destroy(vol);
+                return CLI_EXIT_ERROR;
+            }
             if (st == GEOM_OK)
                 st = geom_iso_extract_grid(&g, &o, &s, &diag);
         }
