@@ -381,6 +381,10 @@ int main(int argc, char **argv)
     int measured = r->vertex_error.method != GEOM_ERROR_NONE;
     double maxe = measured ? fmax(r->vertex_error.max_error, r->sample_error.max_error) : NAN;
     double meane = measured ? r->sample_error.mean_error : NAN;
+    if (s.n_triangles == 0)
+        fprintf(stderr, "%s: warning: empty isosurface: no triangles (the surface f = %.17g "
+                        "misses the box, or the field is NaN there)\n",
+                tool.name, a.iso);
     if (common.json) {
         printf("{\"vertices\":%zu,\"triangles\":%zu,\"max_error\":", s.n_vertices, s.n_triangles);
         cli_json_number(stdout, maxe);
@@ -394,6 +398,8 @@ int main(int argc, char **argv)
                "\"iso_nodes\":%zu,\"cells\":%zu,\"total_seconds\":",
                s.n_cap_triangles, r->tunnels, r->ambiguous_faces, r->iso_nodes, r->cells);
         cli_json_number(stdout, total);
+        if (s.n_triangles == 0)
+            printf(",\"warnings\":[\"empty isosurface: no triangles\"]");
         printf("}\n");
     } else {
         FILE *fp = to_stdout ? stderr : stdout;

@@ -1,0 +1,38 @@
+#!/bin/bash
+# Garbage and emptiness are not silent: geom-info on a text file that is not
+# a mesh (/etc/passwd-like) exits 1 naming the file; an empty OBJ is a
+# warning on stderr and in --json; an isosurface that misses its box warns
+# on stderr and in --json; --quiet is accepted everywhere.
+# Usage: test_geom_feedback.sh GEOM_INFO GEOM_ISO
+set -u
+INFO=$1 ISO=$2
+PY=${PYTHON3:-/usr/bin/python3}
+T=$(mktemp -d "${TMPDIR:-/tmp}/geom-feedback-test.XXXXXX") || exit 1
+trap 'rm -rf "$T"' EXIT
+failures=0 checks=0
+fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
+printf 'root:x:0:0:root:/root:/bin/bash\ndaemon:x:1:1:daemon:/usr/sbin:/usr/sbin/nologin\n' >"$T/passwd"
+checks=$((checks + 1))
+"$INFO" "$T/passwd" >"$T/out" 2>"$T/err"; rc=$?
+[ $rc -eq 1 ] && grep -q "passwd: not a mesh" "$T/err" && [ ! -s "$T/out" ] ||
+    fail "passwd: exit $rc, stderr '$(cat "$T/err")'"
+: >"$T/empty.obj"
+checks=$((checks + 1))
+"$INFO" --json --quiet "$T/empty.obj" >"$T/out" 2>"$T/err"; rc=$?
+[ $rc -eq 0 ] && grep -q "warning: empty mesh" "$T/err" &&
+    "$PY" -c "import json; assert json.load(open('$T/out'))['warnings'] == ['empty mesh: no vertices or faces']" ||
+    fail "empty.obj: exit $rc, stderr '$(cat "$T/err")', out '$(cat "$T/out")'"
+checks=$((checks + 1))
+"$ISO" --expr "sphere(1)" --bounds 5,5,5,6,6,6 --res 4 --json -o "$T/e.obj" >"$T/out" 2>"$T/err"; rc=$?
+[ $rc -eq 0 ] && grep -q "warning: empty isosurface" "$T/err" &&
+    "$PY" -c "import json; d = json.load(open('$T/out')); assert d['triangles'] == 0 and d['warnings']" ||
+    fail "iso miss: exit $rc, stderr '$(cat "$T/err")'"
+checks=$((checks + 1))
+"$ISO" --expr "sphere(1)" --bounds -2,-2,-2,2,2,2 --res 8 --json -o "$T/s.obj" >"$T/out" 2>"$T/err"
+"$PY" -c "import json; assert 'warnings' not in json.load(open('$T/out'))" && [ ! -s "$T/err" ] ||
+    fail "iso hit: unexpected warning"
+if [ "$failures" -ne 0 ]; then
+    echo "$failures of $checks checks failed" >&2
+    exit 1
+fi
+echo "all $checks checks passed"
