@@ -47,6 +47,11 @@ void cli_print_usage(const cli_tool *tool, FILE *fp)
     fputs("\nExit status: 0 on success, 1 on an error (message on stderr), 2 on a usage\n"
           "error.\n",
           fp);
+    if (tool->examples)
+        fprintf(fp, "\nExamples:\n%s", tool->examples);
+    fputs("\nFile formats, with a worked example each: docs/formats.md (installed as\n"
+          "share/doc/libgeom/formats.md).\n",
+          fp);
 }
 
 void cli_print_version(const cli_tool *tool, FILE *fp)

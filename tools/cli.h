@@ -81,6 +81,7 @@ typedef struct cli_tool {
     const char *description;  /**< what the tool does (may span lines) */
     const char *options_help; /**< the tool's own option lines, "  -x, --xx   ...\n", or NULL */
     const char *details;      /**< text after the option list (input format, ...), or NULL */
+    const char *examples;     /**< two example command lines, "  geom-x ...\n" each, or NULL */
 } cli_tool;
 
 /** Values of the options every tool has, filled by cli_parse_args. */

@@ -46,6 +46,8 @@ static const cli_tool tool = {
     "                          instead of failing\n",
     "Repairs made while building the mesh (split non-manifold vertices, flipped\n"
     "faces, skipped faces, ...) are reported on standard error.\n",
+    "  geom-convert bunny.off bunny.ply\n"
+    "  geom-convert --ascii --input-format stl - out.stl < in.stl\n",
 };
 
 enum {

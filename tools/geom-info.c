@@ -40,6 +40,8 @@ static const cli_tool tool = {
     "With --json the same keys in one JSON object, plus file, format,\n"
     "isolated_vertices, repairs and skipped. Without --json, repairs made while\n"
     "building the mesh are reported on standard error.\n",
+    "  geom-info bunny.off\n"
+    "  geom-info --json mesh.ply > report.json\n",
 };
 
 enum { OPT_SKIP_INVALID = CLI_OPT_TOOL_BASE };

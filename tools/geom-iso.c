@@ -68,6 +68,8 @@ static const cli_tool tool = {
     "seconds, mean_error, vertex_max_error, cap_triangles, tunnels,\n"
     "ambiguous_faces (OUT must then be a file). max_error is null for volumes\n"
     "(their interpolant is what is contoured).\n",
+    "  geom-iso --expr \"torus(1, 0.3)\" --bounds -2,-2,-1,2,2,1 --res 128 --normals -o torus.glb\n"
+    "  geom-iso --volume liver.inr.gz --iso 100 -o liver.obj\n",
 };
 
 enum {

@@ -46,6 +46,8 @@ static const cli_tool tool = {
     "output shares vn values within smooth fans and splits them at hard edges.\n"
     "With --json, prints {\"faces\", \"vertices\", \"normals\", \"zero_normals\",\n"
     "\"seconds\"} on standard output (OUT must be a file).\n",
+    "  geom-normals --crease 30 mesh.obj -o with_normals.obj\n"
+    "  geom-normals --weight area --format ply - < in.obj > out.ply\n",
 };
 
 enum { OPT_SPLIT_UV = CLI_OPT_TOOL_BASE };

@@ -65,6 +65,8 @@ static const cli_tool tool = {
     "\"bbox_diagonal\", \"triangulated_faces\", \"hole_faces\", \"per_level\": [{\"level\",\n"
     "\"faces\", \"vertices\", \"seconds\", \"max_limit_distance\",\n"
     "\"rms_limit_distance\"}]} on standard output (OUT must be a file).\n",
+    "  geom-subdivide --levels 2 cube.obj -o smooth.obj\n"
+    "  geom-subdivide --scheme loop --levels 3 --limit --normals bunny.off -o bunny_smooth.ply\n",
 };
 
 enum { OPT_FVAR = CLI_OPT_TOOL_BASE, OPT_CREASING, OPT_NORMALS };

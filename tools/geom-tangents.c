@@ -46,6 +46,8 @@ static const cli_tool tool = {
     "normal and uv, orthogonalised against the normal; w = +-1 is the bitangent\n"
     "sign. With --json, prints {\"faces\", \"corners\", \"tangents\", \"mirrored\",\n"
     "\"seconds\"} on standard output (OUT must be a file).\n",
+    "  geom-tangents --crease 45 textured.obj -o textured.glb\n"
+    "  geom-tangents data/cube_seams.obj -o cube.glb\n",
 };
 
 typedef struct tan_opts {

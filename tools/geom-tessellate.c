@@ -63,6 +63,8 @@ static const cli_tool tool = {
     "surfaces and seconds (tessellation time); with --json one object with\n"
     "those keys and a few counts (welded_edges, collapsed_edges,\n"
     "flipped_surfaces, evaluations, tolerance, mode).\n",
+    "  geom-tessellate data/teapot.bpt --tol 1e-3 --normals -o teapot.glb\n"
+    "  geom-tessellate data/surfaces.json --grid 16,16 --uvs -o surfaces.obj\n",
 };
 
 enum {

@@ -3,9 +3,11 @@
 # a mesh (/etc/passwd-like) exits 1 naming the file; an empty OBJ is a
 # warning on stderr and in --json; an isosurface that misses its box warns
 # on stderr and in --json; --quiet is accepted everywhere.
-# Usage: test_geom_feedback.sh GEOM_INFO GEOM_ISO
+# PLY output names texture coordinates s, t (what Blender and MeshLab
+# read) and reads them back.
+# Usage: test_geom_feedback.sh GEOM_INFO GEOM_ISO GEOM_CONVERT CUBE_SEAMS_OBJ
 set -u
-INFO=$1 ISO=$2
+INFO=$1 ISO=$2 CONVERT=$3 CUBE=$4
 PY=${PYTHON3:-/usr/bin/python3}
 T=$(mktemp -d "${TMPDIR:-/tmp}/geom-feedback-test.XXXXXX") || exit 1
 trap 'rm -rf "$T"' EXIT
@@ -31,6 +33,14 @@ checks=$((checks + 1))
 "$ISO" --expr "sphere(1)" --bounds -2,-2,-2,2,2,2 --res 8 --json -o "$T/s.obj" >"$T/out" 2>"$T/err"
 "$PY" -c "import json; assert 'warnings' not in json.load(open('$T/out'))" && [ ! -s "$T/err" ] ||
     fail "iso hit: unexpected warning"
+checks=$((checks + 1))
+"$CONVERT" --ascii "$CUBE" "$T/c.ply" 2>"$T/err" &&
+    grep -q "^property double s$" "$T/c.ply" && grep -q "^property double t$" "$T/c.ply" &&
+    ! grep -q "^property double u$" "$T/c.ply" ||
+    fail "PLY uv names: $(grep property "$T/c.ply" | tr '\n' ' ')"
+checks=$((checks + 1))
+"$CONVERT" "$T/c.ply" "$T/back.obj" 2>"$T/err" && grep -q "^vt " "$T/back.obj" ||
+    fail "PLY s, t not read back as UVs"
 if [ "$failures" -ne 0 ]; then
     echo "$failures of $checks checks failed" >&2
     exit 1
