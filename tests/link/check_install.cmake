@@ -39,7 +39,8 @@ run(${CMAKE_COMMAND} -E env LD_LIBRARY_PATH=${libdir} ${WORK_DIR}/cxx-build/cons
 # libgeom through _libpath.py (GEOM_LIBRARY unset; PYTHONPATH names the
 # scratch prefix's site directory only because it is not a system prefix).
 if(PYTHON AND EXISTS ${PYTHON})
-  file(GLOB_RECURSE _init ${prefix}/*/geom/__init__.py)
+  file(GLOB_RECURSE _init ${prefix}/__init__.py)
+  list(FILTER _init INCLUDE REGEX "/geom/__init__\\.py$")
   if(NOT _init)
     message(FATAL_ERROR "cmake --install put no Python package geom under ${prefix}")
   endif()

@@ -292,6 +292,27 @@ geom_status geom_mesh_clip_plane(const geom_mesh *m, const double plane[4], cons
     geom_clip_options *opt, geom_mesh **out);
 geom_status geom_mesh_clip_frustum(const geom_mesh *m, geom_mat4 view_proj, const
     geom_clip_options *opt, geom_mesh **out);
+typedef enum geom_mesh_circ_kind {
+    GEOM_MESH_CIRC_VERTEX_OUTGOING = 0,
+    GEOM_MESH_CIRC_VERTEX_FACES = 1,
+    GEOM_MESH_CIRC_VERTEX_VERTICES = 2,
+    GEOM_MESH_CIRC_FACE_HALFEDGES = 3,
+    GEOM_MESH_CIRC_FACE_VERTICES = 4
+} geom_mesh_circ_kind;
+typedef struct geom_mesh_circ {
+    const geom_mesh *mesh;
+    geom_mesh_circ_kind kind;
+    uint32_t start;
+    uint32_t current;
+    int active;
+} geom_mesh_circ;
+geom_mesh_circ geom_mesh_circ_begin(const geom_mesh *m, geom_mesh_circ_kind kind, uint32_t elem);
+bool geom_mesh_circ_next(geom_mesh_circ *c, uint32_t *out);
+geom_status geom_mesh_halfedge_arrays(const geom_mesh *m, uint32_t *next, uint32_t *prev,
+                                               uint32_t *vertex, uint32_t *face);
+geom_status geom_mesh_vertex_rings(const geom_mesh *m, geom_mesh_circ_kind kind,
+                                            size_t *offsets, uint32_t *items, size_t capacity,
+                                            size_t *count);
 """,
     "meshio": """
 typedef enum geom_meshio_format {
@@ -405,6 +426,18 @@ geom_status geom_curve_nurbs_polyline(const geom_nurbs_curve *c, const
 geom_status geom_curve_nurbs_eval_many(const geom_nurbs_curve *c, size_t n, const double *u,
                                                 unsigned flags, double *out, int32_t *status,
                                                 size_t *n_failed);
+geom_status geom_curve_bspline_basis_many(int degree, size_t n, const double *knots, size_t m,
+                                                   const double *u, int nderiv, unsigned flags,
+                                                   size_t *spans, double *ders, int32_t *status,
+                                                   size_t *n_failed);
+geom_status geom_curve_nurbs_refine(const geom_nurbs_curve *c, const double *x, size_t nx,
+                                    double *knots, double *points, double *weights,
+                                    geom_nurbs_curve *out, geom_diag *diag);
+geom_status geom_curve_nurbs_remove_knot(const geom_nurbs_curve *c, double u, size_t times,
+                                         double tol, double *knots, double *points, double *weights,
+                                         geom_nurbs_curve *out, size_t *removed, geom_diag *diag);
+geom_status geom_curve_bspline_find_span(int degree, size_t n, const double *knots, double u,
+                                         unsigned flags, size_t *span);
 """,
     "surface": """
 typedef struct geom_nurbs_surface {

@@ -188,3 +188,64 @@ def test_batch_curve_surface_volume():
     val, grad = lin.eval(pts, gradient=True)
     assert np.allclose(val, want, atol=1e-12)
     assert np.allclose(grad, [2, -0.5, 6], atol=1e-12)
+
+
+def test_halfedge_arrays_and_rings():
+    # a square of two triangles and an octahedron (every vertex valence 4)
+    sq = geom.Mesh.from_soup([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], [[0, 1, 2], [0, 2, 3]])
+    he = sq.halfedges()
+    nh = sq.n_halfedges
+    assert nh == 10
+    h = np.arange(nh)
+    assert np.array_equal(he["next"][he["prev"]], h)
+    inner = he["face"] != 0xFFFFFFFF
+    # a face's three half-edges: next^3 = identity
+    assert np.array_equal(he["next"][he["next"][he["next"][inner]]], h[inner])
+    # the vertex a half-edge points to is where its opposite starts: prev(opp).vertex
+    assert np.array_equal(he["vertex"][he["prev"][he["opposite"]]], he["vertex"][he["prev"]][he["opposite"]])
+    o = geom.Mesh.from_soup([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]],
+                            [[0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4],
+                             [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5]])
+    off, ring = o.vertex_rings()
+    assert np.array_equal(np.diff(off), [4] * 6)
+    for v in range(6):
+        nb = set(ring[off[v]:off[v + 1]].tolist())
+        assert nb == set(range(6)) - {v, v ^ 1}          # every vertex but itself and its antipode
+        assert np.array_equal(np.sort(o.one_ring(v)), np.sort(ring[off[v]:off[v + 1]]))
+    off, faces = o.vertex_rings("faces")
+    assert faces.size == 24
+    assert sq.boundary_loops() == 1
+    loops = sq.boundary_loop_vertices()
+    assert len(loops) == 1 and sorted(loops[0].tolist()) == [0, 1, 2, 3]
+    # consecutive loop vertices are joined by a boundary edge
+    lp = loops[0].tolist()
+    edges = {tuple(sorted(e)) for e in sq.edges.tolist()}
+    assert all(tuple(sorted((lp[i], lp[(i + 1) % 4]))) in edges for i in range(4))
+    assert o.boundary_loop_vertices() == []
+
+
+def test_bspline_basis_batch():
+    knots = [0, 0, 0, 1, 2, 3, 3, 3]
+    u = np.linspace(0, 3, 31)
+    spans, ders = geom.curve.bspline_basis(2, knots, u, nderiv=1)
+    assert ders.shape == (31, 2, 3)
+    assert np.allclose(ders[:, 0].sum(axis=1), 1, atol=1e-15)      # partition of unity
+    assert np.allclose(ders[:, 1].sum(axis=1), 0, atol=1e-13)      # derivatives sum to 0
+    # uniform quadratic in the middle span [1, 2): N = ((1-t)^2/2, -t^2 + t + 1/2, t^2/2)
+    t = 0.25
+    sp, d = geom.curve.bspline_basis(2, knots, 1.25)
+    assert sp == 3 and np.allclose(d[0], [(1 - t) ** 2 / 2, -t * t + t + 0.5, t * t / 2], atol=1e-15)
+    with pytest.raises(geom.GeomError):
+        geom.curve.bspline_basis(2, knots, [1.0, 4.0])
+
+
+def test_knot_refine_and_remove_keep_the_curve():
+    P = np.array([[0, 0], [1, 2], [3, 2], [4, 0], [5, 1]], dtype=float)
+    c = geom.curve.NurbsCurve(3, [0, 0, 0, 0, 0.5, 1, 1, 1, 1], P)
+    r = c.refine([0.25, 0.5, 0.75])
+    assert r.n == c.n + 3
+    u = np.linspace(0, 1, 57)
+    assert np.allclose(r.eval(u), c.eval(u), atol=1e-14)
+    back, removed = r.remove_knot(0.25, times=1, tol=1e-12)
+    assert removed == 1 and back.n == r.n - 1
+    assert np.allclose(back.eval(u), c.eval(u), atol=1e-11)
