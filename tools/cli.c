@@ -22,6 +22,7 @@ static const struct option common_longopts[] = {
     {"output", required_argument, NULL, CLI_OPT_OUTPUT},
     {"json", no_argument, NULL, CLI_OPT_JSON},
     {"quiet", no_argument, NULL, CLI_OPT_QUIET},
+    {"up", required_argument, NULL, CLI_OPT_UP},
 };
 #define N_COMMON_LONGOPTS (sizeof common_longopts / sizeof common_longopts[0])
 
@@ -35,7 +36,9 @@ void cli_print_usage(const cli_tool *tool, FILE *fp)
           "                     output); FILE is written to a temporary file and\n"
           "                     renamed on success, so a failed run leaves no FILE\n"
           "      --json         machine-readable JSON output\n"
-          "      --quiet        no progress display on standard error\n",
+          "      --quiet        no progress display on standard error\n"
+          "      --up=y|z       .glb output: the data's up axis (default y, written\n"
+          "                     as is; z is rotated into glTF's Y-up frame)\n",
           fp);
     if (tool->options_help)
         fputs(tool->options_help, fp);
@@ -118,6 +121,7 @@ int cli_parse_args(const cli_tool *tool, int argc, char **argv, const char *shor
     common->output = NULL;
     common->json = false;
     common->quiet = false;
+    common->up_z = false;
 
     /* getopt reports unknown options itself, prefixed with argv[0]; show the
      * tool's name there rather than however it was invoked. */
@@ -150,6 +154,14 @@ int cli_parse_args(const cli_tool *tool, int argc, char **argv, const char *shor
             break;
         case CLI_OPT_QUIET:
             common->quiet = true;
+            break;
+        case CLI_OPT_UP:
+            if (strcmp(optarg, "y") == 0 || strcmp(optarg, "Y") == 0)
+                common->up_z = false;
+            else if (strcmp(optarg, "z") == 0 || strcmp(optarg, "Z") == 0)
+                common->up_z = true;
+            else
+                rc = cli_usage_error(tool, "--up takes y or z, not '%s'", optarg);
             break;
         case '?':
             usage_hint(tool);

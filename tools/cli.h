@@ -89,6 +89,7 @@ typedef struct cli_common {
     const char *output; /**< -o/--output argument; NULL when not given (stdout) */
     bool json;          /**< --json was given */
     bool quiet;         /**< --quiet was given: no progress display */
+    bool up_z;          /**< --up z: the data is Z-up (GLB output is rotated to Y-up) */
 } cli_common;
 
 /** getopt_long values of the common options. A tool's own short options must
@@ -100,6 +101,7 @@ enum {
     CLI_OPT_OUTPUT = 'o',
     CLI_OPT_JSON = 0x1000,
     CLI_OPT_QUIET = 0x1001,
+    CLI_OPT_UP = 0x1002,
     CLI_OPT_MAX_TRIANGLES = 0x1100, /**< see CLI_LIMIT_LONGOPTS */
     CLI_OPT_MAX_MEMORY = 0x1101,
     CLI_OPT_TOOL_BASE = 0x2000

@@ -242,7 +242,7 @@ int main(int argc, char **argv)
         geom_mesh_destroy(m);
         return cli_error(&tool, "%s: clipping failed: %s", argv[first], geom_status_str(st));
     }
-    st = cli_mesh_write(m, out_path, co.out_format, &diag);
+    st = cli_mesh_write_up(m, out_path, co.out_format, common.up_z, &diag);
     if (st != GEOM_OK) {
         geom_mesh_destroy(m);
         return cli_print_diag(&tool, &diag);

@@ -162,6 +162,7 @@ int main(int argc, char **argv)
     int to_stdout = strcmp(out_path, "-") == 0;
     if (co.ascii && co.big_endian)
         return cli_usage_error(&tool, "--ascii and --big-endian exclude each other");
+    co.w.gltf_z_up = common.up_z;
     co.w.encoding = co.ascii        ? GEOM_MESHIO_ENCODING_ASCII
                     : co.big_endian ? GEOM_MESHIO_ENCODING_BINARY_BE
                                     : GEOM_MESHIO_ENCODING_DEFAULT;

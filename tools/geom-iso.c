@@ -207,7 +207,8 @@ static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
     return CLI_EXIT_USAGE;
 }
 
-static geom_status write_surface(const geom_iso_surface *s, const char *path, geom_diag *diag)
+static geom_status write_surface(const geom_iso_surface *s, const char *path, bool up_z,
+                                 geom_diag *diag)
 {
     geom_mesh *m = geom_mesh_create(NULL);
     if (!m)
@@ -216,6 +217,7 @@ static geom_status write_surface(const geom_iso_surface *s, const char *path, ge
     if (st == GEOM_OK) {
         geom_meshio_write_options wo;
         memset(&wo, 0, sizeof wo);
+        wo.gltf_z_up = up_z;
         if (strcmp(path, "-") == 0) {
             wo.format = GEOM_MESHIO_FORMAT_OBJ;
             void *buf = NULL;
@@ -371,7 +373,7 @@ int main(int argc, char **argv)
         return cli_print_diag(&tool, &diag);
     }
     double secs = s.report.seconds;
-    st = write_surface(&s, out_path, &diag);
+    st = write_surface(&s, out_path, common.up_z, &diag);
     double total = cli_timer_elapsed(&timer);
     if (st != GEOM_OK) {
         geom_iso_surface_free(&s);

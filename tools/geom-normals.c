@@ -165,7 +165,7 @@ int main(int argc, char **argv)
     const double *d = geom_mesh_channel_cdata(m, id);
     for (size_t i = 0; i < nn; i++)
         zero += d[3 * i] == 0.0 && d[3 * i + 1] == 0.0 && d[3 * i + 2] == 0.0;
-    st = cli_mesh_write(m, out_path, no.out_format, &diag);
+    st = cli_mesh_write_up(m, out_path, no.out_format, common.up_z, &diag);
     if (st != GEOM_OK) {
         geom_mesh_destroy(m);
         return cli_print_diag(&tool, &diag);

@@ -331,7 +331,7 @@ int main(int argc, char **argv)
             return cli_print_diag(&tool, &diag);
         return cli_error(&tool, "%s: subdivision failed: %s", in_path, geom_status_str(st));
     }
-    st = cli_mesh_write(out, out_path, so.out_format, &diag);
+    st = cli_mesh_write_up(out, out_path, so.out_format, common.up_z, &diag);
     if (st != GEOM_OK) {
         geom_mesh_destroy(m);
         geom_mesh_destroy(out);

@@ -186,7 +186,7 @@ int main(int argc, char **argv)
         corners++;
         mirrored += d[4 * (size_t)ix[h] + 3] < 0.0;
     }
-    st = cli_mesh_write(m, out_path, to.out_format, &diag);
+    st = cli_mesh_write_up(m, out_path, to.out_format, common.up_z, &diag);
     if (st != GEOM_OK) {
         geom_mesh_destroy(m);
         return cli_print_diag(&tool, &diag);

@@ -338,7 +338,7 @@ int main(int argc, char **argv)
             snprintf(diag.source, sizeof diag.source, "%s", argv[first]);
         return cli_print_diag(&tool, &diag);
     }
-    st = cli_mesh_write(m, out_path, o.format, &diag);
+    st = cli_mesh_write_up(m, out_path, o.format, common.up_z, &diag);
     geom_mesh_destroy(m);
     if (st != GEOM_OK)
         return cli_print_diag(&tool, &diag);

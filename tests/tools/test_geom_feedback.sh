@@ -41,6 +41,21 @@ checks=$((checks + 1))
 checks=$((checks + 1))
 "$CONVERT" "$T/c.ply" "$T/back.obj" 2>"$T/err" && grep -q "^vt " "$T/back.obj" ||
     fail "PLY s, t not read back as UVs"
+# --up z: a Z-up source is rotated into glTF's Y-up frame, (x, y, z) -> (x, z, -y);
+# --up y (the default) writes it unchanged; a bad axis is a usage error
+checks=$((checks + 3))
+"$CONVERT" --up z "$CUBE" "$T/z.glb" 2>"$T/err" && "$CONVERT" "$T/z.glb" "$T/z.obj" 2>>"$T/err" &&
+    "$CONVERT" --up y "$CUBE" "$T/y.glb" 2>>"$T/err" && "$CONVERT" "$T/y.glb" "$T/y.obj" 2>>"$T/err" ||
+    fail "--up: $(cat "$T/err")"
+"$PY" - "$CUBE" "$T/z.obj" "$T/y.obj" <<'PYEOF' || fail "--up z: wrong rotation"
+import sys
+def verts(path):
+    return {tuple(round(float(x), 6) for x in l.split()[1:4]) for l in open(path) if l.startswith('v ')}
+src = verts(sys.argv[1])
+assert verts(sys.argv[2]) == {(x, z, -y + 0.0) for x, y, z in src}, 'z-up'
+assert verts(sys.argv[3]) == src, 'y-up changed'
+PYEOF
+"$CONVERT" --up x "$CUBE" "$T/x.glb" 2>/dev/null; [ $? -eq 2 ] || fail "--up x accepted"
 if [ "$failures" -ne 0 ]; then
     echo "$failures of $checks checks failed" >&2
     exit 1

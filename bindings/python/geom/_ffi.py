@@ -361,6 +361,7 @@ typedef struct geom_meshio_write_options {
     int precision;
     int ply_float;
     int gltf_keep_v;
+    int gltf_z_up;
     const geom_allocator *alloc;
 } geom_meshio_write_options;
 geom_status geom_meshio_write(const geom_mesh *m, const char *path, const

@@ -221,6 +221,10 @@ typedef struct geom_meshio_write_options {
     int ply_float;
     /** GLB: nonzero keeps v as it is instead of writing 1 - v. */
     int gltf_keep_v;
+    /** GLB: nonzero says the mesh is Z-up (right-handed, as CAD and STEP
+     *  data): it is written rotated into glTF's Y-up frame, (x, y, z) ->
+     *  (x, z, -y), positions, normals and tangents alike. */
+    int gltf_z_up;
     /** Allocator for temporary memory and geom_meshio_write_memory's
      *  buffer; NULL = libc. */
     const geom_allocator *alloc;
