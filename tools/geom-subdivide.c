@@ -265,7 +265,15 @@ int main(int argc, char **argv)
             bbox = geom_vec3_length(geom_vec3_sub(b.max, b.min));
     }
     double work = setup;
+    /* progress by face count: level l costs about 4^l of level 0 */
+    cli_progress prog;
+    cli_progress_start(&prog, &tool, "subdividing", common.quiet);
+    double total_w = 0.0, done_w = 0.0;
+    for (int l = 1; l <= so.levels; l++)
+        total_w += pow(4.0, l);
     for (int l = 1; st == GEOM_OK && l <= so.levels; l++) {
+        cli_progress_update(&prog, done_w / total_w);
+        done_w += pow(4.0, l);
         cli_timer t;
         cli_timer_start(&t);
         st = geom_subdiv_refiner_refine(r, 1);
@@ -285,6 +293,7 @@ int main(int argc, char **argv)
             st = limit_distance(r, pos, li.vertices, &ls[l].max_dist, &ls[l].rms_dist, NULL);
         }
     }
+    cli_progress_done(&prog);
     geom_mesh *out = NULL;
     size_t holes = 0;
     if (st == GEOM_OK) {
