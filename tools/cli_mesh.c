@@ -46,9 +46,16 @@ geom_status cli_mesh_read(const char *tool_name, const char *path, geom_meshio_f
 geom_status cli_mesh_write(const geom_mesh *m, const char *path, geom_meshio_format fmt,
                            geom_diag *diag)
 {
+    return cli_mesh_write_up(m, path, fmt, false, diag);
+}
+
+geom_status cli_mesh_write_up(const geom_mesh *m, const char *path, geom_meshio_format fmt,
+                              bool up_z, geom_diag *diag)
+{
     geom_meshio_write_options wo;
     memset(&wo, 0, sizeof wo);
     wo.format = fmt;
+    wo.gltf_z_up = up_z;
     if (strcmp(path, "-") != 0)
         return geom_meshio_write(m, path, &wo, diag);
     void *buf = NULL;

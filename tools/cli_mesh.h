@@ -30,6 +30,11 @@ geom_status cli_mesh_read(const char *tool_name, const char *path, geom_meshio_f
 geom_status cli_mesh_write(const geom_mesh *m, const char *path, geom_meshio_format fmt,
                            geom_diag *diag);
 
+/** cli_mesh_write for a mesh whose up axis is z when up_z (--up z): GLB
+ *  output is rotated into glTF's Y-up frame; other formats are unchanged. */
+geom_status cli_mesh_write_up(const geom_mesh *m, const char *path, geom_meshio_format fmt,
+                              bool up_z, geom_diag *diag);
+
 /**
  * Parse a --format (input = 0: obj, off, ply, stl, glb) or --input-format
  * (input = 1: obj, off, ply, stl) option argument into *out. Returns

@@ -46,6 +46,8 @@ static const cli_tool tool = {
     "A malformed line (wrong count, bad number, NaN/Inf) stops the run with\n"
     "'geom-bary: FILE:LINE:COL: message' and exit status 1; results already\n"
     "written to standard output are kept, an -o FILE is not created.\n",
+    "  geom-bary data/bary_points.txt\n"
+    "  geom-bary --json - < queries.txt\n",
 };
 
 /* Print one result line. l is ignored unless status is GEOM_OK. */

@@ -60,6 +60,8 @@ static const cli_tool tool = {
     "1e-12 (relative to the bounding box) of a plane are snapped onto it. With\n"
     "--json, prints {\"vertices\", \"faces\", \"input_faces\", \"seconds\"} on\n"
     "standard output (OUT must be a file).\n",
+    "  geom-clip --plane 0,0,1,-0.5 mesh.obj -o top.obj\n"
+    "  geom-clip --frustum eye=0,0,5,center=0,0,0,fovy=40,near=0.1,far=10 scene.ply -o seen.ply\n",
 };
 
 enum { OPT_FRUSTUM = CLI_OPT_TOOL_BASE, OPT_MATRIX, OPT_CAP };
@@ -240,7 +242,7 @@ int main(int argc, char **argv)
         geom_mesh_destroy(m);
         return cli_error(&tool, "%s: clipping failed: %s", argv[first], geom_status_str(st));
     }
-    st = cli_mesh_write(m, out_path, co.out_format, &diag);
+    st = cli_mesh_write_up(m, out_path, co.out_format, common.up_z, &diag);
     if (st != GEOM_OK) {
         geom_mesh_destroy(m);
         return cli_print_diag(&tool, &diag);

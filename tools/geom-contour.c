@@ -48,6 +48,8 @@ static const cli_tool tool = {
     "The summary (vertices, polylines, closed loops, max_error, seconds) goes to\n"
     "standard output, or to standard error when the result does; with --json it\n"
     "is a JSON object on standard output and OUT must be a file.\n",
+    "  geom-contour --expr \"x^2 + y^2 - 1\" --bounds -2,-2,2,2 --res 64 -o circle.svg\n"
+    "  geom-contour --expr \"torus(1, 0.3)\" --z 0.1 --bounds -2,-2,2,2 --res 200 --json -o slice.obj\n",
 };
 
 enum { OPT_NO_REFINE = CLI_OPT_TOOL_BASE };

@@ -46,6 +46,8 @@ static const cli_tool tool = {
     "                          instead of failing\n",
     "Repairs made while building the mesh (split non-manifold vertices, flipped\n"
     "faces, skipped faces, ...) are reported on standard error.\n",
+    "  geom-convert bunny.off bunny.ply\n"
+    "  geom-convert --ascii --input-format stl - out.stl < in.stl\n",
 };
 
 enum {
@@ -160,6 +162,7 @@ int main(int argc, char **argv)
     int to_stdout = strcmp(out_path, "-") == 0;
     if (co.ascii && co.big_endian)
         return cli_usage_error(&tool, "--ascii and --big-endian exclude each other");
+    co.w.gltf_z_up = common.up_z;
     co.w.encoding = co.ascii        ? GEOM_MESHIO_ENCODING_ASCII
                     : co.big_endian ? GEOM_MESHIO_ENCODING_BINARY_BE
                                     : GEOM_MESHIO_ENCODING_DEFAULT;

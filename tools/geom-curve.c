@@ -49,6 +49,8 @@ static const cli_tool tool = {
     "  -d, --derivs=K       CSV: also the derivatives of orders 1..K (K <= 16)\n"
     "  -f, --format=FMT     obj or csv; default: from OUT's extension\n",
     "Prints curves, points, max_error and seconds (--json: one object).\n",
+    "  geom-curve data/surfaces.json --tol 1e-4 -o curves.obj\n"
+    "  geom-curve data/surfaces.json --samples 100 --derivs 2 -o samples.csv\n",
 };
 
 typedef struct curve_opts {

@@ -47,6 +47,8 @@ static const cli_tool tool = {
     "meet; closed loops repeat their first vertex. With --json, prints\n"
     "{\"boundary\", \"crease\", \"silhouette\" (edge counts), \"polylines\",\n"
     "\"seconds\"} on standard output (OUT must be a file).\n",
+    "  geom-features --crease 40 fandisk.off -o edges.obj\n"
+    "  geom-features --eye 0,0,10 --kinds silhouette bunny.obj -o outline.obj\n",
 };
 
 enum { OPT_WITH_MESH = CLI_OPT_TOOL_BASE };

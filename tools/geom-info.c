@@ -40,6 +40,8 @@ static const cli_tool tool = {
     "With --json the same keys in one JSON object, plus file, format,\n"
     "isolated_vertices, repairs and skipped. Without --json, repairs made while\n"
     "building the mesh are reported on standard error.\n",
+    "  geom-info bunny.off\n"
+    "  geom-info --json mesh.ply > report.json\n",
 };
 
 enum { OPT_SKIP_INVALID = CLI_OPT_TOOL_BASE };
@@ -124,10 +126,15 @@ static void print_text(FILE *fp, const geom_mesh *m, const geom_mesh_topology *t
 
 static void print_json(FILE *fp, const char *file, geom_meshio_format fmt, const geom_mesh *m,
                        const geom_mesh_topology *t, const geom_mesh_build_report *r,
-                       const geom_meshio_read_stats *st)
+                       const geom_meshio_read_stats *st, const char *warning)
 {
     fputs("{\"file\":", fp);
     cli_json_string(fp, file);
+    if (warning) {
+        fputs(",\"warnings\":[", fp);
+        cli_json_string(fp, warning);
+        fputs("]", fp);
+    }
     fprintf(fp, ",\"format\":\"%s\"", geom_meshio_format_name(fmt));
     fprintf(fp, ",\"vertices\":%zu,\"faces\":%zu,\"edges\":%zu,\"boundary_loops\":%zu", t->vertices,
             t->faces, t->edges, t->boundary_loops);
@@ -216,6 +223,25 @@ int main(int argc, char **argv)
         free(name);
         return cli_print_diag(&tool, &diag);
     }
+    /* Nothing read: a file of another kind (every statement unrecognised)
+     * is an error; a truly empty mesh is a warning. */
+    const char *warning = NULL;
+    if (geom_mesh_n_vertices(m) == 0 && geom_mesh_n_faces(m) == 0) {
+        if (stats.skipped_statements || stats.skipped_elements) {
+            cli_diag_set(&diag, GEOM_ERR_PARSE, name, 0, 0,
+                         "not a mesh (read as %s): no vertices or faces, %zu unrecognised %s (first: '%s')",
+                         geom_meshio_format_name(stats.format),
+                         stats.skipped_statements ? stats.skipped_statements
+                                                  : stats.skipped_elements,
+                         stats.skipped_statements ? "statements" : "elements",
+                         stats.first_skipped);
+            geom_mesh_destroy(m);
+            free(name);
+            return cli_print_diag(&tool, &diag);
+        }
+        warning = "empty mesh: no vertices or faces";
+        fprintf(stderr, "%s: %s: warning: %s\n", tool.name, name, warning);
+    }
     geom_mesh_topology topo;
     st = geom_mesh_topology_summary(m, &topo);
     if (st != GEOM_OK) {
@@ -231,7 +257,7 @@ int main(int argc, char **argv)
         return cli_print_diag(&tool, &diag);
     }
     if (common.json) {
-        print_json(out.fp, name, stats.format, m, &topo, &report, &stats);
+        print_json(out.fp, name, stats.format, m, &topo, &report, &stats, warning);
     } else {
         print_text(out.fp, m, &topo);
         repair_item items[8];

@@ -3,7 +3,7 @@
  * geom-iso: isosurface of an expression or of a sampled volume by a
  * topologically correct marching cubes.
  *
- *   geom-iso (--expr E | --volume FILE [--dims X,Y,Z --type f32|f64]
+ *   geom-iso (--expr E | --volume FILE [--dims X,Y,Z --type T [--skip BYTES]]
  *            [--spacing SX,SY,SZ] [--origin OX,OY,OZ] [--big-endian])
  *            [--bounds X0,Y0,Z0,X1,Y1,Z1 --res N[,NY,NZ]] [--iso V] [--refine]
  *            [--normals] [--caps] [--threads N] [--json] -o OUT.obj
@@ -11,7 +11,8 @@
  * --expr: libgeom's expression language (geom/implicit.h), contoured over
  * the box --bounds split into --res cells per axis (required). --volume: a
  * raw file (little-endian, x fastest; --dims and --type required) or, when
- * --dims is absent, a NRRD file (.nrrd/.nhdr); its own samples are the grid
+ * --dims is absent, NRRD, MetaImage, INRIMAGE or NIfTI-1 (gzip too; see
+ * geom_implicit_volume_read and docs/formats.md); its own samples are the grid
  * nodes (no --bounds or --res needed; given, they resample the volume's
  * trilinear interpolant). Inside is f <= V (--inside below, the default for
  * expressions) or f >= V (--inside above; for volumes the default is
@@ -35,15 +36,20 @@
 
 static const cli_tool tool = {
     "geom-iso",
-    "(--expr E | --volume FILE [--dims X,Y,Z --type f32|f64]) [OPTION]... -o OUT",
+    "(--expr E | --volume FILE [--dims X,Y,Z --type T]) [OPTION]... -o OUT",
     "Isosurface f = V of the expression E over a box, or of the sampled volume\n"
     "in FILE, by marching cubes reproducing the topology of the trilinear\n"
     "interpolant in every cell, written to OUT (OBJ, OFF, PLY, STL or GLB, from\n"
     "the extension; standard output when OUT is '-': then OBJ).",
-    "  -e, --expr=E         the function, e.g. 'torus(1, 0.3)'\n"
-    "      --volume=FILE    a raw volume (with --dims and --type) or NRRD file\n"
+    "  -e, --expr=E         the function, e.g. 'torus(1, 0.3)'; inside is f <= V\n"
+    "      --volume=FILE    a volume: NRRD (.nrrd, .nhdr), MetaImage (.mha, .mhd),\n"
+    "                       INRIMAGE (.inr), NIfTI-1 (.nii), each also gzipped,\n"
+    "                       with spacing and origin from the header; or raw\n"
+    "                       samples with --dims and --type\n"
     "      --dims=X,Y,Z     samples per axis of a raw volume\n"
-    "      --type=T         f32 or f64: the raw samples' type\n"
+    "      --type=T         the raw samples' type: u8, i8, u16, i16, u32, i32,\n"
+    "                       f32, f64\n"
+    "      --skip=BYTES     header bytes before the raw samples (default 0)\n"
     "      --spacing=SX,SY,SZ  sample spacing of a raw volume (default 1,1,1)\n"
     "      --origin=OX,OY,OZ   position of the first sample (default 0,0,0)\n"
     "      --big-endian     the raw samples are big-endian\n"
@@ -60,13 +66,17 @@ static const cli_tool tool = {
     "                       above (f >= V, e.g. CT: dense inside); for --volume\n"
     "                       the default is detected: above when most samples on\n"
     "                       the volume's boundary lie below V\n"
-    "  -t, --threads=N      threads (default: all; the result is the same)\n",
+    "
+    "  -t, --threads=N      threads (default: all; the result is the same)\n"
+    CLI_LIMIT_HELP,
     "The summary (vertices, triangles, max_error, seconds) goes to standard\n"
     "output, or to standard error when the mesh does. With --json it is a JSON\n"
     "object on standard output with the keys vertices, triangles, max_error,\n"
     "seconds, mean_error, vertex_max_error, cap_triangles, tunnels,\n"
     "ambiguous_faces, signed_volume, inside (OUT must then be a file). max_error is null for volumes\n"
     "(their interpolant is what is contoured).\n",
+    "  geom-iso --expr \"torus(1, 0.3)\" --bounds -2,-2,-1,2,2,1 --res 128 --normals -o torus.glb\n"
+    "  geom-iso --volume liver.inr.gz --iso 100 -o liver.obj\n",
 };
 
 enum {
@@ -76,6 +86,7 @@ enum {
     OPT_SPACING,
     OPT_ORIGIN,
     OPT_BIG_ENDIAN,
+    OPT_SKIP,
     OPT_REFINE,
     OPT_CAPS,
     OPT_INSIDE
@@ -85,12 +96,14 @@ typedef struct iso_args {
     const char *expr, *volume;
     int have_dims, have_type, have_bounds, have_res;
     size_t dims[3];
-    geom_implicit_scalar type;
+    geom_implicit_sample type;
+    double skip;
     double spacing[3], origin[3], bounds[6];
     size_t res[3];
     double iso;
     int refine, normals, caps, threads, big_endian;
     int inside; /* -1: not given, else GEOM_ISO_INSIDE_* */
+    cli_limits lim;
 } iso_args;
 
 /* Parse exactly n numbers (or 1 or n when one_or_n) separated by commas. */
@@ -125,6 +138,9 @@ static int parse_sizes(const char *arg, size_t *out, int one_or_three, size_t ma
 static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
 {
     iso_args *a = user;
+    int lrc = cli_limits_option(t, &a->lim, opt, arg);
+    if (lrc != CLI_NOT_HANDLED)
+        return lrc;
     switch (opt) {
     case 'e':
         a->expr = arg;
@@ -138,13 +154,15 @@ static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
         a->have_dims = 1;
         return CLI_CONTINUE;
     case OPT_TYPE:
-        if (strcmp(arg, "f32") == 0)
-            a->type = GEOM_IMPLICIT_SCALAR_F32;
-        else if (strcmp(arg, "f64") == 0)
-            a->type = GEOM_IMPLICIT_SCALAR_F64;
-        else
-            return cli_usage_error(t, "--type takes f32 or f64, not '%s'", arg);
+        if (geom_implicit_sample_parse(arg, &a->type) != GEOM_OK)
+            return cli_usage_error(t, "--type takes u8, i8, u16, i16, u32, i32, f32 or f64, not "
+                                      "'%s'", arg);
         a->have_type = 1;
+        return CLI_CONTINUE;
+    case OPT_SKIP:
+        if (cli_parse_double(arg, strlen(arg), 0, &a->skip, NULL) != GEOM_OK || !(a->skip >= 0) ||
+            a->skip != floor(a->skip) || a->skip > 9e15)
+            return cli_usage_error(t, "--skip takes a byte count >= 0, not '%s'", arg);
         return CLI_CONTINUE;
     case OPT_SPACING:
         if (!parse_list(arg, a->spacing, 3, 0) || !(a->spacing[0] > 0) || !(a->spacing[1] > 0) ||
@@ -206,13 +224,8 @@ static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
     return CLI_EXIT_USAGE;
 }
 
-static int ends_with(const char *s, const char *suffix)
-{
-    size_t n = strlen(s), m = strlen(suffix);
-    return n >= m && strcmp(s + n - m, suffix) == 0;
-}
-
-static geom_status write_surface(const geom_iso_surface *s, const char *path, geom_diag *diag)
+static geom_status write_surface(const geom_iso_surface *s, const char *path, bool up_z,
+                                 geom_diag *diag)
 {
     geom_mesh *m = geom_mesh_create(NULL);
     if (!m)
@@ -221,6 +234,7 @@ static geom_status write_surface(const geom_iso_surface *s, const char *path, ge
     if (st == GEOM_OK) {
         geom_meshio_write_options wo;
         memset(&wo, 0, sizeof wo);
+        wo.gltf_z_up = up_z;
         if (strcmp(path, "-") == 0) {
             wo.format = GEOM_MESHIO_FORMAT_OBJ;
             void *buf = NULL;
@@ -277,6 +291,7 @@ int main(int argc, char **argv)
                                              {"spacing", required_argument, NULL, OPT_SPACING},
                                              {"origin", required_argument, NULL, OPT_ORIGIN},
                                              {"big-endian", no_argument, NULL, OPT_BIG_ENDIAN},
+                                             {"skip", required_argument, NULL, OPT_SKIP},
                                              {"bounds", required_argument, NULL, 'b'},
                                              {"res", required_argument, NULL, 'r'},
                                              {"iso", required_argument, NULL, 'i'},
@@ -285,6 +300,7 @@ int main(int argc, char **argv)
                                              {"caps", no_argument, NULL, OPT_CAPS},
                                              {"inside", required_argument, NULL, OPT_INSIDE},
                                              {"threads", required_argument, NULL, 't'},
+                                             CLI_LIMIT_LONGOPTS,
                                              {NULL, 0, NULL, 0}};
     iso_args a;
     memset(&a, 0, sizeof a);
@@ -306,10 +322,10 @@ int main(int argc, char **argv)
         return cli_usage_error(&tool, "--bounds and --res go together");
     if (a.volume && a.have_dims != a.have_type)
         return cli_usage_error(&tool, "a raw volume needs both --dims and --type");
-    if (a.volume && !a.have_dims && !ends_with(a.volume, ".nrrd") && !ends_with(a.volume, ".nhdr"))
-        return cli_usage_error(&tool, "a raw volume needs --dims and --type (or give a .nrrd)");
     if (a.expr && (a.have_dims || a.have_type))
         return cli_usage_error(&tool, "--dims and --type apply to --volume only");
+    if (a.skip > 0 && !a.have_dims)
+        return cli_usage_error(&tool, "--skip applies to raw volumes (with --dims and --type)");
     const char *out_path = common.output ? common.output : "-";
     int to_stdout = strcmp(out_path, "-") == 0;
     if (!to_stdout && geom_meshio_format_from_name(out_path) == GEOM_MESHIO_FORMAT_AUTO)
@@ -342,23 +358,31 @@ int main(int argc, char **argv)
             return cli_print_diag(&tool, &diag);
         geom_iso_field f;
         st = geom_iso_field_from_expr(expr, &f);
+        double est = 0.0;
+        if (st == GEOM_OK && geom_iso_estimate_triangles(&f, a.bounds, a.res, a.iso, &est) ==
+                                 GEOM_OK &&
+            cli_limits_check(&tool, &a.lim, "the isosurface", est, est * 80.0) != CLI_CONTINUE) {
+            geom_implicit_expr_destroy(expr);
+            return CLI_EXIT_ERROR;
+        }
         if (st == GEOM_OK)
             st = geom_iso_extract(&f, a.bounds, a.res, &o, &s, &diag);
     } else {
+        geom_implicit_volume_read_options ro;
+        memset(&ro, 0, sizeof ro);
         if (a.have_dims) {
-            geom_implicit_volume_desc d;
-            memset(&d, 0, sizeof d);
+            ro.format = GEOM_IMPLICIT_VOLUME_RAW;
             for (int k = 0; k < 3; k++) {
-                d.dims[k] = a.dims[k];
-                d.spacing[k] = a.spacing[k];
-                d.origin[k] = a.origin[k];
+                ro.dims[k] = a.dims[k];
+                ro.spacing[k] = a.spacing[k];
+                ro.origin[k] = a.origin[k];
             }
-            d.type = a.type;
-            d.big_endian = a.big_endian;
-            st = geom_implicit_volume_read_raw(a.volume, &d, NULL, &vol, &diag);
-        } else {
-            st = geom_implicit_volume_read_nrrd(a.volume, NULL, &vol, &diag);
+            ro.sample = a.type;
+            ro.big_endian = a.big_endian;
+            ro.skip = (uint64_t)a.skip;
         }
+        ro.inflate = cli_inflate;
+        st = geom_implicit_volume_read(a.volume, &ro, NULL, &vol, NULL, &diag);
         if (st != GEOM_OK)
             return cli_print_diag(&tool, &diag);
         if (a.inside < 0) {
@@ -369,11 +393,26 @@ int main(int argc, char **argv)
         if (a.have_bounds) {
             geom_iso_field f;
             st = geom_iso_field_from_volume(vol, &f);
+            double est = 0.0;
+            if (st == GEOM_OK && geom_iso_estimate_triangles(&f, a.bounds, a.res, a.iso, &est) ==
+                                     GEOM_OK &&
+                cli_limits_check(&tool, &a.lim, "the isosurface", est, est * 80.0) !=
+                    CLI_CONTINUE) {
+                geom_implicit_volume_destroy(vol);
+                return CLI_EXIT_ERROR;
+            }
             if (st == GEOM_OK)
                 st = geom_iso_extract(&f, a.bounds, a.res, &o, &s, &diag);
         } else {
             geom_iso_grid g;
             st = geom_iso_grid_from_volume(vol, &g);
+            double est = 0.0;
+            if (st == GEOM_OK && geom_iso_grid_estimate_triangles(&g, a.iso, &est) == GEOM_OK &&
+                cli_limits_check(&tool, &a.lim, "the isosurface", est, est * 80.0) !=
+                    CLI_CONTINUE) {
+                geom_implicit_volume_destroy(vol);
+                return CLI_EXIT_ERROR;
+            }
             if (st == GEOM_OK)
                 st = geom_iso_extract_grid(&g, &o, &s, &diag);
         }
@@ -386,7 +425,7 @@ int main(int argc, char **argv)
         return cli_print_diag(&tool, &diag);
     }
     double secs = s.report.seconds;
-    st = write_surface(&s, out_path, &diag);
+    st = write_surface(&s, out_path, common.up_z, &diag);
     double total = cli_timer_elapsed(&timer);
     if (st != GEOM_OK) {
         geom_iso_surface_free(&s);
@@ -398,6 +437,10 @@ int main(int argc, char **argv)
     int measured = r->vertex_error.method != GEOM_ERROR_NONE;
     double maxe = measured ? fmax(r->vertex_error.max_error, r->sample_error.max_error) : NAN;
     double meane = measured ? r->sample_error.mean_error : NAN;
+    if (s.n_triangles == 0)
+        fprintf(stderr, "%s: warning: empty isosurface: no triangles (the surface f = %.17g "
+                        "misses the box, or the field is NaN there)\n",
+                tool.name, a.iso);
     if (common.json) {
         printf("{\"vertices\":%zu,\"triangles\":%zu,\"max_error\":", s.n_vertices, s.n_triangles);
         cli_json_number(stdout, maxe);
@@ -415,8 +458,11 @@ int main(int argc, char **argv)
         cli_json_number(stdout, r->signed_volume);
         printf(",\"error\":");
         cli_json_error_report(stdout, &r->error, "|f - iso| / |grad f| at vertices and triangle samples");
-        printf(",\"inside\":\"%s\",\"inside_detected\":%s}\n",
+        printf(",\"inside\":\"%s\",\"inside_detected\":%s",
                o.inside == GEOM_ISO_INSIDE_ABOVE ? "above" : "below", detected ? "true" : "false");
+        if (s.n_triangles == 0)
+            printf(",\"warnings\":[\"empty isosurface: no triangles\"]");
+        printf("}\n");
     } else {
         FILE *fp = to_stdout ? stderr : stdout;
         fprintf(fp, "vertices %zu\ntriangles %zu\n", s.n_vertices, s.n_triangles);

@@ -47,6 +47,8 @@ static const cli_tool tool = {
     "OBJ output shares vn values within smooth fans and splits them at hard edges.\n"
     "With --json, prints {\"faces\", \"vertices\", \"normals\", \"zero_normals\",\n"
     "\"seconds\"} on standard output (OUT must be a file).\n",
+    "  geom-normals --crease 30 mesh.obj -o with_normals.obj\n"
+    "  geom-normals --weight area --format ply - < in.obj > out.ply\n",
 };
 
 enum { OPT_SPLIT_UV = CLI_OPT_TOOL_BASE };
@@ -178,7 +180,7 @@ int main(int argc, char **argv)
         return cli_error(&tool, "%s: computing normals failed: %s", argv[first],
                          geom_status_str(st));
     }
-    st = cli_mesh_write(m, out_path, no.out_format, &diag);
+    st = cli_mesh_write_up(m, out_path, no.out_format, common.up_z, &diag);
     if (st != GEOM_OK) {
         geom_mesh_destroy(m);
         return cli_print_diag(&tool, &diag);

@@ -65,6 +65,8 @@ static const cli_tool tool = {
     "\"bbox_diagonal\", \"triangulated_faces\", \"hole_faces\", \"per_level\": [{\"level\",\n"
     "\"faces\", \"vertices\", \"seconds\", \"max_limit_distance\",\n"
     "\"rms_limit_distance\"}]} on standard output (OUT must be a file).\n",
+    "  geom-subdivide --levels 2 cube.obj -o smooth.obj\n"
+    "  geom-subdivide --scheme loop --levels 3 --limit --normals bunny.off -o bunny_smooth.ply\n",
 };
 
 enum { OPT_FVAR = CLI_OPT_TOOL_BASE, OPT_CREASING, OPT_NORMALS };
@@ -266,7 +268,15 @@ int main(int argc, char **argv)
     }
     double work = setup;
     double *lim_last = NULL; /* the last level's limit positions, with --limit */
+    /* progress by face count: level l costs about 4^l of level 0 */
+    cli_progress prog;
+    cli_progress_start(&prog, &tool, "subdividing", common.quiet);
+    double total_w = 0.0, done_w = 0.0;
+    for (int l = 1; l <= so.levels; l++)
+        total_w += pow(4.0, l);
     for (int l = 1; st == GEOM_OK && l <= so.levels; l++) {
+        cli_progress_update(&prog, done_w / total_w);
+        done_w += pow(4.0, l);
         cli_timer t;
         cli_timer_start(&t);
         st = geom_subdiv_refiner_refine(r, 1);
@@ -287,6 +297,7 @@ int main(int argc, char **argv)
                                 &ls[l].mean_dist, l == so.levels && so.limit ? &lim_last : NULL);
         }
     }
+    cli_progress_done(&prog);
     geom_mesh *out = NULL;
     size_t holes = 0;
     if (st == GEOM_OK) {
@@ -336,7 +347,7 @@ int main(int argc, char **argv)
             return cli_print_diag(&tool, &diag);
         return cli_error(&tool, "%s: subdivision failed: %s", in_path, geom_status_str(st));
     }
-    st = cli_mesh_write(out, out_path, so.out_format, &diag);
+    st = cli_mesh_write_up(out, out_path, so.out_format, common.up_z, &diag);
     if (st != GEOM_OK) {
         geom_mesh_destroy(m);
         geom_mesh_destroy(out);

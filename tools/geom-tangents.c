@@ -46,6 +46,8 @@ static const cli_tool tool = {
     "normal and uv, orthogonalised against the normal; w = +-1 is the bitangent\n"
     "sign. With --json, prints {\"faces\", \"corners\", \"tangents\", \"mirrored\",\n"
     "\"seconds\"} on standard output (OUT must be a file).\n",
+    "  geom-tangents --crease 45 textured.obj -o textured.glb\n"
+    "  geom-tangents data/cube_seams.obj -o cube.glb\n",
 };
 
 typedef struct tan_opts {
@@ -184,7 +186,7 @@ int main(int argc, char **argv)
         corners++;
         mirrored += d[4 * (size_t)ix[h] + 3] < 0.0;
     }
-    st = cli_mesh_write(m, out_path, to.out_format, &diag);
+    st = cli_mesh_write_up(m, out_path, to.out_format, common.up_z, &diag);
     if (st != GEOM_OK) {
         geom_mesh_destroy(m);
         return cli_print_diag(&tool, &diag);

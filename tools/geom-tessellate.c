@@ -57,11 +57,14 @@ static const cli_tool tool = {
     "      --tangents       write dP/du tangents (GLB output)\n"
     "      --no-weld        do not weld surfaces along shared edges\n"
     "  -f, --format=FMT     output format (obj, off, ply, stl, glb); default: from\n"
-    "                       OUT's extension\n",
+    "                       OUT's extension\n"
+    CLI_LIMIT_HELP,
     "Prints max_error (sampled chordal error), mean_error, triangles, vertices,\n"
     "surfaces and seconds (tessellation time); with --json one object with\n"
     "those keys and a few counts (welded_edges, collapsed_edges,\n"
     "flipped_surfaces, evaluations, tolerance, mode).\n",
+    "  geom-tessellate data/teapot.bpt --tol 1e-3 --normals -o teapot.glb\n"
+    "  geom-tessellate data/surfaces.json --grid 16,16 --uvs -o surfaces.obj\n",
 };
 
 enum {
@@ -75,6 +78,7 @@ typedef struct tess_opts {
     geom_surface_tess_options to;
     int have_tol, have_grid;
     geom_meshio_format format;
+    cli_limits lim;
 } tess_opts;
 
 static int parse_positive(const char *arg, double *out)
@@ -86,6 +90,9 @@ static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
 {
     tess_opts *o = user;
     double d;
+    int lrc = cli_limits_option(t, &o->lim, opt, arg);
+    if (lrc != CLI_NOT_HANDLED)
+        return lrc;
     switch (opt) {
     case 't':
         if (!parse_positive(arg, &d))
@@ -244,6 +251,7 @@ int main(int argc, char **argv)
         {"tangents", no_argument, NULL, OPT_TANGENTS},
         {"no-weld", no_argument, NULL, OPT_NO_WELD},
         {"format", required_argument, NULL, 'f'},
+        CLI_LIMIT_LONGOPTS,
         {NULL, 0, NULL, 0}};
     tess_opts o;
     memset(&o, 0, sizeof o);
@@ -306,6 +314,16 @@ int main(int argc, char **argv)
         geom_surface_set_destroy(set);
         return cli_error(&tool, "out of memory");
     }
+    /* estimate first: stop before filling memory (about 100 bytes of mesh
+     * per triangle with its vertex share, attributes and half-edges) */
+    double est = 0.0;
+    if (geom_surface_tess_estimate(geom_surface_set_data(set), ns, &o.to, &est) == GEOM_OK &&
+        cli_limits_check(&tool, &o.lim, "the tessellation", est, est * 100.0) != CLI_CONTINUE) {
+        geom_mesh_destroy(m);
+        geom_surface_set_destroy(set);
+        return CLI_EXIT_ERROR;
+    }
+    o.to.max_triangles = o.lim.max_triangles ? o.lim.max_triangles : CLI_MAX_TRIANGLES_DEFAULT;
     geom_error_report report;
     geom_surface_tess_stats stats;
     cli_timer timer;
@@ -320,7 +338,7 @@ int main(int argc, char **argv)
             snprintf(diag.source, sizeof diag.source, "%s", argv[first]);
         return cli_print_diag(&tool, &diag);
     }
-    st = cli_mesh_write(m, out_path, o.format, &diag);
+    st = cli_mesh_write_up(m, out_path, o.format, common.up_z, &diag);
     geom_mesh_destroy(m);
     if (st != GEOM_OK)
         return cli_print_diag(&tool, &diag);

@@ -6,3 +6,8 @@ if(TARGET geom-iso)
     COMMAND ${GEOM_BASH} ${CMAKE_CURRENT_LIST_DIR}/test_geom_iso.sh $<TARGET_FILE:geom-iso>)
   set_tests_properties(tool_geom_iso PROPERTIES ENVIRONMENT "PYTHON3=${GEOM_SYSTEM_PYTHON3}")
 endif()
+if(TARGET geom-iso)
+  add_test(NAME tool_geom_iso_volumes
+    COMMAND ${GEOM_BASH} ${CMAKE_CURRENT_LIST_DIR}/test_geom_iso_volumes.sh $<TARGET_FILE:geom-iso>)
+  set_tests_properties(tool_geom_iso_volumes PROPERTIES ENVIRONMENT "PYTHON3=${GEOM_SYSTEM_PYTHON3}")
+endif()

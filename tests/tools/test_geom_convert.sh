@@ -282,7 +282,9 @@ expect_rc 2 "bad precision"
 run --big-endian "$DATA/tetra.off" "$T/a.obj"
 expect_rc 2 "--big-endian for OBJ"
 run "$T/cube.glb" "$T/a.obj"
-expect_rc 1 "GLB input"
+expect_rc 0 "GLB input (read back: the cube's 12 triangles)"
+checks=$((checks + 1))
+[ "$(grep -c '^f ' "$T/a.obj")" -eq 12 ] || fail "GLB input: $(grep -c '^f ' "$T/a.obj") faces, expected 12"
 run -o "$T/o.off" "$DATA/tetra.off"
 expect_rc 0 "-o FILE"
 checks=$((checks + 1))

@@ -11,7 +11,7 @@ Submodules:
                  subdivision)
   geom.curve     NurbsCurve (evaluation, derivatives, exact circles, ...)
   geom.surface   NurbsSurface, .bpt patches, tessellation to a Mesh
-  geom.implicit  Expression, marching_cubes
+  geom.implicit  Expression, marching_cubes, read_volume, Volume
 
 Every error status of the C library raises geom.GeomError, which carries the
 status (``.code`` e.g. "ERR_PARSE", ``.name`` e.g. "parse error") and the
@@ -44,5 +44,5 @@ if has_module("surface") and has_module("meshio"):
     __all__ += ["surface", "NurbsSurface", "tessellate"]
 if has_module("implicit") and has_module("iso") and has_module("meshio"):
     from . import implicit  # noqa: E402
-    from .implicit import Expression, marching_cubes  # noqa: E402
-    __all__ += ["implicit", "Expression", "marching_cubes"]
+    from .implicit import Expression, Volume, marching_cubes, read_volume  # noqa: E402
+    __all__ += ["implicit", "Expression", "Volume", "marching_cubes", "read_volume"]

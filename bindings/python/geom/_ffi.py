@@ -13,8 +13,11 @@ The library is looked up, first match wins:
   1. the path in the environment variable GEOM_LIBRARY (an error if it does
      not load: a wrong explicit path is never silently replaced);
   2. libgeom.so (or .so.0, .dylib, geom.dll) next to this file, for a
-     package installed together with its library;
-  3. the system loader: ctypes.util.find_library("geom"), then
+     package installed together with its library (pip install
+     bindings/python builds and bundles it);
+  3. the library named in _libpath.py, which `cmake --install` writes next
+     to this file;
+  4. the system loader: ctypes.util.find_library("geom"), then
      "libgeom.so.0".
 """
 
@@ -127,6 +130,17 @@ geom_status geom_bary_wachspress(size_t n, const double *poly, const double p[2]
 geom_status geom_bary_interpolate(size_t k, const double *l, size_t ncomp, const double *attr,
     double *out);
 geom_status geom_bary_perspective(const double l[3], const double w[3], double lp[3]);
+typedef enum geom_bary_simplex {
+    GEOM_BARY_TRI2 = 1,
+    GEOM_BARY_TRI3 = 2,
+    GEOM_BARY_TET = 3
+} geom_bary_simplex;
+geom_status geom_bary_simplex_many(geom_bary_simplex kind, size_t n,
+                                            const double *const pts[5], const size_t strides[5],
+                                            double *out, int32_t *status, size_t *n_failed);
+geom_status geom_bary_polygon_many(int wachspress, size_t nv, const double *poly,
+                                            size_t n, const double *p, double *w,
+                                            int32_t *status, size_t *n_failed);
 """,
     "mesh": """
 typedef struct geom_mesh geom_mesh;
@@ -292,6 +306,27 @@ geom_status geom_mesh_clip_plane(const geom_mesh *m, const double plane[4], cons
     geom_clip_options *opt, geom_mesh **out);
 geom_status geom_mesh_clip_frustum(const geom_mesh *m, geom_mat4 view_proj, const
     geom_clip_options *opt, geom_mesh **out);
+typedef enum geom_mesh_circ_kind {
+    GEOM_MESH_CIRC_VERTEX_OUTGOING = 0,
+    GEOM_MESH_CIRC_VERTEX_FACES = 1,
+    GEOM_MESH_CIRC_VERTEX_VERTICES = 2,
+    GEOM_MESH_CIRC_FACE_HALFEDGES = 3,
+    GEOM_MESH_CIRC_FACE_VERTICES = 4
+} geom_mesh_circ_kind;
+typedef struct geom_mesh_circ {
+    const geom_mesh *mesh;
+    geom_mesh_circ_kind kind;
+    uint32_t start;
+    uint32_t current;
+    int active;
+} geom_mesh_circ;
+geom_mesh_circ geom_mesh_circ_begin(const geom_mesh *m, geom_mesh_circ_kind kind, uint32_t elem);
+bool geom_mesh_circ_next(geom_mesh_circ *c, uint32_t *out);
+geom_status geom_mesh_halfedge_arrays(const geom_mesh *m, uint32_t *next, uint32_t *prev,
+                                               uint32_t *vertex, uint32_t *face);
+geom_status geom_mesh_vertex_rings(const geom_mesh *m, geom_mesh_circ_kind kind,
+                                            size_t *offsets, uint32_t *items, size_t capacity,
+                                            size_t *count);
 """,
     "meshio": """
 typedef enum geom_meshio_format {
@@ -340,6 +375,7 @@ typedef struct geom_meshio_write_options {
     int precision;
     int ply_float;
     int gltf_keep_v;
+    int gltf_z_up;
     const geom_allocator *alloc;
 } geom_meshio_write_options;
 geom_status geom_meshio_write(const geom_mesh *m, const char *path, const
@@ -402,6 +438,21 @@ typedef struct geom_curve_polyline_options {
 geom_status geom_curve_nurbs_polyline(const geom_nurbs_curve *c, const
     geom_curve_polyline_options *options, double *params, double *points, size_t capacity,
     size_t *count, geom_error_report *report, geom_diag *diag);
+geom_status geom_curve_nurbs_eval_many(const geom_nurbs_curve *c, size_t n, const double *u,
+                                                unsigned flags, double *out, int32_t *status,
+                                                size_t *n_failed);
+geom_status geom_curve_bspline_basis_many(int degree, size_t n, const double *knots, size_t m,
+                                                   const double *u, int nderiv, unsigned flags,
+                                                   size_t *spans, double *ders, int32_t *status,
+                                                   size_t *n_failed);
+geom_status geom_curve_nurbs_refine(const geom_nurbs_curve *c, const double *x, size_t nx,
+                                    double *knots, double *points, double *weights,
+                                    geom_nurbs_curve *out, geom_diag *diag);
+geom_status geom_curve_nurbs_remove_knot(const geom_nurbs_curve *c, double u, size_t times,
+                                         double tol, double *knots, double *points, double *weights,
+                                         geom_nurbs_curve *out, size_t *removed, geom_diag *diag);
+geom_status geom_curve_bspline_find_span(int degree, size_t n, const double *knots, double u,
+                                         unsigned flags, size_t *span);
 """,
     "surface": """
 typedef struct geom_nurbs_surface {
@@ -481,6 +532,9 @@ typedef struct geom_surface_tess_stats {
 geom_status geom_surface_tessellate(const geom_nurbs_surface *surfaces, size_t n, const
     geom_surface_tess_options *options, geom_mesh *out, geom_error_report *report,
     geom_surface_tess_stats *stats, geom_diag *diag);
+geom_status geom_surface_eval_many(const geom_nurbs_surface *s, size_t n, const double *uv,
+                                            unsigned flags, int normals, double *out,
+                                            int32_t *status, size_t *n_failed);
 """,
     "subdiv": """
 typedef enum geom_subdiv_scheme {
@@ -646,6 +700,98 @@ void geom_implicit_expr_eval_grad_many(const geom_implicit_expr *e, size_t n, co
     double *values, double *grads);
 geom_status geom_implicit_expr_eval_interval(const geom_implicit_expr *e, const double lo[3],
     const double hi[3], double out[2]);
+typedef enum geom_implicit_scalar {
+    GEOM_IMPLICIT_SCALAR_F32 = 1,
+    GEOM_IMPLICIT_SCALAR_F64 = 2
+} geom_implicit_scalar;
+typedef struct geom_implicit_volume_desc {
+    size_t dims[3];
+    geom_implicit_scalar type;
+    double spacing[3];
+    double origin[3];
+    int big_endian;
+} geom_implicit_volume_desc;
+typedef struct geom_implicit_volume geom_implicit_volume;
+geom_status geom_implicit_volume_create(const geom_implicit_volume_desc *desc,
+                                        const geom_allocator *alloc,
+                                        geom_implicit_volume **out);
+geom_status geom_implicit_volume_read_raw(const char *path, const geom_implicit_volume_desc *desc,
+                                          const geom_allocator *alloc,
+                                          geom_implicit_volume **out, geom_diag *diag);
+geom_status geom_implicit_volume_read_nrrd(const char *path, const geom_allocator *alloc,
+                                           geom_implicit_volume **out, geom_diag *diag);
+geom_status geom_implicit_volume_read_nrrd_memory(const void *data, size_t size,
+                                                  const char *source_name,
+                                                  const geom_allocator *alloc,
+                                                  geom_implicit_volume **out, geom_diag *diag);
+void geom_implicit_volume_destroy(geom_implicit_volume *v);
+void geom_implicit_volume_get_desc(const geom_implicit_volume *v, geom_implicit_volume_desc *out);
+void *geom_implicit_volume_data(geom_implicit_volume *v);
+const void *geom_implicit_volume_cdata(const geom_implicit_volume *v);
+double geom_implicit_volume_at(const geom_implicit_volume *v, size_t i, size_t j, size_t k);
+geom_aabb geom_implicit_volume_bounds(const geom_implicit_volume *v);
+double geom_implicit_volume_eval(const geom_implicit_volume *v, const double p[3]);
+double geom_implicit_volume_eval_grad(const geom_implicit_volume *v, const double p[3],
+                                      double grad[3]);
+double geom_implicit_volume_value_cb(void *user, const double p[3]);
+double geom_implicit_volume_grad_cb(void *user, const double p[3], double grad[3]);
+typedef enum geom_implicit_sample {
+    GEOM_IMPLICIT_SAMPLE_U8 = 1,
+    GEOM_IMPLICIT_SAMPLE_I8 = 2,
+    GEOM_IMPLICIT_SAMPLE_U16 = 3,
+    GEOM_IMPLICIT_SAMPLE_I16 = 4,
+    GEOM_IMPLICIT_SAMPLE_U32 = 5,
+    GEOM_IMPLICIT_SAMPLE_I32 = 6,
+    GEOM_IMPLICIT_SAMPLE_F32 = 7,
+    GEOM_IMPLICIT_SAMPLE_F64 = 8
+} geom_implicit_sample;
+typedef enum geom_implicit_volume_format {
+    GEOM_IMPLICIT_VOLUME_AUTO = 0,
+    GEOM_IMPLICIT_VOLUME_RAW = 1,
+    GEOM_IMPLICIT_VOLUME_NRRD = 2,
+    GEOM_IMPLICIT_VOLUME_METAIMAGE = 3,
+    GEOM_IMPLICIT_VOLUME_INRIMAGE = 4,
+    GEOM_IMPLICIT_VOLUME_NIFTI = 5
+} geom_implicit_volume_format;
+typedef geom_status (*geom_implicit_inflate_fn)(void *user, const void *in, size_t in_size,
+                                                void *out, size_t out_cap, size_t *out_size);
+typedef struct geom_implicit_volume_read_options {
+    geom_implicit_volume_format format;
+    size_t dims[3];
+    geom_implicit_sample sample;
+    double spacing[3];
+    double origin[3];
+    int big_endian;
+    uint64_t skip;
+    geom_implicit_inflate_fn inflate;
+    void *inflate_user;
+} geom_implicit_volume_read_options;
+typedef struct geom_implicit_volume_file_info {
+    geom_implicit_volume_format format;
+    geom_implicit_sample sample;
+    int compressed;
+    int flipped[3];
+    int scaled;
+} geom_implicit_volume_file_info;
+geom_status geom_implicit_volume_read(const char *path,
+                                               const geom_implicit_volume_read_options *options,
+                                               const geom_allocator *alloc,
+                                               geom_implicit_volume **out,
+                                               geom_implicit_volume_file_info *info,
+                                               geom_diag *diag);
+geom_status geom_implicit_volume_read_memory(const void *data, size_t size,
+                                                      const char *source_name,
+                                                      const geom_implicit_volume_read_options *options,
+                                                      const geom_allocator *alloc,
+                                                      geom_implicit_volume **out,
+                                                      geom_implicit_volume_file_info *info,
+                                                      geom_diag *diag);
+const char *geom_implicit_sample_name(geom_implicit_sample s);
+geom_status geom_implicit_sample_parse(const char *name, geom_implicit_sample *out);
+size_t geom_implicit_sample_size(geom_implicit_sample s);
+const char *geom_implicit_volume_format_name(geom_implicit_volume_format f);
+void geom_implicit_volume_eval_many(const geom_implicit_volume *v, size_t n,
+                                             const double *p, double *out, double *grad);
 """,
 }
 
@@ -694,6 +840,12 @@ def _load():
         if os.path.exists(path):
             return ffi.dlopen(path), path
         tried.append(path)
+    try:
+        from ._libpath import LIBRARY
+    except ImportError:
+        LIBRARY = None
+    if LIBRARY and os.path.exists(LIBRARY):
+        return ffi.dlopen(LIBRARY), LIBRARY
     for name in (ctypes.util.find_library("geom"), "libgeom.so.0"):
         if not name:
             continue

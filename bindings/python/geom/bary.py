@@ -5,9 +5,9 @@ numpy arrays. The simplex functions (tri2, tri3, tet) keep the C library's
 guarantees: exact signs (a point on an edge gets exactly 0, a vertex exactly
 (1, 0, 0)) and a relative error of at most about 4.6e-13 per coordinate.
 
-Vectorised calls loop in Python over the C function (there is no batch
-entry point in the C ABI): a few tenths of a microsecond per point (see the
-README for measurements), i.e. a few million points per second. Arguments
+Vectorised calls run in C over the whole array in one call (the batch entry
+points geom_bary_simplex_many and geom_bary_polygon_many); perspective and
+interpolate still loop in Python. Arguments
 broadcast: a single triangle with an (n, 2) array of points, or (n, 2)
 arrays for every vertex and point.
 
@@ -42,39 +42,69 @@ def _finish(out, statuses, single, errors, what):
     return out[0] if single else out
 
 
-def _simplex(fn, dim, k, names, args, errors, what):
+def _rows(x, dim, name):
+    """x as (array (m, dim), m) with m = 1 for a single point."""
+    arr = np.ascontiguousarray(x, dtype=np.float64)
+    if arr.ndim == 1:
+        if arr.shape[0] != dim:
+            raise ValueError("%s: expected %d coordinates, got shape %s" % (name, dim, arr.shape))
+        return arr.reshape(1, dim), True
+    if arr.ndim != 2 or arr.shape[1] != dim:
+        raise ValueError("%s: expected shape (%d,) or (n, %d), got %s"
+                         % (name, dim, dim, arr.shape))
+    return arr, False
+
+
+def _simplex(kind, dim, k, names, args, errors, what):
+    """One C call over every row (geom_bary_simplex_many): single points
+    are passed with stride 0 (broadcast without copying)."""
     _check_errors(errors)
-    n, single, rows, keep = point_args(dim, **dict(zip(names, args)))
-    out = np.zeros((n, k), dtype=np.float64)
-    O = row_view(out, k)
-    rs = [rows[nm] for nm in names]
-    if len(rs) == 4:
-        A, B, C, P = rs
-        st = [fn(A[i], B[i], C[i], P[i], O[i]) for i in range(n)]
-    else:
-        A, B, C, D, P = rs
-        st = [fn(A[i], B[i], C[i], D[i], P[i], O[i]) for i in range(n)]
+    n = None
+    arrs = []
+    for nm, a in zip(names, args):
+        arr, one = _rows(a, dim, nm)
+        if not one:
+            if n is not None and n != arr.shape[0]:
+                raise ValueError("%s: %d rows, others have %d" % (nm, arr.shape[0], n))
+            n = arr.shape[0]
+        arrs.append((arr, one))
+    single = n is None
+    n = 1 if single else n
+    pts = ffi.new("const double *[5]")
+    strides = ffi.new("size_t[5]")
+    keep = []
+    for j, (arr, one) in enumerate(arrs):
+        buf = ffi.from_buffer("double[]", arr)
+        keep.append(buf)
+        pts[j] = buf
+        strides[j] = 0 if one else dim
+    out = np.empty((n, k), dtype=np.float64)
+    status = np.empty(n, dtype=np.int32)
+    st = lib.geom_bary_simplex_many(kind, n, pts, strides, ffi.from_buffer("double[]", out),
+                                    ffi.from_buffer("int32_t[]", status), ffi.NULL)
     del keep
-    return _finish(out, np.array(st, dtype=np.int32), single, errors, what)
+    if st != 0:
+        raise GeomError(int(st), context=what)
+    return _finish(out, status, single, errors, what)
 
 
 def tri2(a, b, c, p, errors="raise"):
     """Barycentric coordinates of p in the 2D triangle (a, b, c)
     (geom_bary_tri2): l with p = l0 a + l1 b + l2 c. Points (2,) or (n, 2);
     returns (3,) or (n, 3)."""
-    return _simplex(lib.geom_bary_tri2, 2, 3, ("a", "b", "c", "p"), (a, b, c, p), errors, "tri2")
+    return _simplex(lib.GEOM_BARY_TRI2, 2, 3, ("a", "b", "c", "p"), (a, b, c, p), errors, "tri2")
 
 
 def tri3(a, b, c, p, errors="raise"):
     """Barycentric coordinates of the projection of p onto the plane of the
     3D triangle (a, b, c) (geom_bary_tri3). Points (3,) or (n, 3)."""
-    return _simplex(lib.geom_bary_tri3, 3, 3, ("a", "b", "c", "p"), (a, b, c, p), errors, "tri3")
+    return _simplex(lib.GEOM_BARY_TRI3, 3, 3, ("a", "b", "c", "p"), (a, b, c, p), errors, "tri3")
 
 
 def tet(a, b, c, d, p, errors="raise"):
     """Barycentric coordinates of p in the tetrahedron (a, b, c, d)
     (geom_bary_tet); returns (4,) or (n, 4)."""
-    return _simplex(lib.geom_bary_tet, 3, 4, ("a", "b", "c", "d", "p"), (a, b, c, d, p), errors,
+    return _simplex(lib.GEOM_BARY_TET, 3, 4, ("a", "b", "c", "d", "p"), (a, b, c, d, p), errors,
                     "tet")
 
 
@@ -86,11 +116,17 @@ def _polygon(fn, poly, p, errors, what):
     k = P.shape[0]
     pts, single = as_points(p, 2, "p")
     n = pts.shape[0]
-    out = np.zeros((n, k), dtype=np.float64)
-    pp = ffi.from_buffer("double[]", P)
-    Q, O = row_view(pts, 2), row_view(out, k)
-    st = np.array([fn(k, pp, Q[i], O[i]) for i in range(n)], dtype=np.int32)
-    return _finish(out, st, single, errors, what)
+    out = np.empty((n, k), dtype=np.float64)
+    status = np.empty(n, dtype=np.int32)
+    if k < 3:
+        raise GeomError(lib.GEOM_ERR_INVALID_ARG, context="%s: a polygon needs 3 vertices" % what)
+    st = lib.geom_bary_polygon_many(fn, k, ffi.from_buffer("double[]", P), n,
+                                    ffi.from_buffer("double[]", pts),
+                                    ffi.from_buffer("double[]", out),
+                                    ffi.from_buffer("int32_t[]", status), ffi.NULL)
+    if st != 0:
+        raise GeomError(int(st), context=what)
+    return _finish(out, status, single, errors, what)
 
 
 def mean_value(poly, p, errors="raise"):
@@ -98,14 +134,14 @@ def mean_value(poly, p, errors="raise"):
     respect to the simple polygon `poly` ((k, 2), either orientation,
     convex or not). p is (2,) or (n, 2); returns (k,) or (n, k) weights
     summing to 1 that reproduce p."""
-    return _polygon(lib.geom_bary_mean_value, poly, p, errors, "mean_value")
+    return _polygon(0, poly, p, errors, "mean_value")
 
 
 def wachspress(poly, p, errors="raise"):
     """Wachspress coordinates of p inside the strictly convex polygon
     `poly` ((k, 2)). ERR_DOMAIN for a non-convex polygon or a point
     outside."""
-    return _polygon(lib.geom_bary_wachspress, poly, p, errors, "wachspress")
+    return _polygon(1, poly, p, errors, "wachspress")
 
 
 def perspective(l, w, errors="raise"):

@@ -105,11 +105,16 @@ class NurbsCurve:
         S + (dim,)). GeomError ERR_DOMAIN outside the domain unless wrap."""
         us, scalar, shape = _params(u)
         dim = self.dim
-        out = np.zeros((us.size, dim))
-        po = ffi.from_buffer("double[]", out)
-        fl = _flags(left, wrap)
-        for i, x in enumerate(us):
-            check(lib.geom_curve_nurbs_eval(self._c, x, fl, po + dim * i), context="eval(%r)" % x)
+        out = np.empty((us.size, dim))
+        status = np.empty(us.size, dtype=np.int32)
+        uc = np.ascontiguousarray(us, dtype=np.float64)
+        check(lib.geom_curve_nurbs_eval_many(self._c, uc.size, ffi.from_buffer("double[]", uc),
+                                             _flags(left, wrap), ffi.from_buffer("double[]", out),
+                                             ffi.from_buffer("int32_t[]", status), ffi.NULL),
+              context="eval")
+        bad = np.nonzero(status)[0]
+        if bad.size:
+            check(int(status[bad[0]]), context="eval(%r)" % float(uc[bad[0]]))
         return out[0] if scalar else out.reshape(shape + (dim,))
 
     __call__ = eval
@@ -206,6 +211,38 @@ class NurbsCurve:
               diag, context="insert_knot")
         return NurbsCurve._from_c(out, n + p + 1 + times)
 
+    def refine(self, new_knots):
+        """The same curve with every knot of new_knots (nondecreasing, in
+        the domain) inserted at once (A5.4)."""
+        x = np.ascontiguousarray(np.sort(np.asarray(new_knots, dtype=np.float64).reshape(-1)))
+        n, p, dim, nx = self.n, self.degree, self.dim, x.size
+        knots = np.zeros(self._knots.size + nx)
+        pts = np.zeros((n + nx) * dim)
+        w = np.zeros(n + nx) if self.rational else None
+        out = ffi.new("geom_nurbs_curve *")
+        diag = new_diag()
+        check(lib.geom_curve_nurbs_refine(self._c, dptr(x) if nx else ffi.NULL, nx, dptr(knots),
+                                          dptr(pts), dptr(w) if w is not None else ffi.NULL, out,
+                                          diag), diag, context="refine")
+        return NurbsCurve._from_c(out, n + p + 1 + nx)
+
+    def remove_knot(self, u, times=1, tol=1e-9):
+        """Remove the interior knot u up to `times` times while each removal
+        moves the curve by at most tol (A5.8). Returns (curve, removed)."""
+        n, p, dim = self.n, self.degree, self.dim
+        knots = np.zeros(self._knots.size)
+        pts = np.zeros(n * dim)
+        w = np.zeros(n) if self.rational else None
+        out = ffi.new("geom_nurbs_curve *")
+        removed = ffi.new("size_t *")
+        diag = new_diag()
+        check(lib.geom_curve_nurbs_remove_knot(self._c, float(u), int(times), float(tol),
+                                               dptr(knots), dptr(pts),
+                                               dptr(w) if w is not None else ffi.NULL, out,
+                                               removed, diag), diag, context="remove_knot")
+        r = int(removed[0])
+        return NurbsCurve._from_c(out, n + p + 1 - r), r
+
     def elevate(self, times=1):
         """The same curve with its degree raised by `times` (A5.9; the curve
         must be clamped)."""
@@ -266,6 +303,35 @@ def _frame(center, xaxis, yaxis):
     if xa.size != dim or ya.size != dim:
         raise ValueError("axes must have as many coordinates as the center")
     return c, xa, ya
+
+
+def bspline_basis(degree, knots, u, nderiv=0, left=False):
+    """The degree+1 non-zero B-spline basis functions and their derivatives
+    0..nderiv at each u (A2.3, in C over the whole array): returns (spans,
+    ders) with ders of shape S + (nderiv+1, degree+1) for u of shape S
+    (ders[..., k, j] = k-th derivative of N_{span-p+j}) and spans of shape S.
+    GeomError ERR_DOMAIN for a u outside the domain."""
+    kn = np.ascontiguousarray(knots, dtype=np.float64).reshape(-1)
+    n = kn.size - degree - 1
+    us, scalar, shape = _params(u)
+    uc = np.ascontiguousarray(us, dtype=np.float64)
+    ders = np.empty((uc.size, nderiv + 1, degree + 1))
+    spans = np.empty(uc.size, dtype=np.uintp)
+    status = np.empty(uc.size, dtype=np.int32)
+    check(lib.geom_curve_bspline_basis_many(int(degree), n, dptr(kn), uc.size,
+                                            ffi.from_buffer("double[]", uc), int(nderiv),
+                                            _flags(left, False),
+                                            ffi.cast("size_t *", ffi.from_buffer(spans)),
+                                            ffi.from_buffer("double[]", ders),
+                                            ffi.from_buffer("int32_t[]", status), ffi.NULL),
+          context="bspline_basis")
+    bad = np.nonzero(status)[0]
+    if bad.size:
+        check(int(status[bad[0]]), context="bspline_basis(%r)" % float(uc[bad[0]]))
+    spans = spans.astype(np.int64)
+    if scalar:
+        return int(spans[0]), ders[0]
+    return spans.reshape(shape), ders.reshape(shape + (nderiv + 1, degree + 1))
 
 
 def uniform_knots(degree, n, kind="clamped"):

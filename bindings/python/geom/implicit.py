@@ -10,6 +10,8 @@ marching cubes of geom/iso.h from an expression, a sampled numpy volume, or
 a Python function of an (n, 3) array of points.
 """
 
+import os
+
 import numpy as np
 
 from ._ffi import ffi, lib
@@ -131,8 +133,11 @@ def marching_cubes(field, bounds=None, resolution=None, iso=0.0, refine=False, n
         `resolution` (nx, ny, nz) cells over bounds (x0, y0, z0, x1, y1,
         z1); exact field, so refine=True puts vertices on the surface to
         rounding and the error is measured;
-      - a 3-D numpy array volume[i, j, k] (x index first, float32 or
-        float64) of samples at origin + (i, j, k) * spacing: the cells are
+      - a 3-D numpy array volume[i, j, k] (x index first; float32,
+        float64, or 8/16/32-bit integers, bool and float16, converted
+        exactly; other dtypes raise TypeError) of samples at
+        origin + (i, j, k) * spacing (or a Volume from read_volume, whose
+        spacing and origin are used): the cells are
         the boxes between samples (bounds and resolution unused);
       - a Python callable f(points (n, 3)) -> (n,) values, sampled like an
         expression (called one grid row at a time, from a single thread).
@@ -154,10 +159,14 @@ def marching_cubes(field, bounds=None, resolution=None, iso=0.0, refine=False, n
     diag = new_diag()
     keep = []
     error_box = []
+    if isinstance(field, Volume):
+        spacing = field.spacing if spacing is None else spacing
+        origin = field.origin if origin is None else origin
+        field = field.samples
     if isinstance(field, np.ndarray):
         if field.ndim != 3:
             raise ValueError("a volume must be a 3-D array")
-        dtype = np.float32 if field.dtype == np.float32 else np.float64
+        dtype = volume_dtype(field.dtype)
         vol = np.asfortranarray(field, dtype=dtype)  # i (x) fastest in memory
         grid = ffi.new("geom_iso_grid *")
         grid.dims = list(vol.shape)
@@ -247,4 +256,172 @@ def _iso_report(r):
     }
 
 
-__all__ = ["Expression", "marching_cubes"]
+_EXACT32 = {np.dtype(t) for t in ("u1", "i1", "u2", "i2", "f2", "f4", "?")}
+_EXACT64 = {np.dtype(t) for t in ("u4", "i4", "f8")}
+
+
+def volume_dtype(dtype):
+    """The sample type libgeom computes with for a numpy dtype: float32 for
+    8/16-bit integers, bool, float16 and float32; float64 for 32-bit
+    integers and float64 (every value exact, either byte order). Any other
+    dtype (64-bit integers, complex, float128, objects, strings) raises
+    TypeError instead of being converted with a loss."""
+    dt = np.dtype(dtype).newbyteorder("=")
+    if dt in _EXACT32:
+        return np.float32
+    if dt in _EXACT64:
+        return np.float64
+    raise TypeError("volume samples of dtype %s cannot be read exactly; convert them to "
+                    "float32 or float64 first" % np.dtype(dtype))
+
+
+_FORMATS = {None: 0, "auto": 0, "raw": 1, "nrrd": 2, "metaimage": 3, "mha": 3, "mhd": 3,
+            "inrimage": 4, "inr": 4, "nifti": 5, "nii": 5}
+_FORMAT_NAMES = {0: "auto", 1: "raw", 2: "nrrd", 3: "metaimage", 4: "inrimage", 5: "nifti"}
+_SAMPLES = {"u1": "u8", "i1": "i8", "u2": "u16", "i2": "i16", "u4": "u32", "i4": "i32",
+            "f4": "f32", "f8": "f64"}
+
+
+@ffi.callback("geom_status(void *, const void *, size_t, void *, size_t, size_t *)",
+              error=lib.GEOM_ERR_PARSE)
+def _inflate(user, src, n, dst, cap, got):
+    import zlib
+    try:
+        data = zlib.decompressobj(47).decompress(bytes(ffi.buffer(src, n)), cap + 1)
+    except zlib.error:
+        return lib.GEOM_ERR_PARSE
+    got[0] = len(data)
+    if len(data) > cap:
+        return lib.GEOM_ERR_LIMIT
+    ffi.memmove(dst, data, len(data))
+    return 0
+
+
+class Volume:
+    """A sampled volume read from a file (read_volume): samples[i, j, k]
+    (x index first; float32 or float64 as read_volume says), spacing and
+    origin (3-tuples from the header), and info (format, the file's sample
+    type, compressed, flipped axes, scaled). eval(points) interpolates
+    trilinearly in C (geom_implicit_volume_eval_many); marching_cubes(vol)
+    uses its placement."""
+
+    def __init__(self, samples, spacing=(1.0, 1.0, 1.0), origin=(0.0, 0.0, 0.0), info=None):
+        arr = np.asarray(samples)
+        if arr.ndim != 3:
+            raise ValueError("a volume must be a 3-D array")
+        self.samples = np.asfortranarray(arr, dtype=volume_dtype(arr.dtype))
+        self.spacing = tuple(float(x) for x in spacing)
+        self.origin = tuple(float(x) for x in origin)
+        self.info = dict(info or {})
+
+    shape = property(lambda self: self.samples.shape)
+
+    def __repr__(self):
+        return "<geom.Volume %dx%dx%d %s, spacing %s, origin %s>" % (
+            self.shape + (self.samples.dtype, self.spacing, self.origin))
+
+    def _c(self):
+        d = ffi.new("geom_implicit_volume_desc *")
+        d.dims = list(self.samples.shape)
+        f32 = self.samples.dtype == np.float32
+        d.type = lib.GEOM_IMPLICIT_SCALAR_F32 if f32 else lib.GEOM_IMPLICIT_SCALAR_F64
+        d.spacing = list(self.spacing)
+        d.origin = list(self.origin)
+        out = ffi.new("geom_implicit_volume **")
+        check(lib.geom_implicit_volume_create(d, ffi.NULL, out), context="Volume")
+        v = ffi.gc(out[0], lib.geom_implicit_volume_destroy)
+        flat = self.samples.reshape(-1, order="F")
+        ffi.memmove(lib.geom_implicit_volume_data(v), ffi.from_buffer(flat), flat.nbytes)
+        return v
+
+    def eval(self, points, gradient=False):
+        """Trilinear values at points ((3,) or (n, 3)); with gradient=True
+        also the interpolated central-difference gradients ((n, 3))."""
+        v = self._c()
+        pts = np.ascontiguousarray(points, dtype=np.float64)
+        single = pts.ndim == 1
+        pts = pts.reshape(-1, 3)
+        out = np.empty(pts.shape[0])
+        grad = np.empty((pts.shape[0], 3)) if gradient else None
+        lib.geom_implicit_volume_eval_many(v, pts.shape[0], ffi.from_buffer("double[]", pts),
+                                           ffi.from_buffer("double[]", out),
+                                           ffi.from_buffer("double[]", grad) if gradient
+                                           else ffi.NULL)
+        if single:
+            return (out[0], grad[0]) if gradient else out[0]
+        return (out, grad) if gradient else out
+
+    __call__ = eval
+
+
+def read_volume(path_or_bytes, dims=None, dtype=None, spacing=None, origin=None,
+                big_endian=False, skip=0, format=None, source_name=None):
+    """Read a volume file (geom_implicit_volume_read): NRRD (.nrrd, .nhdr;
+    raw, ascii, hex, gzip), MetaImage (.mha, .mhd), INRIMAGE (.inr) and
+    NIfTI-1 (.nii, .hdr/.img), each possibly gzipped (inflated with Python's
+    zlib), with spacing and origin from the header; or raw samples: dims
+    (nx, ny, nz) and dtype (a numpy dtype or "u8".."f64"; 64-bit integers
+    and complex raise TypeError) after `skip` header bytes, x fastest.
+    path_or_bytes is a path or a bytes-like object. Returns a Volume.
+    GeomError ERR_IO / ERR_PARSE (with the file and line or byte offset)."""
+    opt = ffi.new("geom_implicit_volume_read_options *")
+    fmt = format.lower() if isinstance(format, str) else format
+    if fmt not in _FORMATS:
+        raise ValueError("unknown volume format %r" % (format,))
+    opt.format = _FORMATS[fmt]
+    if dims is not None:
+        if dtype is None:
+            raise ValueError("raw volumes need dims and dtype")
+        opt.dims = [int(x) for x in dims]
+        # numpy's meaning first ("i8" is int64 and refused; np.uint8, "uint8",
+        # "u1" are bytes), then libgeom's names ("u16", "f32", ...)
+        try:
+            name = _SAMPLES.get(np.dtype(dtype).str[1:], "?")
+        except TypeError:
+            name = str(dtype)
+        sample = ffi.new("geom_implicit_sample *")
+        if lib.geom_implicit_sample_parse(name.encode(), sample) != 0:
+            raise TypeError("raw volume samples of dtype %r cannot be read (u8, i8, u16, i16, "
+                            "u32, i32, f32, f64)" % (dtype,))
+        opt.sample = sample[0]
+        if opt.format == 0:
+            opt.format = 1
+        opt.big_endian = 1 if big_endian else 0
+        opt.skip = int(skip)
+        if spacing is not None:
+            opt.spacing = [float(x) for x in spacing]
+        if origin is not None:
+            opt.origin = [float(x) for x in origin]
+    opt.inflate = _inflate
+    out = ffi.new("geom_implicit_volume **")
+    info = ffi.new("geom_implicit_volume_file_info *")
+    diag = new_diag()
+    if isinstance(path_or_bytes, (bytes, bytearray, memoryview)):
+        buf = ffi.from_buffer(path_or_bytes)
+        name = (source_name or "<memory>").encode()
+        st = lib.geom_implicit_volume_read_memory(buf, len(buf), name, opt, ffi.NULL, out, info,
+                                                  diag)
+    else:
+        path = os.fspath(path_or_bytes)
+        raw = path.encode() if isinstance(path, str) else path
+        if b"\0" in raw:
+            raise ValueError("path contains a NUL byte")
+        st = lib.geom_implicit_volume_read(raw, opt, ffi.NULL, out, info, diag)
+    check(st, diag, context="read_volume")
+    v = ffi.gc(out[0], lib.geom_implicit_volume_destroy)
+    d = ffi.new("geom_implicit_volume_desc *")
+    lib.geom_implicit_volume_get_desc(v, d)
+    shape = tuple(int(x) for x in d.dims)
+    f32 = d.type == lib.GEOM_IMPLICIT_SCALAR_F32
+    count = shape[0] * shape[1] * shape[2]
+    data = np.frombuffer(ffi.buffer(lib.geom_implicit_volume_cdata(v), count * (4 if f32 else 8)),
+                         dtype=np.float32 if f32 else np.float64).copy()
+    meta = {"format": _FORMAT_NAMES.get(int(info.format), "?"),
+            "sample": ffi.string(lib.geom_implicit_sample_name(info.sample)).decode(),
+            "compressed": bool(info.compressed),
+            "flipped": tuple(bool(x) for x in info.flipped),
+            "scaled": bool(info.scaled)}
+    return Volume(data.reshape(shape, order="F"), tuple(d.spacing), tuple(d.origin), meta)
+
+
+__all__ = ["Expression", "Volume", "marching_cubes", "read_volume", "volume_dtype"]

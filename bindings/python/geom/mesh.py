@@ -549,11 +549,83 @@ class Mesh:
             return None
         return lo, hi
 
+    def halfedges(self):
+        """The half-edge connectivity as uint32 arrays of n_halfedges:
+        {"next", "prev", "vertex" (the vertex it points to), "face"
+        (0xFFFFFFFF on a boundary), "opposite" (h ^ 1), "edge" (h >> 1)}."""
+        nh = self.n_halfedges
+        arrs = {k: np.empty(nh, dtype=np.uint32) for k in ("next", "prev", "vertex", "face")}
+        check(lib.geom_mesh_halfedge_arrays(self._ptr, *(_u32ptr(arrs[k]) for k in
+                                                         ("next", "prev", "vertex", "face"))),
+              context="halfedges")
+        h = np.arange(nh, dtype=np.uint32)
+        arrs["opposite"] = h ^ 1
+        arrs["edge"] = h >> 1
+        return arrs
+
+    _RINGS = {"vertices": 2, "faces": 1, "outgoing": 0}
+
+    def vertex_rings(self, kind="vertices"):
+        """Every vertex's one-ring as (offsets, items): vertex v's ring is
+        items[offsets[v]:offsets[v+1]] in circulator order (counter-clockwise
+        from the boundary); kind "vertices" (neighbours), "faces" or
+        "outgoing" (half-edges)."""
+        k = _choice(self._RINGS, kind, "kind")
+        nv = self.n_vertices
+        offsets = np.empty(nv + 1, dtype=np.uintp)
+        items = np.empty(max(self.n_halfedges, 1), dtype=np.uint32)
+        count = ffi.new("size_t *")
+        check(lib.geom_mesh_vertex_rings(self._ptr, k, ffi.cast("size_t *",
+                                                                ffi.from_buffer(offsets)),
+                                         _u32ptr(items), items.size, count),
+              context="vertex_rings")
+        return offsets.astype(np.int64), items[:int(count[0])].copy()
+
+    def one_ring(self, v, kind="vertices"):
+        """The one-ring of vertex v as an array (see vertex_rings)."""
+        k = _choice(self._RINGS, kind, "kind")
+        if not 0 <= int(v) < self.n_vertices:
+            raise IndexError("vertex %d out of range" % v)
+        c = ffi.new("geom_mesh_circ *")
+        c[0] = lib.geom_mesh_circ_begin(self._ptr, k, int(v))
+        x = ffi.new("uint32_t *")
+        out = []
+        while lib.geom_mesh_circ_next(c, x):
+            out.append(int(x[0]))
+        return np.array(out, dtype=np.uint32)
+
     def boundary_loops(self):
         """Number of boundary loops."""
         n = ffi.new("size_t *")
         check(lib.geom_mesh_boundary_loops(self._ptr, n, ffi.NULL), context="boundary_loops")
         return int(n[0])
+
+    def boundary_loop_vertices(self):
+        """The boundary loops as a list of vertex arrays, each in the order
+        of its boundary half-edges (the interior on the left when the mesh
+        faces are counter-clockwise), starting at its lowest half-edge."""
+        nh = self.n_halfedges
+        loop_of = np.empty(nh, dtype=np.uint32)
+        n = ffi.new("size_t *")
+        check(lib.geom_mesh_boundary_loops(self._ptr, n, _u32ptr(loop_of)),
+              context="boundary_loops")
+        he = self.halfedges()
+        nxt, to = he["next"], he["vertex"]
+        loops = []
+        seen = np.zeros(int(n[0]), dtype=bool)
+        for h in np.nonzero(loop_of != 0xFFFFFFFF)[0]:
+            lid = int(loop_of[h])
+            if seen[lid]:
+                continue
+            seen[lid] = True
+            verts, x = [], int(h)
+            while True:
+                verts.append(int(to[he["prev"][x]]))
+                x = int(nxt[x])
+                if x == h or len(verts) > nh:
+                    break
+            loops.append(np.array(verts, dtype=np.uint32))
+        return loops
 
     def components(self):
         """(count, vertex_component (n_vertices,), face_component (n_faces,))."""

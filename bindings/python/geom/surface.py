@@ -102,11 +102,17 @@ class NurbsSurface:
     def eval(self, u, v, flags=0):
         """S(u, v): (3,) for scalars, S + (3,) for arrays (broadcast)."""
         us, vs, scalar, shape = self._uv(u, v)
-        out = np.zeros((us.size, 3))
-        po = ffi.from_buffer("double[]", out)
-        for i in range(us.size):
-            check(lib.geom_surface_eval(self._s, us[i], vs[i], flags, po + 3 * i),
-                  context="eval(%r, %r)" % (us[i], vs[i]))
+        uv = np.ascontiguousarray(np.stack([us, vs], axis=1), dtype=np.float64)
+        out = np.empty((us.size, 3))
+        status = np.empty(us.size, dtype=np.int32)
+        check(lib.geom_surface_eval_many(self._s, us.size, ffi.from_buffer("double[]", uv), flags,
+                                         0, ffi.from_buffer("double[]", out),
+                                         ffi.from_buffer("int32_t[]", status), ffi.NULL),
+              context="eval")
+        bad = np.nonzero(status)[0]
+        if bad.size:
+            i = int(bad[0])
+            check(int(status[i]), context="eval(%r, %r)" % (us[i], vs[i]))
         return out[0] if scalar else out.reshape(shape + (3,))
 
     __call__ = eval

@@ -103,6 +103,42 @@ GEOM_API geom_status geom_bary_interpolate(size_t k, const double *l, size_t nco
  */
 GEOM_API geom_status geom_bary_perspective(const double l[3], const double w[3], double lp[3]);
 
+/* ------------------------------------------------------------ batches */
+
+/** Which simplex function geom_bary_simplex_many applies. */
+typedef enum geom_bary_simplex {
+    GEOM_BARY_TRI2 = 1, /**< geom_bary_tri2: points of 2 doubles, 3 weights */
+    GEOM_BARY_TRI3 = 2, /**< geom_bary_tri3: points of 3 doubles, 3 weights */
+    GEOM_BARY_TET = 3   /**< geom_bary_tet: points of 3 doubles, 4 weights */
+} geom_bary_simplex;
+
+/**
+ * The simplex function `kind` over n rows in one call (for bindings and
+ * loops over arrays; the results are those of the single-point function).
+ * pts: the vertex arrays and the query point array, in the single
+ * function's argument order (a, b, c, p for triangles; a, b, c, d, p for
+ * tet; unused entries ignored); row i of argument j starts at pts[j] +
+ * i * strides[j] (strides in doubles: the point size for one point per row,
+ * 0 for the same point in every row). out: k*n doubles (k = 3 or 4).
+ * status (n int32 values, NULL allowed) receives each row's geom_status;
+ * a failing row's weights are NaN; *n_failed (NULL allowed) counts them.
+ * Returns GEOM_OK (rows fail individually), or GEOM_ERR_INVALID_ARG for a
+ * NULL array or a bad kind with n > 0 (nothing written).
+ */
+GEOM_API geom_status geom_bary_simplex_many(geom_bary_simplex kind, size_t n,
+                                            const double *const pts[5], const size_t strides[5],
+                                            double *out, int32_t *status, size_t *n_failed);
+
+/**
+ * Mean value (wachspress == 0) or Wachspress coordinates of n points p
+ * (2*n doubles) in one polygon of nv vertices (2*nv doubles); w receives
+ * nv*n doubles, row by row. status / n_failed as geom_bary_simplex_many.
+ * GEOM_ERR_INVALID_ARG for NULL arrays or nv < 3 with n > 0.
+ */
+GEOM_API geom_status geom_bary_polygon_many(int wachspress, size_t nv, const double *poly,
+                                            size_t n, const double *p, double *w,
+                                            int32_t *status, size_t *n_failed);
+
 #ifdef __cplusplus
 }
 #endif

@@ -626,6 +626,34 @@ GEOM_API geom_status geom_curve_nurbs_polyline(const geom_nurbs_curve *c,
                                       double *points, size_t capacity, size_t *count,
                                       geom_error_report *report, geom_diag *diag);
 
+/* ------------------------------------------------------------ batches */
+
+/**
+ * geom_curve_bspline_basis_derivs at m parameters u (m doubles) in one
+ * call: ders receives m rows of (nderiv+1)*(degree+1) doubles (row i at
+ * i*(nderiv+1)*(degree+1), laid out as the single function's), spans (m
+ * values, NULL allowed) each row's span (SIZE_MAX where it failed); a
+ * failing row is NaN with its status in status (m int32 values, NULL
+ * allowed), counted in *n_failed (NULL allowed). Returns GEOM_OK, or
+ * GEOM_ERR_INVALID_ARG for NULL knots/u/ders or a negative degree/nderiv
+ * with m > 0.
+ */
+GEOM_API geom_status geom_curve_bspline_basis_many(int degree, size_t n, const double *knots, size_t m,
+                                                   const double *u, int nderiv, unsigned flags,
+                                                   size_t *spans, double *ders, int32_t *status,
+                                                   size_t *n_failed);
+
+/**
+ * geom_curve_nurbs_eval at n parameters u (n doubles) in one call (for
+ * bindings; same results): out receives n*dim doubles, row by row; a row
+ * whose evaluation fails is NaN, its status (n int32 values, NULL allowed)
+ * the geom_status, counted in *n_failed (NULL allowed). Returns GEOM_OK, or
+ * GEOM_ERR_INVALID_ARG for NULL c/u/out or a bad dim with n > 0.
+ */
+GEOM_API geom_status geom_curve_nurbs_eval_many(const geom_nurbs_curve *c, size_t n, const double *u,
+                                                unsigned flags, double *out, int32_t *status,
+                                                size_t *n_failed);
+
 #ifdef __cplusplus
 }
 #endif

@@ -397,6 +397,145 @@ GEOM_API double geom_implicit_volume_grad_cb(void *user, const double p[3], doub
 /** Fill *out with v's callbacks (exact = 0). v must outlive the field. */
 GEOM_API void geom_implicit_field_from_volume(const geom_implicit_volume *v, geom_implicit_field *out);
 
+/* ---------------------------------------------------- volume file formats */
+
+/** Sample type of a volume file. On reading, 8- and 16-bit integers and
+ *  float32 become a GEOM_IMPLICIT_SCALAR_F32 volume, 32-bit integers and
+ *  float64 a GEOM_IMPLICIT_SCALAR_F64 one: every value is kept exactly. */
+typedef enum geom_implicit_sample {
+    GEOM_IMPLICIT_SAMPLE_U8 = 1,  /**< unsigned 8-bit */
+    GEOM_IMPLICIT_SAMPLE_I8 = 2,  /**< signed 8-bit (two's complement) */
+    GEOM_IMPLICIT_SAMPLE_U16 = 3, /**< unsigned 16-bit */
+    GEOM_IMPLICIT_SAMPLE_I16 = 4, /**< signed 16-bit */
+    GEOM_IMPLICIT_SAMPLE_U32 = 5, /**< unsigned 32-bit */
+    GEOM_IMPLICIT_SAMPLE_I32 = 6, /**< signed 32-bit */
+    GEOM_IMPLICIT_SAMPLE_F32 = 7, /**< IEEE 754 binary32 */
+    GEOM_IMPLICIT_SAMPLE_F64 = 8  /**< IEEE 754 binary64 */
+} geom_implicit_sample;
+
+/** Volume file formats for geom_implicit_volume_read. */
+typedef enum geom_implicit_volume_format {
+    GEOM_IMPLICIT_VOLUME_AUTO = 0,      /**< by content (magic), then raw if dims are given */
+    GEOM_IMPLICIT_VOLUME_RAW = 1,       /**< headerless samples described by the options */
+    GEOM_IMPLICIT_VOLUME_NRRD = 2,      /**< Teem NRRD (.nrrd, .nhdr) */
+    GEOM_IMPLICIT_VOLUME_METAIMAGE = 3, /**< ITK MetaImage (.mha, .mhd) */
+    GEOM_IMPLICIT_VOLUME_INRIMAGE = 4,  /**< INRIMAGE-4 (.inr, .inr.gz) */
+    GEOM_IMPLICIT_VOLUME_NIFTI = 5      /**< NIfTI-1 (.nii, .nii.gz, .hdr + .img) */
+} geom_implicit_volume_format;
+
+/**
+ * Decompress a zlib (RFC 1950) or gzip (RFC 1952) stream of in_size bytes
+ * into out (out_cap bytes), storing the decompressed size in *out_size.
+ * Return GEOM_OK, GEOM_ERR_LIMIT when out_cap is too small (the reader then
+ * retries with a larger buffer), GEOM_ERR_PARSE for a corrupt stream.
+ * libgeom has no compression library: the tools and the Python binding pass
+ * one over zlib.
+ */
+typedef geom_status (*geom_implicit_inflate_fn)(void *user, const void *in, size_t in_size,
+                                                void *out, size_t out_cap, size_t *out_size);
+
+/** Options of geom_implicit_volume_read; valid when zero-initialised. */
+typedef struct geom_implicit_volume_read_options {
+    geom_implicit_volume_format format; /**< 0: detect */
+    /* Raw files only (GEOM_IMPLICIT_VOLUME_RAW, or AUTO with dims given): */
+    size_t dims[3];              /**< samples per axis, x fastest */
+    geom_implicit_sample sample; /**< sample type (0: float32) */
+    double spacing[3];           /**< 0 = 1 */
+    double origin[3];            /**< default 0 */
+    int big_endian;              /**< nonzero: big-endian samples */
+    uint64_t skip;               /**< header bytes before the samples */
+    /** Decompression for gzip files and NRRD gzip / MetaImage compressed
+     *  data; NULL: those are GEOM_ERR_PARSE with a message saying so. */
+    geom_implicit_inflate_fn inflate;
+    void *inflate_user;
+} geom_implicit_volume_read_options;
+
+/** What a volume file said, filled by geom_implicit_volume_read (optional). */
+typedef struct geom_implicit_volume_file_info {
+    geom_implicit_volume_format format; /**< the format read */
+    geom_implicit_sample sample;        /**< the file's sample type */
+    int compressed;                     /**< gzip/zlib data was inflated */
+    int flipped[3];                     /**< axis stored in decreasing world order
+                                             (a negative direction), reversed on reading */
+    int scaled;                         /**< NIfTI scl_slope/scl_inter applied */
+} geom_implicit_volume_file_info;
+
+/**
+ * Read a volume file. Formats (detected by content when options->format is
+ * 0; a whole file compressed with gzip is inflated first):
+ *  - raw: options->dims samples of options->sample after options->skip
+ *    header bytes; the remaining size must be exactly the samples' size;
+ *  - NRRD0001..5: all eight sample types (every NRRD spelling), encodings
+ *    raw, ascii/text/txt, hex and gzip/gz (bzip2 is GEOM_ERR_PARSE),
+ *    attached or detached ("data file", relative to the header) data, "byte
+ *    skip" (-1 = data ends the file) and "line skip"; placement from "space
+ *    directions" + "space origin", else "spacings" + "axis mins";
+ *  - MetaImage (.mha with ElementDataFile = LOCAL, .mhd naming a data file):
+ *    NDims 1..3, ElementNumberOfChannels 1, ElementType MET_UCHAR..
+ *    MET_DOUBLE, ElementSpacing/ElementSize, Offset/Origin/Position,
+ *    TransformMatrix, ElementByteOrderMSB, HeaderSize, CompressedData;
+ *  - INRIMAGE-4: XDIM/YDIM/ZDIM, VDIM 1, TYPE (unsigned fixed, signed fixed,
+ *    float) with PIXSIZE, CPU (decm/alpha/pc little-endian; sun/sgi big),
+ *    VX/VY/VZ spacing, XO/YO/ZO (or TX/TY/TZ) origin;
+ *  - NIfTI-1 (magic "n+1" single file or "ni1" .hdr naming the .img), either
+ *    byte order, datatypes 2, 4, 8, 16, 64, 256, 512, 768, dims beyond the
+ *    third of size 1; placement from the sform (sform_code > 0), else the
+ *    qform quaternion, else pixdim; scl_slope/scl_inter applied (the volume
+ *    is then float64).
+ * The placement must be axis-aligned (each grid axis along one world axis,
+ * in the same order, within 1e-6 relative); an axis with a negative
+ * direction is reversed so that the spacing is positive, which keeps the
+ * world positions of the samples. Sizes are checked before allocating; the
+ * whole file is read into memory first (peak memory: file + volume).
+ * Statuses: GEOM_OK; GEOM_ERR_INVALID_ARG (NULL path/out, raw options that
+ * geom_implicit_volume_create rejects); GEOM_ERR_IO (cannot open/read: diag
+ * names the file and the reason); GEOM_ERR_PARSE (unknown format, malformed
+ * header: diag has the file and line, or the byte offset; unsupported type,
+ * encoding or orientation; size mismatch; compressed data without inflate);
+ * GEOM_ERR_LIMIT (sizes overflow); GEOM_ERR_NOMEM.
+ */
+GEOM_API geom_status geom_implicit_volume_read(const char *path,
+                                               const geom_implicit_volume_read_options *options,
+                                               const geom_allocator *alloc,
+                                               geom_implicit_volume **out,
+                                               geom_implicit_volume_file_info *info,
+                                               geom_diag *diag);
+
+/**
+ * As geom_implicit_volume_read, from `size` bytes at `data` (never read
+ * beyond size); source_name (NULL: "<memory>") names it in diagnostics.
+ * Headers naming a separate data file are GEOM_ERR_PARSE.
+ */
+GEOM_API geom_status geom_implicit_volume_read_memory(const void *data, size_t size,
+                                                      const char *source_name,
+                                                      const geom_implicit_volume_read_options *options,
+                                                      const geom_allocator *alloc,
+                                                      geom_implicit_volume **out,
+                                                      geom_implicit_volume_file_info *info,
+                                                      geom_diag *diag);
+
+/** "u8", "i8", "u16", "i16", "u32", "i32", "f32", "f64"; "?" otherwise. */
+GEOM_API const char *geom_implicit_sample_name(geom_implicit_sample s);
+
+/** Parse a sample type name: the names above, and "uint8", "int8", "uint16",
+ *  "int16", "uint32", "int32", "float32"/"float", "float64"/"double".
+ *  GEOM_ERR_PARSE for anything else, GEOM_ERR_INVALID_ARG for NULL. */
+GEOM_API geom_status geom_implicit_sample_parse(const char *name, geom_implicit_sample *out);
+
+/** Bytes per sample of s (1, 2, 4 or 8), 0 for an invalid value. */
+GEOM_API size_t geom_implicit_sample_size(geom_implicit_sample s);
+
+/**
+ * geom_implicit_volume_eval (grad NULL) or geom_implicit_volume_eval_grad
+ * at n points p (3*n doubles) in one call: out receives n values, grad (NULL
+ * allowed) 3*n gradient components. A NULL v or p gives NaN values.
+ */
+GEOM_API void geom_implicit_volume_eval_many(const geom_implicit_volume *v, size_t n,
+                                             const double *p, double *out, double *grad);
+
+/** "raw", "nrrd", "metaimage", "inrimage", "nifti"; "auto" for 0. */
+GEOM_API const char *geom_implicit_volume_format_name(geom_implicit_volume_format f);
+
 /* -------------------------------------------------------- marching squares */
 
 /** Root refinement choice of geom_implicit_contour_options::refine. */

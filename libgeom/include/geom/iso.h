@@ -387,6 +387,34 @@ GEOM_API geom_status geom_iso_field_from_volume(const geom_implicit_volume *v, g
  */
 GEOM_API geom_status geom_iso_grid_from_volume(const geom_implicit_volume *v, geom_iso_grid *out);
 
+/* ------------------------------------------------------------- estimates */
+
+/**
+ * The number of triangles geom_iso_extract(f, bounds, res, ...) would make
+ * with isovalue iso, estimated before extracting: the field is sampled on a
+ * grid of at most 40 cells per axis over bounds, the cells with samples on
+ * both sides of iso counted, scaled by (fine cells per coarse cell)^(2/3)
+ * (the surface's area) and by 2 triangles per crossed cell. Exact scaling
+ * for smooth surfaces larger than the coarse cells; features thinner than
+ * a coarse cell are missed (an underestimate). Calls f->value at most 41^3
+ * times, from the calling thread.
+ * GEOM_OK; GEOM_ERR_INVALID_ARG (NULL arguments, no value callback, a zero
+ * res, an empty box, non-finite iso); GEOM_ERR_NOMEM.
+ */
+GEOM_API geom_status geom_iso_estimate_triangles(const geom_iso_field *f, const double bounds[6],
+                                                 const size_t res[3], double iso,
+                                                 double *triangles);
+
+/**
+ * As geom_iso_estimate_triangles for geom_iso_extract_grid: every cell of
+ * the grid is checked (one pass over the samples, no allocation), so only
+ * the triangles per crossed cell are estimated (2).
+ * GEOM_OK; the statuses of geom_iso_grid_check; GEOM_ERR_INVALID_ARG for a
+ * NULL triangles or non-finite iso.
+ */
+GEOM_API geom_status geom_iso_grid_estimate_triangles(const geom_iso_grid *g, double iso,
+                                                      double *triangles);
+
 #ifdef __cplusplus
 }
 #endif

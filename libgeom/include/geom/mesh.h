@@ -639,6 +639,33 @@ GEOM_API geom_status geom_mesh_clip_plane(const geom_mesh *m, const double plane
 GEOM_API geom_status geom_mesh_clip_frustum(const geom_mesh *m, geom_mat4 view_proj,
                                    const geom_clip_options *opt, geom_mesh **out);
 
+/* ------------------------------------------------------------ as arrays */
+
+/**
+ * The half-edge connectivity as arrays of n_halfedges uint32 each (any may
+ * be NULL): next, prev, vertex (the vertex h points to) and face
+ * (GEOM_INVALID_INDEX on a boundary); opposite is h ^ 1, edge h >> 1.
+ * Deleted elements keep whatever the mesh holds for them.
+ * GEOM_OK; GEOM_ERR_INVALID_ARG for a NULL mesh.
+ */
+GEOM_API geom_status geom_mesh_halfedge_arrays(const geom_mesh *m, uint32_t *next, uint32_t *prev,
+                                               uint32_t *vertex, uint32_t *face);
+
+/**
+ * Every vertex's ring as one compressed array: the elements a vertex
+ * circulator of `kind` (GEOM_MESH_CIRC_VERTEX_OUTGOING, _FACES or
+ * _VERTICES) visits, in its order, for vertex v at items[offsets[v] ..
+ * offsets[v+1]). offsets: n_vertices + 1 values; items: `capacity` values
+ * (NULL allowed with capacity 0). *count receives the total (at most
+ * n_halfedges); deleted vertices get an empty ring.
+ * GEOM_OK; GEOM_ERR_LIMIT when capacity < *count (offsets and *count are
+ * still complete: call again with room for *count); GEOM_ERR_INVALID_ARG
+ * for NULL m/offsets/count or another kind.
+ */
+GEOM_API geom_status geom_mesh_vertex_rings(const geom_mesh *m, geom_mesh_circ_kind kind,
+                                            size_t *offsets, uint32_t *items, size_t capacity,
+                                            size_t *count);
+
 #ifdef __cplusplus
 }
 #endif

@@ -6,7 +6,9 @@
  *   OFF     yes   yes    ASCII; [ST][C][N]OFF variants (texture, colours, normals)
  *   PLY     yes   yes    ascii, binary_little_endian, binary_big_endian
  *   STL     yes   yes    ASCII and binary (binary detected by its size)
- *   GLB     no    yes    glTF 2.0 binary container, one triangle primitive
+ *   GLB     yes   yes    glTF 2.0 binary container, triangle primitives (read:
+ *                          every mode-4 primitive of the first mesh, welded by
+ *                          position; attributes as CORNER channels)
  *
  * Reading parses the file into a polygon soup with attribute arrays and
  * builds the mesh with geom_mesh_build() (see mesh.h): the build options and
@@ -70,7 +72,7 @@ typedef enum geom_meshio_format {
     GEOM_MESHIO_FORMAT_OFF = 2,
     GEOM_MESHIO_FORMAT_PLY = 3,
     GEOM_MESHIO_FORMAT_STL = 4,
-    GEOM_MESHIO_FORMAT_GLB = 5 /**< glTF 2.0 binary; write only */
+    GEOM_MESHIO_FORMAT_GLB = 5 /**< glTF 2.0 binary */
 } geom_meshio_format;
 
 /**
@@ -142,7 +144,7 @@ typedef struct geom_meshio_read_options {
  * geom_mesh_destroy) on GEOM_OK and NULL otherwise. opt, report and diag may
  * be NULL; report is geom_mesh_build's report (zeroed on a parse error).
  *
- * Statuses: GEOM_OK; GEOM_ERR_INVALID_ARG (NULL path or out, GLB input,
+ * Statuses: GEOM_OK; GEOM_ERR_INVALID_ARG (NULL path or out,
  * unknown opt->format); GEOM_ERR_IO (cannot open or read: diag has the
  * system's reason); GEOM_ERR_PARSE (malformed content: diag has the line
  * and column, or the byte offset, and what was expected); GEOM_ERR_LIMIT
@@ -231,6 +233,10 @@ typedef struct geom_meshio_write_options {
     int ply_float;
     /** GLB: nonzero keeps v as it is instead of writing 1 - v. */
     int gltf_keep_v;
+    /** GLB: nonzero says the mesh is Z-up (right-handed, as CAD and STEP
+     *  data): it is written rotated into glTF's Y-up frame, (x, y, z) ->
+     *  (x, z, -y), positions, normals and tangents alike. */
+    int gltf_z_up;
     /** Allocator for temporary memory and geom_meshio_write_memory's
      *  buffer; NULL = libc. */
     const geom_allocator *alloc;

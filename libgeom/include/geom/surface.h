@@ -514,6 +514,36 @@ GEOM_API geom_status geom_surface_tessellate(const geom_nurbs_surface *surfaces,
                                     geom_error_report *report, geom_surface_tess_stats *stats,
                                     geom_diag *diag);
 
+/**
+ * The number of triangles geom_surface_tessellate would make for the n
+ * surfaces with these options (NULL: defaults), before doing it, so that
+ * callers can refuse an output that would not fit. Uniform mode: exact
+ * (2 * grid_u * grid_v per non-empty knot-span cell, or per surface with
+ * per_surface). Adaptive mode: an estimate from |S_uu|, |S_uv|, |S_vv| on a
+ * 4x4 grid per knot span (a flat triangle of parameter size h deviates by
+ * about |S''| h^2 / 8 from the surface); typically within a factor 2 of the
+ * count made, not a bound. Costs 16 derivative evaluations per span.
+ * GEOM_OK; GEOM_ERR_INVALID_ARG for NULL triangles, NULL s with n > 0, or an
+ * invalid surface.
+ */
+GEOM_API geom_status geom_surface_tess_estimate(const geom_nurbs_surface *s, size_t n,
+                                                const geom_surface_tess_options *opt,
+                                                double *triangles);
+
+/* ------------------------------------------------------------ batches */
+
+/**
+ * geom_surface_eval (normals == 0) or geom_surface_normal (normals != 0)
+ * at n parameter pairs uv (2*n doubles: u0 v0 u1 v1 ...) in one call (for
+ * bindings; same results): out receives 3*n doubles; a failing row is NaN
+ * with its geom_status in status (n int32 values, NULL allowed), counted in
+ * *n_failed (NULL allowed). Returns GEOM_OK, or GEOM_ERR_INVALID_ARG for
+ * NULL s/uv/out with n > 0.
+ */
+GEOM_API geom_status geom_surface_eval_many(const geom_nurbs_surface *s, size_t n, const double *uv,
+                                            unsigned flags, int normals, double *out,
+                                            int32_t *status, size_t *n_failed);
+
 #ifdef __cplusplus
 }
 #endif

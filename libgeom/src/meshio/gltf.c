@@ -124,7 +124,9 @@ geom_status geom_meshio__write_glb(const geom_mesh *m, const geom_meshio_write_o
     float mn[3] = {FLT_MAX, FLT_MAX, FLT_MAX}, mx[3] = {-FLT_MAX, -FLT_MAX, -FLT_MAX};
     view_off[0] = 0;
     for (size_t i = 0; i < e.nv && bin.status == GEOM_OK; i++) {
-        const double *p = pos + 3 * (size_t)e.vert[i];
+        const double *p0 = pos + 3 * (size_t)e.vert[i];
+        double zup[3] = {p0[0], p0[2], -p0[1]};
+        const double *p = opt->gltf_z_up ? zup : p0;
         for (int j = 0; j < 3; j++) {
             if (!isfinite(p[j]) || fabs(p[j]) > FLT_MAX) {
                 geom_meshio__sink_fail(&bin, GEOM_ERR_INVALID_ARG,
@@ -152,6 +154,11 @@ geom_status geom_meshio__write_glb(const geom_mesh *m, const geom_meshio_write_o
                 v[3] = 1.0;
             if (flip && a == MIO_ATTR_UV)
                 v[1] = 1.0 - v[1];
+            if (opt->gltf_z_up && (a == MIO_ATTR_NORMAL || a == MIO_ATTR_TANGENT)) {
+                double y = v[1];
+                v[1] = v[2];
+                v[2] = -y;
+            }
             if (flip && a == MIO_ATTR_TANGENT)
                 v[3] = -v[3];
             for (int j = 0; j < n; j++) {

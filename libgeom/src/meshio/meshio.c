@@ -127,10 +127,7 @@ static geom_status read_data(const void *data, size_t size, geom_file *file,
     case GEOM_MESHIO_FORMAT_OFF: st = geom_meshio__read_off(&c, &s); break;
     case GEOM_MESHIO_FORMAT_PLY: st = geom_meshio__read_ply(&c, &s); break;
     case GEOM_MESHIO_FORMAT_STL: st = geom_meshio__read_stl(&c, &s); break;
-    case GEOM_MESHIO_FORMAT_GLB:
-        st = geom_diag_set(diag, GEOM_ERR_INVALID_ARG, src, 0, 0,
-                           "reading glTF binary files is not supported");
-        break;
+    case GEOM_MESHIO_FORMAT_GLB: st = geom_meshio__read_glb(&c, &s); break;
     default:
         st = geom_diag_set(diag, GEOM_ERR_INVALID_ARG, src, 0, 0, "unknown format %d",
                            (int)fmt);

@@ -233,6 +233,7 @@ geom_status geom_meshio__read_obj(mio_ctx *c, mio_soup *s);
 geom_status geom_meshio__read_off(mio_ctx *c, mio_soup *s);
 geom_status geom_meshio__read_ply(mio_ctx *c, mio_soup *s);
 geom_status geom_meshio__read_stl(mio_ctx *c, mio_soup *s);
+geom_status geom_meshio__read_glb(mio_ctx *c, mio_soup *s); /* gltf_read.c */
 
 /* ------------------------------------------------------------------- sink */
 

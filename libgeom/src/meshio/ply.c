@@ -713,7 +713,7 @@ geom_status geom_meshio__write_ply(const geom_mesh *m, const geom_meshio_write_o
     geom_meshio__put_u64(k, e.nv);
     mio_putc(k, '\n');
     static const char *const xyz[] = {"x", "y", "z"}, *const nxyz[] = {"nx", "ny", "nz"},
-                              *const uv[] = {"u", "v"},
+                              *const uv[] = {"s", "t"}, /* Blender, MeshLab */
                               *const rgba[] = {"red", "green", "blue", "alpha"};
     for (int i = 0; i < 3; i++) {
         geom_meshio__puts(k, "property ");
