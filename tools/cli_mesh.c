@@ -1,6 +1,8 @@
 /* Mesh input and output shared by the mesh tools (see cli_mesh.h). */
 #include "cli_mesh.h"
 
+#include <errno.h>
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -47,21 +49,34 @@ geom_status cli_mesh_read(const char *tool_name, const char *path, geom_meshio_f
 geom_status cli_mesh_write(const geom_mesh *m, const char *path, geom_meshio_format fmt,
                            geom_diag *diag)
 {
+    /* Into memory, then through cli_output: one output path for every tool
+     * (cp's rules for what is replaced, temporary files removed on SIGINT,
+     * SIGTERM and SIGHUP), at the price of the file's size in memory. */
+    bool to_stdout = strcmp(path, "-") == 0;
     geom_meshio_write_options wo;
     memset(&wo, 0, sizeof wo);
-    wo.format = fmt;
-    if (strcmp(path, "-") != 0)
-        return geom_meshio_write(m, path, &wo, diag);
+    wo.format = fmt ? fmt : to_stdout ? GEOM_MESHIO_FORMAT_AUTO : geom_meshio_format_from_name(path);
+    if (wo.format == GEOM_MESHIO_FORMAT_AUTO)
+        return cli_diag_set(diag, GEOM_ERR_INVALID_ARG, to_stdout ? "<stdout>" : path, 0, 0,
+                            "output format not recognised from the name: give --format");
     void *buf = NULL;
     size_t n = 0;
     geom_status st = geom_meshio_write_memory(m, &wo, &buf, &n, diag);
-    if (st != GEOM_OK)
+    if (st != GEOM_OK) {
+        if (diag && diag->source[0] == '\0')
+            cli_diag_locate(diag, to_stdout ? "<stdout>" : path, 0);
         return st;
+    }
     cli_output out;
-    st = cli_output_open(&out, NULL, diag);
+    st = cli_output_open(&out, to_stdout ? NULL : path, diag);
     if (st == GEOM_OK) {
-        fwrite(buf, 1, n, out.fp);
-        st = cli_output_commit(&out, diag);
+        if (n > 0 && fwrite(buf, 1, n, out.fp) != n) {
+            cli_output_abort(&out);
+            st = cli_diag_set(diag, GEOM_ERR_IO, to_stdout ? "<stdout>" : path, 0, 0,
+                              "write error: %s", strerror(errno ? errno : EIO));
+        } else {
+            st = cli_output_commit(&out, diag);
+        }
     }
     geom_meshio_buffer_free(buf, n, NULL);
     return st;

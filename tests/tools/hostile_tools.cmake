@@ -1,0 +1,9 @@
+# Hostile-use tests of the tools (issue 15): what -o does to every kind of
+# destination, and the hostile-input corpus tests/data/hostile through every
+# tool. Included by tests/tools/CMakeLists.txt.
+
+if(TARGET geom-bary AND TARGET geom-convert)
+  add_test(NAME tool_output_safety
+    COMMAND ${GEOM_BASH} ${CMAKE_CURRENT_LIST_DIR}/test_output_safety.sh
+            $<TARGET_FILE:geom-bary> $<TARGET_FILE:geom-convert> ${PROJECT_SOURCE_DIR}/data)
+endif()
