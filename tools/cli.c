@@ -648,7 +648,10 @@ geom_status cli_output_open(cli_output *out, const char *path, geom_diag *diag)
         return output_fail(out, diag, path, errno, "cannot open for writing");
     }
     if (have && S_ISDIR(st.st_mode))
-        return output_fail(out, diag, path, EISDIR, "cannot open for writing");
+    {
+        output_release(out);
+        return cli_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "is a directory");
+    }
     if (have && !S_ISREG(st.st_mode)) {
         /* A device (/dev/null, /dev/full), FIFO or socket: write through it,
          * never replace it. */
@@ -666,7 +669,7 @@ geom_status cli_output_open(cli_output *out, const char *path, geom_diag *diag)
             return output_fail(out, diag, path, errno, "cannot open for writing");
         e = output_temporary(out);
         if (e)
-            return output_fail(out, diag, path, e, "cannot create a temporary file next to it");
+            return output_fail(out, diag, path, e, "cannot create output file");
         if (have) {
             if (st.st_uid != geteuid() || st.st_gid != getegid()) {
                 if (fchown(out->fd, st.st_uid, st.st_gid) != 0) {
