@@ -199,22 +199,61 @@ void cli_diag_locate(geom_diag *d, const char *source, size_t line)
     d->line = line;
 }
 
+/* Length of the valid UTF-8 sequence at p (1..4), 0 if not valid. */
+static size_t cli_utf8_len(const unsigned char *p)
+{
+    unsigned char c = p[0];
+    size_t len;
+    uint32_t cp;
+    if (c < 0x80)
+        return 1;
+    if (c >= 0xC2 && c <= 0xDF)
+        len = 2, cp = c & 0x1F;
+    else if (c >= 0xE0 && c <= 0xEF)
+        len = 3, cp = c & 0x0F;
+    else if (c >= 0xF0 && c <= 0xF4)
+        len = 4, cp = c & 0x07;
+    else
+        return 0;
+    for (size_t i = 1; i < len; i++) { /* stops at the NUL: 0x00 is no continuation */
+        if ((p[i] & 0xC0) != 0x80)
+            return 0;
+        cp = cp << 6 | (p[i] & 0x3F);
+    }
+    if ((len == 3 && (cp < 0x800 || (cp >= 0xD800 && cp <= 0xDFFF))) ||
+        (len == 4 && (cp < 0x10000 || cp > 0x10FFFF)))
+        return 0;
+    return len;
+}
+
+void cli_print_escaped(FILE *fp, const char *s)
+{
+    const unsigned char *p = (const unsigned char *)s;
+    while (*p) {
+        size_t u = cli_utf8_len(p);
+        if (u == 0 || (u == 1 && (*p < 0x20 || *p == 0x7F))) {
+            fprintf(fp, "\\x%02x", *p);
+            p++;
+        } else {
+            fwrite(p, 1, u, fp);
+            p += u;
+        }
+    }
+}
+
 int cli_print_diag(const cli_tool *tool, const geom_diag *d)
 {
     char small[512];
     size_t need = geom_diag_format(d, small, sizeof small);
-    if (need < sizeof small) {
-        fprintf(stderr, "%s: %s\n", tool->name, small);
-        return CLI_EXIT_ERROR;
-    }
-    char *big = malloc(need + 1);
-    if (big) {
+    char *big = need < sizeof small ? NULL : malloc(need + 1);
+    if (big)
         geom_diag_format(d, big, need + 1);
-        fprintf(stderr, "%s: %s\n", tool->name, big);
-        free(big);
-    } else {
-        fprintf(stderr, "%s: %s\n", tool->name, small); /* truncated */
-    }
+    /* Text from the input may be part of the message: escape what could
+     * drive the terminal. */
+    fprintf(stderr, "%s: ", tool->name);
+    cli_print_escaped(stderr, big ? big : small); /* small is truncated if big failed */
+    fputc('\n', stderr);
+    free(big);
     return CLI_EXIT_ERROR;
 }
 
@@ -481,10 +520,19 @@ void cli_json_string(FILE *fp, const char *s)
         case '\r': fputs("\\r", fp); break;
         case '\t': fputs("\\t", fp); break;
         default:
-            if (c < 0x20)
+            if (c < 0x20 || c == 0x7F) {
                 fprintf(fp, "\\u%04x", c);
-            else
+            } else if (c >= 0x80) { /* valid UTF-8 passes, anything else is U+FFFD */
+                size_t u = cli_utf8_len((const unsigned char *)s);
+                if (u == 0) {
+                    fputs("\\ufffd", fp);
+                } else {
+                    fwrite(s, 1, u, fp);
+                    s += u - 1;
+                }
+            } else {
                 fputc(c, fp);
+            }
         }
     }
     fputc('"', fp);

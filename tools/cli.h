@@ -151,6 +151,11 @@ geom_status cli_diag_set(geom_diag *d, geom_status status, const char *source, s
  *  knows the column (cli_parse_numbers). NULL d is a no-op. */
 void cli_diag_locate(geom_diag *d, const char *source, size_t line);
 
+/** Print s to fp with control bytes, DEL and bytes that are not valid
+ *  UTF-8 written as \xNN: text copied from input can then neither drive the
+ *  terminal (clear it, set its title) nor break UTF-8. */
+void cli_print_escaped(FILE *fp, const char *s);
+
 /** Print d as "tool: source:line:col: message" (parts omitted when unknown,
  *  see geom_diag_format) to stderr. Returns CLI_EXIT_ERROR. */
 int cli_print_diag(const cli_tool *tool, const geom_diag *d);
@@ -256,7 +261,8 @@ void cli_print_double(FILE *fp, double v);
 void cli_json_number(FILE *fp, double v);
 
 /** Print s as a JSON string literal with quotes and escapes (control
- *  characters as \u00XX; bytes >= 0x80 are passed through). */
+ *  characters and DEL as \u00XX; valid UTF-8 sequences are passed through,
+ *  any other byte >= 0x80 becomes \ufffd, so the output is valid UTF-8). */
 void cli_json_string(FILE *fp, const char *s);
 
 /** A destination for a tool's output: standard output, a device or FIFO

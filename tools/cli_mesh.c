@@ -41,9 +41,20 @@ geom_status cli_mesh_read(const char *tool_name, const char *path, geom_meshio_f
             if (items[i].n)
                 fprintf(stderr, "%s: %s: repaired: %zu %s\n", tool_name, in.name, items[i].n,
                         items[i].what);
+        if (cli_mesh_empty_warning(*m))
+            fprintf(stderr, "%s: %s: warning: %s\n", tool_name, in.name,
+                    cli_mesh_empty_warning(*m));
     }
     cli_input_close(&in);
     return st;
+}
+
+const char *cli_mesh_empty_warning(const geom_mesh *m)
+{
+    if (!m || geom_mesh_n_faces(m) > 0)
+        return NULL;
+    return geom_mesh_n_vertices(m) == 0 ? "empty mesh: no vertices and no faces"
+                                        : "no faces: only vertices";
 }
 
 geom_status cli_mesh_write(const geom_mesh *m, const char *path, geom_meshio_format fmt,

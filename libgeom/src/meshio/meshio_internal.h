@@ -281,6 +281,12 @@ geom_status geom_meshio__sink_flush(mio_sink *k);
 geom_status geom_meshio__sink_fail(mio_sink *k, geom_status st, const char *fmt, ...)
     GEOM_PRINTF(3, 4);
 
+/* Copy len bytes of input text into dst (size bytes, NUL-terminated, cut
+ * with "..." when too long) for a message: control bytes and DEL become
+ * \xNN, so input cannot drive the terminal; bytes >= 0x80 are kept only as
+ * whole valid UTF-8 sequences (else \xNN). */
+void geom_meshio__printable(char *dst, size_t size, const char *src, size_t len);
+
 /* ---------------------------------------------------- atomic file output */
 
 typedef struct mio_atomic {

@@ -529,8 +529,8 @@ geom_status geom_meshio__read_obj(mio_ctx *c, mio_soup *s)
                 st = MIO_PUSH(c->alloc, s->mtllibs, off);
         } else {
             if (c->stats->skipped_statements++ == 0)
-                snprintf(c->stats->first_skipped, sizeof c->stats->first_skipped, "%.*s",
-                         (int)(kl > 31 ? 31 : kl), kw);
+                geom_meshio__printable(c->stats->first_skipped, sizeof c->stats->first_skipped,
+                                       kw, kl);
         }
     }
     if (st == GEOM_ERR_NOMEM && c->diag && c->diag->status != GEOM_ERR_NOMEM)
