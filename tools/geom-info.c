@@ -167,13 +167,8 @@ static void print_json(FILE *fp, const char *file, geom_meshio_format fmt, const
         fprintf(fp, "%s\"%s\":%zu", i ? "," : "", items[i].key, items[i].n);
     fprintf(fp, "},\"skipped\":{\"statements\":%zu,\"elements\":%zu,\"properties\":%zu}",
             st->skipped_statements, st->skipped_elements, st->skipped_properties);
-    fprintf(fp, ",\"tags\":%zu,\"groups\":%zu,\"polylines\":%zu", geom_mesh_tag_count(m),
+    fprintf(fp, ",\"tags\":%zu,\"groups\":%zu,\"polylines\":%zu}\n", geom_mesh_tag_count(m),
             geom_mesh_group_count(m), geom_mesh_polyline_count(m));
-    const char *w = cli_mesh_empty_warning(m);
-    fputs(",\"warnings\":[", fp);
-    if (w)
-        cli_json_string(fp, w);
-    fputs("]}\n", fp);
 }
 
 int main(int argc, char **argv)
@@ -230,8 +225,6 @@ int main(int argc, char **argv)
         free(name);
         return cli_print_diag(&tool, &diag);
     }
-    if (cli_mesh_empty_warning(m))
-        fprintf(stderr, "%s: %s: warning: %s\n", tool.name, name, cli_mesh_empty_warning(m));
     cli_output out;
     if (cli_output_open(&out, common.output, &diag) != GEOM_OK) {
         geom_mesh_destroy(m);

@@ -7,3 +7,10 @@ if(TARGET geom-bary AND TARGET geom-convert)
     COMMAND ${GEOM_BASH} ${CMAKE_CURRENT_LIST_DIR}/test_output_safety.sh
             $<TARGET_FILE:geom-bary> $<TARGET_FILE:geom-convert> ${PROJECT_SOURCE_DIR}/data)
 endif()
+
+if(TARGET geom-tessellate AND TARGET geom-curve AND GEOM_CJSON_LIBRARY)
+  add_test(NAME tool_extremes
+    COMMAND ${GEOM_BASH} ${CMAKE_CURRENT_LIST_DIR}/test_extremes.sh
+            $<TARGET_FILE:geom-tessellate> $<TARGET_FILE:geom-curve> ${PROJECT_SOURCE_DIR}/data)
+  set_tests_properties(tool_extremes PROPERTIES ENVIRONMENT "PYTHON3=${GEOM_SYSTEM_PYTHON3}")
+endif()
