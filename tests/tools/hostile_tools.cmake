@@ -14,3 +14,17 @@ if(TARGET geom-tessellate AND TARGET geom-curve AND GEOM_CJSON_LIBRARY)
             $<TARGET_FILE:geom-tessellate> $<TARGET_FILE:geom-curve> ${PROJECT_SOURCE_DIR}/data)
   set_tests_properties(tool_extremes PROPERTIES ENVIRONMENT "PYTHON3=${GEOM_SYSTEM_PYTHON3}")
 endif()
+
+# The hostile-input corpus through every tool that reads it.
+set(_hostile_tools "")
+foreach(_t geom-info geom-convert geom-normals geom-tangents geom-features geom-subdivide
+           geom-tessellate)
+  if(TARGET ${_t})
+    list(APPEND _hostile_tools $<TARGET_FILE:${_t}>)
+  endif()
+endforeach()
+if(_hostile_tools)
+  add_test(NAME tool_hostile_corpus
+    COMMAND ${GEOM_BASH} ${CMAKE_CURRENT_LIST_DIR}/test_hostile_corpus.sh
+            ${PROJECT_SOURCE_DIR}/tests/data/hostile ${_hostile_tools})
+endif()

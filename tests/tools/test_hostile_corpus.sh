@@ -1,0 +1,47 @@
+#!/bin/bash
+# The hostile-input corpus (tests/data/hostile, see its README) through every
+# tool that reads it: each file must give exit status 1 (never 0, never a
+# signal), a message on stderr naming the file and containing the words
+# EXPECT.tsv lists for it, no output file, and no control byte copied to the
+# terminal. Mesh files go through every mesh-reading tool, surface files
+# through geom-tessellate.
+# Usage: test_hostile_corpus.sh CORPUS_DIR TOOL...
+set -u
+C=$1
+shift
+T=$(mktemp -d "${TMPDIR:-/tmp}/geom-hostile.XXXXXX") || exit 1
+trap 'rm -rf "$T"' EXIT
+failures=0
+checks=0
+fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
+expect_of() { awk -F'\t' -v f="$1" '$1 == f { print $2 }' "$C/EXPECT.tsv"; }
+for tool in "$@"; do
+    name=$(basename "$tool")
+    case $name in
+    geom-tessellate) files=("$C"/surface/*) ;;
+    geom-info | geom-convert | geom-normals | geom-tangents | geom-features | geom-subdivide)
+        files=("$C"/mesh/*) ;;
+    *) continue ;;
+    esac
+    for f in "${files[@]}"; do
+        rel=${f#"$C"/}
+        want=$(expect_of "$rel")
+        checks=$((checks + 1))
+        [ -n "$want" ] || { fail "$rel: not listed in EXPECT.tsv"; continue; }
+        if [ "$name" = geom-info ]; then
+            (cd "$C" && "$tool" "$rel" >"$T/out" 2>"$T/err"); rc=$?
+        else
+            (cd "$C" && "$tool" "$rel" -o "$T/out.obj" >/dev/null 2>"$T/err"); rc=$?
+        fi
+        [ $rc -eq 1 ] || fail "$name $rel: exit status $rc, expected 1 ($(head -c 200 "$T/err"))"
+        grep -qF -- "$rel" "$T/err" || fail "$name $rel: the message does not name the file: $(head -c 200 "$T/err")"
+        grep -qF -- "$want" "$T/err" || fail "$name $rel: expected '$want' in: $(head -c 300 "$T/err")"
+        if LC_ALL=C grep -q '[[:cntrl:]]' <(tr -d '\n' <"$T/err"); then
+            fail "$name $rel: a control byte reached stderr"
+        fi
+        [ ! -e "$T/out.obj" ] || fail "$name $rel: an output file was written"
+        rm -f "$T/out.obj"
+    done
+done
+echo "$checks checks, $failures failures"
+[ "$failures" -eq 0 ]
