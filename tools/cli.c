@@ -271,6 +271,13 @@ geom_status cli_input_open(cli_input *in, const char *path, geom_diag *diag)
     in->fp = fopen(path, "rb");
     if (!in->fp)
         return cli_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "%s", strerror(errno));
+    struct stat st; /* fopen opens a directory for reading: say what it is */
+    if (fstat(fileno(in->fp), &st) == 0 && S_ISDIR(st.st_mode)) {
+        fclose(in->fp);
+        in->fp = NULL;
+        return cli_diag_set(diag, GEOM_ERR_IO, path, 0, 0,
+                            "is a directory, not a file (expected an input file)");
+    }
     in->name = path;
     return GEOM_OK;
 }

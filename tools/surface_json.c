@@ -727,6 +727,7 @@ geom_status sj_read_file(const char *path, sj_file *out, geom_diag *diag)
     FILE *fp = fopen(path, "rb");
     if (!fp)
         return sj_fail(&x, GEOM_ERR_IO, 0, 0, "cannot open: %s", strerror(errno));
+    errno = 0;
     size_t cap = 1 << 16, n = 0;
     char *buf = malloc(cap);
     while (buf) {
@@ -745,13 +746,15 @@ geom_status sj_read_file(const char *path, sj_file *out, geom_diag *diag)
         if (got == 0)
             break;
     }
-    int err = ferror(fp);
+    int err = ferror(fp) ? (errno ? errno : EIO) : 0;
     fclose(fp);
     if (!buf)
         return sj_fail(&x, GEOM_ERR_NOMEM, 0, 0, "out of memory");
     if (err) {
         free(buf);
-        return sj_fail(&x, GEOM_ERR_IO, 0, 0, "read error");
+        return sj_fail(&x, GEOM_ERR_IO, 0, 0, "%s",
+                       err == EISDIR ? "is a directory, not a file (expected an input file)"
+                                     : "read error");
     }
     geom_status st = sj_read_memory(buf, n, path, out, diag);
     free(buf);

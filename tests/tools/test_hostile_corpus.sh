@@ -4,7 +4,7 @@
 # signal), a message on stderr naming the file and containing the words
 # EXPECT.tsv lists for it, no output file, and no control byte copied to the
 # terminal. Mesh files go through every mesh-reading tool, surface files
-# through geom-tessellate.
+# through geom-tessellate; a directory as input is named as one.
 # Usage: test_hostile_corpus.sh CORPUS_DIR TOOL...
 set -u
 C=$1
@@ -42,6 +42,14 @@ for tool in "$@"; do
         [ ! -e "$T/out.obj" ] || fail "$name $rel: an output file was written"
         rm -f "$T/out.obj"
     done
+done
+# A directory given as the input says so.
+mkdir "$T/adir"
+for tool in "$@"; do
+    checks=$((checks + 1))
+    "$tool" "$T/adir" -o "$T/out.obj" >/dev/null 2>"$T/err"; rc=$?
+    [ $rc -eq 1 ] && grep -q "is a directory" "$T/err" ||
+        fail "$(basename "$tool") DIR: exit $rc, expected 1 and 'is a directory': $(head -c 200 "$T/err")"
 done
 echo "$checks checks, $failures failures"
 [ "$failures" -eq 0 ]
