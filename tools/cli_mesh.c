@@ -57,6 +57,25 @@ const char *cli_mesh_empty_warning(const geom_mesh *m)
                                         : "no faces: only vertices";
 }
 
+/* Say so when the format cannot hold an attribute the mesh has. */
+static void warn_dropped(const geom_mesh *m, const char *path, geom_meshio_format f)
+{
+    static const char *const names[] = {"normal", "uv", "color", "tangent"};
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
+        int held = f == GEOM_MESHIO_FORMAT_GLB || (f != GEOM_MESHIO_FORMAT_STL && i < 3);
+        if (held)
+            continue;
+        if (geom_mesh_channel_find(m, names[i], GEOM_MESH_DOMAIN_CORNER) == GEOM_INVALID_INDEX &&
+            geom_mesh_channel_find(m, names[i], GEOM_MESH_DOMAIN_VERTEX) == GEOM_INVALID_INDEX)
+            continue;
+        fprintf(stderr, "warning: %s: %s cannot hold the mesh's \"%s\" attribute: not written%s\n",
+                path, geom_meshio_format_name(f), names[i],
+                i == 3 ? " (write .glb to keep tangents)"
+                : i == 0 ? " (STL keeps face normals only)"
+                         : "");
+    }
+}
+
 geom_status cli_mesh_write(const geom_mesh *m, const char *path, geom_meshio_format fmt,
                            geom_diag *diag)
 {
@@ -78,6 +97,7 @@ geom_status cli_mesh_write(const geom_mesh *m, const char *path, geom_meshio_for
             cli_diag_locate(diag, to_stdout ? "<stdout>" : path, 0);
         return st;
     }
+    warn_dropped(m, to_stdout ? "<stdout>" : path, wo.format);
     cli_output out;
     st = cli_output_open(&out, to_stdout ? NULL : path, diag);
     if (st == GEOM_OK) {

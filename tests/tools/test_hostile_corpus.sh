@@ -51,5 +51,13 @@ for tool in "$@"; do
     [ $rc -eq 1 ] && grep -q "is a directory" "$T/err" ||
         fail "$(basename "$tool") DIR: exit $rc, expected 1 and 'is a directory': $(head -c 200 "$T/err")"
 done
+# A tool that cannot write what was asked says so: tangents into OBJ.
+for tool in "$@"; do
+    [ "$(basename "$tool")" = geom-tangents ] || continue
+    checks=$((checks + 1))
+    "$tool" "$C/../../../data/cube_seams.obj" -o "$T/t.obj" >/dev/null 2>"$T/err"; rc=$?
+    [ $rc -eq 0 ] && grep -q 'cannot hold the mesh.s "tangent" attribute' "$T/err" ||
+        fail "geom-tangents to OBJ: exit $rc, no warning about the tangents: $(head -c 200 "$T/err")"
+done
 echo "$checks checks, $failures failures"
 [ "$failures" -eq 0 ]
