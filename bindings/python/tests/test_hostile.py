@@ -96,3 +96,22 @@ def test_hostile_mesh_corpus(path):
     with pytest.raises(ERRORS):
         geom.mesh.Mesh.from_bytes(data, format=os.path.splitext(path)[1][1:] or "obj",
                                   source_name=os.path.basename(path))
+
+
+def test_degree_elevation_huge():
+    c = geom.curve.NurbsCurve(2, [0, 0, 0, 1, 1, 1], [[0, 0], [1, 1], [2, 0]])
+    e = c.elevate(998)  # degree 1000: the largest allowed, still exact
+    u = np.linspace(0, 1, 7)
+    assert not np.isnan(e.points).any()
+    assert np.abs(e.eval(u) - c.eval(u)).max() < 1e-12
+    for times in (999, 3000, 2**31 - 1):  # refused, never NaN control points
+        with pytest.raises(ERRORS):
+            c.elevate(times)
+
+
+def test_closest_point_far_and_nan():
+    c = geom.curve.NurbsCurve(2, [0, 0, 0, 1, 1, 1], [[0, 0], [1, 1], [2, 0]])
+    with pytest.raises(ERRORS):
+        c.closest_point([np.nan, 0])
+    u, p, d = c.closest_point([1e300, 0])
+    assert np.isfinite(u) and np.all(np.isfinite(p))

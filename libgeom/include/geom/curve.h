@@ -438,6 +438,9 @@ GEOM_API geom_status geom_curve_nurbs_remove_knot(const geom_nurbs_curve *c, dou
  * Sizes of the curve geom_curve_nurbs_elevate(c, times) produces: with s
  * distinct knot values strictly inside the domain, n + times*(s+1) points
  * and that + p + times + 1 knots. Either output may be NULL.
+ * GEOM_ERR_LIMIT when degree + times exceeds 1000 (also refused by
+ * geom_curve_nurbs_elevate: past degree ~1020 the binomial coefficients
+ * overflow a double, which gave NaN control points).
  */
 GEOM_API geom_status geom_curve_nurbs_elevate_bound(const geom_nurbs_curve *c, int times, size_t *n,
                                            size_t *nknots);
