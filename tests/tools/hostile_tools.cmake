@@ -11,7 +11,8 @@ endif()
 if(TARGET geom-tessellate AND TARGET geom-curve AND GEOM_CJSON_LIBRARY)
   add_test(NAME tool_extremes
     COMMAND ${GEOM_BASH} ${CMAKE_CURRENT_LIST_DIR}/test_extremes.sh
-            $<TARGET_FILE:geom-tessellate> $<TARGET_FILE:geom-curve> ${PROJECT_SOURCE_DIR}/data)
+            $<TARGET_FILE:geom-tessellate> $<TARGET_FILE:geom-curve> ${PROJECT_SOURCE_DIR}/data
+            $<$<TARGET_EXISTS:geom-contour>:$<TARGET_FILE:geom-contour>>)
   set_tests_properties(tool_extremes PROPERTIES ENVIRONMENT "PYTHON3=${GEOM_SYSTEM_PYTHON3}")
 endif()
 

@@ -6,7 +6,8 @@
 # with max_error 0, never 0 triangles with exit 0, never fewer triangles
 # than the grid asks for. Closed form: tessellation is invariant under
 # scaling, so scale 1 is the reference.
-# Usage: test_extremes.sh GEOM-TESSELLATE GEOM-CURVE DATA_DIR   (env PYTHON3)
+# SVG output of geom-contour never holds nan or inf (huge and tiny bounds).
+# Usage: test_extremes.sh GEOM-TESSELLATE GEOM-CURVE DATA_DIR [GEOM-CONTOUR]  (env PYTHON3)
 set -u
 TESS=$1
 CURVE=$2
@@ -14,6 +15,18 @@ DATA=$3
 PY=${PYTHON3:-/usr/bin/python3}
 T=$(mktemp -d "${TMPDIR:-/tmp}/geom-extremes.XXXXXX") || exit 1
 trap 'rm -rf "$T"' EXIT
+svg_fail=0
+if [ $# -ge 4 ]; then
+    for b in -1e307,-1e307,1e307,1e307 0,0,1e-300,1 -1e308,-1e308,1e308,1e308; do
+        "$4" --expr 'x-y' --bounds "$b" --res 8 -o "$T/c.svg" >/dev/null 2>"$T/err"; rc=$?
+        if [ $rc -eq 0 ] && grep -qiE 'nan|inf' "$T/c.svg"; then
+            echo "FAIL: geom-contour --bounds $b: nan/inf in the SVG" >&2; svg_fail=1
+        elif [ $rc -ne 0 ] && ! grep -q overflows "$T/err"; then
+            echo "FAIL: geom-contour --bounds $b: exit $rc: $(cat "$T/err")" >&2; svg_fail=1
+        fi
+        rm -f "$T/c.svg"
+    done
+fi
 "$PY" - "$TESS" "$CURVE" "$DATA/surfaces.json" "$T" <<'PYEOF'
 import json, subprocess, sys
 tess, curve, src, tmp = sys.argv[1:5]
@@ -80,3 +93,5 @@ for c in d["curves"]:
 print(f"{checks} checks, {fails} failures")
 sys.exit(1 if fails else 0)
 PYEOF
+rc=$?
+[ $rc -eq 0 ] && [ $svg_fail -eq 0 ]
