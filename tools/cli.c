@@ -10,6 +10,7 @@
 #include <signal.h>
 #include <stdint.h>
 #include <stdarg.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -32,6 +33,7 @@ static const struct option common_longopts[] = {
     {"version", no_argument, NULL, CLI_OPT_VERSION},
     {"output", required_argument, NULL, CLI_OPT_OUTPUT},
     {"json", no_argument, NULL, CLI_OPT_JSON},
+    {"quiet", no_argument, NULL, CLI_OPT_QUIET},
 };
 #define N_COMMON_LONGOPTS (sizeof common_longopts / sizeof common_longopts[0])
 
@@ -44,7 +46,8 @@ void cli_print_usage(const cli_tool *tool, FILE *fp)
           "  -o, --output=FILE  write the output to FILE ('-', the default: standard\n"
           "                     output); FILE is written to a temporary file and\n"
           "                     renamed on success, so a failed run leaves no FILE\n"
-          "      --json         machine-readable JSON output\n",
+          "      --json         machine-readable JSON output\n"
+          "      --quiet        no progress display on standard error\n",
           fp);
     if (tool->options_help)
         fputs(tool->options_help, fp);
@@ -121,6 +124,7 @@ int cli_parse_args(const cli_tool *tool, int argc, char **argv, const char *shor
 
     common->output = NULL;
     common->json = false;
+    common->quiet = false;
 
     /* getopt reports unknown options itself, prefixed with argv[0]; show the
      * tool's name there rather than however it was invoked. */
@@ -150,6 +154,9 @@ int cli_parse_args(const cli_tool *tool, int argc, char **argv, const char *shor
             break;
         case CLI_OPT_JSON:
             common->json = true;
+            break;
+        case CLI_OPT_QUIET:
+            common->quiet = true;
             break;
         case '?':
             usage_hint(tool);
@@ -810,4 +817,124 @@ void cli_timer_start(cli_timer *t)
 double cli_timer_elapsed(const cli_timer *t)
 {
     return monotonic_seconds() - t->start;
+}
+
+/* ------------------------------------------------------------------- limits */
+
+int cli_parse_size(const char *text, bool binary, size_t *out)
+{
+    if (!text || !*text)
+        return -1;
+    char *end;
+    errno = 0;
+    double v = strtod(text, &end);
+    if (end == text || errno == ERANGE || !isfinite(v) || v < 0.0)
+        return -1;
+    double unit = binary ? 1024.0 : 1000.0, mul = 1.0;
+    switch (*end) {
+    case 'k': case 'K': mul = unit; end++; break;
+    case 'M': mul = unit * unit; end++; break;
+    case 'G': mul = unit * unit * unit; end++; break;
+    case 'T': mul = unit * unit * unit * unit; end++; break;
+    default: break;
+    }
+    if (binary && (*end == 'B' || *end == 'b'))
+        end++;
+    if (*end != '\0')
+        return -1;
+    v = floor(v * mul);
+    if (!(v >= 1.0) || v >= 18446744073709551615.0 || v > (double)SIZE_MAX)
+        return -1;
+    *out = (size_t)v;
+    return 0;
+}
+
+int cli_limits_option(const cli_tool *tool, cli_limits *lim, int opt, const char *arg)
+{
+    if (opt == CLI_OPT_MAX_TRIANGLES) {
+        if (cli_parse_size(arg, false, &lim->max_triangles) != 0)
+            return cli_usage_error(tool, "--max-triangles: '%s' is not a count >= 1 (e.g. 2000000, 50M)", arg);
+        return CLI_CONTINUE;
+    }
+    if (opt == CLI_OPT_MAX_MEMORY) {
+        if (cli_parse_size(arg, true, &lim->max_memory) != 0)
+            return cli_usage_error(tool, "--max-memory: '%s' is not a size >= 1 (e.g. 512M, 8G)", arg);
+        return CLI_CONTINUE;
+    }
+    return CLI_NOT_HANDLED;
+}
+
+int cli_limits_check(const cli_tool *tool, const cli_limits *lim, const char *what,
+                     double triangles, double bytes)
+{
+    size_t mt = lim && lim->max_triangles ? lim->max_triangles : CLI_MAX_TRIANGLES_DEFAULT;
+    size_t mm = lim && lim->max_memory ? lim->max_memory : CLI_MAX_MEMORY_DEFAULT;
+    if (!what)
+        what = "the output";
+    if (triangles >= 0.0 && triangles > (double)mt)
+        return cli_error(tool,
+                         "%s would have about %.0f triangles (estimate), more than "
+                         "--max-triangles %zu; raise --max-triangles or coarsen the request",
+                         what, triangles, mt);
+    if (bytes >= 0.0 && bytes > (double)mm)
+        return cli_error(tool,
+                         "%s would need about %.0f MiB (estimate), more than --max-memory "
+                         "%.0f MiB; raise --max-memory or coarsen the request",
+                         what, bytes / 1048576.0, (double)mm / 1048576.0);
+    return CLI_CONTINUE;
+}
+
+/* ----------------------------------------------------------------- progress */
+
+static double mono_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+void cli_progress_start(cli_progress *p, const cli_tool *tool, const char *label, bool quiet)
+{
+    memset(p, 0, sizeof *p);
+    p->enabled = !quiet && isatty(STDERR_FILENO);
+    p->prefix = tool ? tool->name : "";
+    p->label = label ? label : "";
+    p->start = mono_now();
+    p->last = 0.0;
+}
+
+void cli_progress_update(cli_progress *p, double fraction)
+{
+    if (!p || !p->enabled)
+        return;
+    double now = mono_now(), el = now - p->start;
+    if (el < 0.5 || now - p->last < 0.1)
+        return;
+    p->last = now;
+    if (!(fraction > 0.0))
+        fraction = 0.0;
+    if (fraction > 1.0)
+        fraction = 1.0;
+    char eta[32] = "";
+    if (fraction > 0.01) {
+        double rem = el * (1.0 - fraction) / fraction;
+        if (rem < 60.0)
+            snprintf(eta, sizeof eta, "  ETA %.0fs", rem);
+        else if (rem < 3600.0)
+            snprintf(eta, sizeof eta, "  ETA %dm%02ds", (int)(rem / 60.0), (int)fmod(rem, 60.0));
+        else
+            snprintf(eta, sizeof eta, "  ETA %.1fh", rem / 3600.0);
+    }
+    fprintf(stderr, "\r%s: %s %3d%%%s\033[K", p->prefix, p->label, (int)(fraction * 100.0), eta);
+    fflush(stderr);
+    p->shown = true;
+}
+
+void cli_progress_done(cli_progress *p)
+{
+    if (!p || !p->shown)
+        return;
+    fputs("\r\033[K", stderr);
+    fflush(stderr);
+    p->shown = false;
 }

@@ -88,6 +88,7 @@ typedef struct cli_tool {
 typedef struct cli_common {
     const char *output; /**< -o/--output argument; NULL when not given (stdout) */
     bool json;          /**< --json was given */
+    bool quiet;         /**< --quiet was given: no progress display */
 } cli_common;
 
 /** getopt_long values of the common options. A tool's own short options must
@@ -98,6 +99,9 @@ enum {
     CLI_OPT_VERSION = 'V',
     CLI_OPT_OUTPUT = 'o',
     CLI_OPT_JSON = 0x1000,
+    CLI_OPT_QUIET = 0x1001,
+    CLI_OPT_MAX_TRIANGLES = 0x1100, /**< see CLI_LIMIT_LONGOPTS */
+    CLI_OPT_MAX_MEMORY = 0x1101,
     CLI_OPT_TOOL_BASE = 0x2000
 };
 
@@ -308,6 +312,93 @@ geom_status cli_output_commit(cli_output *out, geom_diag *diag);
 /** Abandon a failed run: close and remove the temporary file (standard output
  *  is only flushed). Safe on a zeroed or already finished cli_output. */
 void cli_output_abort(cli_output *out);
+
+/* ------------------------------------------------------------------- limits */
+
+/*
+ * Output limits: tools whose output can explode estimate it before the work
+ * and stop past a limit, with the estimate in the message. A tool opts in by
+ * adding CLI_LIMIT_LONGOPTS to its long options, CLI_LIMIT_HELP to its help
+ * text, calling cli_limits_option() first in its option callback, and
+ * cli_limits_check() with its estimate before the heavy work.
+ */
+
+/** Default --max-triangles (50 million). */
+#define CLI_MAX_TRIANGLES_DEFAULT ((size_t)50000000)
+/** Default --max-memory in bytes (4 GiB). */
+#define CLI_MAX_MEMORY_DEFAULT ((size_t)4 << 30)
+
+/** The long options of cli_limits (put them in a tool's option table). */
+#define CLI_LIMIT_LONGOPTS                                                     \
+    {"max-triangles", required_argument, NULL, CLI_OPT_MAX_TRIANGLES},        \
+    {"max-memory", required_argument, NULL, CLI_OPT_MAX_MEMORY}
+
+/** Help lines of the limit options. */
+#define CLI_LIMIT_HELP                                                               \
+    "      --max-triangles=N  stop before making more than N triangles (estimated\n" \
+    "                       before the work; default 50M; suffixes k, M, G)\n"    \
+    "      --max-memory=SIZE  stop before the output would need more than SIZE\n"  \
+    "                       bytes (default 4G; suffixes K, M, G, T: powers of 1024)\n"
+
+/** Values of the limit options; zero-initialised fields mean the defaults. */
+typedef struct cli_limits {
+    size_t max_triangles; /**< 0: CLI_MAX_TRIANGLES_DEFAULT */
+    size_t max_memory;    /**< bytes; 0: CLI_MAX_MEMORY_DEFAULT */
+} cli_limits;
+
+/** cli_limits_option's result for an option that is not a limit option. */
+#define CLI_NOT_HANDLED (-2)
+
+/**
+ * Handle a limit option inside a tool's cli_option_fn: returns CLI_CONTINUE
+ * when `opt` was --max-triangles or --max-memory and its value was stored in
+ * *lim, CLI_EXIT_USAGE (after a message) for a bad value, CLI_NOT_HANDLED for
+ * any other option.
+ */
+int cli_limits_option(const cli_tool *tool, cli_limits *lim, int opt, const char *arg);
+
+/**
+ * Parse a count or size with an optional suffix: k/K, M, G, T multiply by
+ * 1000^n (binary == false) or 1024^n (binary == true). The number may have
+ * a fraction or exponent ("1.5G", "5e7"); the result is rounded down and
+ * must fit a size_t and be >= 1. Returns 0 on success, -1 otherwise.
+ */
+int cli_parse_size(const char *text, bool binary, size_t *out);
+
+/**
+ * Check an estimate against the limits: `triangles` (the estimated output
+ * triangle count; a negative value skips the check) and `bytes` (the
+ * estimated memory; negative skips). Past a limit prints "tool: <what> would
+ * make about N triangles (estimate), more than --max-triangles M; ..." and
+ * returns CLI_EXIT_ERROR; otherwise CLI_CONTINUE.
+ */
+int cli_limits_check(const cli_tool *tool, const cli_limits *lim, const char *what,
+                     double triangles, double bytes);
+
+/* ----------------------------------------------------------------- progress */
+
+/**
+ * A progress display on standard error: "tool: label  42%  ETA 3s", redrawn
+ * in place at most ten times a second. It is shown only when standard error
+ * is a terminal and --quiet was not given, and only once the work has run
+ * for half a second (short runs print nothing); cli_progress_done erases it.
+ */
+typedef struct cli_progress {
+    bool enabled;
+    bool shown;
+    const char *prefix; /**< the tool's name */
+    const char *label;
+    double start, last; /**< seconds (monotonic) */
+} cli_progress;
+
+/** Start a progress display (disabled when quiet or stderr is not a tty). */
+void cli_progress_start(cli_progress *p, const cli_tool *tool, const char *label, bool quiet);
+
+/** Report that `fraction` (0..1) of the work is done. */
+void cli_progress_update(cli_progress *p, double fraction);
+
+/** Erase the display (if it was shown). Safe to call more than once. */
+void cli_progress_done(cli_progress *p);
 
 /* -------------------------------------------------------------------- timer */
 
