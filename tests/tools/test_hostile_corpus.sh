@@ -59,5 +59,20 @@ for tool in "$@"; do
     [ $rc -eq 0 ] && grep -q 'cannot hold the mesh.s "tangent" attribute' "$T/err" ||
         fail "geom-tangents to OBJ: exit $rc, no warning about the tangents: $(head -c 200 "$T/err")"
 done
+# Output limits: geom-subdivide estimates before the work (the cube's 3
+# Catmull-Clark levels make exactly 768 triangles' worth of quads).
+for tool in "$@"; do
+    [ "$(basename "$tool")" = geom-subdivide ] || continue
+    cube="$C/../../../data/cube_seams.obj"
+    checks=$((checks + 3))
+    "$tool" "$cube" --levels 12 -o "$T/s.obj" >/dev/null 2>"$T/err"; rc=$?
+    [ $rc -eq 1 ] && grep -q "estimate" "$T/err" && [ ! -e "$T/s.obj" ] ||
+        fail "geom-subdivide --levels 12: exit $rc, expected 1 with the estimate: $(head -c 200 "$T/err")"
+    "$tool" "$cube" --levels 3 --max-triangles 767 -o "$T/s.obj" >/dev/null 2>"$T/err"; rc=$?
+    [ $rc -eq 1 ] || fail "geom-subdivide --max-triangles 767: exit $rc, expected 1"
+    "$tool" "$cube" --levels 3 --max-triangles 768 -o "$T/s.obj" >/dev/null 2>"$T/err"; rc=$?
+    [ $rc -eq 0 ] || fail "geom-subdivide --max-triangles 768: exit $rc, expected 0: $(head -c 200 "$T/err")"
+    rm -f "$T/s.obj"
+done
 echo "$checks checks, $failures failures"
 [ "$failures" -eq 0 ]
