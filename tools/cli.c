@@ -1,8 +1,14 @@
 /* The command-line layer shared by the geom-<verb> tools: see cli.h. */
+/* realpath (the build defines _POSIX_C_SOURCE=200809L for the rest) */
+#define _XOPEN_SOURCE 700
 #include "cli.h"
 
 #include <errno.h>
+#include <fcntl.h>
+#include <limits.h>
 #include <math.h>
+#include <signal.h>
+#include <stdint.h>
 #include <stdarg.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -11,6 +17,12 @@
 #include <sys/types.h>
 #include <time.h>
 #include <unistd.h>
+
+#ifdef NAME_MAX
+#define CLI_NAME_MAX NAME_MAX
+#else
+#define CLI_NAME_MAX 255
+#endif
 
 /* ------------------------------------------------------------ tool and options */
 
@@ -211,22 +223,61 @@ void cli_diag_locate(geom_diag *d, const char *source, size_t line)
     d->line = line;
 }
 
+/* Length of the valid UTF-8 sequence at p (1..4), 0 if not valid. */
+static size_t cli_utf8_len(const unsigned char *p)
+{
+    unsigned char c = p[0];
+    size_t len;
+    uint32_t cp;
+    if (c < 0x80)
+        return 1;
+    if (c >= 0xC2 && c <= 0xDF)
+        len = 2, cp = c & 0x1F;
+    else if (c >= 0xE0 && c <= 0xEF)
+        len = 3, cp = c & 0x0F;
+    else if (c >= 0xF0 && c <= 0xF4)
+        len = 4, cp = c & 0x07;
+    else
+        return 0;
+    for (size_t i = 1; i < len; i++) { /* stops at the NUL: 0x00 is no continuation */
+        if ((p[i] & 0xC0) != 0x80)
+            return 0;
+        cp = cp << 6 | (p[i] & 0x3F);
+    }
+    if ((len == 3 && (cp < 0x800 || (cp >= 0xD800 && cp <= 0xDFFF))) ||
+        (len == 4 && (cp < 0x10000 || cp > 0x10FFFF)))
+        return 0;
+    return len;
+}
+
+void cli_print_escaped(FILE *fp, const char *s)
+{
+    const unsigned char *p = (const unsigned char *)s;
+    while (*p) {
+        size_t u = cli_utf8_len(p);
+        if (u == 0 || (u == 1 && (*p < 0x20 || *p == 0x7F))) {
+            fprintf(fp, "\\x%02x", *p);
+            p++;
+        } else {
+            fwrite(p, 1, u, fp);
+            p += u;
+        }
+    }
+}
+
 int cli_print_diag(const cli_tool *tool, const geom_diag *d)
 {
     char small[512];
     size_t need = geom_diag_format(d, small, sizeof small);
-    if (need < sizeof small) {
-        fprintf(stderr, "%s: %s\n", tool->name, small);
-        return CLI_EXIT_ERROR;
-    }
-    char *big = malloc(need + 1);
-    if (big) {
+    char *big = need < sizeof small ? NULL : malloc(need + 1);
+    if (big)
         geom_diag_format(d, big, need + 1);
-        fprintf(stderr, "%s: %s\n", tool->name, big);
-        free(big);
-    } else {
-        fprintf(stderr, "%s: %s\n", tool->name, small); /* truncated */
-    }
+    /* Text from the input may be part of the message: escape what could
+     * drive the terminal. */
+    fprintf(stderr, "%s: ", tool->name);
+    cli_print_escaped(stderr, big ? big : small); /* small is truncated if big failed */
+    fputc('\n', stderr);
+    free(big);
     return CLI_EXIT_ERROR;
 }
 
@@ -244,6 +295,13 @@ geom_status cli_input_open(cli_input *in, const char *path, geom_diag *diag)
     in->fp = fopen(path, "rb");
     if (!in->fp)
         return cli_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "%s", strerror(errno));
+    struct stat st; /* fopen opens a directory for reading: say what it is */
+    if (fstat(fileno(in->fp), &st) == 0 && S_ISDIR(st.st_mode)) {
+        fclose(in->fp);
+        in->fp = NULL;
+        return cli_diag_set(diag, GEOM_ERR_IO, path, 0, 0,
+                            "is a directory, not a file (expected an input file)");
+    }
     in->name = path;
     return GEOM_OK;
 }
@@ -472,92 +530,226 @@ void cli_json_string(FILE *fp, const char *s)
         case '\r': fputs("\\r", fp); break;
         case '\t': fputs("\\t", fp); break;
         default:
-            if (c < 0x20)
+            if (c < 0x20 || c == 0x7F) {
                 fprintf(fp, "\\u%04x", c);
-            else
+            } else if (c >= 0x80) { /* valid UTF-8 passes, anything else is U+FFFD */
+                size_t u = cli_utf8_len((const unsigned char *)s);
+                if (u == 0) {
+                    fputs("\\ufffd", fp);
+                } else {
+                    fwrite(s, 1, u, fp);
+                    s += u - 1;
+                }
+            } else {
                 fputc(c, fp);
+            }
         }
     }
     fputc('"', fp);
 }
 
+/* Temporary files of open outputs, removed by the signal handler. The only
+ * mutable global state of this file besides getopt's: a handler cannot be
+ * given a context. Slots are set and cleared by the main thread only. */
+#define CLI_MAX_TEMPS 8
+static char *volatile cli_temps[CLI_MAX_TEMPS];
+static volatile sig_atomic_t cli_handlers_installed;
+
+static void cli_on_signal(int sig)
+{
+    for (int i = 0; i < CLI_MAX_TEMPS; i++) {
+        char *p = cli_temps[i];
+        if (p)
+            unlink(p); /* async-signal-safe */
+    }
+    /* SA_RESETHAND restored the default action: die of the same signal. */
+    raise(sig);
+}
+
+static void cli_install_handlers(void)
+{
+    if (cli_handlers_installed)
+        return;
+    cli_handlers_installed = 1;
+    static const int sigs[] = {SIGINT, SIGTERM, SIGHUP};
+    for (size_t i = 0; i < sizeof sigs / sizeof sigs[0]; i++) {
+        struct sigaction old, sa;
+        if (sigaction(sigs[i], NULL, &old) != 0 || old.sa_handler == SIG_IGN)
+            continue; /* nohup and friends: keep ignoring it */
+        memset(&sa, 0, sizeof sa);
+        sa.sa_handler = cli_on_signal;
+        sigemptyset(&sa.sa_mask);
+        for (size_t j = 0; j < sizeof sigs / sizeof sigs[0]; j++)
+            sigaddset(&sa.sa_mask, sigs[j]);
+        sa.sa_flags = SA_RESETHAND;
+        sigaction(sigs[i], &sa, NULL);
+    }
+}
+
+static void cli_register_temp(char *tmp, bool on)
+{
+    for (int i = 0; i < CLI_MAX_TEMPS; i++) {
+        if (on && !cli_temps[i]) {
+            cli_temps[i] = tmp;
+            return;
+        }
+        if (!on && cli_temps[i] == tmp) {
+            cli_temps[i] = NULL;
+            return;
+        }
+    }
+}
+
+static uint64_t cli_mix(uint64_t x)
+{
+    x += 0x9e3779b97f4a7c15u;
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9u;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebu;
+    return x ^ (x >> 31);
+}
+
+static void output_release(cli_output *out)
+{
+    if (out->tmp)
+        cli_register_temp(out->tmp, false);
+    free(out->path);
+    free(out->dest);
+    free(out->tmp);
+    memset(out, 0, sizeof *out);
+}
+
+static geom_status output_fail(cli_output *out, geom_diag *diag, const char *path, int e,
+                               const char *what)
+{
+    if (out->fp)
+        fclose(out->fp);
+    else if (out->fd >= 0)
+        close(out->fd);
+    out->fp = NULL;
+    if (out->tmp)
+        unlink(out->tmp);
+    output_release(out);
+    return cli_diag_set(diag, e == ENOMEM ? GEOM_ERR_NOMEM : GEOM_ERR_IO, path, 0, 0, "%s: %s",
+                        what, strerror(e));
+}
+
+/* Create the temporary file ".NAME.XXXXXXXX.geomtmp" next to out->dest, NAME
+ * cut (at a UTF-8 boundary) so that the whole fits NAME_MAX. */
+static int output_temporary(cli_output *out)
+{
+    static const char suffix[] = ".geomtmp";
+    const char *slash = strrchr(out->dest, '/');
+    size_t dir_len = slash ? (size_t)(slash - out->dest) + 1 : 0;
+    const char *base = out->dest + dir_len;
+    size_t blen = strlen(base), room = CLI_NAME_MAX - (1 + 1 + 8 + (sizeof suffix - 1));
+    if (blen > room) {
+        blen = room;
+        while (blen > 0 && ((unsigned char)base[blen] & 0xC0) == 0x80)
+            blen--;
+    }
+    size_t size = dir_len + 1 + blen + 1 + 8 + sizeof suffix;
+    out->tmp = malloc(size);
+    if (!out->tmp)
+        return ENOMEM;
+    struct timespec ts;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    uint64_t seed = cli_mix((uint64_t)ts.tv_nsec ^ ((uint64_t)ts.tv_sec << 30)) ^
+                    cli_mix((uint64_t)getpid() ^ (uint64_t)(uintptr_t)out);
+    static const char alphabet[] = "abcdefghijklmnopqrstuvwxyz0123456789";
+    int e = EEXIST;
+    for (uint64_t attempt = 0; attempt < 100 && e == EEXIST; attempt++) {
+        uint64_t r = cli_mix(seed + attempt);
+        char rnd[9];
+        for (int i = 0; i < 8; i++, r /= 36)
+            rnd[i] = alphabet[r % 36];
+        rnd[8] = '\0';
+        snprintf(out->tmp, size, "%.*s.%.*s.%s%s", (int)dir_len, out->dest, (int)blen, base, rnd,
+                 suffix);
+        out->fd = open(out->tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        e = out->fd >= 0 ? 0 : errno;
+    }
+    if (e) {
+        free(out->tmp);
+        out->tmp = NULL;
+        return e;
+    }
+    cli_register_temp(out->tmp, true);
+    return 0;
+}
+
 geom_status cli_output_open(cli_output *out, const char *path, geom_diag *diag)
 {
     memset(out, 0, sizeof *out);
+    out->fd = -1;
     if (!path || strcmp(path, "-") == 0) {
         out->fp = stdout;
         return GEOM_OK;
     }
     const char *slash = strrchr(path, '/');
-    size_t dir_len = slash ? (size_t)(slash - path) + 1 : 0; /* keeps the '/' */
-    const char *base = path + dir_len;
+    const char *base = slash ? slash + 1 : path;
     if (base[0] == '\0')
         return cli_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "not a file name");
+    cli_install_handlers();
+    out->path = strdup(path);
+    if (!out->path)
+        return output_fail(out, diag, path, ENOMEM, "cannot open for writing");
 
-    struct stat st;
-    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
+    struct stat lst, st;
+    int e = 0;
+    bool have = lstat(path, &lst) == 0;
+    if (!have && errno != ENOENT)
+        return output_fail(out, diag, path, errno, "cannot open for writing");
+    if (have && stat(path, &st) != 0) {
+        if (errno == ENOENT)
+            return output_fail(out, diag, path, ENOENT,
+                               "not writing through a dangling symbolic link");
+        return output_fail(out, diag, path, errno, "cannot open for writing");
+    }
+    if (have && S_ISDIR(st.st_mode))
+    {
+        output_release(out);
         return cli_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "is a directory");
-
-    static const char suffix[] = ".XXXXXX";
-    size_t plen = strlen(path);
-    out->path = malloc(plen + 1);
-    out->tmp = malloc(plen + 1 + sizeof suffix); /* path + '.' + suffix + NUL */
-    if (!out->path || !out->tmp) {
-        free(out->path);
-        free(out->tmp);
-        memset(out, 0, sizeof *out);
-        return cli_diag_set(diag, GEOM_ERR_NOMEM, path, 0, 0, "out of memory");
     }
-    memcpy(out->path, path, plen + 1);
-    memcpy(out->tmp, path, dir_len);
-    out->tmp[dir_len] = '.';
-    memcpy(out->tmp + dir_len + 1, base, plen - dir_len);
-    memcpy(out->tmp + plen + 1, suffix, sizeof suffix);
-
-    int fd = mkstemp(out->tmp);
-    if (fd < 0) {
-        int e = errno;
-        free(out->path);
-        free(out->tmp);
-        memset(out, 0, sizeof *out);
-        return cli_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "cannot create output file: %s",
-                            strerror(e));
-    }
-    /* mkstemp makes the file 0600: give it the mode of the file it replaces,
-     * or the mode a new file would get (0666 less the umask). */
-    mode_t mode;
-    if (stat(path, &st) == 0 && S_ISREG(st.st_mode)) {
-        mode = st.st_mode & 07777;
+    if (have && !S_ISREG(st.st_mode)) {
+        /* A device (/dev/null, /dev/full), FIFO or socket: write through it,
+         * never replace it. */
+        out->fd = open(path, O_WRONLY | O_NOCTTY | O_CLOEXEC);
+        if (out->fd < 0)
+            return output_fail(out, diag, path, errno, "cannot open for writing");
     } else {
-        mode_t mask = umask(0);
-        umask(mask);
-        mode = 0666 & ~mask;
+        /* A regular file, perhaps through symbolic links (which stay): refuse
+         * it as cp would if we may not write it, else replace the file itself
+         * through a temporary file with its mode (and owner where allowed). */
+        if (have && faccessat(AT_FDCWD, path, W_OK, AT_EACCESS) != 0)
+            return output_fail(out, diag, path, errno, "cannot open for writing");
+        out->dest = have && S_ISLNK(lst.st_mode) ? realpath(path, NULL) : strdup(path);
+        if (!out->dest)
+            return output_fail(out, diag, path, errno, "cannot open for writing");
+        e = output_temporary(out);
+        if (e)
+            return output_fail(out, diag, path, e, "cannot create output file");
+        if (have) {
+            if (st.st_uid != geteuid() || st.st_gid != getegid()) {
+                if (fchown(out->fd, st.st_uid, st.st_gid) != 0) {
+                    /* not permitted: the new file is ours */
+                }
+            }
+            if (fchmod(out->fd, st.st_mode & 07777) != 0)
+                return output_fail(out, diag, path, errno, "cannot set the output file's mode");
+        }
     }
-    if (fchmod(fd, mode) != 0 || !(out->fp = fdopen(fd, "wb"))) {
-        int e = errno;
-        close(fd);
-        unlink(out->tmp);
-        free(out->path);
-        free(out->tmp);
-        memset(out, 0, sizeof *out);
-        return cli_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "cannot create output file: %s",
-                            strerror(e));
-    }
+    out->fp = fdopen(out->fd, "wb");
+    if (!out->fp)
+        return output_fail(out, diag, path, errno, "cannot open for writing");
     return GEOM_OK;
-}
-
-static void output_release(cli_output *out)
-{
-    free(out->path);
-    free(out->tmp);
-    memset(out, 0, sizeof *out);
 }
 
 geom_status cli_output_commit(cli_output *out, geom_diag *diag)
 {
     if (!out->fp)
         return cli_diag_set(diag, GEOM_ERR_IO, NULL, 0, 0, "output is not open");
-    if (!out->tmp) { /* standard output */
+    if (!out->path) { /* standard output */
+        errno = 0;
         int bad = fflush(out->fp) != 0 || ferror(out->fp);
         int e = errno;
         out->fp = NULL;
@@ -567,18 +759,21 @@ geom_status cli_output_commit(cli_output *out, geom_diag *diag)
         return GEOM_OK;
     }
     int e = 0;
+    errno = 0;
     if (fflush(out->fp) != 0 || ferror(out->fp))
         e = errno ? errno : EIO;
-    else if (fsync(fileno(out->fp)) != 0 && errno != EINVAL && errno != EROFS)
+    else if (out->tmp && fsync(out->fd) != 0 && errno != EINVAL && errno != EROFS)
         e = errno;
-    if (fclose(out->fp) != 0 && !e)
+    if (fclose(out->fp) != 0 && !e && errno != EINTR)
         e = errno ? errno : EIO;
     out->fp = NULL;
-    if (!e && rename(out->tmp, out->path) != 0)
+    out->fd = -1;
+    if (!e && out->tmp && rename(out->tmp, out->dest) != 0)
         e = errno;
     geom_status st = GEOM_OK;
     if (e) {
-        unlink(out->tmp);
+        if (out->tmp)
+            unlink(out->tmp);
         st = cli_diag_set(diag, GEOM_ERR_IO, out->path, 0, 0, "write error: %s", strerror(e));
     }
     output_release(out);
@@ -587,7 +782,7 @@ geom_status cli_output_commit(cli_output *out, geom_diag *diag)
 
 void cli_output_abort(cli_output *out)
 {
-    if (out->fp && !out->tmp) {
+    if (out->fp && !out->path) {
         fflush(out->fp); /* keep what was already streamed to stdout */
         out->fp = NULL;
         return;

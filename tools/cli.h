@@ -25,7 +25,8 @@
  *    1-based line and column.
  *
  * Everything is reentrant: no global state besides what getopt_long itself
- * keeps (optind, opterr, optarg, optopt). Functions that can fail return a
+ * keeps (optind, opterr, optarg, optopt) and the list of open temporary
+ * output files that the SIGINT/SIGTERM/SIGHUP handler removes. Functions that can fail return a
  * geom_status and fill an optional geom_diag (NULL allowed) with the message;
  * cli_print_diag() prints it. Nothing here calls exit().
  *
@@ -157,6 +158,11 @@ geom_status cli_diag_set(geom_diag *d, geom_status status, const char *source, s
  *  knows the column (cli_parse_numbers). NULL d is a no-op. */
 void cli_diag_locate(geom_diag *d, const char *source, size_t line);
 
+/** Print s to fp with control bytes, DEL and bytes that are not valid
+ *  UTF-8 written as \xNN: text copied from input can then neither drive the
+ *  terminal (clear it, set its title) nor break UTF-8. */
+void cli_print_escaped(FILE *fp, const char *s);
+
 /** Print d as "tool: source:line:col: message" (parts omitted when unknown,
  *  see geom_diag_format) to stderr. Returns CLI_EXIT_ERROR. */
 int cli_print_diag(const cli_tool *tool, const geom_diag *d);
@@ -271,33 +277,46 @@ void cli_json_number(FILE *fp, double v);
 void cli_json_error_report(FILE *fp, const geom_error_report *r, const char *measure);
 
 /** Print s as a JSON string literal with quotes and escapes (control
- *  characters as \u00XX; bytes >= 0x80 are passed through). */
+ *  characters and DEL as \u00XX; valid UTF-8 sequences are passed through,
+ *  any other byte >= 0x80 becomes \ufffd, so the output is valid UTF-8). */
 void cli_json_string(FILE *fp, const char *s);
 
-/** A destination for a tool's output: standard output, or a file written
- *  through a temporary file in its directory and renamed on success. */
+/** A destination for a tool's output: standard output, a device or FIFO
+ *  written through, or a regular file replaced through a temporary file. */
 typedef struct cli_output {
     FILE *fp;   /**< write here */
-    char *path; /**< the destination (NULL: standard output) */
-    char *tmp;  /**< the temporary file while open */
+    char *path; /**< the destination as named (NULL: standard output) */
+    char *dest; /**< the file replaced (path, or a symbolic link's target) */
+    char *tmp;  /**< the temporary file while open (NULL: written through) */
+    int fd;     /**< fp's descriptor (-1 for standard output) */
 } cli_output;
 
 /**
- * Open the output. NULL or "-" means standard output. Otherwise creates a
- * temporary file ".<name>.XXXXXX" in the destination's directory (mode 0666
- * less the umask, or the mode of the file it will replace) and points out->fp
- * at it; nothing is visible under `path` until cli_output_commit, which
- * replaces `path` itself (a symbolic link there is replaced, not followed).
- * GEOM_ERR_IO if `path` is a directory or the temporary file cannot be
- * created, GEOM_ERR_NOMEM.
+ * Open the output. NULL or "-" means standard output. What happens to an
+ * existing `path` (cp's rules; nothing of the user's is ever destroyed):
+ *  - not there, or a regular file: a temporary file ".NAME.XXXXXXXX.geomtmp"
+ *    (NAME shortened so that it fits NAME_MAX) is created in its directory,
+ *    with the mode of the file it will replace (and its owner where the
+ *    system allows) or 0666 less the umask; cli_output_commit renames it
+ *    over the destination. A symbolic link to a regular file stays a link:
+ *    the file it points to is replaced. A file we may not write is refused
+ *    (permission denied), as cp refuses it;
+ *  - a device (/dev/null, /dev/full), a FIFO, or a symbolic link to one: it
+ *    is opened and written through, never replaced;
+ *  - a directory or a dangling symbolic link: refused.
+ * SIGINT, SIGTERM and SIGHUP (unless ignored) remove the temporary files of
+ * open outputs before the process dies of the signal; a temporary file of a
+ * SIGKILLed run keeps the ".geomtmp" name and is never taken for output.
+ * GEOM_ERR_IO (with the system's reason), GEOM_ERR_NOMEM.
  */
 geom_status cli_output_open(cli_output *out, const char *path, geom_diag *diag);
 
 /**
- * Finish a successful run: flush, check for write errors, close, and rename
- * the temporary file onto the destination (atomically replacing any existing
- * file). For standard output, flushes and checks for write errors. On any
- * failure removes the temporary file (the destination is untouched) and
+ * Finish a successful run: flush, check for write errors (ENOSPC on
+ * /dev/full is one), fsync, close, and rename the temporary file onto the
+ * destination (atomically replacing any existing file). For standard output
+ * or a destination written through, flushes and checks for write errors. On
+ * any failure removes the temporary file (the destination is untouched) and
  * returns GEOM_ERR_IO. The output is closed afterwards either way.
  */
 geom_status cli_output_commit(cli_output *out, geom_diag *diag);

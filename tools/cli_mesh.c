@@ -1,6 +1,8 @@
 /* Mesh input and output shared by the mesh tools (see cli_mesh.h). */
 #include "cli_mesh.h"
 
+#include <errno.h>
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -38,9 +40,39 @@ geom_status cli_mesh_read(const char *tool_name, const char *path, geom_meshio_f
             if (items[i].n)
                 fprintf(stderr, "%s: %s: repaired: %zu %s\n", tool_name, in.name, items[i].n,
                         items[i].what);
+        if (cli_mesh_empty_warning(*m))
+            fprintf(stderr, "%s: %s: warning: %s\n", tool_name, in.name,
+                    cli_mesh_empty_warning(*m));
     }
     cli_input_close(&in);
     return st;
+}
+
+const char *cli_mesh_empty_warning(const geom_mesh *m)
+{
+    if (!m || geom_mesh_n_faces(m) > 0)
+        return NULL;
+    return geom_mesh_n_vertices(m) == 0 ? "empty mesh: no vertices and no faces"
+                                        : "no faces: only vertices";
+}
+
+/* Say so when the format cannot hold an attribute the mesh has. */
+static void warn_dropped(const geom_mesh *m, const char *path, geom_meshio_format f)
+{
+    static const char *const names[] = {"normal", "uv", "color", "tangent"};
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
+        int held = f == GEOM_MESHIO_FORMAT_GLB || (f != GEOM_MESHIO_FORMAT_STL && i < 3);
+        if (held)
+            continue;
+        if (geom_mesh_channel_find(m, names[i], GEOM_MESH_DOMAIN_CORNER) == GEOM_INVALID_INDEX &&
+            geom_mesh_channel_find(m, names[i], GEOM_MESH_DOMAIN_VERTEX) == GEOM_INVALID_INDEX)
+            continue;
+        fprintf(stderr, "warning: %s: %s cannot hold the mesh's \"%s\" attribute: not written%s\n",
+                path, geom_meshio_format_name(f), names[i],
+                i == 3 ? " (write .glb to keep tangents)"
+                : i == 0 ? " (STL keeps face normals only)"
+                         : "");
+    }
 }
 
 geom_status cli_mesh_write(const geom_mesh *m, const char *path, geom_meshio_format fmt,
@@ -52,22 +84,36 @@ geom_status cli_mesh_write(const geom_mesh *m, const char *path, geom_meshio_for
 geom_status cli_mesh_write_up(const geom_mesh *m, const char *path, geom_meshio_format fmt,
                               bool up_z, geom_diag *diag)
 {
+    /* Into memory, then through cli_output: one output path for every tool
+     * (cp's rules for what is replaced, temporary files removed on SIGINT,
+     * SIGTERM and SIGHUP), at the price of the file's size in memory. */
+    bool to_stdout = strcmp(path, "-") == 0;
     geom_meshio_write_options wo;
     memset(&wo, 0, sizeof wo);
-    wo.format = fmt;
+    wo.format = fmt ? fmt : to_stdout ? GEOM_MESHIO_FORMAT_AUTO : geom_meshio_format_from_name(path);
+    if (wo.format == GEOM_MESHIO_FORMAT_AUTO)
+        return cli_diag_set(diag, GEOM_ERR_INVALID_ARG, to_stdout ? "<stdout>" : path, 0, 0,
+                            "output format not recognised from the name: give --format");
     wo.gltf_z_up = up_z;
-    if (strcmp(path, "-") != 0)
-        return geom_meshio_write(m, path, &wo, diag);
     void *buf = NULL;
     size_t n = 0;
     geom_status st = geom_meshio_write_memory(m, &wo, &buf, &n, diag);
-    if (st != GEOM_OK)
+    if (st != GEOM_OK) {
+        if (diag && diag->source[0] == '\0')
+            cli_diag_locate(diag, to_stdout ? "<stdout>" : path, 0);
         return st;
+    }
+    warn_dropped(m, to_stdout ? "<stdout>" : path, wo.format);
     cli_output out;
-    st = cli_output_open(&out, NULL, diag);
+    st = cli_output_open(&out, to_stdout ? NULL : path, diag);
     if (st == GEOM_OK) {
-        fwrite(buf, 1, n, out.fp);
-        st = cli_output_commit(&out, diag);
+        if (n > 0 && fwrite(buf, 1, n, out.fp) != n) {
+            cli_output_abort(&out);
+            st = cli_diag_set(diag, GEOM_ERR_IO, to_stdout ? "<stdout>" : path, 0, 0,
+                              "write error: %s", strerror(errno ? errno : EIO));
+        } else {
+            st = cli_output_commit(&out, diag);
+        }
     }
     geom_meshio_buffer_free(buf, n, NULL);
     return st;

@@ -17,11 +17,16 @@ extern "C" {
  * Read the mesh in path ("-": standard input, read whole into memory) with
  * format fmt (GEOM_MESHIO_FORMAT_AUTO: from the name or the content) into
  * *m. The repairs geom_mesh_build made are printed to stderr as
- * "<tool_name>: <file>: repaired: N <what>". Returns the reader's status
+ * "<tool_name>: <file>: repaired: N <what>", an empty result as
+ * "<tool_name>: <file>: warning: ..." (cli_mesh_empty_warning). Returns the reader's status
  * (diag filled), GEOM_ERR_NOMEM or GEOM_ERR_IO.
  */
 geom_status cli_mesh_read(const char *tool_name, const char *path, geom_meshio_format fmt,
                           geom_mesh **m, geom_diag *diag);
+
+/** A warning for a mesh with nothing in it ("empty mesh: no vertices and
+ *  no faces", "no faces: only N vertices"), or NULL when it has faces. */
+const char *cli_mesh_empty_warning(const geom_mesh *m);
 
 /**
  * Write m to path atomically ("-": standard output, where fmt must not be

@@ -19,6 +19,7 @@
  */
 #include "cli.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -92,6 +93,9 @@ static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
             return cli_usage_error(t, "--bounds takes four numbers X0,Y0,X1,Y1, not '%s'", arg);
         if (!(v[0] < v[2]) || !(v[1] < v[3]))
             return cli_usage_error(t, "--bounds '%s': need X0 < X1 and Y0 < Y1", arg);
+        if (!isfinite(v[2] - v[0]) || !isfinite(v[3] - v[1])) /* else nan/inf in the SVG */
+            return cli_usage_error(t, "--bounds '%s': the width or height overflows a double",
+                                   arg);
         memcpy(o->bounds, v, sizeof o->bounds);
         o->have_bounds = 1;
         return CLI_CONTINUE;
@@ -131,10 +135,10 @@ static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
 static void write_svg(FILE *fp, const geom_implicit_isolines *c, const double b[4])
 {
     double w = b[2] - b[0], h = b[3] - b[1];
-    double px = 800.0, py = 800.0 * h / w;
+    double px = 800.0, py = 800.0 * (h / w); /* h / w first: 800 * h overflows near DBL_MAX */
     if (py > 800.0) {
         py = 800.0;
-        px = 800.0 * w / h;
+        px = 800.0 * (w / h);
     }
     fprintf(fp, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
     fprintf(fp, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" "

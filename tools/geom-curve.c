@@ -110,22 +110,6 @@ static int ends_with(const char *s, const char *suffix)
 
 #ifdef GEOM_HAVE_CJSON
 /* Distance from q to the segment a-b (dim doubles each). */
-static double seg_dist(const double *a, const double *b, const double *q, size_t dim)
-{
-    double ab2 = 0.0, t = 0.0;
-    for (size_t k = 0; k < dim; ++k) {
-        ab2 += (b[k] - a[k]) * (b[k] - a[k]);
-        t += (q[k] - a[k]) * (b[k] - a[k]);
-    }
-    t = ab2 > 0.0 ? fmin(fmax(t / ab2, 0.0), 1.0) : 0.0;
-    double s = 0.0;
-    for (size_t k = 0; k < dim; ++k) {
-        double d = a[k] + t * (b[k] - a[k]) - q[k];
-        s += d * d;
-    }
-    return sqrt(s);
-}
-
 /* Parameters and points of one curve (malloc'd), and its chordal error. */
 static geom_status approximate(const curve_opts *o, const geom_nurbs_curve *c, double **params,
                                double **points, size_t *count, double *err, geom_diag *diag)
@@ -156,7 +140,13 @@ static geom_status approximate(const curve_opts *o, const geom_nurbs_curve *c, d
                 double q[GEOM_CURVE_MAX_DIM];
                 double u = (*params)[i] + ((*params)[i + 1] - (*params)[i]) * k / 8.0;
                 geom_curve_nurbs_eval(c, u, 0, q);
-                e = fmax(e, seg_dist(*points + i * dim, *points + (i + 1) * dim, q, dim));
+                double di = geom_curve_segment_distance(dim, *points + i * dim,
+                                                        *points + (i + 1) * dim, q);
+                if (isnan(di)) /* never a silent 0: fmax would drop the NaN */
+                    return cli_diag_set(diag, GEOM_ERR_DOMAIN, NULL, 0, 0,
+                                        "the chordal error is not a number (points beyond the "
+                                        "range of double)");
+                e = fmax(e, di);
             }
         *err = e;
         return GEOM_OK;

@@ -66,7 +66,6 @@ static const cli_tool tool = {
     "                       above (f >= V, e.g. CT: dense inside); for --volume\n"
     "                       the default is detected: above when most samples on\n"
     "                       the volume's boundary lie below V\n"
-    "
     "  -t, --threads=N      threads (default: all; the result is the same)\n"
     CLI_LIMIT_HELP,
     "The summary (vertices, triangles, max_error, seconds) goes to standard\n"

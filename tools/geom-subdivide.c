@@ -55,7 +55,8 @@ static const cli_tool tool = {
     "  -f, --format=FMT     output format (obj, off, ply, stl, glb); default: from\n"
     "                       OUT's extension\n"
     "  -i, --input-format=FMT  input format (obj, off, ply, stl); default: from\n"
-    "                       IN's extension, else from the content\n",
+    "                       IN's extension, else from the content\n"
+    CLI_LIMIT_HELP,
     "Options given here override the file's `t` tags (interpolateboundary,\n"
     "facevaryinginterpolateboundary, creasemethod); creases, corners and holes\n"
     "come from `t crease`, `t corner` and `t hole`. Without a tag or option the\n"
@@ -76,11 +77,15 @@ typedef struct sub_opts {
     int levels;
     int limit, normals;
     geom_meshio_format in_format, out_format;
+    cli_limits lim;
 } sub_opts;
 
 static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
 {
     sub_opts *o = user;
+    int lrc = cli_limits_option(t, &o->lim, opt, arg);
+    if (lrc != CLI_NOT_HANDLED)
+        return lrc;
     switch (opt) {
     case 's':
         if (geom_subdiv_scheme_from_name(arg, &o->so.scheme) != GEOM_OK)
@@ -187,6 +192,7 @@ int main(int argc, char **argv)
                                              {"normals", no_argument, NULL, OPT_NORMALS},
                                              {"format", required_argument, NULL, 'f'},
                                              {"input-format", required_argument, NULL, 'i'},
+                                             CLI_LIMIT_LONGOPTS,
                                              {NULL, 0, NULL, 0}};
     sub_opts so;
     memset(&so, 0, sizeof so);
@@ -238,6 +244,24 @@ int main(int argc, char **argv)
         }
     }
 
+    /* Estimate before the work: every level multiplies the faces by 4 (3 for
+     * sqrt3), the first one turning each polygon corner into a quad for
+     * Catmull-Clark and bilinear; a quad counts as two triangles, and about
+     * 100 bytes of mesh go with each triangle. */
+    {
+        double corners = (double)geom_mesh_n_halfedges(m), tris = corners;
+        int quads = so.so.scheme == GEOM_SUBDIV_CATMULL_CLARK || so.so.scheme == GEOM_SUBDIV_BILINEAR;
+        double per = so.so.scheme == GEOM_SUBDIV_SQRT3 ? 3.0 : 4.0;
+        if (so.levels == 0)
+            tris = 2.0 * (double)geom_mesh_n_faces(m);
+        else
+            tris = (quads ? 2.0 * corners : corners) * pow(per, so.levels - 1);
+        if (cli_limits_check(&tool, &so.lim, "the subdivision", tris, 100.0 * tris) !=
+            CLI_CONTINUE) {
+            geom_mesh_destroy(m);
+            return CLI_EXIT_ERROR;
+        }
+    }
     cli_timer total;
     cli_timer_start(&total);
     geom_subdiv_refiner *r = NULL;

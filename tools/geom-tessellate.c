@@ -307,7 +307,9 @@ int main(int argc, char **argv)
                 box = geom_aabb_extend(box, geom_vec3_make(S[k].points[3 * i],
                                                            S[k].points[3 * i + 1],
                                                            S[k].points[3 * i + 2]));
-        o.to.tolerance = 1e-3 * geom_vec3_length(geom_vec3_sub(box.max, box.min));
+        /* halves first: the difference of +-1e308 overflows */
+        o.to.tolerance = geom_vec3_length(geom_vec3_scale(
+            geom_vec3_sub(geom_vec3_scale(box.max, 0.5), geom_vec3_scale(box.min, 0.5)), 2e-3));
     }
     geom_mesh *m = geom_mesh_create(NULL);
     if (!m) {

@@ -623,8 +623,22 @@ geom_status sj_read_memory(const char *text, size_t len, const char *source, sj_
     memset(out, 0, sizeof *out);
     if (memchr(text, '\0', len))
         return sj_fail(&x, GEOM_ERR_PARSE, 0, 0, "NUL byte in the JSON text");
-    const char *end = NULL;
-    cJSON *root = cJSON_ParseWithLengthOpts(text, len, &end, 0);
+    const char *end = NULL, *start = text;
+    int trailing = 0;
+    if (len >= 3 && memcmp(text, "\xEF\xBB\xBF", 3) == 0)
+        start += 3; /* a UTF-8 byte-order mark */
+    cJSON *root = cJSON_ParseWithLengthOpts(start, len - (size_t)(start - text), &end, 0);
+    if (root && end) { /* only white space may follow the value */
+        const char *q = end;
+        while (q < text + len && (*q == ' ' || *q == '\t' || *q == '\n' || *q == '\r'))
+            q++;
+        if (q < text + len) {
+            cJSON_Delete(root);
+            root = NULL;
+            end = q;
+            trailing = 1;
+        }
+    }
     if (!root) {
         size_t off = end && end >= text && end <= text + len ? (size_t)(end - text) : 0;
         size_t line = 1, col = 1;
@@ -634,7 +648,8 @@ geom_status sj_read_memory(const char *text, size_t len, const char *source, sj_
             else
                 col++;
         }
-        return sj_fail(&x, GEOM_ERR_PARSE, line, col, "JSON syntax error");
+        return sj_fail(&x, GEOM_ERR_PARSE, line, col,
+                       trailing ? "text after the JSON value" : "JSON syntax error");
     }
     geom_status st = GEOM_OK;
     if (!cJSON_IsObject(root)) {
@@ -712,6 +727,7 @@ geom_status sj_read_file(const char *path, sj_file *out, geom_diag *diag)
     FILE *fp = fopen(path, "rb");
     if (!fp)
         return sj_fail(&x, GEOM_ERR_IO, 0, 0, "cannot open: %s", strerror(errno));
+    errno = 0;
     size_t cap = 1 << 16, n = 0;
     char *buf = malloc(cap);
     while (buf) {
@@ -730,13 +746,15 @@ geom_status sj_read_file(const char *path, sj_file *out, geom_diag *diag)
         if (got == 0)
             break;
     }
-    int err = ferror(fp);
+    int err = ferror(fp) ? (errno ? errno : EIO) : 0;
     fclose(fp);
     if (!buf)
         return sj_fail(&x, GEOM_ERR_NOMEM, 0, 0, "out of memory");
     if (err) {
         free(buf);
-        return sj_fail(&x, GEOM_ERR_IO, 0, 0, "read error");
+        return sj_fail(&x, GEOM_ERR_IO, 0, 0, "%s",
+                       err == EISDIR ? "is a directory, not a file (expected an input file)"
+                                     : "read error");
     }
     geom_status st = sj_read_memory(buf, n, path, out, diag);
     free(buf);

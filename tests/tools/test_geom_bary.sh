@@ -277,7 +277,7 @@ expect_rc 1 "missing input file"
 expect_err "geom-bary: $T/does-not-exist: No such file or directory" "missing input file"
 run "$T"
 expect_rc 1 "directory as input"
-expect_err_match "geom-bary: $T:1: read error: *" "directory as input"
+expect_err_match "geom-bary: $T: is a directory, not a file*" "directory as input"
 
 # ------------------------------------------------------------------ usage errors
 run --bogus

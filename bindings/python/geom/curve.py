@@ -44,7 +44,7 @@ class NurbsCurve:
     (n,) or None. The curve is validated (geom_curve_nurbs_validate) unless
     validate=False; GeomError ERR_INVALID_ARG names the first problem."""
 
-    def __init__(self, degree, knots, points, weights=None, validate=True):
+    def __init__(self, degree, knots, points, weights=None, validate=True, _trusted=False):
         self._degree = int(degree)
         self._knots = _frozen(knots).reshape(-1)
         pts = np.asarray(points, dtype=np.float64)
@@ -66,7 +66,10 @@ class NurbsCurve:
         if self._weights is not None:
             self._keep.append(ffi.from_buffer("double[]", self._weights))
             self._c.weights = self._keep[2]
-        if validate:
+        # validate=False is no way around validation: the C check is O(n) and
+        # guards every later call against reading past the arrays; only
+        # curves made by the library itself (_from_c) skip it.
+        if validate or not _trusted:
             diag = new_diag()
             check(lib.geom_curve_nurbs_validate(self._c, self._knots.size, diag), diag,
                   context="NurbsCurve")
@@ -79,7 +82,7 @@ class NurbsCurve:
         w = None
         if c.weights != ffi.NULL:
             w = np.frombuffer(ffi.buffer(c.weights, 8 * n), dtype=np.float64)
-        return cls(c.degree, knots, pts, w, validate=False)
+        return cls(c.degree, knots, pts, w, validate=False, _trusted=True)
 
     degree = property(lambda self: self._degree)
     knots = property(lambda self: self._knots)

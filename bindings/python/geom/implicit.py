@@ -154,7 +154,10 @@ def marching_cubes(field, bounds=None, resolution=None, iso=0.0, refine=False, n
     opt.normals = 1 if normals else 0
     opt.caps = 1 if caps else 0
     opt.error = _ISO_ERROR[error]
-    opt.threads = int(threads)
+    threads = int(threads)
+    if threads < 0:
+        raise ValueError("threads must be >= 0 (0: all cores), got %d" % threads)
+    opt.threads = min(threads, os.cpu_count() or 1)  # capped to the machine
     surf = ffi.new("geom_iso_surface *")
     diag = new_diag()
     keep = []
@@ -174,8 +177,16 @@ def marching_cubes(field, bounds=None, resolution=None, iso=0.0, refine=False, n
         buf = ffi.from_buffer(vol.reshape(-1, order="F"))
         keep += [vol, buf]
         grid.data = buf
-        grid.spacing = [1.0, 1.0, 1.0] if spacing is None else [float(s) for s in spacing]
-        grid.origin = [0.0, 0.0, 0.0] if origin is None else [float(s) for s in origin]
+        sp = [1.0, 1.0, 1.0] if spacing is None else [float(s) for s in spacing]
+        org = [0.0, 0.0, 0.0] if origin is None else [float(s) for s in origin]
+        # validated here: C reads a zero spacing as its default 1, which from
+        # Python would silently hide a caller's bug
+        if len(sp) != 3 or not all(np.isfinite(v) and v > 0 for v in sp):
+            raise ValueError("spacing must be three finite numbers > 0, got %r" % (spacing,))
+        if len(org) != 3 or not all(np.isfinite(v) for v in org):
+            raise ValueError("origin must be three finite numbers, got %r" % (origin,))
+        grid.spacing = sp
+        grid.origin = org
         st = lib.geom_iso_extract_grid(grid, opt, surf, diag)
     else:
         if bounds is None or resolution is None:

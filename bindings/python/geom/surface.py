@@ -34,7 +34,7 @@ class NurbsSurface:
     validate=False."""
 
     def __init__(self, degree_u, degree_v, knots_u, knots_v, points, weights=None,
-                 validate=True, name=None):
+                 validate=True, name=None, _trusted=False):
         self._pu, self._pv = int(degree_u), int(degree_v)
         self._ku = _frozen(knots_u).reshape(-1)
         self._kv = _frozen(knots_v).reshape(-1)
@@ -55,10 +55,17 @@ class NurbsSurface:
             self._keep.append(ffi.from_buffer("double[]", self._weights))
             s.weights = self._keep[3]
         self._s = s
-        if validate:
+        # validate=False is no way around validation (see NurbsCurve): only
+        # surfaces made by the library itself (_from_c) skip the O(n) check.
+        nku, nkv = nu + self._pu + 1, nv + self._pv + 1
+        if not _trusted and (self._ku.size != nku or self._kv.size != nkv):
+            raise ValueError("knot counts must be nu + pu + 1 = %d and nv + pv + 1 = %d"
+                             % (nku, nkv))
+        if not _trusted and self._weights is not None and self._weights.size != nu * nv:
+            raise ValueError("need one weight per control point")
+        if validate or not _trusted:
             diag = new_diag()
             check(lib.geom_surface_validate(s, diag), diag, context="NurbsSurface")
-        nku, nkv = nu + self._pu + 1, nv + self._pv + 1
         if validate and (self._ku.size != nku or self._kv.size != nkv):
             raise ValueError("knot counts must be nu + pu + 1 = %d and nv + pv + 1 = %d"
                              % (nku, nkv))
@@ -72,7 +79,7 @@ class NurbsSurface:
         pts = grab(s.points, 3 * nu * nv).reshape(nu, nv, 3)
         w = None if s.weights == ffi.NULL else grab(s.weights, nu * nv)
         return cls(pu, pv, grab(s.knots_u, nu + pu + 1), grab(s.knots_v, nv + pv + 1), pts, w,
-                   validate=False, name=name)
+                   validate=False, name=name, _trusted=True)
 
     degree_u = property(lambda self: self._pu)
     degree_v = property(lambda self: self._pv)

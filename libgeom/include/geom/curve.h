@@ -438,6 +438,9 @@ GEOM_API geom_status geom_curve_nurbs_remove_knot(const geom_nurbs_curve *c, dou
  * Sizes of the curve geom_curve_nurbs_elevate(c, times) produces: with s
  * distinct knot values strictly inside the domain, n + times*(s+1) points
  * and that + p + times + 1 knots. Either output may be NULL.
+ * GEOM_ERR_LIMIT when degree + times exceeds 1000 (also refused by
+ * geom_curve_nurbs_elevate: past degree ~1020 the binomial coefficients
+ * overflow a double, which gave NaN control points).
  */
 GEOM_API geom_status geom_curve_nurbs_elevate_bound(const geom_nurbs_curve *c, int times, size_t *n,
                                            size_t *nknots);
@@ -620,6 +623,11 @@ typedef struct geom_curve_polyline_options {
  * report (NULL allowed): max_error / mean_error over the pieces of the
  * measured deviation (bound or sampled), method, evaluations = de Casteljau
  * subdivisions plus sample evaluations.
+ * Control points anywhere in the range of double work (distances are
+ * computed with scaling, never by squaring raw coordinates): the default
+ * tolerance and the reported errors are finite for control points up to
+ * about 1e308. GEOM_ERR_DOMAIN when a deviation cannot be represented (a
+ * rational curve whose points overflow), never a silent 0.
  */
 GEOM_API geom_status geom_curve_nurbs_polyline(const geom_nurbs_curve *c,
                                       const geom_curve_polyline_options *options, double *params,
@@ -653,6 +661,16 @@ GEOM_API geom_status geom_curve_bspline_basis_many(int degree, size_t n, const d
 GEOM_API geom_status geom_curve_nurbs_eval_many(const geom_nurbs_curve *c, size_t n, const double *u,
                                                 unsigned flags, double *out, int32_t *status,
                                                 size_t *n_failed);
+/**
+ * Euclidean distance from point q to the segment [a, b] (dim doubles each,
+ * 1 <= dim <= GEOM_CURVE_MAX_DIM), computed with scaling so that it is
+ * accurate for coordinates anywhere in the range of double (no overflow in
+ * squares or differences below the result itself). A zero-length segment
+ * gives the distance to a. NaN if any input is NaN; +inf only when the true
+ * distance exceeds DBL_MAX.
+ */
+GEOM_API double geom_curve_segment_distance(size_t dim, const double *a, const double *b,
+                                            const double *q);
 
 #ifdef __cplusplus
 }

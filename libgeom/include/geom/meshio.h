@@ -42,7 +42,15 @@
  * Writers write whole files atomically: into a temporary file in the
  * destination's directory, renamed over the destination only when
  * everything succeeded; on failure the temporary file is removed and an
- * existing destination is left untouched. Doubles are written with the
+ * existing destination is left untouched. The temporary file is named
+ * ".NAME.XXXXXXXX.geomtmp" (NAME shortened so that the name fits NAME_MAX),
+ * so one left by a killed process is recognisable. What is never replaced:
+ * a destination that is not a regular file (/dev/null, /dev/full, a FIFO,
+ * a symbolic link to one) is opened and written through, and a write error
+ * there (ENOSPC) is an error; a symbolic link to a regular file stays a
+ * link (its target is replaced); a replaced file keeps its mode (and its
+ * owner where the system allows); a file we may not write (faccessat W_OK)
+ * is refused as cp refuses it; a dangling symbolic link is refused. Doubles are written with the
  * shortest decimal that reads back to the same bits (or a chosen precision).
  *
  * Numbers: text numbers must match [+-]digits[.digits][(e|E)[+-]digits]
@@ -244,9 +252,9 @@ typedef struct geom_meshio_write_options {
 
 /**
  * Write m to `path` atomically (see above; the temporary file is
- * ".<name>.<random>.tmp" in the same directory, created with mode 0666 less
- * the umask, and fsync is not called). The format comes from opt->format or
- * the extension.
+ * ".NAME.XXXXXXXX.geomtmp" in the destination's directory, created with
+ * mode 0666 less the umask or the replaced file's mode, and fsync'd before
+ * the rename). The format comes from opt->format or the extension.
  *
  * Statuses: GEOM_OK; GEOM_ERR_INVALID_ARG (NULL m or path, format not
  * recognised, PLY-only encoding for STL, non-finite coordinates for GLB);

@@ -58,12 +58,7 @@ static long seg_first(geom_curve_end ends, size_t s)
 
 static double dist(const double *a, const double *b, size_t dim)
 {
-    double s = 0.0;
-    for (size_t d = 0; d < dim; ++d) {
-        double t = b[d] - a[d];
-        s += t * t;
-    }
-    return sqrt(s);
+    return geom_curve_segment_distance(dim, a, a, b); /* scaled: no overflow or underflow */
 }
 
 static double knot_step(const double *a, const double *b, size_t dim, double alpha)

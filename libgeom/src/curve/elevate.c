@@ -13,6 +13,11 @@ static double binom(long n, long k)
     return b;
 }
 
+/* Largest degree an elevation may reach: past about 1020 the binomial
+ * coefficients of A5.9 overflow a double (NaN control points), and the work
+ * grows with the square of the degree. */
+#define ELEVATE_MAX_DEGREE 1000L
+
 static int is_clamped(const geom_nurbs_curve *c)
 {
     size_t p = (size_t)c->degree, n = c->n;
@@ -24,6 +29,8 @@ geom_status geom_curve_nurbs_elevate_bound(const geom_nurbs_curve *c, int times,
 {
     if (geom_curve_check_cheap(c) != GEOM_OK || times < 0)
         return GEOM_ERR_INVALID_ARG;
+    if ((long)c->degree + (long)times > ELEVATE_MAX_DEGREE)
+        return GEOM_ERR_LIMIT;
     size_t p = (size_t)c->degree, s = 0;
     const double *U = c->knots;
     for (size_t i = p + 1; i < c->n; ++i)
@@ -47,6 +54,10 @@ geom_status geom_curve_nurbs_elevate(const geom_nurbs_curve *c, int times, doubl
     if (times < 0)
         return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: negative elevation %d",
                              times);
+    if ((long)c->degree + (long)times > ELEVATE_MAX_DEGREE)
+        return geom_diag_set(diag, GEOM_ERR_LIMIT, NULL, 0, 0,
+                             "curve: elevating degree %d by %d goes past degree %ld", c->degree,
+                             times, ELEVATE_MAX_DEGREE);
     if (!is_clamped(c))
         return geom_diag_set(diag, GEOM_ERR_DOMAIN, NULL, 0, 0,
                              "curve: degree elevation needs a clamped knot vector "

@@ -4,25 +4,45 @@
 
 #define PL_MAX_DEPTH 50
 
-static double seg_dist(const double *X, const double *A, const double *Bp, size_t dim)
+double geom_curve_segment_distance(size_t dim, const double *a, const double *b, const double *q)
 {
+    /* Differences halved (never overflow), then scaled to at most 1 before
+     * squaring: exact powers of two, so nothing is lost but the range. */
+    double e[GEOM_CURVE_MAX_DIM], x[GEOM_CURVE_MAX_DIM], scale = 0.0;
+    if (dim == 0 || dim > GEOM_CURVE_MAX_DIM)
+        return NAN;
+    for (size_t d = 0; d < dim; ++d) {
+        e[d] = 0.5 * b[d] - 0.5 * a[d];
+        x[d] = 0.5 * q[d] - 0.5 * a[d];
+        if (isnan(e[d]) || isnan(x[d]))
+            return NAN;
+        scale = fmax(scale, fmax(fabs(e[d]), fabs(x[d])));
+    }
+    if (scale == 0.0)
+        return 0.0;
+    if (!isfinite(scale))
+        return INFINITY;
+    int ex;
+    frexp(scale, &ex);
     double ab2 = 0.0, t = 0.0;
     for (size_t d = 0; d < dim; ++d) {
-        double e = Bp[d] - A[d];
-        ab2 += e * e;
-        t += (X[d] - A[d]) * e;
+        e[d] = ldexp(e[d], -ex);
+        x[d] = ldexp(x[d], -ex);
+        ab2 += e[d] * e[d];
+        t += x[d] * e[d];
     }
-    t = ab2 > 0.0 ? t / ab2 : 0.0;
-    if (t < 0.0)
-        t = 0.0;
-    if (t > 1.0)
-        t = 1.0;
+    t = ab2 > 0.0 ? fmin(fmax(t / ab2, 0.0), 1.0) : 0.0;
     double s = 0.0;
     for (size_t d = 0; d < dim; ++d) {
-        double r = X[d] - (A[d] + t * (Bp[d] - A[d]));
+        double r = x[d] - t * e[d];
         s += r * r;
     }
-    return sqrt(s);
+    return 2.0 * ldexp(sqrt(s), ex);
+}
+
+static double seg_dist(const double *X, const double *A, const double *Bp, size_t dim)
+{
+    return geom_curve_segment_distance(dim, A, Bp, X);
 }
 
 typedef struct pl_ctx {
@@ -33,7 +53,7 @@ typedef struct pl_ctx {
     size_t segs, evals;
     int method;
     double tol;
-    int overflow;
+    int overflow, nonfinite;
     double last[GEOM_CURVE_MAX_DIM];
 } pl_ctx;
 
@@ -107,6 +127,10 @@ static void span_polyline(pl_ctx *x, double *stack, pl_piece *info, double *work
         double *b = stack + (size_t)top * P;
         pl_piece pc = info[top];
         double e = deviation(x, b, work);
+        if (isnan(e)) { /* points beyond the range of double: no silent 0 */
+            x->nonfinite = 1;
+            return;
+        }
         double m = 0.5 * (pc.a + pc.b);
         if (e <= x->tol || pc.depth >= PL_MAX_DEPTH || !(m > pc.a && m < pc.b) ||
             top + 2 > PL_MAX_DEPTH + 2) {
@@ -155,16 +179,18 @@ geom_status geom_curve_nurbs_polyline(const geom_nurbs_curve *c,
         return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: bad polyline options");
     size_t dim = c->dim, p = (size_t)c->degree;
     if (opt.tolerance == 0.0) {
-        double diag2 = 0.0;
+        /* 1e-3 of the control box's diagonal, without overflow */
+        double lo[GEOM_CURVE_MAX_DIM], hi[GEOM_CURVE_MAX_DIM], zero[GEOM_CURVE_MAX_DIM] = {0};
         for (size_t d = 0; d < dim; ++d) {
-            double lo = INFINITY, hi = -INFINITY;
+            lo[d] = INFINITY;
+            hi[d] = -INFINITY;
             for (size_t i = 0; i < c->n; ++i) {
-                lo = fmin(lo, c->points[i * dim + d]);
-                hi = fmax(hi, c->points[i * dim + d]);
+                lo[d] = fmin(lo[d], c->points[i * dim + d]);
+                hi[d] = fmax(hi[d], c->points[i * dim + d]);
             }
-            diag2 += (hi - lo) * (hi - lo);
+            hi[d] = 0.5 * hi[d] - 0.5 * lo[d]; /* half the extent */
         }
-        opt.tolerance = 1e-3 * sqrt(diag2);
+        opt.tolerance = 2e-3 * geom_curve_segment_distance(dim, zero, zero, hi);
         if (!(opt.tolerance > 0.0))
             opt.tolerance = 1e-300; /* all control points coincide */
     }
@@ -209,6 +235,12 @@ geom_status geom_curve_nurbs_polyline(const geom_nurbs_curve *c,
         report->mean_error = x.segs ? x.sum_err / (double)x.segs : 0.0;
         report->method = x.method;
         report->evaluations = x.evals;
+    }
+    if (x.nonfinite) {
+        *count = 0;
+        return geom_diag_set(diag, GEOM_ERR_DOMAIN, NULL, 0, 0,
+                             "curve: the deviation from a chord is not a number (points beyond "
+                             "the range of double)");
     }
     if (x.overflow) {
         *count = 0;

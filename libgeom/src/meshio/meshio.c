@@ -81,6 +81,145 @@ geom_meshio_format geom_meshio_format_sniff(const void *data, size_t size)
 
 /* ------------------------------------------------------------------ reading */
 
+/* Length of the valid UTF-8 sequence at p (1..4), 0 if not valid. */
+static size_t utf8_len(const unsigned char *p, size_t n)
+{
+    unsigned char c = p[0];
+    size_t len;
+    uint32_t cp;
+    if (c < 0x80)
+        return 1;
+    if (c >= 0xC2 && c <= 0xDF) {
+        len = 2;
+        cp = c & 0x1F;
+    } else if (c >= 0xE0 && c <= 0xEF) {
+        len = 3;
+        cp = c & 0x0F;
+    } else if (c >= 0xF0 && c <= 0xF4) {
+        len = 4;
+        cp = c & 0x07;
+    } else {
+        return 0;
+    }
+    if (n < len)
+        return 0;
+    for (size_t i = 1; i < len; i++) {
+        if ((p[i] & 0xC0) != 0x80)
+            return 0;
+        cp = cp << 6 | (p[i] & 0x3F);
+    }
+    if ((len == 3 && (cp < 0x800 || (cp >= 0xD800 && cp <= 0xDFFF))) ||
+        (len == 4 && (cp < 0x10000 || cp > 0x10FFFF)))
+        return 0;
+    return len;
+}
+
+void geom_meshio__printable(char *dst, size_t size, const char *src, size_t len)
+{
+    static const char hex[] = "0123456789abcdef";
+    const unsigned char *p = (const unsigned char *)src;
+    size_t o = 0, i = 0;
+    if (size == 0)
+        return;
+    while (i < len) {
+        size_t u = utf8_len(p + i, len - i);
+        int esc = u == 0 || (u == 1 && (p[i] < 0x20 || p[i] == 0x7F || p[i] == '\\'));
+        size_t need = esc ? 4 : u;
+        if (o + need + 4 > size) { /* room for "..." and the NUL */
+            if (o + 3 < size)
+                memcpy(dst + o, "...", 3), o += 3;
+            break;
+        }
+        if (esc) {
+            dst[o++] = '\\';
+            dst[o++] = 'x';
+            dst[o++] = hex[p[i] >> 4];
+            dst[o++] = hex[p[i] & 15];
+            i++;
+        } else {
+            memcpy(dst + o, p + i, u);
+            o += u;
+            i += u;
+        }
+    }
+    dst[o] = '\0';
+}
+
+static int is_binary_stl(const unsigned char *p, size_t size)
+{
+    if (size < 84)
+        return 0;
+    uint32_t n = (uint32_t)p[80] | (uint32_t)p[81] << 8 | (uint32_t)p[82] << 16 |
+                 (uint32_t)p[83] << 24;
+    return (uint64_t)84 + (uint64_t)50 * n == (uint64_t)size;
+}
+
+/* The validation edge every reader goes through: a UTF-8 byte-order mark is
+ * skipped (*skip = 3); UTF-16/32 text, binary bytes where text is expected
+ * and content that is plainly another format than the one claimed (a PLY
+ * named .obj) are errors naming the file and what was expected. */
+static const char *upper_name(geom_meshio_format f)
+{
+    static const char *const names[] = {"?", "OBJ", "OFF", "PLY", "STL", "GLB"};
+    return (unsigned)f < sizeof names / sizeof names[0] ? names[f] : "?";
+}
+
+static geom_status check_content(const unsigned char *p, size_t size, geom_meshio_format fmt,
+                                 const char *src, size_t *skip, geom_diag *diag)
+{
+    const char *want = upper_name(fmt);
+    *skip = 0;
+    if (fmt == GEOM_MESHIO_FORMAT_STL) { /* binary or ASCII: the STL reader decides */
+        if (!is_binary_stl(p, size) && size >= 3 && p[0] == 0xEF && p[1] == 0xBB && p[2] == 0xBF)
+            *skip = 3;
+        return GEOM_OK;
+    }
+    if (size >= 3 && p[0] == 0xEF && p[1] == 0xBB && p[2] == 0xBF)
+        *skip = 3;
+    if (size >= 2 && ((p[0] == 0xFF && p[1] == 0xFE) || (p[0] == 0xFE && p[1] == 0xFF)))
+        return geom_diag_set(diag, GEOM_ERR_PARSE, src, 0, 0,
+                             "UTF-%s text (byte-order mark %02X %02X): expected %s in ASCII or "
+                             "UTF-8",
+                             size >= 4 && p[2] == 0 && p[3] == 0 ? "32" : "16", p[0], p[1], want);
+    if (size >= 4 && p[0] == 0 && p[1] == 0 && p[2] == 0xFE && p[3] == 0xFF)
+        return geom_diag_set(diag, GEOM_ERR_PARSE, src, 0, 0,
+                             "UTF-32 text (byte-order mark 00 00 FE FF): expected %s in ASCII "
+                             "or UTF-8", want);
+    p += *skip;
+    size -= *skip;
+    geom_meshio_format seen = geom_meshio_format_sniff(p, size);
+    int sure = seen != GEOM_MESHIO_FORMAT_OBJ; /* sniffing falls back on OBJ */
+    if (sure && seen != fmt)
+        return geom_diag_set(diag, GEOM_ERR_PARSE, src, 0, 0,
+                             "the content is %s (%s), not %s as %s", upper_name(seen),
+                             seen == GEOM_MESHIO_FORMAT_PLY   ? "'ply' header"
+                             : seen == GEOM_MESHIO_FORMAT_GLB ? "'glTF' magic"
+                             : seen == GEOM_MESHIO_FORMAT_OFF ? "OFF keyword"
+                             : is_binary_stl(p, size)         ? "binary STL size"
+                                                              : "'solid' keyword",
+                             want, "the name or the format option says");
+    /* Text formats (and the PLY header, whose binary data follows it): the
+     * first 4 KiB hold no control bytes but white space. */
+    size_t n = size < 4096 ? size : 4096;
+    if (fmt == GEOM_MESHIO_FORMAT_PLY) {
+        const unsigned char *end = NULL;
+        for (size_t i = 0; i + 10 <= n && !end; i++)
+            if (memcmp(p + i, "end_header", 10) == 0)
+                end = p + i;
+        if (end)
+            n = (size_t)(end - p);
+    }
+    for (size_t i = 0; i < n; i++) {
+        unsigned char ch = p[i];
+        if ((ch < 0x20 && ch != '\t' && ch != '\n' && ch != '\r' && ch != '\v' && ch != '\f') ||
+            ch == 0x7F)
+            return geom_diag_set(diag, GEOM_ERR_PARSE, src, 0, 0,
+                                 "%s at byte offset %zu: not %s text (binary or corrupt file)",
+                                 ch == 0 ? "NUL byte" : "control byte", i + *skip, want);
+    }
+    return GEOM_OK;
+}
+
 /* Parse, then (when `file` is given) let the file's pages go before the
  * mesh is built: the soup holds everything that is needed. */
 static geom_status read_data(const void *data, size_t size, geom_file *file,
@@ -118,6 +257,14 @@ static geom_status read_data(const void *data, size_t size, geom_file *file,
     if (fmt == GEOM_MESHIO_FORMAT_AUTO)
         fmt = geom_meshio_format_sniff(data, size);
     c.stats->format = fmt;
+    if (fmt >= GEOM_MESHIO_FORMAT_OBJ && fmt <= GEOM_MESHIO_FORMAT_STL) {
+        size_t skip = 0;
+        geom_status cs = check_content(data, size, fmt, src, &skip, diag);
+        if (cs != GEOM_OK)
+            return cs;
+        c.data = (const unsigned char *)data + skip;
+        c.size = size - skip;
+    }
 
     mio_soup s;
     memset(&s, 0, sizeof s);
@@ -135,6 +282,15 @@ static geom_status read_data(const void *data, size_t size, geom_file *file,
     }
     if (st == GEOM_ERR_NOMEM && diag && diag->status != GEOM_ERR_NOMEM)
         geom_diag_set(diag, st, src, 0, 0, "out of memory");
+    /* Text that is not OBJ at all (/etc/passwd, XML) reads as nothing but
+     * unknown statements: an error, not an empty mesh. */
+    if (st == GEOM_OK && fmt == GEOM_MESHIO_FORMAT_OBJ && s.pos.n == 0 && s.fsize.n == 0 &&
+        c.stats->skipped_statements > 0)
+        st = geom_diag_set(diag, GEOM_ERR_PARSE, src, 0, 0,
+                           "not an OBJ file: no vertex or face, %zu unknown statement%s (first "
+                           "'%s')",
+                           c.stats->skipped_statements,
+                           c.stats->skipped_statements == 1 ? "" : "s", c.stats->first_skipped);
     if (file)
         geom__file_drop_pages(file);
     if (st == GEOM_OK)

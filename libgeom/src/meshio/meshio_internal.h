@@ -279,17 +279,27 @@ geom_status geom_meshio__sink_flush(mio_sink *k);
 geom_status geom_meshio__sink_fail(mio_sink *k, geom_status st, const char *fmt, ...)
     GEOM_PRINTF(3, 4);
 
+/* Copy len bytes of input text into dst (size bytes, NUL-terminated, cut
+ * with "..." when too long) for a message: control bytes and DEL become
+ * \xNN, so input cannot drive the terminal; bytes >= 0x80 are kept only as
+ * whole valid UTF-8 sequences (else \xNN). */
+void geom_meshio__printable(char *dst, size_t size, const char *src, size_t len);
+
 /* ---------------------------------------------------- atomic file output */
 
 typedef struct mio_atomic {
-    char *path; /* destination */
-    char *tmp;  /* temporary file */
-    size_t path_size, tmp_size;
+    char *path; /* destination as named (messages) */
+    char *dest; /* file replaced: path, or a symbolic link's resolved target */
+    char *tmp;  /* temporary file; NULL when writing through */
+    size_t path_size, dest_size, tmp_size;
     int fd;
     const geom_allocator *alloc;
 } mio_atomic;
 
-/* Create the temporary file next to path. GEOM_ERR_IO / GEOM_ERR_NOMEM. */
+/* Open the output for path (see meshio.h, "Writers"): a regular file (or a
+ * symbolic link to one) is replaced through a temporary file named
+ * ".NAME.XXXXXXXX.geomtmp" next to it, keeping its mode; a device or FIFO
+ * is written through. GEOM_ERR_IO / GEOM_ERR_NOMEM / GEOM_ERR_INVALID_ARG. */
 geom_status geom_meshio__atomic_open(mio_atomic *a, const char *path, const geom_allocator *al,
                                      geom_diag *diag);
 /* Flush function for a sink writing to a->fd (user = a). */

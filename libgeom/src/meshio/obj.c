@@ -257,6 +257,9 @@ static geom_status obj_face(obj_state *o, size_t pos, const char *kwt, int is_li
     size_t nv = mio_soup_nv(s);
     size_t start = is_line ? s->pl_verts.n : s->fidx.n;
     size_t n = 0;
+    int form0 = 0; /* the first corner's form: bit 1 vt, bit 2 vn */
+    const char *t0 = NULL;
+    size_t tl0 = 0;
     while (mio_token(o->line, o->len, &pos, 1, &t, &tl)) {
         /* split v[/vt[/vn]] */
         const char *part[3] = {t, NULL, NULL};
@@ -294,6 +297,21 @@ static geom_status obj_face(obj_state *o, size_t pos, const char *kwt, int is_li
             st = obj_index(o, part[2], plen[2], o->nvn, "normal", "normals", "face", &ni);
             if (st != GEOM_OK)
                 return st;
+        }
+        /* Every corner of one element has the same form (v, v/vt, v//vn or
+         * v/vt/vn): a mix would lose attributes on some corners. */
+        int form = (ti != GEOM_INVALID_INDEX ? 1 : 0) | (ni != GEOM_INVALID_INDEX ? 2 : 0);
+        if (n == 0) {
+            form0 = form;
+            t0 = t;
+            tl0 = tl;
+        } else if (form != form0 && !is_line) { /* lines keep only v anyway */
+            static const char *const forms[] = {"v", "v/vt", "v//vn", "v/vt/vn"};
+            return obj_err(o, GEOM_ERR_PARSE, t,
+                           "corner '%.*s' is %s but the first corner '%.*s' is %s: every corner "
+                           "of a face must have the same form",
+                           (int)(tl > 40 ? 40 : tl), t, forms[form], (int)(tl0 > 40 ? 40 : tl0),
+                           t0, forms[form0]);
         }
         if (is_line) {
             if (s->pl_verts.n >= c->max_elements)
@@ -529,8 +547,8 @@ geom_status geom_meshio__read_obj(mio_ctx *c, mio_soup *s)
                 st = MIO_PUSH(c->alloc, s->mtllibs, off);
         } else {
             if (c->stats->skipped_statements++ == 0)
-                snprintf(c->stats->first_skipped, sizeof c->stats->first_skipped, "%.*s",
-                         (int)(kl > 31 ? 31 : kl), kw);
+                geom_meshio__printable(c->stats->first_skipped, sizeof c->stats->first_skipped,
+                                       kw, kl);
         }
     }
     if (st == GEOM_ERR_NOMEM && c->diag && c->diag->status != GEOM_ERR_NOMEM)

@@ -212,9 +212,9 @@ geom_status geom_meshio__read_off(mio_ctx *c, mio_soup *s)
         if (rc <= 0) {
             st = rc < 0 ? (geom_status)rc
                         : geom_meshio__err_line(c, GEOM_ERR_PARSE, r.lines.next_lineno, 1,
-                                                "unexpected end of file: expected vertex %zu of "
-                                                "%zu",
-                                                v + 1, nv);
+                                                "unexpected end of file: expected vertex %zu "
+                                                "(0-based) of %zu",
+                                                v, nv);
             goto done;
         }
         size_t n = off_tokens(&r, toks, lens, 16, &total);
@@ -222,8 +222,8 @@ geom_status geom_meshio__read_off(mio_ctx *c, mio_soup *s)
         size_t ncol = total >= fixed ? total - fixed : 0;
         if (total != n || total < fixed || (has_c ? (ncol != 3 && ncol != 4) : ncol != 0)) {
             st = geom_meshio__err_line(c, GEOM_ERR_PARSE, r.lineno, off_col(&r, toks[0]),
-                                       "expected vertex %zu as 'x y z%s%s%s', found %zu values",
-                                       v + 1, has_n ? " nx ny nz" : "",
+                                       "expected vertex %zu (0-based) as 'x y z%s%s%s', found %zu values",
+                                       v, has_n ? " nx ny nz" : "",
                                        has_c ? " r g b [a]" : "", has_st ? " s t" : "", total);
             goto done;
         }
@@ -290,8 +290,8 @@ geom_status geom_meshio__read_off(mio_ctx *c, mio_soup *s)
         if (rc <= 0) {
             st = rc < 0 ? (geom_status)rc
                         : geom_meshio__err_line(c, GEOM_ERR_PARSE, r.lines.next_lineno, 1,
-                                                "unexpected end of file: expected face %zu of %zu",
-                                                f + 1, nf);
+                                                "unexpected end of file: expected face %zu (0-based) of %zu",
+                                                f, nf);
             goto done;
         }
         size_t p = 0;
@@ -302,8 +302,8 @@ geom_status geom_meshio__read_off(mio_ctx *c, mio_soup *s)
         if (geom_meshio__parse_int64(t, tl, &cnt) != 0 || cnt < 0 ||
             (uint64_t)cnt > r.len) {
             st = geom_meshio__err_line(c, GEOM_ERR_PARSE, r.lineno, off_col(&r, t),
-                                       "expected the vertex count of face %zu, found '%.*s'",
-                                       f + 1, (int)(tl > 40 ? 40 : tl), t);
+                                       "expected the vertex count of face %zu (0-based), found '%.*s'",
+                                       f, (int)(tl > 40 ? 40 : tl), t);
             goto done;
         }
         if (s->fidx.n + (size_t)cnt > c->max_elements) {
@@ -317,8 +317,8 @@ geom_status geom_meshio__read_off(mio_ctx *c, mio_soup *s)
         for (int64_t i = 0; i < cnt; i++) {
             if (!mio_token(r.line, r.len, &p, 2, &t, &tl)) {
                 st = geom_meshio__err_line(c, GEOM_ERR_PARSE, r.lineno, r.len + 1,
-                                           "face %zu declares %lld vertices but the line has %lld",
-                                           f + 1, (long long)cnt, (long long)i);
+                                           "face %zu (0-based) declares %lld vertices but the line has %lld",
+                                           f, (long long)cnt, (long long)i);
                 goto done;
             }
             int64_t ix;
@@ -344,8 +344,8 @@ geom_status geom_meshio__read_off(mio_ctx *c, mio_soup *s)
             if (total != n || (total != 3 && total != 4)) {
                 st = geom_meshio__err_line(c, GEOM_ERR_PARSE, r.lineno, off_col(&r, toks[0]),
                                            "expected nothing or a colour 'r g b [a]' after the "
-                                           "indices of face %zu, found %zu values",
-                                           f + 1, total);
+                                           "indices of face %zu (0-based), found %zu values",
+                                           f, total);
                 goto done;
             }
             double col[4];

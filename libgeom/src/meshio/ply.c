@@ -32,6 +32,17 @@ static ply_type ply_type_from(const char *t, size_t tl)
 
 static int ply_type_is_int(ply_type t) { return t != PT_F32 && t != PT_F64; }
 
+/* Range of the integer types (ASCII values outside are errors). */
+static const double ply_type_min[] = {0, -128, 0, -32768, 0, -2147483648.0, 0, 0, 0};
+static const double ply_type_max[] = {0, 127, 255, 32767, 65535, 2147483647.0, 4294967295.0, 0, 0};
+
+static const char *ply_type_name(ply_type t)
+{
+    static const char *const names[] = {"?", "char", "uchar", "short", "ushort",
+                                        "int", "uint", "float", "double"};
+    return (unsigned)t < sizeof names / sizeof names[0] ? names[t] : "?";
+}
+
 enum {
     R_NONE = 0,
     R_X, R_Y, R_Z, R_NX, R_NY, R_NZ, R_U, R_V, R_R, R_G, R_B, R_A, /* vertex */
@@ -64,6 +75,7 @@ typedef struct ply_in {
     const ply_elem *elem;
     size_t inst;
     size_t tok_line, tok_col; /* ascii: where the last value was */
+    size_t tok_off;           /* binary: offset of the last value */
 } ply_in;
 
 static geom_status ply_data_err(ply_in *in, const ply_prop *p, size_t line, size_t col,
@@ -73,9 +85,9 @@ static geom_status ply_data_err(ply_in *in, const ply_prop *p, size_t line, size
     if (in->ascii)
         return geom_meshio__err_line(in->c, GEOM_ERR_PARSE, line, col,
                                      "%s (element '%s' %zu, property '%s')", what, en,
-                                     in->inst + 1, p ? p->name : "?");
+                                     in->inst, p ? p->name : "?");
     return geom_meshio__err_off(in->c, GEOM_ERR_PARSE, in->pos,
-                                "%s (element '%s' %zu, property '%s')", what, en, in->inst + 1,
+                                "%s (element '%s' %zu, property '%s')", what, en, in->inst,
                                 p ? p->name : "?");
 }
 
@@ -95,6 +107,12 @@ static geom_status ply_value(ply_in *in, ply_type t, const ply_prop *p, double *
                                 rc == -2 ? "number out of range" : "expected a number");
         if (ply_type_is_int(t) && *out != floor(*out))
             return ply_data_err(in, p, line, col, "expected an integer");
+        if (ply_type_is_int(t) && (*out < ply_type_min[t] || *out > ply_type_max[t])) {
+            char what[96];
+            snprintf(what, sizeof what, "%.0f is outside the range of %s [%.0f, %.0f]", *out,
+                     ply_type_name(t), ply_type_min[t], ply_type_max[t]);
+            return ply_data_err(in, p, line, col, what);
+        }
         return GEOM_OK;
     }
     size_t sz = ply_type_size[t];
@@ -104,6 +122,7 @@ static geom_status ply_value(ply_in *in, ply_type t, const ply_prop *p, double *
     unsigned char b[8];
     for (size_t i = 0; i < sz; i++)
         b[i] = d[in->pos + (in->be ? sz - 1 - i : i)];
+    in->tok_off = in->pos;
     in->pos += sz;
     uint64_t u = 0;
     for (size_t i = 0; i < sz; i++)
@@ -125,8 +144,10 @@ static geom_status ply_value(ply_in *in, ply_type t, const ply_prop *p, double *
     case PT_F64: memcpy(out, &u, 8); break;
     default: *out = 0; break;
     }
-    if (!isfinite(*out))
+    if (!isfinite(*out)) {
+        in->pos = in->tok_off; /* the offset of the bad value itself */
         return ply_data_err(in, p, 0, 0, "non-finite value");
+    }
     return GEOM_OK;
 }
 
@@ -140,10 +161,13 @@ static geom_status ply_list_count(ply_in *in, const ply_prop *p, size_t *n)
     size_t line = in->tok_line, col = in->tok_col;
     size_t room = in->ascii ? (in->c->size - in->cur.pos) / 2 + 1
                             : (in->c->size - in->pos) / ply_type_size[p->type];
-    if (v < 0 || v > (double)room)
+    if (v < 0 || v > (double)room) {
+        if (!in->ascii)
+            in->pos = in->tok_off; /* messages point at the bad value */
         return ply_data_err(in, p, line, col,
                             v < 0 ? "negative list length"
                                   : "list length exceeds what remains of the file");
+    }
     *n = (size_t)v;
     return GEOM_OK;
 }
@@ -292,6 +316,13 @@ static geom_status ply_parse_header(mio_ctx *c, ply_header *h)
                 nl = tl[2];
             }
             snprintf(p.name, sizeof p.name, "%.*s", (int)(nl > 63 ? 63 : nl), nm);
+            for (size_t i = 0; i < cur->nprop; i++)
+                if (strcmp(h->props.p[cur->first + i].name, p.name) == 0) {
+                    st = geom_meshio__err_line(c, GEOM_ERR_PARSE, ln, (size_t)(nm - line) + 1,
+                                               "duplicate property '%s' in element '%s'",
+                                               p.name, cur->name);
+                    goto done;
+                }
             if (cur->nprop >= 1024) {
                 st = geom_meshio__err_line(c, GEOM_ERR_LIMIT, ln, col,
                                            "more than 1024 properties in an element");
@@ -552,6 +583,8 @@ geom_status geom_meshio__read_ply(mio_ctx *c, mio_soup *s)
                         if ((st = ply_value(&in, p->type, p, &x)) != GEOM_OK)
                             goto done;
                         if (x < 0 || x >= 4294967295.0) {
+                            if (!in.ascii)
+                                in.pos = in.tok_off;
                             st = ply_data_err(&in, p, in.tok_line, in.tok_col,
                                               "negative or too large vertex index");
                             goto done;
@@ -636,6 +669,25 @@ geom_status geom_meshio__read_ply(mio_ctx *c, mio_soup *s)
                 }
             }
         }
+    }
+    /* Nothing but white space may follow the declared elements. */
+    if (st != GEOM_OK) {
+        /* reported */
+    } else if (h.ascii) {
+        const char *tok;
+        size_t tl, line, col;
+        if (geom_meshio__cursor_next(&in.cur, &tok, &tl, &line, &col))
+            st = geom_meshio__err_line(c, GEOM_ERR_PARSE, line, col,
+                                       "data after the last declared element");
+    } else {
+        const unsigned char *d = c->data;
+        size_t at = in.pos;
+        while (at < c->size && mio_is_space((char)d[at]))
+            at++;
+        if (at < c->size)
+            st = geom_meshio__err_off(c, GEOM_ERR_PARSE, in.pos,
+                                      "%zu bytes after the last declared element",
+                                      c->size - in.pos);
     }
 done:
     if (st == GEOM_ERR_NOMEM && c->diag && c->diag->status != GEOM_ERR_NOMEM)

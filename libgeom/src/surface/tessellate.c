@@ -50,7 +50,7 @@ typedef struct ts_cell {
     uint32_t eb, et, el, er; /* bottom, top, left, right edges */
     uint32_t vbase;          /* first interior vertex */
     double err, ang;   /* largest chordal error and normal angle of its triangles */
-    double esum;       /* sum of the per-triangle maximum errors */
+    double esum;       /* mean of the per-triangle maximum errors (a mean: no overflow) */
     size_t ecnt;       /* triangles checked */
     uint32_t sig[6];
     int checked;
@@ -294,14 +294,21 @@ static void cell_normal(ts *T, const ts_cell *c, double u, double v, double *n, 
     }
 }
 
+/* |a - b| for coordinates anywhere in the range of double: halved
+ * differences (no overflow), scaled before squaring. NaN stays NaN (a NaN
+ * distance must never read as 0, which would collapse edges). */
 static double dist3(const double *a, const double *b)
 {
-    double d[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+    double d[3] = {0.5 * a[0] - 0.5 * b[0], 0.5 * a[1] - 0.5 * b[1], 0.5 * a[2] - 0.5 * b[2]};
+    if (isnan(d[0]) || isnan(d[1]) || isnan(d[2]))
+        return NAN;
     double m = fmax(fabs(d[0]), fmax(fabs(d[1]), fabs(d[2])));
-    if (!(m > 0.0))
+    if (m == 0.0)
         return 0.0;
+    if (!isfinite(m))
+        return INFINITY;
     d[0] /= m, d[1] /= m, d[2] /= m;
-    return m * sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    return 2.0 * m * sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
 }
 
 /* The cell an edge is evaluated through. */
@@ -1305,7 +1312,7 @@ static void check_cell(ts *T, ts_cell *c)
             }
         if (tmax > cell_max)
             cell_max = tmax;
-        esum += tmax;
+        esum += (tmax - esum) / (double)(t + 1); /* running mean: finite near DBL_MAX */
         if (T->ang_tol > 0.0) {
             for (int a = 0; a < 3; ++a)
                 for (int b = a + 1; b < 3; ++b) {
@@ -1551,10 +1558,83 @@ done:
     return st;
 }
 
+static geom_status tessellate_unscaled(const geom_nurbs_surface *surfaces, size_t n,
+                                       const geom_surface_tess_options *options, geom_mesh *out,
+                                       geom_error_report *report,
+                                       geom_surface_tess_stats *stats, geom_diag *diag);
+
+/* Scale before squaring: control points whose magnitude is far from 1
+ * (beyond 2^+-64) are scaled by a power of two, which is exact, so the
+ * tessellation of a model at 1e300 is that of the same model at 1 (same
+ * triangles, errors and positions times the scale), and no square of a
+ * coordinate can overflow or underflow on the way. */
 geom_status geom_surface_tessellate(const geom_nurbs_surface *surfaces, size_t n,
                                     const geom_surface_tess_options *options, geom_mesh *out,
                                     geom_error_report *report, geom_surface_tess_stats *stats,
                                     geom_diag *diag)
+{
+    double maxabs = 0.0;
+    size_t total = 0;
+    for (size_t k = 0; surfaces && k < n; ++k) {
+        if (!surfaces[k].points || surfaces[k].nu == 0 || surfaces[k].nv == 0 ||
+            surfaces[k].nu > SIZE_MAX / 3 / surfaces[k].nv)
+            return tessellate_unscaled(surfaces, n, options, out, report, stats, diag);
+        size_t np = 3 * surfaces[k].nu * surfaces[k].nv;
+        for (size_t i = 0; i < np; ++i)
+            if (isfinite(surfaces[k].points[i]))
+                maxabs = fmax(maxabs, fabs(surfaces[k].points[i]));
+        total += np;
+    }
+    int ex = 0;
+    if (maxabs > 0.0)
+        frexp(maxabs, &ex);
+    if (!out || (ex >= -64 && ex <= 64))
+        return tessellate_unscaled(surfaces, n, options, out, report, stats, diag);
+    const geom_allocator *al = options ? options->alloc : NULL;
+    size_t bytes = n * sizeof(geom_nurbs_surface);
+    geom_nurbs_surface *copy = geom_alloc(al, bytes);
+    double *pts = geom_alloc(al, total * sizeof(double));
+    if (!copy || !pts) {
+        geom_free(al, copy, bytes);
+        geom_free(al, pts, total * sizeof(double));
+        return geom_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "tessellate: out of memory");
+    }
+    size_t at = 0;
+    for (size_t k = 0; k < n; ++k) {
+        copy[k] = surfaces[k];
+        size_t np = 3 * surfaces[k].nu * surfaces[k].nv;
+        for (size_t i = 0; i < np; ++i)
+            pts[at + i] = ldexp(surfaces[k].points[i], -ex);
+        copy[k].points = pts + at;
+        at += np;
+    }
+    geom_surface_tess_options o;
+    if (options)
+        o = *options;
+    else
+        memset(&o, 0, sizeof o);
+    o.tolerance = ldexp(o.tolerance, -ex);
+    geom_status st = tessellate_unscaled(copy, n, &o, out, report, stats, diag);
+    geom_free(al, copy, bytes);
+    geom_free(al, pts, total * sizeof(double));
+    if (st == GEOM_OK) {
+        double *p = geom_mesh_positions(out);
+        size_t nv = geom_mesh_n_vertices(out);
+        for (size_t i = 0; p && i < 3 * nv; ++i)
+            p[i] = ldexp(p[i], ex);
+        if (report) {
+            report->max_error = ldexp(report->max_error, ex);
+            report->mean_error = ldexp(report->mean_error, ex);
+            report->tolerance = ldexp(report->tolerance, ex);
+        }
+    }
+    return st;
+}
+
+static geom_status tessellate_unscaled(const geom_nurbs_surface *surfaces, size_t n,
+                                       const geom_surface_tess_options *options, geom_mesh *out,
+                                       geom_error_report *report,
+                                       geom_surface_tess_stats *stats, geom_diag *diag)
 {
     double t0 = geom__seconds();
     geom_surface_tess_options defaults;
@@ -1594,7 +1674,11 @@ geom_status geom_surface_tessellate(const geom_nurbs_surface *surfaces, size_t n
         if (w > work)
             work = w;
     }
-    double diagl = geom_vec3_length(geom_vec3_sub(box.max, box.min));
+    double diagl = 0.0; /* the box's diagonal, without overflow near DBL_MAX */
+    if (!geom_aabb_is_empty(box)) {
+        double lo[3] = {box.min.x, box.min.y, box.min.z}, hi[3] = {box.max.x, box.max.y, box.max.z};
+        diagl = dist3(hi, lo);
+    }
     double maxabs = 0.0;
     if (!geom_aabb_is_empty(box))
         maxabs = fmax(fmax(fmax(fabs(box.min.x), fabs(box.max.x)),
@@ -1707,7 +1791,8 @@ geom_status geom_surface_tessellate(const geom_nurbs_surface *surfaces, size_t n
         if (!c->checked || sig_changed(c, old))
             check_cell(&T, c);
         emax = fmax(emax, c->err);
-        esum += c->esum;
+        if (c->ecnt) /* weighted running mean of the cells' means */
+            esum += (c->esum - esum) * ((double)c->ecnt / (double)(ecount + c->ecnt));
         ecount += c->ecnt;
         st = emit_cell(&T, c, attrs, o->uv_normalized);
         if (st == GEOM_ERR_LIMIT)
@@ -1721,7 +1806,7 @@ geom_status geom_surface_tessellate(const geom_nurbs_surface *surfaces, size_t n
         goto fail;
     if (report) {
         report->max_error = emax;
-        report->mean_error = ecount ? esum / (double)ecount : 0.0;
+        report->mean_error = ecount ? esum : 0.0;
         report->method = GEOM_ERROR_SAMPLED;
         report->evaluations = T.evals;
         report->tolerance = T.adaptive ? T.tol : 0.0; /* uniform grids have none */
