@@ -1,0 +1,339 @@
+/*
+ * libgeom scene: cameras, lights, materials, textures, local shading and two
+ * ways of making a picture of geometry: a z-buffer rasterizer over triangle
+ * meshes (the preview path) and, with the ray module, Whitted ray tracing.
+ *
+ * Conventions:
+ *  - images are row-major with the top row first; pixel (i, j) covers
+ *    [i, i+1) x [j, j+1) in pixel coordinates, its centre is (i+0.5, j+0.5);
+ *    i grows to the right, j downwards;
+ *  - colours are linear RGB doubles (no gamma; writers convert);
+ *  - texture coordinates: (0,0) is the bottom-left corner of the image and
+ *    (1,1) the top-right (the OBJ/OpenGL convention), texel (x, y) has its
+ *    centre at ((x+0.5)/w, 1-(y+0.5)/h);
+ *  - the camera is gluLookAt's: it looks from eye to center, up projected on
+ *    the screen's vertical; perspective as gluPerspective, orthographic as
+ *    glOrtho with a view `height` in world units; the aspect ratio is
+ *    width/height in pixels;
+ *  - nothing prints, nothing keeps global state; every function is
+ *    reentrant.
+ */
+#ifndef GEOM_SCENE_H
+#define GEOM_SCENE_H
+
+#include "geom/core.h"
+#include "geom/mesh.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ------------------------------------------------------------------ images */
+
+/** A w x h image of `channels` doubles per pixel, row-major, top row first. */
+typedef struct geom_image {
+    uint32_t width, height, channels;
+    double *data; /**< width*height*channels doubles */
+} geom_image;
+
+/** Allocate img->data (zero-filled) for w x h x channels (all >= 1).
+ *  GEOM_ERR_INVALID_ARG for a zero size or NULL, GEOM_ERR_LIMIT when the size
+ *  overflows, GEOM_ERR_NOMEM. */
+GEOM_API geom_status geom_image_init(geom_image *img, uint32_t width, uint32_t height,
+                                     uint32_t channels, const geom_allocator *alloc);
+/** Free what geom_image_init allocated (with the same allocator) and zero the
+ *  struct. NULL or an empty image is a no-op. */
+GEOM_API void geom_image_free(geom_image *img, const geom_allocator *alloc);
+
+/* ---------------------------------------------------------------- textures */
+
+typedef enum geom_wrap {
+    GEOM_WRAP_REPEAT = 0, /**< default: coordinates taken modulo 1 */
+    GEOM_WRAP_CLAMP = 1   /**< clamped to the edge texels */
+} geom_wrap;
+
+/** A texture: an image with its MIP pyramid (Williams 1983), immutable once
+ *  made, so one texture may be sampled from any number of threads. */
+typedef struct geom_texture geom_texture;
+
+/**
+ * Make a texture from `img` (1 to 4 channels, values copied) with its MIP
+ * pyramid: each level halves each size (rounding down, at least 1) by a box
+ * filter over the 2x2 (or 2x1, or for odd sizes the 3-tap) footprint, down to
+ * 1x1. GEOM_ERR_INVALID_ARG for NULL/empty input or non-finite texels,
+ * GEOM_ERR_NOMEM.
+ */
+GEOM_API geom_status geom_texture_create(const geom_image *img, geom_wrap wrap,
+                                         const geom_allocator *alloc, geom_texture **out);
+/** NULL is a no-op. */
+GEOM_API void geom_texture_destroy(geom_texture *t);
+/** Channels per texel (1..4) and the size of level 0. */
+GEOM_API uint32_t geom_texture_channels(const geom_texture *t);
+GEOM_API void geom_texture_size(const geom_texture *t, uint32_t *width, uint32_t *height);
+/** Number of MIP levels (1 for a 1x1 texture). */
+GEOM_API uint32_t geom_texture_levels(const geom_texture *t);
+
+/**
+ * Sample at (u, v) into out (channels doubles). footprint is the size in UV
+ * units of the screen pixel's footprint (the larger of |d(u,v)/dx| and
+ * |d(u,v)/dy|); 0 or less means level 0 only, i.e. plain bilinear
+ * interpolation. Otherwise trilinear: lod = log2(footprint * max(w, h)),
+ * bilinear in the two nearest levels, linearly blended. Non-finite (u, v)
+ * give texel (0, 0) of level 0. Exact for bilinear data on level 0.
+ */
+GEOM_API void geom_texture_sample(const geom_texture *t, double u, double v, double footprint,
+                                  double *out);
+
+/**
+ * Partial derivatives of channel 0 of level 0's bilinear interpolant with
+ * respect to u and v at (u, v) (the height-map slopes for bump mapping), in
+ * channel units per UV unit.
+ */
+GEOM_API void geom_texture_gradient(const geom_texture *t, double u, double v, double *dh_du,
+                                    double *dh_dv);
+
+/* ------------------------------------------------------------------ camera */
+
+typedef enum geom_projection {
+    GEOM_PROJECTION_PERSPECTIVE = 0,
+    GEOM_PROJECTION_ORTHOGRAPHIC = 1
+} geom_projection;
+
+typedef enum geom_sampling {
+    GEOM_SAMPLING_REGULAR = 0,  /**< k x k grid, k = ceil(sqrt(samples)) */
+    GEOM_SAMPLING_JITTERED = 1, /**< k x k strata, one random point in each */
+    GEOM_SAMPLING_ADAPTIVE = 2  /**< refine pixels whose samples disagree */
+} geom_sampling;
+
+typedef struct geom_camera {
+    geom_vec3 eye, center, up;   /**< as gluLookAt; up (0,0,0) means (0,1,0) */
+    geom_projection projection;
+    double fovy_degrees;         /**< perspective vertical field of view; 0 = 45 */
+    double ortho_height;         /**< orthographic view height in world units; 0 = 2 */
+    uint32_t width, height;      /**< pixels; 0 = 320 x 240 */
+    uint32_t samples;            /**< per pixel for REGULAR/JITTERED; 0 = 1 */
+    geom_sampling sampling;
+    uint32_t max_samples;        /**< ADAPTIVE: per pixel at most; 0 = 64 */
+    double tolerance;            /**< ADAPTIVE: refine while the samples' standard
+                                      error exceeds this; 0 = 1/512 */
+    uint64_t seed;               /**< JITTERED/ADAPTIVE random stream; 0 = fixed default */
+} geom_camera;
+
+/** The effective (defaulted) values of a camera. */
+GEOM_API geom_camera geom_camera_resolved(const geom_camera *cam);
+
+/**
+ * The primary ray through the point (x, y) in pixel coordinates: origin at
+ * the eye (perspective) or on the view plane through the eye (orthographic),
+ * unit direction, tmin 0, tmax +inf. GEOM_ERR_DEGENERATE for eye == center or
+ * up parallel to the view direction, GEOM_ERR_DOMAIN for a field of view
+ * outside (0, 180) degrees or a non-positive orthographic height.
+ */
+GEOM_API geom_status geom_camera_ray(const geom_camera *cam, double x, double y, geom_ray *out);
+
+/**
+ * View and projection matrices (OpenGL convention) for the rasterizer and
+ * shadow maps, with the given near and far distances (0 < near < far).
+ * Either output may be NULL. Statuses as geom_camera_ray.
+ */
+GEOM_API geom_status geom_camera_matrices(const geom_camera *cam, double near_z, double far_z,
+                                          geom_mat4 *view, geom_mat4 *proj);
+
+/**
+ * Project world point p to pixel coordinates (x, y) and view depth (distance
+ * along the view direction, positive in front). GEOM_ERR_DOMAIN when p is not
+ * in front of a perspective camera. out: 3 doubles.
+ */
+GEOM_API geom_status geom_camera_project(const geom_camera *cam, geom_vec3 p, double out[3]);
+
+/**
+ * World-space size of one pixel at view depth `depth` (the pixel's footprint
+ * on a plane facing the camera): 2*depth*tan(fovy/2)/height for perspective,
+ * ortho_height/height for orthographic. Used to turn a pixel error into a
+ * chordal tolerance.
+ */
+GEOM_API double geom_camera_pixel_size(const geom_camera *cam, double depth);
+
+/* ------------------------------------------------------------------ lights */
+
+typedef enum geom_light_kind {
+    GEOM_LIGHT_POINT = 0,       /**< at `position`, no fall-off */
+    GEOM_LIGHT_DIRECTIONAL = 1, /**< light travelling along `direction` */
+    GEOM_LIGHT_AMBIENT = 2      /**< `color` times the material's ka, unshadowed */
+} geom_light_kind;
+
+typedef struct geom_light {
+    geom_light_kind kind;
+    geom_vec3 position;
+    geom_vec3 direction;
+    geom_vec3 color; /**< linear RGB intensity */
+} geom_light;
+
+/* --------------------------------------------------------------- materials */
+
+typedef enum geom_shading {
+    GEOM_SHADING_PHONG = 0,   /**< normal interpolated, lit per pixel (default) */
+    GEOM_SHADING_GOURAUD = 1, /**< lit at the vertices, colour interpolated */
+    GEOM_SHADING_FLAT = 2     /**< one geometric normal per triangle */
+} geom_shading;
+
+typedef enum geom_specular {
+    GEOM_SPECULAR_BLINN = 0, /**< ks (n.h)^ns, h the half vector (Blinn 1977); default */
+    GEOM_SPECULAR_PHONG = 1  /**< ks (r.v)^ns, r the mirrored light (Phong 1975) */
+} geom_specular;
+
+typedef enum geom_style {
+    GEOM_STYLE_STANDARD = 0,
+    GEOM_STYLE_COOL_TO_WARM = 1 /**< Gooch et al. 1998, with silhouette and crease lines */
+} geom_style;
+
+/**
+ * A material. The zero material is black and matte; geom_material_default()
+ * gives the JSON defaults (kd 0.8, ka 0.1, ks 0, ns 32, ior 1).
+ */
+typedef struct geom_material {
+    geom_vec3 ka, kd, ks;   /**< ambient, diffuse, specular reflectances */
+    double ns;              /**< specular exponent */
+    geom_specular specular;
+    double reflect;         /**< mirror reflection weight in [0, 1] */
+    double transmit;        /**< refraction weight in [0, 1] */
+    double ior;             /**< index of refraction inside; 0 = 1 */
+    const geom_texture *texture;    /**< multiplies kd and ka (RGB or grey), by the UVs */
+    const geom_texture *bump;       /**< height map (channel 0), Blinn 1978 */
+    double bump_scale;              /**< heights scaled by this; 0 = 1 */
+    const geom_texture *normal_map; /**< tangent-space normals, RGB in [0,1] -> [-1,1] */
+    const geom_texture *displace;   /**< height map moved along the normal (tessellation) */
+    double displace_scale;          /**< 0 = 1 */
+    geom_shading shading;
+    geom_style style;
+    /** COOL_TO_WARM: k_cool = (0,0,b) + alpha*kd, k_warm = (y,y,0) + beta*kd;
+     *  0 means the paper's b = 0.4, y = 0.4, alpha = 0.2, beta = 0.6. */
+    double gooch_b, gooch_y, gooch_alpha, gooch_beta;
+    double line_width;       /**< COOL_TO_WARM lines in pixels; 0 = 1.5 */
+    double crease_degrees;   /**< COOL_TO_WARM crease lines; 0 = 30 */
+} geom_material;
+
+/** kd = (0.8,0.8,0.8), ka = (0.1,0.1,0.1), ks = 0, ns = 32, ior = 1, the rest 0. */
+GEOM_API geom_material geom_material_default(void);
+
+/** What the material needs from the geometry (OR of these flags): UVs for a
+ *  texture, bump, normal or displacement map; tangents for a normal map or a
+ *  bump map; refraction rays for transmit > 0; reflection rays for reflect > 0. */
+enum {
+    GEOM_NEEDS_UV = 1,
+    GEOM_NEEDS_TANGENT = 2,
+    GEOM_NEEDS_NORMAL = 4,
+    GEOM_NEEDS_REFLECTION = 8,
+    GEOM_NEEDS_REFRACTION = 16
+};
+GEOM_API unsigned geom_material_needs(const geom_material *m);
+
+/* ---------------------------------------------------------------- shading */
+
+/** One shading point, in world space. */
+typedef struct geom_shade_point {
+    geom_vec3 p;          /**< position */
+    geom_vec3 n;          /**< unit shading normal (facing the viewer is not required) */
+    geom_vec3 ng;         /**< unit geometric normal, 0 = n */
+    geom_vec3 v;          /**< unit direction from p toward the viewer */
+    double uv[2];
+    int has_uv;
+    geom_vec3 tangent;    /**< unit tangent (dP/du direction), for normal/bump maps */
+    double tangent_sign;  /**< bitangent = sign * n x tangent; 0 = 1 */
+    int has_tangent;
+    double footprint;     /**< UV footprint of the pixel for MIP-mapping (0 = level 0) */
+} geom_shade_point;
+
+/**
+ * The shading normal after bump mapping (Blinn 1978: with dP/du = T and
+ * dP/dv = B, the perturbed normal is N + h_u (T x N) + h_v (N x ... ) as in
+ * the paper, using the height map's gradient scaled by bump_scale) or a
+ * tangent-space normal map (n = T*x + B*y + N*z); otherwise sp->n. Needs
+ * sp->has_uv and, for both maps, sp->has_tangent; without them sp->n is
+ * returned unchanged. Flipped to face the viewer (n.v >= 0).
+ */
+GEOM_API geom_vec3 geom_shade_normal(const geom_material *m, const geom_shade_point *sp);
+
+/**
+ * Local illumination at sp with normal n (from geom_shade_normal): the sum
+ * over lights of ambient ka*C, diffuse kd*C*max(0, n.l) and specular
+ * ks*C*(n.h)^ns or (r.v)^ns (zero when n.l <= 0), each light's term scaled by
+ * visibility[i] in [0,1] (NULL: all visible; ambient lights ignore it). kd
+ * and ka are multiplied by the texture colour when there is one and sp has
+ * UVs. The normal is flipped toward the viewer first (two-sided lighting).
+ * COOL_TO_WARM materials instead give (1+n.l)/2 k_cool + (1-(1+n.l)/2) k_warm
+ * for the first non-ambient light plus the specular term (Gooch et al. 1998,
+ * eq. 2). out: RGB.
+ */
+GEOM_API void geom_shade(const geom_material *m, const geom_light *lights, size_t n_lights,
+                         const double *visibility, const geom_shade_point *sp, geom_vec3 n,
+                         geom_vec3 *out);
+
+/* -------------------------------------------------------------- rasterizer */
+
+/** One mesh to draw: triangles or polygons (fan-triangulated), positions in
+ *  object space. Channels used when present: "normal" (VERTEX or CORNER, 3),
+ *  "uv" (CORNER or VERTEX, 2), "tangent" (CORNER, 4). */
+typedef struct geom_scene_draw {
+    const geom_mesh *mesh;
+    const geom_mat4 *transform; /**< object to world; NULL = identity */
+    uint32_t material;          /**< index into the materials array */
+    uint32_t object_id;         /**< written to the "object" AOV */
+} geom_scene_draw;
+
+typedef enum geom_aov {
+    GEOM_AOV_COLOR = 0,  /**< linear RGB */
+    GEOM_AOV_DEPTH = 1,  /**< distance along the view direction (1 channel, +inf on background) */
+    GEOM_AOV_NORMAL = 2, /**< world shading normal (3 channels, 0 on background) */
+    GEOM_AOV_OBJECT = 3  /**< object id (1 channel, -1 on background) */
+} geom_aov;
+
+typedef struct geom_raster_options {
+    geom_aov aov;
+    geom_vec3 background;      /**< background colour; default black */
+    int shadows;               /**< nonzero: shadow maps for point and directional lights */
+    uint32_t shadow_map_size;  /**< per face; 0 = 1024 */
+    double near_z, far_z;      /**< 0 = from the scene's bounding box */
+    const geom_allocator *alloc;
+} geom_raster_options;
+
+typedef struct geom_raster_report {
+    size_t triangles_in;       /**< triangles submitted */
+    size_t triangles_clipped;  /**< triangles after frustum clipping */
+    size_t fragments;          /**< samples that passed the depth test when drawn */
+    size_t shadow_maps;        /**< shadow-map faces rendered */
+    uint32_t samples_per_pixel;
+    double seconds_clip, seconds_raster, seconds_shade, seconds_shadow;
+} geom_raster_report;
+
+/**
+ * Z-buffer rasterization (Catmull 1974) of the draws: each mesh clipped to
+ * the view frustum with geom_mesh_clip_frustum, triangles scan-converted with
+ * edge functions at the sample positions (top-left fill rule, so a shared
+ * edge covers each sample once), attributes interpolated perspective-correctly
+ * with geom_bary_perspective, then shaded once per visible sample with
+ * geom_shade (flat, Gouraud or Phong as each material says). Textures are
+ * MIP-mapped with the pixel's UV footprint. With opt->shadows, each point
+ * light gets a cube shadow map and each directional light an orthographic one
+ * over the scene's bounding box (Williams 1978), depth-biased by the map's
+ * texel size. cam->samples gives a regular k x k supersampling grid, box
+ * filtered. COOL_TO_WARM materials get silhouette and crease lines where the
+ * visibility buffer changes object or the normal turns by more than the
+ * crease angle between neighbouring samples.
+ * out receives a fresh image (3 channels for colour, 1 for depth/object, 3 for
+ * normal) that the caller frees with geom_image_free(out, opt->alloc).
+ * Returns GEOM_ERR_INVALID_ARG for NULL arguments, a material index out of
+ * range or non-finite positions, camera statuses as geom_camera_ray,
+ * GEOM_ERR_NOMEM.
+ */
+GEOM_API geom_status geom_scene_raster(const geom_camera *cam, const geom_light *lights,
+                                       size_t n_lights, const geom_material *materials,
+                                       size_t n_materials, const geom_scene_draw *draws,
+                                       size_t n_draws, const geom_raster_options *opt,
+                                       geom_image *out, geom_raster_report *report);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* GEOM_SCENE_H */
