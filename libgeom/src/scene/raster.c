@@ -575,6 +575,10 @@ geom_status geom_scene_raster(const geom_camera *cam_in, const geom_light *light
         }
     }
     int ortho = cam.projection == GEOM_PROJECTION_ORTHOGRAPHIC;
+    if (!(zmax > 0)) { /* nothing in front of the camera */
+        zmin = 0.5;
+        zmax = 1;
+    }
     double far = opt.far_z > 0 ? opt.far_z : (zmax > 0 ? zmax * 1.01 + 1e-9 : 1);
     double near = opt.near_z > 0 ? opt.near_z : fmax(zmin * 0.99, far * 1e-5);
     if (ortho && !(opt.near_z > 0)) {
