@@ -332,6 +332,37 @@ GEOM_API geom_status geom_scene_raster(const geom_camera *cam, const geom_light 
                                        size_t n_draws, const geom_raster_options *opt,
                                        geom_image *out, geom_raster_report *report);
 
+/* ----------------------------------------------------------- ray tracing */
+
+typedef struct geom_trace_options {
+    geom_aov aov;
+    geom_vec3 background;  /**< colour of rays that leave the scene; default black */
+    uint32_t max_depth;    /**< reflection/refraction bounces; 0 = 8 */
+    double min_weight;     /**< a secondary ray whose weight falls below this is not
+                                traced; 0 = 1/256 */
+    int no_shadows;        /**< nonzero: no shadow rays (every light visible) */
+    const geom_allocator *alloc;
+} geom_trace_options;
+
+typedef struct geom_trace_report {
+    size_t primary_rays;     /**< camera samples traced */
+    size_t shadow_rays;
+    size_t reflection_rays;
+    size_t refraction_rays;
+    size_t total_internal_reflections;
+    size_t cut_by_depth;     /**< secondary rays not traced: max_depth reached */
+    size_t cut_by_weight;    /**< secondary rays not traced: weight below min_weight */
+    uint32_t max_samples_per_pixel;
+    double mean_samples_per_pixel;
+    /** Estimated error of the image: per pixel the standard error of the mean
+     *  of its samples' luminance (sample standard deviation / sqrt(n));
+     *  max_error the largest over the pixels, mean_error their mean, method
+     *  GEOM_ERROR_ESTIMATE (0 and GEOM_ERROR_NONE with one sample per pixel),
+     *  evaluations = samples. */
+    geom_error_report image_error;
+    double seconds;
+} geom_trace_report;
+
 #ifdef __cplusplus
 }
 #endif
