@@ -22,7 +22,9 @@
 #define GEOM_SCENE_H
 
 #include "geom/core.h"
+#include "geom/implicit.h"
 #include "geom/mesh.h"
+#include "geom/surface.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -331,6 +333,97 @@ GEOM_API geom_status geom_scene_raster(const geom_camera *cam, const geom_light 
                                        size_t n_materials, const geom_scene_draw *draws,
                                        size_t n_draws, const geom_raster_options *opt,
                                        geom_image *out, geom_raster_report *report);
+
+/* ----------------------------------------------------------- tessellation */
+
+typedef enum geom_shape_kind {
+    GEOM_SHAPE_SPHERE = 1,   /**< p = centre, radius */
+    GEOM_SHAPE_BOX,          /**< min, max */
+    GEOM_SHAPE_PLANE,        /**< p = point, n = normal (unbounded: request->extent) */
+    GEOM_SHAPE_DISK,         /**< p = centre, n = normal, radius */
+    GEOM_SHAPE_TORUS,        /**< about z at the origin: major, minor */
+    GEOM_SHAPE_QUADRIC,      /**< q[10] as the ray module, clip (6 doubles or NULL), capped */
+    GEOM_SHAPE_POLYGON,      /**< vertices (3*n_vertices doubles), a triangle when n = 3 */
+    GEOM_SHAPE_MESH,         /**< mesh */
+    GEOM_SHAPE_SURFACE,      /**< surfaces[n_surfaces] (B-spline/NURBS) */
+    GEOM_SHAPE_SUBDIV,       /**< mesh refined toward the limit, scheme (geom_subdiv_scheme) */
+    GEOM_SHAPE_IMPLICIT,     /**< expr, inside < 0, within bounds */
+    GEOM_SHAPE_VOLUME,       /**< volume, iso */
+    GEOM_SHAPE_CSG           /**< csg_op (1 union, 2 intersection, 3 difference a - b) of a, b */
+} geom_shape_kind;
+
+/**
+ * A shape to tessellate: the parameters of one scene object in its own
+ * frame (what the ray module traces directly), with an optional transform
+ * to its parent's frame. Only the fields of its kind are read. Everything
+ * is borrowed.
+ */
+typedef struct geom_shape {
+    geom_shape_kind kind;
+    const char *name;              /**< for diagnostics; may be NULL */
+    double p[3], n[3], radius;
+    double min[3], max[3];
+    double major, minor;
+    double q[10];
+    const double *clip;
+    int capped;
+    const double *vertices;
+    size_t n_vertices;
+    const geom_mesh *mesh;
+    int scheme;
+    const geom_nurbs_surface *surfaces;
+    size_t n_surfaces;
+    const geom_implicit_expr *expr;
+    double bounds[6];
+    const geom_implicit_volume *volume;
+    double iso;
+    int csg_op;
+    const struct geom_shape *a, *b;
+    const geom_mat4 *transform;    /**< local to parent; NULL = identity */
+} geom_shape;
+
+typedef struct geom_tess_request {
+    double tol;          /**< chordal tolerance in the shape's frame (> 0) */
+    unsigned attributes; /**< OR of GEOM_NEEDS_NORMAL, GEOM_NEEDS_UV, GEOM_NEEDS_TANGENT */
+    geom_aabb extent;    /**< region that unbounded shapes (planes, unclipped quadrics,
+                              CSG with them) are cut to, in the shape's frame;
+                              empty or a single point (the zero box) = none */
+} geom_tess_request;
+
+typedef struct geom_tess_info {
+    geom_error_report error; /**< achieved chordal error (how: see method) */
+    size_t triangles;
+    double seconds;
+    const char *method;      /**< "exact", "nurbs", "iso", "subdiv", "polygon", "mesh" */
+} geom_tess_info;
+
+/**
+ * Tessellate s into `out` (replaced) in s's own frame (s->transform is NOT
+ * applied: pass it to the draw, or use geom_scene_mesh_transform), with the
+ * channels the request asks for: CORNER "normal" (3), "uv" (2), "tangent"
+ * (4) where the method can make them (spheres, tori and surfaces through
+ * the surface module's exact NURBS and geom_surface_tessellate, adaptive to
+ * tol: "nurbs"; boxes, disks, polygons and planes exactly: "exact" /
+ * "polygon"; meshes as they are: "mesh"; subdivision surfaces refined until
+ * the distance of the refined control points to the limit (measured at
+ * every vertex) is below tol, then moved onto the limit: "subdiv";
+ * implicit surfaces, volumes, quadrics and CSG by marching cubes of their
+ * implicit form (min/max of the children's: sphere, box, torus, plane,
+ * quadric, implicit, volume, CSG), doubling the resolution until the
+ * iso module's sampled error is below tol or 512 cells per axis: "iso").
+ * A CSG child without an implicit form (mesh, surface, subdivision,
+ * polygon, disk) gives GEOM_ERR_INVALID_ARG with its name in diag.
+ * Statuses: GEOM_ERR_INVALID_ARG (bad parameters, tol <= 0, an unbounded
+ * shape with an empty extent), GEOM_ERR_NOMEM, and those of the modules
+ * used.
+ */
+GEOM_API geom_status geom_scene_tessellate(const geom_shape *s, const geom_tess_request *rq,
+                                           geom_mesh *out, geom_tess_info *info, geom_diag *diag);
+
+/** Apply the affine transform M to m in place: positions, "normal" channels
+ *  (inverse transpose, renormalised), "tangent" xyz (renormalised).
+ *  GEOM_ERR_DEGENERATE for a singular M. */
+GEOM_API geom_status geom_scene_mesh_transform(geom_mesh *m, geom_mat4 M);
 
 /* ----------------------------------------------------------- ray tracing */
 
