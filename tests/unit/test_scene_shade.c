@@ -64,6 +64,26 @@ static void test_camera_ray_project(void **state)
     assert_close(r.dir.z, -3 / l, 1e-15);
     /* pixel size: 2 d tan(30 deg) / 100 */
     assert_close(geom_camera_pixel_size(&c, 10), 20 * tan(M_PI / 6) / 100, 1e-15);
+    /* pixel tolerance: nearest depth of the box */
+    {
+        geom_camera k = {0};
+        k.eye = geom_vec3_make(0, 0, 0);
+        k.center = geom_vec3_make(0, 0, -1);
+        k.fovy_degrees = 60;
+        k.width = k.height = 100;
+        geom_aabb b = {{-0.5, -0.5, -12}, {0.5, 0.5, -10}};
+        int vis = -1;
+        double tol = geom_scene_pixel_tolerance(&k, b, 0.5, &vis);
+        assert_int_equal(vis, 1);
+        assert_close(tol, 0.5 * 20 * tan(M_PI / 6) / 100, 1e-15);
+        geom_aabb behind = {{-0.5, -0.5, 10}, {0.5, 0.5, 12}};
+        tol = geom_scene_pixel_tolerance(&k, behind, 0.5, &vis);
+        assert_int_equal(vis, 0);
+        assert_close(tol, 8 * 0.5 * 20 * tan(M_PI / 6) / 100, 1e-15);
+        geom_aabb aside = {{50, -0.5, -12}, {51, 0.5, -10}};
+        geom_scene_pixel_tolerance(&k, aside, 0.5, &vis);
+        assert_int_equal(vis, 0);
+    }
     /* degenerate cameras */
     geom_camera bad = c;
     bad.center = bad.eye;

@@ -156,6 +156,18 @@ GEOM_API geom_status geom_camera_project(const geom_camera *cam, geom_vec3 p, do
  */
 GEOM_API double geom_camera_pixel_size(const geom_camera *cam, double depth);
 
+/**
+ * Chordal tolerance (world units) that keeps the projected error of an
+ * object with world bounding box `box` below `pixel_error` pixels where it
+ * can be seen: pixel_error * geom_camera_pixel_size at the box's nearest
+ * view depth (not closer than 1e-3 of the box's diagonal). *visible (may be
+ * NULL) is 1 when the box meets the view frustum; a box outside it gets 8
+ * times the tolerance (it can only cast shadows). 0 for an empty box, a
+ * non-positive pixel_error or a degenerate camera.
+ */
+GEOM_API double geom_scene_pixel_tolerance(const geom_camera *cam, geom_aabb box,
+                                           double pixel_error, int *visible);
+
 /* ------------------------------------------------------------------ lights */
 
 typedef enum geom_light_kind {

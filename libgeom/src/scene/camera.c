@@ -5,6 +5,7 @@
 #include <math.h>
 
 #include "core/internal.h"
+#include "scene/scene_internal.h"
 
 geom_camera geom_camera_resolved(const geom_camera *cam)
 {
@@ -141,4 +142,76 @@ double geom_camera_pixel_size(const geom_camera *cam, double depth)
     if (c.projection == GEOM_PROJECTION_ORTHOGRAPHIC)
         return c.ortho_height / c.height;
     return 2.0 * fabs(depth) * tan(c.fovy_degrees * GEOM_PI / 360.0) / c.height;
+}
+
+/* Where the box lies against the frustum of vp: 0 outside, 1 inside, 2 cut. */
+int geom__scene_box_frustum(geom_aabb b, geom_mat4 vp)
+{
+    int all_in = 1;
+    int out_count[6] = {0};
+    for (int c = 0; c < 8; c++) {
+        geom_vec4 p = geom_vec4_make(c & 1 ? b.max.x : b.min.x, c & 2 ? b.max.y : b.min.y,
+                                     c & 4 ? b.max.z : b.min.z, 1);
+        geom_vec4 q = geom_mat4_mul_vec4(vp, p);
+        double a[3] = {q.x, q.y, q.z};
+        for (int i = 0; i < 3; i++) {
+            if (a[i] < -q.w) {
+                out_count[2 * i]++;
+                all_in = 0;
+            }
+            if (a[i] > q.w) {
+                out_count[2 * i + 1]++;
+                all_in = 0;
+            }
+        }
+    }
+    for (int i = 0; i < 6; i++)
+        if (out_count[i] == 8)
+            return 0;
+    return all_in ? 1 : 2;
+}
+
+
+double geom_scene_pixel_tolerance(const geom_camera *cam_in, geom_aabb box, double pixel_error,
+                                  int *visible)
+{
+    if (visible)
+        *visible = 0;
+    if (!cam_in || geom_aabb_is_empty(box) || !(pixel_error > 0))
+        return 0;
+    geom_camera cam = geom_camera_resolved(cam_in);
+    geom_vec3 f;
+    if (geom_vec3_normalize(geom_vec3_sub(cam.center, cam.eye), &f) != GEOM_OK)
+        return 0;
+    double diag = geom_vec3_length(geom_vec3_sub(box.max, box.min));
+    double dmin = INFINITY, dmax = -INFINITY;
+    for (int c = 0; c < 8; c++) {
+        geom_vec3 p = geom_vec3_make(c & 1 ? box.max.x : box.min.x, c & 2 ? box.max.y : box.min.y,
+                                     c & 4 ? box.max.z : box.min.z);
+        double d = geom_vec3_dot(geom_vec3_sub(p, cam.eye), f);
+        dmin = fmin(dmin, d);
+        dmax = fmax(dmax, d);
+    }
+    int vis = 0;
+    if (dmax > 0 || cam.projection == GEOM_PROJECTION_ORTHOGRAPHIC) {
+        double near = cam.projection == GEOM_PROJECTION_ORTHOGRAPHIC ? 1 : fmax(dmax * 1e-6, 1e-300);
+        double far = cam.projection == GEOM_PROJECTION_ORTHOGRAPHIC ? 2 : fmax(dmax, near) * 2;
+        geom_mat4 view, proj;
+        if (cam.projection == GEOM_PROJECTION_ORTHOGRAPHIC) {
+            double h = 0.5 * cam.ortho_height, asp = (double)cam.width / cam.height;
+            geom_mat4_lookat(cam.eye, cam.center, cam.up, &view);
+            double lo = fmin(dmin, 0) - 1, hi = fmax(dmax, 0) + 1;
+            geom_mat4_ortho(-h * asp, h * asp, -h, h, lo, hi, &proj);
+            vis = geom__scene_box_frustum(box, geom_mat4_mul(proj, view)) != 0;
+        } else if (geom_camera_matrices(&cam, near, far, &view, &proj) == GEOM_OK) {
+            vis = geom__scene_box_frustum(box, geom_mat4_mul(proj, view)) != 0;
+        }
+    }
+    if (visible)
+        *visible = vis;
+    /* the nearest depth at which the object can be seen, not closer than
+     * 1e-3 of its size (an eye inside the box) */
+    double d = fmax(dmin, 1e-3 * diag);
+    double tol = pixel_error * geom_camera_pixel_size(&cam, d);
+    return vis ? tol : 8 * tol;
 }

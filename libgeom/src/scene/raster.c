@@ -64,33 +64,6 @@ static geom_vec3 v3(const double *a)
     return geom_vec3_make(a[0], a[1], a[2]);
 }
 
-/* Where the box lies against the frustum of vp: 0 outside, 1 inside, 2 cut. */
-static int box_vs_frustum(geom_aabb b, geom_mat4 vp)
-{
-    int all_in = 1;
-    int out_count[6] = {0};
-    for (int c = 0; c < 8; c++) {
-        geom_vec4 p = geom_vec4_make(c & 1 ? b.max.x : b.min.x, c & 2 ? b.max.y : b.min.y,
-                                     c & 4 ? b.max.z : b.min.z, 1);
-        geom_vec4 q = geom_mat4_mul_vec4(vp, p);
-        double a[3] = {q.x, q.y, q.z};
-        for (int i = 0; i < 3; i++) {
-            if (a[i] < -q.w) {
-                out_count[2 * i]++;
-                all_in = 0;
-            }
-            if (a[i] > q.w) {
-                out_count[2 * i + 1]++;
-                all_in = 0;
-            }
-        }
-    }
-    for (int i = 0; i < 6; i++)
-        if (out_count[i] == 8)
-            return 0;
-    return all_in ? 1 : 2;
-}
-
 geom_aabb geom__scene_draw_bbox(const geom_scene_draw *d)
 {
     geom_aabb b = geom_mesh_bbox(d->mesh), w = geom_aabb_empty();
@@ -116,7 +89,7 @@ static geom_status collect(const geom_scene_draw *d, geom_mat4 vp, int attrs, tr
     geom_aabb ob = geom_mesh_bbox(d->mesh);
     if (geom_aabb_is_empty(ob))
         return GEOM_OK;
-    int where = box_vs_frustum(ob, mvp);
+    int where = geom__scene_box_frustum(ob, mvp);
     const geom_mesh *m = d->mesh;
     geom_mesh *clipped = NULL;
     if (n_in) {

@@ -7,6 +7,10 @@
 /* World-space bounding box of a draw (its mesh's box, transformed). */
 geom_aabb geom__scene_draw_bbox(const geom_scene_draw *d);
 
+/* Where box b lies against the frustum of the clip matrix vp: 0 outside,
+ * 1 inside, 2 cut. */
+int geom__scene_box_frustum(geom_aabb b, geom_mat4 vp);
+
 /* A surface hit as the Whitted tracer needs it. */
 typedef struct geom__scene_hit {
     double t;
