@@ -79,7 +79,7 @@ static void test_camera_ray_project(void **state)
         geom_aabb behind = {{-0.5, -0.5, 10}, {0.5, 0.5, 12}};
         tol = geom_scene_pixel_tolerance(&k, behind, 0.5, &vis);
         assert_int_equal(vis, 0);
-        assert_close(tol, 8 * 0.5 * 20 * tan(M_PI / 6) / 100, 1e-15);
+        assert_close(tol, 8 * 0.5 * 20 * tan(M_PI / 6) / 100, 1e-15); /* 10 away */
         geom_aabb aside = {{50, -0.5, -12}, {51, 0.5, -10}};
         geom_scene_pixel_tolerance(&k, aside, 0.5, &vis);
         assert_int_equal(vis, 0);

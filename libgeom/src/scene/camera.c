@@ -212,6 +212,13 @@ double geom_scene_pixel_tolerance(const geom_camera *cam_in, geom_aabb box, doub
     /* the nearest depth at which the object can be seen, not closer than
      * 1e-3 of its size (an eye inside the box) */
     double d = fmax(dmin, 1e-3 * diag);
+    if (!vis) {
+        /* unseen: by its distance from the eye */
+        geom_vec3 q = geom_vec3_make(fmin(fmax(cam.eye.x, box.min.x), box.max.x),
+                                     fmin(fmax(cam.eye.y, box.min.y), box.max.y),
+                                     fmin(fmax(cam.eye.z, box.min.z), box.max.z));
+        d = fmax(geom_vec3_length(geom_vec3_sub(q, cam.eye)), 1e-3 * diag);
+    }
     double tol = pixel_error * geom_camera_pixel_size(&cam, d);
     return vis ? tol : 8 * tol;
 }
