@@ -24,6 +24,7 @@
 #include "geom/core.h"
 #include "geom/implicit.h"
 #include "geom/mesh.h"
+#include "geom/ray.h"
 #include "geom/surface.h"
 
 #ifdef __cplusplus
@@ -467,6 +468,110 @@ typedef struct geom_trace_report {
     geom_error_report image_error;
     double seconds;
 } geom_trace_report;
+
+/**
+ * Whitted ray tracing of a built ray-module scene: hit.object (the ray
+ * scene's top-level object) indexes object_material (n_objects entries, each
+ * < n_materials). Shadow rays, reflection and refraction rays start at
+ * geom_ray_offset_origin. Texture coordinates are the hit's (u, v) (the
+ * surface parameters or per-shape coordinates of the ray module; for meshes
+ * barycentric, so textured meshes should go through geom_scene_render,
+ * which interpolates their "uv" channel). Statuses as geom_scene_raster.
+ */
+GEOM_API geom_status geom_scene_trace(const geom_ray_scene *rs, const uint32_t *object_material,
+                                      size_t n_objects, const geom_camera *cam,
+                                      const geom_light *lights, size_t n_lights,
+                                      const geom_material *materials, size_t n_materials,
+                                      const geom_trace_options *opt, geom_image *out,
+                                      geom_trace_report *report);
+
+/* ------------------------------------------------- whole-scene rendering */
+
+/** World bounding box of a shape (its transform applied); unbounded shapes
+ *  (planes, unclipped quadrics, CSG of them) give an infinite box. */
+GEOM_API geom_aabb geom_scene_shape_bounds(const geom_shape *s);
+
+/** Add s (and its CSG children, with their transforms) to a ray scene; *ids
+ *  receives the top-level node ids (one per surface of a multi-surface
+ *  object, else one) and *n_ids their count (ids: room for max(1,
+ *  s->n_surfaces)). Statuses of the geom_ray_scene_add_* functions;
+ *  GEOM_ERR_INVALID_ARG for a CSG child with several surfaces. */
+GEOM_API geom_status geom_scene_shape_to_ray(geom_ray_scene *rs, const geom_shape *s,
+                                             uint32_t *ids, size_t *n_ids, geom_diag *diag);
+
+typedef struct geom_scene_object {
+    const geom_shape *shape;
+    uint32_t material;
+} geom_scene_object;
+
+typedef enum geom_render_method {
+    GEOM_RENDER_RAY = 0,   /**< Whitted ray tracing through the ray module */
+    GEOM_RENDER_RASTER = 1 /**< tessellate to the pixel error, then geom_scene_raster */
+} geom_render_method;
+
+typedef struct geom_render_options {
+    geom_render_method method;
+    geom_aov aov;
+    geom_vec3 background;
+    double pixel_error;       /**< raster: projected chordal error in pixels; 0 = 0.5 */
+    double tolerance;         /**< raster: a fixed world tolerance instead (> 0) */
+    uint32_t max_depth;       /**< ray: 0 = 8 */
+    double min_weight;        /**< ray: 0 = 1/256 */
+    int no_shadows;           /**< nonzero: no shadow rays / shadow maps */
+    uint32_t shadow_map_size; /**< raster: 0 = 1024 */
+} geom_render_options;
+
+/** What was built for one object, and why. */
+typedef struct geom_render_object_report {
+    int visible;          /**< its bounds meet the view frustum */
+    int needed;           /**< some ray (or the rasterizer) can reach it: built */
+    int acceleration;     /**< ray: a BVH was built for it (meshes, subdivision) */
+    size_t accel_triangles;
+    int tessellated;      /**< raster: tessellated (never for ray) */
+    double tolerance;     /**< raster: the chordal tolerance used (world units) */
+    geom_tess_info tess;  /**< raster: what the tessellation achieved */
+    int normals, uvs, tangents; /**< attributes made (raster) or used (ray) */
+} geom_render_object_report;
+
+typedef struct geom_render_report {
+    double seconds_build;     /**< bounds, reachability, ray scene build or tessellation */
+    double seconds_render;
+    size_t objects_needed;
+    int refraction;           /**< some needed material transmits: refraction rays possible */
+    int reflection;
+    geom_ray_build_info ray_build;
+    geom_trace_report trace;
+    geom_raster_report raster;
+} geom_render_report;
+
+/**
+ * Render objects (n_objects, each with a material index) with the camera and
+ * lights, doing only the work the picture needs:
+ *  - visibility: an object whose bounds miss the view frustum is not seen;
+ *  - reachability: without reflective or refractive materials on seen
+ *    objects, an unseen object matters only if it can shadow a seen one:
+ *    its bounds meet the box hull of the seen objects and a point light
+ *    (for a directional light: the seen objects swept toward it); objects
+ *    that matter for nothing are not built (no BVH, no tessellation);
+ *  - ray: analytic shapes are traced directly, never tessellated; BVHs are
+ *    built only for needed meshes; texture coordinates only for textured
+ *    materials, tangents only for normal/bump maps; refraction rays only
+ *    where a material transmits;
+ *  - raster: each needed object is tessellated with the tolerance that keeps
+ *    its projected chordal error below pixel_error pixels at its nearest
+ *    visible depth (geom_scene_pixel_tolerance, in its own frame through the
+ *    transform's largest scale), with only the attributes its material uses.
+ * object_reports (n_objects entries, may be NULL) and report (may be NULL)
+ * say what was done. out as geom_scene_raster. Statuses: those of the steps;
+ * diag names the object that failed.
+ */
+GEOM_API geom_status geom_scene_render(const geom_camera *cam, const geom_light *lights,
+                                       size_t n_lights, const geom_material *materials,
+                                       size_t n_materials, const geom_scene_object *objects,
+                                       size_t n_objects, const geom_render_options *opt,
+                                       geom_image *out, geom_render_report *report,
+                                       geom_render_object_report *object_reports,
+                                       geom_diag *diag);
 
 #ifdef __cplusplus
 }

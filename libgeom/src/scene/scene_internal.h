@@ -24,6 +24,7 @@ typedef struct geom__scene_hit {
     int has_tangent;
     uint32_t object;   /* index of the top-level object */
     uint32_t material; /* index into the materials */
+    geom_ray_hit raw;  /* the ray module's hit (error bounds for spawning) */
 } geom__scene_hit;
 
 /* Where the tracer gets its intersections from. closest: 1 and *h on a hit

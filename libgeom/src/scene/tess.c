@@ -340,14 +340,39 @@ static geom_aabb shape_bounds(const geom_shape *s, geom_aabb extent)
         b = s->csg_op == 1 ? geom_aabb_union(ba, bb) : s->csg_op == 2 ? box_inter(ba, bb) : ba;
         break;
     }
+    case GEOM_SHAPE_MESH:
+    case GEOM_SHAPE_SUBDIV:
+        if (s->mesh)
+            b = geom_mesh_bbox(s->mesh); /* the limit lies in the control hull */
+        break;
+    case GEOM_SHAPE_POLYGON:
+        for (size_t i = 0; s->vertices && i < s->n_vertices; i++)
+            b = geom_aabb_extend(b, geom_vec3_make(s->vertices[3 * i], s->vertices[3 * i + 1],
+                                                   s->vertices[3 * i + 2]));
+        break;
+    case GEOM_SHAPE_DISK:
+        b.min = geom_vec3_make(s->p[0] - s->radius, s->p[1] - s->radius, s->p[2] - s->radius);
+        b.max = geom_vec3_make(s->p[0] + s->radius, s->p[1] + s->radius, s->p[2] + s->radius);
+        break;
+    case GEOM_SHAPE_SURFACE: /* convex hull property (positive weights) */
+        for (size_t k = 0; s->surfaces && k < s->n_surfaces; k++) {
+            const geom_nurbs_surface *ns = &s->surfaces[k];
+            for (size_t i = 0; i < ns->nu * ns->nv; i++)
+                b = geom_aabb_extend(b, geom_vec3_make(ns->points[3 * i], ns->points[3 * i + 1],
+                                                       ns->points[3 * i + 2]));
+        }
+        break;
     default:
         b = inf;
     }
+    if (geom_aabb_is_empty(b))
+        return b;
     int unbounded = !isfinite(b.min.x) || !isfinite(b.min.y) || !isfinite(b.min.z) ||
                     !isfinite(b.max.x) || !isfinite(b.max.y) || !isfinite(b.max.z);
     if (!unbounded)
         b = box_xform(b, s->transform);
-    else
+    else if (!geom_aabb_is_empty(extent) &&
+             geom_vec3_length(geom_vec3_sub(extent.max, extent.min)) > 0)
         b = box_inter(b, extent); /* extent is in the parent frame */
     return b;
 }
@@ -698,4 +723,12 @@ geom_status geom_scene_mesh_transform(geom_mesh *m, geom_mat4 M)
         }
     }
     return GEOM_OK;
+}
+
+geom_aabb geom_scene_shape_bounds(const geom_shape *s)
+{
+    geom_aabb none = geom_aabb_empty();
+    if (!s)
+        return none;
+    return shape_bounds(s, none);
 }
