@@ -14,7 +14,8 @@
  *  - the camera is gluLookAt's: it looks from eye to center, up projected on
  *    the screen's vertical; perspective as gluPerspective, orthographic as
  *    glOrtho with a view `height` in world units; the aspect ratio is
- *    width/height in pixels;
+ *    width/height in pixels; both methods see only what is in front of the
+ *    eye (orthographic rays start on the plane through the eye);
  *  - nothing prints, nothing keeps global state; every function is
  *    reentrant.
  */

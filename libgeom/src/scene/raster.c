@@ -555,9 +555,10 @@ geom_status geom_scene_raster(const geom_camera *cam_in, const geom_light *light
     double far = opt.far_z > 0 ? opt.far_z : (zmax > 0 ? zmax * 1.01 + 1e-9 : 1);
     double near = opt.near_z > 0 ? opt.near_z : fmax(zmin * 0.99, far * 1e-5);
     if (ortho && !(opt.near_z > 0)) {
-        /* glOrtho takes any near < far: geometry behind the eye plane is kept. */
+        /* the view volume starts at the eye plane, as the ray tracer's
+         * primary rays do */
         double span = fmax(zmax - zmin, 1e-300);
-        near = zmin - 1e-3 * span;
+        near = fmax(zmin - 1e-3 * span, 1e-9 * span);
         far = opt.far_z > 0 ? opt.far_z : zmax + 1e-3 * span;
     }
     geom_mat4 view, proj;
