@@ -136,7 +136,8 @@ typedef enum geom_ray_kind {
     GEOM_RAY_IMPLICIT,
     GEOM_RAY_VOLUME,
     GEOM_RAY_CSG,
-    GEOM_RAY_INSTANCE
+    GEOM_RAY_INSTANCE,
+    GEOM_RAY_GROUP
 } geom_ray_kind;
 
 /** Name of a kind ("sphere", "mesh", ...); "unknown" for other values. */
@@ -221,7 +222,8 @@ typedef enum geom_ray_quadric_shape {
     GEOM_RAY_QUADRIC_CONE,           /**< p = {k}: x^2 + y^2 = (k z)^2 (apex at 0) */
     GEOM_RAY_QUADRIC_PARABOLOID,     /**< p = {k}: x^2 + y^2 = k z */
     GEOM_RAY_QUADRIC_HYPERBOLOID1,   /**< p = {a, c}: (x^2 + y^2)/a^2 - z^2/c^2 = 1 (one sheet) */
-    GEOM_RAY_QUADRIC_HYPERBOLOID2    /**< p = {a, c}: z^2/c^2 - (x^2 + y^2)/a^2 = 1 (two sheets) */
+    GEOM_RAY_QUADRIC_HYPERBOLOID2    /**< p = {a, c}: z^2/c^2 - (x^2 + y^2)/a^2 = 1 (two sheets,
+                                          inside = within the sheets, |z| large) */
 } geom_ray_quadric_shape;
 
 /** Coefficients q[10] of a standard quadric (parameters as listed above,
@@ -252,9 +254,9 @@ GEOM_API geom_status geom_ray_scene_add_triangle(geom_ray_scene *s, const double
  *  normal through the centroid). Inside by the non-zero winding number of
  *  the polygon around the ray in the sheared frame of geom_ray_triangle,
  *  with exact orientation signs and the same edge ownership rule. (u, v):
- *  barycentrics of the fan triangle (v0, v_i, v_i+1) containing the hit
- *  (prim = i - 1); for non-convex polygons (u, v) are those of the plane
- *  point in that fan triangle's plane coordinates. Not closed. */
+ *  the hit's coordinates along two orthonormal tangents of the plane
+ *  (geom__frame of the normal: Duff et al. 2017) relative to v0; prim 0.
+ *  Not closed. */
 GEOM_API geom_status geom_ray_scene_add_polygon(geom_ray_scene *s, const double *v, size_t n,
                                                 uint32_t *id);
 /**
@@ -336,6 +338,11 @@ GEOM_API geom_status geom_ray_scene_add_volume(geom_ray_scene *s, const geom_imp
  *  a difference. prim: the child's prim; the child (0/1) is not reported. */
 GEOM_API geom_status geom_ray_scene_add_csg(geom_ray_scene *s, geom_ray_csg_op op, uint32_t a,
                                             uint32_t b, uint32_t *id);
+/** Group of n >= 1 nodes (ids, copied) answered as one object (e.g. the
+ *  surfaces of one file); the members stop being top-level objects. Hits
+ *  keep their members' prim; closed only if its members are disjoint. */
+GEOM_API geom_status geom_ray_scene_add_group(geom_ray_scene *s, const uint32_t *ids, size_t n,
+                                              uint32_t *id);
 /** Instance of node `of` under the affine matrix m (column-major 16
  *  doubles, object to world, applied after of's own transform). Any depth
  *  of nesting; `of` stays a top-level object if it was one. */
@@ -356,6 +363,8 @@ GEOM_API geom_status geom_ray_scene_set_objects(geom_ray_scene *s, const uint32_
 /** Number of nodes / of top-level objects (after build). */
 GEOM_API size_t geom_ray_scene_node_count(const geom_ray_scene *s);
 GEOM_API size_t geom_ray_scene_object_count(const geom_ray_scene *s);
+/** Node id of top-level object i (after build), GEOM_INVALID_INDEX if out of range. */
+GEOM_API uint32_t geom_ray_scene_object_node(const geom_ray_scene *s, size_t i);
 /** Kind of node id (0 if out of range). */
 GEOM_API geom_ray_kind geom_ray_scene_node_kind(const geom_ray_scene *s, uint32_t id);
 

@@ -78,6 +78,8 @@ typedef struct geom__ray_node {
     const geom_implicit_expr *expr;
     const geom_implicit_volume *vol;
     uint32_t a, b;         /* CSG children / instance target */
+    uint32_t *members;     /* group */
+    size_t nmembers;
     int op;
     int capped;
     geom_error_report err;

@@ -22,6 +22,7 @@ static void node_free(geom_ray_scene *s, geom__ray_node *nd)
     if (nd->verts) geom_free(s->alloc, nd->verts, 3 * nd->nverts * sizeof(double));
     if (nd->mesh) geom__ray_mesh_free(nd->mesh, s->alloc);
     if (nd->surf) geom__ray_surface_free(nd->surf, s->alloc);
+    if (nd->members) geom_free(s->alloc, nd->members, nd->nmembers * sizeof *nd->members);
 }
 
 void geom_ray_scene_destroy(geom_ray_scene *s)
@@ -474,6 +475,27 @@ geom_status geom_ray_scene_add_csg(geom_ray_scene *s, geom_ray_csg_op op, uint32
     return GEOM_OK;
 }
 
+geom_status geom_ray_scene_add_group(geom_ray_scene *s, const uint32_t *ids, size_t n, uint32_t *id)
+{
+    geom__ray_node *nd;
+    size_t i;
+    uint32_t *copy;
+    if (!s || !ids || n == 0 || n > 0x7fffffffu) return GEOM_ERR_INVALID_ARG;
+    for (i = 0; i < n; i++)
+        if (ids[i] >= s->n) return GEOM_ERR_INVALID_ARG;
+    copy = geom_alloc(s->alloc, n * sizeof *copy);
+    if (!copy) return GEOM_ERR_NOMEM;
+    memcpy(copy, ids, n * sizeof *copy);
+    if (!(nd = node_new(s, GEOM_RAY_GROUP, id))) {
+        geom_free(s->alloc, copy, n * sizeof *copy);
+        return GEOM_ERR_NOMEM;
+    }
+    nd->members = copy;
+    nd->nmembers = n;
+    for (i = 0; i < n; i++) s->nodes[ids[i]].is_child = 1;
+    return GEOM_OK;
+}
+
 geom_status geom_ray_scene_add_instance(geom_ray_scene *s, uint32_t of, const double m[16], uint32_t *id)
 {
     geom__ray_node *nd;
@@ -568,6 +590,12 @@ geom_status geom_ray_scene_set_objects(geom_ray_scene *s, const uint32_t *ids, s
 size_t geom_ray_scene_node_count(const geom_ray_scene *s) { return s ? s->n : 0; }
 size_t geom_ray_scene_object_count(const geom_ray_scene *s) { return s ? s->nroots : 0; }
 
+uint32_t geom_ray_scene_object_node(const geom_ray_scene *s, size_t i)
+{
+    if (!s || i >= s->nroots) return GEOM_INVALID_INDEX;
+    return s->roots[i];
+}
+
 geom_ray_kind geom_ray_scene_node_kind(const geom_ray_scene *s, uint32_t id)
 {
     if (!s || id >= s->n) return (geom_ray_kind)0;
@@ -593,6 +621,7 @@ const char *geom_ray_kind_name(geom_ray_kind k)
     case GEOM_RAY_VOLUME: return "volume";
     case GEOM_RAY_CSG: return "csg";
     case GEOM_RAY_INSTANCE: return "instance";
+    case GEOM_RAY_GROUP: return "group";
     }
     return "unknown";
 }
@@ -744,6 +773,18 @@ static geom_status node_bounds(geom_ray_scene *s, uint32_t id, int depth, const 
         }
         break;
     }
+    case GEOM_RAY_GROUP: {
+        size_t i;
+        for (i = 0; i < nd->nmembers; i++) {
+            const geom__ray_node *A;
+            if ((st = node_bounds(s, nd->members[i], depth + 1, opt, info, diag)) != GEOM_OK) return st;
+            nd = &s->nodes[id];
+            A = &s->nodes[nd->members[i]];
+            if (!A->bounded) bounded = 0;
+            b = geom_aabb_union(b, A->box);
+        }
+        break;
+    }
     case GEOM_RAY_INSTANCE: {
         geom__ray_node *A;
         if ((st = node_bounds(s, nd->a, depth + 1, opt, info, diag)) != GEOM_OK) return st;
@@ -857,6 +898,16 @@ geom_status geom__ray_node_query(const geom_ray_scene *s, uint32_t id, const geo
     case GEOM_RAY_IMPLICIT: st = geom__ray_implicit(nd, q, mode, out); break;
     case GEOM_RAY_VOLUME: st = geom__ray_volume(nd, q, mode, out); break;
     case GEOM_RAY_CSG: st = geom__ray_csg(s, nd, q, mode, out); break;
+    case GEOM_RAY_GROUP: {
+        size_t i;
+        for (i = 0; i < nd->nmembers && st == GEOM_OK; i++) {
+            const geom__ray_node *c = &s->nodes[nd->members[i]];
+            if (c->bounded && !geom_ray_aabb(q, c->box, NULL, NULL)) continue;
+            st = geom__ray_node_query(s, nd->members[i], q, mode, out);
+            if (mode == GEOM__RAY_ANY && out->n > start) break;
+        }
+        break;
+    }
     case GEOM_RAY_INSTANCE: {
         const geom__ray_node *c = &s->nodes[nd->a];
         double t0, t1;
