@@ -363,7 +363,8 @@ typedef enum geom_shape_kind {
     GEOM_SHAPE_SUBDIV,       /**< mesh refined toward the limit, scheme (geom_subdiv_scheme) */
     GEOM_SHAPE_IMPLICIT,     /**< expr, inside < 0, within bounds */
     GEOM_SHAPE_VOLUME,       /**< volume, iso */
-    GEOM_SHAPE_CSG           /**< csg_op (1 union, 2 intersection, 3 difference a - b) of a, b */
+    GEOM_SHAPE_CSG,          /**< csg_op (1 union, 2 intersection, 3 difference a - b) of a, b */
+    GEOM_SHAPE_GROUP         /**< members[n_members], answered as one object */
 } geom_shape_kind;
 
 /**
@@ -393,8 +394,35 @@ typedef struct geom_shape {
     double iso;
     int csg_op;
     const struct geom_shape *a, *b;
+    const struct geom_shape *const *members;
+    size_t n_members;
     const geom_mat4 *transform;    /**< local to parent; NULL = identity */
 } geom_shape;
+
+/** The shapes of a ray-module scene (the one representation the scene JSON
+ *  parser builds), owned by this object. */
+typedef struct geom_scene_shapes geom_scene_shapes;
+
+/**
+ * The top-level objects of rs (geom_ray_scene_set_objects' list, else every
+ * node that is no CSG or group member) as shapes: analytic nodes with their
+ * parameters, oriented boxes as boxes under a transform, meshes and
+ * subdivision surfaces as the triangle meshes the ray module holds (the
+ * subdivision's refined limit mesh, with its limit normals), surfaces,
+ * implicit surfaces, volumes, CSG and groups as trees, instances as a copy
+ * of their target under the composed transform. rs need not be built and
+ * must outlive the result (surfaces, expressions and volumes are borrowed).
+ * GEOM_ERR_INVALID_ARG (NULL), GEOM_ERR_NOMEM.
+ */
+GEOM_API geom_status geom_scene_shapes_from_ray(const geom_ray_scene *rs, geom_scene_shapes **out,
+                                                geom_diag *diag);
+GEOM_API size_t geom_scene_shapes_count(const geom_scene_shapes *s);
+/** Shape i (< count), or NULL. */
+GEOM_API const geom_shape *geom_scene_shapes_get(const geom_scene_shapes *s, size_t i);
+/** The ray-module kind name of top-level object i ("sphere", "mesh", ...). */
+GEOM_API const char *geom_scene_shapes_kind_name(const geom_scene_shapes *s, size_t i);
+/** NULL is a no-op. */
+GEOM_API void geom_scene_shapes_destroy(geom_scene_shapes *s);
 
 typedef struct geom_tess_request {
     double tol;          /**< chordal tolerance in the shape's frame (> 0) */

@@ -214,6 +214,21 @@ static geom_status add_one(geom_ray_scene *rs, const geom_shape *s, uint32_t *id
                 ids[(*n)++] = id;
         }
         return st;
+    case GEOM_SHAPE_GROUP: {
+        uint32_t *mem = geom_alloc(NULL, (s->n_members + 1) * sizeof *mem);
+        size_t nm = 0;
+        if (!mem)
+            return GEOM_ERR_NOMEM;
+        for (size_t k = 0; k < s->n_members && st == GEOM_OK; k++) {
+            size_t got = 0;
+            st = add_one(rs, s->members[k], mem + nm, &got, 0, diag);
+            nm += got;
+        }
+        if (st == GEOM_OK)
+            st = geom_ray_scene_add_group(rs, mem, nm, &id);
+        geom_free(NULL, mem, (s->n_members + 1) * sizeof *mem);
+        break;
+    }
     case GEOM_SHAPE_CSG: {
         uint32_t a, b;
         size_t na, nb;

@@ -243,6 +243,12 @@ static double shape_f(const geom_shape *s, geom_vec3 p)
         double a[3] = {q.x, q.y, q.z};
         return geom_implicit_volume_eval(s->volume, a) - s->iso;
     }
+    case GEOM_SHAPE_GROUP: {
+        double f = INFINITY;
+        for (size_t i = 0; i < s->n_members; i++)
+            f = fmin(f, shape_f(s->members[i], q));
+        return f;
+    }
     case GEOM_SHAPE_CSG: {
         double fa = shape_f(s->a, q), fb = shape_f(s->b, q);
         if (s->csg_op == 1)
@@ -267,6 +273,13 @@ static const geom_shape *no_implicit(const geom_shape *s)
         return s->expr ? NULL : s;
     case GEOM_SHAPE_VOLUME:
         return s->volume ? NULL : s;
+    case GEOM_SHAPE_GROUP:
+        for (size_t i = 0; i < s->n_members; i++) {
+            const geom_shape *r = no_implicit(s->members[i]);
+            if (r)
+                return r;
+        }
+        return NULL;
     case GEOM_SHAPE_CSG: {
         if (!s->a || !s->b || s->csg_op < 1 || s->csg_op > 3)
             return s;
@@ -340,6 +353,10 @@ static geom_aabb shape_bounds(const geom_shape *s, geom_aabb extent)
         b = s->csg_op == 1 ? geom_aabb_union(ba, bb) : s->csg_op == 2 ? box_inter(ba, bb) : ba;
         break;
     }
+    case GEOM_SHAPE_GROUP:
+        for (size_t i = 0; i < s->n_members; i++)
+            b = geom_aabb_union(b, shape_bounds(s->members[i], inf));
+        break;
     case GEOM_SHAPE_MESH:
     case GEOM_SHAPE_SUBDIV:
         if (s->mesh)
@@ -497,6 +514,73 @@ static geom_status tess_subdiv(const geom_shape *s, const geom_tess_request *rq,
     return st;
 }
 
+/* A group: its members tessellated (their transforms applied) and joined
+ * into one mesh (positions and vertex normals; corner channels dropped). */
+static geom_status tess_group(const geom_shape *s, const geom_tess_request *rq, geom_mesh *out,
+                              geom_tess_info *info, geom_diag *diag)
+{
+    size_t nv = 0, nf = 0, ni = 0, capv = 0, capf = 0, capi = 0;
+    double *xyz = NULL;
+    uint32_t *sizes = NULL, *idx = NULL;
+    geom_status st = GEOM_OK;
+    info->method = "group";
+    for (size_t k = 0; k < s->n_members && st == GEOM_OK; k++) {
+        geom_mesh *m = geom_mesh_create(NULL);
+        geom_tess_info mi;
+        geom_tess_request r2 = *rq;
+        r2.attributes = 0;
+        if (!m)
+            return GEOM_ERR_NOMEM;
+        st = geom_scene_tessellate(s->members[k], &r2, m, &mi, diag);
+        if (st == GEOM_OK && s->members[k]->transform)
+            st = geom_scene_mesh_transform(m, *s->members[k]->transform);
+        if (mi.error.max_error > info->error.max_error)
+            info->error = mi.error;
+        size_t mv = geom_mesh_n_vertices(m), mf = geom_mesh_n_live_faces(m), mi_n = 0;
+        if (st == GEOM_OK)
+            st = geom_mesh_to_soup(m, NULL, NULL, &mi_n);
+        if (st == GEOM_OK && (nv + mv > capv || nf + mf > capf || ni + mi_n > capi)) {
+            size_t cv = 2 * (nv + mv) + 16, cf = 2 * (nf + mf) + 16, ci = 2 * (ni + mi_n) + 16;
+            double *a = geom_realloc(NULL, xyz, 3 * capv * sizeof *a, 3 * cv * sizeof *a);
+            if (a) { xyz = a; capv = cv; }
+            uint32_t *b = geom_realloc(NULL, sizes, capf * sizeof *b, cf * sizeof *b);
+            if (b) { sizes = b; capf = cf; }
+            uint32_t *c = geom_realloc(NULL, idx, capi * sizeof *c, ci * sizeof *c);
+            if (c) { idx = c; capi = ci; }
+            if (!a || !b || !c)
+                st = GEOM_ERR_NOMEM;
+        }
+        if (st == GEOM_OK)
+            st = geom_mesh_to_soup(m, sizes + nf, idx + ni, &mi_n);
+        if (st == GEOM_OK) {
+            memcpy(xyz + 3 * nv, geom_mesh_cpositions(m), 3 * mv * sizeof(double));
+            for (size_t i = 0; i < mi_n; i++)
+                idx[ni + i] += (uint32_t)nv;
+            nv += mv;
+            nf += mf;
+            ni += mi_n;
+        }
+        geom_mesh_destroy(m);
+    }
+    if (st == GEOM_OK) {
+        geom_mesh_build_options bo;
+        memset(&bo, 0, sizeof bo);
+        bo.keep_orientation = 1;
+        st = geom_mesh_build(out, nv, xyz, nf, sizes, idx, &bo, NULL, diag);
+    }
+    if (st == GEOM_OK && (rq->attributes & (GEOM_NEEDS_NORMAL | GEOM_NEEDS_TANGENT))) {
+        uint32_t id;
+        st = geom_mesh_channel_add(out, "normal", GEOM_MESH_DOMAIN_VERTEX, 3, &id);
+        if (st == GEOM_OK)
+            st = geom_mesh_vertex_normals(out, GEOM_NORMAL_WEIGHT_ANGLE,
+                                          geom_mesh_channel_data(out, id), NULL);
+    }
+    geom_free(NULL, xyz, 3 * capv * sizeof(double));
+    geom_free(NULL, sizes, capf * sizeof(uint32_t));
+    geom_free(NULL, idx, capi * sizeof(uint32_t));
+    return st;
+}
+
 geom_status geom_scene_tessellate(const geom_shape *s, const geom_tess_request *rq, geom_mesh *out,
                                   geom_tess_info *info_out, geom_diag *diag)
 {
@@ -646,6 +730,9 @@ geom_status geom_scene_tessellate(const geom_shape *s, const geom_tess_request *
             st = GEOM_ERR_INVALID_ARG;
         else
             st = tess_subdiv(s, rq, out, &info, diag);
+        break;
+    case GEOM_SHAPE_GROUP:
+        st = tess_group(s, rq, out, &info, diag);
         break;
     case GEOM_SHAPE_QUADRIC:
     case GEOM_SHAPE_IMPLICIT:
