@@ -7,6 +7,7 @@
 
 #include "cli.h"
 #include "image_io.h"
+#include "scene_json.h"
 
 static geom_status fail(const char *src, geom_diag *d, const char *where, const char *msg)
 {
@@ -388,4 +389,120 @@ void srj_free(srj_scene *s)
     free(s->textures);
     free(s->texture_paths);
     memset(s, 0, sizeof *s);
+}
+
+void srj_file_free(srj_file *f)
+{
+    if (!f)
+        return;
+    srj_free(&f->render);
+    geom_scene_shapes_destroy(f->shapes);
+    if (f->objects_json) {
+        scene_json_free(f->objects_json);
+        free(f->objects_json);
+    }
+    for (size_t i = 0; i < f->n_objects && f->names; i++)
+        free(f->names[i]);
+    free(f->names);
+    free(f->objects);
+    memset(f, 0, sizeof *f);
+}
+
+geom_status srj_load(const char *path, const char *tool_name, srj_file *out, geom_diag *d)
+{
+    memset(out, 0, sizeof *out);
+    FILE *fp = fopen(path, "rb");
+    if (!fp)
+        return cli_diag_set(d, GEOM_ERR_IO, path, 0, 0, "cannot open");
+    unsigned char *text = NULL;
+    size_t len = 0;
+    geom_status st = cli_read_all(fp, path, &text, &len, d);
+    fclose(fp);
+    if (st != GEOM_OK)
+        return st;
+    const char *end = NULL;
+    cJSON *root = cJSON_ParseWithLengthOpts((const char *)text, len, &end, 0);
+    if (!root) {
+        size_t line = 1, col = 1;
+        for (const unsigned char *p = text; end && p < (const unsigned char *)end; p++) {
+            if (*p == '\n') {
+                line++;
+                col = 1;
+            } else
+                col++;
+        }
+        free(text);
+        return cli_diag_set(d, GEOM_ERR_PARSE, path, line, col, "JSON syntax error");
+    }
+    free(text);
+    st = srj_parse(root, path, &out->render, d);
+    if (st == GEOM_OK && !out->render.has_camera)
+        st = cli_diag_set(d, GEOM_ERR_PARSE, path, 0, 0, "scene: no \"camera\"");
+    const cJSON *objs = cJSON_GetObjectItemCaseSensitive(root, "objects");
+    if (st == GEOM_OK && !cJSON_IsArray(objs))
+        st = cli_diag_set(d, GEOM_ERR_PARSE, path, 0, 0, "scene: \"objects\" must be an array");
+    char *dir = NULL;
+    if (st == GEOM_OK) {
+        const char *slash = strrchr(path, '/');
+        size_t dl = slash ? (size_t)(slash - path) : 0;
+        dir = malloc(dl + 1);
+        if (!dir)
+            st = GEOM_ERR_NOMEM;
+        else {
+            memcpy(dir, path, dl);
+            dir[dl] = 0;
+        }
+    }
+    scene_json_objects *sj = NULL;
+    if (st == GEOM_OK) {
+        sj = calloc(1, sizeof *sj);
+        if (!sj)
+            st = GEOM_ERR_NOMEM;
+        else {
+            st = scene_json_parse_objects(objs, dir, path, tool_name, sj, d);
+            if (st == GEOM_OK)
+                out->objects_json = sj;
+            else
+                free(sj);
+        }
+    }
+    free(dir);
+    if (st == GEOM_OK)
+        st = geom_scene_shapes_from_ray(sj->scene, &out->shapes, d);
+    size_t n = st == GEOM_OK ? geom_scene_shapes_count(out->shapes) : 0;
+    if (st == GEOM_OK) {
+        out->objects = calloc(n ? n : 1, sizeof *out->objects);
+        out->names = calloc(n ? n : 1, sizeof *out->names);
+        if (!out->objects || !out->names)
+            st = GEOM_ERR_NOMEM;
+        out->n_objects = n;
+    }
+    for (size_t i = 0; i < n && st == GEOM_OK; i++) {
+        const cJSON *o = (size_t)cJSON_GetArraySize(objs) == n ? cJSON_GetArrayItem(objs, (int)i) : NULL;
+        const cJSON *nm = o ? cJSON_GetObjectItemCaseSensitive(o, "name") : NULL;
+        const cJSON *mt = o ? cJSON_GetObjectItemCaseSensitive(o, "material") : NULL;
+        char buf[64];
+        snprintf(buf, sizeof buf, "objects[%zu]", i);
+        out->names[i] = strdup(cJSON_IsString(nm) ? nm->valuestring : buf);
+        if (!out->names[i]) {
+            st = GEOM_ERR_NOMEM;
+            break;
+        }
+        out->objects[i].shape = geom_scene_shapes_get(out->shapes, i);
+        uint32_t mi = 0;
+        if (mt) {
+            mi = cJSON_IsString(mt) ? srj_material_index(&out->render, mt->valuestring) : UINT32_MAX;
+            if (mi == UINT32_MAX)
+                st = cli_diag_set(d, GEOM_ERR_PARSE, path, 0, 0,
+                                  "%s: \"material\": no material %s%s%s in \"materials\"", buf,
+                                  cJSON_IsString(mt) ? "\"" : "",
+                                  cJSON_IsString(mt) ? mt->valuestring : "(not a string)",
+                                  cJSON_IsString(mt) ? "\"" : "");
+        }
+        out->objects[i].material = mi;
+    }
+    cJSON_Delete(root);
+    if (st != GEOM_OK)
+        srj_file_free(out);
+    return st;
 }

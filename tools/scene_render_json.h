@@ -63,6 +63,22 @@ uint32_t srj_material_index(const srj_scene *s, const char *name);
 /** Free everything; safe on a zeroed srj_scene. */
 void srj_free(srj_scene *s);
 
+/** A whole scene file: rendering part, objects (parsed by the ray module's
+ *  scene_json parser) and their shapes, names and materials. */
+typedef struct srj_file {
+    srj_scene render;
+    void *objects_json;             /**< scene_json_objects * (owned) */
+    geom_scene_shapes *shapes;
+    geom_scene_object *objects;     /**< n_objects: shape + material */
+    char **names;                   /**< n_objects: "name" or "objects[i]" */
+    size_t n_objects;
+} srj_file;
+
+/** Read and parse `path` completely. Errors name the file, the line and
+ *  column for JSON syntax, the object and key otherwise. */
+geom_status srj_load(const char *path, const char *tool_name, srj_file *out, geom_diag *diag);
+void srj_file_free(srj_file *f);
+
 #ifdef __cplusplus
 }
 #endif
