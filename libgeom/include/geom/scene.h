@@ -558,7 +558,8 @@ typedef struct geom_render_object_report {
     size_t accel_triangles;
     int tessellated;      /**< raster: tessellated (never for ray) */
     double tolerance;     /**< raster: the chordal tolerance used (world units) */
-    geom_tess_info tess;  /**< raster: what the tessellation achieved */
+    geom_tess_info tess;  /**< raster: what the tessellation achieved (error in world
+                               units, times the transform's largest scale) */
     int normals, uvs, tangents; /**< attributes made (raster) or used (ray) */
 } geom_render_object_report;
 
@@ -601,6 +602,40 @@ GEOM_API geom_status geom_scene_render(const geom_camera *cam, const geom_light 
                                        geom_image *out, geom_render_report *report,
                                        geom_render_object_report *object_reports,
                                        geom_diag *diag);
+
+/* ------------------------------------------------------------------ export */
+
+typedef struct geom_export_options {
+    double tolerance;    /**< > 0: this world tolerance for every object */
+    double pixel_error;  /**< else from the camera (geom_scene_pixel_tolerance); 0 = 0.5 */
+    geom_mat4 world;     /**< applied last (e.g. Z-up to glTF's Y-up); all zero = identity */
+} geom_export_options;
+
+typedef struct geom_export_object_report {
+    double tolerance;    /**< world tolerance asked */
+    geom_tess_info tess; /**< achieved, the error in world units (times the
+                              transform's largest scale) */
+    unsigned attributes; /**< GEOM_NEEDS_* made for its material */
+} geom_export_object_report;
+
+/**
+ * Tessellate every object (geom_scene_tessellate with the attributes its
+ * material uses: normals always, UVs for textures and maps, tangents for
+ * normal and bump maps) to its tolerance (opt->tolerance, else the camera's
+ * pixel-error tolerance for its bounds; cam may be NULL only with a
+ * tolerance), apply its transform and opt->world, and join them into `out`
+ * (replaced): one face group per object named names[i] (may be NULL),
+ * CORNER channels "normal", "uv" and "tangent" where some object's material
+ * uses them (zero for the faces of objects that do not). Unbounded shapes
+ * are cut to twice the box of the bounded ones and the eye. reports: n
+ * entries or NULL. Statuses of geom_scene_tessellate (diag names the
+ * object), GEOM_ERR_INVALID_ARG, GEOM_ERR_NOMEM.
+ */
+GEOM_API geom_status geom_scene_export(const geom_camera *cam, const geom_material *materials,
+                                       size_t n_materials, const geom_scene_object *objects,
+                                       size_t n, const char *const *names,
+                                       const geom_export_options *opt, geom_mesh *out,
+                                       geom_export_object_report *reports, geom_diag *diag);
 
 #ifdef __cplusplus
 }

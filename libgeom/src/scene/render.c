@@ -529,6 +529,8 @@ geom_status geom_scene_render(const geom_camera *cam_in, const geom_light *light
                 break;
             orep[i].tessellated = 1;
             orep[i].tolerance = tol;
+            orep[i].tess.error.max_error *= max_scale(sh->transform); /* world units */
+            orep[i].tess.error.mean_error *= max_scale(sh->transform);
             orep[i].normals = geom_mesh_channel_find(meshes[i], "normal", GEOM_MESH_DOMAIN_CORNER) != GEOM_INVALID_INDEX ||
                               geom_mesh_channel_find(meshes[i], "normal", GEOM_MESH_DOMAIN_VERTEX) != GEOM_INVALID_INDEX;
             orep[i].uvs = geom_mesh_channel_find(meshes[i], "uv", GEOM_MESH_DOMAIN_CORNER) != GEOM_INVALID_INDEX ||
