@@ -451,8 +451,9 @@ typedef struct geom_tess_info {
  * every vertex) is below tol, then moved onto the limit: "subdiv";
  * implicit surfaces, volumes, quadrics and CSG by marching cubes of their
  * implicit form (min/max of the children's: sphere, box, torus, plane,
- * quadric, implicit, volume, CSG), doubling the resolution until the
- * iso module's sampled error is below tol or 512 cells per axis: "iso").
+ * quadric, implicit, volume, CSG), doubling the resolution (at most twice) until the
+ * iso module's sampled error is below tol or 256 cells per axis: "iso";
+ * sharp CSG edges may then stay above tol, which the report shows).
  * A CSG child without an implicit form (mesh, surface, subdivision,
  * polygon, disk) gives GEOM_ERR_INVALID_ARG with its name in diag.
  * Statuses: GEOM_ERR_INVALID_ARG (bad parameters, tol <= 0, an unbounded

@@ -416,7 +416,7 @@ static geom_status tess_iso(const geom_shape *s, const geom_tess_request *rq, ge
     double pad = 0.02 * diag_len + 1e-12;
     double bounds[6] = {b.min.x - pad, b.min.y - pad, b.min.z - pad,
                         b.max.x + pad, b.max.y + pad, b.max.z + pad};
-    double h = fmax(diag_len / 512, fmin(diag_len / 24, 8 * rq->tol));
+    double h = fmax(diag_len / 256, fmin(diag_len / 24, 8 * rq->tol));
     geom_iso_field f;
     memset(&f, 0, sizeof f);
     f.value = iso_value_cb;
@@ -437,7 +437,7 @@ static geom_status tess_iso(const geom_shape *s, const geom_tess_request *rq, ge
         for (int i = 0; i < 3; i++) {
             double ext = bounds[3 + i] - bounds[i];
             double r = ceil(ext / h);
-            res[i] = r < 2 ? 2 : (r > 512 ? 512 : (size_t)r);
+            res[i] = r < 2 ? 2 : (r > 256 ? 256 : (size_t)r);
         }
         memset(&surf, 0, sizeof surf);
         st = geom_iso_extract(&f, bounds, res, &o, &surf, diag);
@@ -446,7 +446,10 @@ static geom_status tess_iso(const geom_shape *s, const geom_tess_request *rq, ge
         info->error = surf.report.sample_error;
         if (surf.report.vertex_error.max_error > info->error.max_error)
             info->error.max_error = surf.report.vertex_error.max_error;
-        int done = info->error.max_error <= rq->tol || (res[0] >= 512 && res[1] >= 512 && res[2] >= 512) || pass == 3;
+        /* sharp CSG edges converge slowly in this measure: at most three
+         * passes and 256 cells per axis */
+        int done = info->error.max_error <= rq->tol ||
+                   (res[0] >= 256 || res[1] >= 256 || res[2] >= 256) || pass == 2;
         if (done)
             break;
         geom_iso_surface_free(&surf);
