@@ -12,7 +12,7 @@ deps:
 	@bash .ci/deps
 
 configure: deps
-	cmake -S . -B $(BUILD) -DGEOM_WERROR=ON -DGEOM_BUILD_TESTS=ON $(CMAKE_FLAGS)
+	cmake -S . -B $(BUILD) -DGEOM_WERROR=ON -DGEOM_BUILD_TESTS=ON -DGEOM_VALIDATE=ON $(CMAKE_FLAGS)
 
 build: configure
 	cmake --build $(BUILD) -j $(JOBS)
