@@ -116,18 +116,36 @@ static double *read_ppm(const char *path)
     FILE *f = fopen(path, "rb");
     if (!f)
         return NULL;
-    int w, h, maxv;
-    if (fscanf(f, "P6 %d %d %d", &w, &h, &maxv) != 3 || w != W || h != H) {
+    int v[3], n = 0, c;
+    char magic[3] = {0};
+    if (fread(magic, 1, 2, f) != 2 || strcmp(magic, "P6")) {
+        fclose(f);
+        return NULL;
+    }
+    /* width, height, maxval, with '#' comments (POV-Ray writes one) */
+    while (n < 3 && (c = fgetc(f)) != EOF) {
+        if (c == '#') {
+            while ((c = fgetc(f)) != EOF && c != '\n')
+                ;
+        } else if (c >= '0' && c <= '9') {
+            ungetc(c, f);
+            if (fscanf(f, "%d", &v[n]) != 1)
+                break;
+            n++;
+        }
+    }
+    int w = v[0], h = v[1], maxv = v[2];
+    if (n != 3 || w != W || h != H || maxv <= 0) {
         fclose(f);
         return NULL;
     }
     fgetc(f);
     double *d = malloc(sizeof(double) * 3 * W * H);
     for (int i = 0; d && i < 3 * W * H; i++) {
-        int v = fgetc(f);
+        int q = fgetc(f);
         if (maxv > 255)
-            v = (v << 8) | fgetc(f);
-        d[i] = (double)v / maxv;
+            q = (q << 8) | fgetc(f);
+        d[i] = (double)q / maxv;
     }
     fclose(f);
     return d;

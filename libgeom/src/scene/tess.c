@@ -394,9 +394,88 @@ static geom_aabb shape_bounds(const geom_shape *s, geom_aabb extent)
     return b;
 }
 
+/* The implicit form with each transform inverted once (marching cubes
+ * evaluates it millions of times). */
+typedef struct inode {
+    const geom_shape *s;
+    int has_inv;
+    geom_mat4 inv;
+    struct inode *a, *b;
+    struct inode **m;
+    size_t nm;
+} inode;
+
+static void inode_free(inode *n)
+{
+    if (!n)
+        return;
+    inode_free(n->a);
+    inode_free(n->b);
+    for (size_t i = 0; i < n->nm; i++)
+        inode_free(n->m[i]);
+    geom_free(NULL, n->m, n->nm * sizeof *n->m);
+    geom_free(NULL, n, sizeof *n);
+}
+
+static inode *inode_make(const geom_shape *s, int top)
+{
+    inode *n = geom_alloc(NULL, sizeof *n);
+    if (!n)
+        return NULL;
+    memset(n, 0, sizeof *n);
+    n->s = s;
+    if (s->transform && !top) {
+        if (geom_mat4_inverse(*s->transform, &n->inv) != GEOM_OK) {
+            geom_free(NULL, n, sizeof *n);
+            return NULL;
+        }
+        n->has_inv = 1;
+    }
+    int ok = 1;
+    if (s->kind == GEOM_SHAPE_CSG) {
+        n->a = inode_make(s->a, 0);
+        n->b = inode_make(s->b, 0);
+        ok = n->a && n->b;
+    } else if (s->kind == GEOM_SHAPE_GROUP && s->n_members) {
+        n->m = geom_alloc(NULL, s->n_members * sizeof *n->m);
+        ok = n->m != NULL;
+        if (ok) {
+            memset(n->m, 0, s->n_members * sizeof *n->m);
+            n->nm = s->n_members;
+            for (size_t i = 0; i < s->n_members && ok; i++)
+                ok = (n->m[i] = inode_make(s->members[i], 0)) != NULL;
+        }
+    }
+    if (!ok) {
+        inode_free(n);
+        return NULL;
+    }
+    return n;
+}
+
+static double inode_f(const inode *n, geom_vec3 p)
+{
+    if (n->has_inv)
+        geom_mat4_transform_point(n->inv, p, &p);
+    const geom_shape *s = n->s;
+    if (s->kind == GEOM_SHAPE_CSG) {
+        double fa = inode_f(n->a, p), fb = inode_f(n->b, p);
+        return s->csg_op == 1 ? fmin(fa, fb) : s->csg_op == 2 ? fmax(fa, fb) : fmax(fa, -fb);
+    }
+    if (s->kind == GEOM_SHAPE_GROUP) {
+        double f = INFINITY;
+        for (size_t i = 0; i < n->nm; i++)
+            f = fmin(f, inode_f(n->m[i], p));
+        return f;
+    }
+    geom_shape leaf = *s;
+    leaf.transform = NULL;
+    return shape_f(&leaf, p);
+}
+
 static double iso_value_cb(void *user, const double p[3])
 {
-    return shape_f((const geom_shape *)user, geom_vec3_make(p[0], p[1], p[2]));
+    return inode_f((const inode *)user, geom_vec3_make(p[0], p[1], p[2]));
 }
 
 static geom_status tess_iso(const geom_shape *s, const geom_tess_request *rq, geom_mesh *out,
@@ -419,8 +498,11 @@ static geom_status tess_iso(const geom_shape *s, const geom_tess_request *rq, ge
     double h = fmax(diag_len / 256, fmin(diag_len / 24, 8 * rq->tol));
     geom_iso_field f;
     memset(&f, 0, sizeof f);
+    inode *root = inode_make(&local, 1);
+    if (!root)
+        return GEOM_ERR_NOMEM;
     f.value = iso_value_cb;
-    f.user = &local;
+    f.user = root;
     f.exact = 1;
     geom_iso_options o;
     memset(&o, 0, sizeof o);
@@ -441,8 +523,10 @@ static geom_status tess_iso(const geom_shape *s, const geom_tess_request *rq, ge
         }
         memset(&surf, 0, sizeof surf);
         st = geom_iso_extract(&f, bounds, res, &o, &surf, diag);
-        if (st != GEOM_OK)
+        if (st != GEOM_OK) {
+            inode_free(root);
             return st;
+        }
         info->error = surf.report.sample_error;
         if (surf.report.vertex_error.max_error > info->error.max_error)
             info->error.max_error = surf.report.vertex_error.max_error;
@@ -455,6 +539,7 @@ static geom_status tess_iso(const geom_shape *s, const geom_tess_request *rq, ge
         geom_iso_surface_free(&surf);
         h *= 0.5;
     }
+    inode_free(root);
     st = geom_iso_surface_to_mesh(&surf, out, diag);
     geom_iso_surface_free(&surf);
     return st;
