@@ -208,6 +208,44 @@ static void test_transform(void **state)
     geom_mesh_destroy(m);
 }
 
+static void test_displace(void **state)
+{
+    (void)state;
+    geom_shape s;
+    memset(&s, 0, sizeof s);
+    s.kind = GEOM_SHAPE_SPHERE;
+    s.radius = 1;
+    geom_tess_request rq;
+    memset(&rq, 0, sizeof rq);
+    rq.tol = 1e-3;
+    rq.attributes = GEOM_NEEDS_UV;
+    geom_mesh *m = geom_mesh_create(NULL);
+    assert_int_equal(geom_scene_tessellate(&s, &rq, m, NULL, NULL), GEOM_OK);
+    geom_image img = {0};
+    assert_int_equal(geom_image_init(&img, 2, 2, 1, NULL), GEOM_OK);
+    for (int i = 0; i < 4; i++)
+        img.data[i] = 0.25;
+    geom_texture *t;
+    assert_int_equal(geom_texture_create(&img, GEOM_WRAP_REPEAT, NULL, &t), GEOM_OK);
+    geom_image_free(&img, NULL);
+    assert_int_equal(geom_scene_displace(m, t, 2), GEOM_OK);
+    /* every vertex moved by 0.5 along a normal within ~tol of radial */
+    const double *p = geom_mesh_cpositions(m);
+    for (size_t v = 0; v < geom_mesh_n_vertices(m); v++) {
+        double r = hypot(hypot(p[3 * v], p[3 * v + 1]), p[3 * v + 2]);
+        assert_true(fabs(r - 1.5) < 5e-3);
+    }
+    assert_true(geom_mesh_channel_find(m, "normal", GEOM_MESH_DOMAIN_VERTEX) != GEOM_INVALID_INDEX);
+    /* no UVs: refused */
+    geom_mesh *q = geom_mesh_create(NULL);
+    rq.attributes = GEOM_NEEDS_NORMAL;
+    assert_int_equal(geom_scene_tessellate(&s, &rq, q, NULL, NULL), GEOM_OK);
+    assert_int_equal(geom_scene_displace(q, t, 1), GEOM_ERR_INVALID_ARG);
+    geom_mesh_destroy(q);
+    geom_mesh_destroy(m);
+    geom_texture_destroy(t);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -215,6 +253,7 @@ int main(void)
         cmocka_unit_test(test_box_plane),
         cmocka_unit_test(test_csg),
         cmocka_unit_test(test_transform),
+        cmocka_unit_test(test_displace),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -463,6 +463,17 @@ typedef struct geom_tess_info {
 GEOM_API geom_status geom_scene_tessellate(const geom_shape *s, const geom_tess_request *rq,
                                            geom_mesh *out, geom_tess_info *info, geom_diag *diag);
 
+/**
+ * Displacement mapping: move every vertex of m along its angle-weighted
+ * vertex normal by scale (0 = 1) times channel 0 of `height` at the vertex's
+ * UV ("uv" VERTEX channel, else its first corner's: vertices on a UV seam
+ * take one side's value), then replace the normals by the displaced
+ * surface's vertex normals. The displacement is sampled at the vertices
+ * only: tessellate finely enough for the map's detail. GEOM_ERR_INVALID_ARG
+ * without UVs, GEOM_ERR_NOMEM.
+ */
+GEOM_API geom_status geom_scene_displace(geom_mesh *m, const geom_texture *height, double scale);
+
 /** Apply the affine transform M to m in place: positions, "normal" channels
  *  (inverse transpose, renormalised), "tangent" xyz (renormalised).
  *  GEOM_ERR_DEGENERATE for a singular M. */
@@ -562,6 +573,7 @@ typedef struct geom_render_object_report {
     geom_tess_info tess;  /**< raster: what the tessellation achieved (error in world
                                units, times the transform's largest scale) */
     int normals, uvs, tangents; /**< attributes made (raster) or used (ray) */
+    int displaced;        /**< raster: the material's displacement map applied */
 } geom_render_object_report;
 
 typedef struct geom_render_report {
@@ -591,7 +603,9 @@ typedef struct geom_render_report {
  *  - raster: each needed object is tessellated with the tolerance that keeps
  *    its projected chordal error below pixel_error pixels at its nearest
  *    visible depth (geom_scene_pixel_tolerance, in its own frame through the
- *    transform's largest scale), with only the attributes its material uses.
+ *    transform's largest scale), with only the attributes its material uses,
+ *    then displaced by the material's displacement map (geom_scene_displace;
+ *    the ray path does not displace).
  * object_reports (n_objects entries, may be NULL) and report (may be NULL)
  * say what was done. out as geom_scene_raster. Statuses: those of the steps;
  * diag names the object that failed.

@@ -119,6 +119,9 @@ geom_status geom_scene_export(const geom_camera *cam, const geom_material *mater
         geom_export_object_report r;
         memset(&r, 0, sizeof r);
         st = geom_scene_tessellate(sh, &rq, parts[i], &r.tess, diag);
+        if (st == GEOM_OK && materials[objects[i].material].displace)
+            st = geom_scene_displace(parts[i], materials[objects[i].material].displace,
+                                     materials[objects[i].material].displace_scale);
         if (st == GEOM_OK && sh->transform)
             st = geom_scene_mesh_transform(parts[i], *sh->transform);
         if (st == GEOM_OK && has_world)

@@ -527,6 +527,15 @@ geom_status geom_scene_render(const geom_camera *cam_in, const geom_light *light
             st = geom_scene_tessellate(sh, &rq, meshes[i], &orep[i].tess, diag);
             if (st != GEOM_OK)
                 break;
+            {
+                const geom_material *mt = &materials[objects[i].material];
+                if (mt->displace && orep[i].tess.triangles) {
+                    st = geom_scene_displace(meshes[i], mt->displace, mt->displace_scale);
+                    if (st != GEOM_OK)
+                        break;
+                    orep[i].displaced = 1;
+                }
+            }
             orep[i].tessellated = 1;
             orep[i].tolerance = tol;
             orep[i].tess.error.max_error *= max_scale(sh->transform); /* world units */

@@ -907,3 +907,65 @@ geom_aabb geom_scene_shape_bounds(const geom_shape *s)
         return none;
     return shape_bounds(s, none);
 }
+
+geom_status geom_scene_displace(geom_mesh *m, const geom_texture *height, double scale)
+{
+    if (!m || !height)
+        return GEOM_ERR_INVALID_ARG;
+    if (scale == 0)
+        scale = 1;
+    size_t nv = geom_mesh_n_vertices(m);
+    uint32_t cuv = geom_mesh_channel_find(m, "uv", GEOM_MESH_DOMAIN_CORNER);
+    uint32_t vuv = geom_mesh_channel_find(m, "uv", GEOM_MESH_DOMAIN_VERTEX);
+    if (cuv == GEOM_INVALID_INDEX && vuv == GEOM_INVALID_INDEX)
+        return GEOM_ERR_INVALID_ARG;
+    double *n = geom_alloc(NULL, (3 * nv + 1) * sizeof *n);
+    double *uv = geom_alloc(NULL, (2 * nv + 1) * sizeof *uv);
+    unsigned char *has = geom_alloc(NULL, nv + 1);
+    geom_status st = GEOM_OK;
+    if (!n || !uv || !has)
+        st = GEOM_ERR_NOMEM;
+    if (st == GEOM_OK)
+        st = geom_mesh_vertex_normals(m, GEOM_NORMAL_WEIGHT_ANGLE, n, NULL);
+    if (st == GEOM_OK) {
+        memset(has, 0, nv + 1);
+        if (vuv != GEOM_INVALID_INDEX) {
+            memcpy(uv, geom_mesh_channel_cdata(m, vuv), 2 * nv * sizeof(double));
+            memset(has, 1, nv);
+        } else {
+            /* a vertex on a UV seam takes the value of its first corner */
+            const double *d = geom_mesh_channel_cdata(m, cuv);
+            const uint32_t *ci = geom_mesh_corner_cindices(m, cuv);
+            for (uint32_t h = 0; h < geom_mesh_n_halfedges(m); h++) {
+                uint32_t v = geom_mesh_he_vertex(m, h);
+                if (v < nv && !has[v] && ci[h] != GEOM_INVALID_INDEX) {
+                    uv[2 * v] = d[2 * ci[h]];
+                    uv[2 * v + 1] = d[2 * ci[h] + 1];
+                    has[v] = 1;
+                }
+            }
+        }
+        double *p = geom_mesh_positions(m);
+        for (size_t v = 0; v < nv; v++) {
+            if (!has[v])
+                continue;
+            double hgt;
+            geom_texture_sample(height, uv[2 * v], uv[2 * v + 1], 0, &hgt);
+            for (int k = 0; k < 3; k++)
+                p[3 * v + k] += scale * hgt * n[3 * v + k];
+        }
+        /* the displaced surface's own normals replace the old ones */
+        uint32_t c;
+        while ((c = geom_mesh_channel_find(m, "normal", GEOM_MESH_DOMAIN_CORNER)) != GEOM_INVALID_INDEX)
+            geom_mesh_channel_remove(m, c);
+        while ((c = geom_mesh_channel_find(m, "normal", GEOM_MESH_DOMAIN_VERTEX)) != GEOM_INVALID_INDEX)
+            geom_mesh_channel_remove(m, c);
+        st = geom_mesh_channel_add(m, "normal", GEOM_MESH_DOMAIN_VERTEX, 3, &c);
+        if (st == GEOM_OK)
+            st = geom_mesh_vertex_normals(m, GEOM_NORMAL_WEIGHT_ANGLE, geom_mesh_channel_data(m, c), NULL);
+    }
+    geom_free(NULL, n, (3 * nv + 1) * sizeof *n);
+    geom_free(NULL, uv, (2 * nv + 1) * sizeof *uv);
+    geom_free(NULL, has, nv + 1);
+    return st;
+}
