@@ -45,6 +45,8 @@ typedef struct geom__tmesh {
     uint32_t *face;    /* nt: face index reported as prim (NULL: identity) */
     size_t nv, nt;
     void *bvh;         /* geom_bvh * */
+    double *tv;        /* 9 doubles per triangle in BVH leaf order (v0, v1, v2) */
+    uint32_t *tid;     /* triangle index of each tv slot */
 } geom__tmesh;
 
 /* Surface data (surface.c). */
