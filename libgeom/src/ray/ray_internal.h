@@ -60,6 +60,7 @@ typedef struct geom__tsurf {
     double *dom;
     geom_aabb *pbox;
     double extent;          /* control points' bounding box diagonal */
+    double pmag;            /* largest control point coordinate magnitude */
 } geom__tsurf;
 
 typedef struct geom__ray_node {
