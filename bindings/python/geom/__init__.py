@@ -12,6 +12,7 @@ Submodules:
   geom.curve     NurbsCurve (evaluation, derivatives, exact circles, ...)
   geom.surface   NurbsSurface, .bpt patches, tessellation to a Mesh
   geom.implicit  Expression, marching_cubes
+  geom.ray       RayScene (closest / any / all hits of numpy ray arrays)
 
 Every error status of the C library raises geom.GeomError, which carries the
 status (``.code`` e.g. "ERR_PARSE", ``.name`` e.g. "parse error") and the
@@ -46,3 +47,7 @@ if has_module("implicit") and has_module("iso") and has_module("meshio"):
     from . import implicit  # noqa: E402
     from .implicit import Expression, marching_cubes  # noqa: E402
     __all__ += ["implicit", "Expression", "marching_cubes"]
+if has_module("ray"):
+    from . import ray  # noqa: E402
+    from .ray import RayScene  # noqa: E402
+    __all__ += ["ray", "RayScene"]

@@ -30,7 +30,8 @@ MACROS = {
 }
 
 #: Modules in dependency order (as GEOM_ALL_MODULES).
-MODULE_ORDER = ("core", "bary", "mesh", "meshio", "curve", "surface", "subdiv", "implicit", "iso")
+MODULE_ORDER = ("core", "bary", "mesh", "meshio", "curve", "surface", "subdiv", "implicit", "iso",
+                "ray")
 
 CDEFS = {
     "core": """
@@ -111,6 +112,12 @@ typedef struct geom_aabb {
     geom_vec3 min;
     geom_vec3 max;
 } geom_aabb;
+typedef struct geom_ray {
+    geom_vec3 origin;
+    geom_vec3 dir;
+    double tmin;
+    double tmax;
+} geom_ray;
 """,
     "bary": """
 geom_status geom_bary_tri2(const double a[2], const double b[2], const double c[2], const double
@@ -624,6 +631,60 @@ double geom_implicit_expr_eval_grad(const geom_implicit_expr *e, const double p[
 geom_status geom_implicit_expr_eval_interval(const geom_implicit_expr *e, const double lo[3],
     const double hi[3], double out[2]);
 """,
+    "ray": """
+typedef struct geom_ray_hit {
+    double t;
+    geom_vec3 point;
+    geom_vec3 ng;
+    geom_vec3 ns;
+    double u, v;
+    uint32_t prim;
+    uint32_t object;
+    double t_error;
+    geom_vec3 p_error;
+    int enter;
+} geom_ray_hit;
+geom_vec3 geom_ray_offset_origin(const geom_ray_hit *hit, geom_vec3 dir);
+geom_status geom_ray_check(const geom_ray *r);
+int geom_ray_triangle(const geom_ray *r, const double v0[3], const double v1[3],
+    const double v2[3], geom_ray_hit *hit);
+size_t geom_ray_poly_roots(const double *c, int deg, double lo, double hi, double *roots);
+typedef struct geom_ray_scene geom_ray_scene;
+geom_ray_scene *geom_ray_scene_create(const geom_allocator *alloc);
+void geom_ray_scene_destroy(geom_ray_scene *s);
+geom_status geom_ray_scene_add_plane(geom_ray_scene *s, const double point[3],
+    const double n[3], uint32_t *id);
+geom_status geom_ray_scene_add_box(geom_ray_scene *s, const double min[3],
+    const double max[3], uint32_t *id);
+geom_status geom_ray_scene_add_sphere(geom_ray_scene *s, const double center[3],
+    double radius, uint32_t *id);
+geom_status geom_ray_scene_add_quadric(geom_ray_scene *s, const double q[10],
+    const double clip[6], int capped, uint32_t *id);
+geom_status geom_ray_scene_add_torus(geom_ray_scene *s, double major, double minor,
+    uint32_t *id);
+geom_status geom_ray_scene_add_triangles(geom_ray_scene *s, const double *positions,
+    size_t nv, const uint32_t *tris, size_t nt, const double *normals, uint32_t *id);
+geom_status geom_ray_scene_set_transform(geom_ray_scene *s, uint32_t id, const double m[16]);
+typedef struct geom_ray_build_options {
+    int bvh_method;
+    int bvh_threads;
+} geom_ray_build_options;
+typedef struct geom_ray_build_info {
+    size_t meshes;
+    size_t triangles;
+    size_t bvh_nodes;
+    size_t bvh_bytes;
+    size_t bezier_patches;
+    size_t analytic;
+} geom_ray_build_info;
+geom_status geom_ray_scene_build(geom_ray_scene *s, const geom_ray_build_options *opt,
+    geom_ray_build_info *info, geom_diag *diag);
+geom_status geom_ray_scene_closest(const geom_ray_scene *s, const geom_ray *r,
+    geom_ray_hit *hit, int *found);
+geom_status geom_ray_scene_any(const geom_ray_scene *s, const geom_ray *r, int *found);
+geom_status geom_ray_scene_all(const geom_ray_scene *s, const geom_ray *r,
+    geom_ray_hit *hits, size_t cap, size_t *n);
+""",
 }
 
 #: One function per module whose presence in the library tells that the
@@ -639,6 +700,7 @@ MODULE_PROBES = {
     "subdiv": "geom_subdiv_mesh",
     "iso": "geom_iso_extract",
     "implicit": "geom_implicit_expr_compile",
+    "ray": "geom_ray_scene_create",
 }
 
 

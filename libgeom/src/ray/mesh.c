@@ -21,12 +21,32 @@ geom_status geom__ray_mesh_build(geom__tmesh *m, const geom_ray_build_options *o
     st = geom_bvh_build_triangles(m->pos, m->nv, m->tri, m->nt, &bo, &b, diag);
     if (st != GEOM_OK) return st;
     m->bvh = b;
+    /* Vertices copied in leaf order: one contiguous run per leaf. */
+    {
+        size_t np = 0, i;
+        const uint32_t *pr = geom_bvh_prim_indices(b, &np);
+        m->tv = geom_alloc(alloc, (np ? np : 1) * 9 * sizeof(double));
+        m->tid = geom_alloc(alloc, (np ? np : 1) * sizeof(uint32_t));
+        if (!m->tv || !m->tid) return GEOM_ERR_NOMEM;
+        for (i = 0; i < np; i++) {
+            const uint32_t *t = m->tri + 3 * (size_t)pr[i];
+            int k;
+            for (k = 0; k < 3; k++) memcpy(m->tv + 9 * i + 3 * k, m->pos + 3 * (size_t)t[k], 3 * sizeof(double));
+            m->tid[i] = pr[i];
+        }
+    }
     return GEOM_OK;
 }
 
 void geom__ray_mesh_free(geom__tmesh *m, const geom_allocator *alloc)
 {
     if (!m) return;
+    if (m->bvh) {
+        size_t np = 0;
+        geom_bvh_prim_indices(m->bvh, &np);
+        if (m->tv) geom_free(alloc, m->tv, (np ? np : 1) * 9 * sizeof(double));
+        if (m->tid) geom_free(alloc, m->tid, (np ? np : 1) * sizeof(uint32_t));
+    }
     geom_bvh_destroy(m->bvh);
     geom_free(alloc, m->pos, 3 * m->nv * sizeof(double));
     if (m->nrm) geom_free(alloc, m->nrm, 3 * m->nv * sizeof(double));
@@ -106,7 +126,6 @@ static void fill(const geom__tmesh *m, const geom_ray *r, uint32_t ti, double t,
 geom_status geom__ray_mesh(const geom__tmesh *m, const geom_ray *r, int mode, geom__hits *out)
 {
     const geom_bvh_node *nodes;
-    const uint32_t *prims;
     size_t nn = 0;
     uint32_t stack[256];
     int sp = 0;
@@ -117,7 +136,6 @@ geom_status geom__ray_mesh(const geom__tmesh *m, const geom_ray *r, int mode, ge
     int k;
     if (!m->bvh) return GEOM_OK;
     nodes = geom_bvh_nodes(m->bvh, &nn);
-    prims = geom_bvh_prim_indices(m->bvh, NULL);
     if (nn == 0) return GEOM_OK;
     s.o[0] = r->origin.x; s.o[1] = r->origin.y; s.o[2] = r->origin.z;
     {
@@ -153,12 +171,11 @@ geom_status geom__ray_mesh(const geom__tmesh *m, const geom_ray *r, int mode, ge
         } else {
             uint32_t i;
             for (i = 0; i < nd->count; i++) {
-                uint32_t ti = prims[nd->index + i];
-                const uint32_t *tv = m->tri + 3 * (size_t)ti;
+                const double *tvp = m->tv + 9 * (size_t)(nd->index + i);
+                uint32_t ti;
                 double t, bc[3];
-                if (!geom__wbw_test(&w, m->pos + 3 * tv[0], m->pos + 3 * tv[1], m->pos + 3 * tv[2],
-                                    r->tmin, tmax, &t, bc))
-                    continue;
+                if (!geom__wbw_test(&w, tvp, tvp + 3, tvp + 6, r->tmin, tmax, &t, bc)) continue;
+                ti = m->tid[nd->index + i];
                 if (mode == GEOM__RAY_ALL) {
                     geom_ray_hit *h = geom__hits_push(out);
                     if (!h) return GEOM_ERR_NOMEM;

@@ -45,6 +45,8 @@ typedef struct geom__tmesh {
     uint32_t *face;    /* nt: face index reported as prim (NULL: identity) */
     size_t nv, nt;
     void *bvh;         /* geom_bvh * */
+    double *tv;        /* 9 doubles per triangle in BVH leaf order (v0, v1, v2) */
+    uint32_t *tid;     /* triangle index of each tv slot */
 } geom__tmesh;
 
 /* Surface data (surface.c). */
@@ -58,6 +60,7 @@ typedef struct geom__tsurf {
     double *dom;
     geom_aabb *pbox;
     double extent;          /* control points' bounding box diagonal */
+    double pmag;            /* largest control point coordinate magnitude */
 } geom__tsurf;
 
 typedef struct geom__ray_node {

@@ -118,6 +118,8 @@ geom_status geom__ray_surface_build(geom__tsurf *sf, const geom_allocator *alloc
             all = geom_aabb_union(all, bx);
         }
     sf->extent = geom_vec3_length(geom_vec3_sub(all.max, all.min));
+    sf->pmag = fmax(fmax(fmax(fabs(all.min.x), fabs(all.max.x)), fmax(fabs(all.min.y), fabs(all.max.y))),
+                    fmax(fabs(all.min.z), fabs(all.max.z)));
 done:
     if (H) geom_free(alloc, H, nu * nv * 4 * sizeof(double));
     if (U) geom_free(alloc, U, nv * nsu * (size_t)(pu + 1) * 4 * sizeof(double));
@@ -130,8 +132,10 @@ done:
 
 /* Newton on S(u, v) - (o + t d) = 0 within [dom]; returns 1 on convergence. */
 static int newton(const geom_nurbs_surface *s, const double *dom, const geom_ray *r, double *u, double *v,
-                  double *t, double ext)
+                  double *t, double ext, double pmag)
 {
+    /* Residual accepted: below the rounding of points of this magnitude. */
+    double tol = 1e-9 * ext + 256 * DBL_EPSILON * (pmag + fabs(*t) * geom_vec3_length(r->dir));
     double ders[12];
     int it;
     for (it = 0; it < 30; it++) {
@@ -164,7 +168,7 @@ static int newton(const geom_nurbs_surface *s, const double *dom, const geom_ray
         if (fabs(du) <= 1e-15 * (dom[1] - dom[0]) && fabs(dv) <= 1e-15 * (dom[3] - dom[2])) {
             /* converged: check the residual */
             double res = sqrt(F[0] * F[0] + F[1] * F[1] + F[2] * F[2]);
-            return res <= 1e-9 * ext + 1e-300;
+            return res <= tol;
         }
     }
     {
@@ -173,7 +177,7 @@ static int newton(const geom_nurbs_surface *s, const double *dom, const geom_ray
         res = sqrt((ders[0] - (r->origin.x + *t * r->dir.x)) * (ders[0] - (r->origin.x + *t * r->dir.x)) +
                    (ders[1] - (r->origin.y + *t * r->dir.y)) * (ders[1] - (r->origin.y + *t * r->dir.y)) +
                    (ders[2] - (r->origin.z + *t * r->dir.z)) * (ders[2] - (r->origin.z + *t * r->dir.z)));
-        return res <= 1e-9 * ext;
+        return res <= tol;
     }
 }
 
@@ -264,14 +268,14 @@ geom_status geom__ray_surface(const geom__tsurf *sf, const geom_ray *r, int mode
                 double u = 0.5 * (it.u0 + it.u1), v = 0.5 * (it.v0 + it.v1), t, ders[3];
                 if (geom_surface_eval(s, u, v, 0, ders) == GEOM_OK) {
                     t = geom__dot(geom_vec3_sub(geom__v3(ders), r->origin), r->dir) / geom__dot(r->dir, r->dir);
-                    if (newton(s, dom, r, &u, &v, &t, sf->extent)) {
+                    if (newton(s, dom, r, &u, &v, &t, sf->extent, sf->pmag)) {
                         double mu = 0.05 * (it.u1 - it.u0), mv = 0.05 * (it.v1 - it.v0);
                         if (u >= it.u0 - mu && u <= it.u1 + mu && v >= it.v0 - mv && v <= it.v1 + mv) {
                             /* Transversal and small: one root here. */
                             int dup = 0;
                             for (i = 0; i < ncand; i++)
-                                if (fabs(cands[i].u - u) <= 1e-9 * (dom[1] - dom[0]) &&
-                                    fabs(cands[i].v - v) <= 1e-9 * (dom[3] - dom[2]))
+                                if (fabs(cands[i].u - u) <= 1e-7 * (dom[1] - dom[0]) &&
+                                    fabs(cands[i].v - v) <= 1e-7 * (dom[3] - dom[2]))
                                     dup = 1;
                             if (!dup && ncand < 64) {
                                 cands[ncand].u = u; cands[ncand].v = v; cands[ncand].t = t;
@@ -336,10 +340,15 @@ geom_status geom__ray_surface(const geom__tsurf *sf, const geom_ray *r, int mode
         /* Drop the same point found from two patches (shared edges). */
         size_t j;
         int dup = 0;
-        for (j = 0; j < i; j++)
-            if (fabs(cands[j].t - cands[i].t) <= 1e-12 * (fabs(cands[i].t) + sf->extent / geom_vec3_length(r->dir)) &&
-                fabs(cands[j].u - cands[i].u) <= 1e-9 && fabs(cands[j].v - cands[i].v) <= 1e-9)
-                dup = 1;
+        {
+            /* the same point: t within the rounding of the points (shared patch edges) */
+            double dl = geom_vec3_length(r->dir);
+            double tol = (1e-9 * sf->extent + 256 * DBL_EPSILON * (sf->pmag + fabs(cands[i].t) * dl)) / dl;
+            /* the same t is the same point in space (seams, shared patch edges) */
+            for (j = 0; j < i; j++)
+                if (fabs(cands[j].t - cands[i].t) <= tol)
+                    dup = 1;
+        }
         if (dup) continue;
         h = geom__push_t(out, r, cands[i].t);
         if (!h) { if (out->failed) { st = GEOM_ERR_NOMEM; goto done; } continue; }

@@ -59,6 +59,7 @@ int geom__wbw_test(const geom__wbw *w, const double *v0, const double *v1, const
     cx = C[kx] - w->sx * C[kz]; cy = C[ky] - w->sy * C[kz];
     e0 = edge_fn(bx, by, cx, cy); /* edge v1 -> v2: weight of v0 */
     e1 = edge_fn(cx, cy, ax, ay); /* edge v2 -> v0: weight of v1 */
+    if ((e0 < 0 && e1 > 0) || (e0 > 0 && e1 < 0)) return 0; /* the common miss */
     e2 = edge_fn(ax, ay, bx, by); /* edge v0 -> v1: weight of v2 */
     /* Front (all >= 0) or back (all <= 0) facing, a zero only where owned. */
     pos = (e0 > 0 || (e0 == 0 && owns(bx, by, cx, cy))) &&
