@@ -13,6 +13,7 @@ Submodules:
   geom.surface   NurbsSurface, .bpt patches, tessellation to a Mesh
   geom.implicit  Expression, marching_cubes
   geom.ray       RayScene (closest / any / all hits of numpy ray arrays)
+  geom.scene     cameras: primary rays, projection to pixels
 
 Every error status of the C library raises geom.GeomError, which carries the
 status (``.code`` e.g. "ERR_PARSE", ``.name`` e.g. "parse error") and the
@@ -51,3 +52,6 @@ if has_module("ray"):
     from . import ray  # noqa: E402
     from .ray import RayScene  # noqa: E402
     __all__ += ["ray", "RayScene"]
+if has_module("scene"):
+    from . import scene  # noqa: E402
+    __all__ += ["scene"]

@@ -31,7 +31,7 @@ MACROS = {
 
 #: Modules in dependency order (as GEOM_ALL_MODULES).
 MODULE_ORDER = ("core", "bary", "mesh", "meshio", "curve", "surface", "subdiv", "implicit", "iso",
-                "ray")
+                "ray", "scene")
 
 CDEFS = {
     "core": """
@@ -685,6 +685,38 @@ geom_status geom_ray_scene_any(const geom_ray_scene *s, const geom_ray *r, int *
 geom_status geom_ray_scene_all(const geom_ray_scene *s, const geom_ray *r,
     geom_ray_hit *hits, size_t cap, size_t *n);
 """,
+    "scene": """
+typedef enum geom_projection {
+    GEOM_PROJECTION_PERSPECTIVE = 0,
+    GEOM_PROJECTION_ORTHOGRAPHIC = 1
+} geom_projection;
+typedef enum geom_sampling {
+    GEOM_SAMPLING_REGULAR = 0,  /**< k x k grid, k = ceil(sqrt(samples)) */
+    GEOM_SAMPLING_JITTERED = 1, /**< k x k strata, one random point in each */
+    GEOM_SAMPLING_ADAPTIVE = 2  /**< refine pixels whose samples disagree */
+} geom_sampling;
+typedef struct geom_camera {
+    geom_vec3 eye, center, up;   /**< as gluLookAt; up (0,0,0) means (0,1,0) */
+    geom_projection projection;
+    double fovy_degrees;         /**< perspective vertical field of view; 0 = 45 */
+    double ortho_height;         /**< orthographic view height in world units; 0 = 2 */
+    uint32_t width, height;      /**< pixels; 0 = 320 x 240 */
+    uint32_t samples;            /**< per pixel for REGULAR/JITTERED; 0 = 1 */
+    geom_sampling sampling;
+    uint32_t max_samples;        /**< ADAPTIVE: per pixel at most; 0 = 64 */
+    double tolerance;            /**< ADAPTIVE: refine while the samples' standard
+                                      error exceeds this; 0 = 1/512 */
+    uint64_t seed;               /**< JITTERED/ADAPTIVE random stream; 0 = fixed default */
+} geom_camera;
+geom_camera geom_camera_resolved(const geom_camera *cam);
+geom_status geom_camera_ray(const geom_camera *cam, double x, double y, geom_ray *out);
+geom_status geom_camera_matrices(const geom_camera *cam, double near_z, double far_z,
+                                          geom_mat4 *view, geom_mat4 *proj);
+geom_status geom_camera_project(const geom_camera *cam, geom_vec3 p, double out[3]);
+double geom_camera_pixel_size(const geom_camera *cam, double depth);
+double geom_scene_pixel_tolerance(const geom_camera *cam, geom_aabb box,
+                                           double pixel_error, int *visible);
+""",
 }
 
 #: One function per module whose presence in the library tells that the
@@ -701,6 +733,7 @@ MODULE_PROBES = {
     "iso": "geom_iso_extract",
     "implicit": "geom_implicit_expr_compile",
     "ray": "geom_ray_scene_create",
+    "scene": "geom_camera_ray",
 }
 
 
