@@ -43,13 +43,32 @@ static double rnd(uint64_t *s)
 static geom_vec3 trace(tctx *c, const geom_ray *r, uint32_t depth, double weight,
                        geom__scene_hit *first);
 
-static geom_vec3 shade_hit(tctx *c, const geom_ray *r, const geom__scene_hit *h, uint32_t depth,
-                           double weight)
+/* The colour a reflected or refracted ray brings back, times its share k,
+ * or nothing when the depth or weight cut-off stops it (counted). */
+static geom_vec3 secondary(tctx *c, const geom__scene_hit *h, geom_vec3 dir, double k,
+                           uint32_t depth, double weight, size_t *counter)
 {
-    const geom_material *m = &c->materials[h->material];
-    geom_vec3 d;
-    if (geom_vec3_normalize(r->dir, &d) != GEOM_OK)
+    double w = weight * k;
+    if (depth + 1 > c->opt.max_depth) {
+        c->rep->cut_by_depth++;
         return geom_vec3_make(0, 0, 0);
+    }
+    if (w < c->opt.min_weight) {
+        c->rep->cut_by_weight++;
+        return geom_vec3_make(0, 0, 0);
+    }
+    geom_ray t;
+    t.origin = c->tr->spawn(c->tr->user, h, dir);
+    t.dir = dir;
+    t.tmin = 0;
+    t.tmax = INFINITY;
+    (*counter)++;
+    return geom_vec3_scale(trace(c, &t, depth + 1, w, NULL), k);
+}
+
+/* The shading point of a hit seen along unit direction d. */
+static geom_shade_point shade_point(const geom__scene_hit *h, geom_vec3 d)
+{
     geom_shade_point sp;
     memset(&sp, 0, sizeof sp);
     sp.p = h->p;
@@ -62,6 +81,17 @@ static geom_vec3 shade_hit(tctx *c, const geom_ray *r, const geom__scene_hit *h,
     sp.has_tangent = h->has_tangent;
     sp.tangent = h->tangent;
     sp.tangent_sign = h->tangent_sign;
+    return sp;
+}
+
+static geom_vec3 shade_hit(tctx *c, const geom_ray *r, const geom__scene_hit *h, uint32_t depth,
+                           double weight)
+{
+    const geom_material *m = &c->materials[h->material];
+    geom_vec3 d;
+    if (geom_vec3_normalize(r->dir, &d) != GEOM_OK)
+        return geom_vec3_make(0, 0, 0);
+    geom_shade_point sp = shade_point(h, d);
     geom_vec3 n = geom_shade_normal(m, &sp);
     /* geometric normal on the viewer's side */
     geom_vec3 ngv = geom_vec3_dot(h->ng, sp.v) < 0 ? geom_vec3_neg(h->ng) : h->ng;
@@ -116,40 +146,12 @@ static geom_vec3 shade_hit(tctx *c, const geom_ray *r, const geom__scene_hit *h,
             refl += trans; /* all of it reflects */
             trans = 0;
         } else if (st == GEOM_OK) {
-            double w = weight * trans;
-            if (depth + 1 > c->opt.max_depth)
-                c->rep->cut_by_depth++;
-            else if (w < c->opt.min_weight)
-                c->rep->cut_by_weight++;
-            else {
-                geom_ray t;
-                t.origin = c->tr->spawn(c->tr->user, h, tdir);
-                t.dir = tdir;
-                t.tmin = 0;
-                t.tmax = INFINITY;
-                c->rep->refraction_rays++;
-                geom_vec3 tc = trace(c, &t, depth + 1, w, NULL);
-                col = geom_vec3_add(col, geom_vec3_scale(tc, trans));
-            }
+            col = geom_vec3_add(col, secondary(c, h, tdir, trans, depth, weight,
+                                               &c->rep->refraction_rays));
         }
     }
-    if (refl > 0) {
-        double w = weight * refl;
-        if (depth + 1 > c->opt.max_depth)
-            c->rep->cut_by_depth++;
-        else if (w < c->opt.min_weight)
-            c->rep->cut_by_weight++;
-        else {
-            geom_ray t;
-            t.origin = c->tr->spawn(c->tr->user, h, rdir);
-            t.dir = rdir;
-            t.tmin = 0;
-            t.tmax = INFINITY;
-            c->rep->reflection_rays++;
-            geom_vec3 rc = trace(c, &t, depth + 1, w, NULL);
-            col = geom_vec3_add(col, geom_vec3_scale(rc, refl));
-        }
-    }
+    if (refl > 0)
+        col = geom_vec3_add(col, secondary(c, h, rdir, refl, depth, weight, &c->rep->reflection_rays));
     return col;
 }
 
@@ -245,18 +247,7 @@ geom_status geom__scene_trace(const geom__tracer *tr, const geom_camera *cam_in,
                 else if (hit) {
                     geom_vec3 n = h.n;
                     if (h.material < n_materials) {
-                        geom_shade_point sp;
-                        memset(&sp, 0, sizeof sp);
-                        sp.p = h.p;
-                        sp.n = h.n;
-                        sp.ng = h.ng;
-                        sp.v = geom_vec3_neg(r.dir);
-                        sp.has_uv = h.has_uv;
-                        sp.uv[0] = h.uv[0];
-                        sp.uv[1] = h.uv[1];
-                        sp.has_tangent = h.has_tangent;
-                        sp.tangent = h.tangent;
-                        sp.tangent_sign = h.tangent_sign;
+                        geom_shade_point sp = shade_point(&h, r.dir);
                         n = geom_shade_normal(&materials[h.material], &sp);
                     }
                     px[0] = n.x;
