@@ -261,10 +261,12 @@ typedef struct geom_shade_point {
 } geom_shade_point;
 
 /**
- * The shading normal after bump mapping (Blinn 1978: with dP/du = T and
- * dP/dv = B, the perturbed normal is N + h_u (T x N) + h_v (N x ... ) as in
- * the paper, using the height map's gradient scaled by bump_scale) or a
- * tangent-space normal map (n = T*x + B*y + N*z); otherwise sp->n. Needs
+ * The shading normal after bump mapping (Blinn 1978: N' = N + h_u (N x P_v)
+ * - h_v (N x P_u), with the unit tangent T = sp->tangent standing for P_u,
+ * the bitangent B = sign * N x T for P_v, and the height map's gradient
+ * (geom_texture_gradient, channel 0) times bump_scale) or a tangent-space
+ * normal map (RGB in [0,1] mapped to [-1,1]: n = T*x + B*y + N*z); otherwise
+ * sp->n. Needs
  * sp->has_uv and, for both maps, sp->has_tangent; without them sp->n is
  * returned unchanged. Flipped to face the viewer (n.v >= 0).
  */
