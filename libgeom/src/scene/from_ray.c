@@ -319,7 +319,7 @@ geom_status geom_scene_shapes_from_ray(const geom_ray_scene *rs, geom_scene_shap
     }
     geom_status st = GEOM_OK;
     size_t k = 0;
-    for (size_t i = 0; i < rs->n && k < n && st == GEOM_OK; i++) {
+    for (size_t i = 0; st == GEOM_OK && (rs->roots_explicit ? k < n : i < rs->n); i++) {
         uint32_t id;
         if (rs->roots_explicit)
             id = rs->roots[k];
