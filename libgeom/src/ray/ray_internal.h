@@ -61,6 +61,7 @@ typedef struct geom__tsurf {
     geom_aabb *pbox;
     double extent;          /* control points' bounding box diagonal */
     double pmag;            /* largest control point coordinate magnitude */
+    double wmax;            /* largest weight (1 if none) */
 } geom__tsurf;
 
 typedef struct geom__ray_node {
