@@ -507,6 +507,16 @@ static void test_nurbs_sphere(void **state)
         }
     }
     assert_true(hits > 50);
+    {
+        /* exactly through both poles (collapsed patch edges) and through the seam */
+        geom_ray_hit h[8];
+        size_t n = all(s, mkray(1, 0.5, -10, 0, 0, 1), h, 8);
+        assert_int_equal(n, 2);
+        assert_true(fabs(h[0].t - 7.75) < 1e-9 && fabs(h[1].t - 11.75) < 1e-9);
+        n = all(s, mkray(-10, 0.5, -0.25, 1, 0, 0), h, 8);
+        assert_int_equal(n, 2);
+        assert_true(fabs(h[0].t - 9) < 1e-9 && fabs(h[1].t - 13) < 1e-9);
+    }
     geom_ray_scene_destroy(s);
 }
 
