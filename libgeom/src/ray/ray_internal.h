@@ -157,6 +157,12 @@ static inline double geom__dot(geom_vec3 a, geom_vec3 b) { return a.x * b.x + a.
 static inline geom_vec3 geom__unit(geom_vec3 a)
 {
     geom_vec3 u;
+    double l2 = a.x * a.x + a.y * a.y + a.z * a.z;
+    if (l2 > 1e-280 && l2 < 1e280) { /* fast path: no overflow or underflow possible */
+        double s = 1.0 / sqrt(l2);
+        u.x = a.x * s; u.y = a.y * s; u.z = a.z * s;
+        return u;
+    }
     if (geom_vec3_normalize(a, &u) != GEOM_OK) { u.x = 0; u.y = 0; u.z = 1; }
     return u;
 }
