@@ -98,6 +98,11 @@ struct geom_ray_scene {
     size_t nroots, roots_cap;
     int roots_explicit;
     int built;
+    /* Top-level BVH over the bounded objects (when there are many). */
+    void *top;                 /* geom_bvh * or NULL */
+    uint32_t *top_obj;         /* BVH primitive -> object index */
+    uint32_t *unbounded;       /* objects tested on every ray (without top: all) */
+    size_t ntop, nunbounded;
 };
 
 /* The query of one node (in its parent's frame: the node's transform is
