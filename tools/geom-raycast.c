@@ -337,6 +337,7 @@ int main(int argc, char **argv)
                               : k == GEOM_RAY_SURFACE                     ? "bezier-patches"
                               : k == GEOM_RAY_VOLUME                      ? "3d-dda"
                               : k == GEOM_RAY_IMPLICIT                    ? "interval"
+                              : k == GEOM_RAY_GROUP                       ? "per-member"
                                                                           : "none";
             fprintf(e, "%s{\"object\":%zu,\"type\":\"%s\",\"acceleration\":\"%s\"}", i ? "," : "", i,
                     geom_ray_kind_name(k), acc);

@@ -507,6 +507,16 @@ static void test_nurbs_sphere(void **state)
         }
     }
     assert_true(hits > 50);
+    {
+        /* exactly through both poles (collapsed patch edges) and through the seam */
+        geom_ray_hit h[8];
+        size_t n = all(s, mkray(1, 0.5, -10, 0, 0, 1), h, 8);
+        assert_int_equal(n, 2);
+        assert_true(fabs(h[0].t - 7.75) < 1e-9 && fabs(h[1].t - 11.75) < 1e-9);
+        n = all(s, mkray(-10, 0.5, -0.25, 1, 0, 0), h, 8);
+        assert_int_equal(n, 2);
+        assert_true(fabs(h[0].t - 9) < 1e-9 && fabs(h[1].t - 13) < 1e-9);
+    }
     geom_ray_scene_destroy(s);
 }
 
@@ -599,6 +609,51 @@ static void test_implicit_volume(void **state)
     }
 }
 
+/* Many objects (a top-level BVH): closest hits equal the brute-force minimum
+ * over the spheres' closed forms, ties to the smaller object index. */
+static void test_many_objects(void **state)
+{
+    enum { NS = 300 };
+    double c[NS][3], rad[NS];
+    geom_ray_scene *s = geom_ray_scene_create(NULL);
+    double pp[3] = {0, 0, -30}, pn[3] = {0, 0, 1};
+    int i, j;
+    (void)state;
+    for (i = 0; i < NS; i++) {
+        for (j = 0; j < 3; j++) c[i][j] = urand() * 40 - 20;
+        rad[i] = 0.2 + urand();
+        assert_int_equal(geom_ray_scene_add_sphere(s, c[i], rad[i], NULL), GEOM_OK);
+    }
+    assert_int_equal(geom_ray_scene_add_plane(s, pp, pn, NULL), GEOM_OK);
+    built(s);
+    for (i = 0; i < 2000; i++) {
+        geom_ray r = mkray(urand() * 40 - 20, urand() * 40 - 20, 25, urand() - 0.5, urand() - 0.5, -1);
+        double best = INFINITY;
+        int bo = -1, any = 0;
+        geom_ray_hit h;
+        int found = closest(s, r, &h);
+        for (j = 0; j < NS; j++) {
+            geom_vec3 f = geom_vec3_sub(r.origin, geom_vec3_make(c[j][0], c[j][1], c[j][2]));
+            double a = geom_vec3_dot(r.dir, r.dir), b = geom_vec3_dot(f, r.dir);
+            double cc = geom_vec3_dot(f, f) - rad[j] * rad[j], disc = b * b - a * cc;
+            if (disc >= 0) {
+                double t0 = (-b - sqrt(disc)) / a;
+                if (t0 >= 0 && t0 < best) { best = t0; bo = j; }
+            }
+        }
+        {
+            double tp = (-30 - 25) / r.dir.z;
+            if (tp < best) { best = tp; bo = NS; }
+        }
+        assert_true(found);
+        assert_int_equal(h.object, bo);
+        assert_true(fabs(h.t - best) < 1e-9 * (1 + best));
+        assert_int_equal(geom_ray_scene_any(s, &r, &any), GEOM_OK);
+        assert_true(any);
+    }
+    geom_ray_scene_destroy(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -608,6 +663,7 @@ int main(void)
         cmocka_unit_test(test_triangle_single), cmocka_unit_test(test_invalid_rays),
         cmocka_unit_test(test_offset),         cmocka_unit_test(test_csg_instance),
         cmocka_unit_test(test_nurbs_sphere),   cmocka_unit_test(test_implicit_volume),
+        cmocka_unit_test(test_many_objects),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

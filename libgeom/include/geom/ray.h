@@ -266,7 +266,7 @@ GEOM_API geom_status geom_ray_scene_add_polygon(geom_ray_scene *s, const double 
  * geom_ray_triangle's watertight test: a ray through a shared edge or vertex
  * of a closed mesh hits exactly once. prim = face index of the mesh. ns:
  * the mesh's VERTEX "normal" channel interpolated, if it has one, else ng.
- * The positions and faces are copied at build time; m is not kept.
+ * The positions and faces are copied when added; m is not kept.
  */
 GEOM_API geom_status geom_ray_scene_add_mesh(geom_ray_scene *s, const geom_mesh *m, uint32_t *id);
 /** As add_mesh from arrays: positions 3*nv doubles, tris 3*nt indices < nv
@@ -284,12 +284,18 @@ GEOM_API geom_status geom_ray_scene_add_triangles(geom_ray_scene *s, const doubl
  * discarded), and polishes every candidate by Newton's method on
  * S(u, v) - (o + t d) with the surface's exact derivatives to full double
  * precision; candidates are merged when their (u, v) agree within tol.
- * Every root in the domain is found, grazing and silhouette rays included
- * (a region that shrinks below tol without a Newton solution is a tangency
- * and gives its centre). (u, v): the surface's parameters, exact to
- * tol = 1e-12 of the domain width (Newton residual |S - P| below 8 ulp of
- * the control points' extent, or t_error says otherwise). ng: the unit
- * S_u x S_v (geom_surface_normal, defined at poles). Not closed in general.
+ * A sub-patch is split where its projected net varies most (so poles and
+ * collapsed edges do not multiply sub-patches); a Newton root is accepted
+ * when its residual |S - (o + t d)| is below 1e-9 of the control points'
+ * extent plus 256 ulp of the coordinates' magnitude. Every root in the
+ * domain is found, grazing and silhouette rays included: a region whose
+ * projected net shrinks below 1e-10 of the extent (or 1e-12 of the domain)
+ * without a Newton root is a tangency or a singular point (a pole) and
+ * gives its centre, with t_error at least 1e-6 of the extent. Hits with the
+ * same t (within the same tolerance) are one hit (seams, shared patch
+ * edges). (u, v): the surface's parameters, to the Newton tolerance. ng:
+ * the unit S_u x S_v (geom_surface_normal, defined at poles). Not closed in
+ * general. Validated against SISL's s1856.
  */
 GEOM_API geom_status geom_ray_scene_add_surface(geom_ray_scene *s, const geom_nurbs_surface *surf,
                                                 uint32_t *id, geom_diag *diag);
@@ -298,10 +304,11 @@ GEOM_API geom_status geom_ray_scene_add_surface(geom_ray_scene *s, const geom_nu
  * in the subdivision module): hits on the limit surface, approximated by
  * refining `levels` times (0 = 5) and moving the vertices onto the limit
  * (geom_subdiv_mesh with GEOM_SUBDIV_LIMIT | GEOM_SUBDIV_NORMALS), traced
- * as a watertight mesh; ns is the interpolated limit normal. The distance
- * between the traced surface and the limit surface is that of a linear
- * interpolant of limit points: O(h^2), measured (sampled) at the face
- * centres against the limit and reported by geom_ray_scene_object_error.
+ * as a watertight mesh; ns is the interpolated limit normal. The traced
+ * surface interpolates limit points linearly: its distance to the limit
+ * surface is O(h^2); geom_ray_scene_object_error reports, as an estimate
+ * (GEOM_ERROR_ESTIMATE), the largest distance of the level's control
+ * points to their limit positions, which is of the same order.
  * prim: face of the refined mesh. scheme: geom_subdiv_scheme value.
  */
 GEOM_API geom_status geom_ray_scene_add_subdiv(geom_ray_scene *s, const geom_mesh *m, int scheme,
@@ -313,10 +320,11 @@ GEOM_API geom_status geom_ray_scene_add_subdiv(geom_ray_scene *s, const geom_mes
  * over the box enclosing each ray segment: a segment whose interval
  * excludes 0 is discarded, others are split, near half first, down to
  * 1e-10 of the box diagonal), then bisection on a sign change to full
- * precision (t_error = the final bracket width). A segment with 0 in its
- * interval but no sign change at that size is a tangency, reported at its
- * midpoint. lipschitz > 0 (0: none) enables sphere tracing (step |f|/L)
- * first, with the interval method verifying the step-free part: only use a
+ * precision (t_error = the final bracket width). A segment of that size
+ * with 0 in its interval but no sign change at its ends (a tangency, or two
+ * roots closer than the tolerance) gives no hit. lipschitz > 0 (0: none)
+ * enables sphere tracing (steps of 0.999 |f|/L while f > 0) for closest and
+ * any queries, then the interval method from where it stopped: only use a
  * true bound L >= |grad f|.
  */
 GEOM_API geom_status geom_ray_scene_add_implicit(geom_ray_scene *s, const geom_implicit_expr *e,

@@ -61,6 +61,7 @@ typedef struct geom__tsurf {
     geom_aabb *pbox;
     double extent;          /* control points' bounding box diagonal */
     double pmag;            /* largest control point coordinate magnitude */
+    double wmax;            /* largest weight (1 if none) */
 } geom__tsurf;
 
 typedef struct geom__ray_node {
@@ -97,6 +98,11 @@ struct geom_ray_scene {
     size_t nroots, roots_cap;
     int roots_explicit;
     int built;
+    /* Top-level BVH over the bounded objects (when there are many). */
+    void *top;                 /* geom_bvh * or NULL */
+    uint32_t *top_obj;         /* BVH primitive -> object index */
+    uint32_t *unbounded;       /* objects tested on every ray (without top: all) */
+    size_t ntop, nunbounded;
 };
 
 /* The query of one node (in its parent's frame: the node's transform is
@@ -156,6 +162,12 @@ static inline double geom__dot(geom_vec3 a, geom_vec3 b) { return a.x * b.x + a.
 static inline geom_vec3 geom__unit(geom_vec3 a)
 {
     geom_vec3 u;
+    double l2 = a.x * a.x + a.y * a.y + a.z * a.z;
+    if (l2 > 1e-280 && l2 < 1e280) { /* fast path: no overflow or underflow possible */
+        double s = 1.0 / sqrt(l2);
+        u.x = a.x * s; u.y = a.y * s; u.z = a.z * s;
+        return u;
+    }
     if (geom_vec3_normalize(a, &u) != GEOM_OK) { u.x = 0; u.y = 0; u.z = 1; }
     return u;
 }

@@ -1,6 +1,7 @@
 /* Scenes: nodes of every representation with transforms, instances and CSG;
  * build; closest / any / all queries. */
 #include "ray/ray_internal.h"
+#include "geom/spatial.h"
 #include "geom/subdiv.h"
 
 #include <stdlib.h>
@@ -25,6 +26,17 @@ static void node_free(geom_ray_scene *s, geom__ray_node *nd)
     if (nd->members) geom_free(s->alloc, nd->members, nd->nmembers * sizeof *nd->members);
 }
 
+static void top_free(geom_ray_scene *s)
+{
+    geom_bvh_destroy(s->top);
+    if (s->top_obj) geom_free(s->alloc, s->top_obj, (s->ntop ? s->ntop : 1) * sizeof *s->top_obj);
+    if (s->unbounded) geom_free(s->alloc, s->unbounded, (s->nroots ? s->nroots : 1) * sizeof *s->unbounded);
+    s->top = NULL;
+    s->top_obj = NULL;
+    s->unbounded = NULL;
+    s->ntop = s->nunbounded = 0;
+}
+
 void geom_ray_scene_destroy(geom_ray_scene *s)
 {
     size_t i;
@@ -32,6 +44,7 @@ void geom_ray_scene_destroy(geom_ray_scene *s)
     for (i = 0; i < s->n; i++) node_free(s, &s->nodes[i]);
     if (s->nodes) geom_free(s->alloc, s->nodes, s->cap * sizeof *s->nodes);
     if (s->roots) geom_free(s->alloc, s->roots, s->roots_cap * sizeof *s->roots);
+    top_free(s);
     {
         const geom_allocator *a = s->alloc ? &s->alloc_store : NULL;
         geom_allocator copy;
@@ -824,6 +837,39 @@ geom_status geom_ray_scene_build(geom_ray_scene *s, const geom_ray_build_options
             if (!s->nodes[i].is_child) s->roots[n++] = (uint32_t)i;
         s->nroots = n;
     }
+    /* Objects: the bounded ones in a BVH when there are many, the others
+     * (planes, unclipped quadrics) tested on every ray. */
+    top_free(s);
+    s->unbounded = geom_alloc(s->alloc, (s->nroots ? s->nroots : 1) * sizeof *s->unbounded);
+    if (!s->unbounded) return GEOM_ERR_NOMEM;
+    if (s->nroots >= 8) {
+        geom_aabb *boxes = geom_alloc(s->alloc, s->nroots * sizeof *boxes);
+        geom_bvh_options bo;
+        geom_bvh *b = NULL;
+        s->top_obj = geom_alloc(s->alloc, s->nroots * sizeof *s->top_obj);
+        if (!boxes || !s->top_obj) {
+            if (boxes) geom_free(s->alloc, boxes, s->nroots * sizeof *boxes);
+            return GEOM_ERR_NOMEM;
+        }
+        for (i = 0; i < s->nroots; i++) {
+            const geom__ray_node *nd = &s->nodes[s->roots[i]];
+            if (!nd->bounded) {
+                s->unbounded[s->nunbounded++] = (uint32_t)i;
+            } else if (!geom_aabb_is_empty(nd->box)) {
+                boxes[s->ntop] = nd->box;
+                s->top_obj[s->ntop++] = (uint32_t)i;
+            }
+        }
+        memset(&bo, 0, sizeof bo);
+        bo.alloc = s->alloc;
+        bo.threads = opt ? opt->bvh_threads : 0;
+        st = geom_bvh_build_boxes(boxes, s->ntop, &bo, &b, diag);
+        geom_free(s->alloc, boxes, s->nroots * sizeof *boxes);
+        if (st != GEOM_OK) return st;
+        s->top = b;
+    } else {
+        for (i = 0; i < s->nroots; i++) s->unbounded[s->nunbounded++] = (uint32_t)i;
+    }
     s->built = 1;
     if (info) *info = inf;
     return GEOM_OK;
@@ -932,34 +978,59 @@ static void keep_closest(geom__hits *l, size_t from)
     l->n = from + 1;
 }
 
+/* Query top-level object i; 1 = stop (any hit found). Keeps the closest
+ * hit in slot 0 in closest mode (ties: the smaller object index). */
+static int visit(const geom_ray_scene *s, uint32_t i, geom_ray *q, int mode, geom__hits *out, geom_status *st)
+{
+    const geom__ray_node *nd = &s->nodes[s->roots[i]];
+    size_t start = out->n, j;
+    if (nd->bounded && !geom_ray_aabb(q, nd->box, NULL, NULL)) return 0;
+    *st = geom__ray_node_query(s, s->roots[i], q, mode, out);
+    if (*st != GEOM_OK) return 1;
+    for (j = start; j < out->n; j++) out->h[j].object = i;
+    if (mode == GEOM__RAY_ANY && out->n > 0) return 1;
+    if (mode == GEOM__RAY_CLOSEST && out->n > start) {
+        keep_closest(out, start);
+        if (start > 0) {
+            if (out->h[start].t < out->h[0].t || (out->h[start].t == out->h[0].t && i < out->h[0].object))
+                out->h[0] = out->h[start];
+            out->n = 1;
+        }
+        q->tmax = out->h[0].t;
+    }
+    return 0;
+}
+
 static geom_status run(const geom_ray_scene *s, const geom_ray *r, int mode, geom__hits *out)
 {
     geom_ray q = *r;
     size_t i;
-    geom_status st;
+    geom_status st = GEOM_OK;
     if (!s->built) return GEOM_ERR_INVALID_ARG;
     if ((st = geom_ray_check(r)) != GEOM_OK) return st;
     if (!(r->tmin <= r->tmax)) return GEOM_OK;
-    for (i = 0; i < s->nroots; i++) {
-        const geom__ray_node *nd = &s->nodes[s->roots[i]];
-        size_t start = out->n, j;
-        if (nd->bounded && !geom_ray_aabb(&q, nd->box, NULL, NULL)) continue;
-        st = geom__ray_node_query(s, s->roots[i], &q, mode, out);
-        if (st != GEOM_OK) return st;
-        for (j = start; j < out->n; j++) out->h[j].object = (uint32_t)i;
-        if (mode == GEOM__RAY_ANY && out->n > 0) return GEOM_OK;
-        if (mode == GEOM__RAY_CLOSEST && out->n > start) {
-            size_t prev = out->n;
-            (void)prev;
-            if (start > 0) {
-                /* Compare with the best so far (slot 0). */
-                keep_closest(out, start);
-                if (out->h[start].t < out->h[0].t) out->h[0] = out->h[start];
-                out->n = 1;
+    for (i = 0; i < s->nunbounded; i++)
+        if (visit(s, s->unbounded[i], &q, mode, out, &st)) return st;
+    if (s->top) {
+        size_t nn = 0;
+        const geom_bvh_node *nodes = geom_bvh_nodes(s->top, &nn);
+        const uint32_t *prims = geom_bvh_prim_indices(s->top, NULL);
+        uint32_t stack[256];
+        int sp = 0;
+        if (nn == 0) return GEOM_OK;
+        stack[sp++] = 0;
+        while (sp > 0) {
+            const geom_bvh_node *nd = &nodes[stack[--sp]];
+            if (!geom_ray_aabb(&q, nd->box, NULL, NULL)) continue;
+            if (nd->count == 0) {
+                if (sp + 2 > 256) return GEOM_ERR_LIMIT;
+                stack[sp++] = nd->index;
+                stack[sp++] = (uint32_t)(nd - nodes) + 1;
             } else {
-                keep_closest(out, 0);
+                uint32_t k;
+                for (k = 0; k < nd->count; k++)
+                    if (visit(s, s->top_obj[prims[nd->index + k]], &q, mode, out, &st)) return st;
             }
-            q.tmax = out->h[0].t;
         }
     }
     return GEOM_OK;

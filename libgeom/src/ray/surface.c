@@ -7,7 +7,7 @@
 #include "ray/ray_internal.h"
 #include "geom/curve.h"
 
-#define SURF_MAX_DEPTH 60
+#define SURF_MAX_DEPTH 90
 #define SURF_TOL 1e-12
 
 void geom__ray_surface_free(geom__tsurf *sf, const geom_allocator *alloc)
@@ -118,6 +118,9 @@ geom_status geom__ray_surface_build(geom__tsurf *sf, const geom_allocator *alloc
             all = geom_aabb_union(all, bx);
         }
     sf->extent = geom_vec3_length(geom_vec3_sub(all.max, all.min));
+    sf->wmax = 1;
+    if (s->weights)
+        for (i = 0; i < nu * nv; i++) sf->wmax = fmax(sf->wmax, s->weights[i]);
     sf->pmag = fmax(fmax(fmax(fabs(all.min.x), fabs(all.max.x)), fmax(fabs(all.min.y), fabs(all.max.y))),
                     fmax(fabs(all.min.z), fabs(all.max.z)));
 done:
@@ -287,7 +290,8 @@ geom_status geom__ray_surface(const geom__tsurf *sf, const geom_ray *r, int mode
                     }
                 }
             }
-            if (it.depth >= SURF_MAX_DEPTH || (wu < SURF_TOL && wv < SURF_TOL)) {
+            if (it.depth >= SURF_MAX_DEPTH || (wu < SURF_TOL && wv < SURF_TOL) ||
+                fmax(mxx - mnx, mxy - mny) <= 1e-10 * sf->extent * sf->wmax) {
                 /* Tangency: the region shrank without a Newton root of its own. */
                 double u = 0.5 * (it.u0 + it.u1), v = 0.5 * (it.v0 + it.v1), p[3];
                 int dup = 0;
@@ -305,7 +309,21 @@ geom_status geom__ray_surface(const geom__tsurf *sf, const geom_ray *r, int mode
                 continue;
             }
             {
-                int dir = (it.u1 - it.u0) / (dom[1] - dom[0]) >= (it.v1 - it.v0) / (dom[3] - dom[2]) ? 0 : 1;
+                /* Split where the projected net varies most (not the longer
+                 * parameter side): near a pole or a collapsed edge the
+                 * collapsed direction barely varies, and splitting it would
+                 * multiply the patches touching the ray without shrinking them. */
+                double varu = 0, varv = 0;
+                int a, b, dir;
+                for (a = 0; a <= pu; a++)
+                    for (b = 0; b <= pv; b++) {
+                        const double *q = net + 2 * ((size_t)a * (size_t)(pv + 1) + (size_t)b);
+                        if (a < pu) varu = fmax(varu, fabs(q[2 * (pv + 1)] - q[0]) + fabs(q[2 * (pv + 1) + 1] - q[1]));
+                        if (b < pv) varv = fmax(varv, fabs(q[2] - q[0]) + fabs(q[3] - q[1]));
+                    }
+                dir = varu >= varv ? 0 : 1;
+                if (wu < SURF_TOL) dir = 1;
+                if (wv < SURF_TOL) dir = 0;
                 sitem lo = it, hi = it;
                 size_t offh = sp, offl = sp + 1;
                 double *lon, *hin;
