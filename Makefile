@@ -12,12 +12,17 @@ deps:
 	@bash .ci/deps
 
 configure: deps
-	cmake -S . -B $(BUILD) -DGEOM_WERROR=ON $(CMAKE_FLAGS)
+	cmake -S . -B $(BUILD) -DGEOM_WERROR=ON -DGEOM_BUILD_TESTS=ON -DGEOM_VALIDATE=ON $(CMAKE_FLAGS)
 
 build: configure
 	cmake --build $(BUILD) -j $(JOBS)
 
-demo: build
+# The demo installs and builds only what it needs: the library and the tools
+# (no tests, no validation shim), with cJSON and libspng.
+demo:
+	@bash .ci/deps demo
+	cmake -S . -B $(BUILD) -DGEOM_WERROR=ON -DGEOM_BUILD_TESTS=OFF -DGEOM_VALIDATE=OFF $(CMAKE_FLAGS)
+	cmake --build $(BUILD) -j $(JOBS)
 	@bash tools/demo.sh $(BUILD)
 
 test: build

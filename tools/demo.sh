@@ -49,3 +49,13 @@ grep -c '^l ' "$out/cube_features.obj" | sed 's/^/polylines: /'
 "$bin/geom-clip" --plane 1,1,1,-1.5 --cap "$root/data/cube_seams.obj" -o "$out/cube_clipped.obj"
 "$bin/geom-info" "$out/cube_clipped.obj"
 
+
+section "pictures (geom-render): the teapot's 32 Bezier patches, a NURBS torus and a gyroid traced directly, a creased subdivision surface, a CSG part"
+for s in teapot nurbs_torus gyroid subdivision csg; do
+  "$bin/geom-render" "$root/data/scenes/$s.json" -o "$out/$s.png" | grep -E '^(time|rays|samples):' | sed "s/^/$s: /"
+done
+"$bin/geom-render" "$root/data/scenes/spheres.json" -o "$out/spheres_ray.png" | grep -E '^(time|objects):' | sed 's/^/spheres, ray: /'
+"$bin/geom-render" "$root/data/scenes/spheres.json" -o "$out/spheres_raster.png" --method raster | grep -E '^(time|objects|raster):' | sed 's/^/spheres, raster: /'
+"$bin/geom-scene" "$root/data/scenes/spheres.json" --export "$out/spheres.glb" | head -1
+echo "PNGs:"
+ls "$out"/*.png | sed 's/^/  /'

@@ -77,6 +77,16 @@ int gv_sisl_surface_eval(gv_sisl_surface *s, double u, double v, int d, double *
  */
 int gv_sisl_surface_point(gv_sisl_surface *s, double u, double v, double *p);
 
+/**
+ * s1856: every intersection point of the line point + t dir (3 doubles
+ * each) with the surface, as parameter pairs (u, v) into params (2*cap
+ * doubles), *n the number found (may exceed cap). eps: SISL's geometric
+ * tolerance. Returns GV_SISL_OK, or GV_SISL_ERR_SISL when SISL failed or
+ * found intersection curves (the line lies in the surface).
+ */
+int gv_sisl_line_surface(gv_sisl_surface *s, const double point[3], const double dir[3], double eps,
+                         double *params, size_t cap, size_t *n);
+
 /** One-shot: create, evaluate, destroy. */
 int gv_sisl_surface_derivs(int degree_u, int degree_v, size_t nu, size_t nv,
                            const double *knots_u, const double *knots_v, const double *points,

@@ -17,6 +17,7 @@ if(GEOM_SISL_LIBRARY AND GEOM_SISL_INCLUDE_DIR)
     $<$<BOOL:${GEOM_SISL_LIBM}>:${GEOM_SISL_LIBM}>)
   geom_validate_part(sisl SOURCES validate_sisl.cpp LIBS geom_validate_sisl_lib)
   geom_validate_test(test_validate_sisl.c MODULES curve surface)
+  geom_validate_test(test_validate_ray_sisl.c MODULES ray)
   # With the CGAL part too, the test also checks the teapot's watertight
   # body (and the sphere and torus) with CGAL's gv_soup_check.
   if("cgal" IN_LIST GEOM_VALIDATE_BUILT_PARTS)

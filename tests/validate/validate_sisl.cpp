@@ -4,6 +4,7 @@
 #include <sisl.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <new>
 #include <vector>
@@ -179,4 +180,32 @@ extern "C" int gv_sisl_surface_derivs(int degree_u, int degree_v, size_t nu, siz
     int rc = gv_sisl_surface_eval(s, u, v, d, ders);
     gv_sisl_surface_destroy(s);
     return rc;
+}
+
+extern "C" int gv_sisl_line_surface(gv_sisl_surface *s, const double point[3], const double dir[3],
+                                    double eps, double *params, size_t cap, size_t *n)
+{
+    if (!s || !point || !dir || !n || (cap && !params) || !(eps > 0))
+        return GV_SISL_ERR_INVALID;
+    *n = 0;
+    double P[3] = {point[0], point[1], point[2]}, D[3] = {dir[0], dir[1], dir[2]};
+    int jpt = 0, jcrv = 0, stat = 0;
+    double *gpar = nullptr;
+    SISLIntcurve **wcurve = nullptr;
+    s1856(s->surf, P, D, 3, 1e-15, eps, &jpt, &gpar, &jcrv, &wcurve, &stat);
+    if (stat < 0) {
+        std::free(gpar);
+        if (wcurve)
+            freeIntcrvlist(wcurve, jcrv);
+        return GV_SISL_ERR_SISL;
+    }
+    for (int i = 0; i < jpt && (size_t)i < cap; ++i) {
+        params[2 * i] = gpar[2 * i];
+        params[2 * i + 1] = gpar[2 * i + 1];
+    }
+    *n = (size_t)jpt;
+    std::free(gpar);
+    if (wcurve)
+        freeIntcrvlist(wcurve, jcrv);
+    return jcrv > 0 ? GV_SISL_ERR_SISL : GV_SISL_OK;
 }

@@ -12,6 +12,8 @@ Submodules:
   geom.curve     NurbsCurve (evaluation, derivatives, exact circles, ...)
   geom.surface   NurbsSurface, .bpt patches, tessellation to a Mesh
   geom.implicit  Expression, marching_cubes, read_volume, Volume
+  geom.ray       RayScene (closest / any / all hits of numpy ray arrays)
+  geom.scene     cameras: primary rays, projection to pixels
 
 Every error status of the C library raises geom.GeomError, which carries the
 status (``.code`` e.g. "ERR_PARSE", ``.name`` e.g. "parse error") and the
@@ -46,3 +48,10 @@ if has_module("implicit") and has_module("iso") and has_module("meshio"):
     from . import implicit  # noqa: E402
     from .implicit import Expression, Volume, marching_cubes, read_volume  # noqa: E402
     __all__ += ["implicit", "Expression", "Volume", "marching_cubes", "read_volume"]
+if has_module("ray"):
+    from . import ray  # noqa: E402
+    from .ray import RayScene  # noqa: E402
+    __all__ += ["ray", "RayScene"]
+if has_module("scene"):
+    from . import scene  # noqa: E402
+    __all__ += ["scene"]

@@ -33,7 +33,8 @@ MACROS = {
 }
 
 #: Modules in dependency order (as GEOM_ALL_MODULES).
-MODULE_ORDER = ("core", "bary", "mesh", "meshio", "curve", "surface", "subdiv", "implicit", "iso")
+MODULE_ORDER = ("core", "bary", "mesh", "meshio", "curve", "surface", "subdiv", "implicit", "iso",
+                "ray", "scene")
 
 CDEFS = {
     "core": """
@@ -117,6 +118,12 @@ typedef struct geom_aabb {
     geom_vec3 min;
     geom_vec3 max;
 } geom_aabb;
+typedef struct geom_ray {
+    geom_vec3 origin;
+    geom_vec3 dir;
+    double tmin;
+    double tmax;
+} geom_ray;
 """,
     "bary": """
 geom_status geom_bary_tri2(const double a[2], const double b[2], const double c[2], const double
@@ -793,6 +800,92 @@ const char *geom_implicit_volume_format_name(geom_implicit_volume_format f);
 void geom_implicit_volume_eval_many(const geom_implicit_volume *v, size_t n,
                                              const double *p, double *out, double *grad);
 """,
+    "ray": """
+typedef struct geom_ray_hit {
+    double t;
+    geom_vec3 point;
+    geom_vec3 ng;
+    geom_vec3 ns;
+    double u, v;
+    uint32_t prim;
+    uint32_t object;
+    double t_error;
+    geom_vec3 p_error;
+    int enter;
+} geom_ray_hit;
+geom_vec3 geom_ray_offset_origin(const geom_ray_hit *hit, geom_vec3 dir);
+geom_status geom_ray_check(const geom_ray *r);
+int geom_ray_triangle(const geom_ray *r, const double v0[3], const double v1[3],
+    const double v2[3], geom_ray_hit *hit);
+size_t geom_ray_poly_roots(const double *c, int deg, double lo, double hi, double *roots);
+typedef struct geom_ray_scene geom_ray_scene;
+geom_ray_scene *geom_ray_scene_create(const geom_allocator *alloc);
+void geom_ray_scene_destroy(geom_ray_scene *s);
+geom_status geom_ray_scene_add_plane(geom_ray_scene *s, const double point[3],
+    const double n[3], uint32_t *id);
+geom_status geom_ray_scene_add_box(geom_ray_scene *s, const double min[3],
+    const double max[3], uint32_t *id);
+geom_status geom_ray_scene_add_sphere(geom_ray_scene *s, const double center[3],
+    double radius, uint32_t *id);
+geom_status geom_ray_scene_add_quadric(geom_ray_scene *s, const double q[10],
+    const double clip[6], int capped, uint32_t *id);
+geom_status geom_ray_scene_add_torus(geom_ray_scene *s, double major, double minor,
+    uint32_t *id);
+geom_status geom_ray_scene_add_triangles(geom_ray_scene *s, const double *positions,
+    size_t nv, const uint32_t *tris, size_t nt, const double *normals, uint32_t *id);
+geom_status geom_ray_scene_set_transform(geom_ray_scene *s, uint32_t id, const double m[16]);
+typedef struct geom_ray_build_options {
+    int bvh_method;
+    int bvh_threads;
+} geom_ray_build_options;
+typedef struct geom_ray_build_info {
+    size_t meshes;
+    size_t triangles;
+    size_t bvh_nodes;
+    size_t bvh_bytes;
+    size_t bezier_patches;
+    size_t analytic;
+} geom_ray_build_info;
+geom_status geom_ray_scene_build(geom_ray_scene *s, const geom_ray_build_options *opt,
+    geom_ray_build_info *info, geom_diag *diag);
+geom_status geom_ray_scene_closest(const geom_ray_scene *s, const geom_ray *r,
+    geom_ray_hit *hit, int *found);
+geom_status geom_ray_scene_any(const geom_ray_scene *s, const geom_ray *r, int *found);
+geom_status geom_ray_scene_all(const geom_ray_scene *s, const geom_ray *r,
+    geom_ray_hit *hits, size_t cap, size_t *n);
+""",
+    "scene": """
+typedef enum geom_projection {
+    GEOM_PROJECTION_PERSPECTIVE = 0,
+    GEOM_PROJECTION_ORTHOGRAPHIC = 1
+} geom_projection;
+typedef enum geom_sampling {
+    GEOM_SAMPLING_REGULAR = 0,  /**< k x k grid, k = ceil(sqrt(samples)) */
+    GEOM_SAMPLING_JITTERED = 1, /**< k x k strata, one random point in each */
+    GEOM_SAMPLING_ADAPTIVE = 2  /**< refine pixels whose samples disagree */
+} geom_sampling;
+typedef struct geom_camera {
+    geom_vec3 eye, center, up;   /**< as gluLookAt; up (0,0,0) means (0,1,0) */
+    geom_projection projection;
+    double fovy_degrees;         /**< perspective vertical field of view; 0 = 45 */
+    double ortho_height;         /**< orthographic view height in world units; 0 = 2 */
+    uint32_t width, height;      /**< pixels; 0 = 320 x 240 */
+    uint32_t samples;            /**< per pixel for REGULAR/JITTERED; 0 = 1 */
+    geom_sampling sampling;
+    uint32_t max_samples;        /**< ADAPTIVE: per pixel at most; 0 = 64 */
+    double tolerance;            /**< ADAPTIVE: refine while the samples' standard
+                                      error exceeds this; 0 = 1/512 */
+    uint64_t seed;               /**< JITTERED/ADAPTIVE random stream; 0 = fixed default */
+} geom_camera;
+geom_camera geom_camera_resolved(const geom_camera *cam);
+geom_status geom_camera_ray(const geom_camera *cam, double x, double y, geom_ray *out);
+geom_status geom_camera_matrices(const geom_camera *cam, double near_z, double far_z,
+                                          geom_mat4 *view, geom_mat4 *proj);
+geom_status geom_camera_project(const geom_camera *cam, geom_vec3 p, double out[3]);
+double geom_camera_pixel_size(const geom_camera *cam, double depth);
+double geom_scene_pixel_tolerance(const geom_camera *cam, geom_aabb box,
+                                           double pixel_error, int *visible);
+""",
 }
 
 #: One function per module whose presence in the library tells that the
@@ -808,6 +901,8 @@ MODULE_PROBES = {
     "subdiv": "geom_subdiv_mesh",
     "iso": "geom_iso_extract",
     "implicit": "geom_implicit_expr_compile",
+    "ray": "geom_ray_scene_create",
+    "scene": "geom_camera_ray",
 }
 
 

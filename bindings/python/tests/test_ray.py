@@ -1,0 +1,53 @@
+"""geom.ray against closed forms: a sphere, a box, a torus and a closed
+triangle mesh (one hit from inside through its vertices)."""
+import math
+
+import numpy as np
+import pytest
+
+import geom
+
+pytestmark = pytest.mark.skipif(not geom.has_module("ray"), reason="ray module not built")
+
+
+def test_sphere_closest_and_all():
+    s = geom.RayScene()
+    s.add_sphere([1, 2, 3], 2.0)
+    s.build()
+    h = s.closest([1, 2, -10], [0, 0, 2])
+    assert h["hit"] and h["t"] == pytest.approx(5.5, abs=1e-14) and h["enter"]
+    assert np.allclose(h["normal"], [0, 0, -1])
+    hits = s.all([1, 2, -10], [0, 0, 2])
+    assert [x["enter"] for x in hits] == [True, False]
+    assert hits[1]["t"] == pytest.approx(7.5, abs=1e-14)
+    o = np.array([[1, 2, -10], [10, 10, 10], [np.nan, 0, 0]])
+    d = np.array([[0, 0, 1], [1, 0, 0], [0, 0, 1]])
+    r = s.closest(o, d)
+    assert list(r["hit"]) == [True, False, False] and list(r["valid"]) == [True, True, False]
+    assert list(s.any(o, d)) == [True, False, False]
+
+
+def test_torus_and_box():
+    s = geom.RayScene()
+    s.add_torus(2.0, 1.0)
+    b = s.add_box([10, -1, -1], [12, 1, 1])
+    s.build()
+    ts = [x["t"] for x in s.all([-5, 0, 0], [1, 0, 0])]
+    assert np.allclose(ts, [2, 4, 6, 8, 15, 17])
+    assert s.all([-5, 0, 0], [1, 0, 0])[4]["object"] == b
+
+
+def test_mesh_watertight():
+    # octahedron: rays from the centre through every vertex and edge midpoint hit once
+    p = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]], float)
+    t = np.array([[0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4],
+                  [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5]])
+    s = geom.RayScene()
+    s.add_triangles(p, t)
+    info = s.build()
+    assert info["triangles"] == 8
+    targets = list(p) + [(p[a] + p[b]) / 2 for tri in t for a, b in ((tri[0], tri[1]), (tri[1], tri[2]))]
+    for q in targets:
+        hits = s.all([0, 0, 0], q)
+        assert len(hits) == 1 and not hits[0]["enter"]
+        assert hits[0]["t"] == pytest.approx(1.0, abs=1e-15)

@@ -1,0 +1,124 @@
+/*
+ * libgeom spatial: spatial indices (BVH, kd-tree, quadtree, octree) and the
+ * queries a geometry user needs on them (nearest neighbours, radius, box,
+ * frustum, ordered ray traversal, closest point and signed distance to a
+ * triangle mesh).
+ *
+ * Contracts shared by every structure:
+ *  - builds are deterministic: the same input gives the same tree, node for
+ *    node, whatever the thread count (OpenMP is used where it pays; the
+ *    `threads` option only changes the speed);
+ *  - NaN/Inf coordinates are rejected with GEOM_ERR_INVALID_ARG and the index
+ *    of the first bad element in the diag message; nothing is built;
+ *  - nodes live in flat arrays (no per-node allocation); every structure has
+ *    `_destroy` (NULL is a no-op) and reports its depth and bytes;
+ *  - neighbour queries take the radius (not its square); a point at exactly
+ *    the radius is inside. Results are sorted by distance, ties broken by the
+ *    smaller index, so every answer is unique. Distances are computed as the
+ *    correctly rounded-per-operation sum of squared coordinate differences,
+ *    the same expression for every structure and for brute force, so results
+ *    agree exactly with a brute-force scan;
+ *  - boxes include their boundary.
+ */
+#ifndef GEOM_SPATIAL_H
+#define GEOM_SPATIAL_H
+
+#include "geom/core.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ====================================================================== BVH */
+
+/** Opaque bounding volume hierarchy. */
+typedef struct geom_bvh geom_bvh;
+
+/** Build algorithm of a BVH. */
+typedef enum geom_bvh_method {
+    GEOM_BVH_SAH = 0,  /**< binned surface area heuristic (Wald 2007) (default) */
+    GEOM_BVH_LBVH = 1  /**< Morton-code linear BVH (Lauterbach et al. 2009): fast build */
+} geom_bvh_method;
+
+/** BVH build options; valid when zero-initialised. */
+typedef struct geom_bvh_options {
+    geom_bvh_method method;      /**< 0 = GEOM_BVH_SAH */
+    uint32_t max_leaf_size;      /**< primitives per leaf at most; 0 = 4 */
+    uint32_t bins;               /**< SAH bins per axis; 0 = 16 (at most 256) */
+    int threads;                 /**< 0 = all available (OpenMP); the tree does not depend on it */
+    const geom_allocator *alloc; /**< NULL = malloc; copied, need not outlive the call */
+} geom_bvh_options;
+
+/**
+ * One node of the flat depth-first layout. Interior node i: count == 0, the
+ * left child is node i + 1, the right child is node `index`, and `axis` is
+ * the axis (0, 1, 2) the children were split along. Leaf: count >= 1 and its
+ * primitives are prim_index[index .. index + count). Boxes are conservative:
+ * they contain every primitive of the subtree exactly (computed in double
+ * from the primitive bounds with min/max only, no rounding).
+ */
+typedef struct geom_bvh_node {
+    geom_aabb box;
+    uint32_t index;
+    uint32_t count;
+    uint32_t axis;
+    uint32_t pad;
+} geom_bvh_node;
+
+/**
+ * BVH over triangles. positions: 3*nv doubles; tris: 3*nt vertex indices.
+ * Each triangle is bounded by the min/max of its three vertices.
+ * Returns GEOM_OK; GEOM_ERR_INVALID_ARG for NULL pointers, a vertex index
+ * >= nv, or a NaN/Inf coordinate (the diag names the first bad triangle and
+ * its vertex); GEOM_ERR_NOMEM; GEOM_ERR_LIMIT if nt >= 2^31. nt == 0 gives a
+ * valid BVH with zero nodes.
+ */
+GEOM_API geom_status geom_bvh_build_triangles(const double *positions, size_t nv,
+                                              const uint32_t *tris, size_t nt,
+                                              const geom_bvh_options *opt, geom_bvh **out,
+                                              geom_diag *diag);
+
+/**
+ * BVH over n boxes (primitive i is boxes[i]). Same statuses as
+ * geom_bvh_build_triangles; an empty box (min > max) or a NaN/Inf bound is
+ * GEOM_ERR_INVALID_ARG naming the first bad box.
+ */
+GEOM_API geom_status geom_bvh_build_boxes(const geom_aabb *boxes, size_t n,
+                                          const geom_bvh_options *opt, geom_bvh **out,
+                                          geom_diag *diag);
+
+/** Bounds callback: write the box of primitive i into *box. Called once per
+ *  primitive, possibly from several threads at once. */
+typedef void (*geom_bvh_bounds_fn)(void *user, size_t i, geom_aabb *box);
+
+/** BVH over n primitives whose boxes come from fn (see geom_bvh_build_boxes). */
+GEOM_API geom_status geom_bvh_build_callback(size_t n, geom_bvh_bounds_fn fn, void *user,
+                                             const geom_bvh_options *opt, geom_bvh **out,
+                                             geom_diag *diag);
+
+/**
+ * Refit after moving vertices: recompute every box bottom-up from the new
+ * positions, keeping the topology. nt must equal the primitive count the BVH
+ * was built with (and tris the same connectivity). Returns GEOM_OK,
+ * GEOM_ERR_INVALID_ARG (NULL, nt mismatch, bad index, NaN/Inf; the BVH is
+ * then left unchanged).
+ */
+GEOM_API geom_status geom_bvh_refit_triangles(geom_bvh *b, const double *positions, size_t nv,
+                                              const uint32_t *tris, size_t nt);
+
+/** Free a BVH. NULL is a no-op. */
+GEOM_API void geom_bvh_destroy(geom_bvh *b);
+/** The nodes (node 0 is the root); *count receives their number (may be NULL). */
+GEOM_API const geom_bvh_node *geom_bvh_nodes(const geom_bvh *b, size_t *count);
+/** Primitive indices referenced by the leaves; *count = primitive count. */
+GEOM_API const uint32_t *geom_bvh_prim_indices(const geom_bvh *b, size_t *count);
+/** Number of levels (0 for an empty BVH, 1 for a single leaf). */
+GEOM_API size_t geom_bvh_depth(const geom_bvh *b);
+/** Bytes held by the BVH (nodes, indices and the object itself). */
+GEOM_API size_t geom_bvh_bytes(const geom_bvh *b);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* GEOM_SPATIAL_H */

@@ -1,0 +1,184 @@
+/* Private declarations of the ray module. Not installed. */
+#ifndef GEOM_SRC_RAY_INTERNAL_H
+#define GEOM_SRC_RAY_INTERNAL_H
+
+#include "geom/ray.h"
+#include "core/internal.h"
+
+#include <float.h>
+#include <math.h>
+#include <string.h>
+
+/* Query modes of the per-kind functions. */
+enum { GEOM__RAY_CLOSEST = 0, GEOM__RAY_ANY = 1, GEOM__RAY_ALL = 2 };
+
+/* gamma(n) = n eps / (1 - n eps) (Higham), eps = 2^-53. */
+static inline double geom__gamma(int n)
+{
+    const double e = DBL_EPSILON * 0.5;
+    return (n * e) / (1.0 - n * e);
+}
+
+/* A growable list of hits with a small inline buffer: no allocation for
+ * the common closest/any queries. Never copied by value. */
+typedef struct geom__hits {
+    geom_ray_hit *h;
+    size_t n, cap;
+    const geom_allocator *alloc;
+    int heap;
+    int failed; /* an allocation failed: the list is incomplete */
+    geom_ray_hit local[8];
+} geom__hits;
+
+void geom__hits_init(geom__hits *l, const geom_allocator *alloc);
+void geom__hits_free(geom__hits *l);
+/* Append (returns the new slot, zeroed, or NULL when out of memory). */
+geom_ray_hit *geom__hits_push(geom__hits *l);
+/* Sort [from, n) by t, entering first on ties. */
+void geom__hits_sort(geom__hits *l, size_t from);
+
+/* Mesh data (mesh.c): triangles in a BVH from the spatial module. */
+typedef struct geom__tmesh {
+    double *pos;       /* 3*nv */
+    double *nrm;       /* 3*nv or NULL */
+    uint32_t *tri;     /* 3*nt */
+    uint32_t *face;    /* nt: face index reported as prim (NULL: identity) */
+    size_t nv, nt;
+    void *bvh;         /* geom_bvh * */
+    double *tv;        /* 9 doubles per triangle in BVH leaf order (v0, v1, v2) */
+    uint32_t *tid;     /* triangle index of each tv slot */
+} geom__tmesh;
+
+/* Surface data (surface.c). */
+typedef struct geom__tsurf {
+    geom_nurbs_surface s;   /* view of the owned arrays below */
+    double *knots_u, *knots_v, *points, *weights;
+    /* Bezier patches: np patches of (pu+1)*(pv+1) homogeneous points (4 doubles each),
+     * patch i covering [u0,u1]x[v0,v1] = dom[4i..4i+3]. */
+    size_t np;
+    double *hp;
+    double *dom;
+    geom_aabb *pbox;
+    double extent;          /* control points' bounding box diagonal */
+    double pmag;            /* largest control point coordinate magnitude */
+    double wmax;            /* largest weight (1 if none) */
+} geom__tsurf;
+
+typedef struct geom__ray_node {
+    geom_ray_kind kind;
+    char name[64];
+    int has_xf;
+    double m[16], minv[16];
+    double nm[9];          /* inverse transpose of m's 3x3 */
+    double mnorm;          /* max abs row sum of m's 3x3 (for error bounds) */
+    int is_child;          /* used by a CSG node */
+    int bounded;           /* box valid (else infinite) */
+    geom_aabb box;         /* in the parent frame (transform applied) */
+    double prm[24];        /* analytic parameters */
+    double *verts;         /* polygon vertices */
+    size_t nverts;
+    geom__tmesh *mesh;     /* mesh, subdiv */
+    geom__tsurf *surf;     /* surface */
+    const geom_implicit_expr *expr;
+    const geom_implicit_volume *vol;
+    uint32_t a, b;         /* CSG children / instance target */
+    uint32_t *members;     /* group */
+    size_t nmembers;
+    int op;
+    int capped;
+    geom_error_report err;
+} geom__ray_node;
+
+struct geom_ray_scene {
+    geom_allocator alloc_store;
+    const geom_allocator *alloc;
+    geom__ray_node *nodes;
+    size_t n, cap;
+    uint32_t *roots;
+    size_t nroots, roots_cap;
+    int roots_explicit;
+    int built;
+    /* Top-level BVH over the bounded objects (when there are many). */
+    void *top;                 /* geom_bvh * or NULL */
+    uint32_t *top_obj;         /* BVH primitive -> object index */
+    uint32_t *unbounded;       /* objects tested on every ray (without top: all) */
+    size_t ntop, nunbounded;
+};
+
+/* The query of one node (in its parent's frame: the node's transform is
+ * applied here), appending to out. Closest mode may prune with r->tmax. */
+geom_status geom__ray_node_query(const geom_ray_scene *s, uint32_t id, const geom_ray *r, int mode,
+                                 geom__hits *out);
+
+/* Per-kind queries, in the node's local frame. They append hits in
+ * [r->tmin, r->tmax] (all of them for ALL mode; at least the closest for
+ * CLOSEST; at least one for ANY). */
+geom_status geom__ray_plane(const geom__ray_node *nd, const geom_ray *r, int mode, geom__hits *out);
+geom_status geom__ray_disk(const geom__ray_node *nd, const geom_ray *r, int mode, geom__hits *out);
+geom_status geom__ray_box(const geom__ray_node *nd, const geom_ray *r, int mode, geom__hits *out);
+geom_status geom__ray_obox(const geom__ray_node *nd, const geom_ray *r, int mode, geom__hits *out);
+geom_status geom__ray_sphere(const geom__ray_node *nd, const geom_ray *r, int mode, geom__hits *out);
+geom_status geom__ray_quadric(const geom__ray_node *nd, const geom_ray *r, int mode, geom__hits *out);
+geom_status geom__ray_torus(const geom__ray_node *nd, const geom_ray *r, int mode, geom__hits *out);
+geom_status geom__ray_tri(const geom__ray_node *nd, const geom_ray *r, int mode, geom__hits *out);
+geom_status geom__ray_polygon(const geom__ray_node *nd, const geom_ray *r, int mode, geom__hits *out);
+geom_status geom__ray_mesh(const geom__tmesh *m, const geom_ray *r, int mode, geom__hits *out);
+geom_status geom__ray_surface(const geom__tsurf *sf, const geom_ray *r, int mode, geom__hits *out);
+geom_status geom__ray_implicit(const geom__ray_node *nd, const geom_ray *r, int mode, geom__hits *out);
+geom_status geom__ray_volume(const geom__ray_node *nd, const geom_ray *r, int mode, geom__hits *out);
+geom_status geom__ray_csg(const geom_ray_scene *s, const geom__ray_node *nd, const geom_ray *r,
+                          int mode, geom__hits *out);
+
+/* Build helpers. */
+geom_status geom__ray_mesh_build(geom__tmesh *m, const geom_ray_build_options *opt,
+                                 const geom_allocator *alloc, geom_diag *diag);
+void geom__ray_mesh_free(geom__tmesh *m, const geom_allocator *alloc);
+size_t geom__ray_mesh_bvh_nodes(const geom__tmesh *m, size_t *bytes);
+geom_aabb geom__ray_mesh_bounds(const geom__tmesh *m);
+geom_status geom__ray_surface_build(geom__tsurf *sf, const geom_allocator *alloc, geom_diag *diag);
+void geom__ray_surface_free(geom__tsurf *sf, const geom_allocator *alloc);
+
+/* Polynomial roots with per-coefficient absolute errors cerr (NULL: 0). */
+size_t geom__poly_roots(const double *c, const double *cerr, int deg, double lo, double hi,
+                        double *roots);
+
+/* The watertight triangle test with a precomputed ray shear. */
+typedef struct geom__wbw {
+    int kx, ky, kz;
+    double sx, sy, sz;
+    double o[3], d[3];
+} geom__wbw;
+void geom__wbw_setup(geom__wbw *w, const geom_ray *r);
+/* 1 on a hit with t in [tmin, tmax]; fills t, u, v (barycentrics of v1, v2) */
+int geom__wbw_test(const geom__wbw *w, const double *v0, const double *v1, const double *v2,
+                   double tmin, double tmax, double *t, double *b);
+/* Fill a triangle hit from the barycentrics b[3]. */
+void geom__tri_fill(const geom_ray *r, const double *v0, const double *v1, const double *v2,
+                    double t, const double *b, geom_ray_hit *h);
+
+/* Small vector helpers. */
+static inline geom_vec3 geom__v3(const double *p) { geom_vec3 v = {p[0], p[1], p[2]}; return v; }
+static inline double geom__dot(geom_vec3 a, geom_vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static inline geom_vec3 geom__unit(geom_vec3 a)
+{
+    geom_vec3 u;
+    double l2 = a.x * a.x + a.y * a.y + a.z * a.z;
+    if (l2 > 1e-280 && l2 < 1e280) { /* fast path: no overflow or underflow possible */
+        double s = 1.0 / sqrt(l2);
+        u.x = a.x * s; u.y = a.y * s; u.z = a.z * s;
+        return u;
+    }
+    if (geom_vec3_normalize(a, &u) != GEOM_OK) { u.x = 0; u.y = 0; u.z = 1; }
+    return u;
+}
+/* t error from the point's distance to the surface and the angle: the
+ * first-order bound (|dist| + point rounding) / |n.d|. */
+double geom__terr(const geom_ray *r, double t, double dist, geom_vec3 n);
+/* Point rounding bound for o + t d, per component. */
+geom_vec3 geom__perr_ray(const geom_ray *r, double t);
+/* Two orthonormal tangents of unit n. */
+void geom__frame(geom_vec3 n, geom_vec3 *t1, geom_vec3 *t2);
+/* Append a hit if t in range; returns the slot or NULL (out of range / no memory). */
+geom_ray_hit *geom__push_t(geom__hits *out, const geom_ray *r, double t);
+
+#endif

@@ -1,0 +1,355 @@
+/* The shapes of a ray-module scene: one representation, read back from the
+ * nodes the scene JSON parser made (library-internal view of the ray
+ * module's nodes). */
+#include "geom/scene.h"
+
+#include <string.h>
+
+#include "core/internal.h"
+#include "ray/ray_internal.h"
+
+struct geom_scene_shapes {
+    const geom_ray_scene *rs;
+    /* everything allocated, freed at destroy */
+    void **blocks;
+    size_t *sizes;
+    size_t nblocks, cap;
+    geom_mesh **meshes;
+    size_t nmeshes, mcap;
+    const geom_shape **top;
+    geom_ray_kind *top_kind;
+    size_t ntop;
+};
+
+static void *hold(geom_scene_shapes *h, size_t size)
+{
+    if (h->nblocks == h->cap) {
+        size_t nc = h->cap ? 2 * h->cap : 64;
+        void **nb = geom_realloc(NULL, h->blocks, h->cap * sizeof *nb, nc * sizeof *nb);
+        if (!nb)
+            return NULL;
+        h->blocks = nb;
+        size_t *ns = geom_realloc(NULL, h->sizes, h->cap * sizeof *ns, nc * sizeof *ns);
+        if (!ns)
+            return NULL;
+        h->sizes = ns;
+        h->cap = nc;
+    }
+    void *p = geom_alloc(NULL, size ? size : 1);
+    if (!p)
+        return NULL;
+    memset(p, 0, size ? size : 1);
+    h->blocks[h->nblocks] = p;
+    h->sizes[h->nblocks++] = size ? size : 1;
+    return p;
+}
+
+static geom_status keep_mesh(geom_scene_shapes *h, geom_mesh *m)
+{
+    if (h->nmeshes == h->mcap) {
+        size_t nc = h->mcap ? 2 * h->mcap : 16;
+        geom_mesh **nm = geom_realloc(NULL, h->meshes, h->mcap * sizeof *nm, nc * sizeof *nm);
+        if (!nm)
+            return GEOM_ERR_NOMEM;
+        h->meshes = nm;
+        h->mcap = nc;
+    }
+    h->meshes[h->nmeshes++] = m;
+    return GEOM_OK;
+}
+
+void geom_scene_shapes_destroy(geom_scene_shapes *h)
+{
+    if (!h)
+        return;
+    for (size_t i = 0; i < h->nblocks; i++)
+        geom_free(NULL, h->blocks[i], h->sizes[i]);
+    for (size_t i = 0; i < h->nmeshes; i++)
+        geom_mesh_destroy(h->meshes[i]);
+    geom_free(NULL, h->blocks, h->cap * sizeof *h->blocks);
+    geom_free(NULL, h->sizes, h->cap * sizeof *h->sizes);
+    geom_free(NULL, h->meshes, h->mcap * sizeof *h->meshes);
+    geom_free(NULL, h->top, (h->ntop ? h->ntop : 1) * sizeof *h->top);
+    geom_free(NULL, h->top_kind, (h->ntop ? h->ntop : 1) * sizeof *h->top_kind);
+    geom_free(NULL, h, sizeof *h);
+}
+
+static geom_mat4 mat_of(const double *m)
+{
+    geom_mat4 r;
+    memcpy(r.m, m, sizeof r.m);
+    return r;
+}
+
+/* A fresh transform = outer * node's own (either may be absent). */
+static const geom_mat4 *compose(geom_scene_shapes *h, const geom_mat4 *outer,
+                                const geom__ray_node *nd)
+{
+    if (!outer && !nd->has_xf)
+        return NULL;
+    geom_mat4 *m = hold(h, sizeof *m);
+    if (!m)
+        return NULL;
+    geom_mat4 own = nd->has_xf ? mat_of(nd->m) : geom_mat4_identity();
+    *m = outer ? geom_mat4_mul(*outer, own) : own;
+    return m;
+}
+
+static geom_status mesh_of(geom_scene_shapes *h, const geom__tmesh *t, geom_mesh **out)
+{
+    geom_mesh *m = geom_mesh_create(NULL);
+    if (!m)
+        return GEOM_ERR_NOMEM;
+    geom_status st = keep_mesh(h, m);
+    if (st != GEOM_OK) {
+        geom_mesh_destroy(m);
+        return st;
+    }
+    uint32_t *sizes = geom_alloc(NULL, (t->nt ? t->nt : 1) * sizeof *sizes);
+    if (!sizes)
+        return GEOM_ERR_NOMEM;
+    for (size_t i = 0; i < t->nt; i++)
+        sizes[i] = 3;
+    geom_mesh_build_options bo;
+    memset(&bo, 0, sizeof bo);
+    bo.keep_orientation = 1;
+    bo.skip_invalid_faces = 1;
+    st = geom_mesh_build(m, t->nv, t->pos, t->nt, sizes, t->tri, &bo, NULL, NULL);
+    geom_free(NULL, sizes, (t->nt ? t->nt : 1) * sizeof *sizes);
+    if (st == GEOM_OK && t->nrm && geom_mesh_n_vertices(m) >= t->nv) {
+        uint32_t id;
+        st = geom_mesh_channel_add(m, "normal", GEOM_MESH_DOMAIN_VERTEX, 3, &id);
+        if (st == GEOM_OK) {
+            double *d = geom_mesh_channel_data(m, id);
+            const uint32_t *org = geom_mesh_vertex_origin(m);
+            for (size_t v = 0; v < geom_mesh_n_vertices(m); v++) {
+                size_t o = org ? org[v] : v;
+                memcpy(d + 3 * v, t->nrm + 3 * o, 3 * sizeof(double));
+            }
+        }
+    }
+    *out = m;
+    return st;
+}
+
+static geom_status shape_of(geom_scene_shapes *h, uint32_t id, const geom_mat4 *outer, int depth,
+                            const geom_shape **out, geom_diag *diag)
+{
+    const geom_ray_scene *rs = h->rs;
+    if (id >= rs->n || depth > 64)
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+                             "scene: node %u out of range or nested too deeply", (unsigned)id);
+    const geom__ray_node *nd = &rs->nodes[id];
+    if (nd->kind == GEOM_RAY_INSTANCE) {
+        const geom_mat4 *m = compose(h, outer, nd);
+        if ((outer || nd->has_xf) && !m)
+            return GEOM_ERR_NOMEM;
+        return shape_of(h, nd->a, m, depth + 1, out, diag);
+    }
+    geom_shape *s = hold(h, sizeof *s);
+    if (!s)
+        return GEOM_ERR_NOMEM;
+    s->name = nd->name[0] ? nd->name : NULL;
+    s->transform = compose(h, outer, nd);
+    if ((outer || nd->has_xf) && !s->transform)
+        return GEOM_ERR_NOMEM;
+    geom_status st = GEOM_OK;
+    switch (nd->kind) {
+    case GEOM_RAY_SPHERE:
+        s->kind = GEOM_SHAPE_SPHERE;
+        memcpy(s->p, nd->prm, 3 * sizeof(double));
+        s->radius = nd->prm[3];
+        break;
+    case GEOM_RAY_BOX:
+        s->kind = GEOM_SHAPE_BOX;
+        memcpy(s->min, nd->prm, 3 * sizeof(double));
+        memcpy(s->max, nd->prm + 3, 3 * sizeof(double));
+        break;
+    case GEOM_RAY_OBOX: {
+        /* a box [-half, half] in the frame (axes, centre) */
+        s->kind = GEOM_SHAPE_BOX;
+        for (int k = 0; k < 3; k++) {
+            s->min[k] = -nd->prm[12 + k];
+            s->max[k] = nd->prm[12 + k];
+        }
+        geom_mat4 f = geom_mat4_identity();
+        for (int c = 0; c < 3; c++)
+            for (int r = 0; r < 3; r++)
+                f.m[4 * c + r] = nd->prm[3 + 3 * c + r];
+        for (int r = 0; r < 3; r++)
+            f.m[12 + r] = nd->prm[r];
+        geom_mat4 *m = hold(h, sizeof *m);
+        if (!m)
+            return GEOM_ERR_NOMEM;
+        *m = s->transform ? geom_mat4_mul(*s->transform, f) : f;
+        s->transform = m;
+        break;
+    }
+    case GEOM_RAY_PLANE:
+        s->kind = GEOM_SHAPE_PLANE;
+        memcpy(s->p, nd->prm, 3 * sizeof(double));
+        memcpy(s->n, nd->prm + 3, 3 * sizeof(double));
+        break;
+    case GEOM_RAY_DISK:
+        s->kind = GEOM_SHAPE_DISK;
+        memcpy(s->p, nd->prm, 3 * sizeof(double));
+        memcpy(s->n, nd->prm + 3, 3 * sizeof(double));
+        s->radius = nd->prm[6];
+        break;
+    case GEOM_RAY_QUADRIC:
+        s->kind = GEOM_SHAPE_QUADRIC;
+        memcpy(s->q, nd->prm, 10 * sizeof(double));
+        if (nd->prm[16] != 0) {
+            double *c = hold(h, 6 * sizeof(double));
+            if (!c)
+                return GEOM_ERR_NOMEM;
+            memcpy(c, nd->prm + 10, 6 * sizeof(double));
+            s->clip = c;
+            s->capped = nd->capped;
+        }
+        break;
+    case GEOM_RAY_TORUS:
+        s->kind = GEOM_SHAPE_TORUS;
+        s->major = nd->prm[0];
+        s->minor = nd->prm[1];
+        break;
+    case GEOM_RAY_TRIANGLE:
+        s->kind = GEOM_SHAPE_POLYGON;
+        s->vertices = nd->prm;
+        s->n_vertices = 3;
+        break;
+    case GEOM_RAY_POLYGON:
+        s->kind = GEOM_SHAPE_POLYGON;
+        s->vertices = nd->verts;
+        s->n_vertices = nd->nverts;
+        break;
+    case GEOM_RAY_MESH:
+    case GEOM_RAY_SUBDIV: {
+        geom_mesh *m = NULL;
+        if (!nd->mesh)
+            return GEOM_ERR_INVALID_ARG;
+        st = mesh_of(h, nd->mesh, &m);
+        s->kind = GEOM_SHAPE_MESH;
+        s->mesh = m;
+        break;
+    }
+    case GEOM_RAY_SURFACE:
+        s->kind = GEOM_SHAPE_SURFACE;
+        s->surfaces = &nd->surf->s;
+        s->n_surfaces = 1;
+        break;
+    case GEOM_RAY_IMPLICIT:
+        s->kind = GEOM_SHAPE_IMPLICIT;
+        s->expr = nd->expr;
+        memcpy(s->bounds, nd->prm, 6 * sizeof(double));
+        break;
+    case GEOM_RAY_VOLUME:
+        s->kind = GEOM_SHAPE_VOLUME;
+        s->volume = nd->vol;
+        s->iso = nd->prm[0];
+        break;
+    case GEOM_RAY_CSG:
+        s->kind = GEOM_SHAPE_CSG;
+        s->csg_op = nd->op;
+        if ((st = shape_of(h, nd->a, NULL, depth + 1, &s->a, diag)) == GEOM_OK)
+            st = shape_of(h, nd->b, NULL, depth + 1, &s->b, diag);
+        break;
+    case GEOM_RAY_GROUP: {
+        /* untransformed surfaces: one multi-surface shape (welded seams) */
+        int all_surf = 1;
+        for (size_t i = 0; i < nd->nmembers; i++) {
+            const geom__ray_node *c = &rs->nodes[nd->members[i]];
+            if (c->kind != GEOM_RAY_SURFACE || c->has_xf)
+                all_surf = 0;
+        }
+        if (all_surf) {
+            geom_nurbs_surface *ss = hold(h, nd->nmembers * sizeof *ss);
+            if (!ss)
+                return GEOM_ERR_NOMEM;
+            for (size_t i = 0; i < nd->nmembers; i++)
+                ss[i] = rs->nodes[nd->members[i]].surf->s;
+            s->kind = GEOM_SHAPE_SURFACE;
+            s->surfaces = ss;
+            s->n_surfaces = nd->nmembers;
+            break;
+        }
+        const geom_shape **mem = hold(h, nd->nmembers * sizeof *mem);
+        if (!mem)
+            return GEOM_ERR_NOMEM;
+        for (size_t i = 0; i < nd->nmembers && st == GEOM_OK; i++)
+            st = shape_of(h, nd->members[i], NULL, depth + 1, &mem[i], diag);
+        s->kind = GEOM_SHAPE_GROUP;
+        s->members = (const geom_shape *const *)mem;
+        s->n_members = nd->nmembers;
+        break;
+    }
+    default:
+        st = geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "scene: node %u of kind %s",
+                           (unsigned)id, geom_ray_kind_name(nd->kind));
+    }
+    *out = s;
+    return st;
+}
+
+geom_status geom_scene_shapes_from_ray(const geom_ray_scene *rs, geom_scene_shapes **out,
+                                       geom_diag *diag)
+{
+    if (!out)
+        return GEOM_ERR_INVALID_ARG;
+    *out = NULL;
+    if (!rs)
+        return GEOM_ERR_INVALID_ARG;
+    geom_scene_shapes *h = geom_alloc(NULL, sizeof *h);
+    if (!h)
+        return GEOM_ERR_NOMEM;
+    memset(h, 0, sizeof *h);
+    h->rs = rs;
+    size_t n = 0;
+    if (rs->roots_explicit)
+        n = rs->nroots;
+    else
+        for (size_t i = 0; i < rs->n; i++)
+            n += !rs->nodes[i].is_child;
+    h->top = geom_alloc(NULL, (n ? n : 1) * sizeof *h->top);
+    h->top_kind = geom_alloc(NULL, (n ? n : 1) * sizeof *h->top_kind);
+    h->ntop = n;
+    if (!h->top || !h->top_kind) {
+        geom_scene_shapes_destroy(h);
+        return GEOM_ERR_NOMEM;
+    }
+    geom_status st = GEOM_OK;
+    size_t k = 0;
+    for (size_t i = 0; st == GEOM_OK && (rs->roots_explicit ? k < n : i < rs->n); i++) {
+        uint32_t id;
+        if (rs->roots_explicit)
+            id = rs->roots[k];
+        else if (rs->nodes[i].is_child)
+            continue;
+        else
+            id = (uint32_t)i;
+        h->top_kind[k] = rs->nodes[id].kind;
+        st = shape_of(h, id, NULL, 0, &h->top[k], diag);
+        k++;
+    }
+    if (st != GEOM_OK) {
+        geom_scene_shapes_destroy(h);
+        return st;
+    }
+    *out = h;
+    return GEOM_OK;
+}
+
+size_t geom_scene_shapes_count(const geom_scene_shapes *s)
+{
+    return s ? s->ntop : 0;
+}
+
+const geom_shape *geom_scene_shapes_get(const geom_scene_shapes *s, size_t i)
+{
+    return s && i < s->ntop ? s->top[i] : NULL;
+}
+
+const char *geom_scene_shapes_kind_name(const geom_scene_shapes *s, size_t i)
+{
+    return s && i < s->ntop ? geom_ray_kind_name(s->top_kind[i]) : "unknown";
+}

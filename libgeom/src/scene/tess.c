@@ -1,0 +1,971 @@
+/* Tessellation of scene shapes to the tolerance a picture needs: exact
+ * NURBS through the surface module, planar shapes exactly, subdivision
+ * toward the limit, everything with an implicit form by marching cubes
+ * (iso module), CSG through the min/max of its children's implicit forms. */
+#include "geom/scene.h"
+#include "geom/iso.h"
+#include "geom/subdiv.h"
+
+#include <math.h>
+#include <string.h>
+#include <time.h>
+
+#include "core/internal.h"
+
+static double now(void)
+{
+    struct timespec ts;
+    timespec_get(&ts, TIME_UTC);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static const char *nm(const geom_shape *s)
+{
+    return s->name ? s->name : "(unnamed)";
+}
+
+static unsigned surf_attrs(unsigned a)
+{
+    unsigned f = 0;
+    if (a & (GEOM_NEEDS_NORMAL | GEOM_NEEDS_TANGENT))
+        f |= GEOM_SURFACE_ATTR_NORMAL;
+    if (a & (GEOM_NEEDS_UV | GEOM_NEEDS_TANGENT))
+        f |= GEOM_SURFACE_ATTR_UV;
+    if (a & GEOM_NEEDS_TANGENT)
+        f |= GEOM_SURFACE_ATTR_TANGENT;
+    return f;
+}
+
+static geom_status tess_nurbs(const geom_nurbs_surface *s, size_t n, const geom_tess_request *rq,
+                              geom_mesh *out, geom_tess_info *info, geom_diag *diag)
+{
+    geom_surface_tess_options o;
+    memset(&o, 0, sizeof o);
+    o.tolerance = rq->tol;
+    o.attributes = surf_attrs(rq->attributes);
+    o.uv_normalized = 1;
+    info->method = "nurbs";
+    return geom_surface_tessellate(s, n, &o, out, &info->error, NULL, diag);
+}
+
+/* Build a mesh of quads/polygons with per-corner normal and uv. */
+static geom_status build_polys(geom_mesh *out, size_t nv, const double *xyz, size_t nf,
+                               const uint32_t *sizes, const uint32_t *idx, const double *cn,
+                               const double *cuv, unsigned attrs, geom_diag *diag)
+{
+    geom_mesh_build_options bo;
+    memset(&bo, 0, sizeof bo);
+    bo.keep_orientation = 1;
+    geom_status st = geom_mesh_build(out, nv, xyz, nf, sizes, idx, &bo, NULL, diag);
+    if (st != GEOM_OK)
+        return st;
+    size_t nc = 0;
+    for (size_t f = 0; f < nf; f++)
+        nc += sizes[f];
+    uint32_t ids[2];
+    const char *names[2] = {"normal", "uv"};
+    const double *src[2] = {cn, cuv};
+    size_t comp[2] = {3, 2};
+    int want[2] = {(attrs & (GEOM_NEEDS_NORMAL | GEOM_NEEDS_TANGENT)) != 0,
+                   (attrs & (GEOM_NEEDS_UV | GEOM_NEEDS_TANGENT)) != 0};
+    for (int c = 0; c < 2; c++) {
+        if (!want[c] || !src[c])
+            continue;
+        if ((st = geom_mesh_channel_add(out, names[c], GEOM_MESH_DOMAIN_CORNER, comp[c], &ids[c])) ||
+            (st = geom_mesh_corner_pool_resize(out, ids[c], nc)))
+            return st;
+        memcpy(geom_mesh_channel_data(out, ids[c]), src[c], nc * comp[c] * sizeof(double));
+        uint32_t *ci = geom_mesh_corner_indices(out, ids[c]);
+        /* corner k of face f (in input order) is the halfedge pointing to
+         * idx[k]: walk each face from its first halfedge */
+        size_t k = 0;
+        for (uint32_t f = 0; f < nf; f++) {
+            uint32_t h0 = geom_mesh_face_he(out, f), h = h0;
+            /* find the halfedge whose vertex is the face's first input vertex */
+            for (size_t i = 0; i < sizes[f]; i++) {
+                if (geom_mesh_he_vertex(out, h) == idx[k])
+                    break;
+                h = geom_mesh_he_next(out, h);
+            }
+            for (size_t i = 0; i < sizes[f]; i++) {
+                ci[h] = (uint32_t)(k + i);
+                h = geom_mesh_he_next(out, h);
+            }
+            k += sizes[f];
+        }
+    }
+    if (attrs & GEOM_NEEDS_TANGENT && cuv)
+        st = geom_mesh_tangents(out, NULL);
+    return st;
+}
+
+static geom_status tess_box(const double mn[3], const double mx[3], unsigned attrs,
+                            geom_mesh *out, geom_diag *diag)
+{
+    double xyz[24 * 3], cn[24 * 3], cuv[24 * 2];
+    uint32_t sizes[6], idx[24];
+    /* faces -x, +x, -y, +y, -z, +z, counter-clockwise from outside */
+    for (int f = 0; f < 6; f++) {
+        int ax = f / 2, hi = f % 2, a1 = (ax + 1) % 3, a2 = (ax + 2) % 3;
+        static const int su[4] = {0, 1, 1, 0}, sv[4] = {0, 0, 1, 1};
+        sizes[f] = 4;
+        for (int c = 0; c < 4; c++) {
+            int cc = hi ? c : (4 - c) % 4; /* reverse winding on the low face */
+            int k = 4 * f + c;
+            double p[3];
+            p[ax] = hi ? mx[ax] : mn[ax];
+            p[a1] = su[cc] ? mx[a1] : mn[a1];
+            p[a2] = sv[cc] ? mx[a2] : mn[a2];
+            memcpy(xyz + 3 * k, p, sizeof p);
+            cn[3 * k] = cn[3 * k + 1] = cn[3 * k + 2] = 0;
+            cn[3 * k + ax] = hi ? 1 : -1;
+            cuv[2 * k] = su[cc];
+            cuv[2 * k + 1] = sv[cc];
+            idx[k] = (uint32_t)k;
+        }
+    }
+    return build_polys(out, 24, xyz, 6, sizes, idx, cn, cuv, attrs, diag);
+}
+
+static void frame_of(const double n[3], double t[3], double b[3], double nn[3])
+{
+    double l = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    nn[0] = n[0] / l;
+    nn[1] = n[1] / l;
+    nn[2] = n[2] / l;
+    double a[3] = {1, 0, 0};
+    if (fabs(nn[0]) > 0.9) {
+        a[0] = 0;
+        a[1] = 1;
+    }
+    /* t = normalize(a - (a.n) n), b = n x t */
+    double d = a[0] * nn[0] + a[1] * nn[1] + a[2] * nn[2];
+    for (int i = 0; i < 3; i++)
+        t[i] = a[i] - d * nn[i];
+    l = sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+    for (int i = 0; i < 3; i++)
+        t[i] /= l;
+    b[0] = nn[1] * t[2] - nn[2] * t[1];
+    b[1] = nn[2] * t[0] - nn[0] * t[2];
+    b[2] = nn[0] * t[1] - nn[1] * t[0];
+}
+
+/* Planar polygon (disk: n-gon from the tolerance; plane: square over the
+ * extent). */
+static geom_status tess_planar(const double *pts, size_t n, const double nrm[3], unsigned attrs,
+                               geom_mesh *out, geom_diag *diag)
+{
+    size_t bytes = n * 3 * sizeof(double);
+    double *cn = geom_alloc(NULL, bytes), *cuv = geom_alloc(NULL, n * 2 * sizeof(double));
+    uint32_t *idx = geom_alloc(NULL, n * sizeof(uint32_t));
+    geom_status st = GEOM_ERR_NOMEM;
+    if (cn && cuv && idx) {
+        double t[3], b[3], nn[3];
+        frame_of(nrm, t, b, nn);
+        for (size_t i = 0; i < n; i++) {
+            memcpy(cn + 3 * i, nn, sizeof nn);
+            const double *p = pts + 3 * i;
+            cuv[2 * i] = p[0] * t[0] + p[1] * t[1] + p[2] * t[2];
+            cuv[2 * i + 1] = p[0] * b[0] + p[1] * b[1] + p[2] * b[2];
+            idx[i] = (uint32_t)i;
+        }
+        uint32_t sz = (uint32_t)n;
+        st = build_polys(out, n, pts, 1, &sz, idx, cn, cuv, attrs, diag);
+        if (st == GEOM_OK)
+            st = geom_mesh_triangulate(out, NULL);
+    }
+    geom_free(NULL, cn, bytes);
+    geom_free(NULL, cuv, n * 2 * sizeof(double));
+    geom_free(NULL, idx, n * sizeof(uint32_t));
+    return st;
+}
+
+/* ------------------------------------------------------- implicit forms */
+
+static geom_vec3 to_local(const geom_shape *s, geom_vec3 p, int *ok)
+{
+    if (!s->transform)
+        return p;
+    geom_mat4 inv;
+    if (geom_mat4_inverse(*s->transform, &inv) != GEOM_OK) {
+        *ok = 0;
+        return p;
+    }
+    geom_vec3 q;
+    geom_mat4_transform_point(inv, p, &q);
+    return q;
+}
+
+static double quadric_f(const double *q, geom_vec3 p)
+{
+    double x = p.x, y = p.y, z = p.z;
+    return q[0] * x * x + q[1] * y * y + q[2] * z * z + 2 * q[3] * x * y + 2 * q[4] * y * z +
+           2 * q[5] * x * z + 2 * q[6] * x + 2 * q[7] * y + 2 * q[8] * z + q[9];
+}
+
+static double box_f(const double mn[3], const double mx[3], geom_vec3 p)
+{
+    double a[3] = {p.x, p.y, p.z}, r = -INFINITY;
+    for (int i = 0; i < 3; i++)
+        r = fmax(r, fabs(a[i] - 0.5 * (mn[i] + mx[i])) - 0.5 * (mx[i] - mn[i]));
+    return r;
+}
+
+/* Value of s's implicit form at p (parent frame), inside < 0. */
+static double shape_f(const geom_shape *s, geom_vec3 p)
+{
+    int ok = 1;
+    geom_vec3 q = to_local(s, p, &ok);
+    if (!ok)
+        return NAN;
+    switch (s->kind) {
+    case GEOM_SHAPE_SPHERE:
+        return geom_vec3_length(geom_vec3_sub(q, geom_vec3_make(s->p[0], s->p[1], s->p[2]))) - s->radius;
+    case GEOM_SHAPE_BOX:
+        return box_f(s->min, s->max, q);
+    case GEOM_SHAPE_TORUS: {
+        double a = hypot(q.x, q.y) - s->major;
+        return hypot(a, q.z) - s->minor;
+    }
+    case GEOM_SHAPE_PLANE:
+        return (q.x - s->p[0]) * s->n[0] + (q.y - s->p[1]) * s->n[1] + (q.z - s->p[2]) * s->n[2];
+    case GEOM_SHAPE_QUADRIC: {
+        double f = quadric_f(s->q, q);
+        if (s->clip && s->capped)
+            f = fmax(f, box_f(s->clip, s->clip + 3, q));
+        return f;
+    }
+    case GEOM_SHAPE_IMPLICIT: {
+        double a[3] = {q.x, q.y, q.z};
+        return geom_implicit_expr_eval(s->expr, a);
+    }
+    case GEOM_SHAPE_VOLUME: {
+        double a[3] = {q.x, q.y, q.z};
+        return geom_implicit_volume_eval(s->volume, a) - s->iso;
+    }
+    case GEOM_SHAPE_GROUP: {
+        double f = INFINITY;
+        for (size_t i = 0; i < s->n_members; i++)
+            f = fmin(f, shape_f(s->members[i], q));
+        return f;
+    }
+    case GEOM_SHAPE_CSG: {
+        double fa = shape_f(s->a, q), fb = shape_f(s->b, q);
+        if (s->csg_op == 1)
+            return fmin(fa, fb);
+        if (s->csg_op == 2)
+            return fmax(fa, fb);
+        return fmax(fa, -fb);
+    }
+    default:
+        return NAN;
+    }
+}
+
+/* Check that s has an implicit form; the first offending shape otherwise. */
+static const geom_shape *no_implicit(const geom_shape *s)
+{
+    switch (s->kind) {
+    case GEOM_SHAPE_SPHERE: case GEOM_SHAPE_BOX: case GEOM_SHAPE_TORUS: case GEOM_SHAPE_PLANE:
+    case GEOM_SHAPE_QUADRIC:
+        return NULL;
+    case GEOM_SHAPE_IMPLICIT:
+        return s->expr ? NULL : s;
+    case GEOM_SHAPE_VOLUME:
+        return s->volume ? NULL : s;
+    case GEOM_SHAPE_GROUP:
+        for (size_t i = 0; i < s->n_members; i++) {
+            const geom_shape *r = no_implicit(s->members[i]);
+            if (r)
+                return r;
+        }
+        return NULL;
+    case GEOM_SHAPE_CSG: {
+        if (!s->a || !s->b || s->csg_op < 1 || s->csg_op > 3)
+            return s;
+        const geom_shape *r = no_implicit(s->a);
+        return r ? r : no_implicit(s->b);
+    }
+    default:
+        return s;
+    }
+}
+
+static geom_aabb box_xform(geom_aabb b, const geom_mat4 *M)
+{
+    if (!M || geom_aabb_is_empty(b))
+        return b;
+    geom_aabb w = geom_aabb_empty();
+    for (int c = 0; c < 8; c++) {
+        geom_vec3 p = geom_vec3_make(c & 1 ? b.max.x : b.min.x, c & 2 ? b.max.y : b.min.y,
+                                     c & 4 ? b.max.z : b.min.z), q;
+        if (geom_mat4_transform_point(*M, p, &q) == GEOM_OK)
+            w = geom_aabb_extend(w, q);
+    }
+    return w;
+}
+
+static geom_aabb box_inter(geom_aabb a, geom_aabb b)
+{
+    geom_aabb r;
+    r.min = geom_vec3_make(fmax(a.min.x, b.min.x), fmax(a.min.y, b.min.y), fmax(a.min.z, b.min.z));
+    r.max = geom_vec3_make(fmin(a.max.x, b.max.x), fmin(a.max.y, b.max.y), fmin(a.max.z, b.max.z));
+    return r;
+}
+
+/* Bounds of s in its parent frame; `extent` (parent frame) for unbounded. */
+static geom_aabb shape_bounds(const geom_shape *s, geom_aabb extent)
+{
+    geom_aabb b = geom_aabb_empty(), inf;
+    inf.min = geom_vec3_make(-INFINITY, -INFINITY, -INFINITY);
+    inf.max = geom_vec3_make(INFINITY, INFINITY, INFINITY);
+    switch (s->kind) {
+    case GEOM_SHAPE_SPHERE:
+        b.min = geom_vec3_make(s->p[0] - s->radius, s->p[1] - s->radius, s->p[2] - s->radius);
+        b.max = geom_vec3_make(s->p[0] + s->radius, s->p[1] + s->radius, s->p[2] + s->radius);
+        break;
+    case GEOM_SHAPE_BOX:
+        b.min = geom_vec3_make(s->min[0], s->min[1], s->min[2]);
+        b.max = geom_vec3_make(s->max[0], s->max[1], s->max[2]);
+        break;
+    case GEOM_SHAPE_TORUS: {
+        double R = s->major + s->minor;
+        b.min = geom_vec3_make(-R, -R, -s->minor);
+        b.max = geom_vec3_make(R, R, s->minor);
+        break;
+    }
+    case GEOM_SHAPE_IMPLICIT:
+        b.min = geom_vec3_make(s->bounds[0], s->bounds[1], s->bounds[2]);
+        b.max = geom_vec3_make(s->bounds[3], s->bounds[4], s->bounds[5]);
+        break;
+    case GEOM_SHAPE_VOLUME:
+        b = geom_implicit_volume_bounds(s->volume);
+        break;
+    case GEOM_SHAPE_QUADRIC:
+        if (s->clip) {
+            b.min = geom_vec3_make(s->clip[0], s->clip[1], s->clip[2]);
+            b.max = geom_vec3_make(s->clip[3], s->clip[4], s->clip[5]);
+        } else
+            b = inf;
+        break;
+    case GEOM_SHAPE_CSG: {
+        geom_aabb ba = shape_bounds(s->a, inf), bb = shape_bounds(s->b, inf);
+        b = s->csg_op == 1 ? geom_aabb_union(ba, bb) : s->csg_op == 2 ? box_inter(ba, bb) : ba;
+        break;
+    }
+    case GEOM_SHAPE_GROUP:
+        for (size_t i = 0; i < s->n_members; i++)
+            b = geom_aabb_union(b, shape_bounds(s->members[i], inf));
+        break;
+    case GEOM_SHAPE_MESH:
+    case GEOM_SHAPE_SUBDIV:
+        if (s->mesh)
+            b = geom_mesh_bbox(s->mesh); /* the limit lies in the control hull */
+        break;
+    case GEOM_SHAPE_POLYGON:
+        for (size_t i = 0; s->vertices && i < s->n_vertices; i++)
+            b = geom_aabb_extend(b, geom_vec3_make(s->vertices[3 * i], s->vertices[3 * i + 1],
+                                                   s->vertices[3 * i + 2]));
+        break;
+    case GEOM_SHAPE_DISK:
+        b.min = geom_vec3_make(s->p[0] - s->radius, s->p[1] - s->radius, s->p[2] - s->radius);
+        b.max = geom_vec3_make(s->p[0] + s->radius, s->p[1] + s->radius, s->p[2] + s->radius);
+        break;
+    case GEOM_SHAPE_SURFACE: /* convex hull property (positive weights) */
+        for (size_t k = 0; s->surfaces && k < s->n_surfaces; k++) {
+            const geom_nurbs_surface *ns = &s->surfaces[k];
+            for (size_t i = 0; i < ns->nu * ns->nv; i++)
+                b = geom_aabb_extend(b, geom_vec3_make(ns->points[3 * i], ns->points[3 * i + 1],
+                                                       ns->points[3 * i + 2]));
+        }
+        break;
+    default:
+        b = inf;
+    }
+    if (geom_aabb_is_empty(b))
+        return b;
+    int unbounded = !isfinite(b.min.x) || !isfinite(b.min.y) || !isfinite(b.min.z) ||
+                    !isfinite(b.max.x) || !isfinite(b.max.y) || !isfinite(b.max.z);
+    if (!unbounded)
+        b = box_xform(b, s->transform);
+    else if (!geom_aabb_is_empty(extent) &&
+             geom_vec3_length(geom_vec3_sub(extent.max, extent.min)) > 0)
+        b = box_inter(b, extent); /* extent is in the parent frame */
+    return b;
+}
+
+/* The implicit form with each transform inverted once (marching cubes
+ * evaluates it millions of times). */
+typedef struct inode {
+    const geom_shape *s;
+    int has_inv;
+    geom_mat4 inv;
+    struct inode *a, *b;
+    struct inode **m;
+    size_t nm;
+} inode;
+
+static void inode_free(inode *n)
+{
+    if (!n)
+        return;
+    inode_free(n->a);
+    inode_free(n->b);
+    for (size_t i = 0; i < n->nm; i++)
+        inode_free(n->m[i]);
+    geom_free(NULL, n->m, n->nm * sizeof *n->m);
+    geom_free(NULL, n, sizeof *n);
+}
+
+static inode *inode_make(const geom_shape *s, int top)
+{
+    inode *n = geom_alloc(NULL, sizeof *n);
+    if (!n)
+        return NULL;
+    memset(n, 0, sizeof *n);
+    n->s = s;
+    if (s->transform && !top) {
+        if (geom_mat4_inverse(*s->transform, &n->inv) != GEOM_OK) {
+            geom_free(NULL, n, sizeof *n);
+            return NULL;
+        }
+        n->has_inv = 1;
+    }
+    int ok = 1;
+    if (s->kind == GEOM_SHAPE_CSG) {
+        n->a = inode_make(s->a, 0);
+        n->b = inode_make(s->b, 0);
+        ok = n->a && n->b;
+    } else if (s->kind == GEOM_SHAPE_GROUP && s->n_members) {
+        n->m = geom_alloc(NULL, s->n_members * sizeof *n->m);
+        ok = n->m != NULL;
+        if (ok) {
+            memset(n->m, 0, s->n_members * sizeof *n->m);
+            n->nm = s->n_members;
+            for (size_t i = 0; i < s->n_members && ok; i++)
+                ok = (n->m[i] = inode_make(s->members[i], 0)) != NULL;
+        }
+    }
+    if (!ok) {
+        inode_free(n);
+        return NULL;
+    }
+    return n;
+}
+
+static double inode_f(const inode *n, geom_vec3 p)
+{
+    if (n->has_inv)
+        geom_mat4_transform_point(n->inv, p, &p);
+    const geom_shape *s = n->s;
+    if (s->kind == GEOM_SHAPE_CSG) {
+        double fa = inode_f(n->a, p), fb = inode_f(n->b, p);
+        return s->csg_op == 1 ? fmin(fa, fb) : s->csg_op == 2 ? fmax(fa, fb) : fmax(fa, -fb);
+    }
+    if (s->kind == GEOM_SHAPE_GROUP) {
+        double f = INFINITY;
+        for (size_t i = 0; i < n->nm; i++)
+            f = fmin(f, inode_f(n->m[i], p));
+        return f;
+    }
+    geom_shape leaf = *s;
+    leaf.transform = NULL;
+    return shape_f(&leaf, p);
+}
+
+static double iso_value_cb(void *user, const double p[3])
+{
+    return inode_f((const inode *)user, geom_vec3_make(p[0], p[1], p[2]));
+}
+
+static geom_status tess_iso(const geom_shape *s, const geom_tess_request *rq, geom_mesh *out,
+                            geom_tess_info *info, geom_diag *diag)
+{
+    /* the result is in s's own frame: evaluate without s's own transform */
+    geom_shape local = *s;
+    local.transform = NULL;
+    geom_aabb b = shape_bounds(&local, rq->extent);
+    if (geom_aabb_is_empty(b) || !isfinite(b.min.x) || !isfinite(b.max.x) ||
+        !isfinite(b.min.y) || !isfinite(b.max.y) || !isfinite(b.min.z) || !isfinite(b.max.z))
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+                             "object %s: unbounded and no extent to cut it to", nm(s));
+    geom_vec3 d = geom_vec3_sub(b.max, b.min);
+    double diag_len = geom_vec3_length(d);
+    /* pad by a few percent so a surface touching the box is closed by caps */
+    double pad = 0.02 * diag_len + 1e-12;
+    double bounds[6] = {b.min.x - pad, b.min.y - pad, b.min.z - pad,
+                        b.max.x + pad, b.max.y + pad, b.max.z + pad};
+    double h = fmax(diag_len / 256, fmin(diag_len / 24, 8 * rq->tol));
+    geom_iso_field f;
+    memset(&f, 0, sizeof f);
+    inode *root = inode_make(&local, 1);
+    if (!root)
+        return GEOM_ERR_NOMEM;
+    f.value = iso_value_cb;
+    f.user = root;
+    f.exact = 1;
+    geom_iso_options o;
+    memset(&o, 0, sizeof o);
+    o.refine = 1;
+    o.normals = (rq->attributes & (GEOM_NEEDS_NORMAL | GEOM_NEEDS_TANGENT)) != 0;
+    o.caps = 1;
+    o.error = GEOM_ISO_ERROR_ALWAYS;
+    o.threads = 1;
+    geom_iso_surface surf;
+    geom_status st = GEOM_OK;
+    info->method = "iso";
+    for (int pass = 0; pass < 4; pass++) {
+        size_t res[3];
+        for (int i = 0; i < 3; i++) {
+            double ext = bounds[3 + i] - bounds[i];
+            double r = ceil(ext / h);
+            res[i] = r < 2 ? 2 : (r > 256 ? 256 : (size_t)r);
+        }
+        memset(&surf, 0, sizeof surf);
+        st = geom_iso_extract(&f, bounds, res, &o, &surf, diag);
+        if (st != GEOM_OK) {
+            inode_free(root);
+            return st;
+        }
+        info->error = surf.report.sample_error;
+        if (surf.report.vertex_error.max_error > info->error.max_error)
+            info->error.max_error = surf.report.vertex_error.max_error;
+        /* sharp CSG edges converge slowly in this measure: at most three
+         * passes and 256 cells per axis */
+        int done = info->error.max_error <= rq->tol ||
+                   (res[0] >= 256 || res[1] >= 256 || res[2] >= 256) || pass == 2;
+        if (done)
+            break;
+        geom_iso_surface_free(&surf);
+        h *= 0.5;
+    }
+    inode_free(root);
+    st = geom_iso_surface_to_mesh(&surf, out, diag);
+    geom_iso_surface_free(&surf);
+    return st;
+}
+
+static geom_status tess_subdiv(const geom_shape *s, const geom_tess_request *rq, geom_mesh *out,
+                               geom_tess_info *info, geom_diag *diag)
+{
+    geom_subdiv_options o;
+    memset(&o, 0, sizeof o);
+    o.scheme = (geom_subdiv_scheme)s->scheme;
+    info->method = "subdiv";
+    int level = 1;
+    geom_subdiv_report rep;
+    for (; level < 7; level++) {
+        geom_mesh *tmp = NULL;
+        geom_status st = geom_subdiv_mesh(s->mesh, &o, level, 0, &tmp, &rep, diag);
+        geom_mesh_destroy(tmp);
+        if (st != GEOM_OK)
+            return st;
+        if (rep.max_limit_distance <= rq->tol)
+            break;
+    }
+    info->error.max_error = rep.max_limit_distance;
+    info->error.mean_error = rep.rms_limit_distance;
+    info->error.method = GEOM_ERROR_ESTIMATE;
+    geom_mesh *res = NULL;
+    unsigned flags = GEOM_SUBDIV_LIMIT;
+    if (rq->attributes & (GEOM_NEEDS_NORMAL | GEOM_NEEDS_TANGENT))
+        flags |= GEOM_SUBDIV_NORMALS;
+    geom_status st = geom_subdiv_mesh(s->mesh, &o, level, flags, &res, NULL, diag);
+    if (st != GEOM_OK)
+        return st;
+    /* move the result into out */
+    geom_mesh_clear(out);
+    size_t nf = geom_mesh_n_faces(res), ni = 0;
+    st = geom_mesh_to_soup(res, NULL, NULL, &ni);
+    uint32_t *sizes = geom_alloc(NULL, (nf + 1) * sizeof(uint32_t));
+    uint32_t *idx = geom_alloc(NULL, (ni + 1) * sizeof(uint32_t));
+    if (!sizes || !idx)
+        st = GEOM_ERR_NOMEM;
+    if (st == GEOM_OK)
+        st = geom_mesh_to_soup(res, sizes, idx, &ni);
+    if (st == GEOM_OK) {
+        geom_mesh_build_options bo;
+        memset(&bo, 0, sizeof bo);
+        bo.keep_orientation = 1;
+        st = geom_mesh_build(out, geom_mesh_n_vertices(res), geom_mesh_cpositions(res),
+                             geom_mesh_n_live_faces(res), sizes, idx, &bo, NULL, diag);
+    }
+    uint32_t nid = geom_mesh_channel_find(res, "normal", GEOM_MESH_DOMAIN_VERTEX), oid;
+    if (st == GEOM_OK && nid != GEOM_INVALID_INDEX &&
+        geom_mesh_n_vertices(out) == geom_mesh_n_vertices(res) &&
+        (st = geom_mesh_channel_add(out, "normal", GEOM_MESH_DOMAIN_VERTEX, 3, &oid)) == GEOM_OK)
+        memcpy(geom_mesh_channel_data(out, oid), geom_mesh_channel_cdata(res, nid),
+               3 * geom_mesh_n_vertices(res) * sizeof(double));
+    geom_free(NULL, sizes, (nf + 1) * sizeof(uint32_t));
+    geom_free(NULL, idx, (ni + 1) * sizeof(uint32_t));
+    geom_mesh_destroy(res);
+    return st;
+}
+
+/* A group: its members tessellated (their transforms applied) and joined
+ * into one mesh (positions and vertex normals; corner channels dropped). */
+static geom_status tess_group(const geom_shape *s, const geom_tess_request *rq, geom_mesh *out,
+                              geom_tess_info *info, geom_diag *diag)
+{
+    size_t nv = 0, nf = 0, ni = 0, capv = 0, capf = 0, capi = 0;
+    double *xyz = NULL;
+    uint32_t *sizes = NULL, *idx = NULL;
+    geom_status st = GEOM_OK;
+    info->method = "group";
+    for (size_t k = 0; k < s->n_members && st == GEOM_OK; k++) {
+        geom_mesh *m = geom_mesh_create(NULL);
+        geom_tess_info mi;
+        geom_tess_request r2 = *rq;
+        r2.attributes = 0;
+        if (!m)
+            return GEOM_ERR_NOMEM;
+        st = geom_scene_tessellate(s->members[k], &r2, m, &mi, diag);
+        if (st == GEOM_OK && s->members[k]->transform)
+            st = geom_scene_mesh_transform(m, *s->members[k]->transform);
+        if (mi.error.max_error > info->error.max_error)
+            info->error = mi.error;
+        size_t mv = geom_mesh_n_vertices(m), mf = geom_mesh_n_live_faces(m), mi_n = 0;
+        if (st == GEOM_OK)
+            st = geom_mesh_to_soup(m, NULL, NULL, &mi_n);
+        if (st == GEOM_OK && (nv + mv > capv || nf + mf > capf || ni + mi_n > capi)) {
+            size_t cv = 2 * (nv + mv) + 16, cf = 2 * (nf + mf) + 16, ci = 2 * (ni + mi_n) + 16;
+            double *a = geom_realloc(NULL, xyz, 3 * capv * sizeof *a, 3 * cv * sizeof *a);
+            if (a) { xyz = a; capv = cv; }
+            uint32_t *b = geom_realloc(NULL, sizes, capf * sizeof *b, cf * sizeof *b);
+            if (b) { sizes = b; capf = cf; }
+            uint32_t *c = geom_realloc(NULL, idx, capi * sizeof *c, ci * sizeof *c);
+            if (c) { idx = c; capi = ci; }
+            if (!a || !b || !c)
+                st = GEOM_ERR_NOMEM;
+        }
+        if (st == GEOM_OK)
+            st = geom_mesh_to_soup(m, sizes + nf, idx + ni, &mi_n);
+        if (st == GEOM_OK) {
+            memcpy(xyz + 3 * nv, geom_mesh_cpositions(m), 3 * mv * sizeof(double));
+            for (size_t i = 0; i < mi_n; i++)
+                idx[ni + i] += (uint32_t)nv;
+            nv += mv;
+            nf += mf;
+            ni += mi_n;
+        }
+        geom_mesh_destroy(m);
+    }
+    if (st == GEOM_OK) {
+        geom_mesh_build_options bo;
+        memset(&bo, 0, sizeof bo);
+        bo.keep_orientation = 1;
+        st = geom_mesh_build(out, nv, xyz, nf, sizes, idx, &bo, NULL, diag);
+    }
+    if (st == GEOM_OK && (rq->attributes & (GEOM_NEEDS_NORMAL | GEOM_NEEDS_TANGENT))) {
+        uint32_t id;
+        st = geom_mesh_channel_add(out, "normal", GEOM_MESH_DOMAIN_VERTEX, 3, &id);
+        if (st == GEOM_OK)
+            st = geom_mesh_vertex_normals(out, GEOM_NORMAL_WEIGHT_ANGLE,
+                                          geom_mesh_channel_data(out, id), NULL);
+    }
+    geom_free(NULL, xyz, 3 * capv * sizeof(double));
+    geom_free(NULL, sizes, capf * sizeof(uint32_t));
+    geom_free(NULL, idx, capi * sizeof(uint32_t));
+    return st;
+}
+
+geom_status geom_scene_tessellate(const geom_shape *s, const geom_tess_request *rq, geom_mesh *out,
+                                  geom_tess_info *info_out, geom_diag *diag)
+{
+    geom_tess_info info;
+    memset(&info, 0, sizeof info);
+    if (info_out)
+        memset(info_out, 0, sizeof *info_out);
+    if (!s || !rq || !out || !(rq->tol > 0) || !isfinite(rq->tol))
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+                             "tessellation needs a shape, an output mesh and a tolerance > 0");
+    double t0 = now();
+    geom_status st = GEOM_OK;
+    unsigned attrs = rq->attributes;
+    info.method = "exact";
+    info.error.method = GEOM_ERROR_BOUND;
+    switch (s->kind) {
+    case GEOM_SHAPE_SPHERE: {
+        double ku[12], kv[8], pts[135], w[45];
+        geom_surface_frame fr;
+        memset(&fr, 0, sizeof fr);
+        memcpy(fr.center, s->p, sizeof fr.center);
+        fr.zaxis[2] = 1;
+        fr.xaxis[0] = 1;
+        geom_nurbs_surface ns;
+        st = geom_surface_sphere(&fr, s->radius, ku, kv, pts, w, &ns);
+        if (st == GEOM_OK)
+            st = tess_nurbs(&ns, 1, rq, out, &info, diag);
+        break;
+    }
+    case GEOM_SHAPE_TORUS: {
+        double ku[12], kv[12], pts[243], w[81];
+        geom_nurbs_surface ns;
+        st = geom_surface_torus(NULL, s->major, s->minor, ku, kv, pts, w, &ns);
+        if (st == GEOM_OK)
+            st = tess_nurbs(&ns, 1, rq, out, &info, diag);
+        break;
+    }
+    case GEOM_SHAPE_SURFACE:
+        if (!s->surfaces || !s->n_surfaces)
+            st = GEOM_ERR_INVALID_ARG;
+        else
+            st = tess_nurbs(s->surfaces, s->n_surfaces, rq, out, &info, diag);
+        break;
+    case GEOM_SHAPE_BOX:
+        st = tess_box(s->min, s->max, attrs, out, diag);
+        break;
+    case GEOM_SHAPE_POLYGON:
+        if (!s->vertices || s->n_vertices < 3)
+            st = GEOM_ERR_INVALID_ARG;
+        else {
+            double a[3] = {0, 0, 0};
+            for (size_t i = 0; i < s->n_vertices; i++) { /* Newell */
+                const double *p = s->vertices + 3 * i, *q = s->vertices + 3 * ((i + 1) % s->n_vertices);
+                a[0] += (p[1] - q[1]) * (p[2] + q[2]);
+                a[1] += (p[2] - q[2]) * (p[0] + q[0]);
+                a[2] += (p[0] - q[0]) * (p[1] + q[1]);
+            }
+            if (a[0] == 0 && a[1] == 0 && a[2] == 0)
+                st = GEOM_ERR_DEGENERATE;
+            else
+                st = tess_planar(s->vertices, s->n_vertices, a, attrs, out, diag);
+            info.method = "polygon";
+        }
+        break;
+    case GEOM_SHAPE_DISK: {
+        double c = 1 - rq->tol / s->radius;
+        size_t n = c <= -1 ? 8 : (size_t)ceil(GEOM_PI / acos(c > -1 ? c : -1));
+        if (n < 8)
+            n = 8;
+        if (n > 65536)
+            n = 65536;
+        double *pts = geom_alloc(NULL, 3 * n * sizeof(double));
+        if (!pts) {
+            st = GEOM_ERR_NOMEM;
+            break;
+        }
+        double t[3], b[3], nn[3];
+        frame_of(s->n, t, b, nn);
+        for (size_t i = 0; i < n; i++) {
+            double a = 2 * GEOM_PI * (double)i / (double)n;
+            for (int k = 0; k < 3; k++)
+                pts[3 * i + k] = s->p[k] + s->radius * (cos(a) * t[k] + sin(a) * b[k]);
+        }
+        st = tess_planar(pts, n, nn, attrs, out, diag);
+        geom_free(NULL, pts, 3 * n * sizeof(double));
+        info.error.max_error = s->radius * (1 - cos(GEOM_PI / (double)n));
+        info.method = "polygon";
+        break;
+    }
+    case GEOM_SHAPE_PLANE: {
+        geom_aabb e = rq->extent;
+        if (geom_aabb_is_empty(e) || geom_vec3_length(geom_vec3_sub(e.max, e.min)) == 0) {
+            st = geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+                               "object %s: an unbounded plane needs an extent", nm(s));
+            break;
+        }
+        geom_vec3 c = geom_vec3_scale(geom_vec3_add(e.min, e.max), 0.5);
+        double R = geom_vec3_length(geom_vec3_sub(e.max, e.min));
+        double t[3], b[3], nn[3], pts[12];
+        frame_of(s->n, t, b, nn);
+        /* centre: the extent's centre projected on the plane */
+        double dd = (c.x - s->p[0]) * nn[0] + (c.y - s->p[1]) * nn[1] + (c.z - s->p[2]) * nn[2];
+        double pc[3] = {c.x - dd * nn[0], c.y - dd * nn[1], c.z - dd * nn[2]};
+        static const double su[4] = {-1, 1, 1, -1}, sv[4] = {-1, -1, 1, 1};
+        for (int i = 0; i < 4; i++)
+            for (int k = 0; k < 3; k++)
+                pts[3 * i + k] = pc[k] + R * (su[i] * t[k] + sv[i] * b[k]);
+        st = tess_planar(pts, 4, nn, attrs, out, diag);
+        break;
+    }
+    case GEOM_SHAPE_MESH:
+        if (!s->mesh) {
+            st = GEOM_ERR_INVALID_ARG;
+            break;
+        }
+        {
+            geom_mesh *c = NULL;
+            st = geom_mesh_clone(s->mesh, &c);
+            if (st == GEOM_OK) {
+                /* replace out's contents: swap through a soup-free copy */
+                geom_mesh_clear(out);
+                size_t ni = 0, nf = geom_mesh_n_live_faces(c);
+                st = geom_mesh_to_soup(c, NULL, NULL, &ni);
+                uint32_t *sz = geom_alloc(NULL, (nf + 1) * sizeof(uint32_t));
+                uint32_t *ix = geom_alloc(NULL, (ni + 1) * sizeof(uint32_t));
+                if (!sz || !ix)
+                    st = GEOM_ERR_NOMEM;
+                if (st == GEOM_OK)
+                    st = geom_mesh_to_soup(c, sz, ix, &ni);
+                if (st == GEOM_OK) {
+                    geom_mesh_build_options bo;
+                    memset(&bo, 0, sizeof bo);
+                    bo.keep_orientation = 1;
+                    st = geom_mesh_build(out, geom_mesh_n_vertices(c), geom_mesh_cpositions(c), nf,
+                                         sz, ix, &bo, NULL, diag);
+                }
+                geom_free(NULL, sz, (nf + 1) * sizeof(uint32_t));
+                geom_free(NULL, ix, (ni + 1) * sizeof(uint32_t));
+                geom_mesh_destroy(c);
+            }
+            info.method = "mesh";
+            info.error.method = GEOM_ERROR_NONE;
+        }
+        break;
+    case GEOM_SHAPE_SUBDIV:
+        if (!s->mesh)
+            st = GEOM_ERR_INVALID_ARG;
+        else
+            st = tess_subdiv(s, rq, out, &info, diag);
+        break;
+    case GEOM_SHAPE_GROUP:
+        st = tess_group(s, rq, out, &info, diag);
+        break;
+    case GEOM_SHAPE_QUADRIC:
+    case GEOM_SHAPE_IMPLICIT:
+    case GEOM_SHAPE_VOLUME:
+    case GEOM_SHAPE_CSG: {
+        const geom_shape *bad = no_implicit(s);
+        if (bad) {
+            st = geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+                               "object %s: CSG needs an implicit form, and %s (a %s) has none",
+                               nm(s), nm(bad),
+                               bad->kind == GEOM_SHAPE_MESH ? "mesh"
+                               : bad->kind == GEOM_SHAPE_SURFACE ? "surface"
+                               : bad->kind == GEOM_SHAPE_SUBDIV ? "subdivision surface"
+                               : "polygon or disk");
+            break;
+        }
+        st = tess_iso(s, rq, out, &info, diag);
+        break;
+    }
+    default:
+        st = geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "object %s: unknown kind %d",
+                           nm(s), (int)s->kind);
+    }
+    if (st == GEOM_OK && (attrs & GEOM_NEEDS_TANGENT) &&
+        geom_mesh_channel_find(out, "tangent", GEOM_MESH_DOMAIN_CORNER) == GEOM_INVALID_INDEX &&
+        geom_mesh_channel_find(out, "uv", GEOM_MESH_DOMAIN_CORNER) != GEOM_INVALID_INDEX)
+        st = geom_mesh_tangents(out, NULL);
+    info.triangles = 0;
+    if (st == GEOM_OK) {
+        size_t nf = geom_mesh_n_faces(out);
+        for (uint32_t f = 0; f < nf; f++)
+            if (!geom_mesh_face_is_deleted(out, f))
+                info.triangles += geom_mesh_face_valence(out, f) - 2;
+    }
+    info.seconds = now() - t0;
+    if (info_out)
+        *info_out = info;
+    return st;
+}
+
+geom_status geom_scene_mesh_transform(geom_mesh *m, geom_mat4 M)
+{
+    if (!m)
+        return GEOM_ERR_INVALID_ARG;
+    geom_mat3 nmat;
+    geom_status st = geom_mat4_normal_matrix(M, &nmat);
+    if (st != GEOM_OK)
+        return st;
+    double *p = geom_mesh_positions(m);
+    for (size_t v = 0; v < geom_mesh_n_vertices(m); v++) {
+        geom_vec3 q;
+        geom_mat4_transform_point(M, geom_vec3_make(p[3 * v], p[3 * v + 1], p[3 * v + 2]), &q);
+        p[3 * v] = q.x;
+        p[3 * v + 1] = q.y;
+        p[3 * v + 2] = q.z;
+    }
+    size_t nc = geom_mesh_channel_count(m);
+    for (uint32_t c = 1; c < nc; c++) {
+        const char *name = geom_mesh_channel_name(m, c);
+        int is_n = !strcmp(name, "normal"), is_t = !strcmp(name, "tangent");
+        if (!is_n && !is_t)
+            continue;
+        size_t k = geom_mesh_channel_ncomp(m, c), n = geom_mesh_channel_size(m, c);
+        if (k < 3)
+            continue;
+        double *d = geom_mesh_channel_data(m, c);
+        for (size_t i = 0; i < n; i++) {
+            geom_vec3 a = geom_vec3_make(d[k * i], d[k * i + 1], d[k * i + 2]), b;
+            a = is_n ? geom_mat3_mul_vec3(nmat, a) : geom_mat4_transform_dir(M, a);
+            if (geom_vec3_normalize(a, &b) != GEOM_OK)
+                b = a;
+            d[k * i] = b.x;
+            d[k * i + 1] = b.y;
+            d[k * i + 2] = b.z;
+        }
+    }
+    return GEOM_OK;
+}
+
+geom_aabb geom_scene_shape_bounds(const geom_shape *s)
+{
+    geom_aabb none = geom_aabb_empty();
+    if (!s)
+        return none;
+    return shape_bounds(s, none);
+}
+
+geom_status geom_scene_displace(geom_mesh *m, const geom_texture *height, double scale)
+{
+    if (!m || !height)
+        return GEOM_ERR_INVALID_ARG;
+    if (scale == 0)
+        scale = 1;
+    size_t nv = geom_mesh_n_vertices(m);
+    uint32_t cuv = geom_mesh_channel_find(m, "uv", GEOM_MESH_DOMAIN_CORNER);
+    uint32_t vuv = geom_mesh_channel_find(m, "uv", GEOM_MESH_DOMAIN_VERTEX);
+    if (cuv == GEOM_INVALID_INDEX && vuv == GEOM_INVALID_INDEX)
+        return GEOM_ERR_INVALID_ARG;
+    double *n = geom_alloc(NULL, (3 * nv + 1) * sizeof *n);
+    double *uv = geom_alloc(NULL, (2 * nv + 1) * sizeof *uv);
+    unsigned char *has = geom_alloc(NULL, nv + 1);
+    geom_status st = GEOM_OK;
+    if (!n || !uv || !has)
+        st = GEOM_ERR_NOMEM;
+    if (st == GEOM_OK)
+        st = geom_mesh_vertex_normals(m, GEOM_NORMAL_WEIGHT_ANGLE, n, NULL);
+    if (st == GEOM_OK) {
+        memset(has, 0, nv + 1);
+        if (vuv != GEOM_INVALID_INDEX) {
+            memcpy(uv, geom_mesh_channel_cdata(m, vuv), 2 * nv * sizeof(double));
+            memset(has, 1, nv);
+        } else {
+            /* a vertex on a UV seam takes the value of its first corner */
+            const double *d = geom_mesh_channel_cdata(m, cuv);
+            const uint32_t *ci = geom_mesh_corner_cindices(m, cuv);
+            for (uint32_t h = 0; h < geom_mesh_n_halfedges(m); h++) {
+                uint32_t v = geom_mesh_he_vertex(m, h);
+                if (v < nv && !has[v] && ci[h] != GEOM_INVALID_INDEX) {
+                    uv[2 * v] = d[2 * ci[h]];
+                    uv[2 * v + 1] = d[2 * ci[h] + 1];
+                    has[v] = 1;
+                }
+            }
+        }
+        double *p = geom_mesh_positions(m);
+        for (size_t v = 0; v < nv; v++) {
+            if (!has[v])
+                continue;
+            double hgt;
+            geom_texture_sample(height, uv[2 * v], uv[2 * v + 1], 0, &hgt);
+            for (int k = 0; k < 3; k++)
+                p[3 * v + k] += scale * hgt * n[3 * v + k];
+        }
+        /* the displaced surface's own normals replace the old ones */
+        uint32_t c;
+        while ((c = geom_mesh_channel_find(m, "normal", GEOM_MESH_DOMAIN_CORNER)) != GEOM_INVALID_INDEX)
+            geom_mesh_channel_remove(m, c);
+        while ((c = geom_mesh_channel_find(m, "normal", GEOM_MESH_DOMAIN_VERTEX)) != GEOM_INVALID_INDEX)
+            geom_mesh_channel_remove(m, c);
+        st = geom_mesh_channel_add(m, "normal", GEOM_MESH_DOMAIN_VERTEX, 3, &c);
+        if (st == GEOM_OK)
+            st = geom_mesh_vertex_normals(m, GEOM_NORMAL_WEIGHT_ANGLE, geom_mesh_channel_data(m, c), NULL);
+    }
+    geom_free(NULL, n, (3 * nv + 1) * sizeof *n);
+    geom_free(NULL, uv, (2 * nv + 1) * sizeof *uv);
+    geom_free(NULL, has, nv + 1);
+    return st;
+}

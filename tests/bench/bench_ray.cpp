@@ -1,0 +1,327 @@
+// Ray casting on one thread: libgeom (double, watertight, BVH from the
+// spatial module) vs Embree 3 (float; default and RTC_SCENE_FLAG_ROBUST,
+// rtcNewDevice("threads=1")) vs CGAL's AABB_tree (Simple_cartesian<double>,
+// first_intersection), closest hits on the same mesh and the same rays:
+// primary rays from a camera and random rays. Prints rays per second, the
+// ratios, and how the answers agree (hit/miss, max |t - t_embree| / t).
+// Each time is the best of three interleaved runs.
+//
+//   bench_ray [MESH.off] [N]    (default: bunny00.off from libcgal-demo's
+//                                data.tar.gz, extracted to /tmp; N = 512:
+//                                N*N rays of each kind)
+#include <embree3/rtcore.h>
+
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Simple_cartesian.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <random>
+#include <string>
+#include <vector>
+
+extern "C" {
+#include "geom/meshio.h"
+#include "geom/ray.h"
+}
+
+typedef CGAL::Simple_cartesian<double> K;
+typedef std::vector<K::Triangle_3>::const_iterator TriIt;
+typedef CGAL::AABB_triangle_primitive<K, TriIt> Prim;
+typedef CGAL::AABB_traits<K, Prim> Traits;
+typedef CGAL::AABB_tree<Traits> Tree;
+
+static double now()
+{
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+struct Ray {
+    double o[3], d[3];
+};
+
+struct Result {
+    std::vector<double> t; // NaN = miss
+    double seconds;
+};
+
+static Result run_geom(const geom_ray_scene *s, const std::vector<Ray> &rays)
+{
+    Result r;
+    r.t.resize(rays.size());
+    double t0 = now();
+    for (size_t i = 0; i < rays.size(); i++) {
+        geom_ray q;
+        q.origin = geom_vec3_make(rays[i].o[0], rays[i].o[1], rays[i].o[2]);
+        q.dir = geom_vec3_make(rays[i].d[0], rays[i].d[1], rays[i].d[2]);
+        q.tmin = 0;
+        q.tmax = INFINITY;
+        geom_ray_hit h;
+        int found = 0;
+        geom_ray_scene_closest(s, &q, &h, &found);
+        r.t[i] = found ? h.t : NAN;
+    }
+    r.seconds = now() - t0;
+    return r;
+}
+
+static Result run_embree(RTCScene sc, const std::vector<Ray> &rays)
+{
+    Result r;
+    r.t.resize(rays.size());
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    double t0 = now();
+    for (size_t i = 0; i < rays.size(); i++) {
+        RTCRayHit rh;
+        rh.ray.org_x = (float)rays[i].o[0];
+        rh.ray.org_y = (float)rays[i].o[1];
+        rh.ray.org_z = (float)rays[i].o[2];
+        rh.ray.dir_x = (float)rays[i].d[0];
+        rh.ray.dir_y = (float)rays[i].d[1];
+        rh.ray.dir_z = (float)rays[i].d[2];
+        rh.ray.tnear = 0;
+        rh.ray.tfar = INFINITY;
+        rh.ray.mask = 0xffffffffu;
+        rh.ray.flags = 0;
+        rh.ray.time = 0;
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(sc, &ctx, &rh);
+        r.t[i] = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID ? (double)rh.ray.tfar : NAN;
+    }
+    r.seconds = now() - t0;
+    return r;
+}
+
+static Result run_cgal(const Tree &tree, const std::vector<Ray> &rays, size_t stride)
+{
+    Result r;
+    r.t.assign(rays.size(), NAN);
+    double t0 = now();
+    for (size_t i = 0; i < rays.size(); i += stride) {
+        K::Ray_3 ray(K::Point_3(rays[i].o[0], rays[i].o[1], rays[i].o[2]),
+                     K::Vector_3(rays[i].d[0], rays[i].d[1], rays[i].d[2]));
+        auto hit = tree.first_intersection(ray);
+        if (hit) {
+            if (const K::Point_3 *p = boost::get<K::Point_3>(&hit->first)) {
+                double dd = rays[i].d[0] * rays[i].d[0] + rays[i].d[1] * rays[i].d[1] + rays[i].d[2] * rays[i].d[2];
+                r.t[i] = ((p->x() - rays[i].o[0]) * rays[i].d[0] + (p->y() - rays[i].o[1]) * rays[i].d[1] +
+                          (p->z() - rays[i].o[2]) * rays[i].d[2]) / dd;
+            } else {
+                r.t[i] = 0; // segment (coplanar): counted as a hit
+            }
+        }
+    }
+    r.seconds = (now() - t0) * (double)stride;
+    return r;
+}
+
+static void compare(const char *name, const Result &a, const Result &b, size_t stride)
+{
+    size_t n = 0, agree = 0, both = 0;
+    double maxrel = 0;
+    for (size_t i = 0; i < a.t.size(); i += stride) {
+        n++;
+        bool ha = !std::isnan(a.t[i]), hb = !std::isnan(b.t[i]);
+        if (ha == hb) agree++;
+        if (ha && hb) {
+            both++;
+            double rel = std::fabs(a.t[i] - b.t[i]) / std::fmax(std::fabs(b.t[i]), 1e-300);
+            if (rel > maxrel) maxrel = rel;
+        }
+    }
+    std::printf("    %-22s hit/miss agree %zu/%zu (%zu differ), max |t - t_ref|/t %.3g over %zu hits\n", name,
+                agree, n, n - agree, maxrel, both);
+}
+
+int main(int argc, char **argv)
+{
+    std::string path = argc > 1 ? argv[1] : "/tmp/geom-bench-data/data/meshes/bunny00.off";
+    int N = argc > 2 ? std::atoi(argv[2]) : 512;
+    if (argc <= 1) {
+        FILE *f = std::fopen(path.c_str(), "rb");
+        if (!f) {
+            if (std::system("mkdir -p /tmp/geom-bench-data && tar xzf /usr/share/doc/libcgal-dev/data.tar.gz "
+                            "-C /tmp/geom-bench-data data/meshes/bunny00.off") != 0) {
+                std::fprintf(stderr, "bench_ray: cannot extract bunny00.off (install libcgal-demo)\n");
+                return 1;
+            }
+        } else {
+            std::fclose(f);
+        }
+    }
+    geom_mesh *m = nullptr;
+    geom_diag diag;
+    geom_diag_clear(&diag);
+    if (geom_meshio_read(path.c_str(), nullptr, &m, nullptr, &diag) != GEOM_OK) {
+        std::fprintf(stderr, "bench_ray: %s: %s\n", path.c_str(), diag.message);
+        return 1;
+    }
+    size_t nv = geom_mesh_n_vertices(m), nidx = 0;
+    geom_mesh_to_soup(m, nullptr, nullptr, &nidx);
+    std::vector<uint32_t> sizes(geom_mesh_n_live_faces(m)), idx(nidx);
+    geom_mesh_to_soup(m, sizes.data(), idx.data(), &nidx);
+    std::vector<uint32_t> tris;
+    {
+        size_t k = 0;
+        for (uint32_t s : sizes) {
+            for (uint32_t j = 1; j + 1 < s; j++) {
+                tris.push_back(idx[k]);
+                tris.push_back(idx[k + j]);
+                tris.push_back(idx[k + j + 1]);
+            }
+            k += s;
+        }
+    }
+    const double *P = geom_mesh_cpositions(m);
+    std::vector<double> pos(P, P + 3 * nv);
+    size_t nt = tris.size() / 3;
+    geom_mesh_destroy(m);
+
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (size_t i = 0; i < nv; i++)
+        for (int k = 0; k < 3; k++) {
+            lo[k] = std::fmin(lo[k], pos[3 * i + k]);
+            hi[k] = std::fmax(hi[k], pos[3 * i + k]);
+        }
+    double c[3], diagl = 0;
+    for (int k = 0; k < 3; k++) {
+        c[k] = 0.5 * (lo[k] + hi[k]);
+        diagl += (hi[k] - lo[k]) * (hi[k] - lo[k]);
+    }
+    diagl = std::sqrt(diagl);
+    std::printf("bench_ray: %s: %zu vertices, %zu triangles; %d x %d rays per set, one thread\n", path.c_str(), nv,
+                nt, N, N);
+
+    // Rays: a pinhole camera looking at the centre, and random rays.
+    std::vector<Ray> cam, rnd;
+    {
+        double eye[3] = {c[0] + 0.3 * diagl, c[1] + 0.2 * diagl, c[2] + 1.2 * diagl};
+        double fwd[3], up[3] = {0, 1, 0}, right[3], u2[3], l = 0;
+        for (int k = 0; k < 3; k++) fwd[k] = c[k] - eye[k], l += fwd[k] * fwd[k];
+        l = std::sqrt(l);
+        for (int k = 0; k < 3; k++) fwd[k] /= l;
+        right[0] = fwd[1] * up[2] - fwd[2] * up[1];
+        right[1] = fwd[2] * up[0] - fwd[0] * up[2];
+        right[2] = fwd[0] * up[1] - fwd[1] * up[0];
+        u2[0] = right[1] * fwd[2] - right[2] * fwd[1];
+        u2[1] = right[2] * fwd[0] - right[0] * fwd[2];
+        u2[2] = right[0] * fwd[1] - right[1] * fwd[0];
+        double rl = std::sqrt(right[0] * right[0] + right[1] * right[1] + right[2] * right[2]);
+        double ul = std::sqrt(u2[0] * u2[0] + u2[1] * u2[1] + u2[2] * u2[2]);
+        for (int y = 0; y < N; y++)
+            for (int x = 0; x < N; x++) {
+                double sx = (x + 0.5) / N * 2 - 1, sy = (y + 0.5) / N * 2 - 1;
+                Ray r;
+                for (int k = 0; k < 3; k++) {
+                    r.o[k] = eye[k];
+                    r.d[k] = fwd[k] + 0.45 * (sx * right[k] / rl + sy * u2[k] / ul);
+                }
+                cam.push_back(r);
+            }
+        std::mt19937_64 g(12345);
+        std::uniform_real_distribution<double> U(0, 1);
+        for (int i = 0; i < N * N; i++) {
+            double z = 2 * U(g) - 1, ph = 2 * M_PI * U(g), s = std::sqrt(1 - z * z);
+            Ray r;
+            double o[3] = {c[0] + diagl * s * std::cos(ph), c[1] + diagl * s * std::sin(ph), c[2] + diagl * z};
+            for (int k = 0; k < 3; k++) {
+                double tgt = lo[k] + (hi[k] - lo[k]) * U(g);
+                r.o[k] = o[k];
+                r.d[k] = tgt - o[k];
+            }
+            rnd.push_back(r);
+        }
+    }
+
+    // Builds.
+    double t0 = now();
+    geom_ray_scene *gs = geom_ray_scene_create(nullptr);
+    geom_ray_scene_add_triangles(gs, pos.data(), nv, tris.data(), nt, nullptr, nullptr);
+    geom_ray_build_options bo;
+    std::memset(&bo, 0, sizeof bo);
+    bo.bvh_threads = 1;
+    geom_ray_build_info info;
+    if (geom_ray_scene_build(gs, &bo, &info, &diag) != GEOM_OK) {
+        std::fprintf(stderr, "bench_ray: build failed: %s\n", diag.message);
+        return 1;
+    }
+    double tb_geom = now() - t0;
+
+    RTCDevice dev = rtcNewDevice("threads=1");
+    RTCScene esc[2];
+    double tb_e[2];
+    for (int robust = 0; robust < 2; robust++) {
+        t0 = now();
+        esc[robust] = rtcNewScene(dev);
+        if (robust) rtcSetSceneFlags(esc[robust], RTC_SCENE_FLAG_ROBUST);
+        RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
+        float *v = (float *)rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                    3 * sizeof(float), nv);
+        unsigned *ix = (unsigned *)rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                           3 * sizeof(unsigned), nt);
+        for (size_t i = 0; i < 3 * nv; i++) v[i] = (float)pos[i];
+        for (size_t i = 0; i < 3 * nt; i++) ix[i] = tris[i];
+        rtcCommitGeometry(g);
+        rtcAttachGeometry(esc[robust], g);
+        rtcReleaseGeometry(g);
+        rtcCommitScene(esc[robust]);
+        tb_e[robust] = now() - t0;
+    }
+
+    t0 = now();
+    std::vector<K::Triangle_3> ktris;
+    ktris.reserve(nt);
+    for (size_t i = 0; i < nt; i++) {
+        const double *a = &pos[3 * tris[3 * i]], *b = &pos[3 * tris[3 * i + 1]], *cc = &pos[3 * tris[3 * i + 2]];
+        ktris.emplace_back(K::Point_3(a[0], a[1], a[2]), K::Point_3(b[0], b[1], b[2]),
+                           K::Point_3(cc[0], cc[1], cc[2]));
+    }
+    Tree tree(ktris.begin(), ktris.end());
+    tree.build();
+    double tb_cgal = now() - t0;
+
+    std::printf("build seconds: libgeom %.4f (SAH, %zu nodes, %zu bytes)  embree %.4f  embree-robust %.4f  "
+                "cgal %.4f\n",
+                tb_geom, info.bvh_nodes, info.bvh_bytes, tb_e[0], tb_e[1], tb_cgal);
+
+    const size_t cstride = 4;
+    const char *names[2] = {"camera", "random"};
+    const std::vector<Ray> *sets[2] = {&cam, &rnd};
+    for (int si = 0; si < 2; si++) {
+        const std::vector<Ray> &rays = *sets[si];
+        // Best of three runs each (interleaved): the machine may be shared.
+        Result rg, re, rr, rc;
+        for (int rep = 0; rep < 3; rep++) {
+            Result a = run_geom(gs, rays), b = run_embree(esc[0], rays), c2 = run_embree(esc[1], rays),
+                   d = run_cgal(tree, rays, cstride);
+            if (rep == 0 || a.seconds < rg.seconds) rg = a;
+            if (rep == 0 || b.seconds < re.seconds) re = b;
+            if (rep == 0 || c2.seconds < rr.seconds) rr = c2;
+            if (rep == 0 || d.seconds < rc.seconds) rc = d;
+        }
+        double n = (double)rays.size();
+        size_t hits = 0;
+        for (double t : rg.t) hits += !std::isnan(t);
+        std::printf("%s rays (%zu, %zu hit):\n", names[si], rays.size(), hits);
+        std::printf("  rays/s: libgeom %.4g  embree %.4g  embree-robust %.4g  cgal %.4g (every %zuth ray)\n",
+                    n / rg.seconds, n / re.seconds, n / rr.seconds, n / rc.seconds, cstride);
+        std::printf("  ratio libgeom/embree %.3f  libgeom/embree-robust %.3f  libgeom/cgal %.2f\n",
+                    re.seconds / rg.seconds, rr.seconds / rg.seconds, rc.seconds / rg.seconds);
+        compare("libgeom vs embree", rg, re, 1);
+        compare("libgeom vs embree-rob", rg, rr, 1);
+        compare("libgeom vs cgal", rg, rc, cstride);
+        compare("embree vs cgal", re, rc, cstride);
+    }
+    rtcReleaseScene(esc[0]);
+    rtcReleaseScene(esc[1]);
+    rtcReleaseDevice(dev);
+    geom_ray_scene_destroy(gs);
+    return 0;
+}
