@@ -560,6 +560,16 @@ static geom_status mesh_face(tess *T, uint32_t fi, geom_brep_face_report *rep)
             if (!bad)
                 continue;
             if (on_edge >= 0 && C.tri[t].con[(on_edge + 2) % 3]) {
+                /* the worst point is on the boundary, which this face cannot
+                 * move: refine only if the interior is off too */
+                double c3[2] = {(V[0].uv[0] + V[1].uv[0] + V[2].uv[0]) / 3,
+                                (V[0].uv[1] + V[1].uv[1] + V[2].uv[1]) / 3};
+                double pc[3], xc[3];
+                geom__brep_surface_eval(b, F.S, c3[0], c3[1], pc, NULL, NULL);
+                for (int j = 0; j < 3; j++)
+                    xc[j] = (X[0][j] + X[1][j] + X[2][j]) / 3;
+                if (d3(pc, xc) <= T->tol && !(T->cos_angle < 1 && normal_cos(&F, V) < T->cos_angle))
+                    continue;
                 best[0] = (V[0].uv[0] + V[1].uv[0] + V[2].uv[0]) / 3;
                 best[1] = (V[0].uv[1] + V[1].uv[1] + V[2].uv[1]) / 3;
             } else if (!(err > T->tol)) {
