@@ -304,7 +304,6 @@ static geom_status loop_uv(facectx *F, const geom_brep_loop *L, buf *out, int *o
     for (uint32_t k = 0; k < L->n && !st; k++) {
         const geom_brep_coedge *ce = &b->coedges[L->first + k];
         tmp.n = 0;
-        const lpt *prev = out->n ? (const lpt *)out->p + out->n - 1 : NULL;
         double ref[2];
         int have = 0;
         for (size_t j = out->n; j-- > 0;) {
@@ -317,13 +316,12 @@ static geom_status loop_uv(facectx *F, const geom_brep_loop *L, buf *out, int *o
         }
         if ((st = coedge_uv(F, ce, have ? ref : NULL, &tmp)) != GEOM_OK)
             break;
+        int second = 0; /* the edge's second use in this loop: a seam */
+        for (uint32_t j = 0; j < k; j++)
+            second |= b->coedges[L->first + j].edge == ce->edge;
         lpt *P = (lpt *)tmp.p;
         for (size_t j = 0; j < tmp.n && !st; j++) {
-            if (j == 0 && prev && prev->vid == P[0].vid) {
-                if (fabs(prev->uv[0] - P[0].uv[0]) + fabs(prev->uv[1] - P[0].uv[1]) <= 1e-12)
-                    continue;
-                P[0].gap = 1;
-            }
+            P[j].gap = second ? 2 : 0;
             st = bpush(T->a, out, &P[j]);
         }
     }
@@ -332,6 +330,36 @@ static geom_status loop_uv(facectx *F, const geom_brep_loop *L, buf *out, int *o
         return st;
     lpt *P = (lpt *)out->p;
     size_t n = out->n;
+    const geom_brep_face *fc = &b->faces[F->fi];
+    int want = (fc->same_sense ? 1 : -1) * (L->orientation ? 1 : -1);
+    double area = loop_area(P, n);
+    /* a seam used twice whose second use must run on the far side */
+    if (F->pu > 0 && area * want <= 1e-12 * F->pu * F->pu) {
+        for (int sgn = -1; sgn <= 1; sgn += 2) {
+            for (size_t k = 0; k < n; k++)
+                if (P[k].gap == 2)
+                    P[k].uv[0] += sgn * F->pu;
+            area = loop_area(P, n);
+            if (area * want > 0)
+                break;
+            for (size_t k = 0; k < n; k++)
+                if (P[k].gap == 2)
+                    P[k].uv[0] -= sgn * F->pu;
+        }
+    }
+    /* drop repeated points; the same vertex at another (u, v) is a pole */
+    size_t m = 0;
+    for (size_t k = 0; k < n; k++) {
+        lpt q = P[k];
+        q.gap = 0;
+        if (m > 0 && P[m - 1].vid == q.vid) {
+            if (fabs(P[m - 1].uv[0] - q.uv[0]) + fabs(P[m - 1].uv[1] - q.uv[1]) <= 1e-12)
+                continue;
+            q.gap = 1;
+        }
+        P[m++] = q;
+    }
+    n = out->n = m;
     if (n >= 2 && P[n - 1].vid == P[0].vid) {
         if (fabs(P[n - 1].uv[0] - P[0].uv[0]) + fabs(P[n - 1].uv[1] - P[0].uv[1]) <= 1e-12)
             out->n = --n;
@@ -344,15 +372,13 @@ static geom_status loop_uv(facectx *F, const geom_brep_loop *L, buf *out, int *o
     }
     /* a loop through a pole may need the part after the first gap shifted
      * by a period so that it encloses the face on its left */
-    const geom_brep_face *fc = &b->faces[F->fi];
-    int want = (fc->same_sense ? 1 : -1) * (L->orientation ? 1 : -1);
     size_t g = 0;
     for (size_t k = 1; k < n; k++)
         if (P[k].gap) {
             g = k;
             break;
         }
-    double area = loop_area(P, n);
+    area = loop_area(P, n);
     if (g && F->pu > 0 && (area * want <= 0 || L->outer)) {
         for (int sgn = -1; sgn <= 1 && area * want <= 0; sgn += 2) {
             for (size_t k = g; k < n; k++)
