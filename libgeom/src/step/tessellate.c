@@ -10,6 +10,7 @@
 #include "step/step_internal.h"
 
 #include <float.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
@@ -63,6 +64,7 @@ typedef struct tess {
     buf tris;     /* uint32_t[3] */
     buf tface;    /* uint32_t */
     buf tuv;      /* double[6] */
+    buf split;    /* uint32_t[2]: boundary segments a face could not meet the tolerance on */
     size_t evals;
     double edge_err, face_err;
     double err_sum;
@@ -642,6 +644,12 @@ static geom_status mesh_face(tess *T, uint32_t fi, geom_brep_face_report *rep)
         double err, best[2];
         int on_edge;
         tri_error(&F, V, X, &err, best, &on_edge);
+        if (err > T->tol && on_edge >= 0 && C.tri[t].con[(on_edge + 2) % 3]) {
+            uint32_t a = V[on_edge].vid, c = V[(on_edge + 1) % 3].vid;
+            uint32_t pr[2] = {a < c ? a : c, a < c ? c : a};
+            if ((st = bpush(T->a, &T->split, pr)) != GEOM_OK)
+                break;
+        }
         if (err > ferr)
             ferr = err;
         T->err_sum += err;
@@ -678,6 +686,53 @@ static geom_status mesh_face(tess *T, uint32_t fi, geom_brep_face_report *rep)
     return st;
 }
 
+static int cmp_pair(const void *x, const void *y)
+{
+    const uint32_t *a = x, *b = y;
+    if (a[0] != b[0])
+        return a[0] < b[0] ? -1 : 1;
+    return a[1] < b[1] ? -1 : a[1] > b[1];
+}
+
+/* Split the edge pieces a face asked for (T->split) at their parameter
+ * midpoints, so that the next pass meets the tolerance along them. */
+static geom_status resample_edges(tess *T, size_t *nsplit)
+{
+    const geom_brep *b = T->b;
+    qsort(T->split.p, T->split.n, 2 * sizeof(uint32_t), cmp_pair);
+    buf ns = {NULL, 0, 0, sizeof(sample)};
+    geom_status st = GEOM_OK;
+    *nsplit = 0;
+    for (size_t e = 0; e < b->nedges && !st; e++) {
+        const sample *S = (const sample *)T->samples.p + T->efirst[e];
+        size_t n = T->ecount[e], first = ns.n;
+        const geom_brep_curve *c = &b->curves[b->edges[e].curve];
+        for (size_t k = 0; k < n && !st; k++) {
+            if ((st = bpush(T->a, &ns, &S[k])) != GEOM_OK)
+                break;
+            if (k + 1 == n)
+                break;
+            uint32_t a = S[k].vid, d = S[k + 1].vid;
+            uint32_t key[2] = {a < d ? a : d, a < d ? d : a};
+            if (!bsearch(key, T->split.p, T->split.n, 2 * sizeof(uint32_t), cmp_pair))
+                continue;
+            sample m;
+            m.t = 0.5 * (S[k].t + S[k + 1].t);
+            double p[3];
+            geom__brep_curve_eval(c, m.t, p, NULL);
+            if ((st = add_pos(T, p, &m.vid)) != GEOM_OK)
+                break;
+            st = bpush(T->a, &ns, &m);
+            (*nsplit)++;
+        }
+        T->efirst[e] = first;
+        T->ecount[e] = ns.n - first;
+    }
+    bfree(T->a, &T->samples);
+    T->samples = ns;
+    return st;
+}
+
 static double now(void)
 {
     return (double)clock() / CLOCKS_PER_SEC;
@@ -707,6 +762,7 @@ GEOM_API geom_status geom_brep_tessellate(const geom_brep *b, const geom_brep_te
     T.tris.elem = 3 * sizeof(uint32_t);
     T.tface.elem = sizeof(uint32_t);
     T.tuv.elem = 6 * sizeof(double);
+    T.split.elem = 2 * sizeof(uint32_t);
     T.max_tris = o.max_triangles ? o.max_triangles : ((size_t)1 << 24);
     T.cos_angle = o.angle_degrees > 0 ? cos(o.angle_degrees * GEOM_PI / 180) : 1;
     T.tol = o.tolerance;
@@ -732,9 +788,24 @@ GEOM_API geom_status geom_brep_tessellate(const geom_brep *b, const geom_brep_te
     }
     for (size_t e = 0; e < b->nedges && !st; e++)
         st = sample_edge(&T, (uint32_t)e);
-    size_t edge_samples = T.pos.n;
     size_t failed = 0;
     double gap = 0;
+    /* mesh the faces; where a face's boundary pieces are off the tolerance,
+     * split those edge pieces (for both faces of the edge) and mesh again */
+    for (int pass = 0; pass < 6 && !st; pass++) {
+    size_t nsplit = 0;
+    if (pass > 0) {
+        if (T.split.n == 0)
+            break;
+        if ((st = resample_edges(&T, &nsplit)) != GEOM_OK || nsplit == 0)
+            break;
+    }
+    T.split.n = 0;
+    T.tris.n = T.tface.n = T.tuv.n = 0;
+    T.face_err = T.err_sum = 0;
+    T.err_n = 0;
+    failed = 0;
+    gap = 0;
     for (size_t f = 0; f < b->nfaces && !st; f++) {
         geom_brep_face_report fr;
         memset(&fr, 0, sizeof fr);
@@ -756,6 +827,7 @@ GEOM_API geom_status geom_brep_tessellate(const geom_brep *b, const geom_brep_te
             gap = fr.edge_gap;
         if (faces)
             faces[f] = fr;
+    }
     }
     if (st) {
         geom_diag_set(diag, st, "", 0, 0, "tessellation failed: %s", geom_status_str(st));
@@ -884,7 +956,10 @@ GEOM_API geom_status geom_brep_tessellate(const geom_brep *b, const geom_brep_te
         stats->faces_failed = failed;
         stats->triangles = geom_mesh_n_faces(out);
         stats->vertices = geom_mesh_n_vertices(out);
-        stats->edge_samples = edge_samples - b->nvertices;
+        size_t es = 0;
+        for (size_t e = 0; e < b->nedges; e++)
+            es += T.ecount[e] > 2 ? T.ecount[e] - 2 : 0;
+        stats->edge_samples = es;
         stats->edge_gap = gap;
         stats->edge_error = T.edge_err;
         size_t open = 0;
@@ -901,5 +976,6 @@ done:
     bfree(T.a, &T.tris);
     bfree(T.a, &T.tface);
     bfree(T.a, &T.tuv);
+    bfree(T.a, &T.split);
     return st;
 }
