@@ -608,6 +608,40 @@ static geom_status mesh_face(tess *T, uint32_t fi, geom_brep_face_report *rep)
                 st = GEOM_ERR_LIMIT;
                 break;
             }
+            /* Ruppert's choice: the circumcentre (in the scaled domain) when
+             * it lies inside the face, which keeps the triangles well shaped;
+             * else the worst sample */
+            {
+                const double *a = C.xy + 2 * C.tri[t].v[0], *bq = C.xy + 2 * C.tri[t].v[1],
+                             *cq = C.xy + 2 * C.tri[t].v[2];
+                double bx = bq[0] - a[0], by = bq[1] - a[1], cx = cq[0] - a[0], cy = cq[1] - a[1];
+                double dd = 2 * (bx * cy - by * cx);
+                if (dd != 0) {
+                    double b2 = bx * bx + by * by, c2 = cx * cx + cy * cy;
+                    double q[2] = {a[0] + (cy * b2 - by * c2) / dd, a[1] + (bx * c2 - cx * b2) / dd};
+                    int32_t lt = isfinite(q[0]) && isfinite(q[1]) ? geom__cdt_locate(&C, q) : -1;
+                    if (lt >= 0 && C.tri[lt].inside) {
+                        int near_con = 0;
+                        /* not within the diametral circle of a constrained edge of
+                         * its triangle (it would crowd the boundary) */
+                        for (int k = 0; k < 3; k++) {
+                            if (!C.tri[lt].con[k])
+                                continue;
+                            const double *e0 = C.xy + 2 * C.tri[lt].v[(k + 1) % 3],
+                                         *e1 = C.xy + 2 * C.tri[lt].v[(k + 2) % 3];
+                            double mx = 0.5 * (e0[0] + e1[0]), my = 0.5 * (e0[1] + e1[1]);
+                            double r2 = 0.25 * ((e1[0] - e0[0]) * (e1[0] - e0[0]) +
+                                                (e1[1] - e0[1]) * (e1[1] - e0[1]));
+                            if ((q[0] - mx) * (q[0] - mx) + (q[1] - my) * (q[1] - my) <= r2)
+                                near_con = 1;
+                        }
+                        if (!near_con) {
+                            best[0] = q[0] / su;
+                            best[1] = q[1] / sv;
+                        }
+                    }
+                }
+            }
             int32_t v;
             geom_status si = geom__cdt_insert(&C, best[0] * su, best[1] * sv, &v);
             if (si == GEOM_OK) {
