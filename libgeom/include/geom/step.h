@@ -261,7 +261,7 @@ typedef struct geom_brep_face_report {
     double chordal_error;  /**< largest sampled distance triangle - surface */
     double edge_gap;       /**< largest |C(t) - S(uv(t))| over its boundary samples */
     size_t triangles;
-    double seconds;
+    double seconds;        /**< processor time (clock()) of its last meshing pass */
     int status;            /**< GEOM_OK, or why the face was left out */
 } geom_brep_face_report;
 
@@ -273,7 +273,7 @@ typedef struct geom_brep_tess_stats {
     double edge_error;        /**< largest sampled distance edge chord - 3D curve */
     size_t open_edges;        /**< mesh boundary edges after building (0: closed) */
     size_t nonmanifold_edges; /**< repairs geom_mesh_build reported */
-    double seconds;
+    double seconds;           /**< processor time (clock()) of the whole tessellation */
 } geom_brep_tess_stats;
 
 /**
@@ -290,8 +290,13 @@ typedef struct geom_brep_tess_stats {
  * geom_orient2d / geom_incircle, in coordinates scaled by the surface's
  * metric) and refined by inserting the worst sample point of every
  * triangle whose chordal error (the distance between the triangle and the
- * surface at 12 barycentric samples) or corner-normal angle exceeds the
- * tolerance. Triangles are oriented to the face's outward side (same_sense
+ * surface at 7 barycentric samples: the centroid, the edge midpoints and
+ * three interior points) or corner-normal angle exceeds the tolerance: at
+ * the triangle's circumcentre when that lies inside the face away from its
+ * boundary (Ruppert), else at the worst sample. Where the worst sample is
+ * on the face's boundary, the edge piece is split at its parameter
+ * midpoint (for both faces of the edge) and the faces meshed again, up to
+ * 5 more passes. Triangles are oriented to the face's outward side (same_sense
  * and the loop orientation), so closed solids get outward normals.
  *
  * The mesh is built once with geom_mesh_build. report (NULL allowed):
