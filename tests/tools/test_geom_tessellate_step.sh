@@ -65,6 +65,30 @@ def mesh_area_volume(path):
             Vol += (a[0]*(b[1]*c[2]-b[2]*c[1]) - a[1]*(b[0]*c[2]-b[2]*c[0]) + a[2]*(b[0]*c[1]-b[1]*c[0])) / 6
     return A, Vol
 
+def solid_centroids(path):
+    """Volume centroids of the mesh's connected components (one per solid)."""
+    V = []; F = []
+    for line in open(path):
+        if line.startswith('v '):
+            V.append(tuple(map(float, line.split()[1:4])))
+        elif line.startswith('f '):
+            F.append([int(t.split('/')[0]) - 1 for t in line.split()[1:4]])
+    par = list(range(len(V)))
+    def find(x):
+        while par[x] != x:
+            par[x] = par[par[x]]; x = par[x]
+        return x
+    for a, b, c in F:
+        ra = find(a); par[find(b)] = ra; par[find(c)] = ra
+    acc = {}
+    for a, b, c in F:
+        A, B, C = V[a], V[b], V[c]
+        v = (A[0]*(B[1]*C[2]-B[2]*C[1]) - A[1]*(B[0]*C[2]-B[2]*C[0]) + A[2]*(B[0]*C[1]-B[1]*C[0])) / 6
+        s = acc.setdefault(find(a), [0.0, 0.0, 0.0, 0.0])
+        s[3] += v
+        for i in range(3): s[i] += v * (A[i] + B[i] + C[i]) / 4
+    return sorted(tuple(s[i] / s[3] for i in range(3)) for s in acc.values())
+
 def run_ours(path, tol):
     out = os.path.join(tmp, os.path.basename(path) + '.obj')
     p = subprocess.run([tool, path, '--tol', repr(tol), '--json', '-o', out], capture_output=True, text=True)
@@ -121,6 +145,14 @@ for path in files:
     msg += f" volume {V:.9g} (OpenCASCADE integral {V0:.9g}, rel {ev:.2e})"
     if ev > 1e-4: fail(msg)
     if V <= 0: fail(f"{name}: volume {V} not positive (normals inward)")
+    # every solid in place (assemblies): centroids against OpenCASCADE's
+    ref_c = sorted(tuple(gmsh.model.occ.getCenterOfMass(3, t)) for _, t in vols)
+    ours_c = solid_centroids(out)
+    worst = 0.0
+    for c in ours_c:
+        worst = max(worst, min(math.dist(c, r) for r in ref_c) if ref_c else 0.0)
+    msg += f" solids placed within {worst:.2e}"
+    if len(ours_c) != len(ref_c) or worst > 1e-3 * diag: fail(msg)
     print(msg)
 gmsh.finalize()
 
