@@ -91,7 +91,7 @@ static void test_sphere_mm(void **state)
     size_t n;
     char *t = slurp("sphere.step", &n);
     assert_non_null(t);
-    check_sphere(t, n, 10.0, 1e-3);
+    check_sphere(t, n, 10.0, 2e-3);
     free(t);
 }
 
@@ -114,7 +114,7 @@ static void test_sphere_inch(void **state)
     memcpy(u, t, pre);
     memcpy(u + pre, inch, strlen(inch));
     memcpy(u + pre + strlen(inch), at + strlen(mm), post);
-    check_sphere(u, pre + strlen(inch) + post, 254.0, 0.0254);
+    check_sphere(u, pre + strlen(inch) + post, 254.0, 0.0508);
     free(u);
     free(t);
 }
