@@ -687,7 +687,7 @@ static geom_status map_surface(mapper *M, uint32_t e, uint32_t *out, int depth)
         s.r1 = r * M->scale;
         s.u_periodic = 1;
     } else if ((pt = geom__p21_part(M->p, e, "CONICAL_SURFACE")) != NULL) {
-        double a;
+        double a = 0;
         s.type = GEOM_BREP_SURFACE_CONE;
         st = placement_out(M, arg(M, pt, 1), e, s.origin, s.x, s.y, s.z);
         if (!st && (!as_real(M, arg(M, pt, 2), &r) || !(r >= 0) || !as_real(M, arg(M, pt, 3), &a)))
@@ -699,7 +699,7 @@ static geom_status map_surface(mapper *M, uint32_t e, uint32_t *out, int depth)
         s.u_periodic = 1;
     } else if ((pt = geom__p21_part(M->p, e, "TOROIDAL_SURFACE")) != NULL ||
                (pt = geom__p21_part(M->p, e, "DEGENERATE_TOROIDAL_SURFACE")) != NULL) {
-        double r2;
+        double r2 = 0;
         s.type = GEOM_BREP_SURFACE_TORUS;
         st = placement_out(M, arg(M, pt, 1), e, s.origin, s.x, s.y, s.z);
         if (!st && (!as_real(M, arg(M, pt, 2), &r) || !as_real(M, arg(M, pt, 3), &r2) || !(r > 0) ||
