@@ -469,7 +469,6 @@ geom_status geom_surface_tessellate(const geom_nurbs_surface *surfaces, size_t n
     geom_surface_tess_stats *stats, geom_diag *diag);
 """,
     "step": """
-#endif
 typedef enum geom_brep_curve_type {
     GEOM_BREP_CURVE_LINE = 0,
     GEOM_BREP_CURVE_CIRCLE = 1,
