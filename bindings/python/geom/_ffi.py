@@ -33,8 +33,8 @@ MACROS = {
 }
 
 #: Modules in dependency order (as GEOM_ALL_MODULES).
-MODULE_ORDER = ("core", "bary", "mesh", "meshio", "curve", "surface", "subdiv", "implicit", "iso",
-                "ray", "scene")
+MODULE_ORDER = ("core", "bary", "mesh", "meshio", "spatial", "curve", "surface", "step", "subdiv",
+                "implicit", "iso", "ray", "scene")
 
 CDEFS = {
     "core": """
@@ -543,6 +543,152 @@ geom_status geom_surface_eval_many(const geom_nurbs_surface *s, size_t n, const 
                                             unsigned flags, int normals, double *out,
                                             int32_t *status, size_t *n_failed);
 """,
+    "step": """
+typedef enum geom_brep_curve_type {
+    GEOM_BREP_CURVE_LINE = 0,
+    GEOM_BREP_CURVE_CIRCLE = 1,
+    GEOM_BREP_CURVE_ELLIPSE = 2,
+    GEOM_BREP_CURVE_NURBS = 3
+} geom_brep_curve_type;
+typedef struct geom_brep_curve {
+    geom_brep_curve_type type;
+    uint64_t entity;
+    int dim;
+    double origin[3], x[3], y[3], z[3];
+    double dir[3];
+    double r1, r2;
+    geom_nurbs_curve nurbs;
+    size_t nknots;
+} geom_brep_curve;
+typedef enum geom_brep_surface_type {
+    GEOM_BREP_SURFACE_PLANE = 0,
+    GEOM_BREP_SURFACE_CYLINDER = 1,
+    GEOM_BREP_SURFACE_CONE = 2,
+    GEOM_BREP_SURFACE_SPHERE = 3,
+    GEOM_BREP_SURFACE_TORUS = 4,
+    GEOM_BREP_SURFACE_NURBS = 5,
+    GEOM_BREP_SURFACE_REVOLUTION = 6,
+    GEOM_BREP_SURFACE_EXTRUSION = 7
+} geom_brep_surface_type;
+typedef struct geom_brep_surface {
+    geom_brep_surface_type type;
+    uint64_t entity;
+    double origin[3], x[3], y[3], z[3];
+    double r1;
+    double r2;
+    double dir[3];
+    uint32_t curve;
+    geom_nurbs_surface nurbs;
+    int u_periodic, v_periodic;
+} geom_brep_surface;
+typedef struct geom_brep_vertex {
+    double p[3];
+    uint64_t entity;
+} geom_brep_vertex;
+typedef struct geom_brep_edge {
+    uint32_t v0, v1;
+    uint32_t curve;
+    int same_sense;
+    double t0, t1;
+    uint32_t pcurve[2];
+    uint32_t pcurve_surface[2];
+    uint64_t entity;
+} geom_brep_edge;
+typedef struct geom_brep_coedge {
+    uint32_t edge;
+    int reversed;
+} geom_brep_coedge;
+typedef struct geom_brep_loop {
+    uint32_t first, n;
+    int outer;
+    int orientation;
+    uint32_t vertex;
+    uint64_t entity;
+} geom_brep_loop;
+typedef struct geom_brep_face {
+    uint32_t surface;
+    int same_sense;
+    uint32_t first_loop, nloops;
+    uint32_t shell;
+    uint64_t entity;
+} geom_brep_face;
+typedef struct geom_brep_shell {
+    uint32_t first_face, nfaces;
+    int closed;
+    uint32_t solid;
+    uint64_t entity;
+} geom_brep_shell;
+typedef struct geom_brep_solid {
+    uint32_t first_shell, nshells;
+    uint64_t entity;
+} geom_brep_solid;
+typedef struct geom_brep_issue {
+    uint64_t entity;
+    char type[48];
+    char reason[80];
+} geom_brep_issue;
+typedef struct geom_brep {
+    size_t nsolids, nshells, nfaces, nloops, ncoedges, nedges, nvertices, ncurves, nsurfaces;
+    geom_brep_solid *solids;
+    geom_brep_shell *shells;
+    geom_brep_face *faces;
+    geom_brep_loop *loops;
+    geom_brep_coedge *coedges;
+    geom_brep_edge *edges;
+    geom_brep_vertex *vertices;
+    geom_brep_curve *curves;
+    geom_brep_surface *surfaces;
+    size_t nissues;
+    geom_brep_issue *issues;
+    size_t nskipped_faces;
+    double unit_metres;
+    size_t ninstances;
+    void *internal_;
+} geom_brep;
+typedef struct geom_step_read_options {
+    double unit_metres;
+    size_t max_bytes;
+    int max_depth;
+    int strict;
+    const geom_allocator *alloc;
+} geom_step_read_options;
+geom_status geom_step_read_memory(const void *data, size_t size, const char *source_name,
+                                           const geom_step_read_options *options, geom_brep **out,
+                                           geom_diag *diag);
+geom_status geom_step_read(const char *path, const geom_step_read_options *options,
+                                    geom_brep **out, geom_diag *diag);
+void geom_brep_destroy(geom_brep *b);
+geom_status geom_brep_surface_eval(const geom_brep *b, uint32_t s, double u, double v,
+                                            double p[3], double du[3], double dv[3]);
+geom_status geom_brep_curve_eval(const geom_brep *b, uint32_t c, double t, double *p);
+typedef struct geom_brep_tess_options {
+    double tolerance;
+    double angle_degrees;
+    unsigned attributes;
+    size_t max_triangles;
+    const geom_allocator *alloc;
+} geom_brep_tess_options;
+typedef struct geom_brep_face_report {
+    double chordal_error;
+    double edge_gap;
+    size_t triangles;
+    double seconds;
+    int status;
+} geom_brep_face_report;
+typedef struct geom_brep_tess_stats {
+    size_t faces, faces_failed, triangles, vertices;
+    size_t edge_samples;
+    double edge_gap;
+    double edge_error;
+    size_t open_edges;
+    size_t nonmanifold_edges;
+    double seconds;
+} geom_brep_tess_stats;
+geom_status geom_brep_tessellate(const geom_brep *b, const geom_brep_tess_options *options,
+                                          geom_mesh *out, geom_error_report *report,
+                                          geom_brep_face_report *faces, geom_brep_tess_stats *stats,
+                                          geom_diag *diag);
+""",
     "subdiv": """
 typedef enum geom_subdiv_scheme {
     GEOM_SUBDIV_CATMULL_CLARK = 0,
@@ -898,6 +1044,7 @@ MODULE_PROBES = {
     "meshio": "geom_meshio_read",
     "curve": "geom_curve_nurbs_eval",
     "surface": "geom_surface_tessellate",
+    "step": "geom_step_read_memory",
     "subdiv": "geom_subdiv_mesh",
     "iso": "geom_iso_extract",
     "implicit": "geom_implicit_expr_compile",
