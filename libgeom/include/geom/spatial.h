@@ -24,6 +24,7 @@
 #define GEOM_SPATIAL_H
 
 #include "geom/core.h"
+#include "geom/mesh.h" /* GEOM_INVALID_INDEX */
 
 #ifdef __cplusplus
 extern "C" {
@@ -116,6 +117,92 @@ GEOM_API const uint32_t *geom_bvh_prim_indices(const geom_bvh *b, size_t *count)
 GEOM_API size_t geom_bvh_depth(const geom_bvh *b);
 /** Bytes held by the BVH (nodes, indices and the object itself). */
 GEOM_API size_t geom_bvh_bytes(const geom_bvh *b);
+
+/* ================================================================ neighbours */
+
+/**
+ * Variable-length answers of a batch of queries (radius and box queries), in
+ * compressed rows: the answers of query q are index[offsets[q] ..
+ * offsets[q+1]) with distance[...] alongside (NULL for box queries). Filled
+ * by the query functions (which free what `out` held first, so one struct
+ * can be reused); free with geom_neighbors_free. A zero-initialised struct
+ * is empty.
+ */
+typedef struct geom_neighbors {
+    size_t query_count;
+    size_t *offsets;    /**< query_count + 1 entries */
+    uint32_t *index;    /**< offsets[query_count] entries */
+    double *distance;   /**< offsets[query_count] entries, or NULL */
+    size_t capacity;    /**< allocated entries of index/distance (internal) */
+    const geom_allocator *alloc; /**< allocator the arrays came from (internal) */
+} geom_neighbors;
+
+/** Free the arrays of `nb` and zero it. NULL is a no-op. */
+GEOM_API void geom_neighbors_free(geom_neighbors *nb);
+
+/* ================================================================== kd-tree */
+
+/** Opaque kd-tree over points in 2D or 3D. */
+typedef struct geom_kdtree geom_kdtree;
+
+/** kd-tree build options; valid when zero-initialised. */
+typedef struct geom_kdtree_options {
+    uint32_t leaf_size;          /**< points per leaf at most; 0 = 10 */
+    int threads;                 /**< 0 = all available; the tree does not depend on it */
+    const geom_allocator *alloc; /**< NULL = malloc (may be called from several threads) */
+} geom_kdtree_options;
+
+/**
+ * kd-tree over n points of dimension dim (2 or 3): points is dim*n doubles
+ * (copied). Each node splits at the median point along the widest axis of
+ * its points (Friedman, Bentley and Finkel 1977); leaves hold at most
+ * leaf_size points; duplicated points are fine (equal coordinates may sit on
+ * both sides of a split). Returns GEOM_OK; GEOM_ERR_INVALID_ARG (NULL, dim
+ * not 2 or 3, a NaN/Inf coordinate: the diag names the first bad point);
+ * GEOM_ERR_LIMIT (n >= 2^32 - 1); GEOM_ERR_NOMEM. n == 0 is valid.
+ */
+GEOM_API geom_status geom_kdtree_build(const double *points, size_t n, int dim,
+                                       const geom_kdtree_options *opt, geom_kdtree **out,
+                                       geom_diag *diag);
+/** Free a kd-tree. NULL is a no-op. */
+GEOM_API void geom_kdtree_destroy(geom_kdtree *t);
+/** Node count, depth (levels) and bytes held. */
+GEOM_API size_t geom_kdtree_node_count(const geom_kdtree *t);
+GEOM_API size_t geom_kdtree_depth(const geom_kdtree *t);
+GEOM_API size_t geom_kdtree_bytes(const geom_kdtree *t);
+
+/**
+ * k nearest neighbours of nq query points (dim*nq doubles, the tree's dim),
+ * in parallel over the queries. Query q's answers go to index[q*k ..
+ * q*k+k) and distance[q*k ..] (either may be NULL), nearest first, ties by
+ * the smaller index; when the tree has fewer than k points the rest is
+ * GEOM_INVALID_INDEX and +Inf. Distances are Euclidean, computed as
+ * sqrt(dx*dx + dy*dy + dz*dz) (the order of the squared sums decides).
+ * Returns GEOM_OK or GEOM_ERR_INVALID_ARG (NULL tree or queries, or a
+ * NaN/Inf query: the call is rejected before any work, the diag names the
+ * first bad query).
+ */
+GEOM_API geom_status geom_kdtree_knn(const geom_kdtree *t, const double *queries, size_t nq,
+                                     size_t k, uint32_t *index, double *distance,
+                                     int threads, geom_diag *diag);
+
+/**
+ * All points within distance r (inclusive: sqrt(d2) <= r) of each of nq
+ * queries, sorted by distance then index, into `out`. r must be >= 0 and
+ * finite. Statuses as geom_kdtree_knn, plus GEOM_ERR_NOMEM.
+ */
+GEOM_API geom_status geom_kdtree_radius(const geom_kdtree *t, const double *queries, size_t nq,
+                                        double r, geom_neighbors *out, int threads,
+                                        geom_diag *diag);
+
+/**
+ * Points inside the closed box [lo, hi] (dim doubles each), in increasing
+ * index order, as one row of `out` (distance NULL). Returns GEOM_OK,
+ * GEOM_ERR_INVALID_ARG (NaN bounds), GEOM_ERR_NOMEM. lo > hi on an axis
+ * gives an empty answer.
+ */
+GEOM_API geom_status geom_kdtree_box(const geom_kdtree *t, const double *lo, const double *hi,
+                                     geom_neighbors *out);
 
 #ifdef __cplusplus
 }

@@ -97,3 +97,63 @@ static inline uint64_t geom__morton_spread2(uint64_t v)
 geom_status geom__radix_sort64(const geom_allocator *a, uint64_t *keys, uint32_t *vals, size_t n);
 
 #endif
+
+/* ---- result rows (radius/box queries), filled per query, assembled in order */
+typedef struct geom__hit {
+    double d2; /* squared distance (or 0 for box queries) */
+    uint32_t idx;
+    uint32_t pad;
+} geom__hit;
+
+typedef struct geom__hits {
+    geom__hit *h;
+    size_t n, cap;
+    const geom_allocator *a;
+} geom__hits;
+
+/* Append; returns 0 or -1 when out of memory. */
+static inline int geom__hits_push(geom__hits *hs, uint32_t idx, double d2)
+{
+    if (hs->n == hs->cap) {
+        size_t nc = hs->cap ? 2 * hs->cap : 64;
+        geom__hit *p = geom_realloc(hs->a, hs->h, hs->cap * sizeof *p, nc * sizeof *p);
+        if (!p)
+            return -1;
+        hs->h = p;
+        hs->cap = nc;
+    }
+    hs->h[hs->n].d2 = d2;
+    hs->h[hs->n].idx = idx;
+    hs->h[hs->n].pad = 0;
+    hs->n++;
+    return 0;
+}
+
+/* Sort hits[from..n) by (d2, idx). */
+void geom__hits_sort(geom__hits *hs, size_t from);
+
+/* Appends the answers of query q to h (sorted as they should be output);
+ * returns GEOM_OK or GEOM_ERR_NOMEM. */
+typedef geom_status (*geom__row_fn)(const void *ctx, size_t q, geom__hits *h);
+
+/* Run fn over nq queries in parallel (chunks, assembled in query order) into
+ * out; with_dist: distance = sqrt(d2) of each hit, else distance NULL. */
+geom_status geom__batch_rows(const geom_allocator *a, size_t nq, geom__row_fn fn, const void *ctx,
+                             int threads, int with_dist, geom_neighbors *out);
+
+/* Squared distance in the one order every structure and test uses. */
+static inline double geom__d2(const double *p, const double *q)
+{
+    double dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2];
+    return dx * dx + dy * dy + dz * dz;
+}
+
+/* Bound on the squared distance a point within radius r can have
+ * (sqrt(d2) <= r implies d2 <= this), for conservative pruning. */
+static inline double geom__r2_bound(double r)
+{
+    return r * r * (1.0 + 0x1p-48) + 0x1p-1060;
+}
+
+/* First non-finite point among n points of dimension dim, or n. */
+size_t geom__first_nonfinite(const double *p, size_t n, int dim);
