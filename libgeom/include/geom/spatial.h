@@ -204,6 +204,92 @@ GEOM_API geom_status geom_kdtree_radius(const geom_kdtree *t, const double *quer
 GEOM_API geom_status geom_kdtree_box(const geom_kdtree *t, const double *lo, const double *hi,
                                      geom_neighbors *out);
 
+/* ======================================= closest point and signed distance */
+
+/** Opaque distance index over a triangle mesh: a SAH BVH plus, per node, the
+ *  dipole data of the fast winding number. */
+typedef struct geom_meshdist geom_meshdist;
+
+/** Options of geom_meshdist_create; valid when zero-initialised. */
+typedef struct geom_meshdist_options {
+    uint32_t max_leaf_size;      /**< triangles per BVH leaf; 0 = 4 */
+    double beta;                 /**< fast winding number: a node of radius r is
+                                      approximated by its dipole beyond beta*r;
+                                      0 = 2 (Barill et al.'s default); < 0 = exact
+                                      solid-angle sum always */
+    double tolerance;            /**< fast winding number: total error bound per
+                                      query; a node is approximated only if its
+                                      error term is at most tolerance times its
+                                      share of the mesh area; 0 = 1e-2 */
+    int threads;                 /**< 0 = all available; results do not depend on it */
+    const geom_allocator *alloc; /**< NULL = malloc */
+} geom_meshdist_options;
+
+/**
+ * Index the triangle mesh (positions: 3*nv doubles, tris: 3*nt indices;
+ * both copied). Degenerate (zero-area) triangles are accepted. Returns
+ * GEOM_OK; GEOM_ERR_INVALID_ARG (NULL, index >= nv, NaN/Inf: the diag names
+ * the first bad triangle); GEOM_ERR_NOMEM; GEOM_ERR_LIMIT.
+ */
+GEOM_API geom_status geom_meshdist_create(const double *positions, size_t nv, const uint32_t *tris,
+                                          size_t nt, const geom_meshdist_options *opt,
+                                          geom_meshdist **out, geom_diag *diag);
+/** Free. NULL is a no-op. */
+GEOM_API void geom_meshdist_destroy(geom_meshdist *m);
+/** The BVH the index traverses (owned by m). */
+GEOM_API const geom_bvh *geom_meshdist_bvh(const geom_meshdist *m);
+/** Bytes held (BVH, mesh copy and dipole data). */
+GEOM_API size_t geom_meshdist_bytes(const geom_meshdist *m);
+
+/**
+ * Closest point on the mesh to each of nq query points (3*nq doubles), in
+ * parallel over the queries (BVH, nearest child first, pruned by box
+ * distance). Per query: point[3q..] the closest point, tri[q] its triangle
+ * (ties: the smaller triangle index), bary[3q..] its barycentric coordinates
+ * in that triangle (Ericson 2005, 5.1.5: exact 0 on the Voronoi-region
+ * boundaries it picks), distance[q] the Euclidean distance. Any output may
+ * be NULL. With an empty mesh tri is GEOM_INVALID_INDEX and distance +Inf.
+ * Returns GEOM_OK or GEOM_ERR_INVALID_ARG (NULL m/queries, NaN/Inf query:
+ * the diag names the first).
+ */
+GEOM_API geom_status geom_meshdist_closest(const geom_meshdist *m, const double *queries, size_t nq,
+                                           double *point, uint32_t *tri, double *bary,
+                                           double *distance, int threads, geom_diag *diag);
+
+/**
+ * Generalized winding number (Jacobson, Kavan and Sorkine-Hornung 2013) of
+ * each query: sum over triangles of the signed solid angle (Van Oosterom and
+ * Strackee 1983) over 4*pi, with the fast hierarchical approximation of
+ * Barill et al. 2018 (first-order dipole per BVH node beyond beta*r, and
+ * only where that node's error term is within its area share of the
+ * tolerance, so the error is at most `tolerance` per query). 1
+ * inside a closed outward-oriented mesh, 0 outside, a smooth value for open
+ * or self-intersecting meshes. w receives nq doubles. If report is non-NULL
+ * it receives, over the queries, the largest (max_error) and mean error
+ * bound of the approximation (method GEOM_ERROR_BOUND; 0 when beta < 0):
+ * per query the sum over approximated nodes of A*r*2 / (4*pi*(R - r)^3),
+ * A the node's triangle area, r its radius, R the query's distance to its
+ * centre (the Taylor remainder of the dipole kernel), plus rounding; and in
+ * `evaluations` the number of exact triangle terms plus dipole terms.
+ * Returns as geom_meshdist_closest.
+ */
+GEOM_API geom_status geom_meshdist_winding(const geom_meshdist *m, const double *queries, size_t nq,
+                                           double *w, geom_error_report *report, int threads,
+                                           geom_diag *diag);
+
+/**
+ * Signed distance: the closest-point distance, negative inside, inside
+ * meaning winding number >= 1/2 (exactly 1/2 counts as inside). The sign is
+ * that of the exact solid-angle sum: when the fast approximation is within
+ * its error bound of 1/2, the query is recomputed exactly. sd receives nq
+ * doubles; report (may be NULL) as geom_meshdist_winding. Returns as
+ * geom_meshdist_closest.
+ */
+GEOM_API geom_status geom_meshdist_signed_distance(const geom_meshdist *m, const double *queries,
+                                                   size_t nq, double *sd,
+                                                   geom_error_report *report, int threads,
+                                                   geom_diag *diag);
+
 #ifdef __cplusplus
 }
 #endif

@@ -157,3 +157,35 @@ static inline double geom__r2_bound(double r)
 
 /* First non-finite point among n points of dimension dim, or n. */
 size_t geom__first_nonfinite(const double *p, size_t n, int dim);
+
+/* ---- distance index over a triangle mesh (meshdist.c, winding.c) */
+typedef struct geom__dipole {
+    double c[3]; /* area-weighted centre */
+    double n[3]; /* sum of area vectors (half cross products) */
+    double area; /* sum of triangle areas */
+    double r;    /* radius: every vertex of the subtree is within r of c */
+} geom__dipole;
+
+struct geom_meshdist {
+    geom_allocator alloc;
+    int has_alloc;
+    double *pos;
+    size_t nv;
+    uint32_t *tris;
+    size_t nt;
+    geom_bvh *bvh;
+    geom__dipole *dip; /* one per BVH node */
+    double beta;
+    double tol_per_area; /* tolerance / total area */
+};
+
+/* Closest point of p on triangle (a, b, c) (Ericson 5.1.5, with degenerate
+ * triangles handled by their edges); returns the squared distance. */
+double geom__closest_on_triangle(const double p[3], const double a[3], const double b[3],
+                                 const double c[3], double out[3], double bary[3]);
+/* Squared distance from q to the mesh (closest.c). */
+double geom__meshdist_closest_d2(const geom_meshdist *m, const double q[3]);
+/* Signed solid angle of triangle (a, b, c) seen from q (Van Oosterom and
+ * Strackee 1983), in steradians. */
+double geom__solid_angle(const double q[3], const double a[3], const double b[3],
+                         const double c[3]);
