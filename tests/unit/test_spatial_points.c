@@ -1,5 +1,6 @@
 /*
  * Point queries (kNN, radius, box) of the kd-tree and the quadtree/octree
+ * (plain and 2:1 balanced)
  * against a brute-force scan, on random, clustered, duplicated, grid-aligned
  * (many equal distances: the tie order by index is checked) and 1e8-offset
  * points, in 2D and 3D; same answers for 1 and several threads; a point at
@@ -122,6 +123,22 @@ static geom_status kd_box(const void *t, const double *lo, const double *hi, geo
     return geom_kdtree_box(t, lo, hi, out);
 }
 static const index_ops kd_ops = {"kdtree", kd_knn, kd_radius, kd_box};
+
+static geom_status oc_knn(const void *t, const double *q, size_t nq, size_t k, uint32_t *idx,
+                          double *d, int threads)
+{
+    return geom_octree_knn(t, q, nq, k, idx, d, threads, NULL);
+}
+static geom_status oc_radius(const void *t, const double *q, size_t nq, double r,
+                             geom_neighbors *out, int threads)
+{
+    return geom_octree_radius(t, q, nq, r, out, threads, NULL);
+}
+static geom_status oc_box(const void *t, const double *lo, const double *hi, geom_neighbors *out)
+{
+    return geom_octree_box(t, lo, hi, out);
+}
+static const index_ops oc_ops = {"octree", oc_knn, oc_radius, oc_box};
 
 static void check_queries(const index_ops *ops, const void *t, const double *pts, size_t n,
                           int dim, int kind)
@@ -255,10 +272,37 @@ static void test_kdtree(void **st)
     for (int dim = 2; dim <= 3; dim++)
         for (int kind = 0; kind < NKINDS; kind++) {
             run_kdtree(dim, kind, 3000);
-            run_kdtree(dim, kind, 20000);
+            run_kdtree(dim, kind, 10000);
         }
     run_kdtree(3, RANDOM, 5);
     run_kdtree(2, RANDOM, 1);
+}
+
+static void run_octree(int dim, int kind, size_t n, int balance)
+{
+    double *pts = make_points(kind, n, dim);
+    geom_octree *t = NULL;
+    geom_octree_options o = {0};
+    o.balance = balance;
+    o.bucket_size = balance ? 4 : 0;
+    assert_int_equal(geom_octree_build_points(pts, n, dim, &o, &t, NULL), GEOM_OK);
+    assert_int_equal(geom_octree_dim(t), dim);
+    check_queries(&oc_ops, t, pts, n, dim, kind);
+    geom_octree_destroy(t);
+    free(pts);
+}
+
+static void test_octree(void **st)
+{
+    (void)st;
+    for (int dim = 2; dim <= 3; dim++)
+        for (int kind = 0; kind < NKINDS; kind++) {
+            run_octree(dim, kind, 3000, 0);
+            run_octree(dim, kind, 10000, 0);
+            run_octree(dim, kind, 3000, 1);
+        }
+    run_octree(3, RANDOM, 5, 0);
+    run_octree(2, RANDOM, 1, 0);
 }
 
 static void test_kdtree_edges(void **st)
@@ -315,6 +359,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_kdtree),
         cmocka_unit_test(test_kdtree_edges),
+        cmocka_unit_test(test_octree),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -204,6 +204,117 @@ GEOM_API geom_status geom_kdtree_radius(const geom_kdtree *t, const double *quer
 GEOM_API geom_status geom_kdtree_box(const geom_kdtree *t, const double *lo, const double *hi,
                                      geom_neighbors *out);
 
+/* ========================================================= quadtree / octree */
+
+/** Opaque quadtree (2D) or octree (3D) over points, segments or triangles. */
+typedef struct geom_octree geom_octree;
+
+/** Options; valid when zero-initialised. */
+typedef struct geom_octree_options {
+    uint32_t bucket_size;        /**< a node with more items splits; 0 = 16 */
+    uint32_t max_depth;          /**< deepest level (root = 0); 0 = the finest the
+                                      codes resolve: 19 (octree), 28 (quadtree) */
+    int balance;                 /**< nonzero: 2:1 balance (neighbouring leaves,
+                                      across faces, edges and corners, differ by at
+                                      most one level; every node then has all
+                                      2^dim children) */
+    int threads;                 /**< 0 = all available; the tree does not depend on it */
+    const geom_allocator *alloc; /**< NULL = malloc */
+} geom_octree_options;
+
+/**
+ * One node. Children are contiguous: nodes[first_child ..] in increasing
+ * octant order for the octants set in child_mask (octant bit 0 = +x half,
+ * bit 1 = +y, bit 2 = +z). The items of the subtree are
+ * items[item_start .. item_start + item_total); the first own_count of them
+ * are stored at this node itself (every item of a leaf; for segments and
+ * triangles also the elements that straddle the children's cells). `cell`
+ * is the node's square/cube (z extent 0 in 2D); `bounds` is the tight box of
+ * the subtree's items (empty when it has none): queries prune with it, so
+ * they are exact whatever the rounding of the cells.
+ */
+typedef struct geom_octree_node {
+    geom_aabb cell;
+    geom_aabb bounds;
+    uint32_t first_child; /**< GEOM_INVALID_INDEX for a leaf */
+    uint32_t child_mask;
+    uint32_t item_start;
+    uint32_t item_total;
+    uint32_t own_count;
+    uint32_t level;
+} geom_octree_node;
+
+/**
+ * Linear (Morton-ordered) build: items are sorted by the Morton code of
+ * their cell (19 bits per axis in 3D, 28 in 2D) in O(n log n) (radix sort), then the
+ * tree is cut top-down from the sorted codes; nodes and items are flat
+ * arrays. An element sits at the deepest cell that contains its box (the
+ * root if it spans the middle), a point at the deepest needed. A node with
+ * at most bucket_size items, at max_depth, or whose items all share one
+ * cell code (coincident points: a million copies of one point make one
+ * leaf) is a leaf: it does not split further, so depth and memory stay
+ * bounded (depth <= max_depth, nodes <= items * (max_depth + 1)).
+ * Points: dim*n doubles, dim 2 (quadtree) or 3 (octree). Returns GEOM_OK;
+ * GEOM_ERR_INVALID_ARG (NULL, bad dim, NaN/Inf: the diag names the first
+ * bad point); GEOM_ERR_LIMIT (n >= 2^32 - 1); GEOM_ERR_NOMEM.
+ */
+GEOM_API geom_status geom_octree_build_points(const double *points, size_t n, int dim,
+                                              const geom_octree_options *opt, geom_octree **out,
+                                              geom_diag *diag);
+/** Quadtree over segments: positions 2*nv doubles, segs 2*ns indices. Same
+ *  statuses (the diag names the first bad segment). */
+GEOM_API geom_status geom_octree_build_segments(const double *positions, size_t nv,
+                                                const uint32_t *segs, size_t ns,
+                                                const geom_octree_options *opt, geom_octree **out,
+                                                geom_diag *diag);
+/** Octree over triangles: positions 3*nv doubles, tris 3*nt indices. */
+GEOM_API geom_status geom_octree_build_triangles(const double *positions, size_t nv,
+                                                 const uint32_t *tris, size_t nt,
+                                                 const geom_octree_options *opt, geom_octree **out,
+                                                 geom_diag *diag);
+/** Free. NULL is a no-op. */
+GEOM_API void geom_octree_destroy(geom_octree *t);
+/** Nodes (node 0 is the root; none for an empty tree). */
+GEOM_API const geom_octree_node *geom_octree_nodes(const geom_octree *t, size_t *count);
+/** Item (point/element) indices in tree order; *count = number of items. */
+GEOM_API const uint32_t *geom_octree_items(const geom_octree *t, size_t *count);
+/** Dimension (2 or 3), levels (0 empty, 1 root only) and bytes held. */
+GEOM_API int geom_octree_dim(const geom_octree *t);
+GEOM_API size_t geom_octree_depth(const geom_octree *t);
+GEOM_API size_t geom_octree_bytes(const geom_octree *t);
+
+/** kNN as geom_kdtree_knn, on a point tree (GEOM_ERR_INVALID_ARG otherwise). */
+GEOM_API geom_status geom_octree_knn(const geom_octree *t, const double *queries, size_t nq,
+                                     size_t k, uint32_t *index, double *distance, int threads,
+                                     geom_diag *diag);
+/** Radius query as geom_kdtree_radius, on a point tree. */
+GEOM_API geom_status geom_octree_radius(const geom_octree *t, const double *queries, size_t nq,
+                                        double r, geom_neighbors *out, int threads,
+                                        geom_diag *diag);
+/** Items whose box meets the closed box [lo, hi] (dim doubles each), in
+ *  increasing index order (one row, distance NULL). */
+GEOM_API geom_status geom_octree_box(const geom_octree *t, const double *lo, const double *hi,
+                                     geom_neighbors *out);
+/**
+ * Frustum query: items whose box is not entirely on the negative side of
+ * any of the six planes (planes: 24 doubles, plane i is a*x + b*y + c*z + d
+ * >= 0 inside, no normalisation needed), in increasing index order (one
+ * row). The box test is conservative (a box near a frustum corner may be
+ * reported although it misses the frustum, never the reverse). In 2D z = 0.
+ */
+GEOM_API geom_status geom_octree_frustum(const geom_octree *t, const double planes[24],
+                                         geom_neighbors *out);
+/**
+ * Ordered ray traversal: the items whose box the ray meets within [tmin,
+ * tmax] (the conservative slab test of geom_ray_aabb: nothing is missed at a
+ * shared face or edge), front to back: sorted by the entry parameter, ties
+ * by index; distance[] holds the entry parameter. Nodes are visited front to
+ * back (children in the order the ray enters them, as in Revelles et al.
+ * 2000) and pruned by their tight bounds. In 2D the ray's z is ignored.
+ * Returns GEOM_OK, GEOM_ERR_INVALID_ARG (NULL or NaN ray), GEOM_ERR_NOMEM.
+ */
+GEOM_API geom_status geom_octree_ray(const geom_octree *t, const geom_ray *ray, geom_neighbors *out);
+
 /* ======================================= closest point and signed distance */
 
 /** Opaque distance index over a triangle mesh: a SAH BVH plus, per node, the

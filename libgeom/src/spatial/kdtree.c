@@ -243,38 +243,14 @@ size_t geom_kdtree_bytes(const geom_kdtree *t)
 
 /* ------------------------------------------------------------------ kNN */
 
-typedef struct kbest {
-    double *d2;
-    uint32_t *id;
-    size_t k, count;
-} kbest;
-
-static void knn_rec(const geom_kdtree *t, size_t node, const double q[3], double off[3], kbest *b)
+static void knn_rec(const geom_kdtree *t, size_t node, const double q[3], double off[3], geom__kbest *b)
 {
     const kdnode *nd = &t->nodes[node];
     if (nd->count) {
         const double *p = t->pts + 3 * (size_t)nd->index;
         const uint32_t *ids = t->ids + nd->index;
-        for (uint32_t i = 0; i < nd->count; i++, p += 3) {
-            double d2 = geom__d2(p, q);
-            uint32_t id = ids[i];
-            size_t c = b->count;
-            if (c == b->k) {
-                double w = b->d2[c - 1];
-                if (d2 > w || (d2 == w && id > b->id[c - 1]))
-                    continue;
-                c--;
-            } else {
-                b->count++;
-            }
-            while (c > 0 && (b->d2[c - 1] > d2 || (b->d2[c - 1] == d2 && b->id[c - 1] > id))) {
-                b->d2[c] = b->d2[c - 1];
-                b->id[c] = b->id[c - 1];
-                c--;
-            }
-            b->d2[c] = d2;
-            b->id[c] = id;
-        }
+        for (uint32_t i = 0; i < nd->count; i++, p += 3)
+            geom__kbest_insert(b, geom__d2(p, q), ids[i]);
         return;
     }
     int ax = nd->axis;
@@ -289,67 +265,22 @@ static void knn_rec(const geom_kdtree *t, size_t node, const double q[3], double
     off[ax] = old;
 }
 
-static void load_query(const double *qs, size_t q, int dim, double out[3])
+
+static void kd_knn_one(const void *ctx, const double q[3], geom__kbest *b)
 {
-    out[0] = qs[(size_t)dim * q];
-    out[1] = qs[(size_t)dim * q + 1];
-    out[2] = dim == 3 ? qs[3 * q + 2] : 0.0;
+    const geom_kdtree *t = ctx;
+    double off[3] = {0, 0, 0};
+    if (b->k)
+        knn_rec(t, 0, q, off, b);
 }
 
 geom_status geom_kdtree_knn(const geom_kdtree *t, const double *queries, size_t nq, size_t k,
                             uint32_t *index, double *distance, int threads, geom_diag *diag)
 {
-    if (!t || (nq && !queries))
+    if (!t)
         return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "kNN: NULL argument");
-    size_t bad = geom__first_nonfinite(queries, nq, t->dim);
-    if (bad < nq)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
-                             "kNN: query %zu has a NaN/Inf coordinate", bad);
-    if (k == 0 || nq == 0)
-        return GEOM_OK;
-    size_t kk = k < t->n ? k : t->n;
-    ptrdiff_t nn = (ptrdiff_t)nq;
-    int nth = geom__spatial_threads(threads);
-    (void)nth;
-    geom_status st = GEOM_OK;
-#ifdef GEOM_SPATIAL_OPENMP
-#pragma omp parallel num_threads(nth) if (nq > 64)
-#endif
-    {
-        double sd2[64];
-        uint32_t sid[64];
-        double *d2 = kk <= 64 ? sd2 : geom_alloc(t->has_alloc ? &t->alloc : NULL, kk * sizeof *d2);
-        uint32_t *id = kk <= 64 ? sid : geom_alloc(t->has_alloc ? &t->alloc : NULL, kk * sizeof *id);
-        if (!d2 || !id) {
-#ifdef GEOM_SPATIAL_OPENMP
-#pragma omp atomic write
-#endif
-            st = GEOM_ERR_NOMEM;
-        } else {
-#ifdef GEOM_SPATIAL_OPENMP
-#pragma omp for schedule(dynamic, 256)
-#endif
-            for (ptrdiff_t qi = 0; qi < nn; qi++) {
-                double q[3], off[3] = {0, 0, 0};
-                load_query(queries, (size_t)qi, t->dim, q);
-                kbest b = {d2, id, kk, 0};
-                if (kk)
-                    knn_rec(t, 0, q, off, &b);
-                for (size_t j = 0; j < k; j++) {
-                    size_t o = (size_t)qi * k + j;
-                    if (index)
-                        index[o] = j < b.count ? id[j] : GEOM_INVALID_INDEX;
-                    if (distance)
-                        distance[o] = j < b.count ? sqrt(d2[j]) : INFINITY;
-                }
-            }
-        }
-        if (kk > 64) {
-            geom_free(t->has_alloc ? &t->alloc : NULL, d2, kk * sizeof *d2);
-            geom_free(t->has_alloc ? &t->alloc : NULL, id, kk * sizeof *id);
-        }
-    }
-    return st;
+    return geom__knn_batch(t->has_alloc ? &t->alloc : NULL, t, kd_knn_one, t->dim, t->n, queries, nq,
+                           k, index, distance, threads, diag);
 }
 
 /* --------------------------------------------------------------- radius */
@@ -394,7 +325,7 @@ static geom_status radius_row(const void *ctx, size_t q, geom__hits *h)
 {
     const rctx *c = ctx;
     double qq[3], off[3] = {0, 0, 0};
-    load_query(c->queries, q, c->t->dim, qq);
+    geom__load_query(c->queries, q, c->t->dim, qq);
     size_t from = h->n;
     if (c->t->n && radius_rec(c->t, 0, qq, off, c->r, c->r2b, h))
         return GEOM_ERR_NOMEM;

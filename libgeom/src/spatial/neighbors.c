@@ -125,7 +125,7 @@ geom_status geom__batch_rows(const geom_allocator *a, size_t nq, geom__row_fn fn
             for (size_t i = 0; i < ch[c].hits.n; i++) {
                 out->index[pos] = ch[c].hits.h[i].idx;
                 if (with_dist)
-                    out->distance[pos] = sqrt(ch[c].hits.h[i].d2);
+                    out->distance[pos] = with_dist == 2 ? ch[c].hits.h[i].d2 : sqrt(ch[c].hits.h[i].d2);
                 pos++;
             }
         }
@@ -140,4 +140,62 @@ geom_status geom__batch_rows(const geom_allocator *a, size_t nq, geom__row_fn fn
         memset(out, 0, sizeof *out);
     }
     return st;
+}
+
+geom_status geom__knn_batch(const geom_allocator *a, const void *ctx, geom__knn_fn one, int dim,
+                            size_t n, const double *queries, size_t nq, size_t k, uint32_t *index,
+                            double *distance, int threads, geom_diag *diag)
+{
+    if (nq && !queries)
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "kNN: NULL argument");
+    size_t bad = geom__first_nonfinite(queries, nq, dim);
+    if (bad < nq)
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+                             "kNN: query %zu has a NaN/Inf coordinate", bad);
+    if (k == 0 || nq == 0)
+        return GEOM_OK;
+    size_t kk = k < n ? k : n;
+    ptrdiff_t nn = (ptrdiff_t)nq;
+    int nth = geom__spatial_threads(threads);
+    (void)nth;
+    geom_status st = GEOM_OK;
+#ifdef GEOM_SPATIAL_OPENMP
+#pragma omp parallel num_threads(nth) if (nq > 64)
+#endif
+    {
+        double sd2[64];
+        uint32_t sid[64];
+        double *d2 = kk <= 64 ? sd2 : geom_alloc(a, kk * sizeof *d2);
+        uint32_t *id = kk <= 64 ? sid : geom_alloc(a, kk * sizeof *id);
+        if (!d2 || !id) {
+#ifdef GEOM_SPATIAL_OPENMP
+#pragma omp atomic write
+#endif
+            st = GEOM_ERR_NOMEM;
+        } else {
+#ifdef GEOM_SPATIAL_OPENMP
+#pragma omp for schedule(dynamic, 256)
+#endif
+            for (ptrdiff_t qi = 0; qi < nn; qi++) {
+                double q[3];
+                geom__load_query(queries, (size_t)qi, dim, q);
+                geom__kbest b = {d2, id, kk, 0};
+                one(ctx, q, &b);
+                for (size_t j = 0; j < k; j++) {
+                    size_t o = (size_t)qi * k + j;
+                    if (index)
+                        index[o] = j < b.count ? id[j] : GEOM_INVALID_INDEX;
+                    if (distance)
+                        distance[o] = j < b.count ? sqrt(d2[j]) : INFINITY;
+                }
+            }
+        }
+        if (kk > 64) {
+            geom_free(a, d2, kk * sizeof *d2);
+            geom_free(a, id, kk * sizeof *id);
+        }
+    }
+    if (st != GEOM_OK)
+        return geom_diag_set(diag, st, "", 0, 0, "kNN: out of memory");
+    return GEOM_OK;
 }

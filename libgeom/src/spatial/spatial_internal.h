@@ -137,7 +137,8 @@ void geom__hits_sort(geom__hits *hs, size_t from);
 typedef geom_status (*geom__row_fn)(const void *ctx, size_t q, geom__hits *h);
 
 /* Run fn over nq queries in parallel (chunks, assembled in query order) into
- * out; with_dist: distance = sqrt(d2) of each hit, else distance NULL. */
+ * out; with_dist: 1 distance = sqrt(d2) of each hit, 2 distance = d2 as is,
+ * 0 distance NULL. */
 geom_status geom__batch_rows(const geom_allocator *a, size_t nq, geom__row_fn fn, const void *ctx,
                              int threads, int with_dist, geom_neighbors *out);
 
@@ -189,3 +190,77 @@ double geom__meshdist_closest_d2(const geom_meshdist *m, const double q[3]);
  * Strackee 1983), in steradians. */
 double geom__solid_angle(const double q[3], const double a[3], const double b[3],
                          const double c[3]);
+
+/* ---- quadtree / octree (octree.c, octree_query.c) */
+struct geom_octree {
+    geom_allocator alloc;
+    int has_alloc;
+    int dim;
+    int points; /* items are points (kNN/radius allowed) */
+    size_t n;
+    uint32_t *items;  /* item index, tree order */
+    double *ibox;     /* 6 per item in tree order: lo[3], hi[3] */
+    geom_octree_node *nodes;
+    size_t node_count, node_cap;
+    size_t depth;
+};
+
+static inline const geom_allocator *geom__octree_alloc(const geom_octree *t)
+{
+    return t->has_alloc ? &t->alloc : NULL;
+}
+
+/* ---- k best (d2, index) pairs, ascending, for kNN */
+typedef struct geom__kbest {
+    double *d2;
+    uint32_t *id;
+    size_t k, count;
+} geom__kbest;
+
+static inline void geom__kbest_insert(geom__kbest *b, double d2, uint32_t id)
+{
+    size_t c = b->count;
+    if (c == b->k) {
+        double w = b->d2[c - 1];
+        if (d2 > w || (d2 == w && id > b->id[c - 1]))
+            return;
+        c--;
+    } else {
+        b->count++;
+    }
+    while (c > 0 && (b->d2[c - 1] > d2 || (b->d2[c - 1] == d2 && b->id[c - 1] > id))) {
+        b->d2[c] = b->d2[c - 1];
+        b->id[c] = b->id[c - 1];
+        c--;
+    }
+    b->d2[c] = d2;
+    b->id[c] = id;
+}
+
+/* Squared distance from q to a box (a lower bound of the computed distance
+ * of any point inside it). */
+static inline double geom__box_d2(const geom_aabb *b, const double q[3])
+{
+    double lo[3] = {b->min.x, b->min.y, b->min.z}, hi[3] = {b->max.x, b->max.y, b->max.z};
+    double s = 0;
+    for (int k = 0; k < 3; k++) {
+        double d = q[k] < lo[k] ? lo[k] - q[k] : q[k] > hi[k] ? q[k] - hi[k] : 0.0;
+        s += d * d;
+    }
+    return s;
+}
+
+/* Run kNN for nq queries: one(ctx, q[3], best) fills best; results written
+ * as geom_kdtree_knn documents. */
+typedef void (*geom__knn_fn)(const void *ctx, const double q[3], geom__kbest *b);
+geom_status geom__knn_batch(const geom_allocator *a, const void *ctx, geom__knn_fn one, int dim,
+                            size_t n, const double *queries, size_t nq, size_t k, uint32_t *index,
+                            double *distance, int threads, geom_diag *diag);
+
+/* Query q of a dim-strided array as 3 doubles (z = 0 in 2D). */
+static inline void geom__load_query(const double *qs, size_t q, int dim, double out[3])
+{
+    out[0] = qs[(size_t)dim * q];
+    out[1] = qs[(size_t)dim * q + 1];
+    out[2] = dim == 3 ? qs[3 * q + 2] : 0.0;
+}
