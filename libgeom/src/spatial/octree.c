@@ -292,6 +292,10 @@ static void elem_box(const src *s, size_t i, double lo[3], double hi[3])
         const double *p = s->pos + (size_t)s->dim * vi;
         for (int k = 0; k < 3; k++) {
             double x = k < s->dim ? p[k] : 0.0;
+            if (!isfinite(x)) { /* min/max would skip a NaN: poison the box */
+                lo[k] = NAN;
+                return;
+            }
             if (x < lo[k]) lo[k] = x;
             if (x > hi[k]) hi[k] = x;
         }
