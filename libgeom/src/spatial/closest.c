@@ -116,17 +116,6 @@ double geom__closest_on_triangle(const double p[3], const double a[3], const dou
     return geom__d2(out, p);
 }
 
-static double box_d2(const geom_aabb *b, const double q[3])
-{
-    double lo[3] = {b->min.x, b->min.y, b->min.z}, hi[3] = {b->max.x, b->max.y, b->max.z};
-    double s = 0;
-    for (int k = 0; k < 3; k++) {
-        double d = q[k] < lo[k] ? lo[k] - q[k] : q[k] > hi[k] ? q[k] - hi[k] : 0.0;
-        s += d * d;
-    }
-    return s;
-}
-
 /* Prune margin: the computed closest point can sit a rounding error outside
  * its triangle's box. */
 #define PRUNE(d2) ((d2) * (1.0 + 0x1p-40) + 0x1p-1000)
@@ -145,7 +134,7 @@ static void closest_one(const geom_meshdist *m, const double q[3], double pt[3],
         double sd[256];
         int sp = 0;
         stack[sp] = 0;
-        sd[sp++] = box_d2(&nodes[0].box, q);
+        sd[sp++] = geom__box_d2(&nodes[0].box, q);
         while (sp > 0) {
             sp--;
             if (sd[sp] > PRUNE(best))
@@ -169,7 +158,7 @@ static void closest_one(const geom_meshdist *m, const double q[3], double pt[3],
                 continue;
             }
             uint32_t li = stack[sp] + 1, ri = nd->index;
-            double dl = box_d2(&nodes[li].box, q), dr = box_d2(&nodes[ri].box, q);
+            double dl = geom__box_d2(&nodes[li].box, q), dr = geom__box_d2(&nodes[ri].box, q);
             /* Push the farther first so the nearer is popped first. */
             if (dl <= dr) {
                 stack[sp] = ri, sd[sp++] = dr;
