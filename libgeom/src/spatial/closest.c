@@ -33,7 +33,7 @@ static double seg_closest(const double p[3], const double a[3], const double b[3
     return geom__d2(c, p);
 }
 
-double geom__closest_on_triangle(const double p[3], const double a[3], const double b[3],
+static inline double closest_tri(const double p[3], const double a[3], const double b[3],
                                  const double c[3], double out[3], double bary[3])
 {
     double ab[3], ac[3], ap[3], bp[3], cp[3];
@@ -141,13 +141,11 @@ static void closest_one(const geom_meshdist *m, const double q[3], double pt[3],
                 continue;
             const geom_bvh_node *nd = &nodes[stack[sp]];
             if (nd->count) {
-                for (uint32_t k = 0; k < nd->count; k++) {
+                const double *tv = m->tv + 9 * (size_t)nd->index;
+                for (uint32_t k = 0; k < nd->count; k++, tv += 9) {
                     uint32_t t = prims[nd->index + k];
-                    const uint32_t *v = m->tris + 3 * (size_t)t;
                     double c[3], l[3];
-                    double d2 = geom__closest_on_triangle(q, m->pos + 3 * (size_t)v[0],
-                                                          m->pos + 3 * (size_t)v[1],
-                                                          m->pos + 3 * (size_t)v[2], c, l);
+                    double d2 = closest_tri(q, tv, tv + 3, tv + 6, c, l);
                     if (d2 < best || (d2 == best && t < bt)) {
                         best = d2;
                         bt = t;
@@ -159,13 +157,19 @@ static void closest_one(const geom_meshdist *m, const double q[3], double pt[3],
             }
             uint32_t li = stack[sp] + 1, ri = nd->index;
             double dl = geom__box_d2(&nodes[li].box, q), dr = geom__box_d2(&nodes[ri].box, q);
-            /* Push the farther first so the nearer is popped first. */
+            /* Push the farther first so the nearer is popped first; skip
+             * what is already farther than the best. */
+            double lim = PRUNE(best);
             if (dl <= dr) {
-                stack[sp] = ri, sd[sp++] = dr;
-                stack[sp] = li, sd[sp++] = dl;
+                if (dr <= lim)
+                    stack[sp] = ri, sd[sp++] = dr;
+                if (dl <= lim)
+                    stack[sp] = li, sd[sp++] = dl;
             } else {
-                stack[sp] = li, sd[sp++] = dl;
-                stack[sp] = ri, sd[sp++] = dr;
+                if (dl <= lim)
+                    stack[sp] = li, sd[sp++] = dl;
+                if (dr <= lim)
+                    stack[sp] = ri, sd[sp++] = dr;
             }
         }
     }

@@ -14,6 +14,7 @@ void geom_meshdist_destroy(geom_meshdist *m)
     size_t nn = 0;
     geom_bvh_nodes(m->bvh, &nn);
     geom_free(a, m->dip, (nn ? nn : 1) * sizeof *m->dip);
+    geom_free(a, m->tv, (m->nt ? 9 * m->nt : 1) * sizeof *m->tv);
     geom_bvh_destroy(m->bvh);
     geom_free(a, m->pos, 3 * m->nv * sizeof *m->pos);
     geom_free(a, m->tris, 3 * m->nt * sizeof *m->tris);
@@ -31,7 +32,7 @@ size_t geom_meshdist_bytes(const geom_meshdist *m)
         return 0;
     size_t nn = 0;
     geom_bvh_nodes(m->bvh, &nn);
-    return sizeof *m + geom_bvh_bytes(m->bvh) + nn * sizeof *m->dip +
+    return sizeof *m + geom_bvh_bytes(m->bvh) + nn * sizeof *m->dip + m->nt * 9 * sizeof(double) +
            m->nv * 3 * sizeof(double) + m->nt * 3 * sizeof(uint32_t);
 }
 
@@ -140,7 +141,8 @@ geom_status geom_meshdist_create(const double *positions, size_t nv, const uint3
     m->pos = geom_alloc(a, 3 * nv * sizeof *m->pos);
     m->tris = geom_alloc(a, 3 * nt * sizeof *m->tris);
     m->dip = geom_alloc(a, (nn ? nn : 1) * sizeof *m->dip);
-    if (!m->pos || !m->tris || !m->dip) {
+    m->tv = geom_alloc(a, (nt ? 9 * nt : 1) * sizeof *m->tv);
+    if (!m->pos || !m->tris || !m->dip || !m->tv) {
         geom_meshdist_destroy(m);
         return geom_diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "mesh distance: out of memory");
     }
@@ -149,6 +151,11 @@ geom_status geom_meshdist_create(const double *positions, size_t nv, const uint3
     if (nt)
         memcpy(m->tris, tris, 3 * nt * sizeof *m->tris);
     dipoles(m);
+    const uint32_t *prims = geom_bvh_prim_indices(bvh, NULL);
+    for (size_t i = 0; i < nt; i++)
+        for (int v = 0; v < 3; v++)
+            memcpy(m->tv + 9 * i + 3 * v, positions + 3 * (size_t)tris[3 * (size_t)prims[i] + (size_t)v],
+                   3 * sizeof(double));
     double tol = o.tolerance > 0 ? o.tolerance : 1e-2;
     m->tol_per_area = nn && m->dip[0].area > 0 ? tol / m->dip[0].area : 0.0;
     *out = m;

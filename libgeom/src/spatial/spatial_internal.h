@@ -176,14 +176,11 @@ struct geom_meshdist {
     size_t nt;
     geom_bvh *bvh;
     geom__dipole *dip; /* one per BVH node */
+    double *tv;        /* 9 per triangle, in BVH primitive order (contiguous leaves) */
     double beta;
     double tol_per_area; /* tolerance / total area */
 };
 
-/* Closest point of p on triangle (a, b, c) (Ericson 5.1.5, with degenerate
- * triangles handled by their edges); returns the squared distance. */
-double geom__closest_on_triangle(const double p[3], const double a[3], const double b[3],
-                                 const double c[3], double out[3], double bary[3]);
 /* Squared distance from q to the mesh (closest.c). */
 double geom__meshdist_closest_d2(const geom_meshdist *m, const double q[3]);
 /* Signed solid angle of triangle (a, b, c) seen from q (Van Oosterom and

@@ -42,7 +42,6 @@ static double winding_one(const geom_meshdist *m, const double q[3], double beta
 {
     size_t nn;
     const geom_bvh_node *nodes = geom_bvh_nodes(m->bvh, &nn);
-    const uint32_t *prims = geom_bvh_prim_indices(m->bvh, NULL);
     double sum = 0, e = 0;
     size_t wk = 0;
     if (nn) {
@@ -69,11 +68,9 @@ static double winding_one(const geom_meshdist *m, const double q[3], double beta
                 }
             }
             if (nd->count) {
-                for (uint32_t k = 0; k < nd->count; k++) {
-                    const uint32_t *t = m->tris + 3 * (size_t)prims[nd->index + k];
-                    sum += geom__solid_angle(q, m->pos + 3 * (size_t)t[0], m->pos + 3 * (size_t)t[1],
-                                             m->pos + 3 * (size_t)t[2]) / FOUR_PI;
-                }
+                const double *tv = m->tv + 9 * (size_t)nd->index;
+                for (uint32_t k = 0; k < nd->count; k++, tv += 9)
+                    sum += geom__solid_angle(q, tv, tv + 3, tv + 6) / FOUR_PI;
                 wk += nd->count;
                 continue;
             }
