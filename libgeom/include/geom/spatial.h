@@ -328,10 +328,14 @@ typedef struct geom_meshdist_options {
                                       approximated by its dipole beyond beta*r;
                                       0 = 2 (Barill et al.'s default); < 0 = exact
                                       solid-angle sum always */
-    double tolerance;            /**< fast winding number: total error bound per
-                                      query; a node is approximated only if its
-                                      error term is at most tolerance times its
-                                      share of the mesh area; 0 = 1e-2 */
+    double tolerance;            /**< fast winding number: if > 0, a node is
+                                      approximated only if its error term is at
+                                      most tolerance times its share of the mesh
+                                      area, so the error per query is at most
+                                      tolerance; 0 = Barill's criterion alone
+                                      (faster; the reported bound is then the
+                                      sum of the accepted terms, rigorous but
+                                      pessimistic) */
     int threads;                 /**< 0 = all available; results do not depend on it */
     const geom_allocator *alloc; /**< NULL = malloc */
 } geom_meshdist_options;
@@ -371,9 +375,9 @@ GEOM_API geom_status geom_meshdist_closest(const geom_meshdist *m, const double 
  * Generalized winding number (Jacobson, Kavan and Sorkine-Hornung 2013) of
  * each query: sum over triangles of the signed solid angle (Van Oosterom and
  * Strackee 1983) over 4*pi, with the fast hierarchical approximation of
- * Barill et al. 2018 (first-order dipole per BVH node beyond beta*r, and
- * only where that node's error term is within its area share of the
- * tolerance, so the error is at most `tolerance` per query). 1
+ * Barill et al. 2018 (first-order dipole per BVH node beyond beta*r; with a
+ * tolerance option, only where that node's error term is within its area
+ * share of the tolerance, so the error is at most `tolerance` per query). 1
  * inside a closed outward-oriented mesh, 0 outside, a smooth value for open
  * or self-intersecting meshes. w receives nq doubles. If report is non-NULL
  * it receives, over the queries, the largest (max_error) and mean error
@@ -392,7 +396,8 @@ GEOM_API geom_status geom_meshdist_winding(const geom_meshdist *m, const double 
  * Signed distance: the closest-point distance, negative inside, inside
  * meaning winding number >= 1/2 (exactly 1/2 counts as inside). The sign is
  * that of the exact solid-angle sum: when the fast approximation is within
- * its error bound of 1/2, the query is recomputed exactly. sd receives nq
+ * its error bound of 1/2, the query is recomputed with tighter terms (error
+ * at most 1/4, then 1/32) and finally exactly, until the side is certain. sd receives nq
  * doubles; report (may be NULL) as geom_meshdist_winding. Returns as
  * geom_meshdist_closest.
  */

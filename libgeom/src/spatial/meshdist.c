@@ -156,8 +156,8 @@ geom_status geom_meshdist_create(const double *positions, size_t nv, const uint3
         for (int v = 0; v < 3; v++)
             memcpy(m->tv + 9 * i + 3 * v, positions + 3 * (size_t)tris[3 * (size_t)prims[i] + (size_t)v],
                    3 * sizeof(double));
-    double tol = o.tolerance > 0 ? o.tolerance : 1e-2;
-    m->tol_per_area = nn && m->dip[0].area > 0 ? tol / m->dip[0].area : 0.0;
+    m->tolerance = o.tolerance > 0 ? o.tolerance : 0.0;
+    m->area_total = nn ? m->dip[0].area : 0.0;
     *out = m;
     return GEOM_OK;
 }

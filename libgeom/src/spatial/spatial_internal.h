@@ -178,7 +178,8 @@ struct geom_meshdist {
     geom__dipole *dip; /* one per BVH node */
     double *tv;        /* 9 per triangle, in BVH primitive order (contiguous leaves) */
     double beta;
-    double tol_per_area; /* tolerance / total area */
+    double tolerance;  /* the option (0: none) */
+    double area_total; /* total triangle area */
 };
 
 /* Squared distance from q to the mesh (closest.c). */

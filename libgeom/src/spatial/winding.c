@@ -9,9 +9,14 @@
  * of that term is bounded by the Taylor remainder of the kernel: with A the
  * node's triangle area, r its radius and R the distance to its centre,
  * |error| <= A r sup|Hess(1/(4 pi |y|))| = A r 2 / (4 pi (R - r)^3).
- * A node is approximated only when that term is at most tolerance * A /
- * (total area): the accepted nodes are disjoint, so a query's error is at
- * most `tolerance` (plus rounding).
+ * By default a node is approximated by Barill et al.'s criterion alone
+ * (R > beta r) and the report carries the sum of the accepted terms, a
+ * rigorous but pessimistic bound. With a tolerance, a node is approximated
+ * only when its term is at most tolerance * A / (total area): the accepted
+ * nodes are disjoint, so a query's error is then at most `tolerance`.
+ * For the signed distance, a query whose bound straddles 1/2 is evaluated
+ * again with tightened terms (1/4, then 1/32 of the area share) and finally
+ * exactly, until the side of 1/2 is certain.
  */
 #include "spatial/spatial_internal.h"
 
@@ -37,8 +42,8 @@ double geom__solid_angle(const double q[3], const double A[3], const double B[3]
 }
 
 /* Winding number at q; *err receives the bound, *work the term count. */
-static double winding_one(const geom_meshdist *m, const double q[3], double beta, double *err,
-                          size_t *work)
+static double winding_one(const geom_meshdist *m, const double q[3], double beta,
+                          double tol_per_area, double *err, size_t *work)
 {
     size_t nn;
     const geom_bvh_node *nodes = geom_bvh_nodes(m->bvh, &nn);
@@ -58,7 +63,7 @@ static double winding_one(const geom_meshdist *m, const double q[3], double beta
                 if (R > beta * d->r && R > d->r) {
                     double g = R - d->r;
                     double term = d->area * d->r * 2.0 / (FOUR_PI * g * g * g);
-                    if (term <= m->tol_per_area * d->area) {
+                    if (tol_per_area <= 0 || term <= tol_per_area * d->area) {
                         sum += (v[0] * d->n[0] + v[1] * d->n[1] + v[2] * d->n[2]) /
                                (FOUR_PI * R * R * R);
                         e += term;
@@ -115,14 +120,26 @@ static geom_status run(const geom_meshdist *m, const double *queries, size_t nq,
         const double *q = queries + 3 * i;
         double e;
         size_t wk;
-        double w = winding_one(m, q, m->beta, &e, &wk);
-        if (sd) {
-            if (m->beta > 0 && fabs(w - 0.5) <= e) {
+        double tpa = m->tolerance > 0 && m->area_total > 0 ? m->tolerance / m->area_total : 0.0;
+        double w = winding_one(m, q, m->beta, tpa, &e, &wk);
+        if (sd && m->beta > 0 && !(fabs(w - 0.5) > e)) {
+            /* The bound straddles 1/2: tighten it (approximate only nodes
+             * whose error terms fit in 1/4, then 1/32 of their area share),
+             * then the exact sum, until the side of 1/2 is certain. */
+            static const double tight[2] = {0.25, 0.03125};
+            for (int pass = 0; pass < 3 && !(fabs(w - 0.5) > e); pass++) {
                 size_t wk2;
-                w = winding_one(m, q, -1.0, &e, &wk2); /* decide the sign exactly */
+                if (pass < 2 && m->area_total > 0) {
+                    w = winding_one(m, q, m->beta, tight[pass] / m->area_total, &e, &wk2);
+                } else {
+                    w = winding_one(m, q, -1.0, 0.0, &e, &wk2);
+                    e = 0;
+                    pass = 2;
+                }
                 wk += wk2;
-                e = 0;
             }
+        }
+        if (sd) {
             double d = sqrt(geom__meshdist_closest_d2(m, q));
             out[i] = w >= 0.5 ? -d : d;
         } else {
