@@ -70,8 +70,11 @@ def test_mesh_distance():
     sd, rep = md.signed_distance(Q)
     assert np.allclose(sd, [-0.5, 1, 3, -0.25], atol=1e-15)
     assert rep["method"] in ("bound", "BOUND", "1") or rep["max_error"] >= 0
-    w, _ = md.winding_number(Q)
-    assert np.allclose(w, [1, 0, 0, 1], atol=1e-9)
+    w, rep = md.winding_number(Q)  # Barill et al.'s approximation: within its bound
+    assert (np.abs(w - [1, 0, 0, 1]) <= rep["max_error"] + 1e-12).all()
+    exact = spatial.MeshDistance(P, T, beta=-1)
+    w, rep = exact.winding_number(Q)
+    assert np.allclose(w, [1, 0, 0, 1], atol=1e-12) and rep["max_error"] == 0
     c = md.closest(Q)
     assert np.allclose(c["point"][1], [1, 0.5, 0.5])
     assert np.allclose(c["distance"], np.abs(sd))
