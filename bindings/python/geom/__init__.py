@@ -7,6 +7,8 @@ this package, or by the system loader; see geom._ffi).
 Submodules:
   geom.core      GeomError, status names, exact predicates, 4x4 transforms
   geom.bary      barycentric, mean value, Wachspress, perspective weights
+  geom.spatial   KdTree, Octree, MeshDistance, Bvh (batch kNN/radius/box
+                 queries, closest points, winding numbers, signed distance)
   geom.mesh      Mesh (half-edge mesh, file I/O, normals, features, clipping,
                  subdivision)
   geom.curve     NurbsCurve (evaluation, derivatives, exact circles, ...)
@@ -36,6 +38,9 @@ if has_module("mesh") and has_module("meshio"):
     from . import mesh  # noqa: E402
     from .mesh import Mesh  # noqa: E402
     __all__ += ["mesh", "Mesh"]
+if has_module("spatial"):
+    from . import spatial  # noqa: E402
+    __all__ += ["spatial"]
 if has_module("curve"):
     from . import curve  # noqa: E402
     from .curve import NurbsCurve  # noqa: E402

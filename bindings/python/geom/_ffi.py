@@ -1032,6 +1032,144 @@ double geom_camera_pixel_size(const geom_camera *cam, double depth);
 double geom_scene_pixel_tolerance(const geom_camera *cam, geom_aabb box,
                                            double pixel_error, int *visible);
 """,
+    "spatial": """
+typedef struct geom_bvh geom_bvh;
+typedef enum geom_bvh_method {
+    GEOM_BVH_SAH = 0,
+    GEOM_BVH_LBVH = 1
+} geom_bvh_method;
+typedef struct geom_bvh_options {
+    geom_bvh_method method;
+    uint32_t max_leaf_size;
+    uint32_t bins;
+    int threads;
+    const geom_allocator *alloc;
+} geom_bvh_options;
+typedef struct geom_bvh_node {
+    geom_aabb box;
+    uint32_t index;
+    uint32_t count;
+    uint32_t axis;
+    uint32_t pad;
+} geom_bvh_node;
+geom_status geom_bvh_build_triangles(const double *positions, size_t nv,
+    const uint32_t *tris, size_t nt,
+    const geom_bvh_options *opt, geom_bvh **out,
+    geom_diag *diag);
+geom_status geom_bvh_build_boxes(const geom_aabb *boxes, size_t n,
+    const geom_bvh_options *opt, geom_bvh **out,
+    geom_diag *diag);
+typedef void (*geom_bvh_bounds_fn)(void *user, size_t i, geom_aabb *box);
+geom_status geom_bvh_build_callback(size_t n, geom_bvh_bounds_fn fn, void *user,
+    const geom_bvh_options *opt, geom_bvh **out,
+    geom_diag *diag);
+geom_status geom_bvh_refit_triangles(geom_bvh *b, const double *positions, size_t nv,
+    const uint32_t *tris, size_t nt);
+void geom_bvh_destroy(geom_bvh *b);
+const geom_bvh_node *geom_bvh_nodes(const geom_bvh *b, size_t *count);
+const uint32_t *geom_bvh_prim_indices(const geom_bvh *b, size_t *count);
+size_t geom_bvh_depth(const geom_bvh *b);
+size_t geom_bvh_bytes(const geom_bvh *b);
+typedef struct geom_neighbors {
+    size_t query_count;
+    size_t *offsets;
+    uint32_t *index;
+    double *distance;
+    size_t capacity;
+    const geom_allocator *alloc;
+} geom_neighbors;
+void geom_neighbors_free(geom_neighbors *nb);
+typedef struct geom_kdtree geom_kdtree;
+typedef struct geom_kdtree_options {
+    uint32_t leaf_size;
+    int threads;
+    const geom_allocator *alloc;
+} geom_kdtree_options;
+geom_status geom_kdtree_build(const double *points, size_t n, int dim,
+    const geom_kdtree_options *opt, geom_kdtree **out,
+    geom_diag *diag);
+void geom_kdtree_destroy(geom_kdtree *t);
+size_t geom_kdtree_node_count(const geom_kdtree *t);
+size_t geom_kdtree_depth(const geom_kdtree *t);
+size_t geom_kdtree_bytes(const geom_kdtree *t);
+geom_status geom_kdtree_knn(const geom_kdtree *t, const double *queries, size_t nq,
+    size_t k, uint32_t *index, double *distance,
+    int threads, geom_diag *diag);
+geom_status geom_kdtree_radius(const geom_kdtree *t, const double *queries, size_t nq,
+    double r, geom_neighbors *out, int threads,
+    geom_diag *diag);
+geom_status geom_kdtree_box(const geom_kdtree *t, const double *lo, const double *hi,
+    geom_neighbors *out);
+typedef struct geom_octree geom_octree;
+typedef struct geom_octree_options {
+    uint32_t bucket_size;
+    uint32_t max_depth;
+    int balance;
+    int threads;
+    const geom_allocator *alloc;
+} geom_octree_options;
+typedef struct geom_octree_node {
+    geom_aabb cell;
+    geom_aabb bounds;
+    uint32_t first_child;
+    uint32_t child_mask;
+    uint32_t item_start;
+    uint32_t item_total;
+    uint32_t own_count;
+    uint32_t level;
+} geom_octree_node;
+geom_status geom_octree_build_points(const double *points, size_t n, int dim,
+    const geom_octree_options *opt, geom_octree **out,
+    geom_diag *diag);
+geom_status geom_octree_build_segments(const double *positions, size_t nv,
+    const uint32_t *segs, size_t ns,
+    const geom_octree_options *opt, geom_octree **out,
+    geom_diag *diag);
+geom_status geom_octree_build_triangles(const double *positions, size_t nv,
+    const uint32_t *tris, size_t nt,
+    const geom_octree_options *opt, geom_octree **out,
+    geom_diag *diag);
+void geom_octree_destroy(geom_octree *t);
+const geom_octree_node *geom_octree_nodes(const geom_octree *t, size_t *count);
+const uint32_t *geom_octree_items(const geom_octree *t, size_t *count);
+int geom_octree_dim(const geom_octree *t);
+size_t geom_octree_depth(const geom_octree *t);
+size_t geom_octree_bytes(const geom_octree *t);
+geom_status geom_octree_knn(const geom_octree *t, const double *queries, size_t nq,
+    size_t k, uint32_t *index, double *distance, int threads,
+    geom_diag *diag);
+geom_status geom_octree_radius(const geom_octree *t, const double *queries, size_t nq,
+    double r, geom_neighbors *out, int threads,
+    geom_diag *diag);
+geom_status geom_octree_box(const geom_octree *t, const double *lo, const double *hi,
+    geom_neighbors *out);
+geom_status geom_octree_frustum(const geom_octree *t, const double planes[24],
+    geom_neighbors *out);
+typedef struct geom_meshdist geom_meshdist;
+typedef struct geom_meshdist_options {
+    uint32_t max_leaf_size;
+    double beta;
+    double tolerance;
+    int threads;
+    const geom_allocator *alloc;
+} geom_meshdist_options;
+geom_status geom_meshdist_create(const double *positions, size_t nv, const uint32_t *tris,
+    size_t nt, const geom_meshdist_options *opt,
+    geom_meshdist **out, geom_diag *diag);
+void geom_meshdist_destroy(geom_meshdist *m);
+const geom_bvh *geom_meshdist_bvh(const geom_meshdist *m);
+size_t geom_meshdist_bytes(const geom_meshdist *m);
+geom_status geom_meshdist_closest(const geom_meshdist *m, const double *queries, size_t nq,
+    double *point, uint32_t *tri, double *bary,
+    double *distance, int threads, geom_diag *diag);
+geom_status geom_meshdist_winding(const geom_meshdist *m, const double *queries, size_t nq,
+    double *w, geom_error_report *report, int threads,
+    geom_diag *diag);
+geom_status geom_meshdist_signed_distance(const geom_meshdist *m, const double *queries,
+    size_t nq, double *sd,
+    geom_error_report *report, int threads,
+    geom_diag *diag);
+""",
 }
 
 #: One function per module whose presence in the library tells that the
@@ -1042,6 +1180,7 @@ MODULE_PROBES = {
     "bary": "geom_bary_tri2",
     "mesh": "geom_mesh_create",
     "meshio": "geom_meshio_read",
+    "spatial": "geom_kdtree_build",
     "curve": "geom_curve_nurbs_eval",
     "surface": "geom_surface_tessellate",
     "step": "geom_step_read_memory",

@@ -24,6 +24,7 @@
 #define GEOM_SPATIAL_H
 
 #include "geom/core.h"
+#include "geom/mesh.h" /* GEOM_INVALID_INDEX */
 
 #ifdef __cplusplus
 extern "C" {
@@ -116,6 +117,294 @@ GEOM_API const uint32_t *geom_bvh_prim_indices(const geom_bvh *b, size_t *count)
 GEOM_API size_t geom_bvh_depth(const geom_bvh *b);
 /** Bytes held by the BVH (nodes, indices and the object itself). */
 GEOM_API size_t geom_bvh_bytes(const geom_bvh *b);
+
+/* ================================================================ neighbours */
+
+/**
+ * Variable-length answers of a batch of queries (radius and box queries), in
+ * compressed rows: the answers of query q are index[offsets[q] ..
+ * offsets[q+1]) with distance[...] alongside (NULL for box queries). Filled
+ * by the query functions (which free what `out` held first, so one struct
+ * can be reused); free with geom_neighbors_free. A zero-initialised struct
+ * is empty.
+ */
+typedef struct geom_neighbors {
+    size_t query_count;
+    size_t *offsets;    /**< query_count + 1 entries */
+    uint32_t *index;    /**< offsets[query_count] entries */
+    double *distance;   /**< offsets[query_count] entries, or NULL */
+    size_t capacity;    /**< allocated entries of index/distance (internal) */
+    const geom_allocator *alloc; /**< allocator the arrays came from (internal) */
+} geom_neighbors;
+
+/** Free the arrays of `nb` and zero it. NULL is a no-op. */
+GEOM_API void geom_neighbors_free(geom_neighbors *nb);
+
+/* ================================================================== kd-tree */
+
+/** Opaque kd-tree over points in 2D or 3D. */
+typedef struct geom_kdtree geom_kdtree;
+
+/** kd-tree build options; valid when zero-initialised. */
+typedef struct geom_kdtree_options {
+    uint32_t leaf_size;          /**< points per leaf at most; 0 = 10 */
+    int threads;                 /**< 0 = all available; the tree does not depend on it */
+    const geom_allocator *alloc; /**< NULL = malloc (may be called from several threads) */
+} geom_kdtree_options;
+
+/**
+ * kd-tree over n points of dimension dim (2 or 3): points is dim*n doubles
+ * (copied). Each node splits at the median point along the widest axis of
+ * its points (Friedman, Bentley and Finkel 1977); leaves hold at most
+ * leaf_size points; duplicated points are fine (equal coordinates may sit on
+ * both sides of a split). Returns GEOM_OK; GEOM_ERR_INVALID_ARG (NULL, dim
+ * not 2 or 3, a NaN/Inf coordinate: the diag names the first bad point);
+ * GEOM_ERR_LIMIT (n >= 2^32 - 1); GEOM_ERR_NOMEM. n == 0 is valid.
+ */
+GEOM_API geom_status geom_kdtree_build(const double *points, size_t n, int dim,
+                                       const geom_kdtree_options *opt, geom_kdtree **out,
+                                       geom_diag *diag);
+/** Free a kd-tree. NULL is a no-op. */
+GEOM_API void geom_kdtree_destroy(geom_kdtree *t);
+/** Node count, depth (levels) and bytes held. */
+GEOM_API size_t geom_kdtree_node_count(const geom_kdtree *t);
+GEOM_API size_t geom_kdtree_depth(const geom_kdtree *t);
+GEOM_API size_t geom_kdtree_bytes(const geom_kdtree *t);
+
+/**
+ * k nearest neighbours of nq query points (dim*nq doubles, the tree's dim),
+ * in parallel over the queries. Query q's answers go to index[q*k ..
+ * q*k+k) and distance[q*k ..] (either may be NULL), nearest first, ties by
+ * the smaller index; when the tree has fewer than k points the rest is
+ * GEOM_INVALID_INDEX and +Inf. Distances are Euclidean, computed as
+ * sqrt(dx*dx + dy*dy + dz*dz) (the order of the squared sums decides).
+ * Returns GEOM_OK or GEOM_ERR_INVALID_ARG (NULL tree or queries, or a
+ * NaN/Inf query: the call is rejected before any work, the diag names the
+ * first bad query).
+ */
+GEOM_API geom_status geom_kdtree_knn(const geom_kdtree *t, const double *queries, size_t nq,
+                                     size_t k, uint32_t *index, double *distance,
+                                     int threads, geom_diag *diag);
+
+/**
+ * All points within distance r (inclusive: sqrt(d2) <= r) of each of nq
+ * queries, sorted by distance then index, into `out`. r must be >= 0 and
+ * finite. Statuses as geom_kdtree_knn, plus GEOM_ERR_NOMEM.
+ */
+GEOM_API geom_status geom_kdtree_radius(const geom_kdtree *t, const double *queries, size_t nq,
+                                        double r, geom_neighbors *out, int threads,
+                                        geom_diag *diag);
+
+/**
+ * Points inside the closed box [lo, hi] (dim doubles each), in increasing
+ * index order, as one row of `out` (distance NULL). Returns GEOM_OK,
+ * GEOM_ERR_INVALID_ARG (NaN bounds), GEOM_ERR_NOMEM. lo > hi on an axis
+ * gives an empty answer.
+ */
+GEOM_API geom_status geom_kdtree_box(const geom_kdtree *t, const double *lo, const double *hi,
+                                     geom_neighbors *out);
+
+/* ========================================================= quadtree / octree */
+
+/** Opaque quadtree (2D) or octree (3D) over points, segments or triangles. */
+typedef struct geom_octree geom_octree;
+
+/** Options; valid when zero-initialised. */
+typedef struct geom_octree_options {
+    uint32_t bucket_size;        /**< a node with more items splits; 0 = 16 */
+    uint32_t max_depth;          /**< deepest level (root = 0); 0 = the finest the
+                                      codes resolve: 19 (octree), 28 (quadtree) */
+    int balance;                 /**< nonzero: 2:1 balance (neighbouring leaves,
+                                      across faces, edges and corners, differ by at
+                                      most one level; every node then has all
+                                      2^dim children) */
+    int threads;                 /**< 0 = all available; the tree does not depend on it */
+    const geom_allocator *alloc; /**< NULL = malloc */
+} geom_octree_options;
+
+/**
+ * One node. Children are contiguous: nodes[first_child ..] in increasing
+ * octant order for the octants set in child_mask (octant bit 0 = +x half,
+ * bit 1 = +y, bit 2 = +z). The items of the subtree are
+ * items[item_start .. item_start + item_total); the first own_count of them
+ * are stored at this node itself (every item of a leaf; for segments and
+ * triangles also the elements that straddle the children's cells). `cell`
+ * is the node's square/cube (z extent 0 in 2D); `bounds` is the tight box of
+ * the subtree's items (empty when it has none): queries prune with it, so
+ * they are exact whatever the rounding of the cells.
+ */
+typedef struct geom_octree_node {
+    geom_aabb cell;
+    geom_aabb bounds;
+    uint32_t first_child; /**< GEOM_INVALID_INDEX for a leaf */
+    uint32_t child_mask;
+    uint32_t item_start;
+    uint32_t item_total;
+    uint32_t own_count;
+    uint32_t level;
+} geom_octree_node;
+
+/**
+ * Linear (Morton-ordered) build: items are sorted by the Morton code of
+ * their cell (19 bits per axis in 3D, 28 in 2D) in O(n log n) (radix sort), then the
+ * tree is cut top-down from the sorted codes; nodes and items are flat
+ * arrays. An element sits at the deepest cell that contains its box (the
+ * root if it spans the middle), a point at the deepest needed. A node with
+ * at most bucket_size items, at max_depth, or whose items all share one
+ * cell code (coincident points: a million copies of one point make one
+ * leaf) is a leaf: it does not split further, so depth and memory stay
+ * bounded (depth <= max_depth, nodes <= items * (max_depth + 1)).
+ * Points: dim*n doubles, dim 2 (quadtree) or 3 (octree). Returns GEOM_OK;
+ * GEOM_ERR_INVALID_ARG (NULL, bad dim, NaN/Inf: the diag names the first
+ * bad point); GEOM_ERR_LIMIT (n >= 2^32 - 1); GEOM_ERR_NOMEM.
+ */
+GEOM_API geom_status geom_octree_build_points(const double *points, size_t n, int dim,
+                                              const geom_octree_options *opt, geom_octree **out,
+                                              geom_diag *diag);
+/** Quadtree over segments: positions 2*nv doubles, segs 2*ns indices. Same
+ *  statuses (the diag names the first bad segment). */
+GEOM_API geom_status geom_octree_build_segments(const double *positions, size_t nv,
+                                                const uint32_t *segs, size_t ns,
+                                                const geom_octree_options *opt, geom_octree **out,
+                                                geom_diag *diag);
+/** Octree over triangles: positions 3*nv doubles, tris 3*nt indices. */
+GEOM_API geom_status geom_octree_build_triangles(const double *positions, size_t nv,
+                                                 const uint32_t *tris, size_t nt,
+                                                 const geom_octree_options *opt, geom_octree **out,
+                                                 geom_diag *diag);
+/** Free. NULL is a no-op. */
+GEOM_API void geom_octree_destroy(geom_octree *t);
+/** Nodes (node 0 is the root; none for an empty tree). */
+GEOM_API const geom_octree_node *geom_octree_nodes(const geom_octree *t, size_t *count);
+/** Item (point/element) indices in tree order; *count = number of items. */
+GEOM_API const uint32_t *geom_octree_items(const geom_octree *t, size_t *count);
+/** Dimension (2 or 3), levels (0 empty, 1 root only) and bytes held. */
+GEOM_API int geom_octree_dim(const geom_octree *t);
+GEOM_API size_t geom_octree_depth(const geom_octree *t);
+GEOM_API size_t geom_octree_bytes(const geom_octree *t);
+
+/** kNN as geom_kdtree_knn, on a point tree (GEOM_ERR_INVALID_ARG otherwise). */
+GEOM_API geom_status geom_octree_knn(const geom_octree *t, const double *queries, size_t nq,
+                                     size_t k, uint32_t *index, double *distance, int threads,
+                                     geom_diag *diag);
+/** Radius query as geom_kdtree_radius, on a point tree. */
+GEOM_API geom_status geom_octree_radius(const geom_octree *t, const double *queries, size_t nq,
+                                        double r, geom_neighbors *out, int threads,
+                                        geom_diag *diag);
+/** Items whose box meets the closed box [lo, hi] (dim doubles each), in
+ *  increasing index order (one row, distance NULL). */
+GEOM_API geom_status geom_octree_box(const geom_octree *t, const double *lo, const double *hi,
+                                     geom_neighbors *out);
+/**
+ * Frustum query: items whose box is not entirely on the negative side of
+ * any of the six planes (planes: 24 doubles, plane i is a*x + b*y + c*z + d
+ * >= 0 inside, no normalisation needed), in increasing index order (one
+ * row). The box test is conservative (a box near a frustum corner may be
+ * reported although it misses the frustum, never the reverse). In 2D z = 0.
+ */
+GEOM_API geom_status geom_octree_frustum(const geom_octree *t, const double planes[24],
+                                         geom_neighbors *out);
+/**
+ * Ordered ray traversal: the items whose box the ray meets within [tmin,
+ * tmax] (the conservative slab test of geom_ray_aabb: nothing is missed at a
+ * shared face or edge), front to back: sorted by the entry parameter, ties
+ * by index; distance[] holds the entry parameter. Nodes are visited front to
+ * back (children in the order the ray enters them, as in Revelles et al.
+ * 2000) and pruned by their tight bounds. In 2D the ray's z is ignored.
+ * Returns GEOM_OK, GEOM_ERR_INVALID_ARG (NULL or NaN ray), GEOM_ERR_NOMEM.
+ */
+GEOM_API geom_status geom_octree_ray(const geom_octree *t, const geom_ray *ray, geom_neighbors *out);
+
+/* ======================================= closest point and signed distance */
+
+/** Opaque distance index over a triangle mesh: a SAH BVH plus, per node, the
+ *  dipole data of the fast winding number. */
+typedef struct geom_meshdist geom_meshdist;
+
+/** Options of geom_meshdist_create; valid when zero-initialised. */
+typedef struct geom_meshdist_options {
+    uint32_t max_leaf_size;      /**< triangles per BVH leaf; 0 = 4 */
+    double beta;                 /**< fast winding number: a node of radius r is
+                                      approximated by its dipole beyond beta*r;
+                                      0 = 2 (Barill et al.'s default); < 0 = exact
+                                      solid-angle sum always */
+    double tolerance;            /**< fast winding number: if > 0, a node is
+                                      approximated only if its error term is at
+                                      most tolerance times its share of the mesh
+                                      area, so the error per query is at most
+                                      tolerance; 0 = Barill's criterion alone
+                                      (faster; the reported bound is then the
+                                      sum of the accepted terms, rigorous but
+                                      pessimistic) */
+    int threads;                 /**< 0 = all available; results do not depend on it */
+    const geom_allocator *alloc; /**< NULL = malloc */
+} geom_meshdist_options;
+
+/**
+ * Index the triangle mesh (positions: 3*nv doubles, tris: 3*nt indices;
+ * both copied). Degenerate (zero-area) triangles are accepted. Returns
+ * GEOM_OK; GEOM_ERR_INVALID_ARG (NULL, index >= nv, NaN/Inf: the diag names
+ * the first bad triangle); GEOM_ERR_NOMEM; GEOM_ERR_LIMIT.
+ */
+GEOM_API geom_status geom_meshdist_create(const double *positions, size_t nv, const uint32_t *tris,
+                                          size_t nt, const geom_meshdist_options *opt,
+                                          geom_meshdist **out, geom_diag *diag);
+/** Free. NULL is a no-op. */
+GEOM_API void geom_meshdist_destroy(geom_meshdist *m);
+/** The BVH the index traverses (owned by m). */
+GEOM_API const geom_bvh *geom_meshdist_bvh(const geom_meshdist *m);
+/** Bytes held (BVH, mesh copy and dipole data). */
+GEOM_API size_t geom_meshdist_bytes(const geom_meshdist *m);
+
+/**
+ * Closest point on the mesh to each of nq query points (3*nq doubles), in
+ * parallel over the queries (BVH, nearest child first, pruned by box
+ * distance). Per query: point[3q..] the closest point, tri[q] its triangle
+ * (ties: the smaller triangle index), bary[3q..] its barycentric coordinates
+ * in that triangle (Ericson 2005, 5.1.5: exact 0 on the Voronoi-region
+ * boundaries it picks), distance[q] the Euclidean distance. Any output may
+ * be NULL. With an empty mesh tri is GEOM_INVALID_INDEX and distance +Inf.
+ * Returns GEOM_OK or GEOM_ERR_INVALID_ARG (NULL m/queries, NaN/Inf query:
+ * the diag names the first).
+ */
+GEOM_API geom_status geom_meshdist_closest(const geom_meshdist *m, const double *queries, size_t nq,
+                                           double *point, uint32_t *tri, double *bary,
+                                           double *distance, int threads, geom_diag *diag);
+
+/**
+ * Generalized winding number (Jacobson, Kavan and Sorkine-Hornung 2013) of
+ * each query: sum over triangles of the signed solid angle (Van Oosterom and
+ * Strackee 1983) over 4*pi, with the fast hierarchical approximation of
+ * Barill et al. 2018 (first-order dipole per BVH node beyond beta*r; with a
+ * tolerance option, only where that node's error term is within its area
+ * share of the tolerance, so the error is at most `tolerance` per query). 1
+ * inside a closed outward-oriented mesh, 0 outside, a smooth value for open
+ * or self-intersecting meshes. w receives nq doubles. If report is non-NULL
+ * it receives, over the queries, the largest (max_error) and mean error
+ * bound of the approximation (method GEOM_ERROR_BOUND; 0 when beta < 0):
+ * per query the sum over approximated nodes of A*r*2 / (4*pi*(R - r)^3),
+ * A the node's triangle area, r its radius, R the query's distance to its
+ * centre (the Taylor remainder of the dipole kernel), plus rounding; and in
+ * `evaluations` the number of exact triangle terms plus dipole terms.
+ * Returns as geom_meshdist_closest.
+ */
+GEOM_API geom_status geom_meshdist_winding(const geom_meshdist *m, const double *queries, size_t nq,
+                                           double *w, geom_error_report *report, int threads,
+                                           geom_diag *diag);
+
+/**
+ * Signed distance: the closest-point distance, negative inside, inside
+ * meaning winding number >= 1/2 (exactly 1/2 counts as inside). The sign is
+ * that of the exact solid-angle sum: when the fast approximation is within
+ * its error bound of 1/2, the query is recomputed with tighter terms (error
+ * at most 1/4, then 1/32) and finally exactly, until the side is certain. sd receives nq
+ * doubles; report (may be NULL) as geom_meshdist_winding. Returns as
+ * geom_meshdist_closest.
+ */
+GEOM_API geom_status geom_meshdist_signed_distance(const geom_meshdist *m, const double *queries,
+                                                   size_t nq, double *sd,
+                                                   geom_error_report *report, int threads,
+                                                   geom_diag *diag);
 
 #ifdef __cplusplus
 }

@@ -47,7 +47,7 @@ static void face_fill(geom_ray_hit *h, int face, const double *pl, const double 
 }
 
 static geom_status box_frame(const double *o, const double *d, const double *lo, const double *hi,
-                             const geom_ray *r, int mode, geom__hits *out, const double *axes,
+                             const geom_ray *r, int mode, geom__rhits *out, const double *axes,
                              const double *ctr)
 {
     double t0, t1, ts[2];
@@ -101,13 +101,13 @@ static geom_status box_frame(const double *o, const double *d, const double *lo,
     return GEOM_OK;
 }
 
-geom_status geom__ray_box(const geom__ray_node *nd, const geom_ray *r, int mode, geom__hits *out)
+geom_status geom__ray_box(const geom__ray_node *nd, const geom_ray *r, int mode, geom__rhits *out)
 {
     double o[3] = {r->origin.x, r->origin.y, r->origin.z}, d[3] = {r->dir.x, r->dir.y, r->dir.z};
     return box_frame(o, d, nd->prm, nd->prm + 3, r, mode, out, NULL, NULL);
 }
 
-geom_status geom__ray_obox(const geom__ray_node *nd, const geom_ray *r, int mode, geom__hits *out)
+geom_status geom__ray_obox(const geom__ray_node *nd, const geom_ray *r, int mode, geom__rhits *out)
 {
     const double *c = nd->prm, *ax = nd->prm + 3, *h = nd->prm + 12;
     double rel[3] = {r->origin.x - c[0], r->origin.y - c[1], r->origin.z - c[2]};

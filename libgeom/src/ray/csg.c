@@ -16,22 +16,22 @@ static int combine(int op, int a, int b)
 }
 
 geom_status geom__ray_csg(const geom_ray_scene *s, const geom__ray_node *nd, const geom_ray *r, int mode,
-                          geom__hits *out)
+                          geom__rhits *out)
 {
-    geom__hits la, lb;
+    geom__rhits la, lb;
     geom_ray full = *r;
     geom_status st;
     size_t i = 0, j = 0;
     int ina, inb, state;
     full.tmin = -INFINITY;
     full.tmax = INFINITY;
-    geom__hits_init(&la, out->alloc);
-    geom__hits_init(&lb, out->alloc);
+    geom__rhits_init(&la, out->alloc);
+    geom__rhits_init(&lb, out->alloc);
     st = geom__ray_node_query(s, nd->a, &full, GEOM__RAY_ALL, &la);
     if (st == GEOM_OK) st = geom__ray_node_query(s, nd->b, &full, GEOM__RAY_ALL, &lb);
     if (st != GEOM_OK) goto done;
-    geom__hits_sort(&la, 0);
-    geom__hits_sort(&lb, 0);
+    geom__rhits_sort(&la, 0);
+    geom__rhits_sort(&lb, 0);
     /* Inside at -inf: a list that starts by leaving started inside. */
     ina = la.n > 0 && !la.h[0].enter;
     inb = lb.n > 0 && !lb.h[0].enter;
@@ -66,7 +66,7 @@ geom_status geom__ray_csg(const geom_ray_scene *s, const geom__ray_node *nd, con
         }
         state = ns;
         if (t >= r->tmin && t <= r->tmax) {
-            geom_ray_hit *h = geom__hits_push(out);
+            geom_ray_hit *h = geom__rhits_push(out);
             if (!h) { st = GEOM_ERR_NOMEM; goto done; }
             *h = *cand;
             h->enter = ns;
@@ -78,7 +78,7 @@ geom_status geom__ray_csg(const geom_ray_scene *s, const geom__ray_node *nd, con
         }
     }
 done:
-    geom__hits_free(&la);
-    geom__hits_free(&lb);
+    geom__rhits_free(&la);
+    geom__rhits_free(&lb);
     return st;
 }

@@ -3,7 +3,7 @@
 
 #include <stdlib.h>
 
-void geom__hits_init(geom__hits *l, const geom_allocator *alloc)
+void geom__rhits_init(geom__rhits *l, const geom_allocator *alloc)
 {
     l->h = l->local;
     l->n = 0;
@@ -13,13 +13,13 @@ void geom__hits_init(geom__hits *l, const geom_allocator *alloc)
     l->failed = 0;
 }
 
-void geom__hits_free(geom__hits *l)
+void geom__rhits_free(geom__rhits *l)
 {
     if (l->heap) geom_free(l->alloc, l->h, l->cap * sizeof *l->h);
-    geom__hits_init(l, l->alloc);
+    geom__rhits_init(l, l->alloc);
 }
 
-geom_ray_hit *geom__hits_push(geom__hits *l)
+geom_ray_hit *geom__rhits_push(geom__rhits *l)
 {
     if (l->n == l->cap) {
         size_t nc = l->cap * 2;
@@ -48,7 +48,7 @@ static int hit_cmp(const void *pa, const void *pb)
     return 0;
 }
 
-void geom__hits_sort(geom__hits *l, size_t from)
+void geom__rhits_sort(geom__rhits *l, size_t from)
 {
     if (l->n > from + 1) qsort(l->h + from, l->n - from, sizeof *l->h, hit_cmp);
 }
@@ -100,11 +100,11 @@ void geom__frame(geom_vec3 n, geom_vec3 *t1, geom_vec3 *t2)
     t2->z = -n.y;
 }
 
-geom_ray_hit *geom__push_t(geom__hits *out, const geom_ray *r, double t)
+geom_ray_hit *geom__push_t(geom__rhits *out, const geom_ray *r, double t)
 {
     geom_ray_hit *h;
     if (!(t >= r->tmin && t <= r->tmax)) return NULL;
-    h = geom__hits_push(out);
+    h = geom__rhits_push(out);
     if (h) h->t = t;
     return h;
 }

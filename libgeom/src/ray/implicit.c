@@ -22,7 +22,7 @@ static int clip_box(const geom_ray *r, const double *b, double *t0, double *t1)
 }
 
 static geom_status emit(const geom__ray_node *nd, const geom_ray *r, double t, double width, int enter,
-                        geom__hits *out)
+                        geom__rhits *out)
 {
     geom_ray_hit *h = geom__push_t(out, r, t);
     double p[3], g[3];
@@ -43,7 +43,7 @@ static geom_status emit(const geom__ray_node *nd, const geom_ray *r, double t, d
     return GEOM_OK;
 }
 
-geom_status geom__ray_implicit(const geom__ray_node *nd, const geom_ray *r, int mode, geom__hits *out)
+geom_status geom__ray_implicit(const geom__ray_node *nd, const geom_ray *r, int mode, geom__rhits *out)
 {
     const double *bx = nd->prm;
     double t0, t1, tol, diag, dl;

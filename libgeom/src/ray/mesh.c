@@ -123,7 +123,7 @@ static void fill(const geom__tmesh *m, const geom_ray *r, uint32_t ti, double t,
     }
 }
 
-geom_status geom__ray_mesh(const geom__tmesh *m, const geom_ray *r, int mode, geom__hits *out)
+geom_status geom__ray_mesh(const geom__tmesh *m, const geom_ray *r, int mode, geom__rhits *out)
 {
     const geom_bvh_node *nodes;
     size_t nn = 0;
@@ -177,7 +177,7 @@ geom_status geom__ray_mesh(const geom__tmesh *m, const geom_ray *r, int mode, ge
                 if (!geom__wbw_test(&w, tvp, tvp + 3, tvp + 6, r->tmin, tmax, &t, bc)) continue;
                 ti = m->tid[nd->index + i];
                 if (mode == GEOM__RAY_ALL) {
-                    geom_ray_hit *h = geom__hits_push(out);
+                    geom_ray_hit *h = geom__rhits_push(out);
                     if (!h) return GEOM_ERR_NOMEM;
                     fill(m, r, ti, t, bc, h);
                 } else {
@@ -194,7 +194,7 @@ geom_status geom__ray_mesh(const geom__tmesh *m, const geom_ray *r, int mode, ge
     }
 done:
     if (mode != GEOM__RAY_ALL && best != GEOM_INVALID_INDEX) {
-        geom_ray_hit *h = geom__hits_push(out);
+        geom_ray_hit *h = geom__rhits_push(out);
         if (!h) return GEOM_ERR_NOMEM;
         fill(m, r, best, best_t, best_b, h);
     }

@@ -1,7 +1,7 @@
 /* Planes and disks. prm: point (0..2), unit normal (3..5), radius (6, disk). */
 #include "ray/ray_internal.h"
 
-static geom_ray_hit *plane_hit(const geom__ray_node *nd, const geom_ray *r, geom__hits *out,
+static geom_ray_hit *plane_hit(const geom__ray_node *nd, const geom_ray *r, geom__rhits *out,
                                double *rho2, geom_vec3 *rel)
 {
     geom_vec3 c = geom__v3(nd->prm), n = geom__v3(nd->prm + 3), p;
@@ -19,7 +19,7 @@ static geom_ray_hit *plane_hit(const geom__ray_node *nd, const geom_ray *r, geom
     *rel = geom_vec3_sub(p, c);
     *rho2 = geom__dot(*rel, *rel);
     if (nd->kind == GEOM_RAY_DISK && *rho2 > nd->prm[6] * nd->prm[6]) return NULL;
-    h = geom__hits_push(out);
+    h = geom__rhits_push(out);
     if (!h) return NULL;
     h->t = t;
     h->point = p;
@@ -35,7 +35,7 @@ static geom_ray_hit *plane_hit(const geom__ray_node *nd, const geom_ray *r, geom
     return h;
 }
 
-geom_status geom__ray_plane(const geom__ray_node *nd, const geom_ray *r, int mode, geom__hits *out)
+geom_status geom__ray_plane(const geom__ray_node *nd, const geom_ray *r, int mode, geom__rhits *out)
 {
     double rho2;
     geom_vec3 rel, t1, t2;
@@ -49,7 +49,7 @@ geom_status geom__ray_plane(const geom__ray_node *nd, const geom_ray *r, int mod
     return GEOM_OK;
 }
 
-geom_status geom__ray_disk(const geom__ray_node *nd, const geom_ray *r, int mode, geom__hits *out)
+geom_status geom__ray_disk(const geom__ray_node *nd, const geom_ray *r, int mode, geom__rhits *out)
 {
     double rho2, a;
     geom_vec3 rel, t1, t2;

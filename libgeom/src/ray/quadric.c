@@ -56,7 +56,7 @@ static int inside_clip(const double *lo, const double *hi, const double *p, doub
     return 1;
 }
 
-geom_status geom__ray_quadric(const geom__ray_node *nd, const geom_ray *r, int mode, geom__hits *out)
+geom_status geom__ray_quadric(const geom__ray_node *nd, const geom_ray *r, int mode, geom__rhits *out)
 {
     const double *q = nd->prm, *lo = nd->prm + 10, *hi = nd->prm + 13;
     int clip = nd->prm[16] != 0;

@@ -21,21 +21,21 @@ static inline double geom__gamma(int n)
 
 /* A growable list of hits with a small inline buffer: no allocation for
  * the common closest/any queries. Never copied by value. */
-typedef struct geom__hits {
+typedef struct geom__rhits {
     geom_ray_hit *h;
     size_t n, cap;
     const geom_allocator *alloc;
     int heap;
     int failed; /* an allocation failed: the list is incomplete */
     geom_ray_hit local[8];
-} geom__hits;
+} geom__rhits;
 
-void geom__hits_init(geom__hits *l, const geom_allocator *alloc);
-void geom__hits_free(geom__hits *l);
+void geom__rhits_init(geom__rhits *l, const geom_allocator *alloc);
+void geom__rhits_free(geom__rhits *l);
 /* Append (returns the new slot, zeroed, or NULL when out of memory). */
-geom_ray_hit *geom__hits_push(geom__hits *l);
+geom_ray_hit *geom__rhits_push(geom__rhits *l);
 /* Sort [from, n) by t, entering first on ties. */
-void geom__hits_sort(geom__hits *l, size_t from);
+void geom__rhits_sort(geom__rhits *l, size_t from);
 
 /* Mesh data (mesh.c): triangles in a BVH from the spatial module. */
 typedef struct geom__tmesh {
@@ -108,26 +108,26 @@ struct geom_ray_scene {
 /* The query of one node (in its parent's frame: the node's transform is
  * applied here), appending to out. Closest mode may prune with r->tmax. */
 geom_status geom__ray_node_query(const geom_ray_scene *s, uint32_t id, const geom_ray *r, int mode,
-                                 geom__hits *out);
+                                 geom__rhits *out);
 
 /* Per-kind queries, in the node's local frame. They append hits in
  * [r->tmin, r->tmax] (all of them for ALL mode; at least the closest for
  * CLOSEST; at least one for ANY). */
-geom_status geom__ray_plane(const geom__ray_node *nd, const geom_ray *r, int mode, geom__hits *out);
-geom_status geom__ray_disk(const geom__ray_node *nd, const geom_ray *r, int mode, geom__hits *out);
-geom_status geom__ray_box(const geom__ray_node *nd, const geom_ray *r, int mode, geom__hits *out);
-geom_status geom__ray_obox(const geom__ray_node *nd, const geom_ray *r, int mode, geom__hits *out);
-geom_status geom__ray_sphere(const geom__ray_node *nd, const geom_ray *r, int mode, geom__hits *out);
-geom_status geom__ray_quadric(const geom__ray_node *nd, const geom_ray *r, int mode, geom__hits *out);
-geom_status geom__ray_torus(const geom__ray_node *nd, const geom_ray *r, int mode, geom__hits *out);
-geom_status geom__ray_tri(const geom__ray_node *nd, const geom_ray *r, int mode, geom__hits *out);
-geom_status geom__ray_polygon(const geom__ray_node *nd, const geom_ray *r, int mode, geom__hits *out);
-geom_status geom__ray_mesh(const geom__tmesh *m, const geom_ray *r, int mode, geom__hits *out);
-geom_status geom__ray_surface(const geom__tsurf *sf, const geom_ray *r, int mode, geom__hits *out);
-geom_status geom__ray_implicit(const geom__ray_node *nd, const geom_ray *r, int mode, geom__hits *out);
-geom_status geom__ray_volume(const geom__ray_node *nd, const geom_ray *r, int mode, geom__hits *out);
+geom_status geom__ray_plane(const geom__ray_node *nd, const geom_ray *r, int mode, geom__rhits *out);
+geom_status geom__ray_disk(const geom__ray_node *nd, const geom_ray *r, int mode, geom__rhits *out);
+geom_status geom__ray_box(const geom__ray_node *nd, const geom_ray *r, int mode, geom__rhits *out);
+geom_status geom__ray_obox(const geom__ray_node *nd, const geom_ray *r, int mode, geom__rhits *out);
+geom_status geom__ray_sphere(const geom__ray_node *nd, const geom_ray *r, int mode, geom__rhits *out);
+geom_status geom__ray_quadric(const geom__ray_node *nd, const geom_ray *r, int mode, geom__rhits *out);
+geom_status geom__ray_torus(const geom__ray_node *nd, const geom_ray *r, int mode, geom__rhits *out);
+geom_status geom__ray_tri(const geom__ray_node *nd, const geom_ray *r, int mode, geom__rhits *out);
+geom_status geom__ray_polygon(const geom__ray_node *nd, const geom_ray *r, int mode, geom__rhits *out);
+geom_status geom__ray_mesh(const geom__tmesh *m, const geom_ray *r, int mode, geom__rhits *out);
+geom_status geom__ray_surface(const geom__tsurf *sf, const geom_ray *r, int mode, geom__rhits *out);
+geom_status geom__ray_implicit(const geom__ray_node *nd, const geom_ray *r, int mode, geom__rhits *out);
+geom_status geom__ray_volume(const geom__ray_node *nd, const geom_ray *r, int mode, geom__rhits *out);
 geom_status geom__ray_csg(const geom_ray_scene *s, const geom__ray_node *nd, const geom_ray *r,
-                          int mode, geom__hits *out);
+                          int mode, geom__rhits *out);
 
 /* Build helpers. */
 geom_status geom__ray_mesh_build(geom__tmesh *m, const geom_ray_build_options *opt,
@@ -179,6 +179,6 @@ geom_vec3 geom__perr_ray(const geom_ray *r, double t);
 /* Two orthonormal tangents of unit n. */
 void geom__frame(geom_vec3 n, geom_vec3 *t1, geom_vec3 *t2);
 /* Append a hit if t in range; returns the slot or NULL (out of range / no memory). */
-geom_ray_hit *geom__push_t(geom__hits *out, const geom_ray *r, double t);
+geom_ray_hit *geom__push_t(geom__rhits *out, const geom_ray *r, double t);
 
 #endif

@@ -905,7 +905,7 @@ static void hit_to_parent(const geom__ray_node *nd, geom_ray_hit *h, const geom_
 }
 
 geom_status geom__ray_node_query(const geom_ray_scene *s, uint32_t id, const geom_ray *r, int mode,
-                                 geom__hits *out)
+                                 geom__rhits *out)
 {
     const geom__ray_node *nd = &s->nodes[id];
     geom_ray lr;
@@ -968,7 +968,7 @@ geom_status geom__ray_node_query(const geom_ray_scene *s, uint32_t id, const geo
 }
 
 /* Keep only the closest hit among [from, n). */
-static void keep_closest(geom__hits *l, size_t from)
+static void keep_closest(geom__rhits *l, size_t from)
 {
     size_t i, best = from;
     if (l->n <= from) return;
@@ -980,7 +980,7 @@ static void keep_closest(geom__hits *l, size_t from)
 
 /* Query top-level object i; 1 = stop (any hit found). Keeps the closest
  * hit in slot 0 in closest mode (ties: the smaller object index). */
-static int visit(const geom_ray_scene *s, uint32_t i, geom_ray *q, int mode, geom__hits *out, geom_status *st)
+static int visit(const geom_ray_scene *s, uint32_t i, geom_ray *q, int mode, geom__rhits *out, geom_status *st)
 {
     const geom__ray_node *nd = &s->nodes[s->roots[i]];
     size_t start = out->n, j;
@@ -1001,7 +1001,7 @@ static int visit(const geom_ray_scene *s, uint32_t i, geom_ray *q, int mode, geo
     return 0;
 }
 
-static geom_status run(const geom_ray_scene *s, const geom_ray *r, int mode, geom__hits *out)
+static geom_status run(const geom_ray_scene *s, const geom_ray *r, int mode, geom__rhits *out)
 {
     geom_ray q = *r;
     size_t i;
@@ -1038,48 +1038,48 @@ static geom_status run(const geom_ray_scene *s, const geom_ray *r, int mode, geo
 
 geom_status geom_ray_scene_closest(const geom_ray_scene *s, const geom_ray *r, geom_ray_hit *hit, int *found)
 {
-    geom__hits l;
+    geom__rhits l;
     geom_status st;
     if (found) *found = 0;
     if (!s || !r || !hit || !found) return GEOM_ERR_INVALID_ARG;
-    geom__hits_init(&l, s->alloc);
+    geom__rhits_init(&l, s->alloc);
     st = run(s, r, GEOM__RAY_CLOSEST, &l);
     if (st == GEOM_OK && l.n > 0) {
         *hit = l.h[0];
         *found = 1;
     }
-    geom__hits_free(&l);
+    geom__rhits_free(&l);
     return st;
 }
 
 geom_status geom_ray_scene_any(const geom_ray_scene *s, const geom_ray *r, int *found)
 {
-    geom__hits l;
+    geom__rhits l;
     geom_status st;
     if (found) *found = 0;
     if (!s || !r || !found) return GEOM_ERR_INVALID_ARG;
-    geom__hits_init(&l, s->alloc);
+    geom__rhits_init(&l, s->alloc);
     st = run(s, r, GEOM__RAY_ANY, &l);
     if (st == GEOM_OK) *found = l.n > 0;
-    geom__hits_free(&l);
+    geom__rhits_free(&l);
     return st;
 }
 
 geom_status geom_ray_scene_all(const geom_ray_scene *s, const geom_ray *r, geom_ray_hit *hits, size_t cap,
                                size_t *n)
 {
-    geom__hits l;
+    geom__rhits l;
     geom_status st;
     if (n) *n = 0;
     if (!s || !r || !n || (cap && !hits)) return GEOM_ERR_INVALID_ARG;
-    geom__hits_init(&l, s->alloc);
+    geom__rhits_init(&l, s->alloc);
     st = run(s, r, GEOM__RAY_ALL, &l);
     if (st == GEOM_OK) {
-        geom__hits_sort(&l, 0);
+        geom__rhits_sort(&l, 0);
         *n = l.n;
         if (cap) memcpy(hits, l.h, (l.n < cap ? l.n : cap) * sizeof *hits);
         if (l.n > cap) st = GEOM_ERR_LIMIT;
     }
-    geom__hits_free(&l);
+    geom__rhits_free(&l);
     return st;
 }

@@ -3,7 +3,7 @@
  * ch. 7, 2019). prm: centre (0..2), radius (3). */
 #include "ray/ray_internal.h"
 
-geom_status geom__ray_sphere(const geom__ray_node *nd, const geom_ray *r, int mode, geom__hits *out)
+geom_status geom__ray_sphere(const geom__ray_node *nd, const geom_ray *r, int mode, geom__rhits *out)
 {
     geom_vec3 c = geom__v3(nd->prm), f = geom_vec3_sub(r->origin, c), l;
     double rad = nd->prm[3], a = geom__dot(r->dir, r->dir), b = geom__dot(f, r->dir), disc, cc, q;

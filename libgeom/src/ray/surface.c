@@ -215,7 +215,7 @@ static void split(const double *net, int pu, int pv, int dir, double *lo, double
     }
 }
 
-geom_status geom__ray_surface(const geom__tsurf *sf, const geom_ray *r, int mode, geom__hits *out)
+geom_status geom__ray_surface(const geom__tsurf *sf, const geom_ray *r, int mode, geom__rhits *out)
 {
     const geom_nurbs_surface *s = &sf->s;
     int pu = s->degree_u, pv = s->degree_v;

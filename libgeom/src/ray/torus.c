@@ -20,7 +20,7 @@ static double tfun(double R, double rr, const double *p, double *bound, double g
     return f;
 }
 
-geom_status geom__ray_torus(const geom__ray_node *nd, const geom_ray *r, int mode, geom__hits *out)
+geom_status geom__ray_torus(const geom__ray_node *nd, const geom_ray *r, int mode, geom__rhits *out)
 {
     double R = nd->prm[0], rr = nd->prm[1];
     double o[3] = {r->origin.x, r->origin.y, r->origin.z}, d[3] = {r->dir.x, r->dir.y, r->dir.z};

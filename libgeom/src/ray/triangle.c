@@ -122,7 +122,7 @@ int geom_ray_triangle(const geom_ray *r, const double v0[3], const double v1[3],
     return 1;
 }
 
-geom_status geom__ray_tri(const geom__ray_node *nd, const geom_ray *r, int mode, geom__hits *out)
+geom_status geom__ray_tri(const geom__ray_node *nd, const geom_ray *r, int mode, geom__rhits *out)
 {
     geom__wbw w;
     double t, b[3];
@@ -130,14 +130,14 @@ geom_status geom__ray_tri(const geom__ray_node *nd, const geom_ray *r, int mode,
     (void)mode;
     geom__wbw_setup(&w, r);
     if (!geom__wbw_test(&w, nd->prm, nd->prm + 3, nd->prm + 6, r->tmin, r->tmax, &t, b)) return GEOM_OK;
-    h = geom__hits_push(out);
+    h = geom__rhits_push(out);
     if (!h) return GEOM_ERR_NOMEM;
     geom__tri_fill(r, nd->prm, nd->prm + 3, nd->prm + 6, t, b, h);
     return GEOM_OK;
 }
 
 /* Polygon: prm holds the unit Newell normal (0..2) and centroid (3..5). */
-geom_status geom__ray_polygon(const geom__ray_node *nd, const geom_ray *r, int mode, geom__hits *out)
+geom_status geom__ray_polygon(const geom__ray_node *nd, const geom_ray *r, int mode, geom__rhits *out)
 {
     geom__wbw w;
     const double *v = nd->verts;

@@ -17,7 +17,7 @@ static void pmul1(const double *p, int deg, double a0, double a1, double *out)
     memcpy(out, tmp, sizeof tmp);
 }
 
-geom_status geom__ray_volume(const geom__ray_node *nd, const geom_ray *r, int mode, geom__hits *out)
+geom_status geom__ray_volume(const geom__ray_node *nd, const geom_ray *r, int mode, geom__rhits *out)
 {
     geom_implicit_volume_desc dsc;
     geom_aabb bb;
