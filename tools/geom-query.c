@@ -58,6 +58,8 @@ static const cli_tool tool = {
     "adds a JSON object (times, nodes, depth, bytes) as the last line of\n"
     "standard error. A line with the wrong count of numbers or a NaN/Inf is an\n"
     "error naming its line.\n",
+    "  geom-query points.txt --knn 8 --queries q.txt --distances\n"
+    "  geom-query bunny.obj --signed-distance --queries q.txt -o sd.txt\n",
 };
 
 enum { OPT_INDEX = CLI_OPT_TOOL_BASE, OPT_KNN, OPT_RADIUS, OPT_BOX, OPT_CLOSEST, OPT_SD,

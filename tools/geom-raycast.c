@@ -32,7 +32,10 @@ static const cli_tool tool = {
     "t is in units of the direction as given. The normal is the unit geometric\n"
     "normal with the stored orientation (outward for closed solids); 'enter' means\n"
     "d.n < 0. A ray with a zero-length or non-finite direction or origin answers\n"
-    "'miss' and is counted as invalid. Numbers have 17 significant digits.\n"};
+    "'miss' and is counted as invalid. Numbers have 17 significant digits.\n",
+    "  geom-raycast data/scenes/spheres.json --rays rays.txt --closest\n"
+    "  geom-raycast mesh.obj --rays rays.txt --all --json -o hits.txt\n",
+};
 
 enum { OPT_CLOSEST = CLI_OPT_TOOL_BASE, OPT_ANY, OPT_ALL };
 

@@ -34,7 +34,10 @@ static const cli_tool tool = {
     "estimated error (standard error of the pixel means) and, per object, what\n"
     "was built: acceleration structure (ray), tessellation with its tolerance,\n"
     "achieved error and triangle count (raster), normals, UVs, tangents.\n"
-    "Objects that no ray can reach and the camera cannot see are not built.\n"};
+    "Objects that no ray can reach and the camera cannot see are not built.\n",
+    "  geom-render data/scenes/spheres.json -o spheres.png\n"
+    "  geom-render data/scenes/teapot.json --method raster -o teapot.png --json\n",
+};
 
 enum { OPT_AOV = CLI_OPT_TOOL_BASE, OPT_PIXEL_ERROR, OPT_TOL, OPT_NO_SHADOWS };
 

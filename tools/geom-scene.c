@@ -32,7 +32,10 @@ static const cli_tool tool = {
     "UVs where its material has a texture or map, tangents for normal and bump\n"
     "maps. The report gives per object the tolerance, the achieved error and\n"
     "the time. A CSG object whose children have no implicit form (meshes,\n"
-    "surfaces) is an error naming it.\n"};
+    "surfaces) is an error naming it.\n",
+    "  geom-scene data/scenes/csg.json --export csg.glb\n"
+    "  geom-scene data/scenes/teapot.json --export teapot.obj --pixel-error 0.5 --json\n",
+};
 
 enum { OPT_TOL = CLI_OPT_TOOL_BASE, OPT_PIXEL_ERROR };
 

@@ -172,15 +172,17 @@ geom_status image_read_file(const char *path, int srgb, geom_image *out, geom_di
     FILE *fp = fopen(path, "rb");
     if (!fp)
         return cli_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "cannot open");
-    unsigned char *data = NULL;
-    size_t size = 0;
-    geom_status st = cli_read_all(fp, path, &data, &size, diag);
+    geom_file file_;
+    memset(&file_, 0, sizeof file_);
+    geom_status st = cli_read_all(fp, path, &file_, diag);
     fclose(fp);
     if (st != GEOM_OK)
         return st;
+    const unsigned char *data = file_.data;
+    size_t size = file_.size;
     if (size >= 2 && data[0] == 'P' && (data[1] == 'F' || data[1] == 'f')) {
         st = read_pfm(path, data, size, out, diag);
-        free(data);
+        geom_file_unmap(&file_);
         return st;
     }
     spng_ctx *ctx = spng_ctx_new(0);
@@ -225,6 +227,6 @@ geom_status image_read_file(const char *path, int srgb, geom_image *out, geom_di
     }
     free(pix);
     spng_ctx_free(ctx);
-    free(data);
+    geom_file_unmap(&file_);
     return st;
 }

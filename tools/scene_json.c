@@ -656,8 +656,8 @@ geom_status scene_json_read_file(const char *path, const char *tool_name, scene_
                                  geom_diag *diag)
 {
     FILE *fp;
-    unsigned char *data = NULL;
-    size_t size = 0;
+    geom_file file_;
+    memset(&file_, 0, sizeof file_);
     geom_status st;
     char *dir;
     const char *slash;
@@ -673,13 +673,15 @@ geom_status scene_json_read_file(const char *path, const char *tool_name, scene_
         }
         return GEOM_ERR_IO;
     }
-    st = cli_read_all(fp, path, &data, &size, diag);
+    st = cli_read_all(fp, path, &file_, diag);
     fclose(fp);
     if (st != GEOM_OK) return st;
+    const unsigned char *data = file_.data;
+    size_t size = file_.size;
     slash = strrchr(path, '/');
     dir = malloc(slash ? (size_t)(slash - path) + 1 : 1);
     if (!dir) {
-        free(data);
+        geom_file_unmap(&file_);
         return GEOM_ERR_NOMEM;
     }
     if (slash) {
@@ -691,6 +693,6 @@ geom_status scene_json_read_file(const char *path, const char *tool_name, scene_
     }
     st = scene_json_read_memory((const char *)data, size, dir, path, tool_name, out, diag);
     free(dir);
-    free(data);
+    geom_file_unmap(&file_);
     return st;
 }

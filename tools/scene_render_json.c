@@ -414,12 +414,14 @@ geom_status srj_load(const char *path, const char *tool_name, srj_file *out, geo
     FILE *fp = fopen(path, "rb");
     if (!fp)
         return cli_diag_set(d, GEOM_ERR_IO, path, 0, 0, "cannot open");
-    unsigned char *text = NULL;
-    size_t len = 0;
-    geom_status st = cli_read_all(fp, path, &text, &len, d);
+    geom_file file_;
+    memset(&file_, 0, sizeof file_);
+    geom_status st = cli_read_all(fp, path, &file_, d);
     fclose(fp);
     if (st != GEOM_OK)
         return st;
+    const unsigned char *text = file_.data;
+    size_t len = file_.size;
     const char *end = NULL;
     cJSON *root = cJSON_ParseWithLengthOpts((const char *)text, len, &end, 0);
     if (!root) {
@@ -431,10 +433,10 @@ geom_status srj_load(const char *path, const char *tool_name, srj_file *out, geo
             } else
                 col++;
         }
-        free(text);
+        geom_file_unmap(&file_);
         return cli_diag_set(d, GEOM_ERR_PARSE, path, line, col, "JSON syntax error");
     }
-    free(text);
+    geom_file_unmap(&file_);
     st = srj_parse(root, path, &out->render, d);
     if (st == GEOM_OK && !out->render.has_camera)
         st = cli_diag_set(d, GEOM_ERR_PARSE, path, 0, 0, "scene: no \"camera\"");

@@ -16,7 +16,7 @@ fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
 printf 'root:x:0:0:root:/root:/bin/bash\ndaemon:x:1:1:daemon:/usr/sbin:/usr/sbin/nologin\n' >"$T/passwd"
 checks=$((checks + 1))
 "$INFO" "$T/passwd" >"$T/out" 2>"$T/err"; rc=$?
-[ $rc -eq 1 ] && grep -q "passwd: not a mesh" "$T/err" && [ ! -s "$T/out" ] ||
+[ $rc -eq 1 ] && grep -Eq "passwd: not (a mesh|an OBJ file)" "$T/err" && [ ! -s "$T/out" ] ||
     fail "passwd: exit $rc, stderr '$(cat "$T/err")'"
 : >"$T/empty.obj"
 checks=$((checks + 1))
