@@ -384,13 +384,169 @@ static void test_mesh_triangulate(void **state)
     geom_mesh_destroy(m);
 }
 
+/* ---------------------------------------------------------- large polygons */
+
+static int cmp_u64(const void *a, const void *b)
+{
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+static int has_edge(const uint64_t *keys, size_t m, uint32_t a, uint32_t b)
+{
+    uint64_t k = (uint64_t)a << 32 | b;
+    return bsearch(&k, keys, m, sizeof k, cmp_u64) != NULL;
+}
+
+/* Neumaier-compensated sum step. */
+static void nsum(double *s, double *c, double x)
+{
+    double t = *s + x;
+    *c += fabs(*s) >= fabs(x) ? (*s - t) + x : (x - t) + *s;
+    *s = t;
+}
+
+/* check_triangulation for large n (counter-clockwise): n-2 triangles, all
+ * positively oriented by the exact predicate, every directed edge used at
+ * most once, every side once in polygon order and never reversed, every
+ * diagonal once each way, and the areas sum to the polygon's (compensated
+ * sums). */
+static void check_large(size_t n, const double *xy, const uint32_t *tris)
+{
+    if (n < 3 || n > 1000000) {
+        fail_msg("n = %zu", n);
+        return;
+    }
+    size_t m = 3 * (n - 2);
+    uint64_t *keys = malloc(m * sizeof(uint64_t));
+    assert_non_null(keys);
+    double as = 0, ac = 0;
+    for (size_t t = 0; t < n - 2; ++t) {
+        const uint32_t *v = tris + 3 * t;
+        for (int k = 0; k < 3; ++k) {
+            assert_true(v[k] < n);
+            keys[3 * t + (size_t)k] = (uint64_t)v[k] << 32 | v[(k + 1) % 3];
+        }
+        double o = geom_orient2d(xy + 2 * v[0], xy + 2 * v[1], xy + 2 * v[2]);
+        if (!(o > 0))
+            fail_msg("triangle %zu (%u %u %u) has orientation %g", t, v[0], v[1], v[2], o);
+        nsum(&as, &ac, 0.5 * o);
+    }
+    qsort(keys, m, sizeof(uint64_t), cmp_u64);
+    for (size_t k = 1; k < m; ++k)
+        assert_true(keys[k] != keys[k - 1]);
+    for (size_t k = 0; k < m; ++k) {
+        uint32_t a = (uint32_t)(keys[k] >> 32), b = (uint32_t)keys[k];
+        if (b == (a + 1) % n)
+            continue;
+        assert_false(a == (b + 1) % n); /* a side used backwards */
+        assert_true(has_edge(keys, m, b, a)); /* diagonals: both ways */
+    }
+    for (size_t a = 0; a < n; ++a)
+        assert_true(has_edge(keys, m, (uint32_t)a, (uint32_t)((a + 1) % n)));
+    free(keys);
+    double ps = 0, pc = 0;
+    for (size_t i = 0; i < n; ++i) {
+        size_t j = (i + 1) % n;
+        nsum(&ps, &pc, 0.5 * xy[2 * i] * xy[2 * j + 1]);
+        nsum(&ps, &pc, -0.5 * xy[2 * j] * xy[2 * i + 1]);
+    }
+    double area = as + ac, want = ps + pc;
+    if (!(fabs(area - want) <= 1e-12 * fabs(want)))
+        fail_msg("area %.17g want %.17g", area, want);
+}
+
+static void tri2d_large(size_t n, const double *xy)
+{
+    if (n < 3 || n > 1000000) {
+        fail_msg("n = %zu", n);
+        return;
+    }
+    double *p = malloc(3 * n * sizeof(double));
+    uint32_t *t = malloc(3 * n * sizeof(uint32_t));
+    assert_non_null(p);
+    assert_non_null(t);
+    for (size_t i = 0; i < n; ++i) {
+        p[3 * i] = xy[2 * i];
+        p[3 * i + 1] = xy[2 * i + 1];
+        p[3 * i + 2] = 0;
+    }
+    assert_int_equal(geom_polygon_triangulate(n, p, t), GEOM_OK);
+    check_large(n, xy, t);
+    free(p);
+    free(t);
+}
+
+static uint64_t lcg(uint64_t *s)
+{
+    *s = *s * 6364136223846793005ull + 1442695040888963407ull;
+    return *s >> 11;
+}
+
+/* Star-shaped around the origin: n angles (equal steps, or jittered within
+ * their step) and radii uniform in [rmin, 1]. */
+static void star(size_t n, double rmin, int jitter, uint64_t seed, double *xy)
+{
+    for (size_t i = 0; i < n; ++i) {
+        double u = (double)lcg(&seed) * 0x1p-53, w = (double)lcg(&seed) * 0x1p-53;
+        double th = 2 * PI * ((double)i + (jitter ? 0.98 * w : 0.0)) / (double)n;
+        double r = rmin + (1 - rmin) * u;
+        xy[2 * i] = r * cos(th);
+        xy[2 * i + 1] = r * sin(th);
+    }
+}
+
+/* Triangulations of random and structured simple polygons up to 100k
+ * vertices, checked exactly. The quadratic ear clipper took about 94 s on
+ * one 100k-vertex polygon; this whole test takes well under a second when
+ * the emptiness tests are local (they are grid-bounded), so a regression to
+ * quadratic time shows up as a ctest timeout rather than a timing
+ * assertion. */
+static void test_large(void **state)
+{
+    (void)state;
+    size_t nmax = 100000;
+    double *xy = malloc(2 * nmax * sizeof(double));
+    static const size_t sizes[] = {65, 100, 1000, 10007, 100000};
+    for (size_t s = 0; s < sizeof sizes / sizeof *sizes; ++s) {
+        star(sizes[s], 0.2, 0, 1 + s, xy);
+        tri2d_large(sizes[s], xy);
+        star(sizes[s], 0.01, 1, 100 + s, xy);
+        tri2d_large(sizes[s], xy);
+        star(sizes[s], 0.999, 1, 200 + s, xy); /* nearly a circle */
+        tri2d_large(sizes[s], xy);
+    }
+    /* comb: n = 4K - 2 (long thin teeth: big ear bounding boxes) */
+    size_t n = comb(25000, xy);
+    assert_true(n <= nmax);
+    tri2d_large(n, xy);
+    n = comb(200, xy);
+    tri2d_large(n, xy);
+    /* spiral arm: n = 2M */
+    n = spiral(50000, xy);
+    tri2d_large(n, xy);
+    n = spiral(1000, xy);
+    tri2d_large(n, xy);
+    /* an integer-grid staircase with collinear runs: exact predicate on
+     * collinear vertices in a large polygon */
+    n = 0;
+    for (int k = 0; k < 20000; ++k) { /* up the stairs, 2 collinear points per tread */
+        xy[2 * n] = k, xy[2 * n + 1] = k, ++n;
+        xy[2 * n] = k + 0.5, xy[2 * n + 1] = k, ++n;
+    }
+    for (int x = 20000; x >= 0; --x) /* a collinear top side */
+        xy[2 * n] = x, xy[2 * n + 1] = 20000, ++n;
+    tri2d_large(n, xy);
+    free(xy);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_convex),          cmocka_unit_test(test_nonconvex),
         cmocka_unit_test(test_clockwise),       cmocka_unit_test(test_collinear),
         cmocka_unit_test(test_rotated_3d),      cmocka_unit_test(test_degenerate_input),
-        cmocka_unit_test(test_mesh_triangulate),
+        cmocka_unit_test(test_mesh_triangulate), cmocka_unit_test(test_large),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

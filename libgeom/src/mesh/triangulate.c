@@ -14,7 +14,9 @@
  * first, so near-slivers are avoided when possible. Ear flags are cached:
  * after a clip they are recomputed at the two neighbours and at the vertices
  * whose triangle holds a neighbour that stopped being reflex, and the chosen
- * ear is re-verified, for O(n^2) time on typical polygons. A diagonal that
+ * ear is re-verified, for O(n^2) time on typical polygons; above 64
+ * vertices the grid path below (triangulate_large) applies the same rule in
+ * about O(n^1.4) on random polygons. A diagonal that
  * passes within 1e-10 (relative to its length) of a remaining vertex
  * is avoided while another ear exists: on rotated input whose vertices were
  * collinear before rounding it would leave slivers. Fallbacks
@@ -24,6 +26,8 @@
  * combinatorial triangulation of the polygon.
  */
 #include "mesh/mesh_internal.h"
+
+#include <float.h>
 
 #define INV GEOM_INVALID_INDEX
 
@@ -152,6 +156,390 @@ static uint32_t best_ear(ec *e, uint32_t cur, size_t left)
     }
 }
 
+/* ------------------------------------------------ large polygons (grid) */
+
+/* For n > SMALL the same ear rule runs in near-linear time on typical
+ * polygons: every remaining vertex sits in a uniform grid over the scaled
+ * projected coordinates (about one vertex per cell), so the emptiness test of
+ * an ear candidate visits only the cells of its triangle's bounding box
+ * (padded for the near-diagonal rule; sxy is a monotone function of the exact
+ * coordinates, so the closed exact triangle lies in that box). Ears wait in
+ * an indexed max-heap on their quality (ties: lower index); a convex vertex
+ * that is not an ear records the vertex that blocked it and is re-examined
+ * when that vertex is clipped or stops being reflex, or when its own
+ * neighbours change. Fallbacks are those of the small path. */
+typedef struct fg {
+    ec *e;
+    double x0, y0, inv; /* cell = floor((s - x0) * inv) */
+    uint32_t nx, ny;
+    size_t ncell, cap; /* cells in use, allocated */
+    uint32_t *head, *gnx, *gpv, *gcell; /* grid cells: doubly linked */
+    uint32_t *heap, *hpos;              /* indexed max-heap of ears */
+    size_t nh;
+    uint32_t *blk, *bhead, *bnx, *bpv; /* blocker of each vertex; lists */
+} fg;
+
+static uint32_t cell_of(const fg *g, double s, double o, uint32_t m)
+{
+    double c = (s - o) * g->inv;
+    if (!(c > 0.0))
+        return 0;
+    return c >= (double)m ? m - 1 : (uint32_t)c;
+}
+
+static void grid_del(fg *g, uint32_t i)
+{
+    uint32_t c = g->gcell[i];
+    if (c == INV)
+        return;
+    if (g->gpv[i] != INV)
+        g->gnx[g->gpv[i]] = g->gnx[i];
+    else
+        g->head[c] = g->gnx[i];
+    if (g->gnx[i] != INV)
+        g->gpv[g->gnx[i]] = g->gpv[i];
+    g->gcell[i] = INV;
+}
+
+static int hbetter(const fg *g, uint32_t a, uint32_t b)
+{
+    double qa = g->e->qual[a], qb = g->e->qual[b];
+    return qa > qb || (qa == qb && a < b);
+}
+
+static void hswap(fg *g, size_t a, size_t b)
+{
+    uint32_t t = g->heap[a];
+    g->heap[a] = g->heap[b];
+    g->heap[b] = t;
+    g->hpos[g->heap[a]] = (uint32_t)a;
+    g->hpos[g->heap[b]] = (uint32_t)b;
+}
+
+static void hfix(fg *g, size_t k)
+{
+    while (k > 0 && hbetter(g, g->heap[k], g->heap[(k - 1) / 2])) {
+        hswap(g, k, (k - 1) / 2);
+        k = (k - 1) / 2;
+    }
+    for (;;) {
+        size_t l = 2 * k + 1, r = l + 1, b = k;
+        if (l < g->nh && hbetter(g, g->heap[l], g->heap[b]))
+            b = l;
+        if (r < g->nh && hbetter(g, g->heap[r], g->heap[b]))
+            b = r;
+        if (b == k)
+            return;
+        hswap(g, k, b);
+        k = b;
+    }
+}
+
+static void hdel(fg *g, uint32_t i)
+{
+    uint32_t k = g->hpos[i];
+    if (k == INV)
+        return;
+    g->hpos[i] = INV;
+    if (--g->nh == k)
+        return;
+    g->heap[k] = g->heap[g->nh];
+    g->hpos[g->heap[k]] = k;
+    hfix(g, k);
+}
+
+static void hset(fg *g, uint32_t i)
+{
+    if (g->hpos[i] == INV) {
+        g->heap[g->nh] = i;
+        g->hpos[i] = (uint32_t)g->nh;
+        g->nh++;
+    }
+    hfix(g, g->hpos[i]);
+}
+
+static void blk_set(fg *g, uint32_t i, uint32_t r)
+{
+    uint32_t o = g->blk[i];
+    if (o == r)
+        return;
+    if (o != INV) {
+        if (g->bpv[i] != INV)
+            g->bnx[g->bpv[i]] = g->bnx[i];
+        else
+            g->bhead[o] = g->bnx[i];
+        if (g->bnx[i] != INV)
+            g->bpv[g->bnx[i]] = g->bpv[i];
+    }
+    g->blk[i] = r;
+    if (r != INV) {
+        g->bpv[i] = INV;
+        g->bnx[i] = g->bhead[r];
+        if (g->bhead[r] != INV)
+            g->bpv[g->bhead[r]] = i;
+        g->bhead[r] = i;
+    }
+}
+
+/* The first remaining vertex that keeps i from being an ear (reflex or
+ * collinear in the closed triangle, or, when strict, near the diagonal);
+ * INV if none. */
+static uint32_t grid_blocker(const fg *g, uint32_t i, int strict)
+{
+    const ec *e = g->e;
+    uint32_t p = e->prv[i], q = e->nxt[i];
+    const double *a = e->sxy + 2 * (size_t)p, *b = e->sxy + 2 * (size_t)i,
+                 *c = e->sxy + 2 * (size_t)q;
+    double lx = fmin(a[0], fmin(b[0], c[0])), hx = fmax(a[0], fmax(b[0], c[0]));
+    double ly = fmin(a[1], fmin(b[1], c[1])), hy = fmax(a[1], fmax(b[1], c[1]));
+    double pad = 1e-9 * fmax(hx - lx, hy - ly) + 8.0 * DBL_EPSILON;
+    uint32_t cy0 = cell_of(g, ly - pad, g->y0, g->ny), cy1 = cell_of(g, hy + pad, g->y0, g->ny);
+    const double *v[3] = {a, b, c};
+    double ch = 1.0 / g->inv;
+    for (uint32_t cy = cy0; cy <= cy1; ++cy) {
+        /* x extent of the triangle within this row (padded): the extremes
+         * lie on the edges clipped to the row's band */
+        double yl = g->y0 + (double)cy * ch - pad, yh = g->y0 + (double)(cy + 1) * ch + pad;
+        if (cy == cy0)
+            yl = ly - pad;
+        if (cy == cy1)
+            yh = hy + pad;
+        double xl = INFINITY, xh = -INFINITY;
+        for (int k = 0; k < 3; ++k) {
+            const double *s0 = v[k], *s1 = v[(k + 1) % 3];
+            double ya = s0[1], yb = s1[1];
+            if (fmax(ya, yb) < yl || fmin(ya, yb) > yh)
+                continue;
+            double dy = yb - ya, t0 = 0.0, t1 = 1.0;
+            if (dy != 0.0) {
+                double ta = (yl - ya) / dy, tb = (yh - ya) / dy;
+                if (ta > tb) {
+                    double t = ta;
+                    ta = tb;
+                    tb = t;
+                }
+                t0 = fmax(0.0, ta);
+                t1 = fmin(1.0, tb);
+            }
+            double xa = s0[0] + t0 * (s1[0] - s0[0]), xb = s0[0] + t1 * (s1[0] - s0[0]);
+            xl = fmin(xl, fmin(xa, xb));
+            xh = fmax(xh, fmax(xa, xb));
+        }
+        if (!(xl <= xh))
+            continue;
+        xl = fmax(xl, lx);
+        xh = fmin(xh, hx);
+        uint32_t cx0 = cell_of(g, xl - pad, g->x0, g->nx), cx1 = cell_of(g, xh + pad, g->x0, g->nx);
+        for (uint32_t cx = cx0; cx <= cx1; ++cx)
+            for (uint32_t r = g->head[(size_t)cy * g->nx + cx]; r != INV; r = g->gnx[r]) {
+                if (r == p || r == i || r == q)
+                    continue;
+                if (strict && near_segment(e, p, q, r))
+                    return r;
+                if (e->refl[r] && orient(e, p, i, r) >= 0.0 && orient(e, i, q, r) >= 0.0 &&
+                    orient(e, q, p, r) >= 0.0)
+                    return r;
+            }
+    }
+    return INV;
+}
+
+static void fupdate(fg *g, uint32_t i)
+{
+    ec *e = g->e;
+    uint32_t r = INV;
+    e->ear[i] = 0;
+    if (!e->refl[i]) {
+        r = grid_blocker(g, i, 1);
+        e->ear[i] = r == INV;
+    }
+    blk_set(g, i, r);
+    if (e->ear[i]) {
+        e->qual[i] = ear_quality(e, i);
+        hset(g, i);
+    } else
+        hdel(g, i);
+}
+
+/* Re-examine the vertices that r blocked. */
+static void unblock(fg *g, uint32_t r)
+{
+    uint32_t i = g->bhead[r];
+    g->bhead[r] = INV;
+    while (i != INV) {
+        uint32_t nx = g->bnx[i];
+        g->blk[i] = INV;
+        fupdate(g, i);
+        i = nx;
+    }
+}
+
+/* (Re)build the grid over the `left` remaining vertices from `cur`: about
+ * one vertex per cell over their bounding box, at most g->cap cells. */
+static void grid_build(fg *g, uint32_t cur, size_t left)
+{
+    const ec *e = g->e;
+    const double *s = e->sxy;
+    double x0 = s[2 * (size_t)cur], x1 = x0, y0 = s[2 * (size_t)cur + 1], y1 = y0;
+    uint32_t i = cur;
+    for (size_t k = 0; k < left; ++k, i = e->nxt[i]) {
+        x0 = fmin(x0, s[2 * (size_t)i]);
+        x1 = fmax(x1, s[2 * (size_t)i]);
+        y0 = fmin(y0, s[2 * (size_t)i + 1]);
+        y1 = fmax(y1, s[2 * (size_t)i + 1]);
+    }
+    double w = x1 - x0, h = y1 - y0, cs = sqrt(w * h / (double)left);
+    if (!(cs > 0.0))
+        cs = fmax(w, h) / (double)left;
+    if (!(cs > 0.0))
+        cs = 1.0;
+    double fx = floor(w / cs) + 1.0, fy = floor(h / cs) + 1.0;
+    uint32_t nx = fx > (double)(2 * left) ? (uint32_t)(2 * left) : (uint32_t)fx;
+    uint32_t ny = fy > (double)(2 * left) ? (uint32_t)(2 * left) : (uint32_t)fy;
+    while ((size_t)nx * ny > g->cap) { /* thin boxes: keep the grid O(n) */
+        nx = nx > 1 ? (nx + 1) / 2 : 1;
+        ny = ny > 1 ? (ny + 1) / 2 : 1;
+    }
+    g->x0 = x0;
+    g->y0 = y0;
+    g->inv = 1.0 / fmax(w / nx, h / ny);
+    if (!isfinite(g->inv) || !(g->inv > 0.0))
+        g->inv = 1.0;
+    g->nx = nx;
+    g->ny = ny;
+    g->ncell = (size_t)nx * ny;
+    for (size_t c = 0; c < g->ncell; ++c)
+        g->head[c] = INV;
+    i = cur;
+    for (size_t k = 0; k < left; ++k, i = e->nxt[i]) {
+        uint32_t c = cell_of(g, s[2 * (size_t)i + 1], y0, ny) * nx + cell_of(g, s[2 * (size_t)i], x0, nx);
+        g->gcell[i] = c;
+        g->gpv[i] = INV;
+        g->gnx[i] = g->head[c];
+        if (g->head[c] != INV)
+            g->gpv[g->head[c]] = i;
+        g->head[c] = i;
+    }
+}
+
+static geom_status triangulate_large(ec *e, uint32_t *tris)
+{
+    size_t n = e->n;
+    fg g;
+    g.e = e;
+    g.cap = 4 * n;
+    size_t nc = g.cap, nu = nc + 11 * n;
+    uint32_t *ub = geom_alloc(NULL, nu * sizeof(uint32_t));
+    if (!ub)
+        return GEOM_ERR_NOMEM;
+    g.head = ub;
+    g.gnx = ub + nc;
+    g.gpv = g.gnx + n;
+    g.gcell = g.gpv + n;
+    g.heap = g.gcell + n;
+    g.hpos = g.heap + n;
+    g.blk = g.hpos + n;
+    g.bhead = g.blk + n;
+    g.bnx = g.bhead + n;
+    g.bpv = g.bnx + n;
+    g.nh = 0;
+    for (size_t i = 0; i < n; ++i)
+        g.hpos[i] = g.blk[i] = g.bhead[i] = INV;
+    grid_build(&g, 0, n);
+    for (size_t i = 0; i < n; ++i)
+        fupdate(&g, (uint32_t)i);
+
+    size_t left = n, nt = 0;
+    uint32_t cur = 0;
+    int recomputed = 0;
+    while (left > 3) {
+        uint32_t ear = INV, i;
+        int proper = 0;
+        while (g.nh > 0) { /* the best ear, re-verified */
+            uint32_t b = g.heap[0];
+            if (!e->refl[b] && grid_blocker(&g, b, 1) == INV) {
+                ear = b;
+                proper = 1;
+                break;
+            }
+            fupdate(&g, b);
+        }
+        if (ear == INV && !recomputed) {
+            /* all cached state recomputed once before a fallback */
+            i = cur;
+            for (size_t s = 0; s < left; ++s, i = e->nxt[i])
+                fupdate(&g, i);
+            recomputed = 1;
+            continue;
+        }
+        /* 1b: an ear by the exact test alone */
+        if (ear == INV) {
+            double bq = -1.0;
+            i = cur;
+            for (size_t s = 0; s < left; ++s, i = e->nxt[i])
+                if (!e->refl[i] && grid_blocker(&g, i, 0) == INV && ear_quality(e, i) > bq) {
+                    ear = i;
+                    bq = ear_quality(e, i);
+                }
+        }
+        /* 2: a collinear vertex, 3: any convex vertex, 4: any vertex */
+        if (ear == INV) {
+            i = cur;
+            for (size_t s = 0; s < left; ++s, i = e->nxt[i])
+                if (orient(e, e->prv[i], i, e->nxt[i]) == 0.0) {
+                    ear = i;
+                    break;
+                }
+        }
+        if (ear == INV) {
+            i = cur;
+            for (size_t s = 0; s < left; ++s, i = e->nxt[i])
+                if (!e->refl[i]) {
+                    ear = i;
+                    break;
+                }
+        }
+        if (ear == INV)
+            ear = cur;
+        if (proper)
+            recomputed = 0;
+        uint32_t p = e->prv[ear], q = e->nxt[ear];
+        tris[3 * nt] = p;
+        tris[3 * nt + 1] = ear;
+        tris[3 * nt + 2] = q;
+        nt++;
+        e->nxt[p] = q;
+        e->prv[q] = p;
+        left--;
+        e->ear[ear] = 0;
+        hdel(&g, ear);
+        blk_set(&g, ear, INV);
+        grid_del(&g, ear);
+        uint8_t rp = e->refl[p], rq = e->refl[q];
+        update_reflex(e, p);
+        update_reflex(e, q);
+        unblock(&g, ear);
+        if (rp && !e->refl[p])
+            unblock(&g, p);
+        if (rq && !e->refl[q])
+            unblock(&g, q);
+        if (!proper) {
+            /* a fallback clip may make vertices reflex: re-examine later */
+            recomputed = 0;
+        }
+        fupdate(&g, p);
+        fupdate(&g, q);
+        cur = q;
+        if (left >= 64 && 4 * left < g.ncell)
+            grid_build(&g, cur, left); /* keep about one vertex per cell */
+    }
+    tris[3 * nt] = e->prv[cur];
+    tris[3 * nt + 1] = cur;
+    tris[3 * nt + 2] = e->nxt[cur];
+    geom_free(NULL, ub, nu * sizeof(uint32_t));
+    return GEOM_OK;
+}
+
 geom_status geom_polygon_triangulate(size_t n, const double *pts, uint32_t *tris)
 {
     if (n < 3 || !pts || !tris)
@@ -234,6 +622,13 @@ geom_status geom_polygon_triangulate(size_t n, const double *pts, uint32_t *tris
     }
     for (size_t i = 0; i < n; ++i)
         update_reflex(&e, (uint32_t)i);
+    if (n > SMALL) {
+        geom_status st = triangulate_large(&e, tris);
+        geom_free(NULL, ub, 2 * n * sizeof(uint32_t));
+        geom_free(NULL, bb, 2 * n);
+        geom_free(NULL, db, 3 * n * sizeof(double));
+        return st;
+    }
     for (size_t i = 0; i < n; ++i)
         update_ear(&e, (uint32_t)i);
 
