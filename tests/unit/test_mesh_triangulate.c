@@ -540,6 +540,51 @@ static void test_large(void **state)
     free(xy);
 }
 
+/* Non-simple and degenerate input above the grid threshold (random points,
+ * points on a 4x4 integer grid with duplicates, all vertices on one line, a
+ * circle offset by 1e8 with 1e-12-thin spikes): the fallbacks still write
+ * n-2 triangles with valid, distinct corners, every side used once. */
+static void test_large_degenerate(void **state)
+{
+    (void)state;
+    uint64_t s = 7;
+    for (int it = 0; it < 80; ++it) {
+        size_t n = 65 + (size_t)(it * 37 % 300);
+        double *p = malloc(3 * n * sizeof(double));
+        uint32_t *t = malloc(3 * n * sizeof(uint32_t));
+        assert_non_null(p);
+        assert_non_null(t);
+        int mode = it % 4;
+        for (size_t i = 0; i < n; ++i) {
+            double u = (double)lcg(&s) * 0x1p-53, w = (double)lcg(&s) * 0x1p-53;
+            double th = 2 * PI * (double)i / (double)n;
+            double x = cos(th) + 1e8, y = sin(th) * (i % 3 ? 1 : 1e-12);
+            if (mode == 0)
+                x = u, y = w;
+            else if (mode == 1)
+                x = floor(4 * u), y = floor(4 * w);
+            else if (mode == 2)
+                x = (double)(i % 7), y = 2.0 * (double)(i % 7);
+            p[3 * i] = x;
+            p[3 * i + 1] = y;
+            p[3 * i + 2] = 0;
+        }
+        geom_status st = geom_polygon_triangulate(n, p, t);
+        assert_true(st == GEOM_OK || st == GEOM_ERR_DEGENERATE);
+        size_t sides = 0;
+        for (size_t k = 0; k < n - 2; ++k) {
+            const uint32_t *v = t + 3 * k;
+            assert_true(v[0] < n && v[1] < n && v[2] < n);
+            assert_true(v[0] != v[1] && v[1] != v[2] && v[0] != v[2]);
+            for (int j = 0; j < 3; ++j)
+                sides += v[(j + 1) % 3] == (v[j] + 1) % n;
+        }
+        assert_int_equal(sides, n);
+        free(p);
+        free(t);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -547,6 +592,7 @@ int main(void)
         cmocka_unit_test(test_clockwise),       cmocka_unit_test(test_collinear),
         cmocka_unit_test(test_rotated_3d),      cmocka_unit_test(test_degenerate_input),
         cmocka_unit_test(test_mesh_triangulate), cmocka_unit_test(test_large),
+        cmocka_unit_test(test_large_degenerate),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -412,7 +412,8 @@ static void grid_build(fg *g, uint32_t cur, size_t left)
         g->head[c] = INV;
     i = cur;
     for (size_t k = 0; k < left; ++k, i = e->nxt[i]) {
-        uint32_t c = cell_of(g, s[2 * (size_t)i + 1], y0, ny) * nx + cell_of(g, s[2 * (size_t)i], x0, nx);
+        uint32_t c = cell_of(g, s[2 * (size_t)i + 1], y0, ny) * nx +
+                     cell_of(g, s[2 * (size_t)i], x0, nx);
         g->gcell[i] = c;
         g->gpv[i] = INV;
         g->gnx[i] = g->head[c];
