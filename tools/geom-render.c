@@ -286,11 +286,8 @@ int main(int argc, char **argv)
     cli_timer_start(&t);
     srj_file f;
     geom_status st = srj_load(argv[first], tool.name, &f, &diag);
-    if (st != GEOM_OK) {
-        if (!diag.source[0])
-            snprintf(diag.source, sizeof diag.source, "%s", argv[first]);
+    if (st != GEOM_OK)
         return cli_print_diag(&tool, &diag);
-    }
     double t_parse = cli_timer_elapsed(&t);
     o.r.background = f.render.background;
     geom_render_report rep;

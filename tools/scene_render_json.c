@@ -506,5 +506,7 @@ geom_status srj_load(const char *path, const char *tool_name, srj_file *out, geo
     cJSON_Delete(root);
     if (st != GEOM_OK)
         srj_file_free(out);
+    if (st != GEOM_OK && d && !d->source[0])
+        snprintf(d->source, sizeof d->source, "%s", path);
     return st;
 }
