@@ -628,6 +628,37 @@ static geom_status line_err(vf_ctx *c, const vf_lines *L, const char *what, cons
     return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, L->lineno, 1, "%s '%.80s'", what, val);
 }
 
+/* The next "KEY = value" line of a text header (MetaImage, INRIMAGE),
+ * blank lines and '#' comments skipped: 1 with *key and *val trimmed in
+ * place, 0 at the end of the header, -1 after setting *st to the error (an
+ * over-long line, a NUL byte, or a line without '=', named with `what`). */
+static int next_key_value(vf_ctx *c, vf_lines *L, const char *what, char **key, char **val,
+                          geom_status *st)
+{
+    for (;;) {
+        int r = next_line(L);
+        if (r < 0) {
+            *st = geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, L->lineno + 1, 1,
+                                "header line too long or holding a NUL byte");
+            return -1;
+        }
+        if (r == 0)
+            return 0;
+        char *ln = trim(L->line);
+        if (!*ln || *ln == '#')
+            continue;
+        char *eq = strchr(ln, '=');
+        if (!eq) {
+            *st = line_err(c, L, what, ln);
+            return -1;
+        }
+        *eq = '\0';
+        *key = trim(ln);
+        *val = trim(eq + 1);
+        return 1;
+    }
+}
+
 /* Dimensions beyond the supported three must be 1. */
 static geom_status take_dims(vf_ctx *c, vf_layout *Lay, const size_t *sz, int n, size_t line)
 {
@@ -977,20 +1008,13 @@ static geom_status read_metaimage(vf_ctx *c, geom_implicit_volume **out)
     long long header_size = 0;
     char data_file[1024] = "";
     for (;;) {
-        int r = next_line(&Ls);
+        char *key, *val;
+        geom_status kst = GEOM_OK;
+        int r = next_key_value(c, &Ls, "malformed MetaImage line (expected 'Key = Value'):", &key, &val, &kst);
         if (r < 0)
-            return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, Ls.lineno + 1, 1,
-                                 "header line too long or holding a NUL byte");
+            return kst;
         if (r == 0)
             break;
-        char *ln = trim(Ls.line);
-        if (!*ln || *ln == '#')
-            continue;
-        char *eq = strchr(ln, '=');
-        if (!eq)
-            return line_err(c, &Ls, "malformed MetaImage line (expected 'Key = Value'):", ln);
-        *eq = '\0';
-        char *key = trim(ln), *val = trim(eq + 1);
         if (ieq(key, "NDims")) {
             size_t d;
             if (parse_sizes(val, &d, 1) != 1 || d < 1 || d > 16)
@@ -1153,20 +1177,13 @@ static geom_status read_inrimage(vf_ctx *c, geom_implicit_volume **out)
     double vox[3] = {1, 1, 1};
     next_line(&Ls); /* #INRIMAGE-4#{ */
     for (;;) {
-        int r = next_line(&Ls);
+        char *key, *val;
+        geom_status kst = GEOM_OK;
+        int r = next_key_value(c, &Ls, "malformed INRIMAGE line (expected KEY=value):", &key, &val, &kst);
         if (r < 0)
-            return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, Ls.lineno + 1, 1,
-                                 "header line too long or holding a NUL byte");
+            return kst;
         if (r == 0)
             break;
-        char *ln = trim(Ls.line);
-        if (!*ln || *ln == '#')
-            continue;
-        char *eq = strchr(ln, '=');
-        if (!eq)
-            return line_err(c, &Ls, "malformed INRIMAGE line (expected KEY=value):", ln);
-        *eq = '\0';
-        char *key = trim(ln), *val = trim(eq + 1);
         int axis = -1;
         if (!strcmp(key, "XDIM") || !strcmp(key, "YDIM") || !strcmp(key, "ZDIM")) {
             axis = key[0] - 'X';
