@@ -149,7 +149,7 @@ static void check_closest(const tmesh *m, double scale)
     geom_meshdist_options o = {0};
     o.max_leaf_size = (uint32_t)m->nt;
     assert_int_equal(geom_meshdist_create(m->pos, m->nv, m->tris, m->nt, &o, &one, NULL), GEOM_OK);
-    size_t nq = 300;
+    size_t nq = 1500; /* > 512: the batch runs in Morton order with hints */
     double *q = malloc(3 * nq * sizeof *q);
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (size_t i = 0; i < m->nv; i++)
@@ -171,6 +171,16 @@ static void check_closest(const tmesh *m, double scale)
     assert_memory_equal(tri, tri1, nq * sizeof *tri);
     assert_memory_equal(d, d1, nq * sizeof *d);
     assert_memory_equal(pt, pt1, 3 * nq * sizeof *pt);
+    /* One query at a time (no reordering, no starting hint): the same answers. */
+    for (size_t i = 0; i < nq; i++) {
+        double p1[3], b1[3], dd1;
+        uint32_t t1;
+        assert_int_equal(geom_meshdist_closest(md, q + 3 * i, 1, p1, &t1, b1, &dd1, 1, NULL), GEOM_OK);
+        assert_int_equal(t1, tri[i]);
+        assert_memory_equal(&dd1, &d[i], sizeof dd1);
+        assert_memory_equal(p1, &pt[3 * i], sizeof p1);
+        assert_memory_equal(b1, &bary[3 * i], sizeof b1);
+    }
     for (size_t i = 0; i < nq; i++) {
         double best = INFINITY;
         for (size_t t = 0; t < m->nt; t++) {
@@ -304,6 +314,28 @@ static void check_winding(const tmesh *m, int closed)
         assert_true(fabs(sd[i]) == d[i]);
         assert_true((sd[i] < 0 || (sd[i] == 0 && we[i] >= 0.5)) == (we[i] >= 0.5));
     }
+    /* Near the surface (where the refinement works hardest): points on
+     * random triangles, pushed off by up to 1e-2 either way, and vertices
+     * themselves; the sign must be that of the exact sum. */
+    for (size_t i = 0; i < nq; i++) {
+        const uint32_t *v = m->tris + 3 * (size_t)(urand() * (double)m->nt);
+        const double *a = m->pos + 3 * v[0], *b = m->pos + 3 * v[1], *c = m->pos + 3 * v[2];
+        double u = urand(), w = urand();
+        if (u + w > 1) u = 1 - u, w = 1 - w;
+        double off = i % 7 == 0 ? 0.0 : (urand() - 0.5) * (i % 3 ? 2e-2 : 2e-6);
+        for (int k = 0; k < 3; k++)
+            q[3 * i + k] = (i % 11 == 0 ? a[k] : a[k] + u * (b[k] - a[k]) + w * (c[k] - a[k])) * (1 + off);
+    }
+    geom_error_report rs;
+    assert_int_equal(geom_meshdist_winding(exact, q, nq, we, NULL, 1, NULL), GEOM_OK);
+    assert_int_equal(geom_meshdist_signed_distance(barill, q, nq, sd, &rs, 2, NULL), GEOM_OK);
+    assert_int_equal(geom_meshdist_closest(fast, q, nq, NULL, NULL, NULL, d, 0, NULL), GEOM_OK);
+    for (size_t i = 0; i < nq; i++) {
+        assert_true(fabs(sd[i]) == d[i]);
+        if ((sd[i] < 0 || (sd[i] == 0 && we[i] >= 0.5)) != (we[i] >= 0.5))
+            fail_msg("near-surface query %zu: signed distance %.17g, exact winding %.17g", i, sd[i], we[i]);
+    }
+    print_message("signed distance near the surface: %zu terms for %zu queries\n", rs.evaluations, nq);
     free(sd), free(d), free(q), free(wf), free(we);
     geom_meshdist_destroy(fast);
     geom_meshdist_destroy(barill);

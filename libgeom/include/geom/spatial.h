@@ -395,11 +395,15 @@ GEOM_API geom_status geom_meshdist_winding(const geom_meshdist *m, const double 
 /**
  * Signed distance: the closest-point distance, negative inside, inside
  * meaning winding number >= 1/2 (exactly 1/2 counts as inside). The sign is
- * that of the exact solid-angle sum: when the fast approximation is within
- * its error bound of 1/2, the query is recomputed with tighter terms (error
- * at most 1/4, then 1/32) and finally exactly, until the side is certain. sd receives nq
- * doubles; report (may be NULL) as geom_meshdist_winding. Returns as
- * geom_meshdist_closest.
+ * that of the exact solid-angle sum: the fast approximation (Barill's
+ * criterion; the tolerance option is not used here) is refined while its
+ * error bound straddles 1/2, always opening the approximated node with the
+ * largest error term (a node's term uses the larger of R - r and the distance
+ * to its box as the distance bound), and a query still undecided with every
+ * node open gets the exact sum. sd receives nq doubles; report (may be NULL)
+ * as geom_meshdist_winding, max_error being the final bound of each query
+ * (a bound on |w - computed w| that excludes 1/2 unless the exact sum
+ * decided). Returns as geom_meshdist_closest, or GEOM_ERR_NOMEM.
  */
 GEOM_API geom_status geom_meshdist_signed_distance(const geom_meshdist *m, const double *queries,
                                                    size_t nq, double *sd,

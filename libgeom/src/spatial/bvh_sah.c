@@ -113,16 +113,6 @@ static int sort_axis(const geom_allocator *a, geom__bvh_ref *r, size_t n, int ax
     return 0;
 }
 
-static void centroid_bounds(const geom__bvh_ref *r, size_t n, bin *b)
-{
-    for (size_t i = 0; i < n; i++)
-        for (int k = 0; k < 3; k++) {
-            double c = r[i].lo[k] + r[i].hi[k];
-            if (c < b->clo[k]) b->clo[k] = c;
-            if (c > b->chi[k]) b->chi[k] = c;
-        }
-}
-
 /* Bin, choose the SAH split, partition. Returns the split axis (-1: none
  * found) with the left count and the children's summaries. Kept out of
  * build_node so that the bins are not on the stack during the recursion. */
@@ -195,30 +185,38 @@ static int sah_split(const geom__bvh_build *b, geom__bvh_ref *r, size_t n, const
         return -1;
     double lo = all->clo[axis], sc = scale[axis];
     size_t i = 0, j = n;
+    bin_clear(lb);
+    bin_clear(rb);
     /* In-place partition: left = bin index <= split. The expression is the
-     * binning one, so each reference lands on the side its bin was counted on. */
+     * binning one, so each reference lands on the side its bin was counted
+     * on. The children's centroid bounds are gathered on the way. */
     while (i < j) {
         double c = r[i].lo[axis] + r[i].hi[axis];
         int q = (int)((c - lo) * sc);
         if (q >= (int)nb) q = (int)nb - 1;
         if (q < 0) q = 0;
+        bin *side;
         if ((uint32_t)q <= split) {
-            i++;
+            side = lb;
         } else {
             j--;
             geom__bvh_ref tmp = r[i];
             r[i] = r[j];
             r[j] = tmp;
+            side = rb;
         }
+        const geom__bvh_ref *e = side == lb ? &r[i] : &r[j];
+        for (int k = 0; k < 3; k++) {
+            double ck = e->lo[k] + e->hi[k];
+            if (ck < side->clo[k]) side->clo[k] = ck;
+            if (ck > side->chi[k]) side->chi[k] = ck;
+        }
+        if (side == lb)
+            i++;
     }
     *nl_out = i;
-    bin_clear(lb);
-    bin_clear(rb);
     for (uint32_t q = 0; q < nb; q++)
         bin_merge_box(q <= split ? lb : rb, &bins[axis][q]);
-    /* The bins hold boxes only: the children's centroid bounds in one pass. */
-    centroid_bounds(r, i, lb);
-    centroid_bounds(r + i, n - i, rb);
     return axis;
 }
 

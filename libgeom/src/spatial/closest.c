@@ -120,15 +120,30 @@ static inline double closest_tri(const double p[3], const double a[3], const dou
  * its triangle's box. */
 #define PRUNE(d2) ((d2) * (1.0 + 0x1p-40) + 0x1p-1000)
 
-static void closest_one(const geom_meshdist *m, const double q[3], double pt[3], uint32_t *tri,
-                        double bary[3], double *d2out)
+/* Queries per parallel work item (each runs in Morton order with the
+ * previous answer as its starting bound). */
+#define CHUNK 256
+
+/* hint: a primitive slot (position in the BVH's primitive order) whose
+ * triangle gives the starting bound, or UINT32_MAX; *slot_out receives the
+ * answer's slot. The answer does not depend on the hint: every triangle whose
+ * distance is at most the final one is still visited, and ties go to the
+ * smaller triangle index. */
+static void closest_one(const geom_meshdist *m, const double q[3], uint32_t hint, double pt[3],
+                        uint32_t *tri, double bary[3], double *d2out, uint32_t *slot_out)
 {
     size_t nn;
     const geom_bvh_node *nodes = geom_bvh_nodes(m->bvh, &nn);
     const uint32_t *prims = geom_bvh_prim_indices(m->bvh, NULL);
     double best = INFINITY;
-    uint32_t bt = GEOM_INVALID_INDEX;
+    uint32_t bt = GEOM_INVALID_INDEX, bslot = UINT32_MAX;
     double bp[3] = {0, 0, 0}, bbary[3] = {0, 0, 0};
+    if (nn && hint < m->nt) {
+        const double *tv = m->tv + 9 * (size_t)hint;
+        best = closest_tri(q, tv, tv + 3, tv + 6, bp, bbary);
+        bt = prims[hint];
+        bslot = hint;
+    }
     if (nn) {
         uint32_t stack[256];
         double sd[256];
@@ -149,6 +164,7 @@ static void closest_one(const geom_meshdist *m, const double q[3], double pt[3],
                     if (d2 < best || (d2 == best && t < bt)) {
                         best = d2;
                         bt = t;
+                        bslot = nd->index + k;
                         memcpy(bp, c, sizeof bp);
                         memcpy(bbary, l, sizeof bbary);
                     }
@@ -179,6 +195,8 @@ static void closest_one(const geom_meshdist *m, const double q[3], double pt[3],
         memcpy(bary, bbary, sizeof bbary);
     *tri = bt;
     *d2out = best;
+    if (slot_out)
+        *slot_out = bslot;
 }
 
 geom_status geom_meshdist_closest(const geom_meshdist *m, const double *queries, size_t nq,
@@ -191,22 +209,67 @@ geom_status geom_meshdist_closest(const geom_meshdist *m, const double *queries,
     if (bad < nq)
         return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                              "closest point: query %zu has a NaN/Inf coordinate", bad);
-    ptrdiff_t n = (ptrdiff_t)nq;
+    const geom_allocator *a = m->has_alloc ? &m->alloc : NULL;
+    /* Queries in Morton order (of their own bounding box): consecutive
+     * queries then touch the same nodes and triangles, and the previous
+     * answer's triangle gives a tight starting bound. */
+    uint32_t *order = NULL;
+    uint64_t *keys = NULL;
+    if (nq >= 2 * CHUNK && nq < UINT32_MAX) {
+        order = geom_alloc(a, nq * sizeof *order);
+        keys = geom_alloc(a, nq * sizeof *keys);
+        if (order && keys) {
+            double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+            for (size_t i = 0; i < nq; i++)
+                for (int k = 0; k < 3; k++) {
+                    double v = queries[3 * i + (size_t)k];
+                    if (v < lo[k]) lo[k] = v;
+                    if (v > hi[k]) hi[k] = v;
+                }
+            double sc[3];
+            for (int k = 0; k < 3; k++)
+                sc[k] = hi[k] > lo[k] ? 2097151.0 / (hi[k] - lo[k]) : 0.0;
+            for (size_t i = 0; i < nq; i++) {
+                uint32_t c[3];
+                for (int k = 0; k < 3; k++) {
+                    double f = (queries[3 * i + (size_t)k] - lo[k]) * sc[k];
+                    c[k] = f > 0 ? (f < 2097151.0 ? (uint32_t)f : 2097151u) : 0u;
+                }
+                keys[i] = geom__morton3(c[0], c[1], c[2]);
+                order[i] = (uint32_t)i;
+            }
+            if (geom__radix_sort64(a, keys, order, nq) != GEOM_OK) {
+                geom_free(a, order, nq * sizeof *order);
+                order = NULL;
+            }
+        } else {
+            geom_free(a, order, nq * sizeof *order);
+            order = NULL;
+        }
+        geom_free(a, keys, nq * sizeof *keys);
+    }
+    ptrdiff_t nchunks = (ptrdiff_t)((nq + CHUNK - 1) / CHUNK);
     int nth = geom__spatial_threads(threads);
     (void)nth;
 #ifdef GEOM_SPATIAL_OPENMP
-#pragma omp parallel for schedule(dynamic, 256) num_threads(nth) if (nq > 256)
+#pragma omp parallel for schedule(dynamic, 1) num_threads(nth) if (nchunks > 1)
 #endif
-    for (ptrdiff_t i = 0; i < n; i++) {
-        uint32_t t;
-        double d2;
-        closest_one(m, queries + 3 * i, point ? point + 3 * i : NULL, &t, bary ? bary + 3 * i : NULL,
-                    &d2);
-        if (tri)
-            tri[i] = t;
-        if (distance)
-            distance[i] = sqrt(d2);
+    for (ptrdiff_t c = 0; c < nchunks; c++) {
+        size_t end = (size_t)(c + 1) * CHUNK < nq ? (size_t)(c + 1) * CHUNK : nq;
+        uint32_t hint = UINT32_MAX;
+        for (size_t j = (size_t)c * CHUNK; j < end; j++) {
+            size_t i = order ? order[j] : j;
+            uint32_t t;
+            double d2;
+            closest_one(m, queries + 3 * i, hint, point ? point + 3 * i : NULL, &t,
+                        bary ? bary + 3 * i : NULL, &d2, &hint);
+            if (tri)
+                tri[i] = t;
+            if (distance)
+                distance[i] = sqrt(d2);
+        }
     }
+    geom_free(a, order, nq * sizeof *order);
     return GEOM_OK;
 }
 
@@ -214,6 +277,6 @@ double geom__meshdist_closest_d2(const geom_meshdist *m, const double q[3])
 {
     uint32_t t;
     double d2;
-    closest_one(m, q, NULL, &t, NULL, &d2);
+    closest_one(m, q, UINT32_MAX, NULL, &t, NULL, &d2, NULL);
     return d2;
 }
