@@ -382,9 +382,14 @@ GEOM_API geom_status geom_meshdist_closest(const geom_meshdist *m, const double 
  * or self-intersecting meshes. w receives nq doubles. If report is non-NULL
  * it receives, over the queries, the largest (max_error) and mean error
  * bound of the approximation (method GEOM_ERROR_BOUND; 0 when beta < 0):
- * per query the sum over approximated nodes of A*r*2 / (4*pi*(R - r)^3),
- * A the node's triangle area, r its radius, R the query's distance to its
- * centre (the Taylor remainder of the dipole kernel), plus rounding; and in
+ * per query the sum over approximated nodes of the smaller of A*r*2 /
+ * (4*pi*g^3) (the Taylor remainder of the dipole kernel) and a bound that is
+ * small on flat patches, (2*r*D + 2*M) / (4*pi*g^3) + 3*I / (4*pi*g^4),
+ * plus rounding; A is the node's triangle area, r its radius, g the larger
+ * of R - r (R the query's distance to its centre) and the distance to its
+ * box, D the sum of A_t*|n_t - nu| over its triangles (nu its mean normal
+ * direction), I the integral of |x - c|^2 over its surface and M the norm of
+ * the integral of (x - c) (zero up to rounding); and in
  * `evaluations` the number of exact triangle terms plus dipole terms.
  * Returns as geom_meshdist_closest.
  */

@@ -41,6 +41,14 @@ static double len3(const double *v)
     return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
 }
 
+/* v / |v|, or 0 for the zero vector. */
+static void unit3(const double *v, double *u)
+{
+    double l = len3(v);
+    for (int q = 0; q < 3; q++)
+        u[q] = l > 0 ? v[q] / l : 0.0;
+}
+
 /* Dipole data bottom-up (children follow their parent in the layout). */
 static void dipoles(geom_meshdist *m)
 {
@@ -85,6 +93,37 @@ static void dipoles(geom_meshdist *m)
                 }
             }
             d->r = r * (1.0 + 0x1p-50);
+            double nu[3];
+            unit3(d->n, nu);
+            double dev = 0, i2 = 0, m1[3] = {0, 0, 0};
+            for (uint32_t k = 0; k < nd->count; k++) {
+                const uint32_t *v = m->tris + 3 * (size_t)prims[nd->index + k];
+                const double *p[3] = {m->pos + 3 * (size_t)v[0], m->pos + 3 * (size_t)v[1],
+                                      m->pos + 3 * (size_t)v[2]};
+                double e1[3] = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
+                double e2[3] = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
+                double a[3] = {0.5 * (e1[1] * e2[2] - e1[2] * e2[1]),
+                               0.5 * (e1[2] * e2[0] - e1[0] * e2[2]),
+                               0.5 * (e1[0] * e2[1] - e1[1] * e2[0])};
+                double ar = len3(a), g[3], spread = 0;
+                for (int q = 0; q < 3; q++)
+                    g[q] = (p[0][q] + p[1][q] + p[2][q]) / 3.0;
+                for (int j = 0; j < 3; j++)
+                    for (int q = 0; q < 3; q++)
+                        spread += (p[j][q] - g[q]) * (p[j][q] - g[q]);
+                double dv[3] = {a[0] - ar * nu[0], a[1] - ar * nu[1], a[2] - ar * nu[2]};
+                double gc[3] = {g[0] - d->c[0], g[1] - d->c[1], g[2] - d->c[2]};
+                dev += len3(dv);
+                /* integral over the triangle of |x - c|^2 = A (|g - c|^2 +
+                 * sum_k |v_k - g|^2 / 12) */
+                i2 += ar * (gc[0] * gc[0] + gc[1] * gc[1] + gc[2] * gc[2] + spread / 12.0);
+                for (int q = 0; q < 3; q++)
+                    m1[q] += ar * gc[q];
+            }
+            double grow = 1.0 + (double)(nd->count + 8) * 0x1p-50;
+            d->dev = dev * grow;
+            d->i2 = i2 * grow;
+            d->m1 = len3(m1) * grow + d->area * d->r * (double)(nd->count + 8) * 0x1p-50;
         } else {
             const geom__dipole *l = &m->dip[j + 1], *r = &m->dip[nd->index];
             d->area = l->area + r->area;
@@ -97,6 +136,20 @@ static void dipoles(geom_meshdist *m)
             double er[3] = {r->c[0] - d->c[0], r->c[1] - d->c[1], r->c[2] - d->c[2]};
             double rl = len3(el) + l->r, rr = len3(er) + r->r;
             d->r = (rl > rr ? rl : rr) * (1.0 + 0x1p-50);
+            double nu[3], nl[3], nr[3];
+            unit3(d->n, nu);
+            unit3(l->n, nl);
+            unit3(r->n, nr);
+            double dl[3] = {nl[0] - nu[0], nl[1] - nu[1], nl[2] - nu[2]};
+            double dr[3] = {nr[0] - nu[0], nr[1] - nu[1], nr[2] - nu[2]};
+            d->dev = (l->dev + l->area * len3(dl) + r->dev + r->area * len3(dr)) * (1.0 + 0x1p-40);
+            double ll = len3(el), lr = len3(er);
+            d->i2 = (l->i2 + 2.0 * ll * l->m1 + l->area * ll * ll + r->i2 + 2.0 * lr * r->m1 +
+                     r->area * lr * lr) * (1.0 + 0x1p-40);
+            double m1[3];
+            for (int q = 0; q < 3; q++)
+                m1[q] = l->area * el[q] + r->area * er[q];
+            d->m1 = (len3(m1) + l->m1 + r->m1) * (1.0 + 0x1p-40) + d->area * d->r * 0x1p-44;
         }
     }
 }

@@ -165,6 +165,11 @@ typedef struct geom__dipole {
     double n[3]; /* sum of area vectors (half cross products) */
     double area; /* sum of triangle areas */
     double r;    /* radius: every vertex of the subtree is within r of c */
+    /* For the tighter error term of the signed distance (winding.c), all
+     * upper bounds: dev = sum over triangles of |a_t - A_t nu| (a_t the area
+     * vector, A_t its length, nu = n/|n|), i2 = integral of |x - c|^2 over
+     * the surface, m1 = |integral of (x - c)| (0 up to rounding). */
+    double dev, i2, m1;
 } geom__dipole;
 
 struct geom_meshdist {

@@ -8,7 +8,9 @@
  * first-order dipole term (p - q).N / (4 pi |p - q|^3). The truncation error
  * of that term is bounded by the Taylor remainder of the kernel: with A the
  * node's triangle area, r its radius and R the distance to its centre,
- * |error| <= A r sup|Hess(1/(4 pi |y|))| = A r 2 / (4 pi (R - r)^3).
+ * |error| <= A r sup|Hess(1/(4 pi |y|))| = A r 2 / (4 pi (R - r)^3), and a
+ * second bound that is small on flat patches (side_term below) is used when
+ * it is smaller; R - r may be replaced by the distance to the node's box.
  * By default a node is approximated by Barill et al.'s criterion alone
  * (R > beta r) and the report carries the sum of the accepted terms, a
  * rigorous but pessimistic bound. With a tolerance, a node is approximated
@@ -49,6 +51,24 @@ double geom__solid_angle(const double q[3], const double A[3], const double B[3]
     return 2.0 * atan2(det, den);
 }
 
+/* Error bound of a node's dipole term, g a lower bound of the distance from
+ * q to the node's surface (and to the segments from its centre to it). The
+ * smaller of two bounds: the first-order one, A r 2 / (4 pi g^3), and one
+ * that sees flat patches. With nu the mean normal direction, split each
+ * triangle's unit normal into nu + (n_t - nu): the second part is bounded
+ * as before with sum A_t |n_t - nu| (dev) in place of A; for the first, the
+ * gradient of the kernel expanded to first order about c leaves the moment
+ * integral of (x - c) (zero up to rounding: c is the area centroid; m1) and
+ * a remainder at most 1/2 sup|D^3 G| |x - c|^2 with sup|D^3 G| = 6 / (4 pi
+ * g^4) (Legendre: |d^k/du^k 1/|y|| <= k! / |y|^(k+1)), integrated: i2. */
+static double side_term(const geom__dipole *d, double g)
+{
+    double g3 = FOUR_PI * g * g * g;
+    double first = d->area * d->r * 2.0 / g3;
+    double flat = (2.0 * d->r * d->dev + 2.0 * d->m1) / g3 + 3.0 * d->i2 / (g3 * g);
+    return (first < flat ? first : flat) * (1.0 + 0x1p-40);
+}
+
 /* Winding number at q; *err receives the bound, *work the term count. */
 static double winding_one(const geom_meshdist *m, const double q[3], double beta,
                           double tol_per_area, double *err, size_t *work)
@@ -70,7 +90,10 @@ static double winding_one(const geom_meshdist *m, const double q[3], double beta
                 double R = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
                 if (R > beta * d->r && R > d->r) {
                     double g = R - d->r;
-                    double term = d->area * d->r * 2.0 / (FOUR_PI * g * g * g);
+                    double gb = sqrt(geom__box_d2(&nd->box, q)) * (1.0 - 0x1p-40);
+                    if (gb > g)
+                        g = gb;
+                    double term = side_term(d, g);
                     if (tol_per_area <= 0 || term <= tol_per_area * d->area) {
                         sum += (v[0] * d->n[0] + v[1] * d->n[1] + v[2] * d->n[2]) /
                                (FOUR_PI * R * R * R);
@@ -186,7 +209,7 @@ static int side_add(side_state *s, uint32_t root)
             double gb = sqrt(geom__box_d2(&nd->box, q)) * (1.0 - 0x1p-40);
             if (gb > g)
                 g = gb;
-            double term = d->area * d->r * 2.0 / (FOUR_PI * g * g * g);
+            double term = side_term(d, g);
             double val = (v[0] * d->n[0] + v[1] * d->n[1] + v[2] * d->n[2]) / (FOUR_PI * R * R * R);
             if (heap_push(s, term, val, i) < 0)
                 return -1;
