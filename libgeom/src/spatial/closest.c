@@ -272,11 +272,3 @@ geom_status geom_meshdist_closest(const geom_meshdist *m, const double *queries,
     geom_free(a, order, nq * sizeof *order);
     return GEOM_OK;
 }
-
-double geom__meshdist_closest_d2(const geom_meshdist *m, const double q[3])
-{
-    uint32_t t;
-    double d2;
-    closest_one(m, q, UINT32_MAX, NULL, &t, NULL, &d2, NULL);
-    return d2;
-}

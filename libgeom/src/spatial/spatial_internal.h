@@ -187,8 +187,6 @@ struct geom_meshdist {
     double area_total; /* total triangle area */
 };
 
-/* Squared distance from q to the mesh (closest.c). */
-double geom__meshdist_closest_d2(const geom_meshdist *m, const double q[3]);
 /* Signed solid angle of triangle (a, b, c) seen from q (Van Oosterom and
  * Strackee 1983), in steradians. */
 double geom__solid_angle(const double q[3], const double a[3], const double b[3],

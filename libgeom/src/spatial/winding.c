@@ -311,6 +311,13 @@ static geom_status run(const geom_meshdist *m, const double *queries, size_t nq,
     if (bad < nq)
         return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                              "winding number: query %zu has a NaN/Inf coordinate", bad);
+    /* Signed distance: the distances first, through the batch closest-point
+     * query (Morton-ordered); the signs are applied below. */
+    if (sd) {
+        geom_status st = geom_meshdist_closest(m, queries, nq, NULL, NULL, NULL, out, threads, diag);
+        if (st != GEOM_OK)
+            return st;
+    }
     double emax = 0, esum = 0;
     size_t work = 0;
     ptrdiff_t n = (ptrdiff_t)nq;
@@ -357,8 +364,7 @@ static geom_status run(const geom_meshdist *m, const double *queries, size_t nq,
             w = winding_one(m, q, m->beta, tpa, &e, &wk);
         }
         if (sd) {
-            double d = sqrt(geom__meshdist_closest_d2(m, q));
-            out[i] = w >= 0.5 ? -d : d;
+            out[i] = w >= 0.5 ? -out[i] : out[i];
         } else {
             out[i] = w;
         }
