@@ -55,6 +55,44 @@ static void ref_box(const bounds_src *s, size_t i, geom__bvh_ref *r)
     r->pad = 0;
 }
 
+static void ref_box_fn(const void *src, size_t i, geom__bvh_ref *r)
+{
+    ref_box((const bounds_src *)src, i, r);
+}
+
+/* The temporary nodes are already in depth-first order (left = id + 1):
+ * rewrite them in place as flat nodes (each flat node is no larger than a
+ * temporary one and lies at or before it); returns the depth. */
+static size_t preorder_in_place(geom__bvh_tmp *tmp, size_t count)
+{
+    _Static_assert(sizeof(geom_bvh_node) <= sizeof(geom__bvh_tmp), "flat node larger than temp node");
+    geom_bvh_node *nodes = (geom_bvh_node *)(void *)tmp;
+    size_t pend[256];
+    int sp = 0;
+    size_t depth = 1, maxd = 0;
+    for (size_t i = 0; i < count; i++) {
+        geom__bvh_tmp t = tmp[i];
+        geom_bvh_node nd;
+        nd.box = t.box;
+        nd.axis = t.axis;
+        nd.pad = 0;
+        if (depth > maxd)
+            maxd = depth;
+        if (t.left == UINT32_MAX) {
+            nd.index = t.start;
+            nd.count = t.count;
+            depth = sp > 0 ? pend[--sp] : 0;
+        } else {
+            nd.index = t.right;
+            nd.count = 0;
+            pend[sp++] = depth + 1;
+            depth++;
+        }
+        memcpy(&nodes[i], &nd, sizeof nd);
+    }
+    return maxd;
+}
+
 static int ref_ok(const geom__bvh_ref *r)
 {
     for (int k = 0; k < 3; k++)
@@ -147,6 +185,8 @@ static geom_status build_common(size_t n, const bounds_src *src, const geom_bvh_
         bd.bins = 2;
     bd.threads = geom__spatial_threads(o.threads);
     bd.alloc = a;
+    bd.box_fn = ref_box_fn;
+    bd.src = src;
     bd.refs = geom_alloc(a, n * sizeof *bd.refs);
     bd.tmp = geom_alloc(a, 2 * n * sizeof *bd.tmp);
     b->prims = geom_alloc(a, n * sizeof *b->prims);
@@ -191,21 +231,36 @@ static geom_status build_common(size_t n, const bounds_src *src, const geom_bvh_
         st = geom_diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "BVH: out of memory");
         goto fail;
     }
-    b->nodes = geom_alloc(a, bd.tmp_count * sizeof *b->nodes);
-    if (!b->nodes) {
-        st = geom_diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "BVH: out of memory");
-        goto fail;
+    if (bd.preorder && root == 0) {
+        b->depth = preorder_in_place(bd.tmp, bd.tmp_count);
+        geom_bvh_node *shrunk = geom_realloc(a, bd.tmp, 2 * n * sizeof *bd.tmp,
+                                             bd.tmp_count * sizeof *b->nodes);
+        if (!shrunk) {
+            st = geom_diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "BVH: out of memory");
+            goto fail;
+        }
+        b->nodes = shrunk;
+        bd.tmp = NULL;
+        b->node_count = bd.tmp_count;
+    } else {
+        b->nodes = geom_alloc(a, bd.tmp_count * sizeof *b->nodes);
+        if (!b->nodes) {
+            st = geom_diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "BVH: out of memory");
+            goto fail;
+        }
+        b->node_count = bd.tmp_count;
+        size_t next = 0;
+        b->depth = flatten(bd.tmp, root, b->nodes, &next, 1);
     }
-    b->node_count = bd.tmp_count;
-    size_t next = 0;
-    b->depth = flatten(bd.tmp, root, b->nodes, &next, 1);
     for (size_t i = 0; i < n; i++)
-        b->prims[i] = bd.refs[i].id;
+        b->prims[i] = bd.order ? bd.order[i] : bd.refs[i].id;
+    geom_free(a, bd.order, n * sizeof *bd.order);
     geom_free(a, bd.refs, n * sizeof *bd.refs);
     geom_free(a, bd.tmp, 2 * n * sizeof *bd.tmp);
     *out = b;
     return GEOM_OK;
 fail:
+    geom_free(a, bd.order, n * sizeof *bd.order);
     geom_free(a, bd.refs, n * sizeof *bd.refs);
     geom_free(a, bd.tmp, 2 * n * sizeof *bd.tmp);
     free_bvh(b);

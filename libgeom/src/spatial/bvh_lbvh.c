@@ -135,6 +135,7 @@ uint32_t geom__bvh_build_lbvh(geom__bvh_build *b)
     }
 #endif
     root = lnode(&c, 0, n);
+    b->preorder = 1;
 done:
     geom_free(a, codes, n * sizeof *codes);
     geom_free(a, perm, n * sizeof *perm);

@@ -7,33 +7,50 @@
  * node's references (in a fixed order), so the tree does not depend on the
  * thread count. Centroids are (lo + hi), twice the box centre.
  *
+ * The decisions are taken on a compact single-precision copy of the
+ * primitive boxes (32 bytes a reference, relative to the centre of the scene
+ * and scaled by its extent, so that a 1e8 offset costs no precision); the
+ * node boxes are then recomputed exactly, in double, as unions of the
+ * primitive boxes. Rounding only moves where a split falls, never a box.
+ *
  * Nodes of more than 4096 primitives are binned along their widest centroid
  * axis only, smaller ones along all three.
  *
  * A node with at most max_leaf_size primitives becomes a leaf; a larger node
- * whose centroids all coincide is split at its middle (the references keep
- * their input order); below depth 64 nodes are split at the median centroid
- * along their widest axis, so the depth stays below 64 + 32.
+ * whose (single-precision) centroids all coincide is split at its middle (the
+ * references keep their input order); below depth 64 nodes are split at the
+ * median centroid along their widest axis, so the depth stays below 64 + 32.
  */
 #include "spatial/spatial_internal.h"
 
 #include <stdlib.h>
 #include <string.h>
 
-#define MAX_BINS 64
+#define MAX_BINS 256
 #define SAH_DEPTH 64
 #define TASK_MIN 4096
 #define WIDE_ONLY 4096
 
+/* A reference: lanes 0..2 are x, y, z; lane 3 is unused (0). */
+typedef struct fref {
+    float lo[4], hi[4];
+} fref;
+
 typedef struct bin {
-    double lo[3], hi[3];   /* box of the references */
-    double clo[3], chi[3]; /* bounds of their centroids */
+    float lo[4], hi[4];   /* box of the references */
+    float clo[4], chi[4]; /* bounds of their centroids */
     uint32_t count;
 } bin;
 
+typedef struct sctx {
+    geom__bvh_build *b;
+    fref *r;       /* n references, permuted with ids */
+    uint32_t *ids; /* primitive index of each reference */
+} sctx;
+
 static void bin_clear(bin *b)
 {
-    for (int k = 0; k < 3; k++) {
+    for (int k = 0; k < 4; k++) {
         b->lo[k] = b->clo[k] = INFINITY;
         b->hi[k] = b->chi[k] = -INFINITY;
     }
@@ -42,42 +59,49 @@ static void bin_clear(bin *b)
 
 static inline void bin_merge_box(bin *a, const bin *b)
 {
-    for (int k = 0; k < 3; k++) {
-        if (b->lo[k] < a->lo[k]) a->lo[k] = b->lo[k];
-        if (b->hi[k] > a->hi[k]) a->hi[k] = b->hi[k];
+    for (int k = 0; k < 4; k++) {
+        a->lo[k] = b->lo[k] < a->lo[k] ? b->lo[k] : a->lo[k];
+        a->hi[k] = b->hi[k] > a->hi[k] ? b->hi[k] : a->hi[k];
     }
     a->count += b->count;
 }
 
-static double half_area(const double lo[3], const double hi[3])
+static inline void bin_add(bin *bb, const fref *r)
 {
-    double dx = hi[0] - lo[0], dy = hi[1] - lo[1], dz = hi[2] - lo[2];
+    for (int q = 0; q < 4; q++) {
+        bb->lo[q] = r->lo[q] < bb->lo[q] ? r->lo[q] : bb->lo[q];
+        bb->hi[q] = r->hi[q] > bb->hi[q] ? r->hi[q] : bb->hi[q];
+    }
+    bb->count++;
+}
+
+static inline void centroid_add(bin *bb, const fref *r)
+{
+    for (int q = 0; q < 4; q++) {
+        float c = r->lo[q] + r->hi[q];
+        bb->clo[q] = c < bb->clo[q] ? c : bb->clo[q];
+        bb->chi[q] = c > bb->chi[q] ? c : bb->chi[q];
+    }
+}
+
+static float half_area(const float lo[4], const float hi[4])
+{
+    float dx = hi[0] - lo[0], dy = hi[1] - lo[1], dz = hi[2] - lo[2];
     return dx * dy + dy * dz + dz * dx;
 }
 
-static void set_box(geom__bvh_tmp *t, const bin *all)
-{
-    t->box.min = (geom_vec3){all->lo[0], all->lo[1], all->lo[2]};
-    t->box.max = (geom_vec3){all->hi[0], all->hi[1], all->hi[2]};
-}
-
-static void summarize(const geom__bvh_ref *r, size_t n, bin *out)
+static void summarize(const fref *r, size_t n, bin *out)
 {
     bin_clear(out);
     for (size_t i = 0; i < n; i++) {
-        for (int k = 0; k < 3; k++) {
-            double c = r[i].lo[k] + r[i].hi[k];
-            if (r[i].lo[k] < out->lo[k]) out->lo[k] = r[i].lo[k];
-            if (r[i].hi[k] > out->hi[k]) out->hi[k] = r[i].hi[k];
-            if (c < out->clo[k]) out->clo[k] = c;
-            if (c > out->chi[k]) out->chi[k] = c;
-        }
+        bin_add(out, &r[i]);
+        centroid_add(out, &r[i]);
     }
     out->count = (uint32_t)n;
 }
 
 typedef struct keyed {
-    double c;
+    float c;
     uint32_t pos;
 } keyed;
 
@@ -91,49 +115,54 @@ static int keyed_cmp(const void *pa, const void *pb)
 
 /* Sort the references by centroid along axis (ties by current position);
  * returns 0 on success, -1 when out of memory (order left unchanged). */
-static int sort_axis(const geom_allocator *a, geom__bvh_ref *r, size_t n, int axis)
+static int sort_axis(const geom_allocator *a, fref *r, uint32_t *ids, size_t n, int axis)
 {
     keyed *k = geom_alloc(a, n * sizeof *k);
-    geom__bvh_ref *cp = geom_alloc(a, n * sizeof *cp);
-    if (!k || !cp) {
-        geom_free(a, k, n * sizeof *k);
-        geom_free(a, cp, n * sizeof *cp);
-        return -1;
+    fref *cp = geom_alloc(a, n * sizeof *cp);
+    uint32_t *ci = geom_alloc(a, n * sizeof *ci);
+    int ok = k && cp && ci;
+    if (ok) {
+        for (size_t i = 0; i < n; i++) {
+            k[i].c = r[i].lo[axis] + r[i].hi[axis];
+            k[i].pos = (uint32_t)i;
+        }
+        qsort(k, n, sizeof *k, keyed_cmp);
+        memcpy(cp, r, n * sizeof *cp);
+        memcpy(ci, ids, n * sizeof *ci);
+        for (size_t i = 0; i < n; i++) {
+            r[i] = cp[k[i].pos];
+            ids[i] = ci[k[i].pos];
+        }
     }
-    for (size_t i = 0; i < n; i++) {
-        k[i].c = r[i].lo[axis] + r[i].hi[axis];
-        k[i].pos = (uint32_t)i;
-    }
-    qsort(k, n, sizeof *k, keyed_cmp);
-    memcpy(cp, r, n * sizeof *cp);
-    for (size_t i = 0; i < n; i++)
-        r[i] = cp[k[i].pos];
     geom_free(a, k, n * sizeof *k);
     geom_free(a, cp, n * sizeof *cp);
-    return 0;
+    geom_free(a, ci, n * sizeof *ci);
+    return ok ? 0 : -1;
+}
+
+static inline int bin_of(float c, float lo, float sc, int nb)
+{
+    float f = (c - lo) * sc;
+    return f < (float)nb ? (f > 0.0f ? (int)f : 0) : nb - 1;
 }
 
 /* Bin, choose the SAH split, partition. Returns the split axis (-1: none
  * found) with the left count and the children's summaries. Kept out of
  * build_node so that the bins are not on the stack during the recursion. */
-static int sah_split(const geom__bvh_build *b, geom__bvh_ref *r, size_t n, const bin *all,
-                     const double ext[3], size_t *nl_out, bin *lb, bin *rb)
+static int sah_split(const sctx *s, fref *r, uint32_t *ids, size_t n, const bin *all,
+                     const float ext[3], size_t *nl_out, bin *lb, bin *rb)
 {
+    const geom__bvh_build *b = s->b;
     /* Fewer bins than references only wastes the sweeps. */
     uint32_t nb = b->bins < n ? b->bins : (uint32_t)n;
     if (nb < 2)
         nb = 2;
     bin bins[3][MAX_BINS];
-    double scale[3];
-    for (int k = 0; k < 3; k++) {
-        scale[k] = ext[k] > 0 ? (double)nb * (1.0 - 1e-9) / ext[k] : 0.0;
-        for (uint32_t j = 0; j < nb; j++)
-            bin_clear(&bins[k][j]);
-    }
+    float scale[3];
+    int k0 = 0, k1 = 3;
     /* Large nodes are binned along their widest centroid axis only (where
      * the SAH split almost always lies; a third of the work), smaller ones
      * along all three. */
-    int k0 = 0, k1 = 3;
     if (n > WIDE_ONLY) {
         int w = 0;
         if (ext[1] > ext[w]) w = 1;
@@ -141,39 +170,46 @@ static int sah_split(const geom__bvh_build *b, geom__bvh_ref *r, size_t n, const
         k0 = w;
         k1 = w + 1;
     }
-    for (size_t i = 0; i < n; i++) {
-        for (int k = k0; k < k1; k++) {
-            double ck = r[i].lo[k] + r[i].hi[k];
-            int j = (int)((ck - all->clo[k]) * scale[k]);
-            if (j >= (int)nb) j = (int)nb - 1;
-            if (j < 0) j = 0;
-            bin *bb = &bins[k][j];
-            for (int q = 0; q < 3; q++) {
-                if (r[i].lo[q] < bb->lo[q]) bb->lo[q] = r[i].lo[q];
-                if (r[i].hi[q] > bb->hi[q]) bb->hi[q] = r[i].hi[q];
-            }
-            bb->count++;
-        }
+    for (int k = 0; k < 3; k++) {
+        scale[k] = ext[k] > 0 ? (float)((double)nb * (1.0 - 1e-6) / (double)ext[k]) : 0.0f;
+        if (!(scale[k] < INFINITY))
+            scale[k] = 0.0f;
     }
-    double best = INFINITY;
+    for (int k = k0; k < k1; k++)
+        for (uint32_t j = 0; j < nb; j++)
+            bin_clear(&bins[k][j]);
+    if (k1 - k0 == 3) {
+        for (size_t i = 0; i < n; i++) {
+            const fref *e = &r[i];
+            bin_add(&bins[0][bin_of(e->lo[0] + e->hi[0], all->clo[0], scale[0], (int)nb)], e);
+            bin_add(&bins[1][bin_of(e->lo[1] + e->hi[1], all->clo[1], scale[1], (int)nb)], e);
+            bin_add(&bins[2][bin_of(e->lo[2] + e->hi[2], all->clo[2], scale[2], (int)nb)], e);
+        }
+    } else {
+        int k = k0;
+        float lo = all->clo[k], sc = scale[k];
+        for (size_t i = 0; i < n; i++)
+            bin_add(&bins[k][bin_of(r[i].lo[k] + r[i].hi[k], lo, sc, (int)nb)], &r[i]);
+    }
+    float best = INFINITY;
     int axis = -1;
     uint32_t split = 0;
     for (int k = k0; k < k1; k++) {
         if (!(ext[k] > 0))
             continue;
-        double rcost[MAX_BINS];
+        float rcost[MAX_BINS];
         bin acc;
         bin_clear(&acc);
         for (uint32_t j = nb - 1; j > 0; j--) {
             bin_merge_box(&acc, &bins[k][j]);
-            rcost[j] = acc.count ? half_area(acc.lo, acc.hi) * acc.count : 0.0;
+            rcost[j] = acc.count ? half_area(acc.lo, acc.hi) * (float)acc.count : 0.0f;
         }
         bin_clear(&acc);
         for (uint32_t j = 0; j + 1 < nb; j++) {
             bin_merge_box(&acc, &bins[k][j]);
             if (acc.count == 0 || acc.count == n)
                 continue;
-            double cost = half_area(acc.lo, acc.hi) * acc.count + rcost[j + 1];
+            float cost = half_area(acc.lo, acc.hi) * (float)acc.count + rcost[j + 1];
             if (cost < best) {
                 best = cost;
                 axis = k;
@@ -183,7 +219,7 @@ static int sah_split(const geom__bvh_build *b, geom__bvh_ref *r, size_t n, const
     }
     if (axis < 0)
         return -1;
-    double lo = all->clo[axis], sc = scale[axis];
+    float lo = all->clo[axis], sc = scale[axis];
     size_t i = 0, j = n;
     bin_clear(lb);
     bin_clear(rb);
@@ -191,28 +227,19 @@ static int sah_split(const geom__bvh_build *b, geom__bvh_ref *r, size_t n, const
      * binning one, so each reference lands on the side its bin was counted
      * on. The children's centroid bounds are gathered on the way. */
     while (i < j) {
-        double c = r[i].lo[axis] + r[i].hi[axis];
-        int q = (int)((c - lo) * sc);
-        if (q >= (int)nb) q = (int)nb - 1;
-        if (q < 0) q = 0;
-        bin *side;
-        if ((uint32_t)q <= split) {
-            side = lb;
+        if ((uint32_t)bin_of(r[i].lo[axis] + r[i].hi[axis], lo, sc, (int)nb) <= split) {
+            centroid_add(lb, &r[i]);
+            i++;
         } else {
             j--;
-            geom__bvh_ref tmp = r[i];
+            fref tmp = r[i];
             r[i] = r[j];
             r[j] = tmp;
-            side = rb;
+            uint32_t t = ids[i];
+            ids[i] = ids[j];
+            ids[j] = t;
+            centroid_add(rb, &r[j]);
         }
-        const geom__bvh_ref *e = side == lb ? &r[i] : &r[j];
-        for (int k = 0; k < 3; k++) {
-            double ck = e->lo[k] + e->hi[k];
-            if (ck < side->clo[k]) side->clo[k] = ck;
-            if (ck > side->chi[k]) side->chi[k] = ck;
-        }
-        if (side == lb)
-            i++;
     }
     *nl_out = i;
     for (uint32_t q = 0; q < nb; q++)
@@ -220,35 +247,36 @@ static int sah_split(const geom__bvh_build *b, geom__bvh_ref *r, size_t n, const
     return axis;
 }
 
-static uint32_t build_node(geom__bvh_build *b, size_t start, size_t n, const bin *all, int depth);
+static uint32_t build_node(const sctx *s, size_t start, size_t n, const bin *all, int depth);
 
-static void build_children(geom__bvh_build *b, geom__bvh_tmp *t, size_t start, size_t nl,
-                           size_t n, const bin *lb, const bin *rb, int depth)
+static void build_children(const sctx *s, geom__bvh_tmp *t, size_t start, size_t nl, size_t n,
+                           const bin *lb, const bin *rb, int depth)
 {
     uint32_t l = 0, r = 0;
-    if (n >= TASK_MIN && b->threads > 1) {
+    if (n >= TASK_MIN && s->b->threads > 1) {
 #ifdef GEOM_SPATIAL_OPENMP
-#pragma omp task shared(l) firstprivate(b, start, nl, lb, depth)
+#pragma omp task shared(l) firstprivate(s, start, nl, lb, depth)
 #endif
-        l = build_node(b, start, nl, lb, depth + 1);
-        r = build_node(b, start + nl, n - nl, rb, depth + 1);
+        l = build_node(s, start, nl, lb, depth + 1);
+        r = build_node(s, start + nl, n - nl, rb, depth + 1);
 #ifdef GEOM_SPATIAL_OPENMP
 #pragma omp taskwait
 #endif
     } else {
-        l = build_node(b, start, nl, lb, depth + 1);
-        r = build_node(b, start + nl, n - nl, rb, depth + 1);
+        l = build_node(s, start, nl, lb, depth + 1);
+        r = build_node(s, start + nl, n - nl, rb, depth + 1);
     }
     t->left = l;
     t->right = r;
 }
 
-static uint32_t build_node(geom__bvh_build *b, size_t start, size_t n, const bin *all, int depth)
+static uint32_t build_node(const sctx *s, size_t start, size_t n, const bin *all, int depth)
 {
+    geom__bvh_build *b = s->b;
     uint32_t id = geom__bvh_tmp_new(b);
     geom__bvh_tmp *t = &b->tmp[id];
-    geom__bvh_ref *r = b->refs + start;
-    set_box(t, all);
+    fref *r = s->r + start;
+    uint32_t *ids = s->ids + start;
     t->start = (uint32_t)start;
     t->count = (uint32_t)n;
     t->left = t->right = UINT32_MAX;
@@ -259,7 +287,7 @@ static uint32_t build_node(geom__bvh_build *b, size_t start, size_t n, const bin
 
     /* Widest centroid axis. */
     int wide = 0;
-    double ext[3];
+    float ext[3];
     for (int k = 0; k < 3; k++)
         ext[k] = all->chi[k] - all->clo[k];
     if (ext[1] > ext[wide]) wide = 1;
@@ -271,14 +299,14 @@ static uint32_t build_node(geom__bvh_build *b, size_t start, size_t n, const bin
         /* Coincident centroids: split in the middle of the current order;
          * too deep: median along the widest axis. */
         if (ext[wide] > 0)
-            sort_axis(b->alloc, r, n, wide); /* on failure the middle split still terminates */
+            sort_axis(b->alloc, r, ids, n, wide); /* on failure the middle split still terminates */
         nl = n / 2;
     } else {
         bin lb, rb;
-        int ax = sah_split(b, r, n, all, ext, &nl, &lb, &rb);
+        int ax = sah_split(s, r, ids, n, all, ext, &nl, &lb, &rb);
         if (ax >= 0) {
             t->axis = (uint32_t)ax;
-            build_children(b, t, start, nl, n, &lb, &rb, depth);
+            build_children(s, t, start, nl, n, &lb, &rb, depth);
             return id;
         }
         nl = n / 2; /* cannot happen with ext > 0; kept for safety */
@@ -287,23 +315,90 @@ static uint32_t build_node(geom__bvh_build *b, size_t start, size_t n, const bin
     bin lb, rb;
     summarize(r, nl, &lb);
     summarize(r + nl, n - nl, &rb);
-    build_children(b, t, start, nl, n, &lb, &rb, depth);
+    build_children(s, t, start, nl, n, &lb, &rb, depth);
     return id;
+}
+
+static inline float to_float(double v, double o, double inv)
+{
+    double x = (v - o) * inv;
+    return (float)(x > 1e30 ? 1e30 : x < -1e30 ? -1e30 : x);
 }
 
 uint32_t geom__bvh_build_sah(geom__bvh_build *b)
 {
+    size_t n = b->n;
+    const geom_allocator *a = b->alloc;
+    _Static_assert(sizeof(fref) <= sizeof(geom__bvh_ref), "float reference larger than reference");
+    uint32_t *ids = geom_alloc(a, n * sizeof *ids);
+    if (!ids)
+        return UINT32_MAX;
+    /* Scene box (double), its centre and extent for the float copy. */
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (size_t i = 0; i < n; i++)
+        for (int k = 0; k < 3; k++) {
+            if (b->refs[i].lo[k] < lo[k]) lo[k] = b->refs[i].lo[k];
+            if (b->refs[i].hi[k] > hi[k]) hi[k] = b->refs[i].hi[k];
+        }
+    double o[3], ext = 0;
+    for (int k = 0; k < 3; k++) {
+        o[k] = 0.5 * lo[k] + 0.5 * hi[k];
+        double e = hi[k] - lo[k];
+        if (e > ext) ext = e;
+    }
+    double inv = ext > 0 && ext < INFINITY ? 1.0 / ext : 1.0;
+    /* The float copy overwrites the references in place, front to back
+     * (reference i is read before float reference i, which lies at or
+     * before it, is written); the exact boxes come from box_fn later. */
+    fref *fr = (fref *)(void *)b->refs;
+    for (size_t i = 0; i < n; i++) {
+        geom__bvh_ref r = b->refs[i];
+        fref f;
+        for (int k = 0; k < 3; k++) {
+            f.lo[k] = to_float(r.lo[k], o[k], inv);
+            f.hi[k] = to_float(r.hi[k], o[k], inv);
+        }
+        f.lo[3] = f.hi[3] = 0.0f;
+        memcpy(&fr[i], &f, sizeof f);
+        ids[i] = r.id;
+    }
+    sctx s = {b, fr, ids};
     bin all;
-    summarize(b->refs, b->n, &all);
+    summarize(fr, n, &all);
     uint32_t root = 0;
 #ifdef GEOM_SPATIAL_OPENMP
-    if (b->threads > 1 && b->n >= TASK_MIN) {
+    if (b->threads > 1 && n >= TASK_MIN) {
 #pragma omp parallel num_threads(b->threads)
 #pragma omp single
-        root = build_node(b, 0, b->n, &all, 0);
-        return root;
-    }
+        root = build_node(&s, 0, n, &all, 0);
+    } else
 #endif
-    root = build_node(b, 0, b->n, &all, 0);
+    {
+        root = build_node(&s, 0, n, &all, 0);
+    }
+    b->preorder = !(b->threads > 1 && n >= TASK_MIN);
+    /* Exact boxes, bottom-up: a node's id is taken before its children's
+     * (whatever the threads), so a reverse sweep sees children first. */
+    for (size_t j = b->tmp_count; j-- > 0;) {
+        geom__bvh_tmp *t = &b->tmp[j];
+        geom_aabb box;
+        if (t->left == UINT32_MAX) {
+            double l[3] = {INFINITY, INFINITY, INFINITY}, h[3] = {-INFINITY, -INFINITY, -INFINITY};
+            for (uint32_t i = 0; i < t->count; i++) {
+                geom__bvh_ref r;
+                b->box_fn(b->src, ids[t->start + i], &r);
+                for (int k = 0; k < 3; k++) {
+                    if (r.lo[k] < l[k]) l[k] = r.lo[k];
+                    if (r.hi[k] > h[k]) h[k] = r.hi[k];
+                }
+            }
+            box.min = (geom_vec3){l[0], l[1], l[2]};
+            box.max = (geom_vec3){h[0], h[1], h[2]};
+        } else {
+            box = geom_aabb_union(b->tmp[t->left].box, b->tmp[t->right].box);
+        }
+        t->box = box;
+    }
+    b->order = ids;
     return root;
 }

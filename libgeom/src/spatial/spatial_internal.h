@@ -47,6 +47,13 @@ typedef struct geom__bvh_build {
     uint32_t bins;
     int threads;
     const geom_allocator *alloc;
+    uint32_t *order; /* set by a builder that consumes refs: the leaves'
+                        primitive order (n entries, freed by the caller) */
+    int preorder;    /* set by a builder that ran sequentially: the temp ids
+                        are already the depth-first layout (left = id + 1) */
+    /* Exact box of primitive i (a builder that consumes refs uses it). */
+    void (*box_fn)(const void *src, size_t i, geom__bvh_ref *r);
+    const void *src;
 } geom__bvh_build;
 
 struct geom_bvh {
