@@ -310,8 +310,11 @@ GEOM_API geom_status geom_octree_frustum(const geom_octree *t, const double plan
  * tmax] (the conservative slab test of geom_ray_aabb: nothing is missed at a
  * shared face or edge), front to back: sorted by the entry parameter, ties
  * by index; distance[] holds the entry parameter. Nodes are visited front to
- * back (children in the order the ray enters them, as in Revelles et al.
- * 2000) and pruned by their tight bounds. In 2D the ray's z is ignored.
+ * back by Revelles, Urena and Lastra 2000 (the first child from the entry
+ * plane and the midplane parameters, each next one from the current child's
+ * exit plane), then any other child the conservative slab test accepts (a
+ * ray through an edge or along a midplane), each pruned by its tight
+ * bounds. In 2D the ray's z is ignored.
  * Returns GEOM_OK, GEOM_ERR_INVALID_ARG (NULL or NaN ray), GEOM_ERR_NOMEM.
  */
 GEOM_API geom_status geom_octree_ray(const geom_octree *t, const geom_ray *ray, geom_neighbors *out);

@@ -246,6 +246,80 @@ geom_status geom_octree_frustum(const geom_octree *t, const double planes[24], g
 
 /* ------------------------------------------------------------------ ray */
 
+/* The children a ray passes, front to back, by Revelles, Urena and Lastra,
+ * "An efficient parametric algorithm for octree traversal" (2000): with the
+ * ray mirrored to positive directions (mask a), the first child comes from
+ * the entry plane (the largest entry parameter) compared with the midplane
+ * parameters, and each next one from the exit plane of the current child
+ * (the smallest exit parameter): crossing it sets that axis's bit, or leaves
+ * the node when the bit is already set. Writes up to 4 octants (x = bit 0,
+ * y = bit 1, z = bit 2); returns the count. Ties (a ray through an edge or
+ * along a midplane) may skip a child: the caller visits every child the
+ * conservative slab test accepts, so this only orders the traversal. */
+static int revelles_order(const double lo[3], const double mid[3], const double hi[3],
+                          const double o[3], const double d[3], int dim, uint32_t seq[4])
+{
+    double t0[3], tm[3], t1[3];
+    uint32_t a = 0;
+    for (int k = 0; k < 3; k++) {
+        if (k >= dim) {
+            t0[k] = -INFINITY, tm[k] = INFINITY, t1[k] = INFINITY;
+            continue;
+        }
+        double ok = o[k], dk = d[k];
+        if (dk < 0) {
+            ok = lo[k] + hi[k] - ok; /* mirror about the cell centre */
+            dk = -dk;
+            a |= 1u << k;
+        }
+        /* In the mirrored frame the lower child along k is the one whose
+         * octant bit differs from the original when mirrored. */
+        double mk = (a >> k & 1) ? lo[k] + hi[k] - mid[k] : mid[k];
+        if (dk > 0) {
+            t0[k] = (lo[k] - ok) / dk;
+            tm[k] = (mk - ok) / dk;
+            t1[k] = (hi[k] - ok) / dk;
+        } else {
+            int in = ok >= lo[k] && ok <= hi[k];
+            t0[k] = in ? -INFINITY : INFINITY;
+            t1[k] = in ? INFINITY : -INFINITY;
+            tm[k] = ok < mk ? INFINITY : -INFINITY;
+        }
+    }
+    double ent = t0[0] > t0[1] ? t0[0] : t0[1];
+    ent = ent > t0[2] ? ent : t0[2];
+    double ex = t1[0] < t1[1] ? t1[0] : t1[1];
+    ex = ex < t1[2] ? ex : t1[2];
+    if (!(ent <= ex))
+        return 0;
+    /* First child: from the entry plane. */
+    uint32_t cur = 0;
+    int plane = t0[0] >= t0[1] && t0[0] >= t0[2] ? 0 : t0[1] >= t0[2] ? 1 : 2;
+    for (int k = 0; k < 3; k++)
+        if (k != plane && tm[k] < ent)
+            cur |= 1u << k;
+    int n = 0;
+    for (;;) {
+        seq[n++] = cur ^ a;
+        if (n == 4)
+            break;
+        /* Exit plane of the current child. */
+        int axis = -1;
+        double best = INFINITY;
+        for (int k = 0; k < dim; k++) {
+            double te = (cur >> k & 1) ? t1[k] : tm[k];
+            if (axis < 0 || te < best) {
+                best = te;
+                axis = k;
+            }
+        }
+        if (axis < 0 || (cur >> axis & 1))
+            break;
+        cur |= 1u << axis;
+    }
+    return n;
+}
+
 static int ray_rec(const geom_octree *t, uint32_t id, const geom_ray *ray, geom__hits *h)
 {
     const geom_octree_node *nd = &t->nodes[id];
@@ -258,26 +332,43 @@ static int ray_rec(const geom_octree *t, uint32_t id, const geom_ray *ray, geom_
             return -1;
     }
     uint32_t nc = child_count(nd);
-    uint32_t order[8];
-    double te[8];
-    uint32_t m = 0;
-    for (uint32_t k = 0; k < nc; k++) {
-        uint32_t c = nd->first_child + k;
-        double t0;
-        if (t->nodes[c].item_total == 0 || !geom_ray_aabb(ray, t->nodes[c].bounds, &t0, NULL))
+    if (!nc)
+        return 0;
+    /* Children in Revelles order, then any other child the conservative slab
+     * test accepts (grazing rays), each pruned by its tight bounds. */
+    const geom_octree_node *c0 = &t->nodes[nd->first_child];
+    uint32_t o0 = (uint32_t)__builtin_ctz(nd->child_mask);
+    double lo[3] = {nd->cell.min.x, nd->cell.min.y, nd->cell.min.z};
+    double hi[3] = {nd->cell.max.x, nd->cell.max.y, nd->cell.max.z};
+    double clo[3] = {c0->cell.min.x, c0->cell.min.y, c0->cell.min.z};
+    double chi[3] = {c0->cell.max.x, c0->cell.max.y, c0->cell.max.z};
+    double mid[3], org[3] = {ray->origin.x, ray->origin.y, ray->origin.z};
+    double dir[3] = {ray->dir.x, ray->dir.y, ray->dir.z};
+    for (int k = 0; k < 3; k++)
+        mid[k] = (o0 >> k & 1) ? clo[k] : chi[k]; /* the split plane, from a child's cell */
+    uint32_t seq[4];
+    int ns = revelles_order(lo, mid, hi, org, dir, t->dim, seq);
+    uint32_t done = 0;
+    for (int s = 0; s < ns; s++) {
+        uint32_t oct = seq[s];
+        if (!(nd->child_mask >> oct & 1))
             continue;
-        uint32_t j = m++;
-        while (j > 0 && te[j - 1] > t0) {
-            te[j] = te[j - 1];
-            order[j] = order[j - 1];
-            j--;
-        }
-        te[j] = t0;
-        order[j] = c;
-    }
-    for (uint32_t k = 0; k < m; k++)
-        if (ray_rec(t, order[k], ray, h))
+        done |= 1u << oct;
+        uint32_t c = nd->first_child + (uint32_t)__builtin_popcount(nd->child_mask & ((1u << oct) - 1));
+        if (t->nodes[c].item_total == 0 || !geom_ray_aabb(ray, t->nodes[c].bounds, NULL, NULL))
+            continue;
+        if (ray_rec(t, c, ray, h))
             return -1;
+    }
+    for (uint32_t oct = 0; oct < 8; oct++) {
+        if (!(nd->child_mask >> oct & 1) || (done >> oct & 1))
+            continue;
+        uint32_t c = nd->first_child + (uint32_t)__builtin_popcount(nd->child_mask & ((1u << oct) - 1));
+        if (t->nodes[c].item_total == 0 || !geom_ray_aabb(ray, t->nodes[c].bounds, NULL, NULL))
+            continue;
+        if (ray_rec(t, c, ray, h))
+            return -1;
+    }
     return 0;
 }
 
