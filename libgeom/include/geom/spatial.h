@@ -88,9 +88,10 @@ GEOM_API geom_status geom_bvh_build_boxes(const geom_aabb *boxes, size_t n,
                                           const geom_bvh_options *opt, geom_bvh **out,
                                           geom_diag *diag);
 
-/** Bounds callback: write the box of primitive i into *box. Called once per
- *  primitive, possibly from several threads at once, and by the SAH build
- *  once more for the exact leaf boxes: it must give the same box each time. */
+/** Bounds callback: write the box of primitive i into *box. Called for each
+ *  primitive once (LBVH) or three times (SAH: validation, the build's
+ *  single-precision copy, the exact leaf boxes), possibly from several
+ *  threads at once: it must give the same box each time. */
 typedef void (*geom_bvh_bounds_fn)(void *user, size_t i, geom_aabb *box);
 
 /** BVH over n primitives whose boxes come from fn (see geom_bvh_build_boxes). */

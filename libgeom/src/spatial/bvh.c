@@ -1,9 +1,33 @@
 /* BVH: input validation, primitive bounds, depth-first flattening, refit and
  * accessors. The builders (binned SAH, LBVH) are in bvh_sah.c and bvh_lbvh.c. */
+#if defined(__linux__) && !defined(_DEFAULT_SOURCE)
+#define _DEFAULT_SOURCE /* madvise */
+#endif
 #include "spatial/spatial_internal.h"
 
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
+
+void geom__bvh_advise(const geom_allocator *a, void *p, size_t bytes)
+{
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    /* Large build arrays from malloc: ask for transparent huge pages (the
+     * first touch of a 100 MB array otherwise costs tens of thousands of
+     * page faults). Advice only; a caller's allocator is left alone. */
+    if (a || !p || bytes < ((size_t)8 << 20))
+        return;
+    uintptr_t lo = ((uintptr_t)p + 4095) & ~(uintptr_t)4095;
+    uintptr_t hi = ((uintptr_t)p + bytes) & ~(uintptr_t)4095;
+    if (hi > lo)
+        (void)madvise((void *)lo, hi - lo, MADV_HUGEPAGE);
+#else
+    (void)a, (void)p, (void)bytes;
+#endif
+}
 
 uint32_t geom__bvh_tmp_new(geom__bvh_build *b)
 {
@@ -187,16 +211,21 @@ static geom_status build_common(size_t n, const bounds_src *src, const geom_bvh_
     bd.alloc = a;
     bd.box_fn = ref_box_fn;
     bd.src = src;
-    bd.refs = geom_alloc(a, n * sizeof *bd.refs);
+    /* The LBVH sorts the references themselves; the SAH build keeps its own
+     * compact copy and asks box_fn again, so it needs none here. */
+    int keep_refs = o.method == GEOM_BVH_LBVH;
+    bd.refs = keep_refs ? geom_alloc(a, n * sizeof *bd.refs) : NULL;
+    geom__bvh_advise(a, bd.refs, n * sizeof *bd.refs);
     bd.tmp = geom_alloc(a, 2 * n * sizeof *bd.tmp);
+    geom__bvh_advise(a, bd.tmp, 2 * n * sizeof *bd.tmp);
     b->prims = geom_alloc(a, n * sizeof *b->prims);
     b->prim_count = n;
     geom_status st = GEOM_OK;
-    if (!bd.refs || !bd.tmp || !b->prims) {
+    if ((keep_refs && !bd.refs) || !bd.tmp || !b->prims) {
         st = geom_diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "BVH: out of memory");
         goto fail;
     }
-    {
+    if (keep_refs) {
         geom__bvh_ref *refs = bd.refs;
         ptrdiff_t nn = (ptrdiff_t)n;
 #ifdef GEOM_SPATIAL_OPENMP
@@ -205,9 +234,23 @@ static geom_status build_common(size_t n, const bounds_src *src, const geom_bvh_
         for (ptrdiff_t i = 0; i < nn; i++)
             ref_box(src, (size_t)i, &refs[i]);
     }
+    for (int k = 0; k < 3; k++) {
+        bd.scene_lo[k] = INFINITY;
+        bd.scene_hi[k] = -INFINITY;
+    }
     for (size_t i = 0; i < n; i++) {
+        geom__bvh_ref own;
+        const geom__bvh_ref *ri = &own;
+        if (keep_refs)
+            ri = &bd.refs[i];
+        else
+            ref_box(src, i, &own);
         /* A triangle's min/max can hide a NaN vertex: test the vertices. */
-        int bad = !ref_ok(&bd.refs[i]);
+        int bad = !ref_ok(ri);
+        for (int k = 0; k < 3; k++) {
+            if (ri->lo[k] < bd.scene_lo[k]) bd.scene_lo[k] = ri->lo[k];
+            if (ri->hi[k] > bd.scene_hi[k]) bd.scene_hi[k] = ri->hi[k];
+        }
         if (src->tris && !bad)
             for (int k = 0; k < 3; k++)
                 bad |= !geom_isfinite3(src->pos + 3 * (size_t)src->tris[3 * i + k]);
@@ -255,13 +298,15 @@ static geom_status build_common(size_t n, const bounds_src *src, const geom_bvh_
     for (size_t i = 0; i < n; i++)
         b->prims[i] = bd.order ? bd.order[i] : bd.refs[i].id;
     geom_free(a, bd.order, n * sizeof *bd.order);
-    geom_free(a, bd.refs, n * sizeof *bd.refs);
+    if (keep_refs)
+        geom_free(a, bd.refs, n * sizeof *bd.refs);
     geom_free(a, bd.tmp, 2 * n * sizeof *bd.tmp);
     *out = b;
     return GEOM_OK;
 fail:
     geom_free(a, bd.order, n * sizeof *bd.order);
-    geom_free(a, bd.refs, n * sizeof *bd.refs);
+    if (bd.refs)
+        geom_free(a, bd.refs, n * sizeof *bd.refs);
     geom_free(a, bd.tmp, 2 * n * sizeof *bd.tmp);
     free_bvh(b);
     return st;

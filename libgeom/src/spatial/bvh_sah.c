@@ -368,17 +368,16 @@ uint32_t geom__bvh_build_sah(geom__bvh_build *b)
 {
     size_t n = b->n;
     const geom_allocator *a = b->alloc;
-    _Static_assert(sizeof(fref) <= sizeof(geom__bvh_ref), "float reference larger than reference");
+    fref *fr = geom_alloc(a, n * sizeof *fr);
     uint32_t *ids = geom_alloc(a, n * sizeof *ids);
-    if (!ids)
+    geom__bvh_advise(a, fr, n * sizeof *fr);
+    if (!fr || !ids) {
+        geom_free(a, fr, n * sizeof *fr);
+        geom_free(a, ids, n * sizeof *ids);
         return UINT32_MAX;
-    /* Scene box (double), its centre and extent for the float copy. */
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (size_t i = 0; i < n; i++)
-        for (int k = 0; k < 3; k++) {
-            if (b->refs[i].lo[k] < lo[k]) lo[k] = b->refs[i].lo[k];
-            if (b->refs[i].hi[k] > hi[k]) hi[k] = b->refs[i].hi[k];
-        }
+    }
+    /* Centre and extent of the scene for the float copy. */
+    const double *lo = b->scene_lo, *hi = b->scene_hi;
     double o[3], ext = 0;
     for (int k = 0; k < 3; k++) {
         o[k] = 0.5 * lo[k] + 0.5 * hi[k];
@@ -386,20 +385,19 @@ uint32_t geom__bvh_build_sah(geom__bvh_build *b)
         if (e > ext) ext = e;
     }
     double inv = ext > 0 && ext < INFINITY ? 1.0 / ext : 1.0;
-    /* The float copy overwrites the references in place, front to back
-     * (reference i is read before float reference i, which lies at or
-     * before it, is written); the exact boxes come from box_fn later. */
-    fref *fr = (fref *)(void *)b->refs;
-    for (size_t i = 0; i < n; i++) {
-        geom__bvh_ref r = b->refs[i];
-        fref f;
+    ptrdiff_t nn = (ptrdiff_t)n;
+#ifdef GEOM_SPATIAL_OPENMP
+#pragma omp parallel for schedule(static) num_threads(b->threads) if (n > 65536)
+#endif
+    for (ptrdiff_t i = 0; i < nn; i++) {
+        geom__bvh_ref r;
+        b->box_fn(b->src, (size_t)i, &r);
         for (int k = 0; k < 3; k++) {
-            f.lo[k] = to_float(r.lo[k], o[k], inv);
-            f.hi[k] = to_float(r.hi[k], o[k], inv);
+            fr[i].lo[k] = to_float(r.lo[k], o[k], inv);
+            fr[i].hi[k] = to_float(r.hi[k], o[k], inv);
         }
-        f.lo[3] = f.hi[3] = 0.0f;
-        memcpy(&fr[i], &f, sizeof f);
-        ids[i] = r.id;
+        fr[i].lo[3] = fr[i].hi[3] = 0.0f;
+        ids[i] = (uint32_t)i;
     }
     sctx s = {b, fr, ids};
     bin all;
@@ -415,6 +413,7 @@ uint32_t geom__bvh_build_sah(geom__bvh_build *b)
     {
         root = build_node(&s, 0, n, &all, 0);
     }
+    geom_free(a, fr, n * sizeof *fr);
     b->preorder = !(b->threads > 1 && n >= TASK_MIN);
     /* Exact boxes, bottom-up: a node's id is taken before its children's
      * (whatever the threads), so a reverse sweep sees children first. */

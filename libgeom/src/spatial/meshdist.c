@@ -195,6 +195,8 @@ geom_status geom_meshdist_create(const double *positions, size_t nv, const uint3
     m->tris = geom_alloc(a, 3 * nt * sizeof *m->tris);
     m->dip = geom_alloc(a, (nn ? nn : 1) * sizeof *m->dip);
     m->tv = geom_alloc(a, (nt ? 9 * nt : 1) * sizeof *m->tv);
+    geom__bvh_advise(a, m->dip, (nn ? nn : 1) * sizeof *m->dip);
+    geom__bvh_advise(a, m->tv, (nt ? 9 * nt : 1) * sizeof *m->tv);
     if (!m->pos || !m->tris || !m->dip || !m->tv) {
         geom_meshdist_destroy(m);
         return geom_diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "mesh distance: out of memory");

@@ -39,7 +39,8 @@ typedef struct geom__bvh_tmp {
 } geom__bvh_tmp;
 
 typedef struct geom__bvh_build {
-    geom__bvh_ref *refs;
+    geom__bvh_ref *refs; /* LBVH only (the SAH build makes its own copy) */
+    double scene_lo[3], scene_hi[3]; /* union of the primitive boxes */
     size_t n;
     geom__bvh_tmp *tmp; /* capacity 2n */
     size_t tmp_count;   /* atomically incremented */
@@ -65,6 +66,10 @@ struct geom_bvh {
     size_t prim_count;
     size_t depth;
 };
+
+/* Advise the kernel to back a large malloc'd build array with huge pages
+ * (Linux, default allocator only; a no-op otherwise). */
+void geom__bvh_advise(const geom_allocator *a, void *p, size_t bytes);
 
 /* Take a temp node slot (thread safe). */
 uint32_t geom__bvh_tmp_new(geom__bvh_build *b);
