@@ -7,7 +7,7 @@
  *    chordal tolerances 1e-2 .. 1e-6, each mesh traced through the BVH;
  *  - implicit: a bumpy sphere "x^2+y^2+z^2 - 1 - 0.1 sin(5x) sin(5y) sin(5z)"
  *    traced directly (interval arithmetic) and through marching cubes
- *    (geom_iso_extract with vertices refined onto f = 0) at 32^3 .. 512^3.
+ *    (geom_iso_extract with vertices refined onto f = 0) at 32^3 .. 256^3.
  * For every path: the preparation seconds (tessellation + BVH build), rays
  * per second (thread CPU time, best of three), and the t error against the
  * direct answer (max |t - t_direct| / t over rays both hit, and hit/miss
@@ -171,15 +171,19 @@ static void bench_nurbs(int N)
     for (j = 0; j < sizeof tols / sizeof tols[0]; j++) {
         geom_surface_tess_options to;
         geom_mesh *m = geom_mesh_create(NULL);
+        geom_diag dg;
+        geom_status st;
         geom_error_report rep;
         char what[64];
         result r;
         memset(&to, 0, sizeof to);
         to.tolerance = tols[j];
+        geom_diag_clear(&dg);
         t0 = cpu_now();
-        if (geom_surface_tessellate(&sf, 1, &to, m, &rep, NULL, NULL) != GEOM_OK) {
-            fprintf(stderr, "bench_ray_repr: tessellation failed\n");
-            exit(1);
+        if ((st = geom_surface_tessellate(&sf, 1, &to, m, &rep, NULL, &dg)) != GEOM_OK) {
+            printf("  tessellated tol %.0e        failed: %s (%s)\n", tols[j], geom_status_str(st), dg.message);
+            geom_mesh_destroy(m);
+            continue;
         }
         s = mesh_scene(m, &prep, t0);
         r = trace(s, rays, n);
@@ -197,7 +201,7 @@ static void bench_implicit(int N)
 {
     static const char *expr = "x^2 + y^2 + z^2 - 1 - 0.1*sin(5*x)*sin(5*y)*sin(5*z)";
     static const double bounds[6] = {-1.3, -1.3, -1.3, 1.3, 1.3, 1.3};
-    static const size_t res[] = {32, 64, 128, 256, 512};
+    static const size_t res[] = {32, 64, 128, 256};
     geom_implicit_expr *e = NULL;
     geom_ray_scene *s;
     size_t n = (size_t)N * N, i, j;
@@ -241,10 +245,16 @@ static void bench_implicit(int N)
         io.refine = 1;
         io.threads = 1;
         t0 = cpu_now();
-        if (geom_iso_field_from_expr(e, &f) != GEOM_OK || geom_iso_extract(&f, bounds, rr, &io, &surf, NULL) != GEOM_OK ||
-            geom_iso_surface_to_mesh(&surf, m, NULL) != GEOM_OK) {
-            fprintf(stderr, "bench_ray_repr: marching cubes failed\n");
-            exit(1);
+        if (geom_iso_field_from_expr(e, &f) != GEOM_OK || geom_iso_extract(&f, bounds, rr, &io, &surf, NULL) != GEOM_OK) {
+            printf("  marching cubes %zu^3 failed\n", res[j]);
+            geom_mesh_destroy(m);
+            continue;
+        }
+        if (geom_iso_surface_to_mesh(&surf, m, NULL) != GEOM_OK) {
+            printf("  marching cubes %zu^3: mesh failed\n", res[j]);
+            geom_iso_surface_free(&surf);
+            geom_mesh_destroy(m);
+            continue;
         }
         geom_iso_surface_free(&surf);
         s = mesh_scene(m, &prep, t0);

@@ -368,13 +368,20 @@ static geom_status trace_wide(const geom__tmesh *m, const geom_ray *r, int mode,
                     tf[j] = c < tf[j] ? c : tf[j];
                 }
             }
-            for (j = 0; j < 4; j++) {
-                double a = tn[j] - fabs(tn[j]) * wid, c = tf[j] + fabs(tf[j]) * wid;
-                if (a <= c && c >= tmin && a <= tmax && q->child[j] != GEOM_INVALID_INDEX) {
+            {
+                int mask = 0;
+                for (j = 0; j < 4; j++) {
+                    double a = tn[j] - fabs(tn[j]) * wid, c = tf[j] + fabs(tf[j]) * wid;
+                    tn[j] = a;
+                    mask |= ((a <= c) & (c >= tmin) & (a <= tmax) & (q->child[j] != GEOM_INVALID_INDEX)) << j;
+                }
+                for (j = 0; mask; j++, mask >>= 1) {
+                    int i;
+                    if (!(mask & 1)) continue;
                     /* insertion by decreasing entry distance: the nearest is pushed last */
-                    int i = nh++;
-                    while (i > 0 && hit[i - 1].tn < a) { hit[i] = hit[i - 1]; i--; }
-                    hit[i].tn = a;
+                    i = nh++;
+                    while (i > 0 && hit[i - 1].tn < tn[j]) { hit[i] = hit[i - 1]; i--; }
+                    hit[i].tn = tn[j];
                     hit[i].child = q->child[j];
                     hit[i].count = q->count[j];
                     if (q->count[j] == 0) {

@@ -33,7 +33,12 @@ static inline int geom__wbw_owns(double px, double py, double qx, double qy)
  * v2). The sheared vertex coordinates depend only on the vertex and the ray,
  * and the edge functions are exactly antisymmetric, so an edge shared by two
  * triangles is crossed by exactly one of them. */
-static inline int geom__wbw_hit(const geom__wbw *w, const double *v0, const double *v1, const double *v2,
+#if defined(__GNUC__) || defined(__clang__)
+#define GEOM__WBW_INLINE static inline __attribute__((always_inline))
+#else
+#define GEOM__WBW_INLINE static inline
+#endif
+GEOM__WBW_INLINE int geom__wbw_hit(const geom__wbw *w, const double *v0, const double *v1, const double *v2,
                                 double tmin, double tmax, double *t, double *b)
 {
     const int kx = w->kx, ky = w->ky, kz = w->kz;
