@@ -67,16 +67,23 @@ static void wide_free(struct geom__rbvh4 *w, const geom_allocator *alloc)
 }
 
 /* x rounded to a float toward -inf (down) or +inf (up); beyond the float
- * range the result is +-FLT_MAX or +-inf, still on the right side. */
+ * range the result is +-FLT_MAX or +-inf, still on the right side (the
+ * range is checked first: converting an out-of-range double is undefined). */
 static float f_down(double x)
 {
-    float f = (float)x;
+    float f;
+    if (x > FLT_MAX) return FLT_MAX;
+    if (x < -FLT_MAX) return -INFINITY;
+    f = (float)x;
     if ((double)f > x) f = nextafterf(f, -INFINITY);
     return f;
 }
 static float f_up(double x)
 {
-    float f = (float)x;
+    float f;
+    if (x > FLT_MAX) return INFINITY;
+    if (x < -FLT_MAX) return -FLT_MAX;
+    f = (float)x;
     if ((double)f < x) f = nextafterf(f, INFINITY);
     return f;
 }
@@ -340,8 +347,8 @@ static geom_status trace_wide(const geom__tmesh *m, const geom_ray *r, int mode,
          * are then +-inf, or NaN for an origin on the slab plane, which the
          * comparisons below ignore (the ray lies in the slab). */
         for (k = 0; k < 3; k++) {
-            inv[k] = 1.0 / d[k];
             neg[k] = signbit(d[k]) != 0;
+            inv[k] = d[k] != 0 ? 1.0 / d[k] : (neg[k] ? -INFINITY : INFINITY);
         }
     }
     geom__wbw_setup(&w, r);
