@@ -12,7 +12,8 @@
  * and every function is reentrant.
  *
  * Parts and their sources:
- *  - exact predicates and barycentric coordinates (validate_exact.cpp):
+ *  - exact predicates, barycentric coordinates and ray/triangle
+ *    intersection (validate_exact.cpp):
  *    computed exactly (every sum, product and determinant of the double
  *    inputs in CGAL::Gmpzf, exact big floats, through the kernel
  *    CGAL::Simple_cartesian<CGAL::Gmpzf>; quotients as exact GMP rationals),
@@ -107,6 +108,20 @@ int gv_bary_tet(const double a[3], const double b[3], const double c[3], const d
  *  (the rounding used above; exposed so tests can check it). den == 0 or
  *  non-finite input gives GV_ERR_INVALID and *out = 0. */
 int gv_div_rounded(double num, double den, double *out);
+
+/* ------------------------------------------------------ ray / triangle */
+
+/**
+ * Exact ray/triangle intersection: CGAL::do_intersect(Ray_3, Triangle_3) in
+ * CGAL::Simple_cartesian<CGAL::Gmpzf> (every predicate on the double inputs
+ * exact). The ray is o + t d, t >= 0 (the origin included); the triangle is
+ * closed (its edges and vertices belong to it); a ray in the triangle's
+ * plane that meets it counts as intersecting. Returns 1 (they intersect),
+ * 0 (they do not), or GV_SIGN_ERROR for NULL/non-finite input, d = 0, a
+ * degenerate (collinear) triangle, or a caught exception.
+ */
+int gv_ray_triangle(const double o[3], const double d[3], const double a[3], const double b[3],
+                    const double c[3]);
 
 /* ------------------------------------------------------- polygon soups */
 

@@ -11,6 +11,7 @@
 
 #include <CGAL/Gmpzf.h>
 #include <CGAL/Simple_cartesian.h>
+#include <CGAL/intersections.h>
 
 #include <gmp.h>
 #include <mpfr.h>
@@ -268,5 +269,23 @@ extern "C" int gv_div_rounded(double num, double den, double *out)
     } catch (...) {
         *out = 0.0;
         return GV_ERR_INTERNAL;
+    }
+}
+
+extern "C" int gv_ray_triangle(const double o[3], const double d[3], const double a[3], const double b[3],
+                               const double c[3])
+{
+    if (!finite(o, 3) || !finite(d, 3) || !finite(a, 3) || !finite(b, 3) || !finite(c, 3))
+        return GV_SIGN_ERROR;
+    if (d[0] == 0.0 && d[1] == 0.0 && d[2] == 0.0)
+        return GV_SIGN_ERROR;
+    try {
+        const Point_3 pa = pt3(a), pb = pt3(b), pc = pt3(c), po = pt3(o);
+        if (CGAL::collinear(pa, pb, pc))
+            return GV_SIGN_ERROR;
+        const K::Ray_3 ray(po, Vector_3(RT(d[0]), RT(d[1]), RT(d[2])));
+        return CGAL::do_intersect(ray, K::Triangle_3(pa, pb, pc)) ? 1 : 0;
+    } catch (...) {
+        return GV_SIGN_ERROR;
     }
 }

@@ -1,9 +1,208 @@
 /* Triangle meshes through the spatial module's BVH: conservative slab tests
  * (Ize, "Robust BVH Ray Traversal", JCGT 2013: the far distance widened by
  * 2 gamma(3), the near one narrowed alike) with ordered traversal, and the
- * watertight triangle test (triangle.c). */
+ * watertight triangle test (wbw.h).
+ *
+ * The binary BVH is collapsed once, at build time, into a 4-wide BVH owned
+ * by this module (Wald, Benthin and Boulos, "Getting Rid of Packets", 2008;
+ * Dammertz et al., "Shallow Bounding Volume Hierarchies", 2008): the wide
+ * node repeatedly opens the child of largest surface area, and holds its
+ * four children's boxes in structure-of-arrays floats rounded outward (each
+ * float box contains the exact double box, so the tree stays conservative;
+ * the slabs are then computed in double from the floats exactly converted,
+ * with Ize's bounds). A node is 128 bytes, two cache lines. When rounding to
+ * float would grow the boxes' total surface by more than 5 % (a mesh far
+ * from the origin for its size) the wide tree is not built and the binary
+ * double-precision tree is traversed. A ray tests the four boxes of a node
+ * in one pass with its precomputed reciprocal direction and per-axis
+ * near/far planes chosen by the direction's sign, visits the hit children
+ * nearest first, and skips a popped child whose entry distance is beyond the
+ * closest hit so far. Triangles are stored in leaf order (9 doubles each),
+ * so a leaf is one contiguous run. */
 #include "ray/ray_internal.h"
+#include "ray/wbw.h"
 #include "geom/spatial.h"
+
+/* One 4-wide node: lane j is a child box [lo[.][j], hi[.][j]]; count[j] > 0
+ * is a leaf holding the triangle slots child[j] .. child[j] + count[j],
+ * count[j] == 0 an inner node child[j] (GEOM_INVALID_INDEX: empty lane,
+ * whose box is empty so that no ray hits it). */
+typedef struct geom__rnode4 {
+    float lo[3][4], hi[3][4];
+    uint32_t child[4];
+    uint32_t count[4];
+} geom__rnode4;
+
+struct geom__rbvh4 {
+    geom__rnode4 *node; /* 64-byte aligned, inside mem */
+    void *mem;
+    size_t n, cap;
+    double area_d, area_f; /* total half-area of the lanes' boxes: exact, rounded to float */
+};
+
+/* Start loading a node or a leaf's triangles before they are needed: the
+ * traversal is bound by memory latency, and the children hit by a ray are
+ * known one step before they are visited. */
+#if defined(__GNUC__) || defined(__clang__)
+#define W4_PREFETCH(p) __builtin_prefetch((const void *)(p), 0, 3)
+#else
+#define W4_PREFETCH(p) ((void)(p))
+#endif
+
+/* Traversal stack entries per query; a wide tree deeper than
+ * (W4_STACK - 4) / 3 levels is not built (the binary traversal is used). */
+#define W4_STACK 256
+
+static double half_area(const geom_aabb *b)
+{
+    double dx = b->max.x - b->min.x, dy = b->max.y - b->min.y, dz = b->max.z - b->min.z;
+    return dx * dy + dy * dz + dz * dx;
+}
+
+static void wide_free(struct geom__rbvh4 *w, const geom_allocator *alloc)
+{
+    if (!w) return;
+    if (w->mem) geom_free(alloc, w->mem, (w->cap + 1) * sizeof *w->node);
+    geom_free(alloc, w, sizeof *w);
+}
+
+/* x rounded to a float toward -inf (down) or +inf (up); beyond the float
+ * range the result is +-FLT_MAX or +-inf, still on the right side (the
+ * range is checked first: converting an out-of-range double is undefined). */
+static float f_down(double x)
+{
+    float f;
+    if (x > FLT_MAX) return FLT_MAX;
+    if (x < -FLT_MAX) return -INFINITY;
+    f = (float)x;
+    if ((double)f > x) f = nextafterf(f, -INFINITY);
+    return f;
+}
+static float f_up(double x)
+{
+    float f;
+    if (x > FLT_MAX) return INFINITY;
+    if (x < -FLT_MAX) return -FLT_MAX;
+    f = (float)x;
+    if ((double)f < x) f = nextafterf(f, INFINITY);
+    return f;
+}
+
+static void lane_set(struct geom__rbvh4 *w, geom__rnode4 *q, int j, const geom_aabb *b, uint32_t child,
+                     uint32_t count)
+{
+    const double *lo = &b->min.x, *hi = &b->max.x;
+    int k;
+    for (k = 0; k < 3; k++) {
+        q->lo[k][j] = f_down(lo[k]);
+        q->hi[k][j] = f_up(hi[k]);
+    }
+    q->child[j] = child;
+    q->count[j] = count;
+    if (child != GEOM_INVALID_INDEX) {
+        geom_aabb fb;
+        fb.min.x = q->lo[0][j]; fb.min.y = q->lo[1][j]; fb.min.z = q->lo[2][j];
+        fb.max.x = q->hi[0][j]; fb.max.y = q->hi[1][j]; fb.max.z = q->hi[2][j];
+        w->area_d += half_area(b);
+        w->area_f += half_area(&fb);
+    }
+}
+
+/* Collapse the binary BVH into *out (NULL when the wide tree would be too
+ * deep for the traversal stack). */
+static geom_status wide_build(const geom_bvh *b, const geom_allocator *alloc, struct geom__rbvh4 **out)
+{
+    size_t nn = 0, head = 0, tail = 0, maxd = 0;
+    const geom_bvh_node *bn = geom_bvh_nodes(b, &nn);
+    struct geom__rbvh4 *w;
+    uint32_t *qb, *qw, *qd;
+    geom_aabb empty;
+    geom_status st = GEOM_OK;
+    *out = NULL;
+    if (nn == 0) return GEOM_OK;
+    empty.min.x = empty.min.y = empty.min.z = INFINITY;
+    empty.max.x = empty.max.y = empty.max.z = -INFINITY;
+    w = geom_alloc(alloc, sizeof *w);
+    if (!w) return GEOM_ERR_NOMEM;
+    memset(w, 0, sizeof *w);
+    w->cap = nn;
+    w->n = 1;
+    w->mem = geom_alloc(alloc, (w->cap + 1) * sizeof *w->node);
+    if (w->mem) w->node = (geom__rnode4 *)(((uintptr_t)w->mem + 63) & ~(uintptr_t)63);
+    qb = geom_alloc(alloc, 3 * nn * sizeof(uint32_t));
+    if (!w->mem || !qb) {
+        if (qb) geom_free(alloc, qb, 3 * nn * sizeof(uint32_t));
+        wide_free(w, alloc);
+        return GEOM_ERR_NOMEM;
+    }
+    qw = qb + nn;
+    qd = qw + nn;
+    if (bn[0].count > 0) { /* a single leaf */
+        int j;
+        lane_set(w, &w->node[0], 0, &bn[0].box, bn[0].index, bn[0].count);
+        for (j = 1; j < 4; j++) lane_set(w, &w->node[0], j, &empty, GEOM_INVALID_INDEX, 0);
+        maxd = 1;
+    } else {
+        qb[tail] = 0; qw[tail] = 0; qd[tail] = 1; tail++;
+    }
+    while (head < tail) {
+        uint32_t bi = qb[head], wi = qw[head], d = qd[head];
+        uint32_t list[4];
+        int nl = 2, j;
+        head++;
+        if (d > maxd) maxd = d;
+        list[0] = bi + 1;
+        list[1] = bn[bi].index;
+        while (nl < 4) {
+            int best = -1;
+            double ba = -1;
+            for (j = 0; j < nl; j++) {
+                double a;
+                if (bn[list[j]].count > 0) continue;
+                a = half_area(&bn[list[j]].box);
+                if (a > ba) { ba = a; best = j; }
+            }
+            if (best < 0) break;
+            {
+                uint32_t c = list[best];
+                list[best] = c + 1;
+                list[nl++] = bn[c].index;
+            }
+        }
+        for (j = 0; j < 4; j++) {
+            geom__rnode4 *q = &w->node[wi];
+            if (j >= nl) { lane_set(w, q, j, &empty, GEOM_INVALID_INDEX, 0); continue; }
+            if (bn[list[j]].count > 0) {
+                lane_set(w, q, j, &bn[list[j]].box, bn[list[j]].index, bn[list[j]].count);
+            } else {
+                if (w->n >= w->cap || tail >= nn) { st = GEOM_ERR_LIMIT; goto done; } /* cannot happen */
+                lane_set(w, q, j, &bn[list[j]].box, (uint32_t)w->n, 0);
+                qb[tail] = list[j]; qw[tail] = (uint32_t)w->n; qd[tail] = d + 1; tail++;
+                w->n++;
+            }
+        }
+    }
+done:
+    geom_free(alloc, qb, 3 * nn * sizeof(uint32_t));
+    if (st != GEOM_OK || 3 * maxd + 4 > W4_STACK || !(w->area_f <= 1.05 * w->area_d)) {
+        wide_free(w, alloc);
+        return st;
+    }
+    /* Keep only the nodes made (about a third of the binary node count). */
+    if (w->n + 1 < w->cap) {
+        void *mem = geom_alloc(alloc, (w->n + 1) * sizeof *w->node);
+        if (mem) {
+            geom__rnode4 *nd = (geom__rnode4 *)(((uintptr_t)mem + 63) & ~(uintptr_t)63);
+            memcpy(nd, w->node, w->n * sizeof *nd);
+            geom_free(alloc, w->mem, (w->cap + 1) * sizeof *w->node);
+            w->mem = mem;
+            w->node = nd;
+            w->cap = w->n;
+        }
+    }
+    *out = w;
+    return GEOM_OK;
+}
 
 geom_status geom__ray_mesh_build(geom__tmesh *m, const geom_ray_build_options *opt,
                                  const geom_allocator *alloc, geom_diag *diag)
@@ -35,7 +234,7 @@ geom_status geom__ray_mesh_build(geom__tmesh *m, const geom_ray_build_options *o
             m->tid[i] = pr[i];
         }
     }
-    return GEOM_OK;
+    return wide_build(b, alloc, &m->wide);
 }
 
 void geom__ray_mesh_free(geom__tmesh *m, const geom_allocator *alloc)
@@ -48,6 +247,7 @@ void geom__ray_mesh_free(geom__tmesh *m, const geom_allocator *alloc)
         if (m->tid) geom_free(alloc, m->tid, (np ? np : 1) * sizeof(uint32_t));
     }
     geom_bvh_destroy(m->bvh);
+    wide_free(m->wide, alloc);
     geom_free(alloc, m->pos, 3 * m->nv * sizeof(double));
     if (m->nrm) geom_free(alloc, m->nrm, 3 * m->nv * sizeof(double));
     geom_free(alloc, m->tri, 3 * m->nt * sizeof(uint32_t));
@@ -60,7 +260,7 @@ size_t geom__ray_mesh_bvh_nodes(const geom__tmesh *m, size_t *bytes)
     size_t n = 0;
     if (!m->bvh) { if (bytes) *bytes = 0; return 0; }
     geom_bvh_nodes(m->bvh, &n);
-    if (bytes) *bytes = geom_bvh_bytes(m->bvh);
+    if (bytes) *bytes = geom_bvh_bytes(m->bvh) + (m->wide ? (m->wide->cap + 1) * sizeof(geom__rnode4) : 0);
     return n;
 }
 
@@ -123,6 +323,121 @@ static void fill(const geom__tmesh *m, const geom_ray *r, uint32_t ti, double t,
     }
 }
 
+/* The 4-wide traversal. */
+typedef struct w4entry {
+    double tn;
+    uint32_t child, count;
+} w4entry;
+
+static geom_status trace_wide(const geom__tmesh *m, const geom_ray *r, int mode, geom__rhits *out)
+{
+    const struct geom__rbvh4 *W = m->wide;
+    const double wid = 2 * geom__gamma(3);
+    w4entry stack[W4_STACK];
+    int sp = 0, k;
+    double o[3] = {r->origin.x, r->origin.y, r->origin.z}, inv[3];
+    int neg[3];
+    geom__wbw w;
+    const double tmin = r->tmin;
+    double tmax = r->tmax, best_b[3] = {0, 0, 0}, best_t = 0;
+    uint32_t best = GEOM_INVALID_INDEX;
+    {
+        double d[3] = {r->dir.x, r->dir.y, r->dir.z};
+        /* A zero component gives an infinite reciprocal: the slab distances
+         * are then +-inf, or NaN for an origin on the slab plane, which the
+         * comparisons below ignore (the ray lies in the slab). */
+        for (k = 0; k < 3; k++) {
+            neg[k] = signbit(d[k]) != 0;
+            inv[k] = d[k] != 0 ? 1.0 / d[k] : (neg[k] ? -INFINITY : INFINITY);
+        }
+    }
+    geom__wbw_setup(&w, r);
+    stack[sp].tn = tmin;
+    stack[sp].child = 0;
+    stack[sp].count = 0;
+    sp++;
+    while (sp > 0) {
+        const w4entry e = stack[--sp];
+        if (e.tn > tmax) continue; /* entered beyond the closest hit so far */
+        if (e.count == 0) {
+            const geom__rnode4 *q = &W->node[e.child];
+            double tn[4], tf[4];
+            int j, nh = 0;
+            w4entry hit[4];
+            for (j = 0; j < 4; j++) { tn[j] = -INFINITY; tf[j] = INFINITY; }
+            for (k = 0; k < 3; k++) {
+                const float *np = neg[k] ? q->hi[k] : q->lo[k];
+                const float *fp = neg[k] ? q->lo[k] : q->hi[k];
+                const double ok = o[k], iv = inv[k];
+                for (j = 0; j < 4; j++) {
+                    double a = ((double)np[j] - ok) * iv, c = ((double)fp[j] - ok) * iv;
+                    tn[j] = a > tn[j] ? a : tn[j];
+                    tf[j] = c < tf[j] ? c : tf[j];
+                }
+            }
+            {
+                int mask = 0;
+                for (j = 0; j < 4; j++) {
+                    double a = tn[j] - fabs(tn[j]) * wid, c = tf[j] + fabs(tf[j]) * wid;
+                    tn[j] = a;
+                    mask |= ((a <= c) & (c >= tmin) & (a <= tmax) & (q->child[j] != GEOM_INVALID_INDEX)) << j;
+                }
+                for (j = 0; mask; j++, mask >>= 1) {
+                    int i;
+                    if (!(mask & 1)) continue;
+                    /* insertion by decreasing entry distance: the nearest is pushed last */
+                    i = nh++;
+                    while (i > 0 && hit[i - 1].tn < tn[j]) { hit[i] = hit[i - 1]; i--; }
+                    hit[i].tn = tn[j];
+                    hit[i].child = q->child[j];
+                    hit[i].count = q->count[j];
+                    if (q->count[j] == 0) {
+                        const char *c = (const char *)&W->node[q->child[j]];
+                        W4_PREFETCH(c);
+                        W4_PREFETCH(c + 64);
+                    } else {
+                        const char *c = (const char *)(m->tv + 9 * (size_t)q->child[j]);
+                        W4_PREFETCH(c);
+                        W4_PREFETCH(c + 64);
+                        W4_PREFETCH(c + 128);
+                    }
+                }
+            }
+            if (sp + nh > W4_STACK) return GEOM_ERR_LIMIT; /* cannot happen: depth checked at build */
+            for (j = 0; j < nh; j++) stack[sp++] = hit[j];
+        } else {
+            uint32_t i;
+            for (i = 0; i < e.count; i++) {
+                const double *tvp = m->tv + 9 * (size_t)(e.child + i);
+                uint32_t ti;
+                double t, bc[3];
+                if (!geom__wbw_hit(&w, tvp, tvp + 3, tvp + 6, tmin, tmax, &t, bc)) continue;
+                ti = m->tid[e.child + i];
+                if (mode == GEOM__RAY_ALL) {
+                    geom_ray_hit *h = geom__rhits_push(out);
+                    if (!h) return GEOM_ERR_NOMEM;
+                    fill(m, r, ti, t, bc, h);
+                } else {
+                    if (best == GEOM_INVALID_INDEX || t < best_t || (t == best_t && ti < best)) {
+                        best = ti;
+                        best_t = t;
+                        memcpy(best_b, bc, sizeof bc);
+                        tmax = t;
+                    }
+                    if (mode == GEOM__RAY_ANY) goto done;
+                }
+            }
+        }
+    }
+done:
+    if (mode != GEOM__RAY_ALL && best != GEOM_INVALID_INDEX) {
+        geom_ray_hit *h = geom__rhits_push(out);
+        if (!h) return GEOM_ERR_NOMEM;
+        fill(m, r, best, best_t, best_b, h);
+    }
+    return GEOM_OK;
+}
+
 geom_status geom__ray_mesh(const geom__tmesh *m, const geom_ray *r, int mode, geom__rhits *out)
 {
     const geom_bvh_node *nodes;
@@ -135,6 +450,7 @@ geom_status geom__ray_mesh(const geom__tmesh *m, const geom_ray *r, int mode, ge
     uint32_t best = GEOM_INVALID_INDEX;
     int k;
     if (!m->bvh) return GEOM_OK;
+    if (m->wide) return trace_wide(m, r, mode, out);
     nodes = geom_bvh_nodes(m->bvh, &nn);
     if (nn == 0) return GEOM_OK;
     s.o[0] = r->origin.x; s.o[1] = r->origin.y; s.o[2] = r->origin.z;
@@ -174,7 +490,7 @@ geom_status geom__ray_mesh(const geom__tmesh *m, const geom_ray *r, int mode, ge
                 const double *tvp = m->tv + 9 * (size_t)(nd->index + i);
                 uint32_t ti;
                 double t, bc[3];
-                if (!geom__wbw_test(&w, tvp, tvp + 3, tvp + 6, r->tmin, tmax, &t, bc)) continue;
+                if (!geom__wbw_hit(&w, tvp, tvp + 3, tvp + 6, r->tmin, tmax, &t, bc)) continue;
                 ti = m->tid[nd->index + i];
                 if (mode == GEOM__RAY_ALL) {
                     geom_ray_hit *h = geom__rhits_push(out);

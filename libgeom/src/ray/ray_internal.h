@@ -47,6 +47,7 @@ typedef struct geom__tmesh {
     void *bvh;         /* geom_bvh * */
     double *tv;        /* 9 doubles per triangle in BVH leaf order (v0, v1, v2) */
     uint32_t *tid;     /* triangle index of each tv slot */
+    struct geom__rbvh4 *wide; /* 4-wide copy of bvh for traversal (mesh.c), or NULL */
 } geom__tmesh;
 
 /* Surface data (surface.c). */

@@ -3,6 +3,7 @@
  * zero edge functions, and planar polygons by the winding number in the
  * same sheared frame. */
 #include "ray/ray_internal.h"
+#include "ray/wbw.h"
 
 void geom__wbw_setup(geom__wbw *w, const geom_ray *r)
 {
@@ -23,62 +24,10 @@ void geom__wbw_setup(geom__wbw *w, const geom_ray *r)
     memcpy(w->d, d, sizeof d);
 }
 
-/* orient(O, P, Q) = Px Qy - Py Qx with an exact sign (Shewchuk's
- * predicate when the double value is within its error bound); exactly
- * antisymmetric in P, Q. */
-static double edge_fn(double px, double py, double qx, double qy)
-{
-    double a = px * qy, b = py * qx, e = a - b;
-    if (fabs(e) <= 4 * DBL_EPSILON * (fabs(a) + fabs(b))) {
-        double O[2] = {0, 0}, P[2] = {px, py}, Q[2] = {qx, qy};
-        e = geom_orient2d(O, P, Q);
-    }
-    return e;
-}
-
-/* Whether the directed edge P -> Q owns a zero edge function. */
-static int owns(double px, double py, double qx, double qy)
-{
-    double dy = qy - py, dx = qx - px;
-    return dy > 0 || (dy == 0 && dx > 0);
-}
-
 int geom__wbw_test(const geom__wbw *w, const double *v0, const double *v1, const double *v2,
                    double tmin, double tmax, double *t, double *b)
 {
-    const int kx = w->kx, ky = w->ky, kz = w->kz;
-    double A[3], B[3], C[3], ax, ay, bx, by, cx, cy, e0, e1, e2, det, az, bz, cz, T;
-    int k, pos, neg;
-    for (k = 0; k < 3; k++) {
-        A[k] = v0[k] - w->o[k];
-        B[k] = v1[k] - w->o[k];
-        C[k] = v2[k] - w->o[k];
-    }
-    ax = A[kx] - w->sx * A[kz]; ay = A[ky] - w->sy * A[kz];
-    bx = B[kx] - w->sx * B[kz]; by = B[ky] - w->sy * B[kz];
-    cx = C[kx] - w->sx * C[kz]; cy = C[ky] - w->sy * C[kz];
-    e0 = edge_fn(bx, by, cx, cy); /* edge v1 -> v2: weight of v0 */
-    e1 = edge_fn(cx, cy, ax, ay); /* edge v2 -> v0: weight of v1 */
-    if ((e0 < 0 && e1 > 0) || (e0 > 0 && e1 < 0)) return 0; /* the common miss */
-    e2 = edge_fn(ax, ay, bx, by); /* edge v0 -> v1: weight of v2 */
-    /* Front (all >= 0) or back (all <= 0) facing, a zero only where owned. */
-    pos = (e0 > 0 || (e0 == 0 && owns(bx, by, cx, cy))) &&
-          (e1 > 0 || (e1 == 0 && owns(cx, cy, ax, ay))) &&
-          (e2 > 0 || (e2 == 0 && owns(ax, ay, bx, by)));
-    neg = (e0 < 0 || (e0 == 0 && owns(bx, by, cx, cy))) &&
-          (e1 < 0 || (e1 == 0 && owns(cx, cy, ax, ay))) &&
-          (e2 < 0 || (e2 == 0 && owns(ax, ay, bx, by)));
-    if (!pos && !neg) return 0;
-    det = e0 + e1 + e2;
-    if (det == 0 || !isfinite(det)) return 0;
-    az = w->sz * A[kz]; bz = w->sz * B[kz]; cz = w->sz * C[kz];
-    T = e0 * az + e1 * bz + e2 * cz;
-    *t = T / det;
-    if (!(*t >= tmin && *t <= tmax)) return 0;
-    b[0] = e0 / det;
-    b[1] = e1 / det;
-    b[2] = e2 / det;
-    return 1;
+    return geom__wbw_hit(w, v0, v1, v2, tmin, tmax, t, b);
 }
 
 void geom__tri_fill(const geom_ray *r, const double *v0, const double *v1, const double *v2,
@@ -157,11 +106,11 @@ geom_status geom__ray_polygon(const geom__ray_node *nd, const geom_ray *r, int m
         double e;
         /* Crossing of the +x half-line from the origin, half-open in y. */
         if (py <= 0 && qy > 0) {
-            e = edge_fn(px, py, qx, qy);
-            if (e > 0 || (e == 0 && owns(px, py, qx, qy))) wn++;
+            e = geom__wbw_edge(px, py, qx, qy);
+            if (e > 0 || (e == 0 && geom__wbw_owns(px, py, qx, qy))) wn++;
         } else if (py > 0 && qy <= 0) {
-            e = edge_fn(px, py, qx, qy);
-            if (e < 0 || (e == 0 && owns(px, py, qx, qy))) wn--;
+            e = geom__wbw_edge(px, py, qx, qy);
+            if (e < 0 || (e == 0 && geom__wbw_owns(px, py, qx, qy))) wn--;
         }
     }
     if (wn == 0) return GEOM_OK;
