@@ -112,7 +112,7 @@ static void aov_to_display(geom_image *img, geom_aov aov)
 static geom_status object_colors(geom_image *img)
 {
     geom_image c = {0};
-    geom_status st = geom_image_init(&c, img->width, img->height, 3, NULL);
+    geom_status st = geom_scene_image_init(&c, img->width, img->height, 3, NULL);
     if (st != GEOM_OK)
         return st;
     for (size_t i = 0; i < (size_t)img->width * img->height; i++) {
@@ -124,7 +124,7 @@ static geom_status object_colors(geom_image *img)
         c.data[3 * i + 1] = 0.25 + 0.75 * ((h >> 16) & 255) / 255.0;
         c.data[3 * i + 2] = 0.25 + 0.75 * ((h >> 24) & 255) / 255.0;
     }
-    geom_image_free(img, NULL);
+    geom_scene_image_free(img, NULL);
     *img = c;
     return GEOM_OK;
 }
@@ -328,7 +328,7 @@ int main(int argc, char **argv)
             report_text(stdout, &f, &o.r, &rep, orep, t_parse, t_write);
         rc = CLI_EXIT_OK;
     }
-    geom_image_free(&img, NULL);
+    geom_scene_image_free(&img, NULL);
     free(orep);
     srj_file_free(&f);
     return rc;

@@ -370,10 +370,10 @@ int main(int argc, char **argv)
                    pref && pimg ? rms(pimg, pref) : NAN,
                    pimg && img.data ? mad(img.data, pimg) : NAN);
             fflush(stdout);
-            geom_image_free(&img, NULL);
+            geom_scene_image_free(&img, NULL);
             free(pimg);
         }
-        geom_image_free(&ref, NULL);
+        geom_scene_image_free(&ref, NULL);
         free(pref);
     }
     /* error against time (ours) on the spheres */
@@ -402,9 +402,9 @@ int main(int argc, char **argv)
             double t = now() - t0;
             printf("%-10s %8.2f %10.3f %10.5f %12.5f\n", names[m], rep.trace.mean_samples_per_pixel,
                    t, rms(img.data, ref.data), rep.trace.image_error.max_error);
-            geom_image_free(&img, NULL);
+            geom_scene_image_free(&img, NULL);
         }
-    geom_image_free(&ref, NULL);
+    geom_scene_image_free(&ref, NULL);
     geom_mesh_destroy(bunny);
     free(mesh2);
     return 0;

@@ -310,9 +310,9 @@ geom_status geom_scene_render(const geom_camera *cam_in, const geom_light *light
     memset(&opt, 0, sizeof opt);
     if (opt_in)
         opt = *opt_in;
-    geom_camera cam = geom_camera_resolved(cam_in);
+    geom_camera cam = geom_scene_camera_resolved(cam_in);
     geom_ray r0;
-    geom_status st = geom_camera_ray(&cam, 0.5, 0.5, &r0);
+    geom_status st = geom_scene_camera_ray(&cam, 0.5, 0.5, &r0);
     if (st != GEOM_OK)
         return st;
     double t0 = now();
@@ -348,14 +348,14 @@ geom_status geom_scene_render(const geom_camera *cam_in, const geom_light *light
             geom_mat4_lookat(cam.eye, cam.center, cam.up, &view);
             geom_mat4_ortho(-h * asp, h * asp, -h, h, -far, far, &proj);
         } else {
-            geom_camera_matrices(&cam, near, far, &view, &proj);
+            geom_scene_camera_matrices(&cam, near, far, &view, &proj);
         }
         vp = geom_mat4_mul(proj, view);
     }
     int refl = 0, refr = 0;
     for (size_t i = 0; i < n_objects; i++) {
         orep[i].visible = bounded(box[i]) ? geom__scene_box_frustum(box[i], vp) != 0 : 1;
-        needs[i] = geom_material_needs(&materials[objects[i].material]);
+        needs[i] = geom_scene_material_needs(&materials[objects[i].material]);
         omat[i] = objects[i].material;
         if (orep[i].visible) {
             if (bounded(box[i]))

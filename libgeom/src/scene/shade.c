@@ -7,7 +7,7 @@
 
 #include "core/internal.h"
 
-geom_material geom_material_default(void)
+geom_material geom_scene_material_default(void)
 {
     geom_material m = {0};
     m.kd = geom_vec3_make(0.8, 0.8, 0.8);
@@ -17,7 +17,7 @@ geom_material geom_material_default(void)
     return m;
 }
 
-unsigned geom_material_needs(const geom_material *m)
+unsigned geom_scene_material_needs(const geom_material *m)
 {
     if (!m)
         return 0;
@@ -39,7 +39,7 @@ static geom_vec3 unit_or(geom_vec3 a, geom_vec3 fallback)
     return geom_vec3_normalize(a, &u) == GEOM_OK ? u : fallback;
 }
 
-geom_vec3 geom_shade_normal(const geom_material *m, const geom_shade_point *sp)
+geom_vec3 geom_scene_shade_normal(const geom_material *m, const geom_shade_point *sp)
 {
     geom_vec3 n = sp->n;
     if (m && sp->has_uv && sp->has_tangent && (m->normal_map || m->bump)) {
@@ -50,7 +50,7 @@ geom_vec3 geom_shade_normal(const geom_material *m, const geom_shade_point *sp)
         geom_vec3 b = geom_vec3_scale(geom_vec3_cross(n, t), sg);
         if (m->normal_map) {
             double c[4] = {0.5, 0.5, 1, 1};
-            geom_texture_sample(m->normal_map, sp->uv[0], sp->uv[1], sp->footprint, c);
+            geom_scene_texture_sample(m->normal_map, sp->uv[0], sp->uv[1], sp->footprint, c);
             double x = 2 * c[0] - 1, y = 2 * c[1] - 1, z = 2 * c[2] - 1;
             n = unit_or(geom_vec3_add(geom_vec3_add(geom_vec3_scale(t, x), geom_vec3_scale(b, y)),
                                       geom_vec3_scale(n, z)),
@@ -59,7 +59,7 @@ geom_vec3 geom_shade_normal(const geom_material *m, const geom_shade_point *sp)
             /* Blinn 1978: N' = N + h_u (N x P_v) - h_v (N x P_u), with the
              * unit tangent frame standing for (P_u, P_v). */
             double hu, hv, s = m->bump_scale != 0 ? m->bump_scale : 1.0;
-            geom_texture_gradient(m->bump, sp->uv[0], sp->uv[1], &hu, &hv);
+            geom_scene_texture_gradient(m->bump, sp->uv[0], sp->uv[1], &hu, &hv);
             geom_vec3 d = geom_vec3_sub(geom_vec3_scale(geom_vec3_cross(n, b), s * hu),
                                         geom_vec3_scale(geom_vec3_cross(n, t), s * hv));
             n = unit_or(geom_vec3_add(n, d), n);
@@ -75,7 +75,7 @@ static geom_vec3 mul3(geom_vec3 a, geom_vec3 b)
     return geom_vec3_make(a.x * b.x, a.y * b.y, a.z * b.z);
 }
 
-void geom_shade(const geom_material *m, const geom_light *lights, size_t n_lights,
+void geom_scene_shade(const geom_material *m, const geom_light *lights, size_t n_lights,
                 const double *visibility, const geom_shade_point *sp, geom_vec3 n, geom_vec3 *out)
 {
     geom_vec3 acc = {0, 0, 0};
@@ -89,8 +89,8 @@ void geom_shade(const geom_material *m, const geom_light *lights, size_t n_light
     geom_vec3 kd = m->kd, ka = m->ka;
     if (m->texture && sp->has_uv) {
         double c[4] = {1, 1, 1, 1};
-        geom_texture_sample(m->texture, sp->uv[0], sp->uv[1], sp->footprint, c);
-        geom_vec3 tc = geom_texture_channels(m->texture) >= 3 ? geom_vec3_make(c[0], c[1], c[2])
+        geom_scene_texture_sample(m->texture, sp->uv[0], sp->uv[1], sp->footprint, c);
+        geom_vec3 tc = geom_scene_texture_channels(m->texture) >= 3 ? geom_vec3_make(c[0], c[1], c[2])
                                                                : geom_vec3_make(c[0], c[0], c[0]);
         kd = mul3(kd, tc);
         ka = mul3(ka, tc);

@@ -950,7 +950,7 @@ geom_status geom_scene_displace(geom_mesh *m, const geom_texture *height, double
             if (!has[v])
                 continue;
             double hgt;
-            geom_texture_sample(height, uv[2 * v], uv[2 * v + 1], 0, &hgt);
+            geom_scene_texture_sample(height, uv[2 * v], uv[2 * v + 1], 0, &hgt);
             for (int k = 0; k < 3; k++)
                 p[3 * v + k] += scale * hgt * n[3 * v + k];
         }

@@ -92,7 +92,7 @@ static geom_vec3 shade_hit(tctx *c, const geom_ray *r, const geom__scene_hit *h,
     if (geom_vec3_normalize(r->dir, &d) != GEOM_OK)
         return geom_vec3_make(0, 0, 0);
     geom_shade_point sp = shade_point(h, d);
-    geom_vec3 n = geom_shade_normal(m, &sp);
+    geom_vec3 n = geom_scene_shade_normal(m, &sp);
     /* geometric normal on the viewer's side */
     geom_vec3 ngv = geom_vec3_dot(h->ng, sp.v) < 0 ? geom_vec3_neg(h->ng) : h->ng;
     for (size_t i = 0; i < c->n_lights; i++) {
@@ -128,7 +128,7 @@ static geom_vec3 shade_hit(tctx *c, const geom_ray *r, const geom__scene_hit *h,
         c->vis[i] = c->tr->occluded(c->tr->user, &s) ? 0 : 1;
     }
     geom_vec3 col;
-    geom_shade(m, c->lights, c->n_lights, c->vis, &sp, n, &col);
+    geom_scene_shade(m, c->lights, c->n_lights, c->vis, &sp, n, &col);
     double refl = m->reflect, trans = m->transmit;
     if (refl <= 0 && trans <= 0)
         return col;
@@ -203,9 +203,9 @@ geom_status geom__scene_trace(const geom__tracer *tr, const geom_camera *cam_in,
         c.opt.min_weight = 1.0 / 256;
     c.rep = &rep;
     const geom_allocator *a = c.opt.alloc;
-    geom_camera cam = geom_camera_resolved(cam_in);
+    geom_camera cam = geom_scene_camera_resolved(cam_in);
     geom_ray r0;
-    geom_status st = geom_camera_ray(&cam, 0.5 * cam.width, 0.5 * cam.height, &r0);
+    geom_status st = geom_scene_camera_ray(&cam, 0.5 * cam.width, 0.5 * cam.height, &r0);
     if (st != GEOM_OK)
         return st;
     c.fwd = r0.dir;
@@ -215,7 +215,7 @@ geom_status geom__scene_trace(const geom__tracer *tr, const geom_camera *cam_in,
     if (!c.vis)
         return GEOM_ERR_NOMEM;
     uint32_t nch = c.opt.aov == GEOM_AOV_COLOR || c.opt.aov == GEOM_AOV_NORMAL ? 3 : 1;
-    st = geom_image_init(out, cam.width, cam.height, nch, a);
+    st = geom_scene_image_init(out, cam.width, cam.height, nch, a);
     if (st != GEOM_OK) {
         geom_free(a, c.vis, (n_lights + 1) * sizeof(double));
         return st;
@@ -236,7 +236,7 @@ geom_status geom__scene_trace(const geom__tracer *tr, const geom_camera *cam_in,
                 /* one ray through the pixel centre */
                 geom_ray r;
                 geom__scene_hit h;
-                geom_camera_ray(&cam, i + 0.5, j + 0.5, &r);
+                geom_scene_camera_ray(&cam, i + 0.5, j + 0.5, &r);
                 rep.primary_rays++;
                 total++;
                 int hit = tr->closest(tr->user, &r, &h);
@@ -248,7 +248,7 @@ geom_status geom__scene_trace(const geom__tracer *tr, const geom_camera *cam_in,
                     geom_vec3 n = h.n;
                     if (h.material < n_materials) {
                         geom_shade_point sp = shade_point(&h, r.dir);
-                        n = geom_shade_normal(&materials[h.material], &sp);
+                        n = geom_scene_shade_normal(&materials[h.material], &sp);
                     }
                     px[0] = n.x;
                     px[1] = n.y;
@@ -269,7 +269,7 @@ geom_status geom__scene_trace(const geom__tracer *tr, const geom_camera *cam_in,
                         oy = rnd(&seed);
                     }
                     geom_ray r;
-                    geom_camera_ray(&cam, i + (a2 + ox) / k, j + (b + oy) / k, &r);
+                    geom_scene_camera_ray(&cam, i + (a2 + ox) / k, j + (b + oy) / k, &r);
                     rep.primary_rays++;
                     geom_vec3 col = trace(&c, &r, 0, 1.0, NULL);
                     double l = luminance(col);
@@ -294,7 +294,7 @@ geom_status geom__scene_trace(const geom__tracer *tr, const geom_camera *cam_in,
                 for (uint32_t q = 0; q < 4; q++) {
                     double ox = ((q & 1) + rnd(&seed)) / 2, oy = ((q >> 1) + rnd(&seed)) / 2;
                     geom_ray r;
-                    geom_camera_ray(&cam, i + ox, j + oy, &r);
+                    geom_scene_camera_ray(&cam, i + ox, j + oy, &r);
                     rep.primary_rays++;
                     geom_vec3 col = trace(&c, &r, 0, 1.0, NULL);
                     double l = luminance(col);
