@@ -50,30 +50,49 @@ static geom_status frame(const geom_camera *c, geom_vec3 *f, geom_vec3 *s, geom_
     return GEOM_OK;
 }
 
+geom_status geom__scene_cam_init(const geom_camera *cam, geom__scene_cam *k)
+{
+    k->c = geom_scene_camera_resolved(cam);
+    geom_status st = frame(&k->c, &k->f, &k->s, &k->u);
+    if (st != GEOM_OK)
+        return st;
+    double aspect = (double)k->c.width / (double)k->c.height;
+    if (k->c.projection == GEOM_PROJECTION_PERSPECTIVE) {
+        double t = tan(k->c.fovy_degrees * GEOM_PI / 360.0);
+        k->kx = t * aspect;
+        k->ky = t;
+    } else {
+        k->kx = 0.5 * k->c.ortho_height * aspect;
+        k->ky = 0.5 * k->c.ortho_height;
+    }
+    return GEOM_OK;
+}
+
+void geom__scene_cam_ray(const geom__scene_cam *k, double x, double y, geom_ray *out)
+{
+    double nx = (2.0 * x / k->c.width - 1.0) * k->kx, ny = (1.0 - 2.0 * y / k->c.height) * k->ky;
+    out->tmin = 0;
+    out->tmax = INFINITY;
+    geom_vec3 off = geom__v3add(geom__v3scale(k->s, nx), geom__v3scale(k->u, ny));
+    if (k->c.projection == GEOM_PROJECTION_PERSPECTIVE) {
+        out->origin = k->c.eye;
+        if (!geom__v3unit(geom__v3add(k->f, off), &out->dir))
+            out->dir = k->f;
+        return;
+    }
+    out->origin = geom__v3add(k->c.eye, off);
+    out->dir = k->f;
+}
+
 geom_status geom_scene_camera_ray(const geom_camera *cam, double x, double y, geom_ray *out)
 {
     if (!cam || !out)
         return GEOM_ERR_INVALID_ARG;
-    geom_camera c = geom_scene_camera_resolved(cam);
-    geom_vec3 f, s, u;
-    geom_status st = frame(&c, &f, &s, &u);
+    geom__scene_cam k;
+    geom_status st = geom__scene_cam_init(cam, &k);
     if (st != GEOM_OK)
         return st;
-    double aspect = (double)c.width / (double)c.height;
-    double nx = 2.0 * x / c.width - 1.0, ny = 1.0 - 2.0 * y / c.height;
-    out->tmin = 0;
-    out->tmax = INFINITY;
-    if (c.projection == GEOM_PROJECTION_PERSPECTIVE) {
-        double t = tan(c.fovy_degrees * GEOM_PI / 360.0);
-        geom_vec3 d = geom_vec3_add(f, geom_vec3_add(geom_vec3_scale(s, nx * t * aspect),
-                                                     geom_vec3_scale(u, ny * t)));
-        out->origin = c.eye;
-        return geom_vec3_normalize(d, &out->dir);
-    }
-    double h = 0.5 * c.ortho_height;
-    out->origin = geom_vec3_add(c.eye, geom_vec3_add(geom_vec3_scale(s, nx * h * aspect),
-                                                     geom_vec3_scale(u, ny * h)));
-    out->dir = f;
+    geom__scene_cam_ray(&k, x, y, out);
     return GEOM_OK;
 }
 
