@@ -491,6 +491,10 @@ typedef struct geom_trace_options {
                                 traced; 0 = 1/256 */
     int no_shadows;        /**< nonzero: no shadow rays (every light visible) */
     const geom_allocator *alloc;
+    /** Called (when not NULL) after each image row with the fraction of the
+     *  rows done, in [0, 1]; for progress displays. */
+    void (*progress)(void *user, double fraction);
+    void *progress_user;
 } geom_trace_options;
 
 typedef struct geom_trace_report {
@@ -562,6 +566,9 @@ typedef struct geom_render_options {
     double min_weight;        /**< ray: 0 = 1/256 */
     int no_shadows;           /**< nonzero: no shadow rays / shadow maps */
     uint32_t shadow_map_size; /**< raster: 0 = 1024 */
+    /** ray: called after each image row with the fraction done (NULL: none) */
+    void (*progress)(void *user, double fraction);
+    void *progress_user;
 } geom_render_options;
 
 /** What was built for one object, and why. */
@@ -570,12 +577,13 @@ typedef struct geom_render_object_report {
     int needed;           /**< some ray (or the rasterizer) can reach it: built */
     int acceleration;     /**< ray: a BVH was built for it (meshes, subdivision) */
     size_t accel_triangles;
-    int tessellated;      /**< raster: tessellated (never for ray) */
-    double tolerance;     /**< raster: the chordal tolerance used (world units) */
-    geom_tess_info tess;  /**< raster: what the tessellation achieved (error in world
-                               units, times the transform's largest scale) */
+    int tessellated;      /**< tessellated: raster always; ray only subdivision surfaces
+                               and displaced objects */
+    double tolerance;     /**< the chordal tolerance used when tessellated (world units) */
+    geom_tess_info tess;  /**< what the tessellation achieved (error in world units,
+                               times the transform's largest scale) */
     int normals, uvs, tangents; /**< attributes made (raster) or used (ray) */
-    int displaced;        /**< raster: the material's displacement map applied */
+    int displaced;        /**< the material's displacement map applied (both methods) */
 } geom_render_object_report;
 
 typedef struct geom_render_report {
@@ -600,14 +608,21 @@ typedef struct geom_render_report {
  *    that matter for nothing are not built (no BVH, no tessellation);
  *  - ray: analytic shapes are traced directly, never tessellated; BVHs are
  *    built only for needed meshes; texture coordinates only for textured
- *    materials, tangents only for normal/bump maps; refraction rays only
- *    where a material transmits;
+ *    materials (meshes: their corner or vertex "uv" channel, kept with the
+ *    ray module's stored triangles and interpolated at the hit; corner
+ *    normals likewise; polygon meshes are triangulated first), tangents only
+ *    for normal/bump maps (meshes: dP/du of each triangle's UV map);
+ *    refraction rays only where a material transmits; subdivision surfaces
+ *    (refined until the limit is within the pixel tolerance below) and
+ *    objects whose material displaces are tessellated as for raster, then
+ *    traced as meshes;
  *  - raster: each needed object is tessellated with the tolerance that keeps
  *    its projected chordal error below pixel_error pixels at its nearest
  *    visible depth (geom_scene_pixel_tolerance, in its own frame through the
  *    transform's largest scale), with only the attributes its material uses,
- *    then displaced by the material's displacement map (geom_scene_displace;
- *    the ray path does not displace).
+ *    then displaced by the material's displacement map (geom_scene_displace).
+ *  - shadows: a shadow ray is attenuated, not stopped, by transmissive
+ *    materials: see geom_scene_trace.
  * object_reports (n_objects entries, may be NULL) and report (may be NULL)
  * say what was done. out as geom_scene_raster. Statuses: those of the steps;
  * diag names the object that failed.

@@ -80,13 +80,15 @@ typedef struct geom__scene_hit {
 } geom__scene_hit;
 
 /* Where the tracer gets its intersections from. closest: 1 and *h on a hit
- * in [r->tmin, r->tmax], 0 on a miss. occluded: 1 if anything is hit in
+ * in [r->tmin, r->tmax], 0 on a miss. visibility: the fraction of light that
+ * passes along r over [tmin, tmax] (1: nothing hit, 0: an opaque hit; see
+ * geom_scene_trace for transmissive surfaces). Formerly: 1 if anything is hit in
  * [tmin, tmax]. spawn: a new ray's origin leaving the surface of h toward
  * dir (offset by the hit's error bound). */
 typedef struct geom__tracer {
     void *user;
     int (*closest)(void *user, const geom_ray *r, geom__scene_hit *h);
-    int (*occluded)(void *user, const geom_ray *r);
+    double (*visibility)(void *user, const geom_ray *r);
     geom_vec3 (*spawn)(void *user, const geom__scene_hit *h, geom_vec3 dir);
 } geom__tracer;
 

@@ -129,7 +129,7 @@ static geom_vec3 shade_hit(tctx *c, const geom_ray *r, const geom__scene_hit *h,
             s.tmax = INFINITY;
         }
         c->rep->shadow_rays++;
-        c->vis[i] = c->tr->occluded(c->tr->user, &s) ? 0 : 1;
+        c->vis[i] = c->tr->visibility(c->tr->user, &s);
     }
     geom_vec3 col;
     geom_scene_shade(m, c->lights, c->n_lights, c->vis, &sp, n, &col);
@@ -236,6 +236,8 @@ geom_status geom__scene_trace(const geom__tracer *tr, const geom_camera *cam_in,
     double err_sum = 0, err_max = 0;
     size_t total = 0;
     for (uint32_t j = 0; j < cam.height && st == GEOM_OK; j++) {
+        if (j > 0 && c.opt.progress)
+            c.opt.progress(c.opt.progress_user, (double)j / cam.height);
         for (uint32_t i = 0; i < cam.width; i++) {
             double *px = out->data + ((size_t)j * cam.width + i) * nch;
             if (c.opt.aov != GEOM_AOV_COLOR) {
@@ -318,6 +320,8 @@ geom_status geom__scene_trace(const geom__tracer *tr, const geom_camera *cam_in,
             px[2] = sum.z / n;
         }
     }
+    if (c.opt.progress)
+        c.opt.progress(c.opt.progress_user, 1.0);
     size_t npx = (size_t)cam.width * cam.height;
     rep.mean_samples_per_pixel = (double)total / (double)npx;
     rep.image_error.evaluations = total;
