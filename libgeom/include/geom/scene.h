@@ -448,7 +448,8 @@ typedef struct geom_tess_info {
  * (4) where the method can make them (spheres, tori and surfaces through
  * the surface module's exact NURBS and geom_surface_tessellate, adaptive to
  * tol: "nurbs"; boxes, disks, polygons and planes exactly: "exact" /
- * "polygon"; meshes as they are: "mesh"; subdivision surfaces refined until
+ * "polygon"; meshes as they are, with their "uv", "normal" and "tangent"
+ * VERTEX and CORNER channels: "mesh"; subdivision surfaces refined until
  * the distance of the refined control points to the limit (measured at
  * every vertex) is below tol, then moved onto the limit: "subdiv";
  * implicit surfaces, volumes, quadrics and CSG by marching cubes of their

@@ -541,7 +541,7 @@ geom_status geom_scene_render(const geom_camera *cam_in, const geom_light *light
         }
         vp = geom_mat4_mul(proj, view);
     }
-    int refl = 0, refr = 0;
+    int refl = 0, refr = 0, seen_unbounded = 0;
     for (size_t i = 0; i < n_objects; i++) {
         orep[i].visible = bounded(box[i]) ? geom__scene_box_frustum(box[i], vp) != 0 : 1;
         needs[i] = geom_scene_material_needs(&materials[objects[i].material]);
@@ -549,6 +549,8 @@ geom_status geom_scene_render(const geom_camera *cam_in, const geom_light *light
         if (orep[i].visible) {
             if (bounded(box[i]))
                 seen = geom_aabb_union(seen, box[i]);
+            else
+                seen_unbounded = 1;
             refl |= (needs[i] & GEOM_NEEDS_REFLECTION) != 0;
             refr |= (needs[i] & GEOM_NEEDS_REFRACTION) != 0;
         }
@@ -559,8 +561,16 @@ geom_status geom_scene_render(const geom_camera *cam_in, const geom_light *light
             orep[i].needed = orep[i].visible || refl || refr;
             continue;
         }
-        if (opt.no_shadows || geom_aabb_is_empty(seen))
+        if (opt.no_shadows || (geom_aabb_is_empty(seen) && !seen_unbounded))
             continue;
+        if (seen_unbounded) {
+            /* a seen unbounded object (a ground plane) can be shadowed by
+             * anything lit by a point or directional light */
+            for (size_t l = 0; l < n_lights; l++)
+                if (lights[l].kind != GEOM_LIGHT_AMBIENT)
+                    orep[i].needed = 1;
+            continue;
+        }
         for (size_t l = 0; l < n_lights && !orep[i].needed; l++) {
             geom_aabb hull = seen;
             if (lights[l].kind == GEOM_LIGHT_POINT)
