@@ -1,7 +1,8 @@
 /*
  * geom_scene_render's ray path against closed forms for what it used to
  * drop: a textured mesh quad (VERTEX uv, CORNER uv, under a transform, one
- * polygon face) matches the analytic perspective-correct mapping (and on
+ * polygon face; also read back from a ray-module scene, the scene JSON
+ * path) matches the analytic perspective-correct mapping (and on
  * the raster path through geom_scene_render, which used to drop the UVs); the
  * shadow of a transmissive slab on a ground plane is transmit^2 of the
  * light (two surfaces crossed) exactly where the segment to the light
@@ -84,7 +85,7 @@ static geom_texture *uv_texture(void)
     return tex;
 }
 
-static void check_quad(int corner, int transformed, int method)
+static void check_quad(int corner, int transformed, int method, int via_ray_scene)
 {
     geom_texture *tex = uv_texture();
     geom_mesh *q = quad(corner);
@@ -112,6 +113,19 @@ static void check_quad(int corner, int transformed, int method)
     s.mesh = q;
     s.transform = transformed ? &M : NULL;
     geom_scene_object o = {&s, 0};
+    geom_ray_scene *rs = NULL;
+    geom_scene_shapes *shapes = NULL;
+    if (via_ray_scene) {
+        /* the scene JSON path: a ray-module node read back as a shape */
+        uint32_t id;
+        rs = geom_ray_scene_create(NULL);
+        assert_int_equal(geom_ray_scene_add_mesh(rs, q, &id), GEOM_OK);
+        if (transformed)
+            assert_int_equal(geom_ray_scene_set_transform(rs, id, M.m), GEOM_OK);
+        assert_int_equal(geom_scene_shapes_from_ray(rs, &shapes, NULL), GEOM_OK);
+        assert_int_equal(geom_scene_shapes_count(shapes), 1);
+        o.shape = geom_scene_shapes_get(shapes, 0);
+    }
     geom_image out = {0};
     geom_render_object_report orep;
     geom_render_options ro;
@@ -144,6 +158,8 @@ static void check_quad(int corner, int transformed, int method)
         fail_msg("texture mapping off by %g (method %d, corner %d, transformed %d)", maxerr, method,
                  corner, transformed);
     geom_scene_image_free(&out, NULL);
+    geom_scene_shapes_destroy(shapes);
+    geom_ray_scene_destroy(rs);
     geom_mesh_destroy(q);
     geom_scene_texture_destroy(tex);
 }
@@ -151,12 +167,13 @@ static void check_quad(int corner, int transformed, int method)
 static void test_textured_mesh_quad(void **state)
 {
     (void)state;
-    for (int method = 0; method < 2; method++) {
-        check_quad(0, 0, method);
-        check_quad(1, 0, method);
-        check_quad(1, 1, method);
-        check_quad(0, 1, method);
-    }
+    for (int method = 0; method < 2; method++)
+        for (int via = 0; via < 2; via++) {
+            check_quad(0, 0, method, via);
+            check_quad(1, 0, method, via);
+            check_quad(1, 1, method, via);
+            check_quad(0, 1, method, via);
+        }
 }
 
 /* Number of the slab's faces the segment p -> L crosses (0 or 2), or -1

@@ -95,6 +95,17 @@ static const geom_mat4 *compose(geom_scene_shapes *h, const geom_mat4 *outer,
     return m;
 }
 
+static void corner_channel(geom_mesh_build_channel *c, const char *name, size_t ncomp,
+                           const double *values, size_t n, const uint32_t *indices)
+{
+    c->name = name;
+    c->domain = GEOM_MESH_DOMAIN_CORNER;
+    c->ncomp = ncomp;
+    c->values = values;
+    c->n_values = n;
+    c->indices = indices;
+}
+
 static geom_status mesh_of(geom_scene_shapes *h, const geom__ray_node_info *t, geom_mesh **out)
 {
     geom_mesh *m = geom_mesh_create(NULL);
@@ -124,24 +135,10 @@ static geom_status mesh_of(geom_scene_shapes *h, const geom__ray_node_info *t, g
             cidx[i] = (uint32_t)i;
     }
     memset(ch, 0, sizeof ch);
-    if (t->cuv) {
-        ch[nch].name = "uv";
-        ch[nch].domain = GEOM_MESH_DOMAIN_CORNER;
-        ch[nch].ncomp = 2;
-        ch[nch].values = t->cuv;
-        ch[nch].n_values = 3 * t->nt;
-        ch[nch].indices = cidx;
-        nch++;
-    }
-    if (t->cnrm) {
-        ch[nch].name = "normal";
-        ch[nch].domain = GEOM_MESH_DOMAIN_CORNER;
-        ch[nch].ncomp = 3;
-        ch[nch].values = t->cnrm;
-        ch[nch].n_values = 3 * t->nt;
-        ch[nch].indices = cidx;
-        nch++;
-    }
+    if (t->cuv)
+        corner_channel(&ch[nch++], "uv", 2, t->cuv, 3 * t->nt, cidx);
+    if (t->cnrm)
+        corner_channel(&ch[nch++], "normal", 3, t->cnrm, 3 * t->nt, cidx);
     geom_mesh_build_options bo;
     memset(&bo, 0, sizeof bo);
     bo.keep_orientation = 1;
