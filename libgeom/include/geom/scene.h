@@ -524,7 +524,12 @@ typedef struct geom_trace_report {
  * geom_ray_offset_origin. Texture coordinates are the hit's (u, v) (the
  * surface parameters or per-shape coordinates of the ray module; for meshes
  * barycentric, so textured meshes should go through geom_scene_render,
- * which interpolates their "uv" channel). Statuses as geom_scene_raster.
+ * which interpolates their "uv" channel). Shadows: a shadow ray that meets
+ * a surface whose material has transmit > 0 continues past it with its
+ * light scaled by transmit (one factor per surface crossed, so a closed
+ * glass object passes transmit^2; the ray is not refracted: no caustics,
+ * no colour); an opaque hit blocks the light. Without transmissive
+ * materials only "any hit" is asked. Statuses as geom_scene_raster.
  */
 GEOM_API geom_status geom_scene_trace(const geom_ray_scene *rs, const uint32_t *object_material,
                                       size_t n_objects, const geom_camera *cam,
