@@ -412,7 +412,8 @@ int main(int argc, char **argv)
         return 0;
     }
     printf("\nerror vs time, spheres, ours (RMS against 8x8 jittered)\n");
-    printf("%-10s %8s %10s %10s %12s\n", "sampling", "samples", "seconds", "rms err", "est. err max");
+    printf("%-10s %8s %10s %10s %10s %12s\n", "sampling", "samples", "seconds", "cpu s", "rms err",
+           "est. err max");
     geom_image ref = {0};
     ours(&sc[0], 64, GEOM_SAMPLING_JITTERED, &ref, NULL);
     const char *names[3] = {"regular", "jittered", "adaptive"};
@@ -430,12 +431,13 @@ int main(int argc, char **argv)
             memset(&ro, 0, sizeof ro);
             geom_render_report rep;
             geom_image img = {0};
-            double t0 = now();
+            double t0 = now(), c0 = cpu_self();
             geom_scene_render(&c, lights, 2, sc[0].mats, 4, sc[0].objects, sc[0].n, &ro, &img, &rep,
                               NULL, NULL);
-            double t = now() - t0;
-            printf("%-10s %8.2f %10.3f %10.5f %12.5f\n", names[m], rep.trace.mean_samples_per_pixel,
-                   t, rms(img.data, ref.data), rep.trace.image_error.max_error);
+            double t = now() - t0, ct = cpu_self() - c0;
+            printf("%-10s %8.2f %10.3f %10.3f %10.5f %12.5f\n", names[m],
+                   rep.trace.mean_samples_per_pixel, t, ct, rms(img.data, ref.data),
+                   rep.trace.image_error.max_error);
             geom_scene_image_free(&img, NULL);
         }
     geom_scene_image_free(&ref, NULL);
