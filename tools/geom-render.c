@@ -33,11 +33,18 @@ static const cli_tool tool = {
     "The report gives the time of each stage, the samples traced, the image's\n"
     "estimated error (standard error of the pixel means) and, per object, what\n"
     "was built: acceleration structure (ray), tessellation with its tolerance,\n"
-    "achieved error and triangle count (raster), normals, UVs, tangents.\n"
+    "achieved error and triangle count (raster; ray: subdivision surfaces and\n"
+    "displaced objects), normals, UVs, tangents. On a terminal, progress (percent\n"
+    "and ETA) goes to standard error while rays are traced; --quiet silences it.\n"
     "Objects that no ray can reach and the camera cannot see are not built.\n",
     "  geom-render data/scenes/spheres.json -o spheres.png\n"
     "  geom-render data/scenes/teapot.json --method raster -o teapot.png --json\n",
 };
+
+static void on_progress(void *user, double fraction)
+{
+    cli_progress_update(user, fraction);
+}
 
 enum { OPT_AOV = CLI_OPT_TOOL_BASE, OPT_PIXEL_ERROR, OPT_TOL, OPT_NO_SHADOWS };
 
@@ -112,7 +119,7 @@ static void aov_to_display(geom_image *img, geom_aov aov)
 static geom_status object_colors(geom_image *img)
 {
     geom_image c = {0};
-    geom_status st = geom_image_init(&c, img->width, img->height, 3, NULL);
+    geom_status st = geom_scene_image_init(&c, img->width, img->height, 3, NULL);
     if (st != GEOM_OK)
         return st;
     for (size_t i = 0; i < (size_t)img->width * img->height; i++) {
@@ -124,7 +131,7 @@ static geom_status object_colors(geom_image *img)
         c.data[3 * i + 1] = 0.25 + 0.75 * ((h >> 16) & 255) / 255.0;
         c.data[3 * i + 2] = 0.25 + 0.75 * ((h >> 24) & 255) / 255.0;
     }
-    geom_image_free(img, NULL);
+    geom_scene_image_free(img, NULL);
     *img = c;
     return GEOM_OK;
 }
@@ -297,9 +304,17 @@ int main(int argc, char **argv)
         srj_file_free(&f);
         return cli_error(&tool, "out of memory");
     }
+    /* percent and ETA on a terminal's stderr while rays are traced */
+    cli_progress prog;
+    cli_progress_start(&prog, &tool, "rendering", common.quiet);
+    if (o.r.method == GEOM_RENDER_RAY) {
+        o.r.progress = on_progress;
+        o.r.progress_user = &prog;
+    }
     st = geom_scene_render(&f.render.camera, f.render.lights, f.render.n_lights, f.render.materials,
                            f.render.n_materials, f.objects, f.n_objects, &o.r, &img, &rep, orep,
                            &diag);
+    cli_progress_done(&prog);
     if (st != GEOM_OK) {
         if (!diag.message[0])
             snprintf(diag.message, sizeof diag.message, "rendering failed: %s", geom_status_str(st));
@@ -328,7 +343,7 @@ int main(int argc, char **argv)
             report_text(stdout, &f, &o.r, &rep, orep, t_parse, t_write);
         rc = CLI_EXIT_OK;
     }
-    geom_image_free(&img, NULL);
+    geom_scene_image_free(&img, NULL);
     free(orep);
     srj_file_free(&f);
     return rc;

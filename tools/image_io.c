@@ -148,7 +148,7 @@ static geom_status read_pfm(const char *path, const unsigned char *d, size_t n, 
     size_t need = (size_t)w * h * ch;
     if (need / ch / w != h || n - (size_t)used < need * 4)
         return cli_diag_set(diag, GEOM_ERR_PARSE, path, 0, 0, "PFM data too short");
-    geom_status st = geom_image_init(out, w, h, ch, NULL);
+    geom_status st = geom_scene_image_init(out, w, h, ch, NULL);
     if (st != GEOM_OK)
         return cli_diag_set(diag, st, path, 0, 0, "cannot allocate the image");
     const unsigned char *p = d + used;
@@ -211,7 +211,7 @@ geom_status image_read_file(const char *path, int srgb, geom_image *out, geom_di
                           "PNG: %s", spng_strerror(err));
     } else {
         uint32_t ch = grey ? 1 : (alpha ? 4 : 3);
-        st = geom_image_init(out, ih.width, ih.height, ch, NULL);
+        st = geom_scene_image_init(out, ih.width, ih.height, ch, NULL);
         if (st == GEOM_OK) {
             size_t np = (size_t)ih.width * ih.height;
             for (size_t k = 0; k < np; k++)

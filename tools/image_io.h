@@ -38,7 +38,7 @@ geom_status image_write_file(const char *path, const geom_image *img, int srgb, 
  * for grey PNG/"Pf", 3 for colour, 4 when the PNG has alpha; alpha stays
  * linear). PNG values are mapped to [0,1] and decoded from sRGB to linear
  * when `srgb` is nonzero (colour textures), left as they are otherwise
- * (height and normal maps). Free with geom_image_free(out, NULL).
+ * (height and normal maps). Free with geom_scene_image_free(out, NULL).
  * GEOM_ERR_IO (cannot open), GEOM_ERR_PARSE (malformed: diag names the file),
  * GEOM_ERR_NOMEM.
  */

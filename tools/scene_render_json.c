@@ -135,7 +135,7 @@ static geom_status parse_camera(const cJSON *c, const char *src, geom_camera *ca
             return st;
     }
     geom_ray r;
-    st = geom_camera_ray(cam, 0.5, 0.5, &r);
+    st = geom_scene_camera_ray(cam, 0.5, 0.5, &r);
     if (st != GEOM_OK)
         return fail(src, d, w, st == GEOM_ERR_DEGENERATE
                                    ? "eye equals center, or up is parallel to the view direction"
@@ -236,8 +236,8 @@ static geom_status get_texture(const cJSON *o, const char *key, geom_wrap wrap, 
         return st;
     }
     geom_texture *t = NULL;
-    st = geom_texture_create(&img, wrap, NULL, &t);
-    geom_image_free(&img, NULL);
+    st = geom_scene_texture_create(&img, wrap, NULL, &t);
+    geom_scene_image_free(&img, NULL);
     if (st != GEOM_OK) {
         cli_diag_set(d, st, src, 0, 0, "%s: %s: %s", w, path, geom_status_str(st));
         free(path);
@@ -253,7 +253,7 @@ static geom_status get_texture(const cJSON *o, const char *key, geom_wrap wrap, 
     if (!nt || !np || !full) {
         free(full);
         free(path);
-        geom_texture_destroy(t);
+        geom_scene_texture_destroy(t);
         return cli_diag_set(d, GEOM_ERR_NOMEM, src, 0, 0, "out of memory");
     }
     strcpy(full, path);
@@ -273,7 +273,7 @@ static geom_status parse_material(const cJSON *e, const char *name, const char *
     snprintf(w, sizeof w, "materials.%s", name);
     if (!cJSON_IsObject(e))
         return fail(src, d, w, "expected an object");
-    *m = geom_material_default();
+    *m = geom_scene_material_default();
     geom_status st;
     if ((st = get_vec3(e, "ka", 1, &m->ka, src, w, d)) || (st = get_vec3(e, "kd", 1, &m->kd, src, w, d)) ||
         (st = get_vec3(e, "ks", 1, &m->ks, src, w, d)) ||
@@ -317,7 +317,7 @@ static geom_status parse_materials(const cJSON *ms, const char *src, srj_scene *
     s->material_names = calloc(n + 1, sizeof(char *));
     if (!s->materials || !s->material_names)
         return cli_diag_set(d, GEOM_ERR_NOMEM, src, 0, 0, "out of memory");
-    s->materials[0] = geom_material_default();
+    s->materials[0] = geom_scene_material_default();
     s->material_names[0] = strdup("");
     s->n_materials = 1;
     if (!s->material_names[0])
@@ -383,7 +383,7 @@ void srj_free(srj_scene *s)
         free(s->material_names[i]);
     free(s->material_names);
     for (size_t i = 0; i < s->n_textures; i++) {
-        geom_texture_destroy(s->textures[i]);
+        geom_scene_texture_destroy(s->textures[i]);
         free(s->texture_paths[i]);
     }
     free(s->textures);

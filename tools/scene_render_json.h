@@ -21,7 +21,7 @@
  *              "shading": "flat" | "gouraud" | "phong",
  *              "style": "cool-to-warm", "line_width", "crease_degrees"}}
  *   "background": c
- * Unset material keys take geom_material_default()'s values. Image paths are
+ * Unset material keys take geom_scene_material_default()'s values. Image paths are
  * relative to the scene file; colour textures are decoded from sRGB, height
  * and normal maps are read as stored. Errors name the key
  * ("materials.glass.ior: expected a number").

@@ -6,7 +6,9 @@
  * lights and Phong materials written as a .pov file, shadows and mirror
  * reflection on. For each scene and each antialiasing setting (none; 4 rays
  * a pixel: our regular 2x2 grid, POV-Ray's +A0.0 +AM1 +R2) it prints our
- * time, POV-Ray's whole-process time, their ratio, each image's RMS error
+ * time, POV-Ray's whole-process time, their ratio, the same for CPU seconds
+ * (user + system: ours of this process during the call, POV-Ray's of the
+ * child; on a loaded machine the CPU ratio is the fair one), each image's RMS error
  * against its own renderer's 64-ray reference (ours: 8x8 jittered,
  * POV-Ray: +A0.0 +AM1 +R8) and the mean absolute difference between the two
  * renderers' pictures (linear [0,1] values; the lighting models are the same
@@ -14,7 +16,8 @@
  * Then our error against time for 1, 4, 16 and 64 samples (regular,
  * jittered, adaptive).
  *
- * Usage: bench_render [OUTDIR]   (default /tmp/bench_render)
+ * Usage: bench_render [OUTDIR [SCENE]]   (default /tmp/bench_render; SCENE: only the
+ * scene of that name, e.g. csg, and no error-vs-time sweep)
  */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
@@ -22,6 +25,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <sys/resource.h>
 
 #include "geom/meshio.h"
 #include "geom/scene.h"
@@ -35,6 +39,22 @@ static double now(void)
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* CPU seconds (user + system) of this process, or of its waited-for children. */
+static double cpu_self(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static double cpu_children(void)
+{
+    struct rusage ru;
+    getrusage(RUSAGE_CHILDREN, &ru);
+    return (double)ru.ru_utime.tv_sec + 1e-6 * (double)ru.ru_utime.tv_usec +
+           (double)ru.ru_stime.tv_sec + 1e-6 * (double)ru.ru_stime.tv_usec;
 }
 
 typedef struct bscene {
@@ -151,7 +171,8 @@ static double *read_ppm(const char *path)
     return d;
 }
 
-static double pov_render(const char *dir, const bscene *s, const char *aa, double **img)
+static double pov_render(const char *dir, const bscene *s, const char *aa, double **img,
+                         double *cpu)
 {
     char pov[512], out[512], cmd[2048];
     snprintf(pov, sizeof pov, "%s/%s.pov", dir, s->name);
@@ -161,14 +182,17 @@ static double pov_render(const char *dir, const bscene *s, const char *aa, doubl
              "povray +WT1 -D -V -GA +I'%s' +O'%s' +FP8 File_Gamma=1.0 +W%d +H%d %s "
              "> /dev/null 2>&1",
              pov, out, W, H, aa);
-    double t0 = now();
+    double t0 = now(), c0 = cpu_children();
     int rc = system(cmd);
     double t = now() - t0;
+    if (cpu)
+        *cpu = cpu_children() - c0;
     *img = rc == 0 ? read_ppm(out) : NULL;
     return rc == 0 ? t : -1;
 }
 
-static double ours(const bscene *s, uint32_t samples, geom_sampling smp, geom_image *out)
+static double ours(const bscene *s, uint32_t samples, geom_sampling smp, geom_image *out,
+                   double *cpu)
 {
     geom_camera c = cam;
     c.samples = samples;
@@ -180,10 +204,12 @@ static double ours(const bscene *s, uint32_t samples, geom_sampling smp, geom_im
     }
     geom_render_options ro;
     memset(&ro, 0, sizeof ro);
-    double t0 = now();
+    double t0 = now(), c0 = cpu_self();
     geom_status st = geom_scene_render(&c, lights, 2, s->mats, 4, s->objects, s->n, &ro, out, NULL,
                                        NULL, NULL);
     double t = now() - t0;
+    if (cpu)
+        *cpu = cpu_self() - c0;
     return st == GEOM_OK ? t : -1;
 }
 
@@ -348,39 +374,48 @@ int main(int argc, char **argv)
     sc[2].objects[1].material = 1;
     sc[0].n = 4;
 
-    printf("%-8s %-10s %10s %10s %7s %10s %10s %10s\n", "scene", "AA", "ours s", "povray s",
-           "ratio", "our err", "pov err", "ours-pov");
+    printf("%-8s %-10s %8s %8s %7s %8s %8s %7s %8s %8s %8s\n", "scene", "AA", "ours s", "pov s",
+           "ratio", "ours cpu", "pov cpu", "cpu rat", "our err", "pov err", "ours-pov");
     const char *aa_pov[2] = {"-A", "+A0.0 +AM1 +R2"};
     uint32_t aa_ours[2] = {1, 4};
+    const char *only = argc > 2 ? argv[2] : NULL;
     for (int k = 0; k < 5; k++) {
-        if (!sc[k].name)
+        if (!sc[k].name || (only && strcmp(only, sc[k].name)))
             continue;
         geom_image ref = {0};
         double *pref = NULL;
-        ours(&sc[k], 64, GEOM_SAMPLING_JITTERED, &ref);
-        pov_render(dir, &sc[k], "+A0.0 +AM1 +R8", &pref);
+        ours(&sc[k], 64, GEOM_SAMPLING_JITTERED, &ref, NULL);
+        pov_render(dir, &sc[k], "+A0.0 +AM1 +R8", &pref, NULL);
         for (int a = 0; a < 2; a++) {
             geom_image img = {0};
             double *pimg = NULL;
-            double to = ours(&sc[k], aa_ours[a], GEOM_SAMPLING_REGULAR, &img);
-            double tp = pov_render(dir, &sc[k], aa_pov[a], &pimg);
-            printf("%-8s %-10s %10.3f %10.3f %7.2f %10.4f %10.4f %10.4f\n", sc[k].name,
-                   a ? "4 rays/px" : "none", to, tp, tp > 0 ? to / tp : NAN,
+            double co = 0, cp = 0;
+            double to = ours(&sc[k], aa_ours[a], GEOM_SAMPLING_REGULAR, &img, &co);
+            double tp = pov_render(dir, &sc[k], aa_pov[a], &pimg, &cp);
+            printf("%-8s %-10s %8.3f %8.3f %7.2f %8.3f %8.3f %7.2f %8.4f %8.4f %8.4f\n", sc[k].name,
+                   a ? "4 rays/px" : "none", to, tp, tp > 0 ? to / tp : NAN, co, cp,
+                   cp > 0 ? co / cp : NAN,
                    ref.data && img.data ? rms(img.data, ref.data) : NAN,
                    pref && pimg ? rms(pimg, pref) : NAN,
                    pimg && img.data ? mad(img.data, pimg) : NAN);
             fflush(stdout);
-            geom_image_free(&img, NULL);
+            geom_scene_image_free(&img, NULL);
             free(pimg);
         }
-        geom_image_free(&ref, NULL);
+        geom_scene_image_free(&ref, NULL);
         free(pref);
     }
     /* error against time (ours) on the spheres */
+    if (only) {
+        free(mesh2);
+        geom_mesh_destroy(bunny);
+        return 0;
+    }
     printf("\nerror vs time, spheres, ours (RMS against 8x8 jittered)\n");
-    printf("%-10s %8s %10s %10s %12s\n", "sampling", "samples", "seconds", "rms err", "est. err max");
+    printf("%-10s %8s %10s %10s %10s %12s\n", "sampling", "samples", "seconds", "cpu s", "rms err",
+           "est. err max");
     geom_image ref = {0};
-    ours(&sc[0], 64, GEOM_SAMPLING_JITTERED, &ref);
+    ours(&sc[0], 64, GEOM_SAMPLING_JITTERED, &ref, NULL);
     const char *names[3] = {"regular", "jittered", "adaptive"};
     for (int m = 0; m < 3; m++)
         for (uint32_t n = 1; n <= 64; n *= 4) {
@@ -396,15 +431,16 @@ int main(int argc, char **argv)
             memset(&ro, 0, sizeof ro);
             geom_render_report rep;
             geom_image img = {0};
-            double t0 = now();
+            double t0 = now(), c0 = cpu_self();
             geom_scene_render(&c, lights, 2, sc[0].mats, 4, sc[0].objects, sc[0].n, &ro, &img, &rep,
                               NULL, NULL);
-            double t = now() - t0;
-            printf("%-10s %8.2f %10.3f %10.5f %12.5f\n", names[m], rep.trace.mean_samples_per_pixel,
-                   t, rms(img.data, ref.data), rep.trace.image_error.max_error);
-            geom_image_free(&img, NULL);
+            double t = now() - t0, ct = cpu_self() - c0;
+            printf("%-10s %8.2f %10.3f %10.3f %10.5f %12.5f\n", names[m],
+                   rep.trace.mean_samples_per_pixel, t, ct, rms(img.data, ref.data),
+                   rep.trace.image_error.max_error);
+            geom_scene_image_free(&img, NULL);
         }
-    geom_image_free(&ref, NULL);
+    geom_scene_image_free(&ref, NULL);
     geom_mesh_destroy(bunny);
     free(mesh2);
     return 0;

@@ -62,12 +62,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         CHECK(d.message[0] != 0);
     } else {
         if (s.has_camera) {
-            geom_camera c = geom_camera_resolved(&s.camera);
+            geom_camera c = geom_scene_camera_resolved(&s.camera);
             double xs[2] = {0, c.width}, ys[2] = {0, c.height};
             for (int i = 0; i < 2; i++)
                 for (int j = 0; j < 2; j++) {
                     geom_ray r;
-                    CHECK(geom_camera_ray(&s.camera, xs[i], ys[j], &r) == GEOM_OK);
+                    CHECK(geom_scene_camera_ray(&s.camera, xs[i], ys[j], &r) == GEOM_OK);
                     CHECK(finite3(r.origin) && finite3(r.dir));
                 }
         }

@@ -4,7 +4,7 @@
 # output is a valid 8-bit sRGB PNG; AOVs; the report says what was built
 # (an object behind the camera is not built, analytic shapes are never
 # tessellated for ray, no refraction rays without glass); bad input fails
-# with a message naming the file and the key.
+# with a message naming the file and the key; progress only on a terminal.
 set -euo pipefail
 tool=$1
 data=$2
@@ -94,6 +94,25 @@ for aov in depth normal object; do
 done
 head -c 2 "$tmp/a_depth.pfm" | grep -q "Pf" || fail "depth AOV is not a 1-channel PFM"
 head -c 2 "$tmp/a_normal.pfm" | grep -q "PF" || fail "normal AOV is not a 3-channel PFM"
+
+# progress: nothing on stderr when it is not a terminal; on a terminal
+# (script(1) gives one) percent and ETA for a run longer than half a second,
+# and nothing with --quiet
+"$tool" "$data/scenes/spheres.json" -o "$tmp/p.png" > /dev/null 2> "$tmp/err"
+[ ! -s "$tmp/err" ] || fail "progress printed to a non-terminal: $(cat "$tmp/err")"
+if command -v script > /dev/null; then
+  big="$tmp/big.json"
+  $py - "$data/scenes/spheres.json" "$big" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))
+s["camera"]["width"], s["camera"]["height"], s["camera"]["samples"] = 400, 300, 9
+json.dump(s, open(sys.argv[2], "w"))
+PY
+  script -qec "'$tool' '$big' -o '$tmp/p.png' > /dev/null" /dev/null > "$tmp/tty" 2>&1 || fail "render under a terminal failed"
+  grep -q "rendering.*%.*ETA" "$tmp/tty" || fail "no progress on a terminal: $(head -c 300 "$tmp/tty")"
+  script -qec "'$tool' '$big' -o '$tmp/p.png' --quiet > /dev/null" /dev/null > "$tmp/tty" 2>&1 || fail "quiet render failed"
+  ! grep -q "%" "$tmp/tty" || fail "--quiet still shows progress"
+fi
 
 # bad input
 echo '{"camera": {"eye": [0,0,1], "center": [0,0,1]}, "objects": []}' > "$tmp/bad1.json"

@@ -110,14 +110,14 @@ static void test_textured_quad_perspective(void **state)
 {
     (void)state;
     geom_image img = {0};
-    assert_int_equal(geom_image_init(&img, 64, 64, 3, NULL), GEOM_OK);
+    assert_int_equal(geom_scene_image_init(&img, 64, 64, 3, NULL), GEOM_OK);
     for (uint32_t y = 0; y < 64; y++)
         for (uint32_t x = 0; x < 64; x++)
             for (uint32_t c = 0; c < 3; c++)
                 img.data[(y * 64 + x) * 3 + c] = uv_of(x, y, c);
     geom_texture *tex;
-    assert_int_equal(geom_texture_create(&img, GEOM_WRAP_CLAMP, NULL, &tex), GEOM_OK);
-    geom_image_free(&img, NULL);
+    assert_int_equal(geom_scene_texture_create(&img, GEOM_WRAP_CLAMP, NULL, &tex), GEOM_OK);
+    geom_scene_image_free(&img, NULL);
     geom_mesh *q = quad(1, 0, 1);
     geom_material mat = {0};
     mat.ka = geom_vec3_make(1, 1, 1);
@@ -143,7 +143,7 @@ static void test_textured_quad_perspective(void **state)
     for (uint32_t j = 0; j < cam.height; j++)
         for (uint32_t i = 0; i < cam.width; i++) {
             geom_ray r;
-            assert_int_equal(geom_camera_ray(&cam, i + 0.5, j + 0.5, &r), GEOM_OK);
+            assert_int_equal(geom_scene_camera_ray(&cam, i + 0.5, j + 0.5, &r), GEOM_OK);
             const double *px = out.data + ((size_t)j * cam.width + i) * 3;
             if (!(r.dir.z < 0)) {
                 assert_close(px[0], 0, 0);
@@ -164,7 +164,7 @@ static void test_textured_quad_perspective(void **state)
     assert_true(checked > 5000);
     if (maxerr > 2e-4)
         fail_msg("perspective-correct mapping off by %g", maxerr);
-    geom_image_free(&out, NULL);
+    geom_scene_image_free(&out, NULL);
     /* object AOV */
     geom_raster_options o = {0};
     o.aov = GEOM_AOV_OBJECT;
@@ -172,9 +172,9 @@ static void test_textured_quad_perspective(void **state)
     assert_int_equal(out.channels, 1);
     assert_close(out.data[(size_t)60 * 160 + 80], 7, 0);
     assert_close(out.data[0], -1, 0);
-    geom_image_free(&out, NULL);
+    geom_scene_image_free(&out, NULL);
     geom_mesh_destroy(q);
-    geom_texture_destroy(tex);
+    geom_scene_texture_destroy(tex);
 }
 
 static void test_ortho_lambert_clipped(void **state)
@@ -210,7 +210,7 @@ static void test_ortho_lambert_clipped(void **state)
             assert_close(out.data[3 * k], 0.25 * 0.8, 1e-12);
             assert_close(out.data[3 * k + 2], 0.75 * 0.8, 1e-12);
         }
-        geom_image_free(&out, NULL);
+        geom_scene_image_free(&out, NULL);
     }
     geom_mesh_destroy(q);
 }
@@ -219,7 +219,7 @@ static void test_depth_through_near_plane(void **state)
 {
     (void)state;
     geom_mesh *q = quad(50, 0, 0); /* ground plane, extends behind the eye */
-    geom_material mat = geom_material_default();
+    geom_material mat = geom_scene_material_default();
     geom_camera cam = {0};
     cam.eye = geom_vec3_make(0, 0, 1);
     cam.center = geom_vec3_make(0, 10, 0.2);
@@ -239,7 +239,7 @@ static void test_depth_through_near_plane(void **state)
     for (uint32_t j = 0; j < cam.height; j++)
         for (uint32_t i = 0; i < cam.width; i++) {
             geom_ray r;
-            geom_camera_ray(&cam, i + 0.5, j + 0.5, &r);
+            geom_scene_camera_ray(&cam, i + 0.5, j + 0.5, &r);
             double z = out.data[(size_t)j * cam.width + i];
             double t = r.dir.z < 0 ? -r.origin.z / r.dir.z : INFINITY;
             geom_vec3 p = geom_vec3_add(r.origin, geom_vec3_scale(r.dir, t));
@@ -254,7 +254,7 @@ static void test_depth_through_near_plane(void **state)
             for (int di = -1; di <= 1; di++)
                 for (int dj = -1; dj <= 1; dj++) {
                     geom_ray r2;
-                    geom_camera_ray(&cam, i + 0.5 + di / 256.0, j + 0.5 + dj / 256.0, &r2);
+                    geom_scene_camera_ray(&cam, i + 0.5 + di / 256.0, j + 0.5 + dj / 256.0, &r2);
                     double t2 = -r2.origin.z / r2.dir.z, e = t2 * geom_vec3_dot(r2.dir, f);
                     if (!(t2 > 0))
                         e = INFINITY;
@@ -266,7 +266,7 @@ static void test_depth_through_near_plane(void **state)
             hits++;
         }
     assert_true(hits > 3000);
-    geom_image_free(&out, NULL);
+    geom_scene_image_free(&out, NULL);
     geom_mesh_destroy(q);
 }
 
@@ -289,7 +289,7 @@ static void test_shadow_of_sphere(void **state)
     double r = 0.5;
     geom_mesh *ground = quad(4, 0, 0);
     geom_mesh *ball = sphere(c, r, 128, 64);
-    geom_material mat = geom_material_default();
+    geom_material mat = geom_scene_material_default();
     mat.ka = geom_vec3_make(0, 0, 0);
     geom_light L = {0};
     L.kind = GEOM_LIGHT_POINT;
@@ -319,7 +319,7 @@ static void test_shadow_of_sphere(void **state)
             if (obj.data[k] != 0)
                 continue;
             geom_ray ry;
-            geom_camera_ray(&cam, i + 0.5, j + 0.5, &ry);
+            geom_scene_camera_ray(&cam, i + 0.5, j + 0.5, &ry);
             double t = -ry.origin.z / ry.dir.z;
             geom_vec3 q = geom_vec3_add(ry.origin, geom_vec3_scale(ry.dir, t));
             /* classify robustly: the same answer for radius +-3% */
@@ -337,8 +337,8 @@ static void test_shadow_of_sphere(void **state)
         }
     assert_true(in_shadow > 300);
     assert_true(lit > 5000);
-    geom_image_free(&out, NULL);
-    geom_image_free(&obj, NULL);
+    geom_scene_image_free(&out, NULL);
+    geom_scene_image_free(&obj, NULL);
     geom_mesh_destroy(ground);
     geom_mesh_destroy(ball);
 }
@@ -347,7 +347,7 @@ static void test_bad_input(void **state)
 {
     (void)state;
     geom_mesh *q = quad(1, 0, 0);
-    geom_material mat = geom_material_default();
+    geom_material mat = geom_scene_material_default();
     geom_camera cam = {0};
     cam.eye = geom_vec3_make(0, 0, 3);
     geom_scene_draw d = {q, NULL, 1, 0};
@@ -364,8 +364,8 @@ static void test_bad_input(void **state)
     cam.center = geom_vec3_make(0, 0, 0);
     assert_int_equal(geom_scene_raster(&cam, NULL, 0, &mat, 1, NULL, 0, NULL, &out, NULL), GEOM_OK);
     assert_close(out.data[5], 0, 0);
-    geom_image_free(&out, NULL);
-    geom_image_free(NULL, NULL);
+    geom_scene_image_free(&out, NULL);
+    geom_scene_image_free(NULL, NULL);
     geom_mesh_destroy(q);
 }
 

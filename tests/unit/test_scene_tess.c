@@ -222,12 +222,12 @@ static void test_displace(void **state)
     geom_mesh *m = geom_mesh_create(NULL);
     assert_int_equal(geom_scene_tessellate(&s, &rq, m, NULL, NULL), GEOM_OK);
     geom_image img = {0};
-    assert_int_equal(geom_image_init(&img, 2, 2, 1, NULL), GEOM_OK);
+    assert_int_equal(geom_scene_image_init(&img, 2, 2, 1, NULL), GEOM_OK);
     for (int i = 0; i < 4; i++)
         img.data[i] = 0.25;
     geom_texture *t;
-    assert_int_equal(geom_texture_create(&img, GEOM_WRAP_REPEAT, NULL, &t), GEOM_OK);
-    geom_image_free(&img, NULL);
+    assert_int_equal(geom_scene_texture_create(&img, GEOM_WRAP_REPEAT, NULL, &t), GEOM_OK);
+    geom_scene_image_free(&img, NULL);
     assert_int_equal(geom_scene_displace(m, t, 2), GEOM_OK);
     /* every vertex moved by 0.5 along a normal within ~tol of radial */
     const double *p = geom_mesh_cpositions(m);
@@ -243,7 +243,7 @@ static void test_displace(void **state)
     assert_int_equal(geom_scene_displace(q, t, 1), GEOM_ERR_INVALID_ARG);
     geom_mesh_destroy(q);
     geom_mesh_destroy(m);
-    geom_texture_destroy(t);
+    geom_scene_texture_destroy(t);
 }
 
 int main(void)

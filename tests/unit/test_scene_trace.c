@@ -87,7 +87,7 @@ static void test_lambert_sphere(void **state)
     for (uint32_t j = 0; j < 101; j++)
         for (uint32_t i = 0; i < 101; i++) {
             geom_ray r;
-            geom_camera_ray(&cam, i + 0.5, j + 0.5, &r);
+            geom_scene_camera_ray(&cam, i + 0.5, j + 0.5, &r);
             double rr = r.origin.x * r.origin.x + r.origin.y * r.origin.y;
             const double *px = img.data + 3 * ((size_t)j * 101 + i);
             if (rr > 1.0 - 0.05)
@@ -100,7 +100,7 @@ static void test_lambert_sphere(void **state)
     assert_true(interior > 6000);
     if (maxerr > 1e-9)
         fail_msg("Lambert sphere off by %g", maxerr);
-    geom_image_free(&img, NULL);
+    geom_scene_image_free(&img, NULL);
 }
 
 /* Does the segment q -> light meet the sphere (c, r)? */
@@ -125,7 +125,7 @@ static void test_shadow_ellipse(void **state)
     double r = 0.6;
     geom_shape sh[2] = {plane_shape(0), sphere_shape(c.x, c.y, c.z, r)};
     geom_scene_object o[2] = {{&sh[0], 0}, {&sh[1], 0}};
-    geom_material m = geom_material_default();
+    geom_material m = geom_scene_material_default();
     m.ka = geom_vec3_make(0.1, 0.1, 0.1);
     geom_light L[2];
     memset(L, 0, sizeof L);
@@ -153,7 +153,7 @@ static void test_shadow_ellipse(void **state)
         for (uint32_t i = 0; i < cam.width; i++) {
             size_t k = (size_t)j * cam.width + i;
             geom_ray ry;
-            geom_camera_ray(&cam, i + 0.5, j + 0.5, &ry);
+            geom_scene_camera_ray(&cam, i + 0.5, j + 0.5, &ry);
             if (obj.data[k] != 0) {
                 assert_true(obj.data[k] == 1 || ry.dir.z >= 0);
                 continue;
@@ -177,8 +177,8 @@ static void test_shadow_ellipse(void **state)
         }
     assert_true(shadow > 500);
     assert_true(lit > 5000);
-    geom_image_free(&img, NULL);
-    geom_image_free(&obj, NULL);
+    geom_scene_image_free(&img, NULL);
+    geom_scene_image_free(&obj, NULL);
 }
 
 static void test_blinn_highlight(void **state)
@@ -208,12 +208,12 @@ static void test_blinn_highlight(void **state)
     geom_vec3 h;
     geom_vec3_normalize(geom_vec3_add(l, geom_vec3_make(0, 0, 1)), &h);
     double q[3];
-    assert_int_equal(geom_camera_project(&cam, h, q), GEOM_OK);
+    assert_int_equal(geom_scene_camera_project(&cam, h, q), GEOM_OK);
     double bi = (double)(best % 201) + 0.5, bj = (double)(best / 201) + 0.5;
     if (fabs(bi - q[0]) > 1 || fabs(bj - q[1]) > 1)
         fail_msg("highlight at %g %g, expected %g %g", bi, bj, q[0], q[1]);
     assert_true(img.data[3 * best] > 0.98); /* (n.h)^200 within a pixel of the peak */
-    geom_image_free(&img, NULL);
+    geom_scene_image_free(&img, NULL);
 }
 
 static void test_glass_slab_shift(void **state)
@@ -269,7 +269,7 @@ static void test_glass_slab_shift(void **state)
         size_t checked = 0;
         for (uint32_t i = 0; i < cam.width; i++) {
             geom_ray r;
-            geom_camera_ray(&cam, i + 0.5, 10.5, &r);
+            geom_scene_camera_ray(&cam, i + 0.5, 10.5, &r);
             double t = (-1 - r.origin.z) / r.dir.z;
             double x = r.origin.x + t * r.dir.x;
             if (with_slab)
@@ -282,7 +282,7 @@ static void test_glass_slab_shift(void **state)
             checked++;
         }
         assert_true(checked > 190);
-        geom_image_free(&img, NULL);
+        geom_scene_image_free(&img, NULL);
     }
 }
 
@@ -329,7 +329,7 @@ static void test_total_internal_reflection(void **state)
             assert_int_equal(rep.trace.total_internal_reflections, 0);
             assert_int_equal(rep.trace.refraction_rays, 64);
         }
-        geom_image_free(&img, NULL);
+        geom_scene_image_free(&img, NULL);
     }
 }
 
@@ -358,7 +358,7 @@ static void test_only_what_is_needed(void **state)
     geom_mat4 up = geom_mat4_translate(geom_vec3_make(0, 6, 3));
     mc.transform = &up;
     geom_scene_object o[3] = {{&s, 0}, {&mb, 0}, {&mc, 0}};
-    geom_material m[2] = {geom_material_default(), geom_material_default()};
+    geom_material m[2] = {geom_scene_material_default(), geom_scene_material_default()};
     m[1].reflect = 0.5;
     geom_light L;
     memset(&L, 0, sizeof L);
@@ -380,7 +380,7 @@ static void test_only_what_is_needed(void **state)
         ro.method = (geom_render_method)method;
         assert_int_equal(geom_scene_render(&cam, &L, 1, m, 2, o, 3, &ro, &img, &rep, orep, NULL),
                          GEOM_OK);
-        geom_image_free(&img, NULL);
+        geom_scene_image_free(&img, NULL);
         assert_true(orep[0].visible && orep[0].needed);
         assert_true(!orep[1].visible && !orep[1].needed);
         assert_true(!orep[2].visible && orep[2].needed);
@@ -403,7 +403,7 @@ static void test_only_what_is_needed(void **state)
     /* a reflective sphere can see everything: all built */
     o[0].material = 1;
     assert_int_equal(geom_scene_render(&cam, &L, 1, m, 2, o, 3, NULL, &img, &rep, orep, NULL), GEOM_OK);
-    geom_image_free(&img, NULL);
+    geom_scene_image_free(&img, NULL);
     assert_int_equal(rep.objects_needed, 3);
     assert_true(rep.trace.reflection_rays > 0);
     assert_int_equal(rep.ray_build.meshes, 2);
@@ -416,7 +416,7 @@ static void test_ray_vs_raster(void **state)
     (void)state;
     geom_shape sh[3] = {plane_shape(0), sphere_shape(0, 0, 1, 1), sphere_shape(1.8, 0.8, 0.5, 0.5)};
     geom_scene_object o[3] = {{&sh[0], 0}, {&sh[1], 1}, {&sh[2], 1}};
-    geom_material m[2] = {geom_material_default(), geom_material_default()};
+    geom_material m[2] = {geom_scene_material_default(), geom_scene_material_default()};
     m[1].kd = geom_vec3_make(0.8, 0.4, 0.2);
     geom_light L[2];
     memset(L, 0, sizeof L);
@@ -474,9 +474,9 @@ static void test_ray_vs_raster(void **state)
     double rel = diff / sum;
     if (rel > 0.01)
         fail_msg("ray and raster differ by %.3f%% (mean abs / mean)", 100 * rel);
-    geom_image_free(&a, NULL);
-    geom_image_free(&b, NULL);
-    geom_image_free(&ida, NULL);
+    geom_scene_image_free(&a, NULL);
+    geom_scene_image_free(&b, NULL);
+    geom_scene_image_free(&ida, NULL);
 }
 
 static void test_sampling(void **state)
@@ -484,7 +484,7 @@ static void test_sampling(void **state)
     (void)state;
     geom_shape s = sphere_shape(0, 0, 0, 1);
     geom_scene_object o = {&s, 0};
-    geom_material m = geom_material_default();
+    geom_material m = geom_scene_material_default();
     geom_light L;
     memset(&L, 0, sizeof L);
     L.kind = GEOM_LIGHT_DIRECTIONAL;
@@ -494,13 +494,13 @@ static void test_sampling(void **state)
     geom_render_report r1, r2, r3;
     geom_image img = {0};
     assert_int_equal(geom_scene_render(&cam, &L, 1, &m, 1, &o, 1, NULL, &img, &r1, NULL, NULL), GEOM_OK);
-    geom_image_free(&img, NULL);
+    geom_scene_image_free(&img, NULL);
     assert_int_equal(r1.trace.primary_rays, 1600);
     assert_int_equal(r1.trace.image_error.method, GEOM_ERROR_NONE);
     cam.samples = 9;
     cam.sampling = GEOM_SAMPLING_JITTERED;
     assert_int_equal(geom_scene_render(&cam, &L, 1, &m, 1, &o, 1, NULL, &img, &r2, NULL, NULL), GEOM_OK);
-    geom_image_free(&img, NULL);
+    geom_scene_image_free(&img, NULL);
     assert_int_equal(r2.trace.primary_rays, 9 * 1600);
     assert_int_equal(r2.trace.image_error.method, GEOM_ERROR_ESTIMATE);
     assert_true(r2.trace.image_error.max_error > 0);
@@ -509,7 +509,7 @@ static void test_sampling(void **state)
     cam.max_samples = 64;
     cam.tolerance = 0.01;
     assert_int_equal(geom_scene_render(&cam, &L, 1, &m, 1, &o, 1, NULL, &img, &r3, NULL, NULL), GEOM_OK);
-    geom_image_free(&img, NULL);
+    geom_scene_image_free(&img, NULL);
     /* flat pixels stop at 4, silhouette pixels go on */
     assert_true(r3.trace.primary_rays < 16 * 1600);
     assert_true(r3.trace.max_samples_per_pixel > 4);

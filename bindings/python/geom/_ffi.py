@@ -1023,12 +1023,12 @@ typedef struct geom_camera {
                                       error exceeds this; 0 = 1/512 */
     uint64_t seed;               /**< JITTERED/ADAPTIVE random stream; 0 = fixed default */
 } geom_camera;
-geom_camera geom_camera_resolved(const geom_camera *cam);
-geom_status geom_camera_ray(const geom_camera *cam, double x, double y, geom_ray *out);
-geom_status geom_camera_matrices(const geom_camera *cam, double near_z, double far_z,
+geom_camera geom_scene_camera_resolved(const geom_camera *cam);
+geom_status geom_scene_camera_ray(const geom_camera *cam, double x, double y, geom_ray *out);
+geom_status geom_scene_camera_matrices(const geom_camera *cam, double near_z, double far_z,
                                           geom_mat4 *view, geom_mat4 *proj);
-geom_status geom_camera_project(const geom_camera *cam, geom_vec3 p, double out[3]);
-double geom_camera_pixel_size(const geom_camera *cam, double depth);
+geom_status geom_scene_camera_project(const geom_camera *cam, geom_vec3 p, double out[3]);
+double geom_scene_camera_pixel_size(const geom_camera *cam, double depth);
 double geom_scene_pixel_tolerance(const geom_camera *cam, geom_aabb box,
                                            double pixel_error, int *visible);
 """,
@@ -1188,7 +1188,7 @@ MODULE_PROBES = {
     "iso": "geom_iso_extract",
     "implicit": "geom_implicit_expr_compile",
     "ray": "geom_ray_scene_create",
-    "scene": "geom_camera_ray",
+    "scene": "geom_scene_camera_ray",
 }
 
 

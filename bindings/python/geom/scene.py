@@ -24,7 +24,7 @@ def camera(eye, center, up=(0, 1, 0), fovy=45.0, width=320, height=240, orthogra
 def camera_ray(cam, x, y):
     """(origin, unit direction) of the primary ray through pixel point (x, y)."""
     r = ffi.new("geom_ray *")
-    check(lib.geom_camera_ray(cam, x, y, r))
+    check(lib.geom_scene_camera_ray(cam, x, y, r))
     return (np.array([r.origin.x, r.origin.y, r.origin.z]),
             np.array([r.dir.x, r.dir.y, r.dir.z]))
 
@@ -33,5 +33,5 @@ def project(cam, p):
     """Pixel coordinates (x, y) and view depth of world point p."""
     out = ffi.new("double[3]")
     v = ffi.new("geom_vec3 *", list(map(float, p)))
-    check(lib.geom_camera_project(cam, v[0], out))
+    check(lib.geom_scene_camera_project(cam, v[0], out))
     return np.array([out[0], out[1], out[2]])

@@ -43,11 +43,11 @@ typedef struct geom_image {
 /** Allocate img->data (zero-filled) for w x h x channels (all >= 1).
  *  GEOM_ERR_INVALID_ARG for a zero size or NULL, GEOM_ERR_LIMIT when the size
  *  overflows, GEOM_ERR_NOMEM. */
-GEOM_API geom_status geom_image_init(geom_image *img, uint32_t width, uint32_t height,
+GEOM_API geom_status geom_scene_image_init(geom_image *img, uint32_t width, uint32_t height,
                                      uint32_t channels, const geom_allocator *alloc);
-/** Free what geom_image_init allocated (with the same allocator) and zero the
+/** Free what geom_scene_image_init allocated (with the same allocator) and zero the
  *  struct. NULL or an empty image is a no-op. */
-GEOM_API void geom_image_free(geom_image *img, const geom_allocator *alloc);
+GEOM_API void geom_scene_image_free(geom_image *img, const geom_allocator *alloc);
 
 /* ---------------------------------------------------------------- textures */
 
@@ -67,15 +67,15 @@ typedef struct geom_texture geom_texture;
  * 1x1. GEOM_ERR_INVALID_ARG for NULL/empty input or non-finite texels,
  * GEOM_ERR_NOMEM.
  */
-GEOM_API geom_status geom_texture_create(const geom_image *img, geom_wrap wrap,
+GEOM_API geom_status geom_scene_texture_create(const geom_image *img, geom_wrap wrap,
                                          const geom_allocator *alloc, geom_texture **out);
 /** NULL is a no-op. */
-GEOM_API void geom_texture_destroy(geom_texture *t);
+GEOM_API void geom_scene_texture_destroy(geom_texture *t);
 /** Channels per texel (1..4) and the size of level 0. */
-GEOM_API uint32_t geom_texture_channels(const geom_texture *t);
-GEOM_API void geom_texture_size(const geom_texture *t, uint32_t *width, uint32_t *height);
+GEOM_API uint32_t geom_scene_texture_channels(const geom_texture *t);
+GEOM_API void geom_scene_texture_size(const geom_texture *t, uint32_t *width, uint32_t *height);
 /** Number of MIP levels (1 for a 1x1 texture). */
-GEOM_API uint32_t geom_texture_levels(const geom_texture *t);
+GEOM_API uint32_t geom_scene_texture_levels(const geom_texture *t);
 
 /**
  * Sample at (u, v) into out (channels doubles). footprint is the size in UV
@@ -85,7 +85,7 @@ GEOM_API uint32_t geom_texture_levels(const geom_texture *t);
  * bilinear in the two nearest levels, linearly blended. Non-finite (u, v)
  * give texel (0, 0) of level 0. Exact for bilinear data on level 0.
  */
-GEOM_API void geom_texture_sample(const geom_texture *t, double u, double v, double footprint,
+GEOM_API void geom_scene_texture_sample(const geom_texture *t, double u, double v, double footprint,
                                   double *out);
 
 /**
@@ -93,7 +93,7 @@ GEOM_API void geom_texture_sample(const geom_texture *t, double u, double v, dou
  * respect to u and v at (u, v) (the height-map slopes for bump mapping), in
  * channel units per UV unit.
  */
-GEOM_API void geom_texture_gradient(const geom_texture *t, double u, double v, double *dh_du,
+GEOM_API void geom_scene_texture_gradient(const geom_texture *t, double u, double v, double *dh_du,
                                     double *dh_dv);
 
 /* ------------------------------------------------------------------ camera */
@@ -124,7 +124,7 @@ typedef struct geom_camera {
 } geom_camera;
 
 /** The effective (defaulted) values of a camera. */
-GEOM_API geom_camera geom_camera_resolved(const geom_camera *cam);
+GEOM_API geom_camera geom_scene_camera_resolved(const geom_camera *cam);
 
 /**
  * The primary ray through the point (x, y) in pixel coordinates: origin at
@@ -133,14 +133,14 @@ GEOM_API geom_camera geom_camera_resolved(const geom_camera *cam);
  * up parallel to the view direction, GEOM_ERR_DOMAIN for a field of view
  * outside (0, 180) degrees or a non-positive orthographic height.
  */
-GEOM_API geom_status geom_camera_ray(const geom_camera *cam, double x, double y, geom_ray *out);
+GEOM_API geom_status geom_scene_camera_ray(const geom_camera *cam, double x, double y, geom_ray *out);
 
 /**
  * View and projection matrices (OpenGL convention) for the rasterizer and
  * shadow maps, with the given near and far distances (0 < near < far).
- * Either output may be NULL. Statuses as geom_camera_ray.
+ * Either output may be NULL. Statuses as geom_scene_camera_ray.
  */
-GEOM_API geom_status geom_camera_matrices(const geom_camera *cam, double near_z, double far_z,
+GEOM_API geom_status geom_scene_camera_matrices(const geom_camera *cam, double near_z, double far_z,
                                           geom_mat4 *view, geom_mat4 *proj);
 
 /**
@@ -148,7 +148,7 @@ GEOM_API geom_status geom_camera_matrices(const geom_camera *cam, double near_z,
  * along the view direction, positive in front). GEOM_ERR_DOMAIN when p is not
  * in front of a perspective camera. out: 3 doubles.
  */
-GEOM_API geom_status geom_camera_project(const geom_camera *cam, geom_vec3 p, double out[3]);
+GEOM_API geom_status geom_scene_camera_project(const geom_camera *cam, geom_vec3 p, double out[3]);
 
 /**
  * World-space size of one pixel at view depth `depth` (the pixel's footprint
@@ -156,12 +156,12 @@ GEOM_API geom_status geom_camera_project(const geom_camera *cam, geom_vec3 p, do
  * ortho_height/height for orthographic. Used to turn a pixel error into a
  * chordal tolerance.
  */
-GEOM_API double geom_camera_pixel_size(const geom_camera *cam, double depth);
+GEOM_API double geom_scene_camera_pixel_size(const geom_camera *cam, double depth);
 
 /**
  * Chordal tolerance (world units) that keeps the projected error of an
  * object with world bounding box `box` below `pixel_error` pixels where it
- * can be seen: pixel_error * geom_camera_pixel_size at the box's nearest
+ * can be seen: pixel_error * geom_scene_camera_pixel_size at the box's nearest
  * view depth (not closer than 1e-3 of the box's diagonal). *visible (may be
  * NULL) is 1 when the box meets the view frustum; a box outside it gets 8
  * times the tolerance (it can only cast shadows). 0 for an empty box, a
@@ -204,7 +204,7 @@ typedef enum geom_style {
 } geom_style;
 
 /**
- * A material. The zero material is black and matte; geom_material_default()
+ * A material. The zero material is black and matte; geom_scene_material_default()
  * gives the JSON defaults (kd 0.8, ka 0.1, ks 0, ns 32, ior 1).
  */
 typedef struct geom_material {
@@ -230,7 +230,7 @@ typedef struct geom_material {
 } geom_material;
 
 /** kd = (0.8,0.8,0.8), ka = (0.1,0.1,0.1), ks = 0, ns = 32, ior = 1, the rest 0. */
-GEOM_API geom_material geom_material_default(void);
+GEOM_API geom_material geom_scene_material_default(void);
 
 /** What the material needs from the geometry (OR of these flags): UVs for a
  *  texture, bump, normal or displacement map; tangents for a normal map or a
@@ -242,7 +242,7 @@ enum {
     GEOM_NEEDS_REFLECTION = 8,
     GEOM_NEEDS_REFRACTION = 16
 };
-GEOM_API unsigned geom_material_needs(const geom_material *m);
+GEOM_API unsigned geom_scene_material_needs(const geom_material *m);
 
 /* ---------------------------------------------------------------- shading */
 
@@ -264,16 +264,16 @@ typedef struct geom_shade_point {
  * The shading normal after bump mapping (Blinn 1978: N' = N + h_u (N x P_v)
  * - h_v (N x P_u), with the unit tangent T = sp->tangent standing for P_u,
  * the bitangent B = sign * N x T for P_v, and the height map's gradient
- * (geom_texture_gradient, channel 0) times bump_scale) or a tangent-space
+ * (geom_scene_texture_gradient, channel 0) times bump_scale) or a tangent-space
  * normal map (RGB in [0,1] mapped to [-1,1]: n = T*x + B*y + N*z); otherwise
  * sp->n. Needs
  * sp->has_uv and, for both maps, sp->has_tangent; without them sp->n is
  * returned unchanged. Flipped to face the viewer (n.v >= 0).
  */
-GEOM_API geom_vec3 geom_shade_normal(const geom_material *m, const geom_shade_point *sp);
+GEOM_API geom_vec3 geom_scene_shade_normal(const geom_material *m, const geom_shade_point *sp);
 
 /**
- * Local illumination at sp with normal n (from geom_shade_normal): the sum
+ * Local illumination at sp with normal n (from geom_scene_shade_normal): the sum
  * over lights of ambient ka*C, diffuse kd*C*max(0, n.l) and specular
  * ks*C*(n.h)^ns or (r.v)^ns (zero when n.l <= 0), each light's term scaled by
  * visibility[i] in [0,1] (NULL: all visible; ambient lights ignore it). kd
@@ -283,7 +283,7 @@ GEOM_API geom_vec3 geom_shade_normal(const geom_material *m, const geom_shade_po
  * for the first non-ambient light plus the specular term (Gooch et al. 1998,
  * eq. 2). out: RGB.
  */
-GEOM_API void geom_shade(const geom_material *m, const geom_light *lights, size_t n_lights,
+GEOM_API void geom_scene_shade(const geom_material *m, const geom_light *lights, size_t n_lights,
                          const double *visibility, const geom_shade_point *sp, geom_vec3 n,
                          geom_vec3 *out);
 
@@ -330,7 +330,7 @@ typedef struct geom_raster_report {
  * edge functions at the sample positions (top-left fill rule, so a shared
  * edge covers each sample once), attributes interpolated perspective-correctly
  * with geom_bary_perspective, then shaded once per visible sample with
- * geom_shade (flat, Gouraud or Phong as each material says). Textures are
+ * geom_scene_shade (flat, Gouraud or Phong as each material says). Textures are
  * MIP-mapped with the pixel's UV footprint. With opt->shadows, each point
  * light gets a cube shadow map and each directional light an orthographic one
  * over the scene's bounding box (Williams 1978), depth-biased by the map's
@@ -339,9 +339,9 @@ typedef struct geom_raster_report {
  * visibility buffer changes object or the normal turns by more than the
  * crease angle between neighbouring samples.
  * out receives a fresh image (3 channels for colour, 1 for depth/object, 3 for
- * normal) that the caller frees with geom_image_free(out, opt->alloc).
+ * normal) that the caller frees with geom_scene_image_free(out, opt->alloc).
  * Returns GEOM_ERR_INVALID_ARG for NULL arguments, a material index out of
- * range or non-finite positions, camera statuses as geom_camera_ray,
+ * range or non-finite positions, camera statuses as geom_scene_camera_ray,
  * GEOM_ERR_NOMEM.
  */
 GEOM_API geom_status geom_scene_raster(const geom_camera *cam, const geom_light *lights,
@@ -448,7 +448,8 @@ typedef struct geom_tess_info {
  * (4) where the method can make them (spheres, tori and surfaces through
  * the surface module's exact NURBS and geom_surface_tessellate, adaptive to
  * tol: "nurbs"; boxes, disks, polygons and planes exactly: "exact" /
- * "polygon"; meshes as they are: "mesh"; subdivision surfaces refined until
+ * "polygon"; meshes as they are, with their "uv", "normal" and "tangent"
+ * VERTEX and CORNER channels: "mesh"; subdivision surfaces refined until
  * the distance of the refined control points to the limit (measured at
  * every vertex) is below tol, then moved onto the limit: "subdiv";
  * implicit surfaces, volumes, quadrics and CSG by marching cubes of their
@@ -491,6 +492,10 @@ typedef struct geom_trace_options {
                                 traced; 0 = 1/256 */
     int no_shadows;        /**< nonzero: no shadow rays (every light visible) */
     const geom_allocator *alloc;
+    /** Called (when not NULL) after each image row with the fraction of the
+     *  rows done, in [0, 1]; for progress displays. */
+    void (*progress)(void *user, double fraction);
+    void *progress_user;
 } geom_trace_options;
 
 typedef struct geom_trace_report {
@@ -519,7 +524,12 @@ typedef struct geom_trace_report {
  * geom_ray_offset_origin. Texture coordinates are the hit's (u, v) (the
  * surface parameters or per-shape coordinates of the ray module; for meshes
  * barycentric, so textured meshes should go through geom_scene_render,
- * which interpolates their "uv" channel). Statuses as geom_scene_raster.
+ * which interpolates their "uv" channel). Shadows: a shadow ray that meets
+ * a surface whose material has transmit > 0 continues past it with its
+ * light scaled by transmit (one factor per surface crossed, so a closed
+ * glass object passes transmit^2; the ray is not refracted: no caustics,
+ * no colour); an opaque hit blocks the light. Without transmissive
+ * materials only "any hit" is asked. Statuses as geom_scene_raster.
  */
 GEOM_API geom_status geom_scene_trace(const geom_ray_scene *rs, const uint32_t *object_material,
                                       size_t n_objects, const geom_camera *cam,
@@ -562,6 +572,9 @@ typedef struct geom_render_options {
     double min_weight;        /**< ray: 0 = 1/256 */
     int no_shadows;           /**< nonzero: no shadow rays / shadow maps */
     uint32_t shadow_map_size; /**< raster: 0 = 1024 */
+    /** ray: called after each image row with the fraction done (NULL: none) */
+    void (*progress)(void *user, double fraction);
+    void *progress_user;
 } geom_render_options;
 
 /** What was built for one object, and why. */
@@ -570,12 +583,13 @@ typedef struct geom_render_object_report {
     int needed;           /**< some ray (or the rasterizer) can reach it: built */
     int acceleration;     /**< ray: a BVH was built for it (meshes, subdivision) */
     size_t accel_triangles;
-    int tessellated;      /**< raster: tessellated (never for ray) */
-    double tolerance;     /**< raster: the chordal tolerance used (world units) */
-    geom_tess_info tess;  /**< raster: what the tessellation achieved (error in world
-                               units, times the transform's largest scale) */
+    int tessellated;      /**< tessellated: raster always; ray only subdivision surfaces
+                               and displaced objects */
+    double tolerance;     /**< the chordal tolerance used when tessellated (world units) */
+    geom_tess_info tess;  /**< what the tessellation achieved (error in world units,
+                               times the transform's largest scale) */
     int normals, uvs, tangents; /**< attributes made (raster) or used (ray) */
-    int displaced;        /**< raster: the material's displacement map applied */
+    int displaced;        /**< the material's displacement map applied (both methods) */
 } geom_render_object_report;
 
 typedef struct geom_render_report {
@@ -600,14 +614,21 @@ typedef struct geom_render_report {
  *    that matter for nothing are not built (no BVH, no tessellation);
  *  - ray: analytic shapes are traced directly, never tessellated; BVHs are
  *    built only for needed meshes; texture coordinates only for textured
- *    materials, tangents only for normal/bump maps; refraction rays only
- *    where a material transmits;
+ *    materials (meshes: their corner or vertex "uv" channel, kept with the
+ *    ray module's stored triangles and interpolated at the hit; corner
+ *    normals likewise; polygon meshes are triangulated first), tangents only
+ *    for normal/bump maps (meshes: dP/du of each triangle's UV map);
+ *    refraction rays only where a material transmits; subdivision surfaces
+ *    (refined until the limit is within the pixel tolerance below) and
+ *    objects whose material displaces are tessellated as for raster, then
+ *    traced as meshes;
  *  - raster: each needed object is tessellated with the tolerance that keeps
  *    its projected chordal error below pixel_error pixels at its nearest
  *    visible depth (geom_scene_pixel_tolerance, in its own frame through the
  *    transform's largest scale), with only the attributes its material uses,
- *    then displaced by the material's displacement map (geom_scene_displace;
- *    the ray path does not displace).
+ *    then displaced by the material's displacement map (geom_scene_displace).
+ *  - shadows: a shadow ray is attenuated, not stopped, by transmissive
+ *    materials: see geom_scene_trace.
  * object_reports (n_objects entries, may be NULL) and report (may be NULL)
  * say what was done. out as geom_scene_raster. Statuses: those of the steps;
  * diag names the object that failed.

@@ -3,7 +3,11 @@
  * sorted, give its inside intervals; walking both lists keeps the inside
  * state of each child, and a hit is reported where the combined state
  * changes. Hits at the same t are processed together, so coincident faces
- * (a difference cut flush with a face) give no zero-length slivers. */
+ * (a difference cut flush with a face) give no zero-length slivers.
+ * Early outs: a bounded child's list ends at r->tmax (it is outside at
+ * -inf, so later events cannot change the state before tmax), and a child whose bounding box the line
+ * misses is not queried: an empty operand decides the result (nothing, or
+ * the other child's own hits in the caller's mode). */
 #include "ray/ray_internal.h"
 
 static int combine(int op, int a, int b)
@@ -15,6 +19,13 @@ static int combine(int op, int a, int b)
     }
 }
 
+/* 1 when the line misses child id's bounding box (so the child has no hits). */
+static int line_misses(const geom_ray_scene *s, uint32_t id, const geom_ray *line)
+{
+    const geom__ray_node *c = &s->nodes[id];
+    return c->bounded && !geom_ray_aabb(line, c->box, NULL, NULL);
+}
+
 geom_status geom__ray_csg(const geom_ray_scene *s, const geom__ray_node *nd, const geom_ray *r, int mode,
                           geom__rhits *out)
 {
@@ -24,10 +35,25 @@ geom_status geom__ray_csg(const geom_ray_scene *s, const geom__ray_node *nd, con
     size_t i = 0, j = 0;
     int ina, inb, state;
     full.tmin = -INFINITY;
-    full.tmax = INFINITY;
+    full.tmax = r->tmax;
+    {
+        int ma = line_misses(s, nd->a, &full), mb = line_misses(s, nd->b, &full);
+        if (ma || mb) {
+            if (nd->op == GEOM_RAY_CSG_UNION) {
+                if (ma && mb) return GEOM_OK;
+                return geom__ray_node_query(s, ma ? nd->b : nd->a, r, mode, out);
+            }
+            if (ma || nd->op == GEOM_RAY_CSG_INTERSECTION) return GEOM_OK;
+            return geom__ray_node_query(s, nd->a, r, mode, out); /* a - nothing */
+        }
+    }
     geom__rhits_init(&la, out->alloc);
     geom__rhits_init(&lb, out->alloc);
+    /* A bounded child starts outside at -inf, so its events after r->tmax
+     * are not needed; an unbounded one may leave after tmax: whole line. */
+    full.tmax = s->nodes[nd->a].bounded ? r->tmax : INFINITY;
     st = geom__ray_node_query(s, nd->a, &full, GEOM__RAY_ALL, &la);
+    full.tmax = s->nodes[nd->b].bounded ? r->tmax : INFINITY;
     if (st == GEOM_OK) st = geom__ray_node_query(s, nd->b, &full, GEOM__RAY_ALL, &lb);
     if (st != GEOM_OK) goto done;
     geom__rhits_sort(&la, 0);

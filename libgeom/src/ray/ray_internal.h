@@ -48,6 +48,8 @@ typedef struct geom__tmesh {
     double *tv;        /* 9 doubles per triangle in BVH leaf order (v0, v1, v2) */
     uint32_t *tid;     /* triangle index of each tv slot */
     struct geom__rbvh4 *wide; /* 4-wide copy of bvh for traversal (mesh.c), or NULL */
+    double *cuv;       /* 6*nt corner UVs per triangle (its corner order) or NULL (walk.c) */
+    double *cnrm;      /* 9*nt corner normals per triangle or NULL (walk.c) */
 } geom__tmesh;
 
 /* Surface data (surface.c). */
@@ -88,6 +90,8 @@ typedef struct geom__ray_node {
     int op;
     int capped;
     geom_error_report err;
+    geom_mesh *control;    /* subdivision: a copy of the control mesh (walk.c) */
+    int scheme, levels;    /* subdivision: as asked */
 } geom__ray_node;
 
 struct geom_ray_scene {
@@ -138,6 +142,12 @@ size_t geom__ray_mesh_bvh_nodes(const geom__tmesh *m, size_t *bytes);
 geom_aabb geom__ray_mesh_bounds(const geom__tmesh *m);
 geom_status geom__ray_surface_build(geom__tsurf *sf, const geom_allocator *alloc, geom_diag *diag);
 void geom__ray_surface_free(geom__tsurf *sf, const geom_allocator *alloc);
+
+/* Corner attributes of a mesh's fan triangles (walk.c): m->cuv from a
+ * CORNER or VERTEX "uv" channel (2 components), m->cnrm from a CORNER
+ * "normal" channel (3), in tmesh_from_mesh's triangle order. */
+geom_status geom__ray_tmesh_corner_attrs(geom__tmesh *m, const geom_mesh *gm, const geom_allocator *alloc);
+void geom__ray_tmesh_corner_attrs_free(geom__tmesh *m, const geom_allocator *alloc);
 
 /* Polynomial roots with per-coefficient absolute errors cerr (NULL: 0). */
 size_t geom__poly_roots(const double *c, const double *cerr, int deg, double lo, double hi,

@@ -21,7 +21,9 @@ geom_ray_scene *geom_ray_scene_create(const geom_allocator *alloc)
 static void node_free(geom_ray_scene *s, geom__ray_node *nd)
 {
     if (nd->verts) geom_free(s->alloc, nd->verts, 3 * nd->nverts * sizeof(double));
+    if (nd->mesh) geom__ray_tmesh_corner_attrs_free(nd->mesh, s->alloc);
     if (nd->mesh) geom__ray_mesh_free(nd->mesh, s->alloc);
+    geom_mesh_destroy(nd->control);
     if (nd->surf) geom__ray_surface_free(nd->surf, s->alloc);
     if (nd->members) geom_free(s->alloc, nd->members, nd->nmembers * sizeof *nd->members);
 }
@@ -342,6 +344,11 @@ static geom_status tmesh_from_mesh(geom_ray_scene *s, const geom_mesh *gm, geom_
         }
     }
     m->nt = k;
+    if ((st = geom__ray_tmesh_corner_attrs(m, gm, s->alloc)) != GEOM_OK) {
+        geom__ray_tmesh_corner_attrs_free(m, s->alloc);
+        geom__ray_mesh_free(m, s->alloc);
+        return st;
+    }
     *out = m;
     return GEOM_OK;
 }
@@ -354,6 +361,7 @@ geom_status geom_ray_scene_add_mesh(geom_ray_scene *s, const geom_mesh *gm, uint
     if (!s || !gm) return GEOM_ERR_INVALID_ARG;
     if ((st = tmesh_from_mesh(s, gm, &m)) != GEOM_OK) return st;
     if (!(nd = node_new(s, GEOM_RAY_MESH, id))) {
+        geom__ray_tmesh_corner_attrs_free(m, s->alloc);
         geom__ray_mesh_free(m, s->alloc);
         return GEOM_ERR_NOMEM;
     }
@@ -371,6 +379,7 @@ geom_status geom_ray_scene_add_subdiv(geom_ray_scene *s, const geom_mesh *gm, in
     geom__ray_node *nd;
     geom_status st;
     if (!s || !gm) return GEOM_ERR_INVALID_ARG;
+    int asked_levels = levels;
     if (levels < 0 || levels > 8) return GEOM_ERR_INVALID_ARG;
     if (levels == 0) levels = 5;
     memset(&o, 0, sizeof o);
@@ -389,9 +398,17 @@ geom_status geom_ray_scene_add_subdiv(geom_ray_scene *s, const geom_mesh *gm, in
     st = tmesh_from_mesh(s, lim, &m);
     geom_mesh_destroy(lim);
     if (st != GEOM_OK) return st;
-    if (!(nd = node_new(s, GEOM_RAY_SUBDIV, id))) {
-        geom__ray_mesh_free(m, s->alloc);
-        return GEOM_ERR_NOMEM;
+    {
+        geom_mesh *ctrl = NULL;
+        if (geom_mesh_clone(gm, &ctrl) != GEOM_OK || !(nd = node_new(s, GEOM_RAY_SUBDIV, id))) {
+            geom_mesh_destroy(ctrl);
+            geom__ray_tmesh_corner_attrs_free(m, s->alloc);
+            geom__ray_mesh_free(m, s->alloc);
+            return GEOM_ERR_NOMEM;
+        }
+        nd->control = ctrl;
+        nd->scheme = scheme;
+        nd->levels = asked_levels;
     }
     nd->mesh = m;
     nd->err.max_error = rep0.max_limit_distance;

@@ -7,7 +7,7 @@
 #include "core/internal.h"
 #include "scene/scene_internal.h"
 
-geom_camera geom_camera_resolved(const geom_camera *cam)
+geom_camera geom_scene_camera_resolved(const geom_camera *cam)
 {
     geom_camera c = *cam;
     if (c.up.x == 0 && c.up.y == 0 && c.up.z == 0)
@@ -50,39 +50,58 @@ static geom_status frame(const geom_camera *c, geom_vec3 *f, geom_vec3 *s, geom_
     return GEOM_OK;
 }
 
-geom_status geom_camera_ray(const geom_camera *cam, double x, double y, geom_ray *out)
+geom_status geom__scene_cam_init(const geom_camera *cam, geom__scene_cam *k)
 {
-    if (!cam || !out)
-        return GEOM_ERR_INVALID_ARG;
-    geom_camera c = geom_camera_resolved(cam);
-    geom_vec3 f, s, u;
-    geom_status st = frame(&c, &f, &s, &u);
+    k->c = geom_scene_camera_resolved(cam);
+    geom_status st = frame(&k->c, &k->f, &k->s, &k->u);
     if (st != GEOM_OK)
         return st;
-    double aspect = (double)c.width / (double)c.height;
-    double nx = 2.0 * x / c.width - 1.0, ny = 1.0 - 2.0 * y / c.height;
-    out->tmin = 0;
-    out->tmax = INFINITY;
-    if (c.projection == GEOM_PROJECTION_PERSPECTIVE) {
-        double t = tan(c.fovy_degrees * GEOM_PI / 360.0);
-        geom_vec3 d = geom_vec3_add(f, geom_vec3_add(geom_vec3_scale(s, nx * t * aspect),
-                                                     geom_vec3_scale(u, ny * t)));
-        out->origin = c.eye;
-        return geom_vec3_normalize(d, &out->dir);
+    double aspect = (double)k->c.width / (double)k->c.height;
+    if (k->c.projection == GEOM_PROJECTION_PERSPECTIVE) {
+        double t = tan(k->c.fovy_degrees * GEOM_PI / 360.0);
+        k->kx = t * aspect;
+        k->ky = t;
+    } else {
+        k->kx = 0.5 * k->c.ortho_height * aspect;
+        k->ky = 0.5 * k->c.ortho_height;
     }
-    double h = 0.5 * c.ortho_height;
-    out->origin = geom_vec3_add(c.eye, geom_vec3_add(geom_vec3_scale(s, nx * h * aspect),
-                                                     geom_vec3_scale(u, ny * h)));
-    out->dir = f;
     return GEOM_OK;
 }
 
-geom_status geom_camera_matrices(const geom_camera *cam, double near_z, double far_z,
+void geom__scene_cam_ray(const geom__scene_cam *k, double x, double y, geom_ray *out)
+{
+    double nx = (2.0 * x / k->c.width - 1.0) * k->kx, ny = (1.0 - 2.0 * y / k->c.height) * k->ky;
+    out->tmin = 0;
+    out->tmax = INFINITY;
+    geom_vec3 off = geom__v3add(geom__v3scale(k->s, nx), geom__v3scale(k->u, ny));
+    if (k->c.projection == GEOM_PROJECTION_PERSPECTIVE) {
+        out->origin = k->c.eye;
+        if (!geom__v3unit(geom__v3add(k->f, off), &out->dir))
+            out->dir = k->f;
+        return;
+    }
+    out->origin = geom__v3add(k->c.eye, off);
+    out->dir = k->f;
+}
+
+geom_status geom_scene_camera_ray(const geom_camera *cam, double x, double y, geom_ray *out)
+{
+    if (!cam || !out)
+        return GEOM_ERR_INVALID_ARG;
+    geom__scene_cam k;
+    geom_status st = geom__scene_cam_init(cam, &k);
+    if (st != GEOM_OK)
+        return st;
+    geom__scene_cam_ray(&k, x, y, out);
+    return GEOM_OK;
+}
+
+geom_status geom_scene_camera_matrices(const geom_camera *cam, double near_z, double far_z,
                                  geom_mat4 *view, geom_mat4 *proj)
 {
     if (!cam)
         return GEOM_ERR_INVALID_ARG;
-    geom_camera c = geom_camera_resolved(cam);
+    geom_camera c = geom_scene_camera_resolved(cam);
     geom_vec3 f, s, u;
     geom_status st = frame(&c, &f, &s, &u);
     if (st != GEOM_OK)
@@ -107,11 +126,11 @@ geom_status geom_camera_matrices(const geom_camera *cam, double near_z, double f
     return st;
 }
 
-geom_status geom_camera_project(const geom_camera *cam, geom_vec3 p, double out[3])
+geom_status geom_scene_camera_project(const geom_camera *cam, geom_vec3 p, double out[3])
 {
     if (!cam || !out)
         return GEOM_ERR_INVALID_ARG;
-    geom_camera c = geom_camera_resolved(cam);
+    geom_camera c = geom_scene_camera_resolved(cam);
     geom_vec3 f, s, u;
     geom_status st = frame(&c, &f, &s, &u);
     if (st != GEOM_OK)
@@ -136,9 +155,9 @@ geom_status geom_camera_project(const geom_camera *cam, geom_vec3 p, double out[
     return GEOM_OK;
 }
 
-double geom_camera_pixel_size(const geom_camera *cam, double depth)
+double geom_scene_camera_pixel_size(const geom_camera *cam, double depth)
 {
-    geom_camera c = geom_camera_resolved(cam);
+    geom_camera c = geom_scene_camera_resolved(cam);
     if (c.projection == GEOM_PROJECTION_ORTHOGRAPHIC)
         return c.ortho_height / c.height;
     return 2.0 * fabs(depth) * tan(c.fovy_degrees * GEOM_PI / 360.0) / c.height;
@@ -179,7 +198,7 @@ double geom_scene_pixel_tolerance(const geom_camera *cam_in, geom_aabb box, doub
         *visible = 0;
     if (!cam_in || geom_aabb_is_empty(box) || !(pixel_error > 0))
         return 0;
-    geom_camera cam = geom_camera_resolved(cam_in);
+    geom_camera cam = geom_scene_camera_resolved(cam_in);
     geom_vec3 f;
     if (geom_vec3_normalize(geom_vec3_sub(cam.center, cam.eye), &f) != GEOM_OK)
         return 0;
@@ -203,7 +222,7 @@ double geom_scene_pixel_tolerance(const geom_camera *cam_in, geom_aabb box, doub
             double lo = fmin(dmin, 0) - 1, hi = fmax(dmax, 0) + 1;
             geom_mat4_ortho(-h * asp, h * asp, -h, h, lo, hi, &proj);
             vis = geom__scene_box_frustum(box, geom_mat4_mul(proj, view)) != 0;
-        } else if (geom_camera_matrices(&cam, near, far, &view, &proj) == GEOM_OK) {
+        } else if (geom_scene_camera_matrices(&cam, near, far, &view, &proj) == GEOM_OK) {
             vis = geom__scene_box_frustum(box, geom_mat4_mul(proj, view)) != 0;
         }
     }
@@ -219,6 +238,6 @@ double geom_scene_pixel_tolerance(const geom_camera *cam_in, geom_aabb box, doub
                                      fmin(fmax(cam.eye.z, box.min.z), box.max.z));
         d = fmax(geom_vec3_length(geom_vec3_sub(q, cam.eye)), 1e-3 * diag);
     }
-    double tol = pixel_error * geom_camera_pixel_size(&cam, d);
+    double tol = pixel_error * geom_scene_camera_pixel_size(&cam, d);
     return vis ? tol : 8 * tol;
 }

@@ -74,7 +74,7 @@ geom_status geom_scene_export(const geom_camera *cam, const geom_material *mater
     geom_status st = GEOM_OK;
     for (size_t i = 0; i < n && st == GEOM_OK; i++) {
         const geom_shape *sh = objects[i].shape;
-        unsigned need = geom_material_needs(&materials[objects[i].material]) &
+        unsigned need = geom_scene_material_needs(&materials[objects[i].material]) &
                         (GEOM_NEEDS_NORMAL | GEOM_NEEDS_UV | GEOM_NEEDS_TANGENT);
         if (need & GEOM_NEEDS_TANGENT)
             need |= GEOM_NEEDS_UV;

@@ -1,12 +1,12 @@
 /* The shapes of a ray-module scene: one representation, read back from the
- * nodes the scene JSON parser made (library-internal view of the ray
- * module's nodes). */
+ * nodes the scene JSON parser made, through the ray module's shape walk
+ * (ray/ray_walk.h). */
 #include "geom/scene.h"
 
 #include <string.h>
 
 #include "core/internal.h"
-#include "ray/ray_internal.h"
+#include "ray/ray_walk.h"
 
 struct geom_scene_shapes {
     const geom_ray_scene *rs;
@@ -83,19 +83,30 @@ static geom_mat4 mat_of(const double *m)
 
 /* A fresh transform = outer * node's own (either may be absent). */
 static const geom_mat4 *compose(geom_scene_shapes *h, const geom_mat4 *outer,
-                                const geom__ray_node *nd)
+                                const geom__ray_node_info *nd)
 {
-    if (!outer && !nd->has_xf)
+    if (!outer && !nd->xf)
         return NULL;
     geom_mat4 *m = hold(h, sizeof *m);
     if (!m)
         return NULL;
-    geom_mat4 own = nd->has_xf ? mat_of(nd->m) : geom_mat4_identity();
+    geom_mat4 own = nd->xf ? mat_of(nd->xf) : geom_mat4_identity();
     *m = outer ? geom_mat4_mul(*outer, own) : own;
     return m;
 }
 
-static geom_status mesh_of(geom_scene_shapes *h, const geom__tmesh *t, geom_mesh **out)
+static void corner_channel(geom_mesh_build_channel *c, const char *name, size_t ncomp,
+                           const double *values, size_t n, const uint32_t *indices)
+{
+    c->name = name;
+    c->domain = GEOM_MESH_DOMAIN_CORNER;
+    c->ncomp = ncomp;
+    c->values = values;
+    c->n_values = n;
+    c->indices = indices;
+}
+
+static geom_status mesh_of(geom_scene_shapes *h, const geom__ray_node_info *t, geom_mesh **out)
 {
     geom_mesh *m = geom_mesh_create(NULL);
     if (!m)
@@ -110,13 +121,35 @@ static geom_status mesh_of(geom_scene_shapes *h, const geom__tmesh *t, geom_mesh
         return GEOM_ERR_NOMEM;
     for (size_t i = 0; i < t->nt; i++)
         sizes[i] = 3;
+    /* corner UVs and normals as CORNER channels, one pool value per corner */
+    geom_mesh_build_channel ch[2];
+    size_t nch = 0;
+    uint32_t *cidx = NULL;
+    if (t->cuv || t->cnrm) {
+        cidx = geom_alloc(NULL, (t->nt ? 3 * t->nt : 1) * sizeof *cidx);
+        if (!cidx) {
+            geom_free(NULL, sizes, (t->nt ? t->nt : 1) * sizeof *sizes);
+            return GEOM_ERR_NOMEM;
+        }
+        for (size_t i = 0; i < 3 * t->nt; i++)
+            cidx[i] = (uint32_t)i;
+    }
+    memset(ch, 0, sizeof ch);
+    if (t->cuv)
+        corner_channel(&ch[nch++], "uv", 2, t->cuv, 3 * t->nt, cidx);
+    if (t->cnrm)
+        corner_channel(&ch[nch++], "normal", 3, t->cnrm, 3 * t->nt, cidx);
     geom_mesh_build_options bo;
     memset(&bo, 0, sizeof bo);
     bo.keep_orientation = 1;
     bo.skip_invalid_faces = 1;
+    bo.channels = nch ? ch : NULL;
+    bo.n_channels = nch;
     st = geom_mesh_build(m, t->nv, t->pos, t->nt, sizes, t->tri, &bo, NULL, NULL);
     geom_free(NULL, sizes, (t->nt ? t->nt : 1) * sizeof *sizes);
-    if (st == GEOM_OK && t->nrm && geom_mesh_n_vertices(m) >= t->nv) {
+    if (cidx)
+        geom_free(NULL, cidx, (t->nt ? 3 * t->nt : 1) * sizeof *cidx);
+    if (st == GEOM_OK && t->nrm && !t->cnrm && geom_mesh_n_vertices(m) >= t->nv) {
         uint32_t id;
         st = geom_mesh_channel_add(m, "normal", GEOM_MESH_DOMAIN_VERTEX, 3, &id);
         if (st == GEOM_OK) {
@@ -136,13 +169,14 @@ static geom_status shape_of(geom_scene_shapes *h, uint32_t id, const geom_mat4 *
                             const geom_shape **out, geom_diag *diag)
 {
     const geom_ray_scene *rs = h->rs;
-    if (id >= rs->n || depth > 64)
+    geom__ray_node_info ndv;
+    if (depth > 64 || geom__ray_scene_node_info(rs, id, &ndv) != GEOM_OK)
         return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "scene: node %u out of range or nested too deeply", (unsigned)id);
-    const geom__ray_node *nd = &rs->nodes[id];
+    const geom__ray_node_info *nd = &ndv;
     if (nd->kind == GEOM_RAY_INSTANCE) {
         const geom_mat4 *m = compose(h, outer, nd);
-        if ((outer || nd->has_xf) && !m)
+        if ((outer || nd->xf) && !m)
             return GEOM_ERR_NOMEM;
         return shape_of(h, nd->a, m, depth + 1, out, diag);
     }
@@ -151,33 +185,33 @@ static geom_status shape_of(geom_scene_shapes *h, uint32_t id, const geom_mat4 *
         return GEOM_ERR_NOMEM;
     s->name = nd->name[0] ? nd->name : NULL;
     s->transform = compose(h, outer, nd);
-    if ((outer || nd->has_xf) && !s->transform)
+    if ((outer || nd->xf) && !s->transform)
         return GEOM_ERR_NOMEM;
     geom_status st = GEOM_OK;
     switch (nd->kind) {
     case GEOM_RAY_SPHERE:
         s->kind = GEOM_SHAPE_SPHERE;
-        memcpy(s->p, nd->prm, 3 * sizeof(double));
-        s->radius = nd->prm[3];
+        memcpy(s->p, nd->center, 3 * sizeof(double));
+        s->radius = nd->radius;
         break;
     case GEOM_RAY_BOX:
         s->kind = GEOM_SHAPE_BOX;
-        memcpy(s->min, nd->prm, 3 * sizeof(double));
-        memcpy(s->max, nd->prm + 3, 3 * sizeof(double));
+        memcpy(s->min, nd->min, 3 * sizeof(double));
+        memcpy(s->max, nd->max, 3 * sizeof(double));
         break;
     case GEOM_RAY_OBOX: {
         /* a box [-half, half] in the frame (axes, centre) */
         s->kind = GEOM_SHAPE_BOX;
         for (int k = 0; k < 3; k++) {
-            s->min[k] = -nd->prm[12 + k];
-            s->max[k] = nd->prm[12 + k];
+            s->min[k] = -nd->half[k];
+            s->max[k] = nd->half[k];
         }
         geom_mat4 f = geom_mat4_identity();
         for (int c = 0; c < 3; c++)
             for (int r = 0; r < 3; r++)
-                f.m[4 * c + r] = nd->prm[3 + 3 * c + r];
+                f.m[4 * c + r] = nd->axes[3 * c + r];
         for (int r = 0; r < 3; r++)
-            f.m[12 + r] = nd->prm[r];
+            f.m[12 + r] = nd->center[r];
         geom_mat4 *m = hold(h, sizeof *m);
         if (!m)
             return GEOM_ERR_NOMEM;
@@ -187,66 +221,72 @@ static geom_status shape_of(geom_scene_shapes *h, uint32_t id, const geom_mat4 *
     }
     case GEOM_RAY_PLANE:
         s->kind = GEOM_SHAPE_PLANE;
-        memcpy(s->p, nd->prm, 3 * sizeof(double));
-        memcpy(s->n, nd->prm + 3, 3 * sizeof(double));
+        memcpy(s->p, nd->center, 3 * sizeof(double));
+        memcpy(s->n, nd->normal, 3 * sizeof(double));
         break;
     case GEOM_RAY_DISK:
         s->kind = GEOM_SHAPE_DISK;
-        memcpy(s->p, nd->prm, 3 * sizeof(double));
-        memcpy(s->n, nd->prm + 3, 3 * sizeof(double));
-        s->radius = nd->prm[6];
+        memcpy(s->p, nd->center, 3 * sizeof(double));
+        memcpy(s->n, nd->normal, 3 * sizeof(double));
+        s->radius = nd->radius;
         break;
     case GEOM_RAY_QUADRIC:
         s->kind = GEOM_SHAPE_QUADRIC;
-        memcpy(s->q, nd->prm, 10 * sizeof(double));
-        if (nd->prm[16] != 0) {
+        memcpy(s->q, nd->q, 10 * sizeof(double));
+        if (nd->has_clip) {
             double *c = hold(h, 6 * sizeof(double));
             if (!c)
                 return GEOM_ERR_NOMEM;
-            memcpy(c, nd->prm + 10, 6 * sizeof(double));
+            memcpy(c, nd->clip, 6 * sizeof(double));
             s->clip = c;
             s->capped = nd->capped;
         }
         break;
     case GEOM_RAY_TORUS:
         s->kind = GEOM_SHAPE_TORUS;
-        s->major = nd->prm[0];
-        s->minor = nd->prm[1];
+        s->major = nd->major;
+        s->minor = nd->minor;
         break;
     case GEOM_RAY_TRIANGLE:
-        s->kind = GEOM_SHAPE_POLYGON;
-        s->vertices = nd->prm;
-        s->n_vertices = 3;
-        break;
     case GEOM_RAY_POLYGON:
         s->kind = GEOM_SHAPE_POLYGON;
         s->vertices = nd->verts;
         s->n_vertices = nd->nverts;
         break;
-    case GEOM_RAY_MESH:
-    case GEOM_RAY_SUBDIV: {
+    case GEOM_RAY_SUBDIV:
+        if (nd->control && nd->levels == 0) {
+            /* levels left to the renderer: the control mesh, refined where
+             * the picture needs it */
+            s->kind = GEOM_SHAPE_SUBDIV;
+            s->mesh = nd->control;
+            s->scheme = nd->scheme;
+            break;
+        }
+        /* the refined limit mesh at the levels asked */
+        /* fall through */
+    case GEOM_RAY_MESH: {
         geom_mesh *m = NULL;
-        if (!nd->mesh)
+        if (!nd->pos && nd->nv)
             return GEOM_ERR_INVALID_ARG;
-        st = mesh_of(h, nd->mesh, &m);
+        st = mesh_of(h, nd, &m);
         s->kind = GEOM_SHAPE_MESH;
         s->mesh = m;
         break;
     }
     case GEOM_RAY_SURFACE:
         s->kind = GEOM_SHAPE_SURFACE;
-        s->surfaces = &nd->surf->s;
+        s->surfaces = nd->surface;
         s->n_surfaces = 1;
         break;
     case GEOM_RAY_IMPLICIT:
         s->kind = GEOM_SHAPE_IMPLICIT;
         s->expr = nd->expr;
-        memcpy(s->bounds, nd->prm, 6 * sizeof(double));
+        memcpy(s->bounds, nd->bounds, 6 * sizeof(double));
         break;
     case GEOM_RAY_VOLUME:
         s->kind = GEOM_SHAPE_VOLUME;
-        s->volume = nd->vol;
-        s->iso = nd->prm[0];
+        s->volume = nd->volume;
+        s->iso = nd->iso;
         break;
     case GEOM_RAY_CSG:
         s->kind = GEOM_SHAPE_CSG;
@@ -257,17 +297,19 @@ static geom_status shape_of(geom_scene_shapes *h, uint32_t id, const geom_mat4 *
     case GEOM_RAY_GROUP: {
         /* untransformed surfaces: one multi-surface shape (welded seams) */
         int all_surf = 1;
-        for (size_t i = 0; i < nd->nmembers; i++) {
-            const geom__ray_node *c = &rs->nodes[nd->members[i]];
-            if (c->kind != GEOM_RAY_SURFACE || c->has_xf)
+        geom__ray_node_info c;
+        for (size_t i = 0; i < nd->nmembers; i++)
+            if (geom__ray_scene_node_info(rs, nd->members[i], &c) != GEOM_OK ||
+                c.kind != GEOM_RAY_SURFACE || c.xf)
                 all_surf = 0;
-        }
         if (all_surf) {
             geom_nurbs_surface *ss = hold(h, nd->nmembers * sizeof *ss);
             if (!ss)
                 return GEOM_ERR_NOMEM;
-            for (size_t i = 0; i < nd->nmembers; i++)
-                ss[i] = rs->nodes[nd->members[i]].surf->s;
+            for (size_t i = 0; i < nd->nmembers; i++) {
+                geom__ray_scene_node_info(rs, nd->members[i], &c);
+                ss[i] = *c.surface;
+            }
             s->kind = GEOM_SHAPE_SURFACE;
             s->surfaces = ss;
             s->n_surfaces = nd->nmembers;
@@ -304,33 +346,23 @@ geom_status geom_scene_shapes_from_ray(const geom_ray_scene *rs, geom_scene_shap
         return GEOM_ERR_NOMEM;
     memset(h, 0, sizeof *h);
     h->rs = rs;
-    size_t n = 0;
-    if (rs->roots_explicit)
-        n = rs->nroots;
-    else
-        for (size_t i = 0; i < rs->n; i++)
-            n += !rs->nodes[i].is_child;
+    size_t n = geom__ray_scene_top(rs, NULL, 0);
     h->top = geom_alloc(NULL, (n ? n : 1) * sizeof *h->top);
     h->top_kind = geom_alloc(NULL, (n ? n : 1) * sizeof *h->top_kind);
+    uint32_t *ids = geom_alloc(NULL, (n ? n : 1) * sizeof *ids);
     h->ntop = n;
-    if (!h->top || !h->top_kind) {
+    if (!h->top || !h->top_kind || !ids) {
+        geom_free(NULL, ids, (n ? n : 1) * sizeof *ids);
         geom_scene_shapes_destroy(h);
         return GEOM_ERR_NOMEM;
     }
+    geom__ray_scene_top(rs, ids, n);
     geom_status st = GEOM_OK;
-    size_t k = 0;
-    for (size_t i = 0; st == GEOM_OK && (rs->roots_explicit ? k < n : i < rs->n); i++) {
-        uint32_t id;
-        if (rs->roots_explicit)
-            id = rs->roots[k];
-        else if (rs->nodes[i].is_child)
-            continue;
-        else
-            id = (uint32_t)i;
-        h->top_kind[k] = rs->nodes[id].kind;
-        st = shape_of(h, id, NULL, 0, &h->top[k], diag);
-        k++;
+    for (size_t k = 0; st == GEOM_OK && k < n; k++) {
+        h->top_kind[k] = geom_ray_scene_node_kind(rs, ids[k]);
+        st = shape_of(h, ids[k], NULL, 0, &h->top[k], diag);
     }
+    geom_free(NULL, ids, (n ? n : 1) * sizeof *ids);
     if (st != GEOM_OK) {
         geom_scene_shapes_destroy(h);
         return st;

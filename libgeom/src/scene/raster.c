@@ -495,7 +495,7 @@ static geom_vec3 shade_corner(const shade_ctx *cx, const rtri *t, int c)
     const geom_material *m = &cx->materials[t->material];
     lights_vis(cx, sp.p, sp.ng);
     geom_vec3 col;
-    geom_shade(m, cx->lights, cx->n_lights, cx->vis, &sp, geom_shade_normal(m, &sp), &col);
+    geom_scene_shade(m, cx->lights, cx->n_lights, cx->vis, &sp, geom_scene_shade_normal(m, &sp), &col);
     return col;
 }
 
@@ -520,7 +520,7 @@ geom_status geom_scene_raster(const geom_camera *cam_in, const geom_light *light
     for (size_t i = 0; i < n_draws; i++)
         if (!draws[i].mesh || draws[i].material >= n_materials)
             return GEOM_ERR_INVALID_ARG;
-    geom_camera cam = geom_camera_resolved(cam_in);
+    geom_camera cam = geom_scene_camera_resolved(cam_in);
     uint32_t k = (uint32_t)ceil(sqrt((double)cam.samples) - 1e-9);
     if (k < 1)
         k = 1;
@@ -528,7 +528,7 @@ geom_status geom_scene_raster(const geom_camera *cam_in, const geom_light *light
         k = 16;
     rep.samples_per_pixel = k * k;
     geom_ray r0;
-    geom_status st = geom_camera_ray(&cam, 0.5 * cam.width, 0.5 * cam.height, &r0);
+    geom_status st = geom_scene_camera_ray(&cam, 0.5 * cam.width, 0.5 * cam.height, &r0);
     if (st != GEOM_OK)
         return st;
     /* Scene bounds give near and far. */
@@ -568,7 +568,7 @@ geom_status geom_scene_raster(const geom_camera *cam_in, const geom_light *light
         if (st == GEOM_OK)
             st = geom_mat4_ortho(-h * asp, h * asp, -h, h, near, far > near ? far : near + 1, &proj);
     } else {
-        st = geom_camera_matrices(&cam, near, far > near ? far : near * 2, &view, &proj);
+        st = geom_scene_camera_matrices(&cam, near, far > near ? far : near * 2, &view, &proj);
     }
     if (st != GEOM_OK)
         return st;
@@ -653,7 +653,7 @@ geom_status geom_scene_raster(const geom_camera *cam_in, const geom_light *light
     uint32_t nch = opt.aov == GEOM_AOV_COLOR || opt.aov == GEOM_AOV_NORMAL ? 3 : 1;
     geom_image big = {0};
     if (st == GEOM_OK)
-        st = geom_image_init(&big, W, H, nch, a);
+        st = geom_scene_image_init(&big, W, H, nch, a);
     for (uint32_t j = 0; j < H && st == GEOM_OK; j++) {
         for (uint32_t i = 0; i < W; i++) {
             size_t q = (size_t)j * W + i;
@@ -729,7 +729,7 @@ geom_status geom_scene_raster(const geom_camera *cam_in, const geom_light *light
                 sp.tangent_sign = t->t[0][3];
                 sp.has_tangent = 1;
             }
-            geom_vec3 n = geom_shade_normal(m, &sp);
+            geom_vec3 n = geom_scene_shade_normal(m, &sp);
             if (opt.aov == GEOM_AOV_NORMAL) {
                 px[0] = n.x;
                 px[1] = n.y;
@@ -743,7 +743,7 @@ geom_status geom_scene_raster(const geom_camera *cam_in, const geom_light *light
                                     geom_vec3_scale(t->col[2], lp[2]));
             } else {
                 lights_vis(&cx, sp.p, sp.ng);
-                geom_shade(m, lights, n_lights, vis, &sp, n, &col);
+                geom_scene_shade(m, lights, n_lights, vis, &sp, n, &col);
             }
             px[0] = col.x;
             px[1] = col.y;
@@ -801,7 +801,7 @@ geom_status geom_scene_raster(const geom_camera *cam_in, const geom_light *light
             *out = big;
             big.data = NULL;
         } else {
-            st = geom_image_init(out, cam.width, cam.height, nch, a);
+            st = geom_scene_image_init(out, cam.width, cam.height, nch, a);
             for (uint32_t j = 0; j < cam.height && st == GEOM_OK; j++)
                 for (uint32_t i = 0; i < cam.width; i++) {
                     double *o = out->data + ((size_t)j * cam.width + i) * nch;
@@ -818,7 +818,7 @@ geom_status geom_scene_raster(const geom_camera *cam_in, const geom_light *light
                 }
         }
     }
-    geom_image_free(&big, a);
+    geom_scene_image_free(&big, a);
     target_free(&tg, a);
     geom_free(a, su, su_n * sizeof(setup));
     tri_list_free(&tl);

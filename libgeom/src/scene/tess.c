@@ -798,13 +798,59 @@ geom_status geom_scene_tessellate(const geom_shape *s, const geom_tess_request *
                     st = GEOM_ERR_NOMEM;
                 if (st == GEOM_OK)
                     st = geom_mesh_to_soup(c, sz, ix, &ni);
+                /* the attribute channels the renderers read travel along:
+                 * VERTEX values as they are, CORNER values in the soup's
+                 * corner order (h = face_he, next, ...: the corner at
+                 * vertex(h) is h's) */
+                static const char *const keep[3] = {"uv", "normal", "tangent"};
+                geom_mesh_build_channel ch[6];
+                uint32_t *cix[6] = {0};
+                size_t nch = 0;
+                for (int k = 0; k < 3 && st == GEOM_OK; k++)
+                    for (int dom = 0; dom < 2 && st == GEOM_OK; dom++) {
+                        geom_mesh_domain d = dom ? GEOM_MESH_DOMAIN_CORNER : GEOM_MESH_DOMAIN_VERTEX;
+                        uint32_t id = geom_mesh_channel_find(c, keep[k], d);
+                        if (id == GEOM_INVALID_INDEX)
+                            continue;
+                        memset(&ch[nch], 0, sizeof ch[nch]);
+                        ch[nch].name = keep[k];
+                        ch[nch].domain = d;
+                        ch[nch].ncomp = geom_mesh_channel_ncomp(c, id);
+                        ch[nch].values = geom_mesh_channel_cdata(c, id);
+                        ch[nch].n_values = geom_mesh_channel_size(c, id);
+                        if (dom) {
+                            const uint32_t *ci = geom_mesh_corner_cindices(c, id);
+                            cix[nch] = geom_alloc(NULL, (ni + 1) * sizeof(uint32_t));
+                            if (!cix[nch]) {
+                                st = GEOM_ERR_NOMEM;
+                                break;
+                            }
+                            size_t q = 0;
+                            for (size_t f = 0; f < geom_mesh_n_faces(c) && q < ni; f++) {
+                                if (geom_mesh_face_is_deleted(c, (uint32_t)f))
+                                    continue;
+                                uint32_t h0 = geom_mesh_face_he(c, (uint32_t)f), h = h0;
+                                do {
+                                    cix[nch][q++] = ci[h];
+                                    h = geom_mesh_he_next(c, h);
+                                } while (h != h0 && q < ni);
+                            }
+                            ch[nch].indices = cix[nch];
+                        }
+                        nch++;
+                    }
                 if (st == GEOM_OK) {
                     geom_mesh_build_options bo;
                     memset(&bo, 0, sizeof bo);
                     bo.keep_orientation = 1;
+                    bo.channels = nch ? ch : NULL;
+                    bo.n_channels = nch;
                     st = geom_mesh_build(out, geom_mesh_n_vertices(c), geom_mesh_cpositions(c), nf,
                                          sz, ix, &bo, NULL, diag);
                 }
+                for (size_t k = 0; k < nch; k++)
+                    if (cix[k])
+                        geom_free(NULL, cix[k], (ni + 1) * sizeof(uint32_t));
                 geom_free(NULL, sz, (nf + 1) * sizeof(uint32_t));
                 geom_free(NULL, ix, (ni + 1) * sizeof(uint32_t));
                 geom_mesh_destroy(c);
@@ -950,7 +996,7 @@ geom_status geom_scene_displace(geom_mesh *m, const geom_texture *height, double
             if (!has[v])
                 continue;
             double hgt;
-            geom_texture_sample(height, uv[2 * v], uv[2 * v + 1], 0, &hgt);
+            geom_scene_texture_sample(height, uv[2 * v], uv[2 * v + 1], 0, &hgt);
             for (int k = 0; k < 3; k++)
                 p[3 * v + k] += scale * hgt * n[3 * v + k];
         }

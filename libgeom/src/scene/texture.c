@@ -7,7 +7,7 @@
 
 #include "core/internal.h"
 
-geom_status geom_image_init(geom_image *img, uint32_t width, uint32_t height, uint32_t channels,
+geom_status geom_scene_image_init(geom_image *img, uint32_t width, uint32_t height, uint32_t channels,
                             const geom_allocator *alloc)
 {
     if (!img || width == 0 || height == 0 || channels == 0)
@@ -28,7 +28,7 @@ geom_status geom_image_init(geom_image *img, uint32_t width, uint32_t height, ui
     return GEOM_OK;
 }
 
-void geom_image_free(geom_image *img, const geom_allocator *alloc)
+void geom_scene_image_free(geom_image *img, const geom_allocator *alloc)
 {
     if (!img || !img->data)
         return;
@@ -53,7 +53,7 @@ static const geom_allocator *talloc(const geom_texture *t)
     return t->has_alloc ? &t->alloc : NULL;
 }
 
-void geom_texture_destroy(geom_texture *t)
+void geom_scene_texture_destroy(geom_texture *t)
 {
     if (!t)
         return;
@@ -94,7 +94,7 @@ static int taps(uint32_t n, uint32_t o, uint32_t *idx, double *wt)
     return k;
 }
 
-geom_status geom_texture_create(const geom_image *img, geom_wrap wrap, const geom_allocator *alloc,
+geom_status geom_scene_texture_create(const geom_image *img, geom_wrap wrap, const geom_allocator *alloc,
                                 geom_texture **out)
 {
     if (!out)
@@ -134,7 +134,7 @@ geom_status geom_texture_create(const geom_image *img, geom_wrap wrap, const geo
         uint32_t w = pw > 1 ? pw / 2 : 1, h = ph > 1 ? ph / 2 : 1;
         double *d = geom_alloc(alloc, (size_t)w * h * c * sizeof(double));
         if (!d) {
-            geom_texture_destroy(t);
+            geom_scene_texture_destroy(t);
             return GEOM_ERR_NOMEM;
         }
         const double *s = t->level[l - 1];
@@ -162,12 +162,12 @@ geom_status geom_texture_create(const geom_image *img, geom_wrap wrap, const geo
     return GEOM_OK;
 }
 
-uint32_t geom_texture_channels(const geom_texture *t)
+uint32_t geom_scene_texture_channels(const geom_texture *t)
 {
     return t ? t->channels : 0;
 }
 
-void geom_texture_size(const geom_texture *t, uint32_t *width, uint32_t *height)
+void geom_scene_texture_size(const geom_texture *t, uint32_t *width, uint32_t *height)
 {
     if (width)
         *width = t ? t->w[0] : 0;
@@ -175,7 +175,7 @@ void geom_texture_size(const geom_texture *t, uint32_t *width, uint32_t *height)
         *height = t ? t->h[0] : 0;
 }
 
-uint32_t geom_texture_levels(const geom_texture *t)
+uint32_t geom_scene_texture_levels(const geom_texture *t)
 {
     return t ? t->levels : 0;
 }
@@ -217,7 +217,7 @@ static void bilinear(const geom_texture *t, uint32_t l, double u, double v, doub
     }
 }
 
-void geom_texture_sample(const geom_texture *t, double u, double v, double footprint, double *out)
+void geom_scene_texture_sample(const geom_texture *t, double u, double v, double footprint, double *out)
 {
     if (!t || !out)
         return;
@@ -249,7 +249,7 @@ void geom_texture_sample(const geom_texture *t, double u, double v, double footp
         out[k] = (1 - a) * out[k] + a * tmp[k];
 }
 
-void geom_texture_gradient(const geom_texture *t, double u, double v, double *dh_du,
+void geom_scene_texture_gradient(const geom_texture *t, double u, double v, double *dh_du,
                            double *dh_dv)
 {
     double gu = 0, gv = 0;

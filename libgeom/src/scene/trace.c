@@ -89,12 +89,12 @@ static geom_vec3 shade_hit(tctx *c, const geom_ray *r, const geom__scene_hit *h,
 {
     const geom_material *m = &c->materials[h->material];
     geom_vec3 d;
-    if (geom_vec3_normalize(r->dir, &d) != GEOM_OK)
-        return geom_vec3_make(0, 0, 0);
+    if (!geom__v3unit(r->dir, &d))
+        return geom__v3(0, 0, 0);
     geom_shade_point sp = shade_point(h, d);
-    geom_vec3 n = geom_shade_normal(m, &sp);
+    geom_vec3 n = geom_scene_shade_normal(m, &sp);
     /* geometric normal on the viewer's side */
-    geom_vec3 ngv = geom_vec3_dot(h->ng, sp.v) < 0 ? geom_vec3_neg(h->ng) : h->ng;
+    geom_vec3 ngv = geom__v3dot(h->ng, sp.v) < 0 ? geom__v3neg(h->ng) : h->ng;
     for (size_t i = 0; i < c->n_lights; i++) {
         const geom_light *L = &c->lights[i];
         c->vis[i] = 1;
@@ -104,31 +104,35 @@ static geom_vec3 shade_hit(tctx *c, const geom_ray *r, const geom__scene_hit *h,
         double dist;
         geom_vec3 ldir;
         if (L->kind == GEOM_LIGHT_POINT) {
-            geom_vec3 to = geom_vec3_sub(L->position, h->p);
-            dist = geom_vec3_length(to);
-            if (!(dist > 0))
+            geom_vec3 to = geom__v3sub(L->position, h->p);
+            dist = sqrt(geom__v3dot(to, to));
+            if (!(dist > 0) || !geom__v3unit(to, &ldir))
                 continue;
-            ldir = geom_vec3_scale(to, 1 / dist);
         } else {
-            if (geom_vec3_normalize(geom_vec3_neg(L->direction), &ldir) != GEOM_OK)
+            if (!geom__v3unit(geom__v3neg(L->direction), &ldir))
                 continue;
             dist = INFINITY;
         }
         /* a light below the surface (seen from the viewer's side) is blocked
          * by the surface itself: no ray needed */
-        if (geom_vec3_dot(ldir, ngv) <= 0 || geom_vec3_dot(ldir, n) <= 0) {
+        if (geom__v3dot(ldir, ngv) <= 0 || geom__v3dot(ldir, n) <= 0) {
             c->vis[i] = 0;
             continue;
         }
         s.origin = c->tr->spawn(c->tr->user, h, ldir);
         s.dir = ldir;
         s.tmin = 0;
-        s.tmax = L->kind == GEOM_LIGHT_POINT ? geom_vec3_length(geom_vec3_sub(L->position, s.origin)) * (1 - 1e-12) : INFINITY;
+        if (L->kind == GEOM_LIGHT_POINT) {
+            geom_vec3 rest = geom__v3sub(L->position, s.origin);
+            s.tmax = sqrt(geom__v3dot(rest, rest)) * (1 - 1e-12);
+        } else {
+            s.tmax = INFINITY;
+        }
         c->rep->shadow_rays++;
-        c->vis[i] = c->tr->occluded(c->tr->user, &s) ? 0 : 1;
+        c->vis[i] = c->tr->visibility(c->tr->user, &s);
     }
     geom_vec3 col;
-    geom_shade(m, c->lights, c->n_lights, c->vis, &sp, n, &col);
+    geom_scene_shade(m, c->lights, c->n_lights, c->vis, &sp, n, &col);
     double refl = m->reflect, trans = m->transmit;
     if (refl <= 0 && trans <= 0)
         return col;
@@ -203,11 +207,13 @@ geom_status geom__scene_trace(const geom__tracer *tr, const geom_camera *cam_in,
         c.opt.min_weight = 1.0 / 256;
     c.rep = &rep;
     const geom_allocator *a = c.opt.alloc;
-    geom_camera cam = geom_camera_resolved(cam_in);
-    geom_ray r0;
-    geom_status st = geom_camera_ray(&cam, 0.5 * cam.width, 0.5 * cam.height, &r0);
+    geom__scene_cam kc;
+    geom_status st = geom__scene_cam_init(cam_in, &kc);
     if (st != GEOM_OK)
         return st;
+    const geom_camera cam = kc.c;
+    geom_ray r0;
+    geom__scene_cam_ray(&kc, 0.5 * cam.width, 0.5 * cam.height, &r0);
     c.fwd = r0.dir;
     if (cam.projection == GEOM_PROJECTION_PERSPECTIVE)
         geom_vec3_normalize(geom_vec3_sub(cam.center, cam.eye), &c.fwd);
@@ -215,7 +221,7 @@ geom_status geom__scene_trace(const geom__tracer *tr, const geom_camera *cam_in,
     if (!c.vis)
         return GEOM_ERR_NOMEM;
     uint32_t nch = c.opt.aov == GEOM_AOV_COLOR || c.opt.aov == GEOM_AOV_NORMAL ? 3 : 1;
-    st = geom_image_init(out, cam.width, cam.height, nch, a);
+    st = geom_scene_image_init(out, cam.width, cam.height, nch, a);
     if (st != GEOM_OK) {
         geom_free(a, c.vis, (n_lights + 1) * sizeof(double));
         return st;
@@ -230,13 +236,15 @@ geom_status geom__scene_trace(const geom__tracer *tr, const geom_camera *cam_in,
     double err_sum = 0, err_max = 0;
     size_t total = 0;
     for (uint32_t j = 0; j < cam.height && st == GEOM_OK; j++) {
+        if (j > 0 && c.opt.progress)
+            c.opt.progress(c.opt.progress_user, (double)j / cam.height);
         for (uint32_t i = 0; i < cam.width; i++) {
             double *px = out->data + ((size_t)j * cam.width + i) * nch;
             if (c.opt.aov != GEOM_AOV_COLOR) {
                 /* one ray through the pixel centre */
                 geom_ray r;
                 geom__scene_hit h;
-                geom_camera_ray(&cam, i + 0.5, j + 0.5, &r);
+                geom__scene_cam_ray(&kc, i + 0.5, j + 0.5, &r);
                 rep.primary_rays++;
                 total++;
                 int hit = tr->closest(tr->user, &r, &h);
@@ -248,7 +256,7 @@ geom_status geom__scene_trace(const geom__tracer *tr, const geom_camera *cam_in,
                     geom_vec3 n = h.n;
                     if (h.material < n_materials) {
                         geom_shade_point sp = shade_point(&h, r.dir);
-                        n = geom_shade_normal(&materials[h.material], &sp);
+                        n = geom_scene_shade_normal(&materials[h.material], &sp);
                     }
                     px[0] = n.x;
                     px[1] = n.y;
@@ -269,7 +277,7 @@ geom_status geom__scene_trace(const geom__tracer *tr, const geom_camera *cam_in,
                         oy = rnd(&seed);
                     }
                     geom_ray r;
-                    geom_camera_ray(&cam, i + (a2 + ox) / k, j + (b + oy) / k, &r);
+                    geom__scene_cam_ray(&kc, i + (a2 + ox) / k, j + (b + oy) / k, &r);
                     rep.primary_rays++;
                     geom_vec3 col = trace(&c, &r, 0, 1.0, NULL);
                     double l = luminance(col);
@@ -294,7 +302,7 @@ geom_status geom__scene_trace(const geom__tracer *tr, const geom_camera *cam_in,
                 for (uint32_t q = 0; q < 4; q++) {
                     double ox = ((q & 1) + rnd(&seed)) / 2, oy = ((q >> 1) + rnd(&seed)) / 2;
                     geom_ray r;
-                    geom_camera_ray(&cam, i + ox, j + oy, &r);
+                    geom__scene_cam_ray(&kc, i + ox, j + oy, &r);
                     rep.primary_rays++;
                     geom_vec3 col = trace(&c, &r, 0, 1.0, NULL);
                     double l = luminance(col);
@@ -312,6 +320,8 @@ geom_status geom__scene_trace(const geom__tracer *tr, const geom_camera *cam_in,
             px[2] = sum.z / n;
         }
     }
+    if (c.opt.progress)
+        c.opt.progress(c.opt.progress_user, 1.0);
     size_t npx = (size_t)cam.width * cam.height;
     rep.mean_samples_per_pixel = (double)total / (double)npx;
     rep.image_error.evaluations = total;
