@@ -22,7 +22,7 @@
  *    CONVERSION_BASED_UNIT such as INCH or FOOT through its conversion
  *    factor). Plane angles are converted to radians.
  *  - Every surface keeps its STEP parameterisation (so PCURVEs apply
- *    unchanged, with angles in radians): see geom_brep_surface_eval.
+ *    unchanged, with angles in radians): see geom_step_surface_eval.
  *  - Coordinates are STEP's, which is Z-up; tools converting to a Y-up
  *    format (glTF) rotate.
  *  - Nothing prints or keeps global state; every function is reentrant.
@@ -158,7 +158,7 @@ typedef struct geom_brep_issue {
  * A B-rep as read: plain arrays the caller may walk (indices are uint32,
  * GEOM_INVALID_INDEX where absent). Assembly instances are flattened: a
  * part placed twice appears twice, each copy with its own transformed
- * geometry. Owned by the reader; free with geom_brep_destroy.
+ * geometry. Owned by the reader; free with geom_step_destroy.
  */
 typedef struct geom_brep {
     size_t nsolids, nshells, nfaces, nloops, ncoedges, nedges, nvertices, ncurves, nsurfaces;
@@ -226,16 +226,16 @@ GEOM_API geom_status geom_step_read(const char *path, const geom_step_read_optio
                                     geom_brep **out, geom_diag *diag);
 
 /** Free a B-rep. NULL is a no-op. */
-GEOM_API void geom_brep_destroy(geom_brep *b);
+GEOM_API void geom_step_destroy(geom_brep *b);
 
 /** S(u, v) (3 doubles) of surface s of b, and if du/dv are not NULL the
  *  first partial derivatives. GEOM_ERR_INVALID_ARG for a bad index,
  *  GEOM_ERR_DOMAIN outside a NURBS surface's domain. */
-GEOM_API geom_status geom_brep_surface_eval(const geom_brep *b, uint32_t s, double u, double v,
+GEOM_API geom_status geom_step_surface_eval(const geom_brep *b, uint32_t s, double u, double v,
                                             double p[3], double du[3], double dv[3]);
 
 /** C(t) (dim doubles) of curve c of b. */
-GEOM_API geom_status geom_brep_curve_eval(const geom_brep *b, uint32_t c, double t, double *p);
+GEOM_API geom_status geom_step_curve_eval(const geom_brep *b, uint32_t c, double t, double *p);
 
 /* ----------------------------------------------------------- tessellation */
 
@@ -308,7 +308,7 @@ typedef struct geom_brep_tess_stats {
  * Statuses: GEOM_OK, GEOM_ERR_INVALID_ARG, GEOM_ERR_LIMIT, GEOM_ERR_NOMEM
  * and geom_mesh_build's.
  */
-GEOM_API geom_status geom_brep_tessellate(const geom_brep *b, const geom_brep_tess_options *options,
+GEOM_API geom_status geom_step_tessellate(const geom_brep *b, const geom_brep_tess_options *options,
                                           geom_mesh *out, geom_error_report *report,
                                           geom_brep_face_report *faces, geom_brep_tess_stats *stats,
                                           geom_diag *diag);

@@ -1,5 +1,5 @@
 /*
- * Watertight trimmed tessellation of a B-rep (see geom_brep_tessellate in
+ * Watertight trimmed tessellation of a B-rep (see geom_step_tessellate in
  * step.h): edges sampled once in 3D, loops inverted into each face's
  * parameter domain (unwrapped across seams, joined through poles), faces
  * meshed there by constrained Delaunay triangulation (cdt.c) refined at
@@ -294,9 +294,13 @@ static double loop_area(const lpt *P, size_t n)
     return 0.5 * a;
 }
 
-/* The loop's points in the domain, closed implicitly (last joins first). */
-static geom_status loop_uv(facectx *F, const geom_brep_loop *L, buf *out, int *ok)
+/* The loop's points in the domain, closed implicitly (last joins first).
+ * A loop that closes in 3D but not in the domain, its last point one
+ * period away from its first (a circle around a cylinder with no seam
+ * edge), is "open": shift receives that period vector, else (0, 0). */
+static geom_status loop_uv(facectx *F, const geom_brep_loop *L, buf *out, int *ok, double shift[2])
 {
+    shift[0] = shift[1] = 0;
     tess *T = F->T;
     const geom_brep *b = T->b;
     buf tmp = {NULL, 0, 0, sizeof(lpt)};
@@ -391,7 +395,11 @@ static geom_status loop_uv(facectx *F, const geom_brep_loop *L, buf *out, int *o
                     P[k].uv[0] -= sgn * F->pu;
         }
     }
-    /* every gap must be a pole (one 3D point all along) */
+    /* every gap must be a pole (one 3D point all along), or, when it is the
+     * loop's only gap, at its closure, and one period long: an open loop */
+    size_t ngaps = 0;
+    for (size_t k = 0; k < n; k++)
+        ngaps += P[k].gap != 0;
     for (size_t k = 0; k < n; k++) {
         if (!P[k].gap)
             continue;
@@ -399,11 +407,163 @@ static geom_status loop_uv(facectx *F, const geom_brep_loop *L, buf *out, int *o
         double q[3];
         geom__brep_surface_eval(b, F->S, 0.5 * (a->uv[0] + c->uv[0]), 0.5 * (a->uv[1] + c->uv[1]), q,
                                 NULL, NULL);
-        if (d3(q, posof(T, c->vid)) > 10 * T->tol + 1e-9) {
+        if (d3(q, posof(T, c->vid)) <= 10 * T->tol + 1e-9)
+            continue;
+        double du = a->uv[0] - c->uv[0], dv = a->uv[1] - c->uv[1];
+        double ku = F->pu > 0 ? round(du / F->pu) : 0, kv = F->pv > 0 ? round(dv / F->pv) : 0;
+        if (k != 0 || ngaps != 1 || (ku == 0 && kv == 0) || fabs(du - ku * F->pu) > 1e-6 ||
+            fabs(dv - kv * F->pv) > 1e-6) {
             *ok = 0;
             return GEOM_OK;
         }
+        shift[0] = ku * F->pu;
+        shift[1] = kv * F->pv;
+        P[n - 1].uv[0] = P[0].uv[0] + shift[0];
+        P[n - 1].uv[1] = P[0].uv[1] + shift[1];
+        P[0].gap = 0;
     }
+    return GEOM_OK;
+}
+
+/* Interior points of the straight (u, v) segment from p to q, bisected until
+ * every chord is within the tolerance of the surface (sampled at its quarter
+ * points), with their 3D positions: an added seam. */
+static geom_status seam_points(facectx *F, const double p[2], const double q[2], buf *out)
+{
+    tess *T = F->T;
+    double stack[64][2];
+    int sp = 0;
+    stack[sp][0] = 0;
+    stack[sp][1] = 1;
+    sp++;
+    geom_status st = GEOM_OK;
+    while (sp > 0 && !st) {
+        sp--;
+        double ta = stack[sp][0], tb = stack[sp][1], pa[3], pb[3], err = 0;
+        geom__brep_surface_eval(T->b, F->S, p[0] + ta * (q[0] - p[0]), p[1] + ta * (q[1] - p[1]), pa,
+                                NULL, NULL);
+        geom__brep_surface_eval(T->b, F->S, p[0] + tb * (q[0] - p[0]), p[1] + tb * (q[1] - p[1]), pb,
+                                NULL, NULL);
+        for (int k = 1; k < 4; k++) {
+            double t = ta + (tb - ta) * k / 4, pm[3];
+            geom__brep_surface_eval(T->b, F->S, p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1]), pm,
+                                    NULL, NULL);
+            err = fmax(err, seg_dist(pm, pa, pb));
+        }
+        T->evals += 5;
+        if (err > T->tol && sp < 60 && tb - ta > 1e-9) {
+            double tm = 0.5 * (ta + tb);
+            stack[sp][0] = tm, stack[sp][1] = tb, sp++;
+            stack[sp][0] = ta, stack[sp][1] = tm, sp++;
+            continue;
+        }
+        if (tb >= 1)
+            break;
+        lpt L;
+        memset(&L, 0, sizeof L);
+        L.uv[0] = p[0] + tb * (q[0] - p[0]);
+        L.uv[1] = p[1] + tb * (q[1] - p[1]);
+        if ((st = add_pos(T, pb, &L.vid)) == GEOM_OK)
+            st = bpush(T->a, out, &L);
+    }
+    return st;
+}
+
+/* A periodic face bounded by two open loops (an annulus in the domain once
+ * unwrapped: the side of a cylinder between two circles, no seam edge):
+ * joined into one loop through an added seam, from loop A's first point to
+ * the nearest point of loop B, sampled once and used on both sides (the
+ * second use one period over), as a seam edge would be. Other loops (holes)
+ * are moved by whole periods between the seam's two copies. Loops are
+ * all[starts[l] ..], shifts[l] each loop's period vector (0, 0: closed). */
+static geom_status join_open_loops(facectx *F, buf *all, buf *starts, const buf *shifts)
+{
+    tess *T = F->T;
+    size_t nl = starts->n, open[2], nopen = 0;
+    const double *sh = (const double *)shifts->p;
+    const size_t *S0 = (const size_t *)starts->p;
+    for (size_t l = 0; l < nl; l++)
+        if (sh[2 * l] != 0 || sh[2 * l + 1] != 0) {
+            if (nopen == 2)
+                return GEOM_ERR_DEGENERATE;
+            open[nopen++] = l;
+        }
+    if (nopen == 0)
+        return GEOM_OK;
+    const double *sA = sh + 2 * open[0], *sB = sh + 2 * open[1];
+    if (nopen != 2 || sA[0] != -sB[0] || sA[1] != -sB[1])
+        return GEOM_ERR_DEGENERATE;
+#define LOOP_END(l) ((l) + 1 < nl ? S0[(l) + 1] : all->n)
+    const lpt *A = (const lpt *)all->p + S0[open[0]], *B = (const lpt *)all->p + S0[open[1]];
+    size_t na = LOOP_END(open[0]) - S0[open[0]], nb = LOOP_END(open[1]) - S0[open[1]];
+    /* B's point nearest A's first, in 3D */
+    size_t j = 0;
+    double best = DBL_MAX;
+    for (size_t k = 0; k + 1 < nb; k++) {
+        double d = d3(posof(T, B[k].vid), posof(T, A[0].vid));
+        if (d < best)
+            best = d, j = k;
+    }
+    const double *am = A[na - 1].uv;
+    double w[2] = {F->pu > 0 ? F->pu * round((am[0] - B[j].uv[0]) / F->pu) : 0,
+                   F->pv > 0 ? F->pv * round((am[1] - B[j].uv[1]) / F->pv) : 0};
+    double bj[2] = {B[j].uv[0] + w[0], B[j].uv[1] + w[1]};
+    buf nall = {NULL, 0, 0, sizeof(lpt)}, seam = {NULL, 0, 0, sizeof(lpt)}, nst = {NULL, 0, 0, sizeof(size_t)};
+    size_t zero = 0;
+    geom_status st = seam_points(F, am, bj, &seam);
+    if (!st)
+        st = bpush(T->a, &nst, &zero);
+    for (size_t k = 0; k < na && !st; k++)
+        st = bpush(T->a, &nall, &A[k]);
+    for (size_t k = 0; k < seam.n && !st; k++)
+        st = bpush(T->a, &nall, (const lpt *)seam.p + k);
+    for (size_t k = j; k + 1 < nb && !st; k++) {
+        lpt q = B[k];
+        q.uv[0] += w[0], q.uv[1] += w[1];
+        st = bpush(T->a, &nall, &q);
+    }
+    for (size_t k = 0; k <= j && !st; k++) {
+        lpt q = B[k];
+        q.uv[0] += sB[0] + w[0], q.uv[1] += sB[1] + w[1];
+        st = bpush(T->a, &nall, &q);
+    }
+    for (size_t k = seam.n; k-- > 0 && !st;) {
+        lpt q = ((const lpt *)seam.p)[k];
+        q.uv[0] -= sA[0], q.uv[1] -= sA[1];
+        st = bpush(T->a, &nall, &q);
+    }
+    /* the other loops, moved between the two copies of the seam */
+    int c = sA[0] != 0 ? 0 : 1;
+    double per = c == 0 ? F->pu : F->pv;
+    double lo = 0.5 * (A[0].uv[c] + bj[c] - sA[c]), dir = sA[c] > 0 ? 1 : -1;
+    for (size_t l = 0; l < nl && !st; l++) {
+        if (l == open[0] || l == open[1])
+            continue;
+        size_t s0 = S0[l], s1 = LOOP_END(l), at = nall.n;
+        double mean = 0;
+        for (size_t k = s0; k < s1; k++)
+            mean += ((const lpt *)all->p)[k].uv[c];
+        mean /= (double)(s1 - s0);
+        double move = per * floor((lo - mean) * dir / per + 1) * dir;
+        if ((st = bpush(T->a, &nst, &at)) != GEOM_OK)
+            break;
+        for (size_t k = s0; k < s1 && !st; k++) {
+            lpt q = ((const lpt *)all->p)[k];
+            q.uv[c] += move;
+            st = bpush(T->a, &nall, &q);
+        }
+    }
+#undef LOOP_END
+    bfree(T->a, &seam);
+    if (st) {
+        bfree(T->a, &nall);
+        bfree(T->a, &nst);
+        return st;
+    }
+    bfree(T->a, all);
+    bfree(T->a, starts);
+    *all = nall;
+    *starts = nst;
     return GEOM_OK;
 }
 
@@ -486,23 +646,28 @@ static geom_status mesh_face(tess *T, uint32_t fi, geom_brep_face_report *rep)
     /* loops to the domain */
     buf all = {NULL, 0, 0, sizeof(lpt)};
     buf starts = {NULL, 0, 0, sizeof(size_t)};
+    buf shifts = {NULL, 0, 0, 2 * sizeof(double)};
     for (uint32_t l = 0; l < fc->nloops && !st; l++) {
         const geom_brep_loop *L = &b->loops[fc->first_loop + l];
         if (L->n == 0)
             continue; /* a vertex loop (an apex): nothing to bound */
         int ok;
-        if ((st = loop_uv(&F, L, &loop, &ok)) != GEOM_OK)
+        double sh[2];
+        if ((st = loop_uv(&F, L, &loop, &ok, sh)) != GEOM_OK)
             break;
         if (!ok) {
             st = GEOM_ERR_DEGENERATE;
             break;
         }
         size_t s0 = all.n;
-        if ((st = bpush(T->a, &starts, &s0)) != GEOM_OK)
+        if ((st = bpush(T->a, &starts, &s0)) != GEOM_OK || (st = bpush(T->a, &shifts, sh)) != GEOM_OK)
             break;
         for (size_t k = 0; k < loop.n && !st; k++)
             st = bpush(T->a, &all, (lpt *)loop.p + k);
     }
+    if (!st)
+        st = join_open_loops(&F, &all, &starts, &shifts);
+    bfree(T->a, &shifts);
     /* a periodic face bounded by loops that are not closed in the domain
      * is outside what this mesher handles: reported through the status */
     if (!st && all.n < 3)
@@ -772,7 +937,7 @@ static double now(void)
     return (double)clock() / CLOCKS_PER_SEC;
 }
 
-GEOM_API geom_status geom_brep_tessellate(const geom_brep *b, const geom_brep_tess_options *options,
+GEOM_API geom_status geom_step_tessellate(const geom_brep *b, const geom_brep_tess_options *options,
                                           geom_mesh *out, geom_error_report *report,
                                           geom_brep_face_report *faces, geom_brep_tess_stats *stats,
                                           geom_diag *diag)
