@@ -258,7 +258,10 @@ typedef struct geom_brep_tess_options {
 
 /** Per-face results of a tessellation. */
 typedef struct geom_brep_face_report {
-    double chordal_error;  /**< largest sampled distance triangle - surface */
+    double chordal_error;  /**< largest sampled distance triangle - surface (the
+                            *   surface displaced by the edge gap interpolated
+                            *   from the triangle's corners, see
+                            *   geom_step_tessellate) */
     double edge_gap;       /**< largest |C(t) - S(uv(t))| over its boundary samples */
     size_t triangles;
     double seconds;        /**< processor time (clock()) of its last meshing pass */
@@ -291,7 +294,11 @@ typedef struct geom_brep_tess_stats {
  * metric) and refined by inserting the worst sample point of every
  * triangle whose chordal error (the distance between the triangle and the
  * surface at 7 barycentric samples: the centroid, the edge midpoints and
- * three interior points) or corner-normal angle exceeds the tolerance: at
+ * three interior points; where a corner is an edge point lying off the
+ * surface, by the file's own gap between an edge curve and its surface, the
+ * surface is displaced there by that gap, interpolated linearly over the
+ * triangle, so that a gap the file carries is reported as edge_gap and not
+ * refined for in vain) or corner-normal angle exceeds the tolerance: at
  * the triangle's circumcentre when that lies inside the face away from its
  * boundary (Ruppert), else at the worst sample. Where the worst sample is
  * on the face's boundary, the edge piece is split at its parameter

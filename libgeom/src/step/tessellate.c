@@ -570,7 +570,21 @@ static geom_status join_open_loops(facectx *F, buf *all, buf *starts, const buf 
 typedef struct fpt {
     double uv[2];
     uint32_t vid;
+    double off[3]; /* position - S(uv): the edge gap at a boundary point, else 0 */
 } fpt;
+
+/* The surface at the barycentric point bc of triangle V, displaced by the
+ * corners' offsets interpolated alike: what the triangle is measured
+ * against, so that an edge curve lying off its surface (the file's own
+ * gap, reported as edge_gap) is not taken for chordal error. */
+static void surf_bary(facectx *F, const fpt *V, const double bc[3], double uv[2], double p[3])
+{
+    uv[0] = bc[0] * V[0].uv[0] + bc[1] * V[1].uv[0] + bc[2] * V[2].uv[0];
+    uv[1] = bc[0] * V[0].uv[1] + bc[1] * V[1].uv[1] + bc[2] * V[2].uv[1];
+    geom__brep_surface_eval(F->T->b, F->S, uv[0], uv[1], p, NULL, NULL);
+    for (int j = 0; j < 3; j++)
+        p[j] += bc[0] * V[0].off[j] + bc[1] * V[1].off[j] + bc[2] * V[2].off[j];
+}
 
 static void tri_error(facectx *F, const fpt *V, const double *const X[3], double *err, double best[2],
                       int *on_edge)
@@ -581,14 +595,11 @@ static void tri_error(facectx *F, const fpt *V, const double *const X[3], double
     *err = -1;
     *on_edge = -1;
     for (int s = 0; s < 7; s++) {
-        double uv[2] = {0, 0}, x[3] = {0, 0, 0}, p[3];
-        for (int k = 0; k < 3; k++) {
-            uv[0] += bc[s][k] * V[k].uv[0];
-            uv[1] += bc[s][k] * V[k].uv[1];
+        double uv[2], x[3] = {0, 0, 0}, p[3];
+        for (int k = 0; k < 3; k++)
             for (int j = 0; j < 3; j++)
                 x[j] += bc[s][k] * X[k][j];
-        }
-        geom__brep_surface_eval(F->T->b, F->S, uv[0], uv[1], p, NULL, NULL);
+        surf_bary(F, V, bc[s], uv, p);
         double d = d3(p, x);
         if (d > *err) {
             *err = d;
@@ -694,7 +705,7 @@ static geom_status mesh_face(tess *T, uint32_t fi, geom_brep_face_report *rep)
         }
         st = geom__cdt_init(&C, T->a, box);
     }
-    fpt dummy = {{0, 0}, 0};
+    fpt dummy = {{0, 0}, 0, {0, 0, 0}};
     for (int k = 0; k < 3 && !st; k++)
         st = bpush(T->a, &pts, &dummy);
     /* boundary points and segments */
@@ -707,7 +718,12 @@ static geom_status mesh_face(tess *T, uint32_t fi, geom_brep_face_report *rep)
             int32_t v;
             geom_status si = geom__cdt_insert(&C, q->uv[0] * su, q->uv[1] * sv, &v);
             if (si == GEOM_OK) {
-                fpt fp = {{q->uv[0], q->uv[1]}, q->vid};
+                fpt fp = {{q->uv[0], q->uv[1]}, q->vid, {0, 0, 0}};
+                double sp[3];
+                const double *x = posof(T, q->vid);
+                geom__brep_surface_eval(b, F.S, q->uv[0], q->uv[1], sp, NULL, NULL);
+                for (int j = 0; j < 3; j++)
+                    fp.off[j] = x[j] - sp[j];
                 st = bpush(T->a, &pts, &fp);
             } else if (si != GEOM_ERR_DEGENERATE || v < 0) {
                 st = si == GEOM_ERR_DEGENERATE ? GEOM_ERR_DEGENERATE : si;
@@ -755,10 +771,9 @@ static geom_status mesh_face(tess *T, uint32_t fi, geom_brep_face_report *rep)
             if (on_edge >= 0 && C.tri[t].con[(on_edge + 2) % 3]) {
                 /* the worst point is on the boundary, which this face cannot
                  * move: refine only if the interior is off too */
-                double c3[2] = {(V[0].uv[0] + V[1].uv[0] + V[2].uv[0]) / 3,
-                                (V[0].uv[1] + V[1].uv[1] + V[2].uv[1]) / 3};
-                double pc[3], xc[3];
-                geom__brep_surface_eval(b, F.S, c3[0], c3[1], pc, NULL, NULL);
+                static const double third[3] = {1. / 3, 1. / 3, 1. / 3};
+                double c3[2], pc[3], xc[3];
+                surf_bary(&F, V, third, c3, pc);
                 for (int j = 0; j < 3; j++)
                     xc[j] = (X[0][j] + X[1][j] + X[2][j]) / 3;
                 if (d3(pc, xc) <= T->tol && !(T->cos_angle < 1 && normal_cos(&F, V) < T->cos_angle))
@@ -811,6 +826,7 @@ static geom_status mesh_face(tess *T, uint32_t fi, geom_brep_face_report *rep)
             geom_status si = geom__cdt_insert(&C, best[0] * su, best[1] * sv, &v);
             if (si == GEOM_OK) {
                 fpt fp;
+                memset(&fp, 0, sizeof fp);
                 fp.uv[0] = best[0];
                 fp.uv[1] = best[1];
                 double p[3];
