@@ -911,7 +911,7 @@ static int cmp_pair(const void *x, const void *y)
 
 /* Split the edge pieces a face asked for (T->split) at their parameter
  * midpoints, so that the next pass meets the tolerance along them. */
-static geom_status resample_edges(tess *T, size_t *nsplit)
+static geom_status resample_edges(tess *T, size_t *nsplit, uint8_t *changed)
 {
     const geom_brep *b = T->b;
     qsort(T->split.p, T->split.n, 2 * sizeof(uint32_t), cmp_pair);
@@ -939,6 +939,7 @@ static geom_status resample_edges(tess *T, size_t *nsplit)
                 break;
             st = bpush(T->a, &ns, &m);
             (*nsplit)++;
+            changed[e] = 1;
         }
         T->efirst[e] = first;
         T->ecount[e] = ns.n - first;
@@ -1006,44 +1007,107 @@ GEOM_API geom_status geom_step_tessellate(const geom_brep *b, const geom_brep_te
     size_t failed = 0;
     double gap = 0;
     /* mesh the faces; where a face's boundary pieces are off the tolerance,
-     * split those edge pieces (for both faces of the edge) and mesh again */
+     * split those edge pieces (for both faces of the edge) and mesh again
+     * the faces that use a split edge; the others keep their triangles */
+    size_t nf = b->nfaces ? b->nfaces : 1;
+    buf *ftris = geom_alloc(T.a, nf * sizeof *ftris), *ftuv = geom_alloc(T.a, nf * sizeof *ftuv);
+    geom_brep_face_report *frs = geom_alloc(T.a, nf * sizeof *frs);
+    double *fsum = geom_alloc(T.a, nf * sizeof *fsum);
+    size_t *fcnt = geom_alloc(T.a, nf * sizeof *fcnt);
+    uint8_t *changed = geom_alloc(T.a, ne);
+    if (ftris && ftuv)
+        for (size_t f = 0; f < nf; f++) {
+            buf z3 = {NULL, 0, 0, 3 * sizeof(uint32_t)}, z6 = {NULL, 0, 0, 6 * sizeof(double)};
+            ftris[f] = z3;
+            ftuv[f] = z6;
+        }
+    if (!ftris || !ftuv || !frs || !fsum || !fcnt || !changed)
+        st = st ? st : GEOM_ERR_NOMEM;
+    else
+        memset(changed, 0, ne);
     for (int pass = 0; pass < 6 && !st; pass++) {
-    size_t nsplit = 0;
-    if (pass > 0) {
-        if (T.split.n == 0)
-            break;
-        if ((st = resample_edges(&T, &nsplit)) != GEOM_OK || nsplit == 0)
-            break;
+        if (pass > 0) {
+            size_t nsplit = 0;
+            if (T.split.n == 0)
+                break;
+            memset(changed, 0, ne);
+            if ((st = resample_edges(&T, &nsplit, changed)) != GEOM_OK || nsplit == 0)
+                break;
+        }
+        T.split.n = 0;
+        for (size_t f = 0; f < b->nfaces && !st; f++) {
+            if (pass > 0) {
+                const geom_brep_face *fc = &b->faces[f];
+                int dirty = 0;
+                for (uint32_t l = 0; l < fc->nloops && !dirty; l++) {
+                    const geom_brep_loop *L = &b->loops[fc->first_loop + l];
+                    for (uint32_t k = 0; k < L->n && !dirty; k++)
+                        dirty = changed[b->coedges[L->first + k].edge];
+                }
+                if (!dirty)
+                    continue;
+            }
+            geom_brep_face_report fr;
+            memset(&fr, 0, sizeof fr);
+            double t0 = now();
+            size_t npos = T.pos.n;
+            T.tris.n = T.tface.n = T.tuv.n = 0;
+            T.err_sum = 0;
+            T.err_n = 0;
+            geom_status fs = mesh_face(&T, (uint32_t)f, &fr);
+            fr.seconds = now() - t0;
+            if (fs == GEOM_ERR_NOMEM || fs == GEOM_ERR_LIMIT) {
+                st = fs;
+            } else if (fs != GEOM_OK) {
+                /* leave the face out, keep going */
+                T.tris.n = T.tface.n = T.tuv.n = 0;
+                T.pos.n = npos;
+                T.err_sum = 0;
+                T.err_n = 0;
+                fr.triangles = 0;
+                fr.status = fs;
+            }
+            frs[f] = fr;
+            fsum[f] = T.err_sum;
+            fcnt[f] = T.err_n;
+            ftris[f].n = ftuv[f].n = 0;
+            for (size_t k = 0; k < T.tris.n && !st; k++)
+                if ((st = bpush(T.a, &ftris[f], (const uint32_t *)T.tris.p + 3 * k)) == GEOM_OK)
+                    st = bpush(T.a, &ftuv[f], (const double *)T.tuv.p + 6 * k);
+        }
     }
-    T.split.n = 0;
+    /* all faces' triangles, in face order, and the totals */
     T.tris.n = T.tface.n = T.tuv.n = 0;
     T.face_err = T.err_sum = 0;
     T.err_n = 0;
-    failed = 0;
-    gap = 0;
     for (size_t f = 0; f < b->nfaces && !st; f++) {
-        geom_brep_face_report fr;
-        memset(&fr, 0, sizeof fr);
-        double t0 = now();
-        size_t ntr = T.tris.n, npos = T.pos.n;
-        geom_status fs = mesh_face(&T, (uint32_t)f, &fr);
-        fr.seconds = now() - t0;
-        if (fs == GEOM_ERR_NOMEM || fs == GEOM_ERR_LIMIT) {
-            st = fs;
-        } else if (fs != GEOM_OK) {
-            /* leave the face out, keep going */
-            T.tris.n = T.tface.n = T.tuv.n = ntr;
-            T.pos.n = npos;
-            fr.triangles = 0;
-            fr.status = fs;
+        uint32_t fi = (uint32_t)f;
+        for (size_t k = 0; k < ftris[f].n && !st; k++)
+            if ((st = bpush(T.a, &T.tris, (const uint32_t *)ftris[f].p + 3 * k)) == GEOM_OK &&
+                (st = bpush(T.a, &T.tface, &fi)) == GEOM_OK)
+                st = bpush(T.a, &T.tuv, (const double *)ftuv[f].p + 6 * k);
+        if (frs[f].status != GEOM_OK)
             failed++;
-        }
-        if (fr.edge_gap > gap)
-            gap = fr.edge_gap;
+        else if (frs[f].chordal_error > T.face_err)
+            T.face_err = frs[f].chordal_error;
+        if (frs[f].edge_gap > gap)
+            gap = frs[f].edge_gap;
+        T.err_sum += fsum[f];
+        T.err_n += fcnt[f];
         if (faces)
-            faces[f] = fr;
+            faces[f] = frs[f];
     }
-    }
+    if (ftris && ftuv)
+        for (size_t f = 0; f < nf; f++) {
+            bfree(T.a, &ftris[f]);
+            bfree(T.a, &ftuv[f]);
+        }
+    geom_free(T.a, ftris, nf * sizeof *ftris);
+    geom_free(T.a, ftuv, nf * sizeof *ftuv);
+    geom_free(T.a, frs, nf * sizeof *frs);
+    geom_free(T.a, fsum, nf * sizeof *fsum);
+    geom_free(T.a, fcnt, nf * sizeof *fcnt);
+    geom_free(T.a, changed, ne);
     if (st) {
         geom_diag_set(diag, st, "", 0, 0, "tessellation failed: %s", geom_status_str(st));
         goto done;
