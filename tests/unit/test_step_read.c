@@ -38,10 +38,11 @@ static char *slurp(const char *name, size_t *n)
     return buf;
 }
 
-static void area_volume(const geom_mesh *m, double *A, double *V)
+/* Area, enclosed volume and volume centroid of a triangle mesh. */
+static void area_volume(const geom_mesh *m, double *A, double *V, double c[3])
 {
     const double *P = geom_mesh_cpositions(m);
-    *A = *V = 0;
+    *A = *V = c[0] = c[1] = c[2] = 0;
     for (uint32_t f = 0; f < geom_mesh_n_faces(m); f++) {
         uint32_t h = geom_mesh_face_he(m, f);
         const double *x = P + 3 * geom_mesh_he_vertex(m, h);
@@ -52,44 +53,18 @@ static void area_volume(const geom_mesh *m, double *A, double *V)
         double u[3] = {y[0] - x[0], y[1] - x[1], y[2] - x[2]}, v[3] = {z[0] - x[0], z[1] - x[1], z[2] - x[2]};
         double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
         *A += 0.5 * sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-        *V += (x[0] * (y[1] * z[2] - y[2] * z[1]) - x[1] * (y[0] * z[2] - y[2] * z[0]) +
-               x[2] * (y[0] * z[1] - y[1] * z[0])) / 6;
+        double w = (x[0] * (y[1] * z[2] - y[2] * z[1]) - x[1] * (y[0] * z[2] - y[2] * z[0]) +
+                    x[2] * (y[0] * z[1] - y[1] * z[0])) / 6;
+        *V += w;
+        for (int k = 0; k < 3; k++)
+            c[k] += w * (x[k] + y[k] + z[k]) / 4;
     }
-}
-
-static void check_sphere(const char *text, size_t n, double r, double tol)
-{
-    geom_brep *b = NULL;
-    geom_diag d;
-    assert_int_equal(geom_step_read_memory(text, n, "sphere.step", NULL, &b, &d), GEOM_OK);
-    assert_int_equal((int)b->nsolids, 1);
-    assert_int_equal((int)b->nfaces, 1);
-    assert_int_equal((int)b->nissues, 0);
-    assert_int_equal(b->surfaces[0].type, GEOM_BREP_SURFACE_SPHERE);
-    assert_true(fabs(b->surfaces[0].r1 - r) <= 1e-12 * r);
-    geom_mesh *m = geom_mesh_create(NULL);
-    geom_brep_tess_options o;
-    memset(&o, 0, sizeof o);
-    o.tolerance = tol;
-    geom_error_report rep;
-    geom_brep_tess_stats st;
-    assert_int_equal(geom_step_tessellate(b, &o, m, &rep, NULL, &st, &d), GEOM_OK);
-    assert_int_equal((int)st.faces_failed, 0);
-    assert_int_equal((int)st.open_edges, 0); /* closed */
-    assert_int_equal((int)st.nonmanifold_edges, 0);
-    assert_true(rep.max_error <= tol * 1.0001);
-    double A, V;
-    area_volume(m, &A, &V);
-    double A0 = 4 * M_PI * r * r, V0 = 4.0 / 3 * M_PI * r * r * r;
-    /* inscribed within tol: the area and volume fall short by O(tol / r) */
-    assert_true(A < A0 && A0 - A <= 2 * tol / r * A0);
-    assert_true(V > 0 && V < V0 && V0 - V <= 3 * tol / r * V0); /* outward normals */
-    geom_mesh_destroy(m);
-    geom_step_destroy(b);
+    for (int k = 0; k < 3; k++)
+        c[k] /= *V;
 }
 
 /* Area, volume and volume centroid of the tessellation of text at tol;
- * checks it is closed, manifold and within the tolerance. */
+ * checks it is one closed, manifold solid within the tolerance. */
 static void tess_measure(const char *text, size_t n, double tol, double *A, double *V, double c[3])
 {
     geom_brep *b = NULL;
@@ -105,28 +80,43 @@ static void tess_measure(const char *text, size_t n, double tol, double *A, doub
     geom_brep_tess_stats st;
     assert_int_equal(geom_step_tessellate(b, &o, m, &rep, NULL, &st, &d), GEOM_OK);
     assert_int_equal((int)st.faces_failed, 0);
-    assert_int_equal((int)st.open_edges, 0);
+    assert_int_equal((int)st.open_edges, 0); /* closed */
     assert_int_equal((int)st.nonmanifold_edges, 0);
     assert_true(rep.max_error <= tol * 1.0001);
-    area_volume(m, A, V);
-    const double *P = geom_mesh_cpositions(m);
-    c[0] = c[1] = c[2] = 0;
-    for (uint32_t f = 0; f < geom_mesh_n_faces(m); f++) {
-        uint32_t h = geom_mesh_face_he(m, f);
-        const double *x = P + 3 * geom_mesh_he_vertex(m, h);
-        h = geom_mesh_he_next(m, h);
-        const double *y = P + 3 * geom_mesh_he_vertex(m, h);
-        h = geom_mesh_he_next(m, h);
-        const double *z = P + 3 * geom_mesh_he_vertex(m, h);
-        double v = (x[0] * (y[1] * z[2] - y[2] * z[1]) - x[1] * (y[0] * z[2] - y[2] * z[0]) +
-                    x[2] * (y[0] * z[1] - y[1] * z[0])) / 6;
-        for (int k = 0; k < 3; k++)
-            c[k] += v * (x[k] + y[k] + z[k]) / 4;
-    }
-    for (int k = 0; k < 3; k++)
-        c[k] /= *V;
+    area_volume(m, A, V, c);
     geom_mesh_destroy(m);
     geom_step_destroy(b);
+}
+
+static void check_sphere(const char *text, size_t n, double r, double tol)
+{
+    geom_brep *b = NULL;
+    geom_diag d;
+    assert_int_equal(geom_step_read_memory(text, n, "sphere.step", NULL, &b, &d), GEOM_OK);
+    assert_int_equal((int)b->nfaces, 1);
+    assert_int_equal(b->surfaces[0].type, GEOM_BREP_SURFACE_SPHERE);
+    assert_true(fabs(b->surfaces[0].r1 - r) <= 1e-12 * r);
+    geom_step_destroy(b);
+    double A, V, c[3];
+    tess_measure(text, n, tol, &A, &V, c);
+    double A0 = 4 * M_PI * r * r, V0 = 4.0 / 3 * M_PI * r * r * r;
+    /* inscribed within tol: the area and volume fall short by O(tol / r) */
+    assert_true(A < A0 && A0 - A <= 2 * tol / r * A0);
+    assert_true(V > 0 && V < V0 && V0 - V <= 3 * tol / r * V0); /* outward normals */
+}
+
+/* The cylinder of radius r and height h tessellated from text: area, volume
+ * and centroid (cx, cy, cz) against the closed forms. */
+static void check_cylinder(const char *text, size_t n, double r, double h, const double c0[3])
+{
+    double tol = 1e-3, A, V, c[3];
+    tess_measure(text, n, tol, &A, &V, c);
+    double A0 = 2 * M_PI * r * (r + h), V0 = M_PI * r * r * h;
+    /* inscribed polygons within tol: short by O(tol / r), not more */
+    assert_true(A < A0 && A0 - A <= 2 * tol / r * A0);
+    assert_true(V > 0 && V < V0 && V0 - V <= 2 * tol / r * V0); /* outward, mirrored or not */
+    for (int k = 0; k < 3; k++)
+        assert_true(fabs(c[k] - c0[k]) < 1e-6);
 }
 
 /* The side of the cylinder is one periodic face between two circles with no
@@ -137,13 +127,8 @@ static void test_cylinder_noseam(void **state)
     size_t n;
     char *t = slurp("cylinder_noseam.step", &n);
     assert_non_null(t);
-    double r = 5, h = 10, tol = 1e-3, A, V, c[3];
-    tess_measure(t, n, tol, &A, &V, c);
-    double A0 = 2 * M_PI * r * (r + h), V0 = M_PI * r * r * h;
-    /* inscribed polygons within tol: short by O(tol / r), not more */
-    assert_true(A < A0 && A0 - A <= 2 * tol / r * A0);
-    assert_true(V > 0 && V < V0 && V0 - V <= 2 * tol / r * V0);
-    assert_true(fabs(c[0]) < 1e-9 && fabs(c[1]) < 1e-9 && fabs(c[2] - h / 2) < 1e-9);
+    const double c0[3] = {0, 0, 5};
+    check_cylinder(t, n, 5, 10, c0);
     free(t);
 }
 
@@ -169,12 +154,8 @@ static void check_operator(const char *op, double s, double cx, double cy, doubl
     char *u = malloc(pre + strlen(extra) + 1);
     memcpy(u, t, pre);
     strcpy(u + pre, extra);
-    double r = 5 * s, h = 10 * s, tol = 1e-3, A, V, c[3];
-    tess_measure(u, strlen(u), tol, &A, &V, c);
-    double A0 = 2 * M_PI * r * (r + h), V0 = M_PI * r * r * h;
-    assert_true(A < A0 && A0 - A <= 2 * tol / r * A0);
-    assert_true(V > 0 && V < V0 && V0 - V <= 2 * tol / r * V0); /* outward, mirrored or not */
-    assert_true(fabs(c[0] - cx) < 1e-6 && fabs(c[1] - cy) < 1e-6 && fabs(c[2] - cz) < 1e-6);
+    const double c0[3] = {cx, cy, cz};
+    check_cylinder(u, strlen(u), 5 * s, 10 * s, c0);
     free(u);
     free(t);
 }
