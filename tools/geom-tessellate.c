@@ -340,13 +340,13 @@ static int tessellate_step(const char *in, const tess_opts *o, int json, const c
     if (!m || !fr) {
         geom_mesh_destroy(m);
         free(fr);
-        geom_brep_destroy(b);
+        geom_step_destroy(b);
         return cli_error(&tool, "out of memory");
     }
     geom_error_report report;
     geom_brep_tess_stats stats;
     cli_timer_start(&timer);
-    geom_status st = geom_brep_tessellate(b, &to, m, &report, fr, &stats, &diag);
+    geom_status st = geom_step_tessellate(b, &to, m, &report, fr, &stats, &diag);
     double secs = cli_timer_elapsed(&timer);
     if (st == GEOM_OK && o->per_face)
         st = step_face_groups(m, b);
@@ -365,7 +365,7 @@ static int tessellate_step(const char *in, const tess_opts *o, int json, const c
         face_gap = fr[f].edge_gap > face_gap ? fr[f].edge_gap : face_gap;
     geom_mesh_destroy(m);
     free(fr);
-    geom_brep_destroy(b);
+    geom_step_destroy(b);
     if (st != GEOM_OK) {
         if (!diag.source[0])
             snprintf(diag.source, sizeof diag.source, "%s", in);

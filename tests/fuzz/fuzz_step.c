@@ -93,7 +93,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 to.max_triangles = 20000;
                 geom_brep_tess_stats stats;
                 geom_error_report rep;
-                geom_status ts = geom_brep_tessellate(b, &to, m, &rep, NULL, &stats, &d);
+                geom_status ts = geom_step_tessellate(b, &to, m, &rep, NULL, &stats, &d);
                 CHECK(ts == GEOM_OK || ts == GEOM_ERR_LIMIT || ts == GEOM_ERR_NOMEM ||
                       ts == GEOM_ERR_INVALID_ARG);
                 if (ts == GEOM_OK)
@@ -101,7 +101,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 geom_mesh_destroy(m);
             }
         }
-        geom_brep_destroy(b);
+        geom_step_destroy(b);
     }
     free(copy);
     return 0;

@@ -150,7 +150,7 @@ static void tessellate(const char *text, size_t len, double tol, double *area, s
     opt.tolerance = tol;
     geom_error_report rep;
     geom_brep_tess_stats stats;
-    assert_int_equal(geom_brep_tessellate(b, &opt, m, &rep, NULL, &stats, &d), GEOM_OK);
+    assert_int_equal(geom_step_tessellate(b, &opt, m, &rep, NULL, &stats, &d), GEOM_OK);
     assert_int_equal((int)stats.faces_failed, 0);
     assert_int_equal((int)stats.nonmanifold_edges, 0);
     *err = rep.max_error;
@@ -170,7 +170,7 @@ static void tessellate(const char *text, size_t len, double tol, double *area, s
     *area = A;
     assert_int_equal(geom_mesh_boundary_loops(m, loops, NULL), GEOM_OK);
     geom_mesh_destroy(m);
-    geom_brep_destroy(b);
+    geom_step_destroy(b);
 }
 
 static void test_many_holes(void **state)

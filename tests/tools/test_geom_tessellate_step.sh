@@ -3,14 +3,15 @@
 # for each STEP file of Debian's gmsh-doc and data/sphere.step (also
 # rewritten in inches), the same number of solids and faces as
 # OpenCASCADE finds, every solid closed and manifold (geom-info on the
-# output), the reported chordal error within the tolerance, and the area and
-# enclosed volume of the mesh within 1e-4 of the reference (2e-4 for the
-# volume of parts with B-spline faces, 1.4e-4 measured): OpenCASCADE's
-# exact GProp integrals (gmsh.model.occ.getMass), or, for parts with
-# B-spline faces (where OpenCASCADE's integral disagrees with both gmsh's
-# mesh and ours by 5e-4, see BENCHMARKS.md), gmsh's own fine surface mesh;
-# the sphere against 4 pi r^2 and 4/3 pi r^3. A dangling reference must
-# fail with exit 1 naming the file, line and column.
+# output; CGAL's checks are in tests/validate/test_validate_step.c), the
+# reported chordal error within the tolerance, every solid in place, and the
+# area and enclosed volume of the mesh within 1e-4 of the reference
+# (step_gmsh_reference.py: OpenCASCADE's exact GProp integrals for analytic
+# parts; for parts with B-spline faces, where those integrals are off by up
+# to 5e-4, gmsh's curved second-order mesh integrated exactly); the sphere
+# against 4 pi r^2 and 4/3 pi r^3. A dangling reference must fail with exit
+# 1 naming the file, line and column. Our tessellation runs while gmsh
+# computes the reference (two processes).
 # Usage: test_geom_tessellate_step.sh TOOL GEOM_INFO DATA_DIR   (env PYTHON3)
 # Exit 77 (skipped) when gmsh's Python module or gmsh-doc is missing.
 set -u
@@ -18,8 +19,8 @@ TOOL=$1
 INFO=$2
 DATA=$3
 PY=${PYTHON3:-/usr/bin/python3}
-if ! "$PY" -c 'import gmsh' 2>/dev/null; then
-    echo "SKIP: gmsh's Python module (Debian python3-gmsh) is not installed; .ci/deps installs it"
+if ! "$PY" -c 'import gmsh, numpy' 2>/dev/null; then
+    echo "SKIP: gmsh's Python module (Debian python3-gmsh) or numpy is not installed; .ci/deps installs them"
     exit 77
 fi
 DOC=/usr/share/doc/gmsh-doc/doc/gmsh
@@ -43,9 +44,12 @@ cp "$DATA/sphere.step" "$T/sphere.step"
 sed 's/^#21=(LENGTH_UNIT()NAMED_UNIT(\*)SI_UNIT(.MILLI.,.METRE.));/#21=(CONVERSION_BASED_UNIT('"'"'INCH'"'"',#25)LENGTH_UNIT()NAMED_UNIT(#26));\n#25=LENGTH_MEASURE_WITH_UNIT(LENGTH_MEASURE(25.4),#27);\n#26=DIMENSIONAL_EXPONENTS(1.,0.,0.,0.,0.,0.,0.);\n#27=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT(.MILLI.,.METRE.));/' \
     "$DATA/sphere.step" >"$T/sphere_inch.step"
 sed 's/#13=EDGE_CURVE('"''"',#8,#9,#12,.T.);/#13=EDGE_CURVE('"''"',#8,#9,#77,.T.);/' "$DATA/sphere.step" >"$T/dangling.step"
+export PYTHONPATH="$(dirname "$0")${PYTHONPATH:+:$PYTHONPATH}"
 exec "$PY" -u - "$TOOL" "$INFO" "$T" "${files[@]}" <<'PYEOF'
 import json, math, os, subprocess, sys
+import numpy as np
 import gmsh
+from step_gmsh_reference import reference
 
 tool, info, tmp = sys.argv[1:4]
 files = sys.argv[4:]
@@ -53,18 +57,20 @@ failures = []
 def fail(msg):
     print("FAIL:", msg); failures.append(msg)
 
-def mesh_area_volume(path):
-    V = []; A = 0.0; Vol = 0.0
+def read_obj(path):
+    V = []; F = []
     for line in open(path):
         if line.startswith('v '):
-            V.append(tuple(map(float, line.split()[1:4])))
+            V.append([float(x) for x in line.split()[1:4]])
         elif line.startswith('f '):
-            a, b, c = (V[int(t.split('/')[0]) - 1] for t in line.split()[1:4])
-            u = [b[i] - a[i] for i in range(3)]; w = [c[i] - a[i] for i in range(3)]
-            n = (u[1]*w[2]-u[2]*w[1], u[2]*w[0]-u[0]*w[2], u[0]*w[1]-u[1]*w[0])
-            A += 0.5 * math.sqrt(n[0]**2 + n[1]**2 + n[2]**2)
-            Vol += (a[0]*(b[1]*c[2]-b[2]*c[1]) - a[1]*(b[0]*c[2]-b[2]*c[0]) + a[2]*(b[0]*c[1]-b[1]*c[0])) / 6
-    return A, Vol
+            F.append([int(t.split('/')[0]) - 1 for t in line.split()[1:4]])
+    return np.array(V, dtype=float).reshape(-1, 3), np.array(F, dtype=np.int64).reshape(-1, 3)
+
+def mesh_area_volume(path):
+    X, F = read_obj(path)
+    a, b, c = X[F[:, 0]], X[F[:, 1]], X[F[:, 2]]
+    return (0.5 * float(np.linalg.norm(np.cross(b - a, c - a), axis=1).sum()),
+            float(np.einsum('ij,ij->i', a, np.cross(b, c)).sum()) / 6)
 
 def solid_centroids(path):
     """Volume centroids of the mesh's connected components (one per solid)."""
@@ -90,66 +96,52 @@ def solid_centroids(path):
         for i in range(3): s[i] += v * (A[i] + B[i] + C[i]) / 4
     return sorted(tuple(s[i] / s[3] for i in range(3)) for s in acc.values())
 
-def run_ours(path, tol):
+def start_ours(path, tol):
     out = os.path.join(tmp, os.path.basename(path) + '.obj')
-    p = subprocess.run([tool, path, '--tol', repr(tol), '--json', '-o', out], capture_output=True, text=True)
+    p = subprocess.Popen([tool, path, '--tol', repr(tol), '--json', '-o', out],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    return p, out, path
+
+def finish_ours(job):
+    p, out, path = job
+    stdout, stderr = p.communicate()
     if p.returncode != 0:
-        fail(f"{path}: exit {p.returncode}: {p.stderr.strip()}"); return None, None
-    rep = json.loads(p.stdout)
+        fail(f"{path}: exit {p.returncode}: {stderr.strip()}"); return None, None
+    rep = json.loads(stdout)
     q = subprocess.run([info, '--json', out], capture_output=True, text=True)
     inf = json.loads(q.stdout)
     return rep, (out, inf)
 
+def run_ours(path, tol):
+    return finish_ours(start_ours(path, tol))
+
 gmsh.initialize(); gmsh.option.setNumber("General.Terminal", 0)
 for path in files:
+    # the bounding box first (cheap), so that ours runs during the reference
     gmsh.clear(); gmsh.model.occ.importShapes(path); gmsh.model.occ.synchronize()
-    vols = gmsh.model.getEntities(3); surfs = gmsh.model.getEntities(2)
-    A0 = sum(gmsh.model.occ.getMass(2, t) for _, t in surfs)
-    V0 = sum(gmsh.model.occ.getMass(3, t) for _, t in vols)
-    A_occ = A0
-    txt = open(path, errors='replace').read()
-    bspline = 'B_SPLINE_SURFACE' in txt
     box = gmsh.model.getBoundingBox(-1, -1); diag = math.dist(box[:3], box[3:])
     tol = 5e-5 * diag
-    ref = "OpenCASCADE integral"
-    if bspline:
-        # gmsh's own surface mesh, fine, as the reference
-        gmsh.option.setNumber("Mesh.MeshSizeMax", diag / 400)
-        gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 64)
-        gmsh.model.mesh.generate(2)
-        A0 = 0.0
-        types, tags, nodes = gmsh.model.mesh.getElements(2)
-        nt, coord, _ = gmsh.model.mesh.getNodes()
-        pos = {int(t): (coord[3*i], coord[3*i+1], coord[3*i+2]) for i, t in enumerate(nt)}
-        for ty, nn in zip(types, nodes):
-            if ty != 2: continue
-            for k in range(0, len(nn), 3):
-                a, b, c = pos[int(nn[k])], pos[int(nn[k+1])], pos[int(nn[k+2])]
-                u = [b[i]-a[i] for i in range(3)]; w = [c[i]-a[i] for i in range(3)]
-                n = (u[1]*w[2]-u[2]*w[1], u[2]*w[0]-u[0]*w[2], u[0]*w[1]-u[1]*w[0])
-                A0 += 0.5*math.sqrt(n[0]**2+n[1]**2+n[2]**2)
-        ref = "gmsh surface mesh"
-    rep, (out, inf) = run_ours(path, tol)
+    job = start_ours(path, tol)
+    R = reference(path)
+    rep, (out, inf) = finish_ours(job)
     if rep is None: continue
     name = os.path.basename(path)
-    if rep['solids'] != len(vols): fail(f"{name}: {rep['solids']} solids, OpenCASCADE {len(vols)}")
-    if rep['faces'] != len(surfs): fail(f"{name}: {rep['faces']} faces, OpenCASCADE {len(surfs)}")
+    if rep['solids'] != R['solids']: fail(f"{name}: {rep['solids']} solids, OpenCASCADE {R['solids']}")
+    if rep['faces'] != R['faces']: fail(f"{name}: {rep['faces']} faces, OpenCASCADE {R['faces']}")
     if rep['faces_failed'] or rep['unsupported']: fail(f"{name}: faces failed or unsupported: {rep}")
     if not (inf['closed'] and inf['manifold']): fail(f"{name}: not closed and manifold: {inf}")
     if inf['components'] != rep['solids']: fail(f"{name}: {inf['components']} components for {rep['solids']} solids")
     if rep['max_error'] > tol * (1 + 1e-9): fail(f"{name}: error {rep['max_error']} above tolerance {tol}")
     A, V = mesh_area_volume(out)
-    ea = abs(A - A0) / A0
-    msg = f"{name}: tol {tol:.3g} triangles {rep['triangles']} area {A:.9g} ({ref} {A0:.9g}, rel {ea:.2e}; OpenCASCADE integral rel {abs(A - A_occ) / A_occ:.2e})"
-    if ea > 1e-4: fail(msg)
-    ev = abs(V - V0) / V0
-    msg += f" volume {V:.9g} (OpenCASCADE integral {V0:.9g}, rel {ev:.2e})"
-    # OpenCASCADE's integrals on B-spline faces are themselves off (its area
-    # by 5e-4 from both meshes on component8): 2e-4 there, 1e-4 elsewhere
-    if ev > (2e-4 if bspline else 1e-4): fail(msg)
+    A0, V0 = R['area'], R['volume']
+    ea, ev = abs(A - A0) / A0, abs(V - V0) / V0
+    msg = (f"{name}: tol {tol:.3g} triangles {rep['triangles']} area {A:.9g} ({R['source']} {A0:.9g}, rel {ea:.2e};"
+           f" OpenCASCADE integral rel {abs(A - R['occ_area']) / R['occ_area']:.2e})"
+           f" volume {V:.9g} ({V0:.9g}, rel {ev:.2e}; OpenCASCADE integral rel {abs(V - R['occ_volume']) / R['occ_volume']:.2e})")
+    if ea > 1e-4 or ev > 1e-4: fail(msg)
     if V <= 0: fail(f"{name}: volume {V} not positive (normals inward)")
     # every solid in place (assemblies): centroids against OpenCASCADE's
-    ref_c = sorted(tuple(gmsh.model.occ.getCenterOfMass(3, t)) for _, t in vols)
+    ref_c = R['centroids']
     ours_c = solid_centroids(out)
     worst = 0.0
     for c in ours_c:

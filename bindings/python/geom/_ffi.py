@@ -657,10 +657,10 @@ geom_status geom_step_read_memory(const void *data, size_t size, const char *sou
                                            geom_diag *diag);
 geom_status geom_step_read(const char *path, const geom_step_read_options *options,
                                     geom_brep **out, geom_diag *diag);
-void geom_brep_destroy(geom_brep *b);
-geom_status geom_brep_surface_eval(const geom_brep *b, uint32_t s, double u, double v,
+void geom_step_destroy(geom_brep *b);
+geom_status geom_step_surface_eval(const geom_brep *b, uint32_t s, double u, double v,
                                             double p[3], double du[3], double dv[3]);
-geom_status geom_brep_curve_eval(const geom_brep *b, uint32_t c, double t, double *p);
+geom_status geom_step_curve_eval(const geom_brep *b, uint32_t c, double t, double *p);
 typedef struct geom_brep_tess_options {
     double tolerance;
     double angle_degrees;
@@ -684,7 +684,7 @@ typedef struct geom_brep_tess_stats {
     size_t nonmanifold_edges;
     double seconds;
 } geom_brep_tess_stats;
-geom_status geom_brep_tessellate(const geom_brep *b, const geom_brep_tess_options *options,
+geom_status geom_step_tessellate(const geom_brep *b, const geom_brep_tess_options *options,
                                           geom_mesh *out, geom_error_report *report,
                                           geom_brep_face_report *faces, geom_brep_tess_stats *stats,
                                           geom_diag *diag);

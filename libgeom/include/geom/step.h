@@ -22,7 +22,7 @@
  *    CONVERSION_BASED_UNIT such as INCH or FOOT through its conversion
  *    factor). Plane angles are converted to radians.
  *  - Every surface keeps its STEP parameterisation (so PCURVEs apply
- *    unchanged, with angles in radians): see geom_brep_surface_eval.
+ *    unchanged, with angles in radians): see geom_step_surface_eval.
  *  - Coordinates are STEP's, which is Z-up; tools converting to a Y-up
  *    format (glTF) rotate.
  *  - Nothing prints or keeps global state; every function is reentrant.
@@ -158,7 +158,7 @@ typedef struct geom_brep_issue {
  * A B-rep as read: plain arrays the caller may walk (indices are uint32,
  * GEOM_INVALID_INDEX where absent). Assembly instances are flattened: a
  * part placed twice appears twice, each copy with its own transformed
- * geometry. Owned by the reader; free with geom_brep_destroy.
+ * geometry. Owned by the reader; free with geom_step_destroy.
  */
 typedef struct geom_brep {
     size_t nsolids, nshells, nfaces, nloops, ncoedges, nedges, nvertices, ncurves, nsurfaces;
@@ -226,16 +226,16 @@ GEOM_API geom_status geom_step_read(const char *path, const geom_step_read_optio
                                     geom_brep **out, geom_diag *diag);
 
 /** Free a B-rep. NULL is a no-op. */
-GEOM_API void geom_brep_destroy(geom_brep *b);
+GEOM_API void geom_step_destroy(geom_brep *b);
 
 /** S(u, v) (3 doubles) of surface s of b, and if du/dv are not NULL the
  *  first partial derivatives. GEOM_ERR_INVALID_ARG for a bad index,
  *  GEOM_ERR_DOMAIN outside a NURBS surface's domain. */
-GEOM_API geom_status geom_brep_surface_eval(const geom_brep *b, uint32_t s, double u, double v,
+GEOM_API geom_status geom_step_surface_eval(const geom_brep *b, uint32_t s, double u, double v,
                                             double p[3], double du[3], double dv[3]);
 
 /** C(t) (dim doubles) of curve c of b. */
-GEOM_API geom_status geom_brep_curve_eval(const geom_brep *b, uint32_t c, double t, double *p);
+GEOM_API geom_status geom_step_curve_eval(const geom_brep *b, uint32_t c, double t, double *p);
 
 /* ----------------------------------------------------------- tessellation */
 
@@ -258,7 +258,10 @@ typedef struct geom_brep_tess_options {
 
 /** Per-face results of a tessellation. */
 typedef struct geom_brep_face_report {
-    double chordal_error;  /**< largest sampled distance triangle - surface */
+    double chordal_error;  /**< largest sampled distance triangle - surface (the
+                            *   surface displaced by the edge gap interpolated
+                            *   from the triangle's corners, see
+                            *   geom_step_tessellate) */
     double edge_gap;       /**< largest |C(t) - S(uv(t))| over its boundary samples */
     size_t triangles;
     double seconds;        /**< processor time (clock()) of its last meshing pass */
@@ -291,7 +294,11 @@ typedef struct geom_brep_tess_stats {
  * metric) and refined by inserting the worst sample point of every
  * triangle whose chordal error (the distance between the triangle and the
  * surface at 7 barycentric samples: the centroid, the edge midpoints and
- * three interior points) or corner-normal angle exceeds the tolerance: at
+ * three interior points; where a corner is an edge point lying off the
+ * surface, by the file's own gap between an edge curve and its surface, the
+ * surface is displaced there by that gap, interpolated linearly over the
+ * triangle, so that a gap the file carries is reported as edge_gap and not
+ * refined for in vain) or corner-normal angle exceeds the tolerance: at
  * the triangle's circumcentre when that lies inside the face away from its
  * boundary (Ruppert), else at the worst sample. Where the worst sample is
  * on the face's boundary, the edge piece is split at its parameter
@@ -308,7 +315,7 @@ typedef struct geom_brep_tess_stats {
  * Statuses: GEOM_OK, GEOM_ERR_INVALID_ARG, GEOM_ERR_LIMIT, GEOM_ERR_NOMEM
  * and geom_mesh_build's.
  */
-GEOM_API geom_status geom_brep_tessellate(const geom_brep *b, const geom_brep_tess_options *options,
+GEOM_API geom_status geom_step_tessellate(const geom_brep *b, const geom_brep_tess_options *options,
                                           geom_mesh *out, geom_error_report *report,
                                           geom_brep_face_report *faces, geom_brep_tess_stats *stats,
                                           geom_diag *diag);

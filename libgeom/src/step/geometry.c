@@ -460,7 +460,7 @@ double geom__brep_surface_invert(const geom_brep *b, const geom_brep_surface *s,
     return dist3(p, q);
 }
 
-GEOM_API geom_status geom_brep_surface_eval(const geom_brep *b, uint32_t s, double u, double v,
+GEOM_API geom_status geom_step_surface_eval(const geom_brep *b, uint32_t s, double u, double v,
                                             double p[3], double du[3], double dv[3])
 {
     if (!b || !p || s >= b->nsurfaces || !isfinite(u) || !isfinite(v))
@@ -476,7 +476,7 @@ GEOM_API geom_status geom_brep_surface_eval(const geom_brep *b, uint32_t s, doub
     return GEOM_OK;
 }
 
-GEOM_API geom_status geom_brep_curve_eval(const geom_brep *b, uint32_t c, double t, double *p)
+GEOM_API geom_status geom_step_curve_eval(const geom_brep *b, uint32_t c, double t, double *p)
 {
     if (!b || !p || c >= b->ncurves || !isfinite(t))
         return GEOM_ERR_INVALID_ARG;

@@ -18,8 +18,9 @@
 #define MAX_ISSUES 64
 
 typedef struct xform {
-    double R[9]; /* column-major rotation */
+    double R[9]; /* column-major, orthonormal (a mirror when its determinant is -1) */
     double t[3];
+    double s;    /* uniform scale: p -> s R p + t */
 } xform;
 
 typedef struct mapper {
@@ -32,7 +33,9 @@ typedef struct mapper {
     size_t capissues;
     uint32_t *memo, *stamp;
     uint32_t inst;
-    double scale;    /* file length unit -> output unit, for the current body */
+    double scale;    /* file length unit -> output unit, for the current body
+                      * (times the placement's scale) */
+    int mirror;      /* the current placement reverses orientation */
     double angle;    /* file plane angle unit -> radians */
     xform X;         /* current placement */
     double out_m;    /* metres per output unit */
@@ -212,6 +215,11 @@ static geom_status ref_coords(mapper *M, const geom__p21_value *v, uint32_t owne
     if (!as_ref(v, &e))
         return bad(M, owner, "expected a reference to a %s", type);
     return coords(M, e, type, out, dim);
+}
+
+static double dot3(const double *a, const double *b)
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
 static double norm3(double *v)
@@ -729,6 +737,9 @@ static geom_status map_surface(mapper *M, uint32_t e, uint32_t *out, int depth)
             return bad(M, ae, "zero axis%s", NULL);
         xf_point(M, o, s.origin);
         xf_dir(M, z, s.z);
+        if (M->mirror) /* a mirror turns a rotation about z into one about -z */
+            for (int k = 0; k < 3; k++)
+                s.z[k] = -s.z[k];
         if ((st = map_curve(M, ce, 0, &s.curve, &sense)) != GEOM_OK)
             return st;
     } else if ((pt = geom__p21_part(M->p, e, "SURFACE_OF_LINEAR_EXTRUSION")) != NULL) {
@@ -1000,7 +1011,7 @@ static geom_status map_face(mapper *M, uint32_t fe, uint32_t shell, int flip)
     F.entity = M->p->ents[fe].id;
     F.shell = shell;
     F.same_sense = as_bool(M, arg(M, pt, 3), 1);
-    if (flip)
+    if (flip ^ M->mirror) /* a mirrored placement turns S_u x S_v inward */
         F.same_sense = !F.same_sense;
     size_t nl0 = M->b->nloops, nc0 = M->b->ncoedges;
     geom_status st = map_surface(M, se, &F.surface, 0);
@@ -1269,7 +1280,119 @@ static geom_status placement_xform(mapper *M, uint32_t pe, double len, xform *X)
         X->R[6 + k] = z[k];
         X->t[k] = o[k] * len;
     }
+    X->s = 1;
     return GEOM_OK;
+}
+
+/* A DIRECTION argument normalised, or absent ($): returns 0 when absent. */
+static geom_status opt_dir(mapper *M, const geom__p21_value *v, uint32_t owner, double d[3], int *have)
+{
+    *have = 0;
+    if (!v || v->kind != GEOM__P21_REF)
+        return GEOM_OK;
+    geom_status st = ref_coords(M, v, owner, "DIRECTION", d, NULL);
+    if (st)
+        return st;
+    if (norm3(d) == 0)
+        return bad(M, owner, "zero axis%s", NULL);
+    *have = 1;
+    return GEOM_OK;
+}
+
+static uint32_t nargs(const mapper *M, const geom__p21_part_t *pt)
+{
+    return pt ? M->p->vals[pt->args].n : 0;
+}
+
+/* CARTESIAN_TRANSFORMATION_OPERATOR(_3D) -> transform, by ISO 10303-42's
+ * base_axis: z = axis3 (default +Z), x = axis1 made orthogonal to z
+ * (default +X, or +Y when z is +X), y = axis2 made orthogonal to z and x
+ * (default +Y; z cross x where that default degenerates):
+ * p -> local_origin + scale (x px + y py + z pz). y is not forced to
+ * z cross x, so the operator may mirror. Its attributes are the
+ * last five of the _3D part (axis1, axis2, local_origin, scale, axis3;
+ * before them one or two labels), or, in the complex-instance form, the
+ * four of CARTESIAN_TRANSFORMATION_OPERATOR and axis3 in the _3D part. */
+static geom_status operator_xform(mapper *M, uint32_t e, double len, xform *X)
+{
+    const geom__p21_part_t *p3 = geom__p21_part(M->p, e, "CARTESIAN_TRANSFORMATION_OPERATOR_3D");
+    const geom__p21_part_t *p2 = geom__p21_part(M->p, e, "CARTESIAN_TRANSFORMATION_OPERATOR");
+    const geom__p21_value *a1, *a2, *org, *sc, *a3 = NULL;
+    uint32_t n3 = nargs(M, p3), n2 = nargs(M, p2);
+    if (p3 && n3 >= 5) {
+        a1 = arg(M, p3, n3 - 5), a2 = arg(M, p3, n3 - 4), org = arg(M, p3, n3 - 3);
+        sc = arg(M, p3, n3 - 2), a3 = arg(M, p3, n3 - 1);
+    } else if (p2 && n2 >= 4) {
+        a1 = arg(M, p2, n2 - 4), a2 = arg(M, p2, n2 - 3), org = arg(M, p2, n2 - 2);
+        sc = arg(M, p2, n2 - 1);
+        if (p3 && n3 >= 1)
+            a3 = arg(M, p3, n3 - 1);
+    } else {
+        return bad(M, e, "expected axis1, axis2, local_origin, scale and axis3%s", NULL);
+    }
+    double o[3], x[3] = {1, 0, 0}, y[3] = {0, 1, 0}, z[3] = {0, 0, 1}, s = 1;
+    int h1, h2, h3;
+    geom_status st = ref_coords(M, org, e, "CARTESIAN_POINT", o, NULL);
+    if (!st)
+        st = opt_dir(M, a3, e, z, &h3);
+    if (!st)
+        st = opt_dir(M, a1, e, x, &h1);
+    if (!st)
+        st = opt_dir(M, a2, e, y, &h2);
+    if (st)
+        return st;
+    if (sc && sc->kind != GEOM__P21_NULL && (!as_real(M, sc, &s) || !(s > 0) || !isfinite(s)))
+        return bad(M, e, "the scale must be a positive number%s", NULL);
+    if (!h1 && fabs(z[0]) > 1 - 1e-12 && fabs(z[1]) + fabs(z[2]) < 1e-12)
+        x[0] = 0, x[1] = 1, x[2] = 0;
+    double d = dot3(x, z);
+    for (int k = 0; k < 3; k++)
+        x[k] -= d * z[k];
+    if (norm3(x) == 0)
+        return bad(M, e, "axis1 parallel to axis3%s", NULL);
+    d = dot3(y, z);
+    for (int k = 0; k < 3; k++)
+        y[k] -= d * z[k];
+    d = dot3(y, x);
+    for (int k = 0; k < 3; k++)
+        y[k] -= d * x[k];
+    if (norm3(y) == 0) {
+        if (h2)
+            return bad(M, e, "axis2 in the plane of axis1 and axis3%s", NULL);
+        /* the default +Y along axis1 (axis3 = +X): ISO's rule degenerates */
+        y[0] = z[1] * x[2] - z[2] * x[1];
+        y[1] = z[2] * x[0] - z[0] * x[2];
+        y[2] = z[0] * x[1] - z[1] * x[0];
+    }
+    for (int k = 0; k < 3; k++) {
+        X->R[k] = x[k];
+        X->R[3 + k] = y[k];
+        X->R[6 + k] = z[k];
+        X->t[k] = o[k] * len;
+    }
+    X->s = s;
+    return GEOM_OK;
+}
+
+/* A placement item (AXIS2_PLACEMENT_3D, or a cartesian transformation
+ * operator) -> transform; 0 with *X untouched for another type. */
+static int item_xform(mapper *M, uint32_t e, double len, xform *X, geom_status *st)
+{
+    if (is_type(M, e, "AXIS2_PLACEMENT_3D"))
+        *st = placement_xform(M, e, len, X);
+    else if (is_type(M, e, "CARTESIAN_TRANSFORMATION_OPERATOR_3D") ||
+             is_type(M, e, "CARTESIAN_TRANSFORMATION_OPERATOR"))
+        *st = operator_xform(M, e, len, X);
+    else
+        return 0;
+    return 1;
+}
+
+static double xf_det(const xform *A)
+{
+    const double *R = A->R;
+    return R[0] * (R[4] * R[8] - R[5] * R[7]) - R[3] * (R[1] * R[8] - R[2] * R[7]) +
+           R[6] * (R[1] * R[5] - R[2] * R[4]);
 }
 
 /* A * B */
@@ -1281,7 +1404,8 @@ static xform xf_mul(const xform *A, const xform *B)
             C.R[3 * c + r] = A->R[r] * B->R[3 * c] + A->R[3 + r] * B->R[3 * c + 1] +
                              A->R[6 + r] * B->R[3 * c + 2];
     for (int r = 0; r < 3; r++)
-        C.t[r] = A->R[r] * B->t[0] + A->R[3 + r] * B->t[1] + A->R[6 + r] * B->t[2] + A->t[r];
+        C.t[r] = A->s * (A->R[r] * B->t[0] + A->R[3 + r] * B->t[1] + A->R[6 + r] * B->t[2]) + A->t[r];
+    C.s = A->s * B->s;
     return C;
 }
 
@@ -1292,7 +1416,8 @@ static xform xf_inv(const xform *A)
         for (int r = 0; r < 3; r++)
             C.R[3 * c + r] = A->R[3 * r + c];
     for (int r = 0; r < 3; r++)
-        C.t[r] = -(C.R[r] * A->t[0] + C.R[3 + r] * A->t[1] + C.R[6 + r] * A->t[2]);
+        C.t[r] = -(C.R[r] * A->t[0] + C.R[3 + r] * A->t[1] + C.R[6 + r] * A->t[2]) / A->s;
+    C.s = 1 / A->s;
     return C;
 }
 
@@ -1304,7 +1429,7 @@ static int xf_equal(const xform *A, const xform *B)
     for (int k = 0; k < 3; k++)
         if (fabs(A->t[k] - B->t[k]) > 1e-9 * (1 + fabs(A->t[k])))
             return 0;
-    return 1;
+    return fabs(A->s - B->s) <= 1e-12 * A->s;
 }
 
 static geom_status emit(mapper *M, walker *W, uint32_t body, const xform *X, double scale)
@@ -1354,14 +1479,16 @@ static geom_status visit(mapper *M, walker *W, uint32_t rep, const xform *X)
                 !(ps = geom__p21_part(M->p, src, "REPRESENTATION_MAP")) ||
                 !as_ref(arg(M, ps, 0), &org) || !as_ref(arg(M, ps, 1), &child))
                 st = bad(M, it, "expected a REPRESENTATION_MAP and a target%s", NULL);
-            else if (!is_type(M, tgt, "AXIS2_PLACEMENT_3D") || !is_type(M, org, "AXIS2_PLACEMENT_3D"))
-                st = note(M, it, "mapping target is not an AXIS2_PLACEMENT_3D: not placed");
             else {
                 double clen, cang;
                 rep_units(M, child, &clen, &cang);
                 xform A, B;
-                if ((st = placement_xform(M, tgt, len, &A)) == GEOM_OK &&
-                    (st = placement_xform(M, org, clen, &B)) == GEOM_OK) {
+                geom_status s1 = GEOM_OK, s2 = GEOM_OK;
+                if (!item_xform(M, tgt, len, &A, &s1) || !item_xform(M, org, clen, &B, &s2))
+                    st = note(M, it,
+                              "mapping origin or target is not an AXIS2_PLACEMENT_3D or a "
+                              "transformation operator: not placed");
+                else if ((st = s1 ? s1 : s2) == GEOM_OK) {
                     xform Bi = xf_inv(&B), T = xf_mul(&A, &Bi), Y = xf_mul(X, &T);
                     st = visit(M, W, child, &Y);
                 }
@@ -1392,8 +1519,12 @@ static geom_status visit(mapper *M, walker *W, uint32_t rep, const xform *X)
         double clen, cang;
         rep_units(M, r->child, &clen, &cang);
         xform A, B;
-        if ((st = placement_xform(M, i2, len, &A)) != GEOM_OK ||
-            (st = placement_xform(M, i1, clen, &B)) != GEOM_OK)
+        geom_status s1 = GEOM_OK, s2 = GEOM_OK;
+        if (!item_xform(M, i2, len, &A, &s1) || !item_xform(M, i1, clen, &B, &s2)) {
+            st = note(M, r->xf, "transformation items are not placements: not placed");
+            continue;
+        }
+        if ((st = s1 ? s1 : s2) != GEOM_OK)
             break;
         xform Bi = xf_inv(&B), T = xf_mul(&A, &Bi), Y = xf_mul(X, &T);
         st = visit(M, W, r->child, &Y);
@@ -1459,6 +1590,7 @@ static geom_status assemble(mapper *M)
     xform I;
     memset(&I, 0, sizeof I);
     I.R[0] = I.R[4] = I.R[8] = 1;
+    I.s = 1;
     /* phase 1: from the tops of assemblies; phase 2: other representations,
      * for bodies not placed yet */
     for (int phase = 0; phase < 2 && !st; phase++) {
@@ -1509,7 +1641,8 @@ static geom_status assemble(mapper *M)
     }
     for (size_t k = 0; k < W.nem && !st; k++) {
         M->X = W.em[k].X;
-        M->scale = W.em[k].scale;
+        M->scale = W.em[k].scale * W.em[k].X.s;
+        M->mirror = xf_det(&W.em[k].X) < 0;
         st = map_body(M, W.em[k].body);
     }
 done:
@@ -1528,7 +1661,7 @@ typedef struct brep_internal {
     size_t capissues;
 } brep_internal;
 
-GEOM_API void geom_brep_destroy(geom_brep *b)
+GEOM_API void geom_step_destroy(geom_brep *b)
 {
     if (!b)
         return;
@@ -1623,7 +1756,7 @@ GEOM_API geom_status geom_step_read_memory(const void *data, size_t size, const 
     geom_free(o.alloc, stamp, nb * sizeof *stamp);
     geom__p21_free(&p);
     if (st) {
-        geom_brep_destroy(b);
+        geom_step_destroy(b);
         return st;
     }
     *out = b;

@@ -1,5 +1,5 @@
 /*
- * Watertight trimmed tessellation of a B-rep (see geom_brep_tessellate in
+ * Watertight trimmed tessellation of a B-rep (see geom_step_tessellate in
  * step.h): edges sampled once in 3D, loops inverted into each face's
  * parameter domain (unwrapped across seams, joined through poles), faces
  * meshed there by constrained Delaunay triangulation (cdt.c) refined at
@@ -294,9 +294,13 @@ static double loop_area(const lpt *P, size_t n)
     return 0.5 * a;
 }
 
-/* The loop's points in the domain, closed implicitly (last joins first). */
-static geom_status loop_uv(facectx *F, const geom_brep_loop *L, buf *out, int *ok)
+/* The loop's points in the domain, closed implicitly (last joins first).
+ * A loop that closes in 3D but not in the domain, its last point one
+ * period away from its first (a circle around a cylinder with no seam
+ * edge), is "open": shift receives that period vector, else (0, 0). */
+static geom_status loop_uv(facectx *F, const geom_brep_loop *L, buf *out, int *ok, double shift[2])
 {
+    shift[0] = shift[1] = 0;
     tess *T = F->T;
     const geom_brep *b = T->b;
     buf tmp = {NULL, 0, 0, sizeof(lpt)};
@@ -391,7 +395,11 @@ static geom_status loop_uv(facectx *F, const geom_brep_loop *L, buf *out, int *o
                     P[k].uv[0] -= sgn * F->pu;
         }
     }
-    /* every gap must be a pole (one 3D point all along) */
+    /* every gap must be a pole (one 3D point all along), or, when it is the
+     * loop's only gap, at its closure, and one period long: an open loop */
+    size_t ngaps = 0;
+    for (size_t k = 0; k < n; k++)
+        ngaps += P[k].gap != 0;
     for (size_t k = 0; k < n; k++) {
         if (!P[k].gap)
             continue;
@@ -399,18 +407,184 @@ static geom_status loop_uv(facectx *F, const geom_brep_loop *L, buf *out, int *o
         double q[3];
         geom__brep_surface_eval(b, F->S, 0.5 * (a->uv[0] + c->uv[0]), 0.5 * (a->uv[1] + c->uv[1]), q,
                                 NULL, NULL);
-        if (d3(q, posof(T, c->vid)) > 10 * T->tol + 1e-9) {
+        if (d3(q, posof(T, c->vid)) <= 10 * T->tol + 1e-9)
+            continue;
+        double du = a->uv[0] - c->uv[0], dv = a->uv[1] - c->uv[1];
+        double ku = F->pu > 0 ? round(du / F->pu) : 0, kv = F->pv > 0 ? round(dv / F->pv) : 0;
+        if (k != 0 || ngaps != 1 || (ku == 0 && kv == 0) || fabs(du - ku * F->pu) > 1e-6 ||
+            fabs(dv - kv * F->pv) > 1e-6) {
             *ok = 0;
             return GEOM_OK;
         }
+        shift[0] = ku * F->pu;
+        shift[1] = kv * F->pv;
+        P[n - 1].uv[0] = P[0].uv[0] + shift[0];
+        P[n - 1].uv[1] = P[0].uv[1] + shift[1];
+        P[0].gap = 0;
     }
+    return GEOM_OK;
+}
+
+/* Interior points of the straight (u, v) segment from p to q, bisected until
+ * every chord is within the tolerance of the surface (sampled at its quarter
+ * points), with their 3D positions: an added seam. */
+static geom_status seam_points(facectx *F, const double p[2], const double q[2], buf *out)
+{
+    tess *T = F->T;
+    double stack[64][2];
+    int sp = 0;
+    stack[sp][0] = 0;
+    stack[sp][1] = 1;
+    sp++;
+    geom_status st = GEOM_OK;
+    while (sp > 0 && !st) {
+        sp--;
+        double ta = stack[sp][0], tb = stack[sp][1], pa[3], pb[3], err = 0;
+        geom__brep_surface_eval(T->b, F->S, p[0] + ta * (q[0] - p[0]), p[1] + ta * (q[1] - p[1]), pa,
+                                NULL, NULL);
+        geom__brep_surface_eval(T->b, F->S, p[0] + tb * (q[0] - p[0]), p[1] + tb * (q[1] - p[1]), pb,
+                                NULL, NULL);
+        for (int k = 1; k < 4; k++) {
+            double t = ta + (tb - ta) * k / 4, pm[3];
+            geom__brep_surface_eval(T->b, F->S, p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1]), pm,
+                                    NULL, NULL);
+            err = fmax(err, seg_dist(pm, pa, pb));
+        }
+        T->evals += 5;
+        if (err > T->tol && sp < 60 && tb - ta > 1e-9) {
+            double tm = 0.5 * (ta + tb);
+            stack[sp][0] = tm, stack[sp][1] = tb, sp++;
+            stack[sp][0] = ta, stack[sp][1] = tm, sp++;
+            continue;
+        }
+        if (tb >= 1)
+            break;
+        lpt L;
+        memset(&L, 0, sizeof L);
+        L.uv[0] = p[0] + tb * (q[0] - p[0]);
+        L.uv[1] = p[1] + tb * (q[1] - p[1]);
+        if ((st = add_pos(T, pb, &L.vid)) == GEOM_OK)
+            st = bpush(T->a, out, &L);
+    }
+    return st;
+}
+
+/* A periodic face bounded by two open loops (an annulus in the domain once
+ * unwrapped: the side of a cylinder between two circles, no seam edge):
+ * joined into one loop through an added seam, from loop A's first point to
+ * the nearest point of loop B, sampled once and used on both sides (the
+ * second use one period over), as a seam edge would be. Other loops (holes)
+ * are moved by whole periods between the seam's two copies. Loops are
+ * all[starts[l] ..], shifts[l] each loop's period vector (0, 0: closed). */
+static geom_status join_open_loops(facectx *F, buf *all, buf *starts, const buf *shifts)
+{
+    tess *T = F->T;
+    size_t nl = starts->n, open[2], nopen = 0;
+    const double *sh = (const double *)shifts->p;
+    const size_t *S0 = (const size_t *)starts->p;
+    for (size_t l = 0; l < nl; l++)
+        if (sh[2 * l] != 0 || sh[2 * l + 1] != 0) {
+            if (nopen == 2)
+                return GEOM_ERR_DEGENERATE;
+            open[nopen++] = l;
+        }
+    if (nopen == 0)
+        return GEOM_OK;
+    const double *sA = sh + 2 * open[0], *sB = sh + 2 * open[1];
+    if (nopen != 2 || sA[0] != -sB[0] || sA[1] != -sB[1])
+        return GEOM_ERR_DEGENERATE;
+#define LOOP_END(l) ((l) + 1 < nl ? S0[(l) + 1] : all->n)
+    const lpt *A = (const lpt *)all->p + S0[open[0]], *B = (const lpt *)all->p + S0[open[1]];
+    size_t na = LOOP_END(open[0]) - S0[open[0]], nb = LOOP_END(open[1]) - S0[open[1]];
+    /* B's point nearest A's first, in 3D */
+    size_t j = 0;
+    double best = DBL_MAX;
+    for (size_t k = 0; k + 1 < nb; k++) {
+        double d = d3(posof(T, B[k].vid), posof(T, A[0].vid));
+        if (d < best)
+            best = d, j = k;
+    }
+    const double *am = A[na - 1].uv;
+    double w[2] = {F->pu > 0 ? F->pu * round((am[0] - B[j].uv[0]) / F->pu) : 0,
+                   F->pv > 0 ? F->pv * round((am[1] - B[j].uv[1]) / F->pv) : 0};
+    double bj[2] = {B[j].uv[0] + w[0], B[j].uv[1] + w[1]};
+    buf nall = {NULL, 0, 0, sizeof(lpt)}, seam = {NULL, 0, 0, sizeof(lpt)}, nst = {NULL, 0, 0, sizeof(size_t)};
+    size_t zero = 0;
+    geom_status st = seam_points(F, am, bj, &seam);
+    if (!st)
+        st = bpush(T->a, &nst, &zero);
+    for (size_t k = 0; k < na && !st; k++)
+        st = bpush(T->a, &nall, &A[k]);
+    for (size_t k = 0; k < seam.n && !st; k++)
+        st = bpush(T->a, &nall, (const lpt *)seam.p + k);
+    for (size_t k = j; k + 1 < nb && !st; k++) {
+        lpt q = B[k];
+        q.uv[0] += w[0], q.uv[1] += w[1];
+        st = bpush(T->a, &nall, &q);
+    }
+    for (size_t k = 0; k <= j && !st; k++) {
+        lpt q = B[k];
+        q.uv[0] += sB[0] + w[0], q.uv[1] += sB[1] + w[1];
+        st = bpush(T->a, &nall, &q);
+    }
+    for (size_t k = seam.n; k-- > 0 && !st;) {
+        lpt q = ((const lpt *)seam.p)[k];
+        q.uv[0] -= sA[0], q.uv[1] -= sA[1];
+        st = bpush(T->a, &nall, &q);
+    }
+    /* the other loops, moved between the two copies of the seam */
+    int c = sA[0] != 0 ? 0 : 1;
+    double per = c == 0 ? F->pu : F->pv;
+    double lo = 0.5 * (A[0].uv[c] + bj[c] - sA[c]), dir = sA[c] > 0 ? 1 : -1;
+    for (size_t l = 0; l < nl && !st; l++) {
+        if (l == open[0] || l == open[1])
+            continue;
+        size_t s0 = S0[l], s1 = LOOP_END(l), at = nall.n;
+        double mean = 0;
+        for (size_t k = s0; k < s1; k++)
+            mean += ((const lpt *)all->p)[k].uv[c];
+        mean /= (double)(s1 - s0);
+        double move = per * floor((lo - mean) * dir / per + 1) * dir;
+        if ((st = bpush(T->a, &nst, &at)) != GEOM_OK)
+            break;
+        for (size_t k = s0; k < s1 && !st; k++) {
+            lpt q = ((const lpt *)all->p)[k];
+            q.uv[c] += move;
+            st = bpush(T->a, &nall, &q);
+        }
+    }
+#undef LOOP_END
+    bfree(T->a, &seam);
+    if (st) {
+        bfree(T->a, &nall);
+        bfree(T->a, &nst);
+        return st;
+    }
+    bfree(T->a, all);
+    bfree(T->a, starts);
+    *all = nall;
+    *starts = nst;
     return GEOM_OK;
 }
 
 typedef struct fpt {
     double uv[2];
     uint32_t vid;
+    double off[3]; /* position - S(uv): the edge gap at a boundary point, else 0 */
 } fpt;
+
+/* The surface at the barycentric point bc of triangle V, displaced by the
+ * corners' offsets interpolated alike: what the triangle is measured
+ * against, so that an edge curve lying off its surface (the file's own
+ * gap, reported as edge_gap) is not taken for chordal error. */
+static void surf_bary(facectx *F, const fpt *V, const double bc[3], double uv[2], double p[3])
+{
+    uv[0] = bc[0] * V[0].uv[0] + bc[1] * V[1].uv[0] + bc[2] * V[2].uv[0];
+    uv[1] = bc[0] * V[0].uv[1] + bc[1] * V[1].uv[1] + bc[2] * V[2].uv[1];
+    geom__brep_surface_eval(F->T->b, F->S, uv[0], uv[1], p, NULL, NULL);
+    for (int j = 0; j < 3; j++)
+        p[j] += bc[0] * V[0].off[j] + bc[1] * V[1].off[j] + bc[2] * V[2].off[j];
+}
 
 static void tri_error(facectx *F, const fpt *V, const double *const X[3], double *err, double best[2],
                       int *on_edge)
@@ -421,14 +595,11 @@ static void tri_error(facectx *F, const fpt *V, const double *const X[3], double
     *err = -1;
     *on_edge = -1;
     for (int s = 0; s < 7; s++) {
-        double uv[2] = {0, 0}, x[3] = {0, 0, 0}, p[3];
-        for (int k = 0; k < 3; k++) {
-            uv[0] += bc[s][k] * V[k].uv[0];
-            uv[1] += bc[s][k] * V[k].uv[1];
+        double uv[2], x[3] = {0, 0, 0}, p[3];
+        for (int k = 0; k < 3; k++)
             for (int j = 0; j < 3; j++)
                 x[j] += bc[s][k] * X[k][j];
-        }
-        geom__brep_surface_eval(F->T->b, F->S, uv[0], uv[1], p, NULL, NULL);
+        surf_bary(F, V, bc[s], uv, p);
         double d = d3(p, x);
         if (d > *err) {
             *err = d;
@@ -486,23 +657,28 @@ static geom_status mesh_face(tess *T, uint32_t fi, geom_brep_face_report *rep)
     /* loops to the domain */
     buf all = {NULL, 0, 0, sizeof(lpt)};
     buf starts = {NULL, 0, 0, sizeof(size_t)};
+    buf shifts = {NULL, 0, 0, 2 * sizeof(double)};
     for (uint32_t l = 0; l < fc->nloops && !st; l++) {
         const geom_brep_loop *L = &b->loops[fc->first_loop + l];
         if (L->n == 0)
             continue; /* a vertex loop (an apex): nothing to bound */
         int ok;
-        if ((st = loop_uv(&F, L, &loop, &ok)) != GEOM_OK)
+        double sh[2];
+        if ((st = loop_uv(&F, L, &loop, &ok, sh)) != GEOM_OK)
             break;
         if (!ok) {
             st = GEOM_ERR_DEGENERATE;
             break;
         }
         size_t s0 = all.n;
-        if ((st = bpush(T->a, &starts, &s0)) != GEOM_OK)
+        if ((st = bpush(T->a, &starts, &s0)) != GEOM_OK || (st = bpush(T->a, &shifts, sh)) != GEOM_OK)
             break;
         for (size_t k = 0; k < loop.n && !st; k++)
             st = bpush(T->a, &all, (lpt *)loop.p + k);
     }
+    if (!st)
+        st = join_open_loops(&F, &all, &starts, &shifts);
+    bfree(T->a, &shifts);
     /* a periodic face bounded by loops that are not closed in the domain
      * is outside what this mesher handles: reported through the status */
     if (!st && all.n < 3)
@@ -529,7 +705,7 @@ static geom_status mesh_face(tess *T, uint32_t fi, geom_brep_face_report *rep)
         }
         st = geom__cdt_init(&C, T->a, box);
     }
-    fpt dummy = {{0, 0}, 0};
+    fpt dummy = {{0, 0}, 0, {0, 0, 0}};
     for (int k = 0; k < 3 && !st; k++)
         st = bpush(T->a, &pts, &dummy);
     /* boundary points and segments */
@@ -542,7 +718,12 @@ static geom_status mesh_face(tess *T, uint32_t fi, geom_brep_face_report *rep)
             int32_t v;
             geom_status si = geom__cdt_insert(&C, q->uv[0] * su, q->uv[1] * sv, &v);
             if (si == GEOM_OK) {
-                fpt fp = {{q->uv[0], q->uv[1]}, q->vid};
+                fpt fp = {{q->uv[0], q->uv[1]}, q->vid, {0, 0, 0}};
+                double sp[3];
+                const double *x = posof(T, q->vid);
+                geom__brep_surface_eval(b, F.S, q->uv[0], q->uv[1], sp, NULL, NULL);
+                for (int j = 0; j < 3; j++)
+                    fp.off[j] = x[j] - sp[j];
                 st = bpush(T->a, &pts, &fp);
             } else if (si != GEOM_ERR_DEGENERATE || v < 0) {
                 st = si == GEOM_ERR_DEGENERATE ? GEOM_ERR_DEGENERATE : si;
@@ -590,10 +771,9 @@ static geom_status mesh_face(tess *T, uint32_t fi, geom_brep_face_report *rep)
             if (on_edge >= 0 && C.tri[t].con[(on_edge + 2) % 3]) {
                 /* the worst point is on the boundary, which this face cannot
                  * move: refine only if the interior is off too */
-                double c3[2] = {(V[0].uv[0] + V[1].uv[0] + V[2].uv[0]) / 3,
-                                (V[0].uv[1] + V[1].uv[1] + V[2].uv[1]) / 3};
-                double pc[3], xc[3];
-                geom__brep_surface_eval(b, F.S, c3[0], c3[1], pc, NULL, NULL);
+                static const double third[3] = {1. / 3, 1. / 3, 1. / 3};
+                double c3[2], pc[3], xc[3];
+                surf_bary(&F, V, third, c3, pc);
                 for (int j = 0; j < 3; j++)
                     xc[j] = (X[0][j] + X[1][j] + X[2][j]) / 3;
                 if (d3(pc, xc) <= T->tol && !(T->cos_angle < 1 && normal_cos(&F, V) < T->cos_angle))
@@ -646,6 +826,7 @@ static geom_status mesh_face(tess *T, uint32_t fi, geom_brep_face_report *rep)
             geom_status si = geom__cdt_insert(&C, best[0] * su, best[1] * sv, &v);
             if (si == GEOM_OK) {
                 fpt fp;
+                memset(&fp, 0, sizeof fp);
                 fp.uv[0] = best[0];
                 fp.uv[1] = best[1];
                 double p[3];
@@ -730,7 +911,7 @@ static int cmp_pair(const void *x, const void *y)
 
 /* Split the edge pieces a face asked for (T->split) at their parameter
  * midpoints, so that the next pass meets the tolerance along them. */
-static geom_status resample_edges(tess *T, size_t *nsplit)
+static geom_status resample_edges(tess *T, size_t *nsplit, uint8_t *changed)
 {
     const geom_brep *b = T->b;
     qsort(T->split.p, T->split.n, 2 * sizeof(uint32_t), cmp_pair);
@@ -758,6 +939,7 @@ static geom_status resample_edges(tess *T, size_t *nsplit)
                 break;
             st = bpush(T->a, &ns, &m);
             (*nsplit)++;
+            changed[e] = 1;
         }
         T->efirst[e] = first;
         T->ecount[e] = ns.n - first;
@@ -772,7 +954,7 @@ static double now(void)
     return (double)clock() / CLOCKS_PER_SEC;
 }
 
-GEOM_API geom_status geom_brep_tessellate(const geom_brep *b, const geom_brep_tess_options *options,
+GEOM_API geom_status geom_step_tessellate(const geom_brep *b, const geom_brep_tess_options *options,
                                           geom_mesh *out, geom_error_report *report,
                                           geom_brep_face_report *faces, geom_brep_tess_stats *stats,
                                           geom_diag *diag)
@@ -825,44 +1007,107 @@ GEOM_API geom_status geom_brep_tessellate(const geom_brep *b, const geom_brep_te
     size_t failed = 0;
     double gap = 0;
     /* mesh the faces; where a face's boundary pieces are off the tolerance,
-     * split those edge pieces (for both faces of the edge) and mesh again */
+     * split those edge pieces (for both faces of the edge) and mesh again
+     * the faces that use a split edge; the others keep their triangles */
+    size_t nf = b->nfaces ? b->nfaces : 1;
+    buf *ftris = geom_alloc(T.a, nf * sizeof *ftris), *ftuv = geom_alloc(T.a, nf * sizeof *ftuv);
+    geom_brep_face_report *frs = geom_alloc(T.a, nf * sizeof *frs);
+    double *fsum = geom_alloc(T.a, nf * sizeof *fsum);
+    size_t *fcnt = geom_alloc(T.a, nf * sizeof *fcnt);
+    uint8_t *changed = geom_alloc(T.a, ne);
+    if (ftris && ftuv)
+        for (size_t f = 0; f < nf; f++) {
+            buf z3 = {NULL, 0, 0, 3 * sizeof(uint32_t)}, z6 = {NULL, 0, 0, 6 * sizeof(double)};
+            ftris[f] = z3;
+            ftuv[f] = z6;
+        }
+    if (!ftris || !ftuv || !frs || !fsum || !fcnt || !changed)
+        st = st ? st : GEOM_ERR_NOMEM;
+    else
+        memset(changed, 0, ne);
     for (int pass = 0; pass < 6 && !st; pass++) {
-    size_t nsplit = 0;
-    if (pass > 0) {
-        if (T.split.n == 0)
-            break;
-        if ((st = resample_edges(&T, &nsplit)) != GEOM_OK || nsplit == 0)
-            break;
+        if (pass > 0) {
+            size_t nsplit = 0;
+            if (T.split.n == 0)
+                break;
+            memset(changed, 0, ne);
+            if ((st = resample_edges(&T, &nsplit, changed)) != GEOM_OK || nsplit == 0)
+                break;
+        }
+        T.split.n = 0;
+        for (size_t f = 0; f < b->nfaces && !st; f++) {
+            if (pass > 0) {
+                const geom_brep_face *fc = &b->faces[f];
+                int dirty = 0;
+                for (uint32_t l = 0; l < fc->nloops && !dirty; l++) {
+                    const geom_brep_loop *L = &b->loops[fc->first_loop + l];
+                    for (uint32_t k = 0; k < L->n && !dirty; k++)
+                        dirty = changed[b->coedges[L->first + k].edge];
+                }
+                if (!dirty)
+                    continue;
+            }
+            geom_brep_face_report fr;
+            memset(&fr, 0, sizeof fr);
+            double t0 = now();
+            size_t npos = T.pos.n;
+            T.tris.n = T.tface.n = T.tuv.n = 0;
+            T.err_sum = 0;
+            T.err_n = 0;
+            geom_status fs = mesh_face(&T, (uint32_t)f, &fr);
+            fr.seconds = now() - t0;
+            if (fs == GEOM_ERR_NOMEM || fs == GEOM_ERR_LIMIT) {
+                st = fs;
+            } else if (fs != GEOM_OK) {
+                /* leave the face out, keep going */
+                T.tris.n = T.tface.n = T.tuv.n = 0;
+                T.pos.n = npos;
+                T.err_sum = 0;
+                T.err_n = 0;
+                fr.triangles = 0;
+                fr.status = fs;
+            }
+            frs[f] = fr;
+            fsum[f] = T.err_sum;
+            fcnt[f] = T.err_n;
+            ftris[f].n = ftuv[f].n = 0;
+            for (size_t k = 0; k < T.tris.n && !st; k++)
+                if ((st = bpush(T.a, &ftris[f], (const uint32_t *)T.tris.p + 3 * k)) == GEOM_OK)
+                    st = bpush(T.a, &ftuv[f], (const double *)T.tuv.p + 6 * k);
+        }
     }
-    T.split.n = 0;
+    /* all faces' triangles, in face order, and the totals */
     T.tris.n = T.tface.n = T.tuv.n = 0;
     T.face_err = T.err_sum = 0;
     T.err_n = 0;
-    failed = 0;
-    gap = 0;
     for (size_t f = 0; f < b->nfaces && !st; f++) {
-        geom_brep_face_report fr;
-        memset(&fr, 0, sizeof fr);
-        double t0 = now();
-        size_t ntr = T.tris.n, npos = T.pos.n;
-        geom_status fs = mesh_face(&T, (uint32_t)f, &fr);
-        fr.seconds = now() - t0;
-        if (fs == GEOM_ERR_NOMEM || fs == GEOM_ERR_LIMIT) {
-            st = fs;
-        } else if (fs != GEOM_OK) {
-            /* leave the face out, keep going */
-            T.tris.n = T.tface.n = T.tuv.n = ntr;
-            T.pos.n = npos;
-            fr.triangles = 0;
-            fr.status = fs;
+        uint32_t fi = (uint32_t)f;
+        for (size_t k = 0; k < ftris[f].n && !st; k++)
+            if ((st = bpush(T.a, &T.tris, (const uint32_t *)ftris[f].p + 3 * k)) == GEOM_OK &&
+                (st = bpush(T.a, &T.tface, &fi)) == GEOM_OK)
+                st = bpush(T.a, &T.tuv, (const double *)ftuv[f].p + 6 * k);
+        if (frs[f].status != GEOM_OK)
             failed++;
-        }
-        if (fr.edge_gap > gap)
-            gap = fr.edge_gap;
+        else if (frs[f].chordal_error > T.face_err)
+            T.face_err = frs[f].chordal_error;
+        if (frs[f].edge_gap > gap)
+            gap = frs[f].edge_gap;
+        T.err_sum += fsum[f];
+        T.err_n += fcnt[f];
         if (faces)
-            faces[f] = fr;
+            faces[f] = frs[f];
     }
-    }
+    if (ftris && ftuv)
+        for (size_t f = 0; f < nf; f++) {
+            bfree(T.a, &ftris[f]);
+            bfree(T.a, &ftuv[f]);
+        }
+    geom_free(T.a, ftris, nf * sizeof *ftris);
+    geom_free(T.a, ftuv, nf * sizeof *ftuv);
+    geom_free(T.a, frs, nf * sizeof *frs);
+    geom_free(T.a, fsum, nf * sizeof *fsum);
+    geom_free(T.a, fcnt, nf * sizeof *fcnt);
+    geom_free(T.a, changed, ne);
     if (st) {
         geom_diag_set(diag, st, "", 0, 0, "tessellation failed: %s", geom_status_str(st));
         goto done;
