@@ -192,6 +192,12 @@ void geom_mesh__adjust_outgoing(geom_mesh *m, uint32_t v);
 /* Allocate the vertex_origin / face_origin / face_flipped arrays at the
  * current capacity (filled with GEOM_INVALID_INDEX / 0) if absent. */
 geom_status geom_mesh__ensure_origins(geom_mesh *m);
+/* Storage for a mesh being built from a soup (geom_mesh_build's paths):
+ * clears m, reserves exactly nv, nh, nf elements with the origin maps and
+ * sets the counts. Only the deleted flags and face_flipped are initialised
+ * (zero): the builder writes he_next, he_prev, he_vertex, he_face, v_he,
+ * f_he, vertex_origin, face_origin and the positions itself, every entry. */
+geom_status geom_mesh__build_storage(geom_mesh *m, size_t nv, size_t nh, size_t nf);
 
 /* ------------------------------------------------------ channels.c */
 

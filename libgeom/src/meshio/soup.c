@@ -359,11 +359,6 @@ static geom_status copy_meta(const mio_soup *s, geom_mesh *m, const geom_allocat
 geom_status geom_meshio__soup_finish(mio_ctx *c, mio_soup *s, const geom_meshio_read_options *opt,
                                      geom_mesh **out, geom_mesh_build_report *report)
 {
-    size_t n_invalid = 0;
-    geom_status st = validate_faces(c, s, &n_invalid);
-    if (st != GEOM_OK)
-        return st;
-    MIO_FREE(c->alloc, s->floc); /* face locations serve diagnostics only: done */
     c->stats->input_vertices = mio_soup_nv(s);
     c->stats->input_faces = s->fsize.n;
     geom_mesh *m = geom_mesh_create(c->alloc);
@@ -373,8 +368,17 @@ geom_status geom_meshio__soup_finish(mio_ctx *c, mio_soup *s, const geom_meshio_
     memset(&bo, 0, sizeof bo);
     if (opt)
         bo = opt->build;
-    st = geom_mesh_build(m, mio_soup_nv(s), s->pos.p, s->fsize.n, s->fsize.p, s->fidx.p, &bo,
-                         report, c->diag);
+    /* The build checks the faces; only when it refuses one are they checked
+     * here again, for a message naming the face's line. */
+    geom_status st = geom_mesh_build(m, mio_soup_nv(s), s->pos.p, s->fsize.n, s->fsize.p,
+                                     s->fidx.p, &bo, report, c->diag);
+    if (st == GEOM_ERR_INVALID_ARG && !c->skip_invalid) {
+        size_t n_invalid = 0;
+        geom_status vs = validate_faces(c, s, &n_invalid);
+        if (vs != GEOM_OK)
+            st = vs;
+    }
+    MIO_FREE(c->alloc, s->floc); /* face locations serve diagnostics only: done */
     if (st != GEOM_OK) {
         if (c->diag && c->diag->source[0] == '\0')
             snprintf(c->diag->source, sizeof c->diag->source, "%s", c->source);
