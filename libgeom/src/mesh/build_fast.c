@@ -230,6 +230,11 @@ int geom_mesh__build_fast(geom_mesh *m, size_t nverts, const double *xyz, size_t
     if ((*stp = geom_mesh__build_storage(m, nverts, H, nfaces)) != GEOM_OK)
         goto fail_mesh;
     fast_halfedges(&x, m);
+    /* the corner arrays are done: freed before the vertex arrays are
+     * written, which keeps them out of the peak */
+    geom_mesh__bs_free_one(&S, x.he_of);
+    geom_mesh__bs_free_one(&S, x.cb);
+    geom_mesh__bs_free_one(&S, x.fs);
     if (fast_vertices(&x, m, rep)) {
         repair = 1;
         goto fail_mesh;
