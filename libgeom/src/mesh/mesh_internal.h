@@ -230,4 +230,8 @@ uint32_t geom_mesh__input_corner_he(const geom_mesh *m, uint32_t f, uint32_t k);
  * face valence). Returns the valence (0 for a bad f). O(valence). */
 size_t geom_mesh__input_corners(const geom_mesh *m, uint32_t f, uint32_t *out);
 
+/* geom_mesh_face_normal of a triangle whose cycle from its f_he visits the
+ * positions v[0], v[1], v[2], bit for bit (normals.c). */
+geom_status geom_mesh__triangle_normal(const double *const v[3], double out[3]);
+
 #endif
