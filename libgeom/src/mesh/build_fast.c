@@ -239,7 +239,7 @@ int geom_mesh__build_fast(geom_mesh *m, size_t nverts, const double *xyz, size_t
         repair = 1;
         goto fail_mesh;
     }
-    if (nverts)
+    if (nverts && geom_mesh__pos(m) != xyz) /* adopted: already in place */
         memcpy(geom_mesh__pos(m), xyz, 3 * nverts * sizeof(double));
     for (size_t v = 0; v < nverts; ++v)
         m->vertex_origin[v] = (uint32_t)v;

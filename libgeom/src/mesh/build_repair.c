@@ -696,10 +696,15 @@ static geom_status rp_fans(rctx *x, geom_mesh *m, size_t H, const double *xyz,
             par[h] = par[r];
     }
     geom_status st;
+    /* xyz may be m's own positions (geom_mesh__adopt_positions): growing
+     * keeps them in place in the new block */
+    int adopted = xyz == geom_mesh__pos(m);
     if (added && (st = geom_mesh__resize(m, nverts + added, H, x->F)) != GEOM_OK)
         return st;
     double *pos = geom_mesh__pos(m);
-    if (nverts)
+    if (adopted)
+        xyz = pos;
+    else if (nverts)
         memcpy(pos, xyz, 3 * nverts * sizeof(double));
     for (size_t v = 0; v < nverts; ++v)
         m->vertex_origin[v] = (uint32_t)v;

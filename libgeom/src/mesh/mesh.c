@@ -363,6 +363,25 @@ geom_status geom_mesh__ensure_origins(geom_mesh *m)
     return alloc_origins(m, 1);
 }
 
+geom_status geom_mesh__adopt_positions(geom_mesh *m, double *xyz, size_t nv)
+{
+    if (m->cap_v != 0 || m->nv != 0 || m->n_channels != 1 || nv == 0 || !xyz)
+        return GEOM_ERR_INVALID_ARG;
+    const geom_allocator *a = &m->alloc;
+    uint32_t *vhe = alloc_n(a, nv, sizeof(uint32_t));
+    uint8_t *vdel = alloc_n(a, nv, 1);
+    if (!vhe || !vdel) {
+        geom_free(a, vhe, nv * sizeof(uint32_t));
+        geom_free(a, vdel, nv);
+        return GEOM_ERR_NOMEM;
+    }
+    m->v_he = vhe;
+    m->v_del = vdel;
+    m->channels[0].data = xyz;
+    set_domain_cap(m, DOM_V, nv);
+    return GEOM_OK;
+}
+
 geom_status geom_mesh__build_storage(geom_mesh *m, size_t nv, size_t nh, size_t nf)
 {
     geom_mesh__clear_all(m);

@@ -198,6 +198,12 @@ geom_status geom_mesh__ensure_origins(geom_mesh *m);
  * (zero): the builder writes he_next, he_prev, he_vertex, he_face, v_he,
  * f_he, vertex_origin, face_origin and the positions itself, every entry. */
 geom_status geom_mesh__build_storage(geom_mesh *m, size_t nv, size_t nh, size_t nf);
+/* Give a new, empty mesh (no vertex storage yet, no channel but positions)
+ * the block xyz (3*nv doubles, allocated with m's allocator, exactly that
+ * size) as its positions' storage, with room for nv vertices; m owns it
+ * from then on. geom_mesh_build(m, nv, xyz, ...) then builds on it without
+ * a copy. GEOM_ERR_INVALID_ARG when m is not such a mesh, GEOM_ERR_NOMEM. */
+geom_status geom_mesh__adopt_positions(geom_mesh *m, double *xyz, size_t nv);
 
 /* ------------------------------------------------------ channels.c */
 
