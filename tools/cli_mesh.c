@@ -81,42 +81,70 @@ geom_status cli_mesh_write(const geom_mesh *m, const char *path, geom_meshio_for
     return cli_mesh_write_up(m, path, fmt, false, diag);
 }
 
+static geom_status write_to_fp(void *user, const void *data, size_t size)
+{
+    return fwrite(data, 1, size, (FILE *)user) == size ? GEOM_OK : GEOM_ERR_IO;
+}
+
 geom_status cli_mesh_write_up(const geom_mesh *m, const char *path, geom_meshio_format fmt,
                               bool up_z, geom_diag *diag)
 {
-    /* Into memory, then through cli_output: one output path for every tool
-     * (cp's rules for what is replaced, temporary files removed on SIGINT,
-     * SIGTERM and SIGHUP), at the price of the file's size in memory. */
+    /* Streamed into cli_output's temporary file, renamed at the end: one
+     * output path for every tool (cp's rules for what is replaced,
+     * temporary files removed on SIGINT, SIGTERM and SIGHUP) without
+     * holding the file in memory. */
     bool to_stdout = strcmp(path, "-") == 0;
+    const char *where = to_stdout ? "<stdout>" : path;
     geom_meshio_write_options wo;
     memset(&wo, 0, sizeof wo);
     wo.format = fmt ? fmt : to_stdout ? GEOM_MESHIO_FORMAT_AUTO : geom_meshio_format_from_name(path);
     if (wo.format == GEOM_MESHIO_FORMAT_AUTO)
-        return cli_diag_set(diag, GEOM_ERR_INVALID_ARG, to_stdout ? "<stdout>" : path, 0, 0,
+        return cli_diag_set(diag, GEOM_ERR_INVALID_ARG, where, 0, 0,
                             "output format not recognised from the name: give --format");
     wo.gltf_z_up = up_z;
-    void *buf = NULL;
-    size_t n = 0;
-    geom_status st = geom_meshio_write_memory(m, &wo, &buf, &n, diag);
-    if (st != GEOM_OK) {
-        if (diag && diag->source[0] == '\0')
-            cli_diag_locate(diag, to_stdout ? "<stdout>" : path, 0);
+    cli_output out;
+    geom_status st;
+    if (to_stdout) {
+        /* standard output cannot be taken back: made in memory first, so
+         * that an error writes nothing */
+        void *buf = NULL;
+        size_t n = 0;
+        st = geom_meshio_write_memory(m, &wo, &buf, &n, diag);
+        if (st != GEOM_OK) {
+            if (diag && diag->source[0] == '\0')
+                cli_diag_locate(diag, where, 0);
+            return st;
+        }
+        warn_dropped(m, where, wo.format);
+        st = cli_output_open(&out, NULL, diag);
+        if (st == GEOM_OK) {
+            if (n > 0 && fwrite(buf, 1, n, out.fp) != n) {
+                cli_output_abort(&out);
+                st = cli_diag_set(diag, GEOM_ERR_IO, where, 0, 0, "write error: %s",
+                                  strerror(errno ? errno : EIO));
+            } else {
+                st = cli_output_commit(&out, diag);
+            }
+        }
+        geom_meshio_buffer_free(buf, n, NULL);
         return st;
     }
-    warn_dropped(m, to_stdout ? "<stdout>" : path, wo.format);
-    cli_output out;
-    st = cli_output_open(&out, to_stdout ? NULL : path, diag);
-    if (st == GEOM_OK) {
-        if (n > 0 && fwrite(buf, 1, n, out.fp) != n) {
-            cli_output_abort(&out);
-            st = cli_diag_set(diag, GEOM_ERR_IO, to_stdout ? "<stdout>" : path, 0, 0,
-                              "write error: %s", strerror(errno ? errno : EIO));
-        } else {
-            st = cli_output_commit(&out, diag);
-        }
+    if ((st = cli_output_open(&out, path, diag)) != GEOM_OK)
+        return st;
+    errno = 0;
+    st = geom_meshio_write_stream(m, &wo, write_to_fp, out.fp, diag);
+    if (st != GEOM_OK) {
+        int err = errno;
+        cli_output_abort(&out);
+        if (st == GEOM_ERR_IO)
+            return cli_diag_set(diag, GEOM_ERR_IO, where, 0, 0, "write error: %s",
+                                strerror(err ? err : EIO));
+        if (diag && diag->source[0] == '\0')
+            cli_diag_locate(diag, where, 0);
+        return st;
     }
-    geom_meshio_buffer_free(buf, n, NULL);
-    return st;
+    warn_dropped(m, where, wo.format);
+    return cli_output_commit(&out, diag);
 }
 
 int cli_mesh_format_option(const cli_tool *t, const char *arg, int input,

@@ -29,8 +29,10 @@
 #include "cli_mesh.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/types.h>
 
 #include "geom/meshio.h"
 #include "geom/subdiv.h"
@@ -181,6 +183,40 @@ static geom_status limit_distance(const geom_subdiv_refiner *r, const double *po
     return st;
 }
 
+/* The line of the OBJ file's statement for tag number `tag` (0-based, in
+ * file order, as geom_mesh_tag_get numbers them): the (tag+1)-th `t`
+ * statement, counting a backslash-continued statement from its first line.
+ * 0 when the file cannot be read again (standard input) or has no such tag. */
+static size_t obj_tag_line(const char *path, size_t tag)
+{
+    if (!path || strcmp(path, "-") == 0)
+        return 0;
+    FILE *fp = fopen(path, "rb");
+    if (!fp)
+        return 0;
+    char *buf = NULL;
+    size_t cap = 0, lineno = 0, found = 0, seen = 0;
+    int cont = 0;
+    ssize_t n;
+    while (!found && (n = getline(&buf, &cap, fp)) >= 0) {
+        lineno++;
+        int was_cont = cont;
+        while (n > 0 && (buf[n - 1] == '\n' || buf[n - 1] == '\r'))
+            n--;
+        cont = n > 0 && buf[n - 1] == '\\';
+        if (was_cont)
+            continue;
+        const char *p = buf;
+        while (*p == ' ' || *p == '\t')
+            p++;
+        if (p[0] == 't' && (p[1] == ' ' || p[1] == '\t') && seen++ == tag)
+            found = lineno;
+    }
+    free(buf);
+    fclose(fp);
+    return found;
+}
+
 int main(int argc, char **argv)
 {
     static const struct option longopts[] = {{"scheme", required_argument, NULL, 's'},
@@ -269,8 +305,19 @@ int main(int argc, char **argv)
     if (st != GEOM_OK) {
         geom_mesh_destroy(m);
         if (diag.message[0]) {
+            /* a tag the refiner refuses ("tag N: ...") is named by its line */
+            size_t line = 0;
+            char *end;
+            const char *num = strncmp(diag.message, "tag ", 4) == 0          ? diag.message + 4
+                              : strncmp(diag.message, "crease tag ", 11) == 0 ? diag.message + 11
+                                                                               : NULL;
+            if (num && !diag.source[0]) {
+                unsigned long long ti = strtoull(num, &end, 10);
+                if (end != num && *end == ':')
+                    line = obj_tag_line(in_path, (size_t)ti);
+            }
             if (!diag.source[0])
-                cli_diag_locate(&diag, in_path, 0);
+                cli_diag_locate(&diag, in_path, line);
             return cli_print_diag(&tool, &diag);
         }
         return cli_error(&tool, "%s: %s", in_path, geom_status_str(st));

@@ -305,5 +305,24 @@ expect_rc 0 "stdout with --format"
 checks=$((checks + 1))
 [ "$(printf '%s\n' "$out" | grep -c '^f ')" -eq 12 ] || fail "stdout OBJ: expected 12 faces"
 
+# a tag the refiner refuses names its file line (the statement's first line
+# when it is continued with a backslash)
+printf 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nt corner 1/1/0 0 2.0\nf 1 2 3 4\n# c\nt crease 2/1/0 0 \\\n 9 1.0\n' >"$T/badtag.obj"
+run --levels 1 "$T/badtag.obj" -o "$T/badtag_out.obj"
+expect_rc 1 "crease tag with a vertex out of range"
+checks=$((checks + 1))
+case "$err" in
+*"badtag.obj:8: tag 1: crease vertex out of range"*) ;;
+*) fail "bad crease tag: expected FILE:8 in the message, got: $err" ;;
+esac
+printf 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\nt crease 2/1/0 0 2 1.0\n' >"$T/badedge.obj"
+run --levels 1 "$T/badedge.obj" -o "$T/badtag_out.obj"
+expect_rc 1 "crease tag on no edge"
+checks=$((checks + 1))
+case "$err" in
+*"badedge.obj:6: "*) ;;
+*) fail "crease tag on no edge: expected FILE:6 in the message, got: $err" ;;
+esac
+
 echo "$checks checks, $failures failures"
 [ "$failures" -eq 0 ]

@@ -881,6 +881,95 @@ static void test_read_file_mapped(void **state)
     unlink(path);
 }
 
+/* geom_meshio_write_stream: the pieces, joined, are the file (read back to
+ * the same positions), in pieces of at most 64 KiB; a callback's failure
+ * stops the write with its status. */
+typedef struct stream_buf {
+    char *p;
+    size_t n, cap, calls, fail_at, max_piece;
+} stream_buf;
+
+static geom_status stream_collect(void *user, const void *data, size_t size)
+{
+    stream_buf *b = user;
+    b->calls++;
+    if (b->fail_at && b->calls == b->fail_at)
+        return GEOM_ERR_IO;
+    if (size > b->max_piece)
+        b->max_piece = size;
+    if (b->n + size + 1 > b->cap) {
+        b->cap = 2 * (b->n + size + 1);
+        b->p = realloc(b->p, b->cap);
+        assert_non_null(b->p);
+    }
+    memcpy(b->p + b->n, data, size);
+    b->n += size;
+    b->p[b->n] = 0;
+    return GEOM_OK;
+}
+
+static void test_write_stream(void **state)
+{
+    (void)state;
+    /* a 60 x 60 grid of quads with shortest-form coordinates: > 64 KiB of OBJ */
+    enum { N = 60 };
+    double *xyz = malloc(3 * (N + 1) * (N + 1) * sizeof(double));
+    uint32_t *sizes = malloc(N * N * sizeof(uint32_t)), *idx = malloc(4 * N * N * sizeof(uint32_t));
+    assert_true(xyz && sizes && idx);
+    for (int j = 0; j <= N; j++)
+        for (int i = 0; i <= N; i++) {
+            double *p = xyz + 3 * (j * (N + 1) + i);
+            p[0] = i / 7.0;
+            p[1] = j / 3.0;
+            p[2] = (i * j) / 11.0;
+        }
+    for (int j = 0; j < N; j++)
+        for (int i = 0; i < N; i++) {
+            uint32_t a = (uint32_t)(j * (N + 1) + i), *q = idx + 4 * (j * N + i);
+            sizes[j * N + i] = 4;
+            q[0] = a, q[1] = a + 1, q[2] = a + N + 2, q[3] = a + N + 1;
+        }
+    geom_mesh *m = geom_mesh_create(NULL);
+    assert_int_equal(geom_mesh_build(m, (N + 1) * (N + 1), xyz, N * N, sizes, idx, NULL, NULL,
+                                     NULL),
+                     GEOM_OK);
+    geom_meshio_write_options w;
+    memset(&w, 0, sizeof w);
+    w.format = GEOM_MESHIO_FORMAT_OBJ;
+    stream_buf b;
+    memset(&b, 0, sizeof b);
+    geom_diag d;
+    assert_int_equal(geom_meshio_write_stream(m, &w, stream_collect, &b, &d), GEOM_OK);
+    assert_true(b.n > 65536);
+    assert_true(b.calls >= 2);
+    assert_true(b.max_piece <= 65536);
+    geom_mesh *m2 = NULL;
+    assert_int_equal(mt_read(b.p, b.n, GEOM_MESHIO_FORMAT_OBJ, 0, &m2, NULL, &d, NULL), GEOM_OK);
+    mt_assert_same_positions(m, m2);
+    assert_int_equal(geom_mesh_n_faces(m2), N * N);
+    geom_mesh_destroy(m2);
+    /* a failing callback: its status, a message, no further calls */
+    stream_buf f;
+    memset(&f, 0, sizeof f);
+    f.fail_at = 2;
+    assert_int_equal(geom_meshio_write_stream(m, &w, stream_collect, &f, &d), GEOM_ERR_IO);
+    assert_int_equal(d.status, GEOM_ERR_IO);
+    assert_int_equal(f.calls, 2);
+    /* refused arguments: nothing passed */
+    stream_buf z;
+    memset(&z, 0, sizeof z);
+    w.format = GEOM_MESHIO_FORMAT_AUTO;
+    assert_int_equal(geom_meshio_write_stream(m, &w, stream_collect, &z, &d), GEOM_ERR_INVALID_ARG);
+    assert_int_equal(geom_meshio_write_stream(m, NULL, NULL, &z, &d), GEOM_ERR_INVALID_ARG);
+    assert_int_equal(z.calls, 0);
+    free(b.p);
+    free(f.p);
+    geom_mesh_destroy(m);
+    free(xyz);
+    free(sizes);
+    free(idx);
+}
+
 static void test_read_nomem(void **state)
 {
     (void)state;
@@ -917,7 +1006,7 @@ int main(void)
         cmocka_unit_test(test_skip_invalid),    cmocka_unit_test(test_limits),
         cmocka_unit_test(test_osd_shapes),      cmocka_unit_test(test_format_names),
         cmocka_unit_test(test_atomic_write),    cmocka_unit_test(test_read_nomem),
-        cmocka_unit_test(test_read_file_mapped),
+        cmocka_unit_test(test_read_file_mapped), cmocka_unit_test(test_write_stream),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -418,6 +418,43 @@ static void test_stl_polygons(void **state)
     geom_mesh_destroy(m);
 }
 
+/* STL and GLB triangulate polygons one face at a time: the files are the
+ * ones written from the mesh geom_mesh_triangulate makes (nonconvex
+ * polygons, a deleted face, corner uvs for GLB). */
+static void test_polygons_as_triangulated(void **state)
+{
+    (void)state;
+    const char *obj = "v 0 0 0\nv 4 0 0\nv 4 3 0\nv 2 1 0\nv 0 3 0\nv 0 0 2\nv 4 0 2\n"
+                      "v 1 5 1\nv 3 5 1.5\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0.5 0.25\nvt 0 1\n"
+                      "f 1/1 2/2 3/3 4/4 5/5\nf 2/1 1/2 6/3 7/4\nf 3/1 9/2 8/3 5/4 4/5\n"
+                      "f 2/2 7/3 3/1\n";
+    geom_mesh *m = NULL;
+    geom_diag d;
+    assert_int_equal(mt_read(obj, (size_t)-1, GEOM_MESHIO_FORMAT_OBJ, 0, &m, NULL, &d, NULL),
+                     GEOM_OK);
+    for (int del = 0; del < 2; del++) {
+        if (del)
+            assert_int_equal(geom_mesh_delete_face(m, 1), GEOM_OK);
+        geom_mesh *t = NULL;
+        assert_int_equal(geom_mesh_clone(m, &t), GEOM_OK);
+        assert_int_equal(geom_mesh_triangulate(t, NULL), GEOM_OK);
+        const geom_meshio_format fmt[3] = {GEOM_MESHIO_FORMAT_STL, GEOM_MESHIO_FORMAT_STL,
+                                           GEOM_MESHIO_FORMAT_GLB};
+        const geom_meshio_encoding enc[3] = {0, GEOM_MESHIO_ENCODING_ASCII, 0};
+        for (int k = 0; k < 3; k++) {
+            size_t na, nb;
+            void *a = mt_write(m, fmt[k], enc[k], &na);
+            void *b = mt_write(t, fmt[k], enc[k], &nb);
+            assert_int_equal(na, nb);
+            assert_memory_equal(a, b, na);
+            free(a);
+            free(b);
+        }
+        geom_mesh_destroy(t);
+    }
+    geom_mesh_destroy(m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -425,7 +462,7 @@ int main(void)
         cmocka_unit_test(test_off_glued_comment),
         cmocka_unit_test(test_off_malformed), cmocka_unit_test(test_wedge_stl),
         cmocka_unit_test(test_stl_ascii),   cmocka_unit_test(test_stl_malformed),
-        cmocka_unit_test(test_stl_polygons),
+        cmocka_unit_test(test_stl_polygons), cmocka_unit_test(test_polygons_as_triangulated),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -389,6 +389,9 @@ geom_status geom_meshio_write(const geom_mesh *m, const char *path, const
     geom_meshio_write_options *opt, geom_diag *diag);
 geom_status geom_meshio_write_memory(const geom_mesh *m, const geom_meshio_write_options *opt,
     void **data, size_t *size, geom_diag *diag);
+typedef geom_status (*geom_meshio_write_fn)(void *user, const void *data, size_t size);
+geom_status geom_meshio_write_stream(const geom_mesh *m, const geom_meshio_write_options *opt,
+    geom_meshio_write_fn fn, void *user, geom_diag *diag);
 void geom_meshio_buffer_free(void *data, size_t size, const geom_allocator *alloc);
 """,
     "curve": """

@@ -217,14 +217,14 @@ typedef struct geom_mesh_build_options {
      * mesh (what the library's own tessellation, marching cubes, subdivision
      * and clipping produce): every index in range, no repeated vertex in a
      * face, every edge used by at most two faces and then in opposite
-     * directions, the faces around each vertex one fan. The repair passes
-     * (validation, orientation, non-manifold edges and vertices) are skipped
-     * and the halfedges are linked directly; the result is the one the
-     * repairing build gives for such input, element for element. The edge
-     * pairing and the vertex fans are still checked on the way (at no extra
-     * pass); input that fails them is built by the repairing path instead,
-     * and the report says what it changed. Debug builds (NDEBUG undefined)
-     * also validate the result.
+     * directions, the faces around each vertex one fan. Every input is
+     * first built directly (halfedges linked as the faces give them, the
+     * edge pairing and the vertex fans checked on the way) and goes through
+     * the repair passes (validation, orientation, non-manifold edges and
+     * vertices) only when that check fails, so the flag changes no result:
+     * the direct build is the one the repairing build gives for such input,
+     * element for element, and the report says what a repair changed.
+     * Debug builds (NDEBUG undefined) validate every directly built result.
      */
     int trusted;
     /** Attribute streams attached to the result, in this order
@@ -278,8 +278,8 @@ typedef struct geom_mesh_build_report {
  * output is input face i unless invalid faces were skipped (then faces keep
  * their order without the skipped ones; geom_mesh_face_origin() maps them).
  * opt->channels attach attribute streams (vertex, face and corner values)
- * in the same call; opt->trusted skips the repairs for input known to need
- * none (see geom_mesh_build_options).
+ * in the same call. Input that needs no repair is linked directly, without
+ * the repair passes (see geom_mesh_build_options.trusted).
  * report and diag may be NULL; opt NULL means defaults.
  * Returns GEOM_OK (repairs are not errors: see the report),
  * GEOM_ERR_INVALID_ARG for an invalid face when skip_invalid_faces is 0 (the

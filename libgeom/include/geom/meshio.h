@@ -278,6 +278,24 @@ GEOM_API geom_status geom_meshio_write(const geom_mesh *m, const char *path,
 GEOM_API geom_status geom_meshio_write_memory(const geom_mesh *m, const geom_meshio_write_options *opt,
                                      void **data, size_t *size, geom_diag *diag);
 
+/** Receives geom_meshio_write_stream's output: `size` bytes at `data`, in
+ *  order, in pieces of at most 64 KiB. Return GEOM_OK to go on; any other
+ *  status stops the write and is returned by it. */
+typedef geom_status (*geom_meshio_write_fn)(void *user, const void *data, size_t size);
+
+/**
+ * Write m through fn (called with user) as it is produced, without holding
+ * the whole output in memory: for a caller with its own destination (a
+ * stream, a socket, a temporary file it renames itself). opt->format must
+ * not be AUTO. Nothing is passed to fn when the arguments are refused; on a
+ * later error part of the output may have been passed (the caller discards
+ * it).
+ * Statuses as geom_meshio_write_memory, and fn's own status when it fails
+ * (diag then says the output could not be written, unless fn set it).
+ */
+GEOM_API geom_status geom_meshio_write_stream(const geom_mesh *m, const geom_meshio_write_options *opt,
+                                     geom_meshio_write_fn fn, void *user, geom_diag *diag);
+
 /** Free a buffer from geom_meshio_write_memory made with the allocator
  *  `alloc` (NULL: libc); `size` is the *size it returned. NULL data is a
  *  no-op. */

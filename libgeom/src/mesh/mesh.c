@@ -140,7 +140,7 @@ static void set_domain_cap(geom_mesh *m, int dom, size_t c)
 
 /* Grow every array of a domain to hold `need` elements: all new blocks are
  * allocated first, so a failure changes nothing. */
-static geom_status grow_domain(geom_mesh *m, int dom, size_t need)
+static geom_status grow_domain_to(geom_mesh *m, int dom, size_t need, int exact)
 {
     size_t oc = domain_cap(m, dom);
     if (need <= oc)
@@ -151,6 +151,8 @@ static geom_status grow_domain(geom_mesh *m, int dom, size_t need)
     size_t nc = oc < 16 ? 16 : oc;
     while (nc < need)
         nc = nc > limit / 2 ? limit : nc * 2;
+    if (exact)
+        nc = need;
     const geom_allocator *a = &m->alloc;
     size_t na = 8 + m->n_channels;
     void **vals = alloc_n(a, 2 * na, sizeof(void *));
@@ -185,6 +187,11 @@ static geom_status grow_domain(geom_mesh *m, int dom, size_t need)
     geom_free(a, vals, 2 * na * sizeof(void *));
     geom_free(a, es, na * sizeof(size_t));
     return st;
+}
+
+static geom_status grow_domain(geom_mesh *m, int dom, size_t need)
+{
+    return grow_domain_to(m, dom, need, 0);
 }
 
 static void free_domain(geom_mesh *m, int dom)
@@ -315,12 +322,10 @@ geom_status geom_mesh__reserve_some(geom_mesh *m)
     return geom_mesh__reserve(m, m->nv ? m->nv : 1, m->nh ? m->nh : 2, m->nf ? m->nf : 1);
 }
 
-geom_status geom_mesh__ensure_origins(geom_mesh *m)
+/* The origin maps at m's capacities; fill: initialise new ones (INV, 0). */
+static geom_status alloc_origins(geom_mesh *m, int fill)
 {
     const geom_allocator *a = &m->alloc;
-    geom_status s = geom_mesh__reserve_some(m);
-    if (s != GEOM_OK)
-        return s;
     uint32_t *vo = m->vertex_origin, *fo = m->face_origin;
     uint8_t *ff = m->face_flipped;
     if (!vo)
@@ -338,15 +343,63 @@ geom_status geom_mesh__ensure_origins(geom_mesh *m)
             geom_free(a, ff, m->cap_f);
         return GEOM_ERR_NOMEM;
     }
-    if (vo != m->vertex_origin)
+    if (fill && vo != m->vertex_origin)
         fill_u32(vo, m->cap_v, INV);
-    if (fo != m->face_origin)
+    if (fill && fo != m->face_origin)
         fill_u32(fo, m->cap_f, INV);
-    if (ff != m->face_flipped)
+    if (fill && ff != m->face_flipped)
         memset(ff, 0, m->cap_f ? m->cap_f : 1);
     m->vertex_origin = vo;
     m->face_origin = fo;
     m->face_flipped = ff;
+    return GEOM_OK;
+}
+
+geom_status geom_mesh__ensure_origins(geom_mesh *m)
+{
+    geom_status s = geom_mesh__reserve_some(m);
+    if (s != GEOM_OK)
+        return s;
+    return alloc_origins(m, 1);
+}
+
+geom_status geom_mesh__adopt_positions(geom_mesh *m, double *xyz, size_t nv)
+{
+    if (m->cap_v != 0 || m->nv != 0 || m->n_channels != 1 || nv == 0 || !xyz)
+        return GEOM_ERR_INVALID_ARG;
+    const geom_allocator *a = &m->alloc;
+    uint32_t *vhe = alloc_n(a, nv, sizeof(uint32_t));
+    uint8_t *vdel = alloc_n(a, nv, 1);
+    if (!vhe || !vdel) {
+        geom_free(a, vhe, nv * sizeof(uint32_t));
+        geom_free(a, vdel, nv);
+        return GEOM_ERR_NOMEM;
+    }
+    m->v_he = vhe;
+    m->v_del = vdel;
+    m->channels[0].data = xyz;
+    set_domain_cap(m, DOM_V, nv);
+    return GEOM_OK;
+}
+
+geom_status geom_mesh__build_storage(geom_mesh *m, size_t nv, size_t nh, size_t nf)
+{
+    geom_mesh__clear_all(m);
+    if (nh > (size_t)UINT32_MAX - 1)
+        return GEOM_ERR_LIMIT;
+    geom_status s;
+    if ((s = grow_domain_to(m, DOM_V, nv ? nv : 1, 1)) != GEOM_OK ||
+        (s = grow_domain_to(m, DOM_E, nh ? (nh + 1) / 2 : 1, 1)) != GEOM_OK ||
+        (s = grow_domain_to(m, DOM_F, nf ? nf : 1, 1)) != GEOM_OK ||
+        (s = alloc_origins(m, 0)) != GEOM_OK)
+        return s;
+    memset(m->v_del, 0, nv);
+    memset(m->e_del, 0, nh / 2);
+    memset(m->f_del, 0, nf);
+    memset(m->face_flipped, 0, nf);
+    m->nv = nv;
+    m->nh = nh;
+    m->nf = nf;
     return GEOM_OK;
 }
 

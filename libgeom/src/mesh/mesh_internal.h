@@ -192,6 +192,18 @@ void geom_mesh__adjust_outgoing(geom_mesh *m, uint32_t v);
 /* Allocate the vertex_origin / face_origin / face_flipped arrays at the
  * current capacity (filled with GEOM_INVALID_INDEX / 0) if absent. */
 geom_status geom_mesh__ensure_origins(geom_mesh *m);
+/* Storage for a mesh being built from a soup (geom_mesh_build's paths):
+ * clears m, reserves exactly nv, nh, nf elements with the origin maps and
+ * sets the counts. Only the deleted flags and face_flipped are initialised
+ * (zero): the builder writes he_next, he_prev, he_vertex, he_face, v_he,
+ * f_he, vertex_origin, face_origin and the positions itself, every entry. */
+geom_status geom_mesh__build_storage(geom_mesh *m, size_t nv, size_t nh, size_t nf);
+/* Give a new, empty mesh (no vertex storage yet, no channel but positions)
+ * the block xyz (3*nv doubles, allocated with m's allocator, exactly that
+ * size) as its positions' storage, with room for nv vertices; m owns it
+ * from then on. geom_mesh_build(m, nv, xyz, ...) then builds on it without
+ * a copy. GEOM_ERR_INVALID_ARG when m is not such a mesh, GEOM_ERR_NOMEM. */
+geom_status geom_mesh__adopt_positions(geom_mesh *m, double *xyz, size_t nv);
 
 /* ------------------------------------------------------ channels.c */
 
@@ -223,5 +235,9 @@ uint32_t geom_mesh__input_corner_he(const geom_mesh *m, uint32_t f, uint32_t k);
  * geom_mesh__input_corner_he(m, f, k) for k < valence (out must hold the
  * face valence). Returns the valence (0 for a bad f). O(valence). */
 size_t geom_mesh__input_corners(const geom_mesh *m, uint32_t f, uint32_t *out);
+
+/* geom_mesh_face_normal of a triangle whose cycle from its f_he visits the
+ * positions v[0], v[1], v[2], bit for bit (normals.c). */
+geom_status geom_mesh__triangle_normal(const double *const v[3], double out[3]);
 
 #endif

@@ -208,6 +208,58 @@ static int poly_area_vector(const geom_mesh *m, uint32_t f, double g, double n[3
     return 1;
 }
 
+/* geom_mesh_face_normal of a triangle face whose cycle from f_he visits
+ * v[0], v[1], v[2] (the same operations in the same order as face_scale,
+ * poly_area_vector and normalize3 on that face, so the same bits), for
+ * writers that triangulate one face at a time. */
+geom_status geom_mesh__triangle_normal(const double *const v[3], double out[3])
+{
+    out[0] = out[1] = out[2] = 0.0;
+    const double *a = v[0];
+    double mx = 0.0, g = 1.0;
+    for (int i = 0; i < 3; i++)
+        for (int k = 0; k < 3; k++)
+            mx = fmax(mx, fabs(v[i][k] * 0.5 - a[k] * 0.5));
+    if (mx > 0.0 && isfinite(mx)) {
+        int ex;
+        frexp(mx, &ex);
+        g = pow2_scale(ex + 1);
+    }
+    double n[3] = {0.0, 0.0, 0.0}, L2 = 0.0, qprev[3] = {0.0, 0.0, 0.0};
+    int zero_edge = 0, finite = 1;
+    for (int i = 0; i < 3; i++) {
+        const double *b = v[(i + 1) % 3], *c = v[i];
+        double q[3], e[3], x[3];
+        sub_scaled(b, a, g, q);
+        sub_scaled(b, c, g, e);
+        double l2 = dot3(e, e);
+        if (!geom_isfinite3(b))
+            finite = 0;
+        if (l2 == 0.0)
+            zero_edge = 1;
+        if (l2 == 0.0 && (e[0] != 0.0 || e[1] != 0.0 || e[2] != 0.0))
+            l2 = 0x1p-1074;
+        if (l2 > L2)
+            L2 = l2;
+        cross3(qprev, q, x);
+        n[0] += x[0];
+        n[1] += x[1];
+        n[2] += x[2];
+        qprev[0] = q[0];
+        qprev[1] = q[1];
+        qprev[2] = q[2];
+    }
+    double n2 = dot3(n, n);
+    if (!finite || zero_edge || !isfinite(n2) || !isfinite(L2) || n2 <= DEGEN2 * L2 * L2)
+        return GEOM_ERR_DEGENERATE;
+    if (!normalize3(n))
+        return GEOM_ERR_DEGENERATE;
+    out[0] = n[0];
+    out[1] = n[1];
+    out[2] = n[2];
+    return GEOM_OK;
+}
+
 geom_status geom_mesh_face_normal(const geom_mesh *m, uint32_t f, double out[3])
 {
     if (out)

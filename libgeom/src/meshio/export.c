@@ -96,21 +96,140 @@ static geom_status grow_out(mio_export *e, size_t n)
     return GEOM_OK;
 }
 
+/* State of one export_build while the corners are visited. */
+typedef struct exp_walk {
+    mio_export *e;
+    const geom_mesh *m;
+    const uint32_t *cidx[MIO_NATTR];
+    const uint32_t *vmap;
+    uint8_t *primary_set;
+    mio_hash hash;
+    int ncorner;
+} exp_walk;
+
+/* The output vertex of the corner at halfedge h (its target vertex with
+ * h's corner attributes): the vertex's own when its first tuple matches or
+ * it has none yet, else one per distinct tuple. */
+static geom_status export_corner(exp_walk *w, uint32_t h, uint32_t *outp)
+{
+    mio_export *e = w->e;
+    uint32_t v = geom_mesh_he_vertex(w->m, h);
+    uint32_t out = w->vmap[v];
+    *outp = out;
+    if (!w->ncorner)
+        return GEOM_OK;
+    uint32_t key[MIO_NATTR];
+    for (int a = 0; a < MIO_NATTR; a++)
+        key[a] = w->cidx[a] ? w->cidx[a][h] : e->aidx[a][out];
+    if (!w->primary_set[v]) {
+        w->primary_set[v] = 1;
+        for (int a = 0; a < MIO_NATTR; a++)
+            e->aidx[a][out] = key[a];
+        return GEOM_OK;
+    }
+    int same = 1;
+    for (int a = 0; a < MIO_NATTR; a++)
+        same &= e->aidx[a][out] == key[a];
+    if (same)
+        return GEOM_OK;
+    uint64_t hv = geom_meshio__mix(0, v);
+    for (int a = 0; a < MIO_NATTR; a++)
+        hv = geom_meshio__mix(hv, key[a]);
+    size_t it = 0;
+    uint32_t cand;
+    while ((cand = geom_meshio__hash_next(&w->hash, hv, &it)) != UINT32_MAX) {
+        int eq = e->vert[cand] == v;
+        for (int a = 0; a < MIO_NATTR && eq; a++)
+            eq = e->aidx[a][cand] == key[a];
+        if (eq) {
+            *outp = cand;
+            return GEOM_OK;
+        }
+    }
+    if (e->nv >= UINT32_MAX - 1)
+        return GEOM_ERR_LIMIT;
+    geom_status st = grow_out(e, e->nv + 1);
+    if (st == GEOM_OK)
+        st = geom_meshio__hash_reserve(&w->hash, e->alloc, w->hash.n + 1);
+    if (st != GEOM_OK)
+        return st;
+    /* the table may have been rebuilt: find the slot again */
+    it = 0;
+    while (geom_meshio__hash_next(&w->hash, hv, &it) != UINT32_MAX) {
+    }
+    out = (uint32_t)e->nv++;
+    e->vert[out] = v;
+    for (int a = 0; a < MIO_NATTR; a++)
+        e->aidx[a][out] = key[a];
+    geom_meshio__hash_insert_at(&w->hash, hv, it, out);
+    *outp = out;
+    return GEOM_OK;
+}
+
+/* Polygons as geom_mesh_triangulate makes them triangles, one face at a
+ * time: pass 0 writes every triangle and the first triangle of each
+ * polygon (in the face's place), pass 1 the polygons' other triangles
+ * (after the last face), each starting where the triangulated face's
+ * cycle would. */
+static geom_status export_triangles(exp_walk *w, size_t nmax, size_t *fi, size_t *ii)
+{
+    mio_export *e = w->e;
+    const geom_mesh *m = w->m;
+    const geom_allocator *al = e->alloc;
+    size_t nf = geom_mesh_n_faces(m);
+    const double *pos = geom_mesh_cpositions(m);
+    double *pts = geom_alloc(al, 3 * nmax * sizeof(double));
+    uint32_t *ub = geom_alloc(al, 4 * nmax * sizeof(uint32_t));
+    geom_status st = pts && ub ? GEOM_OK : GEOM_ERR_NOMEM;
+    uint32_t *tris = ub, *hk = ub + 3 * nmax;
+    for (int pass = 0; pass < 2 && st == GEOM_OK; pass++)
+        for (size_t f = 0; f < nf && st == GEOM_OK; f++) {
+            if (geom_mesh_face_is_deleted(m, (uint32_t)f))
+                continue;
+            size_t n = geom_mesh_face_valence(m, (uint32_t)f);
+            if (n == 3 && pass)
+                continue;
+            uint32_t h = geom_mesh_face_he(m, (uint32_t)f);
+            for (size_t c = 0; c < n; c++, h = geom_mesh_he_next(m, h)) {
+                hk[c] = h;
+                memcpy(pts + 3 * c, pos + 3 * (size_t)geom_mesh_he_vertex(m, h),
+                       3 * sizeof(double));
+            }
+            if (n == 3) {
+                /* the face itself: its cycle from f_he */
+                tris[0] = 2, tris[1] = 0, tris[2] = 1;
+            } else
+                (void)geom_polygon_triangulate(n, pts, tris); /* degenerate: a fan */
+            for (size_t t = pass ? 1 : 0; t < (pass ? n - 2 : 1) && st == GEOM_OK; t++) {
+                for (int i = 0; i < 3 && st == GEOM_OK; i++)
+                    st = export_corner(w, hk[tris[3 * t + (size_t)((i + 1) % 3)]], &e->fidx[(*ii)++]);
+                e->fsize[*fi] = 3;
+                e->fface[*fi] = (uint32_t)f;
+                (*fi)++;
+            }
+        }
+    geom_free(al, pts, 3 * nmax * sizeof(double));
+    geom_free(al, ub, 4 * nmax * sizeof(uint32_t));
+    return st;
+}
+
 geom_status geom_meshio__export_build(mio_export *e, const geom_mesh *m,
                                       const uint32_t chan[MIO_NATTR],
-                                      const geom_allocator *alloc)
+                                      const geom_allocator *alloc, int triangulate)
 {
     memset(e, 0, sizeof *e);
     e->alloc = alloc;
     size_t nv = geom_mesh_n_vertices(m), nf = geom_mesh_n_faces(m);
-    const uint32_t *cidx[MIO_NATTR] = {NULL, NULL, NULL, NULL};
-    int ncorner = 0;
+    exp_walk w;
+    memset(&w, 0, sizeof w);
+    w.e = e;
+    w.m = m;
     for (int a = 0; a < MIO_NATTR; a++) {
         e->chan[a] = chan[a];
         if (chan[a] != GEOM_INVALID_INDEX &&
             geom_mesh_channel_domain(m, chan[a]) == GEOM_MESH_DOMAIN_CORNER) {
-            cidx[a] = geom_mesh_corner_cindices(m, chan[a]);
-            ncorner += cidx[a] != NULL;
+            w.cidx[a] = geom_mesh_corner_cindices(m, chan[a]);
+            w.ncorner += w.cidx[a] != NULL;
         }
     }
     uint32_t *vmap = NULL;
@@ -118,17 +237,20 @@ geom_status geom_meshio__export_build(mio_export *e, const geom_mesh *m,
     geom_status st = geom_meshio__vertex_map(m, alloc, &vmap, &nlive);
     if (st != GEOM_OK)
         return st;
+    w.vmap = vmap;
     if (nlive > UINT32_MAX - 1) {
         geom_free(alloc, vmap, nv * sizeof(uint32_t));
         return GEOM_ERR_LIMIT;
     }
-    /* live faces and their sizes */
-    size_t nlf = 0, nidx = 0;
+    /* live faces (triangles when triangulating) and their sizes */
+    size_t nlf = 0, nidx = 0, nmax = 3;
     for (size_t f = 0; f < nf; f++) {
         if (geom_mesh_face_is_deleted(m, (uint32_t)f))
             continue;
-        nlf++;
-        nidx += geom_mesh_face_valence(m, (uint32_t)f);
+        size_t n = geom_mesh_face_valence(m, (uint32_t)f);
+        nmax = n > nmax ? n : nmax;
+        nlf += triangulate ? n - 2 : 1;
+        nidx += triangulate ? 3 * (n - 2) : n;
     }
     e->nf = nlf;
     e->nidx = nidx;
@@ -136,9 +258,6 @@ geom_status geom_meshio__export_build(mio_export *e, const geom_mesh *m,
     e->fface = geom_alloc(alloc, nlf * sizeof(uint32_t));
     e->fidx = geom_alloc(alloc, nidx * sizeof(uint32_t));
     st = (e->fsize && e->fface && e->fidx) ? grow_out(e, nlive) : GEOM_ERR_NOMEM;
-    uint8_t *primary_set = NULL;
-    mio_hash hash;
-    memset(&hash, 0, sizeof hash);
     if (st == GEOM_OK) {
         /* the first nlive outputs are the live vertices; their attribute
          * tuple is set by the first corner seen (or stays unset) */
@@ -149,79 +268,33 @@ geom_status geom_meshio__export_build(mio_export *e, const geom_mesh *m,
             e->vert[o] = (uint32_t)v;
             for (int a = 0; a < MIO_NATTR; a++)
                 e->aidx[a][o] = chan[a] == GEOM_INVALID_INDEX ? GEOM_INVALID_INDEX
-                                : cidx[a]                     ? GEOM_INVALID_INDEX
+                                : w.cidx[a]                   ? GEOM_INVALID_INDEX
                                                               : (uint32_t)v;
         }
         e->nv = nlive;
-        if (ncorner) {
-            primary_set = geom_alloc(alloc, nv ? nv : 1);
-            if (!primary_set)
+        if (w.ncorner) {
+            w.primary_set = geom_alloc(alloc, nv ? nv : 1);
+            if (!w.primary_set)
                 st = GEOM_ERR_NOMEM;
             else
-                memset(primary_set, 0, nv ? nv : 1);
+                memset(w.primary_set, 0, nv ? nv : 1);
         }
     }
     size_t fi = 0, ii = 0;
-    for (size_t f = 0; f < nf && st == GEOM_OK; f++) {
+    if (st == GEOM_OK && triangulate) {
+        st = export_triangles(&w, nmax, &fi, &ii);
+        e->max_valence = nlf ? 3 : 0;
+    }
+    for (size_t f = 0; f < nf && st == GEOM_OK && !triangulate; f++) {
         if (geom_mesh_face_is_deleted(m, (uint32_t)f))
             continue;
         uint32_t h0 = geom_mesh_face_he(m, (uint32_t)f), h = h0;
         size_t cnt = 0;
         do {
-            uint32_t v = geom_mesh_he_vertex(m, h);
-            uint32_t out = vmap[v];
-            if (ncorner) {
-                uint32_t key[MIO_NATTR];
-                for (int a = 0; a < MIO_NATTR; a++)
-                    key[a] = cidx[a] ? cidx[a][h] : e->aidx[a][out];
-                if (!primary_set[v]) {
-                    primary_set[v] = 1;
-                    for (int a = 0; a < MIO_NATTR; a++)
-                        e->aidx[a][out] = key[a];
-                } else {
-                    int same = 1;
-                    for (int a = 0; a < MIO_NATTR; a++)
-                        same &= e->aidx[a][out] == key[a];
-                    if (!same) {
-                        uint64_t hv = geom_meshio__mix(0, v);
-                        for (int a = 0; a < MIO_NATTR; a++)
-                            hv = geom_meshio__mix(hv, key[a]);
-                        size_t it = 0;
-                        uint32_t cand;
-                        out = GEOM_INVALID_INDEX;
-                        while ((cand = geom_meshio__hash_next(&hash, hv, &it)) != UINT32_MAX) {
-                            int eq = e->vert[cand] == v;
-                            for (int a = 0; a < MIO_NATTR && eq; a++)
-                                eq = e->aidx[a][cand] == key[a];
-                            if (eq) {
-                                out = cand;
-                                break;
-                            }
-                        }
-                        if (out == GEOM_INVALID_INDEX) {
-                            if (e->nv >= UINT32_MAX - 1) {
-                                st = GEOM_ERR_LIMIT;
-                                break;
-                            }
-                            st = grow_out(e, e->nv + 1);
-                            if (st == GEOM_OK)
-                                st = geom_meshio__hash_reserve(&hash, alloc, hash.n + 1);
-                            if (st != GEOM_OK)
-                                break;
-                            /* the table may have been rebuilt: find the slot again */
-                            it = 0;
-                            while (geom_meshio__hash_next(&hash, hv, &it) != UINT32_MAX) {
-                            }
-                            out = (uint32_t)e->nv++;
-                            e->vert[out] = v;
-                            for (int a = 0; a < MIO_NATTR; a++)
-                                e->aidx[a][out] = key[a];
-                            geom_meshio__hash_insert_at(&hash, hv, it, out);
-                        }
-                    }
-                }
-            }
-            e->fidx[ii++] = out;
+            st = export_corner(&w, h, &e->fidx[ii]);
+            if (st != GEOM_OK)
+                break;
+            ii++;
             cnt++;
             h = geom_mesh_he_next(m, h);
         } while (h != h0 && cnt < nidx);
@@ -231,8 +304,8 @@ geom_status geom_meshio__export_build(mio_export *e, const geom_mesh *m,
             e->max_valence = cnt;
         fi++;
     }
-    geom_free(alloc, primary_set, nv ? nv : 1);
-    geom_meshio__hash_free(&hash, alloc);
+    geom_free(alloc, w.primary_set, nv ? nv : 1);
+    geom_meshio__hash_free(&w.hash, alloc);
     geom_free(alloc, vmap, nv * sizeof(uint32_t));
     if (st != GEOM_OK)
         geom_meshio__export_free(e);

@@ -1,4 +1,5 @@
-/* glTF 2.0 binary (.glb) writer: one mesh, one triangle primitive, with
+/* glTF 2.0 binary (.glb) writer: one mesh, one triangle primitive (polygons
+ * triangulated one at a time, see geom_meshio__export_build), with
  * POSITION, NORMAL, TEXCOORD_0, TANGENT and COLOR_0 attributes (one vertex per
  * distinct corner) and 16- or 32-bit indices. Layout per the glTF 2.0
  * specification: 12-byte header, a JSON chunk padded with spaces and a BIN
@@ -67,25 +68,8 @@ geom_status geom_meshio__write_glb(const geom_mesh *m, const geom_meshio_write_o
                                    mio_sink *k)
 {
     const geom_allocator *al = opt->alloc;
-    geom_mesh *tri = NULL;
-    if (geom_meshio__check_finite(m, k) != GEOM_OK) /* before triangulating */
+    if (geom_meshio__check_finite(m, k) != GEOM_OK)
         return k->status;
-    size_t nf = geom_mesh_n_faces(m);
-    int need_tri = 0;
-    for (size_t f = 0; f < nf && !need_tri; f++)
-        need_tri = !geom_mesh_face_is_deleted(m, (uint32_t)f) &&
-                   geom_mesh_face_valence(m, (uint32_t)f) != 3;
-    if (need_tri) {
-        geom_status st = geom_mesh_clone(m, &tri);
-        if (st == GEOM_OK)
-            st = geom_mesh_triangulate(tri, NULL);
-        if (st != GEOM_OK) {
-            geom_mesh_destroy(tri);
-            return geom_meshio__sink_fail(k, st, "triangulating for glTF failed: %s",
-                                          geom_status_str(st));
-        }
-        m = tri;
-    }
     uint32_t chan[MIO_NATTR];
     static const size_t min_comp[MIO_NATTR] = {3, 2, 3, 3};
     for (int a = 0; a < MIO_NATTR; a++) {
@@ -94,15 +78,13 @@ geom_status geom_meshio__write_glb(const geom_mesh *m, const geom_meshio_write_o
             chan[a] = GEOM_INVALID_INDEX;
     }
     mio_export e;
-    geom_status st = geom_meshio__export_build(&e, m, chan, al);
+    geom_status st = geom_meshio__export_build(&e, m, chan, al, 1); /* triangles */
     if (st != GEOM_OK) {
-        geom_mesh_destroy(tri);
         return geom_meshio__sink_fail(k, st, "%s while preparing the output",
                                       geom_status_str(st));
     }
     if (e.nv > UINT32_MAX - 1 || e.nidx > UINT32_MAX) {
         geom_meshio__export_free(&e);
-        geom_mesh_destroy(tri);
         return geom_meshio__sink_fail(k, GEOM_ERR_LIMIT, "too many vertices for glTF");
     }
     int ncol = chan[MIO_ATTR_COLOR] != GEOM_INVALID_INDEX &&
@@ -261,6 +243,5 @@ geom_status geom_meshio__write_glb(const geom_mesh *m, const geom_meshio_write_o
     geom_free(al, bin.buf, bin.cap);
     geom_free(al, json.buf, json.cap);
     geom_meshio__export_free(&e);
-    geom_mesh_destroy(tri);
     return st;
 }

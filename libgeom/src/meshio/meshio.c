@@ -432,6 +432,58 @@ geom_status geom_meshio_write_memory(const geom_mesh *m, const geom_meshio_write
     return GEOM_OK;
 }
 
+typedef struct stream_user {
+    geom_meshio_write_fn fn;
+    void *user;
+} stream_user;
+
+static geom_status stream_flush(void *user, const void *data, size_t n, geom_diag *diag)
+{
+    const stream_user *u = user;
+    geom_status st = u->fn(u->user, data, n);
+    if (st != GEOM_OK && diag && diag->status == GEOM_OK)
+        geom_diag_set(diag, st, NULL, 0, 0, "output could not be written: %s",
+                      geom_status_str(st));
+    return st;
+}
+
+geom_status geom_meshio_write_stream(const geom_mesh *m, const geom_meshio_write_options *opt,
+                                     geom_meshio_write_fn fn, void *user, geom_diag *diag)
+{
+    geom_diag_clear(diag);
+    if (!fn)
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "NULL write function");
+    geom_meshio_write_options o;
+    if (opt)
+        o = *opt;
+    else
+        memset(&o, 0, sizeof o);
+    geom_status st = check_write_args(m, &o, o.format, diag, NULL);
+    if (st != GEOM_OK)
+        return st;
+    stream_user su = {fn, user};
+    mio_sink k;
+    memset(&k, 0, sizeof k);
+    k.alloc = o.alloc;
+    k.diag = diag;
+    k.precision = o.precision;
+    k.cap = 1 << 16;
+    k.buf = geom_alloc(o.alloc, k.cap);
+    k.flush_fn = stream_flush;
+    k.user = &su;
+    if (!k.buf)
+        return geom_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "out of memory");
+    st = write_dispatch(m, &o, o.format, &k);
+    if (st == GEOM_OK)
+        st = k.status;
+    if (st == GEOM_OK)
+        st = geom_meshio__sink_flush(&k);
+    geom_free(o.alloc, k.buf, k.cap);
+    if (st != GEOM_OK && diag && diag->status == GEOM_OK)
+        geom_diag_set(diag, st, NULL, 0, 0, "%s", geom_status_str(st));
+    return st;
+}
+
 void geom_meshio_buffer_free(void *data, size_t size, const geom_allocator *alloc)
 {
     if (data)

@@ -340,10 +340,13 @@ typedef struct mio_export {
 } mio_export;
 
 /* Build the view for the channels in chan[] (GEOM_INVALID_INDEX entries are
- * skipped). GEOM_ERR_NOMEM / GEOM_ERR_LIMIT. */
+ * skipped). triangulate: faces with more than three vertices become the
+ * triangles geom_mesh_triangulate would make of them, in its face order,
+ * one face at a time (the mesh is not copied). GEOM_ERR_NOMEM /
+ * GEOM_ERR_LIMIT. */
 geom_status geom_meshio__export_build(mio_export *e, const geom_mesh *m,
                                       const uint32_t chan[MIO_NATTR],
-                                      const geom_allocator *alloc);
+                                      const geom_allocator *alloc, int triangulate);
 void geom_meshio__export_free(mio_export *e);
 /* The ncomp values of attribute a at output vertex k into out (zeros when
  * the corner has no value); returns the channel's ncomp (0 if no channel). */

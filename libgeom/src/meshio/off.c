@@ -433,7 +433,7 @@ geom_status geom_meshio__write_off(const geom_mesh *m, const geom_meshio_write_o
     if (fcol != GEOM_INVALID_INDEX && geom_mesh_channel_ncomp(m, fcol) < 3)
         fcol = GEOM_INVALID_INDEX;
     mio_export e;
-    geom_status st = geom_meshio__export_build(&e, m, chan, opt->alloc);
+    geom_status st = geom_meshio__export_build(&e, m, chan, opt->alloc, 0);
     if (st != GEOM_OK)
         return geom_meshio__sink_fail(k, st, "%s while preparing the output",
                                       geom_status_str(st));

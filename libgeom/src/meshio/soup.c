@@ -2,6 +2,7 @@
  * geom_mesh_build, then decorated with channels, groups, tags, mtllibs and
  * polylines. */
 #include "meshio/meshio_internal.h"
+#include "mesh/mesh_internal.h"
 
 #include <stdio.h>
 
@@ -359,11 +360,6 @@ static geom_status copy_meta(const mio_soup *s, geom_mesh *m, const geom_allocat
 geom_status geom_meshio__soup_finish(mio_ctx *c, mio_soup *s, const geom_meshio_read_options *opt,
                                      geom_mesh **out, geom_mesh_build_report *report)
 {
-    size_t n_invalid = 0;
-    geom_status st = validate_faces(c, s, &n_invalid);
-    if (st != GEOM_OK)
-        return st;
-    MIO_FREE(c->alloc, s->floc); /* face locations serve diagnostics only: done */
     c->stats->input_vertices = mio_soup_nv(s);
     c->stats->input_faces = s->fsize.n;
     geom_mesh *m = geom_mesh_create(c->alloc);
@@ -373,8 +369,37 @@ geom_status geom_meshio__soup_finish(mio_ctx *c, mio_soup *s, const geom_meshio_
     memset(&bo, 0, sizeof bo);
     if (opt)
         bo = opt->build;
-    st = geom_mesh_build(m, mio_soup_nv(s), s->pos.p, s->fsize.n, s->fsize.p, s->fidx.p, &bo,
-                         report, c->diag);
+    /* The positions move into the mesh instead of being copied (one copy
+     * fewer at the build's peak): trimmed to size, then adopted. On any
+     * failure the build copies them as usual. */
+    size_t nv = mio_soup_nv(s);
+    const double *xyz = s->pos.p;
+    if (nv && s->pos.n == 3 * nv) {
+        double *exact = s->pos.p;
+        if (s->pos.cap != s->pos.n)
+            exact = geom_realloc(c->alloc, s->pos.p, s->pos.cap * sizeof(double),
+                                 s->pos.n * sizeof(double));
+        if (exact) {
+            s->pos.p = exact;
+            s->pos.cap = s->pos.n;
+            xyz = exact;
+            if (geom_mesh__adopt_positions(m, exact, nv) == GEOM_OK) {
+                s->pos.p = NULL; /* the mesh's now; pos.n still counts them */
+                s->pos.cap = 0;
+            }
+        }
+    }
+    /* The build checks the faces; only when it refuses one are they checked
+     * here again, for a message naming the face's line. */
+    geom_status st = geom_mesh_build(m, nv, xyz, s->fsize.n, s->fsize.p, s->fidx.p, &bo, report,
+                                     c->diag);
+    if (st == GEOM_ERR_INVALID_ARG && !c->skip_invalid) {
+        size_t n_invalid = 0;
+        geom_status vs = validate_faces(c, s, &n_invalid);
+        if (vs != GEOM_OK)
+            st = vs;
+    }
+    MIO_FREE(c->alloc, s->floc); /* face locations serve diagnostics only: done */
     if (st != GEOM_OK) {
         if (c->diag && c->diag->source[0] == '\0')
             snprintf(c->diag->source, sizeof c->diag->source, "%s", c->source);

@@ -2,6 +2,7 @@
  * the triangle count, not by the "solid" prefix), welding corners by exact
  * position; ASCII and binary writing of the triangulated mesh. */
 #include "meshio/meshio_internal.h"
+#include "mesh/mesh_internal.h"
 
 #include <stdio.h>
 
@@ -252,35 +253,77 @@ geom_status geom_meshio__read_stl(mio_ctx *c, mio_soup *s)
 
 /* --------------------------------------------------------------- writing */
 
+/* One facet: the normal, then the corners v[0..2]. */
+static void stl_facet(mio_sink *k, int ascii, const double *const v[3], const double n[3])
+{
+    if (ascii) {
+        geom_meshio__puts(k, "  facet normal");
+        for (int j = 0; j < 3; j++) {
+            mio_putc(k, ' ');
+            geom_meshio__put_double(k, n[j]);
+        }
+        geom_meshio__puts(k, "\n    outer loop\n");
+        for (int i = 0; i < 3; i++) {
+            geom_meshio__puts(k, "      vertex");
+            for (int j = 0; j < 3; j++) {
+                mio_putc(k, ' ');
+                geom_meshio__put_double(k, v[i][j]);
+            }
+            mio_putc(k, '\n');
+        }
+        geom_meshio__puts(k, "    endloop\n  endfacet\n");
+        return;
+    }
+    for (int j = 0; j < 3; j++)
+        geom_meshio__put_f32(k, (float)n[j], 0);
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            double x = v[i][j];
+            if (!isfinite(x) || fabs(x) > 3.4028234663852886e38)
+                geom_meshio__sink_fail(k, GEOM_ERR_INVALID_ARG,
+                                       "coordinate %g cannot be stored as a float", x);
+            geom_meshio__put_f32(k, (float)x, 0);
+        }
+    geom_meshio__put_u16(k, 0, 0);
+}
+
+/*
+ * Faces with more than three vertices are triangulated one at a time
+ * (geom_polygon_triangulate, as geom_mesh_triangulate does) instead of on a
+ * copy of the mesh, in the order geom_mesh_triangulate gives: each face's
+ * first triangle in the face's place, the other triangles after the last
+ * face, face by face; each triangle starts where the triangulated face's
+ * cycle would, and its normal is that face's geom_mesh_face_normal.
+ */
 geom_status geom_meshio__write_stl(const geom_mesh *m, const geom_meshio_write_options *opt,
                                    mio_sink *k)
 {
     int ascii = opt->encoding == GEOM_MESHIO_ENCODING_ASCII;
-    geom_mesh *tri = NULL;
-    if (geom_meshio__check_finite(m, k) != GEOM_OK) /* before triangulating */
+    if (geom_meshio__check_finite(m, k) != GEOM_OK)
         return k->status;
-    size_t nf = geom_mesh_n_faces(m);
-    int need_tri = 0;
-    for (size_t f = 0; f < nf && !need_tri; f++)
-        need_tri = !geom_mesh_face_is_deleted(m, (uint32_t)f) &&
-                   geom_mesh_face_valence(m, (uint32_t)f) != 3;
-    if (need_tri) {
-        geom_status st = geom_mesh_clone(m, &tri);
-        if (st == GEOM_OK)
-            st = geom_mesh_triangulate(tri, NULL);
-        if (st != GEOM_OK) {
-            geom_mesh_destroy(tri);
-            return geom_meshio__sink_fail(k, st, "triangulating for STL failed: %s",
-                                          geom_status_str(st));
-        }
-        m = tri;
-        nf = geom_mesh_n_faces(m);
+    size_t nf = geom_mesh_n_faces(m), ntri = 0, nmax = 3;
+    for (size_t f = 0; f < nf; f++) {
+        if (geom_mesh_face_is_deleted(m, (uint32_t)f))
+            continue;
+        size_t n = geom_mesh_face_valence(m, (uint32_t)f);
+        ntri += n - 2;
+        nmax = n > nmax ? n : nmax;
     }
-    size_t nlive = geom_mesh_n_live_faces(m);
-    if (!ascii && nlive > UINT32_MAX) {
-        geom_mesh_destroy(tri);
+    if (!ascii && ntri > UINT32_MAX)
         return geom_meshio__sink_fail(k, GEOM_ERR_LIMIT, "more than 2^32-1 triangles");
+    const geom_allocator *al = opt->alloc;
+    double *pts = NULL;
+    uint32_t *ub = NULL;
+    if (nmax > 3) {
+        pts = geom_alloc(al, 3 * nmax * sizeof(double));
+        ub = geom_alloc(al, 4 * nmax * sizeof(uint32_t));
+        if (!pts || !ub) {
+            geom_free(al, pts, 3 * nmax * sizeof(double));
+            geom_free(al, ub, 4 * nmax * sizeof(uint32_t));
+            return geom_meshio__sink_fail(k, GEOM_ERR_NOMEM, "out of memory");
+        }
     }
+    uint32_t *tris = ub, *vid = ub ? ub + 3 * nmax : NULL;
     const double *pos = geom_mesh_cpositions(m);
     if (ascii) {
         geom_meshio__puts(k, "solid libgeom\n");
@@ -290,52 +333,45 @@ geom_status geom_meshio__write_stl(const geom_mesh *m, const geom_meshio_write_o
         static const char text[] = "binary STL written by libgeom";
         memcpy(header, text, sizeof text - 1);
         geom_meshio__put(k, header, sizeof header);
-        geom_meshio__put_u32(k, (uint32_t)nlive, 0);
+        geom_meshio__put_u32(k, (uint32_t)ntri, 0);
     }
-    for (size_t f = 0; f < nf && k->status == GEOM_OK; f++) {
-        if (geom_mesh_face_is_deleted(m, (uint32_t)f))
-            continue;
-        double n[3];
-        if (geom_mesh_face_normal(m, (uint32_t)f, n) != GEOM_OK)
-            n[0] = n[1] = n[2] = 0.0;
-        uint32_t v[3];
-        uint32_t h = geom_mesh_face_he(m, (uint32_t)f);
-        for (int i = 0; i < 3; i++) {
-            v[i] = geom_mesh_he_vertex(m, h);
-            h = geom_mesh_he_next(m, h);
-        }
-        if (ascii) {
-            geom_meshio__puts(k, "  facet normal");
-            for (int j = 0; j < 3; j++) {
-                mio_putc(k, ' ');
-                geom_meshio__put_double(k, n[j]);
+    /* pass 0: triangles and each polygon's first triangle; pass 1: the
+     * polygons' other triangles */
+    for (int pass = 0; pass < 2; pass++)
+        for (size_t f = 0; f < nf && k->status == GEOM_OK; f++) {
+            if (geom_mesh_face_is_deleted(m, (uint32_t)f))
+                continue;
+            size_t n = geom_mesh_face_valence(m, (uint32_t)f);
+            uint32_t h = geom_mesh_face_he(m, (uint32_t)f);
+            const double *v[3];
+            double nrm[3];
+            if (n == 3) {
+                if (pass)
+                    continue;
+                for (int i = 0; i < 3; i++, h = geom_mesh_he_next(m, h))
+                    v[i] = pos + 3 * (size_t)geom_mesh_he_vertex(m, h);
+                if (geom_mesh_face_normal(m, (uint32_t)f, nrm) != GEOM_OK)
+                    nrm[0] = nrm[1] = nrm[2] = 0.0;
+                stl_facet(k, ascii, v, nrm);
+                continue;
             }
-            geom_meshio__puts(k, "\n    outer loop\n");
-            for (int i = 0; i < 3; i++) {
-                geom_meshio__puts(k, "      vertex");
-                for (int j = 0; j < 3; j++) {
-                    mio_putc(k, ' ');
-                    geom_meshio__put_double(k, pos[3 * (size_t)v[i] + (size_t)j]);
-                }
-                mio_putc(k, '\n');
+            for (size_t c = 0; c < n; c++, h = geom_mesh_he_next(m, h)) {
+                vid[c] = geom_mesh_he_vertex(m, h);
+                memcpy(pts + 3 * c, pos + 3 * (size_t)vid[c], 3 * sizeof(double));
             }
-            geom_meshio__puts(k, "    endloop\n  endfacet\n");
-        } else {
-            for (int j = 0; j < 3; j++)
-                geom_meshio__put_f32(k, (float)n[j], 0);
-            for (int i = 0; i < 3; i++)
-                for (int j = 0; j < 3; j++) {
-                    double x = pos[3 * (size_t)v[i] + (size_t)j];
-                    if (!isfinite(x) || fabs(x) > 3.4028234663852886e38)
-                        geom_meshio__sink_fail(k, GEOM_ERR_INVALID_ARG,
-                                               "coordinate %g cannot be stored as a float", x);
-                    geom_meshio__put_f32(k, (float)x, 0);
-                }
-            geom_meshio__put_u16(k, 0, 0);
+            (void)geom_polygon_triangulate(n, pts, tris); /* degenerate: a fan is written */
+            for (size_t t = pass ? 1 : 0; t < (pass ? n - 2 : 1); t++) {
+                /* the triangulated face's cycle starts at its second corner */
+                for (int i = 0; i < 3; i++)
+                    v[i] = pos + 3 * (size_t)vid[tris[3 * t + (size_t)((i + 1) % 3)]];
+                if (geom_mesh__triangle_normal(v, nrm) != GEOM_OK)
+                    nrm[0] = nrm[1] = nrm[2] = 0.0;
+                stl_facet(k, ascii, v, nrm);
+            }
         }
-    }
     if (ascii)
         geom_meshio__puts(k, "endsolid libgeom\n");
-    geom_mesh_destroy(tri);
+    geom_free(al, pts, 3 * nmax * sizeof(double));
+    geom_free(al, ub, 4 * nmax * sizeof(uint32_t));
     return k->status;
 }

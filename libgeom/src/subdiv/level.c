@@ -18,6 +18,8 @@ void *sd_calloc(const geom_allocator *a, size_t n, size_t size)
     size_t bytes;
     if (geom_size_mul(n ? n : 1, size, &bytes) != GEOM_OK)
         return NULL;
+    if (!a || !a->alloc_fn)
+        return calloc(1, bytes); /* libc: fresh pages come zeroed, no pass over them */
     void *p = geom_alloc(a, bytes);
     if (p)
         memset(p, 0, bytes);
