@@ -61,7 +61,8 @@ static void warn_dropped(const geom_mesh *m, const char *path, geom_meshio_forma
 {
     static const char *const names[] = {"normal", "uv", "color", "tangent"};
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
-        int held = f == GEOM_MESHIO_FORMAT_GLB || (f != GEOM_MESHIO_FORMAT_STL && i < 3);
+        int held = f == GEOM_MESHIO_FORMAT_GLB || (f != GEOM_MESHIO_FORMAT_STL && i < 3) ||
+                   (f == GEOM_MESHIO_FORMAT_PLY && i == 3);
         if (held)
             continue;
         if (geom_mesh_channel_find(m, names[i], GEOM_MESH_DOMAIN_CORNER) == GEOM_INVALID_INDEX &&
@@ -69,7 +70,7 @@ static void warn_dropped(const geom_mesh *m, const char *path, geom_meshio_forma
             continue;
         fprintf(stderr, "warning: %s: %s cannot hold the mesh's \"%s\" attribute: not written%s\n",
                 path, geom_meshio_format_name(f), names[i],
-                i == 3 ? " (write .glb to keep tangents)"
+                i == 3 ? " (write .glb or .ply to keep tangents)"
                 : i == 0 ? " (STL keeps face normals only)"
                          : "");
     }

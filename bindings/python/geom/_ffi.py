@@ -524,6 +524,7 @@ typedef struct geom_surface_tess_options {
     int check_subdivisions;
     size_t max_triangles;
     const geom_allocator *alloc;
+    double normal_weld_degrees;
 } geom_surface_tess_options;
 typedef struct geom_surface_tess_stats {
     size_t cells;
@@ -535,6 +536,7 @@ typedef struct geom_surface_tess_stats {
     size_t boundary_edges;
     size_t refinements;
     size_t limit_normals;
+    size_t welded_normals;
 } geom_surface_tess_stats;
 geom_status geom_surface_tessellate(const geom_nurbs_surface *surfaces, size_t n, const
     geom_surface_tess_options *options, geom_mesh *out, geom_error_report *report,

@@ -432,7 +432,21 @@ typedef struct geom_surface_tess_options {
     size_t max_triangles;
     /** Allocator for the mesh's temporary memory; NULL = libc. */
     const geom_allocator *alloc;
+    /** Normal welding (with GEOM_SURFACE_ATTR_NORMAL): the corner normals of
+     *  one vertex (patches meeting at a seam or a corner) that are within
+     *  this angle (degrees) of each other become one normal value, the first
+     *  patch's, so a renderer does not split the vertex for the rounding
+     *  difference of two evaluations. Normals further apart (creases, poles
+     *  approached from different patches) stay apart. 0 means
+     *  GEOM_SURFACE_NORMAL_WELD_DEFAULT; negative: no welding (every corner
+     *  keeps its own patch's analytic normal). */
+    double normal_weld_degrees;
 } geom_surface_tess_options;
+
+/** Default angle (degrees) under which the corner normals of one vertex are
+ *  welded by geom_surface_tessellate: a welded normal is then within this
+ *  angle of the patch's analytic normal. */
+#define GEOM_SURFACE_NORMAL_WELD_DEFAULT 0.01
 
 /** What a tessellation made, besides the error report. */
 typedef struct geom_surface_tess_stats {
@@ -445,6 +459,8 @@ typedef struct geom_surface_tess_stats {
     size_t boundary_edges;    /**< cell edges on the open boundary (no partner) */
     size_t refinements;       /**< adaptive: passes that refined a cell after the check */
     size_t limit_normals;     /**< vertex normals taken as a limit (degenerate points) */
+    size_t welded_normals;    /**< corners given another patch's normal within
+                                   normal_weld_degrees */
 } geom_surface_tess_stats;
 
 /**

@@ -730,8 +730,12 @@ geom_status geom_meshio__write_ply(const geom_mesh *m, const geom_meshio_write_o
     int as_float = opt->ply_float && !ascii;
     uint32_t chan[MIO_NATTR];
     for (int a = 0; a < MIO_NATTR; a++)
-        chan[a] = a == MIO_ATTR_TANGENT ? GEOM_INVALID_INDEX
-                                        : geom_meshio__attr_channel(m, a, opt->omit);
+        chan[a] = geom_meshio__attr_channel(m, a, opt->omit);
+    /* tangents (x, y, z and the bitangent sign w) as tangent_x..tangent_w:
+     * PLY has no standard name for them */
+    if (chan[MIO_ATTR_TANGENT] != GEOM_INVALID_INDEX &&
+        geom_mesh_channel_ncomp(m, chan[MIO_ATTR_TANGENT]) < 3)
+        chan[MIO_ATTR_TANGENT] = GEOM_INVALID_INDEX;
     if (chan[MIO_ATTR_NORMAL] != GEOM_INVALID_INDEX &&
         geom_mesh_channel_ncomp(m, chan[MIO_ATTR_NORMAL]) < 3)
         chan[MIO_ATTR_NORMAL] = GEOM_INVALID_INDEX;
@@ -753,6 +757,7 @@ geom_status geom_meshio__write_ply(const geom_mesh *m, const geom_meshio_write_o
     int has_n = chan[MIO_ATTR_NORMAL] != GEOM_INVALID_INDEX;
     int has_uv = chan[MIO_ATTR_UV] != GEOM_INVALID_INDEX;
     int has_c = chan[MIO_ATTR_COLOR] != GEOM_INVALID_INDEX;
+    int has_t = chan[MIO_ATTR_TANGENT] != GEOM_INVALID_INDEX;
     int alpha = has_c && geom_mesh_channel_ncomp(m, chan[MIO_ATTR_COLOR]) >= 4;
     int falpha = fcol != GEOM_INVALID_INDEX && geom_mesh_channel_ncomp(m, fcol) >= 4;
     const char *ft = as_float ? "float" : "double";
@@ -766,7 +771,9 @@ geom_status geom_meshio__write_ply(const geom_mesh *m, const geom_meshio_write_o
     mio_putc(k, '\n');
     static const char *const xyz[] = {"x", "y", "z"}, *const nxyz[] = {"nx", "ny", "nz"},
                               *const uv[] = {"s", "t"}, /* Blender, MeshLab */
-                              *const rgba[] = {"red", "green", "blue", "alpha"};
+                              *const rgba[] = {"red", "green", "blue", "alpha"},
+                              *const txyzw[] = {"tangent_x", "tangent_y", "tangent_z",
+                                                "tangent_w"};
     for (int i = 0; i < 3; i++) {
         geom_meshio__puts(k, "property ");
         geom_meshio__puts(k, ft);
@@ -786,6 +793,13 @@ geom_status geom_meshio__write_ply(const geom_mesh *m, const geom_meshio_write_o
         geom_meshio__puts(k, ft);
         mio_putc(k, ' ');
         geom_meshio__puts(k, uv[i]);
+        mio_putc(k, '\n');
+    }
+    for (int i = 0; has_t && i < 4; i++) {
+        geom_meshio__puts(k, "property ");
+        geom_meshio__puts(k, ft);
+        mio_putc(k, ' ');
+        geom_meshio__puts(k, txyzw[i]);
         mio_putc(k, '\n');
     }
     for (int i = 0; has_c && i < 3 + alpha; i++) {
@@ -826,6 +840,15 @@ geom_status geom_meshio__write_ply(const geom_mesh *m, const geom_meshio_write_o
         if (has_uv) {
             geom_meshio__export_value(&e, m, MIO_ATTR_UV, i, val, 2);
             for (int j = 0; j < 2; j++) {
+                if (ascii)
+                    mio_putc(k, ' ');
+                put_ply_value(k, val[j], ascii, be, as_float);
+            }
+        }
+        if (has_t) {
+            val[3] = 1.0;
+            geom_meshio__export_value(&e, m, MIO_ATTR_TANGENT, i, val, 4);
+            for (int j = 0; j < 4; j++) {
                 if (ascii)
                     mio_putc(k, ' ');
                 put_ply_value(k, val[j], ascii, be, as_float);
