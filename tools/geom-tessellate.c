@@ -97,6 +97,30 @@ typedef struct tess_opts {
     int tangents; /* 0: none, 1: MikkTSpace (geom_mesh_tangents), 2: dP/du */
 } tess_opts;
 
+/* Progress of geom_surface_tessellate: a pass restarts the fraction, and
+ * the display with "pass N" (the last pass, the output, is the largest). */
+typedef struct tess_progress {
+    cli_progress bar;
+    double last;
+    int pass;
+    char label[48];
+} tess_progress;
+
+static void on_progress(void *user, double fraction)
+{
+    tess_progress *p = user;
+    if (fraction < p->last) {
+        p->pass++;
+        snprintf(p->label, sizeof p->label, "tessellating, pass %d", p->pass + 1);
+        /* restarted: the ETA of this pass from its own start */
+        bool shown = p->bar.shown;
+        cli_progress_start(&p->bar, &tool, p->label, !p->bar.enabled);
+        p->bar.shown = shown;
+    }
+    p->last = fraction;
+    cli_progress_update(&p->bar, fraction);
+}
+
 static int parse_positive(const char *arg, double *out)
 {
     return cli_parse_double(arg, strlen(arg), 0, out, NULL) == GEOM_OK && *out > 0.0;
@@ -528,8 +552,16 @@ int main(int argc, char **argv)
     geom_surface_tess_stats stats;
     cli_timer timer;
     cli_timer_start(&timer);
+    tess_progress prog;
+    memset(&prog, 0, sizeof prog);
+    cli_progress_start(&prog.bar, &tool, "tessellating", common.quiet);
+    if (prog.bar.enabled) {
+        o.to.progress = on_progress;
+        o.to.progress_user = &prog;
+    }
     geom_status st = geom_surface_tessellate(geom_surface_set_data(set), ns, &o.to, m, &report,
                                              &stats, &diag);
+    cli_progress_done(&prog.bar);
     double secs = cli_timer_elapsed(&timer);
     geom_surface_set_destroy(set);
     if (st != GEOM_OK) {

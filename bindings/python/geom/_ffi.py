@@ -525,6 +525,8 @@ typedef struct geom_surface_tess_options {
     size_t max_triangles;
     const geom_allocator *alloc;
     double normal_weld_degrees;
+    void (*progress)(void *user, double fraction);
+    void *progress_user;
 } geom_surface_tess_options;
 typedef struct geom_surface_tess_stats {
     size_t cells;
@@ -796,6 +798,8 @@ typedef struct geom_iso_options {
     size_t slab_layers;
     const geom_allocator *alloc;
     int inside;
+    void (*progress)(void *user, double fraction);
+    void *progress_user;
 } geom_iso_options;
 typedef struct geom_iso_report {
     geom_error_report vertex_error;

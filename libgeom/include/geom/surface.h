@@ -441,6 +441,13 @@ typedef struct geom_surface_tess_options {
      *  GEOM_SURFACE_NORMAL_WELD_DEFAULT; negative: no welding (every corner
      *  keeps its own patch's analytic normal). */
     double normal_weld_degrees;
+    /** Progress (NULL: none): called on the calling thread after each cell
+     *  of each pass with the fraction (0..1] of that pass's cells done. A
+     *  pass is a triangulation and error check of every cell; adaptive
+     *  tessellation runs one per refinement (the fraction then restarts
+     *  from 0) and a last one that makes the output. */
+    void (*progress)(void *user, double fraction);
+    void *progress_user; /**< passed to progress */
 } geom_surface_tess_options;
 
 /** Default angle (degrees) under which the corner normals of one vertex are

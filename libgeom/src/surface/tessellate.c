@@ -1827,6 +1827,8 @@ static geom_status tessellate_unscaled(const geom_nurbs_surface *surfaces, size_
                 check_cell(&T, c);
             if (T.adaptive && (c->err > T.tol || (T.ang_tol > 0.0 && c->ang > T.ang_tol)))
                 failing = 1;
+            if (o->progress)
+                o->progress(o->progress_user, (double)(i + 1) / (double)T.ncells);
         }
         passes++;
         if (!failing || !T.adaptive || passes >= MAX_PASSES)
@@ -1867,6 +1869,8 @@ static geom_status tessellate_unscaled(const geom_nurbs_surface *surfaces, size_
         if (c->ecnt) /* weighted running mean of the cells' means */
             esum += (c->esum - esum) * ((double)c->ecnt / (double)(ecount + c->ecnt));
         ecount += c->ecnt;
+        if (o->progress)
+            o->progress(o->progress_user, (double)(i + 1) / (double)T.ncells);
         st = emit_cell(&T, c, attrs, o->uv_normalized);
         if (st == GEOM_ERR_LIMIT)
             st = geom_diag_set(diag, GEOM_ERR_LIMIT, NULL, 0, 0,
