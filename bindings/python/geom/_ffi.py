@@ -460,6 +460,26 @@ geom_status geom_curve_nurbs_remove_knot(const geom_nurbs_curve *c, double u, si
                                          geom_nurbs_curve *out, size_t *removed, geom_diag *diag);
 geom_status geom_curve_bspline_find_span(int degree, size_t n, const double *knots, double u,
                                          unsigned flags, size_t *span);
+geom_status geom_curve_hermite_spline_to_bezier(size_t dim, size_t n, const double *points,
+    const double *tangents, const double *params, double *bezier);
+geom_status geom_curve_piecewise_bezier_knots(int degree, size_t nseg, const double *params,
+    double *knots);
+typedef enum geom_curve_end {
+    GEOM_CURVE_END_EXTRAPOLATE = 0,
+    GEOM_CURVE_END_EXCLUDE = 1,
+    GEOM_CURVE_END_CLOSED = 2
+} geom_curve_end;
+geom_status geom_curve_catmull_rom_segments(size_t n, geom_curve_end ends, size_t *nseg);
+geom_status geom_curve_catmull_rom_to_bezier(size_t dim, size_t n, const double *points,
+    double alpha, geom_curve_end ends, double *bezier, double *params, geom_diag *diag);
+typedef struct geom_kb_params {
+    double tension;
+    double continuity;
+    double bias;
+} geom_kb_params;
+geom_status geom_curve_kochanek_bartels_to_bezier(size_t dim, size_t n, const double *points,
+    const geom_kb_params *tcb, size_t ntcb, geom_curve_end ends, double *bezier,
+    geom_diag *diag);
 """,
     "surface": """
 typedef struct geom_nurbs_surface {
