@@ -27,6 +27,9 @@
 #define LOCATE SIZE_MAX
 #define MAX_GRID 65536u
 #define MAX_PASSES 40
+/* adaptive: a cell far under the tolerance is coarsened toward this fraction
+ * of it (then checked again) */
+#define COARSEN_TARGET 0.95
 
 /* ------------------------------------------------------------ structures */
 
@@ -1831,20 +1834,52 @@ static geom_status tessellate_unscaled(const geom_nurbs_surface *surfaces, size_
                 o->progress(o->progress_user, (double)(i + 1) / (double)T.ncells);
         }
         passes++;
-        if (!failing || !T.adaptive || passes >= MAX_PASSES)
+        /* First pass, adaptive: the sizing bound is conservative (a sphere
+         * cell sized for 1e-4 measures about 6e-5), so a cell well under
+         * the tolerance is coarsened once toward COARSEN_TARGET of it (the
+         * chordal error goes as the step squared) and checked again; cells
+         * the coarsening pushes over are refined below. Without this the
+         * result could need up to 1.5x the triangles of a uniform grid that
+         * meets the same tolerance. */
+        int coarsened = 0;
+        if (T.adaptive && passes == 1) {
+            for (size_t i = 0; i < T.ncells; ++i) {
+                ts_cell *c = &T.cells[i];
+                if (!(c->err < 0.8 * T.tol) || !(c->err > 0.0) ||
+                    (T.ang_tol > 0.0 && !(c->ang < 0.8 * T.ang_tol)))
+                    continue;
+                double f = sqrt(c->err / (COARSEN_TARGET * T.tol));
+                if (T.ang_tol > 0.0 && c->ang > 0.0)
+                    f = fmax(f, c->ang / (COARSEN_TARGET * T.ang_tol));
+                f = fmax(f, 0.25);
+                uint32_t M = (uint32_t)fmax(1.0, ceil((double)c->M * f));
+                uint32_t N = (uint32_t)fmax(1.0, ceil((double)c->N * f));
+                if (M != c->M || N != c->N) {
+                    c->M = M;
+                    c->N = N;
+                    coarsened = 1;
+                }
+            }
+        }
+        if ((!failing && !coarsened) || !T.adaptive || passes >= MAX_PASSES)
             break;
         for (size_t i = 0; i < T.ncells; ++i) {
             ts_cell *c = &T.cells[i];
             double f = 1.0;
             if (c->err > T.tol)
-                f = fmax(f, 1.1 * sqrt(c->err / T.tol));
+                f = fmax(f, 1.05 * sqrt(c->err / T.tol));
             if (T.ang_tol > 0.0 && c->ang > T.ang_tol)
-                f = fmax(f, 1.1 * c->ang / T.ang_tol);
+                f = fmax(f, 1.05 * c->ang / T.ang_tol);
             if (f <= 1.0)
                 continue;
-            f = fmin(fmax(f, 1.25), 4.0);
-            c->M = (uint32_t)fmin(ceil((double)c->M * f), (double)MAX_GRID + 1);
-            c->N = (uint32_t)fmin(ceil((double)c->N * f), (double)MAX_GRID + 1);
+            /* the smallest step that can pass: at least one more segment
+             * (a larger minimum factor overshoots: 1.25 in both directions
+             * is 1.56x the triangles) */
+            f = fmin(f, 4.0);
+            c->M = (uint32_t)fmin(fmax(ceil((double)c->M * f), (double)c->M + 1.0),
+                                  (double)MAX_GRID + 1);
+            c->N = (uint32_t)fmin(fmax(ceil((double)c->N * f), (double)c->N + 1.0),
+                                  (double)MAX_GRID + 1);
             if (stats)
                 stats->refinements++;
         }
