@@ -774,34 +774,17 @@ geom_status geom_meshio__write_ply(const geom_mesh *m, const geom_meshio_write_o
                               *const rgba[] = {"red", "green", "blue", "alpha"},
                               *const txyzw[] = {"tangent_x", "tangent_y", "tangent_z",
                                                 "tangent_w"};
-    for (int i = 0; i < 3; i++) {
-        geom_meshio__puts(k, "property ");
-        geom_meshio__puts(k, ft);
-        mio_putc(k, ' ');
-        geom_meshio__puts(k, xyz[i]);
-        mio_putc(k, '\n');
-    }
-    for (int i = 0; has_n && i < 3; i++) {
-        geom_meshio__puts(k, "property ");
-        geom_meshio__puts(k, ft);
-        mio_putc(k, ' ');
-        geom_meshio__puts(k, nxyz[i]);
-        mio_putc(k, '\n');
-    }
-    for (int i = 0; has_uv && i < 2; i++) {
-        geom_meshio__puts(k, "property ");
-        geom_meshio__puts(k, ft);
-        mio_putc(k, ' ');
-        geom_meshio__puts(k, uv[i]);
-        mio_putc(k, '\n');
-    }
-    for (int i = 0; has_t && i < 4; i++) {
-        geom_meshio__puts(k, "property ");
-        geom_meshio__puts(k, ft);
-        mio_putc(k, ' ');
-        geom_meshio__puts(k, txyzw[i]);
-        mio_putc(k, '\n');
-    }
+    const char *const *fnames[4] = {xyz, nxyz, uv, txyzw};
+    const int fon[4] = {1, has_n, has_uv, has_t};
+    static const int fcount[4] = {3, 3, 2, 4};
+    for (int a = 0; a < 4; a++)
+        for (int i = 0; fon[a] && i < fcount[a]; i++) {
+            geom_meshio__puts(k, "property ");
+            geom_meshio__puts(k, ft);
+            mio_putc(k, ' ');
+            geom_meshio__puts(k, fnames[a][i]);
+            mio_putc(k, '\n');
+        }
     for (int i = 0; has_c && i < 3 + alpha; i++) {
         geom_meshio__puts(k, "property uchar ");
         geom_meshio__puts(k, rgba[i]);
@@ -829,26 +812,16 @@ geom_status geom_meshio__write_ply(const geom_mesh *m, const geom_meshio_write_o
                 mio_putc(k, ' ');
             put_ply_value(k, p[j], ascii, be, as_float);
         }
-        if (has_n) {
-            geom_meshio__export_value(&e, m, MIO_ATTR_NORMAL, i, val, 3);
-            for (int j = 0; j < 3; j++) {
-                if (ascii)
-                    mio_putc(k, ' ');
-                put_ply_value(k, val[j], ascii, be, as_float);
-            }
-        }
-        if (has_uv) {
-            geom_meshio__export_value(&e, m, MIO_ATTR_UV, i, val, 2);
-            for (int j = 0; j < 2; j++) {
-                if (ascii)
-                    mio_putc(k, ' ');
-                put_ply_value(k, val[j], ascii, be, as_float);
-            }
-        }
-        if (has_t) {
-            val[3] = 1.0;
-            geom_meshio__export_value(&e, m, MIO_ATTR_TANGENT, i, val, 4);
-            for (int j = 0; j < 4; j++) {
+        /* the floating-point attributes, in header order */
+        static const int fattr[3] = {MIO_ATTR_NORMAL, MIO_ATTR_UV, MIO_ATTR_TANGENT};
+        const int fhas[3] = {has_n, has_uv, has_t};
+        static const size_t fcomp[3] = {3, 2, 4};
+        for (int a = 0; a < 3; a++) {
+            if (!fhas[a])
+                continue;
+            val[3] = 1.0; /* a tangent without w */
+            geom_meshio__export_value(&e, m, fattr[a], i, val, fcomp[a]);
+            for (size_t j = 0; j < fcomp[a]; j++) {
                 if (ascii)
                     mio_putc(k, ' ');
                 put_ply_value(k, val[j], ascii, be, as_float);
