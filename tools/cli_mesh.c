@@ -5,6 +5,7 @@
 #include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 geom_status cli_mesh_read(const char *tool_name, const char *path, geom_meshio_format fmt,
                           geom_mesh **m, geom_diag *diag)
@@ -61,7 +62,8 @@ static void warn_dropped(const geom_mesh *m, const char *path, geom_meshio_forma
 {
     static const char *const names[] = {"normal", "uv", "color", "tangent"};
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
-        int held = f == GEOM_MESHIO_FORMAT_GLB || (f != GEOM_MESHIO_FORMAT_STL && i < 3);
+        int held = f == GEOM_MESHIO_FORMAT_GLB || (f != GEOM_MESHIO_FORMAT_STL && i < 3) ||
+                   (f == GEOM_MESHIO_FORMAT_PLY && i == 3);
         if (held)
             continue;
         if (geom_mesh_channel_find(m, names[i], GEOM_MESH_DOMAIN_CORNER) == GEOM_INVALID_INDEX &&
@@ -69,10 +71,44 @@ static void warn_dropped(const geom_mesh *m, const char *path, geom_meshio_forma
             continue;
         fprintf(stderr, "warning: %s: %s cannot hold the mesh's \"%s\" attribute: not written%s\n",
                 path, geom_meshio_format_name(f), names[i],
-                i == 3 ? " (write .glb to keep tangents)"
+                i == 3 ? " (write .glb or .ply to keep tangents)"
                 : i == 0 ? " (STL keeps face normals only)"
                          : "");
     }
+}
+
+unsigned cli_mesh_mtllib_omit(const geom_mesh *m, const char *path, bool to_stdout)
+{
+    size_t n = geom_mesh_mtllib_count(m);
+    if (n == 0)
+        return 0;
+    const char *slash = to_stdout ? NULL : strrchr(path, '/');
+    size_t dirlen = slash ? (size_t)(slash - path) + 1 : 0;
+    for (size_t i = 0; i < n; i++) {
+        const char *name = geom_mesh_mtllib_get(m, i);
+        int found = 0;
+        if (!to_stdout && name && name[0]) {
+            size_t len = dirlen + strlen(name) + 1;
+            char *full = malloc(len);
+            if (full) {
+                if (name[0] == '/')
+                    snprintf(full, len, "%s", name);
+                else
+                    snprintf(full, len, "%.*s%s", (int)dirlen, path, name);
+                struct stat sb;
+                found = stat(full, &sb) == 0 && S_ISREG(sb.st_mode);
+                free(full);
+            }
+        }
+        if (!found) {
+            fprintf(stderr,
+                    "warning: %s: mtllib %s not written: no such material library next to the "
+                    "output (copy it there to keep the materials)\n",
+                    to_stdout ? "<stdout>" : path, name ? name : "");
+            return GEOM_MESHIO_ATTR_MTLLIB;
+        }
+    }
+    return 0;
 }
 
 geom_status cli_mesh_write(const geom_mesh *m, const char *path, geom_meshio_format fmt,
@@ -102,6 +138,8 @@ geom_status cli_mesh_write_up(const geom_mesh *m, const char *path, geom_meshio_
         return cli_diag_set(diag, GEOM_ERR_INVALID_ARG, where, 0, 0,
                             "output format not recognised from the name: give --format");
     wo.gltf_z_up = up_z;
+    if (wo.format == GEOM_MESHIO_FORMAT_OBJ)
+        wo.omit |= cli_mesh_mtllib_omit(m, path, to_stdout);
     cli_output out;
     geom_status st;
     if (to_stdout) {

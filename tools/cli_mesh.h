@@ -48,6 +48,16 @@ geom_status cli_mesh_write_up(const geom_mesh *m, const char *path, geom_meshio_
 int cli_mesh_format_option(const cli_tool *t, const char *arg, int input,
                            geom_meshio_format *out);
 
+/**
+ * OBJ output keeps the mesh's mtllib lines only when the material libraries
+ * they name are where a reader of the output will look: relative to the
+ * output's directory (the tools never write a .mtl). If one is not there, a
+ * warning on stderr names it and GEOM_MESHIO_ATTR_MTLLIB is returned (OR it
+ * into geom_meshio_write_options.omit); standard output keeps none. Returns
+ * 0 when every library is found (or there is none).
+ */
+unsigned cli_mesh_mtllib_omit(const geom_mesh *m, const char *path, bool to_stdout);
+
 #ifdef __cplusplus
 }
 #endif

@@ -210,6 +210,8 @@ int main(int argc, char **argv)
     }
     report_repairs(name, &report, &stats);
     free(name);
+    if (co.w.format == GEOM_MESHIO_FORMAT_OBJ && !(co.w.omit & GEOM_MESHIO_ATTR_META))
+        co.w.omit |= cli_mesh_mtllib_omit(m, out_path, to_stdout);
 
     if (!to_stdout) {
         st = geom_meshio_write(m, out_path, &co.w, &diag);

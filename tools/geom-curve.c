@@ -47,14 +47,21 @@ static const cli_tool tool = {
     "                       default 1e-3 times each curve's control box diagonal)\n"
     "  -s, --samples=N      N >= 2 evenly spaced parameters per curve instead\n"
     "  -d, --derivs=K       CSV: also the derivatives of orders 1..K (K <= 16)\n"
+    "      --max-points=N   stop before writing more than N points in all (the\n"
+    "                       count is computed first; default 10000000)\n"
     "  -f, --format=FMT     obj or csv; default: from OUT's extension\n",
     "Prints curves, points, max_error and seconds (--json: one object).\n",
     "  geom-curve data/surfaces.json --tol 1e-4 -o curves.obj\n"
     "  geom-curve data/surfaces.json --samples 100 --derivs 2 -o samples.csv\n",
 };
 
+#define MAX_POINTS_DEFAULT 10000000.0
+
+enum { OPT_MAX_POINTS = CLI_OPT_TOOL_BASE };
+
 typedef struct curve_opts {
     double tol;
+    double max_points; /* 0: MAX_POINTS_DEFAULT */
     long samples;
     int derivs;
     int csv, have_format;
@@ -81,6 +88,12 @@ static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
             d < 0 || d > 16)
             return cli_usage_error(t, "--derivs takes an integer in [0, 16], not '%s'", arg);
         o->derivs = (int)d;
+        return CLI_CONTINUE;
+    case OPT_MAX_POINTS:
+        if (cli_parse_double(arg, strlen(arg), 0, &d, NULL) != GEOM_OK || d != floor(d) ||
+            d < 2 || d > 1e15)
+            return cli_usage_error(t, "--max-points takes an integer >= 2, not '%s'", arg);
+        o->max_points = d;
         return CLI_CONTINUE;
     case 'f':
         if (!strcmp(arg, "csv"))
@@ -175,6 +188,8 @@ int main(int argc, char **argv)
                                              {"samples", required_argument, NULL, 's'},
                                              {"derivs", required_argument, NULL, 'd'},
                                              {"format", required_argument, NULL, 'f'},
+                                             {"max-points", required_argument, NULL,
+                                              OPT_MAX_POINTS},
                                              {NULL, 0, NULL, 0}};
     curve_opts o;
     memset(&o, 0, sizeof o);
@@ -218,6 +233,40 @@ int main(int argc, char **argv)
     if (f.ncurves == 0) {
         sj_free(&f);
         return cli_error(&tool, "%s: no curves", argv[first]);
+    }
+    /* count the output before the work: stop past --max-points with the
+     * count in the message instead of filling memory and disk */
+    double limit = o.max_points > 0.0 ? o.max_points : MAX_POINTS_DEFAULT;
+    double want = 0.0;
+    int cut = 0;
+    for (size_t ci = 0; ci < f.ncurves; ++ci) {
+        size_t n = 0;
+        if (o.samples) {
+            n = (size_t)o.samples;
+        } else {
+            geom_curve_polyline_options po;
+            memset(&po, 0, sizeof po);
+            po.tolerance = o.tol;
+            /* the library's own cap stops a runaway count early */
+            po.max_points = limit > 1e15 ? 0 : (size_t)limit + 1;
+            geom_status cs = geom_curve_nurbs_polyline(&f.curves[ci].c, &po, NULL, NULL, 0, &n,
+                                                       NULL, NULL);
+            if (cs == GEOM_ERR_LIMIT && n == 0) {
+                n = (size_t)limit + 1; /* over the cap: the count was cut short */
+                cut = 1;
+            }
+            else if (cs != GEOM_OK)
+                continue; /* reported with its curve below */
+        }
+        want += (double)n;
+        if (want > limit) {
+            sj_free(&f);
+            return cli_error(&tool,
+                             "%s: the polylines would have %s%.0f points (limit %.0f, curve %zu "
+                             "and before): raise --max-points%s",
+                             argv[first], cut ? "more than " : "", want, limit, ci,
+                             o.samples ? " or lower --samples" : " or the tolerance");
+        }
     }
     cli_output out;
     if (cli_output_open(&out, out_path, &diag) != GEOM_OK) {

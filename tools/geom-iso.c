@@ -281,6 +281,11 @@ static void boundary_below(const geom_implicit_volume *vol, double iso, size_t *
             }
 }
 
+static void iso_progress(void *user, double fraction)
+{
+    cli_progress_update(user, fraction);
+}
+
 int main(int argc, char **argv)
 {
     static const struct option longopts[] = {{"expr", required_argument, NULL, 'e'},
@@ -346,6 +351,12 @@ int main(int argc, char **argv)
     o.caps = a.caps;
     o.threads = a.threads;
     o.inside = a.inside < 0 ? GEOM_ISO_INSIDE_BELOW : a.inside;
+    cli_progress prog; /* percent and ETA on a terminal, per slab extracted */
+    cli_progress_start(&prog, &tool, "extracting", common.quiet);
+    if (prog.enabled) {
+        o.progress = iso_progress;
+        o.progress_user = &prog;
+    }
     int detected = 0;
     size_t nb_below = 0, nb_total = 0;
     geom_iso_surface s;
@@ -416,6 +427,7 @@ int main(int argc, char **argv)
                 st = geom_iso_extract_grid(&g, &o, &s, &diag);
         }
     }
+    cli_progress_done(&prog);
     if (st != GEOM_OK) {
         geom_implicit_expr_destroy(expr);
         geom_implicit_volume_destroy(vol);

@@ -13,8 +13,11 @@
  * normal at every corner. The CORNER channel "normal" replaces any normal
  * the input had (a VERTEX "normal" channel is removed). OUT's format comes
  * from --format or its extension ("-": standard output, needs --format).
- * With --json a summary (faces, vertices, normals, zero normals, seconds) is
- * printed on standard output (OUT must then be a file).
+ * With --json a summary (faces, vertices, normals, zero normals, degenerate
+ * faces and the first one, seconds, warnings) is printed on standard output
+ * (OUT must then be a file). Degenerate (zero-area) faces have no normal and
+ * contribute nothing: a warning on standard error (and in --json) gives
+ * their count and the first face index, instead of silent zero normals.
  *
  * Exit status 0 on success, 1 on a read, parse or write error, 2 on a usage
  * error.
@@ -46,7 +49,9 @@ static const cli_tool tool = {
     "\"normal\" channel); with them, the mesh's per-corner \"normal\" channel, so\n"
     "OBJ output shares vn values within smooth fans and splits them at hard edges.\n"
     "With --json, prints {\"faces\", \"vertices\", \"normals\", \"zero_normals\",\n"
-    "\"seconds\"} on standard output (OUT must be a file).\n",
+    "\"degenerate_faces\", \"first_degenerate_face\", \"seconds\"} and \"warnings\"\n"
+    "on standard output (OUT must be a file). Degenerate (zero-area) faces have no\n"
+    "normal: a warning gives their count and the first one (0-based).\n",
     "  geom-normals --crease 30 mesh.obj -o with_normals.obj\n"
     "  geom-normals --weight area --format ply - < in.obj > out.ply\n",
 };
@@ -180,19 +185,51 @@ int main(int argc, char **argv)
         return cli_error(&tool, "%s: computing normals failed: %s", argv[first],
                          geom_status_str(st));
     }
+    /* degenerate (zero-area) faces have no normal: they contribute nothing,
+     * which is said, with their count and the first one (0-based, in the
+     * mesh's face order), rather than left to show as zero normals */
+    size_t ndeg = 0, first_deg = 0;
+    for (size_t f = 0; f < geom_mesh_n_faces(m); f++) {
+        double fn[3];
+        if (geom_mesh_face_is_deleted(m, (uint32_t)f) ||
+            geom_mesh_face_normal(m, (uint32_t)f, fn) != GEOM_ERR_DEGENERATE)
+            continue;
+        if (!ndeg++)
+            first_deg = f;
+    }
+    char warning[256] = "";
+    if (ndeg)
+        snprintf(warning, sizeof warning,
+                 "%zu degenerate (zero-area) face%s, the first face %zu: no normal, not "
+                 "counted in their vertices' normals%s",
+                 ndeg, ndeg == 1 ? "" : "s", first_deg,
+                 zero ? "; vertices with only such faces get a zero normal" : "");
+    else if (zero)
+        snprintf(warning, sizeof warning, "%zu normal%s zero (isolated vertices)", zero,
+                 zero == 1 ? " is" : "s are");
+    if (warning[0])
+        fprintf(stderr, "%s: warning: %s: %s\n", tool.name, argv[first], warning);
     st = cli_mesh_write_up(m, out_path, no.out_format, common.up_z, &diag);
     if (st != GEOM_OK) {
         geom_mesh_destroy(m);
         return cli_print_diag(&tool, &diag);
     }
     if (common.json) {
-        printf("{\"faces\":%zu,\"vertices\":%zu,\"normals\":%zu,\"zero_normals\":%zu,\"seconds\":",
-               geom_mesh_n_live_faces(m), geom_mesh_n_live_vertices(m), nn, zero);
+        printf("{\"faces\":%zu,\"vertices\":%zu,\"normals\":%zu,\"zero_normals\":%zu,"
+               "\"degenerate_faces\":%zu,\"first_degenerate_face\":",
+               geom_mesh_n_live_faces(m), geom_mesh_n_live_vertices(m), nn, zero, ndeg);
+        if (ndeg)
+            printf("%zu", first_deg);
+        else
+            printf("null");
+        printf(",\"seconds\":");
         cli_json_number(stdout, secs);
+        if (warning[0]) {
+            printf(",\"warnings\":[");
+            cli_json_string(stdout, warning);
+            printf("]");
+        }
         printf("}\n");
-    } else if (zero) {
-        fprintf(stderr, "%s: %s: %zu normals are zero (fans of degenerate faces only)\n",
-                tool.name, argv[first], zero);
     }
     geom_mesh_destroy(m);
     return CLI_EXIT_OK;

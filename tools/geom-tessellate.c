@@ -14,8 +14,10 @@
  * (--tol, default 1e-3 of the control points' box diagonal), or uniform
  * (--grid NU,NV quads per knot span, or per surface with --per-surface).
  * Only the attributes asked for are written (--normals: analytic normals,
- * --uvs: surface parameters, --tangents: dP/du, written by formats that hold
- * tangents: GLB). OUT's format comes from its extension (obj, ply, off, stl,
+ * welded across patch seams where they agree within --normal-weld degrees;
+ * --uvs: surface parameters; --tangents: MikkTSpace tangent frames, or
+ * dP/du with --tangents=dpdu, to the formats that hold tangents: GLB and
+ * PLY; OBJ, OFF and STL cannot, which is a usage error). OUT's format comes from its extension (obj, ply, off, stl,
  * glb); "-" writes OBJ to standard output.
  *
  * The report -- the achieved chordal error (the largest distance between a
@@ -59,8 +61,13 @@ static const cli_tool tool = {
     "  -n, --normals        write analytic normals\n"
     "  -u, --uvs            write texture coordinates (the surface parameters)\n"
     "      --uv-normalized  texture coordinates normalised to [0,1] per surface\n"
-    "      --tangents       write dP/du tangents (GLB output)\n"
+    "      --tangents[=KIND]  write tangents (GLB, PLY; OBJ, OFF and STL cannot\n"
+    "                       hold them): mikk (default) MikkTSpace tangent frames\n"
+    "                       for normal maps, with normals and UVs (implied);\n"
+    "                       dpdu: the surface derivative dP/du, w = +-1\n"
     "      --no-weld        do not weld surfaces along shared edges\n"
+    "      --normal-weld=DEG  one normal for the corners of a vertex whose patch\n"
+    "                       normals are within DEG degrees (default 0.01; 0: never)\n"
     "  -f, --format=FMT     output format (obj, off, ply, stl, glb); default: from\n"
     "                       OUT's extension\n"
     CLI_LIMIT_HELP,
@@ -77,7 +84,8 @@ enum {
     OPT_UV_NORMALIZED,
     OPT_TANGENTS,
     OPT_NO_WELD,
-    OPT_PER_FACE
+    OPT_PER_FACE,
+    OPT_NORMAL_WELD
 };
 
 typedef struct tess_opts {
@@ -86,7 +94,32 @@ typedef struct tess_opts {
     geom_meshio_format format;
     cli_limits lim;
     int per_face; /* STEP input: face ids as OBJ groups */
+    int tangents; /* 0: none, 1: MikkTSpace (geom_mesh_tangents), 2: dP/du */
 } tess_opts;
+
+/* Progress of geom_surface_tessellate: a pass restarts the fraction, and
+ * the display with "pass N" (the last pass, the output, is the largest). */
+typedef struct tess_progress {
+    cli_progress bar;
+    double last;
+    int pass;
+    char label[48];
+} tess_progress;
+
+static void on_progress(void *user, double fraction)
+{
+    tess_progress *p = user;
+    if (fraction < p->last) {
+        p->pass++;
+        snprintf(p->label, sizeof p->label, "tessellating, pass %d", p->pass + 1);
+        /* restarted: the ETA of this pass from its own start */
+        bool shown = p->bar.shown;
+        cli_progress_start(&p->bar, &tool, p->label, !p->bar.enabled);
+        p->bar.shown = shown;
+    }
+    p->last = fraction;
+    cli_progress_update(&p->bar, fraction);
+}
 
 static int parse_positive(const char *arg, double *out)
 {
@@ -139,13 +172,26 @@ static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
         o->to.uv_normalized = 1;
         return CLI_CONTINUE;
     case OPT_TANGENTS:
-        o->to.attributes |= GEOM_SURFACE_ATTR_TANGENT;
+        if (!arg || strcmp(arg, "mikk") == 0) {
+            o->tangents = 1;
+        } else if (strcmp(arg, "dpdu") == 0) {
+            o->tangents = 2;
+            o->to.attributes |= GEOM_SURFACE_ATTR_TANGENT;
+        } else {
+            return cli_usage_error(t, "--tangents takes mikk or dpdu, not '%s'", arg);
+        }
         return CLI_CONTINUE;
     case OPT_NO_WELD:
         o->to.no_weld = 1;
         return CLI_CONTINUE;
     case OPT_PER_FACE:
         o->per_face = 1;
+        return CLI_CONTINUE;
+    case OPT_NORMAL_WELD:
+        if (cli_parse_double(arg, strlen(arg), 0, &d, NULL) != GEOM_OK || !(d >= 0.0) ||
+            !(d < 180.0))
+            return cli_usage_error(t, "--normal-weld takes degrees in [0, 180), not '%s'", arg);
+        o->to.normal_weld_degrees = d > 0.0 ? d : -1.0;
         return CLI_CONTINUE;
     case 'f':
         return cli_mesh_format_option(t, arg, 0, &o->format);
@@ -417,9 +463,10 @@ int main(int argc, char **argv)
         {"normals", no_argument, NULL, 'n'},
         {"uvs", no_argument, NULL, 'u'},
         {"uv-normalized", no_argument, NULL, OPT_UV_NORMALIZED},
-        {"tangents", no_argument, NULL, OPT_TANGENTS},
+        {"tangents", optional_argument, NULL, OPT_TANGENTS},
         {"no-weld", no_argument, NULL, OPT_NO_WELD},
         {"per-face", no_argument, NULL, OPT_PER_FACE},
+        {"normal-weld", required_argument, NULL, OPT_NORMAL_WELD},
         {"format", required_argument, NULL, 'f'},
         CLI_LIMIT_LONGOPTS,
         {NULL, 0, NULL, 0}};
@@ -453,9 +500,12 @@ int main(int argc, char **argv)
     }
     if (o.have_grid)
         o.to.mode = GEOM_SURFACE_TESS_UNIFORM;
-    if ((o.to.attributes & GEOM_SURFACE_ATTR_TANGENT) && o.format != GEOM_MESHIO_FORMAT_GLB)
-        fprintf(stderr, "%s: note: %s output cannot hold tangents (GLB can); they are not written\n",
-                tool.name, geom_meshio_format_name(o.format));
+    if (o.tangents && o.format != GEOM_MESHIO_FORMAT_GLB && o.format != GEOM_MESHIO_FORMAT_PLY)
+        return cli_usage_error(&tool, "%s output cannot hold tangents (GLB and PLY can): "
+                                      "drop --tangents or write .glb or .ply",
+                               geom_meshio_format_name(o.format));
+    if (o.tangents == 1) /* MikkTSpace frames are built from normals and UVs */
+        o.to.attributes |= GEOM_SURFACE_ATTR_NORMAL | GEOM_SURFACE_ATTR_UV;
     FILE *rep = to_stdout ? stderr : stdout;
     if (is_step_path(argv[first]))
         return tessellate_step(argv[first], &o, common.json, out_path, rep);
@@ -502,8 +552,16 @@ int main(int argc, char **argv)
     geom_surface_tess_stats stats;
     cli_timer timer;
     cli_timer_start(&timer);
+    tess_progress prog;
+    memset(&prog, 0, sizeof prog);
+    cli_progress_start(&prog.bar, &tool, "tessellating", common.quiet);
+    if (prog.bar.enabled) {
+        o.to.progress = on_progress;
+        o.to.progress_user = &prog;
+    }
     geom_status st = geom_surface_tessellate(geom_surface_set_data(set), ns, &o.to, m, &report,
                                              &stats, &diag);
+    cli_progress_done(&prog.bar);
     double secs = cli_timer_elapsed(&timer);
     geom_surface_set_destroy(set);
     if (st != GEOM_OK) {
@@ -511,6 +569,14 @@ int main(int argc, char **argv)
         if (!diag.source[0])
             snprintf(diag.source, sizeof diag.source, "%s", argv[first]);
         return cli_print_diag(&tool, &diag);
+    }
+    if (o.tangents == 1) {
+        uint32_t tid;
+        st = geom_mesh_tangents(m, &tid);
+        if (st != GEOM_OK) {
+            geom_mesh_destroy(m);
+            return cli_error(&tool, "%s: tangents: %s", argv[first], geom_status_str(st));
+        }
     }
     st = cli_mesh_write_up(m, out_path, o.format, common.up_z, &diag);
     geom_mesh_destroy(m);

@@ -21,7 +21,7 @@ NLOOP = min(N, 20000)   # the per-point loop is timed on fewer points and scaled
 rng = np.random.default_rng(1)
 
 
-def best(fn, reps=3):
+def best(fn, reps=7):
     t = []
     for _ in range(reps):
         t0 = time.perf_counter()

@@ -226,6 +226,24 @@ checks=$((checks + 1))
 checks=$((checks + 1))
 grep -q '^f 1/1 2/2 6/4 5/3$' "$T/nn.obj" || fail "--no-normals keeps v/vt"
 
+# mtllib: kept only when the material library is next to the output (the
+# tools never write a .mtl); a dangling reference is dropped with a warning
+mkdir -p "$T/mtl_a" "$T/mtl_b"
+cp "$DATA/cube_seams.obj" "$T/mtl_a/in.obj"
+printf 'newmtl red\nKd 1 0 0\n' >"$T/mtl_a/cube.mtl"
+run "$T/mtl_a/in.obj" "$T/mtl_a/out.obj"
+expect_rc 0 "mtllib next to the output"
+checks=$((checks + 1))
+grep -qx 'mtllib cube.mtl' "$T/mtl_a/out.obj" || fail "mtllib dropped although cube.mtl is there"
+run "$T/mtl_a/in.obj" "$T/mtl_b/out.obj"
+expect_rc 0 "mtllib elsewhere"
+checks=$((checks + 1))
+grep -q '^mtllib' "$T/mtl_b/out.obj" && fail "dangling mtllib written"
+checks=$((checks + 1))
+case "$err" in *"mtllib cube.mtl not written"*) ;; *) fail "no warning for a dropped mtllib: $err" ;; esac
+checks=$((checks + 1))
+grep -q '^usemtl' "$T/mtl_b/out.obj" || fail "usemtl groups lost with the mtllib"
+
 # ----------------------------------------------------- standard streams
 "$TOOL" -i obj -f off - - <"$DATA/cube_seams.obj" >"$T/stdout" 2>"$T/stderr"
 rc=$?

@@ -152,5 +152,21 @@ run "$T/bad4.json" -o "$T/x.obj"
 expect_rc 1 "zero weight"
 expect_err '"weights":' "zero weight named"
 
+# limits: the output is counted before the work; past --max-points an error
+# with the count, exit 1, nothing written
+rm -f "$T/big.obj"
+run "$DATA/surfaces.json" -o "$T/big.obj" --samples 1000000 --max-points 1000
+expect_rc 1 "--samples past --max-points"
+expect_err "would have 1000000 points (limit 1000" "--samples estimate in the message"
+checks=$((checks + 1))
+[ ! -e "$T/big.obj" ] || fail "--max-points: output written"
+run "$DATA/surfaces.json" -o "$T/big.obj" --tol 1e-4 --max-points 100
+expect_rc 1 "--tol past --max-points"
+expect_err "raise --max-points or the tolerance" "--tol limit message"
+run "$DATA/surfaces.json" -o "$T/ok.obj" --tol 1e-4 --max-points 100000
+expect_rc 0 "--max-points above the count"
+run "$DATA/surfaces.json" -o "$T/x.obj" --max-points 1
+expect_rc 2 "--max-points 1"
+
 echo "$checks checks, $failures failures"
 [ "$failures" -eq 0 ]

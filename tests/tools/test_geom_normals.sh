@@ -152,6 +152,51 @@ assert d["seconds"] >= 0
 print("ok")
 EOF
 
+# --- degenerate (zero-area) faces: a warning with the count and the first
+# face (0-based), in --json too; never NaN normals
+cat >"$T/deg.obj" <<'EOF'
+v 0 0 0
+v 1 0 0
+v 1 1 0
+v 0 1 0
+v 2 0 0
+v 3 0 0
+v 4 0 0
+v 0 0 5
+v 0 0 5
+v 1 1 5
+f 1 2 3
+f 5 6 7
+f 1 3 4
+f 8 9 10
+EOF
+run "$T/deg.obj" -o "$T/deg_out.obj"
+expect_rc 0 "degenerate faces"
+checks=$((checks + 1))
+case "$err" in
+*"warning"*"2 degenerate (zero-area) faces, the first face 1"*) ;;
+*) fail "degenerate faces: stderr '$err' lacks the count and first face" ;;
+esac
+checks=$((checks + 1))
+grep -qi nan "$T/deg_out.obj" && fail "degenerate faces: NaN written"
+run --json "$T/deg.obj" -o "$T/deg_out.obj"
+expect_rc 0 "degenerate faces --json"
+pycheck "degenerate faces --json" "$out" <<'EOF'
+import sys, json
+d = json.loads(sys.argv[1])
+assert d["degenerate_faces"] == 2 and d["first_degenerate_face"] == 1, d
+assert d["zero_normals"] == 6, d   # vertices 5..10 touch only degenerate faces
+assert any("degenerate" in w for w in d["warnings"]), d
+print("ok")
+EOF
+run --json "$T/boxq.obj" -o "$T/deg_out.obj"
+pycheck "no degenerate faces --json" "$out" <<'EOF'
+import sys, json
+d = json.loads(sys.argv[1])
+assert d["degenerate_faces"] == 0 and d["first_degenerate_face"] is None and "warnings" not in d, d
+print("ok")
+EOF
+
 # --- standard output with --format, and PLY output
 run --format obj "$T/boxq.obj"
 expect_rc 0 "stdout --format obj"

@@ -161,9 +161,118 @@ run "$DATA/teapot.bpt" -o "$T/t.glb" --grid 3,3 --normals --uvs --tangents
 expect_rc 0 "glb"
 checks=$((checks + 1))
 [ "$(head -c 4 "$T/t.glb")" = "glTF" ] || fail "glb magic"
-run "$DATA/teapot.bpt" -o "$T/t2.obj" --grid 3,3 --tangents
-expect_rc 0 "obj tangents note"
-expect_err "cannot hold tangents" "obj tangents note"
+for ext in obj off stl; do
+    run "$DATA/teapot.bpt" -o "$T/t2.$ext" --grid 3,3 --tangents
+    expect_rc 2 "$ext tangents refused"
+    expect_err "cannot hold tangents" "$ext tangents refused"
+    checks=$((checks + 1))
+    [ ! -e "$T/t2.$ext" ] || fail "$ext tangents: output written"
+done
+run "$DATA/teapot.bpt" -o "$T/t2.glb" --tangents=bogus
+expect_rc 2 "--tangents=bogus"
+
+cat >"$T/glb.py" <<'EOF'
+import json, math, struct, sys
+def read_glb(path):
+    d = open(path, "rb").read()
+    assert d[:4] == b"glTF", "magic"
+    n = struct.unpack("<I", d[12:16])[0]
+    j = json.loads(d[20:20 + n])
+    binc = d[20 + n + 8:]
+    prim = j["meshes"][0]["primitives"][0]
+    out = {}
+    for name, ai in prim["attributes"].items():
+        a = j["accessors"][ai]
+        v = j["bufferViews"][a["bufferView"]]
+        k = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4}[a["type"]]
+        off = v.get("byteOffset", 0) + a.get("byteOffset", 0)
+        stride = v.get("byteStride", 4 * k)
+        out[name] = [struct.unpack_from("<%df" % k, binc, off + i * stride)
+                     for i in range(a["count"])]
+    return out
+EOF
+# normals welded across patch seams: one GLB vertex per distinct position
+# (7,176 before: the patches' normals differ in their last bits); with
+# --normal-weld 0 the seams split again
+run "$DATA/teapot.bpt" -o "$T/w.glb" --normals
+expect_rc 0 "welded normals"
+nverts=$(printf '%s\n' "$out" | sed -n 's/^vertices: //p')
+run "$DATA/teapot.bpt" -o "$T/w0.glb" --normals --normal-weld 0
+expect_rc 0 "--normal-weld 0"
+pycheck "welded normals" "$T/glb.py" "$T/w.glb" "$T/w0.glb" "$nverts" <<'EOF'
+import sys
+exec(open(sys.argv[1]).read())
+w, w0 = read_glb(sys.argv[2]), read_glb(sys.argv[3])
+P, N = w["POSITION"], w["NORMAL"]
+distinct = int(sys.argv[4])   # the mesh's vertices (distinct positions)
+if len(P) != distinct:
+    print("welded: %d GLB vertices for %d mesh vertices" % (len(P), distinct)); sys.exit()
+if len(w0["POSITION"]) <= distinct:
+    print("--normal-weld 0 did not split the seams (%d)" % len(w0["POSITION"])); sys.exit()
+# every welded normal is within 0.01 degree (plus float rounding) of one of
+# the unwelded normals at its position
+byp = {}
+for p, n in zip(w0["POSITION"], w0["NORMAL"]):
+    byp.setdefault(p, []).append(n)
+def angle(n, m):   # degrees, atan2 (acos loses small angles of float normals)
+    c = (n[1] * m[2] - n[2] * m[1], n[2] * m[0] - n[0] * m[2], n[0] * m[1] - n[1] * m[0])
+    return math.degrees(math.atan2(math.sqrt(sum(x * x for x in c)),
+                                   sum(a * b for a, b in zip(n, m))))
+worst = 0.0
+for p, n in zip(P, N):
+    best = min(angle(n, m) for m in byp[p])
+    worst = max(worst, best)
+print("ok" if worst < 0.01 + 1e-3 else "welded normal %.3g degrees off" % worst)
+EOF
+
+# MikkTSpace tangents: unit, orthogonal to the normal, w = +-1; PLY holds
+# them as tangent_x..tangent_w; dP/du only when asked by name
+run "$DATA/teapot.bpt" -o "$T/m.glb" --tangents
+expect_rc 0 "mikk tangents glb"
+run "$DATA/teapot.bpt" -o "$T/d.glb" --tangents=dpdu
+expect_rc 0 "dpdu tangents glb"
+pycheck "tangents" "$T/glb.py" "$T/m.glb" "$T/d.glb" <<'EOF'
+import math, sys
+exec(open(sys.argv[1]).read())
+m, d = read_glb(sys.argv[2]), read_glb(sys.argv[3])
+for key in ("NORMAL", "TEXCOORD_0", "TANGENT"):
+    if key not in m:
+        print("mikk: no %s" % key); sys.exit()
+for n, t in zip(m["NORMAL"], m["TANGENT"]):
+    l = math.sqrt(sum(x * x for x in t[:3]))
+    dot = sum(a * b for a, b in zip(n, t[:3]))
+    if abs(l - 1) > 1e-5 or abs(dot) > 1e-4 or abs(t[3]) != 1:
+        print("mikk tangent %r normal %r" % (t, n)); sys.exit()
+if "TANGENT" not in d or "NORMAL" in d:
+    print("dpdu: attributes %s" % sorted(d)); sys.exit()
+print("ok")
+EOF
+run "$DATA/teapot.bpt" -o "$T/m.ply" --grid 2,2 --tangents
+expect_rc 0 "mikk tangents ply"
+checks=$((checks + 1))
+grep -a -q "property double tangent_w" "$T/m.ply" || fail "ply: no tangent properties"
+
+# progress: on a terminal (script(1) gives one) percent and ETA on stderr
+# once the run is longer than half a second; never with --quiet or when
+# stderr is not a terminal
+run "$DATA/teapot.bpt" --tol 2e-4 -o "$T/p.obj"
+expect_rc 0 "no tty: no progress"
+checks=$((checks + 1))
+case "$err" in *"%"*) fail "progress written to a non-terminal stderr" ;; esac
+if command -v script >/dev/null 2>&1; then
+    t0=$(date +%s%N)
+    script -qec "'$TOOL' '$DATA/teapot.bpt' --tol 2e-4 -o '$T/p.obj' >/dev/null" /dev/null \
+        >"$T/tty.txt" 2>&1
+    t1=$(date +%s%N)
+    checks=$((checks + 1))
+    if [ $(((t1 - t0) / 1000000)) -gt 1500 ]; then
+        grep -a -q "tessellating.*%.*ETA" "$T/tty.txt" || fail "tty: no progress line"
+    fi
+    script -qec "'$TOOL' '$DATA/teapot.bpt' --tol 2e-4 --quiet -o '$T/p.obj' >/dev/null" \
+        /dev/null >"$T/tty.txt" 2>&1
+    checks=$((checks + 1))
+    grep -a -q "%" "$T/tty.txt" && fail "tty --quiet: progress shown"
+fi
 
 # ------------------------------------------------------------ usage errors
 run "$DATA/teapot.bpt" -o "$T/x.obj" --tol 1e-3 --grid 2,2

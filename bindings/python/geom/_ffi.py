@@ -463,6 +463,26 @@ geom_status geom_curve_nurbs_remove_knot(const geom_nurbs_curve *c, double u, si
                                          geom_nurbs_curve *out, size_t *removed, geom_diag *diag);
 geom_status geom_curve_bspline_find_span(int degree, size_t n, const double *knots, double u,
                                          unsigned flags, size_t *span);
+geom_status geom_curve_hermite_spline_to_bezier(size_t dim, size_t n, const double *points,
+    const double *tangents, const double *params, double *bezier);
+geom_status geom_curve_piecewise_bezier_knots(int degree, size_t nseg, const double *params,
+    double *knots);
+typedef enum geom_curve_end {
+    GEOM_CURVE_END_EXTRAPOLATE = 0,
+    GEOM_CURVE_END_EXCLUDE = 1,
+    GEOM_CURVE_END_CLOSED = 2
+} geom_curve_end;
+geom_status geom_curve_catmull_rom_segments(size_t n, geom_curve_end ends, size_t *nseg);
+geom_status geom_curve_catmull_rom_to_bezier(size_t dim, size_t n, const double *points,
+    double alpha, geom_curve_end ends, double *bezier, double *params, geom_diag *diag);
+typedef struct geom_kb_params {
+    double tension;
+    double continuity;
+    double bias;
+} geom_kb_params;
+geom_status geom_curve_kochanek_bartels_to_bezier(size_t dim, size_t n, const double *points,
+    const geom_kb_params *tcb, size_t ntcb, geom_curve_end ends, double *bezier,
+    geom_diag *diag);
 """,
     "surface": """
 typedef struct geom_nurbs_surface {
@@ -527,6 +547,9 @@ typedef struct geom_surface_tess_options {
     int check_subdivisions;
     size_t max_triangles;
     const geom_allocator *alloc;
+    double normal_weld_degrees;
+    void (*progress)(void *user, double fraction);
+    void *progress_user;
 } geom_surface_tess_options;
 typedef struct geom_surface_tess_stats {
     size_t cells;
@@ -538,6 +561,7 @@ typedef struct geom_surface_tess_stats {
     size_t boundary_edges;
     size_t refinements;
     size_t limit_normals;
+    size_t welded_normals;
 } geom_surface_tess_stats;
 geom_status geom_surface_tessellate(const geom_nurbs_surface *surfaces, size_t n, const
     geom_surface_tess_options *options, geom_mesh *out, geom_error_report *report,
@@ -797,6 +821,8 @@ typedef struct geom_iso_options {
     size_t slab_layers;
     const geom_allocator *alloc;
     int inside;
+    void (*progress)(void *user, double fraction);
+    void *progress_user;
 } geom_iso_options;
 typedef struct geom_iso_report {
     geom_error_report vertex_error;

@@ -79,12 +79,20 @@ def _simplex(kind, dim, k, names, args, errors, what):
         pts[j] = buf
         strides[j] = 0 if one else dim
     out = np.empty((n, k), dtype=np.float64)
-    status = np.empty(n, dtype=np.int32)
-    st = lib.geom_bary_simplex_many(kind, n, pts, strides, ffi.from_buffer("double[]", out),
-                                    ffi.from_buffer("int32_t[]", status), ffi.NULL)
+    pout = ffi.from_buffer("double[]", out)
+    nfail = ffi.new("size_t *")
+    # No status array on the common path (n int32 writes and a scan saved):
+    # the per-row statuses are asked for only when some row failed.
+    st = lib.geom_bary_simplex_many(kind, n, pts, strides, pout, ffi.NULL, nfail)
+    if st == 0 and nfail[0]:
+        status = np.empty(n, dtype=np.int32)
+        st = lib.geom_bary_simplex_many(kind, n, pts, strides, pout,
+                                        ffi.from_buffer("int32_t[]", status), ffi.NULL)
     del keep
     if st != 0:
         raise GeomError(int(st), context=what)
+    if not nfail[0]:
+        return out[0] if single else out
     return _finish(out, status, single, errors, what)
 
 

@@ -12,7 +12,7 @@ import os
 import numpy as np
 
 from ._ffi import ffi, lib
-from .core import check, dptr, error_report, new_diag, struct_dict
+from .core import GeomError, check, dptr, error_report, new_diag, struct_dict
 from .mesh import Mesh
 
 U_LEFT = 1
@@ -240,9 +240,256 @@ def read_bpt(path_or_bytes, source_name=None):
         ffi.release(sset)
 
 
+class SurfaceJSONError(ValueError):
+    """A surface JSON file that does not describe valid curves and surfaces:
+    the message names the source, the entry and the key (as the tools'
+    reader, tools/surface_json.h, does), e.g.
+    'x.json: surfaces[1] ("torus"): "knots_v": 10 knots, 12 expected'."""
+
+
+def _json_num_array(value, where, key, ndim):
+    def numbers(v):
+        if isinstance(v, list):
+            return all(numbers(x) for x in v)
+        return isinstance(v, (int, float)) and not isinstance(v, bool)
+    if not isinstance(value, list) or not numbers(value):
+        raise SurfaceJSONError('%s: "%s": not an array of numbers' % (where, key))
+    try:
+        out = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise SurfaceJSONError('%s: "%s": ragged array' % (where, key)) from None
+    if out.ndim != ndim:
+        raise SurfaceJSONError('%s: "%s": expected a %d-dimensional array, got shape %s'
+                               % (where, key, ndim, out.shape))
+    if not np.all(np.isfinite(out)):
+        raise SurfaceJSONError('%s: "%s": non-finite number' % (where, key))
+    return out
+
+
+def _json_int(entry, key, where, default=None):
+    v = entry.get(key, default)
+    if v is None:
+        raise SurfaceJSONError('%s: missing "%s"' % (where, key))
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or v != int(v) or v < 1:
+        raise SurfaceJSONError('%s: "%s": a positive integer, not %r' % (where, key, v))
+    return int(v)
+
+
+def _json_surface(entry, where):
+    kind = entry.get("type")
+    if kind not in ("bezier", "bspline", "nurbs"):
+        raise SurfaceJSONError('%s: "type": unknown surface type %r (bezier, bspline, nurbs)'
+                               % (where, kind))
+    if "points" not in entry:
+        raise SurfaceJSONError('%s: missing "points"' % where)
+    P = _json_num_array(entry["points"], where, "points", 3)
+    if P.shape[2] != 3 or P.shape[0] < 1 or P.shape[1] < 1:
+        raise SurfaceJSONError('%s: "points": expected points[i][j] of 3 numbers, got shape %s'
+                               % (where, P.shape))
+    nu, nv = P.shape[:2]
+    W = None
+    if entry.get("weights") is not None:
+        W = _json_num_array(entry["weights"], where, "weights", 2)
+        if W.shape != (nu, nv):
+            raise SurfaceJSONError('%s: "weights": shape %s, %s expected (one per point)'
+                                   % (where, W.shape, (nu, nv)))
+    if kind == "bezier":
+        pu, pv = nu - 1, nv - 1
+        for key, p in (("degree_u", pu), ("degree_v", pv)):
+            if key in entry and _json_int(entry, key, where) != p:
+                raise SurfaceJSONError('%s: "%s": %r, but the points make degree %d'
+                                       % (where, key, entry[key], p))
+        if pu < 1 or pv < 1:
+            raise SurfaceJSONError('%s: "points": a Bezier patch needs 2 points or more '
+                                   'along u and v' % where)
+        ku = [0.0] * (pu + 1) + [1.0] * (pu + 1)
+        kv = [0.0] * (pv + 1) + [1.0] * (pv + 1)
+    else:
+        pu, pv = _json_int(entry, "degree_u", where), _json_int(entry, "degree_v", where)
+        ku, kv = [], []
+        for key, n, p, out in (("knots_u", nu, pu, ku), ("knots_v", nv, pv, kv)):
+            if key not in entry:
+                raise SurfaceJSONError('%s: missing "%s"' % (where, key))
+            k = _json_num_array(entry[key], where, key, 1)
+            if k.size != n + p + 1:
+                raise SurfaceJSONError('%s: "%s": %d knots, %d expected (n%s + degree%s + 1)'
+                                       % (where, key, k.size, n + p + 1, key[-2:], key[-2:]))
+            out.extend(k.tolist())
+    try:
+        return NurbsSurface(pu, pv, ku, kv, P, W, name=entry.get("name"))
+    except GeomError as e:
+        raise SurfaceJSONError("%s: %s" % (where, e)) from None
+
+
+def _json_curve(entry, where):
+    from .curve import NurbsCurve
+    kind = entry.get("type")
+    if kind in ("hermite", "catmull_rom", "kochanek_bartels"):
+        return _json_cubic_spline(entry, where, kind)
+    if kind not in ("bezier", "bspline", "nurbs"):
+        raise SurfaceJSONError('%s: "type": unknown curve type %r (bezier, bspline, nurbs, '
+                               'hermite, catmull_rom, kochanek_bartels)' % (where, kind))
+    if "points" not in entry:
+        raise SurfaceJSONError('%s: missing "points"' % where)
+    P = _json_num_array(entry["points"], where, "points", 2)
+    if P.shape[1] not in (2, 3) or P.shape[0] < 2:
+        raise SurfaceJSONError('%s: "points": 2 or more points of 2 or 3 numbers expected, got '
+                               'shape %s' % (where, P.shape))
+    n = P.shape[0]
+    W = None
+    if entry.get("weights") is not None:
+        W = _json_num_array(entry["weights"], where, "weights", 1)
+        if W.size != n:
+            raise SurfaceJSONError('%s: "weights": %d weights for %d points' % (where, W.size, n))
+    if kind == "bezier":
+        p = n - 1
+        if "degree" in entry and _json_int(entry, "degree", where) != p:
+            raise SurfaceJSONError('%s: "degree": %r, but %d points make degree %d'
+                                   % (where, entry["degree"], n, p))
+        knots = [0.0] * (p + 1) + [1.0] * (p + 1)
+    else:
+        p = _json_int(entry, "degree", where)
+        if "knots" not in entry:
+            raise SurfaceJSONError('%s: missing "knots"' % where)
+        k = _json_num_array(entry["knots"], where, "knots", 1)
+        if k.size != n + p + 1:
+            raise SurfaceJSONError('%s: "knots": %d knots, %d expected (n + degree + 1)'
+                                   % (where, k.size, n + p + 1))
+        knots = k.tolist()
+    try:
+        return NurbsCurve(p, knots, P, W)
+    except GeomError as e:
+        raise SurfaceJSONError("%s: %s" % (where, e)) from None
+
+
+def _json_cubic_spline(entry, where, kind):
+    """Hermite, Catmull-Rom and Kochanek-Bartels splines as the C library's
+    exact piecewise cubic Bezier form, a clamped cubic B-spline with double
+    interior knots (as tools/surface_json.c builds them)."""
+    from .curve import NurbsCurve
+    if "points" not in entry:
+        raise SurfaceJSONError('%s: missing "points"' % where)
+    P = np.ascontiguousarray(_json_num_array(entry["points"], where, "points", 2))
+    if P.shape[1] not in (2, 3) or P.shape[0] < 2:
+        raise SurfaceJSONError('%s: "points": 2 or more points of 2 or 3 numbers expected, got '
+                               'shape %s' % (where, P.shape))
+    n, dim = P.shape
+    params = None
+    diag = new_diag()
+    if kind == "hermite":
+        if "tangents" not in entry:
+            raise SurfaceJSONError('%s: missing "tangents"' % where)
+        Tn = np.ascontiguousarray(_json_num_array(entry["tangents"], where, "tangents", 2))
+        if Tn.shape != P.shape:
+            raise SurfaceJSONError('%s: "tangents": shape %s, %s expected (one per point)'
+                                   % (where, Tn.shape, P.shape))
+        if entry.get("params") is not None:
+            params = np.ascontiguousarray(_json_num_array(entry["params"], where, "params", 1))
+            if params.size != n:
+                raise SurfaceJSONError('%s: "params": %d values for %d points'
+                                       % (where, params.size, n))
+        nseg = n - 1
+        bez = np.empty((3 * nseg + 1, dim))
+        st = lib.geom_curve_hermite_spline_to_bezier(
+            dim, n, dptr(P), dptr(Tn), dptr(params) if params is not None else ffi.NULL,
+            dptr(bez))
+        if st != 0:
+            raise SurfaceJSONError('%s: "params": must be strictly increasing' % where)
+    else:
+        closed = entry.get("closed", False)
+        if not isinstance(closed, bool):
+            raise SurfaceJSONError('%s: "closed": true or false, not %r' % (where, closed))
+        ends = lib.GEOM_CURVE_END_CLOSED if closed else lib.GEOM_CURVE_END_EXTRAPOLATE
+        pn = ffi.new("size_t *")
+        if lib.geom_curve_catmull_rom_segments(n, ends, pn) != 0:
+            raise SurfaceJSONError('%s: "points": %d points are too few%s'
+                                   % (where, n, " for a closed curve (3 needed)" if closed else ""))
+        nseg = int(pn[0])
+        bez = np.empty((3 * nseg + 1, dim))
+        if kind == "catmull_rom":
+            alpha = entry.get("alpha", 0.5)
+            if isinstance(alpha, bool) or not isinstance(alpha, (int, float)) or \
+                    not 0.0 <= alpha <= 1.0:
+                raise SurfaceJSONError('%s: "alpha": %r is not in [0, 1]' % (where, alpha))
+            params = np.empty(nseg + 1)
+            st = lib.geom_curve_catmull_rom_to_bezier(dim, n, dptr(P), float(alpha), ends,
+                                                      dptr(bez), dptr(params), diag)
+        else:
+            tcb = ffi.new("geom_kb_params[]", n)
+            for key in ("tension", "continuity", "bias"):
+                v = entry.get(key, 0.0)
+                vals = v if isinstance(v, list) else [v] * n
+                if len(vals) != n or any(isinstance(x, bool) or not isinstance(x, (int, float))
+                                         for x in vals):
+                    raise SurfaceJSONError('%s: "%s": a number or a list of %d numbers'
+                                           % (where, key, n))
+                for i, x in enumerate(vals):
+                    setattr(tcb[i], key, float(x))
+            st = lib.geom_curve_kochanek_bartels_to_bezier(dim, n, dptr(P), tcb, n, ends,
+                                                           dptr(bez), diag)
+        if st != 0:
+            raise SurfaceJSONError('%s: "points": %s'
+                                   % (where, ffi.string(diag.message).decode(errors="replace")))
+    knots = np.empty(3 * nseg + 3 + 2)
+    st = lib.geom_curve_piecewise_bezier_knots(3, nseg, dptr(params) if params is not None
+                                               else ffi.NULL, dptr(knots))
+    if st != 0:
+        raise SurfaceJSONError('%s: cannot build the knots (%d)' % (where, st))
+    return NurbsCurve(3, knots, bez)
+
+
+def read_json(path_or_text, source_name=None):
+    """Curves and surfaces from a surface JSON file (the format geom-tessellate
+    and geom-curve read: {"curves": [...], "surfaces": [...]}, see
+    docs/formats.md), parsed with Python's json module and built through the
+    C API (geom_surface_validate / geom_curve_validate check every entry).
+
+    path_or_text: a path, or the JSON text itself (str starting with "{" or "[", or
+    bytes). Returns {"curves": [NurbsCurve], "surfaces": [NurbsSurface]}
+    (names kept as NurbsSurface.name). Hermite, Catmull-Rom and
+    Kochanek-Bartels curves become their exact piecewise cubic Bezier form
+    as clamped cubic B-splines, as in the tools. Errors raise
+    SurfaceJSONError naming the source, the
+    entry and the key (JSON syntax errors: line and column)."""
+    import json
+    if isinstance(path_or_text, bytes):
+        text, src = path_or_text.decode("utf-8"), source_name or "<bytes>"
+    elif isinstance(path_or_text, str) and path_or_text.lstrip()[:1] in ("{", "["):
+        text, src = path_or_text, source_name or "<string>"
+    else:
+        path = os.fspath(path_or_text)
+        if "\0" in path:
+            raise ValueError("path contains a NUL character")
+        with open(path, "r", encoding="utf-8-sig") as fh:
+            text = fh.read()
+        src = source_name or path
+    try:
+        doc = json.loads(text)
+    except json.JSONDecodeError as e:
+        raise SurfaceJSONError("%s:%d:%d: JSON syntax error: %s" % (src, e.lineno, e.colno, e.msg)) \
+            from None
+    if not isinstance(doc, dict):
+        raise SurfaceJSONError("%s: expected an object {\"curves\": [...], \"surfaces\": [...]}"
+                               % src)
+    out = {"curves": [], "surfaces": []}
+    for key, build in (("curves", _json_curve), ("surfaces", _json_surface)):
+        entries = doc.get(key, [])
+        if not isinstance(entries, list):
+            raise SurfaceJSONError('%s: "%s": expected a list' % (src, key))
+        for i, entry in enumerate(entries):
+            where = "%s: %s[%d]" % (src, key, i)
+            if not isinstance(entry, dict):
+                raise SurfaceJSONError("%s: expected an object" % where)
+            if isinstance(entry.get("name"), str):
+                where += ' ("%s")' % entry["name"]
+            out[key].append(build(entry, where))
+    return out
+
+
 def tessellate(surfaces, tolerance=0.0, mode="adaptive", grid=(8, 8), per_surface=False,
                angle_degrees=0.0, attributes=("normal", "uv"), uv_normalized=False,
-               no_weld=False, keep_orientation=False, check_subdivisions=0, max_triangles=0):
+               no_weld=False, keep_orientation=False, check_subdivisions=0, max_triangles=0,
+               normal_weld_degrees=0.0):
     """Crack-free triangulation of one NurbsSurface or a list of them
     (geom_surface_tessellate), welded along shared boundaries.
 
@@ -251,7 +498,9 @@ def tessellate(surfaces, tolerance=0.0, mode="adaptive", grid=(8, 8), per_surfac
     surface and refined; "uniform": grid = (quads along u, along v) per knot
     span (per surface with per_surface=True). attributes: corner channels
     among "normal", "uv", "tangent", and "source" (a face channel with the
-    surface index).
+    surface index). normal_weld_degrees: the corner normals of a vertex
+    within this angle become one (0: the library's default, 0.01 degree;
+    negative: never).
 
     Returns (mesh, report): report has the sampled error against the exact
     surfaces (max_error, mean_error, method, evaluations) and the
@@ -278,6 +527,7 @@ def tessellate(surfaces, tolerance=0.0, mode="adaptive", grid=(8, 8), per_surfac
     opt.keep_orientation = 1 if keep_orientation else 0
     opt.check_subdivisions = int(check_subdivisions)
     opt.max_triangles = int(max_triangles)
+    opt.normal_weld_degrees = float(normal_weld_degrees)
     mesh = Mesh()
     rep = ffi.new("geom_error_report *")
     stats = ffi.new("geom_surface_tess_stats *")
@@ -292,4 +542,4 @@ def tessellate(surfaces, tolerance=0.0, mode="adaptive", grid=(8, 8), per_surfac
     return mesh, report
 
 
-__all__ = ["NurbsSurface", "read_bpt", "tessellate"]
+__all__ = ["NurbsSurface", "SurfaceJSONError", "read_bpt", "read_json", "tessellate"]

@@ -124,6 +124,11 @@ typedef enum geom_bary_simplex {
  * a failing row's weights are NaN; *n_failed (NULL allowed) counts them.
  * Returns GEOM_OK (rows fail individually), or GEOM_ERR_INVALID_ARG for a
  * NULL array or a bad kind with n > 0 (nothing written).
+ * One simplex shared by every row (all vertex strides 0) takes a faster
+ * loop: tri2 gives bitwise the single function's results; tet evaluates
+ * each determinant along the row of p (certified by the same filter), so a
+ * weight may differ from geom_bary_tet's in the last bits, always within its
+ * stated accuracy and with the same exact zeros, ones and statuses.
  */
 GEOM_API geom_status geom_bary_simplex_many(geom_bary_simplex kind, size_t n,
                                             const double *const pts[5], const size_t strides[5],

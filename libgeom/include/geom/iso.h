@@ -183,6 +183,11 @@ typedef struct geom_iso_options {
      *  the vertices are the same; for a grid, a negated copy of the
      *  samples is made). Any other value: GEOM_ERR_INVALID_ARG. */
     int inside;
+    /** Progress (NULL: none): called with the fraction (0..1] of the grid's
+     *  slabs extracted, on the calling thread only (never concurrently,
+     *  also when other threads extract). */
+    void (*progress)(void *user, double fraction);
+    void *progress_user; /**< passed to progress */
 } geom_iso_options;
 
 /** geom_iso_options::inside values. */

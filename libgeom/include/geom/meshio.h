@@ -194,6 +194,9 @@ GEOM_API geom_status geom_meshio_read_file(geom_file *file, const char *source_n
 #define GEOM_MESHIO_ATTR_TANGENT 8u
 /** OBJ: omit tags (t), groups (g/o/usemtl/s), mtllibs and polylines (l). */
 #define GEOM_MESHIO_ATTR_META 16u
+/** OBJ: omit the mtllib lines only (a material library that is not next to
+ *  the output would be a dangling reference). */
+#define GEOM_MESHIO_ATTR_MTLLIB 32u
 
 typedef enum geom_meshio_encoding {
     GEOM_MESHIO_ENCODING_DEFAULT = 0,  /**< PLY: binary little endian; STL: binary */

@@ -432,7 +432,28 @@ typedef struct geom_surface_tess_options {
     size_t max_triangles;
     /** Allocator for the mesh's temporary memory; NULL = libc. */
     const geom_allocator *alloc;
+    /** Normal welding (with GEOM_SURFACE_ATTR_NORMAL): the corner normals of
+     *  one vertex (patches meeting at a seam or a corner) that are within
+     *  this angle (degrees) of each other become one normal value, the first
+     *  patch's, so a renderer does not split the vertex for the rounding
+     *  difference of two evaluations. Normals further apart (creases, poles
+     *  approached from different patches) stay apart. 0 means
+     *  GEOM_SURFACE_NORMAL_WELD_DEFAULT; negative: no welding (every corner
+     *  keeps its own patch's analytic normal). */
+    double normal_weld_degrees;
+    /** Progress (NULL: none): called on the calling thread after each cell
+     *  of each pass with the fraction (0..1] of that pass's cells done. A
+     *  pass is a triangulation and error check of every cell; adaptive
+     *  tessellation runs one per refinement (the fraction then restarts
+     *  from 0) and a last one that makes the output. */
+    void (*progress)(void *user, double fraction);
+    void *progress_user; /**< passed to progress */
 } geom_surface_tess_options;
+
+/** Default angle (degrees) under which the corner normals of one vertex are
+ *  welded by geom_surface_tessellate: a welded normal is then within this
+ *  angle of the patch's analytic normal. */
+#define GEOM_SURFACE_NORMAL_WELD_DEFAULT 0.01
 
 /** What a tessellation made, besides the error report. */
 typedef struct geom_surface_tess_stats {
@@ -445,6 +466,8 @@ typedef struct geom_surface_tess_stats {
     size_t boundary_edges;    /**< cell edges on the open boundary (no partner) */
     size_t refinements;       /**< adaptive: passes that refined a cell after the check */
     size_t limit_normals;     /**< vertex normals taken as a limit (degenerate points) */
+    size_t welded_normals;    /**< corners given another patch's normal within
+                                   normal_weld_degrees */
 } geom_surface_tess_stats;
 
 /**

@@ -2,6 +2,14 @@
  * Batch entry points of the barycentric functions: one call over n rows,
  * each argument either one row per query (stride = its size) or the same
  * for every row (stride 0), so bindings (numpy) pay the call overhead once.
+ *
+ * The common case of one simplex shared by every row gets its own loop: the
+ * vertex differences, minors and permanents that do not depend on p are
+ * computed once, and each row evaluates only its p-dependent terms with the
+ * same certified filter as the single-point functions (relative error at
+ * most 2^-42 per determinant). A row the filter cannot certify (a point on
+ * or very near a face, a vertex, non-finite input) goes through the
+ * single-point function, which evaluates it exactly.
  */
 #include "bary/bary_internal.h"
 
@@ -18,6 +26,156 @@ static void finish_row(geom_status st, double *out, size_t k, int32_t *status, s
     }
     if (status)
         status[i] = (int32_t)st;
+}
+
+static inline double quot(double n, double d)
+{
+    double r = n / d;
+    if (r == 0.0 && n != 0.0)
+        r = copysign(DBL_TRUE_MIN, n) * copysign(1.0, d);
+    return r;
+}
+
+/* The filter of geom_bary_det2 without branches: 1 when x1*y2 - y1*x2 is
+ * certified (an exact zero is left to the single-point function). */
+static inline int det2_ok(double x1, double y2, double y1, double x2, double *out)
+{
+    double t1 = x1 * y2, t2 = y1 * x2;
+    double det = t1 - t2, sum = fabs(t1) + fabs(t2);
+    *out = det;
+    return (fabs(det) >= (GEOM_BARY_CCW_A * GEOM_BARY_REL) * sum + GEOM_BARY_TINY) &
+           (sum < GEOM_BARY_BIG);
+}
+
+/* Rows per block of the shared-simplex loops: each block is computed without
+ * branches, then its rows are checked only when one was not certified. */
+#define BLOCK 64
+
+/* tri2 over n points p (stride sp) in the one triangle (a, b, c): the very
+ * expressions of geom_bary_tri2 (bitwise the same results), with the
+ * triangle's differences and D computed once. */
+static void tri2_shared(const double a[2], const double b[2], const double c[2], size_t n,
+                        const double *p, size_t sp, double *out, int32_t *status, size_t *failed)
+{
+    double acx = a[0] - c[0], acy = a[1] - c[1];
+    double bcx = b[0] - c[0], bcy = b[1] - c[1];
+    double d;
+    int fast = geom_bary_finite(a, 2) && geom_bary_finite(b, 2) && geom_bary_finite(c, 2) &&
+               geom_bary_det2(acx, bcy, acy, bcx, GEOM_BARY_REL, &d) && d != 0.0;
+    for (size_t i0 = 0; i0 < n; i0 += BLOCK) {
+        size_t m = n - i0 < BLOCK ? n - i0 : BLOCK;
+        int ok[BLOCK], all = fast;
+        if (fast) {
+            for (size_t j = 0; j < m; j++) {
+                const double *q = p + (i0 + j) * sp;
+                double *o = out + 3 * (i0 + j);
+                double pcx = q[0] - c[0], pcy = q[1] - c[1];
+                double apx = a[0] - q[0], apy = a[1] - q[1];
+                double bpx = b[0] - q[0], bpy = b[1] - q[1];
+                double n0, n1, n2;
+                ok[j] = det2_ok(pcx, bcy, pcy, bcx, &n0) & det2_ok(acx, pcy, acy, pcx, &n1) &
+                        det2_ok(apx, bpy, apy, bpx, &n2);
+                o[0] = n0 / d;
+                o[1] = n1 / d;
+                o[2] = n2 / d;
+                all &= ok[j];
+            }
+        }
+        for (size_t j = 0; j < m; j++) {
+            size_t i = i0 + j;
+            double *o = out + 3 * i;
+            if (all || (fast && ok[j])) {
+                /* a certified N is never 0: a zero quotient underflowed;
+                 * keep its sign (IEEE gives the zero the quotient's sign) */
+                for (int k = 0; k < 3; k++)
+                    if (o[k] == 0.0)
+                        o[k] = copysign(DBL_TRUE_MIN, o[k]);
+                if (status)
+                    status[i] = GEOM_OK;
+                continue;
+            }
+            finish_row(geom_bary_tri2(a, b, c, p + i * sp, o), o, 3, status, i, failed);
+        }
+    }
+}
+
+/* One 3x3 determinant expanded along the row r = (x, y, z) with the other
+ * two rows' minors m and permanents pm fixed: the evaluation Shewchuk's
+ * orient3d bound covers (any row order), so the same filter certifies it. */
+static inline int det3_row(double x, double y, double z, const double m[3], const double pm[3],
+                           double *out)
+{
+    double det = x * m[0] + y * m[1] + z * m[2];
+    double ax = fabs(x), ay = fabs(y), az = fabs(z);
+    double perm = ax * pm[0] + ay * pm[1] + az * pm[2];
+    double tiny = GEOM_BARY_TINY * (1.0 + ax + ay + az);
+    *out = det;
+    return (fabs(det) >= (GEOM_BARY_O3D_A * GEOM_BARY_REL) * perm + tiny) &
+           (perm < GEOM_BARY_BIG);
+}
+
+/* Minors and permanents of rows u, v for the expansion along the other row
+ * (placed first): det[r; u; v] = r . (u x v). */
+static void minors(const double u[3], const double v[3], double m[3], double pm[3])
+{
+    double t[6] = {u[1] * v[2], u[2] * v[1], u[2] * v[0], u[0] * v[2], u[0] * v[1], u[1] * v[0]};
+    for (int k = 0; k < 3; k++) {
+        m[k] = t[2 * k] - t[2 * k + 1];
+        pm[k] = fabs(t[2 * k]) + fabs(t[2 * k + 1]);
+    }
+}
+
+static void sub3(const double a[3], const double b[3], double out[3])
+{
+    for (int k = 0; k < 3; k++)
+        out[k] = a[k] - b[k];
+}
+
+/* tet over n points in the one tetrahedron (a, b, c, d). With p in place of
+ * a vertex, the determinant is linear in p: N_a = (p-d).((b-d)x(c-d)),
+ * N_b = (p-d).((c-d)x(a-d)), N_c = (p-d).((a-d)x(b-d)), and N_d, by
+ * translation invariance, (p-c).((b-c)x(a-c)). Each is certified on its own;
+ * the weights agree with geom_bary_tet's within its stated accuracy (the
+ * rounding of a certified value may differ in the last bits), and every row
+ * the filter cannot certify is geom_bary_tet's own result. */
+static void tet_shared(const double a[3], const double b[3], const double c[3],
+                       const double d[3], size_t n, const double *p, size_t sp, double *out,
+                       int32_t *status, size_t *failed)
+{
+    double ad[3], bd[3], cd[3], ac[3], bc[3];
+    sub3(a, d, ad);
+    sub3(b, d, bd);
+    sub3(c, d, cd);
+    sub3(a, c, ac);
+    sub3(b, c, bc);
+    double m[4][3], pm[4][3];
+    minors(bd, cd, m[0], pm[0]);
+    minors(cd, ad, m[1], pm[1]);
+    minors(ad, bd, m[2], pm[2]);
+    minors(bc, ac, m[3], pm[3]);
+    double vol;
+    int fast = geom_isfinite3(a) && geom_isfinite3(b) && geom_isfinite3(c) && geom_isfinite3(d) &&
+               det3_row(ad[0], ad[1], ad[2], m[0], pm[0], &vol) && vol != 0.0;
+    for (size_t i = 0; i < n; i++) {
+        const double *q = p + i * sp;
+        double *o = out + 4 * i;
+        if (fast) {
+            double x = q[0] - d[0], y = q[1] - d[1], z = q[2] - d[2];
+            double xc = q[0] - c[0], yc = q[1] - c[1], zc = q[2] - c[2];
+            double n0, n1, n2, n3;
+            if (det3_row(x, y, z, m[0], pm[0], &n0) & det3_row(x, y, z, m[1], pm[1], &n1) &
+                det3_row(x, y, z, m[2], pm[2], &n2) & det3_row(xc, yc, zc, m[3], pm[3], &n3)) {
+                o[0] = quot(n0, vol);
+                o[1] = quot(n1, vol);
+                o[2] = quot(n2, vol);
+                o[3] = quot(n3, vol);
+                if (status)
+                    status[i] = GEOM_OK;
+                continue;
+            }
+        }
+        finish_row(geom_bary_tet(a, b, c, d, q, o), o, 4, status, i, failed);
+    }
 }
 
 geom_status geom_bary_simplex_many(geom_bary_simplex kind, size_t n, const double *const pts[5],
@@ -40,6 +198,13 @@ geom_status geom_bary_simplex_many(geom_bary_simplex kind, size_t n, const doubl
     const double *a = pts[0], *b = pts[1], *c = pts[2], *d = pts[3], *p = pts[np - 1];
     size_t sa = strides[0], sb = strides[1], sc = strides[2], sd = strides[3],
            sp = strides[np - 1];
+    if (kind == GEOM_BARY_TRI2 && sa == 0 && sb == 0 && sc == 0) {
+        tri2_shared(a, b, c, n, p, sp, out, status, &failed);
+        n = 0;
+    } else if (kind == GEOM_BARY_TET && sa == 0 && sb == 0 && sc == 0 && sd == 0) {
+        tet_shared(a, b, c, d, n, p, sp, out, status, &failed);
+        n = 0;
+    }
     for (size_t i = 0; i < n; i++) {
         double *o = out + k * i;
         geom_status st;

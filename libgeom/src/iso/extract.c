@@ -897,6 +897,8 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
     }
     int threads = opt ? opt->threads : 0;
     int used = 1;
+    void (*progress)(void *, double) = opt ? opt->progress : NULL;
+    void *progress_user = opt ? opt->progress_user : NULL;
 #ifdef GEOM_ISO_OPENMP
     int nth = threads > 0 ? threads : omp_get_max_threads();
     if (threads <= 0) {
@@ -914,21 +916,32 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
         nth = 1;
     used = nth;
     long long ns = (long long)nslabs;
+    long long done = 0;
 #pragma omp parallel num_threads(nth)
     {
         work w;
         work_init(&c, &w);
 #pragma omp for schedule(dynamic, 1)
-        for (long long q = 0; q < ns; q++)
+        for (long long q = 0; q < ns; q++) {
             run_slab(&c, &sl[q], &w);
+            long long d;
+#pragma omp atomic capture
+            d = ++done;
+            /* the callback only ever runs on the calling thread */
+            if (progress && omp_get_thread_num() == 0)
+                progress(progress_user, (double)d / (double)ns);
+        }
         work_free(&c, &w);
     }
 #else
     {
         work w;
         work_init(&c, &w);
-        for (size_t q = 0; q < nslabs; q++)
+        for (size_t q = 0; q < nslabs; q++) {
             run_slab(&c, &sl[q], &w);
+            if (progress)
+                progress(progress_user, (double)(q + 1) / (double)nslabs);
+        }
         work_free(&c, &w);
     }
 #endif

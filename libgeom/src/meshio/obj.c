@@ -603,7 +603,7 @@ geom_status geom_meshio__write_obj(const geom_mesh *m, const geom_meshio_write_o
     geom_meshio__puts(k, geom_version_string());
     mio_putc(k, '\n');
     int meta = !(omit & GEOM_MESHIO_ATTR_META);
-    if (meta)
+    if (meta && !(omit & GEOM_MESHIO_ATTR_MTLLIB))
         for (size_t i = 0; i < geom_mesh_mtllib_count(m); i++)
             put_name_line(k, "mtllib", geom_mesh_mtllib_get(m, i));
 

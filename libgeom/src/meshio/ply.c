@@ -730,8 +730,12 @@ geom_status geom_meshio__write_ply(const geom_mesh *m, const geom_meshio_write_o
     int as_float = opt->ply_float && !ascii;
     uint32_t chan[MIO_NATTR];
     for (int a = 0; a < MIO_NATTR; a++)
-        chan[a] = a == MIO_ATTR_TANGENT ? GEOM_INVALID_INDEX
-                                        : geom_meshio__attr_channel(m, a, opt->omit);
+        chan[a] = geom_meshio__attr_channel(m, a, opt->omit);
+    /* tangents (x, y, z and the bitangent sign w) as tangent_x..tangent_w:
+     * PLY has no standard name for them */
+    if (chan[MIO_ATTR_TANGENT] != GEOM_INVALID_INDEX &&
+        geom_mesh_channel_ncomp(m, chan[MIO_ATTR_TANGENT]) < 3)
+        chan[MIO_ATTR_TANGENT] = GEOM_INVALID_INDEX;
     if (chan[MIO_ATTR_NORMAL] != GEOM_INVALID_INDEX &&
         geom_mesh_channel_ncomp(m, chan[MIO_ATTR_NORMAL]) < 3)
         chan[MIO_ATTR_NORMAL] = GEOM_INVALID_INDEX;
@@ -753,6 +757,7 @@ geom_status geom_meshio__write_ply(const geom_mesh *m, const geom_meshio_write_o
     int has_n = chan[MIO_ATTR_NORMAL] != GEOM_INVALID_INDEX;
     int has_uv = chan[MIO_ATTR_UV] != GEOM_INVALID_INDEX;
     int has_c = chan[MIO_ATTR_COLOR] != GEOM_INVALID_INDEX;
+    int has_t = chan[MIO_ATTR_TANGENT] != GEOM_INVALID_INDEX;
     int alpha = has_c && geom_mesh_channel_ncomp(m, chan[MIO_ATTR_COLOR]) >= 4;
     int falpha = fcol != GEOM_INVALID_INDEX && geom_mesh_channel_ncomp(m, fcol) >= 4;
     const char *ft = as_float ? "float" : "double";
@@ -766,28 +771,20 @@ geom_status geom_meshio__write_ply(const geom_mesh *m, const geom_meshio_write_o
     mio_putc(k, '\n');
     static const char *const xyz[] = {"x", "y", "z"}, *const nxyz[] = {"nx", "ny", "nz"},
                               *const uv[] = {"s", "t"}, /* Blender, MeshLab */
-                              *const rgba[] = {"red", "green", "blue", "alpha"};
-    for (int i = 0; i < 3; i++) {
-        geom_meshio__puts(k, "property ");
-        geom_meshio__puts(k, ft);
-        mio_putc(k, ' ');
-        geom_meshio__puts(k, xyz[i]);
-        mio_putc(k, '\n');
-    }
-    for (int i = 0; has_n && i < 3; i++) {
-        geom_meshio__puts(k, "property ");
-        geom_meshio__puts(k, ft);
-        mio_putc(k, ' ');
-        geom_meshio__puts(k, nxyz[i]);
-        mio_putc(k, '\n');
-    }
-    for (int i = 0; has_uv && i < 2; i++) {
-        geom_meshio__puts(k, "property ");
-        geom_meshio__puts(k, ft);
-        mio_putc(k, ' ');
-        geom_meshio__puts(k, uv[i]);
-        mio_putc(k, '\n');
-    }
+                              *const rgba[] = {"red", "green", "blue", "alpha"},
+                              *const txyzw[] = {"tangent_x", "tangent_y", "tangent_z",
+                                                "tangent_w"};
+    const char *const *fnames[4] = {xyz, nxyz, uv, txyzw};
+    const int fon[4] = {1, has_n, has_uv, has_t};
+    static const int fcount[4] = {3, 3, 2, 4};
+    for (int a = 0; a < 4; a++)
+        for (int i = 0; fon[a] && i < fcount[a]; i++) {
+            geom_meshio__puts(k, "property ");
+            geom_meshio__puts(k, ft);
+            mio_putc(k, ' ');
+            geom_meshio__puts(k, fnames[a][i]);
+            mio_putc(k, '\n');
+        }
     for (int i = 0; has_c && i < 3 + alpha; i++) {
         geom_meshio__puts(k, "property uchar ");
         geom_meshio__puts(k, rgba[i]);
@@ -815,17 +812,16 @@ geom_status geom_meshio__write_ply(const geom_mesh *m, const geom_meshio_write_o
                 mio_putc(k, ' ');
             put_ply_value(k, p[j], ascii, be, as_float);
         }
-        if (has_n) {
-            geom_meshio__export_value(&e, m, MIO_ATTR_NORMAL, i, val, 3);
-            for (int j = 0; j < 3; j++) {
-                if (ascii)
-                    mio_putc(k, ' ');
-                put_ply_value(k, val[j], ascii, be, as_float);
-            }
-        }
-        if (has_uv) {
-            geom_meshio__export_value(&e, m, MIO_ATTR_UV, i, val, 2);
-            for (int j = 0; j < 2; j++) {
+        /* the floating-point attributes, in header order */
+        static const int fattr[3] = {MIO_ATTR_NORMAL, MIO_ATTR_UV, MIO_ATTR_TANGENT};
+        const int fhas[3] = {has_n, has_uv, has_t};
+        static const size_t fcomp[3] = {3, 2, 4};
+        for (int a = 0; a < 3; a++) {
+            if (!fhas[a])
+                continue;
+            val[3] = 1.0; /* a tangent without w */
+            geom_meshio__export_value(&e, m, fattr[a], i, val, fcomp[a]);
+            for (size_t j = 0; j < fcomp[a]; j++) {
                 if (ascii)
                     mio_putc(k, ' ');
                 put_ply_value(k, val[j], ascii, be, as_float);

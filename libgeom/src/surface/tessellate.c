@@ -27,6 +27,9 @@
 #define LOCATE SIZE_MAX
 #define MAX_GRID 65536u
 #define MAX_PASSES 40
+/* adaptive: a cell far under the tolerance is coarsened toward this fraction
+ * of it (then checked again) */
+#define COARSEN_TARGET 0.95
 
 /* ------------------------------------------------------------ structures */
 
@@ -126,6 +129,8 @@ typedef struct ts {
     geom_curve_scratch sc;
     size_t evals;
     size_t limit_normals;
+    double normal_weld;    /* radians; 0: corner normals not welded */
+    size_t welded_normals; /* corners whose normal was welded */
     int counting; /* count limit normals (the output pass) */
 } ts;
 
@@ -1461,6 +1466,66 @@ static int sig_changed(const ts_cell *c, const uint32_t *old)
     return 0;
 }
 
+/* Weld the corner normals of each vertex that agree within the angle tol
+ * (radians): corners of one vertex whose normals differ only by the
+ * rounding of two patches' evaluations (a G1 seam) take the first such
+ * normal, so a renderer's vertex is not split for a last-bit difference.
+ * Corners whose normals differ by more (creases, poles seen from different
+ * patches) keep their own. cn: 3*ntri corner normal indices, tri: compact
+ * vertex ids (nv of them). Returns the corners changed, or SIZE_MAX on no
+ * memory. */
+static size_t weld_normals(ts *T, uint32_t *cn, size_t nv, double tol)
+{
+    size_t nc = 3 * T->ntri, changed = 0;
+    size_t *start = ts_alloc(T, nv + 1, sizeof(size_t));
+    uint32_t *order = ts_alloc(T, nc ? nc : 1, sizeof(uint32_t));
+    if (!start || !order) {
+        if (start)
+            ts_free(T, start, nv + 1, sizeof(size_t));
+        if (order)
+            ts_free(T, order, nc ? nc : 1, sizeof(uint32_t));
+        return SIZE_MAX;
+    }
+    /* corners grouped by vertex (counting sort) */
+    memset(start, 0, (nv + 1) * sizeof(size_t));
+    for (size_t k = 0; k < nc; ++k)
+        start[T->tri[k] + 1]++;
+    for (size_t v = 0; v < nv; ++v)
+        start[v + 1] += start[v];
+    for (size_t k = 0; k < nc; ++k)
+        order[start[T->tri[k]]++] = (uint32_t)k;
+    for (size_t v = nv; v > 0; --v)
+        start[v] = start[v - 1];
+    start[0] = 0;
+    double cmin = cos(tol);
+    const double *N = T->pn.vals;
+    for (size_t v = 0; v < nv; ++v) {
+        /* the distinct normals of this vertex are few: quadratic is fine */
+        for (size_t i = start[v]; i < start[v + 1]; ++i) {
+            uint32_t a = cn[order[i]];
+            if (a == NONE32)
+                continue;
+            for (size_t j = start[v]; j < i; ++j) {
+                uint32_t b = cn[order[j]];
+                if (b == a || b == NONE32)
+                    break;
+                const double *na = N + 3 * (size_t)a, *nb = N + 3 * (size_t)b;
+                double d = na[0] * nb[0] + na[1] * nb[1] + na[2] * nb[2];
+                double la = na[0] * na[0] + na[1] * na[1] + na[2] * na[2];
+                double lb = nb[0] * nb[0] + nb[1] * nb[1] + nb[2] * nb[2];
+                if (la > 0.0 && lb > 0.0 && d >= cmin * sqrt(la * lb)) {
+                    cn[order[i]] = b;
+                    changed++;
+                    break;
+                }
+            }
+        }
+    }
+    ts_free(T, start, nv + 1, sizeof(size_t));
+    ts_free(T, order, nc ? nc : 1, sizeof(uint32_t));
+    return changed;
+}
+
 /* Build the mesh from the emitted triangles: compact vertices, then one
  * build with the face and corner channels. */
 static geom_status build_mesh(ts *T, geom_mesh *out, unsigned attrs, geom_diag *diag)
@@ -1528,6 +1593,14 @@ static geom_status build_mesh(ts *T, geom_mesh *out, unsigned attrs, geom_diag *
         for (size_t t = 0; t < T->ntri; ++t)
             for (size_t k = 0; k < 3; ++k)
                 cidx[ch][3 * t + k] = T->tcorn[9 * t + 3 * (size_t)ch + k];
+        if (ch == 0 && T->normal_weld > 0.0) {
+            size_t w = weld_normals(T, cidx[0], nv, T->normal_weld);
+            if (w == SIZE_MAX) {
+                st = GEOM_ERR_NOMEM;
+                goto done;
+            }
+            T->welded_normals = w;
+        }
         chans[nch].name = names[ch];
         chans[nch].domain = GEOM_MESH_DOMAIN_CORNER;
         chans[nch].ncomp = ncomp[ch];
@@ -1696,6 +1769,9 @@ static geom_status tessellate_unscaled(const geom_nurbs_surface *surfaces, size_
     /* welding: the model's size, and the resolution of its coordinates */
     T.weld_tol = 1e-9 * diagl + 256.0 * DBL_EPSILON * maxabs;
     T.ang_tol = T.adaptive ? o->angle_degrees : 0.0;
+    T.normal_weld = o->normal_weld_degrees < 0.0   ? 0.0
+                    : o->normal_weld_degrees > 0.0 ? o->normal_weld_degrees * (GEOM_PI / 180.0)
+                                                   : GEOM_SURFACE_NORMAL_WELD_DEFAULT * (GEOM_PI / 180.0);
     T.ksub = o->check_subdivisions ? o->check_subdivisions : 4;
     T.max_tri = o->max_triangles ? o->max_triangles : ((size_t)1 << 24);
     T.pn.ncomp = 3;
@@ -1754,22 +1830,56 @@ static geom_status tessellate_unscaled(const geom_nurbs_surface *surfaces, size_
                 check_cell(&T, c);
             if (T.adaptive && (c->err > T.tol || (T.ang_tol > 0.0 && c->ang > T.ang_tol)))
                 failing = 1;
+            if (o->progress)
+                o->progress(o->progress_user, (double)(i + 1) / (double)T.ncells);
         }
         passes++;
-        if (!failing || !T.adaptive || passes >= MAX_PASSES)
+        /* First pass, adaptive: the sizing bound is conservative (a sphere
+         * cell sized for 1e-4 measures about 6e-5), so a cell well under
+         * the tolerance is coarsened once toward COARSEN_TARGET of it (the
+         * chordal error goes as the step squared) and checked again; cells
+         * the coarsening pushes over are refined below. Without this the
+         * result could need up to 1.5x the triangles of a uniform grid that
+         * meets the same tolerance. */
+        int coarsened = 0;
+        if (T.adaptive && passes == 1) {
+            for (size_t i = 0; i < T.ncells; ++i) {
+                ts_cell *c = &T.cells[i];
+                if (!(c->err < 0.8 * T.tol) || !(c->err > 0.0) ||
+                    (T.ang_tol > 0.0 && !(c->ang < 0.8 * T.ang_tol)))
+                    continue;
+                double f = sqrt(c->err / (COARSEN_TARGET * T.tol));
+                if (T.ang_tol > 0.0 && c->ang > 0.0)
+                    f = fmax(f, c->ang / (COARSEN_TARGET * T.ang_tol));
+                f = fmax(f, 0.25);
+                uint32_t M = (uint32_t)fmax(1.0, ceil((double)c->M * f));
+                uint32_t N = (uint32_t)fmax(1.0, ceil((double)c->N * f));
+                if (M != c->M || N != c->N) {
+                    c->M = M;
+                    c->N = N;
+                    coarsened = 1;
+                }
+            }
+        }
+        if ((!failing && !coarsened) || !T.adaptive || passes >= MAX_PASSES)
             break;
         for (size_t i = 0; i < T.ncells; ++i) {
             ts_cell *c = &T.cells[i];
             double f = 1.0;
             if (c->err > T.tol)
-                f = fmax(f, 1.1 * sqrt(c->err / T.tol));
+                f = fmax(f, 1.05 * sqrt(c->err / T.tol));
             if (T.ang_tol > 0.0 && c->ang > T.ang_tol)
-                f = fmax(f, 1.1 * c->ang / T.ang_tol);
+                f = fmax(f, 1.05 * c->ang / T.ang_tol);
             if (f <= 1.0)
                 continue;
-            f = fmin(fmax(f, 1.25), 4.0);
-            c->M = (uint32_t)fmin(ceil((double)c->M * f), (double)MAX_GRID + 1);
-            c->N = (uint32_t)fmin(ceil((double)c->N * f), (double)MAX_GRID + 1);
+            /* the smallest step that can pass: at least one more segment
+             * (a larger minimum factor overshoots: 1.25 in both directions
+             * is 1.56x the triangles) */
+            f = fmin(f, 4.0);
+            c->M = (uint32_t)fmin(fmax(ceil((double)c->M * f), (double)c->M + 1.0),
+                                  (double)MAX_GRID + 1);
+            c->N = (uint32_t)fmin(fmax(ceil((double)c->N * f), (double)c->N + 1.0),
+                                  (double)MAX_GRID + 1);
             if (stats)
                 stats->refinements++;
         }
@@ -1794,6 +1904,8 @@ static geom_status tessellate_unscaled(const geom_nurbs_surface *surfaces, size_
         if (c->ecnt) /* weighted running mean of the cells' means */
             esum += (c->esum - esum) * ((double)c->ecnt / (double)(ecount + c->ecnt));
         ecount += c->ecnt;
+        if (o->progress)
+            o->progress(o->progress_user, (double)(i + 1) / (double)T.ncells);
         st = emit_cell(&T, c, attrs, o->uv_normalized);
         if (st == GEOM_ERR_LIMIT)
             st = geom_diag_set(diag, GEOM_ERR_LIMIT, NULL, 0, 0,
@@ -1818,6 +1930,7 @@ static geom_status tessellate_unscaled(const geom_nurbs_surface *surfaces, size_
         stats->triangles = geom_mesh_n_faces(out);
         stats->vertices = geom_mesh_n_vertices(out);
         stats->limit_normals = T.limit_normals;
+        stats->welded_normals = T.welded_normals;
         for (size_t i = 0; i < T.nedges; ++i) {
             const ts_edge *e = &T.edges[i];
             stats->boundary_edges += e->boundary && !e->collapsed && e->partner == NONE32;

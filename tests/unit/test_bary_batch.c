@@ -1,0 +1,186 @@
+/*
+ * Batch barycentric coordinates (geom_bary_simplex_many) against the
+ * single-point functions: the shared-simplex loops (all vertex strides 0)
+ * must give the same statuses, the same exact zeros and ones on faces and at
+ * vertices, bitwise the same tri2 weights, and tet weights within the
+ * single function's stated accuracy (4.6e-13 relative); non-finite and
+ * degenerate rows fail as the single functions fail.
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "geom/bary.h"
+
+#define N 4000
+
+static uint64_t rng_state = 0x9e3779b97f4a7c15ull;
+static double urand(void)
+{
+    rng_state ^= rng_state << 13;
+    rng_state ^= rng_state >> 7;
+    rng_state ^= rng_state << 17;
+    return (double)(rng_state >> 11) * 0x1p-53;
+}
+
+/* Points: random, then every vertex, edge midpoints and points on the
+ * lines through edges (exact zeros), then NaN and Inf rows. */
+static size_t fill_points(double *p, size_t dim, const double *v, size_t nv)
+{
+    size_t n = 0;
+    for (; n < N - 64; n++)
+        for (size_t k = 0; k < dim; k++)
+            p[dim * n + k] = -1.0 + 4.0 * urand();
+    for (size_t i = 0; i < nv; i++, n++)
+        memcpy(p + dim * n, v + dim * i, dim * sizeof(double));
+    for (size_t i = 0; i < nv; i++)
+        for (size_t j = i + 1; j < nv; j++, n++)
+            for (size_t k = 0; k < dim; k++)
+                p[dim * n + k] = 0.5 * (v[dim * i + k] + v[dim * j + k]);
+    for (size_t k = 0; k < dim; k++)
+        p[dim * n + k] = NAN;
+    n++;
+    for (size_t k = 0; k < dim; k++)
+        p[dim * n + k] = k ? 0.0 : INFINITY;
+    n++;
+    /* points near the vertices (uncertified by the filter, exact path) */
+    for (size_t i = 0; i < nv; i++, n++)
+        for (size_t k = 0; k < dim; k++)
+            p[dim * n + k] = v[dim * i + k] + (k ? 0x1p-50 : 0.0);
+    return n;
+}
+
+static void check_rows(size_t n, size_t k, const double *got, const int32_t *gst,
+                       const double *want, const int32_t *wst, double rel)
+{
+    for (size_t i = 0; i < n; i++) {
+        if (gst[i] != wst[i])
+            fail_msg("row %zu: status %d, single %d", i, (int)gst[i], (int)wst[i]);
+        if (wst[i] != GEOM_OK) {
+            for (size_t j = 0; j < k; j++)
+                assert_true(isnan(got[k * i + j]));
+            continue;
+        }
+        for (size_t j = 0; j < k; j++) {
+            double g = got[k * i + j], w = want[k * i + j];
+            if (w == 0.0 || w == 1.0 || rel == 0.0) {
+                if (memcmp(&g, &w, sizeof g) != 0)
+                    fail_msg("row %zu weight %zu: %.17g, single %.17g", i, j, g, w);
+            } else if (!(fabs(g - w) <= rel * fabs(w)) || signbit(g) != signbit(w)) {
+                fail_msg("row %zu weight %zu: %.17g, single %.17g", i, j, g, w);
+            }
+        }
+    }
+}
+
+static void test_tri2_shared(void **state)
+{
+    (void)state;
+    static double p[2 * N], got[3 * N], want[3 * N];
+    static int32_t gst[N], wst[N];
+    const double v[6] = {0.1, 0.2, 3.0, 0.5, 1.0, 2.5};
+    size_t n = fill_points(p, 2, v, 3);
+    const double *pts[5] = {v, v + 2, v + 4, p, NULL};
+    const size_t strides[5] = {0, 0, 0, 2, 0};
+    size_t failed = 0;
+    assert_int_equal(geom_bary_simplex_many(GEOM_BARY_TRI2, n, pts, strides, got, gst, &failed),
+                     GEOM_OK);
+    size_t wfail = 0;
+    for (size_t i = 0; i < n; i++) {
+        wst[i] = geom_bary_tri2(v, v + 2, v + 4, p + 2 * i, want + 3 * i);
+        wfail += wst[i] != GEOM_OK;
+    }
+    assert_int_equal(failed, wfail);
+    assert_int_equal(wfail, 2); /* the NaN and Inf rows */
+    check_rows(n, 3, got, gst, want, wst, 0.0);
+    /* a vertex gives exactly (1, 0, 0) */
+    assert_true(got[3 * (N - 64)] == 1.0 && got[3 * (N - 64) + 1] == 0.0);
+}
+
+static void test_tri2_degenerate_shared(void **state)
+{
+    (void)state;
+    const double a[2] = {0, 0}, b[2] = {1, 1}, c[2] = {2, 2}, p[4] = {0.5, 0.2, 1, 1};
+    const double *pts[5] = {a, b, c, p, NULL};
+    const size_t strides[5] = {0, 0, 0, 2, 0};
+    double out[6];
+    int32_t st[2];
+    size_t failed = 0;
+    assert_int_equal(geom_bary_simplex_many(GEOM_BARY_TRI2, 2, pts, strides, out, st, &failed),
+                     GEOM_OK);
+    assert_int_equal(failed, 2);
+    assert_int_equal(st[0], GEOM_ERR_DEGENERATE);
+    assert_int_equal(st[1], GEOM_ERR_DEGENERATE);
+    assert_true(isnan(out[0]));
+}
+
+static void test_tet_shared(void **state)
+{
+    (void)state;
+    static double p[3 * N], got[4 * N], want[4 * N];
+    static int32_t gst[N], wst[N];
+    const double v[12] = {0.3, -0.2, 0.1, 2.0, 0.1, -0.4, 0.2, 1.7, 0.3, -0.1, 0.4, 2.2};
+    size_t n = fill_points(p, 3, v, 4);
+    const double *pts[5] = {v, v + 3, v + 6, v + 9, p};
+    const size_t strides[5] = {0, 0, 0, 0, 3};
+    size_t failed = 0;
+    assert_int_equal(geom_bary_simplex_many(GEOM_BARY_TET, n, pts, strides, got, gst, &failed),
+                     GEOM_OK);
+    size_t wfail = 0;
+    for (size_t i = 0; i < n; i++) {
+        wst[i] = geom_bary_tet(v, v + 3, v + 6, v + 9, p + 3 * i, want + 4 * i);
+        wfail += wst[i] != GEOM_OK;
+    }
+    assert_int_equal(failed, wfail);
+    assert_int_equal(wfail, 2);
+    check_rows(n, 4, got, gst, want, wst, 1e-12);
+    /* the weights reproduce the point and sum to 1 */
+    for (size_t i = 0; i < n; i++) {
+        if (gst[i] != GEOM_OK)
+            continue;
+        const double *l = got + 4 * i;
+        double s = l[0] + l[1] + l[2] + l[3];
+        assert_true(fabs(s - 1.0) < 1e-11 * (1.0 + fabs(l[0]) + fabs(l[1]) + fabs(l[2])));
+        for (int k = 0; k < 3; k++) {
+            double x = l[0] * v[k] + l[1] * v[3 + k] + l[2] * v[6 + k] + l[3] * v[9 + k];
+            assert_true(fabs(x - p[3 * i + k]) < 1e-10);
+        }
+    }
+}
+
+static void test_tet_general_strides(void **state)
+{
+    (void)state;
+    /* one tetrahedron per row (no shared path) gives the single results */
+    static double a[3 * 64], p[3 * 64], got[4 * 64], want[4 * 64];
+    static int32_t gst[64], wst[64];
+    const double b[3] = {1, 0, 0}, c[3] = {0, 1, 0}, d[3] = {0, 0, 1};
+    for (size_t i = 0; i < 3 * 64; i++) {
+        a[i] = -0.5 * urand();
+        p[i] = urand();
+    }
+    const double *pts[5] = {a, b, c, d, p};
+    const size_t strides[5] = {3, 0, 0, 0, 3};
+    assert_int_equal(geom_bary_simplex_many(GEOM_BARY_TET, 64, pts, strides, got, gst, NULL),
+                     GEOM_OK);
+    for (size_t i = 0; i < 64; i++)
+        wst[i] = geom_bary_tet(a + 3 * i, b, c, d, p + 3 * i, want + 4 * i);
+    check_rows(64, 4, got, gst, want, wst, 0.0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_tri2_shared),
+        cmocka_unit_test(test_tri2_degenerate_shared),
+        cmocka_unit_test(test_tet_shared),
+        cmocka_unit_test(test_tet_general_strides),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
