@@ -763,6 +763,8 @@ typedef void (*geom_iso_gradient_fn)(void *user, const double p[3], double g[3])
 typedef void (*geom_iso_values_fn)(void *user, size_t n, const double *p, double *out);
 typedef void (*geom_iso_gradients_fn)(void *user, size_t n, const double *p, double *values,
     double *grads);
+typedef int (*geom_iso_bounds_fn)(void *user, const double lo[3], const double hi[3],
+    double out[2]);
 typedef struct geom_iso_field {
     geom_iso_value_fn value;
     geom_iso_gradient_fn gradient;
@@ -770,6 +772,7 @@ typedef struct geom_iso_field {
     void *user;
     int exact;
     geom_iso_gradients_fn gradients;
+    geom_iso_bounds_fn bounds;
 } geom_iso_field;
 typedef enum geom_iso_scalar {
     GEOM_ISO_SCALAR_F32 = 1,
@@ -794,6 +797,9 @@ typedef struct geom_iso_options {
     size_t slab_layers;
     const geom_allocator *alloc;
     int inside;
+    int dense;
+    size_t block_size;
+    size_t error_samples;
 } geom_iso_options;
 typedef struct geom_iso_report {
     geom_error_report vertex_error;
@@ -812,6 +818,9 @@ typedef struct geom_iso_report {
     int threads;
     double signed_volume;
     geom_error_report error;
+    size_t cells_evaluated;
+    size_t blocks, blocks_skipped;
+    size_t error_stride;
 } geom_iso_report;
 typedef struct geom_iso_surface {
     size_t n_vertices;
@@ -853,6 +862,8 @@ void geom_implicit_expr_eval_grad_many(const geom_implicit_expr *e, size_t n, co
     double *values, double *grads);
 geom_status geom_implicit_expr_eval_interval(const geom_implicit_expr *e, const double lo[3],
     const double hi[3], double out[2]);
+geom_status geom_implicit_expr_eval_bounds(const geom_implicit_expr *e, const double lo[3],
+    const double hi[3], double out[2], int *defined);
 typedef enum geom_implicit_scalar {
     GEOM_IMPLICIT_SCALAR_F32 = 1,
     GEOM_IMPLICIT_SCALAR_F64 = 2

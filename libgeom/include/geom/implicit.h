@@ -242,6 +242,22 @@ GEOM_API void geom_implicit_expr_eval_grad_many(const geom_implicit_expr *e, siz
 GEOM_API geom_status geom_implicit_expr_eval_interval(const geom_implicit_expr *e, const double lo[3],
                                              const double hi[3], double out[2]);
 
+/**
+ * geom_implicit_expr_eval_interval plus definedness: out as there, and
+ * *defined = 1 when, in addition, f is finite at every point of the box
+ * (no NaN and no infinity as computed by geom_implicit_expr_eval), so that
+ * out[0] <= f(p) <= out[1] holds at every p of the box without exception;
+ * 0 when some point may give NaN or an infinity (the test is conservative:
+ * it says 0 whenever an intermediate interval is unbounded, or reaches
+ * outside the domain of sqrt, log or a non-integer power). Used to skip
+ * regions of a grid the level set provably does not cross
+ * (geom_iso_field::bounds).
+ * Statuses: GEOM_OK; GEOM_ERR_INVALID_ARG as geom_implicit_expr_eval_interval
+ * or for NULL defined (*defined 0, out {NaN, NaN}).
+ */
+GEOM_API geom_status geom_implicit_expr_eval_bounds(const geom_implicit_expr *e, const double lo[3],
+                                                   const double hi[3], double out[2], int *defined);
+
 /* ------------------------------------------------------------------ fields */
 
 /** Value of a field at p (3 doubles). */
