@@ -875,6 +875,10 @@ typedef struct geom_implicit_volume_desc {
     double origin[3];
     int big_endian;
 } geom_implicit_volume_desc;
+double geom_implicit_samples_value(const geom_implicit_volume_desc *d, const void *data, const
+    double p[3]);
+void geom_implicit_samples_gradient(const geom_implicit_volume_desc *d, const void *data, const
+    double p[3], double grad[3]);
 typedef struct geom_implicit_volume geom_implicit_volume;
 geom_status geom_implicit_volume_create(const geom_implicit_volume_desc *desc,
                                         const geom_allocator *alloc,

@@ -310,6 +310,30 @@ typedef struct geom_implicit_volume_desc {
     int big_endian;            /**< raw files only: nonzero = big-endian samples */
 } geom_implicit_volume_desc;
 
+/**
+ * Trilinear interpolation at p (3 doubles) of borrowed samples `data`
+ * (dims[0]*dims[1]*dims[2] floats or doubles as d->type says; d->spacing 0
+ * means 1; big_endian is ignored): the library's one interpolator, used by
+ * geom_implicit_volume_eval and geom_iso_grid_value. Points outside the
+ * sample box are clamped onto it; along an axis the value is
+ * (1 - t) a + t b, nested x, then y, then z, and exactly a (b) at t = 0
+ * (t = 1) without reading the other end, so a sample position gives the
+ * stored sample exactly and a NaN neighbour does not leak into it. NaN
+ * coordinates, NULL d or data give NaN.
+ */
+GEOM_API double geom_implicit_samples_value(const geom_implicit_volume_desc *d, const void *data,
+                                            const double p[3]);
+
+/**
+ * Gradient at p into grad (3 doubles) of the same samples: the trilinear
+ * interpolation of per-sample central differences (s[i+1] - s[i-1]) /
+ * (2 spacing), one-sided on the border, 0 along an axis with one sample.
+ * NaN coordinates or NULL d or data give NaN components; NULL grad is a
+ * no-op.
+ */
+GEOM_API void geom_implicit_samples_gradient(const geom_implicit_volume_desc *d, const void *data,
+                                             const double p[3], double grad[3]);
+
 /** A dense sampled volume (opaque). */
 typedef struct geom_implicit_volume geom_implicit_volume;
 

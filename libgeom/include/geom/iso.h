@@ -122,7 +122,9 @@ typedef struct geom_iso_grid {
 GEOM_API geom_status geom_iso_grid_check(const geom_iso_grid *g);
 
 /**
- * Trilinear interpolation of the samples at p (3 doubles). Points outside
+ * Trilinear interpolation of the samples at p (3 doubles), by
+ * geom_implicit_samples_value (the library's one interpolator: a volume
+ * and a grid of the same samples agree bit for bit). Points outside
  * the sample box are clamped onto it. Exact (the stored sample, converted
  * to double) at sample positions whose offset from the origin divided by
  * the spacing is computed exactly (e.g. power-of-two spacings). NaN
