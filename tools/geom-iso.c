@@ -451,6 +451,12 @@ int main(int argc, char **argv)
         fprintf(stderr, "%s: warning: empty isosurface: no triangles (the surface f = %.17g "
                         "misses the box, or the field is NaN there)\n",
                 tool.name, a.iso);
+    if (r->nan_nodes)
+        fprintf(stderr, "%s: warning: the field is NaN at %zu grid node%s (counted outside); the "
+                        "first at node (%zu, %zu, %zu), point (%.17g, %.17g, %.17g)\n",
+                tool.name, r->nan_nodes, r->nan_nodes == 1 ? "" : "s", r->nan_first[0],
+                r->nan_first[1], r->nan_first[2], r->nan_point[0], r->nan_point[1],
+                r->nan_point[2]);
     if (common.json) {
         printf("{\"vertices\":%zu,\"triangles\":%zu,\"max_error\":", s.n_vertices, s.n_triangles);
         cli_json_number(stdout, maxe);
@@ -472,8 +478,26 @@ int main(int argc, char **argv)
         cli_json_error_report(stdout, &r->error, "|f - iso| / |grad f| at vertices and triangle samples");
         printf(",\"inside\":\"%s\",\"inside_detected\":%s",
                o.inside == GEOM_ISO_INSIDE_ABOVE ? "above" : "below", detected ? "true" : "false");
-        if (s.n_triangles == 0)
-            printf(",\"warnings\":[\"empty isosurface: no triangles\"]");
+        printf(",\"nan_nodes\":%zu", r->nan_nodes);
+        if (r->nan_nodes) {
+            printf(",\"first_nan\":{\"node\":[%zu,%zu,%zu],\"point\":[", r->nan_first[0],
+                   r->nan_first[1], r->nan_first[2]);
+            for (int q = 0; q < 3; q++) {
+                if (q)
+                    printf(",");
+                cli_json_number(stdout, r->nan_point[q]);
+            }
+            printf("]}");
+        }
+        if (s.n_triangles == 0 || r->nan_nodes) {
+            printf(",\"warnings\":[");
+            if (s.n_triangles == 0)
+                printf("\"empty isosurface: no triangles\"%s", r->nan_nodes ? "," : "");
+            if (r->nan_nodes)
+                printf("\"the field is NaN at %zu grid nodes, the first at node (%zu, %zu, %zu)\"",
+                       r->nan_nodes, r->nan_first[0], r->nan_first[1], r->nan_first[2]);
+            printf("]");
+        }
         printf("}\n");
     } else {
         FILE *fp = to_stdout ? stderr : stdout;

@@ -821,6 +821,8 @@ typedef struct geom_iso_report {
     size_t cells_evaluated;
     size_t blocks, blocks_skipped;
     size_t error_stride;
+    size_t nan_first[3];
+    double nan_point[3];
 } geom_iso_report;
 typedef struct geom_iso_surface {
     size_t n_vertices;

@@ -611,6 +611,12 @@ typedef struct geom_implicit_contour_report {
     size_t saddles;       /**< ambiguous cells decided by the asymptotic decider */
     size_t skipped_cells; /**< cells with a NaN corner value (no segment made) */
     size_t refined;       /**< vertices refined by root finding */
+    /** Grid nodes where the field is NaN, and the first of them in scan
+     *  order (rows of increasing y, then x): its node index (i, j) and its
+     *  point (x, y); zeros when nan_nodes is 0. */
+    size_t nan_nodes;
+    size_t nan_first[2];
+    double nan_point[2];
 } geom_implicit_contour_report;
 
 /**
@@ -672,6 +678,23 @@ GEOM_API geom_status geom_implicit_contour(const geom_implicit_field *field, con
                                   size_t nx, size_t ny,
                                   const geom_implicit_contour_options *opt,
                                   geom_implicit_isolines *out, geom_diag *diag);
+
+/**
+ * The number of vertices (and, about as many, segments) geom_implicit_contour
+ * would make with the same arguments, estimated before contouring: the field
+ * is sampled on a grid of at most 64 x 64 cells over bounds (at z =
+ * opt->z), the cells with corners on both sides of opt->iso counted and
+ * scaled by the square root of the fine cells per coarse cell (the curves'
+ * length). Exact scaling for smooth curves larger than a coarse cell;
+ * features thinner than one are missed (an underestimate). Calls
+ * field->value at most 65^2 times.
+ * Statuses: GEOM_OK; GEOM_ERR_INVALID_ARG (NULL field, value, bounds or
+ * vertices, nx or ny 0, non-finite or empty bounds, non-finite iso or z).
+ */
+GEOM_API geom_status geom_implicit_contour_estimate(const geom_implicit_field *field,
+                                                   const double bounds[4], size_t nx, size_t ny,
+                                                   const geom_implicit_contour_options *opt,
+                                                   double *vertices);
 
 /** Free what geom_implicit_contour allocated and zero *c. NULL or a zeroed
  *  struct is a no-op. */

@@ -271,6 +271,11 @@ typedef struct geom_iso_report {
     /** Stride of the error sampling (1: every vertex and triangle sample
      *  measured; 0: not measured); see geom_iso_options::error_samples. */
     size_t error_stride;
+    /** When nan_nodes > 0: the first grid node with a NaN value in scan
+     *  order (layers of increasing z, rows of increasing y, then x), its
+     *  node index (i, j, k) and its point; zeros otherwise. */
+    size_t nan_first[3];
+    double nan_point[3];
 } geom_iso_report;
 
 /** An extracted surface: an indexed triangle mesh. */

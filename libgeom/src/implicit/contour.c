@@ -556,19 +556,31 @@ geom_status geom_implicit_contour(const geom_implicit_field *field, const double
         X[i] = i == nx ? bounds[2]
                        : (bounds[0] * (double)(nx - i) + bounds[2] * (double)i) / (double)nx;
     double yb = bounds[1];
+    geom_implicit_contour_report *rep = &out->report;
     for (size_t i = 0; i <= nx; i++) {
         R.d[0][i] = field_at(&c, X[i], yb);
+        if (isnan(R.d[0][i]) && rep->nan_nodes++ == 0) {
+            rep->nan_first[0] = i;
+            rep->nan_first[1] = 0;
+            rep->nan_point[0] = X[i];
+            rep->nan_point[1] = yb;
+        }
         R.h[0][i] = NOV;
         R.nd[0][i] = NOV;
         R.hs[0][i] = 0;
     }
-    geom_implicit_contour_report *rep = &out->report;
     for (size_t j = 0; j < ny && c.err == GEOM_OK; j++) {
         double yt = j + 1 == ny ? bounds[3]
                                 : (bounds[1] * (double)(ny - j - 1) + bounds[3] * (double)(j + 1)) /
                                       (double)ny;
         for (size_t i = 0; i <= nx; i++) {
             R.d[1][i] = field_at(&c, X[i], yt);
+            if (isnan(R.d[1][i]) && rep->nan_nodes++ == 0) {
+                rep->nan_first[0] = i;
+                rep->nan_first[1] = j + 1;
+                rep->nan_point[0] = X[i];
+                rep->nan_point[1] = yt;
+            }
             R.h[1][i] = NOV;
             R.nd[1][i] = NOV;
             R.hs[1][i] = 0;

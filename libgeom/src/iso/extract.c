@@ -65,6 +65,8 @@ typedef struct slab {
     iso_key *bot, *top;
     size_t nbot, capbot, ntop, captop;
     size_t evaluations, active, ambiguous, tunnels, iso_nodes, nan_nodes, refined;
+    int has_nan;
+    size_t nan_at[3]; /* the slab's first NaN node in scan order */
     geom_status status;
 } slab;
 
@@ -331,6 +333,12 @@ static void eval_range(slab *s, const ctx *c, work *w, size_t k, layer *L, size_
             double d = row[i] - iso;
             *niso += d == 0;
             *nnan += d != d;
+            if (d != d && !s->has_nan) {
+                s->has_nan = 1;
+                s->nan_at[0] = i;
+                s->nan_at[1] = j;
+                s->nan_at[2] = k;
+            }
         }
 }
 
@@ -1233,6 +1241,7 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
         out->n_cap_triangles = ncap;
     }
     geom_iso_report *r = &out->report;
+    int nan_found = 0;
     for (size_t q = 0; q < nslabs; q++) {
         slab *s = &sl[q];
         r->vertex_error.evaluations += s->evaluations;
@@ -1242,6 +1251,13 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
         r->iso_nodes += s->iso_nodes;
         r->nan_nodes += s->nan_nodes;
         r->refined += s->refined;
+        if (s->has_nan && !nan_found) { /* the first slab with one */
+            nan_found = 1;
+            for (int a = 0; a < 3; a++) {
+                r->nan_first[a] = s->nan_at[a];
+                r->nan_point[a] = c.coord[a][s->nan_at[a]];
+            }
+        }
         if (remap)
             geom_free(al, remap[q], (s->nv ? s->nv : 1) * sizeof(uint32_t));
         slab_free(al, s);
