@@ -213,7 +213,7 @@ typedef struct geom_iso_options {
     /** Cells per block edge of the sparse path; 0 = 8. */
     size_t block_size;
     /** Largest number of points (vertices plus triangle samples) the
-     *  error report measures (at least 5); 0 = 131072, SIZE_MAX = all. When there are
+     *  error report measures (at least 5); 0 = 65536, SIZE_MAX = all. When there are
      *  more, every s-th vertex and every s-th surface triangle (by index,
      *  the first one included) is measured, with the smallest stride s
      *  that keeps the count within the budget: vertices are numbered in

@@ -1296,7 +1296,7 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
             }
             /* the sampling rule: every s-th vertex and surface triangle,
              * the smallest s keeping the points within the budget */
-            size_t budget = opt && opt->error_samples ? opt->error_samples : 131072;
+            size_t budget = opt && opt->error_samples ? opt->error_samples : 65536;
             if (budget < 5)
                 budget = 5; /* one vertex and one triangle's 4 samples */
             size_t stride = 1;
