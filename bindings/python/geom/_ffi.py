@@ -864,6 +864,9 @@ void geom_implicit_expr_eval_grad_many(const geom_implicit_expr *e, size_t n, co
     double *values, double *grads);
 geom_status geom_implicit_expr_eval_interval(const geom_implicit_expr *e, const double lo[3],
     const double hi[3], double out[2]);
+typedef double (*geom_implicit_root_fn)(void *user, double x);
+double geom_implicit_bracket_root(geom_implicit_root_fn fn, void *user, double a, double b, double
+    fa, double fb, double x, int max_iterations, size_t *evaluations);
 geom_status geom_implicit_expr_eval_bounds(const geom_implicit_expr *e, const double lo[3],
     const double hi[3], double out[2], int *defined);
 typedef enum geom_implicit_scalar {

@@ -576,6 +576,29 @@ GEOM_API void geom_implicit_volume_eval_many(const geom_implicit_volume *v, size
 /** "raw", "nrrd", "metaimage", "inrimage", "nifti"; "auto" for 0. */
 GEOM_API const char *geom_implicit_volume_format_name(geom_implicit_volume_format f);
 
+/* ------------------------------------------------------------ root finding */
+
+/** A function of one variable for geom_implicit_bracket_root. */
+typedef double (*geom_implicit_root_fn)(void *user, double x);
+
+/**
+ * A root of fn in the open interval (a, b), a < b, where fn(a) = fa and
+ * fn(b) = fb have opposite strict signs (neither 0, neither NaN), starting
+ * from x (e.g. the linear interpolation; moved to the midpoint when not
+ * strictly inside): Illinois regula falsi, with a bisection step whenever
+ * the bracket has not halved over two steps or a scaled end value is not
+ * finite. The one stopping rule of the library's contouring (marching
+ * squares, marching cubes' refinement): the bracket ends are adjacent
+ * doubles, fn is exactly 0 (that point is returned), fn is NaN, or
+ * max_iterations evaluations were made; then the end of the final bracket
+ * with the smaller |fn| is returned (at a jump of fn, a point next to the
+ * jump), always strictly inside (a, b). *evaluations (may be NULL) is
+ * incremented per call of fn. NULL fn or a >= b returns x.
+ */
+GEOM_API double geom_implicit_bracket_root(geom_implicit_root_fn fn, void *user, double a, double b,
+                                           double fa, double fb, double x, int max_iterations,
+                                           size_t *evaluations);
+
 /* -------------------------------------------------------- marching squares */
 
 /** Root refinement choice of geom_implicit_contour_options::refine. */

@@ -163,10 +163,13 @@ enum {
 /** Options of the extraction; zero-initialised (or NULL) = defaults. */
 typedef struct geom_iso_options {
     double iso;          /**< the isovalue (default 0), finite */
-    /** Nonzero: refine each vertex on its edge by safeguarded root finding
-     *  (Illinois regula falsi with bisection fallback) on the field, when
-     *  the field is exact; ignored for sampled fields. Default: linear
-     *  interpolation of the node values. */
+    /** Nonzero: refine each vertex on its edge by the library's root
+     *  finder (geom_implicit_bracket_root: Illinois regula falsi with
+     *  bisection, until the bracket ends are adjacent doubles), when the
+     *  field is exact; ignored for sampled fields. Default: linear
+     *  interpolation of the node values. (The same meaning as
+     *  geom_implicit_contour_options::refine's AUTO when nonzero; 0 here is
+     *  its NEVER.) */
     int refine;
     int max_iterations;  /**< root finding iterations per edge; 0 = 64 */
     /** Nonzero: compute unit vertex normals, from field->gradient when

@@ -191,60 +191,19 @@ static void add_key(slab *s, const ctx *c, size_t layer_k, uint64_t key, uint32_
     }
 }
 
-/* Root of phi(t) = f(p(t)) - iso on [0, 1], phi(0) = ga, phi(1) = gb of
- * opposite signs: Illinois regula falsi, with a bisection step whenever two
- * steps did not halve the bracket. Returns the t with the smallest |phi|. */
-static double refine_root(slab *s, const ctx *c, const double pa[3], int axis, double b,
-                          double ga, double gb, double t0)
+/* The field minus iso along an edge: p with p[axis] = x. */
+typedef struct edge_fn {
+    const ctx *c;
+    double p[3];
+    int axis;
+} edge_fn;
+
+static double along_edge(void *u, double x)
 {
-    double lo = 0, hi = 1, flo = ga, fhi = gb;
-    double best = t0, fbest = HUGE_VAL;
-    int side = 0;
-    double width_ref = 1;
-    double t = t0;
-    for (int it = 0; it < c->max_iter; it++) {
-        if (!(t > lo && t < hi))
-            t = 0.5 * (lo + hi);
-        if (!(t > lo && t < hi))
-            break;
-        double p[3] = {pa[0], pa[1], pa[2]};
-        p[axis] = pa[axis] + t * (b - pa[axis]);
-        double ft = c->field->value(c->field->user, p) - c->iso;
-        s->evaluations++;
-        if (!isfinite(ft))
-            break;
-        if (fabs(ft) < fbest) {
-            fbest = fabs(ft);
-            best = t;
-        }
-        if (ft == 0)
-            break;
-        if ((ft > 0) == (flo > 0)) {
-            lo = t;
-            flo = ft;
-            if (side == -1)
-                fhi *= 0.5;
-            side = -1;
-        } else {
-            hi = t;
-            fhi = ft;
-            if (side == 1)
-                flo *= 0.5;
-            side = 1;
-        }
-        if (hi - lo <= 4 * DBL_EPSILON)
-            break;
-        if (it % 2 == 1) {
-            if (hi - lo > 0.5 * width_ref)
-                t = 0.5 * (lo + hi);
-            else
-                t = (lo * fhi - hi * flo) / (fhi - flo);
-            width_ref = hi - lo;
-        } else {
-            t = (lo * fhi - hi * flo) / (fhi - flo);
-        }
-    }
-    return best;
+    edge_fn *e = u;
+    double p[3] = {e->p[0], e->p[1], e->p[2]};
+    p[e->axis] = x;
+    return e->c->field->value(e->c->field->user, p) - e->c->iso;
 }
 
 /* The vertex on the edge from node (i, j, k) along axis, whose end values
@@ -268,16 +227,23 @@ static uint32_t edge_vertex(slab *s, const ctx *c, size_t i, size_t j, size_t k,
         t = 0;
     if (t > 1)
         t = 1;
-    if (c->refine && t > 0 && t < 1 && fabs(ga) < ISO_BIG && fabs(gb) < ISO_BIG) {
-        t = refine_root(s, c, pa, axis, b, ga, gb, t);
-        s->refined++;
-    }
+    double p[3] = {pa[0], pa[1], pa[2]};
     double tau = c->tau[axis];
+    if (c->refine && t > 0 && t < 1 && fabs(ga) < ISO_BIG && fabs(gb) < ISO_BIG) {
+        /* the library's one root finder, on the edge's coordinate */
+        edge_fn e = {c, {pa[0], pa[1], pa[2]}, axis};
+        double x0 = pa[axis] + t * (b - pa[axis]);
+        double x = geom_implicit_bracket_root(along_edge, &e, pa[axis], b, ga, gb, x0,
+                                              c->max_iter, &s->evaluations);
+        s->refined++;
+        double lo = pa[axis] + tau * (b - pa[axis]), hi = pa[axis] + (1 - tau) * (b - pa[axis]);
+        p[axis] = x < lo ? lo : x > hi ? hi : x;
+        return add_vertex(s, c, p, axis, gb > ga ? 1.0 : -1.0);
+    }
     if (t < tau)
         t = tau;
     if (t > 1 - tau)
         t = 1 - tau;
-    double p[3] = {pa[0], pa[1], pa[2]};
     p[axis] = pa[axis] + t * (b - pa[axis]);
     return add_vertex(s, c, p, axis, gb > ga ? 1.0 : -1.0);
 }
