@@ -41,7 +41,9 @@ static const cli_tool tool = {
     "  -z, --z=Z            the value of z in E (default 0)\n"
     "      --no-refine      place vertices by linear interpolation only (default:\n"
     "                       refine them on their edge by root finding)\n"
-    "  -f, --format=FMT     svg or obj (default: from OUT's extension)\n",
+    "  -f, --format=FMT     svg or obj (default: from OUT's extension)\n"
+    CLI_LIMIT_HELP
+    "                       (for isolines a segment counts as a triangle)\n",
     "Expressions: numbers, x y z t, + - * / ^, sqrt abs sin cos tan exp log min\n"
     "max clamp atan2 pow, sphere ellipsoid torus box cylinder plane capsule gyroid,\n"
     "union intersection difference smooth_union smooth_intersection\n"
@@ -65,6 +67,7 @@ typedef struct contour_opts {
     double iso, z;
     int no_refine;
     int format;
+    cli_limits lim;
 } contour_opts;
 
 static int format_from_name(const char *s)
@@ -84,6 +87,9 @@ static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
     double v[4];
     size_t n;
     geom_diag d;
+    int lrc = cli_limits_option(t, &o->lim, opt, arg);
+    if (lrc != CLI_NOT_HANDLED)
+        return lrc;
     switch (opt) {
     case 'e':
         o->expr = arg;
@@ -216,6 +222,7 @@ int main(int argc, char **argv)
                                              {"z", required_argument, NULL, 'z'},
                                              {"no-refine", no_argument, NULL, OPT_NO_REFINE},
                                              {"format", required_argument, NULL, 'f'},
+                                             CLI_LIMIT_LONGOPTS,
                                              {NULL, 0, NULL, 0}};
     contour_opts o;
     memset(&o, 0, sizeof o);
@@ -264,6 +271,17 @@ int main(int argc, char **argv)
     co.iso = o.iso;
     co.z = o.z;
     co.refine = o.no_refine ? GEOM_IMPLICIT_REFINE_NEVER : GEOM_IMPLICIT_REFINE_AUTO;
+    /* the output's size before the work: segments (about one per vertex)
+     * against --max-triangles, memory (the library's arrays, the mesh and
+     * the text written, about 160 bytes a vertex) against --max-memory */
+    double est = 0.0;
+    if (geom_implicit_contour_estimate(&field, o.bounds, o.res[0], o.res[1], &co, &est) ==
+            GEOM_OK &&
+        cli_limits_check(&tool, &o.lim, "the isolines (a segment counts as a triangle)", est,
+                         est * 160.0) != CLI_CONTINUE) {
+        geom_implicit_expr_destroy(e);
+        return CLI_EXIT_ERROR;
+    }
     geom_implicit_isolines c;
     if (geom_implicit_contour(&field, o.bounds, o.res[0], o.res[1], &co, &c, &diag) != GEOM_OK) {
         geom_implicit_expr_destroy(e);
@@ -291,6 +309,12 @@ int main(int argc, char **argv)
     for (size_t k = 0; k < c.n_polylines; k++)
         closed += c.closed[k];
     const geom_error_report *er = &c.report.error;
+    const geom_implicit_contour_report *rp = &c.report;
+    if (rp->nan_nodes)
+        fprintf(stderr, "%s: warning: the field is NaN at %zu grid node%s (no segment in their "
+                        "cells); the first at node (%zu, %zu), point (%.17g, %.17g)\n",
+                tool.name, rp->nan_nodes, rp->nan_nodes == 1 ? "" : "s", rp->nan_first[0],
+                rp->nan_first[1], rp->nan_point[0], rp->nan_point[1]);
     if (common.json) {
         printf("{\"vertices\":%zu,\"polylines\":%zu,\"closed\":%zu,\"max_error\":", c.n_vertices,
                c.n_polylines, closed);
@@ -301,6 +325,19 @@ int main(int argc, char **argv)
         cli_json_number(stdout, secs);
         printf(",\"error\":");
         cli_json_error_report(stdout, er, "|f - iso| / |grad f| at vertices");
+        printf(",\"estimated_vertices\":");
+        cli_json_number(stdout, est);
+        printf(",\"nan_nodes\":%zu", rp->nan_nodes);
+        if (rp->nan_nodes) {
+            printf(",\"first_nan\":{\"node\":[%zu,%zu],\"point\":[", rp->nan_first[0],
+                   rp->nan_first[1]);
+            cli_json_number(stdout, rp->nan_point[0]);
+            printf(",");
+            cli_json_number(stdout, rp->nan_point[1]);
+            printf("]},\"warnings\":[\"the field is NaN at %zu grid nodes, the first at node "
+                   "(%zu, %zu)\"]",
+                   rp->nan_nodes, rp->nan_first[0], rp->nan_first[1]);
+        }
         printf("}\n");
     } else {
         FILE *fp = to_stdout ? stderr : stdout;

@@ -66,13 +66,18 @@ static const cli_tool tool = {
     "                       above (f >= V, e.g. CT: dense inside); for --volume\n"
     "                       the default is detected: above when most samples on\n"
     "                       the volume's boundary lie below V\n"
+    "      --dense          sample every grid node (default: skip the 8^3-cell\n"
+    "                       blocks the surface provably misses, by interval\n"
+    "                       bounds of the expression or a volume's block\n"
+    "                       min/max; the output is identical)\n"
     "  -t, --threads=N      threads (default: all; the result is the same)\n"
     CLI_LIMIT_HELP,
     "The summary (vertices, triangles, max_error, seconds) goes to standard\n"
     "output, or to standard error when the mesh does. With --json it is a JSON\n"
     "object on standard output with the keys vertices, triangles, max_error,\n"
     "seconds, mean_error, vertex_max_error, cap_triangles, tunnels,\n"
-    "ambiguous_faces, signed_volume, inside (OUT must then be a file). max_error is null for volumes\n"
+    "ambiguous_faces, cells_evaluated, blocks, blocks_skipped, error_stride,\n"
+    "signed_volume, inside (OUT must then be a file). max_error is null for volumes\n"
     "(their interpolant is what is contoured).\n",
     "  geom-iso --expr \"torus(1, 0.3)\" --bounds -2,-2,-1,2,2,1 --res 128 --normals -o torus.glb\n"
     "  geom-iso --volume liver.inr.gz --iso 100 -o liver.obj\n",
@@ -88,7 +93,8 @@ enum {
     OPT_SKIP,
     OPT_REFINE,
     OPT_CAPS,
-    OPT_INSIDE
+    OPT_INSIDE,
+    OPT_DENSE
 };
 
 typedef struct iso_args {
@@ -100,7 +106,7 @@ typedef struct iso_args {
     double spacing[3], origin[3], bounds[6];
     size_t res[3];
     double iso;
-    int refine, normals, caps, threads, big_endian;
+    int refine, normals, caps, threads, big_endian, dense;
     int inside; /* -1: not given, else GEOM_ISO_INSIDE_* */
     cli_limits lim;
 } iso_args;
@@ -200,6 +206,9 @@ static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
         return CLI_CONTINUE;
     case OPT_CAPS:
         a->caps = 1;
+        return CLI_CONTINUE;
+    case OPT_DENSE:
+        a->dense = 1;
         return CLI_CONTINUE;
     case OPT_INSIDE:
         if (strcmp(arg, "below") == 0)
@@ -303,6 +312,7 @@ int main(int argc, char **argv)
                                              {"normals", no_argument, NULL, 'n'},
                                              {"caps", no_argument, NULL, OPT_CAPS},
                                              {"inside", required_argument, NULL, OPT_INSIDE},
+                                             {"dense", no_argument, NULL, OPT_DENSE},
                                              {"threads", required_argument, NULL, 't'},
                                              CLI_LIMIT_LONGOPTS,
                                              {NULL, 0, NULL, 0}};
@@ -350,6 +360,7 @@ int main(int argc, char **argv)
     o.normals = a.normals;
     o.caps = a.caps;
     o.threads = a.threads;
+    o.dense = a.dense;
     o.inside = a.inside < 0 ? GEOM_ISO_INSIDE_BELOW : a.inside;
     cli_progress prog; /* percent and ETA on a terminal, per slab extracted */
     cli_progress_start(&prog, &tool, "extracting", common.quiet);
@@ -452,6 +463,12 @@ int main(int argc, char **argv)
         fprintf(stderr, "%s: warning: empty isosurface: no triangles (the surface f = %.17g "
                         "misses the box, or the field is NaN there)\n",
                 tool.name, a.iso);
+    if (r->nan_nodes)
+        fprintf(stderr, "%s: warning: the field is NaN at %zu grid node%s (counted outside); the "
+                        "first at node (%zu, %zu, %zu), point (%.17g, %.17g, %.17g)\n",
+                tool.name, r->nan_nodes, r->nan_nodes == 1 ? "" : "s", r->nan_first[0],
+                r->nan_first[1], r->nan_first[2], r->nan_point[0], r->nan_point[1],
+                r->nan_point[2]);
     if (common.json) {
         printf("{\"vertices\":%zu,\"triangles\":%zu,\"max_error\":", s.n_vertices, s.n_triangles);
         cli_json_number(stdout, maxe);
@@ -462,8 +479,10 @@ int main(int argc, char **argv)
         printf(",\"vertex_max_error\":");
         cli_json_number(stdout, measured ? r->vertex_error.max_error : NAN);
         printf(",\"cap_triangles\":%zu,\"tunnels\":%zu,\"ambiguous_faces\":%zu,"
-               "\"iso_nodes\":%zu,\"cells\":%zu,\"total_seconds\":",
-               s.n_cap_triangles, r->tunnels, r->ambiguous_faces, r->iso_nodes, r->cells);
+               "\"iso_nodes\":%zu,\"cells\":%zu,\"cells_evaluated\":%zu,\"blocks\":%zu,"
+               "\"blocks_skipped\":%zu,\"error_stride\":%zu,\"total_seconds\":",
+               s.n_cap_triangles, r->tunnels, r->ambiguous_faces, r->iso_nodes, r->cells,
+               r->cells_evaluated, r->blocks, r->blocks_skipped, r->error_stride);
         cli_json_number(stdout, total);
         printf(",\"signed_volume\":");
         cli_json_number(stdout, r->signed_volume);
@@ -471,17 +490,42 @@ int main(int argc, char **argv)
         cli_json_error_report(stdout, &r->error, "|f - iso| / |grad f| at vertices and triangle samples");
         printf(",\"inside\":\"%s\",\"inside_detected\":%s",
                o.inside == GEOM_ISO_INSIDE_ABOVE ? "above" : "below", detected ? "true" : "false");
-        if (s.n_triangles == 0)
-            printf(",\"warnings\":[\"empty isosurface: no triangles\"]");
+        printf(",\"nan_nodes\":%zu", r->nan_nodes);
+        if (r->nan_nodes) {
+            printf(",\"first_nan\":{\"node\":[%zu,%zu,%zu],\"point\":[", r->nan_first[0],
+                   r->nan_first[1], r->nan_first[2]);
+            for (int q = 0; q < 3; q++) {
+                if (q)
+                    printf(",");
+                cli_json_number(stdout, r->nan_point[q]);
+            }
+            printf("]}");
+        }
+        if (s.n_triangles == 0 || r->nan_nodes) {
+            printf(",\"warnings\":[");
+            if (s.n_triangles == 0)
+                printf("\"empty isosurface: no triangles\"%s", r->nan_nodes ? "," : "");
+            if (r->nan_nodes)
+                printf("\"the field is NaN at %zu grid nodes, the first at node (%zu, %zu, %zu)\"",
+                       r->nan_nodes, r->nan_first[0], r->nan_first[1], r->nan_first[2]);
+            printf("]");
+        }
         printf("}\n");
     } else {
         FILE *fp = to_stdout ? stderr : stdout;
         fprintf(fp, "vertices %zu\ntriangles %zu\n", s.n_vertices, s.n_triangles);
-        if (measured)
+        if (measured && r->error_stride > 1)
+            fprintf(fp,
+                    "max_error %.6g (|f - iso| / |grad f|, max over every %zu-th vertex and "
+                    "triangle (centroid, edge midpoints): %zu points; vertices %.6g, mean "
+                    "%.6g; %.3g s)\n",
+                    maxe, r->error_stride, r->error.pieces, r->vertex_error.max_error, meane,
+                    r->error_seconds);
+        else if (measured)
             fprintf(fp,
                     "max_error %.6g (|f - iso| / |grad f|, max over vertices and triangle "
-                    "samples; vertices %.6g, mean %.6g)\n",
-                    maxe, r->vertex_error.max_error, meane);
+                    "samples; vertices %.6g, mean %.6g; %.3g s)\n",
+                    maxe, r->vertex_error.max_error, meane, r->error_seconds);
         else
             fprintf(fp, "max_error not measured (sampled volume)\n");
         fprintf(fp, "signed_volume %.6g (inside %s%s)\n", r->signed_volume,
@@ -492,6 +536,11 @@ int main(int argc, char **argv)
                          : "");
         if (detected)
             fprintf(fp, "boundary samples below iso %zu of %zu\n", nb_below, nb_total);
+        if (r->blocks)
+            fprintf(fp, "cells_evaluated %zu of %zu (%zu of %zu blocks skipped)\n",
+                    r->cells_evaluated, r->cells, r->blocks_skipped, r->blocks);
+        else
+            fprintf(fp, "cells_evaluated %zu of %zu (dense)\n", r->cells_evaluated, r->cells);
         fprintf(fp, "seconds %.6g (extraction; %.6g in all)\n", secs, total);
     }
     geom_iso_surface_free(&s);

@@ -9,8 +9,12 @@
 #   geom-subdivide --scheme loop --levels 1 vs peer_subdiv_far (OpenSubdiv Far
 #                                             with OBJ in and out), bunny00.off
 #   geom-iso 320x192x64 on two tori          vs peer_iso_vtk (vtkFlyingEdges3D)
+#   geom-iso 512^3 on two tori (sparse)      vs geom-iso --dense, and vs
+#                                               peer_iso_vtk 512 512 512
 #
-# Usage: tests/bench/whole_process.sh [BUILD_DIR] [N]   (default build, 5)
+# Usage: tests/bench/whole_process.sh [BUILD_DIR] [N] [JOBS]
+#   (default build, 5, all; JOBS is a comma-separated subset of
+#   info,normals,subdivide,iso,iso512)
 # The input is a 1000 x 600 torus (1.2M triangles, 63 MB) made by
 # make_torus_obj.py in $TMPDIR (kept between calls). The peers are built by
 # tests/bench/CMakeLists.txt when libtinyobjloader-dev and libopenmesh-dev
@@ -22,9 +26,11 @@ set -eu
 here=$(cd "$(dirname "$0")" && pwd)
 build=${1:-build}
 n=${2:-5}
+jobs=,${3:-info,normals,subdivide,iso},
+want() { case $jobs in *,"$1",*) return 0 ;; esac; [ "$jobs" = ",all," ]; }
 tmp=${TMPDIR:-/tmp}
 obj=$tmp/geom_whole_process_torus.obj
-[ -s "$obj" ] || /usr/bin/python3 "$here/make_torus_obj.py" "$obj" 1000 600
+{ want info || want normals; } && [ ! -s "$obj" ] && /usr/bin/python3 "$here/make_torus_obj.py" "$obj" 1000 600
 
 # one run: prints "wall cpu peak_kb"
 run() {
@@ -63,23 +69,33 @@ compare() {
         'BEGIN {printf "  ours/peer: wall %.2f  cpu %.2f  peak %.2f\n", aw / bw, ac / bc, am / bm}'
 }
 
-compare "geom-info vs tinyobjloader load" \
+want info && compare "geom-info vs tinyobjloader load" \
     "$build/tools/geom-info $obj" \
     "$build/tests/bench/peer_tinyobj_info $obj"
-compare "geom-normals --weight area vs OpenMesh read + area normals + write" \
+want normals && compare "geom-normals --weight area vs OpenMesh read + area normals + write" \
     "$build/tools/geom-normals --weight area $obj -o $tmp/geom_wp_ours.obj" \
     "$build/tests/bench/peer_openmesh_normals $obj $tmp/geom_wp_peer.obj"
 bunny=$tmp/geom_whole_process_bunny.obj
-if [ ! -s "$bunny" ]; then
+if want subdivide && [ ! -s "$bunny" ]; then
     tar -xzf /usr/share/doc/libcgal-dev/data.tar.gz -C "$tmp" data/meshes/bunny00.off
     "$build/tools/geom-convert" "$tmp/data/meshes/bunny00.off" -o "$bunny"
 fi
-compare "geom-subdivide --scheme loop --levels 1 vs OpenSubdiv Far + OBJ I/O (bunny, 75k triangles)" \
+want subdivide && compare "geom-subdivide --scheme loop --levels 1 vs OpenSubdiv Far + OBJ I/O (bunny, 75k triangles)" \
     "$build/tools/geom-subdivide --scheme loop --levels 1 $bunny -o $tmp/geom_wp_ours.obj" \
     "$build/tests/bench/peer_subdiv_far loop 1 $bunny $tmp/geom_wp_peer.obj"
 tt='min(torus(-0.7,0,0,0.9,0.3),torus(0.7,0,0,0.9,0.3))'
-compare "geom-iso 320x192x64 two tori vs vtkFlyingEdges3D + OBJ" \
+want iso && compare "geom-iso 320x192x64 two tori vs vtkFlyingEdges3D + OBJ" \
     "$build/tools/geom-iso -e $tt -b -2.16,-1.296,-0.432,2.16,1.296,0.432 -r 320,192,64 -o $tmp/geom_wp_ours.obj" \
     "$build/tests/bench/peer_iso_vtk 320 192 64 $tmp/geom_wp_peer.obj"
+# 512^3: the sparse path (default) against the dense path and against VTK
+want iso512 && compare "geom-iso 512^3 two tori, sparse vs --dense" \
+    "$build/tools/geom-iso -e $tt -b -2.16,-1.296,-0.432,2.16,1.296,0.432 -r 512 -o $tmp/geom_wp_ours.obj" \
+    "$build/tools/geom-iso -e $tt -b -2.16,-1.296,-0.432,2.16,1.296,0.432 -r 512 --dense -o $tmp/geom_wp_peer.obj"
+want iso512 && { cmp -s "$tmp/geom_wp_ours.obj" "$tmp/geom_wp_peer.obj" &&
+    echo "  sparse and dense outputs: byte-identical" ||
+    echo "  sparse and dense outputs DIFFER"; }
+want iso512 && compare "geom-iso 512^3 two tori (sparse) vs vtkFlyingEdges3D + OBJ" \
+    "$build/tools/geom-iso -e $tt -b -2.16,-1.296,-0.432,2.16,1.296,0.432 -r 512 -o $tmp/geom_wp_ours.obj" \
+    "$build/tests/bench/peer_iso_vtk 512 512 512 $tmp/geom_wp_peer.obj"
 rm -f "$tmp/geom_wp_a" "$tmp/geom_wp_b" "$tmp/geom_wp_time" "$tmp/geom_wp_err" \
     "$tmp/geom_wp_ours.obj" "$tmp/geom_wp_peer.obj"

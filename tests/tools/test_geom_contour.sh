@@ -221,5 +221,30 @@ expect_rc 1 "unwritable svg"
 run -e 'sphere(1)' -b -2,-2,2,2 -r 10 -o "$T/no/such/dir/out.obj"
 expect_rc 1 "unwritable obj"
 
+# --- limits: the estimate before the work, in the message (issue 15)
+run -e 'gyroid(30)' -b -1,-1,1,1 -r 2000 --max-triangles 1000 -o "$T/lim.svg"
+expect_rc 1 "--max-triangles"
+expect_err_match "*would have about * (estimate), more than --max-triangles 1000*" "limit message"
+check "no output past the limit" [ ! -e "$T/lim.svg" ]
+run -e 'gyroid(30)' -b -1,-1,1,1 -r 2000 --max-memory 1M -o "$T/lim.svg"
+expect_rc 1 "--max-memory"
+expect_err_match "*MiB (estimate), more than --max-memory*" "memory message"
+run -e 'sphere(1)' -b -2,-2,2,2 -r 64 --max-triangles 10000 --json -o "$T/ok.svg"
+expect_rc 0 "within the limit"
+checks=$((checks + 1))
+"$PY" -c 'import json,sys; d=json.loads(sys.argv[1]); e=d["estimated_vertices"]; v=d["vertices"]
+assert 0.7*v <= e <= 1.3*v, (e, v)' "$out" || fail "estimate within 30% of the vertices made: $out"
+
+# --- NaN somewhere on the grid: the warning says where (grid index, point)
+run -e 'sqrt(x - 0.3) - 0.5' -b -1,-1,1,1 -r 8 --json -o "$T/nan.svg"
+expect_rc 0 "NaN field"
+expect_err_match "*NaN at 54 grid nodes*first at node (0, 0), point (-1, -1)*" "NaN warning"
+checks=$((checks + 1))
+"$PY" -c 'import json,sys; d=json.loads(sys.argv[1]); assert d["nan_nodes"] == 54
+assert d["first_nan"] == {"node": [0, 0], "point": [-1, -1]}, d["first_nan"]
+assert d["warnings"]' "$out" || fail "NaN in --json: $out"
+run -e 'sqrt(x) - 0.5' -b 0,-1,1,1 -r 8 -o "$T/nonan.svg"
+check "no NaN warning when there is none" [ -z "$err" ]
+
 echo "$checks checks, $failures failures"
 [ "$failures" -eq 0 ]

@@ -310,6 +310,44 @@ expect_rc 2 "--json with stdout"
 run --expr 'sphere(1)' --bounds 0,0,0,1,1,1 --res 4 -o "$T/e.xyz"
 expect_rc 2 "unknown output format"
 
+# --- the sparse path (default) against --dense: byte-identical files, on
+# the benchmark's two tori, planes through grid nodes (values exactly on the
+# iso value), a plate thinner than a cell, a NaN region, caps and normals
+for e in 'min(torus(-0.7,0,0,0.9,0.3),torus(0.7,0,0,0.9,0.3))' 'x - 0.25' \
+    'abs(z - 0.01) - 0.001' 'sqrt(x) - 0.5' 'gyroid(6)'; do
+    for extra in "" "--caps --normals" "--inside above"; do
+        # shellcheck disable=SC2086
+        run --expr "$e" --bounds -1,-1,-1,1,1,1 --res 40,36,32 $extra -o "$T/sp.ply"
+        expect_rc 0 "sparse $e $extra"
+        # shellcheck disable=SC2086
+        run --expr "$e" --bounds -1,-1,-1,1,1,1 --res 40,36,32 $extra --dense -o "$T/de.ply"
+        expect_rc 0 "dense $e $extra"
+        checks=$((checks + 1))
+        cmp -s "$T/sp.ply" "$T/de.ply" || fail "sparse and dense differ: $e $extra"
+    done
+done
+run --expr 'sphere(0.5)' --bounds -1,-1,-1,1,1,1 --res 64 --json -o "$T/sp.obj"
+expect_rc 0 "sparse --json"
+checks=$((checks + 1))
+"$PY" -c 'import json,sys; d=json.loads(sys.argv[1])
+assert d["cells"] == 64**3 and 0 < d["cells_evaluated"] < d["cells"] / 4, d
+assert d["blocks"] == 512 and d["blocks_skipped"] > 0 and d["error_stride"] >= 1' "$out" ||
+    fail "cells_evaluated in --json: $out"
+run --expr 'sphere(0.5)' --bounds -1,-1,-1,1,1,1 --res 64 --dense --json -o "$T/de.obj"
+checks=$((checks + 1))
+"$PY" -c 'import json,sys; d=json.loads(sys.argv[1])
+assert d["cells_evaluated"] == d["cells"] and d["blocks"] == 0, d' "$out" ||
+    fail "--dense evaluates every cell: $out"
+
+# --- a NaN field says where (issue 15)
+run --expr 'sqrt(x - 0.3) - 0.5' --bounds -1,-1,-1,1,1,1 --res 8 --json -o "$T/nan.obj"
+expect_rc 0 "NaN field"
+expect_err "NaN at 486 grid nodes (counted outside); the first at node (0, 0, 0), point (-1, -1, -1)" "NaN warning"
+checks=$((checks + 1))
+"$PY" -c 'import json,sys; d=json.loads(sys.argv[1]); assert d["nan_nodes"] == 486
+assert d["first_nan"] == {"node": [0, 0, 0], "point": [-1, -1, -1]}, d
+assert any("NaN" in w for w in d["warnings"])' "$out" || fail "NaN in --json: $out"
+
 if [ "$failures" -ne 0 ]; then
     echo "$failures of $checks checks failed" >&2
     exit 1

@@ -790,6 +790,8 @@ typedef void (*geom_iso_gradient_fn)(void *user, const double p[3], double g[3])
 typedef void (*geom_iso_values_fn)(void *user, size_t n, const double *p, double *out);
 typedef void (*geom_iso_gradients_fn)(void *user, size_t n, const double *p, double *values,
     double *grads);
+typedef int (*geom_iso_bounds_fn)(void *user, const double lo[3], const double hi[3],
+    double out[2]);
 typedef struct geom_iso_field {
     geom_iso_value_fn value;
     geom_iso_gradient_fn gradient;
@@ -797,6 +799,7 @@ typedef struct geom_iso_field {
     void *user;
     int exact;
     geom_iso_gradients_fn gradients;
+    geom_iso_bounds_fn bounds;
 } geom_iso_field;
 typedef enum geom_iso_scalar {
     GEOM_ISO_SCALAR_F32 = 1,
@@ -823,6 +826,9 @@ typedef struct geom_iso_options {
     int inside;
     void (*progress)(void *user, double fraction);
     void *progress_user;
+    int dense;
+    size_t block_size;
+    size_t error_samples;
 } geom_iso_options;
 typedef struct geom_iso_report {
     geom_error_report vertex_error;
@@ -841,6 +847,11 @@ typedef struct geom_iso_report {
     int threads;
     double signed_volume;
     geom_error_report error;
+    size_t cells_evaluated;
+    size_t blocks, blocks_skipped;
+    size_t error_stride;
+    size_t nan_first[3];
+    double nan_point[3];
 } geom_iso_report;
 typedef struct geom_iso_surface {
     size_t n_vertices;
@@ -882,6 +893,11 @@ void geom_implicit_expr_eval_grad_many(const geom_implicit_expr *e, size_t n, co
     double *values, double *grads);
 geom_status geom_implicit_expr_eval_interval(const geom_implicit_expr *e, const double lo[3],
     const double hi[3], double out[2]);
+typedef double (*geom_implicit_root_fn)(void *user, double x);
+double geom_implicit_bracket_root(geom_implicit_root_fn fn, void *user, double a, double b, double
+    fa, double fb, double x, int max_iterations, size_t *evaluations);
+geom_status geom_implicit_expr_eval_bounds(const geom_implicit_expr *e, const double lo[3],
+    const double hi[3], double out[2], int *defined);
 typedef enum geom_implicit_scalar {
     GEOM_IMPLICIT_SCALAR_F32 = 1,
     GEOM_IMPLICIT_SCALAR_F64 = 2
@@ -893,6 +909,10 @@ typedef struct geom_implicit_volume_desc {
     double origin[3];
     int big_endian;
 } geom_implicit_volume_desc;
+double geom_implicit_samples_value(const geom_implicit_volume_desc *d, const void *data, const
+    double p[3]);
+void geom_implicit_samples_gradient(const geom_implicit_volume_desc *d, const void *data, const
+    double p[3], double grad[3]);
 typedef struct geom_implicit_volume geom_implicit_volume;
 geom_status geom_implicit_volume_create(const geom_implicit_volume_desc *desc,
                                         const geom_allocator *alloc,

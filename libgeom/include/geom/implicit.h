@@ -242,6 +242,22 @@ GEOM_API void geom_implicit_expr_eval_grad_many(const geom_implicit_expr *e, siz
 GEOM_API geom_status geom_implicit_expr_eval_interval(const geom_implicit_expr *e, const double lo[3],
                                              const double hi[3], double out[2]);
 
+/**
+ * geom_implicit_expr_eval_interval plus definedness: out as there, and
+ * *defined = 1 when, in addition, f is finite at every point of the box
+ * (no NaN and no infinity as computed by geom_implicit_expr_eval), so that
+ * out[0] <= f(p) <= out[1] holds at every p of the box without exception;
+ * 0 when some point may give NaN or an infinity (the test is conservative:
+ * it says 0 whenever an intermediate interval is unbounded, or reaches
+ * outside the domain of sqrt, log or a non-integer power). Used to skip
+ * regions of a grid the level set provably does not cross
+ * (geom_iso_field::bounds).
+ * Statuses: GEOM_OK; GEOM_ERR_INVALID_ARG as geom_implicit_expr_eval_interval
+ * or for NULL defined (*defined 0, out {NaN, NaN}).
+ */
+GEOM_API geom_status geom_implicit_expr_eval_bounds(const geom_implicit_expr *e, const double lo[3],
+                                                   const double hi[3], double out[2], int *defined);
+
 /* ------------------------------------------------------------------ fields */
 
 /** Value of a field at p (3 doubles). */
@@ -293,6 +309,30 @@ typedef struct geom_implicit_volume_desc {
     double origin[3];          /**< default 0 */
     int big_endian;            /**< raw files only: nonzero = big-endian samples */
 } geom_implicit_volume_desc;
+
+/**
+ * Trilinear interpolation at p (3 doubles) of borrowed samples `data`
+ * (dims[0]*dims[1]*dims[2] floats or doubles as d->type says; d->spacing 0
+ * means 1; big_endian is ignored): the library's one interpolator, used by
+ * geom_implicit_volume_eval and geom_iso_grid_value. Points outside the
+ * sample box are clamped onto it; along an axis the value is
+ * (1 - t) a + t b, nested x, then y, then z, and exactly a (b) at t = 0
+ * (t = 1) without reading the other end, so a sample position gives the
+ * stored sample exactly and a NaN neighbour does not leak into it. NaN
+ * coordinates, NULL d or data give NaN.
+ */
+GEOM_API double geom_implicit_samples_value(const geom_implicit_volume_desc *d, const void *data,
+                                            const double p[3]);
+
+/**
+ * Gradient at p into grad (3 doubles) of the same samples: the trilinear
+ * interpolation of per-sample central differences (s[i+1] - s[i-1]) /
+ * (2 spacing), one-sided on the border, 0 along an axis with one sample.
+ * NaN coordinates or NULL d or data give NaN components; NULL grad is a
+ * no-op.
+ */
+GEOM_API void geom_implicit_samples_gradient(const geom_implicit_volume_desc *d, const void *data,
+                                             const double p[3], double grad[3]);
 
 /** A dense sampled volume (opaque). */
 typedef struct geom_implicit_volume geom_implicit_volume;
@@ -536,6 +576,29 @@ GEOM_API void geom_implicit_volume_eval_many(const geom_implicit_volume *v, size
 /** "raw", "nrrd", "metaimage", "inrimage", "nifti"; "auto" for 0. */
 GEOM_API const char *geom_implicit_volume_format_name(geom_implicit_volume_format f);
 
+/* ------------------------------------------------------------ root finding */
+
+/** A function of one variable for geom_implicit_bracket_root. */
+typedef double (*geom_implicit_root_fn)(void *user, double x);
+
+/**
+ * A root of fn in the open interval (a, b), a < b, where fn(a) = fa and
+ * fn(b) = fb have opposite strict signs (neither 0, neither NaN), starting
+ * from x (e.g. the linear interpolation; moved to the midpoint when not
+ * strictly inside): Illinois regula falsi, with a bisection step whenever
+ * the bracket has not halved over two steps or a scaled end value is not
+ * finite. The one stopping rule of the library's contouring (marching
+ * squares, marching cubes' refinement): the bracket ends are adjacent
+ * doubles, fn is exactly 0 (that point is returned), fn is NaN, or
+ * max_iterations evaluations were made; then the end of the final bracket
+ * with the smaller |fn| is returned (at a jump of fn, a point next to the
+ * jump), always strictly inside (a, b). *evaluations (may be NULL) is
+ * incremented per call of fn. NULL fn or a >= b returns x.
+ */
+GEOM_API double geom_implicit_bracket_root(geom_implicit_root_fn fn, void *user, double a, double b,
+                                           double fa, double fb, double x, int max_iterations,
+                                           size_t *evaluations);
+
 /* -------------------------------------------------------- marching squares */
 
 /** Root refinement choice of geom_implicit_contour_options::refine. */
@@ -571,6 +634,12 @@ typedef struct geom_implicit_contour_report {
     size_t saddles;       /**< ambiguous cells decided by the asymptotic decider */
     size_t skipped_cells; /**< cells with a NaN corner value (no segment made) */
     size_t refined;       /**< vertices refined by root finding */
+    /** Grid nodes where the field is NaN, and the first of them in scan
+     *  order (rows of increasing y, then x): its node index (i, j) and its
+     *  point (x, y); zeros when nan_nodes is 0. */
+    size_t nan_nodes;
+    size_t nan_first[2];
+    double nan_point[2];
 } geom_implicit_contour_report;
 
 /**
@@ -632,6 +701,23 @@ GEOM_API geom_status geom_implicit_contour(const geom_implicit_field *field, con
                                   size_t nx, size_t ny,
                                   const geom_implicit_contour_options *opt,
                                   geom_implicit_isolines *out, geom_diag *diag);
+
+/**
+ * The number of vertices (and, about as many, segments) geom_implicit_contour
+ * would make with the same arguments, estimated before contouring: the field
+ * is sampled on a grid of at most 64 x 64 cells over bounds (at z =
+ * opt->z), the cells with corners on both sides of opt->iso counted and
+ * scaled by the square root of the fine cells per coarse cell (the curves'
+ * length). Exact scaling for smooth curves larger than a coarse cell;
+ * features thinner than one are missed (an underestimate). Calls
+ * field->value at most 65^2 times.
+ * Statuses: GEOM_OK; GEOM_ERR_INVALID_ARG (NULL field, value, bounds or
+ * vertices, nx or ny 0, non-finite or empty bounds, non-finite iso or z).
+ */
+GEOM_API geom_status geom_implicit_contour_estimate(const geom_implicit_field *field,
+                                                   const double bounds[4], size_t nx, size_t ny,
+                                                   const geom_implicit_contour_options *opt,
+                                                   double *vertices);
 
 /** Free what geom_implicit_contour allocated and zero *c. NULL or a zeroed
  *  struct is a no-op. */

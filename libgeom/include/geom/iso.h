@@ -61,6 +61,14 @@ typedef void (*geom_iso_values_fn)(void *user, size_t n, const double *p, double
  *  and triangle samples. */
 typedef void (*geom_iso_gradients_fn)(void *user, size_t n, const double *p, double *values,
                                       double *grads);
+/** Bounds of the field over the box lo..hi (3 doubles each, lo <= hi):
+ *  return nonzero only when out[0] <= value(p) <= out[1] at EVERY point p
+ *  of the box that value() can be called with, value() is never NaN there,
+ *  and out holds no NaN; return 0 when that cannot be guaranteed (out is
+ *  then ignored). Used by the sparse extraction to skip the blocks of the
+ *  grid that the surface provably does not cross. */
+typedef int (*geom_iso_bounds_fn)(void *user, const double lo[3], const double hi[3],
+                                  double out[2]);
 
 /**
  * A scalar field given by callbacks. Only `value` is required.
@@ -78,6 +86,10 @@ typedef struct geom_iso_field {
     /** optional batch of values and gradients (speed only; used with
      *  `gradient`) */
     geom_iso_gradients_fn gradients;
+    /** optional rigorous bounds over a box (speed only): with it,
+     *  geom_iso_extract samples only the blocks of the grid the surface
+     *  may cross (see geom_iso_options::dense); the output is the same. */
+    geom_iso_bounds_fn bounds;
 } geom_iso_field;
 
 /* ------------------------------------------------------------ sampled grid */
@@ -110,7 +122,9 @@ typedef struct geom_iso_grid {
 GEOM_API geom_status geom_iso_grid_check(const geom_iso_grid *g);
 
 /**
- * Trilinear interpolation of the samples at p (3 doubles). Points outside
+ * Trilinear interpolation of the samples at p (3 doubles), by
+ * geom_implicit_samples_value (the library's one interpolator: a volume
+ * and a grid of the same samples agree bit for bit). Points outside
  * the sample box are clamped onto it. Exact (the stored sample, converted
  * to double) at sample positions whose offset from the origin divided by
  * the spacing is computed exactly (e.g. power-of-two spacings). NaN
@@ -149,10 +163,13 @@ enum {
 /** Options of the extraction; zero-initialised (or NULL) = defaults. */
 typedef struct geom_iso_options {
     double iso;          /**< the isovalue (default 0), finite */
-    /** Nonzero: refine each vertex on its edge by safeguarded root finding
-     *  (Illinois regula falsi with bisection fallback) on the field, when
-     *  the field is exact; ignored for sampled fields. Default: linear
-     *  interpolation of the node values. */
+    /** Nonzero: refine each vertex on its edge by the library's root
+     *  finder (geom_implicit_bracket_root: Illinois regula falsi with
+     *  bisection, until the bracket ends are adjacent doubles), when the
+     *  field is exact; ignored for sampled fields. Default: linear
+     *  interpolation of the node values. (The same meaning as
+     *  geom_implicit_contour_options::refine's AUTO when nonzero; 0 here is
+     *  its NEVER.) */
     int refine;
     int max_iterations;  /**< root finding iterations per edge; 0 = 64 */
     /** Nonzero: compute unit vertex normals, from field->gradient when
@@ -188,6 +205,29 @@ typedef struct geom_iso_options {
      *  also when other threads extract). */
     void (*progress)(void *user, double fraction);
     void *progress_user; /**< passed to progress */
+    /** Nonzero: sample every node of the grid (the dense path). Default:
+     *  when the field has `bounds` (geom_iso_extract) or always
+     *  (geom_iso_extract_grid), the grid is cut into blocks of
+     *  block_size^3 cells, classified by recursive subdivision (an octree
+     *  over the blocks: a box whose bounds lie strictly on one side of iso
+     *  is classified whole, others are split down to single blocks; for a
+     *  sampled grid, the min and max of each block's samples), and only
+     *  the blocks the surface may cross are sampled. The output (vertices,
+     *  triangles, their order, normals, caps, every report count except
+     *  evaluations and cells_evaluated) is identical to the dense path's:
+     *  a skipped block's nodes all lie strictly on one side of iso, so
+     *  every cell in it is uniform and makes no surface. */
+    int dense;
+    /** Cells per block edge of the sparse path; 0 = 8. */
+    size_t block_size;
+    /** Largest number of points (vertices plus triangle samples) the
+     *  error report measures (at least 5); 0 = 65536, SIZE_MAX = all. When there are
+     *  more, every s-th vertex and every s-th surface triangle (by index,
+     *  the first one included) is measured, with the smallest stride s
+     *  that keeps the count within the budget: vertices are numbered in
+     *  scan order, so the subset is spread evenly over the surface. The
+     *  stride is in geom_iso_report::error_stride. */
+    size_t error_samples;
 } geom_iso_options;
 
 /** geom_iso_options::inside values. */
@@ -230,6 +270,20 @@ typedef struct geom_iso_report {
      *  pieces = vertices and samples measured, seconds = the whole call,
      *  tolerance 0 (a fixed grid). */
     geom_error_report error;
+    /** Cells whose corner values were computed (all cells on the dense
+     *  path; those of the sampled blocks on the sparse path). */
+    size_t cells_evaluated;
+    /** Blocks of the sparse path: all, and those skipped because the
+     *  surface provably does not cross them (0 and 0 on the dense path). */
+    size_t blocks, blocks_skipped;
+    /** Stride of the error sampling (1: every vertex and triangle sample
+     *  measured; 0: not measured); see geom_iso_options::error_samples. */
+    size_t error_stride;
+    /** When nan_nodes > 0: the first grid node with a NaN value in scan
+     *  order (layers of increasing z, rows of increasing y, then x), its
+     *  node index (i, j, k) and its point; zeros otherwise. */
+    size_t nan_first[3];
+    double nan_point[3];
 } geom_iso_report;
 
 /** An extracted surface: an indexed triangle mesh. */
@@ -372,7 +426,8 @@ GEOM_API geom_status geom_iso_measure_error(const geom_iso_field *field, double 
  * Fill a geom_iso_field with the compiled expression e's callbacks: value
  * (geom_implicit_expr_eval), gradient (exact, dual numbers), values
  * (geom_implicit_expr_eval_many, the batch path), gradients
- * (geom_implicit_expr_eval_grad_many) and exact = 1. e must
+ * (geom_implicit_expr_eval_grad_many), bounds (geom_implicit_expr_eval_bounds,
+ * defined boxes only: the sparse path) and exact = 1. e must
  * outlive the field. GEOM_ERR_INVALID_ARG for NULL e or out (out zeroed
  * when not NULL).
  */

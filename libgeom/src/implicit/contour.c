@@ -84,12 +84,25 @@ static void add_segment(ctx *c, uint32_t a, uint32_t b)
     c->nseg++;
 }
 
+/* The field along an edge: axis 0 varies x at y = other, axis 1 y. */
+typedef struct edge_fn {
+    ctx *c;
+    int axis;
+    double other;
+} edge_fn;
+
+static double along_edge(void *u, double t)
+{
+    edge_fn *e = u;
+    return e->axis == 0 ? field_at(e->c, t, e->other) : field_at(e->c, e->other, t);
+}
+
 /*
- * The crossing on the edge from coordinate a to b (a < b) along x (axis 0,
- * at fixed y = other) or y (axis 1, at fixed x = other), with values da, db
- * of opposite strict signs. Linear interpolation, then (refine) Illinois
- * regula falsi safeguarded by bisection, on the edge's coordinate. The
- * result is strictly between a and b.
+ * The crossing on the edge from coordinate a to b (along axis; the other
+ * coordinate fixed) whose end values (f - iso) da and db are finite or
+ * infinite, of opposite strict signs. Linear interpolation, then (refine)
+ * the library's root finder (geom_implicit_bracket_root) on the edge's
+ * coordinate. The result is strictly between a and b.
  */
 static double crossing(ctx *c, int axis, double other, double a, double b, double da, double db)
 {
@@ -105,55 +118,9 @@ static double crossing(ctx *c, int axis, double other, double a, double b, doubl
     if (!c->refine)
         return x;
     c->refined++;
-    double lo = a, hi = b, flo = da, fhi = db; /* scaled by Illinois */
-    double tlo = da, thi = db;                  /* true values */
-    int side = 0;
-    double width_prev2 = 2.0 * (b - a), width_prev1 = b - a;
-    for (int it = 0; it < c->max_it; it++) {
-        if (!(x > lo && x < hi))
-            x = lo + 0.5 * (hi - lo);
-        if (!(x > lo && x < hi))
-            break; /* lo and hi are adjacent doubles */
-        double fx = axis == 0 ? field_at(c, x, other) : field_at(c, other, x);
-        if (isnan(fx))
-            break;
-        if (fx == 0.0)
-            return x;
-        if ((fx < 0.0) == (tlo < 0.0)) {
-            lo = x;
-            flo = tlo = fx;
-            if (side == -1)
-                fhi *= 0.5;
-            side = -1;
-        } else {
-            hi = x;
-            fhi = thi = fx;
-            if (side == 1)
-                flo *= 0.5;
-            side = 1;
-        }
-        double w = hi - lo;
-        if (!(nextafter(lo, hi) < hi))
-            break;
-        /* Bisect when the bracket has not halved over two steps. */
-        if (w > 0.5 * width_prev2 || !isfinite(flo) || !isfinite(fhi))
-            x = lo + 0.5 * w;
-        else
-            x = lo - flo * (w / (fhi - flo));
-        width_prev2 = width_prev1;
-        width_prev1 = w;
-    }
-    /* The end of the final bracket with the smaller |f| (never an end of
-     * the edge, where f is not zero); for a smooth f the bracket ends are
-     * adjacent doubles, for a jump they straddle it. */
-    int lo_ok = lo > a, hi_ok = hi < b;
-    if (lo_ok && hi_ok)
-        return fabs(tlo) <= fabs(thi) ? lo : hi;
-    if (lo_ok)
-        return lo;
-    if (hi_ok)
-        return hi;
-    return x > a && x < b ? x : a + 0.5 * (b - a);
+    edge_fn e = {c, axis, other};
+    /* field_at counts the evaluations itself */
+    return geom_implicit_bracket_root(along_edge, &e, a, b, da, db, x, c->max_it, NULL);
 }
 
 /* Vertex slots and flags of the two rows of the current cell row. */
@@ -556,19 +523,31 @@ geom_status geom_implicit_contour(const geom_implicit_field *field, const double
         X[i] = i == nx ? bounds[2]
                        : (bounds[0] * (double)(nx - i) + bounds[2] * (double)i) / (double)nx;
     double yb = bounds[1];
+    geom_implicit_contour_report *rep = &out->report;
     for (size_t i = 0; i <= nx; i++) {
         R.d[0][i] = field_at(&c, X[i], yb);
+        if (isnan(R.d[0][i]) && rep->nan_nodes++ == 0) {
+            rep->nan_first[0] = i;
+            rep->nan_first[1] = 0;
+            rep->nan_point[0] = X[i];
+            rep->nan_point[1] = yb;
+        }
         R.h[0][i] = NOV;
         R.nd[0][i] = NOV;
         R.hs[0][i] = 0;
     }
-    geom_implicit_contour_report *rep = &out->report;
     for (size_t j = 0; j < ny && c.err == GEOM_OK; j++) {
         double yt = j + 1 == ny ? bounds[3]
                                 : (bounds[1] * (double)(ny - j - 1) + bounds[3] * (double)(j + 1)) /
                                       (double)ny;
         for (size_t i = 0; i <= nx; i++) {
             R.d[1][i] = field_at(&c, X[i], yt);
+            if (isnan(R.d[1][i]) && rep->nan_nodes++ == 0) {
+                rep->nan_first[0] = i;
+                rep->nan_first[1] = j + 1;
+                rep->nan_point[0] = X[i];
+                rep->nan_point[1] = yt;
+            }
             R.h[1][i] = NOV;
             R.nd[1][i] = NOV;
             R.hs[1][i] = 0;

@@ -515,6 +515,73 @@ static inline ival i_atan2(ival y, ival x)
 #undef NUM
 #undef F
 
+/* ============================================ intervals with definedness */
+
+/* An interval and a flag: nan = 1 when the point evaluation may give NaN
+ * (or has no finite bound) somewhere in the box. NaN propagates through
+ * every point operation, so the final value is NaN at a point exactly when
+ * some operation made one there from non-NaN operands; with all operands
+ * finite (every interval bounded) that happens only in sqrt and log of a
+ * negative number and pow of a negative base with a non-integer exponent,
+ * flagged here; any unbounded or empty interval is flagged too (inf - inf,
+ * 0 * inf, 0 / 0 become possible). */
+typedef struct ivn {
+    ival v;
+    int nan;
+} ivn;
+
+static inline ivn n_mk(ival v, int nan)
+{
+    ivn r;
+    r.v = v;
+    r.nan = nan || iv_isempty(v) || !isfinite(v.lo) || !isfinite(v.hi);
+    return r;
+}
+static inline ivn n_cst(double c) { return n_mk(i_cst(c), 0); }
+/* Sums and products of non-negative numbers are non-negative in floating
+ * point too: the outward step below 0 is dropped (sqrt of a sum of squares
+ * stays defined). */
+static inline ival nonneg(ival r, ival a, ival b)
+{
+    if (a.lo >= 0.0 && b.lo >= 0.0 && r.lo < 0.0)
+        r.lo = 0.0;
+    return r;
+}
+static inline ivn n_add(ivn a, ivn b)
+{
+    return n_mk(nonneg(i_add(a.v, b.v), a.v, b.v), a.nan | b.nan);
+}
+static inline ivn n_sub(ivn a, ivn b) { return n_mk(i_sub(a.v, b.v), a.nan | b.nan); }
+static inline ivn n_mul(ivn a, ivn b)
+{
+    return n_mk(nonneg(i_mul(a.v, b.v), a.v, b.v), a.nan | b.nan);
+}
+static inline ivn n_div(ivn a, ivn b) { return n_mk(i_div(a.v, b.v), a.nan | b.nan); }
+static inline ivn n_neg(ivn a) { return n_mk(i_neg(a.v), a.nan); }
+static inline ivn n_sqr(ivn a) { return n_mk(i_sqr(a.v), a.nan); }
+static inline ivn n_powi(ivn a, int n) { return n_mk(i_powi(a.v, n), a.nan); }
+static inline ivn n_pow(ivn a, ivn b)
+{
+    int intexp = b.v.lo == b.v.hi && b.v.lo == nearbyint(b.v.lo);
+    return n_mk(i_pow(a.v, b.v), a.nan | b.nan | (a.v.lo < 0.0 && !intexp));
+}
+static inline ivn n_sqrt(ivn a) { return n_mk(i_sqrt(a.v), a.nan | (a.v.lo < 0.0)); }
+static inline ivn n_log(ivn a) { return n_mk(i_log(a.v), a.nan | (a.v.lo < 0.0)); }
+static inline ivn n_abs(ivn a) { return n_mk(i_abs(a.v), a.nan); }
+static inline ivn n_sin(ivn a) { return n_mk(i_sin(a.v), a.nan); }
+static inline ivn n_cos(ivn a) { return n_mk(i_cos(a.v), a.nan); }
+static inline ivn n_tan(ivn a) { return n_mk(i_tan(a.v), a.nan); }
+static inline ivn n_exp(ivn a) { return n_mk(i_exp(a.v), a.nan); }
+static inline ivn n_min(ivn a, ivn b) { return n_mk(i_min(a.v, b.v), a.nan | b.nan); }
+static inline ivn n_max(ivn a, ivn b) { return n_mk(i_max(a.v, b.v), a.nan | b.nan); }
+static inline ivn n_atan2(ivn a, ivn b) { return n_mk(i_atan2(a.v, b.v), a.nan | b.nan); }
+
+#define NUM ivn
+#define F(name) n_##name
+#include "implicit/expr_template.h"
+#undef NUM
+#undef F
+
 /* ================================================================ public */
 
 double geom_implicit_run_double(const expr_ins *code, size_t n, double x, double y, double z,
@@ -643,6 +710,29 @@ geom_status geom_implicit_expr_eval_interval(const geom_implicit_expr *e, const 
     out[1] = r.hi;
     if (iv_isempty(r))
         out[0] = out[1] = NAN;
+    return GEOM_OK;
+}
+
+geom_status geom_implicit_expr_eval_bounds(const geom_implicit_expr *e, const double lo[3],
+                                           const double hi[3], double out[2], int *defined)
+{
+    if (defined)
+        *defined = 0;
+    if (out)
+        out[0] = out[1] = NAN;
+    if (!e || !lo || !hi || !out || !defined)
+        return GEOM_ERR_INVALID_ARG;
+    for (int i = 0; i < 3; i++)
+        if (isnan(lo[i]) || isnan(hi[i]) || lo[i] > hi[i])
+            return GEOM_ERR_INVALID_ARG;
+    ivn x = n_mk(iv_make(lo[0], hi[0]), 0), y = n_mk(iv_make(lo[1], hi[1]), 0);
+    ivn z = n_mk(iv_make(lo[2], hi[2]), 0);
+    ivn r = n_run(e->code, e->n, x, y, z, n_cst(e->t));
+    if (iv_isempty(r.v))
+        return GEOM_OK;
+    out[0] = r.v.lo;
+    out[1] = r.v.hi;
+    *defined = !r.nan;
     return GEOM_OK;
 }
 

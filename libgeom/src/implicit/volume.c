@@ -142,71 +142,24 @@ geom_aabb geom_implicit_volume_bounds(const geom_implicit_volume *v)
     return b;
 }
 
-/* Cell index and fraction along axis a for coordinate c (clamped). */
-static void locate_axis(const geom_implicit_volume *v, int a, double c, size_t *i0, double *f)
+static void desc_of(const geom_implicit_volume *v, geom_implicit_volume_desc *d)
 {
-    size_t n = v->dims[a];
-    if (n < 2) {
-        *i0 = 0;
-        *f = 0.0;
-        return;
+    memset(d, 0, sizeof *d);
+    for (int a = 0; a < 3; a++) {
+        d->dims[a] = v->dims[a];
+        d->spacing[a] = v->spacing[a];
+        d->origin[a] = v->origin[a];
     }
-    double u = (c - v->origin[a]) / v->spacing[a];
-    double umax = (double)(n - 1);
-    if (!(u > 0.0))
-        u = 0.0;
-    if (u > umax)
-        u = umax;
-    double fl = floor(u);
-    if (fl >= umax)
-        fl = umax - 1.0;
-    *i0 = (size_t)fl;
-    *f = u - fl;
+    d->type = v->type;
 }
 
 double geom_implicit_volume_eval(const geom_implicit_volume *v, const double p[3])
 {
-    if (!v || !p || isnan(p[0]) || isnan(p[1]) || isnan(p[2]))
+    if (!v)
         return NAN;
-    size_t i0[3];
-    double f[3];
-    for (int a = 0; a < 3; a++)
-        locate_axis(v, a, p[a], &i0[a], &f[a]);
-    size_t nx = v->dims[0], ny = v->dims[1];
-    size_t di = nx > 1, dj = ny > 1 ? nx : 0, dk = v->dims[2] > 1 ? nx * ny : 0;
-    size_t base = i0[0] + nx * (i0[1] + ny * i0[2]);
-    double c[8];
-    for (int corner = 0; corner < 8; corner++) {
-        size_t idx = base + ((corner & 1) ? di : 0) + ((corner & 2) ? dj : 0) +
-                     ((corner & 4) ? dk : 0);
-        c[corner] = sample(v, idx);
-    }
-    /* Weights that are exactly 0 skip their corner, so a point on a sample
-     * gives that sample exactly (and a NaN neighbour does not leak in). */
-    double r = 0.0;
-    for (int corner = 0; corner < 8; corner++) {
-        double w = ((corner & 1) ? f[0] : 1.0 - f[0]) * ((corner & 2) ? f[1] : 1.0 - f[1]) *
-                   ((corner & 4) ? f[2] : 1.0 - f[2]);
-        if (w != 0.0)
-            r += w * c[corner];
-    }
-    return r;
-}
-
-/* Central-difference derivative along axis a at sample (i, j, k). */
-static double node_diff(const geom_implicit_volume *v, const size_t ijk[3], int a)
-{
-    size_t n = v->dims[a];
-    if (n < 2)
-        return 0.0;
-    size_t stride = a == 0 ? 1 : a == 1 ? v->dims[0] : v->dims[0] * v->dims[1];
-    size_t idx = ijk[0] + v->dims[0] * (ijk[1] + v->dims[1] * ijk[2]);
-    size_t i = ijk[a];
-    if (i == 0)
-        return (sample(v, idx + stride) - sample(v, idx)) / v->spacing[a];
-    if (i == n - 1)
-        return (sample(v, idx) - sample(v, idx - stride)) / v->spacing[a];
-    return (sample(v, idx + stride) - sample(v, idx - stride)) / (2.0 * v->spacing[a]);
+    geom_implicit_volume_desc d;
+    desc_of(v, &d);
+    return geom_implicit_samples_value(&d, v->data, p);
 }
 
 double geom_implicit_volume_eval_grad(const geom_implicit_volume *v, const double p[3],
@@ -215,28 +168,13 @@ double geom_implicit_volume_eval_grad(const geom_implicit_volume *v, const doubl
     double val = geom_implicit_volume_eval(v, p);
     if (!grad)
         return val;
-    grad[0] = grad[1] = grad[2] = NAN;
-    if (isnan(val) && (!v || !p || isnan(p[0]) || isnan(p[1]) || isnan(p[2])))
+    if (!v) {
+        grad[0] = grad[1] = grad[2] = NAN;
         return val;
-    size_t i0[3];
-    double f[3];
-    for (int a = 0; a < 3; a++)
-        locate_axis(v, a, p[a], &i0[a], &f[a]);
-    double g[3] = {0.0, 0.0, 0.0};
-    for (int corner = 0; corner < 8; corner++) {
-        double w = ((corner & 1) ? f[0] : 1.0 - f[0]) * ((corner & 2) ? f[1] : 1.0 - f[1]) *
-                   ((corner & 4) ? f[2] : 1.0 - f[2]);
-        if (w == 0.0)
-            continue;
-        size_t ijk[3] = {i0[0] + ((corner & 1) && v->dims[0] > 1),
-                         i0[1] + ((corner & 2) && v->dims[1] > 1),
-                         i0[2] + ((corner & 4) && v->dims[2] > 1)};
-        for (int a = 0; a < 3; a++)
-            g[a] += w * node_diff(v, ijk, a);
     }
-    grad[0] = g[0];
-    grad[1] = g[1];
-    grad[2] = g[2];
+    geom_implicit_volume_desc d;
+    desc_of(v, &d);
+    geom_implicit_samples_gradient(&d, v->data, p, grad);
     return val;
 }
 

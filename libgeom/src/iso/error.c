@@ -78,9 +78,12 @@ static void acc_sample(iso_err_acc *a, double e)
 /* Measure over vertices and triangles in fixed chunks (so the sums do not
  * depend on the thread count), in parallel when OpenMP is there. */
 geom_status geom_iso__measure(const geom_iso_field *f, double iso, size_t nv, const double *xyz,
-                        const uint8_t *vmask, size_t nt, const uint32_t *tris, const double h[3],
-                        int threads, const geom_allocator *alloc, iso_err_acc *total)
+                        const uint8_t *vmask, size_t nt, const uint32_t *tris, size_t stride,
+                        const double h[3], int threads, const geom_allocator *alloc,
+                        iso_err_acc *total)
 {
+    if (stride == 0)
+        stride = 1;
     memset(total, 0, sizeof *total);
     size_t nvc = (nv + CHUNK - 1) / CHUNK, ntc = (nt + CHUNK - 1) / CHUNK;
     size_t nchunks = nvc + ntc;
@@ -129,6 +132,8 @@ geom_status geom_iso__measure(const geom_iso_field *f, double iso, size_t nv, co
                     if (i == end)
                         break;
                 }
+                if (i % stride)
+                    continue;
                 if (is_v) {
                     if (vmask && !vmask[i])
                         continue;
@@ -152,7 +157,7 @@ geom_status geom_iso__measure(const geom_iso_field *f, double iso, size_t nv, co
         if ((size_t)ci < nvc) {
             size_t b = (size_t)ci * CHUNK, end = b + CHUNK < nv ? b + CHUNK : nv;
             for (size_t v = b; v < end; v++) {
-                if (vmask && !vmask[v])
+                if ((vmask && !vmask[v]) || v % stride)
                     continue;
                 if (geom_iso__point_error(f, iso, xyz + 3 * v, h, &e, &a->evaluations))
                     acc_vertex(a, e);
@@ -162,6 +167,8 @@ geom_status geom_iso__measure(const geom_iso_field *f, double iso, size_t nv, co
         } else {
             size_t b = ((size_t)ci - nvc) * CHUNK, end = b + CHUNK < nt ? b + CHUNK : nt;
             for (size_t t = b; t < end; t++) {
+                if (t % stride)
+                    continue;
                 const double *p[3] = {xyz + 3 * (size_t)tris[3 * t], xyz + 3 * (size_t)tris[3 * t + 1],
                                       xyz + 3 * (size_t)tris[3 * t + 2]};
                 double s[4][3];
@@ -231,8 +238,8 @@ geom_status geom_iso_measure_error(const geom_iso_field *field, double iso, size
     double step = ext > 0 ? 1e-5 * ext : 1e-5;
     double h[3] = {step, step, step};
     iso_err_acc acc;
-    geom_status st = geom_iso__measure(field, iso, n_vertices, xyz, NULL, n_triangles, tris, h, 1, NULL,
-                                 &acc);
+    geom_status st = geom_iso__measure(field, iso, n_vertices, xyz, NULL, n_triangles, tris, 1, h, 1,
+                                       NULL, &acc);
     if (st != GEOM_OK)
         return st;
     if (vertex_error) {

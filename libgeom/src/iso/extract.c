@@ -45,7 +45,14 @@ typedef struct ctx {
     double dstep[3]; /* central-difference steps */
     const iso_case_table *cases;
     const geom_allocator *alloc;
+    /* Sparse path: the class of each block of bsz^3 cells (BLK_*), block
+     * (bx, by, bz) at bx + nb[0] * (by + nb[1] * bz); NULL = dense. */
+    const uint8_t *blk;
+    size_t bsz, nb[3];
 } ctx;
+
+/* Block classes of the sparse path. */
+enum { BLK_SAMPLE = 0, BLK_OUT = 1, BLK_IN = 2 };
 
 typedef struct slab {
     size_t k0, k1;
@@ -58,6 +65,8 @@ typedef struct slab {
     iso_key *bot, *top;
     size_t nbot, capbot, ntop, captop;
     size_t evaluations, active, ambiguous, tunnels, iso_nodes, nan_nodes, refined;
+    int has_nan;
+    size_t nan_at[3]; /* the slab's first NaN node in scan order */
     geom_status status;
 } slab;
 
@@ -182,60 +191,19 @@ static void add_key(slab *s, const ctx *c, size_t layer_k, uint64_t key, uint32_
     }
 }
 
-/* Root of phi(t) = f(p(t)) - iso on [0, 1], phi(0) = ga, phi(1) = gb of
- * opposite signs: Illinois regula falsi, with a bisection step whenever two
- * steps did not halve the bracket. Returns the t with the smallest |phi|. */
-static double refine_root(slab *s, const ctx *c, const double pa[3], int axis, double b,
-                          double ga, double gb, double t0)
+/* The field minus iso along an edge: p with p[axis] = x. */
+typedef struct edge_fn {
+    const ctx *c;
+    double p[3];
+    int axis;
+} edge_fn;
+
+static double along_edge(void *u, double x)
 {
-    double lo = 0, hi = 1, flo = ga, fhi = gb;
-    double best = t0, fbest = HUGE_VAL;
-    int side = 0;
-    double width_ref = 1;
-    double t = t0;
-    for (int it = 0; it < c->max_iter; it++) {
-        if (!(t > lo && t < hi))
-            t = 0.5 * (lo + hi);
-        if (!(t > lo && t < hi))
-            break;
-        double p[3] = {pa[0], pa[1], pa[2]};
-        p[axis] = pa[axis] + t * (b - pa[axis]);
-        double ft = c->field->value(c->field->user, p) - c->iso;
-        s->evaluations++;
-        if (!isfinite(ft))
-            break;
-        if (fabs(ft) < fbest) {
-            fbest = fabs(ft);
-            best = t;
-        }
-        if (ft == 0)
-            break;
-        if ((ft > 0) == (flo > 0)) {
-            lo = t;
-            flo = ft;
-            if (side == -1)
-                fhi *= 0.5;
-            side = -1;
-        } else {
-            hi = t;
-            fhi = ft;
-            if (side == 1)
-                flo *= 0.5;
-            side = 1;
-        }
-        if (hi - lo <= 4 * DBL_EPSILON)
-            break;
-        if (it % 2 == 1) {
-            if (hi - lo > 0.5 * width_ref)
-                t = 0.5 * (lo + hi);
-            else
-                t = (lo * fhi - hi * flo) / (fhi - flo);
-            width_ref = hi - lo;
-        } else {
-            t = (lo * fhi - hi * flo) / (fhi - flo);
-        }
-    }
-    return best;
+    edge_fn *e = u;
+    double p[3] = {e->p[0], e->p[1], e->p[2]};
+    p[e->axis] = x;
+    return e->c->field->value(e->c->field->user, p) - e->c->iso;
 }
 
 /* The vertex on the edge from node (i, j, k) along axis, whose end values
@@ -259,77 +227,164 @@ static uint32_t edge_vertex(slab *s, const ctx *c, size_t i, size_t j, size_t k,
         t = 0;
     if (t > 1)
         t = 1;
-    if (c->refine && t > 0 && t < 1 && fabs(ga) < ISO_BIG && fabs(gb) < ISO_BIG) {
-        t = refine_root(s, c, pa, axis, b, ga, gb, t);
-        s->refined++;
-    }
+    double p[3] = {pa[0], pa[1], pa[2]};
     double tau = c->tau[axis];
+    if (c->refine && t > 0 && t < 1 && fabs(ga) < ISO_BIG && fabs(gb) < ISO_BIG) {
+        /* the library's one root finder, on the edge's coordinate */
+        edge_fn e = {c, {pa[0], pa[1], pa[2]}, axis};
+        double x0 = pa[axis] + t * (b - pa[axis]);
+        double x = geom_implicit_bracket_root(along_edge, &e, pa[axis], b, ga, gb, x0,
+                                              c->max_iter, &s->evaluations);
+        s->refined++;
+        double lo = pa[axis] + tau * (b - pa[axis]), hi = pa[axis] + (1 - tau) * (b - pa[axis]);
+        p[axis] = x < lo ? lo : x > hi ? hi : x;
+        return add_vertex(s, c, p, axis, gb > ga ? 1.0 : -1.0);
+    }
     if (t < tau)
         t = tau;
     if (t > 1 - tau)
         t = 1 - tau;
-    double p[3] = {pa[0], pa[1], pa[2]};
     p[axis] = pa[axis] + t * (b - pa[axis]);
     return add_vertex(s, c, p, axis, gb > ga ? 1.0 : -1.0);
 }
 
 /* ------------------------------------------------------------- layers */
 
-static void eval_layer(slab *s, const ctx *c, work *w, size_t k, layer *L, int count)
+/* Values of nodes [i0, i1) of row j of node layer k into L (nothing to do
+ * for a double grid, read in place), then their signs; counts f == iso and
+ * NaN nodes into *niso and *nnan. */
+static void eval_range(slab *s, const ctx *c, work *w, size_t k, layer *L, size_t j, size_t i0,
+                       size_t i1, size_t *niso, size_t *nnan)
 {
-    size_t nx = c->n[0], nx1 = nx + 1, ny1 = c->n[1] + 1;
+    size_t nx1 = c->n[0] + 1, ny1 = c->n[1] + 1;
     const double iso = c->iso;
-    size_t niso = 0, nnan = 0;
-    if (c->grid && c->grid->type == GEOM_ISO_SCALAR_F64) {
-        /* read in place: a layer of the grid is nx1 * ny1 contiguous doubles */
-        L->v = (const double *)c->grid->data + k * nx1 * ny1;
-    } else {
-        double *b = L->buf;
-        L->v = b;
-        for (size_t j = 0; j < ny1; j++) {
-            double *row = b + j * nx1;
-            if (c->grid) {
-                const float *src = (const float *)c->grid->data + nx1 * (j + ny1 * k);
-                for (size_t i = 0; i < nx1; i++)
-                    row[i] = (double)src[i];
-                continue;
-            }
+    if (!(c->grid && c->grid->type == GEOM_ISO_SCALAR_F64)) {
+        double *row = L->buf + j * nx1;
+        if (c->grid) {
+            const float *src = (const float *)c->grid->data + nx1 * (j + ny1 * k);
+            for (size_t i = i0; i < i1; i++)
+                row[i] = (double)src[i];
+        } else {
             const geom_iso_field *f = c->field;
             double y = c->coord[1][j], z = c->coord[2][k];
             if (f->values) {
-                for (size_t i = 0; i < nx1; i++) {
+                for (size_t i = i0; i < i1; i++) {
                     w->pts[3 * i] = c->coord[0][i];
                     w->pts[3 * i + 1] = y;
                     w->pts[3 * i + 2] = z;
                 }
-                f->values(f->user, nx1, w->pts, row);
+                f->values(f->user, i1 - i0, w->pts + 3 * i0, row + i0);
             } else {
                 double p[3] = {0, y, z};
-                for (size_t i = 0; i < nx1; i++) {
+                for (size_t i = i0; i < i1; i++) {
                     p[0] = c->coord[0][i];
                     row[i] = f->value(f->user, p);
                 }
             }
-            s->evaluations += nx1;
+            s->evaluations += i1 - i0;
         }
     }
-    for (size_t j = 0; j < ny1; j++) {
-        const double *row = L->v + j * nx1;
-        uint8_t *sr = L->s + j * nx1;
-        /* outside: v - iso > 0, or NaN; zeros and NaN counted on a second
-         * pass over the (rare) rows that have any */
-        int special = 0;
-        for (size_t i = 0; i < nx1; i++) {
+    const double *row = L->v + j * nx1;
+    uint8_t *sr = L->s + j * nx1;
+    /* outside: v - iso > 0, or NaN; zeros and NaN counted on a second
+     * pass over the (rare) ranges that have any */
+    int special = 0;
+    for (size_t i = i0; i < i1; i++) {
+        double d = row[i] - iso;
+        sr[i] = !(d <= 0);
+        special |= !(d < 0 || d > 0);
+    }
+    if (special)
+        for (size_t i = i0; i < i1; i++) {
             double d = row[i] - iso;
-            sr[i] = !(d <= 0);
-            special |= !(d < 0 || d > 0);
-        }
-        if (special)
-            for (size_t i = 0; i < nx1; i++) {
-                double d = row[i] - iso;
-                niso += d == 0;
-                nnan += d != d;
+            *niso += d == 0;
+            *nnan += d != d;
+            if (d != d && !s->has_nan) {
+                s->has_nan = 1;
+                s->nan_at[0] = i;
+                s->nan_at[1] = j;
+                s->nan_at[2] = k;
             }
+        }
+}
+
+/* Row j of node layer k on the sparse path: the nodes of sampled blocks
+ * are evaluated; the others lie in skipped blocks only, all of one class,
+ * and get its sign (and, with caps, a value of that sign: caps read the
+ * values of boundary cells). */
+static void sparse_row(slab *s, const ctx *c, work *w, size_t k, layer *L, size_t j,
+                       size_t *niso, size_t *nnan)
+{
+    size_t nx = c->n[0], nx1 = nx + 1, B = c->bsz;
+    size_t nbx = c->nb[0], nby = c->nb[1], nbz = c->nb[2];
+    /* the block rows containing node row j and node layer k (one or two
+     * along each axis) */
+    size_t bys[2], bzs[2];
+    int ny_ = 0, nz_ = 0;
+    if (j / B < nby)
+        bys[ny_++] = j / B;
+    if (j % B == 0 && j > 0)
+        bys[ny_++] = j / B - 1;
+    if (k / B < nbz)
+        bzs[nz_++] = k / B;
+    if (k % B == 0 && k > 0)
+        bzs[nz_++] = k / B - 1;
+    uint8_t *sr = L->s + j * nx1;
+    double *vr = (c->caps && L->buf == L->v) ? L->buf + j * nx1 : NULL;
+    size_t run0 = SIZE_MAX; /* first block of the current run of sampled blocks */
+    for (size_t bx = 0; bx <= nbx; bx++) {
+        int need = 0;
+        uint8_t cls = BLK_SAMPLE;
+        if (bx < nbx)
+            for (int a = 0; a < ny_ && !need; a++)
+                for (int b = 0; b < nz_ && !need; b++) {
+                    cls = c->blk[bx + nbx * (bys[a] + nby * bzs[b])];
+                    need = cls == BLK_SAMPLE;
+                }
+        if (need) {
+            if (run0 == SIZE_MAX)
+                run0 = bx;
+            continue;
+        }
+        if (run0 != SIZE_MAX) {
+            size_t i1 = bx * B + 1 < nx1 ? bx * B + 1 : nx1;
+            eval_range(s, c, w, k, L, j, run0 * B, i1, niso, nnan);
+            run0 = SIZE_MAX;
+        }
+        if (bx == nbx)
+            break;
+        /* a skipped block: its nodes not shared with a sampled neighbour */
+        size_t i0 = bx * B, i1 = (bx + 1) * B < nx ? (bx + 1) * B : nx;
+        if (bx > 0 && i0 <= i1) {
+            /* node i0 was set by the previous block (sampled or not) */
+            i0++;
+        }
+        if (i0 <= i1) {
+            memset(sr + i0, cls == BLK_OUT ? 1 : 0, i1 + 1 - i0);
+            if (vr) {
+                double fill = cls == BLK_OUT ? HUGE_VAL : -HUGE_VAL;
+                for (size_t i = i0; i <= i1; i++)
+                    vr[i] = fill;
+            }
+        }
+    }
+}
+
+static void eval_layer(slab *s, const ctx *c, work *w, size_t k, layer *L, int count)
+{
+    size_t nx = c->n[0], nx1 = nx + 1, ny1 = c->n[1] + 1;
+    size_t niso = 0, nnan = 0;
+    if (c->grid && c->grid->type == GEOM_ISO_SCALAR_F64)
+        /* read in place: a layer of the grid is nx1 * ny1 contiguous doubles */
+        L->v = (const double *)c->grid->data + k * nx1 * ny1;
+    else
+        L->v = L->buf;
+    for (size_t j = 0; j < ny1; j++) {
+        if (c->blk)
+            sparse_row(s, c, w, k, L, j, &niso, &nnan);
+        else
+            eval_range(s, c, w, k, L, j, 0, nx1, &niso, &nnan);
+        const uint8_t *sr = L->s + j * nx1;
         /* first and last sign change, 8 bytes at a time */
         uint32_t lo = (uint32_t)nx, hi = 0;
         size_t i = 0;
@@ -871,6 +926,103 @@ static double axis_tau(const double *coord, size_t n)
     return fmin(tau, 0.25);
 }
 
+/* ------------------------------------------------------ sparse blocks */
+
+/* Node index range [*i0, *i1] of blocks b0..b1 - 1 along axis a. */
+static void block_nodes(const ctx *c, int a, size_t b0, size_t b1, size_t *i0, size_t *i1)
+{
+    *i0 = b0 * c->bsz;
+    *i1 = b1 * c->bsz < c->n[a] ? b1 * c->bsz : c->n[a];
+}
+
+/* Class of the box of blocks b0..b1 - 1: from the field's bounds over the
+ * box spanned by their nodes, or the min and max of a grid's samples. */
+static uint8_t box_class(const ctx *c, const size_t b0[3], const size_t b1[3])
+{
+    size_t i0[3], i1[3];
+    for (int a = 0; a < 3; a++)
+        block_nodes(c, a, b0[a], b1[a], &i0[a], &i1[a]);
+    double mn, mx;
+    if (c->grid) {
+        const geom_iso_grid *g = c->grid;
+        mn = HUGE_VAL;
+        mx = -HUGE_VAL;
+        size_t nx1 = g->dims[0], ny1 = g->dims[1];
+        for (size_t k = i0[2]; k <= i1[2]; k++)
+            for (size_t j = i0[1]; j <= i1[1]; j++) {
+                size_t base = nx1 * (j + ny1 * k);
+                if (g->type == GEOM_ISO_SCALAR_F64) {
+                    const double *r = (const double *)g->data + base;
+                    for (size_t i = i0[0]; i <= i1[0]; i++) {
+                        double v = r[i];
+                        mn = v < mn ? v : mn;
+                        mx = v > mx ? v : mx;
+                        if (v != v)
+                            return BLK_SAMPLE;
+                    }
+                } else {
+                    const float *r = (const float *)g->data + base;
+                    for (size_t i = i0[0]; i <= i1[0]; i++) {
+                        double v = (double)r[i];
+                        mn = v < mn ? v : mn;
+                        mx = v > mx ? v : mx;
+                        if (v != v)
+                            return BLK_SAMPLE;
+                    }
+                }
+            }
+    } else {
+        double lo[3], hi[3], out[2];
+        for (int a = 0; a < 3; a++) {
+            lo[a] = c->coord[a][i0[a]];
+            hi[a] = c->coord[a][i1[a]];
+        }
+        if (!c->field->bounds(c->field->user, lo, hi, out) || out[0] != out[0] ||
+            out[1] != out[1])
+            return BLK_SAMPLE;
+        mn = out[0];
+        mx = out[1];
+    }
+    /* strictly on one side: no node equals iso (nor is NaN) in the box */
+    if (mn - c->iso > 0)
+        return BLK_OUT;
+    if (mx - c->iso < 0)
+        return BLK_IN;
+    return BLK_SAMPLE;
+}
+
+/* Classify the blocks b0..b1 - 1 by recursive subdivision (an octree over
+ * the blocks): a box proven on one side of iso is classified whole, others
+ * are halved along every axis longer than one block, down to single blocks,
+ * which are sampled when not proven. */
+static void classify_blocks(const ctx *c, uint8_t *blk, const size_t b0[3], const size_t b1[3])
+{
+    int single = b1[0] - b0[0] == 1 && b1[1] - b0[1] == 1 && b1[2] - b0[2] == 1;
+    /* a grid's single blocks only: its min and max cost a pass anyway */
+    uint8_t cls = (c->grid && !single) ? BLK_SAMPLE : box_class(c, b0, b1);
+    if (cls != BLK_SAMPLE || single) {
+        for (size_t bz = b0[2]; bz < b1[2]; bz++)
+            for (size_t by = b0[1]; by < b1[1]; by++)
+                memset(blk + b0[0] + c->nb[0] * (by + c->nb[1] * bz), cls, b1[0] - b0[0]);
+        return;
+    }
+    size_t mid[3];
+    for (int a = 0; a < 3; a++)
+        mid[a] = b1[a] - b0[a] > 1 ? b0[a] + (b1[a] - b0[a]) / 2 : b1[a];
+    for (int q = 0; q < 8; q++) {
+        size_t c0[3], c1[3];
+        int empty = 0;
+        for (int a = 0; a < 3; a++) {
+            int up = (q >> a) & 1;
+            c0[a] = up ? mid[a] : b0[a];
+            c1[a] = up ? b1[a] : mid[a];
+            empty |= c0[a] >= c1[a];
+        }
+        if (!empty)
+            classify_blocks(c, blk, c0, c1);
+    }
+}
+
 static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_surface *out,
                            double t_start, geom_diag *diag)
 {
@@ -880,6 +1032,38 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
     c.cases = &table;
     const geom_allocator *al = c.alloc;
     size_t nz = c.n[2];
+    /* the sparse path: classify the blocks first */
+    uint8_t *blk = NULL;
+    size_t nblk = 0, nskipped = 0, cells_eval = c.n[0] * c.n[1] * c.n[2];
+    if (!(opt && opt->dense) && (c.grid || c.field->bounds)) {
+        size_t B = opt && opt->block_size ? opt->block_size : 8;
+        nblk = 1;
+        for (int a = 0; a < 3; a++) {
+            c.nb[a] = (c.n[a] + B - 1) / B;
+            nblk *= c.nb[a]; /* cells fit size_t, blocks do too */
+        }
+        c.bsz = B;
+        blk = geom_alloc(al, nblk);
+        if (!blk)
+            return geom_diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "geom_iso: out of memory");
+        size_t b0[3] = {0, 0, 0};
+        classify_blocks(&c, blk, b0, c.nb);
+        c.blk = blk;
+        cells_eval = 0;
+        for (size_t bz = 0; bz < c.nb[2]; bz++)
+            for (size_t by = 0; by < c.nb[1]; by++)
+                for (size_t bx = 0; bx < c.nb[0]; bx++) {
+                    if (blk[bx + c.nb[0] * (by + c.nb[1] * bz)] != BLK_SAMPLE) {
+                        nskipped++;
+                        continue;
+                    }
+                    size_t i0, i1, j0, j1, k0, k1;
+                    block_nodes(&c, 0, bx, bx + 1, &i0, &i1);
+                    block_nodes(&c, 1, by, by + 1, &j0, &j1);
+                    block_nodes(&c, 2, bz, bz + 1, &k0, &k1);
+                    cells_eval += (i1 - i0) * (j1 - j0) * (k1 - k0);
+                }
+    }
     size_t layers = opt && opt->slab_layers ? opt->slab_layers : 0;
     if (layers == 0) {
         layers = (nz + 63) / 64;
@@ -888,8 +1072,10 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
     }
     size_t nslabs = (nz + layers - 1) / layers;
     slab *sl = geom_alloc(al, nslabs * sizeof(slab));
-    if (!sl)
+    if (!sl) {
+        geom_free(al, blk, nblk ? nblk : 1);
         return geom_diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "geom_iso: out of memory");
+    }
     memset(sl, 0, nslabs * sizeof(slab));
     for (size_t q = 0; q < nslabs; q++) {
         sl[q].k0 = q * layers;
@@ -1034,6 +1220,7 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
         out->n_cap_triangles = ncap;
     }
     geom_iso_report *r = &out->report;
+    int nan_found = 0;
     for (size_t q = 0; q < nslabs; q++) {
         slab *s = &sl[q];
         r->vertex_error.evaluations += s->evaluations;
@@ -1043,6 +1230,13 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
         r->iso_nodes += s->iso_nodes;
         r->nan_nodes += s->nan_nodes;
         r->refined += s->refined;
+        if (s->has_nan && !nan_found) { /* the first slab with one */
+            nan_found = 1;
+            for (int a = 0; a < 3; a++) {
+                r->nan_first[a] = s->nan_at[a];
+                r->nan_point[a] = c.coord[a][s->nan_at[a]];
+            }
+        }
         if (remap)
             geom_free(al, remap[q], (s->nv ? s->nv : 1) * sizeof(uint32_t));
         slab_free(al, s);
@@ -1053,6 +1247,11 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
     r->slabs = nslabs;
     r->threads = used;
     r->cells = c.n[0] * c.n[1] * c.n[2];
+    r->cells_evaluated = cells_eval;
+    r->blocks = nblk;
+    r->blocks_skipped = nskipped;
+    geom_free(al, blk, nblk ? nblk : 1);
+    c.blk = blk = NULL;
 
     if (st == GEOM_OK) {
         int err = opt ? opt->error : GEOM_ISO_ERROR_AUTO;
@@ -1074,9 +1273,24 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
                         mask[out->tris[q]] = 1;
                 }
             }
+            /* the sampling rule: every s-th vertex and surface triangle,
+             * the smallest s keeping the points within the budget */
+            size_t budget = opt && opt->error_samples ? opt->error_samples : 65536;
+            if (budget < 5)
+                budget = 5; /* one vertex and one triangle's 4 samples */
+            size_t stride = 1;
+            if (budget != SIZE_MAX && out->n_vertices + 4 * nst > budget) {
+                stride = (out->n_vertices + 4 * nst) / budget;
+                if (stride < 1)
+                    stride = 1;
+                while ((out->n_vertices + stride - 1) / stride + 4 * ((nst + stride - 1) / stride) >
+                       budget)
+                    stride++;
+            }
+            r->error_stride = stride;
             if (st == GEOM_OK)
-                st = geom_iso__measure(c.field, c.iso, out->n_vertices, out->xyz, mask, nst, out->tris,
-                                 c.dstep, threads, al, &acc);
+                st = geom_iso__measure(c.field, c.iso, out->n_vertices, out->xyz, mask, nst,
+                                       out->tris, stride, c.dstep, threads, al, &acc);
             geom_free(al, mask, out->n_vertices ? out->n_vertices : 1);
             if (st == GEOM_OK) {
                 r->vertex_error.max_error = acc.vmax;
@@ -1298,6 +1512,17 @@ static void neg_gradients(void *u, size_t n, const double *p, double *v, double 
         g[i] = -g[i];
 }
 
+static int neg_bounds(void *u, const double lo[3], const double hi[3], double out[2])
+{
+    const geom_iso_field *f = u;
+    double b[2];
+    if (!f->bounds(f->user, lo, hi, b))
+        return 0;
+    out[0] = -b[1];
+    out[1] = -b[0];
+    return 1;
+}
+
 /* Signed volume enclosed by the triangles (divergence theorem; exact for a
  * closed surface, e.g. with caps): positive when they face outward. */
 static void signed_volume(geom_iso_surface *out)
@@ -1325,6 +1550,7 @@ geom_status geom_iso_extract(const geom_iso_field *field, const double bounds[6]
         neg.gradient = field->gradient ? neg_gradient : NULL;
         neg.values = field->values ? neg_values : NULL;
         neg.gradients = field->gradients ? neg_gradients : NULL;
+        neg.bounds = field->bounds ? neg_bounds : NULL;
         neg.user = (void *)(uintptr_t)field;
         neg.exact = field->exact;
         geom_iso_options o = *opt;

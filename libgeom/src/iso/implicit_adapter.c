@@ -7,6 +7,7 @@
 
 #include <stdint.h>
 
+#include <math.h>
 #include <string.h>
 
 static void expr_gradient(void *user, const double p[3], double g[3])
@@ -24,6 +25,15 @@ static void expr_gradients(void *user, size_t n, const double *p, double *values
     geom_implicit_expr_eval_grad_many((const geom_implicit_expr *)user, n, p, values, grads);
 }
 
+static int expr_bounds(void *user, const double lo[3], const double hi[3], double out[2])
+{
+    int defined = 0;
+    if (geom_implicit_expr_eval_bounds((const geom_implicit_expr *)user, lo, hi, out, &defined) !=
+        GEOM_OK)
+        return 0;
+    return defined && !isnan(out[0]) && !isnan(out[1]);
+}
+
 geom_status geom_iso_field_from_expr(const geom_implicit_expr *e,
                                             geom_iso_field *out)
 {
@@ -36,6 +46,7 @@ geom_status geom_iso_field_from_expr(const geom_implicit_expr *e,
     out->gradient = expr_gradient;
     out->values = expr_values;
     out->gradients = expr_gradients;
+    out->bounds = expr_bounds;
     out->user = (void *)(uintptr_t)e;
     out->exact = 1;
     return GEOM_OK;

@@ -126,10 +126,12 @@ int geom_iso__point_error(const geom_iso_field *f, double iso, const double p[3]
 
 /** Error over nv vertices (those with vmask[v] != 0 when vmask is given)
  *  and nt triangles (fixed chunks, deterministic whatever the thread
- *  count); h: central-difference steps. */
+ *  count), only the indices that are multiples of stride (0 = 1);
+ *  h: central-difference steps. */
 geom_status geom_iso__measure(const geom_iso_field *f, double iso, size_t nv, const double *xyz,
-                        const uint8_t *vmask, size_t nt, const uint32_t *tris, const double h[3],
-                        int threads, const geom_allocator *alloc, iso_err_acc *total);
+                              const uint8_t *vmask, size_t nt, const uint32_t *tris,
+                              size_t stride, const double h[3], int threads,
+                              const geom_allocator *alloc, iso_err_acc *total);
 
 /** Sample (i, j, k) of a checked grid, as a double. */
 static inline double iso_grid_at(const geom_iso_grid *g, size_t i, size_t j, size_t k)
