@@ -198,8 +198,10 @@ typedef struct geom_step_read_options {
  * bodies (MANIFOLD_SOLID_BREP, BREP_WITH_VOIDS, SHELL_BASED_SURFACE_MODEL,
  * reached through the representations and their assembly transforms:
  * REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION / ITEM_DEFINED_TRANSFORMATION
- * (as used by CONTEXT_DEPENDENT_SHAPE_REPRESENTATION) and MAPPED_ITEM) to
- * *out. Supported geometry: PLANE, CYLINDRICAL_SURFACE, CONICAL_SURFACE,
+ * (as used by CONTEXT_DEPENDENT_SHAPE_REPRESENTATION) and MAPPED_ITEM, whose
+ * placements may be AXIS2_PLACEMENT_3D or CARTESIAN_TRANSFORMATION_OPERATOR(_3D):
+ * axis1/2/3 by ISO 10303-42's base_axis, local origin, uniform scale, and
+ * mirrors, whose faces are turned back outward) to *out. Supported geometry: PLANE, CYLINDRICAL_SURFACE, CONICAL_SURFACE,
  * SPHERICAL_SURFACE, TOROIDAL_SURFACE, SURFACE_OF_REVOLUTION,
  * SURFACE_OF_LINEAR_EXTRUSION, B_SPLINE_SURFACE_WITH_KNOTS (and the complex
  * rational form), LINE, CIRCLE, ELLIPSE, B_SPLINE_CURVE_WITH_KNOTS
@@ -288,7 +290,10 @@ typedef struct geom_brep_tess_stats {
  * Each face's loops are taken to its (u, v) domain: the edge samples are
  * inverted onto the surface (closed form for the analytic surfaces; Newton
  * iteration from the PCURVE's image, or from a grid, for NURBS), unwrapped
- * across the seams of periodic surfaces, and joined through poles. The
+ * across the seams of periodic surfaces, and joined through poles; two
+ * loops that close only after a whole period (the side of a cylinder
+ * between two circles, with no seam edge) are joined into one through an
+ * added seam, sampled to the tolerance and used on both of its sides. The
  * face is meshed there by a constrained Delaunay triangulation (exact
  * geom_orient2d / geom_incircle, in coordinates scaled by the surface's
  * metric) and refined by inserting the worst sample point of every
