@@ -122,7 +122,7 @@ typedef struct ts {
     size_t ntri, cap_tri, cap_tcorn;
     ts_pool pn, puv, pt;
     /* scratch for evaluation */
-    geom_curve_scratch sc;
+    geom__scratch sc;
     size_t evals;
     size_t limit_normals;
     int counting; /* count limit normals (the output pass) */
@@ -205,8 +205,8 @@ static void cell_spans(const ts *T, const ts_cell *c, double u, double v, size_t
     /* right limits, except at the cell's upper ends (a piece ends at a
      * discontinuity or at the end of the domain) */
     const geom_nurbs_surface *s = T->surf[c->surf].s;
-    *ku = geom_curve_bs_span(s->degree_u, s->nu, s->knots_u, u, u >= c->u1);
-    *kv = geom_curve_bs_span(s->degree_v, s->nv, s->knots_v, v, v >= c->v1);
+    *ku = geom__bs_span(s->degree_u, s->nu, s->knots_u, u, u >= c->u1);
+    *kv = geom__bs_span(s->degree_v, s->nv, s->knots_v, v, v >= c->v1);
 }
 
 static void cell_point(ts *T, const ts_cell *c, double u, double v, double *out)
@@ -1389,7 +1389,7 @@ static void ts_release(ts *T)
     pool_free(T, &T->pn);
     pool_free(T, &T->puv);
     pool_free(T, &T->pt);
-    geom_curve_scratch_free(&T->sc);
+    geom__scratch_free(&T->sc);
 }
 
 static int sig_changed(const ts_cell *c, const uint32_t *old)
@@ -1642,7 +1642,7 @@ static geom_status tessellate_unscaled(const geom_nurbs_surface *surfaces, size_
     T.pt.ncomp = 4;
     unsigned attrs = o->attributes &
                      (GEOM_SURFACE_ATTR_NORMAL | GEOM_SURFACE_ATTR_UV | GEOM_SURFACE_ATTR_TANGENT);
-    geom_status st = geom_curve_scratch_init(&T.sc, work);
+    geom_status st = geom__scratch_init(&T.sc, work);
     if (st != GEOM_OK)
         return geom_diag_set(diag, st, NULL, 0, 0, "tessellate: out of memory");
     st = build_structure(&T, surfaces, n);
