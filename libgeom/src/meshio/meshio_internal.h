@@ -273,30 +273,6 @@ geom_status geom_meshio__sink_fail(mio_sink *k, geom_status st, const char *fmt,
  * whole valid UTF-8 sequences (else \xNN). */
 void geom_meshio__printable(char *dst, size_t size, const char *src, size_t len);
 
-/* ---------------------------------------------------- atomic file output */
-
-typedef struct mio_atomic {
-    char *path; /* destination as named (messages) */
-    char *dest; /* file replaced: path, or a symbolic link's resolved target */
-    char *tmp;  /* temporary file; NULL when writing through */
-    size_t path_size, dest_size, tmp_size;
-    int fd;
-    const geom_allocator *alloc;
-} mio_atomic;
-
-/* Open the output for path (see meshio.h, "Writers"): a regular file (or a
- * symbolic link to one) is replaced through a temporary file named
- * ".NAME.XXXXXXXX.geomtmp" next to it, keeping its mode; a device or FIFO
- * is written through. GEOM_ERR_IO / GEOM_ERR_NOMEM / GEOM_ERR_INVALID_ARG. */
-geom_status geom_meshio__atomic_open(mio_atomic *a, const char *path, const geom_allocator *al,
-                                     geom_diag *diag);
-/* Flush function for a sink writing to a->fd (user = a). */
-geom_status geom_meshio__atomic_write(void *user, const void *data, size_t n, geom_diag *diag);
-/* Close and rename onto the destination; on failure remove the temporary. */
-geom_status geom_meshio__atomic_commit(mio_atomic *a, geom_diag *diag);
-/* Close and remove the temporary file. */
-void geom_meshio__atomic_abort(mio_atomic *a);
-
 /* ------------------------------------------------------------ export view */
 
 enum { MIO_ATTR_NORMAL = 0, MIO_ATTR_UV = 1, MIO_ATTR_COLOR = 2, MIO_ATTR_TANGENT = 3,
