@@ -259,8 +259,43 @@ void cli_print_escaped(FILE *fp, const char *s)
     }
 }
 
+/* Library messages that name an options field as a hint, and the tool
+ * option that sets it: the tools' messages name the option. */
+static const struct {
+    const char *field_hint, *option, *hint;
+} cli_hints[] = {
+    {"(set skip_invalid_faces to skip such faces)", "--skip-invalid",
+     "(--skip-invalid skips such faces)"},
+};
+
+/* msg with each library-field hint replaced by the tool's option (or, when
+ * this tool lacks the option, by geom-convert's). */
+static void cli_rewrite_hints(const cli_tool *tool, char *msg, size_t size)
+{
+    for (size_t i = 0; i < sizeof cli_hints / sizeof cli_hints[0]; i++) {
+        char *at = strstr(msg, cli_hints[i].field_hint);
+        if (!at)
+            continue;
+        const char *opts = tool->options_help ? tool->options_help : "";
+        char hint[160];
+        if (strstr(opts, cli_hints[i].option))
+            snprintf(hint, sizeof hint, "%s", cli_hints[i].hint);
+        else
+            snprintf(hint, sizeof hint, "(geom-convert %s can drop such faces first)",
+                     cli_hints[i].option);
+        char rest[1024];
+        snprintf(rest, sizeof rest, "%s", at + strlen(cli_hints[i].field_hint));
+        snprintf(at, size - (size_t)(at - msg), "%s%s", hint, rest);
+    }
+}
+
 int cli_print_diag(const cli_tool *tool, const geom_diag *d)
 {
+    if (!d || (d->status == GEOM_OK && !d->message[0])) {
+        /* a failure the library did not describe: never print "ok" */
+        fprintf(stderr, "%s: failed (no diagnostic)\n", tool->name);
+        return CLI_EXIT_ERROR;
+    }
     char small[512];
     size_t need = geom_diag_format(d, small, sizeof small);
     char *big = need < sizeof small ? NULL : malloc(need + 1);
@@ -269,6 +304,7 @@ int cli_print_diag(const cli_tool *tool, const geom_diag *d)
     /* Text from the input may be part of the message: escape what could
      * drive the terminal. */
     fprintf(stderr, "%s: ", tool->name);
+    cli_rewrite_hints(tool, big ? big : small, big ? need + 1 : sizeof small);
     cli_print_escaped(stderr, big ? big : small); /* small is truncated if big failed */
     fputc('\n', stderr);
     free(big);

@@ -295,13 +295,13 @@ geom_status geom_scene_shapes_from_ray(const geom_ray_scene *rs, geom_scene_shap
                                        geom_diag *diag)
 {
     if (!out)
-        return GEOM_ERR_INVALID_ARG;
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_scene_shapes_from_ray: invalid argument");
     *out = NULL;
     if (!rs)
-        return GEOM_ERR_INVALID_ARG;
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_scene_shapes_from_ray: invalid argument");
     geom_scene_shapes *h = geom_alloc(NULL, sizeof *h);
     if (!h)
-        return GEOM_ERR_NOMEM;
+        return geom_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_scene_shapes_from_ray: out of memory");
     memset(h, 0, sizeof *h);
     h->rs = rs;
     size_t n = 0;
@@ -315,7 +315,7 @@ geom_status geom_scene_shapes_from_ray(const geom_ray_scene *rs, geom_scene_shap
     h->ntop = n;
     if (!h->top || !h->top_kind) {
         geom_scene_shapes_destroy(h);
-        return GEOM_ERR_NOMEM;
+        return geom_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_scene_shapes_from_ray: out of memory");
     }
     geom_status st = GEOM_OK;
     size_t k = 0;
