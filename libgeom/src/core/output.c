@@ -119,7 +119,7 @@ static geom_status open_temporary(geom_output *a, const struct stat *old, geom_d
         if (err != EEXIST)
             break;
     }
-    return io_error(diag, a->impl_path, err, "cannot create a temporary file next to it");
+    return io_error(diag, a->impl_path, err, "cannot create output file");
 }
 
 geom_status geom_output_open(const char *path, const geom_allocator *al, geom_output *a,
