@@ -18,12 +18,6 @@
 #include <time.h>
 #include <unistd.h>
 
-#ifdef NAME_MAX
-#define CLI_NAME_MAX NAME_MAX
-#else
-#define CLI_NAME_MAX 255
-#endif
-
 /* ------------------------------------------------------------ tool and options */
 
 static const char common_shortopts[] = "hVo:";
@@ -265,8 +259,43 @@ void cli_print_escaped(FILE *fp, const char *s)
     }
 }
 
+/* Library messages that name an options field as a hint, and the tool
+ * option that sets it: the tools' messages name the option. */
+static const struct {
+    const char *field_hint, *option, *hint;
+} cli_hints[] = {
+    {"(set skip_invalid_faces to skip such faces)", "--skip-invalid",
+     "(--skip-invalid skips such faces)"},
+};
+
+/* msg with each library-field hint replaced by the tool's option (or, when
+ * this tool lacks the option, by geom-convert's). */
+static void cli_rewrite_hints(const cli_tool *tool, char *msg, size_t size)
+{
+    for (size_t i = 0; i < sizeof cli_hints / sizeof cli_hints[0]; i++) {
+        char *at = strstr(msg, cli_hints[i].field_hint);
+        if (!at)
+            continue;
+        const char *opts = tool->options_help ? tool->options_help : "";
+        char hint[160];
+        if (strstr(opts, cli_hints[i].option))
+            snprintf(hint, sizeof hint, "%s", cli_hints[i].hint);
+        else
+            snprintf(hint, sizeof hint, "(geom-convert %s can drop such faces first)",
+                     cli_hints[i].option);
+        char rest[1024];
+        snprintf(rest, sizeof rest, "%s", at + strlen(cli_hints[i].field_hint));
+        snprintf(at, size - (size_t)(at - msg), "%s%s", hint, rest);
+    }
+}
+
 int cli_print_diag(const cli_tool *tool, const geom_diag *d)
 {
+    if (!d || (d->status == GEOM_OK && !d->message[0])) {
+        /* a failure the library did not describe: never print "ok" */
+        fprintf(stderr, "%s: failed (no diagnostic)\n", tool->name);
+        return CLI_EXIT_ERROR;
+    }
     char small[512];
     size_t need = geom_diag_format(d, small, sizeof small);
     char *big = need < sizeof small ? NULL : malloc(need + 1);
@@ -275,6 +304,7 @@ int cli_print_diag(const cli_tool *tool, const geom_diag *d)
     /* Text from the input may be part of the message: escape what could
      * drive the terminal. */
     fprintf(stderr, "%s: ", tool->name);
+    cli_rewrite_hints(tool, big ? big : small, big ? need + 1 : sizeof small);
     cli_print_escaped(stderr, big ? big : small); /* small is truncated if big failed */
     fputc('\n', stderr);
     free(big);
@@ -600,147 +630,42 @@ static void cli_register_temp(char *tmp, bool on)
     }
 }
 
-static uint64_t cli_mix(uint64_t x)
-{
-    x += 0x9e3779b97f4a7c15u;
-    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9u;
-    x = (x ^ (x >> 27)) * 0x94d049bb133111ebu;
-    return x ^ (x >> 31);
-}
-
 static void output_release(cli_output *out)
 {
-    if (out->tmp)
-        cli_register_temp(out->tmp, false);
-    free(out->path);
-    free(out->dest);
-    free(out->tmp);
+    if (out->o.temporary)
+        cli_register_temp(out->o.temporary, false);
     memset(out, 0, sizeof *out);
+    out->o.fd = -1;
 }
 
-static geom_status output_fail(cli_output *out, geom_diag *diag, const char *path, int e,
-                               const char *what)
-{
-    if (out->fp)
-        fclose(out->fp);
-    else if (out->fd >= 0)
-        close(out->fd);
-    out->fp = NULL;
-    if (out->tmp)
-        unlink(out->tmp);
-    output_release(out);
-    return cli_diag_set(diag, e == ENOMEM ? GEOM_ERR_NOMEM : GEOM_ERR_IO, path, 0, 0, "%s: %s",
-                        what, strerror(e));
-}
-
-/* Create the temporary file ".NAME.XXXXXXXX.geomtmp" next to out->dest, NAME
- * cut (at a UTF-8 boundary) so that the whole fits NAME_MAX. */
-static int output_temporary(cli_output *out)
-{
-    static const char suffix[] = ".geomtmp";
-    const char *slash = strrchr(out->dest, '/');
-    size_t dir_len = slash ? (size_t)(slash - out->dest) + 1 : 0;
-    const char *base = out->dest + dir_len;
-    size_t blen = strlen(base), room = CLI_NAME_MAX - (1 + 1 + 8 + (sizeof suffix - 1));
-    if (blen > room) {
-        blen = room;
-        while (blen > 0 && ((unsigned char)base[blen] & 0xC0) == 0x80)
-            blen--;
-    }
-    size_t size = dir_len + 1 + blen + 1 + 8 + sizeof suffix;
-    out->tmp = malloc(size);
-    if (!out->tmp)
-        return ENOMEM;
-    struct timespec ts;
-    clock_gettime(CLOCK_REALTIME, &ts);
-    uint64_t seed = cli_mix((uint64_t)ts.tv_nsec ^ ((uint64_t)ts.tv_sec << 30)) ^
-                    cli_mix((uint64_t)getpid() ^ (uint64_t)(uintptr_t)out);
-    static const char alphabet[] = "abcdefghijklmnopqrstuvwxyz0123456789";
-    int e = EEXIST;
-    for (uint64_t attempt = 0; attempt < 100 && e == EEXIST; attempt++) {
-        uint64_t r = cli_mix(seed + attempt);
-        char rnd[9];
-        for (int i = 0; i < 8; i++, r /= 36)
-            rnd[i] = alphabet[r % 36];
-        rnd[8] = '\0';
-        snprintf(out->tmp, size, "%.*s.%.*s.%s%s", (int)dir_len, out->dest, (int)blen, base, rnd,
-                 suffix);
-        out->fd = open(out->tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-        e = out->fd >= 0 ? 0 : errno;
-    }
-    if (e) {
-        free(out->tmp);
-        out->tmp = NULL;
-        return e;
-    }
-    cli_register_temp(out->tmp, true);
-    return 0;
-}
-
+/* The destination rules (cp's) are the library's: geom_output_open. The tool
+ * layer adds standard output, a FILE stream over a duplicate of the output's
+ * descriptor, and the signal handler that removes the temporary file. */
 geom_status cli_output_open(cli_output *out, const char *path, geom_diag *diag)
 {
     memset(out, 0, sizeof *out);
-    out->fd = -1;
+    out->o.fd = -1;
     if (!path || strcmp(path, "-") == 0) {
         out->fp = stdout;
         return GEOM_OK;
     }
-    const char *slash = strrchr(path, '/');
-    const char *base = slash ? slash + 1 : path;
-    if (base[0] == '\0')
-        return cli_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "not a file name");
     cli_install_handlers();
-    out->path = strdup(path);
-    if (!out->path)
-        return output_fail(out, diag, path, ENOMEM, "cannot open for writing");
-
-    struct stat lst, st;
-    int e = 0;
-    bool have = lstat(path, &lst) == 0;
-    if (!have && errno != ENOENT)
-        return output_fail(out, diag, path, errno, "cannot open for writing");
-    if (have && stat(path, &st) != 0) {
-        if (errno == ENOENT)
-            return output_fail(out, diag, path, ENOENT,
-                               "not writing through a dangling symbolic link");
-        return output_fail(out, diag, path, errno, "cannot open for writing");
+    geom_status st = geom_output_open(path, NULL, &out->o, diag);
+    if (st != GEOM_OK)
+        return st;
+    if (out->o.temporary)
+        cli_register_temp(out->o.temporary, true);
+    out->path = path;
+    int fd = dup(out->o.fd);
+    out->fp = fd >= 0 ? fdopen(fd, "wb") : NULL;
+    if (!out->fp) {
+        int e = errno;
+        if (fd >= 0)
+            close(fd);
+        cli_output_abort(out);
+        return cli_diag_set(diag, e == ENOMEM ? GEOM_ERR_NOMEM : GEOM_ERR_IO, path, 0, 0,
+                            "cannot open for writing: %s", strerror(e));
     }
-    if (have && S_ISDIR(st.st_mode))
-    {
-        output_release(out);
-        return cli_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "is a directory");
-    }
-    if (have && !S_ISREG(st.st_mode)) {
-        /* A device (/dev/null, /dev/full), FIFO or socket: write through it,
-         * never replace it. */
-        out->fd = open(path, O_WRONLY | O_NOCTTY | O_CLOEXEC);
-        if (out->fd < 0)
-            return output_fail(out, diag, path, errno, "cannot open for writing");
-    } else {
-        /* A regular file, perhaps through symbolic links (which stay): refuse
-         * it as cp would if we may not write it, else replace the file itself
-         * through a temporary file with its mode (and owner where allowed). */
-        if (have && faccessat(AT_FDCWD, path, W_OK, AT_EACCESS) != 0)
-            return output_fail(out, diag, path, errno, "cannot open for writing");
-        out->dest = have && S_ISLNK(lst.st_mode) ? realpath(path, NULL) : strdup(path);
-        if (!out->dest)
-            return output_fail(out, diag, path, errno, "cannot open for writing");
-        e = output_temporary(out);
-        if (e)
-            return output_fail(out, diag, path, e, "cannot create output file");
-        if (have) {
-            if (st.st_uid != geteuid() || st.st_gid != getegid()) {
-                if (fchown(out->fd, st.st_uid, st.st_gid) != 0) {
-                    /* not permitted: the new file is ours */
-                }
-            }
-            if (fchmod(out->fd, st.st_mode & 07777) != 0)
-                return output_fail(out, diag, path, errno, "cannot set the output file's mode");
-        }
-    }
-    out->fp = fdopen(out->fd, "wb");
-    if (!out->fp)
-        return output_fail(out, diag, path, errno, "cannot open for writing");
     return GEOM_OK;
 }
 
@@ -748,34 +673,29 @@ geom_status cli_output_commit(cli_output *out, geom_diag *diag)
 {
     if (!out->fp)
         return cli_diag_set(diag, GEOM_ERR_IO, NULL, 0, 0, "output is not open");
-    if (!out->path) { /* standard output */
-        errno = 0;
-        int bad = fflush(out->fp) != 0 || ferror(out->fp);
-        int e = errno;
-        out->fp = NULL;
-        if (bad)
-            return cli_diag_set(diag, GEOM_ERR_IO, "<stdout>", 0, 0, "write error: %s",
-                                strerror(e ? e : EIO));
-        return GEOM_OK;
-    }
     int e = 0;
     errno = 0;
     if (fflush(out->fp) != 0 || ferror(out->fp))
         e = errno ? errno : EIO;
-    else if (out->tmp && fsync(out->fd) != 0 && errno != EINVAL && errno != EROFS)
-        e = errno;
+    if (!out->path) { /* standard output */
+        out->fp = NULL;
+        if (e)
+            return cli_diag_set(diag, GEOM_ERR_IO, "<stdout>", 0, 0, "write error: %s",
+                                strerror(e));
+        return GEOM_OK;
+    }
     if (fclose(out->fp) != 0 && !e && errno != EINTR)
         e = errno ? errno : EIO;
     out->fp = NULL;
-    out->fd = -1;
-    if (!e && out->tmp && rename(out->tmp, out->dest) != 0)
-        e = errno;
-    geom_status st = GEOM_OK;
     if (e) {
-        if (out->tmp)
-            unlink(out->tmp);
-        st = cli_diag_set(diag, GEOM_ERR_IO, out->path, 0, 0, "write error: %s", strerror(e));
+        const char *path = out->path;
+        cli_output_abort(out);
+        return cli_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "write error: %s", strerror(e));
     }
+    char *tmp = out->o.temporary;
+    geom_status st = geom_output_commit(&out->o, diag);
+    if (tmp)
+        cli_register_temp(tmp, false);
     output_release(out);
     return st;
 }
@@ -790,8 +710,9 @@ void cli_output_abort(cli_output *out)
     if (out->fp)
         fclose(out->fp);
     out->fp = NULL;
-    if (out->tmp)
-        unlink(out->tmp);
+    if (out->o.temporary)
+        cli_register_temp(out->o.temporary, false);
+    geom_output_abort(&out->o);
     output_release(out);
 }
 

@@ -284,16 +284,15 @@ void cli_json_string(FILE *fp, const char *s);
 /** A destination for a tool's output: standard output, a device or FIFO
  *  written through, or a regular file replaced through a temporary file. */
 typedef struct cli_output {
-    FILE *fp;   /**< write here */
-    char *path; /**< the destination as named (NULL: standard output) */
-    char *dest; /**< the file replaced (path, or a symbolic link's target) */
-    char *tmp;  /**< the temporary file while open (NULL: written through) */
-    int fd;     /**< fp's descriptor (-1 for standard output) */
+    FILE *fp;         /**< write here */
+    const char *path; /**< the destination as named (NULL: standard output) */
+    geom_output o;    /**< the library's cp-like output (geom_output_open) */
 } cli_output;
 
 /**
- * Open the output. NULL or "-" means standard output. What happens to an
- * existing `path` (cp's rules; nothing of the user's is ever destroyed):
+ * Open the output. NULL or "-" means standard output; anything else goes
+ * through the library's geom_output_open (core.h), whose rules are cp's
+ * (nothing of the user's is ever destroyed):
  *  - not there, or a regular file: a temporary file ".NAME.XXXXXXXX.geomtmp"
  *    (NAME shortened so that it fits NAME_MAX) is created in its directory,
  *    with the mode of the file it will replace (and its owner where the

@@ -29,3 +29,12 @@ if(_hostile_tools)
     COMMAND ${GEOM_BASH} ${CMAKE_CURRENT_LIST_DIR}/test_hostile_corpus.sh
             ${PROJECT_SOURCE_DIR}/tests/data/hostile ${_hostile_tools})
 endif()
+
+# Every tool's error paths (bad option values, bad inputs): no "invalid
+# argument: ok", no empty message, no hint naming a library field (issue 15).
+if(TARGET geom-info)
+  add_test(NAME tool_messages
+    COMMAND ${GEOM_BASH} ${CMAKE_CURRENT_LIST_DIR}/test_messages.sh ${PROJECT_SOURCE_DIR}/data
+            $<TARGET_FILE_DIR:geom-info>)
+  set_tests_properties(tool_messages PROPERTIES TIMEOUT 900)
+endif()

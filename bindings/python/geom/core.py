@@ -82,7 +82,10 @@ def new_diag():
 
 
 def _diag_fields(diag):
-    if diag == ffi.NULL or diag is None:
+    # A diag the failing function did not fill (status still GEOM_OK, no
+    # message) says nothing: formatting it would print "ok" after the error's
+    # name ("invalid argument: ok").
+    if diag == ffi.NULL or diag is None or (diag.status == 0 and diag.message[0] == b"\0"):
         return {}
     size = lib.geom_diag_format(diag, ffi.NULL, 0)
     buf = ffi.new("char[]", size + 1)

@@ -115,3 +115,14 @@ def test_closest_point_far_and_nan():
         c.closest_point([np.nan, 0])
     u, p, d = c.closest_point([1e300, 0])
     assert np.isfinite(u) and np.all(np.isfinite(p))
+
+
+def test_undiagnosed_failure_never_says_ok():
+    # A failing call whose diag stayed empty must not format it: the message
+    # is the status name alone, never "invalid argument: ok".
+    from geom import core
+    with pytest.raises(core.GeomError) as e:
+        core.check(-2, core.new_diag(), context="a call")
+    text = str(e.value)
+    assert not text.endswith(": ok") and ": ok" not in text, text
+    assert "invalid argument" in text or e.value.name in text

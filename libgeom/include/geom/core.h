@@ -240,6 +240,62 @@ GEOM_API geom_status geom_file_map_fd(int fd, const char *name, const geom_alloc
  *  already released or zeroed geom_file are no-ops. */
 GEOM_API void geom_file_unmap(geom_file *f);
 
+/**
+ * An output file written the way cp writes one, so that nothing of the
+ * user's is ever destroyed (the rules of the mesh writers and the tools):
+ *  - a path that does not exist, or a regular file: the bytes go to a
+ *    temporary file ".NAME.XXXXXXXX.geomtmp" in the same directory (NAME
+ *    shortened at a UTF-8 boundary so that the name fits NAME_MAX), created
+ *    with the mode (and, where permitted, the owner) of the file it will
+ *    replace, or 0666 less the umask; geom_output_commit renames it over the
+ *    destination, so a failed or interrupted run never leaves a truncated
+ *    file. A symbolic link to a regular file stays a link: the file it
+ *    points to is replaced. A file the caller may not write is refused
+ *    (permission denied) as cp refuses it;
+ *  - a device (/dev/null, /dev/full), a FIFO or socket, or a symbolic link
+ *    to one: opened and written through, never replaced;
+ *  - a directory, a path ending in '/', or a dangling symbolic link: refused.
+ * A stale temporary file (of a killed process) keeps the ".geomtmp" name and
+ * is never taken for output. Callers that catch signals may unlink
+ * `temporary` (a NUL-terminated path, stable while open) from the handler.
+ * The impl_ fields are private. POSIX only.
+ */
+typedef struct geom_output {
+    int fd;          /**< write here (or through geom_output_write); -1 when closed */
+    char *temporary; /**< the temporary file while open; NULL when written through */
+    char *impl_path, *impl_dest;
+    size_t impl_path_size, impl_dest_size, impl_tmp_size;
+    const geom_allocator *impl_alloc;
+} geom_output;
+
+/**
+ * Open the output for `path` by the rules above. alloc (NULL = libc) holds
+ * the names. GEOM_OK; GEOM_ERR_IO (refused, or the system's error: diag names
+ * the path and the system's reason), GEOM_ERR_NOMEM, GEOM_ERR_INVALID_ARG
+ * (NULL or empty path, NULL out). On failure nothing is left behind and *out
+ * is closed (fd == -1).
+ */
+GEOM_API geom_status geom_output_open(const char *path, const geom_allocator *alloc,
+                                      geom_output *out, geom_diag *diag);
+
+/** Write n bytes (retrying short writes and EINTR). GEOM_ERR_IO with the
+ *  system's reason (ENOSPC is one), GEOM_ERR_INVALID_ARG (not open). */
+GEOM_API geom_status geom_output_write(geom_output *out, const void *data, size_t n,
+                                       geom_diag *diag);
+
+/**
+ * Finish: fsync, close, and rename the temporary file onto the destination
+ * (atomically replacing it); a destination written through is only closed.
+ * On failure the temporary file is removed and the destination is left as
+ * it was. The output is closed either way. GEOM_ERR_IO, GEOM_ERR_INVALID_ARG
+ * (not open).
+ */
+GEOM_API geom_status geom_output_commit(geom_output *out, geom_diag *diag);
+
+/** Abandon: close and remove the temporary file (the destination is left as
+ *  it was). NULL, and a closed or zeroed output, are no-ops. */
+GEOM_API void geom_output_abort(geom_output *out);
+
 /* ------------------------------------------------------------------ vectors */
 
 typedef struct geom_vec2 { double x, y; } geom_vec2;

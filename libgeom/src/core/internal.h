@@ -6,6 +6,7 @@
 
 #include <math.h>
 #include <stdarg.h>
+#include <stdint.h>
 
 #define GEOM_PI 3.14159265358979323846
 
@@ -40,6 +41,47 @@ void geom__file_drop_pages(geom_file *f);
 /* Monotonic wall-clock seconds (an arbitrary origin), for the error
  * reports' timings (core/clock.c). */
 double geom__seconds(void);
+
+/* ------------------------------------------------ growable arrays (grow.c) */
+/* Make the array *p of *cap elements of elem bytes hold at least need
+ * elements (capacity doubles, from 8). GEOM_OK (nothing done when need <=
+ * *cap), GEOM_ERR_LIMIT (byte size overflows), GEOM_ERR_NOMEM (then *p and
+ * *cap are unchanged). */
+geom_status geom__grow(const geom_allocator *a, void **p, size_t *cap, size_t need, size_t elem);
+/* Append the elem bytes at item to the array (*p, *n, *cap), growing it
+ * through geom__grow; statuses as geom__grow. */
+geom_status geom__push(const geom_allocator *a, void **p, size_t *n, size_t *cap, size_t elem,
+                       const void *item);
+
+/* ---------------------------------------------------- union-find (unionfind.c) */
+/* Disjoint sets over parent[0..n): init makes n singletons; find returns a
+ * set's root (path halving); union joins two sets and returns the new root.
+ * A set's root is always its smallest member. */
+void geom__uf_init(uint32_t *parent, size_t n);
+uint32_t geom__uf_find(uint32_t *parent, uint32_t x);
+uint32_t geom__uf_union(uint32_t *parent, uint32_t a, uint32_t b);
+
+/* ------------------------------------------------------------ hash (hash.c) */
+/* Mix v into the running hash h (splitmix64 finaliser). */
+uint64_t geom__hash_mix(uint64_t h, uint64_t v);
+/* Hash of n doubles by their bits, -0 and 0 alike. */
+uint64_t geom__hash_doubles(const double *v, size_t n);
+/* Open-addressing index of uint32 ids keyed by a caller-computed 64-bit hash;
+ * the caller compares the candidates itself. Zero-initialise. */
+typedef struct geom__hindex {
+    uint64_t *slot; /* (hash high 32 bits << 32) | (id + 1); 0 = empty */
+    size_t cap, n;
+} geom__hindex;
+/* Make room for n entries (load <= 1/2). GEOM_ERR_NOMEM, GEOM_ERR_LIMIT. */
+geom_status geom__hindex_reserve(geom__hindex *h, const geom_allocator *a, size_t n);
+/* The candidates for `hash`: start with *it = 0; returns the next candidate
+ * id, or UINT32_MAX when there is none (then *it is where
+ * geom__hindex_insert_at may insert). */
+uint32_t geom__hindex_next(const geom__hindex *h, uint64_t hash, size_t *it);
+/* Insert id at the free slot the last geom__hindex_next stopped at (no growth
+ * here: reserve first). */
+void geom__hindex_insert_at(geom__hindex *h, uint64_t hash, size_t it, uint32_t id);
+void geom__hindex_free(geom__hindex *h, const geom_allocator *a);
 
 static inline int geom_isfinite3(const double p[3])
 {

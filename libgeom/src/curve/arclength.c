@@ -86,10 +86,10 @@ geom_status geom_curve_nurbs_arc_length(const geom_nurbs_curve *c, double u0, do
     if (rel_tol < 1e-15)
         rel_tol = 1e-15;
     size_t nd1 = 2;
-    geom_curve_scratch sc;
-    st = geom_curve_scratch_init(&sc, nd1 * c->dim + geom_curve_span_derivs_work(c, 1));
+    geom__scratch sc;
+    st = geom__scratch_init(&sc, nd1 * c->dim + geom_curve_span_derivs_work(c, 1));
     if (st != GEOM_OK) {
-        geom_curve_scratch_free(&sc);
+        geom__scratch_free(&sc);
         return geom_diag_set(diag, st, NULL, 0, 0, "curve: out of memory");
     }
     arc_ctx x = {c, 0, sc.mem, sc.mem + nd1 * c->dim, 0, 0.0, 0, 0};
@@ -111,7 +111,7 @@ geom_status geom_curve_nurbs_arc_length(const geom_nurbs_curve *c, double u0, do
         double whole = gl8(&x, a, b);
         total += adapt(&x, a, b, whole, abs_tol * ((b - a) / width), 0);
     }
-    geom_curve_scratch_free(&sc);
+    geom__scratch_free(&sc);
     *length = total;
     if (report) {
         report->max_error = x.err_sum;

@@ -24,13 +24,13 @@ geom_status geom_curve_bezier_eval(int degree, size_t dim, const double *ctrl, d
     if (bad_bezier(degree, dim, ctrl) || !out || !isfinite(t))
         return GEOM_ERR_INVALID_ARG;
     size_t q = (size_t)degree + 1;
-    geom_curve_scratch s;
-    geom_status st = geom_curve_scratch_init(&s, q * dim);
+    geom__scratch s;
+    geom_status st = geom__scratch_init(&s, q * dim);
     if (st == GEOM_OK) {
         memcpy(s.mem, ctrl, q * dim * sizeof(double));
         casteljau(q, dim, s.mem, t, out);
     }
-    geom_curve_scratch_free(&s);
+    geom__scratch_free(&s);
     return st;
 }
 
@@ -40,10 +40,10 @@ geom_status geom_curve_bezier_derivs(int degree, size_t dim, const double *ctrl,
     if (bad_bezier(degree, dim, ctrl) || !ders || !isfinite(t) || nderiv < 0)
         return GEOM_ERR_INVALID_ARG;
     size_t q = (size_t)degree + 1;
-    geom_curve_scratch s;
-    geom_status st = geom_curve_scratch_init(&s, q * dim);
+    geom__scratch s;
+    geom_status st = geom__scratch_init(&s, q * dim);
     if (st != GEOM_OK) {
-        geom_curve_scratch_free(&s);
+        geom__scratch_free(&s);
         return st;
     }
     double *w = s.mem;
@@ -67,7 +67,7 @@ geom_status geom_curve_bezier_derivs(int degree, size_t dim, const double *ctrl,
         for (size_t d = 0; d < dim; ++d)
             out[d] *= factor;
     }
-    geom_curve_scratch_free(&s);
+    geom__scratch_free(&s);
     return GEOM_OK;
 }
 
@@ -79,11 +79,11 @@ geom_status geom_curve_bezier_split(int degree, size_t dim, const double *ctrl, 
     if (!(t >= 0.0 && t <= 1.0))
         return GEOM_ERR_DOMAIN;
     size_t q = (size_t)degree + 1;
-    geom_curve_scratch s;
-    geom_status st = geom_curve_scratch_init(&s, q * dim);
+    geom__scratch s;
+    geom_status st = geom__scratch_init(&s, q * dim);
     if (st == GEOM_OK)
         geom_curve_hsplit(degree, dim, ctrl, t, left, right, s.mem);
-    geom_curve_scratch_free(&s);
+    geom__scratch_free(&s);
     return st;
 }
 
@@ -176,10 +176,10 @@ geom_status geom_curve_bezier_bbox_tight(int degree, size_t dim, const double *c
     if (st != GEOM_OK)
         return st;
     size_t q = (size_t)degree + 1;
-    geom_curve_scratch s;
-    st = geom_curve_scratch_init(&s, (BBOX_DEPTH + 4) * q);
+    geom__scratch s;
+    st = geom__scratch_init(&s, (BBOX_DEPTH + 4) * q);
     if (st != GEOM_OK) {
-        geom_curve_scratch_free(&s);
+        geom__scratch_free(&s);
         return st;
     }
     double *coef = s.mem, *work = s.mem + q;
@@ -195,6 +195,6 @@ geom_status geom_curve_bezier_bbox_tight(int degree, size_t dim, const double *c
         min[d] = lo;
         max[d] = hi;
     }
-    geom_curve_scratch_free(&s);
+    geom__scratch_free(&s);
     return GEOM_OK;
 }

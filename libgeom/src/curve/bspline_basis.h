@@ -1,16 +1,16 @@
 /*
- * Private B-spline kernels of the curve module, shared with the surface
- * module (include "curve/bspline_basis.h"). Not installed.
+ * Private B-spline kernels of the curve module. Not installed.
  *
  * These functions do no argument checking: callers validate once (see
  * geom_curve_nurbs_validate / geom_curve_check_eval) and then call them in
  * inner loops. All knot vectors follow the rules in geom/curve.h: degree
  * p >= 0, n >= p+1 control points, n+p+1 nondecreasing knots, u_p < u_n.
  *
- * Scratch memory: functions that need temporary arrays whose size grows with
- * the degree take them from the caller (`work`, sized by the matching
- * *_work() function), so they never allocate. geom_curve_scratch gives
- * callers a stack buffer with a heap fallback.
+ * The span search, basis functions, parameter reduction and scratch memory
+ * are core's (core/bspline.h), shared with the surface module. Functions
+ * that need temporary arrays whose size grows with the degree take them from
+ * the caller (`work`, sized by the matching *_work() function), so they never
+ * allocate. geom__scratch gives callers a stack buffer with a heap fallback.
  *
  * Symbols are prefixed geom_curve_ so that the link-minimality check
  * (tests/link) attributes them to this module.
@@ -18,71 +18,11 @@
 #ifndef GEOM_SRC_CURVE_BSPLINE_BASIS_H
 #define GEOM_SRC_CURVE_BSPLINE_BASIS_H
 
+#include "core/bspline.h"
 #include "core/internal.h"
 #include "geom/curve.h"
 
 #include <string.h>
-
-/* ------------------------------------------------------------------ scratch */
-
-/** Doubles held on the stack by a geom_curve_scratch (8 KiB). */
-#define GEOM_CURVE_SCRATCH_LOCAL 1024
-
-/**
- * Temporary storage: `mem` points into `local` when the request fits, else to
- * a malloc'd block. Always pair geom_curve_scratch_init with
- * geom_curve_scratch_free (also after a failed init: it is then a no-op).
- */
-typedef struct geom_curve_scratch {
-    double *mem;
-    size_t size; /* doubles */
-    int heap;
-    double local[GEOM_CURVE_SCRATCH_LOCAL];
-} geom_curve_scratch;
-
-/** Make s->mem hold at least ndoubles doubles. GEOM_ERR_NOMEM or
- *  GEOM_ERR_LIMIT (size overflow) on failure, with s->mem == NULL. */
-geom_status geom_curve_scratch_init(geom_curve_scratch *s, size_t ndoubles);
-void geom_curve_scratch_free(geom_curve_scratch *s);
-
-/* ---------------------------------------------------------- span and basis */
-
-/**
- * A2.1 with the module's rules: the span k in [p, n-1] with u_k < u_{k+1}
- * such that u_k <= u < u_{k+1} (left == 0) or u_k < u <= u_{k+1} (left != 0);
- * u <= u_p gives the first non-empty span, u >= u_n the last. Binary
- * search, O(log n). Memory-safe for any knots (the result is always in
- * [p, n-1]).
- */
-size_t geom_curve_bs_span(int p, size_t n, const double *U, double u, int left);
-
-/** Doubles of work needed by geom_curve_bs_basis: 2*(p+1). */
-static inline size_t geom_curve_bs_basis_work(int p)
-{
-    return 2 * ((size_t)p + 1);
-}
-
-/**
- * A2.2: N[0..p] = N_{k-p,p}(u) .. N_{k,p}(u) for span k. The recurrence is
- * evaluated as saved + (right * N) / den rather than right * (N / den), so a
- * basis function that equals 1 (u at a knot of multiplicity >= p, e.g. the
- * ends of a clamped curve) is exactly 1 and the others exactly 0.
- */
-void geom_curve_bs_basis(int p, const double *U, size_t k, double u, double *N, double *work);
-
-/** Doubles of work needed by geom_curve_bs_ders: (p+1)^2 + 4*(p+1). */
-static inline size_t geom_curve_bs_ders_work(int p)
-{
-    size_t q = (size_t)p + 1;
-    return q * q + 4 * q;
-}
-
-/**
- * A2.3: ders[j*(p+1) + r] = j-th derivative of N_{k-p+r,p} at u, for
- * j = 0..nd (rows above p are zero). Row 0 equals geom_curve_bs_basis.
- */
-void geom_curve_bs_ders(int p, const double *U, size_t k, double u, int nd, double *ders,
-                        double *work);
 
 /* ------------------------------------------------------ homogeneous points */
 
@@ -174,7 +114,7 @@ geom_status geom_curve_prepare_param_knots(int p, size_t n, const double *U, dou
 
 /**
  * Homogeneous derivatives 0..nd at u in span k: out[j*D + d] (D = hdim).
- * work: geom_curve_bs_ders_work(p) + (nd+1)*(p+1) doubles.
+ * work: geom__bs_ders_work(p) + (nd+1)*(p+1) doubles.
  */
 void geom_curve_hderivs(const geom_nurbs_curve *c, size_t k, double u, int nd, double *out,
                         double *work);
@@ -183,7 +123,7 @@ void geom_curve_hderivs(const geom_nurbs_curve *c, size_t k, double u, int nd, d
 static inline size_t geom_curve_span_derivs_work(const geom_nurbs_curve *c, int nd)
 {
     size_t q = (size_t)c->degree + 1, nd1 = (size_t)nd + 1;
-    return nd1 * geom_curve_hdim(c) + nd1 * q + geom_curve_bs_ders_work(c->degree);
+    return nd1 * geom_curve_hdim(c) + nd1 * q + geom__bs_ders_work(c->degree);
 }
 
 /**

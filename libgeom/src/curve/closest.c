@@ -273,10 +273,10 @@ geom_status geom_curve_nurbs_closest_point(const geom_nurbs_curve *c, const doub
     size_t nstack = CP_MAX_DEPTH + 4;
     size_t need = nstack * P + P + 3 * dim + geom_curve_span_derivs_work(c, 2) + (3 * p + 1) +
                   (2 * p + 1) * dim + nb * nb;
-    geom_curve_scratch sc;
-    st = geom_curve_scratch_init(&sc, need);
+    geom__scratch sc;
+    st = geom__scratch_init(&sc, need);
     if (st != GEOM_OK) {
-        geom_curve_scratch_free(&sc);
+        geom__scratch_free(&sc);
         return geom_diag_set(diag, st, NULL, 0, 0, "curve: out of memory");
     }
     cp_piece info[CP_MAX_DEPTH + 4];
@@ -306,7 +306,7 @@ geom_status geom_curve_nurbs_closest_point(const geom_nurbs_curve *c, const doub
     for (size_t k = p; k < c->n; ++k)
         if (c->knots[k] < c->knots[k + 1])
             search_span(&x, k, stack, info, split_work, &pieces);
-    geom_curve_scratch_free(&sc);
+    geom__scratch_free(&sc);
     if (u)
         *u = x.best_u;
     if (point)

@@ -85,10 +85,10 @@ geom_status geom_curve_nurbs_decompose(const geom_nurbs_curve *c, double *bezier
                 breaks[s++] = U[k + 1];
     }
     int clamped = U[0] == U[p] && U[n] == U[n + p];
-    geom_curve_scratch sc;
-    st = geom_curve_scratch_init(&sc, 2 * q * D + q);
+    geom__scratch sc;
+    st = geom__scratch_init(&sc, 2 * q * D + q);
     if (st != GEOM_OK) {
-        geom_curve_scratch_free(&sc);
+        geom__scratch_free(&sc);
         return geom_diag_set(diag, st, NULL, 0, 0, "curve: out of memory");
     }
     if (!clamped) {
@@ -103,7 +103,7 @@ geom_status geom_curve_nurbs_decompose(const geom_nurbs_curve *c, double *bezier
             ++s;
         }
         geom_curve_hbuf_finish(&hb, nseg * q);
-        geom_curve_scratch_free(&sc);
+        geom__scratch_free(&sc);
         return GEOM_OK;
     }
     /* A5.6 on a clamped curve; segment nb's point i is hbuf index nb*q + i. */
@@ -152,7 +152,7 @@ geom_status geom_curve_nurbs_decompose(const geom_nurbs_curve *c, double *bezier
             ++b;
         }
     }
-    geom_curve_scratch_free(&sc);
+    geom__scratch_free(&sc);
     geom_curve_hbuf_finish(&hb, nseg * q);
     return nb == nseg ? GEOM_OK
                       : geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,

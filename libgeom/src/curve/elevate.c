@@ -80,10 +80,10 @@ geom_status geom_curve_nurbs_elevate(const geom_nurbs_curve *c, int times, doubl
     }
     size_t P1 = (size_t)p + 1, PH1 = (size_t)ph + 1;
     size_t need = PH1 * P1 + (P1 + PH1 + P1) * D + P1;
-    geom_curve_scratch sc;
-    st = geom_curve_scratch_init(&sc, need);
+    geom__scratch sc;
+    st = geom__scratch_init(&sc, need);
     if (st != GEOM_OK) {
-        geom_curve_scratch_free(&sc);
+        geom__scratch_free(&sc);
         return geom_diag_set(diag, st, NULL, 0, 0, "curve: out of memory");
     }
     double *bezalfs = sc.mem;          /* (ph+1) x (p+1) */
@@ -205,7 +205,7 @@ geom_status geom_curve_nurbs_elevate(const geom_nurbs_curve *c, int times, doubl
 #undef BP
 #undef EB
 #undef NB
-    geom_curve_scratch_free(&sc);
+    geom__scratch_free(&sc);
     size_t nh = (size_t)(mh - ph); /* number of control points */
     geom_curve_hbuf_finish(&hb, nh);
     out->degree = (int)ph;

@@ -9,7 +9,7 @@ void geom_curve_hderivs(const geom_nurbs_curve *c, size_t k, double u, int nd, d
     size_t q = (size_t)p + 1, D = geom_curve_hdim(c);
     double *ders = work;
     double *w2 = work + (size_t)(nd + 1) * q;
-    geom_curve_bs_ders(p, c->knots, k, u, nd, ders, w2);
+    geom__bs_ders(p, c->knots, k, u, nd, ders, w2);
     for (size_t i = 0; i < (size_t)(nd + 1) * D; ++i)
         out[i] = 0.0;
     double h[GEOM_CURVE_HDIM_MAX];
@@ -61,15 +61,15 @@ geom_status geom_curve_nurbs_eval(const geom_nurbs_curve *c, double u, unsigned 
     st = geom_curve_prepare_param(c, u, flags, &ue, &left);
     if (st != GEOM_OK)
         return st;
-    size_t k = geom_curve_bs_span(c->degree, c->n, c->knots, ue, left);
+    size_t k = geom__bs_span(c->degree, c->n, c->knots, ue, left);
     size_t q = (size_t)c->degree + 1;
-    geom_curve_scratch s;
-    st = geom_curve_scratch_init(&s, q + geom_curve_bs_basis_work(c->degree));
+    geom__scratch s;
+    st = geom__scratch_init(&s, q + geom__bs_basis_work(c->degree));
     if (st == GEOM_OK) {
-        geom_curve_bs_basis(c->degree, c->knots, k, ue, s.mem, s.mem + q);
+        geom__bs_basis(c->degree, c->knots, k, ue, s.mem, s.mem + q);
         combine_point(c, k, s.mem, out);
     }
-    geom_curve_scratch_free(&s);
+    geom__scratch_free(&s);
     return st;
 }
 
@@ -118,12 +118,12 @@ geom_status geom_curve_nurbs_derivs(const geom_nurbs_curve *c, double u, int nde
     st = geom_curve_prepare_param(c, u, flags, &ue, &left);
     if (st != GEOM_OK)
         return st;
-    size_t k = geom_curve_bs_span(c->degree, c->n, c->knots, ue, left);
-    geom_curve_scratch s;
-    st = geom_curve_scratch_init(&s, geom_curve_span_derivs_work(c, nderiv));
+    size_t k = geom__bs_span(c->degree, c->n, c->knots, ue, left);
+    geom__scratch s;
+    st = geom__scratch_init(&s, geom_curve_span_derivs_work(c, nderiv));
     if (st == GEOM_OK)
         geom_curve_span_derivs(c, k, ue, nderiv, ders, s.mem);
-    geom_curve_scratch_free(&s);
+    geom__scratch_free(&s);
     return st;
 }
 

@@ -31,7 +31,7 @@ geom_status geom_curve_nurbs_insert_knot(const geom_nurbs_curve *c, double u, si
     if (!(u >= U[p] && u < U[n]))
         return geom_diag_set(diag, GEOM_ERR_DOMAIN, NULL, 0, 0,
                              "curve: knot %.17g is outside [%.17g, %.17g)", u, U[p], U[n]);
-    size_t k = geom_curve_bs_span(c->degree, n, U, u, 0);
+    size_t k = geom__bs_span(c->degree, n, U, u, 0);
     size_t s = 0;
     for (size_t i = k + 1; i-- > 0 && U[i] == u;)
         ++s;
@@ -71,10 +71,10 @@ geom_status geom_curve_nurbs_insert_knot(const geom_nurbs_curve *c, double u, si
         geom_curve_hbuf_set(&hb, i + r, h);
     }
     if (r > 0) {
-        geom_curve_scratch sc;
-        st = geom_curve_scratch_init(&sc, (p + 1) * D);
+        geom__scratch sc;
+        st = geom__scratch_init(&sc, (p + 1) * D);
         if (st != GEOM_OK) {
-            geom_curve_scratch_free(&sc);
+            geom__scratch_free(&sc);
             return geom_diag_set(diag, st, NULL, 0, 0, "curve: out of memory");
         }
         double *R = sc.mem;
@@ -92,7 +92,7 @@ geom_status geom_curve_nurbs_insert_knot(const geom_nurbs_curve *c, double u, si
         }
         for (size_t i = L + 1; i < k - s; ++i)
             geom_curve_hbuf_set(&hb, i, R + (i - L) * D);
-        geom_curve_scratch_free(&sc);
+        geom__scratch_free(&sc);
     }
     geom_curve_hbuf_finish(&hb, n + r);
     out->degree = c->degree;

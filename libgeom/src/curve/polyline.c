@@ -206,10 +206,10 @@ geom_status geom_curve_nurbs_polyline(const geom_nurbs_curve *c,
     x.method = opt.method == GEOM_ERROR_SAMPLED ? GEOM_ERROR_SAMPLED : GEOM_ERROR_BOUND;
     x.tol = opt.tolerance;
     size_t P = x.q1 * x.D, nstack = PL_MAX_DEPTH + 4;
-    geom_curve_scratch sc;
-    st = geom_curve_scratch_init(&sc, nstack * P + P + geom_curve_span_bezier_work(c));
+    geom__scratch sc;
+    st = geom__scratch_init(&sc, nstack * P + P + geom_curve_span_bezier_work(c));
     if (st != GEOM_OK) {
-        geom_curve_scratch_free(&sc);
+        geom__scratch_free(&sc);
         return geom_diag_set(diag, st, NULL, 0, 0, "curve: out of memory");
     }
     pl_piece info[PL_MAX_DEPTH + 4];
@@ -229,7 +229,7 @@ geom_status geom_curve_nurbs_polyline(const geom_nurbs_curve *c,
         first = 0;
         span_polyline(&x, stack, info, work, c->knots[k], c->knots[k + 1]);
     }
-    geom_curve_scratch_free(&sc);
+    geom__scratch_free(&sc);
     if (report) {
         report->max_error = x.max_err;
         report->mean_error = x.segs ? x.sum_err / (double)x.segs : 0.0;

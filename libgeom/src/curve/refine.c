@@ -14,8 +14,8 @@ static void refine_in_place(int pi, size_t N, double *U, const geom_curve_hbuf *
 {
     size_t p = (size_t)pi, m = N + p; /* last knot index */
     size_t r = nx - 1;
-    size_t a = geom_curve_bs_span(pi, N, U, x[0], 0);
-    size_t b = geom_curve_bs_span(pi, N, U, x[r], 0) + 1;
+    size_t a = geom__bs_span(pi, N, U, x[0], 0);
+    size_t b = geom__bs_span(pi, N, U, x[r], 0) + 1;
     double h[GEOM_CURVE_HDIM_MAX], g[GEOM_CURVE_HDIM_MAX];
     /* tail: Qw[j+r+1] = Pw[j] for j = b-1 .. N-1, descending */
     for (size_t j = N; j-- > b - 1;) {
@@ -129,10 +129,10 @@ geom_status geom_curve_nurbs_clamp(const geom_nurbs_curve *c, double *knots, dou
     double a = c->knots[p], b = c->knots[n];
     size_t sa = count_value(c->knots, m, a), sb = count_value(c->knots, m, b);
     size_t nx = 0;
-    geom_curve_scratch sc;
-    st = geom_curve_scratch_init(&sc, 2 * p);
+    geom__scratch sc;
+    st = geom__scratch_init(&sc, 2 * p);
     if (st != GEOM_OK) {
-        geom_curve_scratch_free(&sc);
+        geom__scratch_free(&sc);
         return geom_diag_set(diag, st, NULL, 0, 0, "curve: out of memory");
     }
     double *xs = sc.mem;
@@ -144,7 +144,7 @@ geom_status geom_curve_nurbs_clamp(const geom_nurbs_curve *c, double *knots, dou
     copy_in(c, knots, &hb);
     if (nx > 0)
         refine_in_place(c->degree, n, knots, &hb, xs, nx, geom_curve_hdim(c));
-    geom_curve_scratch_free(&sc);
+    geom__scratch_free(&sc);
     size_t N = n + nx, M = N + p + 1;
     size_t ia = p; /* last index of a */
     while (ia + 1 < M && knots[ia + 1] == a)

@@ -56,10 +56,10 @@ geom_status geom_curve_nurbs_remove_knot(const geom_nurbs_curve *c, double u, si
         TOL = tol * wmin / (1.0 + pmax);
     }
     size_t num = times < s ? times : s;
-    geom_curve_scratch sc;
-    st = geom_curve_scratch_init(&sc, (2 * pz + 4) * D);
+    geom__scratch sc;
+    st = geom__scratch_init(&sc, (2 * pz + 4) * D);
     if (st != GEOM_OK) {
-        geom_curve_scratch_free(&sc);
+        geom__scratch_free(&sc);
         return geom_diag_set(diag, st, NULL, 0, 0, "curve: out of memory");
     }
     double *temp = sc.mem;
@@ -114,7 +114,7 @@ geom_status geom_curve_nurbs_remove_knot(const geom_nurbs_curve *c, double u, si
         ++last;
     }
 #undef TMP
-    geom_curve_scratch_free(&sc);
+    geom__scratch_free(&sc);
     if (t > 0) {
         for (long k = r + 1; k <= m; ++k)
             Uw[k - t] = Uw[k];

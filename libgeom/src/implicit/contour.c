@@ -38,23 +38,11 @@ static double field_at(ctx *c, double x, double y)
 /* Grow *buf (elements of size `size`, capacity *cap) to hold `need`. */
 static int grow(ctx *c, void **buf, size_t *cap, size_t need, size_t size)
 {
-    if (need <= *cap)
-        return 0;
-    size_t ncap = *cap ? *cap : 256;
-    while (ncap < need)
-        ncap *= 2;
-    size_t oldb = *cap * size, newb;
-    if (geom_size_mul(ncap, size, &newb) != GEOM_OK) {
-        c->err = GEOM_ERR_LIMIT;
+    geom_status st = geom__grow(c->alloc, buf, cap, need, size);
+    if (st != GEOM_OK) {
+        c->err = st;
         return -1;
     }
-    void *p = *buf ? geom_realloc(c->alloc, *buf, oldb, newb) : geom_alloc(c->alloc, newb);
-    if (!p) {
-        c->err = GEOM_ERR_NOMEM;
-        return -1;
-    }
-    *buf = p;
-    *cap = ncap;
     return 0;
 }
 

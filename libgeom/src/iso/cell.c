@@ -97,35 +97,12 @@ int geom_iso__face_join(int f, const double g[8], int joined[2])
 #define UF_MAX 64
 
 typedef struct uf {
-    uint8_t parent[UF_MAX];
+    uint32_t parent[UF_MAX]; /* core's union-find (core/unionfind.c) */
 } uf;
 
-static void uf_init(uf *u, int n)
-{
-    for (int i = 0; i < n; i++)
-        u->parent[i] = (uint8_t)i;
-}
-
-static int uf_find(uf *u, int a)
-{
-    while (u->parent[a] != a) {
-        u->parent[a] = u->parent[u->parent[a]];
-        a = u->parent[a];
-    }
-    return a;
-}
-
-static void uf_union(uf *u, int a, int b)
-{
-    a = uf_find(u, a);
-    b = uf_find(u, b);
-    if (a == b)
-        return;
-    if (a < b)
-        u->parent[b] = (uint8_t)a;
-    else
-        u->parent[a] = (uint8_t)b;
-}
+static void uf_init(uf *u, int n) { geom__uf_init(u->parent, (size_t)n); }
+static int uf_find(uf *u, int a) { return (int)geom__uf_find(u->parent, (uint32_t)a); }
+static void uf_union(uf *u, int a, int b) { geom__uf_union(u->parent, (uint32_t)a, (uint32_t)b); }
 
 /* ------------------------------------------------------------ the sweep */
 

@@ -103,20 +103,7 @@ typedef struct work {
 
 static int grow(const geom_allocator *a, void **p, size_t *cap, size_t need, size_t elem)
 {
-    if (need <= *cap)
-        return 1;
-    size_t nc = *cap ? *cap : 64;
-    while (nc < need) {
-        if (nc > SIZE_MAX / 2 / elem)
-            return 0;
-        nc *= 2;
-    }
-    void *q = geom_realloc(a, *p, *cap * elem, nc * elem);
-    if (!q)
-        return 0;
-    *p = q;
-    *cap = nc;
-    return 1;
+    return geom__grow(a, p, cap, need, elem) == GEOM_OK;
 }
 
 static void slab_free(const geom_allocator *a, slab *s)

@@ -201,7 +201,7 @@ geom_status geom_mesh_build(geom_mesh *m, size_t nverts, const double *xyz, size
         /* input corner offsets of the faces, for the streams */
         size_t bytes;
         if (geom_size_mul(nfaces + 1, sizeof(uint32_t), &bytes) != GEOM_OK)
-            return GEOM_ERR_LIMIT;
+            return geom_diag_set(diag, GEOM_ERR_LIMIT, NULL, 0, 0, "geom_mesh_build: too large for 32-bit indices");
         fstart = geom_alloc(&m->alloc, bytes);
         if (!fstart)
             return geom_diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "geom_mesh_build: out of memory");

@@ -52,24 +52,9 @@
 
 #define INV GEOM_INVALID_INDEX
 
-static uint32_t uf_find(uint32_t *parent, uint32_t x)
-{
-    while (parent[x] != x) {
-        parent[x] = parent[parent[x]];
-        x = parent[x];
-    }
-    return x;
-}
-
-static void uf_union(uint32_t *parent, uint32_t a, uint32_t b)
-{
-    a = uf_find(parent, a);
-    b = uf_find(parent, b);
-    if (a < b)
-        parent[b] = a;
-    else if (b < a)
-        parent[a] = b;
-}
+/* core's union-find (core/unionfind.c) */
+static uint32_t uf_find(uint32_t *parent, uint32_t x) { return geom__uf_find(parent, x); }
+static void uf_union(uint32_t *parent, uint32_t a, uint32_t b) { geom__uf_union(parent, a, b); }
 
 enum { FL_DETACHED = 1, FL_NONMANIFOLD = 2 };
 

@@ -25,7 +25,8 @@
  *  - with caps, the cut's boundary edges that lie in the plane are chained
  *    into loops, loops are nested (holes joined to their outer loop by a
  *    bridge, after Eberly's "Triangulation by ear clipping") and
- *    triangulated by ear clipping with exact orientation tests, then
+ *    triangulated by the library's ear clipper (geom_polygon_triangulate,
+ *    exact orientation tests, best-shaped ear first), then
  *    improved by Lawson flips towards the constrained Delaunay triangulation
  *    (no slivers where the loop has nearly collinear vertices); cap corners
  *    get the cap's outward normal -(a,b,c)/|(a,b,c)| in a CORNER "normal"
@@ -428,115 +429,7 @@ static geom_status clip_face(clip_ctx *c, const double *snapped, uint32_t f, fac
 typedef struct ear_ctx {
     const double *xy; /* 2 doubles per polygon entry */
     size_t n;
-    size_t *prv, *nxt;
-    uint8_t *reflex; /* orient <= 0 */
 } ear_ctx;
-
-static double orient_ids(const ear_ctx *e, size_t a, size_t b, size_t c)
-{
-    return geom_orient2d(e->xy + 2 * a, e->xy + 2 * b, e->xy + 2 * c);
-}
-
-static int same_pt(const ear_ctx *e, size_t a, size_t b)
-{
-    return e->xy[2 * a] == e->xy[2 * b] && e->xy[2 * a + 1] == e->xy[2 * b + 1];
-}
-
-/* Is the corner (a, b, c) convex enough to be cut off: twice its area above
- * 4e-14 times its longest squared edge, i.e. a triangle that
- * geom_mesh_face_is_degenerate would not call degenerate. Nearly collinear
- * corners (common where a plane cuts the diagonals of planar polygons that
- * were triangulated) wait until their neighbours change. */
-static int convex_corner(const ear_ctx *e, size_t a, size_t b, size_t c)
-{
-    double o = orient_ids(e, a, b, c);
-    if (!(o > 0.0))
-        return 0;
-    const double *pa = e->xy + 2 * a, *pb = e->xy + 2 * b, *pc = e->xy + 2 * c;
-    double l1 = (pb[0] - pa[0]) * (pb[0] - pa[0]) + (pb[1] - pa[1]) * (pb[1] - pa[1]);
-    double l2 = (pc[0] - pb[0]) * (pc[0] - pb[0]) + (pc[1] - pb[1]) * (pc[1] - pb[1]);
-    double l3 = (pa[0] - pc[0]) * (pa[0] - pc[0]) + (pa[1] - pc[1]) * (pa[1] - pc[1]);
-    double L2 = l1 > l2 ? l1 : l2;
-    L2 = l3 > L2 ? l3 : L2;
-    return o > 4e-14 * L2;
-}
-
-/* Is i (with neighbours) an ear: convex (convex_corner) and no other
- * remaining vertex inside or on the triangle (vertices at the triangle's
- * corners are ignored: bridges duplicate them). */
-static int is_ear(const ear_ctx *e, size_t i)
-{
-    size_t a = e->prv[i], c = e->nxt[i];
-    if (!convex_corner(e, a, i, c))
-        return 0;
-    for (size_t j = e->nxt[c]; j != a; j = e->nxt[j]) {
-        if (!e->reflex[j])
-            continue;
-        if (same_pt(e, j, a) || same_pt(e, j, i) || same_pt(e, j, c))
-            continue;
-        if (orient_ids(e, a, i, j) >= 0.0 && orient_ids(e, i, c, j) >= 0.0 &&
-            orient_ids(e, c, a, j) >= 0.0)
-            return 0;
-    }
-    return 1;
-}
-
-/* Ear-clip the polygon 0..n-1 (counter-clockwise, weakly simple) into
- * tris (3 * (n - 2) entries of polygon positions). Returns the number of
- * triangles written. */
-static size_t ear_clip(ear_ctx *e, uint32_t *tris)
-{
-    size_t n = e->n, ntri = 0;
-    if (n < 3)
-        return 0;
-    for (size_t i = 0; i < n; i++) {
-        e->prv[i] = (i + n - 1) % n;
-        e->nxt[i] = (i + 1) % n;
-    }
-    for (size_t i = 0; i < n; i++)
-        e->reflex[i] = !convex_corner(e, e->prv[i], i, e->nxt[i]);
-    size_t remaining = n, i = 0, since = 0;
-    while (remaining > 3) {
-        if (is_ear(e, i) || since > remaining) {
-            if (since > remaining) {
-                /* no ear found in a full turn (numerically degenerate
-                 * polygon): clip the most convex vertex to make progress */
-                size_t best = i;
-                double bo = -INFINITY;
-                size_t j = i;
-                for (size_t q = 0; q < remaining; q++) {
-                    double o = orient_ids(e, e->prv[j], j, e->nxt[j]);
-                    if (o > bo) {
-                        bo = o;
-                        best = j;
-                    }
-                    j = e->nxt[j];
-                }
-                i = best;
-            }
-            size_t a = e->prv[i], c = e->nxt[i];
-            tris[3 * ntri] = (uint32_t)a;
-            tris[3 * ntri + 1] = (uint32_t)i;
-            tris[3 * ntri + 2] = (uint32_t)c;
-            ntri++;
-            e->nxt[a] = c;
-            e->prv[c] = a;
-            remaining--;
-            e->reflex[a] = !convex_corner(e, e->prv[a], a, e->nxt[a]);
-            e->reflex[c] = !convex_corner(e, e->prv[c], c, e->nxt[c]);
-            i = a;
-            since = 0;
-        } else {
-            i = e->nxt[i];
-            since++;
-        }
-    }
-    tris[3 * ntri] = (uint32_t)e->prv[i];
-    tris[3 * ntri + 1] = (uint32_t)i;
-    tris[3 * ntri + 2] = (uint32_t)e->nxt[i];
-    ntri++;
-    return ntri;
-}
 
 typedef struct edge_slot {
     uint64_t key; /* (a << 32) | b for the directed edge a -> b */
@@ -834,10 +727,11 @@ typedef struct cap_bufs {
     uint64_t *de, *sorted;
     size_t nde, decap;
     uint32_t *cfrom, *cto, *off, *adj, *pos, *pv, *lv, *poly, *tris;
-    uint8_t *used, *reflex;
+    uint8_t *used;
     loop *loops;
     double *xy, *xy2, *hkey;
-    size_t *prv, *nxt, *hole_of;
+    size_t *hole_of;
+    double *xyz; /* the polygon in the plane z = 0, for geom_polygon_triangulate */
     size_t ncap, ncode, nloops, nlv, poly_cap;
 } cap_bufs;
 
@@ -860,9 +754,7 @@ static void cap_free(const geom_allocator *al, cap_bufs *b)
     geom_free(al, b->poly, b->poly_cap * 4);
     geom_free(al, b->tris, b->poly_cap * 3 * 4);
     geom_free(al, b->xy2, b->poly_cap * 2 * sizeof(double));
-    geom_free(al, b->prv, b->poly_cap * sizeof(size_t));
-    geom_free(al, b->nxt, b->poly_cap * sizeof(size_t));
-    geom_free(al, b->reflex, b->poly_cap);
+    geom_free(al, b->xyz, b->poly_cap * 3 * sizeof(double));
 }
 
 /* Close the cut: chain the soup's unmatched on-plane edges into loops,
@@ -1027,10 +919,8 @@ static geom_status make_caps(clip_ctx *c, const double *snapped)
     b.poly = geom_alloc(al, b.poly_cap * 4);
     b.tris = geom_alloc(al, b.poly_cap * 3 * 4);
     b.xy2 = geom_alloc(al, b.poly_cap * 2 * sizeof(double));
-    b.prv = geom_alloc(al, b.poly_cap * sizeof(size_t));
-    b.nxt = geom_alloc(al, b.poly_cap * sizeof(size_t));
-    b.reflex = geom_alloc(al, b.poly_cap);
-    if (!b.poly || !b.tris || !b.xy2 || !b.prv || !b.nxt || !b.reflex) {
+    b.xyz = geom_alloc(al, b.poly_cap * 3 * sizeof(double));
+    if (!b.poly || !b.tris || !b.xy2 || !b.xyz) {
         st = GEOM_ERR_NOMEM;
         goto done;
     }
@@ -1066,8 +956,19 @@ static geom_status make_caps(clip_ctx *c, const double *snapped)
             b.xy2[2 * i] = b.xy[2 * (size_t)b.poly[i]];
             b.xy2[2 * i + 1] = b.xy[2 * (size_t)b.poly[i] + 1];
         }
-        ear_ctx ec = {b.xy2, n, b.prv, b.nxt, b.reflex};
-        size_t nt = ear_clip(&ec, b.tris);
+        /* the library's ear clipper (geom_polygon_triangulate) on the bridged
+         * polygon, then Lawson flips */
+        for (size_t i = 0; i < n; i++) {
+            b.xyz[3 * i] = b.xy2[2 * i];
+            b.xyz[3 * i + 1] = b.xy2[2 * i + 1];
+            b.xyz[3 * i + 2] = 0.0;
+        }
+        size_t nt = n >= 3 ? n - 2 : 0;
+        if (nt && geom_polygon_triangulate(n, b.xyz, b.tris) == GEOM_ERR_NOMEM) {
+            st = GEOM_ERR_NOMEM;
+            goto done;
+        }
+        ear_ctx ec = {b.xy2, n};
         st = delaunay_flips(al, &ec, b.tris, nt);
         if (st != GEOM_OK)
             goto done;

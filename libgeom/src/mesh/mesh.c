@@ -9,28 +9,6 @@
 
 /* ------------------------------------------------------------ helpers */
 
-geom_status geom_mesh__grow(const geom_allocator *a, void **p, size_t *cap, size_t need,
-                            size_t elem)
-{
-    if (need <= *cap)
-        return GEOM_OK;
-    size_t nc = *cap ? *cap : 8;
-    while (nc < need) {
-        if (nc > SIZE_MAX / 2)
-            return GEOM_ERR_LIMIT;
-        nc *= 2;
-    }
-    size_t oldb, newb;
-    if (geom_size_mul(nc, elem, &newb) != GEOM_OK || geom_size_mul(*cap, elem, &oldb) != GEOM_OK)
-        return GEOM_ERR_LIMIT;
-    void *q = geom_realloc(a, *p, oldb, newb);
-    if (!q)
-        return GEOM_ERR_NOMEM;
-    *p = q;
-    *cap = nc;
-    return GEOM_OK;
-}
-
 geom_status geom_mesh__strdup(const geom_allocator *a, const char *s, char **out)
 {
     *out = NULL;

@@ -150,11 +150,9 @@ static inline void geom_mesh__link(geom_mesh *m, uint32_t a, uint32_t b)
 
 /* ------------------------------------------------ growable-array helper */
 
-/* Grow *p (elements of `elem` bytes, capacity *cap) to hold at least `need`
- * elements (doubling). New elements are uninitialised. GEOM_ERR_NOMEM /
- * GEOM_ERR_LIMIT; *p and *cap unchanged on failure. */
-geom_status geom_mesh__grow(const geom_allocator *a, void **p, size_t *cap, size_t need,
-                            size_t elem);
+/* Grow *p to hold at least `need` elements: core's geom__grow (core/grow.c);
+ * the name stays for the mesh sources until the lead's prefix sed. */
+#define geom_mesh__grow geom__grow
 
 /* Duplicate a string (NULL gives NULL in *out); GEOM_ERR_NOMEM. */
 geom_status geom_mesh__strdup(const geom_allocator *a, const char *s, char **out);

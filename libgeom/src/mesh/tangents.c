@@ -201,118 +201,94 @@ static void tri_setup(const tan_ctx *x, tri_info *t)
         t->any = 0;
 }
 
-geom_status geom_mesh_tangents(geom_mesh *m, uint32_t *id)
-{
-    if (!m)
-        return GEOM_ERR_INVALID_ARG;
-    uint32_t uvch = geom_mesh_channel_find(m, "uv", GEOM_MESH_DOMAIN_CORNER);
-    if (uvch == INV || geom_mesh_channel_ncomp(m, uvch) < 2)
-        return GEOM_ERR_INVALID_ARG;
-    geom_status st = GEOM_OK;
-    uint32_t nch = geom_mesh_channel_find(m, "normal", GEOM_MESH_DOMAIN_CORNER);
-    if (nch != INV && geom_mesh_channel_ncomp(m, nch) != 3)
-        nch = INV;
-    if (nch == INV) {
-        st = geom_mesh_corner_normals(m, NULL, &nch);
-        if (st != GEOM_OK)
-            return st;
-        uvch = geom_mesh_channel_find(m, "uv", GEOM_MESH_DOMAIN_CORNER);
-    }
-
-    const geom_allocator *al = &m->alloc;
-    const size_t nh = m->nh, nf = m->nf;
-    tri_info *tris = NULL;
-    uint32_t *tri_of_he = NULL, *ident = NULL, *ga = NULL, *stack = NULL,
-             *corner_out = NULL, *bucket = NULL, *boff = NULL;
-    double *fn = NULL, *gsum = NULL, *pool = NULL;
-    uint8_t *gorient = NULL;
-    size_t ntri = 0, tri_cap = 0, ngroups = 0, gcap = 0, ocap = 0, npool = 0, pool_cap = 0, ntotal_corners = 0;
-
+/* The working state of one geom_mesh_tangents call, phase by phase. */
+typedef struct tan_work {
+    geom_mesh *m;
+    const geom_allocator *al;
+    size_t nh, nf;
     tan_ctx x;
-    x.m = m;
-    x.pos = geom_mesh__pos(m);
-    x.uvd = geom_mesh_channel_cdata(m, uvch);
-    x.uvi = geom_mesh_corner_cindices(m, uvch);
-    x.uvc = geom_mesh_channel_ncomp(m, uvch);
-    x.uvn = geom_mesh_channel_size(m, uvch);
-    x.nd = geom_mesh_channel_cdata(m, nch);
-    x.ni = geom_mesh_corner_cindices(m, nch);
-    x.nn = geom_mesh_channel_size(m, nch);
+    double *fn;                  /* face normals, 3 per face */
+    uint32_t *ident;             /* corner identity per halfedge */
+    uint32_t *boff, *bucket;     /* corners by vertex (CSR) */
+    size_t ntotal_corners;
+    tri_info *tris;              /* the triangles */
+    size_t ntri, tri_cap;
+    uint32_t *tri_of_he;         /* triangle of each original polygon edge */
+    uint32_t *ga, *stack;        /* group of each triangle corner; flood-fill stack */
+    double *gsum;                /* group tangent sums */
+    uint8_t *gorient;            /* group orientations */
+    size_t ngroups, gcap, ocap;
+    double *pool;                /* output frames (x, y, z, w) */
+    size_t npool, pool_cap;
+    uint32_t *corner_out;        /* pool index per halfedge */
+} tan_work;
 
-    fn = geom_alloc(al, (nf ? nf : 1) * 3 * sizeof(double));
-    tri_of_he = geom_alloc(al, (nh ? nh : 1) * sizeof(uint32_t));
-    ident = geom_alloc(al, (nh ? nh : 1) * sizeof(uint32_t));
-    corner_out = geom_alloc(al, (nh ? nh : 1) * sizeof(uint32_t));
-    if (!fn || !tri_of_he || !ident || !corner_out) {
-        st = GEOM_ERR_NOMEM;
-        goto done;
-    }
-    for (size_t f = 0; f < nf; f++) {
-        if (m->f_del[f] || geom_mesh_face_normal(m, (uint32_t)f, fn + 3 * f) != GEOM_OK)
-            fn[3 * f] = fn[3 * f + 1] = fn[3 * f + 2] = 0.0;
-    }
-    x.fn = fn;
+/* Phase 1: corner identities (vertex, normal value, uv value), and the
+ * corners grouped by vertex. */
+static geom_status tan_identities(tan_work *W)
+{
+    geom_mesh *m = W->m;
+    const geom_allocator *al = W->al;
+    const size_t nh = W->nh, nv = m->nv;
+    uint32_t *ident = W->ident;
+    W->boff = geom_alloc(al, (nv + 1) * sizeof(uint32_t));
+    if (!W->boff)
+        return GEOM_ERR_NOMEM;
+    uint32_t *boff = W->boff;
+    memset(boff, 0, (nv + 1) * sizeof(uint32_t));
     for (size_t h = 0; h < nh; h++) {
-        tri_of_he[h] = INV;
-        ident[h] = INV;
-        corner_out[h] = INV;
+        if (m->he_face[h] != INV && !m->f_del[m->he_face[h]]) {
+            boff[m->he_vertex[h] + 1]++;
+            W->ntotal_corners++;
+        }
     }
-
-    /* ---- corner identities: (vertex, normal value, uv value) ---- */
-    {
-        const size_t nv = m->nv;
-        boff = geom_alloc(al, (nv + 1) * sizeof(uint32_t));
-        if (!boff) {
-            st = GEOM_ERR_NOMEM;
-            goto done;
-        }
-        memset(boff, 0, (nv + 1) * sizeof(uint32_t));
-        for (size_t h = 0; h < nh; h++) {
-            if (m->he_face[h] != INV && !m->f_del[m->he_face[h]]) {
-                boff[m->he_vertex[h] + 1]++;
-                ntotal_corners++;
-            }
-        }
-        for (size_t v = 0; v < nv; v++)
-            boff[v + 1] += boff[v];
-        bucket = geom_alloc(al, (ntotal_corners ? ntotal_corners : 1) * sizeof(uint32_t));
-        uint32_t *fill = geom_alloc(al, (nv ? nv : 1) * sizeof(uint32_t));
-        if (!bucket || !fill) {
-            geom_free(al, fill, (nv ? nv : 1) * sizeof(uint32_t));
-            st = GEOM_ERR_NOMEM;
-            goto done;
-        }
-        memcpy(fill, boff, nv * sizeof(uint32_t));
-        for (size_t h = 0; h < nh; h++) {
-            if (m->he_face[h] != INV && !m->f_del[m->he_face[h]])
-                bucket[fill[m->he_vertex[h]]++] = (uint32_t)h;
-        }
+    for (size_t v = 0; v < nv; v++)
+        boff[v + 1] += boff[v];
+    W->bucket = geom_alloc(al, (W->ntotal_corners ? W->ntotal_corners : 1) * sizeof(uint32_t));
+    uint32_t *fill = geom_alloc(al, (nv ? nv : 1) * sizeof(uint32_t));
+    if (!W->bucket || !fill) {
         geom_free(al, fill, (nv ? nv : 1) * sizeof(uint32_t));
-        uint32_t next_id = 0;
-        for (size_t v = 0; v < nv; v++) {
-            for (uint32_t i = boff[v]; i < boff[v + 1]; i++) {
-                uint32_t h = bucket[i];
-                double ui[2], ni[3];
-                corner_uv(&x, h, ui);
-                corner_normal(&x, h, ni);
-                for (uint32_t j = boff[v]; j < i; j++) {
-                    uint32_t hj = bucket[j];
-                    double uj[2], nj[3];
-                    corner_uv(&x, hj, uj);
-                    corner_normal(&x, hj, nj);
-                    if (ui[0] == uj[0] && ui[1] == uj[1] && ni[0] == nj[0] && ni[1] == nj[1] &&
-                        ni[2] == nj[2]) {
-                        ident[h] = ident[hj];
-                        break;
-                    }
+        return GEOM_ERR_NOMEM;
+    }
+    uint32_t *bucket = W->bucket;
+    memcpy(fill, boff, nv * sizeof(uint32_t));
+    for (size_t h = 0; h < nh; h++) {
+        if (m->he_face[h] != INV && !m->f_del[m->he_face[h]])
+            bucket[fill[m->he_vertex[h]]++] = (uint32_t)h;
+    }
+    geom_free(al, fill, (nv ? nv : 1) * sizeof(uint32_t));
+    uint32_t next_id = 0;
+    for (size_t v = 0; v < nv; v++) {
+        for (uint32_t i = boff[v]; i < boff[v + 1]; i++) {
+            uint32_t h = bucket[i];
+            double ui[2], ni[3];
+            corner_uv(&W->x, h, ui);
+            corner_normal(&W->x, h, ni);
+            for (uint32_t j = boff[v]; j < i; j++) {
+                uint32_t hj = bucket[j];
+                double uj[2], nj[3];
+                corner_uv(&W->x, hj, uj);
+                corner_normal(&W->x, hj, nj);
+                if (ui[0] == uj[0] && ui[1] == uj[1] && ni[0] == nj[0] && ni[1] == nj[1] &&
+                    ni[2] == nj[2]) {
+                    ident[h] = ident[hj];
+                    break;
                 }
-                if (ident[h] == INV)
-                    ident[h] = next_id++;
             }
+            if (ident[h] == INV)
+                ident[h] = next_id++;
         }
     }
+    return GEOM_OK;
+}
 
-    /* ---- triangles ---- */
+/* Phase 2: split the faces into triangles (quads along the shorter UV
+ * diagonal, larger polygons into fans), linking the triangles of a face. */
+static geom_status tan_triangulate(tan_work *W)
+{
+    geom_mesh *m = W->m;
+    const size_t nh = W->nh, nf = W->nf;
+    const tan_ctx *xp = &W->x;
     for (size_t f = 0; f < nf; f++) {
         if (m->f_del[f])
             continue;
@@ -326,20 +302,11 @@ geom_status geom_mesh_tangents(geom_mesh *m, uint32_t *id)
             k++;
             h = m->he_next[h];
         } while (h != h0 && k <= nh);
-        size_t need = ntri + (k - 2);
-        if (need > tri_cap) {
-            size_t nc = tri_cap ? 2 * tri_cap : 1024;
-            while (nc < need)
-                nc *= 2;
-            tri_info *t2 = geom_realloc(al, tris, tri_cap * sizeof(tri_info), nc * sizeof(tri_info));
-            if (!t2) {
-                st = GEOM_ERR_NOMEM;
-                goto done;
-            }
-            tris = t2;
-            tri_cap = nc;
-        }
-        tri_info *t = tris + ntri;
+        size_t ntri = W->ntri;
+        if (geom__grow(W->al, (void **)&W->tris, &W->tri_cap, ntri + (k - 2), sizeof(tri_info)) !=
+            GEOM_OK)
+            return GEOM_ERR_NOMEM;
+        tri_info *t = W->tris + ntri;
         memset(t, 0, (k - 2) * sizeof(tri_info));
         for (size_t j = 0; j < k - 2; j++) {
             t[j].face = (uint32_t)f;
@@ -352,7 +319,7 @@ geom_status geom_mesh_tangents(geom_mesh *m, uint32_t *id)
         } else if (k == 4) {
             double uv[4][2];
             for (int i = 0; i < 4; i++)
-                corner_uv(&x, cs[i], uv[i]);
+                corner_uv(xp, cs[i], uv[i]);
             double u02 = d2uv(uv[0], uv[2]), u13 = d2uv(uv[1], uv[3]);
             int diag02;
             if (u02 < u13)
@@ -360,10 +327,10 @@ geom_status geom_mesh_tangents(geom_mesh *m, uint32_t *id)
             else if (u13 < u02)
                 diag02 = 0;
             else {
-                const double *p0 = x.pos + 3 * (size_t)m->he_vertex[cs[0]];
-                const double *p1 = x.pos + 3 * (size_t)m->he_vertex[cs[1]];
-                const double *p2 = x.pos + 3 * (size_t)m->he_vertex[cs[2]];
-                const double *p3 = x.pos + 3 * (size_t)m->he_vertex[cs[3]];
+                const double *p0 = xp->pos + 3 * (size_t)m->he_vertex[cs[0]];
+                const double *p1 = xp->pos + 3 * (size_t)m->he_vertex[cs[1]];
+                const double *p2 = xp->pos + 3 * (size_t)m->he_vertex[cs[2]];
+                const double *p3 = xp->pos + 3 * (size_t)m->he_vertex[cs[3]];
                 diag02 = !(d2p(p1, p3) < d2p(p0, p2));
             }
             if (diag02) {
@@ -399,16 +366,26 @@ geom_status geom_mesh_tangents(geom_mesh *m, uint32_t *id)
             for (int i = 0; i < 3; i++) {
                 uint32_t a = t[j].c[i], b = t[j].c[(i + 1) % 3];
                 if (m->he_prev[b] == a)
-                    tri_of_he[b] = (uint32_t)(ntri + j);
+                    W->tri_of_he[b] = (uint32_t)(ntri + j);
             }
         }
-        ntri += k - 2;
+        W->ntri = ntri + (k - 2);
     }
+    return GEOM_OK;
+}
 
-    /* per-triangle tangents, degeneracy, orientation */
+/* Phase 3: per-triangle tangents, degeneracy and orientation (one per
+ * quad), and the neighbours across original edges whose end identities
+ * match. */
+static void tan_triangle_frames(tan_work *W)
+{
+    const geom_mesh *m = W->m;
+    const uint32_t *ident = W->ident;
+    tri_info *tris = W->tris;
+    const size_t ntri = W->ntri;
     for (size_t t = 0; t < ntri; t++) {
         tri_info *ti = tris + t;
-        tri_setup(&x, ti);
+        tri_setup(&W->x, ti);
         if (ident[ti->c[0]] == ident[ti->c[1]] || ident[ti->c[1]] == ident[ti->c[2]] ||
             ident[ti->c[0]] == ident[ti->c[2]])
             ti->degen = 1;
@@ -438,21 +415,28 @@ geom_status geom_mesh_tangents(geom_mesh *m, uint32_t *id)
             if (m->he_prev[b] != a)
                 continue; /* a diagonal, linked above */
             uint32_t o = b ^ 1u;
-            if (m->he_face[o] == INV || tri_of_he[o] == INV)
+            if (m->he_face[o] == INV || W->tri_of_he[o] == INV)
                 continue;
             /* in the other face, o points to vertex(a) and prev(o) to vertex(b) */
             if (ident[o] == ident[a] && ident[m->he_prev[o]] == ident[b])
-                ti->nb[i] = tri_of_he[o];
+                ti->nb[i] = W->tri_of_he[o];
         }
     }
+}
 
-    /* ---- groups (flood fill around each corner identity) ---- */
-    ga = geom_alloc(al, (ntri ? ntri : 1) * 3 * sizeof(uint32_t));
-    stack = geom_alloc(al, (ntri ? ntri : 1) * 2 * sizeof(uint32_t) + 8);
-    if (!ga || !stack) {
-        st = GEOM_ERR_NOMEM;
-        goto done;
-    }
+/* Phase 4: groups, by flood fill around each corner identity across linked
+ * triangles of the same orientation. */
+static geom_status tan_groups(tan_work *W)
+{
+    const geom_allocator *al = W->al;
+    const uint32_t *ident = W->ident;
+    tri_info *tris = W->tris;
+    const size_t ntri = W->ntri;
+    W->ga = geom_alloc(al, (ntri ? ntri : 1) * 3 * sizeof(uint32_t));
+    W->stack = geom_alloc(al, (ntri ? ntri : 1) * 2 * sizeof(uint32_t) + 8);
+    if (!W->ga || !W->stack)
+        return GEOM_ERR_NOMEM;
+    uint32_t *ga = W->ga, *stack = W->stack;
     for (size_t i = 0; i < 3 * ntri; i++)
         ga[i] = INV;
     for (size_t t = 0; t < ntri; t++) {
@@ -461,14 +445,14 @@ geom_status geom_mesh_tangents(geom_mesh *m, uint32_t *id)
         for (int i = 0; i < 3; i++) {
             if (ga[3 * t + i] != INV)
                 continue;
-            if (geom_mesh__grow(al, (void **)&gsum, &gcap, ngroups + 1, 3 * sizeof(double)) !=
+            if (geom__grow(al, (void **)&W->gsum, &W->gcap, W->ngroups + 1, 3 * sizeof(double)) !=
                     GEOM_OK ||
-                geom_mesh__grow(al, (void **)&gorient, &ocap, ngroups + 1, 1) != GEOM_OK) {
-                st = GEOM_ERR_NOMEM;
-                goto done;
-            }
-            uint32_t g = (uint32_t)ngroups++;
+                geom__grow(al, (void **)&W->gorient, &W->ocap, W->ngroups + 1, 1) != GEOM_OK)
+                return GEOM_ERR_NOMEM;
+            uint32_t g = (uint32_t)W->ngroups++;
             uint32_t rep = ident[tris[t].c[i]];
+            uint8_t *gorient = W->gorient;
+            double *gsum = W->gsum;
             gorient[g] = tris[t].orient;
             gsum[3 * g] = gsum[3 * g + 1] = gsum[3 * g + 2] = 0.0;
             size_t sp = 0;
@@ -501,22 +485,29 @@ geom_status geom_mesh_tangents(geom_mesh *m, uint32_t *id)
             }
         }
     }
+    return GEOM_OK;
+}
 
-    /* ---- accumulate ---- */
-    for (size_t t = 0; t < ntri; t++) {
-        const tri_info *ti = tris + t;
+/* Phase 5: each group's tangent sum, weighted by the corner angles between
+ * the projected edges. */
+static void tan_accumulate(tan_work *W)
+{
+    const geom_mesh *m = W->m;
+    const double *pos = W->x.pos;
+    for (size_t t = 0; t < W->ntri; t++) {
+        const tri_info *ti = W->tris + t;
         if (ti->degen || ti->any)
             continue;
         for (int i = 0; i < 3; i++) {
-            uint32_t g = ga[3 * t + i];
+            uint32_t g = W->ga[3 * t + i];
             if (g == INV)
                 continue;
             double n[3], os[3], e1[3], e2[3], v1[3], v2[3];
-            corner_normal(&x, ti->c[i], n);
+            corner_normal(&W->x, ti->c[i], n);
             project_unit(ti->os, n, os);
-            const double *p = x.pos + 3 * (size_t)m->he_vertex[ti->c[i]];
-            const double *pn = x.pos + 3 * (size_t)m->he_vertex[ti->c[(i + 1) % 3]];
-            const double *pp = x.pos + 3 * (size_t)m->he_vertex[ti->c[(i + 2) % 3]];
+            const double *p = pos + 3 * (size_t)m->he_vertex[ti->c[i]];
+            const double *pn = pos + 3 * (size_t)m->he_vertex[ti->c[(i + 1) % 3]];
+            const double *pp = pos + 3 * (size_t)m->he_vertex[ti->c[(i + 2) % 3]];
             for (int k = 0; k < 3; k++) {
                 e1[k] = pp[k] - p[k];
                 e2[k] = pn[k] - p[k];
@@ -526,54 +517,66 @@ geom_status geom_mesh_tangents(geom_mesh *m, uint32_t *id)
             double c = dot3(v1, v2);
             c = c > 1.0 ? 1.0 : (c < -1.0 ? -1.0 : c);
             double ang = acos(c);
-            gsum[3 * g] += ang * os[0];
-            gsum[3 * g + 1] += ang * os[1];
-            gsum[3 * g + 2] += ang * os[2];
+            W->gsum[3 * g] += ang * os[0];
+            W->gsum[3 * g + 1] += ang * os[1];
+            W->gsum[3 * g + 2] += ang * os[2];
         }
     }
+}
 
-    /* ---- output pool ---- */
-    pool_cap = ngroups + 16;
-    pool = geom_alloc(al, pool_cap * 4 * sizeof(double));
-    if (!pool) {
-        st = GEOM_ERR_NOMEM;
-        goto done;
+/* Append the frame (t, w) to the output pool; its index in *idx. */
+static geom_status tan_pool_add(tan_work *W, const double t[3], double w, uint32_t *idx)
+{
+    if (geom__grow(W->al, (void **)&W->pool, &W->pool_cap, W->npool + 1, 4 * sizeof(double)) !=
+        GEOM_OK)
+        return GEOM_ERR_NOMEM;
+    double *q = W->pool + 4 * W->npool;
+    q[0] = t[0], q[1] = t[1], q[2] = t[2], q[3] = w;
+    *idx = (uint32_t)W->npool++;
+    return GEOM_OK;
+}
+
+/* Phase 6: the output frames. Group g's frame is pool entry g, its sum
+ * orthogonalised against the normal of the group's identity; corners left
+ * over (degenerate triangles only) copy a corner with the same identity,
+ * else get a frame from the normal alone. */
+static geom_status tan_frames(tan_work *W)
+{
+    const geom_mesh *m = W->m;
+    const size_t ntri = W->ntri, ngroups = W->ngroups;
+    const tri_info *tris = W->tris;
+    const uint32_t *ga = W->ga;
+    uint32_t *rep_he = geom_alloc(W->al, (ngroups ? ngroups : 1) * sizeof(uint32_t));
+    if (!rep_he)
+        return GEOM_ERR_NOMEM;
+    for (size_t g = 0; g < ngroups; g++)
+        rep_he[g] = INV;
+    for (size_t t = 0; t < ntri; t++) {
+        for (int i = 0; i < 3; i++) {
+            uint32_t g = ga[3 * t + i];
+            if (g != INV && rep_he[g] == INV)
+                rep_he[g] = tris[t].c[i];
+        }
     }
-    /* group frames: pool index = group index, orthogonalised against the
-     * normal of the group's identity */
-    {
-        uint32_t *rep_he = geom_alloc(al, (ngroups ? ngroups : 1) * sizeof(uint32_t));
-        if (!rep_he) {
-            st = GEOM_ERR_NOMEM;
-            goto done;
+    geom_status st = GEOM_OK;
+    for (size_t g = 0; g < ngroups && st == GEOM_OK; g++) {
+        double n[3] = {0.0, 0.0, 0.0}, tv[3], w;
+        uint32_t idx;
+        if (rep_he[g] != INV)
+            corner_normal(&W->x, rep_he[g], n);
+        project_unit(W->gsum + 3 * g, n, tv);
+        if (!(dot3(tv, tv) > 0.0)) {
+            basis_from_normal(n, tv);
+            w = 1.0;
+        } else {
+            w = W->gorient[g] ? 1.0 : -1.0;
         }
-        for (size_t g = 0; g < ngroups; g++)
-            rep_he[g] = INV;
-        for (size_t t = 0; t < ntri; t++) {
-            for (int i = 0; i < 3; i++) {
-                uint32_t g = ga[3 * t + i];
-                if (g != INV && rep_he[g] == INV)
-                    rep_he[g] = tris[t].c[i];
-            }
-        }
-        for (size_t g = 0; g < ngroups; g++) {
-            double n[3] = {0.0, 0.0, 0.0}, tv[3];
-            if (rep_he[g] != INV)
-                corner_normal(&x, rep_he[g], n);
-            project_unit(gsum + 3 * g, n, tv);
-            if (!(dot3(tv, tv) > 0.0)) {
-                basis_from_normal(n, tv);
-                pool[4 * g + 3] = 1.0;
-            } else {
-                pool[4 * g + 3] = gorient[g] ? 1.0 : -1.0;
-            }
-            pool[4 * g] = tv[0];
-            pool[4 * g + 1] = tv[1];
-            pool[4 * g + 2] = tv[2];
-        }
-        geom_free(al, rep_he, (ngroups ? ngroups : 1) * sizeof(uint32_t));
-        npool = ngroups;
+        st = tan_pool_add(W, tv, w, &idx);
     }
+    geom_free(W->al, rep_he, (ngroups ? ngroups : 1) * sizeof(uint32_t));
+    if (st != GEOM_OK)
+        return st;
+    uint32_t *corner_out = W->corner_out;
     for (size_t t = 0; t < ntri; t++) {
         for (int i = 0; i < 3; i++) {
             uint32_t g = ga[3 * t + i];
@@ -581,8 +584,7 @@ geom_status geom_mesh_tangents(geom_mesh *m, uint32_t *id)
                 corner_out[tris[t].c[i]] = g;
         }
     }
-    /* corners left over (degenerate triangles only): copy from a corner with
-     * the same identity, else a frame from the normal alone */
+    const uint32_t *boff = W->boff, *bucket = W->bucket, *ident = W->ident;
     for (size_t v = 0; v < m->nv; v++) {
         for (uint32_t i = boff[v]; i < boff[v + 1]; i++) {
             uint32_t h = bucket[i];
@@ -597,70 +599,130 @@ geom_status geom_mesh_tangents(geom_mesh *m, uint32_t *id)
             }
             if (corner_out[h] != INV)
                 continue;
-            if (npool + 1 > pool_cap) {
-                size_t nc = 2 * pool_cap;
-                double *p2 = geom_realloc(al, pool, pool_cap * 4 * sizeof(double), nc * 4 * sizeof(double));
-                if (!p2) {
-                    st = GEOM_ERR_NOMEM;
-                    goto done;
-                }
-                pool = p2;
-                pool_cap = nc;
-            }
             double n[3], tv[3];
-            corner_normal(&x, h, n);
+            corner_normal(&W->x, h, n);
             basis_from_normal(n, tv);
-            pool[4 * npool] = tv[0];
-            pool[4 * npool + 1] = tv[1];
-            pool[4 * npool + 2] = tv[2];
-            pool[4 * npool + 3] = 1.0;
-            corner_out[h] = (uint32_t)npool++;
+            st = tan_pool_add(W, tv, 1.0, &corner_out[h]);
+            if (st != GEOM_OK)
+                return st;
         }
     }
+    return GEOM_OK;
+}
 
-    /* ---- store ---- */
-    {
-        uint32_t tid = geom_mesh_channel_find(m, "tangent", GEOM_MESH_DOMAIN_CORNER);
-        if (tid != INV && geom_mesh_channel_ncomp(m, tid) != 4) {
-            st = geom_mesh_channel_remove(m, tid);
-            if (st != GEOM_OK)
-                goto done;
-            tid = INV;
-        }
-        if (tid == INV) {
-            st = geom_mesh_channel_add(m, "tangent", GEOM_MESH_DOMAIN_CORNER, 4, &tid);
-            if (st != GEOM_OK)
-                goto done;
-        }
-        st = geom_mesh_corner_pool_resize(m, tid, npool);
+/* Phase 7: the "tangent" corner channel (4 components) from the pool. */
+static geom_status tan_store(tan_work *W, uint32_t *id)
+{
+    geom_mesh *m = W->m;
+    geom_status st;
+    uint32_t tid = geom_mesh_channel_find(m, "tangent", GEOM_MESH_DOMAIN_CORNER);
+    if (tid != INV && geom_mesh_channel_ncomp(m, tid) != 4) {
+        st = geom_mesh_channel_remove(m, tid);
         if (st != GEOM_OK)
-            goto done;
-        double *d = geom_mesh_channel_data(m, tid);
-        uint32_t *ix = geom_mesh_corner_indices(m, tid);
-        if ((npool && !d) || (nh && !ix)) {
-            st = GEOM_ERR_INVALID_ARG;
-            goto done;
-        }
-        if (npool)
-            memcpy(d, pool, npool * 4 * sizeof(double));
-        if (nh)
-            memcpy(ix, corner_out, nh * sizeof(uint32_t));
-        if (id)
-            *id = tid;
+            return st;
+        tid = INV;
+    }
+    if (tid == INV) {
+        st = geom_mesh_channel_add(m, "tangent", GEOM_MESH_DOMAIN_CORNER, 4, &tid);
+        if (st != GEOM_OK)
+            return st;
+    }
+    st = geom_mesh_corner_pool_resize(m, tid, W->npool);
+    if (st != GEOM_OK)
+        return st;
+    double *d = geom_mesh_channel_data(m, tid);
+    uint32_t *ix = geom_mesh_corner_indices(m, tid);
+    if ((W->npool && !d) || (W->nh && !ix))
+        return GEOM_ERR_INVALID_ARG;
+    if (W->npool)
+        memcpy(d, W->pool, W->npool * 4 * sizeof(double));
+    if (W->nh)
+        memcpy(ix, W->corner_out, W->nh * sizeof(uint32_t));
+    if (id)
+        *id = tid;
+    return GEOM_OK;
+}
+
+static void tan_free(tan_work *W)
+{
+    const geom_allocator *al = W->al;
+    const size_t nh1 = W->nh ? W->nh : 1, ntri1 = W->ntri ? W->ntri : 1;
+    geom_free(al, W->tris, W->tri_cap * sizeof(tri_info));
+    geom_free(al, W->tri_of_he, nh1 * sizeof(uint32_t));
+    geom_free(al, W->ident, nh1 * sizeof(uint32_t));
+    geom_free(al, W->corner_out, nh1 * sizeof(uint32_t));
+    geom_free(al, W->bucket, (W->ntotal_corners ? W->ntotal_corners : 1) * sizeof(uint32_t));
+    geom_free(al, W->boff, (W->m->nv + 1) * sizeof(uint32_t));
+    geom_free(al, W->ga, ntri1 * 3 * sizeof(uint32_t));
+    geom_free(al, W->stack, ntri1 * 2 * sizeof(uint32_t) + 8);
+    geom_free(al, W->fn, (W->nf ? W->nf : 1) * 3 * sizeof(double));
+    geom_free(al, W->gsum, W->gcap * 3 * sizeof(double));
+    geom_free(al, W->gorient, W->ocap);
+    geom_free(al, W->pool, W->pool_cap * 4 * sizeof(double));
+}
+
+geom_status geom_mesh_tangents(geom_mesh *m, uint32_t *id)
+{
+    if (!m)
+        return GEOM_ERR_INVALID_ARG;
+    uint32_t uvch = geom_mesh_channel_find(m, "uv", GEOM_MESH_DOMAIN_CORNER);
+    if (uvch == INV || geom_mesh_channel_ncomp(m, uvch) < 2)
+        return GEOM_ERR_INVALID_ARG;
+    geom_status st = GEOM_OK;
+    uint32_t nch = geom_mesh_channel_find(m, "normal", GEOM_MESH_DOMAIN_CORNER);
+    if (nch != INV && geom_mesh_channel_ncomp(m, nch) != 3)
+        nch = INV;
+    if (nch == INV) {
+        st = geom_mesh_corner_normals(m, NULL, &nch);
+        if (st != GEOM_OK)
+            return st;
+        uvch = geom_mesh_channel_find(m, "uv", GEOM_MESH_DOMAIN_CORNER);
     }
 
+    tan_work W;
+    memset(&W, 0, sizeof W);
+    W.m = m;
+    W.al = &m->alloc;
+    W.nh = m->nh;
+    W.nf = m->nf;
+    const size_t nh = W.nh, nf = W.nf;
+    tan_ctx *x = &W.x;
+    x->m = m;
+    x->pos = geom_mesh__pos(m);
+    x->uvd = geom_mesh_channel_cdata(m, uvch);
+    x->uvi = geom_mesh_corner_cindices(m, uvch);
+    x->uvc = geom_mesh_channel_ncomp(m, uvch);
+    x->uvn = geom_mesh_channel_size(m, uvch);
+    x->nd = geom_mesh_channel_cdata(m, nch);
+    x->ni = geom_mesh_corner_cindices(m, nch);
+    x->nn = geom_mesh_channel_size(m, nch);
+
+    W.fn = geom_alloc(W.al, (nf ? nf : 1) * 3 * sizeof(double));
+    W.tri_of_he = geom_alloc(W.al, (nh ? nh : 1) * sizeof(uint32_t));
+    W.ident = geom_alloc(W.al, (nh ? nh : 1) * sizeof(uint32_t));
+    W.corner_out = geom_alloc(W.al, (nh ? nh : 1) * sizeof(uint32_t));
+    if (!W.fn || !W.tri_of_he || !W.ident || !W.corner_out) {
+        st = GEOM_ERR_NOMEM;
+        goto done;
+    }
+    for (size_t f = 0; f < nf; f++) {
+        if (m->f_del[f] || geom_mesh_face_normal(m, (uint32_t)f, W.fn + 3 * f) != GEOM_OK)
+            W.fn[3 * f] = W.fn[3 * f + 1] = W.fn[3 * f + 2] = 0.0;
+    }
+    x->fn = W.fn;
+    for (size_t h = 0; h < nh; h++)
+        W.tri_of_he[h] = W.ident[h] = W.corner_out[h] = INV;
+
+    if ((st = tan_identities(&W)) != GEOM_OK || (st = tan_triangulate(&W)) != GEOM_OK)
+        goto done;
+    tan_triangle_frames(&W);
+    if ((st = tan_groups(&W)) != GEOM_OK)
+        goto done;
+    tan_accumulate(&W);
+    if ((st = tan_frames(&W)) != GEOM_OK)
+        goto done;
+    st = tan_store(&W, id);
 done:
-    geom_free(al, tris, tri_cap * sizeof(tri_info));
-    geom_free(al, tri_of_he, (nh ? nh : 1) * sizeof(uint32_t));
-    geom_free(al, ident, (nh ? nh : 1) * sizeof(uint32_t));
-    geom_free(al, corner_out, (nh ? nh : 1) * sizeof(uint32_t));
-    geom_free(al, bucket, (ntotal_corners ? ntotal_corners : 1) * sizeof(uint32_t));
-    geom_free(al, boff, (m->nv + 1) * sizeof(uint32_t));
-    geom_free(al, ga, (ntri ? ntri : 1) * 3 * sizeof(uint32_t));
-    geom_free(al, stack, (ntri ? ntri : 1) * 2 * sizeof(uint32_t) + 8);
-    geom_free(al, fn, (nf ? nf : 1) * 3 * sizeof(double));
-    geom_free(al, gsum, gcap * 3 * sizeof(double));
-    geom_free(al, gorient, ocap);
-    geom_free(al, pool, pool_cap * 4 * sizeof(double));
+    tan_free(&W);
     return st;
 }

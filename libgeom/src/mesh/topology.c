@@ -49,36 +49,20 @@ geom_status geom_mesh_boundary_loops(const geom_mesh *m, size_t *n_loops,
     return GEOM_OK;
 }
 
-static uint32_t uf_find(uint32_t *p, uint32_t x)
-{
-    while (p[x] != x) {
-        p[x] = p[p[x]];
-        x = p[x];
-    }
-    return x;
-}
-
 /* Component labels of live vertices (lab, nv entries, INV for deleted ones),
  * numbered by their lowest vertex. Returns the count. lab doubles as the
  * union-find array. */
 static size_t vertex_components(const geom_mesh *m, uint32_t *lab)
 {
     size_t nv = m->nv;
-    for (size_t v = 0; v < nv; ++v)
-        lab[v] = (uint32_t)v;
-    for (size_t e = 0; e < m->nh / 2; ++e) {
-        if (m->e_del[e])
-            continue;
-        uint32_t a = uf_find(lab, m->he_vertex[2 * e]), b = uf_find(lab, m->he_vertex[2 * e + 1]);
-        if (a < b)
-            lab[b] = a;
-        else if (b < a)
-            lab[a] = b;
-    }
+    geom__uf_init(lab, nv);
+    for (size_t e = 0; e < m->nh / 2; ++e)
+        if (!m->e_del[e])
+            geom__uf_union(lab, m->he_vertex[2 * e], m->he_vertex[2 * e + 1]);
     /* full compression (roots are the smallest members), then relabel in
      * one ascending pass: a root is met before the rest of its set */
     for (size_t v = 0; v < nv; ++v)
-        lab[v] = uf_find(lab, (uint32_t)v);
+        lab[v] = geom__uf_find(lab, (uint32_t)v);
     size_t n = 0;
     for (size_t v = 0; v < nv; ++v) {
         uint32_t r = lab[v];

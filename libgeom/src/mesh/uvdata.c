@@ -20,16 +20,6 @@
 
 #define INV GEOM_INVALID_INDEX
 
-/* Union-find with path halving. */
-static uint32_t uf_find(uint32_t *p, uint32_t x)
-{
-    while (p[x] != x) {
-        p[x] = p[p[x]];
-        x = p[x];
-    }
-    return x;
-}
-
 static int face_has_uv(const geom_mesh *m, const uint32_t *idx, size_t pool, uint32_t f)
 {
     uint32_t h0 = m->f_he[f], h = h0;
@@ -82,13 +72,7 @@ geom_status geom_mesh_uv_data(const geom_mesh *m, uint32_t uv_channel, geom_uv_r
                     s = 1;
                     seams++;
                 } else {
-                    uint32_t r0 = uf_find(parent, f0), r1 = uf_find(parent, f1);
-                    if (r0 != r1) {
-                        if (r0 < r1)
-                            parent[r1] = r0;
-                        else
-                            parent[r0] = r1;
-                    }
+                    geom__uf_union(parent, f0, f1);
                 }
             }
         }
@@ -123,7 +107,7 @@ geom_status geom_mesh_uv_data(const geom_mesh *m, uint32_t uv_channel, geom_uv_r
                 face_chart[f] = INV;
             continue;
         }
-        uint32_t root = uf_find(parent, (uint32_t)f);
+        uint32_t root = geom__uf_find(parent, (uint32_t)f);
         if (chart_of_root[root] == INV) {
             chart_of_root[root] = (uint32_t)charts;
             if (chart_bounds) {

@@ -290,17 +290,7 @@ static uint32_t rd_index(const glb_acc *a, size_t i)
 
 /* ------------------------------------------------------------- reader */
 
-static uint64_t pos_hash(const double *v)
-{
-    uint64_t h = 0x9E3779B97F4A7C15ull;
-    for (int j = 0; j < 3; j++) {
-        double x = v[j] == 0.0 ? 0.0 : v[j]; /* -0 and 0 weld */
-        uint64_t b;
-        memcpy(&b, &x, 8);
-        h = geom_meshio__mix(h, b);
-    }
-    return h;
-}
+static uint64_t pos_hash(const double *v) { return geom__hash_doubles(v, 3); }
 
 geom_status geom_meshio__read_glb(mio_ctx *c, mio_soup *s)
 {

@@ -490,6 +490,12 @@ void geom_meshio_buffer_free(void *data, size_t size, const geom_allocator *allo
         geom_free(alloc, data, size + 1);
 }
 
+/* The sink's flush function over core's cp-like output (core/output.c). */
+static geom_status output_flush(void *user, const void *data, size_t n, geom_diag *diag)
+{
+    return geom_output_write(user, data, n, diag);
+}
+
 geom_status geom_meshio_write(const geom_mesh *m, const char *path,
                               const geom_meshio_write_options *opt, geom_diag *diag)
 {
@@ -505,8 +511,8 @@ geom_status geom_meshio_write(const geom_mesh *m, const char *path,
     geom_status st = check_write_args(m, &o, fmt, diag, path);
     if (st != GEOM_OK)
         return st;
-    mio_atomic at;
-    st = geom_meshio__atomic_open(&at, path, o.alloc, diag);
+    geom_output at;
+    st = geom_output_open(path, o.alloc, &at, diag);
     if (st != GEOM_OK)
         return st;
     mio_sink k;
@@ -516,10 +522,10 @@ geom_status geom_meshio_write(const geom_mesh *m, const char *path,
     k.precision = o.precision;
     k.cap = 1 << 16;
     k.buf = geom_alloc(o.alloc, k.cap);
-    k.flush_fn = geom_meshio__atomic_write;
+    k.flush_fn = output_flush;
     k.user = &at;
     if (!k.buf) {
-        geom_meshio__atomic_abort(&at);
+        geom_output_abort(&at);
         return geom_diag_set(diag, GEOM_ERR_NOMEM, path, 0, 0, "out of memory");
     }
     st = write_dispatch(m, &o, fmt, &k);
@@ -529,12 +535,12 @@ geom_status geom_meshio_write(const geom_mesh *m, const char *path,
         st = geom_meshio__sink_flush(&k);
     geom_free(o.alloc, k.buf, k.cap);
     if (st != GEOM_OK) {
-        geom_meshio__atomic_abort(&at);
+        geom_output_abort(&at);
         if (diag && diag->status == GEOM_OK)
             geom_diag_set(diag, st, path, 0, 0, "%s", geom_status_str(st));
         if (diag && diag->source[0] == '\0')
             snprintf(diag->source, sizeof diag->source, "%s", path);
         return st;
     }
-    return geom_meshio__atomic_commit(&at, diag);
+    return geom_output_commit(&at, diag);
 }

@@ -20,11 +20,8 @@
 
 /* ------------------------------------------------------- growable arrays */
 
-/* Grow *p (elements of `elem` bytes, capacity *cap elements) to at least
- * `need` elements (by doubling, at least 16). GEOM_ERR_NOMEM or
- * GEOM_ERR_LIMIT; *p and *cap unchanged on failure. */
-geom_status geom_meshio__grow(const geom_allocator *a, void **p, size_t *cap, size_t need,
-                              size_t elem);
+/* Grow *p to at least `need` elements: core's geom__grow (core/grow.c). */
+#define geom_meshio__grow geom__grow
 
 #define MIO_ARR(T)                                                                         \
     struct {                                                                               \
@@ -53,24 +50,15 @@ geom_status geom_meshio__grow(const geom_allocator *a, void **p, size_t *cap, si
 
 /* ------------------------------------------------------------ hash index */
 
-/* Open-addressing set of uint32 element ids keyed by a caller-computed
- * 64-bit hash; the caller compares candidates itself. Zero-initialise. */
-typedef struct mio_hash {
-    uint64_t *slot; /* (hash high 32 bits << 32) | (id + 1); 0 = empty */
-    size_t cap, n;
-} mio_hash;
-
-uint64_t geom_meshio__mix(uint64_t h, uint64_t v);
-/* Make room for n entries (load <= 1/2). */
-geom_status geom_meshio__hash_reserve(mio_hash *h, const geom_allocator *a, size_t n);
-/* Iterate the candidates for `hash`: start with *it = 0; returns the next
- * candidate id, or UINT32_MAX when there is none (then *it is the free slot
- * where geom_meshio__hash_insert_at may insert). */
-uint32_t geom_meshio__hash_next(const mio_hash *h, uint64_t hash, size_t *it);
-/* Insert id at the free slot found by the last hash_next (no growth here:
- * reserve first). */
-void geom_meshio__hash_insert_at(mio_hash *h, uint64_t hash, size_t it, uint32_t id);
-void geom_meshio__hash_free(mio_hash *h, const geom_allocator *a);
+/* The hash index and mixer are core's (core/hash.c); these names are kept
+ * so that the readers and writers need not change (the lead's prefix sed
+ * renames them to the core names). */
+typedef geom__hindex mio_hash;
+#define geom_meshio__mix geom__hash_mix
+#define geom_meshio__hash_reserve geom__hindex_reserve
+#define geom_meshio__hash_next geom__hindex_next
+#define geom_meshio__hash_insert_at geom__hindex_insert_at
+#define geom_meshio__hash_free geom__hindex_free
 
 /* ---------------------------------------------------------------- numbers */
 
@@ -284,30 +272,6 @@ geom_status geom_meshio__sink_fail(mio_sink *k, geom_status st, const char *fmt,
  * \xNN, so input cannot drive the terminal; bytes >= 0x80 are kept only as
  * whole valid UTF-8 sequences (else \xNN). */
 void geom_meshio__printable(char *dst, size_t size, const char *src, size_t len);
-
-/* ---------------------------------------------------- atomic file output */
-
-typedef struct mio_atomic {
-    char *path; /* destination as named (messages) */
-    char *dest; /* file replaced: path, or a symbolic link's resolved target */
-    char *tmp;  /* temporary file; NULL when writing through */
-    size_t path_size, dest_size, tmp_size;
-    int fd;
-    const geom_allocator *alloc;
-} mio_atomic;
-
-/* Open the output for path (see meshio.h, "Writers"): a regular file (or a
- * symbolic link to one) is replaced through a temporary file named
- * ".NAME.XXXXXXXX.geomtmp" next to it, keeping its mode; a device or FIFO
- * is written through. GEOM_ERR_IO / GEOM_ERR_NOMEM / GEOM_ERR_INVALID_ARG. */
-geom_status geom_meshio__atomic_open(mio_atomic *a, const char *path, const geom_allocator *al,
-                                     geom_diag *diag);
-/* Flush function for a sink writing to a->fd (user = a). */
-geom_status geom_meshio__atomic_write(void *user, const void *data, size_t n, geom_diag *diag);
-/* Close and rename onto the destination; on failure remove the temporary. */
-geom_status geom_meshio__atomic_commit(mio_atomic *a, geom_diag *diag);
-/* Close and remove the temporary file. */
-void geom_meshio__atomic_abort(mio_atomic *a);
 
 /* ------------------------------------------------------------ export view */
 

@@ -378,9 +378,9 @@ geom_status geom_ray_scene_add_subdiv(geom_ray_scene *s, const geom_mesh *gm, in
     geom__tmesh *m;
     geom__ray_node *nd;
     geom_status st;
-    if (!s || !gm) return GEOM_ERR_INVALID_ARG;
+    if (!s || !gm) return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_ray_scene_add_subdiv: invalid argument");
     int asked_levels = levels;
-    if (levels < 0 || levels > 8) return GEOM_ERR_INVALID_ARG;
+    if (levels < 0 || levels > 8) return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_ray_scene_add_subdiv: invalid argument");
     if (levels == 0) levels = 5;
     memset(&o, 0, sizeof o);
     o.scheme = (geom_subdiv_scheme)scheme;
@@ -404,7 +404,7 @@ geom_status geom_ray_scene_add_subdiv(geom_ray_scene *s, const geom_mesh *gm, in
             geom_mesh_destroy(ctrl);
             geom__ray_tmesh_corner_attrs_free(m, s->alloc);
             geom__ray_mesh_free(m, s->alloc);
-            return GEOM_ERR_NOMEM;
+            return geom_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_ray_scene_add_subdiv: out of memory");
         }
         nd->control = ctrl;
         nd->scheme = scheme;
@@ -425,10 +425,10 @@ geom_status geom_ray_scene_add_surface(geom_ray_scene *s, const geom_nurbs_surfa
     geom__ray_node *nd;
     geom_status st;
     size_t nk_u, nk_v, np;
-    if (!s || !surf) return GEOM_ERR_INVALID_ARG;
+    if (!s || !surf) return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_ray_scene_add_surface: invalid argument");
     if ((st = geom_surface_validate(surf, diag)) != GEOM_OK) return st;
     sf = geom_alloc(s->alloc, sizeof *sf);
-    if (!sf) return GEOM_ERR_NOMEM;
+    if (!sf) return geom_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_ray_scene_add_surface: out of memory");
     memset(sf, 0, sizeof *sf);
     nk_u = surf->nu + (size_t)surf->degree_u + 1;
     nk_v = surf->nv + (size_t)surf->degree_v + 1;
@@ -440,7 +440,7 @@ geom_status geom_ray_scene_add_surface(geom_ray_scene *s, const geom_nurbs_surfa
     if (!sf->knots_u || !sf->knots_v || !sf->points || (surf->weights && !sf->weights)) {
         sf->s = *surf;
         geom__ray_surface_free(sf, s->alloc);
-        return GEOM_ERR_NOMEM;
+        return geom_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_ray_scene_add_surface: out of memory");
     }
     memcpy(sf->knots_u, surf->knots_u, nk_u * sizeof(double));
     memcpy(sf->knots_v, surf->knots_v, nk_v * sizeof(double));
@@ -457,7 +457,7 @@ geom_status geom_ray_scene_add_surface(geom_ray_scene *s, const geom_nurbs_surfa
     }
     if (!(nd = node_new(s, GEOM_RAY_SURFACE, id))) {
         geom__ray_surface_free(sf, s->alloc);
-        return GEOM_ERR_NOMEM;
+        return geom_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_ray_scene_add_surface: out of memory");
     }
     nd->surf = sf;
     return GEOM_OK;
@@ -837,7 +837,7 @@ geom_status geom_ray_scene_build(geom_ray_scene *s, const geom_ray_build_options
     geom_ray_build_info inf;
     size_t i;
     geom_status st;
-    if (!s) return GEOM_ERR_INVALID_ARG;
+    if (!s) return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_ray_scene_build: invalid argument");
     memset(&inf, 0, sizeof inf);
     for (i = 0; i < s->n; i++)
         if ((st = node_bounds(s, (uint32_t)i, 0, opt, &inf, diag)) != GEOM_OK) return st;
@@ -858,7 +858,7 @@ geom_status geom_ray_scene_build(geom_ray_scene *s, const geom_ray_build_options
      * (planes, unclipped quadrics) tested on every ray. */
     top_free(s);
     s->unbounded = geom_alloc(s->alloc, (s->nroots ? s->nroots : 1) * sizeof *s->unbounded);
-    if (!s->unbounded) return GEOM_ERR_NOMEM;
+    if (!s->unbounded) return geom_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_ray_scene_build: out of memory");
     if (s->nroots >= 8) {
         geom_aabb *boxes = geom_alloc(s->alloc, s->nroots * sizeof *boxes);
         geom_bvh_options bo;
@@ -866,7 +866,7 @@ geom_status geom_ray_scene_build(geom_ray_scene *s, const geom_ray_build_options
         s->top_obj = geom_alloc(s->alloc, s->nroots * sizeof *s->top_obj);
         if (!boxes || !s->top_obj) {
             if (boxes) geom_free(s->alloc, boxes, s->nroots * sizeof *boxes);
-            return GEOM_ERR_NOMEM;
+            return geom_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_ray_scene_build: out of memory");
         }
         for (i = 0; i < s->nroots; i++) {
             const geom__ray_node *nd = &s->nodes[s->roots[i]];

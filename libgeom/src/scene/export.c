@@ -68,7 +68,7 @@ geom_status geom_scene_export(const geom_camera *cam, const geom_material *mater
     double pe = opt.pixel_error > 0 ? opt.pixel_error : 0.5;
     geom_mesh **parts = geom_alloc(NULL, (n ? n : 1) * sizeof *parts);
     if (!parts)
-        return GEOM_ERR_NOMEM;
+        return geom_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_scene_export: out of memory");
     memset(parts, 0, (n ? n : 1) * sizeof *parts);
     unsigned any = 0;
     geom_status st = GEOM_OK;

@@ -337,13 +337,13 @@ geom_status geom_scene_shapes_from_ray(const geom_ray_scene *rs, geom_scene_shap
                                        geom_diag *diag)
 {
     if (!out)
-        return GEOM_ERR_INVALID_ARG;
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_scene_shapes_from_ray: invalid argument");
     *out = NULL;
     if (!rs)
-        return GEOM_ERR_INVALID_ARG;
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_scene_shapes_from_ray: invalid argument");
     geom_scene_shapes *h = geom_alloc(NULL, sizeof *h);
     if (!h)
-        return GEOM_ERR_NOMEM;
+        return geom_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_scene_shapes_from_ray: out of memory");
     memset(h, 0, sizeof *h);
     h->rs = rs;
     size_t n = geom__ray_scene_top(rs, NULL, 0);
@@ -354,7 +354,7 @@ geom_status geom_scene_shapes_from_ray(const geom_ray_scene *rs, geom_scene_shap
     if (!h->top || !h->top_kind || !ids) {
         geom_free(NULL, ids, (n ? n : 1) * sizeof *ids);
         geom_scene_shapes_destroy(h);
-        return GEOM_ERR_NOMEM;
+        return geom_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_scene_shapes_from_ray: out of memory");
     }
     geom__ray_scene_top(rs, ids, n);
     geom_status st = GEOM_OK;

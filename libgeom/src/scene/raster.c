@@ -39,14 +39,9 @@ typedef struct tri_list {
 
 static geom_status tri_push(tri_list *l, rtri **out)
 {
-    if (l->n == l->cap) {
-        size_t nc = l->cap ? 2 * l->cap : 256;
-        rtri *nv = geom_realloc(l->alloc, l->v, l->cap * sizeof(rtri), nc * sizeof(rtri));
-        if (!nv)
-            return GEOM_ERR_NOMEM;
-        l->v = nv;
-        l->cap = nc;
-    }
+    geom_status st = geom__grow(l->alloc, (void **)&l->v, &l->cap, l->n + 1, sizeof(rtri));
+    if (st != GEOM_OK)
+        return st;
     *out = &l->v[l->n++];
     memset(*out, 0, sizeof **out);
     return GEOM_OK;

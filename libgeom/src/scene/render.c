@@ -323,7 +323,7 @@ geom_status geom_scene_shape_to_ray(geom_ray_scene *rs, const geom_shape *s, uin
                                     size_t *n_ids, geom_diag *diag)
 {
     if (!rs || !s || !ids || !n_ids)
-        return GEOM_ERR_INVALID_ARG;
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_scene_shape_to_ray: invalid argument");
     return add_one(rs, s, ids, n_ids, 1, diag);
 }
 
@@ -490,7 +490,7 @@ geom_status geom_scene_render(const geom_camera *cam_in, const geom_light *light
         memset(report, 0, sizeof *report);
     if (!cam_in || !out || (n_lights && !lights) || !materials || !n_materials ||
         (n_objects && !objects))
-        return GEOM_ERR_INVALID_ARG;
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_scene_render: invalid argument");
     for (size_t i = 0; i < n_objects; i++)
         if (!objects[i].shape || objects[i].material >= n_materials)
             return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,

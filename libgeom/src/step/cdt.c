@@ -12,17 +12,7 @@
 
 static geom_status grow(const geom_allocator *a, void **p, size_t *cap, size_t need, size_t elem)
 {
-    if (need <= *cap)
-        return GEOM_OK;
-    size_t nc = *cap ? *cap : 64;
-    while (nc < need)
-        nc *= 2;
-    void *q = geom_realloc(a, *p, *cap * elem, nc * elem);
-    if (!q)
-        return GEOM_ERR_NOMEM;
-    *p = q;
-    *cap = nc;
-    return GEOM_OK;
+    return geom__grow(a, p, cap, need, elem);
 }
 
 void geom__cdt_free(geom__cdt *c)

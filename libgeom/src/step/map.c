@@ -48,19 +48,9 @@ static geom_status push(mapper *M, int which, void **arr, size_t *n, size_t elem
 {
     if (*n >= UINT32_MAX - 1)
         return GEOM_ERR_LIMIT;
-    if (*n >= M->cap[which]) {
-        size_t nc = M->cap[which] ? 2 * M->cap[which] : 16;
-        void *q = geom_realloc(M->a, *arr, M->cap[which] * elem, nc * elem);
-        if (!q)
-            return GEOM_ERR_NOMEM;
-        *arr = q;
-        M->cap[which] = nc;
-    }
-    memcpy((char *)*arr + *n * elem, item, elem);
     if (idx)
         *idx = (uint32_t)*n;
-    (*n)++;
-    return GEOM_OK;
+    return geom__push(M->a, arr, n, &M->cap[which], elem, item);
 }
 
 #define PUSH(M, which, field, count, item, idx)                                            \

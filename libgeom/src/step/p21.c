@@ -27,16 +27,11 @@ typedef struct lexer {
 
 #define GROW(ptr, n, cap, type, alloc)                                                     \
     do {                                                                                   \
-        if ((n) >= (cap)) {                                                                \
-            size_t nc_ = (cap) ? 2 * (cap) : 64;                                           \
-            if (nc_ > SIZE_MAX / sizeof(type) / 2)                                         \
-                return GEOM_ERR_LIMIT;                                                     \
-            type *q_ = geom_realloc(alloc, ptr, (cap) * sizeof(type), nc_ * sizeof(type)); \
-            if (!q_)                                                                       \
-                return GEOM_ERR_NOMEM;                                                     \
-            (ptr) = q_;                                                                    \
-            (cap) = nc_;                                                                   \
-        }                                                                                  \
+        void *p_ = (ptr);                                                                  \
+        geom_status st_ = geom__grow(alloc, &p_, &(cap), (n) + 1, sizeof(type));          \
+        if (st_ != GEOM_OK)                                                                \
+            return st_;                                                                    \
+        (ptr) = p_;                                                                        \
     } while (0)
 
 static geom_status err(lexer *L, geom_status st, const char *fmt, const char *arg)
@@ -605,61 +600,37 @@ static geom_status instance(lexer *L, uint64_t id, size_t line, size_t col, int 
     return GEOM_OK;
 }
 
-static uint64_t hash64(uint64_t x)
-{
-    x ^= x >> 33;
-    x *= 0xff51afd7ed558ccdULL;
-    x ^= x >> 33;
-    x *= 0xc4ceb9fe1a85ec53ULL;
-    x ^= x >> 33;
-    return x;
-}
-
 uint32_t geom__p21_find(const geom__p21 *p, uint64_t id)
 {
-    if (!p->caphash)
-        return UINT32_MAX;
-    size_t mask = p->caphash - 1;
-    for (size_t h = hash64(id) & mask;; h = (h + 1) & mask) {
-        uint32_t e = p->hash[h];
-        if (e == 0)
-            return UINT32_MAX;
-        if (p->ents[e - 1].id == id)
-            return e - 1;
-    }
+    uint64_t h = geom__hash_mix(0, id);
+    size_t it = 0;
+    uint32_t e;
+    while ((e = geom__hindex_next(&p->hash, h, &it)) != UINT32_MAX)
+        if (p->ents[e].id == id)
+            return e;
+    return UINT32_MAX;
 }
 
 static geom_status build_hash(lexer *L)
 {
     geom__p21 *p = L->p;
-    size_t cap = 64;
-    while (cap < 2 * p->nents)
-        cap *= 2;
-    size_t bytes;
-    if (geom_size_mul(cap, sizeof(uint32_t), &bytes))
-        return GEOM_ERR_LIMIT;
-    p->hash = geom_alloc(p->alloc, bytes);
-    if (!p->hash)
-        return GEOM_ERR_NOMEM;
-    memset(p->hash, 0, bytes);
-    p->caphash = cap;
+    geom_status st = geom__hindex_reserve(&p->hash, p->alloc, p->nents);
+    if (st != GEOM_OK)
+        return st;
     for (size_t k = p->nheader; k < p->nents; k++) {
         uint64_t id = p->ents[k].id;
-        size_t h = hash64(id) & (cap - 1);
-        for (;; h = (h + 1) & (cap - 1)) {
-            uint32_t e = p->hash[h];
-            if (e == 0) {
-                p->hash[h] = (uint32_t)(k + 1);
-                break;
-            }
-            if (p->ents[e - 1].id == id) {
+        uint64_t h = geom__hash_mix(0, id);
+        size_t it = 0;
+        uint32_t e;
+        while ((e = geom__hindex_next(&p->hash, h, &it)) != UINT32_MAX)
+            if (p->ents[e].id == id) {
                 char msg[64];
                 snprintf(msg, sizeof msg, "#%llu", (unsigned long long)id);
                 L->line = p->ents[k].line;
                 L->col = p->ents[k].column;
                 return err(L, GEOM_ERR_PARSE, "instance %s defined twice", msg);
             }
-        }
+        geom__hindex_insert_at(&p->hash, h, it, (uint32_t)k);
     }
     /* resolve references */
     for (size_t k = 0; k < p->nvals; k++) {
@@ -815,7 +786,7 @@ void geom__p21_free(geom__p21 *p)
     geom_free(a, p->parts, p->capparts * sizeof *p->parts);
     geom_free(a, p->ents, p->capents * sizeof *p->ents);
     geom_free(a, p->pool, p->cappool);
-    geom_free(a, p->hash, p->caphash * sizeof *p->hash);
+    geom__hindex_free(&p->hash, a);
     memset(p, 0, sizeof *p);
     p->alloc = a;
 }

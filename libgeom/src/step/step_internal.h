@@ -56,8 +56,7 @@ typedef struct geom__p21 {
     size_t nents, capents;
     char *pool;
     size_t npool, cappool;
-    uint32_t *hash; /* entity index + 1 by id, open addressing */
-    size_t caphash;
+    geom__hindex hash; /* entity index by id (core's hash index) */
     size_t nheader; /* header entities come first in ents (id 0) */
     char source[GEOM_DIAG_MESSAGE_MAX];
 } geom__p21;

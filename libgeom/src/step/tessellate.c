@@ -21,17 +21,7 @@ typedef struct buf {
 
 static geom_status bpush(const geom_allocator *a, buf *b, const void *x)
 {
-    if (b->n >= b->cap) {
-        size_t nc = b->cap ? 2 * b->cap : 64;
-        void *q = geom_realloc(a, b->p, b->cap * b->elem, nc * b->elem);
-        if (!q)
-            return GEOM_ERR_NOMEM;
-        b->p = q;
-        b->cap = nc;
-    }
-    memcpy((char *)b->p + b->n * b->elem, x, b->elem);
-    b->n++;
-    return GEOM_OK;
+    return geom__push(a, &b->p, &b->n, &b->cap, b->elem, x);
 }
 
 static void bfree(const geom_allocator *a, buf *b)

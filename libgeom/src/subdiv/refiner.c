@@ -288,15 +288,15 @@ geom_status geom_subdiv_refiner_create_soup(size_t nverts, size_t nfaces,
                                             geom_subdiv_refiner **out, geom_diag *diag)
 {
     if (!out)
-        return GEOM_ERR_INVALID_ARG;
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_subdiv_refiner_create_soup: invalid argument");
     *out = NULL;
     if (nfaces == 0 || !face_sizes || !indices)
         return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "no faces to subdivide");
     if (nverts > INT32_MAX || nfaces > INT32_MAX)
-        return GEOM_ERR_LIMIT;
+        return geom_diag_set(diag, GEOM_ERR_LIMIT, NULL, 0, 0, "geom_subdiv_refiner_create_soup: too large for 32-bit indices");
     geom_subdiv_refiner *r = new_refiner(opt);
     if (!r)
-        return GEOM_ERR_NOMEM;
+        return geom_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_subdiv_refiner_create_soup: out of memory");
     geom_subdiv_options eff;
     memset(&eff, 0, sizeof eff);
     if (opt)
@@ -391,13 +391,13 @@ geom_status geom_subdiv_refiner_create(const geom_mesh *m, const geom_subdiv_opt
                                        geom_subdiv_refiner **out, geom_diag *diag)
 {
     if (!out)
-        return GEOM_ERR_INVALID_ARG;
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_subdiv_refiner_create: invalid argument");
     *out = NULL;
     if (!m)
-        return GEOM_ERR_INVALID_ARG;
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_subdiv_refiner_create: invalid argument");
     geom_subdiv_refiner *r = new_refiner(opt);
     if (!r)
-        return GEOM_ERR_NOMEM;
+        return geom_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_subdiv_refiner_create: out of memory");
     const geom_allocator *a = sd_alloc(r);
     geom_subdiv_options eff;
     memset(&eff, 0, sizeof eff);

@@ -101,25 +101,23 @@ geom_status geom_surface_locate(const geom_nurbs_surface *s, double u, double v,
 {
     double ue, ve;
     int lu, lv;
-    geom_status st = geom_curve_prepare_param_knots(
-        s->degree_u, s->nu, s->knots_u, u,
-        (flags & GEOM_SURFACE_U_LEFT) ? GEOM_CURVE_LEFT_LIMIT : 0u, &ue, &lu);
+    geom_status st = geom__bs_param(s->degree_u, s->nu, s->knots_u, u, 0,
+                                    (flags & GEOM_SURFACE_U_LEFT) != 0, &ue, &lu);
     if (st != GEOM_OK)
         return st;
-    st = geom_curve_prepare_param_knots(s->degree_v, s->nv, s->knots_v, v,
-                                        (flags & GEOM_SURFACE_V_LEFT) ? GEOM_CURVE_LEFT_LIMIT : 0u,
-                                        &ve, &lv);
+    st = geom__bs_param(s->degree_v, s->nv, s->knots_v, v, 0, (flags & GEOM_SURFACE_V_LEFT) != 0,
+                        &ve, &lv);
     if (st != GEOM_OK)
         return st;
-    *ku = geom_curve_bs_span(s->degree_u, s->nu, s->knots_u, ue, lu);
-    *kv = geom_curve_bs_span(s->degree_v, s->nv, s->knots_v, ve, lv);
+    *ku = geom__bs_span(s->degree_u, s->nu, s->knots_u, ue, lu);
+    *kv = geom__bs_span(s->degree_v, s->nv, s->knots_v, ve, lv);
     return GEOM_OK;
 }
 
 size_t geom_surface_point_work(const geom_nurbs_surface *s)
 {
     size_t p1 = (size_t)s->degree_u + 1, q1 = (size_t)s->degree_v + 1;
-    return p1 + q1 + geom_curve_bs_basis_work(s->degree_u > s->degree_v ? s->degree_u
+    return p1 + q1 + geom__bs_basis_work(s->degree_u > s->degree_v ? s->degree_u
                                                                           : s->degree_v);
 }
 
@@ -166,25 +164,25 @@ void geom_surface_span_point(const geom_nurbs_surface *s, size_t ku, size_t kv, 
 {
     int p = s->degree_u, q = s->degree_v;
     double *Nu = work, *Nv = work + p + 1, *w2 = Nv + q + 1;
-    geom_curve_bs_basis(p, s->knots_u, ku, u, Nu, w2);
-    geom_curve_bs_basis(q, s->knots_v, kv, v, Nv, w2);
+    geom__bs_basis(p, s->knots_u, ku, u, Nu, w2);
+    geom__bs_basis(q, s->knots_v, kv, v, Nv, w2);
     combine_point(s, ku, kv, Nu, Nv, out);
 }
 
 /*
  * Basis functions and derivatives up to nd at u in span k (as
- * geom_curve_bs_ders, ders[j*(p+1) + r]). For nd <= 1 -- the common case:
+ * geom__bs_ders, ders[j*(p+1) + r]). For nd <= 1 -- the common case:
  * points with first derivatives, normals -- the degree p-1 column of the
  * triangle gives the first derivatives directly,
  *   N'_r = p (N_{r-1,p-1} / (u_{k+r} - u_{k+r-p}) - N_{r,p-1} / (u_{k+r+1} - u_{k+r+1-p})),
- * with row 0 computed exactly as geom_curve_bs_basis does; higher orders
- * go through A2.3. work: geom_curve_bs_ders_work(p).
+ * with row 0 computed exactly as geom__bs_basis does; higher orders
+ * go through A2.3. work: geom__bs_ders_work(p).
  */
 static void basis_ders(int p, const double *U, size_t k, double u, int nd, double *ders,
                        double *work)
 {
     if (nd >= 2) {
-        geom_curve_bs_ders(p, U, k, u, nd, ders, work);
+        geom__bs_ders(p, U, k, u, nd, ders, work);
         return;
     }
     size_t q = (size_t)p + 1;
@@ -227,7 +225,7 @@ size_t geom_surface_derivs_work(const geom_nurbs_surface *s, int d)
     int pm = s->degree_u > s->degree_v ? s->degree_u : s->degree_v;
     /* Nu ders, Nv ders, basis work, partial sums (du+1)(q+1)*4,
      * homogeneous table d1*d1*4 */
-    return du * p1 + dv * q1 + geom_curve_bs_ders_work(pm) + 4 * du * q1 + 4 * d1 * d1;
+    return du * p1 + dv * q1 + geom__bs_ders_work(pm) + 4 * du * q1 + 4 * d1 * d1;
 }
 
 void geom_surface_span_derivs(const geom_nurbs_surface *s, size_t ku, size_t kv, double u,
@@ -240,7 +238,7 @@ void geom_surface_span_derivs(const geom_nurbs_surface *s, size_t ku, size_t kv,
     double *Nu = work;                              /* (du+1)*(p+1) */
     double *Nv = Nu + (size_t)(du + 1) * p1;        /* (dv+1)*(q+1) */
     double *bw = Nv + (size_t)(dv + 1) * q1;        /* basis work */
-    double *net = bw + geom_curve_bs_ders_work(pm); /* (du+1)(q+1)*4 */
+    double *net = bw + geom__bs_ders_work(pm); /* (du+1)(q+1)*4 */
     double *H = net + 4 * (size_t)(du + 1) * q1;    /* d1*d1*4 homogeneous table */
     basis_ders(p, s->knots_u, ku, u, du, Nu, bw);
     basis_ders(q, s->knots_v, kv, v, dv, Nv, bw);
@@ -333,7 +331,7 @@ void geom_surface_span_derivs(const geom_nurbs_surface *s, size_t ku, size_t kv,
 #undef SK
     }
     /* the point itself, without the offset, from row 0 of the basis
-     * derivatives (the same values as geom_curve_bs_basis) */
+     * derivatives (the same values as geom__bs_basis) */
     combine_point(s, ku, kv, Nu, Nv, ders);
 }
 
@@ -346,11 +344,11 @@ geom_status geom_surface_eval(const geom_nurbs_surface *s, double u, double v, u
     geom_status st = geom_surface_locate(s, u, v, flags, &ku, &kv);
     if (st != GEOM_OK)
         return st;
-    geom_curve_scratch sc;
-    st = geom_curve_scratch_init(&sc, geom_surface_point_work(s));
+    geom__scratch sc;
+    st = geom__scratch_init(&sc, geom_surface_point_work(s));
     if (st == GEOM_OK)
         geom_surface_span_point(s, ku, kv, u, v, out, sc.mem);
-    geom_curve_scratch_free(&sc);
+    geom__scratch_free(&sc);
     return st;
 }
 
@@ -365,10 +363,10 @@ geom_status geom_surface_derivs(const geom_nurbs_surface *s, double u, double v,
     geom_status st = geom_surface_locate(s, u, v, flags, &ku, &kv);
     if (st != GEOM_OK)
         return st;
-    geom_curve_scratch sc;
-    st = geom_curve_scratch_init(&sc, geom_surface_derivs_work(s, d));
+    geom__scratch sc;
+    st = geom__scratch_init(&sc, geom_surface_derivs_work(s, d));
     if (st == GEOM_OK)
         geom_surface_span_derivs(s, ku, kv, u, v, d, ders, sc.mem);
-    geom_curve_scratch_free(&sc);
+    geom__scratch_free(&sc);
     return st;
 }

@@ -42,7 +42,7 @@ size_t geom_surface_normal_work(const geom_nurbs_surface *s)
     int pm = s->degree_u > s->degree_v ? s->degree_u : s->degree_v;
     size_t a = 3 * d1 * d1 + geom_surface_derivs_work(s, NORD);
     size_t b = 2 * ((size_t)s->degree_u + 1) + 2 * ((size_t)s->degree_v + 1) +
-               geom_curve_bs_ders_work(pm);
+               geom__bs_ders_work(pm);
     return a > b ? a : b;
 }
 
@@ -54,7 +54,7 @@ size_t geom_surface_normal_work(const geom_nurbs_surface *s)
  * with magnitudes,
  *   (sum |N'_i| M_j w_ij |P_ij - P_ref| + sum |N'_i| M_j w_ij |S - P_ref|) / W
  * (and likewise in v), times the span width and 64 (p + q) eps: the
- * thresholds below which S_u- and S_v-like vectors count as zero. work: 2(p+1) + 2(q+1) + geom_curve_bs_ders_work(max(p, q)).
+ * thresholds below which S_u- and S_v-like vectors count as zero. work: 2(p+1) + 2(q+1) + geom__bs_ders_work(max(p, q)).
  */
 static void span_noise(const geom_nurbs_surface *s, size_t ku, size_t kv, double u, double v,
                        double wu, double wv, double *work, double *nfu, double *nfv)
@@ -62,8 +62,8 @@ static void span_noise(const geom_nurbs_surface *s, size_t ku, size_t kv, double
     int p = s->degree_u, q = s->degree_v;
     size_t p1 = (size_t)p + 1, q1 = (size_t)q + 1;
     double *Nu = work, *Nv = Nu + 2 * p1, *bw = Nv + 2 * q1;
-    geom_curve_bs_ders(p, s->knots_u, ku, u, 1, Nu, bw);
-    geom_curve_bs_ders(q, s->knots_v, kv, v, 1, Nv, bw);
+    geom__bs_ders(p, s->knots_u, ku, u, 1, Nu, bw);
+    geom__bs_ders(q, s->knots_v, kv, v, 1, Nv, bw);
     size_t i0 = ku - (size_t)p, j0 = kv - (size_t)q, nv = s->nv;
     const double *R = s->points + 3 * (i0 * nv + j0);
     double W = 0.0, mS = 0.0, aU = 0.0, wU = 0.0, aV = 0.0, wV = 0.0;
@@ -275,14 +275,14 @@ geom_status geom_surface_normal(const geom_nurbs_surface *s, double u, double v,
         sv = 1;
     else if (v == s->knots_v[kv + 1])
         sv = -1;
-    geom_curve_scratch sc;
-    st = geom_curve_scratch_init(&sc, geom_surface_normal_work(s));
+    geom__scratch sc;
+    st = geom__scratch_init(&sc, geom_surface_normal_work(s));
     if (st != GEOM_OK) {
-        geom_curve_scratch_free(&sc);
+        geom__scratch_free(&sc);
         return st;
     }
     int h = geom_surface_span_normal(s, ku, kv, u, v, su, sv, n, NULL, sc.mem);
-    geom_curve_scratch_free(&sc);
+    geom__scratch_free(&sc);
     if (how)
         *how = h;
     return h == GEOM_SURFACE_NORMAL_NONE ? GEOM_ERR_DEGENERATE : GEOM_OK;

@@ -4,13 +4,14 @@
  * The span functions do no argument checking: callers check the surface
  * once (geom_surface_check_cheap or geom_surface_validate) and locate the
  * spans, then call them in inner loops with caller-provided work memory
- * (sizes from the matching *_work functions; geom_curve_scratch gives a
+ * (sizes from the matching *_work functions; geom__scratch gives a
  * stack buffer with a heap fallback).
  */
 #ifndef GEOM_SRC_SURFACE_INTERNAL_H
 #define GEOM_SRC_SURFACE_INTERNAL_H
 
-#include "curve/bspline_basis.h"
+#include "core/bspline.h"
+#include "geom/curve.h"
 #include "geom/surface.h"
 
 /** Largest derivative order geom_surface_derivs accepts. */

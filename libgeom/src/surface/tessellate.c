@@ -61,7 +61,6 @@ typedef struct ts_cell {
 
 typedef struct ts_node {
     double p[3];
-    uint32_t parent;
     uint32_t vert;
     uint8_t boundary;
 } ts_node;
@@ -87,8 +86,7 @@ typedef struct ts_pool {
     size_t ncomp;
     double *vals;
     size_t n, cap;
-    uint32_t *hash; /* open addressing, NONE32 empty */
-    size_t hcap;
+    geom__hindex hash; /* core's hash index over the values */
 } ts_pool;
 
 typedef struct ts {
@@ -100,6 +98,7 @@ typedef struct ts {
     ts_cell *cells;
     size_t ncells;
     ts_node *nodes;
+    uint32_t *parent; /* union-find over the nodes (welded seams) */
     size_t nnodes;
     ts_edge *edges;
     size_t nedges;
@@ -126,7 +125,7 @@ typedef struct ts {
     size_t ntri, cap_tri, cap_tcorn;
     ts_pool pn, puv, pt;
     /* scratch for evaluation */
-    geom_curve_scratch sc;
+    geom__scratch sc;
     size_t evals;
     size_t limit_normals;
     double normal_weld;    /* radians; 0: corner normals not welded */
@@ -151,77 +150,25 @@ static void ts_free(ts *T, void *p, size_t n, size_t size)
 
 static geom_status ts_grow(ts *T, void **p, size_t *cap, size_t need, size_t size)
 {
-    if (need <= *cap)
-        return GEOM_OK;
-    size_t nc = *cap ? *cap : 64;
-    while (nc < need) {
-        if (nc > SIZE_MAX / 2 / size)
-            return GEOM_ERR_LIMIT;
-        nc *= 2;
-    }
-    void *q = geom_realloc(T->alloc, *p, *cap * size, nc * size);
-    if (!q)
-        return GEOM_ERR_NOMEM;
-    *p = q;
-    *cap = nc;
-    return GEOM_OK;
+    return geom__grow(T->alloc, p, cap, need, size);
 }
 
 /* ----------------------------------------------------------------- pools */
 
-static uint64_t hash_vals(const double *v, size_t n)
-{
-    uint64_t h = 1469598103934665603ull;
-    for (size_t i = 0; i < n; ++i) {
-        double x = v[i] == 0.0 ? 0.0 : v[i];
-        uint64_t b;
-        memcpy(&b, &x, sizeof b);
-        h ^= b;
-        h *= 1099511628211ull;
-        h ^= h >> 29;
-    }
-    return h;
-}
-
-static geom_status pool_rehash(ts *T, ts_pool *P, size_t hcap)
-{
-    uint32_t *h = ts_alloc(T, hcap, sizeof(uint32_t));
-    if (!h)
-        return GEOM_ERR_NOMEM;
-    for (size_t i = 0; i < hcap; ++i)
-        h[i] = NONE32;
-    for (size_t k = 0; k < P->n; ++k) {
-        size_t slot = (size_t)hash_vals(P->vals + k * P->ncomp, P->ncomp) & (hcap - 1);
-        while (h[slot] != NONE32)
-            slot = (slot + 1) & (hcap - 1);
-        h[slot] = (uint32_t)k;
-    }
-    if (P->hash)
-        ts_free(T, P->hash, P->hcap, sizeof(uint32_t));
-    P->hash = h;
-    P->hcap = hcap;
-    return GEOM_OK;
-}
-
 static geom_status pool_add(ts *T, ts_pool *P, const double *v, uint32_t *idx)
 {
-    if (2 * (P->n + 1) > P->hcap) {
-        geom_status st = pool_rehash(T, P, P->hcap ? 2 * P->hcap : 1024);
-        if (st != GEOM_OK)
-            return st;
-    }
     size_t nc = P->ncomp;
     double key[4];
     for (size_t c = 0; c < nc; ++c)
         key[c] = v[c] == 0.0 ? 0.0 : v[c];
-    size_t slot = (size_t)hash_vals(key, nc) & (P->hcap - 1);
-    while (P->hash[slot] != NONE32) {
-        if (memcmp(P->vals + (size_t)P->hash[slot] * nc, key, nc * sizeof(double)) == 0) {
-            *idx = P->hash[slot];
+    uint64_t h = geom__hash_doubles(key, nc);
+    size_t it = 0;
+    uint32_t cand;
+    while ((cand = geom__hindex_next(&P->hash, h, &it)) != UINT32_MAX)
+        if (memcmp(P->vals + (size_t)cand * nc, key, nc * sizeof(double)) == 0) {
+            *idx = cand;
             return GEOM_OK;
         }
-        slot = (slot + 1) & (P->hcap - 1);
-    }
     if (P->n >= NONE32 - 1)
         return GEOM_ERR_LIMIT;
     size_t cap = P->cap;
@@ -229,8 +176,16 @@ static geom_status pool_add(ts *T, ts_pool *P, const double *v, uint32_t *idx)
     if (st != GEOM_OK)
         return st;
     P->cap = cap;
+    if (P->n + 1 > P->hash.cap / 2) {
+        st = geom__hindex_reserve(&P->hash, T->alloc, P->n + 1);
+        if (st != GEOM_OK)
+            return st;
+        it = 0; /* the index moved: find the free slot again */
+        while (geom__hindex_next(&P->hash, h, &it) != UINT32_MAX)
+            ;
+    }
     memcpy(P->vals + P->n * nc, key, nc * sizeof(double));
-    P->hash[slot] = (uint32_t)P->n;
+    geom__hindex_insert_at(&P->hash, h, it, (uint32_t)P->n);
     *idx = (uint32_t)P->n++;
     return GEOM_OK;
 }
@@ -239,8 +194,7 @@ static void pool_free(ts *T, ts_pool *P)
 {
     if (P->vals)
         ts_free(T, P->vals, P->cap, sizeof(double));
-    if (P->hash)
-        ts_free(T, P->hash, P->hcap, sizeof(uint32_t));
+    geom__hindex_free(&P->hash, T->alloc);
     memset(P, 0, sizeof *P);
 }
 
@@ -256,8 +210,8 @@ static void cell_spans(const ts *T, const ts_cell *c, double u, double v, size_t
     /* right limits, except at the cell's upper ends (a piece ends at a
      * discontinuity or at the end of the domain) */
     const geom_nurbs_surface *s = T->surf[c->surf].s;
-    *ku = geom_curve_bs_span(s->degree_u, s->nu, s->knots_u, u, u >= c->u1);
-    *kv = geom_curve_bs_span(s->degree_v, s->nv, s->knots_v, v, v >= c->v1);
+    *ku = geom__bs_span(s->degree_u, s->nu, s->knots_u, u, u >= c->u1);
+    *kv = geom__bs_span(s->degree_v, s->nv, s->knots_v, v, v >= c->v1);
 }
 
 static void cell_point(ts *T, const ts_cell *c, double u, double v, double *out)
@@ -343,26 +297,8 @@ static void edge_point(ts *T, const ts_edge *e, double t, double *out)
 
 /* ---------------------------------------------------------- union-find */
 
-static uint32_t node_find(ts *T, uint32_t a)
-{
-    while (T->nodes[a].parent != a) {
-        T->nodes[a].parent = T->nodes[T->nodes[a].parent].parent;
-        a = T->nodes[a].parent;
-    }
-    return a;
-}
-
-static void node_union(ts *T, uint32_t a, uint32_t b)
-{
-    a = node_find(T, a);
-    b = node_find(T, b);
-    if (a == b)
-        return;
-    if (a < b)
-        T->nodes[b].parent = a;
-    else
-        T->nodes[a].parent = b;
-}
+static uint32_t node_find(ts *T, uint32_t a) { return geom__uf_find(T->parent, a); }
+static void node_union(ts *T, uint32_t a, uint32_t b) { geom__uf_union(T->parent, a, b); }
 
 /* ------------------------------------------------------------ topology */
 
@@ -374,8 +310,9 @@ static geom_status build_cells(ts *T, size_t ncells, size_t nnodes, size_t nedge
     T->nedges = nedges;
     T->cells = ts_alloc(T, ncells, sizeof(ts_cell));
     T->nodes = ts_alloc(T, nnodes, sizeof(ts_node));
+    T->parent = ts_alloc(T, nnodes, sizeof(uint32_t));
     T->edges = ts_alloc(T, nedges, sizeof(ts_edge));
-    if (!T->cells || !T->nodes || !T->edges)
+    if (!T->cells || !T->nodes || !T->parent || !T->edges)
         return GEOM_ERR_NOMEM;
     memset(T->cells, 0, ncells * sizeof(ts_cell));
     memset(T->nodes, 0, nnodes * sizeof(ts_node));
@@ -402,7 +339,7 @@ static geom_status build_cells(ts *T, size_t ncells, size_t nnodes, size_t nedge
             for (size_t b = 0; b <= nbv; ++b) {
                 uint32_t id = (uint32_t)(ss->node0 + a * (nbv + 1) + b);
                 ts_node *nd = &T->nodes[id];
-                nd->parent = id;
+                T->parent[id] = id;
                 nd->vert = NONE32;
                 nd->boundary = a == 0 || a == nbu || b == 0 || b == nbv;
                 const ts_cell *c =
@@ -1432,6 +1369,8 @@ static void ts_release(ts *T)
         ts_free(T, T->cells, T->ncells, sizeof(ts_cell));
     if (T->nodes)
         ts_free(T, T->nodes, T->nnodes, sizeof(ts_node));
+    if (T->parent)
+        ts_free(T, T->parent, T->nnodes, sizeof(uint32_t));
     if (T->edges)
         ts_free(T, T->edges, T->nedges, sizeof(ts_edge));
     if (T->pos)
@@ -1455,7 +1394,7 @@ static void ts_release(ts *T)
     pool_free(T, &T->pn);
     pool_free(T, &T->puv);
     pool_free(T, &T->pt);
-    geom_curve_scratch_free(&T->sc);
+    geom__scratch_free(&T->sc);
 }
 
 static int sig_changed(const ts_cell *c, const uint32_t *old)
@@ -1779,7 +1718,7 @@ static geom_status tessellate_unscaled(const geom_nurbs_surface *surfaces, size_
     T.pt.ncomp = 4;
     unsigned attrs = o->attributes &
                      (GEOM_SURFACE_ATTR_NORMAL | GEOM_SURFACE_ATTR_UV | GEOM_SURFACE_ATTR_TANGENT);
-    geom_status st = geom_curve_scratch_init(&T.sc, work);
+    geom_status st = geom__scratch_init(&T.sc, work);
     if (st != GEOM_OK)
         return geom_diag_set(diag, st, NULL, 0, 0, "tessellate: out of memory");
     st = build_structure(&T, surfaces, n);

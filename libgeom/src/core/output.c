@@ -1,4 +1,5 @@
-/* meshio atomic file output (POSIX). A regular destination (or the regular
+/* Output files written as cp would write them (POSIX), for the mesh writers
+ * and the tools alike (geom_output_*, core.h). A regular destination (or the regular
  * file a symbolic link points to) is replaced through a temporary file in
  * its directory, renamed over it when complete, keeping its mode (and owner
  * where permitted); anything else that can be opened for writing (a device
@@ -7,11 +8,12 @@
  * fits NAME_MAX), so a stale one left by a killed process is recognisable. */
 #define _XOPEN_SOURCE 700 /* realpath, with POSIX.1-2008 */
 
-#include "meshio/meshio_internal.h"
+#include "core/internal.h"
 
 #include <errno.h>
 #include <fcntl.h>
 #include <limits.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -39,12 +41,12 @@ static char *dup_string(const geom_allocator *al, const char *s, size_t *size)
     return p;
 }
 
-static void release(mio_atomic *a)
+static void release(geom_output *a)
 {
-    geom_free(a->alloc, a->path, a->path_size);
-    geom_free(a->alloc, a->dest, a->dest_size);
-    geom_free(a->alloc, a->tmp, a->tmp_size);
-    a->path = a->dest = a->tmp = NULL;
+    geom_free(a->impl_alloc, a->impl_path, a->impl_path_size);
+    geom_free(a->impl_alloc, a->impl_dest, a->impl_dest_size);
+    geom_free(a->impl_alloc, a->temporary, a->impl_tmp_size);
+    a->impl_path = a->impl_dest = a->temporary = NULL;
     a->fd = -1;
 }
 
@@ -60,11 +62,11 @@ static size_t cut_name(const char *base, size_t len, size_t max)
     return n;
 }
 
-/* Create the temporary file next to a->dest. */
-static geom_status open_temporary(mio_atomic *a, const struct stat *old, geom_diag *diag)
+/* Create the temporary file next to a->impl_dest. */
+static geom_status open_temporary(geom_output *a, const struct stat *old, geom_diag *diag)
 {
     static const char suffix[] = ".geomtmp";
-    const char *dest = a->dest;
+    const char *dest = a->impl_dest;
     const char *slash = strrchr(dest, '/');
     size_t dirlen = slash ? (size_t)(slash - dest) + 1 : 0;
     const char *base = dest + dirlen;
@@ -72,29 +74,29 @@ static geom_status open_temporary(mio_atomic *a, const struct stat *old, geom_di
     /* "." NAME "." 8 random suffix */
     size_t room = NAME_MAX - (1 + 1 + 8 + (sizeof suffix - 1));
     size_t keep = cut_name(base, blen, room);
-    a->tmp_size = dirlen + 1 + keep + 1 + 8 + sizeof suffix;
-    a->tmp = geom_alloc(a->alloc, a->tmp_size);
-    if (!a->tmp)
-        return geom_diag_set(diag, GEOM_ERR_NOMEM, a->path, 0, 0, "out of memory");
+    a->impl_tmp_size = dirlen + 1 + keep + 1 + 8 + sizeof suffix;
+    a->temporary = geom_alloc(a->impl_alloc, a->impl_tmp_size);
+    if (!a->temporary)
+        return geom_diag_set(diag, GEOM_ERR_NOMEM, a->impl_path, 0, 0, "out of memory");
 
     struct timespec ts;
     clock_gettime(CLOCK_REALTIME, &ts);
-    uint64_t seed = geom_meshio__mix((uint64_t)ts.tv_nsec, (uint64_t)ts.tv_sec);
-    seed = geom_meshio__mix(seed, (uint64_t)getpid());
-    seed = geom_meshio__mix(seed, (uint64_t)(uintptr_t)&ts);
+    uint64_t seed = geom__hash_mix((uint64_t)ts.tv_nsec, (uint64_t)ts.tv_sec);
+    seed = geom__hash_mix(seed, (uint64_t)getpid());
+    seed = geom__hash_mix(seed, (uint64_t)(uintptr_t)&ts);
     static const char alphabet[] = "abcdefghijklmnopqrstuvwxyz0123456789";
     int err = 0;
     for (int attempt = 0; attempt < 100; attempt++) {
-        uint64_t r = geom_meshio__mix(seed, (uint64_t)attempt);
+        uint64_t r = geom__hash_mix(seed, (uint64_t)attempt);
         char rnd[9];
         for (int i = 0; i < 8; i++) {
             rnd[i] = alphabet[r % 36];
             r /= 36;
         }
         rnd[8] = '\0';
-        snprintf(a->tmp, a->tmp_size, "%.*s.%.*s.%s%s", (int)dirlen, dest, (int)keep, base, rnd,
+        snprintf(a->temporary, a->impl_tmp_size, "%.*s.%.*s.%s%s", (int)dirlen, dest, (int)keep, base, rnd,
                  suffix);
-        int fd = open(a->tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        int fd = open(a->temporary, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
         if (fd >= 0) {
             a->fd = fd;
             if (old) { /* keep the replaced file's owner (where allowed) and mode */
@@ -106,9 +108,9 @@ static geom_status open_temporary(mio_atomic *a, const struct stat *old, geom_di
                 if (fchmod(fd, old->st_mode & 07777) != 0) {
                     err = errno;
                     close(fd);
-                    unlink(a->tmp);
+                    unlink(a->temporary);
                     a->fd = -1;
-                    return io_error(diag, a->path, err, "cannot set the mode of the temporary file");
+                    return io_error(diag, a->impl_path, err, "cannot set the mode of the temporary file");
                 }
             }
             return GEOM_OK;
@@ -117,22 +119,26 @@ static geom_status open_temporary(mio_atomic *a, const struct stat *old, geom_di
         if (err != EEXIST)
             break;
     }
-    return io_error(diag, a->path, err, "cannot create a temporary file next to it");
+    return io_error(diag, a->impl_path, err, "cannot create output file");
 }
 
-geom_status geom_meshio__atomic_open(mio_atomic *a, const char *path, const geom_allocator *al,
-                                     geom_diag *diag)
+geom_status geom_output_open(const char *path, const geom_allocator *al, geom_output *a,
+                            geom_diag *diag)
 {
+    if (!a)
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "NULL output");
     memset(a, 0, sizeof *a);
     a->fd = -1;
-    a->alloc = al;
+    a->impl_alloc = al;
+    if (!path)
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "NULL path");
     size_t plen = strlen(path);
     if (plen == 0)
         return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "empty output path");
     if (path[plen - 1] == '/')
         return geom_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "output path names a directory");
-    a->path = dup_string(al, path, &a->path_size);
-    if (!a->path)
+    a->impl_path = dup_string(al, path, &a->impl_path_size);
+    if (!a->impl_path)
         return geom_diag_set(diag, GEOM_ERR_NOMEM, path, 0, 0, "out of memory");
 
     struct stat lst, st;
@@ -142,8 +148,8 @@ geom_status geom_meshio__atomic_open(mio_atomic *a, const char *path, const geom
             s = io_error(diag, path, errno, "cannot open for writing");
             goto fail;
         }
-        a->dest = dup_string(al, path, &a->dest_size); /* a new file */
-        if (!a->dest)
+        a->impl_dest = dup_string(al, path, &a->impl_dest_size); /* a new file */
+        if (!a->impl_dest)
             goto nomem;
         s = open_temporary(a, NULL, diag);
         if (s != GEOM_OK)
@@ -182,12 +188,12 @@ geom_status geom_meshio__atomic_open(mio_atomic *a, const char *path, const geom
             s = io_error(diag, path, errno, "cannot resolve the symbolic link");
             goto fail;
         }
-        a->dest = dup_string(al, real, &a->dest_size);
+        a->impl_dest = dup_string(al, real, &a->impl_dest_size);
         free(real);
     } else {
-        a->dest = dup_string(al, path, &a->dest_size);
+        a->impl_dest = dup_string(al, path, &a->impl_dest_size);
     }
-    if (!a->dest)
+    if (!a->impl_dest)
         goto nomem;
     s = open_temporary(a, &st, diag);
     if (s != GEOM_OK)
@@ -200,50 +206,53 @@ fail:
     return s;
 }
 
-geom_status geom_meshio__atomic_write(void *user, const void *data, size_t n, geom_diag *diag)
+geom_status geom_output_write(geom_output *a, const void *data, size_t n, geom_diag *diag)
 {
-    mio_atomic *a = user;
+    if (!a || a->fd < 0 || (n && !data))
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "output is not open");
     const char *p = data;
     while (n > 0) {
         ssize_t w = write(a->fd, p, n);
         if (w < 0) {
             if (errno == EINTR)
                 continue;
-            return io_error(diag, a->path, errno, "write failed");
+            return io_error(diag, a->impl_path, errno, "write failed");
         }
         if (w == 0)
-            return geom_diag_set(diag, GEOM_ERR_IO, a->path, 0, 0, "write failed: no progress");
+            return geom_diag_set(diag, GEOM_ERR_IO, a->impl_path, 0, 0, "write failed: no progress");
         p += w;
         n -= (size_t)w;
     }
     return GEOM_OK;
 }
 
-geom_status geom_meshio__atomic_commit(mio_atomic *a, geom_diag *diag)
+geom_status geom_output_commit(geom_output *a, geom_diag *diag)
 {
+    if (!a || a->fd < 0)
+        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "output is not open");
     geom_status st = GEOM_OK;
-    if (a->tmp && fsync(a->fd) != 0 && errno != EINVAL && errno != EROFS)
-        st = io_error(diag, a->path, errno, "write failed");
+    if (a->temporary && fsync(a->fd) != 0 && errno != EINVAL && errno != EROFS)
+        st = io_error(diag, a->impl_path, errno, "write failed");
     if (close(a->fd) != 0 && st == GEOM_OK && errno != EINTR)
-        st = io_error(diag, a->path, errno, "write failed");
+        st = io_error(diag, a->impl_path, errno, "write failed");
     a->fd = -1;
-    if (a->tmp) {
-        if (st == GEOM_OK && rename(a->tmp, a->dest) != 0)
-            st = io_error(diag, a->path, errno, "cannot rename the temporary file onto it");
+    if (a->temporary) {
+        if (st == GEOM_OK && rename(a->temporary, a->impl_dest) != 0)
+            st = io_error(diag, a->impl_path, errno, "cannot rename the temporary file onto it");
         if (st != GEOM_OK)
-            unlink(a->tmp);
+            unlink(a->temporary);
     }
     release(a);
     return st;
 }
 
-void geom_meshio__atomic_abort(mio_atomic *a)
+void geom_output_abort(geom_output *a)
 {
-    if (!a->path)
+    if (!a || !a->impl_path)
         return;
     if (a->fd >= 0)
         close(a->fd);
-    if (a->tmp)
-        unlink(a->tmp);
+    if (a->temporary)
+        unlink(a->temporary);
     release(a);
 }
