@@ -78,7 +78,7 @@ static void test_grow_nomem(void **state)
     assert_int_equal(geom__grow(&al, (void **)&a, &cap, 100, sizeof *a), GEOM_ERR_NOMEM);
     assert_int_equal(cap, 8);
     assert_true(a[0] == 1.5);
-    geom_free(&al, a, cap * sizeof *a);
+    geom__free(&al, a, cap * sizeof *a);
 }
 
 static void test_union_find(void **state)

@@ -22,7 +22,7 @@
 
 /* Internal helper of the mesh module (libgeom/src/mesh/mesh_internal.h),
  * used by file readers to place per-corner data after a build. */
-uint32_t geom_mesh__input_corner_he(const geom_mesh *m, uint32_t f, uint32_t k);
+uint32_t geom__mesh_input_corner_he(const geom_mesh *m, uint32_t f, uint32_t k);
 
 typedef struct soup {
     size_t nv, nf;
@@ -120,7 +120,7 @@ static geom_mesh *build(const soup *s, const geom_mesh_build_options *opt,
         reversed += !fwd;
         /* the corner helper finds input corner k at the halfedge pointing to it */
         for (uint32_t k = 0; k < n; ++k) {
-            uint32_t h = geom_mesh__input_corner_he(m, (uint32_t)f, k);
+            uint32_t h = geom__mesh_input_corner_he(m, (uint32_t)f, k);
             assert_int_not_equal(h, INV);
             assert_int_equal(geom_mesh_he_face(m, h), f);
             assert_int_equal(vo[geom_mesh_he_vertex(m, h)], want[k]);

@@ -433,7 +433,7 @@ static void oom_free(void *user, void *ptr, size_t size)
 {
     oom_state *s = user;
     size_t *p = (size_t *)((char *)ptr - 16);
-    /* geom_alloc turns a 0-byte request into 1 byte */
+    /* geom__alloc turns a 0-byte request into 1 byte */
     if (p[0] != size && !(p[0] == 1 && size == 0))
         s->bad_free = 1;
     s->live--;

@@ -30,7 +30,7 @@
 
 /* x1*y2 - y1*x2 with a certified relative error (1), or not certified (0).
  * An exactly zero value (both products with a zero factor) is certified. */
-static inline int geom_bary_det2(double x1, double y2, double y1, double x2, double rel,
+static inline int geom__bary_det2(double x1, double y2, double y1, double x2, double rel,
                                  double *out)
 {
     double t1 = x1 * y2, t2 = y1 * x2;
@@ -48,18 +48,18 @@ static inline int geom_bary_det2(double x1, double y2, double y1, double x2, dou
 
 /* orient2d(a, b, c) = (a-c) x (b-c) as an xval with relative error at most
  * 2^-46 and the exact sign (exact value when the filter cannot certify). */
-static inline geom_xval geom_bary_orient2d_acc(const double a[2], const double b[2],
+static inline geom__xval geom__bary_orient2d_acc(const double a[2], const double b[2],
                                                const double c[2])
 {
     double det;
-    if (geom_bary_det2(a[0] - c[0], b[1] - c[1], a[1] - c[1], b[0] - c[0], GEOM_BARY_REL_POLY,
+    if (geom__bary_det2(a[0] - c[0], b[1] - c[1], a[1] - c[1], b[0] - c[0], GEOM_BARY_REL_POLY,
                        &det))
-        return geom_xval_from_double(det);
-    return geom_core_xeval_orient2d(a, b, c);
+        return geom__xval_from_double(det);
+    return geom__xeval_orient2d(a, b, c);
 }
 
 /* n doubles of v all finite? */
-static inline int geom_bary_finite(const double *v, size_t n)
+static inline int geom__bary_finite(const double *v, size_t n)
 {
     for (size_t i = 0; i < n; i++)
         if (!isfinite(v[i]))
@@ -67,7 +67,7 @@ static inline int geom_bary_finite(const double *v, size_t n)
     return 1;
 }
 
-static inline void geom_bary_zero(double *w, size_t n)
+static inline void geom__bary_zero(double *w, size_t n)
 {
     if (w)
         for (size_t i = 0; i < n; i++)
@@ -75,7 +75,7 @@ static inline void geom_bary_zero(double *w, size_t n)
 }
 
 /* Is p (collinear with a and b, a != b) strictly between a and b? Exact. */
-static inline int geom_bary_between(const double a[2], const double b[2], const double p[2])
+static inline int geom__bary_between(const double a[2], const double b[2], const double p[2])
 {
     if (a[0] != b[0])
         return (a[0] < p[0] && p[0] < b[0]) || (b[0] < p[0] && p[0] < a[0]);
@@ -85,7 +85,7 @@ static inline int geom_bary_between(const double a[2], const double b[2], const 
 /* Linear-interpolation weights of p strictly inside the segment (a, b):
  * *wa = |b-p| / |b-a|, *wb = |p-a| / |b-a|, computed along the axis of the
  * larger extent (each within a few ulp). */
-static inline void geom_bary_edge_weights(const double a[2], const double b[2], const double p[2],
+static inline void geom__bary_edge_weights(const double a[2], const double b[2], const double p[2],
                                           double *wa, double *wb)
 {
     int k = fabs(b[0] - a[0]) >= fabs(b[1] - a[1]) ? 0 : 1;
@@ -102,19 +102,19 @@ static inline void geom_bary_edge_weights(const double a[2], const double b[2], 
 }
 
 /* Power-of-two scaling of polygon coordinates: x -> (x * f[0]) * f[1]. */
-typedef struct geom_bary_scale {
+typedef struct geom__bary_scale {
     double f[2];
     int k; /* total exponent: the scale is 2^k */
-} geom_bary_scale;
+} geom__bary_scale;
 
 /* A scale bringing the largest magnitude among the polygon and p near 1, or
  * the identity when everything is comfortably in range. */
-static inline geom_bary_scale geom_bary_scale_for(size_t n, const double *poly, const double p[2])
+static inline geom__bary_scale geom__bary_scale_for(size_t n, const double *poly, const double p[2])
 {
     double mx = fmax(fabs(p[0]), fabs(p[1]));
     for (size_t i = 0; i < 2 * n; i++)
         mx = fmax(mx, fabs(poly[i]));
-    geom_bary_scale s = {{1.0, 1.0}, 0};
+    geom__bary_scale s = {{1.0, 1.0}, 0};
     if (mx == 0.0 || (mx > 0x1p-400 && mx < 0x1p400))
         return s;
     int e;
@@ -125,7 +125,7 @@ static inline geom_bary_scale geom_bary_scale_for(size_t n, const double *poly, 
     return s;
 }
 
-static inline double geom_bary_scaled(const geom_bary_scale *s, double x)
+static inline double geom__bary_scaled(const geom__bary_scale *s, double x)
 {
     return (x * s->f[0]) * s->f[1];
 }
@@ -133,7 +133,7 @@ static inline double geom_bary_scaled(const geom_bary_scale *s, double x)
 /* Normalise weights held as xvals: the caller has stored them in two passes;
  * this helper just divides w by its sum. Returns 0 if the sum is not a
  * usable positive or negative finite number. */
-static inline int geom_bary_normalise(size_t n, double *w)
+static inline int geom__bary_normalise(size_t n, double *w)
 {
     double sum = 0.0;
     for (size_t i = 0; i < n; i++)

@@ -36,7 +36,7 @@ static inline double quot(double n, double d)
     return r;
 }
 
-/* The filter of geom_bary_det2 without branches: 1 when x1*y2 - y1*x2 is
+/* The filter of geom__bary_det2 without branches: 1 when x1*y2 - y1*x2 is
  * certified (an exact zero is left to the single-point function). */
 static inline int det2_ok(double x1, double y2, double y1, double x2, double *out)
 {
@@ -60,8 +60,8 @@ static void tri2_shared(const double a[2], const double b[2], const double c[2],
     double acx = a[0] - c[0], acy = a[1] - c[1];
     double bcx = b[0] - c[0], bcy = b[1] - c[1];
     double d;
-    int fast = geom_bary_finite(a, 2) && geom_bary_finite(b, 2) && geom_bary_finite(c, 2) &&
-               geom_bary_det2(acx, bcy, acy, bcx, GEOM_BARY_REL, &d) && d != 0.0;
+    int fast = geom__bary_finite(a, 2) && geom__bary_finite(b, 2) && geom__bary_finite(c, 2) &&
+               geom__bary_det2(acx, bcy, acy, bcx, GEOM_BARY_REL, &d) && d != 0.0;
     for (size_t i0 = 0; i0 < n; i0 += BLOCK) {
         size_t m = n - i0 < BLOCK ? n - i0 : BLOCK;
         int ok[BLOCK], all = fast;
@@ -154,7 +154,7 @@ static void tet_shared(const double a[3], const double b[3], const double c[3],
     minors(ad, bd, m[2], pm[2]);
     minors(bc, ac, m[3], pm[3]);
     double vol;
-    int fast = geom_isfinite3(a) && geom_isfinite3(b) && geom_isfinite3(c) && geom_isfinite3(d) &&
+    int fast = geom__isfinite3(a) && geom__isfinite3(b) && geom__isfinite3(c) && geom__isfinite3(d) &&
                det3_row(ad[0], ad[1], ad[2], m[0], pm[0], &vol) && vol != 0.0;
     for (size_t i = 0; i < n; i++) {
         const double *q = p + i * sp;

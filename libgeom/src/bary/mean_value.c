@@ -29,28 +29,28 @@ typedef struct mvc_ctx {
     size_t n;
     const double *poly;
     const double *p;
-    geom_bary_scale sc;
+    geom__bary_scale sc;
     double ps[2]; /* scaled p */
 } mvc_ctx;
 
 /* s = scaled(v_i) - scaled(p), r = |s|. */
 static void mvc_vec(const mvc_ctx *c, size_t i, double s[2], double *r)
 {
-    s[0] = geom_bary_scaled(&c->sc, c->poly[2 * i]) - c->ps[0];
-    s[1] = geom_bary_scaled(&c->sc, c->poly[2 * i + 1]) - c->ps[1];
+    s[0] = geom__bary_scaled(&c->sc, c->poly[2 * i]) - c->ps[0];
+    s[1] = geom__bary_scaled(&c->sc, c->poly[2 * i + 1]) - c->ps[1];
     *r = hypot(s[0], s[1]);
 }
 
 /* tan(a/2) for the edge (i, j) as an xval, or 1 if p lies on the edge. */
 static int mvc_tan(const mvc_ctx *c, size_t i, size_t j, const double si[2], double ri,
-                   const double sj[2], double rj, geom_xval *t)
+                   const double sj[2], double rj, geom__xval *t)
 {
     const double *vi = c->poly + 2 * i, *vj = c->poly + 2 * j;
-    geom_xval cx = geom_bary_orient2d_acc(vi, vj, c->p); /* (v_i - p) x (v_j - p) */
+    geom__xval cx = geom__bary_orient2d_acc(vi, vj, c->p); /* (v_i - p) x (v_j - p) */
     if (cx.m == 0.0) {
-        if (geom_bary_between(vi, vj, c->p))
+        if (geom__bary_between(vi, vj, c->p))
             return 1;
-        *t = geom_xval_from_double(0.0); /* on the supporting line, outside */
+        *t = geom__xval_from_double(0.0); /* on the supporting line, outside */
         return 0;
     }
     cx.e += 2 * c->sc.k; /* into scaled units */
@@ -58,21 +58,21 @@ static int mvc_tan(const mvc_ctx *c, size_t i, size_t j, const double si[2], dou
         double d = si[0] * sj[0] + si[1] * sj[1];
         double r = ri * rj;
         if (d >= 0.0)
-            *t = geom_xval_div(cx, geom_xval_from_double(r + d));
+            *t = geom__xval_div(cx, geom__xval_from_double(r + d));
         else
-            *t = geom_xval_div(geom_xval_from_double(r - d), cx);
+            *t = geom__xval_div(geom__xval_from_double(r - d), cx);
     } else {
         /* p extremely close to a vertex: the same in (significand,
          * exponent) arithmetic, which cannot underflow. */
-        geom_xval d = geom_xval_add(
-            geom_xval_mul(geom_xval_from_double(si[0]), geom_xval_from_double(sj[0])),
-            geom_xval_mul(geom_xval_from_double(si[1]), geom_xval_from_double(sj[1])));
-        geom_xval r = geom_xval_mul(geom_xval_from_double(ri), geom_xval_from_double(rj));
+        geom__xval d = geom__xval_add(
+            geom__xval_mul(geom__xval_from_double(si[0]), geom__xval_from_double(sj[0])),
+            geom__xval_mul(geom__xval_from_double(si[1]), geom__xval_from_double(sj[1])));
+        geom__xval r = geom__xval_mul(geom__xval_from_double(ri), geom__xval_from_double(rj));
         if (d.m >= 0.0) {
-            *t = geom_xval_div(cx, geom_xval_add(r, d));
+            *t = geom__xval_div(cx, geom__xval_add(r, d));
         } else {
             d.m = -d.m;
-            *t = geom_xval_div(geom_xval_add(r, d), cx);
+            *t = geom__xval_div(geom__xval_add(r, d), cx);
         }
     }
     return 0;
@@ -85,7 +85,7 @@ static size_t mvc_pass(const mvc_ctx *c, int shift, double *w, int *gmax)
 {
     size_t n = c->n;
     double s0[2], r0, sl[2], rl, si[2], ri, sj[2], rj;
-    geom_xval tlast, tprev, ti;
+    geom__xval tlast, tprev, ti;
     mvc_vec(c, 0, s0, &r0);
     mvc_vec(c, n - 1, sl, &rl);
     if (mvc_tan(c, n - 1, 0, sl, rl, s0, r0, &tlast))
@@ -107,7 +107,7 @@ static size_t mvc_pass(const mvc_ctx *c, int shift, double *w, int *gmax)
             if (mvc_tan(c, i, j, si, ri, sj, rj, &ti))
                 return i + 1;
         }
-        geom_xval wi = geom_xval_div(geom_xval_add(tprev, ti), geom_xval_from_double(ri));
+        geom__xval wi = geom__xval_div(geom__xval_add(tprev, ti), geom__xval_from_double(ri));
         if (wi.m != 0.0 && wi.e > *gmax)
             *gmax = wi.e;
         wi.e -= shift;
@@ -124,11 +124,11 @@ geom_status geom_bary_mean_value(size_t n, const double *poly, const double p[2]
 {
     if (!w)
         return GEOM_ERR_INVALID_ARG;
-    if (n < 3 || !poly || !p || !geom_bary_finite(poly, 2 * n) || !geom_bary_finite(p, 2)) {
-        geom_bary_zero(w, n);
+    if (n < 3 || !poly || !p || !geom__bary_finite(poly, 2 * n) || !geom__bary_finite(p, 2)) {
+        geom__bary_zero(w, n);
         return GEOM_ERR_INVALID_ARG;
     }
-    geom_bary_zero(w, n);
+    geom__bary_zero(w, n);
     for (size_t i = 0; i < n; i++) {
         size_t j = i + 1 == n ? 0 : i + 1;
         if (same2(poly + 2 * i, poly + 2 * j))
@@ -149,9 +149,9 @@ geom_status geom_bary_mean_value(size_t n, const double *poly, const double p[2]
     c.n = n;
     c.poly = poly;
     c.p = p;
-    c.sc = geom_bary_scale_for(n, poly, p);
-    c.ps[0] = geom_bary_scaled(&c.sc, p[0]);
-    c.ps[1] = geom_bary_scaled(&c.sc, p[1]);
+    c.sc = geom__bary_scale_for(n, poly, p);
+    c.ps[0] = geom__bary_scaled(&c.sc, p[0]);
+    c.ps[1] = geom__bary_scaled(&c.sc, p[1]);
     for (size_t i = 0; i < n; i++) {
         double s[2], r;
         mvc_vec(&c, i, s, &r);
@@ -164,18 +164,18 @@ geom_status geom_bary_mean_value(size_t n, const double *poly, const double p[2]
     size_t edge = mvc_pass(&c, 0, w, &g);
     if (edge) {
         size_t i = edge - 1, j = edge == n ? 0 : edge;
-        geom_bary_zero(w, n);
-        geom_bary_edge_weights(poly + 2 * i, poly + 2 * j, p, &w[i], &w[j]);
+        geom__bary_zero(w, n);
+        geom__bary_edge_weights(poly + 2 * i, poly + 2 * j, p, &w[i], &w[j]);
         return GEOM_OK;
     }
     if (g != INT_MIN && (g > 1000 || g < -900)) {
         int g2;
         (void)mvc_pass(&c, g, w, &g2);
     }
-    if (!geom_bary_normalise(n, w)) {
+    if (!geom__bary_normalise(n, w)) {
         /* The weights cancel: only possible for a self-intersecting
          * polygon. */
-        geom_bary_zero(w, n);
+        geom__bary_zero(w, n);
         return GEOM_ERR_DEGENERATE;
     }
     return GEOM_OK;

@@ -19,7 +19,7 @@ geom_status geom_bary_perspective(const double l[3], const double w[3], double l
 {
     if (!lp)
         return GEOM_ERR_INVALID_ARG;
-    if (!l || !w || !geom_isfinite3(l) || !geom_isfinite3(w)) {
+    if (!l || !w || !geom__isfinite3(l) || !geom__isfinite3(w)) {
         set3(lp, 0.0, 0.0, 0.0);
         return GEOM_ERR_INVALID_ARG;
     }
@@ -32,10 +32,10 @@ geom_status geom_bary_perspective(const double l[3], const double w[3], double l
     double big = fmax(fabs(q[0]), fmax(fabs(q[1]), fabs(q[2])));
     if (!(big < 0x1p1000 && (big > 0x1p-1000 || big == 0.0))) {
         /* Out of the comfortable range: rescale by a common power of two. */
-        geom_xval x[3];
+        geom__xval x[3];
         int g = INT_MIN;
         for (int i = 0; i < 3; i++) {
-            x[i] = geom_xval_div(geom_xval_from_double(l[i]), geom_xval_from_double(w[i]));
+            x[i] = geom__xval_div(geom__xval_from_double(l[i]), geom__xval_from_double(w[i]));
             if (x[i].m != 0.0 && x[i].e > g)
                 g = x[i].e;
         }

@@ -53,8 +53,8 @@ geom_status geom_bary_tet(const double a[3], const double b[3], const double c[3
 {
     if (!l)
         return GEOM_ERR_INVALID_ARG;
-    if (!a || !b || !c || !d || !p || !geom_isfinite3(a) || !geom_isfinite3(b) ||
-        !geom_isfinite3(c) || !geom_isfinite3(d) || !geom_isfinite3(p)) {
+    if (!a || !b || !c || !d || !p || !geom__isfinite3(a) || !geom__isfinite3(b) ||
+        !geom__isfinite3(c) || !geom__isfinite3(d) || !geom__isfinite3(p)) {
         set4(l, 0.0, 0.0, 0.0, 0.0);
         return GEOM_ERR_INVALID_ARG;
     }
@@ -70,7 +70,7 @@ geom_status geom_bary_tet(const double a[3], const double b[3], const double c[3
         return GEOM_OK;
     }
     /* Evaluate exactly what the filter could not certify. */
-    geom_xval xd = (slow & 16u) ? geom_core_xeval_orient3d(a, b, c, d) : geom_xval_from_double(vol);
+    geom__xval xd = (slow & 16u) ? geom__xeval_orient3d(a, b, c, d) : geom__xval_from_double(vol);
     if (xd.m == 0.0) {
         set4(l, 0.0, 0.0, 0.0, 0.0);
         return GEOM_ERR_DEGENERATE;
@@ -84,10 +84,10 @@ geom_status geom_bary_tet(const double a[3], const double b[3], const double c[3
         }
     }
     for (int i = 0; i < 4; i++) {
-        geom_xval xn = (slow & (1u << i))
-                           ? geom_core_xeval_orient3d(q[i][0], q[i][1], q[i][2], q[i][3])
-                           : geom_xval_from_double(nv[i]);
-        l[i] = geom_xval_ratio(xn, xd);
+        geom__xval xn = (slow & (1u << i))
+                           ? geom__xeval_orient3d(q[i][0], q[i][1], q[i][2], q[i][3])
+                           : geom__xval_from_double(nv[i]);
+        l[i] = geom__xval_ratio(xn, xd);
     }
     return GEOM_OK;
 }

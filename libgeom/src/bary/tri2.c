@@ -39,8 +39,8 @@ geom_status geom_bary_tri2(const double a[2], const double b[2], const double c[
         set3(l, 0.0, 0.0, 0.0);
         return GEOM_ERR_INVALID_ARG;
     }
-    if (!geom_bary_finite(a, 2) || !geom_bary_finite(b, 2) || !geom_bary_finite(c, 2) ||
-        !geom_bary_finite(p, 2)) {
+    if (!geom__bary_finite(a, 2) || !geom__bary_finite(b, 2) || !geom__bary_finite(c, 2) ||
+        !geom__bary_finite(p, 2)) {
         set3(l, 0.0, 0.0, 0.0);
         return GEOM_ERR_INVALID_ARG;
     }
@@ -53,13 +53,13 @@ geom_status geom_bary_tri2(const double a[2], const double b[2], const double c[
     /* Written so that p == a (b, c) gives the very expression of D for N0
      * (N1, N2): the ratio is then exactly 1. */
     unsigned slow = 0; /* bit i: N_i uncertified; bit 3: D */
-    if (!geom_bary_det2(acx, bcy, acy, bcx, GEOM_BARY_REL, &d)) /* (a,b,c) */
+    if (!geom__bary_det2(acx, bcy, acy, bcx, GEOM_BARY_REL, &d)) /* (a,b,c) */
         slow |= 8u;
-    if (!geom_bary_det2(pcx, bcy, pcy, bcx, GEOM_BARY_REL, &nv[0])) /* (p,b,c) */
+    if (!geom__bary_det2(pcx, bcy, pcy, bcx, GEOM_BARY_REL, &nv[0])) /* (p,b,c) */
         slow |= 1u;
-    if (!geom_bary_det2(acx, pcy, acy, pcx, GEOM_BARY_REL, &nv[1])) /* (a,p,c) */
+    if (!geom__bary_det2(acx, pcy, acy, pcx, GEOM_BARY_REL, &nv[1])) /* (a,p,c) */
         slow |= 2u;
-    if (!geom_bary_det2(apx, bpy, apy, bpx, GEOM_BARY_REL, &nv[2])) /* (a,b,p) */
+    if (!geom__bary_det2(apx, bpy, apy, bpx, GEOM_BARY_REL, &nv[2])) /* (a,b,p) */
         slow |= 4u;
     if (!slow) {
         if (d == 0.0) {
@@ -70,7 +70,7 @@ geom_status geom_bary_tri2(const double a[2], const double b[2], const double c[
         return GEOM_OK;
     }
     /* Evaluate exactly what the filter could not certify. */
-    geom_xval xd = (slow & 8u) ? geom_core_xeval_orient2d(a, b, c) : geom_xval_from_double(d);
+    geom__xval xd = (slow & 8u) ? geom__xeval_orient2d(a, b, c) : geom__xval_from_double(d);
     if (xd.m == 0.0) {
         set3(l, 0.0, 0.0, 0.0);
         return GEOM_ERR_DEGENERATE;
@@ -89,9 +89,9 @@ geom_status geom_bary_tri2(const double a[2], const double b[2], const double c[
     }
     const double *q[3][3] = {{p, b, c}, {a, p, c}, {a, b, p}};
     for (int i = 0; i < 3; i++) {
-        geom_xval xn = (slow & (1u << i)) ? geom_core_xeval_orient2d(q[i][0], q[i][1], q[i][2])
-                                          : geom_xval_from_double(nv[i]);
-        l[i] = geom_xval_ratio(xn, xd);
+        geom__xval xn = (slow & (1u << i)) ? geom__xeval_orient2d(q[i][0], q[i][1], q[i][2])
+                                          : geom__xval_from_double(nv[i]);
+        l[i] = geom__xval_ratio(xn, xd);
     }
     return GEOM_OK;
 }

@@ -62,8 +62,8 @@ geom_status geom_bary_tri3(const double a[3], const double b[3], const double c[
 {
     if (!l)
         return GEOM_ERR_INVALID_ARG;
-    if (!a || !b || !c || !p || !geom_isfinite3(a) || !geom_isfinite3(b) || !geom_isfinite3(c) ||
-        !geom_isfinite3(p)) {
+    if (!a || !b || !c || !p || !geom__isfinite3(a) || !geom__isfinite3(b) || !geom__isfinite3(c) ||
+        !geom__isfinite3(p)) {
         set3(l, 0.0, 0.0, 0.0);
         return GEOM_ERR_INVALID_ARG;
     }
@@ -96,10 +96,10 @@ geom_status geom_bary_tri3(const double a[3], const double b[3], const double c[
         return GEOM_OK;
     }
     /* Evaluate exactly what the filter could not certify. */
-    geom_xval num[3], den;
-    geom_core_xeval_tri3(a, b, c, p, slow, num, &den);
+    geom__xval num[3], den;
+    geom__xeval_tri3(a, b, c, p, slow, num, &den);
     if (!(slow & 8u))
-        den = geom_xval_from_double(d);
+        den = geom__xval_from_double(d);
     if (den.m == 0.0) {
         set3(l, 0.0, 0.0, 0.0);
         return GEOM_ERR_DEGENERATE;
@@ -112,8 +112,8 @@ geom_status geom_bary_tri3(const double a[3], const double b[3], const double c[
         set3(l, 0.0, 0.0, 1.0);
     } else {
         for (int i = 0; i < 3; i++)
-            l[i] = (slow & (1u << i)) ? geom_xval_ratio(num[i], den)
-                                      : geom_xval_ratio(geom_xval_from_double(nv[i]), den);
+            l[i] = (slow & (1u << i)) ? geom__xval_ratio(num[i], den)
+                                      : geom__xval_ratio(geom__xval_from_double(nv[i]), den);
     }
     return GEOM_OK;
 }

@@ -26,14 +26,14 @@ static void wp_pass(size_t n, const double *poly, const double p[2], int orient,
                     double *w, int *gmax, int *outside, size_t *edge)
 {
     const double *v = poly;
-    geom_xval alast = geom_bary_orient2d_acc(v + 2 * (n - 1), v, p);
-    geom_xval aprev = alast;
+    geom__xval alast = geom__bary_orient2d_acc(v + 2 * (n - 1), v, p);
+    geom__xval aprev = alast;
     *gmax = INT_MIN;
     *outside = 0;
     *edge = 0;
     for (size_t i = 0; i < n; i++) {
         size_t h = i == 0 ? n - 1 : i - 1, j = i + 1 == n ? 0 : i + 1;
-        geom_xval ai = i + 1 == n ? alast : geom_bary_orient2d_acc(v + 2 * i, v + 2 * j, p);
+        geom__xval ai = i + 1 == n ? alast : geom__bary_orient2d_acc(v + 2 * i, v + 2 * j, p);
         if (ai.m * orient < 0.0) {
             *outside = 1;
             return;
@@ -41,8 +41,8 @@ static void wp_pass(size_t n, const double *poly, const double p[2], int orient,
         if (ai.m == 0.0 && *edge == 0)
             *edge = i + 1;
         if (ai.m != 0.0 && aprev.m != 0.0) {
-            geom_xval ci = geom_bary_orient2d_acc(v + 2 * h, v + 2 * i, v + 2 * j);
-            geom_xval wi = geom_xval_div(ci, geom_xval_mul(aprev, ai));
+            geom__xval ci = geom__bary_orient2d_acc(v + 2 * h, v + 2 * i, v + 2 * j);
+            geom__xval wi = geom__xval_div(ci, geom__xval_mul(aprev, ai));
             wi.m = fabs(wi.m); /* the sign of C_i / (A A) is orient's */
             if (wi.e > *gmax)
                 *gmax = wi.e;
@@ -59,11 +59,11 @@ geom_status geom_bary_wachspress(size_t n, const double *poly, const double p[2]
 {
     if (!w)
         return GEOM_ERR_INVALID_ARG;
-    if (n < 3 || !poly || !p || !geom_bary_finite(poly, 2 * n) || !geom_bary_finite(p, 2)) {
-        geom_bary_zero(w, n);
+    if (n < 3 || !poly || !p || !geom__bary_finite(poly, 2 * n) || !geom__bary_finite(p, 2)) {
+        geom__bary_zero(w, n);
         return GEOM_ERR_INVALID_ARG;
     }
-    geom_bary_zero(w, n);
+    geom__bary_zero(w, n);
     /* Turn signs: collinear consecutive vertices (including repeated ones)
      * are degenerate; mixed signs are not convex. */
     int orient = 0, mixed = 0;
@@ -109,19 +109,19 @@ geom_status geom_bary_wachspress(size_t n, const double *poly, const double p[2]
     size_t edge;
     wp_pass(n, poly, p, orient, 0, w, &g, &outside, &edge);
     if (outside) {
-        geom_bary_zero(w, n);
+        geom__bary_zero(w, n);
         return GEOM_ERR_DOMAIN;
     }
     if (edge) {
         size_t i = edge - 1, j = edge == n ? 0 : edge;
-        geom_bary_zero(w, n);
-        geom_bary_edge_weights(poly + 2 * i, poly + 2 * j, p, &w[i], &w[j]);
+        geom__bary_zero(w, n);
+        geom__bary_edge_weights(poly + 2 * i, poly + 2 * j, p, &w[i], &w[j]);
         return GEOM_OK;
     }
     if (g != INT_MIN && (g > 1000 || g < -900))
         wp_pass(n, poly, p, orient, g, w, &g, &outside, &edge);
-    if (!geom_bary_normalise(n, w)) {
-        geom_bary_zero(w, n);
+    if (!geom__bary_normalise(n, w)) {
+        geom__bary_zero(w, n);
         return GEOM_ERR_DEGENERATE;
     }
     return GEOM_OK;

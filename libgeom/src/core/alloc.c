@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-void *geom_alloc(const geom_allocator *a, size_t size)
+void *geom__alloc(const geom_allocator *a, size_t size)
 {
     if (size == 0)
         size = 1;
@@ -13,7 +13,7 @@ void *geom_alloc(const geom_allocator *a, size_t size)
     return malloc(size);
 }
 
-void *geom_realloc(const geom_allocator *a, void *ptr, size_t old_size, size_t new_size)
+void *geom__realloc(const geom_allocator *a, void *ptr, size_t old_size, size_t new_size)
 {
     if (new_size == 0)
         new_size = 1;
@@ -34,11 +34,11 @@ void *geom_realloc(const geom_allocator *a, void *ptr, size_t old_size, size_t n
     return q;
 }
 
-void geom_free(const geom_allocator *a, void *ptr, size_t size)
+void geom__free(const geom_allocator *a, void *ptr, size_t size)
 {
     if (!ptr)
         return;
-    if (size == 0) /* geom_alloc turned a 0-byte request into 1 byte */
+    if (size == 0) /* geom__alloc turned a 0-byte request into 1 byte */
         size = 1;
     if (a && a->alloc_fn) {
         if (a->free_fn)
@@ -48,7 +48,7 @@ void geom_free(const geom_allocator *a, void *ptr, size_t size)
     free(ptr);
 }
 
-geom_status geom_size_mul(size_t n, size_t size, size_t *out)
+geom_status geom__size_mul(size_t n, size_t size, size_t *out)
 {
     if (size && n > SIZE_MAX / size)
         return GEOM_ERR_LIMIT;

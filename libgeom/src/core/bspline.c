@@ -12,12 +12,12 @@ geom_status geom__scratch_init(geom__scratch *s, size_t ndoubles)
         return GEOM_OK;
     }
     size_t bytes;
-    if (geom_size_mul(ndoubles, sizeof(double), &bytes) != GEOM_OK) {
+    if (geom__size_mul(ndoubles, sizeof(double), &bytes) != GEOM_OK) {
         s->mem = NULL;
         s->size = 0;
         return GEOM_ERR_LIMIT;
     }
-    s->mem = (double *)geom_alloc(NULL, bytes);
+    s->mem = (double *)geom__alloc(NULL, bytes);
     if (!s->mem) {
         s->size = 0;
         return GEOM_ERR_NOMEM;
@@ -29,7 +29,7 @@ geom_status geom__scratch_init(geom__scratch *s, size_t ndoubles)
 void geom__scratch_free(geom__scratch *s)
 {
     if (s->heap && s->mem)
-        geom_free(NULL, s->mem, s->size * sizeof(double));
+        geom__free(NULL, s->mem, s->size * sizeof(double));
     s->mem = NULL;
     s->heap = 0;
     s->size = 0;

@@ -21,7 +21,7 @@ static inline void two_product_presplit(double a, double b, double bh, double bl
 {
     double p = a * b;
     double ah, al;
-    geom_split(a, &ah, &al);
+    geom__split(a, &ah, &al);
     double e1 = p - ah * bh;
     double e2 = e1 - al * bh;
     double e3 = e2 - ah * bl;
@@ -29,7 +29,7 @@ static inline void two_product_presplit(double a, double b, double bh, double bl
     *y = al * bl - e3;
 }
 
-int geom_core_xp_sum(int elen, const double *e, int flen, const double *f, double *h)
+int geom__xp_sum(int elen, const double *e, int flen, const double *f, double *h)
 {
     /* Merge the components by increasing magnitude, then sweep a running
      * approximation Q through them, emitting the exact round-off of each
@@ -51,13 +51,13 @@ int geom_core_xp_sum(int elen, const double *e, int flen, const double *f, doubl
     GEOM_XP_NEXT(q);
     if (total >= 2) {
         GEOM_XP_NEXT(g);
-        geom_fast_two_sum(g, q, &qn, &hh);
+        geom__fast_two_sum(g, q, &qn, &hh);
         q = qn;
         if (hh != 0.0)
             h[k++] = hh;
         for (int n = 2; n < total; n++) {
             GEOM_XP_NEXT(g);
-            geom_two_sum(q, g, &qn, &hh);
+            geom__two_sum(q, g, &qn, &hh);
             q = qn;
             if (hh != 0.0)
                 h[k++] = hh;
@@ -69,21 +69,21 @@ int geom_core_xp_sum(int elen, const double *e, int flen, const double *f, doubl
     return k;
 }
 
-int geom_core_xp_scale(int elen, const double *e, double b, double *h)
+int geom__xp_scale(int elen, const double *e, double b, double *h)
 {
     /* Scale-Expansion (Shewchuk 1997, Theorem 19) with zero elimination. */
     double bh, bl, q, hh, p1, p0, s;
     int k = 0;
-    geom_split(b, &bh, &bl);
+    geom__split(b, &bh, &bl);
     two_product_presplit(e[0], b, bh, bl, &q, &hh);
     if (hh != 0.0)
         h[k++] = hh;
     for (int i = 1; i < elen; i++) {
         two_product_presplit(e[i], b, bh, bl, &p1, &p0);
-        geom_two_sum(q, p0, &s, &hh);
+        geom__two_sum(q, p0, &s, &hh);
         if (hh != 0.0)
             h[k++] = hh;
-        geom_fast_two_sum(p1, s, &q, &hh);
+        geom__fast_two_sum(p1, s, &q, &hh);
         if (hh != 0.0)
             h[k++] = hh;
     }
@@ -92,7 +92,7 @@ int geom_core_xp_scale(int elen, const double *e, double b, double *h)
     return k;
 }
 
-int geom_core_xp_mul(int elen, const double *e, int flen, const double *f, double *h,
+int geom__xp_mul(int elen, const double *e, int flen, const double *f, double *h,
                      double *work)
 {
     /* Sum of the partial products e[i] * f; the accumulator alternates
@@ -100,26 +100,26 @@ int geom_core_xp_mul(int elen, const double *e, int flen, const double *f, doubl
     double *tmp = work;
     double *buf = work + 2 * flen;
     double *cur = (elen % 2 == 1) ? h : buf;
-    int len = geom_core_xp_scale(flen, f, e[0], cur);
+    int len = geom__xp_scale(flen, f, e[0], cur);
     for (int i = 1; i < elen; i++) {
-        int tlen = geom_core_xp_scale(flen, f, e[i], tmp);
+        int tlen = geom__xp_scale(flen, f, e[i], tmp);
         double *dst = (cur == h) ? buf : h;
-        len = geom_core_xp_sum(len, cur, tlen, tmp, dst);
+        len = geom__xp_sum(len, cur, tlen, tmp, dst);
         cur = dst;
     }
     return len;
 }
 
-void geom_core_xp_negate(int elen, double *e)
+void geom__xp_negate(int elen, double *e)
 {
     for (int i = 0; i < elen; i++)
         e[i] = -e[i];
 }
 
-int geom_core_xp_diff(double a, double b, double h[2])
+int geom__xp_diff(double a, double b, double h[2])
 {
     double x, y;
-    geom_two_diff(a, b, &x, &y);
+    geom__two_diff(a, b, &x, &y);
     if (y == 0.0) {
         h[0] = x;
         return 1;
@@ -129,13 +129,13 @@ int geom_core_xp_diff(double a, double b, double h[2])
     return 2;
 }
 
-int geom_core_xp_compress(int elen, double *e)
+int geom__xp_compress(int elen, double *e)
 {
     /* Compress (Shewchuk 1997, Section 2.8). */
     int bottom = elen - 1;
     double q = e[bottom], qn, r;
     for (int i = elen - 2; i >= 0; i--) {
-        geom_fast_two_sum(q, e[i], &qn, &r);
+        geom__fast_two_sum(q, e[i], &qn, &r);
         if (r != 0.0) {
             e[bottom--] = qn;
             q = r;
@@ -145,7 +145,7 @@ int geom_core_xp_compress(int elen, double *e)
     }
     int top = 0;
     for (int i = bottom + 1; i < elen; i++) {
-        geom_fast_two_sum(e[i], q, &qn, &r);
+        geom__fast_two_sum(e[i], q, &qn, &r);
         if (r != 0.0)
             e[top++] = r;
         q = qn;
@@ -154,9 +154,9 @@ int geom_core_xp_compress(int elen, double *e)
     return top + 1;
 }
 
-double geom_core_xp_approx(int elen, double *e)
+double geom__xp_approx(int elen, double *e)
 {
-    int m = geom_core_xp_compress(elen, e);
+    int m = geom__xp_compress(elen, e);
     if (m == 1)
         return e[0];
     return e[m - 1] + e[m - 2];
@@ -218,9 +218,9 @@ static int xp_plan(double *v, int n, int deg, int *shift)
 }
 
 /* The xval of r * 2^k. */
-static geom_xval xval_shifted(double r, int k)
+static geom__xval xval_shifted(double r, int k)
 {
-    geom_xval v = geom_xval_from_double(r);
+    geom__xval v = geom__xval_from_double(r);
     if (v.m != 0.0)
         v.e += k;
     return v;
@@ -438,9 +438,9 @@ static uint32_t bf_limb(const bf *x, int i)
 }
 
 /* Correctly rounded xval of x. */
-static geom_xval bf_to_xval(const bf *x)
+static geom__xval bf_to_xval(const bf *x)
 {
-    geom_xval v = {0.0, 0};
+    geom__xval v = {0.0, 0};
     if (x->n == 0)
         return v;
     uint32_t topl = x->d[x->n - 1];
@@ -486,18 +486,18 @@ static void bf_cross(bf *r, const bf *p, const bf *q, const bf *s, const bf *t)
 static double xp_orient2d(const double *v)
 {
     double acx[2], bcy[2], acy[2], bcx[2], p[8], q[8], det[16], work[12];
-    int n1 = geom_core_xp_diff(v[0], v[4], acx);
-    int n2 = geom_core_xp_diff(v[3], v[5], bcy);
-    int n3 = geom_core_xp_diff(v[1], v[5], acy);
-    int n4 = geom_core_xp_diff(v[2], v[4], bcx);
-    int np = geom_core_xp_mul(n1, acx, n2, bcy, p, work);
-    int nq = geom_core_xp_mul(n3, acy, n4, bcx, q, work);
-    geom_core_xp_negate(nq, q);
-    int nd = geom_core_xp_sum(np, p, nq, q, det);
-    return geom_core_xp_approx(nd, det);
+    int n1 = geom__xp_diff(v[0], v[4], acx);
+    int n2 = geom__xp_diff(v[3], v[5], bcy);
+    int n3 = geom__xp_diff(v[1], v[5], acy);
+    int n4 = geom__xp_diff(v[2], v[4], bcx);
+    int np = geom__xp_mul(n1, acx, n2, bcy, p, work);
+    int nq = geom__xp_mul(n3, acy, n4, bcx, q, work);
+    geom__xp_negate(nq, q);
+    int nd = geom__xp_sum(np, p, nq, q, det);
+    return geom__xp_approx(nd, det);
 }
 
-static geom_xval bf_orient2d(const double *v)
+static geom__xval bf_orient2d(const double *v)
 {
     bf acx, bcy, acy, bcx, r;
     bf_diff_d(&acx, v[0], v[4]);
@@ -508,7 +508,7 @@ static geom_xval bf_orient2d(const double *v)
     return bf_to_xval(&r);
 }
 
-geom_xval geom_core_xeval_orient2d(const double a[2], const double b[2], const double c[2])
+geom__xval geom__xeval_orient2d(const double a[2], const double b[2], const double c[2])
 {
     double v[6] = {a[0], a[1], b[0], b[1], c[0], c[1]};
     int shift;
@@ -527,12 +527,12 @@ static int xp_cross2(int pn, const double *p, int qn, const double *q, int sn, c
                      int tn, const double *t, double *h)
 {
     double x[8], y[8], work[12];
-    int nx = geom_core_xp_mul(pn, p, qn, q, x, work);
-    int ny = geom_core_xp_mul(sn, s, tn, t, y, work);
-    geom_core_xp_negate(ny, y);
+    int nx = geom__xp_mul(pn, p, qn, q, x, work);
+    int ny = geom__xp_mul(sn, s, tn, t, y, work);
+    geom__xp_negate(ny, y);
     /* Compressing keeps the later products small: the value of a degree-2
      * polynomial rarely needs more than three components. */
-    return geom_core_xp_compress(geom_core_xp_sum(nx, x, ny, y, h), h);
+    return geom__xp_compress(geom__xp_sum(nx, x, ny, y, h), h);
 }
 
 static double xp_orient3d(const double *v)
@@ -541,24 +541,24 @@ static double xp_orient3d(const double *v)
     double ad[3][2], bd[3][2], cd[3][2];
     int an[3], bn[3], cn[3];
     for (int k = 0; k < 3; k++) {
-        an[k] = geom_core_xp_diff(v[k], v[9 + k], ad[k]);
-        bn[k] = geom_core_xp_diff(v[3 + k], v[9 + k], bd[k]);
-        cn[k] = geom_core_xp_diff(v[6 + k], v[9 + k], cd[k]);
+        an[k] = geom__xp_diff(v[k], v[9 + k], ad[k]);
+        bn[k] = geom__xp_diff(v[3 + k], v[9 + k], bd[k]);
+        cn[k] = geom__xp_diff(v[6 + k], v[9 + k], cd[k]);
     }
     double m[16], ta[64], tb[64], tc[64], s1[128], det[192], work[96];
     /* adz (bdx cdy - bdy cdx) + bdz (cdx ady - cdy adx) + cdz (adx bdy - ady bdx) */
     int nm = xp_cross2(bn[0], bd[0], cn[1], cd[1], bn[1], bd[1], cn[0], cd[0], m);
-    int na = geom_core_xp_mul(an[2], ad[2], nm, m, ta, work);
+    int na = geom__xp_mul(an[2], ad[2], nm, m, ta, work);
     nm = xp_cross2(cn[0], cd[0], an[1], ad[1], cn[1], cd[1], an[0], ad[0], m);
-    int nb = geom_core_xp_mul(bn[2], bd[2], nm, m, tb, work);
+    int nb = geom__xp_mul(bn[2], bd[2], nm, m, tb, work);
     nm = xp_cross2(an[0], ad[0], bn[1], bd[1], an[1], ad[1], bn[0], bd[0], m);
-    int nc = geom_core_xp_mul(cn[2], cd[2], nm, m, tc, work);
-    int n1 = geom_core_xp_sum(na, ta, nb, tb, s1);
-    int nd = geom_core_xp_sum(n1, s1, nc, tc, det);
-    return geom_core_xp_approx(nd, det);
+    int nc = geom__xp_mul(cn[2], cd[2], nm, m, tc, work);
+    int n1 = geom__xp_sum(na, ta, nb, tb, s1);
+    int nd = geom__xp_sum(n1, s1, nc, tc, det);
+    return geom__xp_approx(nd, det);
 }
 
-static geom_xval bf_orient3d(const double *v)
+static geom__xval bf_orient3d(const double *v)
 {
     bf ad[3], bd[3], cd[3], m, t, r;
     for (int k = 0; k < 3; k++) {
@@ -577,7 +577,7 @@ static geom_xval bf_orient3d(const double *v)
     return bf_to_xval(&r);
 }
 
-geom_xval geom_core_xeval_orient3d(const double a[3], const double b[3], const double c[3],
+geom__xval geom__xeval_orient3d(const double a[3], const double b[3], const double c[3],
                                    const double d[3])
 {
     double v[12] = {a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2], d[0], d[1], d[2]};
@@ -602,11 +602,11 @@ typedef struct xp_dot3_buf {
 static int xp_dot3(const int pn[3], double p[3][16], const int qn[3], double q[3][16],
                    xp_dot3_buf *buf)
 {
-    int nx = geom_core_xp_mul(pn[0], p[0], qn[0], q[0], buf->x, buf->work);
-    int ny = geom_core_xp_mul(pn[1], p[1], qn[1], q[1], buf->y, buf->work);
-    int n1 = geom_core_xp_sum(nx, buf->x, ny, buf->y, buf->s1);
-    nx = geom_core_xp_mul(pn[2], p[2], qn[2], q[2], buf->x, buf->work);
-    return geom_core_xp_sum(n1, buf->s1, nx, buf->x, buf->out);
+    int nx = geom__xp_mul(pn[0], p[0], qn[0], q[0], buf->x, buf->work);
+    int ny = geom__xp_mul(pn[1], p[1], qn[1], q[1], buf->y, buf->work);
+    int n1 = geom__xp_sum(nx, buf->x, ny, buf->y, buf->s1);
+    nx = geom__xp_mul(pn[2], p[2], qn[2], q[2], buf->x, buf->work);
+    return geom__xp_sum(n1, buf->s1, nx, buf->x, buf->out);
 }
 
 static double xp_incircle(const double *v)
@@ -615,25 +615,25 @@ static double xp_incircle(const double *v)
     double dx[3][2], dy[3][2];
     int nx[3], ny[3];
     for (int k = 0; k < 3; k++) {
-        nx[k] = geom_core_xp_diff(v[2 * k], v[6], dx[k]);
-        ny[k] = geom_core_xp_diff(v[2 * k + 1], v[7], dy[k]);
+        nx[k] = geom__xp_diff(v[2 * k], v[6], dx[k]);
+        ny[k] = geom__xp_diff(v[2 * k + 1], v[7], dy[k]);
     }
     double lift[3][16], cross[3][16], sq1[8], sq2[8], work[12];
     int nl[3], nc[3];
     for (int k = 0; k < 3; k++) {
-        int n1 = geom_core_xp_mul(nx[k], dx[k], nx[k], dx[k], sq1, work);
-        int n2 = geom_core_xp_mul(ny[k], dy[k], ny[k], dy[k], sq2, work);
-        nl[k] = geom_core_xp_compress(geom_core_xp_sum(n1, sq1, n2, sq2, lift[k]), lift[k]);
+        int n1 = geom__xp_mul(nx[k], dx[k], nx[k], dx[k], sq1, work);
+        int n2 = geom__xp_mul(ny[k], dy[k], ny[k], dy[k], sq2, work);
+        nl[k] = geom__xp_compress(geom__xp_sum(n1, sq1, n2, sq2, lift[k]), lift[k]);
         int i = (k + 1) % 3, j = (k + 2) % 3;
         /* the cofactor of lift k: di_x dj_y - di_y dj_x */
         nc[k] = xp_cross2(nx[i], dx[i], ny[j], dy[j], ny[i], dy[i], nx[j], dx[j], cross[k]);
     }
     xp_dot3_buf buf;
     int n = xp_dot3(nl, lift, nc, cross, &buf);
-    return geom_core_xp_approx(n, buf.out);
+    return geom__xp_approx(n, buf.out);
 }
 
-static geom_xval bf_incircle(const double *v)
+static geom__xval bf_incircle(const double *v)
 {
     bf dx[3], dy[3], lift, cross, t, r;
     for (int k = 0; k < 3; k++) {
@@ -653,7 +653,7 @@ static geom_xval bf_incircle(const double *v)
     return bf_to_xval(&r);
 }
 
-geom_xval geom_core_xeval_incircle(const double a[2], const double b[2], const double c[2],
+geom__xval geom__xeval_incircle(const double a[2], const double b[2], const double c[2],
                                    const double d[2])
 {
     double v[8] = {a[0], a[1], b[0], b[1], c[0], c[1], d[0], d[1]};
@@ -675,8 +675,8 @@ static void xp_normal(const double *p, const double *q, const double *r, double 
     double u[3][2], w[3][2];
     int un[3], wn[3];
     for (int k = 0; k < 3; k++) {
-        un[k] = geom_core_xp_diff(q[k], p[k], u[k]);
-        wn[k] = geom_core_xp_diff(r[k], p[k], w[k]);
+        un[k] = geom__xp_diff(q[k], p[k], u[k]);
+        wn[k] = geom__xp_diff(r[k], p[k], w[k]);
     }
     for (int k = 0; k < 3; k++) {
         int i = (k + 1) % 3, j = (k + 2) % 3;
@@ -697,7 +697,7 @@ static void bf_normal(const double *p, const double *q, const double *r, bf n[3]
     }
 }
 
-static geom_xval bf_dot3(const bf x[3], const bf y[3])
+static geom__xval bf_dot3(const bf x[3], const bf y[3])
 {
     bf r, t;
     bf_mul(&r, &x[0], &y[0]);
@@ -708,8 +708,8 @@ static geom_xval bf_dot3(const bf x[3], const bf y[3])
     return bf_to_xval(&r);
 }
 
-void geom_core_xeval_tri3(const double a[3], const double b[3], const double c[3],
-                          const double p[3], unsigned mask, geom_xval num[3], geom_xval *den)
+void geom__xeval_tri3(const double a[3], const double b[3], const double c[3],
+                          const double p[3], unsigned mask, geom__xval num[3], geom__xval *den)
 {
     double v[12] = {a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2], p[0], p[1], p[2]};
     const double *va = v, *vb = v + 3, *vc = v + 6, *vp = v + 9;
@@ -743,13 +743,13 @@ void geom_core_xeval_tri3(const double a[3], const double b[3], const double c[3
     xp_normal(va, vb, vc, n, nn);
     if (mask & 8u) {
         len = xp_dot3(nn, n, nn, n, &buf);
-        *den = xval_shifted(geom_core_xp_approx(len, buf.out), -4 * shift);
+        *den = xval_shifted(geom__xp_approx(len, buf.out), -4 * shift);
     }
     for (int i = 0; i < 3; i++) {
         if (mask & (1u << i)) {
             xp_normal(sub[i][0], sub[i][1], vp, m, mn);
             len = xp_dot3(nn, n, mn, m, &buf);
-            num[i] = xval_shifted(geom_core_xp_approx(len, buf.out), -4 * shift);
+            num[i] = xval_shifted(geom__xp_approx(len, buf.out), -4 * shift);
         }
     }
 }

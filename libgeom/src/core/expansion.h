@@ -34,7 +34,7 @@
 #define GEOM_XP_SPLITTER 134217729.0
 
 /* x + y == a + b exactly, x = fl(a + b) (Knuth's two-sum). */
-static inline void geom_two_sum(double a, double b, double *x, double *y)
+static inline void geom__two_sum(double a, double b, double *x, double *y)
 {
     double s = a + b;
     double bv = s - a;
@@ -43,8 +43,8 @@ static inline void geom_two_sum(double a, double b, double *x, double *y)
     *y = (a - av) + (b - bv);
 }
 
-/* As geom_two_sum, requires |a| >= |b| (or a == 0) (Dekker's fast two-sum). */
-static inline void geom_fast_two_sum(double a, double b, double *x, double *y)
+/* As geom__two_sum, requires |a| >= |b| (or a == 0) (Dekker's fast two-sum). */
+static inline void geom__fast_two_sum(double a, double b, double *x, double *y)
 {
     double s = a + b;
     *x = s;
@@ -52,7 +52,7 @@ static inline void geom_fast_two_sum(double a, double b, double *x, double *y)
 }
 
 /* x + y == a - b exactly, x = fl(a - b). */
-static inline void geom_two_diff(double a, double b, double *x, double *y)
+static inline void geom__two_diff(double a, double b, double *x, double *y)
 {
     double d = a - b;
     double bv = a - d;
@@ -62,7 +62,7 @@ static inline void geom_two_diff(double a, double b, double *x, double *y)
 }
 
 /* a == hi + lo with hi and lo each fitting in 26 bits (Veltkamp). */
-static inline void geom_split(double a, double *hi, double *lo)
+static inline void geom__split(double a, double *hi, double *lo)
 {
     double c = GEOM_XP_SPLITTER * a;
     double big = c - a;
@@ -72,12 +72,12 @@ static inline void geom_split(double a, double *hi, double *lo)
 }
 
 /* x + y == a * b exactly, x = fl(a * b) (Dekker's two-product). */
-static inline void geom_two_product(double a, double b, double *x, double *y)
+static inline void geom__two_product(double a, double b, double *x, double *y)
 {
     double p = a * b;
     double ah, al, bh, bl;
-    geom_split(a, &ah, &al);
-    geom_split(b, &bh, &bl);
+    geom__split(a, &ah, &al);
+    geom__split(b, &bh, &bl);
     double e1 = p - ah * bh;
     double e2 = e1 - al * bh;
     double e3 = e2 - ah * bl;
@@ -90,38 +90,38 @@ static inline void geom_two_product(double a, double b, double *x, double *y)
 /* h = e + f; h must hold elen + flen doubles and not alias e or f. Returns
  * the length of h (>= 1). Inputs must be strongly nonoverlapping (as every
  * expansion produced by these functions is). */
-int geom_core_xp_sum(int elen, const double *e, int flen, const double *f, double *h);
+int geom__xp_sum(int elen, const double *e, int flen, const double *f, double *h);
 /* h = e * b; h must hold 2 * elen doubles and not alias e. */
-int geom_core_xp_scale(int elen, const double *e, double b, double *h);
+int geom__xp_scale(int elen, const double *e, double b, double *h);
 /* h = e * f; h must hold 2 * elen * flen doubles, work 2 * (flen + elen * flen)
  * doubles; neither may alias an input. */
-int geom_core_xp_mul(int elen, const double *e, int flen, const double *f, double *h,
+int geom__xp_mul(int elen, const double *e, int flen, const double *f, double *h,
                      double *work);
 /* e = -e in place. */
-void geom_core_xp_negate(int elen, double *e);
+void geom__xp_negate(int elen, double *e);
 /* h = a - b as an expansion of at most 2 components; returns its length. */
-int geom_core_xp_diff(double a, double b, double h[2]);
+int geom__xp_diff(double a, double b, double h[2]);
 /* Compress e in place (Shewchuk's Compress): same value, nonadjacent
  * components, usually far fewer; returns the new length. */
-int geom_core_xp_compress(int elen, double *e);
+int geom__xp_compress(int elen, double *e);
 /* Nearest-ish double to the expansion's value: within 1 ulp (relative error
  * < 2^-52), with the exact sign, 0 only for a zero expansion. Compresses e in
  * place. */
-double geom_core_xp_approx(int elen, double *e);
+double geom__xp_approx(int elen, double *e);
 
 /* ---------------------------------------------------------- exact values */
 
 /* An exact value rounded to 53 bits, with an unbounded exponent: the value is
  * m * 2^e with m == 0 (and e == 0) or 0.5 <= |m| < 1; m is within 1 ulp of
  * the exact value's significand and has its exact sign. */
-typedef struct geom_xval {
+typedef struct geom__xval {
     double m;
     int e;
-} geom_xval;
+} geom__xval;
 
-static inline geom_xval geom_xval_from_double(double x)
+static inline geom__xval geom__xval_from_double(double x)
 {
-    geom_xval v;
+    geom__xval v;
     if (x == 0.0) {
         v.m = 0.0;
         v.e = 0;
@@ -132,20 +132,20 @@ static inline geom_xval geom_xval_from_double(double x)
 }
 
 /* a / b (b.m != 0), renormalised. */
-static inline geom_xval geom_xval_div(geom_xval a, geom_xval b)
+static inline geom__xval geom__xval_div(geom__xval a, geom__xval b)
 {
     if (a.m == 0.0)
         return a;
-    geom_xval r;
+    geom__xval r;
     int k;
     r.m = frexp(a.m / b.m, &k);
     r.e = a.e - b.e + k;
     return r;
 }
 
-static inline geom_xval geom_xval_mul(geom_xval a, geom_xval b)
+static inline geom__xval geom__xval_mul(geom__xval a, geom__xval b)
 {
-    geom_xval r;
+    geom__xval r;
     if (a.m == 0.0 || b.m == 0.0) {
         r.m = 0.0;
         r.e = 0;
@@ -158,20 +158,20 @@ static inline geom_xval geom_xval_mul(geom_xval a, geom_xval b)
 }
 
 /* a + b rounded (a few ulp; terms more than 2^1100 apart contribute nothing). */
-static inline geom_xval geom_xval_add(geom_xval a, geom_xval b)
+static inline geom__xval geom__xval_add(geom__xval a, geom__xval b)
 {
     if (b.m == 0.0)
         return a;
     if (a.m == 0.0)
         return b;
     if (a.e < b.e) {
-        geom_xval t = a;
+        geom__xval t = a;
         a = b;
         b = t;
     }
     int d = a.e - b.e;
     double s = d > 1100 ? a.m : a.m + ldexp(b.m, -d);
-    geom_xval r = {0.0, 0};
+    geom__xval r = {0.0, 0};
     if (s != 0.0) {
         int k;
         r.m = frexp(s, &k);
@@ -182,7 +182,7 @@ static inline geom_xval geom_xval_add(geom_xval a, geom_xval b)
 
 /* The double nearest m * 2^e; beyond the double range the result is +-Inf,
  * below it the sign is kept (+-DBL_TRUE_MIN) rather than rounding to 0. */
-static inline double geom_xval_to_double(geom_xval v)
+static inline double geom__xval_to_double(geom__xval v)
 {
     if (v.m == 0.0)
         return 0.0;
@@ -195,24 +195,24 @@ static inline double geom_xval_to_double(geom_xval v)
 }
 
 /* The double nearest n / d (d.m != 0), with the same range rules. */
-static inline double geom_xval_ratio(geom_xval n, geom_xval d)
+static inline double geom__xval_ratio(geom__xval n, geom__xval d)
 {
-    return geom_xval_to_double(geom_xval_div(n, d));
+    return geom__xval_to_double(geom__xval_div(n, d));
 }
 
 /* Exact values of the determinants, for all finite input (the caller checks
  * finiteness). orient2d = (a-c) x (b-c); orient3d = det[a-d; b-d; c-d];
  * incircle = the lifted 3x3 determinant of a-d, b-d, c-d. */
-geom_xval geom_core_xeval_orient2d(const double a[2], const double b[2], const double c[2]);
-geom_xval geom_core_xeval_orient3d(const double a[3], const double b[3], const double c[3],
+geom__xval geom__xeval_orient2d(const double a[2], const double b[2], const double c[2]);
+geom__xval geom__xeval_orient3d(const double a[3], const double b[3], const double c[3],
                                    const double d[3]);
-geom_xval geom_core_xeval_incircle(const double a[2], const double b[2], const double c[2],
+geom__xval geom__xeval_incircle(const double a[2], const double b[2], const double c[2],
                                    const double d[2]);
 /* Barycentric numerators and denominator of the 3D triangle (a, b, c) for p:
  * n = (b-a) x (c-a), num[0] = n . ((c-b) x (p-b)), num[1] = n . ((a-c) x (p-c)),
  * num[2] = n . ((b-a) x (p-a)), *den = n . n; all exact. Only num[i] with bit
  * i of mask set, and *den if bit 3 is set, are computed. */
-void geom_core_xeval_tri3(const double a[3], const double b[3], const double c[3],
-                          const double p[3], unsigned mask, geom_xval num[3], geom_xval *den);
+void geom__xeval_tri3(const double a[3], const double b[3], const double c[3],
+                          const double p[3], unsigned mask, geom__xval num[3], geom__xval *den);
 
 #endif

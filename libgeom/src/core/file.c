@@ -30,7 +30,7 @@ static geom_status io_fail(geom_diag *d, const char *name, int err, const char *
 {
     char reason[128];
     geom__sys_reason(err, reason, sizeof reason);
-    return geom_diag_set(d, GEOM_ERR_IO, name, 0, 0, "%s: %s", what, reason);
+    return geom__diag_set(d, GEOM_ERR_IO, name, 0, 0, "%s: %s", what, reason);
 }
 
 static const unsigned char empty_file[1];
@@ -40,15 +40,15 @@ static geom_status read_all(int fd, const char *name, const geom_allocator *a, g
                             size_t hint, geom_diag *diag)
 {
     size_t cap = hint > 65536 ? hint + 1 : 65536, n = 0;
-    unsigned char *buf = geom_alloc(a, cap);
+    unsigned char *buf = geom__alloc(a, cap);
     if (!buf)
-        return geom_diag_set(diag, GEOM_ERR_NOMEM, name, 0, 0, "out of memory reading the file");
+        return geom__diag_set(diag, GEOM_ERR_NOMEM, name, 0, 0, "out of memory reading the file");
     for (;;) {
         if (n == cap) {
-            unsigned char *q = cap > SIZE_MAX / 2 ? NULL : geom_realloc(a, buf, cap, cap * 2);
+            unsigned char *q = cap > SIZE_MAX / 2 ? NULL : geom__realloc(a, buf, cap, cap * 2);
             if (!q) {
-                geom_free(a, buf, cap);
-                return geom_diag_set(diag, cap > SIZE_MAX / 2 ? GEOM_ERR_LIMIT : GEOM_ERR_NOMEM,
+                geom__free(a, buf, cap);
+                return geom__diag_set(diag, cap > SIZE_MAX / 2 ? GEOM_ERR_LIMIT : GEOM_ERR_NOMEM,
                                      name, 0, 0, "out of memory reading the file");
             }
             buf = q;
@@ -59,7 +59,7 @@ static geom_status read_all(int fd, const char *name, const geom_allocator *a, g
             continue;
         if (got < 0) {
             int err = errno;
-            geom_free(a, buf, cap);
+            geom__free(a, buf, cap);
             return io_fail(diag, name, err, "read error");
         }
         if (got == 0)
@@ -79,16 +79,16 @@ geom_status geom_file_map_fd(int fd, const char *name, const geom_allocator *all
                              geom_file *out, geom_diag *diag)
 {
     if (!out)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, name, 0, 0, "NULL output");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, name, 0, 0, "NULL output");
     memset(out, 0, sizeof *out);
     out->data = empty_file;
     if (fd < 0)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, name, 0, 0, "invalid file descriptor");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, name, 0, 0, "invalid file descriptor");
     struct stat st;
     if (fstat(fd, &st) != 0)
         return io_fail(diag, name, errno, "cannot read");
     if (S_ISDIR(st.st_mode))
-        return geom_diag_set(diag, GEOM_ERR_IO, name, 0, 0, "cannot read: is a directory");
+        return geom__diag_set(diag, GEOM_ERR_IO, name, 0, 0, "cannot read: is a directory");
     if (S_ISREG(st.st_mode)) {
         off_t pos = lseek(fd, 0, SEEK_CUR);
         if (pos == 0 && st.st_size == 0)
@@ -120,7 +120,7 @@ geom_status geom_file_map(const char *path, const geom_allocator *alloc, geom_fi
         out->data = empty_file;
     }
     if (!path || !out)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0, "NULL path or output");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0, "NULL path or output");
     int fd;
     do
         fd = open(path, O_RDONLY | O_CLOEXEC);
@@ -150,7 +150,7 @@ void geom_file_unmap(geom_file *f)
     if (f->impl_mapped)
         munmap(f->impl_base, f->impl_size);
     else if (f->impl_base)
-        geom_free(f->impl_alloc, f->impl_base, f->impl_size);
+        geom__free(f->impl_alloc, f->impl_base, f->impl_size);
     memset(f, 0, sizeof *f);
     f->data = empty_file;
 }

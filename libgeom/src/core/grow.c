@@ -16,10 +16,10 @@ geom_status geom__grow(const geom_allocator *a, void **p, size_t *cap, size_t ne
         nc *= 2;
     }
     size_t oldb, newb;
-    if (geom_size_mul(nc, elem, &newb) != GEOM_OK || geom_size_mul(*cap, elem, &oldb) != GEOM_OK)
+    if (geom__size_mul(nc, elem, &newb) != GEOM_OK || geom__size_mul(*cap, elem, &oldb) != GEOM_OK)
         return GEOM_ERR_LIMIT;
     /* a first allocation is an allocation (a user realloc_fn sees no old size) */
-    void *q = *p ? geom_realloc(a, *p, oldb, newb) : geom_alloc(a, newb);
+    void *q = *p ? geom__realloc(a, *p, oldb, newb) : geom__alloc(a, newb);
     if (!q)
         return GEOM_ERR_NOMEM;
     *p = q;

@@ -52,16 +52,16 @@ geom_status geom__hindex_reserve(geom__hindex *h, const geom_allocator *a, size_
         cap *= 2;
     }
     size_t bytes;
-    if (geom_size_mul(cap, sizeof(uint64_t), &bytes) != GEOM_OK)
+    if (geom__size_mul(cap, sizeof(uint64_t), &bytes) != GEOM_OK)
         return GEOM_ERR_LIMIT;
-    uint64_t *s = geom_alloc(a, bytes);
+    uint64_t *s = geom__alloc(a, bytes);
     if (!s)
         return GEOM_ERR_NOMEM;
     memset(s, 0, bytes);
     for (size_t i = 0; i < h->cap; i++)
         if (h->slot[i])
             put(s, cap, h->slot[i]);
-    geom_free(a, h->slot, h->cap * sizeof(uint64_t));
+    geom__free(a, h->slot, h->cap * sizeof(uint64_t));
     h->slot = s;
     h->cap = cap;
     return GEOM_OK;
@@ -98,7 +98,7 @@ void geom__hindex_insert_at(geom__hindex *h, uint64_t hash, size_t it, uint32_t 
 
 void geom__hindex_free(geom__hindex *h, const geom_allocator *a)
 {
-    geom_free(a, h->slot, h->cap * sizeof(uint64_t));
+    geom__free(a, h->slot, h->cap * sizeof(uint64_t));
     h->slot = NULL;
     h->cap = h->n = 0;
 }

@@ -17,20 +17,20 @@
 #endif
 
 /* Fill d (if non-NULL) with status, source, line, column and a printf-style
- * message; returns status so callers can `return geom_diag_set(...)`. */
-geom_status geom_diag_set(geom_diag *d, geom_status status, const char *source, size_t line,
+ * message; returns status so callers can `return geom__diag_set(...)`. */
+geom_status geom__diag_set(geom_diag *d, geom_status status, const char *source, size_t line,
                           size_t column, const char *fmt, ...) GEOM_PRINTF(6, 7);
-/* As geom_diag_set, for binary input: records a byte offset instead of a line. */
-geom_status geom_diag_set_offset(geom_diag *d, geom_status status, const char *source,
+/* As geom__diag_set, for binary input: records a byte offset instead of a line. */
+geom_status geom__diag_set_offset(geom_diag *d, geom_status status, const char *source,
                                  uint64_t offset, const char *fmt, ...) GEOM_PRINTF(5, 6);
 
 /* Allocation through an optional allocator (NULL or zeroed = libc). Sizes
  * are the caller's; free needs the size that was allocated. */
-void *geom_alloc(const geom_allocator *a, size_t size);
-void *geom_realloc(const geom_allocator *a, void *ptr, size_t old_size, size_t new_size);
-void geom_free(const geom_allocator *a, void *ptr, size_t size);
+void *geom__alloc(const geom_allocator *a, size_t size);
+void *geom__realloc(const geom_allocator *a, void *ptr, size_t old_size, size_t new_size);
+void geom__free(const geom_allocator *a, void *ptr, size_t size);
 /* n*size with overflow check: returns 0 and sets *out, or GEOM_ERR_LIMIT. */
-geom_status geom_size_mul(size_t n, size_t size, size_t *out);
+geom_status geom__size_mul(size_t n, size_t size, size_t *out);
 
 /* The system's text for errno value err into buf (reentrant strerror_r). */
 void geom__sys_reason(int err, char *buf, size_t size);
@@ -83,7 +83,7 @@ uint32_t geom__hindex_next(const geom__hindex *h, uint64_t hash, size_t *it);
 void geom__hindex_insert_at(geom__hindex *h, uint64_t hash, size_t it, uint32_t id);
 void geom__hindex_free(geom__hindex *h, const geom_allocator *a);
 
-static inline int geom_isfinite3(const double p[3])
+static inline int geom__isfinite3(const double p[3])
 {
     return isfinite(p[0]) && isfinite(p[1]) && isfinite(p[2]);
 }

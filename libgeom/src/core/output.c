@@ -29,13 +29,13 @@ static geom_status io_error(geom_diag *d, const char *path, int err, const char 
 {
     char reason[128];
     geom__sys_reason(err, reason, sizeof reason);
-    return geom_diag_set(d, GEOM_ERR_IO, path, 0, 0, "%s: %s", what, reason);
+    return geom__diag_set(d, GEOM_ERR_IO, path, 0, 0, "%s: %s", what, reason);
 }
 
 static char *dup_string(const geom_allocator *al, const char *s, size_t *size)
 {
     *size = strlen(s) + 1;
-    char *p = geom_alloc(al, *size);
+    char *p = geom__alloc(al, *size);
     if (p)
         memcpy(p, s, *size);
     return p;
@@ -43,9 +43,9 @@ static char *dup_string(const geom_allocator *al, const char *s, size_t *size)
 
 static void release(geom_output *a)
 {
-    geom_free(a->impl_alloc, a->impl_path, a->impl_path_size);
-    geom_free(a->impl_alloc, a->impl_dest, a->impl_dest_size);
-    geom_free(a->impl_alloc, a->temporary, a->impl_tmp_size);
+    geom__free(a->impl_alloc, a->impl_path, a->impl_path_size);
+    geom__free(a->impl_alloc, a->impl_dest, a->impl_dest_size);
+    geom__free(a->impl_alloc, a->temporary, a->impl_tmp_size);
     a->impl_path = a->impl_dest = a->temporary = NULL;
     a->fd = -1;
 }
@@ -75,9 +75,9 @@ static geom_status open_temporary(geom_output *a, const struct stat *old, geom_d
     size_t room = NAME_MAX - (1 + 1 + 8 + (sizeof suffix - 1));
     size_t keep = cut_name(base, blen, room);
     a->impl_tmp_size = dirlen + 1 + keep + 1 + 8 + sizeof suffix;
-    a->temporary = geom_alloc(a->impl_alloc, a->impl_tmp_size);
+    a->temporary = geom__alloc(a->impl_alloc, a->impl_tmp_size);
     if (!a->temporary)
-        return geom_diag_set(diag, GEOM_ERR_NOMEM, a->impl_path, 0, 0, "out of memory");
+        return geom__diag_set(diag, GEOM_ERR_NOMEM, a->impl_path, 0, 0, "out of memory");
 
     struct timespec ts;
     clock_gettime(CLOCK_REALTIME, &ts);
@@ -126,20 +126,20 @@ geom_status geom_output_open(const char *path, const geom_allocator *al, geom_ou
                             geom_diag *diag)
 {
     if (!a)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "NULL output");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "NULL output");
     memset(a, 0, sizeof *a);
     a->fd = -1;
     a->impl_alloc = al;
     if (!path)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "NULL path");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "NULL path");
     size_t plen = strlen(path);
     if (plen == 0)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "empty output path");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "empty output path");
     if (path[plen - 1] == '/')
-        return geom_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "output path names a directory");
+        return geom__diag_set(diag, GEOM_ERR_IO, path, 0, 0, "output path names a directory");
     a->impl_path = dup_string(al, path, &a->impl_path_size);
     if (!a->impl_path)
-        return geom_diag_set(diag, GEOM_ERR_NOMEM, path, 0, 0, "out of memory");
+        return geom__diag_set(diag, GEOM_ERR_NOMEM, path, 0, 0, "out of memory");
 
     struct stat lst, st;
     geom_status s = GEOM_OK;
@@ -157,13 +157,13 @@ geom_status geom_output_open(const char *path, const geom_allocator *al, geom_ou
         return GEOM_OK;
     }
     if (stat(path, &st) != 0) { /* a symbolic link that leads nowhere */
-        s = errno == ENOENT ? geom_diag_set(diag, GEOM_ERR_IO, path, 0, 0,
+        s = errno == ENOENT ? geom__diag_set(diag, GEOM_ERR_IO, path, 0, 0,
                                             "not writing through a dangling symbolic link")
                             : io_error(diag, path, errno, "cannot open for writing");
         goto fail;
     }
     if (S_ISDIR(st.st_mode)) {
-        s = geom_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "is a directory");
+        s = geom__diag_set(diag, GEOM_ERR_IO, path, 0, 0, "is a directory");
         goto fail;
     }
     if (!S_ISREG(st.st_mode)) {
@@ -200,7 +200,7 @@ geom_status geom_output_open(const char *path, const geom_allocator *al, geom_ou
         goto fail;
     return GEOM_OK;
 nomem:
-    s = geom_diag_set(diag, GEOM_ERR_NOMEM, path, 0, 0, "out of memory");
+    s = geom__diag_set(diag, GEOM_ERR_NOMEM, path, 0, 0, "out of memory");
 fail:
     release(a);
     return s;
@@ -209,7 +209,7 @@ fail:
 geom_status geom_output_write(geom_output *a, const void *data, size_t n, geom_diag *diag)
 {
     if (!a || a->fd < 0 || (n && !data))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "output is not open");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "output is not open");
     const char *p = data;
     while (n > 0) {
         ssize_t w = write(a->fd, p, n);
@@ -219,7 +219,7 @@ geom_status geom_output_write(geom_output *a, const void *data, size_t n, geom_d
             return io_error(diag, a->impl_path, errno, "write failed");
         }
         if (w == 0)
-            return geom_diag_set(diag, GEOM_ERR_IO, a->impl_path, 0, 0, "write failed: no progress");
+            return geom__diag_set(diag, GEOM_ERR_IO, a->impl_path, 0, 0, "write failed: no progress");
         p += w;
         n -= (size_t)w;
     }
@@ -229,7 +229,7 @@ geom_status geom_output_write(geom_output *a, const void *data, size_t n, geom_d
 geom_status geom_output_commit(geom_output *a, geom_diag *diag)
 {
     if (!a || a->fd < 0)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "output is not open");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "output is not open");
     geom_status st = GEOM_OK;
     if (a->temporary && fsync(a->fd) != 0 && errno != EINVAL && errno != EROFS)
         st = io_error(diag, a->impl_path, errno, "write failed");

@@ -29,9 +29,9 @@ static int finite2(const double p[2])
 }
 
 /* Sign-preserving double of an exact value. */
-static double xval_result(geom_xval v)
+static double xval_result(geom__xval v)
 {
-    return geom_xval_to_double(v);
+    return geom__xval_to_double(v);
 }
 
 static double orient2d_slow(const double a[2], const double b[2], const double c[2], double acx,
@@ -42,7 +42,7 @@ static double orient2d_slow(const double a[2], const double b[2], const double c
     /* Both products have an exactly zero factor: the determinant is 0. */
     if ((acx == 0.0 || bcy == 0.0) && (acy == 0.0 || bcx == 0.0))
         return 0.0;
-    return xval_result(geom_core_xeval_orient2d(a, b, c));
+    return xval_result(geom__xeval_orient2d(a, b, c));
 }
 
 double geom_orient2d(const double a[2], const double b[2], const double c[2])
@@ -63,7 +63,7 @@ double geom_orient2d_exact(const double a[2], const double b[2], const double c[
 {
     if (!finite2(a) || !finite2(b) || !finite2(c))
         return NAN;
-    return xval_result(geom_core_xeval_orient2d(a, b, c));
+    return xval_result(geom__xeval_orient2d(a, b, c));
 }
 
 double geom_orient3d(const double a[3], const double b[3], const double c[3], const double d[3])
@@ -86,17 +86,17 @@ double geom_orient3d(const double a[3], const double b[3], const double c[3], co
         o3d_errbound_a * permanent + GEOM_UNDERFLOW_TINY * (1.0 + aadz + abdz + acdz);
     if (det > errbound || -det > errbound)
         return det;
-    if (!geom_isfinite3(a) || !geom_isfinite3(b) || !geom_isfinite3(c) || !geom_isfinite3(d))
+    if (!geom__isfinite3(a) || !geom__isfinite3(b) || !geom__isfinite3(c) || !geom__isfinite3(d))
         return NAN;
-    return xval_result(geom_core_xeval_orient3d(a, b, c, d));
+    return xval_result(geom__xeval_orient3d(a, b, c, d));
 }
 
 double geom_orient3d_exact(const double a[3], const double b[3], const double c[3],
                            const double d[3])
 {
-    if (!geom_isfinite3(a) || !geom_isfinite3(b) || !geom_isfinite3(c) || !geom_isfinite3(d))
+    if (!geom__isfinite3(a) || !geom__isfinite3(b) || !geom__isfinite3(c) || !geom__isfinite3(d))
         return NAN;
-    return xval_result(geom_core_xeval_orient3d(a, b, c, d));
+    return xval_result(geom__xeval_orient3d(a, b, c, d));
 }
 
 double geom_incircle(const double a[2], const double b[2], const double c[2], const double d[2])
@@ -124,5 +124,5 @@ double geom_incircle(const double a[2], const double b[2], const double c[2], co
         return det;
     if (!finite2(a) || !finite2(b) || !finite2(c) || !finite2(d))
         return NAN;
-    return xval_result(geom_core_xeval_incircle(a, b, c, d));
+    return xval_result(geom__xeval_incircle(a, b, c, d));
 }

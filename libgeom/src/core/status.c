@@ -41,7 +41,7 @@ static void set_common(geom_diag *d, geom_status status, const char *source, con
     vsnprintf(d->message, sizeof d->message, fmt, ap);
 }
 
-geom_status geom_diag_set(geom_diag *d, geom_status status, const char *source, size_t line,
+geom_status geom__diag_set(geom_diag *d, geom_status status, const char *source, size_t line,
                           size_t column, const char *fmt, ...)
 {
     if (d) {
@@ -55,7 +55,7 @@ geom_status geom_diag_set(geom_diag *d, geom_status status, const char *source, 
     return status;
 }
 
-geom_status geom_diag_set_offset(geom_diag *d, geom_status status, const char *source,
+geom_status geom__diag_set_offset(geom_diag *d, geom_status status, const char *source,
                                  uint64_t offset, const char *fmt, ...)
 {
     if (d) {

@@ -28,7 +28,7 @@ typedef struct arc_ctx {
 
 static double speed(arc_ctx *x, double u)
 {
-    geom_curve_span_derivs(x->c, x->k, u, 1, x->ders, x->work);
+    geom__curve_span_derivs(x->c, x->k, u, 1, x->ders, x->work);
     ++x->evals;
     const double *d1 = x->ders + x->c->dim;
     double s = 0.0;
@@ -69,17 +69,17 @@ geom_status geom_curve_nurbs_arc_length(const geom_nurbs_curve *c, double u0, do
                                         geom_diag *diag)
 {
     if (!c)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: NULL curve");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: NULL curve");
     geom_status st = geom_curve_nurbs_validate(c, c->n + (size_t)c->degree + 1, diag);
     if (st != GEOM_OK)
         return st;
     if (!length || !isfinite(u0) || !isfinite(u1) || !isfinite(rel_tol) || rel_tol < 0.0)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "curve: bad arc length arguments (NULL output or NaN/Inf)");
     const double *U = c->knots;
     size_t p = (size_t)c->degree;
     if (!(u0 >= U[p] && u1 <= U[c->n] && u0 <= u1))
-        return geom_diag_set(diag, GEOM_ERR_DOMAIN, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_DOMAIN, NULL, 0, 0,
                              "curve: [%.17g, %.17g] is not an interval of the domain", u0, u1);
     if (rel_tol == 0.0)
         rel_tol = 1e-13;
@@ -87,10 +87,10 @@ geom_status geom_curve_nurbs_arc_length(const geom_nurbs_curve *c, double u0, do
         rel_tol = 1e-15;
     size_t nd1 = 2;
     geom__scratch sc;
-    st = geom__scratch_init(&sc, nd1 * c->dim + geom_curve_span_derivs_work(c, 1));
+    st = geom__scratch_init(&sc, nd1 * c->dim + geom__curve_span_derivs_work(c, 1));
     if (st != GEOM_OK) {
         geom__scratch_free(&sc);
-        return geom_diag_set(diag, st, NULL, 0, 0, "curve: out of memory");
+        return geom__diag_set(diag, st, NULL, 0, 0, "curve: out of memory");
     }
     arc_ctx x = {c, 0, sc.mem, sc.mem + nd1 * c->dim, 0, 0.0, 0, 0};
     /* first pass: one rule per span piece, for the tolerance's scale */
@@ -120,7 +120,7 @@ geom_status geom_curve_nurbs_arc_length(const geom_nurbs_curve *c, double u0, do
         report->evaluations = x.evals;
     }
     if (x.hit_limit)
-        return geom_diag_set(diag, GEOM_ERR_LIMIT, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_LIMIT, NULL, 0, 0,
                              "curve: arc length did not reach the tolerance in %d levels",
                              ARC_MAX_DEPTH);
     return GEOM_OK;

@@ -20,7 +20,7 @@ geom_status geom_curve_bspline_find_span(int degree, size_t n, const double *kno
         return GEOM_ERR_INVALID_ARG;
     double ue;
     int left;
-    st = geom_curve_prepare_param_knots(degree, n, knots, u, flags, &ue, &left);
+    st = geom__curve_prepare_param_knots(degree, n, knots, u, flags, &ue, &left);
     if (st != GEOM_OK)
         return st;
     *span = geom__bs_span(degree, n, knots, ue, left);
@@ -35,7 +35,7 @@ geom_status geom_curve_bspline_basis(int degree, size_t n, const double *knots, 
         return GEOM_ERR_INVALID_ARG;
     double ue;
     int left;
-    st = geom_curve_prepare_param_knots(degree, n, knots, u, flags, &ue, &left);
+    st = geom__curve_prepare_param_knots(degree, n, knots, u, flags, &ue, &left);
     if (st != GEOM_OK)
         return st;
     size_t k = geom__bs_span(degree, n, knots, ue, left);
@@ -58,7 +58,7 @@ geom_status geom_curve_bspline_basis_derivs(int degree, size_t n, const double *
         return GEOM_ERR_INVALID_ARG;
     double ue;
     int left;
-    st = geom_curve_prepare_param_knots(degree, n, knots, u, flags, &ue, &left);
+    st = geom__curve_prepare_param_knots(degree, n, knots, u, flags, &ue, &left);
     if (st != GEOM_OK)
         return st;
     size_t k = geom__bs_span(degree, n, knots, ue, left);

@@ -82,7 +82,7 @@ geom_status geom_curve_bezier_split(int degree, size_t dim, const double *ctrl, 
     geom__scratch s;
     geom_status st = geom__scratch_init(&s, q * dim);
     if (st == GEOM_OK)
-        geom_curve_hsplit(degree, dim, ctrl, t, left, right, s.mem);
+        geom__curve_hsplit(degree, dim, ctrl, t, left, right, s.mem);
     geom__scratch_free(&s);
     return st;
 }
@@ -155,7 +155,7 @@ static double bernstein_min(int p, const double *c, double tol, double *work)
         }
         if (!done) {
             /* left half into cur, right half onto the stack */
-            geom_curve_hsplit(p, 1, cur, 0.5, cur, stack + (size_t)top * q, split);
+            geom__curve_hsplit(p, 1, cur, 0.5, cur, stack + (size_t)top * q, split);
             depth[top++] = cur_depth + 1;
             ++cur_depth;
             continue;

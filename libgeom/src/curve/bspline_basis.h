@@ -29,13 +29,13 @@
 /** Homogeneous dimension: dim + 1 for rational curves, dim otherwise. */
 #define GEOM_CURVE_HDIM_MAX (GEOM_CURVE_MAX_DIM + 1)
 
-static inline size_t geom_curve_hdim(const geom_nurbs_curve *c)
+static inline size_t geom__curve_hdim(const geom_nurbs_curve *c)
 {
     return c->dim + (c->weights ? 1 : 0);
 }
 
 /** h = (w P_i, w) for rational curves, P_i otherwise (hdim doubles). */
-static inline void geom_curve_hget(const geom_nurbs_curve *c, size_t i, double *h)
+static inline void geom__curve_hget(const geom_nurbs_curve *c, size_t i, double *h)
 {
     const double *P = c->points + i * c->dim;
     if (c->weights) {
@@ -50,7 +50,7 @@ static inline void geom_curve_hget(const geom_nurbs_curve *c, size_t i, double *
 }
 
 /** r = a*x + b*y on D components (r may alias x or y). */
-static inline void geom_curve_hcomb(size_t D, double *r, double a, const double *x, double b,
+static inline void geom__curve_hcomb(size_t D, double *r, double a, const double *x, double b,
                                     const double *y)
 {
     for (size_t d = 0; d < D; ++d)
@@ -62,20 +62,20 @@ static inline void geom_curve_hcomb(size_t D, double *r, double a, const double 
  * buffers: point i is pts[i*dim ..] (holding w*P while building) and w[i]
  * (w == NULL for polynomial curves).
  */
-typedef struct geom_curve_hbuf {
+typedef struct geom__curve_hbuf {
     double *pts;
     double *w;
     size_t dim;
-} geom_curve_hbuf;
+} geom__curve_hbuf;
 
-static inline void geom_curve_hbuf_set(const geom_curve_hbuf *b, size_t i, const double *h)
+static inline void geom__curve_hbuf_set(const geom__curve_hbuf *b, size_t i, const double *h)
 {
     memcpy(b->pts + i * b->dim, h, b->dim * sizeof(double));
     if (b->w)
         b->w[i] = h[b->dim];
 }
 
-static inline void geom_curve_hbuf_get(const geom_curve_hbuf *b, size_t i, double *h)
+static inline void geom__curve_hbuf_get(const geom__curve_hbuf *b, size_t i, double *h)
 {
     memcpy(h, b->pts + i * b->dim, b->dim * sizeof(double));
     if (b->w)
@@ -83,7 +83,7 @@ static inline void geom_curve_hbuf_get(const geom_curve_hbuf *b, size_t i, doubl
 }
 
 /** Turn points [0, n) of b from (w P, w) back into Euclidean P. */
-void geom_curve_hbuf_finish(const geom_curve_hbuf *b, size_t n);
+void geom__curve_hbuf_finish(const geom__curve_hbuf *b, size_t n);
 
 /* -------------------------------------------------------- shared helpers */
 
@@ -91,11 +91,11 @@ void geom_curve_hbuf_finish(const geom_curve_hbuf *b, size_t n);
  * Cheap checks done on every evaluation: non-NULL curve and arrays,
  * degree >= 1, n >= degree+1, 1 <= dim <= GEOM_CURVE_MAX_DIM.
  */
-geom_status geom_curve_check_cheap(const geom_nurbs_curve *c);
+geom_status geom__curve_check_cheap(const geom_nurbs_curve *c);
 
 /** Validation shared by the knot operations (insert.c): a valid curve
  *  (geom_curve_nurbs_validate) and non-NULL output buffers. */
-geom_status geom_curve_check_knot_op(const geom_nurbs_curve *c, const double *knots,
+geom_status geom__curve_check_knot_op(const geom_nurbs_curve *c, const double *knots,
                                      const double *points, const double *weights,
                                      const geom_nurbs_curve *out, geom_diag *diag);
 
@@ -105,25 +105,25 @@ geom_status geom_curve_check_knot_op(const geom_nurbs_curve *c, const double *kn
  * reduces it. On success *u_eval is the parameter and *left whether to use
  * the left limit.
  */
-geom_status geom_curve_prepare_param(const geom_nurbs_curve *c, double u, unsigned flags,
+geom_status geom__curve_prepare_param(const geom_nurbs_curve *c, double u, unsigned flags,
                                      double *u_eval, int *left);
 
 /** The same for a bare knot vector (degree p, n control points). */
-geom_status geom_curve_prepare_param_knots(int p, size_t n, const double *U, double u,
+geom_status geom__curve_prepare_param_knots(int p, size_t n, const double *U, double u,
                                            unsigned flags, double *u_eval, int *left);
 
 /**
  * Homogeneous derivatives 0..nd at u in span k: out[j*D + d] (D = hdim).
  * work: geom__bs_ders_work(p) + (nd+1)*(p+1) doubles.
  */
-void geom_curve_hderivs(const geom_nurbs_curve *c, size_t k, double u, int nd, double *out,
+void geom__curve_hderivs(const geom_nurbs_curve *c, size_t k, double u, int nd, double *out,
                         double *work);
 
-/** Doubles of work for geom_curve_span_derivs. */
-static inline size_t geom_curve_span_derivs_work(const geom_nurbs_curve *c, int nd)
+/** Doubles of work for geom__curve_span_derivs. */
+static inline size_t geom__curve_span_derivs_work(const geom_nurbs_curve *c, int nd)
 {
     size_t q = (size_t)c->degree + 1, nd1 = (size_t)nd + 1;
-    return nd1 * geom_curve_hdim(c) + nd1 * q + geom__bs_ders_work(c->degree);
+    return nd1 * geom__curve_hdim(c) + nd1 * q + geom__bs_ders_work(c->degree);
 }
 
 /**
@@ -132,13 +132,13 @@ static inline size_t geom_curve_span_derivs_work(const geom_nurbs_curve *c, int 
  * obtained without a span search). ders: (nd+1)*dim doubles; the point is
  * bit-identical to geom_curve_nurbs_eval's on the same span.
  */
-void geom_curve_span_derivs(const geom_nurbs_curve *c, size_t k, double u, int nd, double *ders,
+void geom__curve_span_derivs(const geom_nurbs_curve *c, size_t k, double u, int nd, double *ders,
                             double *work);
 
-/** Doubles of work for geom_curve_span_bezier: (p+1)*hdim. */
-static inline size_t geom_curve_span_bezier_work(const geom_nurbs_curve *c)
+/** Doubles of work for geom__curve_span_bezier: (p+1)*hdim. */
+static inline size_t geom__curve_span_bezier_work(const geom_nurbs_curve *c)
 {
-    return ((size_t)c->degree + 1) * geom_curve_hdim(c);
+    return ((size_t)c->degree + 1) * geom__curve_hdim(c);
 }
 
 /**
@@ -148,14 +148,14 @@ static inline size_t geom_curve_span_bezier_work(const geom_nurbs_curve *c)
  * any knot vector (clamped or not). End points equal the curve's end values
  * at u_k and u_{k+1}.
  */
-void geom_curve_span_bezier(const geom_nurbs_curve *c, size_t k, double *out, double *work);
+void geom__curve_span_bezier(const geom_nurbs_curve *c, size_t k, double *out, double *work);
 
 /**
  * de Casteljau split of a homogeneous Bezier segment (p+1 points of D
  * doubles) at t: left and right receive (p+1)*D doubles each (either may
  * alias b; then b is overwritten). work: (p+1)*D doubles.
  */
-void geom_curve_hsplit(int p, size_t D, const double *b, double t, double *left, double *right,
+void geom__curve_hsplit(int p, size_t D, const double *b, double t, double *left, double *right,
                        double *work);
 
 #endif

@@ -113,13 +113,13 @@ static geom_status check_common(size_t dim, size_t n, const double *points, geom
                                 const double *bezier, size_t *nseg, geom_diag *diag)
 {
     if (dim < 1 || dim > GEOM_CURVE_MAX_DIM || !points || !bezier)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "curve: bad dimension or NULL array");
     if (geom_curve_catmull_rom_segments(n, ends, nseg) != GEOM_OK)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "curve: %zu points are too few for this end treatment", n);
     if (!finite_n(points, n * dim))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "curve: a point has a non-finite coordinate");
     return GEOM_OK;
 }
@@ -133,9 +133,9 @@ geom_status geom_curve_catmull_rom_to_bezier(size_t dim, size_t n, const double 
     if (st != GEOM_OK)
         return st;
     if (!isfinite(alpha))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: alpha is not finite");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: alpha is not finite");
     if (!(alpha >= 0.0 && alpha <= 1.0))
-        return geom_diag_set(diag, GEOM_ERR_DOMAIN, NULL, 0, 0, "curve: alpha %g is not in [0, 1]",
+        return geom__diag_set(diag, GEOM_ERR_DOMAIN, NULL, 0, 0, "curve: alpha %g is not in [0, 1]",
                              alpha);
     if (params)
         params[0] = 0.0;
@@ -147,7 +147,7 @@ geom_status geom_curve_catmull_rom_to_bezier(size_t dim, size_t n, const double 
         double d0 = knot_step(P[0], P[1], dim, alpha), d1 = knot_step(P[1], P[2], dim, alpha),
                d2 = knot_step(P[2], P[3], dim, alpha);
         if (!(d0 > 0.0 && d1 > 0.0 && d2 > 0.0))
-            return geom_diag_set(diag, GEOM_ERR_DEGENERATE, NULL, 0, 0,
+            return geom__diag_set(diag, GEOM_ERR_DEGENERATE, NULL, 0, 0,
                                  "curve: consecutive points coincide near segment %zu "
                                  "(alpha > 0 needs distinct neighbours)",
                                  s);
@@ -180,11 +180,11 @@ geom_status geom_curve_kochanek_bartels_to_bezier(size_t dim, size_t n, const do
     if (st != GEOM_OK)
         return st;
     if (!(ntcb == 0 || ntcb == 1 || ntcb == n) || (ntcb > 0 && !tcb))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "curve: %zu tension/continuity/bias entries for %zu points", ntcb, n);
     for (size_t i = 0; i < ntcb; ++i)
         if (!isfinite(tcb[i].tension) || !isfinite(tcb[i].continuity) || !isfinite(tcb[i].bias))
-            return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+            return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                                  "curve: tension/continuity/bias %zu not finite", i);
     for (size_t s = 0; s < nseg; ++s) {
         long f = seg_first(ends, s);

@@ -45,7 +45,7 @@ static void consider(cp_ctx *x, double u, const double *pt)
 /* g'(u) = (C(u) - q) . C'(u) on span k; also fills ders with C, C', C''. */
 static double gprime(cp_ctx *x, size_t k, double u, double *g2)
 {
-    geom_curve_span_derivs(x->c, k, u, 2, x->ders, x->work);
+    geom__curve_span_derivs(x->c, k, u, 2, x->ders, x->work);
     const double *C = x->ders, *C1 = x->ders + x->dim, *C2 = x->ders + 2 * x->dim;
     double g1 = 0.0, gg = 0.0;
     for (size_t d = 0; d < x->dim; ++d) {
@@ -164,7 +164,7 @@ static geom_status search_span(cp_ctx *x, size_t k, double *stack, cp_piece *inf
 {
     const geom_nurbs_curve *c = x->c;
     size_t D = x->D, dim = x->dim, q1 = x->q1, P = q1 * D;
-    geom_curve_span_bezier(c, k, stack, split_work);
+    geom__curve_span_bezier(c, k, stack, split_work);
     info[0].a = c->knots[k];
     info[0].b = c->knots[k + 1];
     info[0].depth = 0;
@@ -183,9 +183,9 @@ static geom_status search_span(cp_ctx *x, size_t k, double *stack, cp_piece *inf
         }
         if (pc.depth == 0) {
             /* exact curve values at the span ends */
-            geom_curve_span_derivs(c, k, pc.a, 0, x->ders, x->work);
+            geom__curve_span_derivs(c, k, pc.a, 0, x->ders, x->work);
             consider(x, pc.a, x->ders);
-            geom_curve_span_derivs(c, k, pc.b, 0, x->ders, x->work);
+            geom__curve_span_derivs(c, k, pc.b, 0, x->ders, x->work);
             consider(x, pc.b, x->ders);
         } else {
             consider(x, pc.a, e0);
@@ -238,7 +238,7 @@ static geom_status search_span(cp_ctx *x, size_t k, double *stack, cp_piece *inf
         /* split: the right half goes below, the left half on top */
         double m = 0.5 * (pc.a + pc.b);
         double *right = stack + (size_t)(top + 1) * P;
-        geom_curve_hsplit((int)(q1 - 1), D, b, 0.5, b, right, split_work);
+        geom__curve_hsplit((int)(q1 - 1), D, b, 0.5, b, right, split_work);
         /* swap so the left half is processed first (it is at b, push order) */
         info[top].a = m;
         info[top].b = pc.b;
@@ -258,26 +258,26 @@ geom_status geom_curve_nurbs_closest_point(const geom_nurbs_curve *c, const doub
                                            double *point, double *distance, geom_diag *diag)
 {
     if (!c)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: NULL curve");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: NULL curve");
     geom_status st = geom_curve_nurbs_validate(c, c->n + (size_t)c->degree + 1, diag);
     if (st != GEOM_OK)
         return st;
     if (!q)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: NULL query point");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: NULL query point");
     for (size_t d = 0; d < c->dim; ++d)
         if (!isfinite(q[d]))
-            return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+            return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                                  "curve: query point not finite");
-    size_t p = (size_t)c->degree, q1 = p + 1, D = geom_curve_hdim(c), dim = c->dim;
+    size_t p = (size_t)c->degree, q1 = p + 1, D = geom__curve_hdim(c), dim = c->dim;
     size_t P = q1 * D, nb = 3 * p + 1;
     size_t nstack = CP_MAX_DEPTH + 4;
-    size_t need = nstack * P + P + 3 * dim + geom_curve_span_derivs_work(c, 2) + (3 * p + 1) +
+    size_t need = nstack * P + P + 3 * dim + geom__curve_span_derivs_work(c, 2) + (3 * p + 1) +
                   (2 * p + 1) * dim + nb * nb;
     geom__scratch sc;
     st = geom__scratch_init(&sc, need);
     if (st != GEOM_OK) {
         geom__scratch_free(&sc);
-        return geom_diag_set(diag, st, NULL, 0, 0, "curve: out of memory");
+        return geom__diag_set(diag, st, NULL, 0, 0, "curve: out of memory");
     }
     cp_piece info[CP_MAX_DEPTH + 4];
     double *stack = sc.mem;
@@ -292,7 +292,7 @@ geom_status geom_curve_nurbs_closest_point(const geom_nurbs_curve *c, const doub
     x.best_u = c->knots[p];
     x.ders = split_work + P;
     x.work = x.ders + 3 * dim;
-    x.prod = x.work + geom_curve_span_derivs_work(c, 2);
+    x.prod = x.work + geom__curve_span_derivs_work(c, 2);
     x.tmpD = x.prod + (3 * p + 1);
     x.binom = x.tmpD + (2 * p + 1) * dim;
     x.nb = nb;

@@ -2,7 +2,7 @@
  * reduction with the curve flags, and homogeneous output buffers. */
 #include "curve/bspline_basis.h"
 
-geom_status geom_curve_check_cheap(const geom_nurbs_curve *c)
+geom_status geom__curve_check_cheap(const geom_nurbs_curve *c)
 {
     if (!c || !c->knots || !c->points)
         return GEOM_ERR_INVALID_ARG;
@@ -22,19 +22,19 @@ static geom_status prepare(int p, size_t n, const double *U, double u, unsigned 
                           (flags & GEOM_CURVE_LEFT_LIMIT) != 0, u_eval, left);
 }
 
-geom_status geom_curve_prepare_param_knots(int p, size_t n, const double *U, double u,
+geom_status geom__curve_prepare_param_knots(int p, size_t n, const double *U, double u,
                                            unsigned flags, double *u_eval, int *left)
 {
     return prepare(p, n, U, u, flags, u_eval, left);
 }
 
-geom_status geom_curve_prepare_param(const geom_nurbs_curve *c, double u, unsigned flags,
+geom_status geom__curve_prepare_param(const geom_nurbs_curve *c, double u, unsigned flags,
                                      double *u_eval, int *left)
 {
     return prepare(c->degree, c->n, c->knots, u, flags, u_eval, left);
 }
 
-void geom_curve_hbuf_finish(const geom_curve_hbuf *b, size_t n)
+void geom__curve_hbuf_finish(const geom__curve_hbuf *b, size_t n)
 {
     if (!b->w)
         return;

@@ -60,13 +60,13 @@ static geom_status ellipse_arc(size_t dim, const double *C, const double *X, con
     size_t n, nk;
     geom_status st = geom_curve_nurbs_arc_bound(start, end, &n, &nk);
     if (st != GEOM_OK)
-        return geom_diag_set(diag, st, NULL, 0, 0,
+        return geom__diag_set(diag, st, NULL, 0, 0,
                              "curve: arc sweep %.17g is zero, not finite or above 2 pi",
                              end - start);
     /* the axes must span a plane: |X|^2 |Y|^2 - (X.Y)^2 > 0 (relative) */
     double xx = dot(X, X, dim), yy = dot(Y, Y, dim), xy = dot(X, Y, dim);
     if (!(xx * yy - xy * xy > 1e-24 * xx * yy) || !(xx > 0.0) || !(yy > 0.0))
-        return geom_diag_set(diag, GEOM_ERR_DEGENERATE, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_DEGENERATE, NULL, 0, 0,
                              "curve: ellipse axes are zero or parallel");
     size_t narcs = (n - 1) / 2;
     double dth = (end - start) / (double)narcs;
@@ -118,10 +118,10 @@ static geom_status check_arc_args(size_t dim, const double *center, const double
 {
     if (dim < 2 || dim > GEOM_CURVE_MAX_DIM || !center || !xaxis || !yaxis || !knots || !points ||
         !weights || !out)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "curve: bad dimension or NULL argument");
     if (!finite_n(center, dim) || !finite_n(xaxis, dim) || !finite_n(yaxis, dim))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "curve: center or axes not finite");
     return GEOM_OK;
 }
@@ -141,11 +141,11 @@ static geom_status scaled_axes(size_t dim, const double *xaxis, const double *ya
                                double *X, double *Y, geom_diag *diag)
 {
     if (!isfinite(r) || !(r > 0.0))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "curve: radius %g is not positive and finite", r);
     double xx = dot(xaxis, xaxis, dim), yy = dot(yaxis, yaxis, dim), xy = dot(xaxis, yaxis, dim);
     if (fabs(xx - 1.0) > 1e-12 || fabs(yy - 1.0) > 1e-12 || fabs(xy) > 1e-12)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "curve: circle axes are not orthonormal");
     for (size_t d = 0; d < dim; ++d) {
         X[d] = r * xaxis[d];
@@ -216,19 +216,19 @@ geom_status geom_curve_nurbs_conic(size_t dim, const double *p0, const double *t
 {
     if (dim < 2 || dim > GEOM_CURVE_MAX_DIM || !p0 || !t0 || !p2 || !t2 || !knots || !points ||
         !weights || !out)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "curve: bad dimension or NULL argument");
     if (!finite_n(p0, dim) || !finite_n(t0, dim) || !finite_n(p2, dim) || !finite_n(t2, dim) ||
         (point && !finite_n(point, dim)) || (!point && !isfinite(weight)))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "curve: conic input not finite");
     double P1[GEOM_CURVE_MAX_DIM], a, b;
     int rc = intersect_lines(dim, p0, t0, p2, t2, &a, &b, P1);
     if (rc == -1)
-        return geom_diag_set(diag, GEOM_ERR_DEGENERATE, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_DEGENERATE, NULL, 0, 0,
                              "curve: conic tangents are parallel or zero (split the arc)");
     if (rc == -2)
-        return geom_diag_set(diag, GEOM_ERR_DEGENERATE, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_DEGENERATE, NULL, 0, 0,
                              "curve: conic tangent lines do not meet");
     double w1 = weight;
     if (point) {
@@ -241,11 +241,11 @@ geom_status geom_curve_nurbs_conic(size_t dim, const double *p0, const double *t
         }
         double alf0, alf2;
         if (intersect_lines(dim, P1, V1, p0, V02, &alf0, &alf2, X) != 0)
-            return geom_diag_set(diag, GEOM_ERR_DOMAIN, NULL, 0, 0,
+            return geom__diag_set(diag, GEOM_ERR_DOMAIN, NULL, 0, 0,
                                  "curve: the point cannot lie on a conic arc with these "
                                  "ends and tangents");
         if (!(alf2 > 0.0 && alf2 < 1.0))
-            return geom_diag_set(diag, GEOM_ERR_DOMAIN, NULL, 0, 0,
+            return geom__diag_set(diag, GEOM_ERR_DOMAIN, NULL, 0, 0,
                                  "curve: the point is outside the control triangle");
         double q = sqrt(alf2 / (1.0 - alf2));
         double u = q / (1.0 + q);
@@ -258,12 +258,12 @@ geom_status geom_curve_nurbs_conic(size_t dim, const double *p0, const double *t
         double num = (1.0 - u) * (1.0 - u) * dot(a0, a1, dim) + u * u * dot(a2, a1, dim);
         double den = 2.0 * u * (1.0 - u) * dot(a1, a1, dim);
         if (!(den > 0.0))
-            return geom_diag_set(diag, GEOM_ERR_DOMAIN, NULL, 0, 0,
+            return geom__diag_set(diag, GEOM_ERR_DOMAIN, NULL, 0, 0,
                                  "curve: the point coincides with the middle control point");
         w1 = num / den;
     }
     if (!(w1 > 0.0) || !isfinite(w1))
-        return geom_diag_set(diag, GEOM_ERR_DOMAIN, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_DOMAIN, NULL, 0, 0,
                              "curve: conic weight %.17g is not positive", w1);
     (void)a;
     (void)b;

@@ -4,7 +4,7 @@
 
 geom_status geom_curve_nurbs_segments(const geom_nurbs_curve *c, size_t *nseg)
 {
-    if (geom_curve_check_cheap(c) != GEOM_OK || !nseg)
+    if (geom__curve_check_cheap(c) != GEOM_OK || !nseg)
         return GEOM_ERR_INVALID_ARG;
     size_t p = (size_t)c->degree, s = 0;
     for (size_t k = p; k < c->n; ++k)
@@ -13,10 +13,10 @@ geom_status geom_curve_nurbs_segments(const geom_nurbs_curve *c, size_t *nseg)
     return GEOM_OK;
 }
 
-void geom_curve_span_bezier(const geom_nurbs_curve *c, size_t k, double *out, double *work)
+void geom__curve_span_bezier(const geom_nurbs_curve *c, size_t k, double *out, double *work)
 {
     int p = c->degree;
-    size_t D = geom_curve_hdim(c);
+    size_t D = geom__curve_hdim(c);
     const double *U = c->knots;
     double a = U[k], b = U[k + 1];
     /* b_j = f(b^j, a^(p-j)): de Boor's recurrence with argument b at the
@@ -24,7 +24,7 @@ void geom_curve_span_bezier(const geom_nurbs_curve *c, size_t k, double *out, do
      * order does not matter; exact knots give alpha exactly 0 or 1). */
     for (int j = 0; j <= p; ++j) {
         for (int i = 0; i <= p; ++i)
-            geom_curve_hget(c, k - (size_t)p + (size_t)i, work + (size_t)i * D);
+            geom__curve_hget(c, k - (size_t)p + (size_t)i, work + (size_t)i * D);
         /* de Boor levels: first j levels at b, then p-j at a */
         for (int r = 1; r <= p; ++r) {
             double x = r <= j ? b : a;
@@ -32,7 +32,7 @@ void geom_curve_span_bezier(const geom_nurbs_curve *c, size_t k, double *out, do
                 size_t i = k - (size_t)p + (size_t)jj;
                 double den = U[i + (size_t)(p + 1 - r)] - U[i];
                 double alpha = (x - U[i]) / den;
-                geom_curve_hcomb(D, work + (size_t)jj * D, 1.0 - alpha, work + (size_t)(jj - 1) * D,
+                geom__curve_hcomb(D, work + (size_t)jj * D, 1.0 - alpha, work + (size_t)(jj - 1) * D,
                                  alpha, work + (size_t)jj * D);
             }
         }
@@ -40,7 +40,7 @@ void geom_curve_span_bezier(const geom_nurbs_curve *c, size_t k, double *out, do
     }
 }
 
-void geom_curve_hsplit(int p, size_t D, const double *b, double t, double *left, double *right,
+void geom__curve_hsplit(int p, size_t D, const double *b, double t, double *left, double *right,
                        double *work)
 {
     size_t q = (size_t)p + 1;
@@ -53,7 +53,7 @@ void geom_curve_hsplit(int p, size_t D, const double *b, double t, double *left,
     /* after level r, work[0] is left[r] and work[p-r] is right[p-r] */
     for (int r = 1; r <= p; ++r) {
         for (int i = 0; i <= p - r; ++i)
-            geom_curve_hcomb(D, work + (size_t)i * D, s, work + (size_t)i * D, t,
+            geom__curve_hcomb(D, work + (size_t)i * D, s, work + (size_t)i * D, t,
                              work + (size_t)(i + 1) * D);
         if (left)
             memcpy(left + (size_t)r * D, work, D * sizeof(double));
@@ -66,15 +66,15 @@ geom_status geom_curve_nurbs_decompose(const geom_nurbs_curve *c, double *bezier
                                        double *bezier_weights, double *breaks, geom_diag *diag)
 {
     if (!c)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: NULL curve");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: NULL curve");
     geom_status st = geom_curve_nurbs_validate(c, c->n + (size_t)c->degree + 1, diag);
     if (st != GEOM_OK)
         return st;
     if (!bezier_points || (c->weights && !bezier_weights))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: NULL output buffer");
-    size_t p = (size_t)c->degree, n = c->n, D = geom_curve_hdim(c), q = p + 1;
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: NULL output buffer");
+    size_t p = (size_t)c->degree, n = c->n, D = geom__curve_hdim(c), q = p + 1;
     const double *U = c->knots;
-    geom_curve_hbuf hb = {bezier_points, c->weights ? bezier_weights : NULL, c->dim};
+    geom__curve_hbuf hb = {bezier_points, c->weights ? bezier_weights : NULL, c->dim};
     size_t nseg = 0;
     geom_curve_nurbs_segments(c, &nseg);
     if (breaks) {
@@ -89,7 +89,7 @@ geom_status geom_curve_nurbs_decompose(const geom_nurbs_curve *c, double *bezier
     st = geom__scratch_init(&sc, 2 * q * D + q);
     if (st != GEOM_OK) {
         geom__scratch_free(&sc);
-        return geom_diag_set(diag, st, NULL, 0, 0, "curve: out of memory");
+        return geom__diag_set(diag, st, NULL, 0, 0, "curve: out of memory");
     }
     if (!clamped) {
         double *seg = sc.mem, *work = sc.mem + q * D;
@@ -97,12 +97,12 @@ geom_status geom_curve_nurbs_decompose(const geom_nurbs_curve *c, double *bezier
         for (size_t k = p; k < n; ++k) {
             if (!(U[k] < U[k + 1]))
                 continue;
-            geom_curve_span_bezier(c, k, seg, work);
+            geom__curve_span_bezier(c, k, seg, work);
             for (size_t j = 0; j < q; ++j)
-                geom_curve_hbuf_set(&hb, s * q + j, seg + j * D);
+                geom__curve_hbuf_set(&hb, s * q + j, seg + j * D);
             ++s;
         }
-        geom_curve_hbuf_finish(&hb, nseg * q);
+        geom__curve_hbuf_finish(&hb, nseg * q);
         geom__scratch_free(&sc);
         return GEOM_OK;
     }
@@ -113,8 +113,8 @@ geom_status geom_curve_nurbs_decompose(const geom_nurbs_curve *c, double *bezier
     long a = P, b = P + 1;
     size_t nb = 0;
     for (size_t i = 0; i <= p; ++i) {
-        geom_curve_hget(c, i, h);
-        geom_curve_hbuf_set(&hb, i, h);
+        geom__curve_hget(c, i, h);
+        geom__curve_hbuf_set(&hb, i, h);
     }
     while (b < m) {
         long i = b;
@@ -130,14 +130,14 @@ geom_status geom_curve_nurbs_decompose(const geom_nurbs_curve *c, double *bezier
                 long save = r - j, s = mult + j;
                 for (long k = P; k >= s; --k) {
                     double alpha = alphas[k - s];
-                    geom_curve_hbuf_get(&hb, nb * q + (size_t)k, h);
-                    geom_curve_hbuf_get(&hb, nb * q + (size_t)(k - 1), g);
-                    geom_curve_hcomb(D, h, alpha, h, 1.0 - alpha, g);
-                    geom_curve_hbuf_set(&hb, nb * q + (size_t)k, h);
+                    geom__curve_hbuf_get(&hb, nb * q + (size_t)k, h);
+                    geom__curve_hbuf_get(&hb, nb * q + (size_t)(k - 1), g);
+                    geom__curve_hcomb(D, h, alpha, h, 1.0 - alpha, g);
+                    geom__curve_hbuf_set(&hb, nb * q + (size_t)k, h);
                 }
                 if (b < m) {
-                    geom_curve_hbuf_get(&hb, nb * q + p, h);
-                    geom_curve_hbuf_set(&hb, (nb + 1) * q + (size_t)save, h);
+                    geom__curve_hbuf_get(&hb, nb * q + p, h);
+                    geom__curve_hbuf_set(&hb, (nb + 1) * q + (size_t)save, h);
                 }
             }
         }
@@ -145,16 +145,16 @@ geom_status geom_curve_nurbs_decompose(const geom_nurbs_curve *c, double *bezier
         if (b < m) {
             long ml = mult > P ? P : mult; /* multiplicity p+1: no shared point */
             for (long ii = P - ml; ii <= P; ++ii) {
-                geom_curve_hget(c, (size_t)(b - P + ii), h);
-                geom_curve_hbuf_set(&hb, nb * q + (size_t)ii, h);
+                geom__curve_hget(c, (size_t)(b - P + ii), h);
+                geom__curve_hbuf_set(&hb, nb * q + (size_t)ii, h);
             }
             a = b;
             ++b;
         }
     }
     geom__scratch_free(&sc);
-    geom_curve_hbuf_finish(&hb, nseg * q);
+    geom__curve_hbuf_finish(&hb, nseg * q);
     return nb == nseg ? GEOM_OK
-                      : geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+                      : geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                                       "curve: inconsistent knot vector");
 }

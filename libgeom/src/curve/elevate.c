@@ -27,7 +27,7 @@ static int is_clamped(const geom_nurbs_curve *c)
 geom_status geom_curve_nurbs_elevate_bound(const geom_nurbs_curve *c, int times, size_t *n,
                                            size_t *nknots)
 {
-    if (geom_curve_check_cheap(c) != GEOM_OK || times < 0)
+    if (geom__curve_check_cheap(c) != GEOM_OK || times < 0)
         return GEOM_ERR_INVALID_ARG;
     if ((long)c->degree + (long)times > ELEVATE_MAX_DEGREE)
         return GEOM_ERR_LIMIT;
@@ -48,22 +48,22 @@ geom_status geom_curve_nurbs_elevate(const geom_nurbs_curve *c, int times, doubl
                                      double *points, double *weights, geom_nurbs_curve *out,
                                      geom_diag *diag)
 {
-    geom_status st = geom_curve_check_knot_op(c, knots, points, weights, out, diag);
+    geom_status st = geom__curve_check_knot_op(c, knots, points, weights, out, diag);
     if (st != GEOM_OK)
         return st;
     if (times < 0)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: negative elevation %d",
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: negative elevation %d",
                              times);
     if ((long)c->degree + (long)times > ELEVATE_MAX_DEGREE)
-        return geom_diag_set(diag, GEOM_ERR_LIMIT, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_LIMIT, NULL, 0, 0,
                              "curve: elevating degree %d by %d goes past degree %ld", c->degree,
                              times, ELEVATE_MAX_DEGREE);
     if (!is_clamped(c))
-        return geom_diag_set(diag, GEOM_ERR_DOMAIN, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_DOMAIN, NULL, 0, 0,
                              "curve: degree elevation needs a clamped knot vector "
                              "(use geom_curve_nurbs_clamp first)");
-    size_t D = geom_curve_hdim(c);
-    geom_curve_hbuf hb = {points, c->weights ? weights : NULL, c->dim};
+    size_t D = geom__curve_hdim(c);
+    geom__curve_hbuf hb = {points, c->weights ? weights : NULL, c->dim};
     const double *U = c->knots;
     long p = c->degree, t = times, ph = p + t, ph2 = ph / 2;
     long n = (long)c->n - 1, m = n + p + 1;
@@ -84,7 +84,7 @@ geom_status geom_curve_nurbs_elevate(const geom_nurbs_curve *c, int times, doubl
     st = geom__scratch_init(&sc, need);
     if (st != GEOM_OK) {
         geom__scratch_free(&sc);
-        return geom_diag_set(diag, st, NULL, 0, 0, "curve: out of memory");
+        return geom__diag_set(diag, st, NULL, 0, 0, "curve: out of memory");
     }
     double *bezalfs = sc.mem;          /* (ph+1) x (p+1) */
     double *bpts = bezalfs + PH1 * P1; /* p+1 points */
@@ -114,12 +114,12 @@ geom_status geom_curve_nurbs_elevate(const geom_nurbs_curve *c, int times, doubl
     double h[GEOM_CURVE_HDIM_MAX], g[GEOM_CURVE_HDIM_MAX];
     long mh = ph, kind = ph + 1, r = -1, a = p, b = p + 1, cind = 1;
     double ua = U[0];
-    geom_curve_hget(c, 0, h);
-    geom_curve_hbuf_set(&hb, 0, h);
+    geom__curve_hget(c, 0, h);
+    geom__curve_hbuf_set(&hb, 0, h);
     for (long i = 0; i <= ph; ++i)
         Uh[i] = ua;
     for (long i = 0; i <= p; ++i)
-        geom_curve_hget(c, (size_t)i, BP(i));
+        geom__curve_hget(c, (size_t)i, BP(i));
     while (b < m) {
         long i = b;
         while (b < m && U[b] == U[b + 1])
@@ -141,7 +141,7 @@ geom_status geom_curve_nurbs_elevate(const geom_nurbs_curve *c, int times, doubl
             for (long j = 1; j <= r; ++j) {
                 long save = r - j, s = mul + j;
                 for (long k = p; k >= s; --k)
-                    geom_curve_hcomb(D, BP(k), alfs[k - s], BP(k), 1.0 - alfs[k - s], BP(k - 1));
+                    geom__curve_hcomb(D, BP(k), alfs[k - s], BP(k), 1.0 - alfs[k - s], BP(k - 1));
                 memcpy(NB(save), BP(p), D * sizeof(double));
             }
         }
@@ -162,17 +162,17 @@ geom_status geom_curve_nurbs_elevate(const geom_nurbs_curve *c, int times, doubl
                 while (j - ii > tr) {
                     if (ii < cind) {
                         double alf = (ub - Uh[ii]) / (ua - Uh[ii]);
-                        geom_curve_hbuf_get(&hb, (size_t)ii, h);
-                        geom_curve_hbuf_get(&hb, (size_t)(ii - 1), g);
-                        geom_curve_hcomb(D, h, alf, h, 1.0 - alf, g);
-                        geom_curve_hbuf_set(&hb, (size_t)ii, h);
+                        geom__curve_hbuf_get(&hb, (size_t)ii, h);
+                        geom__curve_hbuf_get(&hb, (size_t)(ii - 1), g);
+                        geom__curve_hcomb(D, h, alf, h, 1.0 - alf, g);
+                        geom__curve_hbuf_set(&hb, (size_t)ii, h);
                     }
                     if (j >= lbz) {
                         if (j - tr <= kind - ph + oldr) {
                             double gam = (ub - Uh[j - tr]) / den;
-                            geom_curve_hcomb(D, EB(kj), gam, EB(kj), 1.0 - gam, EB(kj + 1));
+                            geom__curve_hcomb(D, EB(kj), gam, EB(kj), 1.0 - gam, EB(kj + 1));
                         } else {
-                            geom_curve_hcomb(D, EB(kj), bet, EB(kj), 1.0 - bet, EB(kj + 1));
+                            geom__curve_hcomb(D, EB(kj), bet, EB(kj), 1.0 - bet, EB(kj + 1));
                         }
                     }
                     ++ii;
@@ -187,12 +187,12 @@ geom_status geom_curve_nurbs_elevate(const geom_nurbs_curve *c, int times, doubl
             for (long ii = 0; ii < ph - oldr; ++ii)
                 Uh[kind++] = ua;
         for (long j = lbz; j <= rbz; ++j)
-            geom_curve_hbuf_set(&hb, (size_t)cind++, EB(j));
+            geom__curve_hbuf_set(&hb, (size_t)cind++, EB(j));
         if (b < m) {
             for (long j = 0; j < r; ++j)
                 memcpy(BP(j), NB(j), D * sizeof(double));
             for (long j = (r > 0 ? r : 0); j <= p; ++j)
-                geom_curve_hget(c, (size_t)(b - p + j), BP(j));
+                geom__curve_hget(c, (size_t)(b - p + j), BP(j));
             a = b;
             ++b;
             ua = ub;
@@ -207,7 +207,7 @@ geom_status geom_curve_nurbs_elevate(const geom_nurbs_curve *c, int times, doubl
 #undef NB
     geom__scratch_free(&sc);
     size_t nh = (size_t)(mh - ph); /* number of control points */
-    geom_curve_hbuf_finish(&hb, nh);
+    geom__curve_hbuf_finish(&hb, nh);
     out->degree = (int)ph;
     out->n = nh;
     out->dim = c->dim;

@@ -2,11 +2,11 @@
  * A4.2), curvature and torsion. */
 #include "curve/bspline_basis.h"
 
-void geom_curve_hderivs(const geom_nurbs_curve *c, size_t k, double u, int nd, double *out,
+void geom__curve_hderivs(const geom_nurbs_curve *c, size_t k, double u, int nd, double *out,
                         double *work)
 {
     int p = c->degree;
-    size_t q = (size_t)p + 1, D = geom_curve_hdim(c);
+    size_t q = (size_t)p + 1, D = geom__curve_hdim(c);
     double *ders = work;
     double *w2 = work + (size_t)(nd + 1) * q;
     geom__bs_ders(p, c->knots, k, u, nd, ders, w2);
@@ -14,7 +14,7 @@ void geom_curve_hderivs(const geom_nurbs_curve *c, size_t k, double u, int nd, d
         out[i] = 0.0;
     double h[GEOM_CURVE_HDIM_MAX];
     for (size_t j = 0; j < q; ++j) {
-        geom_curve_hget(c, k - (size_t)p + j, h);
+        geom__curve_hget(c, k - (size_t)p + j, h);
         for (int r = 0; r <= nd && r <= p; ++r) {
             double b = ders[(size_t)r * q + j];
             for (size_t d = 0; d < D; ++d)
@@ -53,12 +53,12 @@ static void combine_point(const geom_nurbs_curve *c, size_t k, const double *N, 
 
 geom_status geom_curve_nurbs_eval(const geom_nurbs_curve *c, double u, unsigned flags, double *out)
 {
-    geom_status st = geom_curve_check_cheap(c);
+    geom_status st = geom__curve_check_cheap(c);
     if (st != GEOM_OK || !out)
         return GEOM_ERR_INVALID_ARG;
     double ue;
     int left;
-    st = geom_curve_prepare_param(c, u, flags, &ue, &left);
+    st = geom__curve_prepare_param(c, u, flags, &ue, &left);
     if (st != GEOM_OK)
         return st;
     size_t k = geom__bs_span(c->degree, c->n, c->knots, ue, left);
@@ -73,12 +73,12 @@ geom_status geom_curve_nurbs_eval(const geom_nurbs_curve *c, double u, unsigned 
     return st;
 }
 
-void geom_curve_span_derivs(const geom_nurbs_curve *c, size_t k, double u, int nd, double *ders,
+void geom__curve_span_derivs(const geom_nurbs_curve *c, size_t k, double u, int nd, double *ders,
                             double *work)
 {
-    size_t D = geom_curve_hdim(c), nd1 = (size_t)nd + 1;
+    size_t D = geom__curve_hdim(c), nd1 = (size_t)nd + 1;
     double *hd = work, *w2 = work + nd1 * D;
-    geom_curve_hderivs(c, k, u, nd, hd, w2);
+    geom__curve_hderivs(c, k, u, nd, hd, w2);
     if (!c->weights) {
         memcpy(ders, hd, nd1 * c->dim * sizeof(double));
         return;
@@ -108,28 +108,28 @@ void geom_curve_span_derivs(const geom_nurbs_curve *c, size_t k, double u, int n
 geom_status geom_curve_nurbs_derivs(const geom_nurbs_curve *c, double u, int nderiv, unsigned flags,
                                     double *ders)
 {
-    geom_status st = geom_curve_check_cheap(c);
+    geom_status st = geom__curve_check_cheap(c);
     if (st != GEOM_OK || !ders || nderiv < 0)
         return GEOM_ERR_INVALID_ARG;
     if (nderiv > 4096)
         return GEOM_ERR_LIMIT;
     double ue;
     int left;
-    st = geom_curve_prepare_param(c, u, flags, &ue, &left);
+    st = geom__curve_prepare_param(c, u, flags, &ue, &left);
     if (st != GEOM_OK)
         return st;
     size_t k = geom__bs_span(c->degree, c->n, c->knots, ue, left);
     geom__scratch s;
-    st = geom__scratch_init(&s, geom_curve_span_derivs_work(c, nderiv));
+    st = geom__scratch_init(&s, geom__curve_span_derivs_work(c, nderiv));
     if (st == GEOM_OK)
-        geom_curve_span_derivs(c, k, ue, nderiv, ders, s.mem);
+        geom__curve_span_derivs(c, k, ue, nderiv, ders, s.mem);
     geom__scratch_free(&s);
     return st;
 }
 
 geom_status geom_curve_nurbs_domain(const geom_nurbs_curve *c, double *u0, double *u1)
 {
-    if (geom_curve_check_cheap(c) != GEOM_OK)
+    if (geom__curve_check_cheap(c) != GEOM_OK)
         return GEOM_ERR_INVALID_ARG;
     if (u0)
         *u0 = c->knots[c->degree];
@@ -154,7 +154,7 @@ static double cross_norm2(const double *a, const double *b, size_t dim)
 geom_status geom_curve_nurbs_curvature(const geom_nurbs_curve *c, double u, unsigned flags,
                                        double *curvature, double *torsion)
 {
-    geom_status st = geom_curve_check_cheap(c);
+    geom_status st = geom__curve_check_cheap(c);
     if (st != GEOM_OK || !curvature)
         return GEOM_ERR_INVALID_ARG;
     size_t dim = c->dim;

@@ -2,17 +2,17 @@
 #include "curve/bspline_basis.h"
 
 /* Checks shared by the knot operations: a valid curve, output buffers. */
-geom_status geom_curve_check_knot_op(const geom_nurbs_curve *c, const double *knots,
+geom_status geom__curve_check_knot_op(const geom_nurbs_curve *c, const double *knots,
                                      const double *points, const double *weights,
                                      const geom_nurbs_curve *out, geom_diag *diag)
 {
     if (!c)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: NULL curve");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: NULL curve");
     geom_status st = geom_curve_nurbs_validate(c, c->n + (size_t)c->degree + 1, diag);
     if (st != GEOM_OK)
         return st;
     if (!knots || !points || !out || (c->weights && !weights))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: NULL output buffer");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: NULL output buffer");
     return GEOM_OK;
 }
 
@@ -20,28 +20,28 @@ geom_status geom_curve_nurbs_insert_knot(const geom_nurbs_curve *c, double u, si
                                          double *knots, double *points, double *weights,
                                          geom_nurbs_curve *out, geom_diag *diag)
 {
-    geom_status st = geom_curve_check_knot_op(c, knots, points, weights, out, diag);
+    geom_status st = geom__curve_check_knot_op(c, knots, points, weights, out, diag);
     if (st != GEOM_OK)
         return st;
     if (!isfinite(u))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "curve: knot to insert is not finite");
     const double *U = c->knots;
     size_t p = (size_t)c->degree, n = c->n, m = n + p + 1;
     if (!(u >= U[p] && u < U[n]))
-        return geom_diag_set(diag, GEOM_ERR_DOMAIN, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_DOMAIN, NULL, 0, 0,
                              "curve: knot %.17g is outside [%.17g, %.17g)", u, U[p], U[n]);
     size_t k = geom__bs_span(c->degree, n, U, u, 0);
     size_t s = 0;
     for (size_t i = k + 1; i-- > 0 && U[i] == u;)
         ++s;
     if (times > 0 && (times > p || s + times > p))
-        return geom_diag_set(diag, GEOM_ERR_DOMAIN, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_DOMAIN, NULL, 0, 0,
                              "curve: inserting %.17g %zu times would give multiplicity %zu > "
                              "degree %zu",
                              u, times, s + times, p);
-    size_t r = times, D = geom_curve_hdim(c);
-    geom_curve_hbuf hb = {points, c->weights ? weights : NULL, c->dim};
+    size_t r = times, D = geom__curve_hdim(c);
+    geom__curve_hbuf hb = {points, c->weights ? weights : NULL, c->dim};
     if (r == 0) { /* a copy (s may be p+1 here, e.g. at a clamped end) */
         memcpy(knots, U, m * sizeof(double));
         memcpy(points, c->points, n * c->dim * sizeof(double));
@@ -63,38 +63,38 @@ geom_status geom_curve_nurbs_insert_knot(const geom_nurbs_curve *c, double u, si
 
     double h[GEOM_CURVE_HDIM_MAX];
     for (size_t i = 0; i <= k - p; ++i) {
-        geom_curve_hget(c, i, h);
-        geom_curve_hbuf_set(&hb, i, h);
+        geom__curve_hget(c, i, h);
+        geom__curve_hbuf_set(&hb, i, h);
     }
     for (size_t i = k - s; i < n; ++i) {
-        geom_curve_hget(c, i, h);
-        geom_curve_hbuf_set(&hb, i + r, h);
+        geom__curve_hget(c, i, h);
+        geom__curve_hbuf_set(&hb, i + r, h);
     }
     if (r > 0) {
         geom__scratch sc;
         st = geom__scratch_init(&sc, (p + 1) * D);
         if (st != GEOM_OK) {
             geom__scratch_free(&sc);
-            return geom_diag_set(diag, st, NULL, 0, 0, "curve: out of memory");
+            return geom__diag_set(diag, st, NULL, 0, 0, "curve: out of memory");
         }
         double *R = sc.mem;
         for (size_t i = 0; i <= p - s; ++i)
-            geom_curve_hget(c, k - p + i, R + i * D);
+            geom__curve_hget(c, k - p + i, R + i * D);
         size_t L = 0;
         for (size_t j = 1; j <= r; ++j) {
             L = k - p + j;
             for (size_t i = 0; i + j + s <= p; ++i) {
                 double alpha = (u - U[L + i]) / (U[i + k + 1] - U[L + i]);
-                geom_curve_hcomb(D, R + i * D, alpha, R + (i + 1) * D, 1.0 - alpha, R + i * D);
+                geom__curve_hcomb(D, R + i * D, alpha, R + (i + 1) * D, 1.0 - alpha, R + i * D);
             }
-            geom_curve_hbuf_set(&hb, L, R);
-            geom_curve_hbuf_set(&hb, k + r - j - s, R + (p - j - s) * D);
+            geom__curve_hbuf_set(&hb, L, R);
+            geom__curve_hbuf_set(&hb, k + r - j - s, R + (p - j - s) * D);
         }
         for (size_t i = L + 1; i < k - s; ++i)
-            geom_curve_hbuf_set(&hb, i, R + (i - L) * D);
+            geom__curve_hbuf_set(&hb, i, R + (i - L) * D);
         geom__scratch_free(&sc);
     }
-    geom_curve_hbuf_finish(&hb, n + r);
+    geom__curve_hbuf_finish(&hb, n + r);
     out->degree = c->degree;
     out->n = n + r;
     out->dim = c->dim;

@@ -5,59 +5,59 @@ geom_status geom_curve_nurbs_validate(const geom_nurbs_curve *c, size_t nknots, 
 {
     const geom_status E = GEOM_ERR_INVALID_ARG;
     if (!c)
-        return geom_diag_set(diag, E, NULL, 0, 0, "curve: NULL curve");
+        return geom__diag_set(diag, E, NULL, 0, 0, "curve: NULL curve");
     int p = c->degree;
     if (p < 1)
-        return geom_diag_set(diag, E, NULL, 0, 0, "curve: degree %d is below 1", p);
+        return geom__diag_set(diag, E, NULL, 0, 0, "curve: degree %d is below 1", p);
     if (c->dim < 1 || c->dim > GEOM_CURVE_MAX_DIM)
-        return geom_diag_set(diag, E, NULL, 0, 0, "curve: dimension %zu is not in 1..%d", c->dim,
+        return geom__diag_set(diag, E, NULL, 0, 0, "curve: dimension %zu is not in 1..%d", c->dim,
                              GEOM_CURVE_MAX_DIM);
     if (c->n < (size_t)p + 1)
-        return geom_diag_set(diag, E, NULL, 0, 0,
+        return geom__diag_set(diag, E, NULL, 0, 0,
                              "curve: %zu control points, degree %d needs at least %d", c->n, p,
                              p + 1);
     size_t m = c->n + (size_t)p + 1;
     if (nknots != m)
-        return geom_diag_set(diag, E, NULL, 0, 0,
+        return geom__diag_set(diag, E, NULL, 0, 0,
                              "curve: %zu knots, but %zu control points of degree %d need "
                              "n + p + 1 = %zu",
                              nknots, c->n, p, m);
     if (!c->knots || !c->points)
-        return geom_diag_set(diag, E, NULL, 0, 0, "curve: NULL knots or points");
+        return geom__diag_set(diag, E, NULL, 0, 0, "curve: NULL knots or points");
     const double *U = c->knots;
     size_t run = 1;
     for (size_t i = 0; i < m; ++i) {
         if (!isfinite(U[i]))
-            return geom_diag_set(diag, E, NULL, 0, 0, "curve: knot %zu is not finite", i);
+            return geom__diag_set(diag, E, NULL, 0, 0, "curve: knot %zu is not finite", i);
         if (i > 0) {
             if (U[i] < U[i - 1])
-                return geom_diag_set(diag, E, NULL, 0, 0,
+                return geom__diag_set(diag, E, NULL, 0, 0,
                                      "curve: knots decrease: knot %zu (%.17g) < knot %zu (%.17g)",
                                      i, U[i], i - 1, U[i - 1]);
             run = U[i] == U[i - 1] ? run + 1 : 1;
             if (run > (size_t)p + 1)
-                return geom_diag_set(diag, E, NULL, 0, 0,
+                return geom__diag_set(diag, E, NULL, 0, 0,
                                      "curve: knot value %.17g (ending at index %zu) has "
                                      "multiplicity above degree + 1 = %d",
                                      U[i], i, p + 1);
         }
     }
     if (!(U[p] < U[c->n]))
-        return geom_diag_set(diag, E, NULL, 0, 0,
+        return geom__diag_set(diag, E, NULL, 0, 0,
                              "curve: empty domain: knot %d (%.17g) == knot %zu (%.17g)", p, U[p],
                              c->n, U[c->n]);
     for (size_t i = 0; i < c->n * c->dim; ++i)
         if (!isfinite(c->points[i]))
-            return geom_diag_set(diag, E, NULL, 0, 0,
+            return geom__diag_set(diag, E, NULL, 0, 0,
                                  "curve: control point %zu has a non-finite coordinate",
                                  i / c->dim);
     if (c->weights)
         for (size_t i = 0; i < c->n; ++i) {
             double w = c->weights[i];
             if (!isfinite(w))
-                return geom_diag_set(diag, E, NULL, 0, 0, "curve: weight %zu is not finite", i);
+                return geom__diag_set(diag, E, NULL, 0, 0, "curve: weight %zu is not finite", i);
             if (!(w > 0.0))
-                return geom_diag_set(diag, E, NULL, 0, 0,
+                return geom__diag_set(diag, E, NULL, 0, 0,
                                      "curve: weight %zu (%.17g) is not positive", i, w);
         }
     return GEOM_OK;

@@ -95,7 +95,7 @@ static double deviation(pl_ctx *x, const double *b, double *work)
             memcpy(work, b, x->q1 * D * sizeof(double));
             for (size_t r = 1; r <= p; ++r)
                 for (size_t i = 0; i + r <= p; ++i)
-                    geom_curve_hcomb(D, work + i * D, s, work + i * D, t, work + (i + 1) * D);
+                    geom__curve_hcomb(D, work + i * D, s, work + i * D, t, work + (i + 1) * D);
             to_euclid(x, work, X);
             e = fmax(e, seg_dist(X, A, Bp, dim));
             ++x->evals;
@@ -143,7 +143,7 @@ static void span_polyline(pl_ctx *x, double *stack, pl_piece *info, double *work
             continue;
         }
         double *right = stack + (size_t)(top + 1) * P;
-        geom_curve_hsplit((int)(x->q1 - 1), x->D, b, 0.5, b, right, work);
+        geom__curve_hsplit((int)(x->q1 - 1), x->D, b, 0.5, b, right, work);
         ++x->evals;
         /* left half on top of the stack */
         memcpy(work, b, P * sizeof(double));
@@ -165,18 +165,18 @@ geom_status geom_curve_nurbs_polyline(const geom_nurbs_curve *c,
                                       geom_error_report *report, geom_diag *diag)
 {
     if (!c)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: NULL curve");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: NULL curve");
     geom_status st = geom_curve_nurbs_validate(c, c->n + (size_t)c->degree + 1, diag);
     if (st != GEOM_OK)
         return st;
     if (!count)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: NULL count");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: NULL count");
     geom_curve_polyline_options opt = {0.0, 0, 0};
     if (options)
         opt = *options;
     if (!isfinite(opt.tolerance) || opt.tolerance < 0.0 ||
         (opt.method != 0 && opt.method != GEOM_ERROR_BOUND && opt.method != GEOM_ERROR_SAMPLED))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: bad polyline options");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: bad polyline options");
     size_t dim = c->dim, p = (size_t)c->degree;
     if (opt.tolerance == 0.0) {
         /* 1e-3 of the control box's diagonal, without overflow */
@@ -197,7 +197,7 @@ geom_status geom_curve_nurbs_polyline(const geom_nurbs_curve *c,
     pl_ctx x;
     memset(&x, 0, sizeof x);
     x.dim = dim;
-    x.D = geom_curve_hdim(c);
+    x.D = geom__curve_hdim(c);
     x.q1 = p + 1;
     x.params = params;
     x.points = points;
@@ -207,10 +207,10 @@ geom_status geom_curve_nurbs_polyline(const geom_nurbs_curve *c,
     x.tol = opt.tolerance;
     size_t P = x.q1 * x.D, nstack = PL_MAX_DEPTH + 4;
     geom__scratch sc;
-    st = geom__scratch_init(&sc, nstack * P + P + geom_curve_span_bezier_work(c));
+    st = geom__scratch_init(&sc, nstack * P + P + geom__curve_span_bezier_work(c));
     if (st != GEOM_OK) {
         geom__scratch_free(&sc);
-        return geom_diag_set(diag, st, NULL, 0, 0, "curve: out of memory");
+        return geom__diag_set(diag, st, NULL, 0, 0, "curve: out of memory");
     }
     pl_piece info[PL_MAX_DEPTH + 4];
     double *stack = sc.mem, *work = sc.mem + nstack * P;
@@ -218,7 +218,7 @@ geom_status geom_curve_nurbs_polyline(const geom_nurbs_curve *c,
     for (size_t k = p; k < c->n && !x.overflow; ++k) {
         if (!(c->knots[k] < c->knots[k + 1]))
             continue;
-        geom_curve_span_bezier(c, k, stack, work);
+        geom__curve_span_bezier(c, k, stack, work);
         double S[GEOM_CURVE_MAX_DIM];
         to_euclid(&x, stack, S);
         int differs = first;
@@ -238,18 +238,18 @@ geom_status geom_curve_nurbs_polyline(const geom_nurbs_curve *c,
     }
     if (x.nonfinite) {
         *count = 0;
-        return geom_diag_set(diag, GEOM_ERR_DOMAIN, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_DOMAIN, NULL, 0, 0,
                              "curve: the deviation from a chord is not a number (points beyond "
                              "the range of double)");
     }
     if (x.overflow) {
         *count = 0;
-        return geom_diag_set(diag, GEOM_ERR_LIMIT, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_LIMIT, NULL, 0, 0,
                              "curve: the polyline needs more than %zu points", x.max_points);
     }
     *count = x.count;
     if ((points || params) && x.count > capacity)
-        return geom_diag_set(diag, GEOM_ERR_LIMIT, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_LIMIT, NULL, 0, 0,
                              "curve: the polyline needs %zu points, capacity is %zu", x.count,
                              capacity);
     return GEOM_OK;

@@ -9,7 +9,7 @@
  * point still to be read (the write index k stays above the read index i).
  * x: nx >= 1 nondecreasing values in [U[p], U[N]].
  */
-static void refine_in_place(int pi, size_t N, double *U, const geom_curve_hbuf *hb, const double *x,
+static void refine_in_place(int pi, size_t N, double *U, const geom__curve_hbuf *hb, const double *x,
                             size_t nx, size_t D)
 {
     size_t p = (size_t)pi, m = N + p; /* last knot index */
@@ -19,8 +19,8 @@ static void refine_in_place(int pi, size_t N, double *U, const geom_curve_hbuf *
     double h[GEOM_CURVE_HDIM_MAX], g[GEOM_CURVE_HDIM_MAX];
     /* tail: Qw[j+r+1] = Pw[j] for j = b-1 .. N-1, descending */
     for (size_t j = N; j-- > b - 1;) {
-        geom_curve_hbuf_get(hb, j, h);
-        geom_curve_hbuf_set(hb, j + r + 1, h);
+        geom__curve_hbuf_get(hb, j, h);
+        geom__curve_hbuf_set(hb, j + r + 1, h);
     }
     for (size_t j = m + 1; j-- > b + p;)
         U[j + r + 1] = U[j];
@@ -28,25 +28,25 @@ static void refine_in_place(int pi, size_t N, double *U, const geom_curve_hbuf *
     for (size_t jj = nx; jj-- > 0;) {
         double xj = x[jj];
         while (xj <= U[i] && i > a) {
-            geom_curve_hbuf_get(hb, i - p - 1, h);
-            geom_curve_hbuf_set(hb, k - p - 1, h);
+            geom__curve_hbuf_get(hb, i - p - 1, h);
+            geom__curve_hbuf_set(hb, k - p - 1, h);
             U[k] = U[i];
             --k;
             --i;
         }
-        geom_curve_hbuf_get(hb, k - p, h);
-        geom_curve_hbuf_set(hb, k - p - 1, h);
+        geom__curve_hbuf_get(hb, k - p, h);
+        geom__curve_hbuf_set(hb, k - p - 1, h);
         for (size_t l = 1; l <= p; ++l) {
             size_t ind = k - p + l;
             double alfa = U[k + l] - xj;
-            geom_curve_hbuf_get(hb, ind, h);
+            geom__curve_hbuf_get(hb, ind, h);
             if (fabs(alfa) == 0.0) {
-                geom_curve_hbuf_set(hb, ind - 1, h);
+                geom__curve_hbuf_set(hb, ind - 1, h);
             } else {
                 alfa = alfa / (U[k + l] - U[i - p + l]);
-                geom_curve_hbuf_get(hb, ind - 1, g);
-                geom_curve_hcomb(D, g, alfa, g, 1.0 - alfa, h);
-                geom_curve_hbuf_set(hb, ind - 1, g);
+                geom__curve_hbuf_get(hb, ind - 1, g);
+                geom__curve_hcomb(D, g, alfa, g, 1.0 - alfa, h);
+                geom__curve_hbuf_set(hb, ind - 1, g);
             }
         }
         U[k] = xj;
@@ -62,13 +62,13 @@ static size_t count_value(const double *U, size_t m, double v)
     return s;
 }
 
-static void copy_in(const geom_nurbs_curve *c, double *knots, const geom_curve_hbuf *hb)
+static void copy_in(const geom_nurbs_curve *c, double *knots, const geom__curve_hbuf *hb)
 {
     memcpy(knots, c->knots, (c->n + (size_t)c->degree + 1) * sizeof(double));
     double h[GEOM_CURVE_HDIM_MAX];
     for (size_t i = 0; i < c->n; ++i) {
-        geom_curve_hget(c, i, h);
-        geom_curve_hbuf_set(hb, i, h);
+        geom__curve_hget(c, i, h);
+        geom__curve_hbuf_set(hb, i, h);
     }
 }
 
@@ -76,23 +76,23 @@ geom_status geom_curve_nurbs_refine(const geom_nurbs_curve *c, const double *x, 
                                     double *knots, double *points, double *weights,
                                     geom_nurbs_curve *out, geom_diag *diag)
 {
-    geom_status st = geom_curve_check_knot_op(c, knots, points, weights, out, diag);
+    geom_status st = geom__curve_check_knot_op(c, knots, points, weights, out, diag);
     if (st != GEOM_OK)
         return st;
     if (nx > 0 && !x)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: NULL knot list");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: NULL knot list");
     const double *U = c->knots;
     size_t p = (size_t)c->degree, n = c->n, m = n + p + 1;
     for (size_t j = 0; j < nx; ++j) {
         if (!isfinite(x[j]))
-            return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+            return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                                  "curve: knot %zu to insert is not finite", j);
         if (!(x[j] >= U[p] && x[j] <= U[n]))
-            return geom_diag_set(diag, GEOM_ERR_DOMAIN, NULL, 0, 0,
+            return geom__diag_set(diag, GEOM_ERR_DOMAIN, NULL, 0, 0,
                                  "curve: knot %zu to insert (%.17g) is outside [%.17g, %.17g]", j,
                                  x[j], U[p], U[n]);
         if (j > 0 && x[j] < x[j - 1])
-            return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+            return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                                  "curve: knots to insert decrease at %zu", j);
         if (j == 0 || x[j] != x[j - 1]) {
             size_t cnt = 1;
@@ -100,16 +100,16 @@ geom_status geom_curve_nurbs_refine(const geom_nurbs_curve *c, const double *x, 
                 ++cnt;
             size_t total = cnt + count_value(U, m, x[j]);
             if (total > p)
-                return geom_diag_set(diag, GEOM_ERR_DOMAIN, NULL, 0, 0,
+                return geom__diag_set(diag, GEOM_ERR_DOMAIN, NULL, 0, 0,
                                      "curve: knot %.17g would get multiplicity %zu > degree %zu",
                                      x[j], total, p);
         }
     }
-    geom_curve_hbuf hb = {points, c->weights ? weights : NULL, c->dim};
+    geom__curve_hbuf hb = {points, c->weights ? weights : NULL, c->dim};
     copy_in(c, knots, &hb);
     if (nx > 0)
-        refine_in_place(c->degree, n, knots, &hb, x, nx, geom_curve_hdim(c));
-    geom_curve_hbuf_finish(&hb, n + nx);
+        refine_in_place(c->degree, n, knots, &hb, x, nx, geom__curve_hdim(c));
+    geom__curve_hbuf_finish(&hb, n + nx);
     out->degree = c->degree;
     out->n = n + nx;
     out->dim = c->dim;
@@ -122,7 +122,7 @@ geom_status geom_curve_nurbs_refine(const geom_nurbs_curve *c, const double *x, 
 geom_status geom_curve_nurbs_clamp(const geom_nurbs_curve *c, double *knots, double *points,
                                    double *weights, geom_nurbs_curve *out, geom_diag *diag)
 {
-    geom_status st = geom_curve_check_knot_op(c, knots, points, weights, out, diag);
+    geom_status st = geom__curve_check_knot_op(c, knots, points, weights, out, diag);
     if (st != GEOM_OK)
         return st;
     size_t p = (size_t)c->degree, n = c->n, m = n + p + 1;
@@ -133,17 +133,17 @@ geom_status geom_curve_nurbs_clamp(const geom_nurbs_curve *c, double *knots, dou
     st = geom__scratch_init(&sc, 2 * p);
     if (st != GEOM_OK) {
         geom__scratch_free(&sc);
-        return geom_diag_set(diag, st, NULL, 0, 0, "curve: out of memory");
+        return geom__diag_set(diag, st, NULL, 0, 0, "curve: out of memory");
     }
     double *xs = sc.mem;
     for (size_t i = sa; i < p; ++i)
         xs[nx++] = a;
     for (size_t i = sb; i < p; ++i)
         xs[nx++] = b;
-    geom_curve_hbuf hb = {points, c->weights ? weights : NULL, c->dim};
+    geom__curve_hbuf hb = {points, c->weights ? weights : NULL, c->dim};
     copy_in(c, knots, &hb);
     if (nx > 0)
-        refine_in_place(c->degree, n, knots, &hb, xs, nx, geom_curve_hdim(c));
+        refine_in_place(c->degree, n, knots, &hb, xs, nx, geom__curve_hdim(c));
     geom__scratch_free(&sc);
     size_t N = n + nx, M = N + p + 1;
     size_t ia = p; /* last index of a */
@@ -163,7 +163,7 @@ geom_status geom_curve_nurbs_clamp(const geom_nurbs_curve *c, double *knots, dou
         if (hb.w)
             memmove(hb.w, hb.w + first, nn * sizeof(double));
     }
-    geom_curve_hbuf_finish(&hb, nn);
+    geom__curve_hbuf_finish(&hb, nn);
     out->degree = c->degree;
     out->n = nn;
     out->dim = c->dim;

@@ -15,16 +15,16 @@ geom_status geom_curve_nurbs_remove_knot(const geom_nurbs_curve *c, double u, si
                                          double tol, double *knots, double *points, double *weights,
                                          geom_nurbs_curve *out, size_t *removed, geom_diag *diag)
 {
-    geom_status st = geom_curve_check_knot_op(c, knots, points, weights, out, diag);
+    geom_status st = geom__curve_check_knot_op(c, knots, points, weights, out, diag);
     if (st != GEOM_OK)
         return st;
     if (!isfinite(u) || !(tol >= 0.0) || !isfinite(tol))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "curve: knot or tolerance not finite (or tolerance < 0)");
     const double *U0 = c->knots;
     size_t N = c->n, pz = (size_t)c->degree, M = N + pz + 1;
     if (!(u > U0[pz] && u < U0[N]))
-        return geom_diag_set(diag, GEOM_ERR_DOMAIN, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_DOMAIN, NULL, 0, 0,
                              "curve: %.17g is not inside the domain (%.17g, %.17g)", u, U0[pz],
                              U0[N]);
     size_t rz = M, s = 0;
@@ -34,14 +34,14 @@ geom_status geom_curve_nurbs_remove_knot(const geom_nurbs_curve *c, double u, si
             ++s;
         }
     if (s == 0)
-        return geom_diag_set(diag, GEOM_ERR_DOMAIN, NULL, 0, 0, "curve: %.17g is not a knot", u);
-    size_t D = geom_curve_hdim(c);
-    geom_curve_hbuf hb = {points, c->weights ? weights : NULL, c->dim};
+        return geom__diag_set(diag, GEOM_ERR_DOMAIN, NULL, 0, 0, "curve: %.17g is not a knot", u);
+    size_t D = geom__curve_hdim(c);
+    geom__curve_hbuf hb = {points, c->weights ? weights : NULL, c->dim};
     memcpy(knots, U0, M * sizeof(double));
     double h[GEOM_CURVE_HDIM_MAX], g[GEOM_CURVE_HDIM_MAX];
     for (size_t i = 0; i < N; ++i) {
-        geom_curve_hget(c, i, h);
-        geom_curve_hbuf_set(&hb, i, h);
+        geom__curve_hget(c, i, h);
+        geom__curve_hbuf_set(&hb, i, h);
     }
     double TOL = tol;
     if (c->weights) {
@@ -60,7 +60,7 @@ geom_status geom_curve_nurbs_remove_knot(const geom_nurbs_curve *c, double u, si
     st = geom__scratch_init(&sc, (2 * pz + 4) * D);
     if (st != GEOM_OK) {
         geom__scratch_free(&sc);
-        return geom_diag_set(diag, st, NULL, 0, 0, "curve: out of memory");
+        return geom__diag_set(diag, st, NULL, 0, 0, "curve: out of memory");
     }
     double *temp = sc.mem;
 #define TMP(i) (temp + (size_t)(i)*D)
@@ -72,17 +72,17 @@ geom_status geom_curve_nurbs_remove_knot(const geom_nurbs_curve *c, double u, si
     long t;
     for (t = 0; t < (long)num; ++t) {
         long off = first - 1;
-        geom_curve_hbuf_get(&hb, (size_t)off, TMP(0));
-        geom_curve_hbuf_get(&hb, (size_t)(last + 1), TMP(last + 1 - off));
+        geom__curve_hbuf_get(&hb, (size_t)off, TMP(0));
+        geom__curve_hbuf_get(&hb, (size_t)(last + 1), TMP(last + 1 - off));
         long i = first, j = last, ii = 1, jj = last - off;
         int remflag = 0;
         while (j - i > t) {
             double alfi = (u - Uw[i]) / (Uw[i + ord + t] - Uw[i]);
             double alfj = (u - Uw[j - t]) / (Uw[j + ord] - Uw[j - t]);
-            geom_curve_hbuf_get(&hb, (size_t)i, h);
+            geom__curve_hbuf_get(&hb, (size_t)i, h);
             for (size_t d = 0; d < D; ++d)
                 TMP(ii)[d] = (h[d] - (1.0 - alfi) * TMP(ii - 1)[d]) / alfi;
-            geom_curve_hbuf_get(&hb, (size_t)j, h);
+            geom__curve_hbuf_get(&hb, (size_t)j, h);
             for (size_t d = 0; d < D; ++d)
                 TMP(jj)[d] = (h[d] - alfj * TMP(jj + 1)[d]) / (1.0 - alfj);
             ++i;
@@ -95,8 +95,8 @@ geom_status geom_curve_nurbs_remove_knot(const geom_nurbs_curve *c, double u, si
                 remflag = 1;
         } else {
             double alfi = (u - Uw[i]) / (Uw[i + ord + t] - Uw[i]);
-            geom_curve_hcomb(D, g, alfi, TMP(ii + t + 1), 1.0 - alfi, TMP(ii - 1));
-            geom_curve_hbuf_get(&hb, (size_t)i, h);
+            geom__curve_hcomb(D, g, alfi, TMP(ii + t + 1), 1.0 - alfi, TMP(ii - 1));
+            geom__curve_hbuf_get(&hb, (size_t)i, h);
             if (hdist(D, h, g) <= TOL)
                 remflag = 1;
         }
@@ -105,8 +105,8 @@ geom_status geom_curve_nurbs_remove_knot(const geom_nurbs_curve *c, double u, si
         i = first;
         j = last;
         while (j - i > t) {
-            geom_curve_hbuf_set(&hb, (size_t)i, TMP(i - off));
-            geom_curve_hbuf_set(&hb, (size_t)j, TMP(j - off));
+            geom__curve_hbuf_set(&hb, (size_t)i, TMP(i - off));
+            geom__curve_hbuf_set(&hb, (size_t)j, TMP(j - off));
             ++i;
             --j;
         }
@@ -126,13 +126,13 @@ geom_status geom_curve_nurbs_remove_knot(const geom_nurbs_curve *c, double u, si
                 --j;
         }
         for (long k = i + 1; k <= n; ++k) {
-            geom_curve_hbuf_get(&hb, (size_t)k, h);
-            geom_curve_hbuf_set(&hb, (size_t)j, h);
+            geom__curve_hbuf_get(&hb, (size_t)k, h);
+            geom__curve_hbuf_set(&hb, (size_t)j, h);
             ++j;
         }
     }
     size_t nn = N - (size_t)t;
-    geom_curve_hbuf_finish(&hb, nn);
+    geom__curve_hbuf_finish(&hb, nn);
     out->degree = c->degree;
     out->n = nn;
     out->dim = c->dim;

@@ -255,10 +255,10 @@ static int pl_finish(ctx *c, plbuild *B, size_t first, int closed)
 static void *resize(ctx *c, void *p, size_t oldb, size_t newb)
 {
     if (!p)
-        return geom_alloc(c->alloc, newb);
+        return geom__alloc(c->alloc, newb);
     if (oldb == newb)
         return p;
-    return geom_realloc(c->alloc, p, oldb, newb);
+    return geom__realloc(c->alloc, p, oldb, newb);
 }
 
 /* Walk from segment s following vertices with one segment in and one out. */
@@ -295,11 +295,11 @@ static geom_status join(ctx *c, geom_implicit_isolines *out)
     size_t nv = c->nv, ns = c->nseg;
     plbuild B;
     memset(&B, 0, sizeof B);
-    uint32_t *indeg = geom_alloc(c->alloc, (nv + 1) * sizeof(uint32_t));
-    uint32_t *outdeg = geom_alloc(c->alloc, (nv + 1) * sizeof(uint32_t));
-    size_t *off = geom_alloc(c->alloc, (nv + 1) * sizeof(size_t));
-    uint32_t *list = geom_alloc(c->alloc, (ns + 1) * sizeof(uint32_t));
-    unsigned char *used = geom_alloc(c->alloc, ns + 1);
+    uint32_t *indeg = geom__alloc(c->alloc, (nv + 1) * sizeof(uint32_t));
+    uint32_t *outdeg = geom__alloc(c->alloc, (nv + 1) * sizeof(uint32_t));
+    size_t *off = geom__alloc(c->alloc, (nv + 1) * sizeof(size_t));
+    uint32_t *list = geom__alloc(c->alloc, (ns + 1) * sizeof(uint32_t));
+    unsigned char *used = geom__alloc(c->alloc, ns + 1);
     geom_status st = GEOM_OK;
     if (!indeg || !outdeg || !off || !list || !used) {
         st = GEOM_ERR_NOMEM;
@@ -317,7 +317,7 @@ static geom_status join(ctx *c, geom_implicit_isolines *out)
         off[v + 1] = off[v] + outdeg[v];
     {
         /* fill with a cursor per vertex (reuse `list` order by segment) */
-        size_t *cursor = geom_alloc(c->alloc, (nv + 1) * sizeof(size_t));
+        size_t *cursor = geom__alloc(c->alloc, (nv + 1) * sizeof(size_t));
         if (!cursor) {
             st = GEOM_ERR_NOMEM;
             goto done;
@@ -325,7 +325,7 @@ static geom_status join(ctx *c, geom_implicit_isolines *out)
         memcpy(cursor, off, (nv + 1) * sizeof(size_t));
         for (size_t s = 0; s < ns; s++)
             list[cursor[c->seg[2 * s]]++] = (uint32_t)s;
-        geom_free(c->alloc, cursor, (nv + 1) * sizeof(size_t));
+        geom__free(c->alloc, cursor, (nv + 1) * sizeof(size_t));
     }
     /* Open polylines (and loops through junctions) from every vertex that
      * is not a plain pass-through, then the remaining pure loops. */
@@ -368,22 +368,22 @@ static geom_status join(ctx *c, geom_implicit_isolines *out)
             st = GEOM_ERR_NOMEM;
             /* free what may have been resized with the new sizes */
             if (start) {
-                geom_free(c->alloc, B.start, np1 * sizeof(size_t));
+                geom__free(c->alloc, B.start, np1 * sizeof(size_t));
                 B.start = NULL;
             }
-            geom_free(c->alloc, B.idx, B.cap * sizeof(uint32_t));
+            geom__free(c->alloc, B.idx, B.cap * sizeof(uint32_t));
             B.idx = NULL;
         }
     }
 done:
-    geom_free(c->alloc, indeg, (nv + 1) * sizeof(uint32_t));
-    geom_free(c->alloc, outdeg, (nv + 1) * sizeof(uint32_t));
-    geom_free(c->alloc, off, (nv + 1) * sizeof(size_t));
-    geom_free(c->alloc, list, (ns + 1) * sizeof(uint32_t));
-    geom_free(c->alloc, used, ns + 1);
-    geom_free(c->alloc, B.idx, B.cap * sizeof(uint32_t));
-    geom_free(c->alloc, B.start, B.capp * sizeof(size_t));
-    geom_free(c->alloc, B.closed, B.capc);
+    geom__free(c->alloc, indeg, (nv + 1) * sizeof(uint32_t));
+    geom__free(c->alloc, outdeg, (nv + 1) * sizeof(uint32_t));
+    geom__free(c->alloc, off, (nv + 1) * sizeof(size_t));
+    geom__free(c->alloc, list, (ns + 1) * sizeof(uint32_t));
+    geom__free(c->alloc, used, ns + 1);
+    geom__free(c->alloc, B.idx, B.cap * sizeof(uint32_t));
+    geom__free(c->alloc, B.start, B.capp * sizeof(size_t));
+    geom__free(c->alloc, B.closed, B.capc);
     return st;
 }
 
@@ -398,13 +398,13 @@ void geom_implicit_isolines_free(geom_implicit_isolines *c)
     size_t ni = c->start && c->start[c->n_polylines] ? c->start[c->n_polylines] : 1;
     size_t nc = c->n_polylines ? c->n_polylines : 1;
     if (c->indices)
-        geom_free(&a, c->indices, ni * sizeof(uint32_t));
+        geom__free(&a, c->indices, ni * sizeof(uint32_t));
     if (c->start)
-        geom_free(&a, c->start, (c->n_polylines + 1) * sizeof(size_t));
+        geom__free(&a, c->start, (c->n_polylines + 1) * sizeof(size_t));
     if (c->closed)
-        geom_free(&a, c->closed, nc);
+        geom__free(&a, c->closed, nc);
     if (c->xy)
-        geom_free(&a, c->xy, 2 * nv * sizeof(double));
+        geom__free(&a, c->xy, 2 * nv * sizeof(double));
     memset(c, 0, sizeof *c);
 }
 
@@ -456,7 +456,7 @@ geom_status geom_implicit_contour(const geom_implicit_field *field, const double
     if (out)
         memset(out, 0, sizeof *out);
     if (!field || !field->value || !bounds || !out)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "NULL field, bounds or output");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "NULL field, bounds or output");
     geom_implicit_contour_options o;
     if (opt)
         o = *opt;
@@ -464,18 +464,18 @@ geom_status geom_implicit_contour(const geom_implicit_field *field, const double
         memset(&o, 0, sizeof o);
     for (int k = 0; k < 4; k++)
         if (!isfinite(bounds[k]))
-            return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "non-finite bounds");
+            return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "non-finite bounds");
     if (!(bounds[0] < bounds[2]) || !(bounds[1] < bounds[3]))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                              "empty bounds: need x0 < x1 and y0 < y1");
     if (nx == 0 || ny == 0)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "the grid needs cells");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "the grid needs cells");
     if (!isfinite(o.iso) || !isfinite(o.z))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "non-finite iso or z");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "non-finite iso or z");
     size_t tmp;
     if (nx >= SIZE_MAX / 64 || ny >= SIZE_MAX / 64 ||
-        geom_size_mul(nx + 1, ny + 1, &tmp) != GEOM_OK)
-        return geom_diag_set(diag, GEOM_ERR_LIMIT, "", 0, 0, "grid too large");
+        geom__size_mul(nx + 1, ny + 1, &tmp) != GEOM_OK)
+        return geom__diag_set(diag, GEOM_ERR_LIMIT, "", 0, 0, "grid too large");
 
     ctx c;
     memset(&c, 0, sizeof c);
@@ -490,17 +490,17 @@ geom_status geom_implicit_contour(const geom_implicit_field *field, const double
         out->alloc = *c.alloc; /* join() hands its arrays to out */
 
     size_t n1 = nx + 1;
-    double *X = geom_alloc(c.alloc, n1 * sizeof(double));
+    double *X = geom__alloc(c.alloc, n1 * sizeof(double));
     rows R;
     memset(&R, 0, sizeof R);
     for (int r = 0; r < 2; r++) {
-        R.d[r] = geom_alloc(c.alloc, n1 * sizeof(double));
-        R.h[r] = geom_alloc(c.alloc, n1 * sizeof(uint32_t));
-        R.nd[r] = geom_alloc(c.alloc, n1 * sizeof(uint32_t));
-        R.hs[r] = geom_alloc(c.alloc, n1);
+        R.d[r] = geom__alloc(c.alloc, n1 * sizeof(double));
+        R.h[r] = geom__alloc(c.alloc, n1 * sizeof(uint32_t));
+        R.nd[r] = geom__alloc(c.alloc, n1 * sizeof(uint32_t));
+        R.hs[r] = geom__alloc(c.alloc, n1);
     }
-    R.v = geom_alloc(c.alloc, n1 * sizeof(uint32_t));
-    R.vs = geom_alloc(c.alloc, n1);
+    R.v = geom__alloc(c.alloc, n1 * sizeof(uint32_t));
+    R.vs = geom__alloc(c.alloc, n1);
     geom_status st = GEOM_OK;
     if (!X || !R.d[0] || !R.d[1] || !R.h[0] || !R.h[1] || !R.nd[0] || !R.nd[1] || !R.hs[0] ||
         !R.hs[1] || !R.v || !R.vs) {
@@ -629,20 +629,20 @@ geom_status geom_implicit_contour(const geom_implicit_field *field, const double
         rep->error.seconds = rep->seconds;
     }
 cleanup:
-    geom_free(c.alloc, X, n1 * sizeof(double));
+    geom__free(c.alloc, X, n1 * sizeof(double));
     for (int r = 0; r < 2; r++) {
-        geom_free(c.alloc, R.d[r], n1 * sizeof(double));
-        geom_free(c.alloc, R.h[r], n1 * sizeof(uint32_t));
-        geom_free(c.alloc, R.nd[r], n1 * sizeof(uint32_t));
-        geom_free(c.alloc, R.hs[r], n1);
+        geom__free(c.alloc, R.d[r], n1 * sizeof(double));
+        geom__free(c.alloc, R.h[r], n1 * sizeof(uint32_t));
+        geom__free(c.alloc, R.nd[r], n1 * sizeof(uint32_t));
+        geom__free(c.alloc, R.hs[r], n1);
     }
-    geom_free(c.alloc, R.v, n1 * sizeof(uint32_t));
-    geom_free(c.alloc, R.vs, n1);
-    geom_free(c.alloc, c.xy, c.cap_v * 2 * sizeof(double));
-    geom_free(c.alloc, c.seg, c.cap_seg * 2 * sizeof(uint32_t));
+    geom__free(c.alloc, R.v, n1 * sizeof(uint32_t));
+    geom__free(c.alloc, R.vs, n1);
+    geom__free(c.alloc, c.xy, c.cap_v * 2 * sizeof(double));
+    geom__free(c.alloc, c.seg, c.cap_seg * 2 * sizeof(uint32_t));
     if (st != GEOM_OK) {
         geom_implicit_isolines_free(out);
-        return geom_diag_set(diag, st, "", 0, 0, "marching squares failed: %s",
+        return geom__diag_set(diag, st, "", 0, 0, "marching squares failed: %s",
                              geom_status_str(st));
     }
     return GEOM_OK;
@@ -670,7 +670,7 @@ geom_status geom_implicit_isolines_to_mesh(const geom_implicit_isolines *c, doub
     }
     if (maxlen == 0)
         return GEOM_OK;
-    uint32_t *buf = geom_alloc(NULL, maxlen * sizeof(uint32_t));
+    uint32_t *buf = geom__alloc(NULL, maxlen * sizeof(uint32_t));
     if (!buf)
         return GEOM_ERR_NOMEM;
     geom_status st = GEOM_OK;
@@ -682,6 +682,6 @@ geom_status geom_implicit_isolines_to_mesh(const geom_implicit_isolines *c, doub
             buf[n++] = buf[0];
         st = geom_mesh_polyline_add(m, n, buf);
     }
-    geom_free(NULL, buf, maxlen * sizeof(uint32_t));
+    geom__free(NULL, buf, maxlen * sizeof(uint32_t));
     return st;
 }

@@ -75,7 +75,7 @@ static void F(run_lanes)(const expr_ins *code, size_t ncode, size_t L, const NUM
         case OP_COUNT:
             break;
         default: { /* primitives */
-            size_t k = (size_t)geom_implicit_op_arity(in->op);
+            size_t k = (size_t)geom__implicit_op_arity(in->op);
             size_t first = sp - k;
             for (l = 0; l < L; l++) {
                 for (size_t q = 0; q < k; q++)

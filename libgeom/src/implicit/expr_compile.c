@@ -29,7 +29,7 @@ static int op_is_primitive(int op)
     }
 }
 
-int geom_implicit_op_arity(int op)
+int geom__implicit_op_arity(int op)
 {
     switch ((expr_op)op) {
     case OP_CONST: case OP_X: case OP_Y: case OP_Z: case OP_T: case OP_GYROID0:
@@ -171,7 +171,7 @@ static void fail_at(parser *P, geom_status st, size_t off, const char *fmt, ...)
     va_end(ap);
     size_t line, col;
     locate(P, off, &line, &col);
-    geom_diag_set(P->diag, st, "expression", line, col, "%s", msg);
+    geom__diag_set(P->diag, st, "expression", line, col, "%s", msg);
 }
 
 /* A printable description of the current token for messages. */
@@ -332,7 +332,7 @@ static void emit(parser *P, int op, int n, double c, size_t at)
 {
     if (P->err)
         return;
-    int k = geom_implicit_op_arity(op);
+    int k = geom__implicit_op_arity(op);
     /* x ^ integer constant: an exact integer power. */
     if (op == OP_POW && P->n >= 1 && P->code[P->n - 1].op == OP_CONST &&
         !(P->n >= 2 && P->code[P->n - 2].op == OP_CONST)) {
@@ -357,7 +357,7 @@ static void emit(parser *P, int op, int n, double c, size_t at)
             tmp[k].op = op;
             tmp[k].n = n;
             tmp[k].c = c;
-            double v = geom_implicit_run_double(tmp, (size_t)k + 1, 0.0, 0.0, 0.0, 0.0);
+            double v = geom__implicit_run_double(tmp, (size_t)k + 1, 0.0, 0.0, 0.0, 0.0);
             P->n -= (size_t)k;
             P->sp -= (size_t)k;
             op = OP_CONST;
@@ -369,13 +369,13 @@ static void emit(parser *P, int op, int n, double c, size_t at)
     if (P->n == P->cap) {
         size_t ncap = P->cap ? 2 * P->cap : 64;
         size_t oldb, newb;
-        if (geom_size_mul(ncap, sizeof(expr_ins), &newb) != GEOM_OK) {
+        if (geom__size_mul(ncap, sizeof(expr_ins), &newb) != GEOM_OK) {
             fail_at(P, GEOM_ERR_LIMIT, at, "program too large");
             return;
         }
         oldb = P->cap * sizeof(expr_ins);
-        expr_ins *nc = P->code ? geom_realloc(P->alloc, P->code, oldb, newb)
-                               : geom_alloc(P->alloc, newb);
+        expr_ins *nc = P->code ? geom__realloc(P->alloc, P->code, oldb, newb)
+                               : geom__alloc(P->alloc, newb);
         if (!nc) {
             fail_at(P, GEOM_ERR_NOMEM, at, "out of memory");
             return;
@@ -668,7 +668,7 @@ geom_status geom_implicit_expr_compile(const char *text, size_t len,
     if (out)
         *out = NULL;
     if (!out || (!text && len > 0))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "expression", 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "expression", 0, 0,
                              "NULL text or output");
     parser P;
     memset(&P, 0, sizeof P);
@@ -699,13 +699,13 @@ geom_status geom_implicit_expr_compile(const char *text, size_t len,
     if (!P.err && (P.n == 0 || P.sp != 1))
         fail_at(&P, GEOM_ERR_PARSE, 0, "internal error: malformed program");
     if (P.err) {
-        geom_free(P.alloc, P.code, P.cap * sizeof(expr_ins));
+        geom__free(P.alloc, P.code, P.cap * sizeof(expr_ins));
         return P.err;
     }
-    geom_implicit_expr *e = geom_alloc(P.alloc, sizeof *e);
+    geom_implicit_expr *e = geom__alloc(P.alloc, sizeof *e);
     if (!e) {
-        geom_free(P.alloc, P.code, P.cap * sizeof(expr_ins));
-        return geom_diag_set(diag, GEOM_ERR_NOMEM, "expression", 0, 0, "out of memory");
+        geom__free(P.alloc, P.code, P.cap * sizeof(expr_ins));
+        return geom__diag_set(diag, GEOM_ERR_NOMEM, "expression", 0, 0, "out of memory");
     }
     memset(e, 0, sizeof *e);
     e->code = P.code;
@@ -725,8 +725,8 @@ void geom_implicit_expr_destroy(geom_implicit_expr *e)
     if (!e)
         return;
     geom_allocator a = e->alloc;
-    geom_free(&a, e->code, e->cap * sizeof(expr_ins));
-    geom_free(&a, e, sizeof *e);
+    geom__free(&a, e->code, e->cap * sizeof(expr_ins));
+    geom__free(&a, e, sizeof *e);
 }
 
 void geom_implicit_expr_set_time(geom_implicit_expr *e, double t)

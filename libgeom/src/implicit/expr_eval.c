@@ -584,7 +584,7 @@ static inline ivn n_atan2(ivn a, ivn b) { return n_mk(i_atan2(a.v, b.v), a.nan |
 
 /* ================================================================ public */
 
-double geom_implicit_run_double(const expr_ins *code, size_t n, double x, double y, double z,
+double geom__implicit_run_double(const expr_ins *code, size_t n, double x, double y, double z,
                             double t)
 {
     return d_run(code, n, x, y, z, t);

@@ -184,7 +184,7 @@ static NUM F(run)(const expr_ins *code, size_t n, NUM x, NUM y, NUM z, NUM t)
         case OP_TORUS2: case OP_TORUS5: case OP_BOX3: case OP_BOX6: case OP_CYLINDER2:
         case OP_CYLINDER5: case OP_PLANE4: case OP_CAPSULE7: case OP_GYROID0: case OP_GYROID1:
         case OP_GYROID2: {
-            size_t k = (size_t)geom_implicit_op_arity(in->op);
+            size_t k = (size_t)geom__implicit_op_arity(in->op);
             if (k == 0) {
                 st[sp++] = F(prim)(in->op, x, y, z, NULL);
             } else {

@@ -45,11 +45,11 @@ struct geom_implicit_expr {
 };
 
 /* Number of arguments an opcode pops (0 for pushes). */
-int geom_implicit_op_arity(int op);
+int geom__implicit_op_arity(int op);
 
 /* Point evaluation of a program fragment of n instructions needing at most
  * GEOM_IMPLICIT_STACK_MAX slots (used for constant folding). */
-double geom_implicit_run_double(const expr_ins *code, size_t n, double x, double y, double z,
+double geom__implicit_run_double(const expr_ins *code, size_t n, double x, double y, double z,
                             double t);
 
 #endif

@@ -37,10 +37,10 @@ static geom_status check_desc(const geom_implicit_volume_desc *d, size_t *count,
             return GEOM_ERR_INVALID_ARG;
         if (!isfinite(d->origin[a]) || !isfinite(d->spacing[a]) || d->spacing[a] < 0.0)
             return GEOM_ERR_INVALID_ARG;
-        if (geom_size_mul(n, d->dims[a], &n) != GEOM_OK)
+        if (geom__size_mul(n, d->dims[a], &n) != GEOM_OK)
             return GEOM_ERR_LIMIT;
     }
-    if (geom_size_mul(n, scalar_size(d->type), bytes) != GEOM_OK)
+    if (geom__size_mul(n, scalar_size(d->type), bytes) != GEOM_OK)
         return GEOM_ERR_LIMIT;
     *count = n;
     return GEOM_OK;
@@ -58,15 +58,15 @@ geom_status geom_implicit_volume_create(const geom_implicit_volume_desc *desc,
     geom_status st = check_desc(desc, &count, &bytes);
     if (st != GEOM_OK)
         return st;
-    geom_implicit_volume *v = geom_alloc(alloc, sizeof *v);
+    geom_implicit_volume *v = geom__alloc(alloc, sizeof *v);
     if (!v)
         return GEOM_ERR_NOMEM;
     memset(v, 0, sizeof *v);
     if (alloc)
         v->alloc = *alloc;
-    v->data = geom_alloc(alloc, bytes);
+    v->data = geom__alloc(alloc, bytes);
     if (!v->data) {
-        geom_free(alloc, v, sizeof *v);
+        geom__free(alloc, v, sizeof *v);
         return GEOM_ERR_NOMEM;
     }
     memset(v->data, 0, bytes);
@@ -86,8 +86,8 @@ void geom_implicit_volume_destroy(geom_implicit_volume *v)
     if (!v)
         return;
     geom_allocator a = v->alloc;
-    geom_free(&a, v->data, v->nbytes);
-    geom_free(&a, v, sizeof *v);
+    geom__free(&a, v->data, v->nbytes);
+    geom__free(&a, v, sizeof *v);
 }
 
 void geom_implicit_volume_get_desc(const geom_implicit_volume *v, geom_implicit_volume_desc *out)
@@ -244,25 +244,25 @@ geom_status geom_implicit_volume_read_raw(const char *path, const geom_implicit_
     if (out)
         *out = NULL;
     if (!path || !out)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, path ? path : "", 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, path ? path : "", 0, 0,
                              "NULL path or output");
     size_t count, bytes;
     geom_status st = check_desc(desc, &count, &bytes);
     if (st != GEOM_OK)
-        return geom_diag_set(diag, st, path, 0, 0,
+        return geom__diag_set(diag, st, path, 0, 0,
                              st == GEOM_ERR_LIMIT ? "volume dimensions too large"
                                                   : "invalid volume description");
     FILE *fp = fopen(path, "rb");
     if (!fp)
-        return geom_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "cannot open: %s", strerror(errno));
+        return geom__diag_set(diag, GEOM_ERR_IO, path, 0, 0, "cannot open: %s", strerror(errno));
     uint64_t size;
     if (file_remaining(fp, &size) != 0) {
         fclose(fp);
-        return geom_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "cannot determine the file size");
+        return geom__diag_set(diag, GEOM_ERR_IO, path, 0, 0, "cannot determine the file size");
     }
     if (size != (uint64_t)bytes) {
         fclose(fp);
-        return geom_diag_set(diag, GEOM_ERR_PARSE, path, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_PARSE, path, 0, 0,
                              "file has %llu bytes but %zux%zux%zu %s samples need %llu",
                              (unsigned long long)size, desc->dims[0], desc->dims[1],
                              desc->dims[2], type_name(desc->type), (unsigned long long)bytes);
@@ -271,14 +271,14 @@ geom_status geom_implicit_volume_read_raw(const char *path, const geom_implicit_
     st = geom_implicit_volume_create(desc, alloc, &v);
     if (st != GEOM_OK) {
         fclose(fp);
-        return geom_diag_set(diag, st, path, 0, 0, "%s", geom_status_str(st));
+        return geom__diag_set(diag, st, path, 0, 0, "%s", geom_status_str(st));
     }
     size_t got = fread(v->data, 1, bytes, fp);
     int err = ferror(fp);
     fclose(fp);
     if (got != bytes || err) {
         geom_implicit_volume_destroy(v);
-        return geom_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "read error after %zu bytes", got);
+        return geom__diag_set(diag, GEOM_ERR_IO, path, 0, 0, "read error after %zu bytes", got);
     }
     if ((desc->big_endian != 0) == host_is_little())
         swap_bytes(v->data, count, scalar_size(desc->type));
@@ -358,7 +358,7 @@ static int src_line(nrrd_src *s, char *buf, size_t cap, size_t *len)
 static geom_status nrrd_err(geom_diag *diag, const nrrd_src *s, size_t col, const char *fmt,
                             const char *arg)
 {
-    return geom_diag_set(diag, GEOM_ERR_PARSE, s->name, s->lineno, col, fmt, arg);
+    return geom__diag_set(diag, GEOM_ERR_PARSE, s->name, s->lineno, col, fmt, arg);
 }
 
 static int ieq(const char *a, const char *b)
@@ -616,21 +616,21 @@ static geom_status nrrd_header(nrrd_src *s, nrrd_info *h, const geom_allocator *
                                geom_diag *diag)
 {
     memset(h, 0, sizeof *h);
-    char *line = geom_alloc(alloc, NRRD_LINE_MAX);
+    char *line = geom__alloc(alloc, NRRD_LINE_MAX);
     if (!line)
-        return geom_diag_set(diag, GEOM_ERR_NOMEM, s->name, 0, 0, "out of memory");
+        return geom__diag_set(diag, GEOM_ERR_NOMEM, s->name, 0, 0, "out of memory");
     size_t len, total = 0;
     geom_status st = GEOM_OK;
     int r = src_line(s, line, NRRD_LINE_MAX, &len);
     if (r != 1 || len < 8 || strncmp(line, "NRRD000", 7) != 0 || line[7] < '1' || line[7] > '5') {
-        st = geom_diag_set(diag, GEOM_ERR_PARSE, s->name, 1, 1,
+        st = geom__diag_set(diag, GEOM_ERR_PARSE, s->name, 1, 1,
                            "not a NRRD file: expected the magic 'NRRD0001'..'NRRD0005'");
         goto done;
     }
     for (;;) {
         r = src_line(s, line, NRRD_LINE_MAX, &len);
         if (r < 0) {
-            st = geom_diag_set(diag, GEOM_ERR_PARSE, s->name, s->lineno + 1, 1,
+            st = geom__diag_set(diag, GEOM_ERR_PARSE, s->name, s->lineno + 1, 1,
                                "header line too long or holding a NUL byte");
             goto done;
         }
@@ -638,7 +638,7 @@ static geom_status nrrd_header(nrrd_src *s, nrrd_info *h, const geom_allocator *
             break;
         total += len + 1;
         if (total > NRRD_HEADER_MAX) {
-            st = geom_diag_set(diag, GEOM_ERR_LIMIT, s->name, s->lineno, 1,
+            st = geom__diag_set(diag, GEOM_ERR_LIMIT, s->name, s->lineno, 1,
                                "header longer than %d bytes", NRRD_HEADER_MAX);
             goto done;
         }
@@ -665,23 +665,23 @@ static geom_status nrrd_header(nrrd_src *s, nrrd_info *h, const geom_allocator *
     if (!h->type || !h->dimension || !h->have_sizes || !h->encoding) {
         const char *missing = !h->type ? "type" : !h->dimension ? "dimension"
                               : !h->have_sizes ? "sizes" : "encoding";
-        st = geom_diag_set(diag, GEOM_ERR_PARSE, s->name, s->lineno, 0,
+        st = geom__diag_set(diag, GEOM_ERR_PARSE, s->name, s->lineno, 0,
                            "NRRD header lacks the '%s' field", missing);
         goto done;
     }
     if (h->encoding == ENC_RAW && !h->endian) {
-        st = geom_diag_set(diag, GEOM_ERR_PARSE, s->name, s->lineno, 0,
+        st = geom__diag_set(diag, GEOM_ERR_PARSE, s->name, s->lineno, 0,
                            "NRRD header lacks the 'endian' field needed for raw %s data",
                            type_name(h->type));
         goto done;
     }
     if (h->byte_skip == -1 && h->encoding != ENC_RAW) {
-        st = geom_diag_set(diag, GEOM_ERR_PARSE, s->name, s->lineno, 0,
+        st = geom__diag_set(diag, GEOM_ERR_PARSE, s->name, s->lineno, 0,
                            "'byte skip: -1' needs raw encoding");
         goto done;
     }
 done:
-    geom_free(alloc, line, NRRD_LINE_MAX);
+    geom__free(alloc, line, NRRD_LINE_MAX);
     return st;
 }
 
@@ -707,7 +707,7 @@ static geom_status nrrd_read_ascii(nrrd_src *s, geom_implicit_volume *v, size_t 
         n = 0;
         while (c != EOF && !(c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == ',')) {
             if (n + 1 >= sizeof tok || c == '\0')
-                return geom_diag_set_offset(diag, GEOM_ERR_PARSE, s->name, off,
+                return geom__diag_set_offset(diag, GEOM_ERR_PARSE, s->name, off,
                                             "malformed ASCII value %zu", i + 1);
             tok[n++] = (char)c;
             if (s->fp)
@@ -717,13 +717,13 @@ static geom_status nrrd_read_ascii(nrrd_src *s, geom_implicit_volume *v, size_t 
             off++;
         }
         if (n == 0)
-            return geom_diag_set_offset(diag, GEOM_ERR_PARSE, s->name, off,
+            return geom__diag_set_offset(diag, GEOM_ERR_PARSE, s->name, off,
                                         "data ends after %zu of %zu values", i, count);
         tok[n] = '\0';
         const char *p = tok;
         double x;
         if (parse_num(&p, &x) != 0 || *p)
-            return geom_diag_set_offset(diag, GEOM_ERR_PARSE, s->name, off,
+            return geom__diag_set_offset(diag, GEOM_ERR_PARSE, s->name, off,
                                         "malformed ASCII value %zu", i + 1);
         if (v->type == GEOM_IMPLICIT_SCALAR_F32)
             ((float *)v->data)[i] = (float)x;
@@ -745,24 +745,24 @@ static geom_status nrrd_skip(nrrd_src *s, const nrrd_info *h, geom_diag *diag)
                 c = s->pos < s->size ? s->mem[s->pos++] : EOF;
         } while (c != EOF && c != '\n');
         if (c == EOF)
-            return geom_diag_set(diag, GEOM_ERR_PARSE, s->name, 0, 0,
+            return geom__diag_set(diag, GEOM_ERR_PARSE, s->name, 0, 0,
                                  "data ends within the %lld skipped lines", h->line_skip);
     }
     if (h->byte_skip > 0) {
         uint64_t rem;
         if (s->fp) {
             if (file_remaining(s->fp, &rem) != 0)
-                return geom_diag_set(diag, GEOM_ERR_IO, s->name, 0, 0,
+                return geom__diag_set(diag, GEOM_ERR_IO, s->name, 0, 0,
                                      "cannot determine the file size");
         } else {
             rem = s->size - s->pos;
         }
         if ((uint64_t)h->byte_skip > rem)
-            return geom_diag_set(diag, GEOM_ERR_PARSE, s->name, 0, 0,
+            return geom__diag_set(diag, GEOM_ERR_PARSE, s->name, 0, 0,
                                  "byte skip %lld is beyond the end of the data", h->byte_skip);
         if (s->fp) {
             if (fseek(s->fp, (long)h->byte_skip, SEEK_CUR) != 0)
-                return geom_diag_set(diag, GEOM_ERR_IO, s->name, 0, 0, "seek failed");
+                return geom__diag_set(diag, GEOM_ERR_IO, s->name, 0, 0, "seek failed");
         } else {
             s->pos += (size_t)h->byte_skip;
         }
@@ -786,21 +786,21 @@ static geom_status nrrd_data(nrrd_src *s, const nrrd_info *h, const geom_allocat
     size_t count, bytes;
     geom_status st = check_desc(&d, &count, &bytes);
     if (st != GEOM_OK)
-        return geom_diag_set(diag, st, s->name, 0, 0, "volume dimensions too large");
+        return geom__diag_set(diag, st, s->name, 0, 0, "volume dimensions too large");
     st = nrrd_skip(s, h, diag);
     if (st != GEOM_OK)
         return st;
     uint64_t rem;
     if (s->fp) {
         if (file_remaining(s->fp, &rem) != 0)
-            return geom_diag_set(diag, GEOM_ERR_IO, s->name, 0, 0, "cannot determine the file size");
+            return geom__diag_set(diag, GEOM_ERR_IO, s->name, 0, 0, "cannot determine the file size");
     } else {
         rem = s->size - s->pos;
     }
     /* Size checks before allocating. */
     if (h->encoding == ENC_RAW) {
         if (rem < (uint64_t)bytes)
-            return geom_diag_set_offset(diag, GEOM_ERR_PARSE, s->name, rem,
+            return geom__diag_set_offset(diag, GEOM_ERR_PARSE, s->name, rem,
                                         "data has %llu bytes but %zux%zux%zu %s samples need %llu",
                                         (unsigned long long)rem, d.dims[0], d.dims[1], d.dims[2],
                                         type_name(d.type), (unsigned long long)bytes);
@@ -808,20 +808,20 @@ static geom_status nrrd_data(nrrd_src *s, const nrrd_info *h, const geom_allocat
             uint64_t skip = rem - (uint64_t)bytes;
             if (s->fp) {
                 if (fseek(s->fp, (long)skip, SEEK_CUR) != 0)
-                    return geom_diag_set(diag, GEOM_ERR_IO, s->name, 0, 0, "seek failed");
+                    return geom__diag_set(diag, GEOM_ERR_IO, s->name, 0, 0, "seek failed");
             } else {
                 s->pos += (size_t)skip;
             }
         }
     } else if (rem / 2 + 1 < (uint64_t)count) {
-        return geom_diag_set_offset(diag, GEOM_ERR_PARSE, s->name, rem,
+        return geom__diag_set_offset(diag, GEOM_ERR_PARSE, s->name, rem,
                                     "ASCII data of %llu bytes cannot hold %zu values",
                                     (unsigned long long)rem, count);
     }
     geom_implicit_volume *v;
     st = geom_implicit_volume_create(&d, alloc, &v);
     if (st != GEOM_OK)
-        return geom_diag_set(diag, st, s->name, 0, 0, "%s", geom_status_str(st));
+        return geom__diag_set(diag, st, s->name, 0, 0, "%s", geom_status_str(st));
     if (h->encoding == ENC_RAW) {
         size_t got;
         if (s->fp) {
@@ -832,7 +832,7 @@ static geom_status nrrd_data(nrrd_src *s, const nrrd_info *h, const geom_allocat
         }
         if (got != bytes) {
             geom_implicit_volume_destroy(v);
-            return geom_diag_set(diag, GEOM_ERR_IO, s->name, 0, 0, "read error");
+            return geom__diag_set(diag, GEOM_ERR_IO, s->name, 0, 0, "read error");
         }
         if ((h->endian == 2) == host_is_little())
             swap_bytes(v->data, count, scalar_size(d.type));
@@ -855,7 +855,7 @@ geom_status geom_implicit_volume_read_nrrd_memory(const void *data, size_t size,
     if (out)
         *out = NULL;
     if (!out || (!data && size > 0))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "NULL data or output");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "NULL data or output");
     nrrd_src s;
     memset(&s, 0, sizeof s);
     s.mem = data;
@@ -866,7 +866,7 @@ geom_status geom_implicit_volume_read_nrrd_memory(const void *data, size_t size,
     if (st != GEOM_OK)
         return st;
     if (h.detached)
-        return geom_diag_set(diag, GEOM_ERR_PARSE, s.name, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_PARSE, s.name, 0, 0,
                              "detached NRRD header ('data file: %s') cannot be read from memory",
                              h.data_file);
     return nrrd_data(&s, &h, alloc, out, diag);
@@ -878,10 +878,10 @@ geom_status geom_implicit_volume_read_nrrd(const char *path, const geom_allocato
     if (out)
         *out = NULL;
     if (!path || !out)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "NULL path or output");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "NULL path or output");
     FILE *fp = fopen(path, "rb");
     if (!fp)
-        return geom_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "cannot open: %s", strerror(errno));
+        return geom__diag_set(diag, GEOM_ERR_IO, path, 0, 0, "cannot open: %s", strerror(errno));
     nrrd_src s;
     memset(&s, 0, sizeof s);
     s.fp = fp;
@@ -903,16 +903,16 @@ geom_status geom_implicit_volume_read_nrrd(const char *path, const geom_allocato
     const char *slash = strrchr(path, '/');
     size_t dlen = (h.data_file[0] == '/' || !slash) ? 0 : (size_t)(slash - path) + 1;
     size_t dsize = dlen + flen + 1;
-    char *dpath = geom_alloc(alloc, dsize);
+    char *dpath = geom__alloc(alloc, dsize);
     if (!dpath)
-        return geom_diag_set(diag, GEOM_ERR_NOMEM, path, 0, 0, "out of memory");
+        return geom__diag_set(diag, GEOM_ERR_NOMEM, path, 0, 0, "out of memory");
     memcpy(dpath, path, dlen);
     memcpy(dpath + dlen, h.data_file, flen + 1);
     FILE *df = fopen(dpath, "rb");
     if (!df) {
-        st = geom_diag_set(diag, GEOM_ERR_IO, dpath, 0, 0, "cannot open the data file: %s",
+        st = geom__diag_set(diag, GEOM_ERR_IO, dpath, 0, 0, "cannot open the data file: %s",
                            strerror(errno));
-        geom_free(alloc, dpath, dsize);
+        geom__free(alloc, dpath, dsize);
         return st;
     }
     nrrd_src ds;
@@ -921,6 +921,6 @@ geom_status geom_implicit_volume_read_nrrd(const char *path, const geom_allocato
     ds.name = dpath;
     st = nrrd_data(&ds, &h, alloc, out, diag);
     fclose(df);
-    geom_free(alloc, dpath, dsize);
+    geom__free(alloc, dpath, dsize);
     return st;
 }

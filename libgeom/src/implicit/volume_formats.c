@@ -197,10 +197,10 @@ static geom_status layout_bytes(const vf_layout *L, size_t *count, size_t *bytes
     for (int a = 0; a < 3; a++) {
         if (L->dims[a] == 0)
             return GEOM_ERR_PARSE;
-        if (geom_size_mul(n, L->dims[a], &n) != GEOM_OK)
+        if (geom__size_mul(n, L->dims[a], &n) != GEOM_OK)
             return GEOM_ERR_LIMIT;
     }
-    if (geom_size_mul(n, geom_implicit_sample_size(L->sample), bytes) != GEOM_OK)
+    if (geom__size_mul(n, geom_implicit_sample_size(L->sample), bytes) != GEOM_OK)
         return GEOM_ERR_LIMIT;
     *count = n;
     return GEOM_OK;
@@ -227,11 +227,11 @@ static geom_status make_volume(vf_ctx *c, const vf_layout *L, const unsigned cha
             len += L->axis[a][w] * L->axis[a][w];
         len = sqrt(len);
         if (!isfinite(len))
-            return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
+            return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
                                  "axis %d has a non-finite direction or spacing", a);
         if (len == 0.0) {
             if (L->dims[a] > 1)
-                return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
+                return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
                                      "axis %d has zero spacing", a);
             len = 1.0;
             d.spacing[a] = 1.0;
@@ -239,7 +239,7 @@ static geom_status make_volume(vf_ctx *c, const vf_layout *L, const unsigned cha
         } else {
             for (int w = 0; w < 3; w++)
                 if (w != main_ax && fabs(L->axis[a][w]) > 1e-6 * len)
-                    return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
+                    return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
                                          "axis %d direction (%g, %g, %g) is not along world "
                                          "axis %d: rotated or permuted volumes are not supported",
                                          a, L->axis[a][0], L->axis[a][1], L->axis[a][2], a);
@@ -250,13 +250,13 @@ static geom_status make_volume(vf_ctx *c, const vf_layout *L, const unsigned cha
         if (flip[a])
             d.origin[a] -= (double)(L->dims[a] - 1) * len;
         if (!isfinite(d.origin[a]))
-            return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
+            return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
                                  "non-finite origin");
     }
     geom_implicit_volume *v;
     geom_status st = geom_implicit_volume_create(&d, c->alloc, &v);
     if (st != GEOM_OK)
-        return geom_diag_set(c->diag, st, c->name, 0, 0, "cannot create a %zux%zux%zu volume: %s",
+        return geom__diag_set(c->diag, st, c->name, 0, 0, "cannot create a %zux%zux%zu volume: %s",
                              d.dims[0], d.dims[1], d.dims[2], geom_status_str(st));
     void *dst = geom_implicit_volume_data(v);
     size_t nx = d.dims[0], ny = d.dims[1], nz = d.dims[2];
@@ -295,27 +295,27 @@ static geom_status slurp(const char *path, const geom_allocator *alloc, unsigned
 {
     FILE *fp = fopen(path, "rb");
     if (!fp)
-        return geom_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "cannot open: %s", strerror(errno));
+        return geom__diag_set(diag, GEOM_ERR_IO, path, 0, 0, "cannot open: %s", strerror(errno));
     long end = -1;
     if (fseek(fp, 0, SEEK_END) == 0)
         end = ftell(fp);
     if (end < 0 || fseek(fp, 0, SEEK_SET) != 0) {
         fclose(fp);
-        return geom_diag_set(diag, GEOM_ERR_IO, path, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_IO, path, 0, 0,
                              "cannot determine the size (not a regular file?)");
     }
     size_t n = (size_t)end;
-    unsigned char *buf = geom_alloc(alloc, n ? n : 1);
+    unsigned char *buf = geom__alloc(alloc, n ? n : 1);
     if (!buf) {
         fclose(fp);
-        return geom_diag_set(diag, GEOM_ERR_NOMEM, path, 0, 0, "out of memory for %zu bytes", n);
+        return geom__diag_set(diag, GEOM_ERR_NOMEM, path, 0, 0, "out of memory for %zu bytes", n);
     }
     size_t got = n ? fread(buf, 1, n, fp) : 0;
     int err = ferror(fp);
     fclose(fp);
     if (got != n || err) {
-        geom_free(alloc, buf, n ? n : 1);
-        return geom_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "read error after %zu of %zu bytes",
+        geom__free(alloc, buf, n ? n : 1);
+        return geom__diag_set(diag, GEOM_ERR_IO, path, 0, 0, "read error after %zu of %zu bytes",
                              got, n);
     }
     *data = buf;
@@ -331,7 +331,7 @@ static char *sibling_path(const char *header, const char *file, const geom_alloc
     const char *slash = strrchr(header, '/');
     size_t dlen = (file[0] == '/' || !slash) ? 0 : (size_t)(slash - header) + 1;
     *cap = dlen + flen + 1;
-    char *p = geom_alloc(alloc, *cap);
+    char *p = geom__alloc(alloc, *cap);
     if (!p)
         return NULL;
     memcpy(p, header, dlen);
@@ -346,14 +346,14 @@ static geom_status inflate_all(vf_ctx *c, const unsigned char *in, size_t n, siz
                                unsigned char **out, size_t *out_size, size_t *cap_out)
 {
     if (!c->opt || !c->opt->inflate)
-        return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
+        return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
                              "compressed data and no decompressor (libgeom has no zlib: the "
                              "caller must pass an inflate callback, as the tools do)");
     /* deflate expands at most 1032:1, so a size claim beyond that is false
      * (and is refused before allocating it) */
     size_t most = n > (SIZE_MAX - 4096) / 1032 ? SIZE_MAX - 1 : n * 1032 + 4096;
     if (expect > most)
-        return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
+        return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
                              "%zu compressed bytes cannot hold the %zu bytes the header declares",
                              n, expect);
     size_t cap = expect;
@@ -366,16 +366,16 @@ static geom_status inflate_all(vf_ctx *c, const unsigned char *in, size_t n, siz
     }
     for (int tries = 0; tries < 40; tries++) {
         size_t alloc_size = cap + 1; /* one spare byte: a full buffer means "maybe more" */
-        unsigned char *buf = geom_alloc(c->alloc, alloc_size);
+        unsigned char *buf = geom__alloc(c->alloc, alloc_size);
         if (!buf)
-            return geom_diag_set(c->diag, GEOM_ERR_NOMEM, c->name, 0, 0,
+            return geom__diag_set(c->diag, GEOM_ERR_NOMEM, c->name, 0, 0,
                                  "out of memory inflating to %zu bytes", cap);
         size_t got = 0;
         geom_status st = c->opt->inflate(c->opt->inflate_user, in, n, buf, alloc_size, &got);
         if (st == GEOM_OK && got <= cap) {
             if (expect && got != expect) {
-                geom_free(c->alloc, buf, alloc_size);
-                return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
+                geom__free(c->alloc, buf, alloc_size);
+                return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
                                      "compressed data inflates to %zu bytes, expected %zu", got,
                                      expect);
             }
@@ -384,20 +384,20 @@ static geom_status inflate_all(vf_ctx *c, const unsigned char *in, size_t n, siz
             *cap_out = alloc_size;
             return GEOM_OK;
         }
-        geom_free(c->alloc, buf, alloc_size);
+        geom__free(c->alloc, buf, alloc_size);
         if (st == GEOM_OK)
             st = GEOM_ERR_LIMIT; /* filled the spare byte */
         if (st != GEOM_ERR_LIMIT || expect)
-            return geom_diag_set(c->diag, st == GEOM_ERR_LIMIT ? GEOM_ERR_PARSE : st, c->name, 0,
+            return geom__diag_set(c->diag, st == GEOM_ERR_LIMIT ? GEOM_ERR_PARSE : st, c->name, 0,
                                  0, "%s", st == GEOM_ERR_LIMIT
                                               ? "compressed data inflates to more than expected"
                                               : "corrupt compressed data");
         if (cap >= most)
-            return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
+            return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
                                  "compressed data inflates to more than 1032 times its size");
         cap = cap > most / 2 ? most : cap * 2;
     }
-    return geom_diag_set(c->diag, GEOM_ERR_LIMIT, c->name, 0, 0, "decompressed data too large");
+    return geom__diag_set(c->diag, GEOM_ERR_LIMIT, c->name, 0, 0, "decompressed data too large");
 }
 
 /*
@@ -413,12 +413,12 @@ static geom_status decode_payload(vf_ctx *c, const vf_layout *L, const unsigned 
     size_t count, bytes;
     geom_status st = layout_bytes(L, &count, &bytes);
     if (st != GEOM_OK)
-        return geom_diag_set(c->diag, st, c->name, 0, 0,
+        return geom__diag_set(c->diag, st, c->name, 0, 0,
                              st == GEOM_ERR_LIMIT ? "volume dimensions too large"
                                                   : "a dimension is zero");
     if (encoding == 0) {
         if (n < bytes || (exact && n != bytes))
-            return geom_diag_set_offset(
+            return geom__diag_set_offset(
                 c->diag, GEOM_ERR_PARSE, c->name, base + n,
                 "data has %zu bytes but %zux%zux%zu %s samples need %zu", n, L->dims[0],
                 L->dims[1], L->dims[2], geom_implicit_sample_name(L->sample), bytes);
@@ -433,16 +433,16 @@ static geom_status decode_payload(vf_ctx *c, const vf_layout *L, const unsigned 
         if (c->info)
             c->info->compressed = 1;
         st = make_volume(c, L, raw, NULL, out);
-        geom_free(c->alloc, raw, cap);
+        geom__free(c->alloc, raw, cap);
         return st;
     }
     if (encoding == 'h') {
         if (n / 2 < bytes)
-            return geom_diag_set_offset(c->diag, GEOM_ERR_PARSE, c->name, base + n,
+            return geom__diag_set_offset(c->diag, GEOM_ERR_PARSE, c->name, base + n,
                                         "hex data of %zu bytes cannot hold %zu bytes", n, bytes);
-        unsigned char *raw = geom_alloc(c->alloc, bytes ? bytes : 1);
+        unsigned char *raw = geom__alloc(c->alloc, bytes ? bytes : 1);
         if (!raw)
-            return geom_diag_set(c->diag, GEOM_ERR_NOMEM, c->name, 0, 0, "out of memory");
+            return geom__diag_set(c->diag, GEOM_ERR_NOMEM, c->name, 0, 0, "out of memory");
         size_t o = 0, i = 0;
         int half = -1;
         for (; i < n && o < bytes; i++) {
@@ -456,8 +456,8 @@ static geom_status decode_payload(vf_ctx *c, const vf_layout *L, const unsigned 
             else if (ch == ' ' || ch == '\t' || ch == '\n' || ch == '\r')
                 continue;
             else {
-                geom_free(c->alloc, raw, bytes ? bytes : 1);
-                return geom_diag_set_offset(c->diag, GEOM_ERR_PARSE, c->name, base + i,
+                geom__free(c->alloc, raw, bytes ? bytes : 1);
+                return geom__diag_set_offset(c->diag, GEOM_ERR_PARSE, c->name, base + i,
                                             "invalid hex digit (byte 0x%02x)", (unsigned)ch);
             }
             if (half < 0) {
@@ -468,24 +468,24 @@ static geom_status decode_payload(vf_ctx *c, const vf_layout *L, const unsigned 
             }
         }
         if (o < bytes) {
-            geom_free(c->alloc, raw, bytes ? bytes : 1);
-            return geom_diag_set_offset(c->diag, GEOM_ERR_PARSE, c->name, base + i,
+            geom__free(c->alloc, raw, bytes ? bytes : 1);
+            return geom__diag_set_offset(c->diag, GEOM_ERR_PARSE, c->name, base + i,
                                         "hex data ends after %zu of %zu bytes", o, bytes);
         }
         st = make_volume(c, L, raw, NULL, out);
-        geom_free(c->alloc, raw, bytes ? bytes : 1);
+        geom__free(c->alloc, raw, bytes ? bytes : 1);
         return st;
     }
     /* ASCII */
     if (n / 2 + 1 < count)
-        return geom_diag_set_offset(c->diag, GEOM_ERR_PARSE, c->name, base + n,
+        return geom__diag_set_offset(c->diag, GEOM_ERR_PARSE, c->name, base + n,
                                     "ASCII data of %zu bytes cannot hold %zu values", n, count);
     size_t vb;
-    if (geom_size_mul(count, sizeof(double), &vb) != GEOM_OK)
-        return geom_diag_set(c->diag, GEOM_ERR_LIMIT, c->name, 0, 0, "volume too large");
-    double *vals = geom_alloc(c->alloc, vb ? vb : 1);
+    if (geom__size_mul(count, sizeof(double), &vb) != GEOM_OK)
+        return geom__diag_set(c->diag, GEOM_ERR_LIMIT, c->name, 0, 0, "volume too large");
+    double *vals = geom__alloc(c->alloc, vb ? vb : 1);
     if (!vals)
-        return geom_diag_set(c->diag, GEOM_ERR_NOMEM, c->name, 0, 0, "out of memory");
+        return geom__diag_set(c->diag, GEOM_ERR_NOMEM, c->name, 0, 0, "out of memory");
     size_t i = 0;
     for (size_t k = 0; k < count; k++) {
         while (i < n && (p[i] == ' ' || p[i] == '\t' || p[i] == '\n' || p[i] == '\r' || p[i] == ','))
@@ -502,17 +502,17 @@ static geom_status decode_payload(vf_ctx *c, const vf_layout *L, const unsigned 
         double x = t ? strtod(tok, &end) : 0.0;
         if (t == 0 || *end != '\0' ||
             (i < n && !(p[i] == ' ' || p[i] == '\t' || p[i] == '\n' || p[i] == '\r' || p[i] == ','))) {
-            geom_free(c->alloc, vals, vb ? vb : 1);
+            geom__free(c->alloc, vals, vb ? vb : 1);
             if (t == 0)
-                return geom_diag_set_offset(c->diag, GEOM_ERR_PARSE, c->name, base + start,
+                return geom__diag_set_offset(c->diag, GEOM_ERR_PARSE, c->name, base + start,
                                             "data ends after %zu of %zu values", k, count);
-            return geom_diag_set_offset(c->diag, GEOM_ERR_PARSE, c->name, base + start,
+            return geom__diag_set_offset(c->diag, GEOM_ERR_PARSE, c->name, base + start,
                                         "malformed ASCII value %zu", k + 1);
         }
         vals[k] = x;
     }
     st = make_volume(c, L, NULL, vals, out);
-    geom_free(c->alloc, vals, vb ? vb : 1);
+    geom__free(c->alloc, vals, vb ? vb : 1);
     return st;
 }
 
@@ -521,16 +521,16 @@ static geom_status load_detached(vf_ctx *c, const char *file, unsigned char **da
                                  char **dpath, size_t *dcap)
 {
     if (!c->path)
-        return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
+        return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
                              "the header names a separate data file '%s', which cannot be read "
                              "from memory",
                              file);
     *dpath = sibling_path(c->path, file, c->alloc, dcap);
     if (!*dpath)
-        return geom_diag_set(c->diag, GEOM_ERR_NOMEM, c->name, 0, 0, "out of memory");
+        return geom__diag_set(c->diag, GEOM_ERR_NOMEM, c->name, 0, 0, "out of memory");
     geom_status st = slurp(*dpath, c->alloc, data, size, c->diag);
     if (st != GEOM_OK) {
-        geom_free(c->alloc, *dpath, *dcap);
+        geom__free(c->alloc, *dpath, *dcap);
         *dpath = NULL;
     }
     return st;
@@ -625,7 +625,7 @@ static int parse_sizes(const char *s, size_t *out, int max)
 
 static geom_status line_err(vf_ctx *c, const vf_lines *L, const char *what, const char *val)
 {
-    return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, L->lineno, 1, "%s '%.80s'", what, val);
+    return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, L->lineno, 1, "%s '%.80s'", what, val);
 }
 
 /* The next "KEY = value" line of a text header (MetaImage, INRIMAGE),
@@ -638,7 +638,7 @@ static int next_key_value(vf_ctx *c, vf_lines *L, const char *what, char **key, 
     for (;;) {
         int r = next_line(L);
         if (r < 0) {
-            *st = geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, L->lineno + 1, 1,
+            *st = geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, L->lineno + 1, 1,
                                 "header line too long or holding a NUL byte");
             return -1;
         }
@@ -663,15 +663,15 @@ static int next_key_value(vf_ctx *c, vf_lines *L, const char *what, char **key, 
 static geom_status take_dims(vf_ctx *c, vf_layout *Lay, const size_t *sz, int n, size_t line)
 {
     if (n < 1)
-        return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, line, 1, "no dimensions");
+        return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, line, 1, "no dimensions");
     for (int a = 0; a < n; a++) {
         if (sz[a] == 0)
-            return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, line, 1,
+            return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, line, 1,
                                  "dimension %d is zero", a + 1);
         if (a < 3)
             Lay->dims[a] = sz[a];
         else if (sz[a] != 1)
-            return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, line, 1,
+            return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, line, 1,
                                  "dimension %d has size %zu: only 3-D scalar volumes are supported",
                                  a + 1, sz[a]);
     }
@@ -761,7 +761,7 @@ static geom_status read_nrrd(vf_ctx *c, geom_implicit_volume **out)
     layout_init(&Lay);
     int r = next_line(&Ls);
     if (r != 1 || strncmp(Ls.line, "NRRD000", 7) != 0 || Ls.line[7] < '1' || Ls.line[7] > '5')
-        return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, 1, 1,
+        return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, 1, 1,
                              "not a NRRD file: expected the magic 'NRRD0001'..'NRRD0005'");
     int dimension = 0, have_type = 0, have_sizes = 0, encoding = -1, endian = 0;
     size_t sizes[16];
@@ -773,7 +773,7 @@ static geom_status read_nrrd(vf_ctx *c, geom_implicit_volume **out)
     for (;;) {
         r = next_line(&Ls);
         if (r < 0)
-            return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, Ls.lineno + 1, 1,
+            return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, Ls.lineno + 1, 1,
                                  "header line too long or holding a NUL byte");
         if (r == 0 || Ls.line[0] == '\0')
             break;
@@ -861,19 +861,19 @@ static geom_status read_nrrd(vf_ctx *c, geom_implicit_volume **out)
         }
     }
     if (!have_type || !dimension || !have_sizes || encoding < 0)
-        return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, Ls.lineno, 0,
+        return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, Ls.lineno, 0,
                              "NRRD header lacks the '%s' field",
                              !have_type ? "type" : !dimension ? "dimension"
                              : !have_sizes ? "sizes" : "encoding");
     if (nsizes != dimension)
-        return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, Ls.lineno, 0,
+        return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, Ls.lineno, 0,
                              "sizes has %d values but dimension is %d", nsizes, dimension);
     if (geom_implicit_sample_size(Lay.sample) > 1 && (encoding == 0 || encoding == 'g' || encoding == 'h') && !endian)
-        return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, Ls.lineno, 0,
+        return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, Ls.lineno, 0,
                              "NRRD header lacks the 'endian' field needed for %s data",
                              geom_implicit_sample_name(Lay.sample));
     if (byte_skip == -1 && encoding != 0)
-        return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, Ls.lineno, 0,
+        return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, Ls.lineno, 0,
                              "'byte skip: -1' needs raw encoding");
     Lay.big_endian = endian == 2;
     geom_status st = take_dims(c, &Lay, sizes, nsizes, Ls.lineno);
@@ -919,7 +919,7 @@ static geom_status read_nrrd(vf_ctx *c, geom_implicit_volume **out)
     for (long long l = 0; l < line_skip && st == GEOM_OK; l++) {
         const unsigned char *nl = memchr(p, '\n', n);
         if (!nl)
-            st = geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
+            st = geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
                                "data ends within the %lld skipped lines", line_skip);
         else {
             size_t k = (size_t)(nl - p) + 1;
@@ -933,16 +933,16 @@ static geom_status read_nrrd(vf_ctx *c, geom_implicit_volume **out)
         if (byte_skip == -1) {
             st = layout_bytes(&Lay, &count, &bytes);
             if (st == GEOM_OK && n < bytes)
-                st = geom_diag_set_offset(c->diag, GEOM_ERR_PARSE, c->name, base + n,
+                st = geom__diag_set_offset(c->diag, GEOM_ERR_PARSE, c->name, base + n,
                                           "data has %zu bytes but the samples need %zu", n, bytes);
             else if (st == GEOM_OK) {
                 p += n - bytes;
                 base += n - bytes;
                 n = bytes;
             } else
-                st = geom_diag_set(c->diag, st, c->name, 0, 0, "volume dimensions too large");
+                st = geom__diag_set(c->diag, st, c->name, 0, 0, "volume dimensions too large");
         } else if ((uint64_t)byte_skip > n) {
-            st = geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
+            st = geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
                                "byte skip %lld is beyond the end of the data", byte_skip);
         } else {
             p += byte_skip;
@@ -954,9 +954,9 @@ static geom_status read_nrrd(vf_ctx *c, geom_implicit_volume **out)
         st = decode_payload(c, &Lay, p, n, encoding, 0, base, out);
     c->name = saved;
     if (dbuf)
-        geom_free(c->alloc, dbuf, dsize ? dsize : 1);
+        geom__free(c->alloc, dbuf, dsize ? dsize : 1);
     if (dpath)
-        geom_free(c->alloc, dpath, dcap);
+        geom__free(c->alloc, dpath, dcap);
     return st;
 }
 
@@ -1078,11 +1078,11 @@ static geom_status read_metaimage(vf_ctx *c, geom_implicit_volume **out)
         }
     }
     if (!data_file[0] || !have_type || !have_dims)
-        return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, Ls.lineno, 0,
+        return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, Ls.lineno, 0,
                              "MetaImage header lacks '%s'",
                              !have_type ? "ElementType" : !have_dims ? "DimSize" : "ElementDataFile");
     if (ndims && ndimsz != ndims)
-        return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, Ls.lineno, 0,
+        return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, Ls.lineno, 0,
                              "DimSize has %d values but NDims is %d", ndimsz, ndims);
     geom_status st = take_dims(c, &Lay, dimsz, ndimsz, Ls.lineno);
     if (st != GEOM_OK)
@@ -1115,10 +1115,10 @@ static geom_status read_metaimage(vf_ctx *c, geom_implicit_volume **out)
     size_t count, bytes;
     st = layout_bytes(&Lay, &count, &bytes);
     if (st != GEOM_OK)
-        st = geom_diag_set(c->diag, st, c->name, 0, 0, "volume dimensions too large");
+        st = geom__diag_set(c->diag, st, c->name, 0, 0, "volume dimensions too large");
     if (st == GEOM_OK && header_size == -1 && !compressed) {
         if (n < bytes)
-            st = geom_diag_set_offset(c->diag, GEOM_ERR_PARSE, c->name, base + n,
+            st = geom__diag_set_offset(c->diag, GEOM_ERR_PARSE, c->name, base + n,
                                       "data has %zu bytes but the samples need %zu", n, bytes);
         else {
             p += n - bytes;
@@ -1127,7 +1127,7 @@ static geom_status read_metaimage(vf_ctx *c, geom_implicit_volume **out)
         }
     } else if (st == GEOM_OK && header_size > 0) {
         if ((uint64_t)header_size > n)
-            st = geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
+            st = geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
                                "HeaderSize %lld is beyond the end of the data", header_size);
         else {
             p += header_size;
@@ -1139,9 +1139,9 @@ static geom_status read_metaimage(vf_ctx *c, geom_implicit_volume **out)
         st = decode_payload(c, &Lay, p, n, compressed ? 'g' : 0, 0, base, out);
     c->name = saved;
     if (dbuf)
-        geom_free(c->alloc, dbuf, dsize ? dsize : 1);
+        geom__free(c->alloc, dbuf, dsize ? dsize : 1);
     if (dpath)
-        geom_free(c->alloc, dpath, dcap);
+        geom__free(c->alloc, dpath, dcap);
     return st;
 }
 
@@ -1158,7 +1158,7 @@ static geom_status read_inrimage(vf_ctx *c, geom_implicit_volume **out)
             break;
         }
     if (!end)
-        return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
+        return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
                              "INRIMAGE header does not end with '##}'");
     size_t hlen = (size_t)(end - c->buf) + 3;
     if (hlen < c->size && c->buf[hlen] == '\n')
@@ -1225,7 +1225,7 @@ static geom_status read_inrimage(vf_ctx *c, geom_implicit_volume **out)
         }
     }
     if (!dims[0] || !dims[1] || !dims[2] || !kind || !bits)
-        return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, Ls.lineno, 0,
+        return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, Ls.lineno, 0,
                              "INRIMAGE header lacks %s",
                              !dims[0] || !dims[1] || !dims[2] ? "XDIM/YDIM/ZDIM"
                              : !kind ? "TYPE" : "PIXSIZE");
@@ -1238,11 +1238,11 @@ static geom_status read_inrimage(vf_ctx *c, geom_implicit_volume **out)
     else if (bits == 32)
         Lay.sample = kind == 'u' ? GEOM_IMPLICIT_SAMPLE_U32 : GEOM_IMPLICIT_SAMPLE_I32;
     if (!Lay.sample)
-        return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
+        return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
                              "unsupported INRIMAGE sample: %zu-bit %s", bits,
                              kind == 'f' ? "float" : "fixed");
     if (cpu_big < 0 && bits > 8)
-        return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
+        return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
                              "INRIMAGE header lacks CPU (the byte order)");
     Lay.big_endian = cpu_big == 1;
     for (int a = 0; a < 3; a++) {
@@ -1278,7 +1278,7 @@ static geom_status read_nifti(vf_ctx *c, geom_implicit_volume **out)
 {
     const unsigned char *h = c->buf;
     if (!is_nifti(h, c->size))
-        return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
+        return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
                              "not a NIfTI-1 file (sizeof_hdr 348 and magic 'n+1' or 'ni1')");
     int big = load_uint(h, 4, 0) != 348;
     vf_layout Lay;
@@ -1286,13 +1286,13 @@ static geom_status read_nifti(vf_ctx *c, geom_implicit_volume **out)
     Lay.big_endian = big;
     int ndim = nii_i16(h, 40, big);
     if (ndim < 1 || ndim > 7)
-        return geom_diag_set_offset(c->diag, GEOM_ERR_PARSE, c->name, 40,
+        return geom__diag_set_offset(c->diag, GEOM_ERR_PARSE, c->name, 40,
                                     "dim[0] = %d: expected 1 to 7", ndim);
     size_t sz[7];
     for (int a = 0; a < ndim; a++) {
         int d = nii_i16(h, 42 + 2 * (size_t)a, big);
         if (d < 1)
-            return geom_diag_set_offset(c->diag, GEOM_ERR_PARSE, c->name, 42 + 2 * (uint64_t)a,
+            return geom__diag_set_offset(c->diag, GEOM_ERR_PARSE, c->name, 42 + 2 * (uint64_t)a,
                                         "dim[%d] = %d: expected >= 1", a + 1, d);
         sz[a] = (size_t)d;
     }
@@ -1310,7 +1310,7 @@ static geom_status read_nifti(vf_ctx *c, geom_implicit_volume **out)
     case 512: Lay.sample = GEOM_IMPLICIT_SAMPLE_U16; break;
     case 768: Lay.sample = GEOM_IMPLICIT_SAMPLE_U32; break;
     default:
-        return geom_diag_set_offset(c->diag, GEOM_ERR_PARSE, c->name, 70,
+        return geom__diag_set_offset(c->diag, GEOM_ERR_PARSE, c->name, 70,
                                     "unsupported NIfTI datatype %d (supported: 2, 4, 8, 16, 64, "
                                     "256, 512, 768)",
                                     dt);
@@ -1357,7 +1357,7 @@ static geom_status read_nifti(vf_ctx *c, geom_implicit_volume **out)
     if (memcmp(h + 344, "ni1", 4) == 0) {
         /* header/image pair: the .img next to the .hdr */
         if (!c->path)
-            return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
+            return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
                                  "a NIfTI .hdr names a separate .img, which cannot be read from "
                                  "memory");
         const char *slash = strrchr(c->path, '/');
@@ -1366,7 +1366,7 @@ static geom_status read_nifti(vf_ctx *c, geom_implicit_volume **out)
         char img[1024];
         size_t stem = dot ? (size_t)(dot - base) : strlen(base);
         if (stem + 5 >= sizeof img)
-            return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0, "file name too long");
+            return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0, "file name too long");
         memcpy(img, base, stem);
         memcpy(img + stem, ".img", 5);
         unsigned char *dbuf;
@@ -1380,12 +1380,12 @@ static geom_status read_nifti(vf_ctx *c, geom_implicit_volume **out)
         size_t off = vox_offset > 0.0 && vox_offset < (double)dsize ? (size_t)vox_offset : 0;
         st = decode_payload(c, &Lay, dbuf + off, dsize - off, 0, 0, off, out);
         c->name = saved;
-        geom_free(c->alloc, dbuf, dsize ? dsize : 1);
-        geom_free(c->alloc, dpath, dcap);
+        geom__free(c->alloc, dbuf, dsize ? dsize : 1);
+        geom__free(c->alloc, dpath, dcap);
         return st;
     }
     if (!(vox_offset >= 348.0) || vox_offset > (double)c->size)
-        return geom_diag_set_offset(c->diag, GEOM_ERR_PARSE, c->name, 108,
+        return geom__diag_set_offset(c->diag, GEOM_ERR_PARSE, c->name, 108,
                                     "vox_offset %g is outside the file (352 or more expected)",
                                     vox_offset);
     size_t off = (size_t)vox_offset;
@@ -1398,24 +1398,24 @@ static geom_status read_rawfile(vf_ctx *c, geom_implicit_volume **out)
 {
     const geom_implicit_volume_read_options *o = c->opt;
     if (!o || !o->dims[0] || !o->dims[1] || !o->dims[2])
-        return geom_diag_set(c->diag, GEOM_ERR_INVALID_ARG, c->name, 0, 0,
+        return geom__diag_set(c->diag, GEOM_ERR_INVALID_ARG, c->name, 0, 0,
                              "a raw volume needs its dimensions (and sample type)");
     vf_layout Lay;
     layout_init(&Lay);
     Lay.sample = o->sample ? o->sample : GEOM_IMPLICIT_SAMPLE_F32;
     if (!geom_implicit_sample_size(Lay.sample))
-        return geom_diag_set(c->diag, GEOM_ERR_INVALID_ARG, c->name, 0, 0, "invalid sample type");
+        return geom__diag_set(c->diag, GEOM_ERR_INVALID_ARG, c->name, 0, 0, "invalid sample type");
     Lay.big_endian = o->big_endian != 0;
     for (int a = 0; a < 3; a++) {
         if (!isfinite(o->spacing[a]) || o->spacing[a] < 0.0 || !isfinite(o->origin[a]))
-            return geom_diag_set(c->diag, GEOM_ERR_INVALID_ARG, c->name, 0, 0,
+            return geom__diag_set(c->diag, GEOM_ERR_INVALID_ARG, c->name, 0, 0,
                                  "invalid spacing or origin");
         Lay.dims[a] = o->dims[a];
         Lay.axis[a][a] = o->spacing[a] > 0.0 ? o->spacing[a] : 1.0;
         Lay.origin[a] = o->origin[a];
     }
     if (o->skip > (uint64_t)c->size)
-        return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
+        return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
                              "the file has %zu bytes, fewer than the %llu to skip", c->size,
                              (unsigned long long)o->skip);
     size_t skip = (size_t)o->skip;
@@ -1467,7 +1467,7 @@ static geom_status dispatch(vf_ctx *c, geom_implicit_volume **out)
         else if (c->opt && c->opt->dims[0])
             f = GEOM_IMPLICIT_VOLUME_RAW;
         else
-            return geom_diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
+            return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
                                  "not a known volume format (NRRD, MetaImage, INRIMAGE, NIfTI-1); "
                                  "for raw samples give the dimensions and sample type");
     }
@@ -1485,7 +1485,7 @@ static geom_status dispatch(vf_ctx *c, geom_implicit_volume **out)
     case GEOM_IMPLICIT_VOLUME_NIFTI:
         return read_nifti(c, out);
     default:
-        return geom_diag_set(c->diag, GEOM_ERR_INVALID_ARG, c->name, 0, 0, "unknown format %d",
+        return geom__diag_set(c->diag, GEOM_ERR_INVALID_ARG, c->name, 0, 0, "unknown format %d",
                              (int)f);
     }
 }
@@ -1508,7 +1508,7 @@ static geom_status read_buffer(vf_ctx *c, geom_implicit_volume **out)
         st = dispatch(c, out);
         c->buf = saved;
         c->size = ssize;
-        geom_free(c->alloc, raw, cap);
+        geom__free(c->alloc, raw, cap);
         if (c->info && st == GEOM_OK)
             c->info->compressed = 1;
         return st;
@@ -1527,7 +1527,7 @@ geom_status geom_implicit_volume_read_memory(const void *data, size_t size, cons
     if (info)
         memset(info, 0, sizeof *info);
     if (!out || (!data && size > 0))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, source_name ? source_name : "", 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, source_name ? source_name : "", 0, 0,
                              "NULL data or output");
     vf_ctx c;
     memset(&c, 0, sizeof c);
@@ -1551,7 +1551,7 @@ geom_status geom_implicit_volume_read(const char *path,
     if (info)
         memset(info, 0, sizeof *info);
     if (!path || !out)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, path ? path : "", 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, path ? path : "", 0, 0,
                              "NULL path or output");
     unsigned char *buf;
     size_t size;
@@ -1569,6 +1569,6 @@ geom_status geom_implicit_volume_read(const char *path,
     c.info = info;
     c.diag = diag;
     st = read_buffer(&c, out);
-    geom_free(alloc, buf, size ? size : 1);
+    geom__free(alloc, buf, size ? size : 1);
     return st;
 }

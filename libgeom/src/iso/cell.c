@@ -24,13 +24,13 @@
 #include <float.h>
 #include <string.h>
 
-const uint8_t geom_iso__edge_corners[12][2] = {
+const uint8_t geom__iso_edge_corners[12][2] = {
     {0, 1}, {2, 3}, {4, 5}, {6, 7}, /* along x */
     {0, 2}, {1, 3}, {4, 6}, {5, 7}, /* along y */
     {0, 4}, {1, 5}, {2, 6}, {3, 7}  /* along z */
 };
 
-const uint8_t geom_iso__face_corners[6][4] = {
+const uint8_t geom__iso_face_corners[6][4] = {
     {0, 4, 6, 2}, /* x = 0 */
     {1, 3, 7, 5}, /* x = 1 */
     {0, 1, 5, 4}, /* y = 0 */
@@ -50,7 +50,7 @@ static int edge_between(int a, int b)
     return 8 + (lo & 3);
 }
 
-int geom_iso__face_decider(double g00, double g10, double g01, double g11)
+int geom__iso_face_decider(double g00, double g10, double g01, double g11)
 {
     /* Sign of the bilinear interpolant at its saddle relative to the
      * isovalue: (g00 g11 - g10 g01) / (g00 + g11 - g10 - g01). On an
@@ -79,14 +79,14 @@ int geom_iso__face_decider(double g00, double g10, double g01, double g11)
     return ((g00 + g11) - (g10 + g01)) < 0;
 }
 
-int geom_iso__face_join(int f, const double g[8], int joined[2])
+int geom__iso_face_join(int f, const double g[8], int joined[2])
 {
     int axis = f >> 1, side = f & 1;
     int au = axis == 0 ? 1 : 0;
     int av = axis == 2 ? 1 : 2;
     int c00 = side << axis;
     int c10 = c00 | (1 << au), c01 = c00 | (1 << av), c11 = c10 | (1 << av);
-    int d = geom_iso__face_decider(g[c00], g[c10], g[c01], g[c11]);
+    int d = geom__iso_face_decider(g[c00], g[c10], g[c01], g[c11]);
     joined[0] = d ? c00 : c10;
     joined[1] = d ? c11 : c01;
     return !(g[joined[0]] > 0);
@@ -215,7 +215,7 @@ static void sweep_join(const double g0[8], uf *u)
             if (s[adj[a][0]] == s[adj[a][1]])
                 uf_union(u, cur[adj[a][0]], cur[adj[a][1]]);
         if (s[0] == s[3] && s[1] == s[2] && s[0] != s[1]) {
-            if (geom_iso__face_decider(v[0], v[1], v[2], v[3]))
+            if (geom__iso_face_decider(v[0], v[1], v[2], v[3]))
                 uf_union(u, cur[0], cur[3]);
             else
                 uf_union(u, cur[1], cur[2]);
@@ -278,7 +278,7 @@ static inline double tri_cost2(const double *p, const double *q, const double *r
     return c0 * c0 + c1 * c1 + c2 * c2;
 }
 
-int geom_iso__polygon_tris(int n, const double *const p[], const unsigned fm[], uint8_t (*tri)[3],
+int geom__iso_polygon_tris(int n, const double *const p[], const unsigned fm[], uint8_t (*tri)[3],
                      int *forced)
 {
     *forced = 0;
@@ -485,7 +485,7 @@ static int inner_vertex(const cell_ctx *cc, iso_cell_result *out, const double q
 }
 
 /* Triangulation of the polygon v[0..n-1] keeping its orientation: without
- * new vertices when possible (geom_iso__polygon_tris), else (when every choice
+ * new vertices when possible (geom__iso_polygon_tris), else (when every choice
  * would put a chord in a cell face) as a fan around an inner vertex. */
 static void tri_polygon(const int *v, int n, const cell_ctx *cc, iso_cell_result *out)
 {
@@ -499,7 +499,7 @@ static void tri_polygon(const int *v, int n, const cell_ctx *cc, iso_cell_result
         fm[i] = ref_faces(v[i]);
     }
     int forced;
-    int nt = geom_iso__polygon_tris(n, p, fm, t, &forced);
+    int nt = geom__iso_polygon_tris(n, p, fm, t, &forced);
     if (forced) {
         double q[3] = {0, 0, 0};
         for (int i = 0; i < n; i++)
@@ -864,7 +864,7 @@ static int tri_tube_ring(const int *a, int na, const int *b, int nb, int core_ou
 
 /* ----------------------------------------------------------- case table */
 
-void geom_iso__case_table_init(iso_case_table *t)
+void geom__iso_case_table_init(iso_case_table *t)
 {
     for (int cs = 0; cs < 256; cs++) {
         iso_case *c = &t->cases[cs];
@@ -876,7 +876,7 @@ void geom_iso__case_table_init(iso_case_table *t)
             next[e] = -1;
         int ambiguous = 0;
         for (int f = 0; f < 6; f++) {
-            const uint8_t *p = geom_iso__face_corners[f];
+            const uint8_t *p = geom__iso_face_corners[f];
             int sg[4], changes = 0;
             for (int k = 0; k < 4; k++)
                 sg[k] = (cs >> p[k]) & 1;
@@ -969,7 +969,7 @@ static int cell_self_intersects(const iso_cell_result *out, const double (*vpos)
 
 /* ------------------------------------------------------------- the cell */
 
-void geom_iso__cell_triangulate(const double g[8], const double vpos[12][3], const double lo[3],
+void geom__iso_cell_triangulate(const double g[8], const double vpos[12][3], const double lo[3],
                           const double size[3], iso_cell_result *out)
 {
     out->ntris = 0;
@@ -989,7 +989,7 @@ void geom_iso__cell_triangulate(const double g[8], const double vpos[12][3], con
         next[e] = -1;
     int joined[6][2];
     for (int f = 0; f < 6; f++) {
-        const uint8_t *p = geom_iso__face_corners[f];
+        const uint8_t *p = geom__iso_face_corners[f];
         int s[4];
         int changes = 0;
         for (int k = 0; k < 4; k++)
@@ -1007,7 +1007,7 @@ void geom_iso__cell_triangulate(const double g[8], const double vpos[12][3], con
             }
             next[from] = to;
         } else if (changes == 4) {
-            int inside_joined = geom_iso__face_join(f, g, joined[f]);
+            int inside_joined = geom__iso_face_join(f, g, joined[f]);
             for (int k = 0; k < 4; k++) {
                 int km = (k + 3) & 3, kp = (k + 1) & 3;
                 if (inside_joined && s[k])
@@ -1047,7 +1047,7 @@ void geom_iso__cell_triangulate(const double g[8], const double vpos[12][3], con
     uf u;
     uf_init(&u, UF_MAX);
     for (int e = 0; e < 12; e++) {
-        int a = geom_iso__edge_corners[e][0], b = geom_iso__edge_corners[e][1];
+        int a = geom__iso_edge_corners[e][0], b = geom__iso_edge_corners[e][1];
         if (((outside >> a) & 1u) == ((outside >> b) & 1u))
             uf_union(&u, a, b);
     }
@@ -1060,7 +1060,7 @@ void geom_iso__cell_triangulate(const double g[8], const double vpos[12][3], con
     int rin[7], rout[7], group[7];
     for (int i = 0; i < nc; i++) {
         int e = verts[cstart[i]];
-        int a = geom_iso__edge_corners[e][0], b = geom_iso__edge_corners[e][1];
+        int a = geom__iso_edge_corners[e][0], b = geom__iso_edge_corners[e][1];
         int in = g[a] > 0 ? b : a;
         int ou = g[a] > 0 ? a : b;
         rin[i] = uf_find(&u, in);
@@ -1094,7 +1094,7 @@ void geom_iso__cell_triangulate(const double g[8], const double vpos[12][3], con
                 int pin[2], pout[2];
                 for (int q = 0; q < 2; q++) {
                     int e = verts[cstart[members[q]]];
-                    int a = geom_iso__edge_corners[e][0], b = geom_iso__edge_corners[e][1];
+                    int a = geom__iso_edge_corners[e][0], b = geom__iso_edge_corners[e][1];
                     pin[q] = uf_find(&surf, g[a] > 0 ? b : a);
                     pout[q] = uf_find(&surf, g[a] > 0 ? a : b);
                 }

@@ -7,7 +7,7 @@
 #include <omp.h>
 #endif
 
-void geom_iso__field_gradient(const geom_iso_field *f, const double p[3], const double h[3],
+void geom__iso_field_gradient(const geom_iso_field *f, const double p[3], const double h[3],
                         double g[3], size_t *evals)
 {
     if (f->gradient) {
@@ -30,13 +30,13 @@ void geom_iso__field_gradient(const geom_iso_field *f, const double p[3], const 
     *evals += 6;
 }
 
-int geom_iso__point_error(const geom_iso_field *f, double iso, const double p[3], const double h[3],
+int geom__iso_point_error(const geom_iso_field *f, double iso, const double p[3], const double h[3],
                     double *e, size_t *evals)
 {
     double v = f->value(f->user, p);
     *evals += 1;
     double g[3];
-    geom_iso__field_gradient(f, p, h, g, evals);
+    geom__iso_field_gradient(f, p, h, g, evals);
     double n = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
     double d = fabs(v - iso);
     if (!isfinite(d) || !(n > 0) || !isfinite(n))
@@ -48,7 +48,7 @@ int geom_iso__point_error(const geom_iso_field *f, double iso, const double p[3]
 #define CHUNK 2048
 #define SUB 512 /* points per batch of value-and-gradient evaluations */
 
-/* The error measure from a value and a gradient (as geom_iso__point_error). */
+/* The error measure from a value and a gradient (as geom__iso_point_error). */
 static int error_of(double iso, double v, const double g[3], double *e)
 {
     double n = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
@@ -77,7 +77,7 @@ static void acc_sample(iso_err_acc *a, double e)
 
 /* Measure over vertices and triangles in fixed chunks (so the sums do not
  * depend on the thread count), in parallel when OpenMP is there. */
-geom_status geom_iso__measure(const geom_iso_field *f, double iso, size_t nv, const double *xyz,
+geom_status geom__iso_measure(const geom_iso_field *f, double iso, size_t nv, const double *xyz,
                         const uint8_t *vmask, size_t nt, const uint32_t *tris, size_t stride,
                         const double h[3], int threads, const geom_allocator *alloc,
                         iso_err_acc *total)
@@ -90,9 +90,9 @@ geom_status geom_iso__measure(const geom_iso_field *f, double iso, size_t nv, co
     if (nchunks == 0)
         return GEOM_OK;
     size_t bytes;
-    if (geom_size_mul(nchunks, sizeof(iso_err_acc), &bytes) != GEOM_OK)
+    if (geom__size_mul(nchunks, sizeof(iso_err_acc), &bytes) != GEOM_OK)
         return GEOM_ERR_LIMIT;
-    iso_err_acc *acc = geom_alloc(alloc, bytes);
+    iso_err_acc *acc = geom__alloc(alloc, bytes);
     if (!acc)
         return GEOM_ERR_NOMEM;
     memset(acc, 0, bytes);
@@ -159,7 +159,7 @@ geom_status geom_iso__measure(const geom_iso_field *f, double iso, size_t nv, co
             for (size_t v = b; v < end; v++) {
                 if ((vmask && !vmask[v]) || v % stride)
                     continue;
-                if (geom_iso__point_error(f, iso, xyz + 3 * v, h, &e, &a->evaluations))
+                if (geom__iso_point_error(f, iso, xyz + 3 * v, h, &e, &a->evaluations))
                     acc_vertex(a, e);
                 else
                     a->unmeasured++;
@@ -179,7 +179,7 @@ geom_status geom_iso__measure(const geom_iso_field *f, double iso, size_t nv, co
                     s[3][c] = 0.5 * (p[2][c] + p[0][c]);
                 }
                 for (int k = 0; k < 4; k++) {
-                    if (geom_iso__point_error(f, iso, s[k], h, &e, &a->evaluations))
+                    if (geom__iso_point_error(f, iso, s[k], h, &e, &a->evaluations))
                         acc_sample(a, e);
                     else
                         a->unmeasured++;
@@ -200,7 +200,7 @@ geom_status geom_iso__measure(const geom_iso_field *f, double iso, size_t nv, co
         total->unmeasured += a->unmeasured;
         total->evaluations += a->evaluations;
     }
-    geom_free(alloc, acc, bytes);
+    geom__free(alloc, acc, bytes);
     return GEOM_OK;
 }
 
@@ -238,7 +238,7 @@ geom_status geom_iso_measure_error(const geom_iso_field *field, double iso, size
     double step = ext > 0 ? 1e-5 * ext : 1e-5;
     double h[3] = {step, step, step};
     iso_err_acc acc;
-    geom_status st = geom_iso__measure(field, iso, n_vertices, xyz, NULL, n_triangles, tris, 1, h, 1,
+    geom_status st = geom__iso_measure(field, iso, n_vertices, xyz, NULL, n_triangles, tris, 1, h, 1,
                                        NULL, &acc);
     if (st != GEOM_OK)
         return st;

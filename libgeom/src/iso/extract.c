@@ -108,12 +108,12 @@ static int grow(const geom_allocator *a, void **p, size_t *cap, size_t need, siz
 
 static void slab_free(const geom_allocator *a, slab *s)
 {
-    geom_free(a, s->xyz, s->capv * 3 * sizeof(double));
-    geom_free(a, s->nrm, s->capn * 3 * sizeof(double));
-    geom_free(a, s->tri, s->captri * 3 * sizeof(uint32_t));
-    geom_free(a, s->cap, s->capcap * 3 * sizeof(uint32_t));
-    geom_free(a, s->bot, s->capbot * sizeof(iso_key));
-    geom_free(a, s->top, s->captop * sizeof(iso_key));
+    geom__free(a, s->xyz, s->capv * 3 * sizeof(double));
+    geom__free(a, s->nrm, s->capn * 3 * sizeof(double));
+    geom__free(a, s->tri, s->captri * 3 * sizeof(uint32_t));
+    geom__free(a, s->cap, s->capcap * 3 * sizeof(uint32_t));
+    geom__free(a, s->bot, s->capbot * sizeof(iso_key));
+    geom__free(a, s->top, s->captop * sizeof(iso_key));
     s->xyz = s->nrm = NULL;
     s->tri = s->cap = NULL;
     s->bot = s->top = NULL;
@@ -142,7 +142,7 @@ static uint32_t add_vertex(slab *s, const ctx *c, const double p[3], int axis, d
     x[2] = p[2];
     if (c->normals) {
         double g[3];
-        geom_iso__field_gradient(c->field, p, c->dstep, g, &s->evaluations);
+        geom__iso_field_gradient(c->field, p, c->dstep, g, &s->evaluations);
         double n = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
         double *o = s->nrm + 3 * s->nv;
         if (n > 0 && isfinite(n)) {
@@ -456,7 +456,7 @@ static uint32_t make_edge_vertex(slab *s, const ctx *c, work *w, size_t i, size_
         nk = k;
         axis = 2;
     }
-    int a = geom_iso__edge_corners[e][0], b = geom_iso__edge_corners[e][1];
+    int a = geom__iso_edge_corners[e][0], b = geom__iso_edge_corners[e][1];
     double ga, gb;
     if (g) {
         ga = g[a];
@@ -553,7 +553,7 @@ static void do_cell(slab *s, const ctx *c, work *w, size_t i, size_t j, const do
         }
         uint8_t t[12][3];
         int forced;
-        int nt = geom_iso__polygon_tris(n, p, fm, t, &forced);
+        int nt = geom__iso_polygon_tris(n, p, fm, t, &forced);
         if (forced)
             goto general;
         for (int q = 0; q < nt; q++)
@@ -566,7 +566,7 @@ general:;
     double vpos[12][3];
     uint32_t vid[12];
     for (int e = 0; e < 12; e++) {
-        int a = geom_iso__edge_corners[e][0], b = geom_iso__edge_corners[e][1];
+        int a = geom__iso_edge_corners[e][0], b = geom__iso_edge_corners[e][1];
         if ((g[a] > 0) == (g[b] > 0))
             continue;
         vid[e] = cell_edge_vertex(s, c, w, i, j, e, g);
@@ -581,7 +581,7 @@ general:;
     double size[3] = {c->coord[0][i + 1] - lo[0], c->coord[1][j + 1] - lo[1],
                       c->coord[2][w->k + 1] - lo[2]};
     iso_cell_result r;
-    geom_iso__cell_triangulate(g, (const double(*)[3])vpos, lo, size, &r);
+    geom__iso_cell_triangulate(g, (const double(*)[3])vpos, lo, size, &r);
     uint32_t inner[ISO_CELL_MAX_INNER];
     for (int q = 0; q < r.ninner; q++)
         inner[q] = add_vertex(s, c, r.inner[q], 0, 1.0);
@@ -612,7 +612,7 @@ general:;
  * outside the box. */
 static void do_cap(slab *s, const ctx *c, work *w, size_t i, size_t j, int f, const double g[8])
 {
-    const uint8_t *p = geom_iso__face_corners[f];
+    const uint8_t *p = geom__iso_face_corners[f];
     int in[4], nin = 0, changes = 0;
     for (int k = 0; k < 4; k++) {
         in[k] = !(g[p[k]] > 0);
@@ -624,7 +624,7 @@ static void do_cap(slab *s, const ctx *c, work *w, size_t i, size_t j, int f, co
         changes += in[k] != in[(k + 1) & 3];
     if (changes == 4) {
         int jn[2];
-        if (!geom_iso__face_join(f, g, jn)) {
+        if (!geom__iso_face_join(f, g, jn)) {
             /* inside corners separated: one triangle each */
             for (int k = 0; k < 4; k++) {
                 if (!in[k])
@@ -632,7 +632,7 @@ static void do_cap(slab *s, const ctx *c, work *w, size_t i, size_t j, int f, co
                 int km = (k + 3) & 3, kp = (k + 1) & 3;
                 int e0 = -1, e1 = -1;
                 for (int e = 0; e < 12; e++) {
-                    int a = geom_iso__edge_corners[e][0], b = geom_iso__edge_corners[e][1];
+                    int a = geom__iso_edge_corners[e][0], b = geom__iso_edge_corners[e][1];
                     if ((a == p[km] && b == p[k]) || (a == p[k] && b == p[km]))
                         e0 = e;
                     if ((a == p[k] && b == p[kp]) || (a == p[kp] && b == p[k]))
@@ -655,7 +655,7 @@ static void do_cap(slab *s, const ctx *c, work *w, size_t i, size_t j, int f, co
         if (in[k] != in[kp]) {
             int ee = -1;
             for (int e = 0; e < 12; e++) {
-                int a = geom_iso__edge_corners[e][0], b = geom_iso__edge_corners[e][1];
+                int a = geom__iso_edge_corners[e][0], b = geom__iso_edge_corners[e][1];
                 if ((a == p[k] && b == p[kp]) || (a == p[kp] && b == p[k]))
                     ee = e;
             }
@@ -695,7 +695,7 @@ static void simple_cell(slab *s, const ctx *c, work *w, size_t i, size_t j, cons
     }
     uint8_t t[12][3];
     int forced;
-    int nt = geom_iso__polygon_tris(n, p, fm, t, &forced);
+    int nt = geom__iso_polygon_tris(n, p, fm, t, &forced);
     if (forced) {
         visit_cell(s, c, w, i, j, 0); /* the general path adds an inner vertex */
         return;
@@ -755,16 +755,16 @@ static void work_free(const ctx *c, work *w)
     size_t nx = c->n[0], ny = c->n[1], nx1 = nx + 1, ny1 = ny + 1, nn = nx1 * ny1;
     const geom_allocator *al = c->alloc;
     for (int l = 0; l < 2; l++) {
-        geom_free(al, w->L[l].buf, nn * sizeof(double));
-        geom_free(al, w->L[l].s, nn);
-        geom_free(al, w->L[l].rlo, ny1 * sizeof(uint32_t));
-        geom_free(al, w->L[l].rhi, ny1 * sizeof(uint32_t));
-        geom_free(al, w->L[l].xv, nx * ny1 * sizeof(uint32_t));
-        geom_free(al, w->L[l].yv, nx1 * ny * sizeof(uint32_t));
-        geom_free(al, w->L[l].nv, nn * sizeof(uint32_t));
+        geom__free(al, w->L[l].buf, nn * sizeof(double));
+        geom__free(al, w->L[l].s, nn);
+        geom__free(al, w->L[l].rlo, ny1 * sizeof(uint32_t));
+        geom__free(al, w->L[l].rhi, ny1 * sizeof(uint32_t));
+        geom__free(al, w->L[l].xv, nx * ny1 * sizeof(uint32_t));
+        geom__free(al, w->L[l].yv, nx1 * ny * sizeof(uint32_t));
+        geom__free(al, w->L[l].nv, nn * sizeof(uint32_t));
     }
-    geom_free(al, w->zv, nn * sizeof(uint32_t));
-    geom_free(al, w->pts, 3 * nx1 * sizeof(double));
+    geom__free(al, w->zv, nn * sizeof(uint32_t));
+    geom__free(al, w->pts, 3 * nx1 * sizeof(double));
     memset(w, 0, sizeof *w);
 }
 
@@ -788,19 +788,19 @@ static void work_init(const ctx *c, work *w)
     memset(w, 0, sizeof *w);
     int ok = 1;
     for (int l = 0; l < 2; l++) {
-        w->L[l].buf = geom_alloc(al, nn * sizeof(double));
-        w->L[l].s = geom_alloc(al, nn);
-        w->L[l].rlo = geom_alloc(al, ny1 * sizeof(uint32_t));
-        w->L[l].rhi = geom_alloc(al, ny1 * sizeof(uint32_t));
-        w->L[l].xv = geom_alloc(al, nx * ny1 * sizeof(uint32_t));
-        w->L[l].yv = geom_alloc(al, nx1 * ny * sizeof(uint32_t));
-        w->L[l].nv = c->caps ? geom_alloc(al, nn * sizeof(uint32_t)) : NULL;
+        w->L[l].buf = geom__alloc(al, nn * sizeof(double));
+        w->L[l].s = geom__alloc(al, nn);
+        w->L[l].rlo = geom__alloc(al, ny1 * sizeof(uint32_t));
+        w->L[l].rhi = geom__alloc(al, ny1 * sizeof(uint32_t));
+        w->L[l].xv = geom__alloc(al, nx * ny1 * sizeof(uint32_t));
+        w->L[l].yv = geom__alloc(al, nx1 * ny * sizeof(uint32_t));
+        w->L[l].nv = c->caps ? geom__alloc(al, nn * sizeof(uint32_t)) : NULL;
         ok = ok && w->L[l].buf && w->L[l].s && w->L[l].rlo && w->L[l].rhi && w->L[l].xv &&
              w->L[l].yv && (!c->caps || w->L[l].nv);
     }
-    w->zv = geom_alloc(al, nn * sizeof(uint32_t));
+    w->zv = geom__alloc(al, nn * sizeof(uint32_t));
     if (!c->grid && c->field->values) {
-        w->pts = geom_alloc(al, 3 * nx1 * sizeof(double));
+        w->pts = geom__alloc(al, 3 * nx1 * sizeof(double));
         ok = ok && w->pts;
     }
     ok = ok && w->zv;
@@ -1015,7 +1015,7 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
 {
     ctx c = *c0;
     iso_case_table table;
-    geom_iso__case_table_init(&table);
+    geom__iso_case_table_init(&table);
     c.cases = &table;
     const geom_allocator *al = c.alloc;
     size_t nz = c.n[2];
@@ -1030,9 +1030,9 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
             nblk *= c.nb[a]; /* cells fit size_t, blocks do too */
         }
         c.bsz = B;
-        blk = geom_alloc(al, nblk);
+        blk = geom__alloc(al, nblk);
         if (!blk)
-            return geom_diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "geom_iso: out of memory");
+            return geom__diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "geom_iso: out of memory");
         size_t b0[3] = {0, 0, 0};
         classify_blocks(&c, blk, b0, c.nb);
         c.blk = blk;
@@ -1058,10 +1058,10 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
             layers = 8;
     }
     size_t nslabs = (nz + layers - 1) / layers;
-    slab *sl = geom_alloc(al, nslabs * sizeof(slab));
+    slab *sl = geom__alloc(al, nslabs * sizeof(slab));
     if (!sl) {
-        geom_free(al, blk, nblk ? nblk : 1);
-        return geom_diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "geom_iso: out of memory");
+        geom__free(al, blk, nblk ? nblk : 1);
+        return geom__diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "geom_iso: out of memory");
     }
     memset(sl, 0, nslabs * sizeof(slab));
     for (size_t q = 0; q < nslabs; q++) {
@@ -1127,7 +1127,7 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
     uint32_t **remap = NULL;
     size_t nv = 0, nt = 0, ncap = 0;
     if (st == GEOM_OK) {
-        remap = geom_alloc(al, nslabs * sizeof(uint32_t *));
+        remap = geom__alloc(al, nslabs * sizeof(uint32_t *));
         if (!remap)
             st = GEOM_ERR_NOMEM;
         else
@@ -1135,7 +1135,7 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
     }
     for (size_t q = 0; q < nslabs && st == GEOM_OK; q++) {
         slab *s = &sl[q];
-        remap[q] = geom_alloc(al, (s->nv ? s->nv : 1) * sizeof(uint32_t));
+        remap[q] = geom__alloc(al, (s->nv ? s->nv : 1) * sizeof(uint32_t));
         if (!remap[q]) {
             st = GEOM_ERR_NOMEM;
             break;
@@ -1171,15 +1171,15 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
     }
     if (st == GEOM_OK) {
         size_t tb;
-        if (geom_size_mul(nt + ncap, 3 * sizeof(uint32_t), &tb) != GEOM_OK ||
+        if (geom__size_mul(nt + ncap, 3 * sizeof(uint32_t), &tb) != GEOM_OK ||
             nv > SIZE_MAX / (3 * sizeof(double)))
             st = GEOM_ERR_LIMIT;
         else {
             out->n_vertices = nv;
             out->n_triangles = nt + ncap;
-            out->xyz = geom_alloc(al, (nv ? nv : 1) * 3 * sizeof(double));
-            out->normals = c.normals ? geom_alloc(al, (nv ? nv : 1) * 3 * sizeof(double)) : NULL;
-            out->tris = geom_alloc(al, tb ? tb : 1);
+            out->xyz = geom__alloc(al, (nv ? nv : 1) * 3 * sizeof(double));
+            out->normals = c.normals ? geom__alloc(al, (nv ? nv : 1) * 3 * sizeof(double)) : NULL;
+            out->tris = geom__alloc(al, tb ? tb : 1);
             if (!out->xyz || !out->tris || (c.normals && !out->normals))
                 st = GEOM_ERR_NOMEM;
         }
@@ -1225,19 +1225,19 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
             }
         }
         if (remap)
-            geom_free(al, remap[q], (s->nv ? s->nv : 1) * sizeof(uint32_t));
+            geom__free(al, remap[q], (s->nv ? s->nv : 1) * sizeof(uint32_t));
         slab_free(al, s);
     }
     if (remap)
-        geom_free(al, remap, nslabs * sizeof(uint32_t *));
-    geom_free(al, sl, nslabs * sizeof(slab));
+        geom__free(al, remap, nslabs * sizeof(uint32_t *));
+    geom__free(al, sl, nslabs * sizeof(slab));
     r->slabs = nslabs;
     r->threads = used;
     r->cells = c.n[0] * c.n[1] * c.n[2];
     r->cells_evaluated = cells_eval;
     r->blocks = nblk;
     r->blocks_skipped = nskipped;
-    geom_free(al, blk, nblk ? nblk : 1);
+    geom__free(al, blk, nblk ? nblk : 1);
     c.blk = blk = NULL;
 
     if (st == GEOM_OK) {
@@ -1251,7 +1251,7 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
             uint8_t *mask = NULL;
             if (out->n_cap_triangles) {
                 /* vertices of the caps only (box nodes) are not on the surface */
-                mask = geom_alloc(al, out->n_vertices ? out->n_vertices : 1);
+                mask = geom__alloc(al, out->n_vertices ? out->n_vertices : 1);
                 if (!mask)
                     st = GEOM_ERR_NOMEM;
                 else {
@@ -1276,9 +1276,9 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
             }
             r->error_stride = stride;
             if (st == GEOM_OK)
-                st = geom_iso__measure(c.field, c.iso, out->n_vertices, out->xyz, mask, nst,
+                st = geom__iso_measure(c.field, c.iso, out->n_vertices, out->xyz, mask, nst,
                                        out->tris, stride, c.dstep, threads, al, &acc);
-            geom_free(al, mask, out->n_vertices ? out->n_vertices : 1);
+            geom__free(al, mask, out->n_vertices ? out->n_vertices : 1);
             if (st == GEOM_OK) {
                 r->vertex_error.max_error = acc.vmax;
                 r->vertex_error.mean_error = acc.vcount ? acc.vsum / (double)acc.vcount : 0;
@@ -1302,7 +1302,7 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
     if (st != GEOM_OK) {
         geom_iso_surface_free(out);
         memset(out, 0, sizeof *out);
-        return geom_diag_set(diag, st, "", 0, 0, "geom_iso: %s", geom_status_str(st));
+        return geom__diag_set(diag, st, "", 0, 0, "geom_iso: %s", geom_status_str(st));
     }
     r->seconds = now_seconds() - t_start;
     r->error.evaluations = r->vertex_error.evaluations;
@@ -1323,36 +1323,36 @@ static geom_status extract_field(const geom_iso_field *field, const double bound
 {
     double t0 = now_seconds();
     if (!out)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "geom_iso_extract: NULL out");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "geom_iso_extract: NULL out");
     memset(out, 0, sizeof *out);
     if (!field || !field->value || !bounds || !res)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                              "geom_iso_extract: NULL argument");
     double iso = opt ? opt->iso : 0.0;
     if (!isfinite(iso))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                              "geom_iso_extract: non-finite isovalue");
     for (int a = 0; a < 3; a++) {
         if (!isfinite(bounds[a]) || !isfinite(bounds[a + 3]) || !(bounds[a] < bounds[a + 3]))
-            return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+            return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                                  "geom_iso_extract: bounds must be finite with min < max");
         if (res[a] == 0)
-            return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+            return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                                  "geom_iso_extract: zero resolution");
         if (res[a] >= (size_t)UINT32_MAX / 4)
-            return geom_diag_set(diag, GEOM_ERR_LIMIT, "", 0, 0,
+            return geom__diag_set(diag, GEOM_ERR_LIMIT, "", 0, 0,
                                  "geom_iso_extract: resolution too large");
     }
     size_t layer;
-    if (geom_size_mul(res[0] + 1, res[1] + 1, &layer) != GEOM_OK ||
-        geom_size_mul(layer, 8 * sizeof(double), &layer) != GEOM_OK)
-        return geom_diag_set(diag, GEOM_ERR_LIMIT, "", 0, 0, "geom_iso_extract: grid too large");
+    if (geom__size_mul(res[0] + 1, res[1] + 1, &layer) != GEOM_OK ||
+        geom__size_mul(layer, 8 * sizeof(double), &layer) != GEOM_OK)
+        return geom__diag_set(diag, GEOM_ERR_LIMIT, "", 0, 0, "geom_iso_extract: grid too large");
     init_out(out, opt);
     const geom_allocator *al = opt ? opt->alloc : NULL;
     double *coord[3] = {NULL, NULL, NULL};
     geom_status st = GEOM_OK;
     for (int a = 0; a < 3 && st == GEOM_OK; a++) {
-        coord[a] = geom_alloc(al, (res[a] + 1) * sizeof(double));
+        coord[a] = geom__alloc(al, (res[a] + 1) * sizeof(double));
         if (!coord[a]) {
             st = GEOM_ERR_NOMEM;
             break;
@@ -1386,10 +1386,10 @@ static geom_status extract_field(const geom_iso_field *field, const double bound
         c.alloc = al;
         st = extract(&c, opt, out, t0, diag);
     } else {
-        geom_diag_set(diag, st, "", 0, 0, "geom_iso_extract: %s", geom_status_str(st));
+        geom__diag_set(diag, st, "", 0, 0, "geom_iso_extract: %s", geom_status_str(st));
     }
     for (int a = 0; a < 3; a++)
-        geom_free(al, coord[a], (res[a] + 1) * sizeof(double));
+        geom__free(al, coord[a], (res[a] + 1) * sizeof(double));
     return st;
 }
 
@@ -1398,15 +1398,15 @@ static geom_status extract_grid(const geom_iso_grid *grid, const geom_iso_option
 {
     double t0 = now_seconds();
     if (!out)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                              "geom_iso_extract_grid: NULL out");
     memset(out, 0, sizeof *out);
     geom_status st = geom_iso_grid_check(grid);
     if (st != GEOM_OK)
-        return geom_diag_set(diag, st, "", 0, 0, "geom_iso_extract_grid: invalid grid");
+        return geom__diag_set(diag, st, "", 0, 0, "geom_iso_extract_grid: invalid grid");
     double iso = opt ? opt->iso : 0.0;
     if (!isfinite(iso))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                              "geom_iso_extract_grid: non-finite isovalue");
     init_out(out, opt);
     if (grid->dims[0] < 2 || grid->dims[1] < 2 || grid->dims[2] < 2) {
@@ -1415,14 +1415,14 @@ static geom_status extract_grid(const geom_iso_grid *grid, const geom_iso_option
     }
     for (int a = 0; a < 3; a++)
         if (grid->dims[a] - 1 >= (size_t)UINT32_MAX / 4)
-            return geom_diag_set(diag, GEOM_ERR_LIMIT, "", 0, 0,
+            return geom__diag_set(diag, GEOM_ERR_LIMIT, "", 0, 0,
                                  "geom_iso_extract_grid: grid too large");
     const geom_allocator *al = opt ? opt->alloc : NULL;
     geom_iso_field field;
     geom_iso_field_from_grid(grid, &field);
     double *coord[3] = {NULL, NULL, NULL};
     for (int a = 0; a < 3 && st == GEOM_OK; a++) {
-        coord[a] = geom_alloc(al, grid->dims[a] * sizeof(double));
+        coord[a] = geom__alloc(al, grid->dims[a] * sizeof(double));
         if (!coord[a]) {
             st = GEOM_ERR_NOMEM;
             break;
@@ -1453,10 +1453,10 @@ static geom_status extract_grid(const geom_iso_grid *grid, const geom_iso_option
         c.alloc = al;
         st = extract(&c, opt, out, t0, diag);
     } else {
-        geom_diag_set(diag, st, "", 0, 0, "geom_iso_extract_grid: %s", geom_status_str(st));
+        geom__diag_set(diag, st, "", 0, 0, "geom_iso_extract_grid: %s", geom_status_str(st));
     }
     for (int a = 0; a < 3; a++)
-        geom_free(al, coord[a], grid->dims[a] * sizeof(double));
+        geom__free(al, coord[a], grid->dims[a] * sizeof(double));
     return st;
 }
 
@@ -1546,7 +1546,7 @@ geom_status geom_iso_extract(const geom_iso_field *field, const double bounds[6]
     } else if (opt && opt->inside != GEOM_ISO_INSIDE_BELOW && opt->inside != GEOM_ISO_INSIDE_ABOVE) {
         if (out)
             memset(out, 0, sizeof *out);
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                              "geom_iso_extract: inside must be GEOM_ISO_INSIDE_BELOW or _ABOVE");
     } else
         st = extract_field(field, bounds, res, opt, out, diag);
@@ -1561,7 +1561,7 @@ geom_status geom_iso_extract_grid(const geom_iso_grid *grid, const geom_iso_opti
     if (opt && opt->inside != GEOM_ISO_INSIDE_BELOW && opt->inside != GEOM_ISO_INSIDE_ABOVE) {
         if (out)
             memset(out, 0, sizeof *out);
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                              "geom_iso_extract_grid: inside must be GEOM_ISO_INSIDE_BELOW or _ABOVE");
     }
     if (!(opt && opt->inside == GEOM_ISO_INSIDE_ABOVE) || geom_iso_grid_check(grid) != GEOM_OK) {
@@ -1574,16 +1574,16 @@ geom_status geom_iso_extract_grid(const geom_iso_grid *grid, const geom_iso_opti
     const geom_allocator *al = opt->alloc;
     size_t n = grid->dims[0] * grid->dims[1] * grid->dims[2];
     size_t es = grid->type == GEOM_ISO_SCALAR_F32 ? sizeof(float) : sizeof(double), bytes;
-    if (geom_size_mul(n, es, &bytes) != GEOM_OK) {
+    if (geom__size_mul(n, es, &bytes) != GEOM_OK) {
         if (out)
             memset(out, 0, sizeof *out);
-        return geom_diag_set(diag, GEOM_ERR_LIMIT, "", 0, 0, "geom_iso_extract_grid: grid too large");
+        return geom__diag_set(diag, GEOM_ERR_LIMIT, "", 0, 0, "geom_iso_extract_grid: grid too large");
     }
-    void *neg = geom_alloc(al, bytes ? bytes : 1);
+    void *neg = geom__alloc(al, bytes ? bytes : 1);
     if (!neg) {
         if (out)
             memset(out, 0, sizeof *out);
-        return geom_diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "geom_iso_extract_grid: out of memory");
+        return geom__diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "geom_iso_extract_grid: out of memory");
     }
     if (grid->type == GEOM_ISO_SCALAR_F32) {
         const float *src = grid->data;
@@ -1601,7 +1601,7 @@ geom_status geom_iso_extract_grid(const geom_iso_grid *grid, const geom_iso_opti
     geom_iso_options o = *opt;
     o.iso = -opt->iso;
     geom_status st = extract_grid(&g, &o, out, diag);
-    geom_free(al, neg, bytes ? bytes : 1);
+    geom__free(al, neg, bytes ? bytes : 1);
     if (st == GEOM_OK)
         signed_volume(out);
     return st;

@@ -16,11 +16,11 @@ geom_status geom_iso_grid_check(const geom_iso_grid *g)
             return GEOM_ERR_INVALID_ARG;
         if (!(g->spacing[a] >= 0) || !isfinite(g->spacing[a]) || !isfinite(g->origin[a]))
             return GEOM_ERR_INVALID_ARG;
-        if (geom_size_mul(n, g->dims[a], &n) != GEOM_OK)
+        if (geom__size_mul(n, g->dims[a], &n) != GEOM_OK)
             return GEOM_ERR_LIMIT;
     }
     size_t bytes;
-    if (geom_size_mul(n, g->type == GEOM_ISO_SCALAR_F32 ? sizeof(float) : sizeof(double),
+    if (geom__size_mul(n, g->type == GEOM_ISO_SCALAR_F32 ? sizeof(float) : sizeof(double),
                       &bytes) != GEOM_OK)
         return GEOM_ERR_LIMIT;
     return GEOM_OK;

@@ -13,16 +13,16 @@
  *  - edges 0..3 run along x, at (y, z) = (0,0), (1,0), (0,1), (1,1);
  *    edges 4..7 along y at (x, z) = (0,0), (1,0), (0,1), (1,1);
  *    edges 8..11 along z at (x, y) = (0,0), (1,0), (0,1), (1,1);
- *    geom_iso__edge_corners[e] = {lower corner, upper corner};
+ *    geom__iso_edge_corners[e] = {lower corner, upper corner};
  *  - faces 0..5 are x = 0, x = 1, y = 0, y = 1, z = 0, z = 1 (face f has the
  *    fixed axis f >> 1 at the side f & 1).
  * Values g are f - iso, with g <= 0 inside (the level iso + epsilon).
  */
-extern const uint8_t geom_iso__edge_corners[12][2];
+extern const uint8_t geom__iso_edge_corners[12][2];
 /** The corners of each face, counter-clockwise seen from outside the cell. */
-extern const uint8_t geom_iso__face_corners[6][4];
+extern const uint8_t geom__iso_face_corners[6][4];
 
-/** Largest polygon geom_iso__polygon_tris handles. */
+/** Largest polygon geom__iso_polygon_tris handles. */
 #define ISO_POLY_MAX 36
 
 /**
@@ -35,7 +35,7 @@ extern const uint8_t geom_iso__face_corners[6][4];
  * set when every triangulation has such a chord (the caller should then
  * use an inner vertex instead).
  */
-int geom_iso__polygon_tris(int n, const double *const p[], const unsigned fm[], uint8_t (*tri)[3],
+int geom__iso_polygon_tris(int n, const double *const p[], const unsigned fm[], uint8_t (*tri)[3],
                      int *forced);
 
 /** Faces (bits 0..5) containing cell edge e. */
@@ -64,13 +64,13 @@ typedef struct iso_case_table {
     iso_case cases[256];
 } iso_case_table;
 
-void geom_iso__case_table_init(iso_case_table *t);
+void geom__iso_case_table_init(iso_case_table *t);
 
 /** Largest number of triangles and inner vertices one cell produces. */
 #define ISO_CELL_MAX_TRIS 64
 #define ISO_CELL_MAX_INNER 24
 
-/** What geom_iso__cell_triangulate made for one cell. */
+/** What geom__iso_cell_triangulate made for one cell. */
 typedef struct iso_cell_result {
     int ntris;
     /** Vertex references: 0..11 the crossing vertex of that edge,
@@ -89,7 +89,7 @@ typedef struct iso_cell_result {
  * lower corner and size (for inner vertices). The cell must be active (not
  * all corners on one side).
  */
-void geom_iso__cell_triangulate(const double g[8], const double vpos[12][3], const double lo[3],
+void geom__iso_cell_triangulate(const double g[8], const double vpos[12][3], const double lo[3],
                           const double size[3], iso_cell_result *out);
 
 /**
@@ -98,12 +98,12 @@ void geom_iso__cell_triangulate(const double g[8], const double vpos[12][3], con
  * 00 and 11 are joined through the face, 0 if 10 and 01 are. Only
  * meaningful for an ambiguous face. Symbolically perturbed for iso + eps.
  */
-int geom_iso__face_decider(double g00, double g10, double g01, double g11);
+int geom__iso_face_decider(double g00, double g10, double g01, double g11);
 
 /** For an ambiguous face f of a cell with corner values g: the joined
  *  diagonal (two corners) into joined, and 1 if they are inside corners,
  *  0 if outside ones. The same answer in both cells sharing the face. */
-int geom_iso__face_join(int f, const double g[8], int joined[2]);
+int geom__iso_face_join(int f, const double g[8], int joined[2]);
 
 /** Error accumulation. */
 typedef struct iso_err_acc {
@@ -117,18 +117,18 @@ typedef struct iso_err_acc {
 
 /** Gradient of the field at p: the callback, else central differences
  *  with per-axis steps h (3 doubles). Adds evaluations to *evals. */
-void geom_iso__field_gradient(const geom_iso_field *f, const double p[3], const double h[3],
+void geom__iso_field_gradient(const geom_iso_field *f, const double p[3], const double h[3],
                         double g[3], size_t *evals);
 
 /** |f(p) - iso| / |grad f(p)| into *e; returns 0 if not measurable. */
-int geom_iso__point_error(const geom_iso_field *f, double iso, const double p[3], const double h[3],
+int geom__iso_point_error(const geom_iso_field *f, double iso, const double p[3], const double h[3],
                     double *e, size_t *evals);
 
 /** Error over nv vertices (those with vmask[v] != 0 when vmask is given)
  *  and nt triangles (fixed chunks, deterministic whatever the thread
  *  count), only the indices that are multiples of stride (0 = 1);
  *  h: central-difference steps. */
-geom_status geom_iso__measure(const geom_iso_field *f, double iso, size_t nv, const double *xyz,
+geom_status geom__iso_measure(const geom_iso_field *f, double iso, size_t nv, const double *xyz,
                               const uint8_t *vmask, size_t nt, const uint32_t *tris,
                               size_t stride, const double h[3], int threads,
                               const geom_allocator *alloc, iso_err_acc *total);

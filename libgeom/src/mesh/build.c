@@ -19,12 +19,12 @@
 
 #define INV GEOM_INVALID_INDEX
 
-void *geom_mesh__bs_alloc(geom_mesh__bscratch *s, size_t n, size_t es)
+void *geom__mesh_bs_alloc(geom__mesh_bscratch *s, size_t n, size_t es)
 {
     size_t b;
-    if (s->n >= (int)(sizeof s->p / sizeof s->p[0]) || geom_size_mul(n ? n : 1, es, &b) != GEOM_OK)
+    if (s->n >= (int)(sizeof s->p / sizeof s->p[0]) || geom__size_mul(n ? n : 1, es, &b) != GEOM_OK)
         return NULL;
-    void *p = geom_alloc(s->a, b);
+    void *p = geom__alloc(s->a, b);
     if (p) {
         s->p[s->n] = p;
         s->sz[s->n] = b;
@@ -33,11 +33,11 @@ void *geom_mesh__bs_alloc(geom_mesh__bscratch *s, size_t n, size_t es)
     return p;
 }
 
-void geom_mesh__bs_free_one(geom_mesh__bscratch *s, void *p)
+void geom__mesh_bs_free_one(geom__mesh_bscratch *s, void *p)
 {
     for (int i = 0; i < s->n; ++i)
         if (s->p[i] == p) {
-            geom_free(s->a, p, s->sz[i]);
+            geom__free(s->a, p, s->sz[i]);
             s->n--;
             s->p[i] = s->p[s->n];
             s->sz[i] = s->sz[s->n];
@@ -45,22 +45,22 @@ void geom_mesh__bs_free_one(geom_mesh__bscratch *s, void *p)
         }
 }
 
-void geom_mesh__bs_free_all(geom_mesh__bscratch *s)
+void geom__mesh_bs_free_all(geom__mesh_bscratch *s)
 {
     while (s->n > 0) {
         s->n--;
-        geom_free(s->a, s->p[s->n], s->sz[s->n]);
+        geom__free(s->a, s->p[s->n], s->sz[s->n]);
     }
 }
 
-void geom_mesh__report_add(size_t *count, uint32_t *first, uint32_t idx)
+void geom__mesh_report_add(size_t *count, uint32_t *first, uint32_t idx)
 {
     if (*count < GEOM_MESH_REPORT_FIRST)
         first[*count] = idx;
     (*count)++;
 }
 
-size_t geom_mesh__number_edges(size_t C, const uint32_t *partner, uint32_t *he_of)
+size_t geom__mesh_number_edges(size_t C, const uint32_t *partner, uint32_t *he_of)
 {
     size_t E = 0;
     memset(he_of, 0xff, C * sizeof(uint32_t));
@@ -82,7 +82,7 @@ static geom_status check_streams(const geom_mesh_build_options *opt, size_t nver
 {
     size_t n = opt ? opt->n_channels : 0;
     if (n && !opt->channels)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                              "geom_mesh_build: NULL channels");
     for (size_t i = 0; i < n; ++i) {
         const geom_mesh_build_channel *c = &opt->channels[i];
@@ -116,7 +116,7 @@ static geom_status check_streams(const geom_mesh_build_options *opt, size_t nver
                 strcmp(opt->channels[j].name, c->name) == 0)
                 why = "repeated name";
         if (why)
-            return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+            return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                                  "geom_mesh_build: channel %zu: %s", i, why);
     }
     return GEOM_OK;
@@ -148,7 +148,7 @@ static geom_status attach_streams(geom_mesh *m, const geom_mesh_build_options *o
         } else {
             if ((st = geom_mesh_corner_pool_resize(m, id, c->n_values)) != GEOM_OK)
                 return st;
-            geom_mesh__channel *ch = &m->channels[id];
+            geom__mesh_channel *ch = &m->channels[id];
             if (c->n_values)
                 memcpy(ch->data, c->values, c->n_values * nc * sizeof(double));
             uint32_t *ci = ch->corner;
@@ -184,14 +184,14 @@ geom_status geom_mesh_build(geom_mesh *m, size_t nverts, const double *xyz, size
     geom_mesh_build_report *rep = report ? report : &rep_local;
     memset(rep, 0, sizeof *rep);
     if (!m || (nverts && !xyz) || (nfaces && !face_sizes))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                              "geom_mesh_build: NULL argument");
     if (nverts >= (size_t)UINT32_MAX || nfaces >= (size_t)UINT32_MAX)
-        return geom_diag_set(diag, GEOM_ERR_LIMIT, "", 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_LIMIT, "", 0, 0,
                              "geom_mesh_build: more than 2^32-2 vertices or faces");
     for (size_t i = 0; i < nverts; ++i)
-        if (!geom_isfinite3(xyz + 3 * i))
-            return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+        if (!geom__isfinite3(xyz + 3 * i))
+            return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                                  "geom_mesh_build: vertex %zu has a non-finite coordinate", i);
     size_t nch = opt ? opt->n_channels : 0;
     uint32_t *fstart = NULL;
@@ -200,43 +200,43 @@ geom_status geom_mesh_build(geom_mesh *m, size_t nverts, const double *xyz, size
     if (nch) {
         /* input corner offsets of the faces, for the streams */
         size_t bytes;
-        if (geom_size_mul(nfaces + 1, sizeof(uint32_t), &bytes) != GEOM_OK)
-            return geom_diag_set(diag, GEOM_ERR_LIMIT, NULL, 0, 0, "geom_mesh_build: too large for 32-bit indices");
-        fstart = geom_alloc(&m->alloc, bytes);
+        if (geom__size_mul(nfaces + 1, sizeof(uint32_t), &bytes) != GEOM_OK)
+            return geom__diag_set(diag, GEOM_ERR_LIMIT, NULL, 0, 0, "geom_mesh_build: too large for 32-bit indices");
+        fstart = geom__alloc(&m->alloc, bytes);
         if (!fstart)
-            return geom_diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "geom_mesh_build: out of memory");
+            return geom__diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "geom_mesh_build: out of memory");
         for (size_t f = 0; f < nfaces; ++f) {
             fstart[f] = (uint32_t)ncorners;
             ncorners += face_sizes[f];
             if (ncorners > (size_t)INT32_MAX) {
-                geom_free(&m->alloc, fstart, bytes);
-                return geom_diag_set(diag, GEOM_ERR_LIMIT, "", 0, 0,
+                geom__free(&m->alloc, fstart, bytes);
+                return geom__diag_set(diag, GEOM_ERR_LIMIT, "", 0, 0,
                                      "geom_mesh_build: more than 2^31 face corners");
             }
         }
         fstart[nfaces] = (uint32_t)ncorners;
         if ((st = check_streams(opt, nverts, nfaces, ncorners, diag)) != GEOM_OK) {
-            geom_free(&m->alloc, fstart, bytes);
+            geom__free(&m->alloc, fstart, bytes);
             return st;
         }
     }
     /* the fast path first, for any input: it declines what needs a repair */
     st = GEOM_OK;
-    int repair = geom_mesh__build_fast(m, nverts, xyz, nfaces, face_sizes, indices, rep, &st) ==
+    int repair = geom__mesh_build_fast(m, nverts, xyz, nfaces, face_sizes, indices, rep, &st) ==
                  GEOM_MESH__NEEDS_REPAIR;
     if (repair && st == GEOM_OK) {
         memset(rep, 0, sizeof *rep);
-        st = geom_mesh__build_repair(m, nverts, xyz, nfaces, face_sizes, indices,
+        st = geom__mesh_build_repair(m, nverts, xyz, nfaces, face_sizes, indices,
                                      opt && opt->skip_invalid_faces, opt && opt->keep_orientation,
                                      rep, diag);
     }
     if (st == GEOM_OK && nch) {
         st = attach_streams(m, opt, fstart);
         if (st != GEOM_OK)
-            geom_mesh__clear_all(m);
+            geom__mesh_clear_all(m);
     }
     if (fstart)
-        geom_free(&m->alloc, fstart, (nfaces + 1) * sizeof(uint32_t));
+        geom__free(&m->alloc, fstart, (nfaces + 1) * sizeof(uint32_t));
 #ifndef NDEBUG
     if (st == GEOM_OK && !repair) {
         /* the fast path must give what the repairing one gives: a mesh

@@ -10,7 +10,7 @@
  *  1. faces: at least 3 vertices, indices in range, no repeated vertex;
  *  2. pairing: the corners leaving each vertex (one counting sort by source
  *     vertex); a corner a -> b is paired with the corner b -> a among those
- *     leaving b, and numbered as it is met (geom_mesh__number_edges's
+ *     leaving b, and numbered as it is met (geom__mesh_number_edges's
  *     order); a directed edge used twice, or an edge with more than two
  *     uses, needs the repair;
  *  3. halfedges: face cycles, boundary halfedges opposite unpaired corners;
@@ -132,7 +132,7 @@ static void fast_halfedges(const fast_ctx *x, geom_mesh *m)
             uint32_t hc = he_of[c], h = hc & ~PAIRED;
             m->he_vertex[h] = c + 1 < e ? cv[c + 1] : cv[s];
             m->he_face[h] = (uint32_t)f;
-            geom_mesh__link(m, hp, h);
+            geom__mesh_link(m, hp, h);
             if (!(hc & PAIRED)) {
                 m->he_vertex[h ^ 1u] = cv[c]; /* boundary halfedge */
                 m->he_face[h ^ 1u] = INV;
@@ -166,7 +166,7 @@ static int fast_vertices(const fast_ctx *x, geom_mesh *m, geom_mesh_build_report
     }
     for (size_t b = 1; b < H; b += 2)
         if (m->he_face[b] == INV)
-            geom_mesh__link(m, (uint32_t)b, m->v_he[m->he_vertex[b]]);
+            geom__mesh_link(m, (uint32_t)b, m->v_he[m->he_vertex[b]]);
     /* one fan per vertex: rotating from v_he visits every outgoing halfedge */
     for (size_t v = 0; v < nv; ++v) {
         uint32_t h0 = m->v_he[v], h = h0, n = 0;
@@ -184,11 +184,11 @@ static int fast_vertices(const fast_ctx *x, geom_mesh *m, geom_mesh_build_report
     return 0;
 }
 
-int geom_mesh__build_fast(geom_mesh *m, size_t nverts, const double *xyz, size_t nfaces,
+int geom__mesh_build_fast(geom_mesh *m, size_t nverts, const double *xyz, size_t nfaces,
                           const uint32_t *face_sizes, const uint32_t *indices,
                           geom_mesh_build_report *rep, geom_status *stp)
 {
-    geom_mesh__bscratch S;
+    geom__mesh_bscratch S;
     memset(&S, 0, sizeof S);
     S.a = &m->alloc;
     *stp = GEOM_OK;
@@ -210,12 +210,12 @@ int geom_mesh__build_fast(geom_mesh *m, size_t nverts, const double *xyz, size_t
     if (x.C >= (size_t)1 << 30 || (x.C && !indices))
         return GEOM_MESH__NEEDS_REPAIR;
     const size_t C = x.C;
-    x.cnt = geom_mesh__bs_alloc(&S, nverts + 1, sizeof(uint32_t));
-    x.outc = geom_mesh__bs_alloc(&S, C, sizeof(uint32_t));
-    x.he_of = geom_mesh__bs_alloc(&S, C, sizeof(uint32_t));
+    x.cnt = geom__mesh_bs_alloc(&S, nverts + 1, sizeof(uint32_t));
+    x.outc = geom__mesh_bs_alloc(&S, C, sizeof(uint32_t));
+    x.he_of = geom__mesh_bs_alloc(&S, C, sizeof(uint32_t));
     if (!x.tri) {
-        x.fs = geom_mesh__bs_alloc(&S, nfaces + 1, sizeof(uint32_t));
-        x.cb = geom_mesh__bs_alloc(&S, C, sizeof(uint32_t));
+        x.fs = geom__mesh_bs_alloc(&S, nfaces + 1, sizeof(uint32_t));
+        x.cb = geom__mesh_bs_alloc(&S, C, sizeof(uint32_t));
     }
     if (!x.cnt || !x.outc || !x.he_of || (!x.tri && (!x.fs || !x.cb))) {
         *stp = GEOM_ERR_NOMEM;
@@ -226,28 +226,28 @@ int geom_mesh__build_fast(geom_mesh *m, size_t nverts, const double *xyz, size_t
         repair = 1;
         goto out;
     }
-    geom_mesh__bs_free_one(&S, x.outc);
-    if ((*stp = geom_mesh__build_storage(m, nverts, H, nfaces)) != GEOM_OK)
+    geom__mesh_bs_free_one(&S, x.outc);
+    if ((*stp = geom__mesh_build_storage(m, nverts, H, nfaces)) != GEOM_OK)
         goto fail_mesh;
     fast_halfedges(&x, m);
     /* the corner arrays are done: freed before the vertex arrays are
      * written, which keeps them out of the peak */
-    geom_mesh__bs_free_one(&S, x.he_of);
-    geom_mesh__bs_free_one(&S, x.cb);
-    geom_mesh__bs_free_one(&S, x.fs);
+    geom__mesh_bs_free_one(&S, x.he_of);
+    geom__mesh_bs_free_one(&S, x.cb);
+    geom__mesh_bs_free_one(&S, x.fs);
     if (fast_vertices(&x, m, rep)) {
         repair = 1;
         goto fail_mesh;
     }
-    if (nverts && geom_mesh__pos(m) != xyz) /* adopted: already in place */
-        memcpy(geom_mesh__pos(m), xyz, 3 * nverts * sizeof(double));
+    if (nverts && geom__mesh_pos(m) != xyz) /* adopted: already in place */
+        memcpy(geom__mesh_pos(m), xyz, 3 * nverts * sizeof(double));
     for (size_t v = 0; v < nverts; ++v)
         m->vertex_origin[v] = (uint32_t)v;
     goto out;
 
 fail_mesh:
-    geom_mesh__clear_all(m);
+    geom__mesh_clear_all(m);
 out:
-    geom_mesh__bs_free_all(&S);
+    geom__mesh_bs_free_all(&S);
     return repair ? GEOM_MESH__NEEDS_REPAIR : 0;
 }

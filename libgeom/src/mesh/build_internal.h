@@ -10,29 +10,29 @@
 #include "mesh/mesh_internal.h"
 
 /* Scratch blocks of one build, all freed together. */
-typedef struct geom_mesh__bscratch {
+typedef struct geom__mesh_bscratch {
     const geom_allocator *a;
     void *p[24];
     size_t sz[24];
     int n;
-} geom_mesh__bscratch;
+} geom__mesh_bscratch;
 
 /* n elements of es bytes (n = 0 allocates one); NULL when out of memory. */
-void *geom_mesh__bs_alloc(geom_mesh__bscratch *s, size_t n, size_t es);
-/* Free one block early (p from geom_mesh__bs_alloc on s). */
-void geom_mesh__bs_free_one(geom_mesh__bscratch *s, void *p);
-void geom_mesh__bs_free_all(geom_mesh__bscratch *s);
+void *geom__mesh_bs_alloc(geom__mesh_bscratch *s, size_t n, size_t es);
+/* Free one block early (p from geom__mesh_bs_alloc on s). */
+void geom__mesh_bs_free_one(geom__mesh_bscratch *s, void *p);
+void geom__mesh_bs_free_all(geom__mesh_bscratch *s);
 
 /* Count an element in a report (*count) and keep the first few in first. */
-void geom_mesh__report_add(size_t *count, uint32_t *first, uint32_t idx);
+void geom__mesh_report_add(size_t *count, uint32_t *first, uint32_t idx);
 
 /* One edge per glued pair or unglued use, in the order of its first corner;
  * corner c becomes halfedge he_of[c] (2e for the first use, 2e + 1 for its
  * partner). Returns the halfedge count. Shared by both paths, so that they
  * number alike. */
-size_t geom_mesh__number_edges(size_t C, const uint32_t *partner, uint32_t *he_of);
+size_t geom__mesh_number_edges(size_t C, const uint32_t *partner, uint32_t *he_of);
 
-/* Returned by geom_mesh__build_fast when the input needs the repairing path. */
+/* Returned by geom__mesh_build_fast when the input needs the repairing path. */
 #define GEOM_MESH__NEEDS_REPAIR 1
 
 /*
@@ -40,13 +40,13 @@ size_t geom_mesh__number_edges(size_t C, const uint32_t *partner, uint32_t *he_o
  * Returns 0 with *st set (GEOM_OK, or an allocation failure: m is then
  * empty), or GEOM_MESH__NEEDS_REPAIR (m cleared, *st GEOM_OK).
  */
-int geom_mesh__build_fast(geom_mesh *m, size_t nverts, const double *xyz, size_t nfaces,
+int geom__mesh_build_fast(geom_mesh *m, size_t nverts, const double *xyz, size_t nfaces,
                           const uint32_t *face_sizes, const uint32_t *indices,
                           geom_mesh_build_report *rep, geom_status *st);
 
 /* The repairing build (steps 1-7, see build_repair.c). Arguments are checked
  * by the caller; rep is zeroed. */
-geom_status geom_mesh__build_repair(geom_mesh *m, size_t nverts, const double *xyz,
+geom_status geom__mesh_build_repair(geom_mesh *m, size_t nverts, const double *xyz,
                                     size_t nfaces, const uint32_t *face_sizes,
                                     const uint32_t *indices, int skip, int keep,
                                     geom_mesh_build_report *rep, geom_diag *diag);

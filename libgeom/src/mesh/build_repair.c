@@ -208,7 +208,7 @@ static int glue_ok(const cfans *k, const uint32_t *eglue, uint32_t x, uint32_t y
  * (corner c: vertex cv[c], next vertex cb[c], face cf[c]; face f: corners
  * fs[f] .. fs[f + 1] - 1, input face forig[f]) and the per-step arrays. */
 typedef struct rctx {
-    geom_mesh__bscratch S;
+    geom__mesh_bscratch S;
     size_t nverts, nfaces, F, C;
     const uint32_t *face_sizes, *indices;
     geom_mesh_build_report *rep;
@@ -234,8 +234,8 @@ static size_t edge_run(const rctx *x, size_t i)
 /* 1. validate faces: counts F and C. */
 static geom_status rp_validate(rctx *x, int skip, geom_diag *diag)
 {
-    uint32_t *stamp = geom_mesh__bs_alloc(&x->S, x->nverts, sizeof(uint32_t));
-    x->face_ok = geom_mesh__bs_alloc(&x->S, x->nfaces, 1);
+    uint32_t *stamp = geom__mesh_bs_alloc(&x->S, x->nverts, sizeof(uint32_t));
+    x->face_ok = geom__mesh_bs_alloc(&x->S, x->nfaces, 1);
     if (!stamp || !x->face_ok)
         return GEOM_ERR_NOMEM;
     memset(stamp, 0xff, (x->nverts ? x->nverts : 1) * sizeof(uint32_t));
@@ -264,9 +264,9 @@ static geom_status rp_validate(rctx *x, int skip, geom_diag *diag)
         x->face_ok[f] = why == NULL;
         if (why) {
             if (!skip)
-                return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+                return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                                      "geom_mesh_build: face %zu: %s", f, why);
-            geom_mesh__report_add(&x->rep->invalid_faces, x->rep->first_invalid_faces,
+            geom__mesh_report_add(&x->rep->invalid_faces, x->rep->first_invalid_faces,
                                   (uint32_t)f);
         } else {
             x->F++;
@@ -274,9 +274,9 @@ static geom_status rp_validate(rctx *x, int skip, geom_diag *diag)
         }
         off += n;
     }
-    geom_mesh__bs_free_one(&x->S, stamp);
+    geom__mesh_bs_free_one(&x->S, stamp);
     if (x->C > (size_t)INT32_MAX - 2)
-        return geom_diag_set(diag, GEOM_ERR_LIMIT, "", 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_LIMIT, "", 0, 0,
                              "geom_mesh_build: more than 2^31 face corners");
     return GEOM_OK;
 }
@@ -285,18 +285,18 @@ static geom_status rp_validate(rctx *x, int skip, geom_diag *diag)
 static geom_status rp_compact(rctx *x)
 {
     const size_t F = x->F, C = x->C;
-    geom_mesh__bscratch *S = &x->S;
-    x->fs = geom_mesh__bs_alloc(S, F + 1, sizeof(uint32_t));
-    x->forig = geom_mesh__bs_alloc(S, F, sizeof(uint32_t));
-    x->cv = geom_mesh__bs_alloc(S, C, sizeof(uint32_t));
-    x->cb = geom_mesh__bs_alloc(S, C, sizeof(uint32_t));
-    x->cf = geom_mesh__bs_alloc(S, C, sizeof(uint32_t));
-    x->order = geom_mesh__bs_alloc(S, C, sizeof(uint32_t));
-    x->tmp = geom_mesh__bs_alloc(S, C, sizeof(uint32_t));
-    x->partner = geom_mesh__bs_alloc(S, C, sizeof(uint32_t));
-    x->flip = geom_mesh__bs_alloc(S, F, 1);
-    x->fflag = geom_mesh__bs_alloc(S, F, 1);
-    x->cnt = geom_mesh__bs_alloc(S, x->nverts + 1, sizeof(uint32_t));
+    geom__mesh_bscratch *S = &x->S;
+    x->fs = geom__mesh_bs_alloc(S, F + 1, sizeof(uint32_t));
+    x->forig = geom__mesh_bs_alloc(S, F, sizeof(uint32_t));
+    x->cv = geom__mesh_bs_alloc(S, C, sizeof(uint32_t));
+    x->cb = geom__mesh_bs_alloc(S, C, sizeof(uint32_t));
+    x->cf = geom__mesh_bs_alloc(S, C, sizeof(uint32_t));
+    x->order = geom__mesh_bs_alloc(S, C, sizeof(uint32_t));
+    x->tmp = geom__mesh_bs_alloc(S, C, sizeof(uint32_t));
+    x->partner = geom__mesh_bs_alloc(S, C, sizeof(uint32_t));
+    x->flip = geom__mesh_bs_alloc(S, F, 1);
+    x->fflag = geom__mesh_bs_alloc(S, F, 1);
+    x->cnt = geom__mesh_bs_alloc(S, x->nverts + 1, sizeof(uint32_t));
     if (!x->fs || !x->forig || !x->cv || !x->cb || !x->cf || !x->order || !x->tmp ||
         !x->partner || !x->flip || !x->fflag || !x->cnt)
         return GEOM_ERR_NOMEM;
@@ -319,7 +319,7 @@ static geom_status rp_compact(rctx *x)
     x->fs[F] = (uint32_t)C;
     memset(x->fflag, 0, F ? F : 1);
     memset(x->flip, 0, F ? F : 1);
-    geom_mesh__bs_free_one(S, x->face_ok);
+    geom__mesh_bs_free_one(S, x->face_ok);
     x->face_ok = NULL;
     return GEOM_OK;
 }
@@ -361,7 +361,7 @@ static void rp_sort_edges(rctx *x)
 static geom_status rp_orient(rctx *x)
 {
     const size_t F = x->F;
-    uint8_t *seen = geom_mesh__bs_alloc(&x->S, F, 1);
+    uint8_t *seen = geom__mesh_bs_alloc(&x->S, F, 1);
     uint32_t *queue = x->tmp; /* tmp is free again; F <= C */
     if (!seen)
         return GEOM_ERR_NOMEM;
@@ -394,7 +394,7 @@ static geom_status rp_orient(rctx *x)
         if (conflict)
             x->rep->nonorientable_components++;
     }
-    geom_mesh__bs_free_one(&x->S, seen);
+    geom__mesh_bs_free_one(&x->S, seen);
     return GEOM_OK;
 }
 
@@ -407,7 +407,7 @@ static geom_status rp_pair(rctx *x, int *have_multi)
     uint8_t *fflag = x->fflag;
     /* conflicts per face (two-face edges used twice the same way), to
      * detach the face with more of them rather than its neighbour */
-    uint32_t *nconf = geom_mesh__bs_alloc(&x->S, F, sizeof(uint32_t));
+    uint32_t *nconf = geom__mesh_bs_alloc(&x->S, F, sizeof(uint32_t));
     if (!nconf)
         return GEOM_ERR_NOMEM;
     memset(nconf, 0, (F ? F : 1) * sizeof(uint32_t));
@@ -442,7 +442,7 @@ static geom_status rp_pair(rctx *x, int *have_multi)
         }
         i = j;
     }
-    geom_mesh__bs_free_one(&x->S, nconf);
+    geom__mesh_bs_free_one(&x->S, nconf);
     return GEOM_OK;
 }
 
@@ -557,15 +557,15 @@ static void rp_multi_detach(rctx *x)
 static geom_status rp_multi(rctx *x)
 {
     const size_t C = x->C;
-    geom_mesh__bscratch *S = &x->S;
+    geom__mesh_bscratch *S = &x->S;
     cfans K = {x->cf,
                x->fs,
                x->flip,
                x->partner,
-               geom_mesh__bs_alloc(S, C, sizeof(uint32_t)),
-               geom_mesh__bs_alloc(S, C, sizeof(uint32_t)),
-               geom_mesh__bs_alloc(S, C, sizeof(uint32_t))};
-    uint32_t *eglue = geom_mesh__bs_alloc(S, C, sizeof(uint32_t));
+               geom__mesh_bs_alloc(S, C, sizeof(uint32_t)),
+               geom__mesh_bs_alloc(S, C, sizeof(uint32_t)),
+               geom__mesh_bs_alloc(S, C, sizeof(uint32_t))};
+    uint32_t *eglue = geom__mesh_bs_alloc(S, C, sizeof(uint32_t));
     if (!K.fan || !K.out_end || !K.in_end || !eglue)
         return GEOM_ERR_NOMEM;
     for (size_t c = 0; c < C; ++c) {
@@ -582,10 +582,10 @@ static geom_status rp_multi(rctx *x)
     rp_multi_close(x, &K);
     rp_multi_glue(x, &K, eglue);
     rp_multi_detach(x);
-    geom_mesh__bs_free_one(S, eglue);
-    geom_mesh__bs_free_one(S, K.in_end);
-    geom_mesh__bs_free_one(S, K.out_end);
-    geom_mesh__bs_free_one(S, K.fan);
+    geom__mesh_bs_free_one(S, eglue);
+    geom__mesh_bs_free_one(S, K.in_end);
+    geom__mesh_bs_free_one(S, K.out_end);
+    geom__mesh_bs_free_one(S, K.fan);
     return GEOM_OK;
 }
 
@@ -598,8 +598,8 @@ static geom_status rp_emit(rctx *x, geom_mesh *m, size_t *Hp)
 {
     const size_t F = x->F;
     uint32_t *he_of = x->order; /* order is no longer needed */
-    size_t H = geom_mesh__number_edges(x->C, x->partner, he_of);
-    geom_status st = geom_mesh__build_storage(m, x->nverts, H, F);
+    size_t H = geom__mesh_number_edges(x->C, x->partner, he_of);
+    geom_status st = geom__mesh_build_storage(m, x->nverts, H, F);
     if (st != GEOM_OK)
         return st;
     memset(m->v_he, 0xff, x->nverts * sizeof(uint32_t));
@@ -615,7 +615,7 @@ static geom_status rp_emit(rctx *x, geom_mesh *m, size_t *Hp)
                 uint32_t h = he_of[c], cn = c + 1 < e ? c + 1 : s;
                 m->he_vertex[h] = x->cb[c];
                 m->he_face[h] = (uint32_t)f;
-                geom_mesh__link(m, h, he_of[cn]);
+                geom__mesh_link(m, h, he_of[cn]);
             }
             m->f_he[f] = he_of[e - 1];
         } else {
@@ -623,7 +623,7 @@ static geom_status rp_emit(rctx *x, geom_mesh *m, size_t *Hp)
                 uint32_t h = he_of[c], cp = c > s ? c - 1 : e - 1;
                 m->he_vertex[h] = x->cv[c];
                 m->he_face[h] = (uint32_t)f;
-                geom_mesh__link(m, h, he_of[cp]);
+                geom__mesh_link(m, h, he_of[cp]);
             }
             m->f_he[f] = he_of[s];
         }
@@ -639,8 +639,8 @@ static geom_status rp_fans(rctx *x, geom_mesh *m, size_t H, const double *xyz,
                            uint8_t **vsplitp)
 {
     const size_t nverts = x->nverts;
-    uint32_t *par = geom_mesh__bs_alloc(&x->S, H, sizeof(uint32_t));
-    uint8_t *vsplit = geom_mesh__bs_alloc(&x->S, nverts, 1);
+    uint32_t *par = geom__mesh_bs_alloc(&x->S, H, sizeof(uint32_t));
+    uint8_t *vsplit = geom__mesh_bs_alloc(&x->S, nverts, 1);
     if (!par || !vsplit)
         return GEOM_ERR_NOMEM;
     *vsplitp = vsplit;
@@ -681,12 +681,12 @@ static geom_status rp_fans(rctx *x, geom_mesh *m, size_t H, const double *xyz,
             par[h] = par[r];
     }
     geom_status st;
-    /* xyz may be m's own positions (geom_mesh__adopt_positions): growing
+    /* xyz may be m's own positions (geom__mesh_adopt_positions): growing
      * keeps them in place in the new block */
-    int adopted = xyz == geom_mesh__pos(m);
-    if (added && (st = geom_mesh__resize(m, nverts + added, H, x->F)) != GEOM_OK)
+    int adopted = xyz == geom__mesh_pos(m);
+    if (added && (st = geom__mesh_resize(m, nverts + added, H, x->F)) != GEOM_OK)
         return st;
-    double *pos = geom_mesh__pos(m);
+    double *pos = geom__mesh_pos(m);
     if (adopted)
         xyz = pos;
     else if (nverts)
@@ -711,7 +711,7 @@ static geom_status rp_fans(rctx *x, geom_mesh *m, size_t H, const double *xyz,
             m->v_he[v] = (uint32_t)h;
     }
     x->rep->added_vertices = added;
-    geom_mesh__bs_free_one(&x->S, par);
+    geom__mesh_bs_free_one(&x->S, par);
     return GEOM_OK;
 }
 
@@ -726,7 +726,7 @@ static void rp_boundary(geom_mesh *m, size_t H)
     for (size_t b = 1; b < H; b += 2) {
         if (m->he_face[b] != INV)
             continue;
-        geom_mesh__link(m, (uint32_t)b, m->v_he[m->he_vertex[b]]);
+        geom__mesh_link(m, (uint32_t)b, m->v_he[m->he_vertex[b]]);
     }
 }
 
@@ -736,22 +736,22 @@ static void rp_report(const rctx *x, const uint8_t *vsplit)
     size_t n_nmf = 0;
     for (size_t v = 0; v < x->nverts; ++v) {
         if (vsplit[v] == 2)
-            geom_mesh__report_add(&rep->split_vertices, rep->first_split_vertices, (uint32_t)v);
+            geom__mesh_report_add(&rep->split_vertices, rep->first_split_vertices, (uint32_t)v);
         if (vsplit[v] == 0)
             rep->isolated_vertices++;
     }
     for (size_t f = 0; f < x->F; ++f) {
         uint32_t o = x->forig[f];
         if (x->flip[f])
-            geom_mesh__report_add(&rep->flipped_faces, rep->first_flipped_faces, o);
+            geom__mesh_report_add(&rep->flipped_faces, rep->first_flipped_faces, o);
         if (x->fflag[f] & FL_DETACHED)
-            geom_mesh__report_add(&rep->detached_faces, rep->first_detached_faces, o);
+            geom__mesh_report_add(&rep->detached_faces, rep->first_detached_faces, o);
         if ((x->fflag[f] & FL_NONMANIFOLD) && n_nmf < GEOM_MESH_REPORT_FIRST)
             rep->first_nonmanifold_faces[n_nmf++] = o;
     }
 }
 
-geom_status geom_mesh__build_repair(geom_mesh *m, size_t nverts, const double *xyz,
+geom_status geom__mesh_build_repair(geom_mesh *m, size_t nverts, const double *xyz,
                                     size_t nfaces, const uint32_t *face_sizes,
                                     const uint32_t *indices, int skip, int keep,
                                     geom_mesh_build_report *rep, geom_diag *diag)
@@ -781,7 +781,7 @@ geom_status geom_mesh__build_repair(geom_mesh *m, size_t nverts, const double *x
     rp_report(&x, vsplit);
 out:
     if (st != GEOM_OK && touched)
-        geom_mesh__clear_all(m);
-    geom_mesh__bs_free_all(&x.S);
+        geom__mesh_clear_all(m);
+    geom__mesh_bs_free_all(&x.S);
     return st;
 }

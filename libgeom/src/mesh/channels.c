@@ -26,20 +26,20 @@ static size_t domain_capacity(const geom_mesh *m, geom_mesh_domain d)
     return 0;
 }
 
-void geom_mesh__channel_free(geom_mesh *m, geom_mesh__channel *c)
+void geom__mesh_channel_free(geom_mesh *m, geom__mesh_channel *c)
 {
     const geom_allocator *a = &m->alloc;
     if (c->domain == GEOM_MESH_DOMAIN_CORNER) {
-        geom_free(a, c->data, c->data_cap * c->ncomp * sizeof(double));
-        geom_free(a, c->corner, m->cap_h * sizeof(uint32_t));
+        geom__free(a, c->data, c->data_cap * c->ncomp * sizeof(double));
+        geom__free(a, c->corner, m->cap_h * sizeof(uint32_t));
     } else
-        geom_free(a, c->data, domain_capacity(m, c->domain) * c->ncomp * sizeof(double));
+        geom__free(a, c->data, domain_capacity(m, c->domain) * c->ncomp * sizeof(double));
     c->data = NULL;
     c->corner = NULL;
     c->data_cap = c->pool = 0;
 }
 
-geom_status geom_mesh__pool_reserve(geom_mesh *m, geom_mesh__channel *c, size_t n)
+geom_status geom__mesh_pool_reserve(geom_mesh *m, geom__mesh_channel *c, size_t n)
 {
     if (n <= c->data_cap)
         return GEOM_OK;
@@ -51,9 +51,9 @@ geom_status geom_mesh__pool_reserve(geom_mesh *m, geom_mesh__channel *c, size_t 
     if (nc > (size_t)UINT32_MAX - 1)
         nc = (size_t)UINT32_MAX - 1;
     size_t ob = c->data_cap * c->ncomp * sizeof(double), nb;
-    if (geom_size_mul(nc, c->ncomp * sizeof(double), &nb) != GEOM_OK)
+    if (geom__size_mul(nc, c->ncomp * sizeof(double), &nb) != GEOM_OK)
         return GEOM_ERR_LIMIT;
-    double *d = geom_realloc(&m->alloc, c->data, ob, nb);
+    double *d = geom__realloc(&m->alloc, c->data, ob, nb);
     if (!d)
         return GEOM_ERR_NOMEM;
     c->data = d;
@@ -75,34 +75,34 @@ geom_status geom_mesh_channel_add(geom_mesh *m, const char *name, geom_mesh_doma
         return GEOM_ERR_INVALID_ARG;
     if (m->n_channels >= (size_t)UINT32_MAX - 1)
         return GEOM_ERR_LIMIT;
-    geom_status s = geom_mesh__reserve_some(m);
+    geom_status s = geom__mesh_reserve_some(m);
     if (s != GEOM_OK)
         return s;
     void *arr = m->channels;
-    s = geom_mesh__grow(&m->alloc, &arr, &m->cap_channels, m->n_channels + 1,
+    s = geom__grow(&m->alloc, &arr, &m->cap_channels, m->n_channels + 1,
                         sizeof *m->channels);
     m->channels = arr;
     if (s != GEOM_OK)
         return s;
-    geom_mesh__channel c;
+    geom__mesh_channel c;
     memset(&c, 0, sizeof c);
     memcpy(c.name, name, len + 1);
     c.domain = domain;
     c.ncomp = ncomp;
     if (domain == GEOM_MESH_DOMAIN_CORNER) {
         size_t nb;
-        if (geom_size_mul(m->cap_h, sizeof(uint32_t), &nb) != GEOM_OK)
+        if (geom__size_mul(m->cap_h, sizeof(uint32_t), &nb) != GEOM_OK)
             return GEOM_ERR_LIMIT;
-        c.corner = geom_alloc(&m->alloc, nb);
+        c.corner = geom__alloc(&m->alloc, nb);
         if (!c.corner)
             return GEOM_ERR_NOMEM;
         for (size_t i = 0; i < m->cap_h; ++i)
             c.corner[i] = INV;
     } else {
         size_t cap = domain_capacity(m, domain), nb;
-        if (geom_size_mul(cap, ncomp * sizeof(double), &nb) != GEOM_OK)
+        if (geom__size_mul(cap, ncomp * sizeof(double), &nb) != GEOM_OK)
             return GEOM_ERR_LIMIT;
-        c.data = geom_alloc(&m->alloc, nb);
+        c.data = geom__alloc(&m->alloc, nb);
         if (!c.data)
             return GEOM_ERR_NOMEM;
         memset(c.data, 0, nb);
@@ -129,7 +129,7 @@ geom_status geom_mesh_channel_remove(geom_mesh *m, uint32_t id)
 {
     if (!m || id == 0 || (size_t)id >= m->n_channels)
         return GEOM_ERR_INVALID_ARG;
-    geom_mesh__channel_free(m, &m->channels[id]);
+    geom__mesh_channel_free(m, &m->channels[id]);
     memmove(&m->channels[id], &m->channels[id + 1],
             (m->n_channels - id - 1) * sizeof *m->channels);
     m->n_channels--;
@@ -157,7 +157,7 @@ size_t geom_mesh_channel_size(const geom_mesh *m, uint32_t id)
 {
     if (!CHOK(m, id))
         return 0;
-    const geom_mesh__channel *c = &m->channels[id];
+    const geom__mesh_channel *c = &m->channels[id];
     return c->domain == GEOM_MESH_DOMAIN_CORNER ? c->pool : domain_count(m, c->domain);
 }
 
@@ -175,8 +175,8 @@ geom_status geom_mesh_corner_pool_resize(geom_mesh *m, uint32_t id, size_t n)
 {
     if (!CHOK(m, id) || m->channels[id].domain != GEOM_MESH_DOMAIN_CORNER)
         return GEOM_ERR_INVALID_ARG;
-    geom_mesh__channel *c = &m->channels[id];
-    geom_status s = geom_mesh__pool_reserve(m, c, n);
+    geom__mesh_channel *c = &m->channels[id];
+    geom_status s = geom__mesh_pool_reserve(m, c, n);
     if (s != GEOM_OK)
         return s;
     if (n > c->pool)

@@ -46,16 +46,16 @@ bool geom_mesh_circ_next(geom_mesh_circ *c, uint32_t *out)
         switch (c->kind) {
         case GEOM_MESH_CIRC_VERTEX_OUTGOING:
             val = h;
-            c->current = geom_mesh__ccw(m, h);
+            c->current = geom__mesh_ccw(m, h);
             break;
         case GEOM_MESH_CIRC_VERTEX_FACES:
             val = m->he_face[h];
             emit = val != INV;
-            c->current = geom_mesh__ccw(m, h);
+            c->current = geom__mesh_ccw(m, h);
             break;
         case GEOM_MESH_CIRC_VERTEX_VERTICES:
             val = m->he_vertex[h];
-            c->current = geom_mesh__ccw(m, h);
+            c->current = geom__mesh_ccw(m, h);
             break;
         case GEOM_MESH_CIRC_FACE_HALFEDGES:
             val = h;

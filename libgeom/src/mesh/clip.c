@@ -123,11 +123,11 @@ static void code_point(const clip_ctx *c, const double *snapped, uint32_t code, 
 static geom_status soup_face(clip_ctx *c, size_t n, const uint32_t *codes, const uint32_t *src,
                              const uint8_t *kind, uint32_t orig)
 {
-    if (geom_mesh__grow(c->al, (void **)&c->fsize, &c->fcap, c->nf + 1, 4) != GEOM_OK ||
-        geom_mesh__grow(c->al, (void **)&c->forig, &c->fcap2, c->nf + 1, 4) != GEOM_OK ||
-        geom_mesh__grow(c->al, (void **)&c->code, &c->icap, c->ni + n, 4) != GEOM_OK ||
-        geom_mesh__grow(c->al, (void **)&c->csrc, &c->icap2, c->ni + n, 4) != GEOM_OK ||
-        geom_mesh__grow(c->al, (void **)&c->ckind, &c->icap3, c->ni + n, 1) != GEOM_OK)
+    if (geom__grow(c->al, (void **)&c->fsize, &c->fcap, c->nf + 1, 4) != GEOM_OK ||
+        geom__grow(c->al, (void **)&c->forig, &c->fcap2, c->nf + 1, 4) != GEOM_OK ||
+        geom__grow(c->al, (void **)&c->code, &c->icap, c->ni + n, 4) != GEOM_OK ||
+        geom__grow(c->al, (void **)&c->csrc, &c->icap2, c->ni + n, 4) != GEOM_OK ||
+        geom__grow(c->al, (void **)&c->ckind, &c->icap3, c->ni + n, 1) != GEOM_OK)
         return GEOM_ERR_NOMEM;
     memcpy(c->code + c->ni, codes, n * 4);
     memcpy(c->csrc + c->ni, src, n * 4);
@@ -189,24 +189,24 @@ typedef struct face_buf {
 static geom_status face_buf_reserve(const geom_allocator *al, face_buf *b, size_t k)
 {
     size_t need = 2 * k + 4;
-    if (geom_mesh__grow(al, (void **)&b->he, &b->cap[0], need, sizeof(uint32_t)) != GEOM_OK ||
-        geom_mesh__grow(al, (void **)&b->pts, &b->cap[1], need, sizeof(sh_pt)) != GEOM_OK ||
-        geom_mesh__grow(al, (void **)&b->ch, &b->cap[2], need, sizeof(chain)) != GEOM_OK ||
-        geom_mesh__grow(al, (void **)&b->codes, &b->cap[3], need, sizeof(uint32_t)) != GEOM_OK ||
-        geom_mesh__grow(al, (void **)&b->src, &b->cap[4], need, sizeof(uint32_t)) != GEOM_OK ||
-        geom_mesh__grow(al, (void **)&b->kind, &b->cap[5], need, 1) != GEOM_OK)
+    if (geom__grow(al, (void **)&b->he, &b->cap[0], need, sizeof(uint32_t)) != GEOM_OK ||
+        geom__grow(al, (void **)&b->pts, &b->cap[1], need, sizeof(sh_pt)) != GEOM_OK ||
+        geom__grow(al, (void **)&b->ch, &b->cap[2], need, sizeof(chain)) != GEOM_OK ||
+        geom__grow(al, (void **)&b->codes, &b->cap[3], need, sizeof(uint32_t)) != GEOM_OK ||
+        geom__grow(al, (void **)&b->src, &b->cap[4], need, sizeof(uint32_t)) != GEOM_OK ||
+        geom__grow(al, (void **)&b->kind, &b->cap[5], need, 1) != GEOM_OK)
         return GEOM_ERR_NOMEM;
     return GEOM_OK;
 }
 
 static void face_buf_free(const geom_allocator *al, face_buf *b)
 {
-    geom_free(al, b->he, b->cap[0] * sizeof(uint32_t));
-    geom_free(al, b->pts, b->cap[1] * sizeof(sh_pt));
-    geom_free(al, b->ch, b->cap[2] * sizeof(chain));
-    geom_free(al, b->codes, b->cap[3] * sizeof(uint32_t));
-    geom_free(al, b->src, b->cap[4] * sizeof(uint32_t));
-    geom_free(al, b->kind, b->cap[5]);
+    geom__free(al, b->he, b->cap[0] * sizeof(uint32_t));
+    geom__free(al, b->pts, b->cap[1] * sizeof(sh_pt));
+    geom__free(al, b->ch, b->cap[2] * sizeof(chain));
+    geom__free(al, b->codes, b->cap[3] * sizeof(uint32_t));
+    geom__free(al, b->src, b->cap[4] * sizeof(uint32_t));
+    geom__free(al, b->kind, b->cap[5]);
 }
 
 typedef struct tkey {
@@ -363,7 +363,7 @@ static geom_status clip_face(clip_ctx *c, const double *snapped, uint32_t f, fac
     int ok = normalize3(dir);
     tkey *keys = NULL;
     if (ok) {
-        keys = geom_alloc(c->al, 2 * nch * sizeof(tkey));
+        keys = geom__alloc(c->al, 2 * nch * sizeof(tkey));
         if (!keys)
             return GEOM_ERR_NOMEM;
         for (size_t j = 0; j < nch; j++) {
@@ -390,7 +390,7 @@ static geom_status clip_face(clip_ctx *c, const double *snapped, uint32_t f, fac
             const tkey *out = x->is_out ? x : y, *in = x->is_out ? y : x;
             b->ch[out->chain].next = in->chain;
         }
-        geom_free(c->al, keys, 2 * nch * sizeof(tkey));
+        geom__free(c->al, keys, 2 * nch * sizeof(tkey));
         for (size_t j = 0; j < nch && ok; j++) {
             if (b->ch[j].next == (size_t)INV)
                 ok = 0;
@@ -470,11 +470,11 @@ static geom_status delaunay_flips(const geom_allocator *al, const ear_ctx *e, ui
     if (ntri < 2)
         return GEOM_OK;
     const size_t ns = 3 * ntri;
-    edge_slot *es = geom_alloc(al, ns * sizeof(edge_slot));
-    uint32_t *nbr = geom_alloc(al, ns * sizeof(uint32_t));
+    edge_slot *es = geom__alloc(al, ns * sizeof(edge_slot));
+    uint32_t *nbr = geom__alloc(al, ns * sizeof(uint32_t));
     if (!es || !nbr) {
-        geom_free(al, es, ns * sizeof(edge_slot));
-        geom_free(al, nbr, ns * sizeof(uint32_t));
+        geom__free(al, es, ns * sizeof(edge_slot));
+        geom__free(al, nbr, ns * sizeof(uint32_t));
         return GEOM_ERR_NOMEM;
     }
     for (size_t i = 0; i < ns; i++) {
@@ -496,7 +496,7 @@ static geom_status delaunay_flips(const geom_allocator *al, const ear_ctx *e, ui
         }
         nbr[i] = lo < ns && es[lo].key == rev ? es[lo].slot / 3 : GEOM_INVALID_INDEX;
     }
-    geom_free(al, es, ns * sizeof(edge_slot));
+    geom__free(al, es, ns * sizeof(edge_slot));
 
     for (size_t pass = 0; pass < ns; pass++) {
         int changed = 0;
@@ -548,7 +548,7 @@ static geom_status delaunay_flips(const geom_allocator *al, const ear_ctx *e, ui
         if (!changed)
             break;
     }
-    geom_free(al, nbr, ns * sizeof(uint32_t));
+    geom__free(al, nbr, ns * sizeof(uint32_t));
     return GEOM_OK;
 }
 
@@ -737,24 +737,24 @@ typedef struct cap_bufs {
 
 static void cap_free(const geom_allocator *al, cap_bufs *b)
 {
-    geom_free(al, b->de, b->decap * 8);
-    geom_free(al, b->sorted, b->nde * 8);
-    geom_free(al, b->cfrom, (b->nde + 1) * 4);
-    geom_free(al, b->cto, (b->nde + 1) * 4);
-    geom_free(al, b->off, (b->ncode + 2) * 4);
-    geom_free(al, b->adj, (b->nde + 1) * 4);
-    geom_free(al, b->pos, (b->ncode + 1) * 4);
-    geom_free(al, b->pv, (b->nde + 2) * 4);
-    geom_free(al, b->lv, (b->nde + 1) * 4);
-    geom_free(al, b->used, b->nde + 1);
-    geom_free(al, b->loops, (b->nde + 1) * sizeof(loop));
-    geom_free(al, b->xy, (b->nde + 1) * 2 * sizeof(double));
-    geom_free(al, b->hkey, (b->nde + 1) * 2 * sizeof(double));
-    geom_free(al, b->hole_of, (b->nde + 1) * sizeof(size_t));
-    geom_free(al, b->poly, b->poly_cap * 4);
-    geom_free(al, b->tris, b->poly_cap * 3 * 4);
-    geom_free(al, b->xy2, b->poly_cap * 2 * sizeof(double));
-    geom_free(al, b->xyz, b->poly_cap * 3 * sizeof(double));
+    geom__free(al, b->de, b->decap * 8);
+    geom__free(al, b->sorted, b->nde * 8);
+    geom__free(al, b->cfrom, (b->nde + 1) * 4);
+    geom__free(al, b->cto, (b->nde + 1) * 4);
+    geom__free(al, b->off, (b->ncode + 2) * 4);
+    geom__free(al, b->adj, (b->nde + 1) * 4);
+    geom__free(al, b->pos, (b->ncode + 1) * 4);
+    geom__free(al, b->pv, (b->nde + 2) * 4);
+    geom__free(al, b->lv, (b->nde + 1) * 4);
+    geom__free(al, b->used, b->nde + 1);
+    geom__free(al, b->loops, (b->nde + 1) * sizeof(loop));
+    geom__free(al, b->xy, (b->nde + 1) * 2 * sizeof(double));
+    geom__free(al, b->hkey, (b->nde + 1) * 2 * sizeof(double));
+    geom__free(al, b->hole_of, (b->nde + 1) * sizeof(size_t));
+    geom__free(al, b->poly, b->poly_cap * 4);
+    geom__free(al, b->tris, b->poly_cap * 3 * 4);
+    geom__free(al, b->xy2, b->poly_cap * 2 * sizeof(double));
+    geom__free(al, b->xyz, b->poly_cap * 3 * sizeof(double));
 }
 
 /* Close the cut: chain the soup's unmatched on-plane edges into loops,
@@ -779,7 +779,7 @@ static geom_status make_caps(clip_ctx *c, const double *snapped)
                 continue;
             if (b.nde + 1 > b.decap) {
                 size_t nc = b.decap ? 2 * b.decap : 256;
-                uint64_t *q = geom_realloc(al, b.de, b.decap * 8, nc * 8);
+                uint64_t *q = geom__realloc(al, b.de, b.decap * 8, nc * 8);
                 if (!q) {
                     st = GEOM_ERR_NOMEM;
                     goto done;
@@ -794,19 +794,19 @@ static geom_status make_caps(clip_ctx *c, const double *snapped)
     if (b.nde == 0)
         goto done;
 
-    b.sorted = geom_alloc(al, b.nde * 8);
-    b.cfrom = geom_alloc(al, (b.nde + 1) * 4);
-    b.cto = geom_alloc(al, (b.nde + 1) * 4);
-    b.off = geom_alloc(al, (b.ncode + 2) * 4);
-    b.adj = geom_alloc(al, (b.nde + 1) * 4);
-    b.pos = geom_alloc(al, (b.ncode + 1) * 4);
-    b.pv = geom_alloc(al, (b.nde + 2) * 4);
-    b.lv = geom_alloc(al, (b.nde + 1) * 4);
-    b.used = geom_alloc(al, b.nde + 1);
-    b.loops = geom_alloc(al, (b.nde + 1) * sizeof(loop));
-    b.xy = geom_alloc(al, (b.nde + 1) * 2 * sizeof(double));
-    b.hkey = geom_alloc(al, (b.nde + 1) * 2 * sizeof(double));
-    b.hole_of = geom_alloc(al, (b.nde + 1) * sizeof(size_t));
+    b.sorted = geom__alloc(al, b.nde * 8);
+    b.cfrom = geom__alloc(al, (b.nde + 1) * 4);
+    b.cto = geom__alloc(al, (b.nde + 1) * 4);
+    b.off = geom__alloc(al, (b.ncode + 2) * 4);
+    b.adj = geom__alloc(al, (b.nde + 1) * 4);
+    b.pos = geom__alloc(al, (b.ncode + 1) * 4);
+    b.pv = geom__alloc(al, (b.nde + 2) * 4);
+    b.lv = geom__alloc(al, (b.nde + 1) * 4);
+    b.used = geom__alloc(al, b.nde + 1);
+    b.loops = geom__alloc(al, (b.nde + 1) * sizeof(loop));
+    b.xy = geom__alloc(al, (b.nde + 1) * 2 * sizeof(double));
+    b.hkey = geom__alloc(al, (b.nde + 1) * 2 * sizeof(double));
+    b.hole_of = geom__alloc(al, (b.nde + 1) * sizeof(size_t));
     if (!b.sorted || !b.cfrom || !b.cto || !b.off || !b.adj || !b.pos || !b.pv || !b.lv ||
         !b.used || !b.loops || !b.xy || !b.hkey || !b.hole_of) {
         st = GEOM_ERR_NOMEM;
@@ -916,10 +916,10 @@ static geom_status make_caps(clip_ctx *c, const double *snapped)
     /* polygon buffers: an outer loop plus its holes and two bridge
      * vertices per hole never exceed nlv + 2 * nloops entries */
     b.poly_cap = b.nlv + 2 * b.nloops + 4;
-    b.poly = geom_alloc(al, b.poly_cap * 4);
-    b.tris = geom_alloc(al, b.poly_cap * 3 * 4);
-    b.xy2 = geom_alloc(al, b.poly_cap * 2 * sizeof(double));
-    b.xyz = geom_alloc(al, b.poly_cap * 3 * sizeof(double));
+    b.poly = geom__alloc(al, b.poly_cap * 4);
+    b.tris = geom__alloc(al, b.poly_cap * 3 * 4);
+    b.xy2 = geom__alloc(al, b.poly_cap * 2 * sizeof(double));
+    b.xyz = geom__alloc(al, b.poly_cap * 3 * sizeof(double));
     if (!b.poly || !b.tris || !b.xy2 || !b.xyz) {
         st = GEOM_ERR_NOMEM;
         goto done;
@@ -1043,13 +1043,13 @@ static void clip_streams_free(const geom_allocator *al, clip_streams *S, size_t 
 {
     /* the entries are initialised only when all four arrays were allocated */
     for (size_t i = 0; S->ch && S->vals && S->nvals && S->idx && i < nin; i++) {
-        geom_free(al, S->vals[i], (S->nvals[i] ? S->nvals[i] : 1) * sizeof(double));
-        geom_free(al, S->idx[i], (S->nidx ? S->nidx : 1) * sizeof(uint32_t));
+        geom__free(al, S->vals[i], (S->nvals[i] ? S->nvals[i] : 1) * sizeof(double));
+        geom__free(al, S->idx[i], (S->nidx ? S->nidx : 1) * sizeof(uint32_t));
     }
-    geom_free(al, S->ch, (nin ? nin : 1) * sizeof *S->ch);
-    geom_free(al, S->vals, (nin ? nin : 1) * sizeof *S->vals);
-    geom_free(al, S->nvals, (nin ? nin : 1) * sizeof *S->nvals);
-    geom_free(al, S->idx, (nin ? nin : 1) * sizeof *S->idx);
+    geom__free(al, S->ch, (nin ? nin : 1) * sizeof *S->ch);
+    geom__free(al, S->vals, (nin ? nin : 1) * sizeof *S->vals);
+    geom__free(al, S->nvals, (nin ? nin : 1) * sizeof *S->nvals);
+    geom__free(al, S->idx, (nin ? nin : 1) * sizeof *S->idx);
     memset(S, 0, sizeof *S);
 }
 
@@ -1058,11 +1058,11 @@ static void clip_streams_free(const geom_allocator *al, clip_streams *S, size_t 
 static geom_status soup_face_ok(const geom_allocator *al, const clip_ctx *c, const uint32_t *indices,
                                 const uint32_t *soff, size_t nout, uint8_t **out)
 {
-    uint8_t *ok = geom_alloc(al, c->nf ? c->nf : 1);
-    uint32_t *stamp = geom_alloc(al, (nout ? nout : 1) * sizeof(uint32_t));
+    uint8_t *ok = geom__alloc(al, c->nf ? c->nf : 1);
+    uint32_t *stamp = geom__alloc(al, (nout ? nout : 1) * sizeof(uint32_t));
     if (!ok || !stamp) {
-        geom_free(al, ok, c->nf ? c->nf : 1);
-        geom_free(al, stamp, (nout ? nout : 1) * sizeof(uint32_t));
+        geom__free(al, ok, c->nf ? c->nf : 1);
+        geom__free(al, stamp, (nout ? nout : 1) * sizeof(uint32_t));
         return GEOM_ERR_NOMEM;
     }
     for (size_t v = 0; v < nout; v++)
@@ -1077,7 +1077,7 @@ static geom_status soup_face_ok(const geom_allocator *al, const clip_ctx *c, con
                 stamp[v] = (uint32_t)f;
         }
     }
-    geom_free(al, stamp, (nout ? nout : 1) * sizeof(uint32_t));
+    geom__free(al, stamp, (nout ? nout : 1) * sizeof(uint32_t));
     *out = ok;
     return GEOM_OK;
 }
@@ -1092,10 +1092,10 @@ static geom_status make_streams(const geom_mesh *m, const clip_ctx *c, const src
     uint32_t *cp_idx = NULL, *cp_a = NULL, *cp_b = NULL;
     double capn[3] = {-c->n[0], -c->n[1], -c->n[2]};
     S->nidx = soff[c->nf];
-    S->ch = geom_alloc(al, (nin ? nin : 1) * sizeof *S->ch);
-    S->vals = geom_alloc(al, (nin ? nin : 1) * sizeof *S->vals);
-    S->nvals = geom_alloc(al, (nin ? nin : 1) * sizeof *S->nvals);
-    S->idx = geom_alloc(al, (nin ? nin : 1) * sizeof *S->idx);
+    S->ch = geom__alloc(al, (nin ? nin : 1) * sizeof *S->ch);
+    S->vals = geom__alloc(al, (nin ? nin : 1) * sizeof *S->vals);
+    S->nvals = geom__alloc(al, (nin ? nin : 1) * sizeof *S->nvals);
+    S->idx = geom__alloc(al, (nin ? nin : 1) * sizeof *S->idx);
     if (!S->ch || !S->vals || !S->nvals || !S->idx)
         return GEOM_ERR_NOMEM;
     for (size_t i = 0; i < nin; i++) {
@@ -1104,7 +1104,7 @@ static geom_status make_streams(const geom_mesh *m, const clip_ctx *c, const src
         S->idx[i] = NULL;
     }
     for (uint32_t ci = 1; ci < nin; ci++) {
-        const geom_mesh__channel *ch = &m->channels[ci];
+        const geom__mesh_channel *ch = &m->channels[ci];
         const size_t nc = ch->ncomp;
         int is_normal = nc == 3 && strcmp(ch->name, "normal") == 0;
         geom_mesh_build_channel *out = &S->ch[S->n];
@@ -1113,7 +1113,7 @@ static geom_status make_streams(const geom_mesh *m, const clip_ctx *c, const src
                                                           : ch->pool + 2 * ncut + 1;
         if (ch->domain == GEOM_MESH_DOMAIN_EDGE)
             continue; /* after the build: edges do not exist before */
-        double *d = geom_alloc(al, (nv * nc > 0 ? nv * nc : 1) * sizeof(double));
+        double *d = geom__alloc(al, (nv * nc > 0 ? nv * nc : 1) * sizeof(double));
         if (!d) {
             st = GEOM_ERR_NOMEM;
             goto done;
@@ -1151,7 +1151,7 @@ static geom_status make_streams(const geom_mesh *m, const clip_ctx *c, const src
              * they are met (soup faces in order, corners in order) */
             const size_t P = ch->pool;
             const uint32_t *idx = ch->corner;
-            uint32_t *cix = geom_alloc(al, (S->nidx ? S->nidx : 1) * sizeof(uint32_t));
+            uint32_t *cix = geom__alloc(al, (S->nidx ? S->nidx : 1) * sizeof(uint32_t));
             if (!cix) {
                 st = GEOM_ERR_NOMEM;
                 goto done;
@@ -1162,9 +1162,9 @@ static geom_status make_streams(const geom_mesh *m, const clip_ctx *c, const src
             size_t np = P;
             uint32_t cap_entry = INV;
             if (!cp_idx) {
-                cp_idx = geom_alloc(al, (2 * ncut + 1) * 4);
-                cp_a = geom_alloc(al, (2 * ncut + 1) * 4);
-                cp_b = geom_alloc(al, (2 * ncut + 1) * 4);
+                cp_idx = geom__alloc(al, (2 * ncut + 1) * 4);
+                cp_a = geom__alloc(al, (2 * ncut + 1) * 4);
+                cp_b = geom__alloc(al, (2 * ncut + 1) * 4);
                 if (!cp_idx || !cp_a || !cp_b) {
                     st = GEOM_ERR_NOMEM;
                     goto done;
@@ -1229,9 +1229,9 @@ static geom_status make_streams(const geom_mesh *m, const clip_ctx *c, const src
         S->n++;
     }
 done:
-    geom_free(al, cp_idx, (2 * ncut + 1) * 4);
-    geom_free(al, cp_a, (2 * ncut + 1) * 4);
-    geom_free(al, cp_b, (2 * ncut + 1) * 4);
+    geom__free(al, cp_idx, (2 * ncut + 1) * 4);
+    geom__free(al, cp_a, (2 * ncut + 1) * 4);
+    geom__free(al, cp_b, (2 * ncut + 1) * 4);
     return st;
 }
 
@@ -1242,7 +1242,7 @@ static geom_status copy_edge_channels(const geom_mesh *m, geom_mesh *o, const sr
 {
     const uint32_t *vorig = geom_mesh_vertex_origin(o);
     for (uint32_t ci = 1; ci < m->n_channels; ci++) {
-        const geom_mesh__channel *ch = &m->channels[ci];
+        const geom__mesh_channel *ch = &m->channels[ci];
         if (ch->domain != GEOM_MESH_DOMAIN_EDGE)
             continue;
         uint32_t oid;
@@ -1300,7 +1300,7 @@ geom_status geom_mesh_clip_plane(const geom_mesh *m, const double plane[4],
     }
     c.m = m;
     c.al = &m->alloc;
-    c.pos = geom_mesh__pos(m);
+    c.pos = geom__mesh_pos(m);
     const geom_allocator *al = c.al;
     const size_t nv = m->nv, ne = m->nh / 2;
     int cap = opt ? opt->cap : 0;
@@ -1323,9 +1323,9 @@ geom_status geom_mesh_clip_plane(const geom_mesh *m, const double plane[4],
     }
     double tol = isfinite(diag) ? 1e-12 * diag : 0.0;
 
-    c.s = geom_alloc(al, (nv ? nv : 1) * sizeof(double));
-    c.sg = geom_alloc(al, nv ? nv : 1);
-    snapped = geom_alloc(al, (nv ? nv : 1) * 3 * sizeof(double));
+    c.s = geom__alloc(al, (nv ? nv : 1) * sizeof(double));
+    c.sg = geom__alloc(al, nv ? nv : 1);
+    snapped = geom__alloc(al, (nv ? nv : 1) * 3 * sizeof(double));
     if (!c.s || !c.sg || !snapped) {
         st = GEOM_ERR_NOMEM;
         goto done;
@@ -1374,9 +1374,9 @@ geom_status geom_mesh_clip_plane(const geom_mesh *m, const double plane[4],
     }
 
     /* number the output vertices: kept original ones, then cut points */
-    newid = geom_alloc(al, (ncodes ? ncodes : 1) * sizeof(uint32_t));
-    cutrank = geom_alloc(al, (ne ? ne : 1) * sizeof(uint32_t));
-    soff = geom_alloc(al, (c.nf + 1) * sizeof(uint32_t));
+    newid = geom__alloc(al, (ncodes ? ncodes : 1) * sizeof(uint32_t));
+    cutrank = geom__alloc(al, (ne ? ne : 1) * sizeof(uint32_t));
+    soff = geom__alloc(al, (c.nf + 1) * sizeof(uint32_t));
     if (!newid || !cutrank || !soff) {
         st = GEOM_ERR_NOMEM;
         goto done;
@@ -1400,9 +1400,9 @@ geom_status geom_mesh_clip_plane(const geom_mesh *m, const double plane[4],
                 cutrank[i - nv] = INV;
         }
     }
-    xyz = geom_alloc(al, (nout ? nout : 1) * 3 * sizeof(double));
-    vsrc = geom_alloc(al, (nout ? nout : 1) * sizeof(src_info));
-    indices = geom_alloc(al, (c.ni ? c.ni : 1) * sizeof(uint32_t));
+    xyz = geom__alloc(al, (nout ? nout : 1) * 3 * sizeof(double));
+    vsrc = geom__alloc(al, (nout ? nout : 1) * sizeof(src_info));
+    indices = geom__alloc(al, (c.ni ? c.ni : 1) * sizeof(uint32_t));
     if (!xyz || !vsrc || !indices) {
         st = GEOM_ERR_NOMEM;
         goto done;
@@ -1446,7 +1446,7 @@ geom_status geom_mesh_clip_plane(const geom_mesh *m, const double plane[4],
             st = geom_mesh_build(o, nout, xyz, c.nf, c.fsize, indices, &bo, NULL, NULL);
         }
         clip_streams_free(al, &S, m->n_channels);
-        geom_free(al, face_ok, c.nf ? c.nf : 1);
+        geom__free(al, face_ok, c.nf ? c.nf : 1);
         if (st != GEOM_OK)
             goto done;
     }
@@ -1461,20 +1461,20 @@ geom_status geom_mesh_clip_plane(const geom_mesh *m, const double plane[4],
 done:
     geom_mesh_destroy(o);
     face_buf_free(al, &fb);
-    geom_free(al, c.s, (nv ? nv : 1) * sizeof(double));
-    geom_free(al, c.sg, nv ? nv : 1);
-    geom_free(al, snapped, (nv ? nv : 1) * 3 * sizeof(double));
-    geom_free(al, c.fsize, c.fcap * 4);
-    geom_free(al, c.forig, c.fcap2 * 4);
-    geom_free(al, c.code, c.icap * 4);
-    geom_free(al, c.csrc, c.icap2 * 4);
-    geom_free(al, c.ckind, c.icap3);
-    geom_free(al, newid, (ncodes ? ncodes : 1) * sizeof(uint32_t));
-    geom_free(al, cutrank, (ne ? ne : 1) * sizeof(uint32_t));
-    geom_free(al, soff, (c.nf + 1) * sizeof(uint32_t));
-    geom_free(al, xyz, (nout ? nout : 1) * 3 * sizeof(double));
-    geom_free(al, vsrc, (nout ? nout : 1) * sizeof(src_info));
-    geom_free(al, indices, (c.ni ? c.ni : 1) * sizeof(uint32_t));
+    geom__free(al, c.s, (nv ? nv : 1) * sizeof(double));
+    geom__free(al, c.sg, nv ? nv : 1);
+    geom__free(al, snapped, (nv ? nv : 1) * 3 * sizeof(double));
+    geom__free(al, c.fsize, c.fcap * 4);
+    geom__free(al, c.forig, c.fcap2 * 4);
+    geom__free(al, c.code, c.icap * 4);
+    geom__free(al, c.csrc, c.icap2 * 4);
+    geom__free(al, c.ckind, c.icap3);
+    geom__free(al, newid, (ncodes ? ncodes : 1) * sizeof(uint32_t));
+    geom__free(al, cutrank, (ne ? ne : 1) * sizeof(uint32_t));
+    geom__free(al, soff, (c.nf + 1) * sizeof(uint32_t));
+    geom__free(al, xyz, (nout ? nout : 1) * 3 * sizeof(double));
+    geom__free(al, vsrc, (nout ? nout : 1) * sizeof(src_info));
+    geom__free(al, indices, (c.ni ? c.ni : 1) * sizeof(uint32_t));
     return st;
 }
 

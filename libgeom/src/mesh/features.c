@@ -38,7 +38,7 @@ geom_status geom_mesh_features(geom_mesh *m, const geom_feature_options *opt, ui
     if (opt)
         o = *opt;
     if (!m || !(o.crease_degrees >= 0.0) || !isfinite(o.crease_degrees) ||
-        !geom_isfinite3(o.eye))
+        !geom__isfinite3(o.eye))
         return GEOM_ERR_INVALID_ARG;
     unsigned kinds = o.kinds ? o.kinds : (GEOM_FEATURE_BOUNDARY | GEOM_FEATURE_CREASE);
     if (kinds & ~(unsigned)(GEOM_FEATURE_BOUNDARY | GEOM_FEATURE_CREASE | GEOM_FEATURE_SILHOUETTE))
@@ -50,18 +50,18 @@ geom_status geom_mesh_features(geom_mesh *m, const geom_feature_options *opt, ui
 
     const size_t nv = m->nv, ne = m->nh / 2, nf = m->nf;
     const geom_allocator *al = &m->alloc;
-    const double *pos = geom_mesh__pos(m);
+    const double *pos = geom__mesh_pos(m);
     geom_status st = GEOM_OK;
     double *fn = NULL;
     uint8_t *kind = NULL, *used = NULL, *has_n = NULL;
     uint32_t *deg = NULL, *adj = NULL, *poly = NULL;
     size_t nfeat = 0, poly_cap = 0, added = 0;
 
-    fn = geom_alloc(al, (nf ? nf : 1) * 3 * sizeof(double));
-    has_n = geom_alloc(al, nf ? nf : 1);
-    kind = geom_alloc(al, ne ? ne : 1);
-    used = geom_alloc(al, ne ? ne : 1);
-    deg = geom_alloc(al, (nv + 1) * sizeof(uint32_t));
+    fn = geom__alloc(al, (nf ? nf : 1) * 3 * sizeof(double));
+    has_n = geom__alloc(al, nf ? nf : 1);
+    kind = geom__alloc(al, ne ? ne : 1);
+    used = geom__alloc(al, ne ? ne : 1);
+    deg = geom__alloc(al, (nv + 1) * sizeof(uint32_t));
     if (!fn || !has_n || !kind || !used || !deg) {
         st = GEOM_ERR_NOMEM;
         goto done;
@@ -118,13 +118,13 @@ geom_status geom_mesh_features(geom_mesh *m, const geom_feature_options *opt, ui
     }
     for (size_t v = 0; v < nv; v++)
         deg[v + 1] += deg[v];
-    adj = geom_alloc(al, (2 * nfeat + 1) * sizeof(uint32_t));
+    adj = geom__alloc(al, (2 * nfeat + 1) * sizeof(uint32_t));
     if (!adj) {
         st = GEOM_ERR_NOMEM;
         goto done;
     }
     {
-        uint32_t *fill = geom_alloc(al, (nv ? nv : 1) * sizeof(uint32_t));
+        uint32_t *fill = geom__alloc(al, (nv ? nv : 1) * sizeof(uint32_t));
         if (!fill) {
             st = GEOM_ERR_NOMEM;
             goto done;
@@ -136,7 +136,7 @@ geom_status geom_mesh_features(geom_mesh *m, const geom_feature_options *opt, ui
             adj[fill[m->he_vertex[2 * e]]++] = (uint32_t)e;
             adj[fill[m->he_vertex[2 * e + 1]]++] = (uint32_t)e;
         }
-        geom_free(al, fill, (nv ? nv : 1) * sizeof(uint32_t));
+        geom__free(al, fill, (nv ? nv : 1) * sizeof(uint32_t));
     }
 #define VDEG(v) (deg[(v) + 1] - deg[(v)])
 
@@ -162,7 +162,7 @@ geom_status geom_mesh_features(geom_mesh *m, const geom_feature_options *opt, ui
                 for (;;) {
                     if (n + 2 > poly_cap) {
                         size_t nc = poly_cap ? 2 * poly_cap : 64;
-                        uint32_t *p2 = geom_realloc(al, poly, poly_cap * sizeof(uint32_t),
+                        uint32_t *p2 = geom__realloc(al, poly, poly_cap * sizeof(uint32_t),
                                                     nc * sizeof(uint32_t));
                         if (!p2) {
                             st = GEOM_ERR_NOMEM;
@@ -200,12 +200,12 @@ geom_status geom_mesh_features(geom_mesh *m, const geom_feature_options *opt, ui
         *n_polylines = added;
 
 done:
-    geom_free(al, fn, (nf ? nf : 1) * 3 * sizeof(double));
-    geom_free(al, has_n, nf ? nf : 1);
-    geom_free(al, kind, ne ? ne : 1);
-    geom_free(al, used, ne ? ne : 1);
-    geom_free(al, deg, (nv + 1) * sizeof(uint32_t));
-    geom_free(al, adj, (2 * nfeat + 1) * sizeof(uint32_t));
-    geom_free(al, poly, poly_cap * sizeof(uint32_t));
+    geom__free(al, fn, (nf ? nf : 1) * 3 * sizeof(double));
+    geom__free(al, has_n, nf ? nf : 1);
+    geom__free(al, kind, ne ? ne : 1);
+    geom__free(al, used, ne ? ne : 1);
+    geom__free(al, deg, (nv + 1) * sizeof(uint32_t));
+    geom__free(al, adj, (2 * nfeat + 1) * sizeof(uint32_t));
+    geom__free(al, poly, poly_cap * sizeof(uint32_t));
     return st;
 }

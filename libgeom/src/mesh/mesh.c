@@ -9,13 +9,13 @@
 
 /* ------------------------------------------------------------ helpers */
 
-geom_status geom_mesh__strdup(const geom_allocator *a, const char *s, char **out)
+geom_status geom__mesh_strdup(const geom_allocator *a, const char *s, char **out)
 {
     *out = NULL;
     if (!s)
         return GEOM_OK;
     size_t n = strlen(s) + 1;
-    char *d = geom_alloc(a, n);
+    char *d = geom__alloc(a, n);
     if (!d)
         return GEOM_ERR_NOMEM;
     memcpy(d, s, n);
@@ -23,19 +23,19 @@ geom_status geom_mesh__strdup(const geom_allocator *a, const char *s, char **out
     return GEOM_OK;
 }
 
-void geom_mesh__strfree(const geom_allocator *a, char *s)
+void geom__mesh_strfree(const geom_allocator *a, char *s)
 {
     if (s)
-        geom_free(a, s, strlen(s) + 1);
+        geom__free(a, s, strlen(s) + 1);
 }
 
 
 static void *alloc_n(const geom_allocator *a, size_t n, size_t es)
 {
     size_t b;
-    if (geom_size_mul(n, es, &b) != GEOM_OK)
+    if (geom__size_mul(n, es, &b) != GEOM_OK)
         return NULL;
-    return geom_alloc(a, b);
+    return geom__alloc(a, b);
 }
 
 /* ------------------------------------------------------ domain storage */
@@ -85,7 +85,7 @@ static size_t domain_arrays(geom_mesh *m, int dom, void **vals, size_t *es, int 
                           : dom == DOM_E ? GEOM_MESH_DOMAIN_EDGE
                                          : GEOM_MESH_DOMAIN_FACE;
     for (size_t i = 0; i < m->n_channels; ++i) {
-        geom_mesh__channel *c = &m->channels[i];
+        geom__mesh_channel *c = &m->channels[i];
         if (c->domain == cd)
             SLOT(c->data, c->ncomp * sizeof(double));
         else if (dom == DOM_E && c->domain == GEOM_MESH_DOMAIN_CORNER)
@@ -136,8 +136,8 @@ static geom_status grow_domain_to(geom_mesh *m, int dom, size_t need, int exact)
     void **vals = alloc_n(a, 2 * na, sizeof(void *));
     size_t *es = alloc_n(a, na, sizeof(size_t));
     if (!vals || !es) {
-        geom_free(a, vals, 2 * na * sizeof(void *));
-        geom_free(a, es, na * sizeof(size_t));
+        geom__free(a, vals, 2 * na * sizeof(void *));
+        geom__free(a, es, na * sizeof(size_t));
         return GEOM_ERR_NOMEM;
     }
     void **nvals = vals + na;
@@ -152,18 +152,18 @@ static geom_status grow_domain_to(geom_mesh *m, int dom, size_t need, int exact)
     }
     if (st != GEOM_OK) {
         while (i-- > 0)
-            geom_free(a, nvals[i], nc * es[i]);
+            geom__free(a, nvals[i], nc * es[i]);
     } else {
         for (i = 0; i < k; ++i) {
             if (vals[i] && oc)
                 memcpy(nvals[i], vals[i], oc * es[i]);
-            geom_free(a, vals[i], oc * es[i]);
+            geom__free(a, vals[i], oc * es[i]);
         }
         domain_arrays(m, dom, nvals, es, 1);
         set_domain_cap(m, dom, nc);
     }
-    geom_free(a, vals, 2 * na * sizeof(void *));
-    geom_free(a, es, na * sizeof(size_t));
+    geom__free(a, vals, 2 * na * sizeof(void *));
+    geom__free(a, es, na * sizeof(size_t));
     return st;
 }
 
@@ -177,25 +177,25 @@ static void free_domain(geom_mesh *m, int dom)
     size_t c = domain_cap(m, dom);
     const geom_allocator *a = &m->alloc;
     if (dom == DOM_V) {
-        geom_free(a, m->v_he, c * 4);
-        geom_free(a, m->v_del, c);
-        geom_free(a, m->vertex_origin, c * 4);
+        geom__free(a, m->v_he, c * 4);
+        geom__free(a, m->v_del, c);
+        geom__free(a, m->vertex_origin, c * 4);
         m->v_he = m->vertex_origin = NULL;
         m->v_del = NULL;
     } else if (dom == DOM_E) {
-        geom_free(a, m->he_next, c * 8);
-        geom_free(a, m->he_prev, c * 8);
-        geom_free(a, m->he_vertex, c * 8);
-        geom_free(a, m->he_face, c * 8);
-        geom_free(a, m->e_del, c);
+        geom__free(a, m->he_next, c * 8);
+        geom__free(a, m->he_prev, c * 8);
+        geom__free(a, m->he_vertex, c * 8);
+        geom__free(a, m->he_face, c * 8);
+        geom__free(a, m->e_del, c);
         m->he_next = m->he_prev = m->he_vertex = m->he_face = NULL;
         m->e_del = NULL;
     } else {
-        geom_free(a, m->f_he, c * 4);
-        geom_free(a, m->f_del, c);
-        geom_free(a, m->face_origin, c * 4);
-        geom_free(a, m->face_flipped, c);
-        geom_free(a, m->face_group, c * 4);
+        geom__free(a, m->f_he, c * 4);
+        geom__free(a, m->f_del, c);
+        geom__free(a, m->face_origin, c * 4);
+        geom__free(a, m->face_flipped, c);
+        geom__free(a, m->face_group, c * 4);
         m->f_he = m->face_origin = m->face_group = NULL;
         m->f_del = m->face_flipped = NULL;
     }
@@ -203,19 +203,19 @@ static void free_domain(geom_mesh *m, int dom)
                           : dom == DOM_E ? GEOM_MESH_DOMAIN_EDGE
                                          : GEOM_MESH_DOMAIN_FACE;
     for (size_t i = 0; i < m->n_channels; ++i) {
-        geom_mesh__channel *ch = &m->channels[i];
+        geom__mesh_channel *ch = &m->channels[i];
         if (ch->domain == cd) {
-            geom_free(a, ch->data, c * ch->ncomp * sizeof(double));
+            geom__free(a, ch->data, c * ch->ncomp * sizeof(double));
             ch->data = NULL;
         } else if (dom == DOM_E && ch->domain == GEOM_MESH_DOMAIN_CORNER) {
-            geom_free(a, ch->corner, c * 8);
+            geom__free(a, ch->corner, c * 8);
             ch->corner = NULL;
         }
     }
     set_domain_cap(m, dom, 0);
 }
 
-geom_status geom_mesh__reserve(geom_mesh *m, size_t nv, size_t nh, size_t nf)
+geom_status geom__mesh_reserve(geom_mesh *m, size_t nv, size_t nh, size_t nf)
 {
     geom_status s;
     if (nh > (size_t)UINT32_MAX - 1)
@@ -241,9 +241,9 @@ static size_t count_flags(const uint8_t *f, size_t a, size_t b)
     return n;
 }
 
-geom_status geom_mesh__resize(geom_mesh *m, size_t nv, size_t nh, size_t nf)
+geom_status geom__mesh_resize(geom_mesh *m, size_t nv, size_t nh, size_t nf)
 {
-    geom_status s = geom_mesh__reserve(m, nv, nh, nf);
+    geom_status s = geom__mesh_reserve(m, nv, nh, nf);
     if (s != GEOM_OK)
         return s;
     size_t ov = m->nv, oh = m->nh, of = m->nf;
@@ -275,7 +275,7 @@ geom_status geom_mesh__resize(geom_mesh *m, size_t nv, size_t nh, size_t nf)
     } else
         m->n_del_f -= count_flags(m->f_del, nf, of);
     for (size_t i = 0; i < m->n_channels; ++i) {
-        geom_mesh__channel *c = &m->channels[i];
+        geom__mesh_channel *c = &m->channels[i];
         size_t o = 0, n = 0;
         switch (c->domain) {
         case GEOM_MESH_DOMAIN_VERTEX: o = ov, n = nv; break;
@@ -295,9 +295,9 @@ geom_status geom_mesh__resize(geom_mesh *m, size_t nv, size_t nh, size_t nf)
     return GEOM_OK;
 }
 
-geom_status geom_mesh__reserve_some(geom_mesh *m)
+geom_status geom__mesh_reserve_some(geom_mesh *m)
 {
-    return geom_mesh__reserve(m, m->nv ? m->nv : 1, m->nh ? m->nh : 2, m->nf ? m->nf : 1);
+    return geom__mesh_reserve(m, m->nv ? m->nv : 1, m->nh ? m->nh : 2, m->nf ? m->nf : 1);
 }
 
 /* The origin maps at m's capacities; fill: initialise new ones (INV, 0). */
@@ -314,11 +314,11 @@ static geom_status alloc_origins(geom_mesh *m, int fill)
         ff = alloc_n(a, m->cap_f, 1);
     if (!vo || !fo || !ff) {
         if (vo != m->vertex_origin)
-            geom_free(a, vo, m->cap_v * sizeof(uint32_t));
+            geom__free(a, vo, m->cap_v * sizeof(uint32_t));
         if (fo != m->face_origin)
-            geom_free(a, fo, m->cap_f * sizeof(uint32_t));
+            geom__free(a, fo, m->cap_f * sizeof(uint32_t));
         if (ff != m->face_flipped)
-            geom_free(a, ff, m->cap_f);
+            geom__free(a, ff, m->cap_f);
         return GEOM_ERR_NOMEM;
     }
     if (fill && vo != m->vertex_origin)
@@ -333,15 +333,15 @@ static geom_status alloc_origins(geom_mesh *m, int fill)
     return GEOM_OK;
 }
 
-geom_status geom_mesh__ensure_origins(geom_mesh *m)
+geom_status geom__mesh_ensure_origins(geom_mesh *m)
 {
-    geom_status s = geom_mesh__reserve_some(m);
+    geom_status s = geom__mesh_reserve_some(m);
     if (s != GEOM_OK)
         return s;
     return alloc_origins(m, 1);
 }
 
-geom_status geom_mesh__adopt_positions(geom_mesh *m, double *xyz, size_t nv)
+geom_status geom__mesh_adopt_positions(geom_mesh *m, double *xyz, size_t nv)
 {
     if (m->cap_v != 0 || m->nv != 0 || m->n_channels != 1 || nv == 0 || !xyz)
         return GEOM_ERR_INVALID_ARG;
@@ -349,8 +349,8 @@ geom_status geom_mesh__adopt_positions(geom_mesh *m, double *xyz, size_t nv)
     uint32_t *vhe = alloc_n(a, nv, sizeof(uint32_t));
     uint8_t *vdel = alloc_n(a, nv, 1);
     if (!vhe || !vdel) {
-        geom_free(a, vhe, nv * sizeof(uint32_t));
-        geom_free(a, vdel, nv);
+        geom__free(a, vhe, nv * sizeof(uint32_t));
+        geom__free(a, vdel, nv);
         return GEOM_ERR_NOMEM;
     }
     m->v_he = vhe;
@@ -360,9 +360,9 @@ geom_status geom_mesh__adopt_positions(geom_mesh *m, double *xyz, size_t nv)
     return GEOM_OK;
 }
 
-geom_status geom_mesh__build_storage(geom_mesh *m, size_t nv, size_t nh, size_t nf)
+geom_status geom__mesh_build_storage(geom_mesh *m, size_t nv, size_t nh, size_t nf)
 {
-    geom_mesh__clear_all(m);
+    geom__mesh_clear_all(m);
     if (nh > (size_t)UINT32_MAX - 1)
         return GEOM_ERR_LIMIT;
     geom_status s;
@@ -381,19 +381,19 @@ geom_status geom_mesh__build_storage(geom_mesh *m, size_t nv, size_t nh, size_t 
     return GEOM_OK;
 }
 
-void geom_mesh__clear_all(geom_mesh *m)
+void geom__mesh_clear_all(geom_mesh *m)
 {
     const geom_allocator *a = &m->alloc;
     for (size_t i = m->n_channels; i-- > 1;)
-        geom_mesh__channel_free(m, &m->channels[i]);
+        geom__mesh_channel_free(m, &m->channels[i]);
     m->n_channels = m->n_channels ? 1 : 0;
-    geom_free(a, m->vertex_origin, m->cap_v * sizeof(uint32_t));
-    geom_free(a, m->face_origin, m->cap_f * sizeof(uint32_t));
-    geom_free(a, m->face_flipped, m->cap_f);
-    geom_free(a, m->face_group, m->cap_f * sizeof(uint32_t));
+    geom__free(a, m->vertex_origin, m->cap_v * sizeof(uint32_t));
+    geom__free(a, m->face_origin, m->cap_f * sizeof(uint32_t));
+    geom__free(a, m->face_flipped, m->cap_f);
+    geom__free(a, m->face_group, m->cap_f * sizeof(uint32_t));
     m->vertex_origin = m->face_origin = m->face_group = NULL;
     m->face_flipped = NULL;
-    geom_mesh__meta_free(m);
+    geom__mesh_meta_free(m);
     m->nv = m->nh = m->nf = 0;
     m->n_del_v = m->n_del_e = m->n_del_f = 0;
 }
@@ -402,7 +402,7 @@ void geom_mesh__clear_all(geom_mesh *m)
 
 geom_mesh *geom_mesh_create(const geom_allocator *alloc)
 {
-    geom_mesh *m = geom_alloc(alloc, sizeof *m);
+    geom_mesh *m = geom__alloc(alloc, sizeof *m);
     if (!m)
         return NULL;
     memset(m, 0, sizeof *m);
@@ -410,12 +410,12 @@ geom_mesh *geom_mesh_create(const geom_allocator *alloc)
         m->alloc = *alloc;
     m->channels = alloc_n(&m->alloc, 4, sizeof *m->channels);
     if (!m->channels) {
-        geom_free(alloc, m, sizeof *m);
+        geom__free(alloc, m, sizeof *m);
         return NULL;
     }
     m->cap_channels = 4;
     memset(m->channels, 0, 4 * sizeof *m->channels);
-    geom_mesh__channel *c = &m->channels[0];
+    geom__mesh_channel *c = &m->channels[0];
     memcpy(c->name, "position", 9);
     c->domain = GEOM_MESH_DOMAIN_VERTEX;
     c->ncomp = 3;
@@ -427,19 +427,19 @@ void geom_mesh_destroy(geom_mesh *m)
 {
     if (!m)
         return;
-    geom_mesh__clear_all(m);
+    geom__mesh_clear_all(m);
     free_domain(m, DOM_V);
     free_domain(m, DOM_E);
     free_domain(m, DOM_F);
-    geom_free(&m->alloc, m->channels, m->cap_channels * sizeof *m->channels);
+    geom__free(&m->alloc, m->channels, m->cap_channels * sizeof *m->channels);
     geom_allocator a = m->alloc;
-    geom_free(&a, m, sizeof *m);
+    geom__free(&a, m, sizeof *m);
 }
 
 void geom_mesh_clear(geom_mesh *m)
 {
     if (m)
-        geom_mesh__clear_all(m);
+        geom__mesh_clear_all(m);
 }
 
 geom_status geom_mesh_clone(const geom_mesh *m, geom_mesh **out)
@@ -455,13 +455,13 @@ geom_status geom_mesh_clone(const geom_mesh *m, geom_mesh **out)
         s = geom_mesh_channel_add(c, m->channels[i].name, m->channels[i].domain,
                                   m->channels[i].ncomp, NULL);
     if (s == GEOM_OK && m->vertex_origin)
-        s = geom_mesh__ensure_origins(c);
+        s = geom__mesh_ensure_origins(c);
     if (s == GEOM_OK && m->face_group && !geom_mesh_face_groups(c))
         s = GEOM_ERR_NOMEM;
     if (s == GEOM_OK)
-        s = geom_mesh__resize(c, m->nv, m->nh, m->nf);
+        s = geom__mesh_resize(c, m->nv, m->nh, m->nf);
     if (s == GEOM_OK)
-        s = geom_mesh__meta_copy(c, m);
+        s = geom__mesh_meta_copy(c, m);
     if (s != GEOM_OK) {
         geom_mesh_destroy(c);
         return s;
@@ -488,8 +488,8 @@ geom_status geom_mesh_clone(const geom_mesh *m, geom_mesh **out)
     if (m->face_group)
         memcpy(c->face_group, m->face_group, nf * 4);
     for (size_t i = 0; i < m->n_channels; ++i) {
-        const geom_mesh__channel *src = &m->channels[i];
-        geom_mesh__channel *dst = &c->channels[i];
+        const geom__mesh_channel *src = &m->channels[i];
+        geom__mesh_channel *dst = &c->channels[i];
         size_t n = 0;
         switch (src->domain) {
         case GEOM_MESH_DOMAIN_VERTEX: n = nv; break;
@@ -579,7 +579,7 @@ size_t geom_mesh_vertex_valence(const geom_mesh *m, uint32_t v)
     uint32_t h0 = m->v_he[v], h = h0;
     do {
         ++n;
-        h = geom_mesh__ccw(m, h);
+        h = geom__mesh_ccw(m, h);
     } while (h != h0 && n <= m->nh);
     return n;
 }
@@ -606,7 +606,7 @@ uint32_t geom_mesh_find_halfedge(const geom_mesh *m, uint32_t a, uint32_t b)
     do {
         if (m->he_vertex[h] == b)
             return h;
-        h = geom_mesh__ccw(m, h);
+        h = geom__mesh_ccw(m, h);
     } while (h != h0 && ++guard <= m->nh);
     return INV;
 }
@@ -624,7 +624,7 @@ bool geom_mesh_edge_is_deleted(const geom_mesh *m, uint32_t e)
 }
 bool geom_mesh_face_is_deleted(const geom_mesh *m, uint32_t f) { return FOK(m, f) && m->f_del[f]; }
 
-void geom_mesh__adjust_outgoing(geom_mesh *m, uint32_t v)
+void geom__mesh_adjust_outgoing(geom_mesh *m, uint32_t v)
 {
     uint32_t h0 = m->v_he[v], h = h0;
     if (h == INV)
@@ -635,7 +635,7 @@ void geom_mesh__adjust_outgoing(geom_mesh *m, uint32_t v)
             m->v_he[v] = h;
             return;
         }
-        h = geom_mesh__ccw(m, h);
+        h = geom__mesh_ccw(m, h);
     } while (h != h0 && ++guard <= m->nh);
 }
 
@@ -647,10 +647,10 @@ geom_status geom_mesh_add_vertex(geom_mesh *m, const double p[3], uint32_t *out)
         return GEOM_ERR_INVALID_ARG;
     if (m->nv >= (size_t)UINT32_MAX - 1)
         return GEOM_ERR_LIMIT;
-    geom_status s = geom_mesh__resize(m, m->nv + 1, m->nh, m->nf);
+    geom_status s = geom__mesh_resize(m, m->nv + 1, m->nh, m->nf);
     if (s != GEOM_OK)
         return s;
-    double *x = geom_mesh__pos(m) + 3 * (m->nv - 1);
+    double *x = geom__mesh_pos(m) + 3 * (m->nv - 1);
     x[0] = p[0];
     x[1] = p[1];
     x[2] = p[2];
@@ -680,7 +680,7 @@ static void log_set_next(geom_mesh *m, relink_log *lg, uint32_t a, uint32_t b)
     lg->h[lg->n] = b;
     lg->val[lg->n] = m->he_prev[b];
     lg->kind[lg->n++] = 1;
-    geom_mesh__link(m, a, b);
+    geom__mesh_link(m, a, b);
 }
 
 static void log_undo(geom_mesh *m, relink_log *lg)
@@ -736,7 +736,7 @@ geom_status geom_mesh_add_face(geom_mesh *m, size_t n, const uint32_t *verts, ui
     if (st != GEOM_OK)
         goto done;
     /* Room for everything first, so nothing can fail after the first change. */
-    if ((st = geom_mesh__reserve(m, m->nv, m->nh + 2 * n, m->nf + 1)) != GEOM_OK)
+    if ((st = geom__mesh_reserve(m, m->nv, m->nh + 2 * n, m->nf + 1)) != GEOM_OK)
         goto done;
 
     for (size_t i = 0; i < n; ++i) {
@@ -803,13 +803,13 @@ geom_status geom_mesh_add_face(geom_mesh *m, size_t n, const uint32_t *verts, ui
         if (!is_new[i])
             continue;
         uint32_t e0 = (uint32_t)m->nh;
-        geom_mesh__resize(m, m->nv, m->nh + 2, m->nf);
+        geom__mesh_resize(m, m->nv, m->nh + 2, m->nf);
         m->he_vertex[e0] = verts[(i + 1) % n];
         m->he_vertex[e0 + 1] = verts[i];
         h[i] = e0;
     }
     uint32_t f = (uint32_t)m->nf;
-    geom_mesh__resize(m, m->nv, m->nh, m->nf + 1);
+    geom__mesh_resize(m, m->nv, m->nh, m->nf + 1);
     m->f_he[f] = h[n - 1];
 
     size_t nc = 0;
@@ -844,15 +844,15 @@ geom_status geom_mesh_add_face(geom_mesh *m, size_t n, const uint32_t *verts, ui
     }
 #undef CACHE
     for (size_t i = 0; i < nc; ++i)
-        geom_mesh__link(m, cache[2 * i], cache[2 * i + 1]);
+        geom__mesh_link(m, cache[2 * i], cache[2 * i + 1]);
     for (size_t i = 0; i < n; ++i)
         if (adj[i])
-            geom_mesh__adjust_outgoing(m, verts[i]);
+            geom__mesh_adjust_outgoing(m, verts[i]);
     if (out)
         *out = f;
 done:
     if (buf != sbuf)
-        geom_free(&m->alloc, buf, words * sizeof(uint32_t));
+        geom__free(&m->alloc, buf, words * sizeof(uint32_t));
     return st;
 }
 
@@ -902,8 +902,8 @@ geom_status geom_mesh_delete_face(geom_mesh *m, uint32_t f)
         uint32_t v0 = m->he_vertex[h0e], v1 = m->he_vertex[h1e];
         uint32_t next0 = m->he_next[h0e], prev0 = m->he_prev[h0e];
         uint32_t next1 = m->he_next[h1e], prev1 = m->he_prev[h1e];
-        geom_mesh__link(m, prev0, next1);
-        geom_mesh__link(m, prev1, next0);
+        geom__mesh_link(m, prev0, next1);
+        geom__mesh_link(m, prev1, next0);
         if (!m->e_del[h0e >> 1]) {
             m->e_del[h0e >> 1] = 1;
             m->n_del_e++;
@@ -925,9 +925,9 @@ geom_status geom_mesh_delete_face(geom_mesh *m, uint32_t f)
     }
     for (size_t i = 0; i < k; ++i)
         if (!m->v_del[verts[i]])
-            geom_mesh__adjust_outgoing(m, verts[i]);
+            geom__mesh_adjust_outgoing(m, verts[i]);
     if (buf != sbuf)
-        geom_free(&m->alloc, buf, 2 * n * sizeof(uint32_t));
+        geom__free(&m->alloc, buf, 2 * n * sizeof(uint32_t));
     return GEOM_OK;
 }
 
@@ -949,7 +949,7 @@ geom_status geom_mesh_delete_vertex(geom_mesh *m, uint32_t v)
                 f = m->he_face[h];
                 break;
             }
-            h = geom_mesh__ccw(m, h);
+            h = geom__mesh_ccw(m, h);
         } while (h != h0 && ++guard <= m->nh);
         if (f == INV)
             break;
@@ -1041,7 +1041,7 @@ geom_status geom_mesh_compact(geom_mesh *m, uint32_t *vertex_map, uint32_t *face
     if (m->face_group)
         compact_bytes(m->face_group, 4, fm, nf);
     for (size_t i = 0; i < m->n_channels; ++i) {
-        geom_mesh__channel *c = &m->channels[i];
+        geom__mesh_channel *c = &m->channels[i];
         size_t es = c->ncomp * sizeof(double);
         switch (c->domain) {
         case GEOM_MESH_DOMAIN_VERTEX: compact_bytes(c->data, es, vm, nv); break;
@@ -1050,7 +1050,7 @@ geom_status geom_mesh_compact(geom_mesh *m, uint32_t *vertex_map, uint32_t *face
         case GEOM_MESH_DOMAIN_CORNER: compact_bytes(c->corner, 8, em, ne); break;
         }
     }
-    geom_mesh__polylines_remap(m, vm);
+    geom__mesh_polylines_remap(m, vm);
     memset(m->v_del, 0, nv2);
     memset(m->e_del, 0, ne2);
     memset(m->f_del, 0, nf2);
@@ -1060,9 +1060,9 @@ geom_status geom_mesh_compact(geom_mesh *m, uint32_t *vertex_map, uint32_t *face
     m->n_del_v = m->n_del_e = m->n_del_f = 0;
 done:
     if (vm != vertex_map)
-        geom_free(a, vm, nv * 4);
+        geom__free(a, vm, nv * 4);
     if (fm != face_map)
-        geom_free(a, fm, nf * 4);
-    geom_free(a, em, ne * 4);
+        geom__free(a, fm, nf * 4);
+    geom__free(a, em, ne * 4);
     return st;
 }

@@ -2,7 +2,7 @@
  * Private layout of geom_mesh, shared by the sources of the mesh module (and
  * readable by meshio). Not installed.
  *
- * Arrays (all owned, allocated through m->alloc with geom_alloc/geom_free):
+ * Arrays (all owned, allocated through m->alloc with geom__alloc/geom__free):
  *
  *   element      count        capacity  arrays
  *   vertex       nv           cap_v     v_he, v_del, vertex channels, vertex_origin
@@ -21,7 +21,7 @@
  *
  * Hot loops in other mesh sources may read these arrays directly (read-only
  * unless the function owns the mesh change); always keep every array of a
- * domain in sync through geom_mesh__resize().
+ * domain in sync through geom__mesh_resize().
  *
  * Channels: channels[0] is "position" (VERTEX, 3 comps). For VERTEX, FACE and
  * EDGE channels `data` holds capacity*ncomp doubles (values beyond the count
@@ -36,13 +36,13 @@
  *                     the input face's order) of an n-gon then sits at the
  *                     halfedge reached from f_he[f] by k next-steps when not
  *                     flipped, by (n - k) % n next-steps when flipped; see
- *                     geom_mesh__input_corner_he().
+ *                     geom__mesh_input_corner_he().
  * Edits keep the maps in sync: added vertices/faces get GEOM_INVALID_INDEX
  * (flag 0), compaction compacts them, triangulation copies the face's origin
  * to its triangles and drops face_flipped (input corners no longer exist).
  * Example (OBJ reader): after geom_mesh_build, for output face f with input
  * face fi = face_origin[f] and its k-th `v/vt/vn` corner, store the pool
- * index at corner[geom_mesh__input_corner_he(m, f, k)]; vertex splitting
+ * index at corner[geom__mesh_input_corner_he(m, f, k)]; vertex splitting
  * never touches corner slots, so detached/split vertices keep their data.
  *
  * Compaction remaps polylines (dropping deleted vertices) but leaves tag
@@ -63,7 +63,7 @@
 
 #define GEOM_MESH__NAME_MAX 64 /* channel name buffer, including the NUL */
 
-typedef struct geom_mesh__channel {
+typedef struct geom__mesh_channel {
     char name[GEOM_MESH__NAME_MAX];
     geom_mesh_domain domain;
     size_t ncomp;
@@ -71,19 +71,19 @@ typedef struct geom_mesh__channel {
     size_t data_cap;  /* values allocated in data (not doubles) */
     size_t pool;      /* CORNER: values in use */
     uint32_t *corner; /* CORNER: cap_h entries; NULL for other domains */
-} geom_mesh__channel;
+} geom__mesh_channel;
 
-typedef struct geom_mesh__tag {
+typedef struct geom__mesh_tag {
     char *name;
     size_t nint, nfloat, nstring;
     int64_t *ints;
     double *floats;
     char **strings;
-} geom_mesh__tag;
+} geom__mesh_tag;
 
-typedef struct geom_mesh__group {
+typedef struct geom__mesh_group {
     char *s[4]; /* group, object, material, smoothing (NULL when unset) */
-} geom_mesh__group;
+} geom__mesh_group;
 
 struct geom_mesh {
     geom_allocator alloc; /* copy of the user's allocator (zeroed = libc) */
@@ -96,7 +96,7 @@ struct geom_mesh {
     uint32_t *v_he, *f_he;
     uint8_t *v_del, *e_del, *f_del;
 
-    geom_mesh__channel *channels;
+    geom__mesh_channel *channels;
     size_t n_channels, cap_channels;
 
     uint32_t *vertex_origin; /* cap_v entries or NULL */
@@ -104,9 +104,9 @@ struct geom_mesh {
     uint8_t *face_flipped;   /* cap_f entries or NULL */
     uint32_t *face_group;    /* cap_f entries or NULL */
 
-    geom_mesh__group *groups;
+    geom__mesh_group *groups;
     size_t n_groups, cap_groups;
-    geom_mesh__tag *tags;
+    geom__mesh_tag *tags;
     size_t n_tags, cap_tags;
     char **mtllibs;
     size_t n_mtllibs, cap_mtllibs;
@@ -118,31 +118,31 @@ struct geom_mesh {
 
 /* ----------------------------------------------------------- accessors */
 
-static inline uint32_t geom_mesh__opp(uint32_t h) { return h ^ 1u; }
-static inline uint32_t geom_mesh__next(const geom_mesh *m, uint32_t h) { return m->he_next[h]; }
-static inline uint32_t geom_mesh__prev(const geom_mesh *m, uint32_t h) { return m->he_prev[h]; }
-static inline uint32_t geom_mesh__to(const geom_mesh *m, uint32_t h) { return m->he_vertex[h]; }
-static inline uint32_t geom_mesh__from(const geom_mesh *m, uint32_t h)
+static inline uint32_t geom__mesh_opp(uint32_t h) { return h ^ 1u; }
+static inline uint32_t geom__mesh_next(const geom_mesh *m, uint32_t h) { return m->he_next[h]; }
+static inline uint32_t geom__mesh_prev(const geom_mesh *m, uint32_t h) { return m->he_prev[h]; }
+static inline uint32_t geom__mesh_to(const geom_mesh *m, uint32_t h) { return m->he_vertex[h]; }
+static inline uint32_t geom__mesh_from(const geom_mesh *m, uint32_t h)
 {
     return m->he_vertex[h ^ 1u];
 }
-static inline bool geom_mesh__is_bnd(const geom_mesh *m, uint32_t h)
+static inline bool geom__mesh_is_bnd(const geom_mesh *m, uint32_t h)
 {
     return m->he_face[h] == GEOM_INVALID_INDEX;
 }
 /* Counter-clockwise rotation of an outgoing halfedge around its origin. */
-static inline uint32_t geom_mesh__ccw(const geom_mesh *m, uint32_t h)
+static inline uint32_t geom__mesh_ccw(const geom_mesh *m, uint32_t h)
 {
     return m->he_prev[h] ^ 1u;
 }
 /* Clockwise rotation of an outgoing halfedge around its origin. */
-static inline uint32_t geom_mesh__cw(const geom_mesh *m, uint32_t h)
+static inline uint32_t geom__mesh_cw(const geom_mesh *m, uint32_t h)
 {
     return m->he_next[h ^ 1u];
 }
 /* Positions (channel 0): 3 doubles per vertex. */
-static inline double *geom_mesh__pos(const geom_mesh *m) { return m->channels[0].data; }
-static inline void geom_mesh__link(geom_mesh *m, uint32_t a, uint32_t b)
+static inline double *geom__mesh_pos(const geom_mesh *m) { return m->channels[0].data; }
+static inline void geom__mesh_link(geom_mesh *m, uint32_t a, uint32_t b)
 {
     m->he_next[a] = b;
     m->he_prev[b] = a;
@@ -152,74 +152,73 @@ static inline void geom_mesh__link(geom_mesh *m, uint32_t a, uint32_t b)
 
 /* Grow *p to hold at least `need` elements: core's geom__grow (core/grow.c);
  * the name stays for the mesh sources until the lead's prefix sed. */
-#define geom_mesh__grow geom__grow
 
 /* Duplicate a string (NULL gives NULL in *out); GEOM_ERR_NOMEM. */
-geom_status geom_mesh__strdup(const geom_allocator *a, const char *s, char **out);
-/* Free a string made by geom_mesh__strdup (NULL allowed). */
-void geom_mesh__strfree(const geom_allocator *a, char *s);
+geom_status geom__mesh_strdup(const geom_allocator *a, const char *s, char **out);
+/* Free a string made by geom__mesh_strdup (NULL allowed). */
+void geom__mesh_strfree(const geom_allocator *a, char *s);
 
 /* -------------------------------------------- element storage (mesh.c) */
 
 /* Make room for nv vertices, nh halfedges and nf faces in every array of
  * every domain (channels, corner index arrays, origin maps, groups). Counts
  * are unchanged. GEOM_ERR_NOMEM / GEOM_ERR_LIMIT (nothing changed then). */
-geom_status geom_mesh__reserve(geom_mesh *m, size_t nv, size_t nh, size_t nf);
+geom_status geom__mesh_reserve(geom_mesh *m, size_t nv, size_t nh, size_t nf);
 
 /* Make every domain's capacity nonzero (so optional arrays and channels
  * can be allocated at the domain capacity). */
-geom_status geom_mesh__reserve_some(geom_mesh *m);
+geom_status geom__mesh_reserve_some(geom_mesh *m);
 
 /* Set the element counts (nh even), reserving as needed. New elements are
  * initialised: links GEOM_INVALID_INDEX, not deleted, channel values zero,
  * corner indices, origins and face groups GEOM_INVALID_INDEX, flipped 0.
  * Shrinking just drops the tail (no link fix-up). This is what keeps the
  * channels in sync with the element counts
- * (geom_mesh__channel_resize_all is the same function). */
-geom_status geom_mesh__resize(geom_mesh *m, size_t nv, size_t nh, size_t nf);
-#define geom_mesh__channel_resize_all geom_mesh__resize
+ * (geom__mesh_channel_resize_all is the same function). */
+geom_status geom__mesh_resize(geom_mesh *m, size_t nv, size_t nh, size_t nf);
+#define geom__mesh_channel_resize_all geom__mesh_resize
 
 /* Free every element, channel except position (emptied), origin maps and
  * metadata; capacities are kept for position only. */
-void geom_mesh__clear_all(geom_mesh *m);
+void geom__mesh_clear_all(geom_mesh *m);
 
 /* Set v_he[v] to a boundary outgoing halfedge if v has one (pmp's
  * adjust_outgoing_halfedge). v must not be isolated. */
-void geom_mesh__adjust_outgoing(geom_mesh *m, uint32_t v);
+void geom__mesh_adjust_outgoing(geom_mesh *m, uint32_t v);
 
 /* Allocate the vertex_origin / face_origin / face_flipped arrays at the
  * current capacity (filled with GEOM_INVALID_INDEX / 0) if absent. */
-geom_status geom_mesh__ensure_origins(geom_mesh *m);
+geom_status geom__mesh_ensure_origins(geom_mesh *m);
 /* Storage for a mesh being built from a soup (geom_mesh_build's paths):
  * clears m, reserves exactly nv, nh, nf elements with the origin maps and
  * sets the counts. Only the deleted flags and face_flipped are initialised
  * (zero): the builder writes he_next, he_prev, he_vertex, he_face, v_he,
  * f_he, vertex_origin, face_origin and the positions itself, every entry. */
-geom_status geom_mesh__build_storage(geom_mesh *m, size_t nv, size_t nh, size_t nf);
+geom_status geom__mesh_build_storage(geom_mesh *m, size_t nv, size_t nh, size_t nf);
 /* Give a new, empty mesh (no vertex storage yet, no channel but positions)
  * the block xyz (3*nv doubles, allocated with m's allocator, exactly that
  * size) as its positions' storage, with room for nv vertices; m owns it
  * from then on. geom_mesh_build(m, nv, xyz, ...) then builds on it without
  * a copy. GEOM_ERR_INVALID_ARG when m is not such a mesh, GEOM_ERR_NOMEM. */
-geom_status geom_mesh__adopt_positions(geom_mesh *m, double *xyz, size_t nv);
+geom_status geom__mesh_adopt_positions(geom_mesh *m, double *xyz, size_t nv);
 
 /* ------------------------------------------------------ channels.c */
 
 /* Free channel i's storage (does not remove it from the list). */
-void geom_mesh__channel_free(geom_mesh *m, geom_mesh__channel *c);
+void geom__mesh_channel_free(geom_mesh *m, geom__mesh_channel *c);
 /* Grow a CORNER channel's pool capacity to at least n values (no zeroing). */
-geom_status geom_mesh__pool_reserve(geom_mesh *m, geom_mesh__channel *c, size_t n);
+geom_status geom__mesh_pool_reserve(geom_mesh *m, geom__mesh_channel *c, size_t n);
 
 /* ---------------------------------------------------------- meta.c */
 
-void geom_mesh__meta_free(geom_mesh *m);
+void geom__mesh_meta_free(geom_mesh *m);
 /* Deep-copy tags, groups, mtllibs and polylines of src into dst (which has
  * none). GEOM_ERR_NOMEM (dst may then hold part of them; free with
- * geom_mesh__meta_free). */
-geom_status geom_mesh__meta_copy(geom_mesh *dst, const geom_mesh *src);
+ * geom__mesh_meta_free). */
+geom_status geom__mesh_meta_copy(geom_mesh *dst, const geom_mesh *src);
 /* Rewrite polyline vertex indices through vmap (old -> new or
  * GEOM_INVALID_INDEX: such entries are dropped). */
-void geom_mesh__polylines_remap(geom_mesh *m, const uint32_t *vmap);
+void geom__mesh_polylines_remap(geom_mesh *m, const uint32_t *vmap);
 
 /* ------------------------------------------------------- soup helpers */
 
@@ -228,14 +227,14 @@ void geom_mesh__polylines_remap(geom_mesh *m, const uint32_t *vmap);
  * vertex; its corner-channel slot is that input corner's. Uses face_flipped
  * (treated as not flipped when absent). GEOM_INVALID_INDEX for a bad f/k.
  * O(k). */
-uint32_t geom_mesh__input_corner_he(const geom_mesh *m, uint32_t f, uint32_t k);
+uint32_t geom__mesh_input_corner_he(const geom_mesh *m, uint32_t f, uint32_t k);
 /* All corners of output face f in input order: out[k] =
- * geom_mesh__input_corner_he(m, f, k) for k < valence (out must hold the
+ * geom__mesh_input_corner_he(m, f, k) for k < valence (out must hold the
  * face valence). Returns the valence (0 for a bad f). O(valence). */
-size_t geom_mesh__input_corners(const geom_mesh *m, uint32_t f, uint32_t *out);
+size_t geom__mesh_input_corners(const geom_mesh *m, uint32_t f, uint32_t *out);
 
 /* geom_mesh_face_normal of a triangle whose cycle from its f_he visits the
  * positions v[0], v[1], v[2], bit for bit (normals.c). */
-geom_status geom_mesh__triangle_normal(const double *const v[3], double out[3]);
+geom_status geom__mesh_triangle_normal(const double *const v[3], double out[3]);
 
 #endif

@@ -6,23 +6,23 @@
 
 /* ---------------------------------------------------------------- tags */
 
-static void tag_free(const geom_allocator *a, geom_mesh__tag *t)
+static void tag_free(const geom_allocator *a, geom__mesh_tag *t)
 {
-    geom_mesh__strfree(a, t->name);
-    geom_free(a, t->ints, t->nint * sizeof(int64_t));
-    geom_free(a, t->floats, t->nfloat * sizeof(double));
+    geom__mesh_strfree(a, t->name);
+    geom__free(a, t->ints, t->nint * sizeof(int64_t));
+    geom__free(a, t->floats, t->nfloat * sizeof(double));
     if (t->strings) {
         for (size_t i = 0; i < t->nstring; ++i)
-            geom_mesh__strfree(a, t->strings[i]);
-        geom_free(a, t->strings, t->nstring * sizeof(char *));
+            geom__mesh_strfree(a, t->strings[i]);
+        geom__free(a, t->strings, t->nstring * sizeof(char *));
     }
     memset(t, 0, sizeof *t);
 }
 
-static void group_free(const geom_allocator *a, geom_mesh__group *g)
+static void group_free(const geom_allocator *a, geom__mesh_group *g)
 {
     for (int i = 0; i < 4; ++i)
-        geom_mesh__strfree(a, g->s[i]);
+        geom__mesh_strfree(a, g->s[i]);
     memset(g, 0, sizeof *g);
 }
 
@@ -32,7 +32,7 @@ geom_status geom_mesh_tag_get(const geom_mesh *m, size_t i, geom_mesh_tag *out)
 {
     if (!m || !out || i >= m->n_tags)
         return GEOM_ERR_INVALID_ARG;
-    const geom_mesh__tag *t = &m->tags[i];
+    const geom__mesh_tag *t = &m->tags[i];
     out->name = t->name;
     out->nint = t->nint;
     out->nfloat = t->nfloat;
@@ -53,39 +53,39 @@ geom_status geom_mesh_tag_add(geom_mesh *m, const geom_mesh_tag *tag)
             return GEOM_ERR_INVALID_ARG;
     const geom_allocator *a = &m->alloc;
     void *arr = m->tags;
-    geom_status s = geom_mesh__grow(a, &arr, &m->cap_tags, m->n_tags + 1, sizeof *m->tags);
+    geom_status s = geom__grow(a, &arr, &m->cap_tags, m->n_tags + 1, sizeof *m->tags);
     m->tags = arr;
     if (s != GEOM_OK)
         return s;
-    geom_mesh__tag t;
+    geom__mesh_tag t;
     memset(&t, 0, sizeof t);
     size_t bi, bf, bs;
-    if (geom_size_mul(tag->nint, sizeof(int64_t), &bi) != GEOM_OK ||
-        geom_size_mul(tag->nfloat, sizeof(double), &bf) != GEOM_OK ||
-        geom_size_mul(tag->nstring, sizeof(char *), &bs) != GEOM_OK)
+    if (geom__size_mul(tag->nint, sizeof(int64_t), &bi) != GEOM_OK ||
+        geom__size_mul(tag->nfloat, sizeof(double), &bf) != GEOM_OK ||
+        geom__size_mul(tag->nstring, sizeof(char *), &bs) != GEOM_OK)
         return GEOM_ERR_LIMIT;
-    if ((s = geom_mesh__strdup(a, tag->name, &t.name)) != GEOM_OK)
+    if ((s = geom__mesh_strdup(a, tag->name, &t.name)) != GEOM_OK)
         goto fail;
     s = GEOM_ERR_NOMEM;
     if (tag->nint) {
-        if (!(t.ints = geom_alloc(a, bi)))
+        if (!(t.ints = geom__alloc(a, bi)))
             goto fail;
         memcpy(t.ints, tag->ints, bi);
         t.nint = tag->nint;
     }
     if (tag->nfloat) {
-        if (!(t.floats = geom_alloc(a, bf)))
+        if (!(t.floats = geom__alloc(a, bf)))
             goto fail;
         memcpy(t.floats, tag->floats, bf);
         t.nfloat = tag->nfloat;
     }
     if (tag->nstring) {
-        if (!(t.strings = geom_alloc(a, bs)))
+        if (!(t.strings = geom__alloc(a, bs)))
             goto fail;
         memset(t.strings, 0, bs);
         t.nstring = tag->nstring;
         for (size_t i = 0; i < tag->nstring; ++i)
-            if (geom_mesh__strdup(a, tag->strings[i], &t.strings[i]) != GEOM_OK)
+            if (geom__mesh_strdup(a, tag->strings[i], &t.strings[i]) != GEOM_OK)
                 goto fail;
     }
     m->tags[m->n_tags++] = t;
@@ -103,7 +103,7 @@ geom_status geom_mesh_group_get(const geom_mesh *m, size_t i, geom_mesh_group *o
 {
     if (!m || !out || i >= m->n_groups)
         return GEOM_ERR_INVALID_ARG;
-    const geom_mesh__group *g = &m->groups[i];
+    const geom__mesh_group *g = &m->groups[i];
     out->group = g->s[0];
     out->object = g->s[1];
     out->material = g->s[2];
@@ -119,15 +119,15 @@ geom_status geom_mesh_group_add(geom_mesh *m, const geom_mesh_group *g, uint32_t
         return GEOM_ERR_LIMIT;
     const geom_allocator *a = &m->alloc;
     void *arr = m->groups;
-    geom_status s = geom_mesh__grow(a, &arr, &m->cap_groups, m->n_groups + 1, sizeof *m->groups);
+    geom_status s = geom__grow(a, &arr, &m->cap_groups, m->n_groups + 1, sizeof *m->groups);
     m->groups = arr;
     if (s != GEOM_OK)
         return s;
-    geom_mesh__group n;
+    geom__mesh_group n;
     memset(&n, 0, sizeof n);
     const char *src[4] = {g->group, g->object, g->material, g->smoothing};
     for (int i = 0; i < 4; ++i)
-        if (geom_mesh__strdup(a, src[i], &n.s[i]) != GEOM_OK) {
+        if (geom__mesh_strdup(a, src[i], &n.s[i]) != GEOM_OK) {
             group_free(a, &n);
             return GEOM_ERR_NOMEM;
         }
@@ -142,12 +142,12 @@ uint32_t *geom_mesh_face_groups(geom_mesh *m)
     if (!m)
         return NULL;
     if (!m->face_group) {
-        if (geom_mesh__reserve_some(m) != GEOM_OK)
+        if (geom__mesh_reserve_some(m) != GEOM_OK)
             return NULL;
         size_t nb;
-        if (geom_size_mul(m->cap_f, sizeof(uint32_t), &nb) != GEOM_OK)
+        if (geom__size_mul(m->cap_f, sizeof(uint32_t), &nb) != GEOM_OK)
             return NULL;
-        uint32_t *p = geom_alloc(&m->alloc, nb);
+        uint32_t *p = geom__alloc(&m->alloc, nb);
         if (!p)
             return NULL;
         for (size_t i = 0; i < m->cap_f; ++i)
@@ -174,12 +174,12 @@ geom_status geom_mesh_mtllib_add(geom_mesh *m, const char *name)
         return GEOM_ERR_INVALID_ARG;
     void *arr = m->mtllibs;
     geom_status s =
-        geom_mesh__grow(&m->alloc, &arr, &m->cap_mtllibs, m->n_mtllibs + 1, sizeof(char *));
+        geom__grow(&m->alloc, &arr, &m->cap_mtllibs, m->n_mtllibs + 1, sizeof(char *));
     m->mtllibs = arr;
     if (s != GEOM_OK)
         return s;
     char *d;
-    if ((s = geom_mesh__strdup(&m->alloc, name, &d)) != GEOM_OK)
+    if ((s = geom__mesh_strdup(&m->alloc, name, &d)) != GEOM_OK)
         return s;
     m->mtllibs[m->n_mtllibs++] = d;
     return GEOM_OK;
@@ -209,7 +209,7 @@ geom_status geom_mesh_polyline_add(geom_mesh *m, size_t n, const uint32_t *verts
     /* offsets: cap_polylines + 1 entries */
     size_t need = m->n_polylines + 2, cap = m->cap_polylines ? m->cap_polylines + 1 : 0;
     void *arr = m->pl_off;
-    geom_status s = geom_mesh__grow(a, &arr, &cap, need, sizeof(size_t));
+    geom_status s = geom__grow(a, &arr, &cap, need, sizeof(size_t));
     m->pl_off = arr;
     if (s != GEOM_OK)
         return s;
@@ -217,7 +217,7 @@ geom_status geom_mesh_polyline_add(geom_mesh *m, size_t n, const uint32_t *verts
     if (m->n_polylines == 0)
         m->pl_off[0] = 0;
     arr = m->pl_verts;
-    s = geom_mesh__grow(a, &arr, &m->cap_pl_verts, m->pl_nverts + n, sizeof(uint32_t));
+    s = geom__grow(a, &arr, &m->cap_pl_verts, m->pl_nverts + n, sizeof(uint32_t));
     m->pl_verts = arr;
     if (s != GEOM_OK)
         return s;
@@ -229,7 +229,7 @@ geom_status geom_mesh_polyline_add(geom_mesh *m, size_t n, const uint32_t *verts
     return GEOM_OK;
 }
 
-void geom_mesh__polylines_remap(geom_mesh *m, const uint32_t *vmap)
+void geom__mesh_polylines_remap(geom_mesh *m, const uint32_t *vmap)
 {
     size_t w = 0, start = 0;
     for (size_t i = 0; i < m->n_polylines; ++i) {
@@ -250,32 +250,32 @@ void geom_mesh__polylines_remap(geom_mesh *m, const uint32_t *vmap)
 
 /* ------------------------------------------------------- free and copy */
 
-void geom_mesh__meta_free(geom_mesh *m)
+void geom__mesh_meta_free(geom_mesh *m)
 {
     const geom_allocator *a = &m->alloc;
     for (size_t i = 0; i < m->n_tags; ++i)
         tag_free(a, &m->tags[i]);
-    geom_free(a, m->tags, m->cap_tags * sizeof *m->tags);
+    geom__free(a, m->tags, m->cap_tags * sizeof *m->tags);
     m->tags = NULL;
     m->n_tags = m->cap_tags = 0;
     for (size_t i = 0; i < m->n_groups; ++i)
         group_free(a, &m->groups[i]);
-    geom_free(a, m->groups, m->cap_groups * sizeof *m->groups);
+    geom__free(a, m->groups, m->cap_groups * sizeof *m->groups);
     m->groups = NULL;
     m->n_groups = m->cap_groups = 0;
     for (size_t i = 0; i < m->n_mtllibs; ++i)
-        geom_mesh__strfree(a, m->mtllibs[i]);
-    geom_free(a, m->mtllibs, m->cap_mtllibs * sizeof(char *));
+        geom__mesh_strfree(a, m->mtllibs[i]);
+    geom__free(a, m->mtllibs, m->cap_mtllibs * sizeof(char *));
     m->mtllibs = NULL;
     m->n_mtllibs = m->cap_mtllibs = 0;
-    geom_free(a, m->pl_off, (m->cap_polylines ? m->cap_polylines + 1 : 0) * sizeof(size_t));
-    geom_free(a, m->pl_verts, m->cap_pl_verts * sizeof(uint32_t));
+    geom__free(a, m->pl_off, (m->cap_polylines ? m->cap_polylines + 1 : 0) * sizeof(size_t));
+    geom__free(a, m->pl_verts, m->cap_pl_verts * sizeof(uint32_t));
     m->pl_off = NULL;
     m->pl_verts = NULL;
     m->n_polylines = m->cap_polylines = m->pl_nverts = m->cap_pl_verts = 0;
 }
 
-geom_status geom_mesh__meta_copy(geom_mesh *dst, const geom_mesh *src)
+geom_status geom__mesh_meta_copy(geom_mesh *dst, const geom_mesh *src)
 {
     geom_status s;
     for (size_t i = 0; i < src->n_tags; ++i) {

@@ -110,7 +110,7 @@ static inline int normalize3(double v[3])
  * coordinates only) near 1. */
 static double mesh_scale(const geom_mesh *m)
 {
-    const double *p = geom_mesh__pos(m);
+    const double *p = geom__mesh_pos(m);
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (size_t v = 0; v < m->nv; v++) {
         if (m->v_del[v])
@@ -140,7 +140,7 @@ static double mesh_scale(const geom_mesh *m)
 /* Scale factor for one face: brings its largest vertex offset near 1. */
 static double face_scale(const geom_mesh *m, uint32_t f)
 {
-    const double *p = geom_mesh__pos(m);
+    const double *p = geom__mesh_pos(m);
     uint32_t h0 = m->f_he[f], h = h0;
     const double *a = p + 3 * (size_t)m->he_vertex[h0];
     double mx = 0.0;
@@ -166,7 +166,7 @@ static double face_scale(const geom_mesh *m, uint32_t f)
 static int poly_area_vector(const geom_mesh *m, uint32_t f, double g, double n[3],
                             double *L2out)
 {
-    const double *p = geom_mesh__pos(m);
+    const double *p = geom__mesh_pos(m);
     uint32_t h0 = m->f_he[f];
     const double *a = p + 3 * (size_t)m->he_vertex[h0];
     n[0] = n[1] = n[2] = 0.0;
@@ -183,7 +183,7 @@ static int poly_area_vector(const geom_mesh *m, uint32_t f, double g, double n[3
         sub_scaled(b, a, g, q);
         sub_scaled(b, c, g, e);
         double l2 = dot3(e, e);
-        if (!geom_isfinite3(b))
+        if (!geom__isfinite3(b))
             finite = 0;
         if (l2 == 0.0)
             zero_edge = 1;
@@ -212,7 +212,7 @@ static int poly_area_vector(const geom_mesh *m, uint32_t f, double g, double n[3
  * v[0], v[1], v[2] (the same operations in the same order as face_scale,
  * poly_area_vector and normalize3 on that face, so the same bits), for
  * writers that triangulate one face at a time. */
-geom_status geom_mesh__triangle_normal(const double *const v[3], double out[3])
+geom_status geom__mesh_triangle_normal(const double *const v[3], double out[3])
 {
     out[0] = out[1] = out[2] = 0.0;
     const double *a = v[0];
@@ -233,7 +233,7 @@ geom_status geom_mesh__triangle_normal(const double *const v[3], double out[3])
         sub_scaled(b, a, g, q);
         sub_scaled(b, c, g, e);
         double l2 = dot3(e, e);
-        if (!geom_isfinite3(b))
+        if (!geom__isfinite3(b))
             finite = 0;
         if (l2 == 0.0)
             zero_edge = 1;
@@ -405,7 +405,7 @@ static size_t poly_contrib(const geom_mesh *m, uint32_t f, double g, geom_normal
         nunit[1] = u[1];
         nunit[2] = u[2];
     }
-    const double *p = geom_mesh__pos(m);
+    const double *p = geom__mesh_pos(m);
     uint32_t h0 = m->f_he[f], h = h0;
     size_t k = 0;
     do {
@@ -492,7 +492,7 @@ static ALWAYS_INLINE geom_status vn_accumulate(const geom_mesh *m, double g,
                                                geom_normal_weight weight, int check,
                                                double *normals, int *redo)
 {
-    const double *p = geom_mesh__pos(m);
+    const double *p = geom__mesh_pos(m);
     const uint32_t *fhe = m->f_he, *nxt = m->he_next, *hv = m->he_vertex;
     const uint8_t *fdel = m->f_del;
     const size_t nf = m->nf;
@@ -554,7 +554,7 @@ static ALWAYS_INLINE geom_status vn_accumulate(const geom_mesh *m, double g,
             k++;
             h = nxt[h];
         } while (h != h0 && k <= m->nh);
-        if (geom_mesh__grow(&m->alloc, (void **)&poly, &poly_cap, k, 3 * sizeof(double)) !=
+        if (geom__grow(&m->alloc, (void **)&poly, &poly_cap, k, 3 * sizeof(double)) !=
             GEOM_OK) {
             st = GEOM_ERR_NOMEM;
             break;
@@ -576,7 +576,7 @@ static ALWAYS_INLINE geom_status vn_accumulate(const geom_mesh *m, double g,
     }
     FLUSH_PENDING();
 #undef FLUSH_PENDING
-    geom_free(&m->alloc, poly, poly_cap * 3 * sizeof(double));
+    geom__free(&m->alloc, poly, poly_cap * 3 * sizeof(double));
     return st;
 }
 
@@ -683,11 +683,11 @@ geom_status geom_mesh_corner_normals(geom_mesh *m, const geom_corner_normal_opti
     size_t maxval = max_valence(m, &all_tris);
     (void)all_tris;
 
-    contrib = geom_alloc(al, (nh ? nh : 1) * 3 * sizeof(double));
-    fn = geom_alloc(al, (nf ? nf : 1) * 3 * sizeof(double));
-    cidx = geom_alloc(al, (nh ? nh : 1) * sizeof(uint32_t));
+    contrib = geom__alloc(al, (nh ? nh : 1) * 3 * sizeof(double));
+    fn = geom__alloc(al, (nf ? nf : 1) * 3 * sizeof(double));
+    cidx = geom__alloc(al, (nh ? nh : 1) * sizeof(uint32_t));
     poly_cap = maxval ? maxval : 1;
-    poly = geom_alloc(al, poly_cap * 3 * sizeof(double));
+    poly = geom__alloc(al, poly_cap * 3 * sizeof(double));
     if (!contrib || !fn || !cidx || !poly) {
         st = GEOM_ERR_NOMEM;
         goto done;
@@ -700,7 +700,7 @@ geom_status geom_mesh_corner_normals(geom_mesh *m, const geom_corner_normal_opti
     /* Per-face unit normals and per-corner weighted contributions. */
     {
         const double g = mesh_scale(m);
-        const double *p = geom_mesh__pos(m);
+        const double *p = geom__mesh_pos(m);
         for (size_t f = 0; f < nf; f++) {
             if (m->f_del[f])
                 continue;
@@ -734,15 +734,15 @@ geom_status geom_mesh_corner_normals(geom_mesh *m, const geom_corner_normal_opti
         uint32_t o0 = m->v_he[v], oh = o0;
         do {
             if (k + 1 > ring_cap || k + 1 > hard_cap) {
-                if (geom_mesh__grow(al, (void **)&ring, &ring_cap, k + 1, sizeof(uint32_t)) !=
+                if (geom__grow(al, (void **)&ring, &ring_cap, k + 1, sizeof(uint32_t)) !=
                         GEOM_OK ||
-                    geom_mesh__grow(al, (void **)&hard, &hard_cap, k + 1, 1) != GEOM_OK) {
+                    geom__grow(al, (void **)&hard, &hard_cap, k + 1, 1) != GEOM_OK) {
                     st = GEOM_ERR_NOMEM;
                     goto done;
                 }
             }
             ring[k++] = oh;
-            oh = geom_mesh__ccw(m, oh);
+            oh = geom__mesh_ccw(m, oh);
         } while (oh != o0 && k <= nh);
         /* hard[i]: edge(ring[i]) separates face(ring[i-1]) and face(ring[i]). */
         size_t first_hard = k;
@@ -777,7 +777,7 @@ geom_status geom_mesh_corner_normals(geom_mesh *m, const geom_corner_normal_opti
                 have_fan = 1;
                 if (nfans + 1 > fans_cap) {
                     size_t nc2 = fans_cap ? 2 * fans_cap : 1024;
-                    double *f2 = geom_realloc(al, fans, fans_cap * 3 * sizeof(double),
+                    double *f2 = geom__realloc(al, fans, fans_cap * 3 * sizeof(double),
                                               nc2 * 3 * sizeof(double));
                     if (!f2) {
                         st = GEOM_ERR_NOMEM;
@@ -803,7 +803,7 @@ geom_status geom_mesh_corner_normals(geom_mesh *m, const geom_corner_normal_opti
     /* Drop the fans without corners (opened at boundary gaps), number the
      * others in first-use order and normalise them. */
     {
-        uint32_t *remap = geom_alloc(al, (nfans ? nfans : 1) * sizeof(uint32_t));
+        uint32_t *remap = geom__alloc(al, (nfans ? nfans : 1) * sizeof(uint32_t));
         if (!remap) {
             st = GEOM_ERR_NOMEM;
             goto done;
@@ -826,7 +826,7 @@ geom_status geom_mesh_corner_normals(geom_mesh *m, const geom_corner_normal_opti
             }
             cidx[h] = remap[cidx[h]];
         }
-        geom_free(al, remap, (nfans ? nfans : 1) * sizeof(uint32_t));
+        geom__free(al, remap, (nfans ? nfans : 1) * sizeof(uint32_t));
         nfans = used;
     }
     /* contrib[0 .. 3*nfans) now holds the fan normals (nfans <= nh). */
@@ -862,12 +862,12 @@ geom_status geom_mesh_corner_normals(geom_mesh *m, const geom_corner_normal_opti
     }
 
 done:
-    geom_free(al, contrib, (nh ? nh : 1) * 3 * sizeof(double));
-    geom_free(al, fn, (nf ? nf : 1) * 3 * sizeof(double));
-    geom_free(al, cidx, (nh ? nh : 1) * sizeof(uint32_t));
-    geom_free(al, poly, poly_cap * 3 * sizeof(double));
-    geom_free(al, fans, fans_cap * 3 * sizeof(double));
-    geom_free(al, ring, ring_cap * sizeof(uint32_t));
-    geom_free(al, hard, hard_cap);
+    geom__free(al, contrib, (nh ? nh : 1) * 3 * sizeof(double));
+    geom__free(al, fn, (nf ? nf : 1) * 3 * sizeof(double));
+    geom__free(al, cidx, (nh ? nh : 1) * sizeof(uint32_t));
+    geom__free(al, poly, poly_cap * 3 * sizeof(double));
+    geom__free(al, fans, fans_cap * 3 * sizeof(double));
+    geom__free(al, ring, ring_cap * sizeof(uint32_t));
+    geom__free(al, hard, hard_cap);
     return st;
 }

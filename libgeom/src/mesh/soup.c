@@ -28,7 +28,7 @@ geom_status geom_mesh_to_soup(const geom_mesh *m, uint32_t *face_sizes, uint32_t
     return GEOM_OK;
 }
 
-uint32_t geom_mesh__input_corner_he(const geom_mesh *m, uint32_t f, uint32_t k)
+uint32_t geom__mesh_input_corner_he(const geom_mesh *m, uint32_t f, uint32_t k)
 {
     if (!m || (size_t)f >= m->nf || m->f_del[f])
         return GEOM_INVALID_INDEX;
@@ -42,7 +42,7 @@ uint32_t geom_mesh__input_corner_he(const geom_mesh *m, uint32_t f, uint32_t k)
     return h;
 }
 
-size_t geom_mesh__input_corners(const geom_mesh *m, uint32_t f, uint32_t *out)
+size_t geom__mesh_input_corners(const geom_mesh *m, uint32_t f, uint32_t *out)
 {
     if (!m || !out || (size_t)f >= m->nf || m->f_del[f])
         return 0;

@@ -170,7 +170,7 @@ static void tri_setup(const tan_ctx *x, tri_info *t)
     t->uv_area = 0.0;
     t->degen = 0;
     for (int i = 0; i < 3; i++) {
-        if (!geom_isfinite3(p[i]))
+        if (!geom__isfinite3(p[i]))
             t->degen = 1;
     }
     if (p[0][0] == p[1][0] && p[0][1] == p[1][1] && p[0][2] == p[1][2])
@@ -231,7 +231,7 @@ static geom_status tan_identities(tan_work *W)
     const geom_allocator *al = W->al;
     const size_t nh = W->nh, nv = m->nv;
     uint32_t *ident = W->ident;
-    W->boff = geom_alloc(al, (nv + 1) * sizeof(uint32_t));
+    W->boff = geom__alloc(al, (nv + 1) * sizeof(uint32_t));
     if (!W->boff)
         return GEOM_ERR_NOMEM;
     uint32_t *boff = W->boff;
@@ -244,10 +244,10 @@ static geom_status tan_identities(tan_work *W)
     }
     for (size_t v = 0; v < nv; v++)
         boff[v + 1] += boff[v];
-    W->bucket = geom_alloc(al, (W->ntotal_corners ? W->ntotal_corners : 1) * sizeof(uint32_t));
-    uint32_t *fill = geom_alloc(al, (nv ? nv : 1) * sizeof(uint32_t));
+    W->bucket = geom__alloc(al, (W->ntotal_corners ? W->ntotal_corners : 1) * sizeof(uint32_t));
+    uint32_t *fill = geom__alloc(al, (nv ? nv : 1) * sizeof(uint32_t));
     if (!W->bucket || !fill) {
-        geom_free(al, fill, (nv ? nv : 1) * sizeof(uint32_t));
+        geom__free(al, fill, (nv ? nv : 1) * sizeof(uint32_t));
         return GEOM_ERR_NOMEM;
     }
     uint32_t *bucket = W->bucket;
@@ -256,7 +256,7 @@ static geom_status tan_identities(tan_work *W)
         if (m->he_face[h] != INV && !m->f_del[m->he_face[h]])
             bucket[fill[m->he_vertex[h]]++] = (uint32_t)h;
     }
-    geom_free(al, fill, (nv ? nv : 1) * sizeof(uint32_t));
+    geom__free(al, fill, (nv ? nv : 1) * sizeof(uint32_t));
     uint32_t next_id = 0;
     for (size_t v = 0; v < nv; v++) {
         for (uint32_t i = boff[v]; i < boff[v + 1]; i++) {
@@ -432,8 +432,8 @@ static geom_status tan_groups(tan_work *W)
     const uint32_t *ident = W->ident;
     tri_info *tris = W->tris;
     const size_t ntri = W->ntri;
-    W->ga = geom_alloc(al, (ntri ? ntri : 1) * 3 * sizeof(uint32_t));
-    W->stack = geom_alloc(al, (ntri ? ntri : 1) * 2 * sizeof(uint32_t) + 8);
+    W->ga = geom__alloc(al, (ntri ? ntri : 1) * 3 * sizeof(uint32_t));
+    W->stack = geom__alloc(al, (ntri ? ntri : 1) * 2 * sizeof(uint32_t) + 8);
     if (!W->ga || !W->stack)
         return GEOM_ERR_NOMEM;
     uint32_t *ga = W->ga, *stack = W->stack;
@@ -546,7 +546,7 @@ static geom_status tan_frames(tan_work *W)
     const size_t ntri = W->ntri, ngroups = W->ngroups;
     const tri_info *tris = W->tris;
     const uint32_t *ga = W->ga;
-    uint32_t *rep_he = geom_alloc(W->al, (ngroups ? ngroups : 1) * sizeof(uint32_t));
+    uint32_t *rep_he = geom__alloc(W->al, (ngroups ? ngroups : 1) * sizeof(uint32_t));
     if (!rep_he)
         return GEOM_ERR_NOMEM;
     for (size_t g = 0; g < ngroups; g++)
@@ -573,7 +573,7 @@ static geom_status tan_frames(tan_work *W)
         }
         st = tan_pool_add(W, tv, w, &idx);
     }
-    geom_free(W->al, rep_he, (ngroups ? ngroups : 1) * sizeof(uint32_t));
+    geom__free(W->al, rep_he, (ngroups ? ngroups : 1) * sizeof(uint32_t));
     if (st != GEOM_OK)
         return st;
     uint32_t *corner_out = W->corner_out;
@@ -647,18 +647,18 @@ static void tan_free(tan_work *W)
 {
     const geom_allocator *al = W->al;
     const size_t nh1 = W->nh ? W->nh : 1, ntri1 = W->ntri ? W->ntri : 1;
-    geom_free(al, W->tris, W->tri_cap * sizeof(tri_info));
-    geom_free(al, W->tri_of_he, nh1 * sizeof(uint32_t));
-    geom_free(al, W->ident, nh1 * sizeof(uint32_t));
-    geom_free(al, W->corner_out, nh1 * sizeof(uint32_t));
-    geom_free(al, W->bucket, (W->ntotal_corners ? W->ntotal_corners : 1) * sizeof(uint32_t));
-    geom_free(al, W->boff, (W->m->nv + 1) * sizeof(uint32_t));
-    geom_free(al, W->ga, ntri1 * 3 * sizeof(uint32_t));
-    geom_free(al, W->stack, ntri1 * 2 * sizeof(uint32_t) + 8);
-    geom_free(al, W->fn, (W->nf ? W->nf : 1) * 3 * sizeof(double));
-    geom_free(al, W->gsum, W->gcap * 3 * sizeof(double));
-    geom_free(al, W->gorient, W->ocap);
-    geom_free(al, W->pool, W->pool_cap * 4 * sizeof(double));
+    geom__free(al, W->tris, W->tri_cap * sizeof(tri_info));
+    geom__free(al, W->tri_of_he, nh1 * sizeof(uint32_t));
+    geom__free(al, W->ident, nh1 * sizeof(uint32_t));
+    geom__free(al, W->corner_out, nh1 * sizeof(uint32_t));
+    geom__free(al, W->bucket, (W->ntotal_corners ? W->ntotal_corners : 1) * sizeof(uint32_t));
+    geom__free(al, W->boff, (W->m->nv + 1) * sizeof(uint32_t));
+    geom__free(al, W->ga, ntri1 * 3 * sizeof(uint32_t));
+    geom__free(al, W->stack, ntri1 * 2 * sizeof(uint32_t) + 8);
+    geom__free(al, W->fn, (W->nf ? W->nf : 1) * 3 * sizeof(double));
+    geom__free(al, W->gsum, W->gcap * 3 * sizeof(double));
+    geom__free(al, W->gorient, W->ocap);
+    geom__free(al, W->pool, W->pool_cap * 4 * sizeof(double));
 }
 
 geom_status geom_mesh_tangents(geom_mesh *m, uint32_t *id)
@@ -688,7 +688,7 @@ geom_status geom_mesh_tangents(geom_mesh *m, uint32_t *id)
     const size_t nh = W.nh, nf = W.nf;
     tan_ctx *x = &W.x;
     x->m = m;
-    x->pos = geom_mesh__pos(m);
+    x->pos = geom__mesh_pos(m);
     x->uvd = geom_mesh_channel_cdata(m, uvch);
     x->uvi = geom_mesh_corner_cindices(m, uvch);
     x->uvc = geom_mesh_channel_ncomp(m, uvch);
@@ -697,10 +697,10 @@ geom_status geom_mesh_tangents(geom_mesh *m, uint32_t *id)
     x->ni = geom_mesh_corner_cindices(m, nch);
     x->nn = geom_mesh_channel_size(m, nch);
 
-    W.fn = geom_alloc(W.al, (nf ? nf : 1) * 3 * sizeof(double));
-    W.tri_of_he = geom_alloc(W.al, (nh ? nh : 1) * sizeof(uint32_t));
-    W.ident = geom_alloc(W.al, (nh ? nh : 1) * sizeof(uint32_t));
-    W.corner_out = geom_alloc(W.al, (nh ? nh : 1) * sizeof(uint32_t));
+    W.fn = geom__alloc(W.al, (nf ? nf : 1) * 3 * sizeof(double));
+    W.tri_of_he = geom__alloc(W.al, (nh ? nh : 1) * sizeof(uint32_t));
+    W.ident = geom__alloc(W.al, (nh ? nh : 1) * sizeof(uint32_t));
+    W.corner_out = geom__alloc(W.al, (nh ? nh : 1) * sizeof(uint32_t));
     if (!W.fn || !W.tri_of_he || !W.ident || !W.corner_out) {
         st = GEOM_ERR_NOMEM;
         goto done;

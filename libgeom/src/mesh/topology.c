@@ -10,7 +10,7 @@ geom_aabb geom_mesh_bbox(const geom_mesh *m)
     geom_aabb b = geom_aabb_empty();
     if (!m)
         return b;
-    const double *p = geom_mesh__pos(m);
+    const double *p = geom__mesh_pos(m);
     for (size_t v = 0; v < m->nv; ++v)
         if (!m->v_del[v])
             b = geom_aabb_extend(b, geom_vec3_make(p[3 * v], p[3 * v + 1], p[3 * v + 2]));
@@ -24,7 +24,7 @@ geom_status geom_mesh_boundary_loops(const geom_mesh *m, size_t *n_loops,
         return GEOM_ERR_INVALID_ARG;
     uint32_t *lab = loop_of_halfedge;
     if (!lab) {
-        lab = geom_alloc(&m->alloc, (m->nh ? m->nh : 1) * sizeof(uint32_t));
+        lab = geom__alloc(&m->alloc, (m->nh ? m->nh : 1) * sizeof(uint32_t));
         if (!lab)
             return GEOM_ERR_NOMEM;
     }
@@ -43,7 +43,7 @@ geom_status geom_mesh_boundary_loops(const geom_mesh *m, size_t *n_loops,
         n++;
     }
     if (lab != loop_of_halfedge)
-        geom_free(&m->alloc, lab, (m->nh ? m->nh : 1) * sizeof(uint32_t));
+        geom__free(&m->alloc, lab, (m->nh ? m->nh : 1) * sizeof(uint32_t));
     if (n_loops)
         *n_loops = n;
     return GEOM_OK;
@@ -85,7 +85,7 @@ geom_status geom_mesh_components(const geom_mesh *m, size_t *n, uint32_t *vertex
         return GEOM_ERR_LIMIT;
     uint32_t *lab = vertex_component;
     if (!lab) {
-        lab = geom_alloc(&m->alloc, (m->nv ? m->nv : 1) * sizeof(uint32_t));
+        lab = geom__alloc(&m->alloc, (m->nv ? m->nv : 1) * sizeof(uint32_t));
         if (!lab)
             return GEOM_ERR_NOMEM;
     }
@@ -94,7 +94,7 @@ geom_status geom_mesh_components(const geom_mesh *m, size_t *n, uint32_t *vertex
         for (size_t f = 0; f < m->nf; ++f)
             face_component[f] = m->f_del[f] ? INV : lab[m->he_vertex[m->f_he[f]]];
     if (lab != vertex_component)
-        geom_free(&m->alloc, lab, (m->nv ? m->nv : 1) * sizeof(uint32_t));
+        geom__free(&m->alloc, lab, (m->nv ? m->nv : 1) * sizeof(uint32_t));
     if (n)
         *n = nc;
     return GEOM_OK;
@@ -104,7 +104,7 @@ bool geom_mesh_face_is_degenerate(const geom_mesh *m, uint32_t f)
 {
     if (!m || (size_t)f >= m->nf || m->f_del[f])
         return false;
-    const double *p = geom_mesh__pos(m);
+    const double *p = geom__mesh_pos(m);
     uint32_t h0 = m->f_he[f], h;
     const double *o = p + 3 * (size_t)m->he_vertex[h0];
     /* scale: largest coordinate difference from the first vertex, of the
@@ -191,11 +191,11 @@ geom_status geom_mesh_topology_summary(const geom_mesh *m, geom_mesh_topology *t
     }
     /* lab (nv) + per-component V, E, F, B counters (4 * nv) */
     size_t words = 5 * (nv ? nv : 1);
-    uint32_t *buf = geom_alloc(&m->alloc, words * sizeof(uint32_t));
-    uint32_t *hl = geom_alloc(&m->alloc, (m->nh ? m->nh : 1) * sizeof(uint32_t));
+    uint32_t *buf = geom__alloc(&m->alloc, words * sizeof(uint32_t));
+    uint32_t *hl = geom__alloc(&m->alloc, (m->nh ? m->nh : 1) * sizeof(uint32_t));
     if (!buf || !hl) {
-        geom_free(&m->alloc, buf, words * sizeof(uint32_t));
-        geom_free(&m->alloc, hl, (m->nh ? m->nh : 1) * sizeof(uint32_t));
+        geom__free(&m->alloc, buf, words * sizeof(uint32_t));
+        geom__free(&m->alloc, hl, (m->nh ? m->nh : 1) * sizeof(uint32_t));
         return GEOM_ERR_NOMEM;
     }
     uint32_t *lab = buf, *cV = buf + nv, *cE = cV + nv, *cF = cE + nv, *cB = cF + nv;
@@ -259,7 +259,7 @@ geom_status geom_mesh_topology_summary(const geom_mesh *m, geom_mesh_topology *t
     size_t nd = 0;
     geom_mesh_validate(m, NULL, 0, &nd);
     t->manifold = nd == 0;
-    geom_free(&m->alloc, buf, words * sizeof(uint32_t));
-    geom_free(&m->alloc, hl, (m->nh ? m->nh : 1) * sizeof(uint32_t));
+    geom__free(&m->alloc, buf, words * sizeof(uint32_t));
+    geom__free(&m->alloc, hl, (m->nh ? m->nh : 1) * sizeof(uint32_t));
     return GEOM_OK;
 }

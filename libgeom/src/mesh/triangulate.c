@@ -430,7 +430,7 @@ static geom_status triangulate_large(ec *e, uint32_t *tris)
     g.e = e;
     g.cap = 4 * n;
     size_t nc = g.cap, nu = nc + 11 * n;
-    uint32_t *ub = geom_alloc(NULL, nu * sizeof(uint32_t));
+    uint32_t *ub = geom__alloc(NULL, nu * sizeof(uint32_t));
     if (!ub)
         return GEOM_ERR_NOMEM;
     g.head = ub;
@@ -537,7 +537,7 @@ static geom_status triangulate_large(ec *e, uint32_t *tris)
     tris[3 * nt] = e->prv[cur];
     tris[3 * nt + 1] = cur;
     tris[3 * nt + 2] = e->nxt[cur];
-    geom_free(NULL, ub, nu * sizeof(uint32_t));
+    geom__free(NULL, ub, nu * sizeof(uint32_t));
     return GEOM_OK;
 }
 
@@ -588,13 +588,13 @@ geom_status geom_polygon_triangulate(size_t n, const double *pts, uint32_t *tris
     uint8_t *bb = sb;
     double *db = sd;
     if (n > SMALL) {
-        ub = geom_alloc(NULL, 2 * n * sizeof(uint32_t));
-        bb = geom_alloc(NULL, 2 * n);
-        db = geom_alloc(NULL, 3 * n * sizeof(double));
+        ub = geom__alloc(NULL, 2 * n * sizeof(uint32_t));
+        bb = geom__alloc(NULL, 2 * n);
+        db = geom__alloc(NULL, 3 * n * sizeof(double));
         if (!ub || !bb || !db) {
-            geom_free(NULL, ub, 2 * n * sizeof(uint32_t));
-            geom_free(NULL, bb, 2 * n);
-            geom_free(NULL, db, 3 * n * sizeof(double));
+            geom__free(NULL, ub, 2 * n * sizeof(uint32_t));
+            geom__free(NULL, bb, 2 * n);
+            geom__free(NULL, db, 3 * n * sizeof(double));
             return GEOM_ERR_NOMEM;
         }
     }
@@ -625,9 +625,9 @@ geom_status geom_polygon_triangulate(size_t n, const double *pts, uint32_t *tris
         update_reflex(&e, (uint32_t)i);
     if (n > SMALL) {
         geom_status st = triangulate_large(&e, tris);
-        geom_free(NULL, ub, 2 * n * sizeof(uint32_t));
-        geom_free(NULL, bb, 2 * n);
-        geom_free(NULL, db, 3 * n * sizeof(double));
+        geom__free(NULL, ub, 2 * n * sizeof(uint32_t));
+        geom__free(NULL, bb, 2 * n);
+        geom__free(NULL, db, 3 * n * sizeof(double));
         return st;
     }
     for (size_t i = 0; i < n; ++i)
@@ -712,9 +712,9 @@ geom_status geom_polygon_triangulate(size_t n, const double *pts, uint32_t *tris
     tris[3 * nt + 1] = cur;
     tris[3 * nt + 2] = e.nxt[cur];
     if (n > SMALL) {
-        geom_free(NULL, ub, 2 * n * sizeof(uint32_t));
-        geom_free(NULL, bb, 2 * n);
-        geom_free(NULL, db, 3 * n * sizeof(double));
+        geom__free(NULL, ub, 2 * n * sizeof(uint32_t));
+        geom__free(NULL, bb, 2 * n);
+        geom__free(NULL, db, 3 * n * sizeof(double));
     }
     return GEOM_OK;
 }
@@ -738,7 +738,7 @@ geom_status geom_mesh_triangulate(geom_mesh *m, size_t *n_new_faces)
                 nmax = n;
             uint32_t h = m->f_he[f];
             for (size_t k = 0; k < n; ++k, h = m->he_next[h])
-                if (!geom_isfinite3(geom_mesh__pos(m) + 3 * (size_t)m->he_vertex[h]))
+                if (!geom__isfinite3(geom__mesh_pos(m) + 3 * (size_t)m->he_vertex[h]))
                     return GEOM_ERR_INVALID_ARG; /* nothing changed yet */
         }
     }
@@ -746,21 +746,21 @@ geom_status geom_mesh_triangulate(geom_mesh *m, size_t *n_new_faces)
         return GEOM_OK;
     if (add > (size_t)UINT32_MAX / 2)
         return GEOM_ERR_LIMIT;
-    geom_status st = geom_mesh__reserve(m, m->nv, m->nh + 2 * add, m->nf + add);
+    geom_status st = geom__mesh_reserve(m, m->nv, m->nh + 2 * add, m->nf + add);
     if (st != GEOM_OK)
         return st;
     /* scratch: pts 3n doubles; tris 3(n-2), hk n, diag keys 2(n-3) + halfedges (n-3) */
     const geom_allocator *a = &m->alloc;
     size_t nd = 3 * nmax, nu = 3 * nmax + nmax + 3 * nmax;
-    double *pts = geom_alloc(a, nd * sizeof(double));
-    uint32_t *ub = geom_alloc(a, nu * sizeof(uint32_t));
+    double *pts = geom__alloc(a, nd * sizeof(double));
+    uint32_t *ub = geom__alloc(a, nu * sizeof(uint32_t));
     if (!pts || !ub) {
-        geom_free(a, pts, nd * sizeof(double));
-        geom_free(a, ub, nu * sizeof(uint32_t));
+        geom__free(a, pts, nd * sizeof(double));
+        geom__free(a, ub, nu * sizeof(uint32_t));
         return GEOM_ERR_NOMEM;
     }
     uint32_t *tris = ub, *hk = ub + 3 * nmax, *dg = hk + nmax;
-    const double *pos = geom_mesh__pos(m);
+    const double *pos = geom__mesh_pos(m);
     for (size_t f = 0; f < nf0; ++f) {
         if (m->f_del[f])
             continue;
@@ -777,13 +777,13 @@ geom_status geom_mesh_triangulate(geom_mesh *m, size_t *n_new_faces)
         for (size_t t = 0; t < n - 2; ++t) {
             uint32_t face = t == 0 ? (uint32_t)f : (uint32_t)m->nf;
             if (t > 0) {
-                geom_mesh__resize(m, m->nv, m->nh, m->nf + 1); /* reserved: cannot fail */
+                geom__mesh_resize(m, m->nv, m->nh, m->nf + 1); /* reserved: cannot fail */
                 if (m->face_origin)
                     m->face_origin[face] = m->face_origin[f];
                 if (m->face_group)
                     m->face_group[face] = m->face_group[f];
                 for (size_t c = 0; c < m->n_channels; ++c) {
-                    geom_mesh__channel *ch = &m->channels[c];
+                    geom__mesh_channel *ch = &m->channels[c];
                     if (ch->domain == GEOM_MESH_DOMAIN_FACE)
                         memcpy(ch->data + (size_t)face * ch->ncomp, ch->data + f * ch->ncomp,
                                ch->ncomp * sizeof(double));
@@ -806,7 +806,7 @@ geom_status geom_mesh_triangulate(geom_mesh *m, size_t *n_new_faces)
                         }
                     if (he == INV) {
                         he = (uint32_t)m->nh;
-                        geom_mesh__resize(m, m->nv, m->nh + 2, m->nf);
+                        geom__mesh_resize(m, m->nv, m->nh + 2, m->nf);
                         m->he_vertex[he] = m->he_vertex[hk[lb]];
                         m->he_vertex[he ^ 1u] = m->he_vertex[hk[la]];
                         dg[3 * ndg] = lo;
@@ -816,7 +816,7 @@ geom_status geom_mesh_triangulate(geom_mesh *m, size_t *n_new_faces)
                     }
                     /* corner of this triangle at lb: the polygon's corner at lb */
                     for (size_t c = 0; c < m->n_channels; ++c) {
-                        geom_mesh__channel *ch = &m->channels[c];
+                        geom__mesh_channel *ch = &m->channels[c];
                         if (ch->domain == GEOM_MESH_DOMAIN_CORNER)
                             ch->corner[he] = ch->corner[hk[lb]];
                     }
@@ -824,17 +824,17 @@ geom_status geom_mesh_triangulate(geom_mesh *m, size_t *n_new_faces)
                 th[j] = he;
                 m->he_face[he] = face;
             }
-            geom_mesh__link(m, th[0], th[1]);
-            geom_mesh__link(m, th[1], th[2]);
-            geom_mesh__link(m, th[2], th[0]);
+            geom__mesh_link(m, th[0], th[1]);
+            geom__mesh_link(m, th[1], th[2]);
+            geom__mesh_link(m, th[2], th[0]);
             m->f_he[face] = th[0];
         }
     }
-    geom_free(a, pts, nd * sizeof(double));
-    geom_free(a, ub, nu * sizeof(uint32_t));
+    geom__free(a, pts, nd * sizeof(double));
+    geom__free(a, ub, nu * sizeof(uint32_t));
     if (m->face_flipped) {
         /* input corners no longer correspond to faces */
-        geom_free(a, m->face_flipped, m->cap_f);
+        geom__free(a, m->face_flipped, m->cap_f);
         m->face_flipped = NULL;
     }
     if (n_new_faces)

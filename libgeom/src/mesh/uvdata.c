@@ -39,7 +39,7 @@ geom_status geom_mesh_uv_data(const geom_mesh *m, uint32_t uv_channel, geom_uv_r
         memset(report, 0, sizeof *report);
     if (!m || uv_channel >= m->n_channels)
         return GEOM_ERR_INVALID_ARG;
-    const geom_mesh__channel *ch = &m->channels[uv_channel];
+    const geom__mesh_channel *ch = &m->channels[uv_channel];
     if (ch->domain != GEOM_MESH_DOMAIN_CORNER || ch->ncomp < 2)
         return GEOM_ERR_INVALID_ARG;
     const size_t nf = m->nf, ne = m->nh / 2, nc = ch->ncomp, pool = ch->pool;
@@ -47,11 +47,11 @@ geom_status geom_mesh_uv_data(const geom_mesh *m, uint32_t uv_channel, geom_uv_r
     const double *uv = ch->data;
     const geom_allocator *al = &m->alloc;
 
-    uint32_t *parent = geom_alloc(al, (nf ? nf : 1) * sizeof(uint32_t));
-    uint8_t *has = geom_alloc(al, nf ? nf : 1);
+    uint32_t *parent = geom__alloc(al, (nf ? nf : 1) * sizeof(uint32_t));
+    uint8_t *has = geom__alloc(al, nf ? nf : 1);
     if (!parent || !has) {
-        geom_free(al, parent, (nf ? nf : 1) * sizeof(uint32_t));
-        geom_free(al, has, nf ? nf : 1);
+        geom__free(al, parent, (nf ? nf : 1) * sizeof(uint32_t));
+        geom__free(al, has, nf ? nf : 1);
         return GEOM_ERR_NOMEM;
     }
     for (size_t f = 0; f < nf; f++) {
@@ -82,10 +82,10 @@ geom_status geom_mesh_uv_data(const geom_mesh *m, uint32_t uv_channel, geom_uv_r
 
     /* chart numbering in order of first face */
     size_t charts = 0;
-    uint32_t *chart_of_root = geom_alloc(al, (nf ? nf : 1) * sizeof(uint32_t));
+    uint32_t *chart_of_root = geom__alloc(al, (nf ? nf : 1) * sizeof(uint32_t));
     if (!chart_of_root) {
-        geom_free(al, parent, (nf ? nf : 1) * sizeof(uint32_t));
-        geom_free(al, has, nf ? nf : 1);
+        geom__free(al, parent, (nf ? nf : 1) * sizeof(uint32_t));
+        geom__free(al, has, nf ? nf : 1);
         return GEOM_ERR_NOMEM;
     }
     for (size_t f = 0; f < nf; f++)
@@ -165,8 +165,8 @@ geom_status geom_mesh_uv_data(const geom_mesh *m, uint32_t uv_channel, geom_uv_r
     r.seam_edges = seams;
     if (report)
         *report = r;
-    geom_free(al, parent, (nf ? nf : 1) * sizeof(uint32_t));
-    geom_free(al, has, nf ? nf : 1);
-    geom_free(al, chart_of_root, (nf ? nf : 1) * sizeof(uint32_t));
+    geom__free(al, parent, (nf ? nf : 1) * sizeof(uint32_t));
+    geom__free(al, has, nf ? nf : 1);
+    geom__free(al, chart_of_root, (nf ? nf : 1) * sizeof(uint32_t));
     return GEOM_OK;
 }

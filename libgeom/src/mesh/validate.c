@@ -106,8 +106,8 @@ geom_status geom_mesh_validate(const geom_mesh *m, geom_mesh_defect *defects,
     {
         size_t nb;
         uint32_t *cnt = NULL;
-        if (geom_size_mul(nv ? nv : 1, 2 * sizeof(uint32_t), &nb) != GEOM_OK ||
-            !(cnt = geom_alloc(&m->alloc, nb)))
+        if (geom__size_mul(nv ? nv : 1, 2 * sizeof(uint32_t), &nb) != GEOM_OK ||
+            !(cnt = geom__alloc(&m->alloc, nb)))
             return GEOM_ERR_NOMEM;
         uint32_t *bcnt = cnt + nv;
         memset(cnt, 0, nb);
@@ -151,12 +151,12 @@ geom_status geom_mesh_validate(const geom_mesh *m, geom_mesh_defect *defects,
             else if (k != cnt[v] || bcnt[v] > 1)
                 add(&L, GEOM_MESH_DEFECT_NONMANIFOLD_VERTEX, v);
         }
-        geom_free(&m->alloc, cnt, nb);
+        geom__free(&m->alloc, cnt, nb);
     }
 
     /* ---- corner channels */
     for (size_t i = 0; i < m->n_channels; ++i) {
-        const geom_mesh__channel *c = &m->channels[i];
+        const geom__mesh_channel *c = &m->channels[i];
         if (c->domain != GEOM_MESH_DOMAIN_CORNER)
             continue;
         for (size_t h = 0; h < nh; ++h) {

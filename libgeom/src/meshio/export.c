@@ -7,7 +7,7 @@ static const char *const attr_names[MIO_NATTR] = {"normal", "uv", "color", "tang
 static const unsigned attr_bits[MIO_NATTR] = {GEOM_MESHIO_ATTR_NORMAL, GEOM_MESHIO_ATTR_UV,
                                               GEOM_MESHIO_ATTR_COLOR, GEOM_MESHIO_ATTR_TANGENT};
 
-uint32_t geom_meshio__attr_channel(const geom_mesh *m, int which, unsigned omit)
+uint32_t geom__meshio_attr_channel(const geom_mesh *m, int which, unsigned omit)
 {
     if (which < 0 || which >= MIO_NATTR || (omit & attr_bits[which]))
         return GEOM_INVALID_INDEX;
@@ -17,25 +17,25 @@ uint32_t geom_meshio__attr_channel(const geom_mesh *m, int which, unsigned omit)
     return id;
 }
 
-geom_status geom_meshio__check_finite(const geom_mesh *m, mio_sink *k)
+geom_status geom__meshio_check_finite(const geom_mesh *m, mio_sink *k)
 {
     const double *p = geom_mesh_cpositions(m);
     size_t nv = geom_mesh_n_vertices(m);
     for (size_t v = 0; v < nv; v++)
-        if (!geom_mesh_vertex_is_deleted(m, (uint32_t)v) && !geom_isfinite3(p + 3 * v))
-            return geom_meshio__sink_fail(k, GEOM_ERR_INVALID_ARG,
+        if (!geom_mesh_vertex_is_deleted(m, (uint32_t)v) && !geom__isfinite3(p + 3 * v))
+            return geom__meshio_sink_fail(k, GEOM_ERR_INVALID_ARG,
                                           "vertex %zu has a non-finite coordinate", v);
     return GEOM_OK;
 }
 
-geom_status geom_meshio__vertex_map(const geom_mesh *m, const geom_allocator *a,
+geom_status geom__meshio_vertex_map(const geom_mesh *m, const geom_allocator *a,
                                     uint32_t **map, size_t *n_live)
 {
     size_t nv = geom_mesh_n_vertices(m);
     size_t bytes;
-    if (geom_size_mul(nv, sizeof(uint32_t), &bytes) != GEOM_OK)
+    if (geom__size_mul(nv, sizeof(uint32_t), &bytes) != GEOM_OK)
         return GEOM_ERR_LIMIT;
-    uint32_t *mp = geom_alloc(a, bytes);
+    uint32_t *mp = geom__alloc(a, bytes);
     if (!mp)
         return GEOM_ERR_NOMEM;
     size_t k = 0;
@@ -47,15 +47,15 @@ geom_status geom_meshio__vertex_map(const geom_mesh *m, const geom_allocator *a,
     return GEOM_OK;
 }
 
-void geom_meshio__export_free(mio_export *e)
+void geom__meshio_export_free(mio_export *e)
 {
     const geom_allocator *a = e->alloc;
-    geom_free(a, e->vert, e->cap_v * sizeof(uint32_t));
+    geom__free(a, e->vert, e->cap_v * sizeof(uint32_t));
     for (int i = 0; i < MIO_NATTR; i++)
-        geom_free(a, e->aidx[i], e->cap_v * sizeof(uint32_t));
-    geom_free(a, e->fsize, e->nf * sizeof(uint32_t));
-    geom_free(a, e->fface, e->nf * sizeof(uint32_t));
-    geom_free(a, e->fidx, e->nidx * sizeof(uint32_t));
+        geom__free(a, e->aidx[i], e->cap_v * sizeof(uint32_t));
+    geom__free(a, e->fsize, e->nf * sizeof(uint32_t));
+    geom__free(a, e->fface, e->nf * sizeof(uint32_t));
+    geom__free(a, e->fidx, e->nidx * sizeof(uint32_t));
     memset(e, 0, sizeof *e);
 }
 
@@ -69,24 +69,24 @@ static geom_status grow_out(mio_export *e, size_t n)
         cap *= 2;
     size_t old = e->cap_v;
     size_t tmp = old;
-    if (geom_meshio__grow(e->alloc, (void **)&e->vert, &tmp, cap, sizeof(uint32_t)) != GEOM_OK)
+    if (geom__grow(e->alloc, (void **)&e->vert, &tmp, cap, sizeof(uint32_t)) != GEOM_OK)
         return GEOM_ERR_NOMEM;
     for (int i = 0; i < MIO_NATTR; i++) {
         tmp = old;
-        if (geom_meshio__grow(e->alloc, (void **)&e->aidx[i], &tmp, cap, sizeof(uint32_t)) !=
+        if (geom__grow(e->alloc, (void **)&e->aidx[i], &tmp, cap, sizeof(uint32_t)) !=
             GEOM_OK) {
             /* keep the arrays' sizes consistent for export_free: shrink
              * what was grown is not possible, so record the larger cap
              * only when all succeeded; free the grown ones now */
             for (int j = 0; j <= i; j++) {
-                geom_free(e->alloc, e->aidx[j], (j < i ? cap : old) * sizeof(uint32_t));
+                geom__free(e->alloc, e->aidx[j], (j < i ? cap : old) * sizeof(uint32_t));
                 e->aidx[j] = NULL;
             }
             for (int j = i + 1; j < MIO_NATTR; j++) {
-                geom_free(e->alloc, e->aidx[j], old * sizeof(uint32_t));
+                geom__free(e->alloc, e->aidx[j], old * sizeof(uint32_t));
                 e->aidx[j] = NULL;
             }
-            geom_free(e->alloc, e->vert, cap * sizeof(uint32_t));
+            geom__free(e->alloc, e->vert, cap * sizeof(uint32_t));
             e->vert = NULL;
             e->cap_v = 0;
             return GEOM_ERR_NOMEM;
@@ -132,12 +132,12 @@ static geom_status export_corner(exp_walk *w, uint32_t h, uint32_t *outp)
         same &= e->aidx[a][out] == key[a];
     if (same)
         return GEOM_OK;
-    uint64_t hv = geom_meshio__mix(0, v);
+    uint64_t hv = geom__hash_mix(0, v);
     for (int a = 0; a < MIO_NATTR; a++)
-        hv = geom_meshio__mix(hv, key[a]);
+        hv = geom__hash_mix(hv, key[a]);
     size_t it = 0;
     uint32_t cand;
-    while ((cand = geom_meshio__hash_next(&w->hash, hv, &it)) != UINT32_MAX) {
+    while ((cand = geom__hindex_next(&w->hash, hv, &it)) != UINT32_MAX) {
         int eq = e->vert[cand] == v;
         for (int a = 0; a < MIO_NATTR && eq; a++)
             eq = e->aidx[a][cand] == key[a];
@@ -150,18 +150,18 @@ static geom_status export_corner(exp_walk *w, uint32_t h, uint32_t *outp)
         return GEOM_ERR_LIMIT;
     geom_status st = grow_out(e, e->nv + 1);
     if (st == GEOM_OK)
-        st = geom_meshio__hash_reserve(&w->hash, e->alloc, w->hash.n + 1);
+        st = geom__hindex_reserve(&w->hash, e->alloc, w->hash.n + 1);
     if (st != GEOM_OK)
         return st;
     /* the table may have been rebuilt: find the slot again */
     it = 0;
-    while (geom_meshio__hash_next(&w->hash, hv, &it) != UINT32_MAX) {
+    while (geom__hindex_next(&w->hash, hv, &it) != UINT32_MAX) {
     }
     out = (uint32_t)e->nv++;
     e->vert[out] = v;
     for (int a = 0; a < MIO_NATTR; a++)
         e->aidx[a][out] = key[a];
-    geom_meshio__hash_insert_at(&w->hash, hv, it, out);
+    geom__hindex_insert_at(&w->hash, hv, it, out);
     *outp = out;
     return GEOM_OK;
 }
@@ -178,8 +178,8 @@ static geom_status export_triangles(exp_walk *w, size_t nmax, size_t *fi, size_t
     const geom_allocator *al = e->alloc;
     size_t nf = geom_mesh_n_faces(m);
     const double *pos = geom_mesh_cpositions(m);
-    double *pts = geom_alloc(al, 3 * nmax * sizeof(double));
-    uint32_t *ub = geom_alloc(al, 4 * nmax * sizeof(uint32_t));
+    double *pts = geom__alloc(al, 3 * nmax * sizeof(double));
+    uint32_t *ub = geom__alloc(al, 4 * nmax * sizeof(uint32_t));
     geom_status st = pts && ub ? GEOM_OK : GEOM_ERR_NOMEM;
     uint32_t *tris = ub, *hk = ub + 3 * nmax;
     for (int pass = 0; pass < 2 && st == GEOM_OK; pass++)
@@ -208,12 +208,12 @@ static geom_status export_triangles(exp_walk *w, size_t nmax, size_t *fi, size_t
                 (*fi)++;
             }
         }
-    geom_free(al, pts, 3 * nmax * sizeof(double));
-    geom_free(al, ub, 4 * nmax * sizeof(uint32_t));
+    geom__free(al, pts, 3 * nmax * sizeof(double));
+    geom__free(al, ub, 4 * nmax * sizeof(uint32_t));
     return st;
 }
 
-geom_status geom_meshio__export_build(mio_export *e, const geom_mesh *m,
+geom_status geom__meshio_export_build(mio_export *e, const geom_mesh *m,
                                       const uint32_t chan[MIO_NATTR],
                                       const geom_allocator *alloc, int triangulate)
 {
@@ -234,12 +234,12 @@ geom_status geom_meshio__export_build(mio_export *e, const geom_mesh *m,
     }
     uint32_t *vmap = NULL;
     size_t nlive = 0;
-    geom_status st = geom_meshio__vertex_map(m, alloc, &vmap, &nlive);
+    geom_status st = geom__meshio_vertex_map(m, alloc, &vmap, &nlive);
     if (st != GEOM_OK)
         return st;
     w.vmap = vmap;
     if (nlive > UINT32_MAX - 1) {
-        geom_free(alloc, vmap, nv * sizeof(uint32_t));
+        geom__free(alloc, vmap, nv * sizeof(uint32_t));
         return GEOM_ERR_LIMIT;
     }
     /* live faces (triangles when triangulating) and their sizes */
@@ -254,9 +254,9 @@ geom_status geom_meshio__export_build(mio_export *e, const geom_mesh *m,
     }
     e->nf = nlf;
     e->nidx = nidx;
-    e->fsize = geom_alloc(alloc, nlf * sizeof(uint32_t));
-    e->fface = geom_alloc(alloc, nlf * sizeof(uint32_t));
-    e->fidx = geom_alloc(alloc, nidx * sizeof(uint32_t));
+    e->fsize = geom__alloc(alloc, nlf * sizeof(uint32_t));
+    e->fface = geom__alloc(alloc, nlf * sizeof(uint32_t));
+    e->fidx = geom__alloc(alloc, nidx * sizeof(uint32_t));
     st = (e->fsize && e->fface && e->fidx) ? grow_out(e, nlive) : GEOM_ERR_NOMEM;
     if (st == GEOM_OK) {
         /* the first nlive outputs are the live vertices; their attribute
@@ -273,7 +273,7 @@ geom_status geom_meshio__export_build(mio_export *e, const geom_mesh *m,
         }
         e->nv = nlive;
         if (w.ncorner) {
-            w.primary_set = geom_alloc(alloc, nv ? nv : 1);
+            w.primary_set = geom__alloc(alloc, nv ? nv : 1);
             if (!w.primary_set)
                 st = GEOM_ERR_NOMEM;
             else
@@ -304,15 +304,15 @@ geom_status geom_meshio__export_build(mio_export *e, const geom_mesh *m,
             e->max_valence = cnt;
         fi++;
     }
-    geom_free(alloc, w.primary_set, nv ? nv : 1);
-    geom_meshio__hash_free(&w.hash, alloc);
-    geom_free(alloc, vmap, nv * sizeof(uint32_t));
+    geom__free(alloc, w.primary_set, nv ? nv : 1);
+    geom__hindex_free(&w.hash, alloc);
+    geom__free(alloc, vmap, nv * sizeof(uint32_t));
     if (st != GEOM_OK)
-        geom_meshio__export_free(e);
+        geom__meshio_export_free(e);
     return st;
 }
 
-size_t geom_meshio__export_value(const mio_export *e, const geom_mesh *m, int a, size_t k,
+size_t geom__meshio_export_value(const mio_export *e, const geom_mesh *m, int a, size_t k,
                                  double *out, size_t max)
 {
     uint32_t id = e->chan[a];

@@ -55,7 +55,7 @@ static int new_node(jparse *p, int type, uint32_t *id)
 {
     if (p->count == p->cap) {
         size_t cap = p->cap;
-        if (geom_meshio__grow(p->alloc, (void **)&p->nodes, &cap, p->count + 1, sizeof *p->nodes) !=
+        if (geom__grow(p->alloc, (void **)&p->nodes, &cap, p->count + 1, sizeof *p->nodes) !=
             GEOM_OK)
             return -1;
         p->cap = cap;
@@ -164,7 +164,7 @@ static int parse_value(jparse *p, uint32_t *out)
         while (p->pos < p->n && strchr("+-0123456789.eE", p->s[p->pos]) && p->s[p->pos])
             p->pos++;
         double v;
-        if (p->pos == start || geom_meshio__parse_double(p->s + start, p->pos - start, &v) != 0)
+        if (p->pos == start || geom__meshio_parse_double(p->s + start, p->pos - start, &v) != 0)
             return -1;
         if (new_node(p, J_NUM, &id) != 0)
             return -2;
@@ -232,7 +232,7 @@ static geom_status accessor(mio_ctx *c, const jparse *p, const jnode *root, int6
 {
     const jnode *acc = jat(p, jget(p, root, "accessors"), (size_t)(index < 0 ? 0 : index));
     if (index < 0 || !acc)
-        return geom_meshio__err_off(c, GEOM_ERR_PARSE, 0, "%s: accessor %lld does not exist", what,
+        return geom__meshio_err_off(c, GEOM_ERR_PARSE, 0, "%s: accessor %lld does not exist", what,
                                     (long long)index);
     int64_t viewi = jint(p, acc, "bufferView", -2), aoff = jint(p, acc, "byteOffset", 0),
             count = jint(p, acc, "count", -1), ctype = jint(p, acc, "componentType", -1);
@@ -242,7 +242,7 @@ static geom_status accessor(mio_ctx *c, const jparse *p, const jnode *root, int6
     size_t csize = ctype == 5126 || ctype == 5125 ? 4 : ctype == 5123 || ctype == 5122 ? 2
                    : ctype == 5121 || ctype == 5120 ? 1 : 0;
     if (viewi < 0 || aoff < 0 || count < 0 || !ncomp || !csize)
-        return geom_meshio__err_off(c, GEOM_ERR_PARSE, 0,
+        return geom__meshio_err_off(c, GEOM_ERR_PARSE, 0,
                                     "%s: accessor %lld is malformed or sparse (bufferView, "
                                     "byteOffset, count, componentType, type)",
                                     what, (long long)index);
@@ -250,7 +250,7 @@ static geom_status accessor(mio_ctx *c, const jparse *p, const jnode *root, int6
     int64_t buf = jint(p, view, "buffer", -1), voff = jint(p, view, "byteOffset", 0),
             vlen = jint(p, view, "byteLength", -1), stride = jint(p, view, "byteStride", 0);
     if (!view || buf != 0 || voff < 0 || vlen < 0 || stride < 0)
-        return geom_meshio__err_off(c, GEOM_ERR_PARSE, 0,
+        return geom__meshio_err_off(c, GEOM_ERR_PARSE, 0,
                                     "%s: bufferView %lld is malformed or not in the GLB's BIN "
                                     "chunk",
                                     what, (long long)viewi);
@@ -258,7 +258,7 @@ static geom_status accessor(mio_ctx *c, const jparse *p, const jnode *root, int6
     size_t st = stride ? (size_t)stride : esize;
     if (st < esize || (uint64_t)voff + (uint64_t)vlen > binlen ||
         (count > 0 && (uint64_t)aoff + (uint64_t)(count - 1) * st + esize > (uint64_t)vlen))
-        return geom_meshio__err_off(c, GEOM_ERR_PARSE, 0,
+        return geom__meshio_err_off(c, GEOM_ERR_PARSE, 0,
                                     "%s: accessor %lld reaches beyond its bufferView or the BIN "
                                     "chunk",
                                     what, (long long)index);
@@ -292,23 +292,23 @@ static uint32_t rd_index(const glb_acc *a, size_t i)
 
 static uint64_t pos_hash(const double *v) { return geom__hash_doubles(v, 3); }
 
-geom_status geom_meshio__read_glb(mio_ctx *c, mio_soup *s)
+geom_status geom__meshio_read_glb(mio_ctx *c, mio_soup *s)
 {
     const unsigned char *d = c->data;
     size_t n = c->size;
     s->loc_is_offset = 1;
     if (n < 20 || rd32(d) != GLB_MAGIC)
-        return geom_meshio__err_off(c, GEOM_ERR_PARSE, 0, "not a glTF binary file (magic 'glTF')");
+        return geom__meshio_err_off(c, GEOM_ERR_PARSE, 0, "not a glTF binary file (magic 'glTF')");
     if (rd32(d + 4) != 2)
-        return geom_meshio__err_off(c, GEOM_ERR_PARSE, 4, "glTF version %lu, expected 2",
+        return geom__meshio_err_off(c, GEOM_ERR_PARSE, 4, "glTF version %lu, expected 2",
                                     (unsigned long)rd32(d + 4));
     size_t total = rd32(d + 8);
     if (total > n || total < 20)
-        return geom_meshio__err_off(c, GEOM_ERR_PARSE, 8,
+        return geom__meshio_err_off(c, GEOM_ERR_PARSE, 8,
                                     "header length %zu but the file has %zu bytes", total, n);
     size_t jlen = rd32(d + 12);
     if (rd32(d + 16) != GLB_JSON || jlen > total - 20)
-        return geom_meshio__err_off(c, GEOM_ERR_PARSE, 12, "first chunk is not a JSON chunk "
+        return geom__meshio_err_off(c, GEOM_ERR_PARSE, 12, "first chunk is not a JSON chunk "
                                                            "within the file");
     const unsigned char *bin = NULL;
     size_t binlen = 0, off = 20 + jlen;
@@ -317,7 +317,7 @@ geom_status geom_meshio__read_glb(mio_ctx *c, mio_soup *s)
         size_t blen = rd32(d + off);
         if (rd32(d + off + 4) == GLB_BIN) {
             if (blen > total - off - 8)
-                return geom_meshio__err_off(c, GEOM_ERR_PARSE, off,
+                return geom__meshio_err_off(c, GEOM_ERR_PARSE, off,
                                             "BIN chunk of %zu bytes beyond the end", blen);
             bin = d + off + 8;
             binlen = blen;
@@ -332,17 +332,17 @@ geom_status geom_meshio__read_glb(mio_ctx *c, mio_soup *s)
     int rc = parse_value(&p, &rootid);
     geom_status st = GEOM_OK;
     if (rc == -2) {
-        st = geom_meshio__err_off(c, GEOM_ERR_NOMEM, 20, "out of memory");
+        st = geom__meshio_err_off(c, GEOM_ERR_NOMEM, 20, "out of memory");
         goto done;
     }
     if (rc != 0 || p.nodes[rootid].type != J_OBJ) {
-        st = geom_meshio__err_off(c, GEOM_ERR_PARSE, 20 + p.pos, "malformed JSON chunk");
+        st = geom__meshio_err_off(c, GEOM_ERR_PARSE, 20 + p.pos, "malformed JSON chunk");
         goto done;
     }
     const jnode *root = &p.nodes[rootid];
     const jnode *prims = jget(&p, jat(&p, jget(&p, root, "meshes"), 0), "primitives");
     if (!prims || prims->type != J_ARR) {
-        st = geom_meshio__err_off(c, GEOM_ERR_PARSE, 20, "no meshes[0].primitives");
+        st = geom__meshio_err_off(c, GEOM_ERR_PARSE, 20, "no meshes[0].primitives");
         goto done;
     }
     static const char *const attr_name[4] = {"NORMAL", "TEXCOORD_0", "TANGENT", "COLOR_0"};
@@ -364,7 +364,7 @@ geom_status geom_meshio__read_glb(mio_ctx *c, mio_soup *s)
         glb_acc pos, acc[4], idx;
         int has[4] = {0, 0, 0, 0};
         if (!bin) {
-            st = geom_meshio__err_off(c, GEOM_ERR_PARSE, 0,
+            st = geom__meshio_err_off(c, GEOM_ERR_PARSE, 0,
                                       "no BIN chunk: external buffers are not supported");
             break;
         }
@@ -372,10 +372,10 @@ geom_status geom_meshio__read_glb(mio_ctx *c, mio_soup *s)
         if (st != GEOM_OK)
             break;
         if (pos.ctype != 5126 || pos.ncomp != 3) {
-            st = geom_meshio__err_off(c, GEOM_ERR_PARSE, 0, "POSITION must be float VEC3");
+            st = geom__meshio_err_off(c, GEOM_ERR_PARSE, 0, "POSITION must be float VEC3");
             break;
         }
-        st = geom_meshio__check_count(c, pool_base + pos.count, "vertices", 0, 1);
+        st = geom__meshio_check_count(c, pool_base + pos.count, "vertices", 0, 1);
         for (int a = 0; a < 4 && st == GEOM_OK; a++) {
             int64_t ai = jint(&p, attrs, attr_name[a], -2);
             if (ai == -2)
@@ -397,22 +397,22 @@ geom_status geom_meshio__read_glb(mio_ctx *c, mio_soup *s)
             if (st != GEOM_OK)
                 break;
             if (idx.ncomp != 1 || (idx.ctype != 5121 && idx.ctype != 5123 && idx.ctype != 5125)) {
-                st = geom_meshio__err_off(c, GEOM_ERR_PARSE, 0,
+                st = geom__meshio_err_off(c, GEOM_ERR_PARSE, 0,
                                           "indices must be unsigned byte/short/int scalars");
                 break;
             }
             nidx = idx.count;
         }
         if (nidx % 3) {
-            st = geom_meshio__err_off(c, GEOM_ERR_PARSE, 0,
+            st = geom__meshio_err_off(c, GEOM_ERR_PARSE, 0,
                                       "primitive %zu: %zu indices is not a multiple of 3", pi,
                                       nidx);
             break;
         }
         /* weld positions, keep each glTF vertex's mesh vertex in remap */
-        if (geom_meshio__hash_reserve(&hash, c->alloc, mio_soup_nv(s) + pos.count) != GEOM_OK ||
+        if (geom__hindex_reserve(&hash, c->alloc, mio_soup_nv(s) + pos.count) != GEOM_OK ||
             MIO_RESERVE(c->alloc, remap, pos.count) != GEOM_OK) {
-            st = geom_meshio__err_off(c, GEOM_ERR_NOMEM, 0, "out of memory");
+            st = geom__meshio_err_off(c, GEOM_ERR_NOMEM, 0, "out of memory");
             break;
         }
         for (size_t i = 0; i < pos.count && st == GEOM_OK; i++) {
@@ -422,7 +422,7 @@ geom_status geom_meshio__read_glb(mio_ctx *c, mio_soup *s)
             uint64_t h = pos_hash(v);
             size_t it = 0;
             uint32_t cand;
-            while ((cand = geom_meshio__hash_next(&hash, h, &it)) != UINT32_MAX)
+            while ((cand = geom__hindex_next(&hash, h, &it)) != UINT32_MAX)
                 if (memcmp(s->pos.p + 3 * (size_t)cand, v, sizeof v) == 0)
                     break;
             if (cand == UINT32_MAX) {
@@ -433,7 +433,7 @@ geom_status geom_meshio__read_glb(mio_ctx *c, mio_soup *s)
                 }
                 memcpy(s->pos.p + s->pos.n, v, sizeof v);
                 s->pos.n += 3;
-                geom_meshio__hash_insert_at(&hash, h, it, cand);
+                geom__hindex_insert_at(&hash, h, it, cand);
             }
             remap.p[remap.n++] = cand;
         }
@@ -443,7 +443,7 @@ geom_status geom_meshio__read_glb(mio_ctx *c, mio_soup *s)
                 continue;
             size_t nc = a == 3 ? acc[a].ncomp : want_comp[a];
             if (!ch[a]) {
-                ch[a] = geom_meshio__soup_chan(s, c->alloc, chan_name[a], GEOM_MESH_DOMAIN_CORNER,
+                ch[a] = geom__meshio_soup_chan(s, c->alloc, chan_name[a], GEOM_MESH_DOMAIN_CORNER,
                                                nc, NULL);
                 if (!ch[a]) {
                     st = GEOM_ERR_NOMEM;
@@ -480,7 +480,7 @@ geom_status geom_meshio__read_glb(mio_ctx *c, mio_soup *s)
             for (int k = 0; k < 3; k++) {
                 size_t gi = ii != -2 ? rd_index(&idx, 3 * t + (size_t)k) : 3 * t + (size_t)k;
                 if (gi >= pos.count) {
-                    st = geom_meshio__err_off(c, GEOM_ERR_PARSE, 0,
+                    st = geom__meshio_err_off(c, GEOM_ERR_PARSE, 0,
                                               "primitive %zu: index %zu beyond its %zu vertices",
                                               pi, gi, pos.count);
                     break;
@@ -516,10 +516,10 @@ geom_status geom_meshio__read_glb(mio_ctx *c, mio_soup *s)
         }
     }
     if (st == GEOM_ERR_NOMEM && c->diag && c->diag->status != GEOM_ERR_NOMEM)
-        geom_meshio__err_off(c, GEOM_ERR_NOMEM, 0, "out of memory");
-    geom_meshio__hash_free(&hash, c->alloc);
+        geom__meshio_err_off(c, GEOM_ERR_NOMEM, 0, "out of memory");
+    geom__hindex_free(&hash, c->alloc);
     MIO_FREE(c->alloc, remap);
 done:
-    geom_free(c->alloc, p.nodes, p.cap * sizeof *p.nodes);
+    geom__free(c->alloc, p.nodes, p.cap * sizeof *p.nodes);
     return st;
 }

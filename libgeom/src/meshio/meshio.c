@@ -25,7 +25,7 @@ geom_meshio_format geom_meshio_format_from_name(const char *name)
     const char *dot = strrchr(base, '.');
     const char *ext = dot ? dot + 1 : base;
     for (size_t i = 0; i < sizeof mio_formats / sizeof mio_formats[0]; i++)
-        if (geom_meshio__tok_ieq(ext, strlen(ext), mio_formats[i].name))
+        if (geom__meshio_tok_ieq(ext, strlen(ext), mio_formats[i].name))
             return mio_formats[i].format;
     return GEOM_MESHIO_FORMAT_AUTO;
 }
@@ -74,7 +74,7 @@ geom_meshio_format geom_meshio_format_sniff(const void *data, size_t size)
     size_t tl = i - b;
     if (tl >= 3 && tl <= 8 && memcmp(t + tl - 3, "OFF", 3) == 0)
         return GEOM_MESHIO_FORMAT_OFF;
-    if (tl == 5 && geom_meshio__tok_ieq(t, tl, "solid"))
+    if (tl == 5 && geom__meshio_tok_ieq(t, tl, "solid"))
         return GEOM_MESHIO_FORMAT_STL;
     return GEOM_MESHIO_FORMAT_OBJ;
 }
@@ -114,7 +114,7 @@ static size_t utf8_len(const unsigned char *p, size_t n)
     return len;
 }
 
-void geom_meshio__printable(char *dst, size_t size, const char *src, size_t len)
+void geom__meshio_printable(char *dst, size_t size, const char *src, size_t len)
 {
     static const char hex[] = "0123456789abcdef";
     const unsigned char *p = (const unsigned char *)src;
@@ -177,12 +177,12 @@ static geom_status check_content(const unsigned char *p, size_t size, geom_meshi
     if (size >= 3 && p[0] == 0xEF && p[1] == 0xBB && p[2] == 0xBF)
         *skip = 3;
     if (size >= 2 && ((p[0] == 0xFF && p[1] == 0xFE) || (p[0] == 0xFE && p[1] == 0xFF)))
-        return geom_diag_set(diag, GEOM_ERR_PARSE, src, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_PARSE, src, 0, 0,
                              "UTF-%s text (byte-order mark %02X %02X): expected %s in ASCII or "
                              "UTF-8",
                              size >= 4 && p[2] == 0 && p[3] == 0 ? "32" : "16", p[0], p[1], want);
     if (size >= 4 && p[0] == 0 && p[1] == 0 && p[2] == 0xFE && p[3] == 0xFF)
-        return geom_diag_set(diag, GEOM_ERR_PARSE, src, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_PARSE, src, 0, 0,
                              "UTF-32 text (byte-order mark 00 00 FE FF): expected %s in ASCII "
                              "or UTF-8", want);
     p += *skip;
@@ -190,7 +190,7 @@ static geom_status check_content(const unsigned char *p, size_t size, geom_meshi
     geom_meshio_format seen = geom_meshio_format_sniff(p, size);
     int sure = seen != GEOM_MESHIO_FORMAT_OBJ; /* sniffing falls back on OBJ */
     if (sure && seen != fmt)
-        return geom_diag_set(diag, GEOM_ERR_PARSE, src, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_PARSE, src, 0, 0,
                              "the content is %s (%s), not %s as %s", upper_name(seen),
                              seen == GEOM_MESHIO_FORMAT_PLY   ? "'ply' header"
                              : seen == GEOM_MESHIO_FORMAT_GLB ? "'glTF' magic"
@@ -213,7 +213,7 @@ static geom_status check_content(const unsigned char *p, size_t size, geom_meshi
         unsigned char ch = p[i];
         if ((ch < 0x20 && ch != '\t' && ch != '\n' && ch != '\r' && ch != '\v' && ch != '\f') ||
             ch == 0x7F)
-            return geom_diag_set(diag, GEOM_ERR_PARSE, src, 0, 0,
+            return geom__diag_set(diag, GEOM_ERR_PARSE, src, 0, 0,
                                  "%s at byte offset %zu: not %s text (binary or corrupt file)",
                                  ch == 0 ? "NUL byte" : "control byte", i + *skip, want);
     }
@@ -234,7 +234,7 @@ static geom_status read_data(const void *data, size_t size, geom_file *file,
         memset(report, 0, sizeof *report);
     geom_diag_clear(diag);
     if (!out || (!data && size))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, src, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, src, 0, 0,
                              "NULL output or data pointer");
     mio_ctx c;
     memset(&c, 0, sizeof c);
@@ -270,23 +270,23 @@ static geom_status read_data(const void *data, size_t size, geom_file *file,
     memset(&s, 0, sizeof s);
     geom_status st;
     switch (fmt) {
-    case GEOM_MESHIO_FORMAT_OBJ: st = geom_meshio__read_obj(&c, &s); break;
-    case GEOM_MESHIO_FORMAT_OFF: st = geom_meshio__read_off(&c, &s); break;
-    case GEOM_MESHIO_FORMAT_PLY: st = geom_meshio__read_ply(&c, &s); break;
-    case GEOM_MESHIO_FORMAT_STL: st = geom_meshio__read_stl(&c, &s); break;
-    case GEOM_MESHIO_FORMAT_GLB: st = geom_meshio__read_glb(&c, &s); break;
+    case GEOM_MESHIO_FORMAT_OBJ: st = geom__meshio_read_obj(&c, &s); break;
+    case GEOM_MESHIO_FORMAT_OFF: st = geom__meshio_read_off(&c, &s); break;
+    case GEOM_MESHIO_FORMAT_PLY: st = geom__meshio_read_ply(&c, &s); break;
+    case GEOM_MESHIO_FORMAT_STL: st = geom__meshio_read_stl(&c, &s); break;
+    case GEOM_MESHIO_FORMAT_GLB: st = geom__meshio_read_glb(&c, &s); break;
     default:
-        st = geom_diag_set(diag, GEOM_ERR_INVALID_ARG, src, 0, 0, "unknown format %d",
+        st = geom__diag_set(diag, GEOM_ERR_INVALID_ARG, src, 0, 0, "unknown format %d",
                            (int)fmt);
         break;
     }
     if (st == GEOM_ERR_NOMEM && diag && diag->status != GEOM_ERR_NOMEM)
-        geom_diag_set(diag, st, src, 0, 0, "out of memory");
+        geom__diag_set(diag, st, src, 0, 0, "out of memory");
     /* Text that is not OBJ at all (/etc/passwd, XML) reads as nothing but
      * unknown statements: an error, not an empty mesh. */
     if (st == GEOM_OK && fmt == GEOM_MESHIO_FORMAT_OBJ && s.pos.n == 0 && s.fsize.n == 0 &&
         c.stats->skipped_statements > 0)
-        st = geom_diag_set(diag, GEOM_ERR_PARSE, src, 0, 0,
+        st = geom__diag_set(diag, GEOM_ERR_PARSE, src, 0, 0,
                            "not an OBJ file: no vertex or face, %zu unknown statement%s (first "
                            "'%s')",
                            c.stats->skipped_statements,
@@ -294,8 +294,8 @@ static geom_status read_data(const void *data, size_t size, geom_file *file,
     if (file)
         geom__file_drop_pages(file);
     if (st == GEOM_OK)
-        st = geom_meshio__soup_finish(&c, &s, opt, out, report);
-    geom_meshio__soup_free(&s, c.alloc);
+        st = geom__meshio_soup_finish(&c, &s, opt, out, report);
+    geom__meshio_soup_free(&s, c.alloc);
     if (st != GEOM_OK && report)
         memset(report, 0, sizeof *report);
     return st;
@@ -315,7 +315,7 @@ geom_status geom_meshio_read_file(geom_file *file, const char *source_name,
     if (!file) {
         if (out)
             *out = NULL;
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, source_name, 0, 0, "NULL file");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, source_name, 0, 0, "NULL file");
     }
     return read_data(file->data, file->size, file, source_name, opt, out, report, diag);
 }
@@ -327,7 +327,7 @@ geom_status geom_meshio_read(const char *path, const geom_meshio_read_options *o
         *out = NULL;
     geom_diag_clear(diag);
     if (!path || !out)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0, "NULL path or output");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0, "NULL path or output");
     const geom_allocator *a = opt ? opt->alloc : NULL;
     geom_file f;
     geom_status st = geom_file_map(path, a, &f, diag);
@@ -351,29 +351,29 @@ static geom_status write_dispatch(const geom_mesh *m, const geom_meshio_write_op
                                   geom_meshio_format fmt, mio_sink *k)
 {
     switch (fmt) {
-    case GEOM_MESHIO_FORMAT_OBJ: return geom_meshio__write_obj(m, o, k);
-    case GEOM_MESHIO_FORMAT_OFF: return geom_meshio__write_off(m, o, k);
-    case GEOM_MESHIO_FORMAT_PLY: return geom_meshio__write_ply(m, o, k);
-    case GEOM_MESHIO_FORMAT_STL: return geom_meshio__write_stl(m, o, k);
-    case GEOM_MESHIO_FORMAT_GLB: return geom_meshio__write_glb(m, o, k);
+    case GEOM_MESHIO_FORMAT_OBJ: return geom__meshio_write_obj(m, o, k);
+    case GEOM_MESHIO_FORMAT_OFF: return geom__meshio_write_off(m, o, k);
+    case GEOM_MESHIO_FORMAT_PLY: return geom__meshio_write_ply(m, o, k);
+    case GEOM_MESHIO_FORMAT_STL: return geom__meshio_write_stl(m, o, k);
+    case GEOM_MESHIO_FORMAT_GLB: return geom__meshio_write_glb(m, o, k);
     default: break;
     }
-    return geom_meshio__sink_fail(k, GEOM_ERR_INVALID_ARG, "unknown output format %d", (int)fmt);
+    return geom__meshio_sink_fail(k, GEOM_ERR_INVALID_ARG, "unknown output format %d", (int)fmt);
 }
 
 static geom_status check_write_args(const geom_mesh *m, const geom_meshio_write_options *o,
                                     geom_meshio_format fmt, geom_diag *diag, const char *path)
 {
     if (!m)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0, "NULL mesh");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0, "NULL mesh");
     if (fmt < GEOM_MESHIO_FORMAT_OBJ || fmt > GEOM_MESHIO_FORMAT_GLB)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0,
                              "output format not given and not recognised from the name");
     if ((unsigned)o->encoding > GEOM_MESHIO_ENCODING_BINARY_BE)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0, "unknown encoding %d",
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0, "unknown encoding %d",
                              (int)o->encoding);
     if (fmt == GEOM_MESHIO_FORMAT_STL && o->encoding == GEOM_MESHIO_ENCODING_BINARY_BE)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0,
                              "binary STL is little endian only");
     return GEOM_OK;
 }
@@ -387,7 +387,7 @@ geom_status geom_meshio_write_memory(const geom_mesh *m, const geom_meshio_write
     if (size)
         *size = 0;
     if (!data || !size)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "NULL output pointer");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "NULL output pointer");
     geom_meshio_write_options o;
     if (opt)
         o = *opt;
@@ -406,24 +406,24 @@ geom_status geom_meshio_write_memory(const geom_mesh *m, const geom_meshio_write
         st = k.status;
     if (st == GEOM_OK) {
         /* the NUL after the data */
-        st = geom_meshio__grow(k.alloc, (void **)&k.buf, &k.cap, k.n + 1, 1);
+        st = geom__grow(k.alloc, (void **)&k.buf, &k.cap, k.n + 1, 1);
         if (st != GEOM_OK)
-            geom_diag_set(diag, st, NULL, 0, 0, "out of memory");
+            geom__diag_set(diag, st, NULL, 0, 0, "out of memory");
     }
     if (st != GEOM_OK) {
-        geom_free(k.alloc, k.buf, k.cap);
+        geom__free(k.alloc, k.buf, k.cap);
         if (diag && diag->status == GEOM_OK)
-            geom_diag_set(diag, st, NULL, 0, 0, "%s", geom_status_str(st));
+            geom__diag_set(diag, st, NULL, 0, 0, "%s", geom_status_str(st));
         return st;
     }
     k.buf[k.n] = 0;
     /* hand out an allocation of exactly n + 1 bytes so that
      * geom_meshio_buffer_free(data, size) passes the right size */
     if (k.cap != k.n + 1) {
-        void *q = geom_realloc(k.alloc, k.buf, k.cap, k.n + 1);
+        void *q = geom__realloc(k.alloc, k.buf, k.cap, k.n + 1);
         if (!q) {
-            geom_free(k.alloc, k.buf, k.cap);
-            return geom_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "out of memory");
+            geom__free(k.alloc, k.buf, k.cap);
+            return geom__diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "out of memory");
         }
         k.buf = q;
     }
@@ -442,7 +442,7 @@ static geom_status stream_flush(void *user, const void *data, size_t n, geom_dia
     const stream_user *u = user;
     geom_status st = u->fn(u->user, data, n);
     if (st != GEOM_OK && diag && diag->status == GEOM_OK)
-        geom_diag_set(diag, st, NULL, 0, 0, "output could not be written: %s",
+        geom__diag_set(diag, st, NULL, 0, 0, "output could not be written: %s",
                       geom_status_str(st));
     return st;
 }
@@ -452,7 +452,7 @@ geom_status geom_meshio_write_stream(const geom_mesh *m, const geom_meshio_write
 {
     geom_diag_clear(diag);
     if (!fn)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "NULL write function");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "NULL write function");
     geom_meshio_write_options o;
     if (opt)
         o = *opt;
@@ -468,26 +468,26 @@ geom_status geom_meshio_write_stream(const geom_mesh *m, const geom_meshio_write
     k.diag = diag;
     k.precision = o.precision;
     k.cap = 1 << 16;
-    k.buf = geom_alloc(o.alloc, k.cap);
+    k.buf = geom__alloc(o.alloc, k.cap);
     k.flush_fn = stream_flush;
     k.user = &su;
     if (!k.buf)
-        return geom_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "out of memory");
+        return geom__diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "out of memory");
     st = write_dispatch(m, &o, o.format, &k);
     if (st == GEOM_OK)
         st = k.status;
     if (st == GEOM_OK)
-        st = geom_meshio__sink_flush(&k);
-    geom_free(o.alloc, k.buf, k.cap);
+        st = geom__meshio_sink_flush(&k);
+    geom__free(o.alloc, k.buf, k.cap);
     if (st != GEOM_OK && diag && diag->status == GEOM_OK)
-        geom_diag_set(diag, st, NULL, 0, 0, "%s", geom_status_str(st));
+        geom__diag_set(diag, st, NULL, 0, 0, "%s", geom_status_str(st));
     return st;
 }
 
 void geom_meshio_buffer_free(void *data, size_t size, const geom_allocator *alloc)
 {
     if (data)
-        geom_free(alloc, data, size + 1);
+        geom__free(alloc, data, size + 1);
 }
 
 /* The sink's flush function over core's cp-like output (core/output.c). */
@@ -501,7 +501,7 @@ geom_status geom_meshio_write(const geom_mesh *m, const char *path,
 {
     geom_diag_clear(diag);
     if (!path)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "NULL path");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "NULL path");
     geom_meshio_write_options o;
     if (opt)
         o = *opt;
@@ -521,23 +521,23 @@ geom_status geom_meshio_write(const geom_mesh *m, const char *path,
     k.diag = diag;
     k.precision = o.precision;
     k.cap = 1 << 16;
-    k.buf = geom_alloc(o.alloc, k.cap);
+    k.buf = geom__alloc(o.alloc, k.cap);
     k.flush_fn = output_flush;
     k.user = &at;
     if (!k.buf) {
         geom_output_abort(&at);
-        return geom_diag_set(diag, GEOM_ERR_NOMEM, path, 0, 0, "out of memory");
+        return geom__diag_set(diag, GEOM_ERR_NOMEM, path, 0, 0, "out of memory");
     }
     st = write_dispatch(m, &o, fmt, &k);
     if (st == GEOM_OK)
         st = k.status;
     if (st == GEOM_OK)
-        st = geom_meshio__sink_flush(&k);
-    geom_free(o.alloc, k.buf, k.cap);
+        st = geom__meshio_sink_flush(&k);
+    geom__free(o.alloc, k.buf, k.cap);
     if (st != GEOM_OK) {
         geom_output_abort(&at);
         if (diag && diag->status == GEOM_OK)
-            geom_diag_set(diag, st, path, 0, 0, "%s", geom_status_str(st));
+            geom__diag_set(diag, st, path, 0, 0, "%s", geom_status_str(st));
         if (diag && diag->source[0] == '\0')
             snprintf(diag->source, sizeof diag->source, "%s", path);
         return st;

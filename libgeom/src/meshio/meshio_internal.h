@@ -5,7 +5,8 @@
  * the output sink every writer writes to, and the "export view" that
  * unwelds corner attributes for per-vertex formats. Not installed.
  *
- * Shared functions are named geom_meshio__<name> (two underscores) so that
+ * Shared functions are named geom__meshio_<name> (the library-wide internal
+ * prefix geom__, as every internal helper) so that
  * they count as the meshio module's symbols and never clash with public ones.
  */
 #ifndef GEOM_SRC_MESHIO_INTERNAL_H
@@ -21,7 +22,6 @@
 /* ------------------------------------------------------- growable arrays */
 
 /* Grow *p to at least `need` elements: core's geom__grow (core/grow.c). */
-#define geom_meshio__grow geom__grow
 
 #define MIO_ARR(T)                                                                         \
     struct {                                                                               \
@@ -33,7 +33,7 @@
 #define MIO_RESERVE(alloc, arr, extra)                                                     \
     ((arr).n + (extra) <= (arr).cap                                                        \
          ? GEOM_OK                                                                         \
-         : geom_meshio__grow((alloc), (void **)&(arr).p, &(arr).cap, (arr).n + (extra),   \
+         : geom__grow((alloc), (void **)&(arr).p, &(arr).cap, (arr).n + (extra),   \
                              sizeof *(arr).p))
 
 /* Append one value; evaluates to a geom_status. */
@@ -43,7 +43,7 @@
 
 #define MIO_FREE(alloc, arr)                                                               \
     do {                                                                                   \
-        geom_free((alloc), (arr).p, (arr).cap * sizeof *(arr).p);                          \
+        geom__free((alloc), (arr).p, (arr).cap * sizeof *(arr).p);                          \
         (arr).p = NULL;                                                                    \
         (arr).n = (arr).cap = 0;                                                           \
     } while (0)
@@ -54,20 +54,15 @@
  * so that the readers and writers need not change (the lead's prefix sed
  * renames them to the core names). */
 typedef geom__hindex mio_hash;
-#define geom_meshio__mix geom__hash_mix
-#define geom_meshio__hash_reserve geom__hindex_reserve
-#define geom_meshio__hash_next geom__hindex_next
-#define geom_meshio__hash_insert_at geom__hindex_insert_at
-#define geom_meshio__hash_free geom__hindex_free
 
 /* ---------------------------------------------------------------- numbers */
 
 /* Strict decimal number, the whole token, through geom_parse_double
  * (correctly rounded; no hexadecimal, "inf" or "nan"). Returns 0, or -1
  * (syntax), -2 (overflow to infinity). */
-int geom_meshio__parse_double(const char *s, size_t len, double *out);
+int geom__meshio_parse_double(const char *s, size_t len, double *out);
 /* Strict integer [+-]digits. 0, -1 (syntax), -2 (out of int64 range). */
-int geom_meshio__parse_int64(const char *s, size_t len, int64_t *out);
+int geom__meshio_parse_int64(const char *s, size_t len, int64_t *out);
 
 /* -------------------------------------------------------- reading context */
 
@@ -82,9 +77,9 @@ typedef struct mio_ctx {
     size_t size;
 } mio_ctx;
 
-geom_status geom_meshio__err_line(mio_ctx *c, geom_status st, size_t line, size_t col,
+geom_status geom__meshio_err_line(mio_ctx *c, geom_status st, size_t line, size_t col,
                                   const char *fmt, ...) GEOM_PRINTF(5, 6);
-geom_status geom_meshio__err_off(mio_ctx *c, geom_status st, uint64_t off, const char *fmt,
+geom_status geom__meshio_err_off(mio_ctx *c, geom_status st, uint64_t off, const char *fmt,
                                  ...) GEOM_PRINTF(4, 5);
 
 /* ------------------------------------------------------------ text lines */
@@ -100,11 +95,11 @@ typedef struct mio_lines {
     MIO_ARR(char) join; /* scratch for joined lines */
 } mio_lines;
 
-void geom_meshio__lines_init(mio_lines *l, const void *data, size_t size, int join_backslash);
-void geom_meshio__lines_free(mio_lines *l, const geom_allocator *a);
+void geom__meshio_lines_init(mio_lines *l, const void *data, size_t size, int join_backslash);
+void geom__meshio_lines_free(mio_lines *l, const geom_allocator *a);
 /* 1 with the line in *s, *len (not NUL-terminated), 0 at the end,
  * GEOM_ERR_NOMEM. */
-int geom_meshio__lines_next(mio_lines *l, const geom_allocator *a, const char **s, size_t *len);
+int geom__meshio_lines_next(mio_lines *l, const geom_allocator *a, const char **s, size_t *len);
 
 static inline int mio_is_space(char ch)
 {
@@ -141,7 +136,7 @@ static inline int mio_tok_eq(const char *t, size_t tl, const char *word)
 }
 
 /* Case-insensitive ASCII comparison of a token with a lower-case word. */
-int geom_meshio__tok_ieq(const char *t, size_t tl, const char *word);
+int geom__meshio_tok_ieq(const char *t, size_t tl, const char *word);
 
 /* A token cursor over whole text (PLY ascii data, ASCII STL): tokens
  * separated by any whitespace, lines counted for diagnostics. */
@@ -153,7 +148,7 @@ typedef struct mio_cursor {
 } mio_cursor;
 
 /* Next token: 1 with *t, *tl and its line and column, 0 at the end. */
-int geom_meshio__cursor_next(mio_cursor *cur, const char **t, size_t *tl, size_t *line,
+int geom__meshio_cursor_next(mio_cursor *cur, const char **t, size_t *tl, size_t *line,
                              size_t *col);
 
 /* --------------------------------------------------------------- the soup */
@@ -196,32 +191,32 @@ typedef struct mio_soup {
     MIO_ARR(uint32_t) pl_verts;
 } mio_soup;
 
-void geom_meshio__soup_free(mio_soup *s, const geom_allocator *a);
+void geom__meshio_soup_free(mio_soup *s, const geom_allocator *a);
 static inline size_t mio_soup_nv(const mio_soup *s) { return s->pos.n / 3; }
 /* The channel (name, domain), created with ncomp comps if absent; for VERTEX
  * and FACE channels created late, existing elements get `fill` (ncomp
  * values, NULL = zeros). NULL on NOMEM or when MIO_MAX_CHANNELS is reached. */
-mio_chan *geom_meshio__soup_chan(mio_soup *s, const geom_allocator *a, const char *name,
+mio_chan *geom__meshio_soup_chan(mio_soup *s, const geom_allocator *a, const char *name,
                                  geom_mesh_domain domain, size_t ncomp, const double *fill);
 /* Append a string (len bytes) to the pool; *off receives its offset. */
-geom_status geom_meshio__soup_str(mio_soup *s, const geom_allocator *a, const char *str,
+geom_status geom__meshio_soup_str(mio_soup *s, const geom_allocator *a, const char *str,
                                   size_t len, size_t *off);
 /* Limit checks: GEOM_ERR_LIMIT (with a diag) when n exceeds c->max_elements. */
-geom_status geom_meshio__check_count(mio_ctx *c, size_t n, const char *what, uint64_t loc,
+geom_status geom__meshio_check_count(mio_ctx *c, size_t n, const char *what, uint64_t loc,
                                      int loc_is_offset);
 /* Validate the faces (sizes >= 3, indices in range and not repeated within
  * a face): with skip_invalid off, the first invalid face is a parse error
  * at its location. Then build the mesh (*out) and copy channels, groups,
  * tags, mtllibs and polylines into it. */
-geom_status geom_meshio__soup_finish(mio_ctx *c, mio_soup *s, const geom_meshio_read_options *opt,
+geom_status geom__meshio_soup_finish(mio_ctx *c, mio_soup *s, const geom_meshio_read_options *opt,
                                      geom_mesh **out, geom_mesh_build_report *report);
 
 /* Format readers: fill the soup from c->data[0..c->size). */
-geom_status geom_meshio__read_obj(mio_ctx *c, mio_soup *s);
-geom_status geom_meshio__read_off(mio_ctx *c, mio_soup *s);
-geom_status geom_meshio__read_ply(mio_ctx *c, mio_soup *s);
-geom_status geom_meshio__read_stl(mio_ctx *c, mio_soup *s);
-geom_status geom_meshio__read_glb(mio_ctx *c, mio_soup *s); /* gltf_read.c */
+geom_status geom__meshio_read_obj(mio_ctx *c, mio_soup *s);
+geom_status geom__meshio_read_off(mio_ctx *c, mio_soup *s);
+geom_status geom__meshio_read_ply(mio_ctx *c, mio_soup *s);
+geom_status geom__meshio_read_stl(mio_ctx *c, mio_soup *s);
+geom_status geom__meshio_read_glb(mio_ctx *c, mio_soup *s); /* gltf_read.c */
 
 /* ------------------------------------------------------------------- sink */
 
@@ -240,38 +235,38 @@ typedef struct mio_sink {
     uint64_t total; /* bytes written so far (flushed + buffered) */
 } mio_sink;
 
-void geom_meshio__put(mio_sink *k, const void *p, size_t n);
+void geom__meshio_put(mio_sink *k, const void *p, size_t n);
 static inline void mio_putc(mio_sink *k, char ch)
 {
     if (k->n < k->cap && k->status == GEOM_OK) {
         k->buf[k->n++] = (unsigned char)ch;
         k->total++;
     } else {
-        geom_meshio__put(k, &ch, 1);
+        geom__meshio_put(k, &ch, 1);
     }
 }
-void geom_meshio__puts(mio_sink *k, const char *s);
+void geom__meshio_puts(mio_sink *k, const char *s);
 /* A finite double as text: geom_format_double_digits with k->precision (0:
  * the shortest that reads back exactly); non-finite: GEOM_ERR_INVALID_ARG. */
-void geom_meshio__put_double(mio_sink *k, double x);
-void geom_meshio__put_u64(mio_sink *k, uint64_t v);
-void geom_meshio__put_i64(mio_sink *k, int64_t v);
+void geom__meshio_put_double(mio_sink *k, double x);
+void geom__meshio_put_u64(mio_sink *k, uint64_t v);
+void geom__meshio_put_i64(mio_sink *k, int64_t v);
 /* Binary scalars in little (be = 0) or big (be = 1) endian order. */
-void geom_meshio__put_u16(mio_sink *k, uint16_t v, int be);
-void geom_meshio__put_u32(mio_sink *k, uint32_t v, int be);
-void geom_meshio__put_f32(mio_sink *k, float v, int be);
-void geom_meshio__put_f64(mio_sink *k, double v, int be);
+void geom__meshio_put_u16(mio_sink *k, uint16_t v, int be);
+void geom__meshio_put_u32(mio_sink *k, uint32_t v, int be);
+void geom__meshio_put_f32(mio_sink *k, float v, int be);
+void geom__meshio_put_f64(mio_sink *k, double v, int be);
 /* Flush buffered bytes (file sinks). */
-geom_status geom_meshio__sink_flush(mio_sink *k);
+geom_status geom__meshio_sink_flush(mio_sink *k);
 /* Fail the sink with a status and message (first error wins). */
-geom_status geom_meshio__sink_fail(mio_sink *k, geom_status st, const char *fmt, ...)
+geom_status geom__meshio_sink_fail(mio_sink *k, geom_status st, const char *fmt, ...)
     GEOM_PRINTF(3, 4);
 
 /* Copy len bytes of input text into dst (size bytes, NUL-terminated, cut
  * with "..." when too long) for a message: control bytes and DEL become
  * \xNN, so input cannot drive the terminal; bytes >= 0x80 are kept only as
  * whole valid UTF-8 sequences (else \xNN). */
-void geom_meshio__printable(char *dst, size_t size, const char *src, size_t len);
+void geom__meshio_printable(char *dst, size_t size, const char *src, size_t len);
 
 /* ------------------------------------------------------------ export view */
 
@@ -280,7 +275,7 @@ enum { MIO_ATTR_NORMAL = 0, MIO_ATTR_UV = 1, MIO_ATTR_COLOR = 2, MIO_ATTR_TANGEN
 
 /* The attribute channel to write for `which` (CORNER channel of that name
  * first, else VERTEX), or GEOM_INVALID_INDEX if absent or omitted. */
-uint32_t geom_meshio__attr_channel(const geom_mesh *m, int which, unsigned omit);
+uint32_t geom__meshio_attr_channel(const geom_mesh *m, int which, unsigned omit);
 
 /* A mesh seen as output vertices (one per distinct (vertex, corner indices
  * of the selected CORNER channels)) and faces over them. Output vertex k
@@ -308,34 +303,34 @@ typedef struct mio_export {
  * triangles geom_mesh_triangulate would make of them, in its face order,
  * one face at a time (the mesh is not copied). GEOM_ERR_NOMEM /
  * GEOM_ERR_LIMIT. */
-geom_status geom_meshio__export_build(mio_export *e, const geom_mesh *m,
+geom_status geom__meshio_export_build(mio_export *e, const geom_mesh *m,
                                       const uint32_t chan[MIO_NATTR],
                                       const geom_allocator *alloc, int triangulate);
-void geom_meshio__export_free(mio_export *e);
+void geom__meshio_export_free(mio_export *e);
 /* The ncomp values of attribute a at output vertex k into out (zeros when
  * the corner has no value); returns the channel's ncomp (0 if no channel). */
-size_t geom_meshio__export_value(const mio_export *e, const geom_mesh *m, int a, size_t k,
+size_t geom__meshio_export_value(const mio_export *e, const geom_mesh *m, int a, size_t k,
                                  double *out, size_t max);
 
 /* Format writers. */
-geom_status geom_meshio__write_obj(const geom_mesh *m, const geom_meshio_write_options *o,
+geom_status geom__meshio_write_obj(const geom_mesh *m, const geom_meshio_write_options *o,
                                    mio_sink *k);
-geom_status geom_meshio__write_off(const geom_mesh *m, const geom_meshio_write_options *o,
+geom_status geom__meshio_write_off(const geom_mesh *m, const geom_meshio_write_options *o,
                                    mio_sink *k);
-geom_status geom_meshio__write_ply(const geom_mesh *m, const geom_meshio_write_options *o,
+geom_status geom__meshio_write_ply(const geom_mesh *m, const geom_meshio_write_options *o,
                                    mio_sink *k);
-geom_status geom_meshio__write_stl(const geom_mesh *m, const geom_meshio_write_options *o,
+geom_status geom__meshio_write_stl(const geom_mesh *m, const geom_meshio_write_options *o,
                                    mio_sink *k);
-geom_status geom_meshio__write_glb(const geom_mesh *m, const geom_meshio_write_options *o,
+geom_status geom__meshio_write_glb(const geom_mesh *m, const geom_meshio_write_options *o,
                                    mio_sink *k);
 
 /* GEOM_OK if every live vertex position is finite, else fails the sink
  * with GEOM_ERR_INVALID_ARG naming the vertex. */
-geom_status geom_meshio__check_finite(const geom_mesh *m, mio_sink *k);
+geom_status geom__meshio_check_finite(const geom_mesh *m, mio_sink *k);
 
 /* Live vertices densely renumbered: map[v] = new index or GEOM_INVALID_INDEX
  * for deleted vertices (n_vertices entries, allocated); *n_live the count. */
-geom_status geom_meshio__vertex_map(const geom_mesh *m, const geom_allocator *a,
+geom_status geom__meshio_vertex_map(const geom_mesh *m, const geom_allocator *a,
                                     uint32_t **map, size_t *n_live);
 
 #endif

@@ -34,7 +34,7 @@ static geom_status obj_err(obj_state *o, geom_status st, const char *t, const ch
     va_start(ap, fmt);
     vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
-    return geom_meshio__err_line(o->c, st, o->lineno, t ? col_of(o, t) : 0, "%s", msg);
+    return geom__meshio_err_line(o->c, st, o->lineno, t ? col_of(o, t) : 0, "%s", msg);
 }
 
 static geom_status num_err(obj_state *o, const char *t, size_t tl, int rc, const char *what)
@@ -57,7 +57,7 @@ static geom_status obj_numbers(obj_state *o, size_t *pos, double *v, size_t max,
         if (*n == max)
             return obj_err(o, GEOM_ERR_PARSE, t, "too many numbers in '%s': at most %zu", kw,
                            max);
-        int rc = geom_meshio__parse_double(t, tl, &v[*n]);
+        int rc = geom__meshio_parse_double(t, tl, &v[*n]);
         if (rc != 0)
             return num_err(o, t, tl, rc, "a number");
         (*n)++;
@@ -81,7 +81,7 @@ static geom_status obj_vertex(obj_state *o, size_t pos, const char *kwt)
                        n);
     size_t nv = mio_soup_nv(s);
     if (nv >= c->max_elements)
-        return geom_meshio__check_count(c, nv + 1, "vertices", o->lineno, 0);
+        return geom__meshio_check_count(c, nv + 1, "vertices", o->lineno, 0);
     if (MIO_RESERVE(c->alloc, s->pos, 3) != GEOM_OK)
         return GEOM_ERR_NOMEM;
     s->pos.p[s->pos.n++] = v[0];
@@ -91,12 +91,12 @@ static geom_status obj_vertex(obj_state *o, size_t pos, const char *kwt)
     int has_w = n == 4 || n == 7;
     int has_c = n >= 6;
     if (has_w && !o->weight) {
-        o->weight = geom_meshio__soup_chan(s, c->alloc, "weight", GEOM_MESH_DOMAIN_VERTEX, 1, ones);
+        o->weight = geom__meshio_soup_chan(s, c->alloc, "weight", GEOM_MESH_DOMAIN_VERTEX, 1, ones);
         if (!o->weight)
             return GEOM_ERR_NOMEM;
     }
     if (has_c && !o->color) {
-        o->color = geom_meshio__soup_chan(s, c->alloc, "color", GEOM_MESH_DOMAIN_VERTEX, 3, ones);
+        o->color = geom__meshio_soup_chan(s, c->alloc, "color", GEOM_MESH_DOMAIN_VERTEX, 3, ones);
         if (!o->color)
             return GEOM_ERR_NOMEM;
     }
@@ -134,12 +134,12 @@ static geom_status obj_texcoord(obj_state *o, size_t pos, const char *kwt)
             snprintf(o->c->stats->first_skipped, sizeof o->c->stats->first_skipped, "vt w");
     }
     if (!o->uv) {
-        o->uv = geom_meshio__soup_chan(o->s, o->c->alloc, "uv", GEOM_MESH_DOMAIN_CORNER, 2, NULL);
+        o->uv = geom__meshio_soup_chan(o->s, o->c->alloc, "uv", GEOM_MESH_DOMAIN_CORNER, 2, NULL);
         if (!o->uv)
             return GEOM_ERR_NOMEM;
     }
     if (o->nvt >= o->c->max_elements)
-        return geom_meshio__check_count(o->c, o->nvt + 1, "texture coordinates", o->lineno, 0);
+        return geom__meshio_check_count(o->c, o->nvt + 1, "texture coordinates", o->lineno, 0);
     if (MIO_RESERVE(o->c->alloc, o->uv->val, 2) != GEOM_OK)
         return GEOM_ERR_NOMEM;
     o->uv->val.p[o->uv->val.n++] = v[0];
@@ -159,12 +159,12 @@ static geom_status obj_normal(obj_state *o, size_t pos, const char *kwt)
         return obj_err(o, GEOM_ERR_PARSE, kwt, "expected 'vn x y z', found %zu numbers", n);
     if (!o->normal) {
         o->normal =
-            geom_meshio__soup_chan(o->s, o->c->alloc, "normal", GEOM_MESH_DOMAIN_CORNER, 3, NULL);
+            geom__meshio_soup_chan(o->s, o->c->alloc, "normal", GEOM_MESH_DOMAIN_CORNER, 3, NULL);
         if (!o->normal)
             return GEOM_ERR_NOMEM;
     }
     if (o->nvn >= o->c->max_elements)
-        return geom_meshio__check_count(o->c, o->nvn + 1, "normals", o->lineno, 0);
+        return geom__meshio_check_count(o->c, o->nvn + 1, "normals", o->lineno, 0);
     if (MIO_RESERVE(o->c->alloc, o->normal->val, 3) != GEOM_OK)
         return GEOM_ERR_NOMEM;
     memcpy(o->normal->val.p + o->normal->val.n, v, sizeof v);
@@ -179,7 +179,7 @@ static geom_status obj_index(obj_state *o, const char *t, size_t tl, size_t coun
                              uint32_t *out)
 {
     int64_t v;
-    int rc = geom_meshio__parse_int64(t, tl, &v);
+    int rc = geom__meshio_parse_int64(t, tl, &v);
     if (rc != 0 || tl == 0)
         return tl == 0 ? obj_err(o, GEOM_ERR_PARSE, t, "expected a %s index", what)
                        : num_err(o, t, tl, rc, "an index");
@@ -210,11 +210,11 @@ static geom_status obj_group_face(obj_state *o)
             if (o->cur[i] != MIO_NOSTR)
                 for (const char *p = s->strings.p + o->cur[i]; *p; p++)
                     x = x * 1099511628211ull ^ (unsigned char)*p;
-            hv = geom_meshio__mix(hv, x);
+            hv = geom__hash_mix(hv, x);
         }
         size_t it = 0;
         uint32_t g, found = GEOM_INVALID_INDEX;
-        while ((g = geom_meshio__hash_next(&o->ghash, hv, &it)) != UINT32_MAX) {
+        while ((g = geom__hindex_next(&o->ghash, hv, &it)) != UINT32_MAX) {
             int eq = 1;
             for (int i = 0; i < 4 && eq; i++) {
                 size_t a = s->groups.p[4 * g + i], b = o->cur[i];
@@ -230,14 +230,14 @@ static geom_status obj_group_face(obj_state *o)
         if (found == GEOM_INVALID_INDEX) {
             size_t ng = s->groups.n / 4;
             if (ng >= c->max_elements)
-                return geom_meshio__check_count(c, ng + 1, "groups", o->lineno, 0);
-            if (geom_meshio__hash_reserve(&o->ghash, c->alloc, ng + 1) != GEOM_OK ||
+                return geom__meshio_check_count(c, ng + 1, "groups", o->lineno, 0);
+            if (geom__hindex_reserve(&o->ghash, c->alloc, ng + 1) != GEOM_OK ||
                 MIO_RESERVE(c->alloc, s->groups, 4) != GEOM_OK)
                 return GEOM_ERR_NOMEM;
             it = 0;
-            while (geom_meshio__hash_next(&o->ghash, hv, &it) != UINT32_MAX) {
+            while (geom__hindex_next(&o->ghash, hv, &it) != UINT32_MAX) {
             }
-            geom_meshio__hash_insert_at(&o->ghash, hv, it, (uint32_t)ng);
+            geom__hindex_insert_at(&o->ghash, hv, it, (uint32_t)ng);
             for (int i = 0; i < 4; i++)
                 s->groups.p[s->groups.n++] = o->cur[i];
             found = (uint32_t)ng;
@@ -315,13 +315,13 @@ static geom_status obj_face(obj_state *o, size_t pos, const char *kwt, int is_li
         }
         if (is_line) {
             if (s->pl_verts.n >= c->max_elements)
-                return geom_meshio__check_count(c, s->pl_verts.n + 1, "polyline vertices",
+                return geom__meshio_check_count(c, s->pl_verts.n + 1, "polyline vertices",
                                                 o->lineno, 0);
             if (MIO_PUSH(c->alloc, s->pl_verts, vi) != GEOM_OK)
                 return GEOM_ERR_NOMEM;
         } else {
             if (s->fidx.n >= c->max_elements)
-                return geom_meshio__check_count(c, s->fidx.n + 1, "face corners", o->lineno, 0);
+                return geom__meshio_check_count(c, s->fidx.n + 1, "face corners", o->lineno, 0);
             if (MIO_PUSH(c->alloc, s->fidx, vi) != GEOM_OK)
                 return GEOM_ERR_NOMEM;
             if (o->uv && MIO_PUSH(c->alloc, o->uv->idx, ti) != GEOM_OK)
@@ -341,7 +341,7 @@ static geom_status obj_face(obj_state *o, size_t pos, const char *kwt, int is_li
     if (n == 0)
         return obj_err(o, GEOM_ERR_PARSE, kwt, "expected vertex references after 'f'");
     if (s->fsize.n >= c->max_elements)
-        return geom_meshio__check_count(c, s->fsize.n + 1, "faces", o->lineno, 0);
+        return geom__meshio_check_count(c, s->fsize.n + 1, "faces", o->lineno, 0);
     if (MIO_PUSH(c->alloc, s->fsize, (uint32_t)n) != GEOM_OK ||
         MIO_PUSH(c->alloc, s->floc, (uint64_t)o->lineno) != GEOM_OK)
         return GEOM_ERR_NOMEM;
@@ -361,7 +361,7 @@ static geom_status obj_rest(obj_state *o, size_t pos, size_t *off)
         if (memchr(t, '\0', tl))
             return obj_err(o, GEOM_ERR_PARSE, t, "NUL byte in a name");
         if (*off == MIO_NOSTR) {
-            if (geom_meshio__soup_str(s, a, t, tl, off) != GEOM_OK)
+            if (geom__meshio_soup_str(s, a, t, tl, off) != GEOM_OK)
                 return GEOM_ERR_NOMEM;
         } else {
             /* extend the last string: replace its NUL by a space */
@@ -431,7 +431,7 @@ static geom_status obj_tag(obj_state *o, size_t pos, const char *kwt)
         const char *q = p;
         while (q < end && *q != '/')
             q++;
-        if (geom_meshio__parse_int64(p, (size_t)(q - p), &cnt[i]) != 0 || cnt[i] < 0 ||
+        if (geom__meshio_parse_int64(p, (size_t)(q - p), &cnt[i]) != 0 || cnt[i] < 0 ||
             (i < 2 && q == end) || (i == 2 && q != end))
             return obj_err(o, GEOM_ERR_PARSE, t,
                            "expected tag counts nint/nfloat/nstring, found '%.*s'",
@@ -455,8 +455,8 @@ static geom_status obj_tag(obj_state *o, size_t pos, const char *kwt)
     r.strs = s->tag_strs.n;
     if (s->tag_ints.n + r.nint > c->max_elements || s->tag_floats.n + r.nfloat > c->max_elements ||
         s->tag_strs.n + r.nstring > c->max_elements)
-        return geom_meshio__check_count(c, c->max_elements + 1, "tag values", o->lineno, 0);
-    if (geom_meshio__soup_str(s, a, name, nl, &r.name) != GEOM_OK ||
+        return geom__meshio_check_count(c, c->max_elements + 1, "tag values", o->lineno, 0);
+    if (geom__meshio_soup_str(s, a, name, nl, &r.name) != GEOM_OK ||
         MIO_RESERVE(a, s->tag_ints, r.nint) != GEOM_OK ||
         MIO_RESERVE(a, s->tag_floats, r.nfloat) != GEOM_OK ||
         MIO_RESERVE(a, s->tag_strs, r.nstring) != GEOM_OK)
@@ -468,13 +468,13 @@ static geom_status obj_tag(obj_state *o, size_t pos, const char *kwt)
                            (int)(nl > 40 ? 40 : nl), name, r.nint, r.nfloat, r.nstring, i);
         if (i < r.nint) {
             int64_t v;
-            int rc = geom_meshio__parse_int64(t, tl, &v);
+            int rc = geom__meshio_parse_int64(t, tl, &v);
             if (rc != 0)
                 return num_err(o, t, tl, rc, "an integer tag value");
             s->tag_ints.p[s->tag_ints.n++] = v;
         } else if (i < r.nint + r.nfloat) {
             double v;
-            int rc = geom_meshio__parse_double(t, tl, &v);
+            int rc = geom__meshio_parse_double(t, tl, &v);
             if (rc != 0)
                 return num_err(o, t, tl, rc, "a floating-point tag value");
             s->tag_floats.p[s->tag_floats.n++] = v;
@@ -482,7 +482,7 @@ static geom_status obj_tag(obj_state *o, size_t pos, const char *kwt)
             if (memchr(t, '\0', tl))
                 return obj_err(o, GEOM_ERR_PARSE, t, "NUL byte in a tag string");
             size_t off;
-            if (geom_meshio__soup_str(s, a, t, tl, &off) != GEOM_OK)
+            if (geom__meshio_soup_str(s, a, t, tl, &off) != GEOM_OK)
                 return GEOM_ERR_NOMEM;
             s->tag_strs.p[s->tag_strs.n++] = off;
         }
@@ -492,11 +492,11 @@ static geom_status obj_tag(obj_state *o, size_t pos, const char *kwt)
                        "unexpected '%.*s': the tag declares %zu/%zu/%zu values",
                        (int)(tl > 40 ? 40 : tl), t, r.nint, r.nfloat, r.nstring);
     if (s->tags.n >= c->max_elements)
-        return geom_meshio__check_count(c, s->tags.n + 1, "tags", o->lineno, 0);
+        return geom__meshio_check_count(c, s->tags.n + 1, "tags", o->lineno, 0);
     return MIO_PUSH(a, s->tags, r);
 }
 
-geom_status geom_meshio__read_obj(mio_ctx *c, mio_soup *s)
+geom_status geom__meshio_read_obj(mio_ctx *c, mio_soup *s)
 {
     obj_state o;
     memset(&o, 0, sizeof o);
@@ -506,10 +506,10 @@ geom_status geom_meshio__read_obj(mio_ctx *c, mio_soup *s)
     for (int i = 0; i < 4; i++)
         o.cur[i] = MIO_NOSTR;
     mio_lines lines;
-    geom_meshio__lines_init(&lines, c->data, c->size, 1);
+    geom__meshio_lines_init(&lines, c->data, c->size, 1);
     geom_status st = GEOM_OK;
     int rc;
-    while (st == GEOM_OK && (rc = geom_meshio__lines_next(&lines, c->alloc, &o.line, &o.len)) != 0) {
+    while (st == GEOM_OK && (rc = geom__meshio_lines_next(&lines, c->alloc, &o.line, &o.len)) != 0) {
         if (rc < 0) {
             st = (geom_status)rc;
             break;
@@ -547,14 +547,14 @@ geom_status geom_meshio__read_obj(mio_ctx *c, mio_soup *s)
                 st = MIO_PUSH(c->alloc, s->mtllibs, off);
         } else {
             if (c->stats->skipped_statements++ == 0)
-                geom_meshio__printable(c->stats->first_skipped, sizeof c->stats->first_skipped,
+                geom__meshio_printable(c->stats->first_skipped, sizeof c->stats->first_skipped,
                                        kw, kl);
         }
     }
     if (st == GEOM_ERR_NOMEM && c->diag && c->diag->status != GEOM_ERR_NOMEM)
-        geom_meshio__err_line(c, st, o.lineno, 0, "out of memory");
-    geom_meshio__lines_free(&lines, c->alloc);
-    geom_meshio__hash_free(&o.ghash, c->alloc);
+        geom__meshio_err_line(c, st, o.lineno, 0, "out of memory");
+    geom__meshio_lines_free(&lines, c->alloc);
+    geom__hindex_free(&o.ghash, c->alloc);
     s->loc_is_offset = 0;
     return st;
 }
@@ -574,10 +574,10 @@ static void end_line(mio_sink *k, const char *last)
 
 static void put_name_line(mio_sink *k, const char *kw, const char *val)
 {
-    geom_meshio__puts(k, kw);
+    geom__meshio_puts(k, kw);
     if (val) {
         mio_putc(k, ' ');
-        geom_meshio__puts(k, val);
+        geom__meshio_puts(k, val);
     }
     end_line(k, val);
 }
@@ -587,7 +587,7 @@ static int str_eq(const char *a, const char *b)
     return (!a || !b) ? a == b : strcmp(a, b) == 0;
 }
 
-geom_status geom_meshio__write_obj(const geom_mesh *m, const geom_meshio_write_options *opt,
+geom_status geom__meshio_write_obj(const geom_mesh *m, const geom_meshio_write_options *opt,
                                    mio_sink *k)
 {
     const geom_allocator *a = opt->alloc;
@@ -595,12 +595,12 @@ geom_status geom_meshio__write_obj(const geom_mesh *m, const geom_meshio_write_o
     uint32_t *vmap = NULL;
     size_t nlive = 0;
     size_t nv = geom_mesh_n_vertices(m), nf = geom_mesh_n_faces(m);
-    geom_status st = geom_meshio__vertex_map(m, a, &vmap, &nlive);
+    geom_status st = geom__meshio_vertex_map(m, a, &vmap, &nlive);
     if (st != GEOM_OK)
-        return geom_meshio__sink_fail(k, st, "out of memory");
+        return geom__meshio_sink_fail(k, st, "out of memory");
 
-    geom_meshio__puts(k, "# written by libgeom ");
-    geom_meshio__puts(k, geom_version_string());
+    geom__meshio_puts(k, "# written by libgeom ");
+    geom__meshio_puts(k, geom_version_string());
     mio_putc(k, '\n');
     int meta = !(omit & GEOM_MESHIO_ATTR_META);
     if (meta && !(omit & GEOM_MESHIO_ATTR_MTLLIB))
@@ -625,23 +625,23 @@ geom_status geom_meshio__write_obj(const geom_mesh *m, const geom_meshio_write_o
         mio_putc(k, 'v');
         for (int i = 0; i < 3; i++) {
             mio_putc(k, ' ');
-            geom_meshio__put_double(k, pos[3 * v + i]);
+            geom__meshio_put_double(k, pos[3 * v + i]);
         }
         if (wd) {
             mio_putc(k, ' ');
-            geom_meshio__put_double(k, wd[v]);
+            geom__meshio_put_double(k, wd[v]);
         }
         if (cd)
             for (int i = 0; i < 3; i++) {
                 mio_putc(k, ' ');
-                geom_meshio__put_double(k, cd[cnc * v + (size_t)i]);
+                geom__meshio_put_double(k, cd[cnc * v + (size_t)i]);
             }
         mio_putc(k, '\n');
     }
 
     /* vt and vn: CORNER pools in order, or one per live vertex */
-    uint32_t ch[2] = {geom_meshio__attr_channel(m, MIO_ATTR_UV, omit),
-                      geom_meshio__attr_channel(m, MIO_ATTR_NORMAL, omit)};
+    uint32_t ch[2] = {geom__meshio_attr_channel(m, MIO_ATTR_UV, omit),
+                      geom__meshio_attr_channel(m, MIO_ATTR_NORMAL, omit)};
     const char *kw[2] = {"vt", "vn"};
     const uint32_t *cix[2] = {NULL, NULL};
     size_t pool[2] = {0, 0};
@@ -663,10 +663,10 @@ geom_status geom_meshio__write_obj(const geom_mesh *m, const geom_meshio_write_o
         for (size_t i = 0; i < n && k->status == GEOM_OK; i++) {
             if (!corner && vmap[i] == GEOM_INVALID_INDEX)
                 continue;
-            geom_meshio__puts(k, kw[c]);
+            geom__meshio_puts(k, kw[c]);
             for (size_t j = 0; j < wnc; j++) {
                 mio_putc(k, ' ');
-                geom_meshio__put_double(k, d[i * nc + j]);
+                geom__meshio_put_double(k, d[i * nc + j]);
             }
             mio_putc(k, '\n');
         }
@@ -716,17 +716,17 @@ geom_status geom_meshio__write_obj(const geom_mesh *m, const geom_meshio_write_o
         do {
             uint32_t v = geom_mesh_he_vertex(m, h);
             mio_putc(k, ' ');
-            geom_meshio__put_u64(k, (uint64_t)vmap[v] + 1);
+            geom__meshio_put_u64(k, (uint64_t)vmap[v] + 1);
             uint64_t idx[2];
             for (int c = 0; c < 2; c++)
                 idx[c] = cix[c] ? (uint64_t)cix[c][h] + 1 : (uint64_t)vmap[v] + 1;
             if (use[0] || use[1]) {
                 mio_putc(k, '/');
                 if (use[0])
-                    geom_meshio__put_u64(k, idx[0]);
+                    geom__meshio_put_u64(k, idx[0]);
                 if (use[1]) {
                     mio_putc(k, '/');
-                    geom_meshio__put_u64(k, idx[1]);
+                    geom__meshio_put_u64(k, idx[1]);
                 }
             }
             h = geom_mesh_he_next(m, h);
@@ -750,7 +750,7 @@ geom_status geom_meshio__write_obj(const geom_mesh *m, const geom_meshio_write_o
                 if (vs[j] >= nv || vmap[vs[j]] == GEOM_INVALID_INDEX)
                     continue;
                 mio_putc(k, ' ');
-                geom_meshio__put_u64(k, (uint64_t)vmap[vs[j]] + 1);
+                geom__meshio_put_u64(k, (uint64_t)vmap[vs[j]] + 1);
             }
             mio_putc(k, '\n');
         }
@@ -758,29 +758,29 @@ geom_status geom_meshio__write_obj(const geom_mesh *m, const geom_meshio_write_o
             geom_mesh_tag t;
             if (geom_mesh_tag_get(m, i, &t) != GEOM_OK)
                 continue;
-            geom_meshio__puts(k, "t ");
-            geom_meshio__puts(k, t.name);
+            geom__meshio_puts(k, "t ");
+            geom__meshio_puts(k, t.name);
             mio_putc(k, ' ');
-            geom_meshio__put_u64(k, t.nint);
+            geom__meshio_put_u64(k, t.nint);
             mio_putc(k, '/');
-            geom_meshio__put_u64(k, t.nfloat);
+            geom__meshio_put_u64(k, t.nfloat);
             mio_putc(k, '/');
-            geom_meshio__put_u64(k, t.nstring);
+            geom__meshio_put_u64(k, t.nstring);
             for (size_t j = 0; j < t.nint; j++) {
                 mio_putc(k, ' ');
-                geom_meshio__put_i64(k, t.ints[j]);
+                geom__meshio_put_i64(k, t.ints[j]);
             }
             for (size_t j = 0; j < t.nfloat; j++) {
                 mio_putc(k, ' ');
-                geom_meshio__put_double(k, t.floats[j]);
+                geom__meshio_put_double(k, t.floats[j]);
             }
             for (size_t j = 0; j < t.nstring; j++) {
                 mio_putc(k, ' ');
-                geom_meshio__puts(k, t.strings[j]);
+                geom__meshio_puts(k, t.strings[j]);
             }
             end_line(k, t.nstring ? t.strings[t.nstring - 1] : NULL);
         }
     }
-    geom_free(a, vmap, nv * sizeof(uint32_t));
+    geom__free(a, vmap, nv * sizeof(uint32_t));
     return k->status;
 }

@@ -19,7 +19,7 @@ typedef struct off_reader {
 static int off_next_line(off_reader *r)
 {
     for (;;) {
-        int rc = geom_meshio__lines_next(&r->lines, r->c->alloc, &r->line, &r->len);
+        int rc = geom__meshio_lines_next(&r->lines, r->c->alloc, &r->line, &r->len);
         if (rc <= 0)
             return rc;
         r->lineno = r->lines.lineno;
@@ -55,10 +55,10 @@ static size_t off_col(const off_reader *r, const char *t) { return (size_t)(t - 
 
 static geom_status off_num(off_reader *r, const char *t, size_t tl, double *v)
 {
-    int rc = geom_meshio__parse_double(t, tl, v);
+    int rc = geom__meshio_parse_double(t, tl, v);
     if (rc == 0)
         return GEOM_OK;
-    return geom_meshio__err_line(r->c, GEOM_ERR_PARSE, r->lineno, off_col(r, t),
+    return geom__meshio_err_line(r->c, GEOM_ERR_PARSE, r->lineno, off_col(r, t),
                                  rc == -2 ? "number '%.*s' is out of range"
                                           : "expected a number, found '%.*s'",
                                  (int)(tl > 40 ? 40 : tl), t);
@@ -67,7 +67,7 @@ static geom_status off_num(off_reader *r, const char *t, size_t tl, double *v)
 static int is_integer_token(const char *t, size_t tl)
 {
     int64_t v;
-    return geom_meshio__parse_int64(t, tl, &v) == 0;
+    return geom__meshio_parse_int64(t, tl, &v) == 0;
 }
 
 /* Colour tokens: all integers -> 0..255 scale, else floats as they are. */
@@ -91,25 +91,25 @@ static geom_status off_count(off_reader *r, const char *t, size_t tl, const char
                              size_t *out)
 {
     int64_t v;
-    int rc = geom_meshio__parse_int64(t, tl, &v);
+    int rc = geom__meshio_parse_int64(t, tl, &v);
     if (rc != 0 || v < 0)
-        return geom_meshio__err_line(r->c, GEOM_ERR_PARSE, r->lineno, off_col(r, t),
+        return geom__meshio_err_line(r->c, GEOM_ERR_PARSE, r->lineno, off_col(r, t),
                                      "expected the number of %s, found '%.*s'", what,
                                      (int)(tl > 40 ? 40 : tl), t);
     if ((uint64_t)v > r->c->max_elements)
-        return geom_meshio__err_line(r->c, GEOM_ERR_LIMIT, r->lineno, off_col(r, t),
+        return geom__meshio_err_line(r->c, GEOM_ERR_LIMIT, r->lineno, off_col(r, t),
                                      "%lld %s exceed the limit of %zu elements", (long long)v,
                                      what, r->c->max_elements);
     *out = (size_t)v;
     return GEOM_OK;
 }
 
-geom_status geom_meshio__read_off(mio_ctx *c, mio_soup *s)
+geom_status geom__meshio_read_off(mio_ctx *c, mio_soup *s)
 {
     off_reader r;
     memset(&r, 0, sizeof r);
     r.c = c;
-    geom_meshio__lines_init(&r.lines, c->data, c->size, 0);
+    geom__meshio_lines_init(&r.lines, c->data, c->size, 0);
     geom_status st = GEOM_OK;
     const char *toks[16];
     size_t lens[16], total;
@@ -124,7 +124,7 @@ geom_status geom_meshio__read_off(mio_ctx *c, mio_soup *s)
         goto done;
     }
     if (rc == 0) {
-        st = geom_meshio__err_line(c, GEOM_ERR_PARSE, 1, 1, "expected 'OFF', found an empty file");
+        st = geom__meshio_err_line(c, GEOM_ERR_PARSE, 1, 1, "expected 'OFF', found an empty file");
         goto done;
     }
     {
@@ -145,10 +145,10 @@ geom_status geom_meshio__read_off(mio_ctx *c, mio_soup *s)
             i++;
         }
         if (i < tl && (t[i] == '4' || t[i] == 'n'))
-            st = geom_meshio__err_line(c, GEOM_ERR_PARSE, r.lineno, i + 1,
+            st = geom__meshio_err_line(c, GEOM_ERR_PARSE, r.lineno, i + 1,
                                        "4OFF and nOFF (other than 3 dimensions) are not supported");
         else if (tl - i != 3 || memcmp(t + i, "OFF", 3) != 0)
-            st = geom_meshio__err_line(c, GEOM_ERR_PARSE, r.lineno, off_col(&r, t),
+            st = geom__meshio_err_line(c, GEOM_ERR_PARSE, r.lineno, off_col(&r, t),
                                        "expected '[ST][C][N]OFF', found '%.*s'",
                                        (int)(tl > 40 ? 40 : tl), t);
         if (st != GEOM_OK)
@@ -156,7 +156,7 @@ geom_status geom_meshio__read_off(mio_ctx *c, mio_soup *s)
         /* the counts may follow on the same line */
         size_t n = off_tokens(&r, toks, lens, 16, &total);
         if (n > 0 && mio_tok_eq(toks[0], lens[0], "BINARY")) {
-            st = geom_meshio__err_line(c, GEOM_ERR_PARSE, r.lineno, off_col(&r, toks[0]),
+            st = geom__meshio_err_line(c, GEOM_ERR_PARSE, r.lineno, off_col(&r, toks[0]),
                                        "binary OFF is not supported");
             goto done;
         }
@@ -164,14 +164,14 @@ geom_status geom_meshio__read_off(mio_ctx *c, mio_soup *s)
             rc = off_next_line(&r);
             if (rc <= 0) {
                 st = rc < 0 ? (geom_status)rc
-                            : geom_meshio__err_line(c, GEOM_ERR_PARSE, r.lineno + 1, 1,
+                            : geom__meshio_err_line(c, GEOM_ERR_PARSE, r.lineno + 1, 1,
                                                     "expected the vertex, face and edge counts");
                 goto done;
             }
             n = off_tokens(&r, toks, lens, 16, &total);
         }
         if (total < 2 || total > 3) {
-            st = geom_meshio__err_line(c, GEOM_ERR_PARSE, r.lineno, off_col(&r, toks[0]),
+            st = geom__meshio_err_line(c, GEOM_ERR_PARSE, r.lineno, off_col(&r, toks[0]),
                                        "expected 'nvertices nfaces [nedges]', found %zu values",
                                        total);
             goto done;
@@ -186,19 +186,19 @@ geom_status geom_meshio__read_off(mio_ctx *c, mio_soup *s)
         uint64_t need = (uint64_t)nv * per_v + (uint64_t)nf * 2;
         size_t remaining = c->size - r.lines.pos;
         if (need > (uint64_t)remaining + 1) {
-            st = geom_meshio__err_line(c, GEOM_ERR_PARSE, r.lineno, off_col(&r, toks[0]),
+            st = geom__meshio_err_line(c, GEOM_ERR_PARSE, r.lineno, off_col(&r, toks[0]),
                                        "header declares %zu vertices and %zu faces, which need "
                                        "at least %llu bytes, but only %zu bytes follow",
                                        nv, nf, (unsigned long long)need, remaining);
             goto done;
         }
     }
-    if (has_n && !(cn = geom_meshio__soup_chan(s, c->alloc, "normal", GEOM_MESH_DOMAIN_VERTEX, 3,
+    if (has_n && !(cn = geom__meshio_soup_chan(s, c->alloc, "normal", GEOM_MESH_DOMAIN_VERTEX, 3,
                                                NULL))) {
         st = GEOM_ERR_NOMEM;
         goto done;
     }
-    if (has_st && !(cuv = geom_meshio__soup_chan(s, c->alloc, "uv", GEOM_MESH_DOMAIN_VERTEX, 2,
+    if (has_st && !(cuv = geom__meshio_soup_chan(s, c->alloc, "uv", GEOM_MESH_DOMAIN_VERTEX, 2,
                                                  NULL))) {
         st = GEOM_ERR_NOMEM;
         goto done;
@@ -211,7 +211,7 @@ geom_status geom_meshio__read_off(mio_ctx *c, mio_soup *s)
         rc = off_next_line(&r);
         if (rc <= 0) {
             st = rc < 0 ? (geom_status)rc
-                        : geom_meshio__err_line(c, GEOM_ERR_PARSE, r.lines.next_lineno, 1,
+                        : geom__meshio_err_line(c, GEOM_ERR_PARSE, r.lines.next_lineno, 1,
                                                 "unexpected end of file: expected vertex %zu "
                                                 "(0-based) of %zu",
                                                 v, nv);
@@ -221,7 +221,7 @@ geom_status geom_meshio__read_off(mio_ctx *c, mio_soup *s)
         size_t fixed = 3 + (has_n ? 3 : 0) + (has_st ? 2 : 0);
         size_t ncol = total >= fixed ? total - fixed : 0;
         if (total != n || total < fixed || (has_c ? (ncol != 3 && ncol != 4) : ncol != 0)) {
-            st = geom_meshio__err_line(c, GEOM_ERR_PARSE, r.lineno, off_col(&r, toks[0]),
+            st = geom__meshio_err_line(c, GEOM_ERR_PARSE, r.lineno, off_col(&r, toks[0]),
                                        "expected vertex %zu (0-based) as 'x y z%s%s%s', found %zu values",
                                        v, has_n ? " nx ny nz" : "",
                                        has_c ? " r g b [a]" : "", has_st ? " s t" : "", total);
@@ -246,14 +246,14 @@ geom_status geom_meshio__read_off(mio_ctx *c, mio_soup *s)
                 goto done;
             if (!cc) {
                 vcolor_n = ncol;
-                cc = geom_meshio__soup_chan(s, c->alloc, "color", GEOM_MESH_DOMAIN_VERTEX, ncol,
+                cc = geom__meshio_soup_chan(s, c->alloc, "color", GEOM_MESH_DOMAIN_VERTEX, ncol,
                                             NULL);
                 if (!cc) {
                     st = GEOM_ERR_NOMEM;
                     goto done;
                 }
             } else if (ncol != vcolor_n) {
-                st = geom_meshio__err_line(c, GEOM_ERR_PARSE, r.lineno, off_col(&r, toks[k]),
+                st = geom__meshio_err_line(c, GEOM_ERR_PARSE, r.lineno, off_col(&r, toks[k]),
                                            "expected %zu colour components as in the first "
                                            "vertex, found %zu",
                                            vcolor_n, ncol);
@@ -289,7 +289,7 @@ geom_status geom_meshio__read_off(mio_ctx *c, mio_soup *s)
         rc = off_next_line(&r);
         if (rc <= 0) {
             st = rc < 0 ? (geom_status)rc
-                        : geom_meshio__err_line(c, GEOM_ERR_PARSE, r.lines.next_lineno, 1,
+                        : geom__meshio_err_line(c, GEOM_ERR_PARSE, r.lines.next_lineno, 1,
                                                 "unexpected end of file: expected face %zu (0-based) of %zu",
                                                 f, nf);
             goto done;
@@ -299,15 +299,15 @@ geom_status geom_meshio__read_off(mio_ctx *c, mio_soup *s)
         size_t tl = 0;
         mio_token(r.line, r.len, &p, 2, &t, &tl);
         int64_t cnt;
-        if (geom_meshio__parse_int64(t, tl, &cnt) != 0 || cnt < 0 ||
+        if (geom__meshio_parse_int64(t, tl, &cnt) != 0 || cnt < 0 ||
             (uint64_t)cnt > r.len) {
-            st = geom_meshio__err_line(c, GEOM_ERR_PARSE, r.lineno, off_col(&r, t),
+            st = geom__meshio_err_line(c, GEOM_ERR_PARSE, r.lineno, off_col(&r, t),
                                        "expected the vertex count of face %zu (0-based), found '%.*s'",
                                        f, (int)(tl > 40 ? 40 : tl), t);
             goto done;
         }
         if (s->fidx.n + (size_t)cnt > c->max_elements) {
-            st = geom_meshio__check_count(c, s->fidx.n + (size_t)cnt, "face corners", r.lineno, 0);
+            st = geom__meshio_check_count(c, s->fidx.n + (size_t)cnt, "face corners", r.lineno, 0);
             goto done;
         }
         if (MIO_RESERVE(c->alloc, s->fidx, (size_t)cnt) != GEOM_OK) {
@@ -316,15 +316,15 @@ geom_status geom_meshio__read_off(mio_ctx *c, mio_soup *s)
         }
         for (int64_t i = 0; i < cnt; i++) {
             if (!mio_token(r.line, r.len, &p, 2, &t, &tl)) {
-                st = geom_meshio__err_line(c, GEOM_ERR_PARSE, r.lineno, r.len + 1,
+                st = geom__meshio_err_line(c, GEOM_ERR_PARSE, r.lineno, r.len + 1,
                                            "face %zu (0-based) declares %lld vertices but the line has %lld",
                                            f, (long long)cnt, (long long)i);
                 goto done;
             }
             int64_t ix;
-            int prc = geom_meshio__parse_int64(t, tl, &ix);
+            int prc = geom__meshio_parse_int64(t, tl, &ix);
             if (prc != 0 || ix < 0 || (uint64_t)ix >= nv) {
-                st = geom_meshio__err_line(c, GEOM_ERR_PARSE, r.lineno, off_col(&r, t),
+                st = geom__meshio_err_line(c, GEOM_ERR_PARSE, r.lineno, off_col(&r, t),
                                            prc != 0 ? "expected a vertex index, found '%.*s'"
                                                     : "vertex index %.*s out of range",
                                            (int)(tl > 40 ? 40 : tl), t);
@@ -342,7 +342,7 @@ geom_status geom_meshio__read_off(mio_ctx *c, mio_soup *s)
         size_t n = off_tokens(&r, toks, lens, 16, &total);
         if (total != 0) {
             if (total != n || (total != 3 && total != 4)) {
-                st = geom_meshio__err_line(c, GEOM_ERR_PARSE, r.lineno, off_col(&r, toks[0]),
+                st = geom__meshio_err_line(c, GEOM_ERR_PARSE, r.lineno, off_col(&r, toks[0]),
                                            "expected nothing or a colour 'r g b [a]' after the "
                                            "indices of face %zu (0-based), found %zu values",
                                            f, total);
@@ -354,13 +354,13 @@ geom_status geom_meshio__read_off(mio_ctx *c, mio_soup *s)
             if (!fc) {
                 static const double grey[4] = {0.666, 0.666, 0.666, 1.0};
                 fcolor_n = n;
-                fc = geom_meshio__soup_chan(s, c->alloc, "color", GEOM_MESH_DOMAIN_FACE, n, grey);
+                fc = geom__meshio_soup_chan(s, c->alloc, "color", GEOM_MESH_DOMAIN_FACE, n, grey);
                 if (!fc) {
                     st = GEOM_ERR_NOMEM;
                     goto done;
                 }
             } else if (n != fcolor_n) {
-                st = geom_meshio__err_line(c, GEOM_ERR_PARSE, r.lineno, off_col(&r, toks[0]),
+                st = geom__meshio_err_line(c, GEOM_ERR_PARSE, r.lineno, off_col(&r, toks[0]),
                                            "expected %zu colour components as in the first "
                                            "coloured face, found %zu",
                                            fcolor_n, n);
@@ -389,8 +389,8 @@ geom_status geom_meshio__read_off(mio_ctx *c, mio_soup *s)
     }
 done:
     if (st == GEOM_ERR_NOMEM && c->diag && c->diag->status != GEOM_ERR_NOMEM)
-        geom_meshio__err_line(c, st, r.lineno, 0, "out of memory");
-    geom_meshio__lines_free(&r.lines, c->alloc);
+        geom__meshio_err_line(c, st, r.lineno, 0, "out of memory");
+    geom__meshio_lines_free(&r.lines, c->alloc);
     s->loc_is_offset = 0;
     return st;
 }
@@ -402,23 +402,23 @@ done:
 static void put_color(mio_sink *k, double v)
 {
     if (!isfinite(v)) {
-        geom_meshio__put_double(k, v); /* fails the sink */
+        geom__meshio_put_double(k, v); /* fails the sink */
         return;
     }
     char buf[GEOM_DOUBLE_CHARS];
     size_t n = geom_format_double_digits(v, k->precision, buf);
-    geom_meshio__put(k, buf, n);
+    geom__meshio_put(k, buf, n);
     if (!memchr(buf, '.', n) && !memchr(buf, 'e', n))
-        geom_meshio__puts(k, ".0");
+        geom__meshio_puts(k, ".0");
 }
 
-geom_status geom_meshio__write_off(const geom_mesh *m, const geom_meshio_write_options *opt,
+geom_status geom__meshio_write_off(const geom_mesh *m, const geom_meshio_write_options *opt,
                                    mio_sink *k)
 {
     uint32_t chan[MIO_NATTR];
     for (int a = 0; a < MIO_NATTR; a++)
         chan[a] = a == MIO_ATTR_TANGENT ? GEOM_INVALID_INDEX
-                                        : geom_meshio__attr_channel(m, a, opt->omit);
+                                        : geom__meshio_attr_channel(m, a, opt->omit);
     if (chan[MIO_ATTR_NORMAL] != GEOM_INVALID_INDEX &&
         geom_mesh_channel_ncomp(m, chan[MIO_ATTR_NORMAL]) < 3)
         chan[MIO_ATTR_NORMAL] = GEOM_INVALID_INDEX;
@@ -433,55 +433,55 @@ geom_status geom_meshio__write_off(const geom_mesh *m, const geom_meshio_write_o
     if (fcol != GEOM_INVALID_INDEX && geom_mesh_channel_ncomp(m, fcol) < 3)
         fcol = GEOM_INVALID_INDEX;
     mio_export e;
-    geom_status st = geom_meshio__export_build(&e, m, chan, opt->alloc, 0);
+    geom_status st = geom__meshio_export_build(&e, m, chan, opt->alloc, 0);
     if (st != GEOM_OK)
-        return geom_meshio__sink_fail(k, st, "%s while preparing the output",
+        return geom__meshio_sink_fail(k, st, "%s while preparing the output",
                                       geom_status_str(st));
     int has_n = chan[MIO_ATTR_NORMAL] != GEOM_INVALID_INDEX;
     int has_c = chan[MIO_ATTR_COLOR] != GEOM_INVALID_INDEX;
     int has_st = chan[MIO_ATTR_UV] != GEOM_INVALID_INDEX;
     if (has_st)
-        geom_meshio__puts(k, "ST");
+        geom__meshio_puts(k, "ST");
     if (has_c)
         mio_putc(k, 'C');
     if (has_n)
         mio_putc(k, 'N');
-    geom_meshio__puts(k, "OFF\n# written by libgeom ");
-    geom_meshio__puts(k, geom_version_string());
+    geom__meshio_puts(k, "OFF\n# written by libgeom ");
+    geom__meshio_puts(k, geom_version_string());
     mio_putc(k, '\n');
-    geom_meshio__put_u64(k, e.nv);
+    geom__meshio_put_u64(k, e.nv);
     mio_putc(k, ' ');
-    geom_meshio__put_u64(k, e.nf);
-    geom_meshio__puts(k, " 0\n");
+    geom__meshio_put_u64(k, e.nf);
+    geom__meshio_puts(k, " 0\n");
     const double *pos = geom_mesh_cpositions(m);
     for (size_t i = 0; i < e.nv && k->status == GEOM_OK; i++) {
         const double *p = pos + 3 * (size_t)e.vert[i];
         for (int j = 0; j < 3; j++) {
             if (j)
                 mio_putc(k, ' ');
-            geom_meshio__put_double(k, p[j]);
+            geom__meshio_put_double(k, p[j]);
         }
         double val[4];
         if (has_n) {
-            geom_meshio__export_value(&e, m, MIO_ATTR_NORMAL, i, val, 3);
+            geom__meshio_export_value(&e, m, MIO_ATTR_NORMAL, i, val, 3);
             for (int j = 0; j < 3; j++) {
                 mio_putc(k, ' ');
-                geom_meshio__put_double(k, val[j]);
+                geom__meshio_put_double(k, val[j]);
             }
         }
         if (has_c) {
             val[3] = 1.0;
-            geom_meshio__export_value(&e, m, MIO_ATTR_COLOR, i, val, 4);
+            geom__meshio_export_value(&e, m, MIO_ATTR_COLOR, i, val, 4);
             for (int j = 0; j < 4; j++) {
                 mio_putc(k, ' ');
                 put_color(k, val[j]);
             }
         }
         if (has_st) {
-            geom_meshio__export_value(&e, m, MIO_ATTR_UV, i, val, 2);
+            geom__meshio_export_value(&e, m, MIO_ATTR_UV, i, val, 2);
             for (int j = 0; j < 2; j++) {
                 mio_putc(k, ' ');
-                geom_meshio__put_double(k, val[j]);
+                geom__meshio_put_double(k, val[j]);
             }
         }
         mio_putc(k, '\n');
@@ -490,10 +490,10 @@ geom_status geom_meshio__write_off(const geom_mesh *m, const geom_meshio_write_o
     size_t fnc = fcd ? geom_mesh_channel_ncomp(m, fcol) : 0;
     size_t off = 0;
     for (size_t f = 0; f < e.nf && k->status == GEOM_OK; f++) {
-        geom_meshio__put_u64(k, e.fsize[f]);
+        geom__meshio_put_u64(k, e.fsize[f]);
         for (uint32_t j = 0; j < e.fsize[f]; j++) {
             mio_putc(k, ' ');
-            geom_meshio__put_u64(k, e.fidx[off + j]);
+            geom__meshio_put_u64(k, e.fidx[off + j]);
         }
         off += e.fsize[f];
         if (fcd) {
@@ -505,6 +505,6 @@ geom_status geom_meshio__write_off(const geom_mesh *m, const geom_meshio_write_o
         }
         mio_putc(k, '\n');
     }
-    geom_meshio__export_free(&e);
+    geom__meshio_export_free(&e);
     return k->status;
 }

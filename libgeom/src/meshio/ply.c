@@ -83,10 +83,10 @@ static geom_status ply_data_err(ply_in *in, const ply_prop *p, size_t line, size
 {
     const char *en = in->elem ? in->elem->name : "?";
     if (in->ascii)
-        return geom_meshio__err_line(in->c, GEOM_ERR_PARSE, line, col,
+        return geom__meshio_err_line(in->c, GEOM_ERR_PARSE, line, col,
                                      "%s (element '%s' %zu, property '%s')", what, en,
                                      in->inst, p ? p->name : "?");
-    return geom_meshio__err_off(in->c, GEOM_ERR_PARSE, in->pos,
+    return geom__meshio_err_off(in->c, GEOM_ERR_PARSE, in->pos,
                                 "%s (element '%s' %zu, property '%s')", what, en, in->inst,
                                 p ? p->name : "?");
 }
@@ -97,11 +97,11 @@ static geom_status ply_value(ply_in *in, ply_type t, const ply_prop *p, double *
     if (in->ascii) {
         const char *tok;
         size_t tl, line, col;
-        if (!geom_meshio__cursor_next(&in->cur, &tok, &tl, &line, &col))
+        if (!geom__meshio_cursor_next(&in->cur, &tok, &tl, &line, &col))
             return ply_data_err(in, p, line, col, "unexpected end of file");
         in->tok_line = line;
         in->tok_col = col;
-        int rc = geom_meshio__parse_double(tok, tl, out);
+        int rc = geom__meshio_parse_double(tok, tl, out);
         if (rc != 0)
             return ply_data_err(in, p, line, col,
                                 rc == -2 ? "number out of range" : "expected a number");
@@ -192,18 +192,18 @@ typedef struct ply_header {
 static geom_status ply_parse_header(mio_ctx *c, ply_header *h)
 {
     mio_lines lines;
-    geom_meshio__lines_init(&lines, c->data, c->size, 0);
+    geom__meshio_lines_init(&lines, c->data, c->size, 0);
     const char *line;
     size_t len;
     geom_status st = GEOM_OK;
-    int rc = geom_meshio__lines_next(&lines, c->alloc, &line, &len);
+    int rc = geom__meshio_lines_next(&lines, c->alloc, &line, &len);
     if (rc <= 0 || len != 3 || memcmp(line, "ply", 3) != 0) {
-        st = geom_meshio__err_line(c, GEOM_ERR_PARSE, 1, 1, "expected 'ply' on the first line");
+        st = geom__meshio_err_line(c, GEOM_ERR_PARSE, 1, 1, "expected 'ply' on the first line");
         goto done;
     }
     int have_format = 0, ended = 0;
     ply_elem *cur = NULL;
-    while (!ended && (rc = geom_meshio__lines_next(&lines, c->alloc, &line, &len)) > 0) {
+    while (!ended && (rc = geom__meshio_lines_next(&lines, c->alloc, &line, &len)) > 0) {
         size_t ln = lines.lineno, pos = 0;
         const char *t[6];
         size_t tl[6];
@@ -221,7 +221,7 @@ static geom_status ply_parse_header(mio_ctx *c, ply_header *h)
         }
         if (mio_tok_eq(t[0], tl[0], "format")) {
             if (n < 2 || have_format) {
-                st = geom_meshio__err_line(c, GEOM_ERR_PARSE, ln, col,
+                st = geom__meshio_err_line(c, GEOM_ERR_PARSE, ln, col,
                                            have_format ? "second 'format' line"
                                                        : "expected 'format ascii|"
                                                          "binary_little_endian|"
@@ -235,7 +235,7 @@ static geom_status ply_parse_header(mio_ctx *c, ply_header *h)
             } else if (mio_tok_eq(t[1], tl[1], "binary_big_endian")) {
                 h->be = 1;
             } else {
-                st = geom_meshio__err_line(c, GEOM_ERR_PARSE, ln, (size_t)(t[1] - line) + 1,
+                st = geom__meshio_err_line(c, GEOM_ERR_PARSE, ln, (size_t)(t[1] - line) + 1,
                                            "expected ascii, binary_little_endian or "
                                            "binary_big_endian, found '%.*s'",
                                            (int)(tl[1] > 40 ? 40 : tl[1]), t[1]);
@@ -246,13 +246,13 @@ static geom_status ply_parse_header(mio_ctx *c, ply_header *h)
         }
         if (mio_tok_eq(t[0], tl[0], "element")) {
             int64_t cnt;
-            if (n != 3 || geom_meshio__parse_int64(t[2], tl[2], &cnt) != 0 || cnt < 0) {
-                st = geom_meshio__err_line(c, GEOM_ERR_PARSE, ln, col,
+            if (n != 3 || geom__meshio_parse_int64(t[2], tl[2], &cnt) != 0 || cnt < 0) {
+                st = geom__meshio_err_line(c, GEOM_ERR_PARSE, ln, col,
                                            "expected 'element <name> <count>'");
                 goto done;
             }
             if ((uint64_t)cnt > c->max_elements) {
-                st = geom_meshio__err_line(c, GEOM_ERR_LIMIT, ln, (size_t)(t[2] - line) + 1,
+                st = geom__meshio_err_line(c, GEOM_ERR_LIMIT, ln, (size_t)(t[2] - line) + 1,
                                            "element '%.*s' count %lld exceeds the limit of %zu",
                                            (int)(tl[1] > 40 ? 40 : tl[1]), t[1],
                                            (long long)cnt, c->max_elements);
@@ -268,12 +268,12 @@ static geom_status ply_parse_header(mio_ctx *c, ply_header *h)
                                                    : E_OTHER;
             for (size_t i = 0; i < h->elems.n; i++)
                 if (e.kind != E_OTHER && h->elems.p[i].kind == e.kind) {
-                    st = geom_meshio__err_line(c, GEOM_ERR_PARSE, ln, col,
+                    st = geom__meshio_err_line(c, GEOM_ERR_PARSE, ln, col,
                                                "second '%s' element", e.name);
                     goto done;
                 }
             if (h->elems.n >= 1024) {
-                st = geom_meshio__err_line(c, GEOM_ERR_LIMIT, ln, col, "more than 1024 elements");
+                st = geom__meshio_err_line(c, GEOM_ERR_LIMIT, ln, col, "more than 1024 elements");
                 goto done;
             }
             if (MIO_PUSH(c->alloc, h->elems, e) != GEOM_OK) {
@@ -285,7 +285,7 @@ static geom_status ply_parse_header(mio_ctx *c, ply_header *h)
         }
         if (mio_tok_eq(t[0], tl[0], "property")) {
             if (!cur) {
-                st = geom_meshio__err_line(c, GEOM_ERR_PARSE, ln, col,
+                st = geom__meshio_err_line(c, GEOM_ERR_PARSE, ln, col,
                                            "'property' before any 'element'");
                 goto done;
             }
@@ -297,7 +297,7 @@ static geom_status ply_parse_header(mio_ctx *c, ply_header *h)
                 if (n != 5 || (p.count_type = ply_type_from(t[2], tl[2])) == PT_NONE ||
                     (p.type = ply_type_from(t[3], tl[3])) == PT_NONE ||
                     !ply_type_is_int(p.count_type)) {
-                    st = geom_meshio__err_line(c, GEOM_ERR_PARSE, ln, col,
+                    st = geom__meshio_err_line(c, GEOM_ERR_PARSE, ln, col,
                                                "expected 'property list <integer type> <type> "
                                                "<name>'");
                     goto done;
@@ -306,7 +306,7 @@ static geom_status ply_parse_header(mio_ctx *c, ply_header *h)
                 nl = tl[4];
             } else {
                 if (n != 3 || (p.type = ply_type_from(t[1], tl[1])) == PT_NONE) {
-                    st = geom_meshio__err_line(c, GEOM_ERR_PARSE, ln, col,
+                    st = geom__meshio_err_line(c, GEOM_ERR_PARSE, ln, col,
                                                "expected 'property <type> <name>' with type "
                                                "char, uchar, short, ushort, int, uint, float "
                                                "or double");
@@ -318,13 +318,13 @@ static geom_status ply_parse_header(mio_ctx *c, ply_header *h)
             snprintf(p.name, sizeof p.name, "%.*s", (int)(nl > 63 ? 63 : nl), nm);
             for (size_t i = 0; i < cur->nprop; i++)
                 if (strcmp(h->props.p[cur->first + i].name, p.name) == 0) {
-                    st = geom_meshio__err_line(c, GEOM_ERR_PARSE, ln, (size_t)(nm - line) + 1,
+                    st = geom__meshio_err_line(c, GEOM_ERR_PARSE, ln, (size_t)(nm - line) + 1,
                                                "duplicate property '%s' in element '%s'",
                                                p.name, cur->name);
                     goto done;
                 }
             if (cur->nprop >= 1024) {
-                st = geom_meshio__err_line(c, GEOM_ERR_LIMIT, ln, col,
+                st = geom__meshio_err_line(c, GEOM_ERR_LIMIT, ln, col,
                                            "more than 1024 properties in an element");
                 goto done;
             }
@@ -335,7 +335,7 @@ static geom_status ply_parse_header(mio_ctx *c, ply_header *h)
             cur->nprop++;
             continue;
         }
-        st = geom_meshio__err_line(c, GEOM_ERR_PARSE, ln, col,
+        st = geom__meshio_err_line(c, GEOM_ERR_PARSE, ln, col,
                                    "expected format, element, property, comment, obj_info or "
                                    "end_header, found '%.*s'",
                                    (int)(tl[0] > 40 ? 40 : tl[0]), t[0]);
@@ -346,19 +346,19 @@ static geom_status ply_parse_header(mio_ctx *c, ply_header *h)
         goto done;
     }
     if (!ended) {
-        st = geom_meshio__err_line(c, GEOM_ERR_PARSE, lines.next_lineno, 1,
+        st = geom__meshio_err_line(c, GEOM_ERR_PARSE, lines.next_lineno, 1,
                                    "unexpected end of file: expected 'end_header'");
         goto done;
     }
     if (!have_format) {
-        st = geom_meshio__err_line(c, GEOM_ERR_PARSE, lines.lineno, 1,
+        st = geom__meshio_err_line(c, GEOM_ERR_PARSE, lines.lineno, 1,
                                    "no 'format' line before 'end_header'");
         goto done;
     }
     h->data_start = lines.pos;
     h->data_line = lines.next_lineno;
 done:
-    geom_meshio__lines_free(&lines, c->alloc);
+    geom__meshio_lines_free(&lines, c->alloc);
     return st;
 }
 
@@ -422,7 +422,7 @@ static void ply_assign_roles(ply_header *h, mio_ctx *c)
     }
 }
 
-geom_status geom_meshio__read_ply(mio_ctx *c, mio_soup *s)
+geom_status geom__meshio_read_ply(mio_ctx *c, mio_soup *s)
 {
     ply_header h;
     memset(&h, 0, sizeof h);
@@ -450,7 +450,7 @@ geom_status geom_meshio__read_ply(mio_ctx *c, mio_soup *s)
         }
         size_t remaining = c->size - h.data_start;
         if (need > (uint64_t)remaining + (h.ascii ? 1 : 0)) {
-            st = geom_meshio__err_line(c, GEOM_ERR_PARSE, h.data_line, 1,
+            st = geom__meshio_err_line(c, GEOM_ERR_PARSE, h.data_line, 1,
                                        "the header declares elements that need at least %llu "
                                        "bytes, but only %zu bytes follow it",
                                        (unsigned long long)need, remaining);
@@ -471,16 +471,16 @@ geom_status geom_meshio__read_ply(mio_ctx *c, mio_soup *s)
         for (size_t j = 0; j < ve->nprop; j++)
             have[h.props.p[ve->first + j].role] = 1;
         if (!have[R_X] || !have[R_Y] || !have[R_Z]) {
-            st = geom_meshio__err_line(c, GEOM_ERR_PARSE, 1, 0,
+            st = geom__meshio_err_line(c, GEOM_ERR_PARSE, 1, 0,
                                        "the vertex element has no x, y and z properties");
             goto done;
         }
         has_alpha = have[R_A];
-        if ((have[R_NX] && !(cn = geom_meshio__soup_chan(s, c->alloc, "normal",
+        if ((have[R_NX] && !(cn = geom__meshio_soup_chan(s, c->alloc, "normal",
                                                          GEOM_MESH_DOMAIN_VERTEX, 3, NULL))) ||
-            (have[R_U] && !(cuv = geom_meshio__soup_chan(s, c->alloc, "uv",
+            (have[R_U] && !(cuv = geom__meshio_soup_chan(s, c->alloc, "uv",
                                                          GEOM_MESH_DOMAIN_VERTEX, 2, NULL))) ||
-            (have[R_R] && !(ccol = geom_meshio__soup_chan(s, c->alloc, "color",
+            (have[R_R] && !(ccol = geom__meshio_soup_chan(s, c->alloc, "color",
                                                           GEOM_MESH_DOMAIN_VERTEX,
                                                           has_alpha ? 4 : 3, NULL)))) {
             st = GEOM_ERR_NOMEM;
@@ -494,10 +494,10 @@ geom_status geom_meshio__read_ply(mio_ctx *c, mio_soup *s)
         has_indices = have[R_INDICES];
         has_falpha = have[R_FA];
         if (has_indices &&
-            ((have[R_TEXCOORD] && !(ctex = geom_meshio__soup_chan(s, c->alloc, "uv",
+            ((have[R_TEXCOORD] && !(ctex = geom__meshio_soup_chan(s, c->alloc, "uv",
                                                                   GEOM_MESH_DOMAIN_CORNER, 2,
                                                                   NULL))) ||
-             (have[R_FR] && !(cfcol = geom_meshio__soup_chan(s, c->alloc, "color",
+             (have[R_FR] && !(cfcol = geom__meshio_soup_chan(s, c->alloc, "color",
                                                              GEOM_MESH_DOMAIN_FACE,
                                                              has_falpha ? 4 : 3, NULL))))) {
             st = GEOM_ERR_NOMEM;
@@ -525,7 +525,7 @@ geom_status geom_meshio__read_ply(mio_ctx *c, mio_soup *s)
         if (e->nprop == 0)
             continue;
         if (is_v) {
-            if ((st = geom_meshio__check_count(c, e->count, "vertices", 0, 0)) != GEOM_OK)
+            if ((st = geom__meshio_check_count(c, e->count, "vertices", 0, 0)) != GEOM_OK)
                 goto done;
             if (MIO_RESERVE(c->alloc, s->pos, 3 * e->count) != GEOM_OK) {
                 st = GEOM_ERR_NOMEM;
@@ -570,7 +570,7 @@ geom_status geom_meshio__read_ply(mio_ctx *c, mio_soup *s)
                     got_indices = 1;
                     nidx = n;
                     if (s->fidx.n + n > c->max_elements) {
-                        st = geom_meshio__check_count(c, s->fidx.n + n, "face corners", loc,
+                        st = geom__meshio_check_count(c, s->fidx.n + n, "face corners", loc,
                                                       !h.ascii);
                         goto done;
                     }
@@ -631,7 +631,7 @@ geom_status geom_meshio__read_ply(mio_ctx *c, mio_soup *s)
                 }
             } else if (is_f) {
                 if (s->fsize.n >= c->max_elements) {
-                    st = geom_meshio__check_count(c, s->fsize.n + 1, "faces", loc, !h.ascii);
+                    st = geom__meshio_check_count(c, s->fsize.n + 1, "faces", loc, !h.ascii);
                     goto done;
                 }
                 if (MIO_PUSH(c->alloc, s->fsize, (uint32_t)nidx) != GEOM_OK ||
@@ -676,8 +676,8 @@ geom_status geom_meshio__read_ply(mio_ctx *c, mio_soup *s)
     } else if (h.ascii) {
         const char *tok;
         size_t tl, line, col;
-        if (geom_meshio__cursor_next(&in.cur, &tok, &tl, &line, &col))
-            st = geom_meshio__err_line(c, GEOM_ERR_PARSE, line, col,
+        if (geom__meshio_cursor_next(&in.cur, &tok, &tl, &line, &col))
+            st = geom__meshio_err_line(c, GEOM_ERR_PARSE, line, col,
                                        "data after the last declared element");
     } else {
         const unsigned char *d = c->data;
@@ -685,13 +685,13 @@ geom_status geom_meshio__read_ply(mio_ctx *c, mio_soup *s)
         while (at < c->size && mio_is_space((char)d[at]))
             at++;
         if (at < c->size)
-            st = geom_meshio__err_off(c, GEOM_ERR_PARSE, in.pos,
+            st = geom__meshio_err_off(c, GEOM_ERR_PARSE, in.pos,
                                       "%zu bytes after the last declared element",
                                       c->size - in.pos);
     }
 done:
     if (st == GEOM_ERR_NOMEM && c->diag && c->diag->status != GEOM_ERR_NOMEM)
-        geom_meshio__err_line(c, st, 0, 0, "out of memory");
+        geom__meshio_err_line(c, st, 0, 0, "out of memory");
     MIO_FREE(c->alloc, tex);
     MIO_FREE(c->alloc, h.elems);
     MIO_FREE(c->alloc, h.props);
@@ -703,13 +703,13 @@ done:
 static void put_ply_value(mio_sink *k, double v, int ascii, int be, int as_float)
 {
     if (ascii) {
-        geom_meshio__put_double(k, v);
+        geom__meshio_put_double(k, v);
     } else if (!isfinite(v)) {
-        geom_meshio__sink_fail(k, GEOM_ERR_INVALID_ARG, "cannot write a non-finite value");
+        geom__meshio_sink_fail(k, GEOM_ERR_INVALID_ARG, "cannot write a non-finite value");
     } else if (as_float) {
-        geom_meshio__put_f32(k, (float)v, be);
+        geom__meshio_put_f32(k, (float)v, be);
     } else {
-        geom_meshio__put_f64(k, v, be);
+        geom__meshio_put_f64(k, v, be);
     }
 }
 
@@ -722,7 +722,7 @@ static unsigned char to_u8(double v)
     return (unsigned char)(v * 255.0 + 0.5);
 }
 
-geom_status geom_meshio__write_ply(const geom_mesh *m, const geom_meshio_write_options *opt,
+geom_status geom__meshio_write_ply(const geom_mesh *m, const geom_meshio_write_options *opt,
                                    mio_sink *k)
 {
     int ascii = opt->encoding == GEOM_MESHIO_ENCODING_ASCII;
@@ -730,7 +730,7 @@ geom_status geom_meshio__write_ply(const geom_mesh *m, const geom_meshio_write_o
     int as_float = opt->ply_float && !ascii;
     uint32_t chan[MIO_NATTR];
     for (int a = 0; a < MIO_NATTR; a++)
-        chan[a] = geom_meshio__attr_channel(m, a, opt->omit);
+        chan[a] = geom__meshio_attr_channel(m, a, opt->omit);
     /* tangents (x, y, z and the bitangent sign w) as tangent_x..tangent_w:
      * PLY has no standard name for them */
     if (chan[MIO_ATTR_TANGENT] != GEOM_INVALID_INDEX &&
@@ -750,9 +750,9 @@ geom_status geom_meshio__write_ply(const geom_mesh *m, const geom_meshio_write_o
     if (fcol != GEOM_INVALID_INDEX && geom_mesh_channel_ncomp(m, fcol) < 3)
         fcol = GEOM_INVALID_INDEX;
     mio_export e;
-    geom_status st = geom_meshio__export_build(&e, m, chan, opt->alloc, 0);
+    geom_status st = geom__meshio_export_build(&e, m, chan, opt->alloc, 0);
     if (st != GEOM_OK)
-        return geom_meshio__sink_fail(k, st, "%s while preparing the output",
+        return geom__meshio_sink_fail(k, st, "%s while preparing the output",
                                       geom_status_str(st));
     int has_n = chan[MIO_ATTR_NORMAL] != GEOM_INVALID_INDEX;
     int has_uv = chan[MIO_ATTR_UV] != GEOM_INVALID_INDEX;
@@ -762,12 +762,12 @@ geom_status geom_meshio__write_ply(const geom_mesh *m, const geom_meshio_write_o
     int falpha = fcol != GEOM_INVALID_INDEX && geom_mesh_channel_ncomp(m, fcol) >= 4;
     const char *ft = as_float ? "float" : "double";
 
-    geom_meshio__puts(k, "ply\nformat ");
-    geom_meshio__puts(k, ascii ? "ascii" : be ? "binary_big_endian" : "binary_little_endian");
-    geom_meshio__puts(k, " 1.0\ncomment written by libgeom ");
-    geom_meshio__puts(k, geom_version_string());
-    geom_meshio__puts(k, "\nelement vertex ");
-    geom_meshio__put_u64(k, e.nv);
+    geom__meshio_puts(k, "ply\nformat ");
+    geom__meshio_puts(k, ascii ? "ascii" : be ? "binary_big_endian" : "binary_little_endian");
+    geom__meshio_puts(k, " 1.0\ncomment written by libgeom ");
+    geom__meshio_puts(k, geom_version_string());
+    geom__meshio_puts(k, "\nelement vertex ");
+    geom__meshio_put_u64(k, e.nv);
     mio_putc(k, '\n');
     static const char *const xyz[] = {"x", "y", "z"}, *const nxyz[] = {"nx", "ny", "nz"},
                               *const uv[] = {"s", "t"}, /* Blender, MeshLab */
@@ -779,29 +779,29 @@ geom_status geom_meshio__write_ply(const geom_mesh *m, const geom_meshio_write_o
     static const int fcount[4] = {3, 3, 2, 4};
     for (int a = 0; a < 4; a++)
         for (int i = 0; fon[a] && i < fcount[a]; i++) {
-            geom_meshio__puts(k, "property ");
-            geom_meshio__puts(k, ft);
+            geom__meshio_puts(k, "property ");
+            geom__meshio_puts(k, ft);
             mio_putc(k, ' ');
-            geom_meshio__puts(k, fnames[a][i]);
+            geom__meshio_puts(k, fnames[a][i]);
             mio_putc(k, '\n');
         }
     for (int i = 0; has_c && i < 3 + alpha; i++) {
-        geom_meshio__puts(k, "property uchar ");
-        geom_meshio__puts(k, rgba[i]);
+        geom__meshio_puts(k, "property uchar ");
+        geom__meshio_puts(k, rgba[i]);
         mio_putc(k, '\n');
     }
-    geom_meshio__puts(k, "element face ");
-    geom_meshio__put_u64(k, e.nf);
-    geom_meshio__puts(k, e.max_valence > 255 ? "\nproperty list int int vertex_indices\n"
+    geom__meshio_puts(k, "element face ");
+    geom__meshio_put_u64(k, e.nf);
+    geom__meshio_puts(k, e.max_valence > 255 ? "\nproperty list int int vertex_indices\n"
                                              : "\nproperty list uchar int vertex_indices\n");
     for (int i = 0; fcol != GEOM_INVALID_INDEX && i < 3 + falpha; i++) {
-        geom_meshio__puts(k, "property uchar ");
-        geom_meshio__puts(k, rgba[i]);
+        geom__meshio_puts(k, "property uchar ");
+        geom__meshio_puts(k, rgba[i]);
         mio_putc(k, '\n');
     }
-    geom_meshio__puts(k, "end_header\n");
+    geom__meshio_puts(k, "end_header\n");
     if (e.nv > INT32_MAX)
-        geom_meshio__sink_fail(k, GEOM_ERR_LIMIT, "too many vertices for PLY int indices");
+        geom__meshio_sink_fail(k, GEOM_ERR_LIMIT, "too many vertices for PLY int indices");
 
     const double *pos = geom_mesh_cpositions(m);
     for (size_t i = 0; i < e.nv && k->status == GEOM_OK; i++) {
@@ -820,7 +820,7 @@ geom_status geom_meshio__write_ply(const geom_mesh *m, const geom_meshio_write_o
             if (!fhas[a])
                 continue;
             val[3] = 1.0; /* a tangent without w */
-            geom_meshio__export_value(&e, m, fattr[a], i, val, fcomp[a]);
+            geom__meshio_export_value(&e, m, fattr[a], i, val, fcomp[a]);
             for (size_t j = 0; j < fcomp[a]; j++) {
                 if (ascii)
                     mio_putc(k, ' ');
@@ -829,14 +829,14 @@ geom_status geom_meshio__write_ply(const geom_mesh *m, const geom_meshio_write_o
         }
         if (has_c) {
             val[3] = 1.0;
-            geom_meshio__export_value(&e, m, MIO_ATTR_COLOR, i, val, 4);
+            geom__meshio_export_value(&e, m, MIO_ATTR_COLOR, i, val, 4);
             for (int j = 0; j < 3 + alpha; j++) {
                 unsigned char u = to_u8(val[j]);
                 if (ascii) {
                     mio_putc(k, ' ');
-                    geom_meshio__put_u64(k, u);
+                    geom__meshio_put_u64(k, u);
                 } else {
-                    geom_meshio__put(k, &u, 1);
+                    geom__meshio_put(k, &u, 1);
                 }
             }
         }
@@ -849,20 +849,20 @@ geom_status geom_meshio__write_ply(const geom_mesh *m, const geom_meshio_write_o
     for (size_t f = 0; f < e.nf && k->status == GEOM_OK; f++) {
         uint32_t n = e.fsize[f];
         if (ascii) {
-            geom_meshio__put_u64(k, n);
+            geom__meshio_put_u64(k, n);
             for (uint32_t j = 0; j < n; j++) {
                 mio_putc(k, ' ');
-                geom_meshio__put_u64(k, e.fidx[off + j]);
+                geom__meshio_put_u64(k, e.fidx[off + j]);
             }
         } else {
             if (e.max_valence > 255) {
-                geom_meshio__put_u32(k, n, be);
+                geom__meshio_put_u32(k, n, be);
             } else {
                 unsigned char u = (unsigned char)n;
-                geom_meshio__put(k, &u, 1);
+                geom__meshio_put(k, &u, 1);
             }
             for (uint32_t j = 0; j < n; j++)
-                geom_meshio__put_u32(k, e.fidx[off + j], be);
+                geom__meshio_put_u32(k, e.fidx[off + j], be);
         }
         off += n;
         if (fcd) {
@@ -871,15 +871,15 @@ geom_status geom_meshio__write_ply(const geom_mesh *m, const geom_meshio_write_o
                 unsigned char u = to_u8(col[j]);
                 if (ascii) {
                     mio_putc(k, ' ');
-                    geom_meshio__put_u64(k, u);
+                    geom__meshio_put_u64(k, u);
                 } else {
-                    geom_meshio__put(k, &u, 1);
+                    geom__meshio_put(k, &u, 1);
                 }
             }
         }
         if (ascii)
             mio_putc(k, '\n');
     }
-    geom_meshio__export_free(&e);
+    geom__meshio_export_free(&e);
     return k->status;
 }

@@ -3,7 +3,7 @@
 
 #include <stdio.h>
 
-geom_status geom_meshio__sink_fail(mio_sink *k, geom_status st, const char *fmt, ...)
+geom_status geom__meshio_sink_fail(mio_sink *k, geom_status st, const char *fmt, ...)
 {
     if (k->status != GEOM_OK)
         return k->status;
@@ -14,12 +14,12 @@ geom_status geom_meshio__sink_fail(mio_sink *k, geom_status st, const char *fmt,
         va_start(ap, fmt);
         vsnprintf(msg, sizeof msg, fmt, ap);
         va_end(ap);
-        geom_diag_set(k->diag, st, NULL, 0, 0, "%s", msg);
+        geom__diag_set(k->diag, st, NULL, 0, 0, "%s", msg);
     }
     return st;
 }
 
-geom_status geom_meshio__sink_flush(mio_sink *k)
+geom_status geom__meshio_sink_flush(mio_sink *k)
 {
     if (k->status != GEOM_OK || !k->flush_fn || k->n == 0)
         return k->status;
@@ -32,7 +32,7 @@ geom_status geom_meshio__sink_flush(mio_sink *k)
     return GEOM_OK;
 }
 
-void geom_meshio__put(mio_sink *k, const void *p, size_t n)
+void geom__meshio_put(mio_sink *k, const void *p, size_t n)
 {
     if (k->status != GEOM_OK || n == 0)
         return;
@@ -40,14 +40,14 @@ void geom_meshio__put(mio_sink *k, const void *p, size_t n)
     while (n > 0) {
         if (k->n == k->cap) {
             if (k->flush_fn) {
-                if (geom_meshio__sink_flush(k) != GEOM_OK)
+                if (geom__meshio_sink_flush(k) != GEOM_OK)
                     return;
             } else {
                 /* memory sink: keep one spare byte for the final NUL */
-                geom_status st = geom_meshio__grow(k->alloc, (void **)&k->buf, &k->cap,
+                geom_status st = geom__grow(k->alloc, (void **)&k->buf, &k->cap,
                                                    k->n + n + 1, 1);
                 if (st != GEOM_OK) {
-                    geom_meshio__sink_fail(k, st, "out of memory for %llu bytes of output",
+                    geom__meshio_sink_fail(k, st, "out of memory for %llu bytes of output",
                                            (unsigned long long)(k->total + n));
                     return;
                 }
@@ -63,20 +63,20 @@ void geom_meshio__put(mio_sink *k, const void *p, size_t n)
     }
 }
 
-void geom_meshio__puts(mio_sink *k, const char *s) { geom_meshio__put(k, s, strlen(s)); }
+void geom__meshio_puts(mio_sink *k, const char *s) { geom__meshio_put(k, s, strlen(s)); }
 
-void geom_meshio__put_double(mio_sink *k, double x)
+void geom__meshio_put_double(mio_sink *k, double x)
 {
     if (!isfinite(x)) {
-        geom_meshio__sink_fail(k, GEOM_ERR_INVALID_ARG, "cannot write a non-finite value");
+        geom__meshio_sink_fail(k, GEOM_ERR_INVALID_ARG, "cannot write a non-finite value");
         return;
     }
     char buf[GEOM_DOUBLE_CHARS];
     size_t n = geom_format_double_digits(x, k->precision, buf);
-    geom_meshio__put(k, buf, n);
+    geom__meshio_put(k, buf, n);
 }
 
-void geom_meshio__put_u64(mio_sink *k, uint64_t v)
+void geom__meshio_put_u64(mio_sink *k, uint64_t v)
 {
     char buf[24];
     size_t i = sizeof buf;
@@ -84,16 +84,16 @@ void geom_meshio__put_u64(mio_sink *k, uint64_t v)
         buf[--i] = (char)('0' + v % 10);
         v /= 10;
     } while (v);
-    geom_meshio__put(k, buf + i, sizeof buf - i);
+    geom__meshio_put(k, buf + i, sizeof buf - i);
 }
 
-void geom_meshio__put_i64(mio_sink *k, int64_t v)
+void geom__meshio_put_i64(mio_sink *k, int64_t v)
 {
     if (v < 0) {
         mio_putc(k, '-');
-        geom_meshio__put_u64(k, (uint64_t)0 - (uint64_t)v);
+        geom__meshio_put_u64(k, (uint64_t)0 - (uint64_t)v);
     } else {
-        geom_meshio__put_u64(k, (uint64_t)v);
+        geom__meshio_put_u64(k, (uint64_t)v);
     }
 }
 
@@ -104,20 +104,20 @@ static void put_uint(mio_sink *k, uint64_t v, int bytes, int be)
         unsigned char byte = (unsigned char)(v >> (8 * i));
         b[be ? bytes - 1 - i : i] = byte;
     }
-    geom_meshio__put(k, b, (size_t)bytes);
+    geom__meshio_put(k, b, (size_t)bytes);
 }
 
-void geom_meshio__put_u16(mio_sink *k, uint16_t v, int be) { put_uint(k, v, 2, be); }
-void geom_meshio__put_u32(mio_sink *k, uint32_t v, int be) { put_uint(k, v, 4, be); }
+void geom__meshio_put_u16(mio_sink *k, uint16_t v, int be) { put_uint(k, v, 2, be); }
+void geom__meshio_put_u32(mio_sink *k, uint32_t v, int be) { put_uint(k, v, 4, be); }
 
-void geom_meshio__put_f32(mio_sink *k, float v, int be)
+void geom__meshio_put_f32(mio_sink *k, float v, int be)
 {
     uint32_t u;
     memcpy(&u, &v, 4);
     put_uint(k, u, 4, be);
 }
 
-void geom_meshio__put_f64(mio_sink *k, double v, int be)
+void geom__meshio_put_f64(mio_sink *k, double v, int be)
 {
     uint64_t u;
     memcpy(&u, &v, 8);

@@ -6,7 +6,7 @@
 
 #include <stdio.h>
 
-void geom_meshio__soup_free(mio_soup *s, const geom_allocator *a)
+void geom__meshio_soup_free(mio_soup *s, const geom_allocator *a)
 {
     MIO_FREE(a, s->pos);
     MIO_FREE(a, s->fsize);
@@ -29,7 +29,7 @@ void geom_meshio__soup_free(mio_soup *s, const geom_allocator *a)
     MIO_FREE(a, s->pl_verts);
 }
 
-mio_chan *geom_meshio__soup_chan(mio_soup *s, const geom_allocator *a, const char *name,
+mio_chan *geom__meshio_soup_chan(mio_soup *s, const geom_allocator *a, const char *name,
                                  geom_mesh_domain domain, size_t ncomp, const double *fill)
 {
     for (size_t i = 0; i < s->nchan; i++)
@@ -53,7 +53,7 @@ mio_chan *geom_meshio__soup_chan(mio_soup *s, const geom_allocator *a, const cha
         ch->idx.n = s->fidx.n;
     } else if (existing) {
         size_t need;
-        if (geom_size_mul(existing, ncomp, &need) != GEOM_OK ||
+        if (geom__size_mul(existing, ncomp, &need) != GEOM_OK ||
             MIO_RESERVE(a, ch->val, need) != GEOM_OK)
             return NULL;
         for (size_t i = 0; i < existing; i++)
@@ -65,7 +65,7 @@ mio_chan *geom_meshio__soup_chan(mio_soup *s, const geom_allocator *a, const cha
     return ch;
 }
 
-geom_status geom_meshio__soup_str(mio_soup *s, const geom_allocator *a, const char *str,
+geom_status geom__meshio_soup_str(mio_soup *s, const geom_allocator *a, const char *str,
                                   size_t len, size_t *off)
 {
     if (len > SIZE_MAX - 1 || MIO_RESERVE(a, s->strings, len + 1) != GEOM_OK)
@@ -77,16 +77,16 @@ geom_status geom_meshio__soup_str(mio_soup *s, const geom_allocator *a, const ch
     return GEOM_OK;
 }
 
-geom_status geom_meshio__check_count(mio_ctx *c, size_t n, const char *what, uint64_t loc,
+geom_status geom__meshio_check_count(mio_ctx *c, size_t n, const char *what, uint64_t loc,
                                      int loc_is_offset)
 {
     if (n <= c->max_elements)
         return GEOM_OK;
     if (loc_is_offset)
-        return geom_meshio__err_off(c, GEOM_ERR_LIMIT, loc,
+        return geom__meshio_err_off(c, GEOM_ERR_LIMIT, loc,
                                     "%zu %s exceed the limit of %zu elements", n, what,
                                     c->max_elements);
-    return geom_meshio__err_line(c, GEOM_ERR_LIMIT, (size_t)loc, 0,
+    return geom__meshio_err_line(c, GEOM_ERR_LIMIT, (size_t)loc, 0,
                                  "%zu %s exceed the limit of %zu elements", n, what,
                                  c->max_elements);
 }
@@ -96,8 +96,8 @@ geom_status geom_meshio__check_count(mio_ctx *c, size_t n, const char *what, uin
 static geom_status face_error(mio_ctx *c, const mio_soup *s, size_t f, const char *msg)
 {
     if (s->loc_is_offset)
-        return geom_meshio__err_off(c, GEOM_ERR_PARSE, s->floc.p[f], "face %zu: %s", f + 1, msg);
-    return geom_meshio__err_line(c, GEOM_ERR_PARSE, (size_t)s->floc.p[f], 0, "face %zu: %s",
+        return geom__meshio_err_off(c, GEOM_ERR_PARSE, s->floc.p[f], "face %zu: %s", f + 1, msg);
+    return geom__meshio_err_line(c, GEOM_ERR_PARSE, (size_t)s->floc.p[f], 0, "face %zu: %s",
                                  f + 1, msg);
 }
 
@@ -108,9 +108,9 @@ static geom_status validate_faces(mio_ctx *c, const mio_soup *s, size_t *n_inval
     uint32_t *stamp = NULL;
     size_t bytes = 0;
     if (nv) {
-        if (geom_size_mul(nv, sizeof(uint32_t), &bytes) != GEOM_OK)
+        if (geom__size_mul(nv, sizeof(uint32_t), &bytes) != GEOM_OK)
             return GEOM_ERR_LIMIT;
-        stamp = geom_alloc(c->alloc, bytes);
+        stamp = geom__alloc(c->alloc, bytes);
         if (!stamp)
             return GEOM_ERR_NOMEM;
         memset(stamp, 0xff, bytes);
@@ -163,7 +163,7 @@ static geom_status validate_faces(mio_ctx *c, const mio_soup *s, size_t *n_inval
         if (bad)
             (*n_invalid)++;
     }
-    geom_free(c->alloc, stamp, bytes);
+    geom__free(c->alloc, stamp, bytes);
     return st;
 }
 
@@ -189,9 +189,9 @@ static geom_status copy_corners(mio_ctx *c, const mio_soup *s, geom_mesh *m)
         any |= s->chan[i].domain == GEOM_MESH_DOMAIN_CORNER;
     if (!any)
         return GEOM_OK;
-    if (geom_size_mul(nin + 1, sizeof(size_t), &bytes) != GEOM_OK)
+    if (geom__size_mul(nin + 1, sizeof(size_t), &bytes) != GEOM_OK)
         return GEOM_ERR_LIMIT;
-    start = geom_alloc(c->alloc, bytes);
+    start = geom__alloc(c->alloc, bytes);
     if (!start)
         return GEOM_ERR_NOMEM;
     start[0] = 0;
@@ -267,7 +267,7 @@ static geom_status copy_corners(mio_ctx *c, const mio_soup *s, geom_mesh *m)
             h = geom_mesh_he_next(m, h);
         } while (h != h0 && h != GEOM_INVALID_INDEX && ++guard <= n + 1);
     }
-    geom_free(c->alloc, start, bytes);
+    geom__free(c->alloc, start, bytes);
     return st;
 }
 
@@ -310,7 +310,7 @@ static geom_status copy_meta(const mio_soup *s, geom_mesh *m, const geom_allocat
         const char **strs = NULL;
         size_t bytes = t->nstring * sizeof(char *);
         if (t->nstring) {
-            strs = geom_alloc(a, bytes);
+            strs = geom__alloc(a, bytes);
             if (!strs)
                 return GEOM_ERR_NOMEM;
             for (size_t k = 0; k < t->nstring; k++)
@@ -325,7 +325,7 @@ static geom_status copy_meta(const mio_soup *s, geom_mesh *m, const geom_allocat
         tag.floats = t->nfloat ? s->tag_floats.p + t->floats : NULL;
         tag.strings = strs;
         st = geom_mesh_tag_add(m, &tag);
-        geom_free(a, strs, bytes);
+        geom__free(a, strs, bytes);
     }
     for (size_t i = 0; i + 1 < s->pl_off.n && st == GEOM_OK; i++)
         st = geom_mesh_polyline_add(m, s->pl_off.p[i + 1] - s->pl_off.p[i],
@@ -357,14 +357,14 @@ static geom_status copy_meta(const mio_soup *s, geom_mesh *m, const geom_allocat
     return GEOM_OK;
 }
 
-geom_status geom_meshio__soup_finish(mio_ctx *c, mio_soup *s, const geom_meshio_read_options *opt,
+geom_status geom__meshio_soup_finish(mio_ctx *c, mio_soup *s, const geom_meshio_read_options *opt,
                                      geom_mesh **out, geom_mesh_build_report *report)
 {
     c->stats->input_vertices = mio_soup_nv(s);
     c->stats->input_faces = s->fsize.n;
     geom_mesh *m = geom_mesh_create(c->alloc);
     if (!m)
-        return geom_meshio__err_line(c, GEOM_ERR_NOMEM, 0, 0, "out of memory");
+        return geom__meshio_err_line(c, GEOM_ERR_NOMEM, 0, 0, "out of memory");
     geom_mesh_build_options bo;
     memset(&bo, 0, sizeof bo);
     if (opt)
@@ -377,13 +377,13 @@ geom_status geom_meshio__soup_finish(mio_ctx *c, mio_soup *s, const geom_meshio_
     if (nv && s->pos.n == 3 * nv) {
         double *exact = s->pos.p;
         if (s->pos.cap != s->pos.n)
-            exact = geom_realloc(c->alloc, s->pos.p, s->pos.cap * sizeof(double),
+            exact = geom__realloc(c->alloc, s->pos.p, s->pos.cap * sizeof(double),
                                  s->pos.n * sizeof(double));
         if (exact) {
             s->pos.p = exact;
             s->pos.cap = s->pos.n;
             xyz = exact;
-            if (geom_mesh__adopt_positions(m, exact, nv) == GEOM_OK) {
+            if (geom__mesh_adopt_positions(m, exact, nv) == GEOM_OK) {
                 s->pos.p = NULL; /* the mesh's now; pos.n still counts them */
                 s->pos.cap = 0;
             }
@@ -413,7 +413,7 @@ geom_status geom_meshio__soup_finish(mio_ctx *c, mio_soup *s, const geom_meshio_
         st = copy_meta(s, m, c->alloc);
     if (st != GEOM_OK) {
         geom_mesh_destroy(m);
-        return geom_meshio__err_line(c, st, 0, 0, "%s while storing attributes",
+        return geom__meshio_err_line(c, st, 0, 0, "%s while storing attributes",
                                      geom_status_str(st));
     }
     *out = m;

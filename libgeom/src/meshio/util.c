@@ -9,7 +9,7 @@
 
 static int is_digit(char ch) { return ch >= '0' && ch <= '9'; }
 
-int geom_meshio__parse_double(const char *s, size_t len, double *out)
+int geom__meshio_parse_double(const char *s, size_t len, double *out)
 {
     /* mesh files hold decimal numbers only: no "0x" (core reads them) */
     if ((len > 1 && (s[1] | 0x20) == 'x') || (len > 2 && (s[2] | 0x20) == 'x'))
@@ -21,7 +21,7 @@ int geom_meshio__parse_double(const char *s, size_t len, double *out)
     return st == GEOM_OK ? 0 : -2;
 }
 
-int geom_meshio__parse_int64(const char *s, size_t len, int64_t *out)
+int geom__meshio_parse_int64(const char *s, size_t len, int64_t *out)
 {
     size_t i = 0;
     int neg = 0;
@@ -49,7 +49,7 @@ int geom_meshio__parse_int64(const char *s, size_t len, int64_t *out)
 
 /* ------------------------------------------------------------- diagnostics */
 
-geom_status geom_meshio__err_line(mio_ctx *c, geom_status st, size_t line, size_t col,
+geom_status geom__meshio_err_line(mio_ctx *c, geom_status st, size_t line, size_t col,
                                   const char *fmt, ...)
 {
     if (c->diag) {
@@ -58,12 +58,12 @@ geom_status geom_meshio__err_line(mio_ctx *c, geom_status st, size_t line, size_
         va_start(ap, fmt);
         vsnprintf(msg, sizeof msg, fmt, ap);
         va_end(ap);
-        geom_diag_set(c->diag, st, c->source, line, col, "%s", msg);
+        geom__diag_set(c->diag, st, c->source, line, col, "%s", msg);
     }
     return st;
 }
 
-geom_status geom_meshio__err_off(mio_ctx *c, geom_status st, uint64_t off, const char *fmt, ...)
+geom_status geom__meshio_err_off(mio_ctx *c, geom_status st, uint64_t off, const char *fmt, ...)
 {
     if (c->diag) {
         char msg[GEOM_DIAG_MESSAGE_MAX];
@@ -71,12 +71,12 @@ geom_status geom_meshio__err_off(mio_ctx *c, geom_status st, uint64_t off, const
         va_start(ap, fmt);
         vsnprintf(msg, sizeof msg, fmt, ap);
         va_end(ap);
-        geom_diag_set_offset(c->diag, st, c->source, off, "%s", msg);
+        geom__diag_set_offset(c->diag, st, c->source, off, "%s", msg);
     }
     return st;
 }
 
-int geom_meshio__tok_ieq(const char *t, size_t tl, const char *word)
+int geom__meshio_tok_ieq(const char *t, size_t tl, const char *word)
 {
     size_t n = strlen(word);
     if (tl != n)
@@ -93,7 +93,7 @@ int geom_meshio__tok_ieq(const char *t, size_t tl, const char *word)
 
 /* ------------------------------------------------------------- text lines */
 
-void geom_meshio__lines_init(mio_lines *l, const void *data, size_t size, int join_backslash)
+void geom__meshio_lines_init(mio_lines *l, const void *data, size_t size, int join_backslash)
 {
     memset(l, 0, sizeof *l);
     l->data = data;
@@ -102,7 +102,7 @@ void geom_meshio__lines_init(mio_lines *l, const void *data, size_t size, int jo
     l->join_backslash = join_backslash;
 }
 
-void geom_meshio__lines_free(mio_lines *l, const geom_allocator *a) { MIO_FREE(a, l->join); }
+void geom__meshio_lines_free(mio_lines *l, const geom_allocator *a) { MIO_FREE(a, l->join); }
 
 /* One physical line from l->pos: text in [b, e), without the line end. */
 static int phys_line(mio_lines *l, size_t *b, size_t *e)
@@ -121,7 +121,7 @@ static int phys_line(mio_lines *l, size_t *b, size_t *e)
     return 1;
 }
 
-int geom_meshio__lines_next(mio_lines *l, const geom_allocator *a, const char **s, size_t *len)
+int geom__meshio_lines_next(mio_lines *l, const geom_allocator *a, const char **s, size_t *len)
 {
     size_t b, e;
     l->lineno = l->next_lineno;
@@ -152,7 +152,7 @@ int geom_meshio__lines_next(mio_lines *l, const geom_allocator *a, const char **
     return 1;
 }
 
-int geom_meshio__cursor_next(mio_cursor *cur, const char **t, size_t *tl, size_t *line,
+int geom__meshio_cursor_next(mio_cursor *cur, const char **t, size_t *tl, size_t *line,
                              size_t *col)
 {
     size_t i = cur->pos;

@@ -15,7 +15,7 @@ void geom__rhits_init(geom__rhits *l, const geom_allocator *alloc)
 
 void geom__rhits_free(geom__rhits *l)
 {
-    if (l->heap) geom_free(l->alloc, l->h, l->cap * sizeof *l->h);
+    if (l->heap) geom__free(l->alloc, l->h, l->cap * sizeof *l->h);
     geom__rhits_init(l, l->alloc);
 }
 
@@ -25,10 +25,10 @@ geom_ray_hit *geom__rhits_push(geom__rhits *l)
         size_t nc = l->cap * 2;
         geom_ray_hit *nh;
         if (nc > ((size_t)-1) / sizeof *nh) { l->failed = 1; return NULL; }
-        nh = geom_alloc(l->alloc, nc * sizeof *nh);
+        nh = geom__alloc(l->alloc, nc * sizeof *nh);
         if (!nh) { l->failed = 1; return NULL; }
         memcpy(nh, l->h, l->n * sizeof *nh);
-        if (l->heap) geom_free(l->alloc, l->h, l->cap * sizeof *l->h);
+        if (l->heap) geom__free(l->alloc, l->h, l->cap * sizeof *l->h);
         l->h = nh;
         l->cap = nc;
         l->heap = 1;

@@ -62,8 +62,8 @@ static double half_area(const geom_aabb *b)
 static void wide_free(struct geom__rbvh4 *w, const geom_allocator *alloc)
 {
     if (!w) return;
-    if (w->mem) geom_free(alloc, w->mem, (w->cap + 1) * sizeof *w->node);
-    geom_free(alloc, w, sizeof *w);
+    if (w->mem) geom__free(alloc, w->mem, (w->cap + 1) * sizeof *w->node);
+    geom__free(alloc, w, sizeof *w);
 }
 
 /* x rounded to a float toward -inf (down) or +inf (up); beyond the float
@@ -122,16 +122,16 @@ static geom_status wide_build(const geom_bvh *b, const geom_allocator *alloc, st
     if (nn == 0) return GEOM_OK;
     empty.min.x = empty.min.y = empty.min.z = INFINITY;
     empty.max.x = empty.max.y = empty.max.z = -INFINITY;
-    w = geom_alloc(alloc, sizeof *w);
+    w = geom__alloc(alloc, sizeof *w);
     if (!w) return GEOM_ERR_NOMEM;
     memset(w, 0, sizeof *w);
     w->cap = nn;
     w->n = 1;
-    w->mem = geom_alloc(alloc, (w->cap + 1) * sizeof *w->node);
+    w->mem = geom__alloc(alloc, (w->cap + 1) * sizeof *w->node);
     if (w->mem) w->node = (geom__rnode4 *)(((uintptr_t)w->mem + 63) & ~(uintptr_t)63);
-    qb = geom_alloc(alloc, 3 * nn * sizeof(uint32_t));
+    qb = geom__alloc(alloc, 3 * nn * sizeof(uint32_t));
     if (!w->mem || !qb) {
-        if (qb) geom_free(alloc, qb, 3 * nn * sizeof(uint32_t));
+        if (qb) geom__free(alloc, qb, 3 * nn * sizeof(uint32_t));
         wide_free(w, alloc);
         return GEOM_ERR_NOMEM;
     }
@@ -183,18 +183,18 @@ static geom_status wide_build(const geom_bvh *b, const geom_allocator *alloc, st
         }
     }
 done:
-    geom_free(alloc, qb, 3 * nn * sizeof(uint32_t));
+    geom__free(alloc, qb, 3 * nn * sizeof(uint32_t));
     if (st != GEOM_OK || 3 * maxd + 4 > W4_STACK || !(w->area_f <= 1.05 * w->area_d)) {
         wide_free(w, alloc);
         return st;
     }
     /* Keep only the nodes made (about a third of the binary node count). */
     if (w->n + 1 < w->cap) {
-        void *mem = geom_alloc(alloc, (w->n + 1) * sizeof *w->node);
+        void *mem = geom__alloc(alloc, (w->n + 1) * sizeof *w->node);
         if (mem) {
             geom__rnode4 *nd = (geom__rnode4 *)(((uintptr_t)mem + 63) & ~(uintptr_t)63);
             memcpy(nd, w->node, w->n * sizeof *nd);
-            geom_free(alloc, w->mem, (w->cap + 1) * sizeof *w->node);
+            geom__free(alloc, w->mem, (w->cap + 1) * sizeof *w->node);
             w->mem = mem;
             w->node = nd;
             w->cap = w->n;
@@ -224,8 +224,8 @@ geom_status geom__ray_mesh_build(geom__tmesh *m, const geom_ray_build_options *o
     {
         size_t np = 0, i;
         const uint32_t *pr = geom_bvh_prim_indices(b, &np);
-        m->tv = geom_alloc(alloc, (np ? np : 1) * 9 * sizeof(double));
-        m->tid = geom_alloc(alloc, (np ? np : 1) * sizeof(uint32_t));
+        m->tv = geom__alloc(alloc, (np ? np : 1) * 9 * sizeof(double));
+        m->tid = geom__alloc(alloc, (np ? np : 1) * sizeof(uint32_t));
         if (!m->tv || !m->tid) return GEOM_ERR_NOMEM;
         for (i = 0; i < np; i++) {
             const uint32_t *t = m->tri + 3 * (size_t)pr[i];
@@ -243,16 +243,16 @@ void geom__ray_mesh_free(geom__tmesh *m, const geom_allocator *alloc)
     if (m->bvh) {
         size_t np = 0;
         geom_bvh_prim_indices(m->bvh, &np);
-        if (m->tv) geom_free(alloc, m->tv, (np ? np : 1) * 9 * sizeof(double));
-        if (m->tid) geom_free(alloc, m->tid, (np ? np : 1) * sizeof(uint32_t));
+        if (m->tv) geom__free(alloc, m->tv, (np ? np : 1) * 9 * sizeof(double));
+        if (m->tid) geom__free(alloc, m->tid, (np ? np : 1) * sizeof(uint32_t));
     }
     geom_bvh_destroy(m->bvh);
     wide_free(m->wide, alloc);
-    geom_free(alloc, m->pos, 3 * m->nv * sizeof(double));
-    if (m->nrm) geom_free(alloc, m->nrm, 3 * m->nv * sizeof(double));
-    geom_free(alloc, m->tri, 3 * m->nt * sizeof(uint32_t));
-    if (m->face) geom_free(alloc, m->face, m->nt * sizeof(uint32_t));
-    geom_free(alloc, m, sizeof *m);
+    geom__free(alloc, m->pos, 3 * m->nv * sizeof(double));
+    if (m->nrm) geom__free(alloc, m->nrm, 3 * m->nv * sizeof(double));
+    geom__free(alloc, m->tri, 3 * m->nt * sizeof(uint32_t));
+    if (m->face) geom__free(alloc, m->face, m->nt * sizeof(uint32_t));
+    geom__free(alloc, m, sizeof *m);
 }
 
 size_t geom__ray_mesh_bvh_nodes(const geom__tmesh *m, size_t *bytes)

@@ -8,7 +8,7 @@
 
 geom_ray_scene *geom_ray_scene_create(const geom_allocator *alloc)
 {
-    geom_ray_scene *s = geom_alloc(alloc, sizeof *s);
+    geom_ray_scene *s = geom__alloc(alloc, sizeof *s);
     if (!s) return NULL;
     memset(s, 0, sizeof *s);
     if (alloc) {
@@ -20,19 +20,19 @@ geom_ray_scene *geom_ray_scene_create(const geom_allocator *alloc)
 
 static void node_free(geom_ray_scene *s, geom__ray_node *nd)
 {
-    if (nd->verts) geom_free(s->alloc, nd->verts, 3 * nd->nverts * sizeof(double));
+    if (nd->verts) geom__free(s->alloc, nd->verts, 3 * nd->nverts * sizeof(double));
     if (nd->mesh) geom__ray_tmesh_corner_attrs_free(nd->mesh, s->alloc);
     if (nd->mesh) geom__ray_mesh_free(nd->mesh, s->alloc);
     geom_mesh_destroy(nd->control);
     if (nd->surf) geom__ray_surface_free(nd->surf, s->alloc);
-    if (nd->members) geom_free(s->alloc, nd->members, nd->nmembers * sizeof *nd->members);
+    if (nd->members) geom__free(s->alloc, nd->members, nd->nmembers * sizeof *nd->members);
 }
 
 static void top_free(geom_ray_scene *s)
 {
     geom_bvh_destroy(s->top);
-    if (s->top_obj) geom_free(s->alloc, s->top_obj, (s->ntop ? s->ntop : 1) * sizeof *s->top_obj);
-    if (s->unbounded) geom_free(s->alloc, s->unbounded, (s->nroots ? s->nroots : 1) * sizeof *s->unbounded);
+    if (s->top_obj) geom__free(s->alloc, s->top_obj, (s->ntop ? s->ntop : 1) * sizeof *s->top_obj);
+    if (s->unbounded) geom__free(s->alloc, s->unbounded, (s->nroots ? s->nroots : 1) * sizeof *s->unbounded);
     s->top = NULL;
     s->top_obj = NULL;
     s->unbounded = NULL;
@@ -44,17 +44,17 @@ void geom_ray_scene_destroy(geom_ray_scene *s)
     size_t i;
     if (!s) return;
     for (i = 0; i < s->n; i++) node_free(s, &s->nodes[i]);
-    if (s->nodes) geom_free(s->alloc, s->nodes, s->cap * sizeof *s->nodes);
-    if (s->roots) geom_free(s->alloc, s->roots, s->roots_cap * sizeof *s->roots);
+    if (s->nodes) geom__free(s->alloc, s->nodes, s->cap * sizeof *s->nodes);
+    if (s->roots) geom__free(s->alloc, s->roots, s->roots_cap * sizeof *s->roots);
     top_free(s);
     {
         const geom_allocator *a = s->alloc ? &s->alloc_store : NULL;
         geom_allocator copy;
         if (a) {
             copy = *a;
-            geom_free(&copy, s, sizeof *s);
+            geom__free(&copy, s, sizeof *s);
         } else {
-            geom_free(NULL, s, sizeof *s);
+            geom__free(NULL, s, sizeof *s);
         }
     }
 }
@@ -66,7 +66,7 @@ static geom__ray_node *node_new(geom_ray_scene *s, geom_ray_kind kind, uint32_t 
     if (s->n >= 0x7fffffffu) return NULL;
     if (s->n == s->cap) {
         size_t nc = s->cap ? 2 * s->cap : 16;
-        geom__ray_node *nn = geom_realloc(s->alloc, s->nodes, s->cap * sizeof *nn, nc * sizeof *nn);
+        geom__ray_node *nn = geom__realloc(s->alloc, s->nodes, s->cap * sizeof *nn, nc * sizeof *nn);
         if (!nn) return NULL;
         s->nodes = nn;
         s->cap = nc;
@@ -229,7 +229,7 @@ geom_status geom_ray_scene_add_polygon(geom_ray_scene *s, const double *v, size_
     size_t i, bytes;
     geom_status st;
     if (!s || n < 3 || !v) return GEOM_ERR_INVALID_ARG;
-    if (geom_size_mul(3 * sizeof(double), n, &bytes) != GEOM_OK) return GEOM_ERR_LIMIT;
+    if (geom__size_mul(3 * sizeof(double), n, &bytes) != GEOM_OK) return GEOM_ERR_LIMIT;
     if (!finite_n(v, 3 * n)) return GEOM_ERR_INVALID_ARG;
     for (i = 0; i < n; i++) {
         const double *p = v + 3 * i, *q = v + 3 * ((i + 1) % n);
@@ -242,7 +242,7 @@ geom_status geom_ray_scene_add_polygon(geom_ray_scene *s, const double *v, size_
     }
     if ((st = unit_normal(nrm, un)) != GEOM_OK) return st;
     if (!(nd = node_new(s, GEOM_RAY_POLYGON, id))) return GEOM_ERR_NOMEM;
-    nd->verts = geom_alloc(s->alloc, bytes);
+    nd->verts = geom__alloc(s->alloc, bytes);
     if (!nd->verts) {
         s->n--;
         return GEOM_ERR_NOMEM;
@@ -257,21 +257,21 @@ geom_status geom_ray_scene_add_polygon(geom_ray_scene *s, const double *v, size_
 static geom_status tmesh_new(geom_ray_scene *s, size_t nv, size_t nt, int normals, int faces,
                              geom__tmesh **out)
 {
-    geom__tmesh *m = geom_alloc(s->alloc, sizeof *m);
+    geom__tmesh *m = geom__alloc(s->alloc, sizeof *m);
     size_t b1, b2;
     if (!m) return GEOM_ERR_NOMEM;
     memset(m, 0, sizeof *m);
-    if (geom_size_mul(3 * sizeof(double), nv, &b1) != GEOM_OK ||
-        geom_size_mul(3 * sizeof(uint32_t), nt, &b2) != GEOM_OK) {
-        geom_free(s->alloc, m, sizeof *m);
+    if (geom__size_mul(3 * sizeof(double), nv, &b1) != GEOM_OK ||
+        geom__size_mul(3 * sizeof(uint32_t), nt, &b2) != GEOM_OK) {
+        geom__free(s->alloc, m, sizeof *m);
         return GEOM_ERR_LIMIT;
     }
     m->nv = nv;
     m->nt = nt;
-    m->pos = geom_alloc(s->alloc, b1 ? b1 : 1);
-    m->tri = geom_alloc(s->alloc, b2 ? b2 : 1);
-    if (normals) m->nrm = geom_alloc(s->alloc, b1 ? b1 : 1);
-    if (faces) m->face = geom_alloc(s->alloc, nt ? nt * sizeof(uint32_t) : 1);
+    m->pos = geom__alloc(s->alloc, b1 ? b1 : 1);
+    m->tri = geom__alloc(s->alloc, b2 ? b2 : 1);
+    if (normals) m->nrm = geom__alloc(s->alloc, b1 ? b1 : 1);
+    if (faces) m->face = geom__alloc(s->alloc, nt ? nt * sizeof(uint32_t) : 1);
     if (!m->pos || !m->tri || (normals && !m->nrm) || (faces && !m->face)) {
         geom__ray_mesh_free(m, s->alloc);
         return GEOM_ERR_NOMEM;
@@ -378,9 +378,9 @@ geom_status geom_ray_scene_add_subdiv(geom_ray_scene *s, const geom_mesh *gm, in
     geom__tmesh *m;
     geom__ray_node *nd;
     geom_status st;
-    if (!s || !gm) return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_ray_scene_add_subdiv: invalid argument");
+    if (!s || !gm) return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_ray_scene_add_subdiv: invalid argument");
     int asked_levels = levels;
-    if (levels < 0 || levels > 8) return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_ray_scene_add_subdiv: invalid argument");
+    if (levels < 0 || levels > 8) return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_ray_scene_add_subdiv: invalid argument");
     if (levels == 0) levels = 5;
     memset(&o, 0, sizeof o);
     o.scheme = (geom_subdiv_scheme)scheme;
@@ -404,7 +404,7 @@ geom_status geom_ray_scene_add_subdiv(geom_ray_scene *s, const geom_mesh *gm, in
             geom_mesh_destroy(ctrl);
             geom__ray_tmesh_corner_attrs_free(m, s->alloc);
             geom__ray_mesh_free(m, s->alloc);
-            return geom_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_ray_scene_add_subdiv: out of memory");
+            return geom__diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_ray_scene_add_subdiv: out of memory");
         }
         nd->control = ctrl;
         nd->scheme = scheme;
@@ -425,22 +425,22 @@ geom_status geom_ray_scene_add_surface(geom_ray_scene *s, const geom_nurbs_surfa
     geom__ray_node *nd;
     geom_status st;
     size_t nk_u, nk_v, np;
-    if (!s || !surf) return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_ray_scene_add_surface: invalid argument");
+    if (!s || !surf) return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_ray_scene_add_surface: invalid argument");
     if ((st = geom_surface_validate(surf, diag)) != GEOM_OK) return st;
-    sf = geom_alloc(s->alloc, sizeof *sf);
-    if (!sf) return geom_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_ray_scene_add_surface: out of memory");
+    sf = geom__alloc(s->alloc, sizeof *sf);
+    if (!sf) return geom__diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_ray_scene_add_surface: out of memory");
     memset(sf, 0, sizeof *sf);
     nk_u = surf->nu + (size_t)surf->degree_u + 1;
     nk_v = surf->nv + (size_t)surf->degree_v + 1;
     np = surf->nu * surf->nv;
-    sf->knots_u = geom_alloc(s->alloc, nk_u * sizeof(double));
-    sf->knots_v = geom_alloc(s->alloc, nk_v * sizeof(double));
-    sf->points = geom_alloc(s->alloc, 3 * np * sizeof(double));
-    if (surf->weights) sf->weights = geom_alloc(s->alloc, np * sizeof(double));
+    sf->knots_u = geom__alloc(s->alloc, nk_u * sizeof(double));
+    sf->knots_v = geom__alloc(s->alloc, nk_v * sizeof(double));
+    sf->points = geom__alloc(s->alloc, 3 * np * sizeof(double));
+    if (surf->weights) sf->weights = geom__alloc(s->alloc, np * sizeof(double));
     if (!sf->knots_u || !sf->knots_v || !sf->points || (surf->weights && !sf->weights)) {
         sf->s = *surf;
         geom__ray_surface_free(sf, s->alloc);
-        return geom_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_ray_scene_add_surface: out of memory");
+        return geom__diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_ray_scene_add_surface: out of memory");
     }
     memcpy(sf->knots_u, surf->knots_u, nk_u * sizeof(double));
     memcpy(sf->knots_v, surf->knots_v, nk_v * sizeof(double));
@@ -457,7 +457,7 @@ geom_status geom_ray_scene_add_surface(geom_ray_scene *s, const geom_nurbs_surfa
     }
     if (!(nd = node_new(s, GEOM_RAY_SURFACE, id))) {
         geom__ray_surface_free(sf, s->alloc);
-        return geom_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_ray_scene_add_surface: out of memory");
+        return geom__diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_ray_scene_add_surface: out of memory");
     }
     nd->surf = sf;
     return GEOM_OK;
@@ -513,11 +513,11 @@ geom_status geom_ray_scene_add_group(geom_ray_scene *s, const uint32_t *ids, siz
     if (!s || !ids || n == 0 || n > 0x7fffffffu) return GEOM_ERR_INVALID_ARG;
     for (i = 0; i < n; i++)
         if (ids[i] >= s->n) return GEOM_ERR_INVALID_ARG;
-    copy = geom_alloc(s->alloc, n * sizeof *copy);
+    copy = geom__alloc(s->alloc, n * sizeof *copy);
     if (!copy) return GEOM_ERR_NOMEM;
     memcpy(copy, ids, n * sizeof *copy);
     if (!(nd = node_new(s, GEOM_RAY_GROUP, id))) {
-        geom_free(s->alloc, copy, n * sizeof *copy);
+        geom__free(s->alloc, copy, n * sizeof *copy);
         return GEOM_ERR_NOMEM;
     }
     nd->members = copy;
@@ -594,7 +594,7 @@ uint32_t geom_ray_scene_find(const geom_ray_scene *s, const char *name)
 static geom_status roots_reserve(geom_ray_scene *s, size_t n)
 {
     if (n > s->roots_cap) {
-        uint32_t *nr = geom_realloc(s->alloc, s->roots, s->roots_cap * sizeof *nr, n * sizeof *nr);
+        uint32_t *nr = geom__realloc(s->alloc, s->roots, s->roots_cap * sizeof *nr, n * sizeof *nr);
         if (!nr) return GEOM_ERR_NOMEM;
         s->roots = nr;
         s->roots_cap = n;
@@ -693,7 +693,7 @@ static geom_status node_bounds(geom_ray_scene *s, uint32_t id, int depth, const 
     geom_aabb b = geom_aabb_empty();
     int bounded = 1, k;
     geom_status st;
-    if (depth > 64) return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+    if (depth > 64) return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                                           "node %u: instance or CSG nesting deeper than 64 (a cycle?)",
                                           (unsigned)id);
     switch (nd->kind) {
@@ -837,7 +837,7 @@ geom_status geom_ray_scene_build(geom_ray_scene *s, const geom_ray_build_options
     geom_ray_build_info inf;
     size_t i;
     geom_status st;
-    if (!s) return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_ray_scene_build: invalid argument");
+    if (!s) return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_ray_scene_build: invalid argument");
     memset(&inf, 0, sizeof inf);
     for (i = 0; i < s->n; i++)
         if ((st = node_bounds(s, (uint32_t)i, 0, opt, &inf, diag)) != GEOM_OK) return st;
@@ -857,16 +857,16 @@ geom_status geom_ray_scene_build(geom_ray_scene *s, const geom_ray_build_options
     /* Objects: the bounded ones in a BVH when there are many, the others
      * (planes, unclipped quadrics) tested on every ray. */
     top_free(s);
-    s->unbounded = geom_alloc(s->alloc, (s->nroots ? s->nroots : 1) * sizeof *s->unbounded);
-    if (!s->unbounded) return geom_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_ray_scene_build: out of memory");
+    s->unbounded = geom__alloc(s->alloc, (s->nroots ? s->nroots : 1) * sizeof *s->unbounded);
+    if (!s->unbounded) return geom__diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_ray_scene_build: out of memory");
     if (s->nroots >= 8) {
-        geom_aabb *boxes = geom_alloc(s->alloc, s->nroots * sizeof *boxes);
+        geom_aabb *boxes = geom__alloc(s->alloc, s->nroots * sizeof *boxes);
         geom_bvh_options bo;
         geom_bvh *b = NULL;
-        s->top_obj = geom_alloc(s->alloc, s->nroots * sizeof *s->top_obj);
+        s->top_obj = geom__alloc(s->alloc, s->nroots * sizeof *s->top_obj);
         if (!boxes || !s->top_obj) {
-            if (boxes) geom_free(s->alloc, boxes, s->nroots * sizeof *boxes);
-            return geom_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_ray_scene_build: out of memory");
+            if (boxes) geom__free(s->alloc, boxes, s->nroots * sizeof *boxes);
+            return geom__diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_ray_scene_build: out of memory");
         }
         for (i = 0; i < s->nroots; i++) {
             const geom__ray_node *nd = &s->nodes[s->roots[i]];
@@ -881,7 +881,7 @@ geom_status geom_ray_scene_build(geom_ray_scene *s, const geom_ray_build_options
         bo.alloc = s->alloc;
         bo.threads = opt ? opt->bvh_threads : 0;
         st = geom_bvh_build_boxes(boxes, s->ntop, &bo, &b, diag);
-        geom_free(s->alloc, boxes, s->nroots * sizeof *boxes);
+        geom__free(s->alloc, boxes, s->nroots * sizeof *boxes);
         if (st != GEOM_OK) return st;
         s->top = b;
     } else {

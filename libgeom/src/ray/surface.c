@@ -17,17 +17,17 @@ void geom__ray_surface_free(geom__tsurf *sf, const geom_allocator *alloc)
     nk_u = sf->s.nu + (size_t)sf->s.degree_u + 1;
     nk_v = sf->s.nv + (size_t)sf->s.degree_v + 1;
     np = sf->s.nu * sf->s.nv;
-    if (sf->knots_u) geom_free(alloc, sf->knots_u, nk_u * sizeof(double));
-    if (sf->knots_v) geom_free(alloc, sf->knots_v, nk_v * sizeof(double));
-    if (sf->points) geom_free(alloc, sf->points, 3 * np * sizeof(double));
-    if (sf->weights) geom_free(alloc, sf->weights, np * sizeof(double));
+    if (sf->knots_u) geom__free(alloc, sf->knots_u, nk_u * sizeof(double));
+    if (sf->knots_v) geom__free(alloc, sf->knots_v, nk_v * sizeof(double));
+    if (sf->points) geom__free(alloc, sf->points, 3 * np * sizeof(double));
+    if (sf->weights) geom__free(alloc, sf->weights, np * sizeof(double));
     if (sf->hp) {
         size_t per = (size_t)(sf->s.degree_u + 1) * (size_t)(sf->s.degree_v + 1) * 4;
-        geom_free(alloc, sf->hp, sf->np * per * sizeof(double));
-        geom_free(alloc, sf->dom, sf->np * 4 * sizeof(double));
-        geom_free(alloc, sf->pbox, sf->np * sizeof(geom_aabb));
+        geom__free(alloc, sf->hp, sf->np * per * sizeof(double));
+        geom__free(alloc, sf->dom, sf->np * 4 * sizeof(double));
+        geom__free(alloc, sf->pbox, sf->np * sizeof(geom_aabb));
     }
-    geom_free(alloc, sf, sizeof *sf);
+    geom__free(alloc, sf, sizeof *sf);
 }
 
 geom_status geom__ray_surface_build(geom__tsurf *sf, const geom_allocator *alloc, geom_diag *diag)
@@ -53,16 +53,16 @@ geom_status geom__ray_surface_build(geom__tsurf *sf, const geom_allocator *alloc
     c.degree = pv; c.n = nv; c.knots = s->knots_v;
     if ((st = geom_curve_nurbs_segments(&c, &nsv)) != GEOM_OK) return st;
     per = (size_t)(pu + 1) * (size_t)(pv + 1) * 4;
-    H = geom_alloc(alloc, nu * nv * 4 * sizeof(double));
-    U = geom_alloc(alloc, nv * nsu * (size_t)(pu + 1) * 4 * sizeof(double));
-    bu = geom_alloc(alloc, (nsu + 1) * sizeof(double));
-    bv = geom_alloc(alloc, (nsv + 1) * sizeof(double));
-    row = geom_alloc(alloc, (nu > nv ? nu : nv) * 4 * sizeof(double));
-    out = geom_alloc(alloc, (nsu > nsv ? nsu : nsv) * (size_t)((pu > pv ? pu : pv) + 1) * 4 * sizeof(double));
+    H = geom__alloc(alloc, nu * nv * 4 * sizeof(double));
+    U = geom__alloc(alloc, nv * nsu * (size_t)(pu + 1) * 4 * sizeof(double));
+    bu = geom__alloc(alloc, (nsu + 1) * sizeof(double));
+    bv = geom__alloc(alloc, (nsv + 1) * sizeof(double));
+    row = geom__alloc(alloc, (nu > nv ? nu : nv) * 4 * sizeof(double));
+    out = geom__alloc(alloc, (nsu > nsv ? nsu : nsv) * (size_t)((pu > pv ? pu : pv) + 1) * 4 * sizeof(double));
     sf->np = nsu * nsv;
-    sf->hp = geom_alloc(alloc, sf->np * per * sizeof(double));
-    sf->dom = geom_alloc(alloc, sf->np * 4 * sizeof(double));
-    sf->pbox = geom_alloc(alloc, sf->np * sizeof(geom_aabb));
+    sf->hp = geom__alloc(alloc, sf->np * per * sizeof(double));
+    sf->dom = geom__alloc(alloc, sf->np * 4 * sizeof(double));
+    sf->pbox = geom__alloc(alloc, sf->np * sizeof(geom_aabb));
     if (!H || !U || !bu || !bv || !row || !out || !sf->hp || !sf->dom || !sf->pbox) {
         st = GEOM_ERR_NOMEM;
         goto done;
@@ -124,12 +124,12 @@ geom_status geom__ray_surface_build(geom__tsurf *sf, const geom_allocator *alloc
     sf->pmag = fmax(fmax(fmax(fabs(all.min.x), fabs(all.max.x)), fmax(fabs(all.min.y), fabs(all.max.y))),
                     fmax(fabs(all.min.z), fabs(all.max.z)));
 done:
-    if (H) geom_free(alloc, H, nu * nv * 4 * sizeof(double));
-    if (U) geom_free(alloc, U, nv * nsu * (size_t)(pu + 1) * 4 * sizeof(double));
-    if (bu) geom_free(alloc, bu, (nsu + 1) * sizeof(double));
-    if (bv) geom_free(alloc, bv, (nsv + 1) * sizeof(double));
-    if (row) geom_free(alloc, row, (nu > nv ? nu : nv) * 4 * sizeof(double));
-    if (out) geom_free(alloc, out, (nsu > nsv ? nsu : nsv) * (size_t)((pu > pv ? pu : pv) + 1) * 4 * sizeof(double));
+    if (H) geom__free(alloc, H, nu * nv * 4 * sizeof(double));
+    if (U) geom__free(alloc, U, nv * nsu * (size_t)(pu + 1) * 4 * sizeof(double));
+    if (bu) geom__free(alloc, bu, (nsu + 1) * sizeof(double));
+    if (bv) geom__free(alloc, bv, (nsv + 1) * sizeof(double));
+    if (row) geom__free(alloc, row, (nu > nv ? nu : nv) * 4 * sizeof(double));
+    if (out) geom__free(alloc, out, (nsu > nsv ? nsu : nsv) * (size_t)((pu > pv ? pu : pv) + 1) * 4 * sizeof(double));
     return st;
 }
 
@@ -233,8 +233,8 @@ geom_status geom__ray_surface(const geom__tsurf *sf, const geom_ray *r, int mode
     geom__frame(dn, &n1, &n2);
     e1 = -geom__dot(n1, r->origin);
     e2 = -geom__dot(n2, r->origin);
-    nets = geom_alloc(out->alloc, stack_cap * per * 2 * sizeof(double));
-    stack = geom_alloc(out->alloc, stack_cap * sizeof *stack);
+    nets = geom__alloc(out->alloc, stack_cap * per * 2 * sizeof(double));
+    stack = geom__alloc(out->alloc, stack_cap * sizeof *stack);
     if (!nets || !stack) {
         st = GEOM_ERR_NOMEM;
         goto done;
@@ -397,7 +397,7 @@ geom_status geom__ray_surface(const geom__tsurf *sf, const geom_ray *r, int mode
         if (mode == GEOM__RAY_ANY) break;
     }
 done:
-    if (nets) geom_free(out->alloc, nets, stack_cap * per * 2 * sizeof(double));
-    if (stack) geom_free(out->alloc, stack, stack_cap * sizeof *stack);
+    if (nets) geom__free(out->alloc, nets, stack_cap * per * 2 * sizeof(double));
+    if (stack) geom__free(out->alloc, stack, stack_cap * sizeof *stack);
     return st;
 }

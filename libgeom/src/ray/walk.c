@@ -41,9 +41,9 @@ geom_status geom__ray_tmesh_corner_attrs(geom__tmesh *m, const geom_mesh *gm, co
     uint32_t cn = find_channel(gm, "normal", 3, 0, &n_corner);
     size_t nf = geom_mesh_n_faces(gm), f, k = 0;
     if (cu == GEOM_INVALID_INDEX && cn == GEOM_INVALID_INDEX) return GEOM_OK;
-    if (cu != GEOM_INVALID_INDEX && !(m->cuv = geom_alloc(alloc, (m->nt ? m->nt : 1) * 6 * sizeof(double))))
+    if (cu != GEOM_INVALID_INDEX && !(m->cuv = geom__alloc(alloc, (m->nt ? m->nt : 1) * 6 * sizeof(double))))
         return GEOM_ERR_NOMEM;
-    if (cn != GEOM_INVALID_INDEX && !(m->cnrm = geom_alloc(alloc, (m->nt ? m->nt : 1) * 9 * sizeof(double))))
+    if (cn != GEOM_INVALID_INDEX && !(m->cnrm = geom__alloc(alloc, (m->nt ? m->nt : 1) * 9 * sizeof(double))))
         return GEOM_ERR_NOMEM;
     /* the same walk as tmesh_from_mesh: fans (v0, prev, cur) from each face's first halfedge */
     for (f = 0; f < nf && k < m->nt; f++) {
@@ -82,8 +82,8 @@ geom_status geom__ray_tmesh_corner_attrs(geom__tmesh *m, const geom_mesh *gm, co
 void geom__ray_tmesh_corner_attrs_free(geom__tmesh *m, const geom_allocator *alloc)
 {
     if (!m) return;
-    if (m->cuv) geom_free(alloc, m->cuv, (m->nt ? m->nt : 1) * 6 * sizeof(double));
-    if (m->cnrm) geom_free(alloc, m->cnrm, (m->nt ? m->nt : 1) * 9 * sizeof(double));
+    if (m->cuv) geom__free(alloc, m->cuv, (m->nt ? m->nt : 1) * 6 * sizeof(double));
+    if (m->cnrm) geom__free(alloc, m->cnrm, (m->nt ? m->nt : 1) * 9 * sizeof(double));
     m->cuv = m->cnrm = NULL;
 }
 

@@ -38,7 +38,7 @@ geom_status geom_scene_export(const geom_camera *cam, const geom_material *mater
     if (opt_in)
         opt = *opt_in;
     if (!out || (n && !objects) || !materials || !n_materials || (!cam && !(opt.tolerance > 0)))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "export needs objects, materials, and a camera or a tolerance");
     int has_world = 0;
     for (int k = 0; k < 16; k++)
@@ -47,7 +47,7 @@ geom_status geom_scene_export(const geom_camera *cam, const geom_material *mater
     geom_aabb all = geom_aabb_empty();
     for (size_t i = 0; i < n; i++) {
         if (objects[i].material >= n_materials || !objects[i].shape)
-            return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+            return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                                  "object %zu: no shape or material out of range", i);
         geom_aabb b = geom_scene_shape_bounds(objects[i].shape);
         if (!geom_aabb_is_empty(b) && isfinite(b.min.x) && isfinite(b.max.x) && isfinite(b.min.y) &&
@@ -66,9 +66,9 @@ geom_status geom_scene_export(const geom_camera *cam, const geom_material *mater
         all.max = geom_vec3_add(c, geom_vec3_make(m, m, m));
     }
     double pe = opt.pixel_error > 0 ? opt.pixel_error : 0.5;
-    geom_mesh **parts = geom_alloc(NULL, (n ? n : 1) * sizeof *parts);
+    geom_mesh **parts = geom__alloc(NULL, (n ? n : 1) * sizeof *parts);
     if (!parts)
-        return geom_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_scene_export: out of memory");
+        return geom__diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_scene_export: out of memory");
     memset(parts, 0, (n ? n : 1) * sizeof *parts);
     unsigned any = 0;
     geom_status st = GEOM_OK;
@@ -136,7 +136,7 @@ geom_status geom_scene_export(const geom_camera *cam, const geom_material *mater
         if (reports)
             reports[i] = r;
         if (st != GEOM_OK && diag && !strstr(diag->message, "object"))
-            geom_diag_set(diag, st, NULL, 0, 0, "object %s: %s",
+            geom__diag_set(diag, st, NULL, 0, 0, "object %s: %s",
                           names && names[i] ? names[i] : "?", geom_status_str(st));
     }
     /* join */
@@ -151,10 +151,10 @@ geom_status geom_scene_export(const geom_camera *cam, const geom_material *mater
     double *xyz = NULL;
     uint32_t *sizes = NULL, *idx = NULL, *fobj = NULL;
     if (st == GEOM_OK) {
-        xyz = geom_alloc(NULL, (3 * nv + 1) * sizeof *xyz);
-        sizes = geom_alloc(NULL, (nf + 1) * sizeof *sizes);
-        idx = geom_alloc(NULL, (ni + 1) * sizeof *idx);
-        fobj = geom_alloc(NULL, (nf + 1) * sizeof *fobj);
+        xyz = geom__alloc(NULL, (3 * nv + 1) * sizeof *xyz);
+        sizes = geom__alloc(NULL, (nf + 1) * sizeof *sizes);
+        idx = geom__alloc(NULL, (ni + 1) * sizeof *idx);
+        fobj = geom__alloc(NULL, (nf + 1) * sizeof *fobj);
         if (!xyz || !sizes || !idx || !fobj)
             st = GEOM_ERR_NOMEM;
     }
@@ -179,7 +179,7 @@ geom_status geom_scene_export(const geom_camera *cam, const geom_material *mater
     }
     /* groups */
     if (st == GEOM_OK && geom_mesh_n_faces(out) == nf) {
-        uint32_t *gid = geom_alloc(NULL, (n + 1) * sizeof *gid);
+        uint32_t *gid = geom__alloc(NULL, (n + 1) * sizeof *gid);
         uint32_t *fg = geom_mesh_face_groups(out);
         if (!gid || !fg)
             st = GEOM_ERR_NOMEM;
@@ -193,7 +193,7 @@ geom_status geom_scene_export(const geom_camera *cam, const geom_material *mater
         }
         for (size_t f = 0; f < nf && st == GEOM_OK; f++)
             fg[f] = gid[fobj[f]];
-        geom_free(NULL, gid, (n + 1) * sizeof *gid);
+        geom__free(NULL, gid, (n + 1) * sizeof *gid);
     }
     /* corner channels: one pool entry per corner */
     for (int c = 0; c < 3 && st == GEOM_OK && geom_mesh_n_faces(out) == nf; c++) {
@@ -230,10 +230,10 @@ geom_status geom_scene_export(const geom_camera *cam, const geom_material *mater
     }
     for (size_t i = 0; i < n; i++)
         geom_mesh_destroy(parts[i]);
-    geom_free(NULL, parts, (n ? n : 1) * sizeof *parts);
-    geom_free(NULL, xyz, (3 * nv + 1) * sizeof *xyz);
-    geom_free(NULL, sizes, (nf + 1) * sizeof *sizes);
-    geom_free(NULL, idx, (ni + 1) * sizeof *idx);
-    geom_free(NULL, fobj, (nf + 1) * sizeof *fobj);
+    geom__free(NULL, parts, (n ? n : 1) * sizeof *parts);
+    geom__free(NULL, xyz, (3 * nv + 1) * sizeof *xyz);
+    geom__free(NULL, sizes, (nf + 1) * sizeof *sizes);
+    geom__free(NULL, idx, (ni + 1) * sizeof *idx);
+    geom__free(NULL, fobj, (nf + 1) * sizeof *fobj);
     return st;
 }

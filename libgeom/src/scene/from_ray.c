@@ -25,17 +25,17 @@ static void *hold(geom_scene_shapes *h, size_t size)
 {
     if (h->nblocks == h->cap) {
         size_t nc = h->cap ? 2 * h->cap : 64;
-        void **nb = geom_realloc(NULL, h->blocks, h->cap * sizeof *nb, nc * sizeof *nb);
+        void **nb = geom__realloc(NULL, h->blocks, h->cap * sizeof *nb, nc * sizeof *nb);
         if (!nb)
             return NULL;
         h->blocks = nb;
-        size_t *ns = geom_realloc(NULL, h->sizes, h->cap * sizeof *ns, nc * sizeof *ns);
+        size_t *ns = geom__realloc(NULL, h->sizes, h->cap * sizeof *ns, nc * sizeof *ns);
         if (!ns)
             return NULL;
         h->sizes = ns;
         h->cap = nc;
     }
-    void *p = geom_alloc(NULL, size ? size : 1);
+    void *p = geom__alloc(NULL, size ? size : 1);
     if (!p)
         return NULL;
     memset(p, 0, size ? size : 1);
@@ -48,7 +48,7 @@ static geom_status keep_mesh(geom_scene_shapes *h, geom_mesh *m)
 {
     if (h->nmeshes == h->mcap) {
         size_t nc = h->mcap ? 2 * h->mcap : 16;
-        geom_mesh **nm = geom_realloc(NULL, h->meshes, h->mcap * sizeof *nm, nc * sizeof *nm);
+        geom_mesh **nm = geom__realloc(NULL, h->meshes, h->mcap * sizeof *nm, nc * sizeof *nm);
         if (!nm)
             return GEOM_ERR_NOMEM;
         h->meshes = nm;
@@ -63,15 +63,15 @@ void geom_scene_shapes_destroy(geom_scene_shapes *h)
     if (!h)
         return;
     for (size_t i = 0; i < h->nblocks; i++)
-        geom_free(NULL, h->blocks[i], h->sizes[i]);
+        geom__free(NULL, h->blocks[i], h->sizes[i]);
     for (size_t i = 0; i < h->nmeshes; i++)
         geom_mesh_destroy(h->meshes[i]);
-    geom_free(NULL, h->blocks, h->cap * sizeof *h->blocks);
-    geom_free(NULL, h->sizes, h->cap * sizeof *h->sizes);
-    geom_free(NULL, h->meshes, h->mcap * sizeof *h->meshes);
-    geom_free(NULL, h->top, (h->ntop ? h->ntop : 1) * sizeof *h->top);
-    geom_free(NULL, h->top_kind, (h->ntop ? h->ntop : 1) * sizeof *h->top_kind);
-    geom_free(NULL, h, sizeof *h);
+    geom__free(NULL, h->blocks, h->cap * sizeof *h->blocks);
+    geom__free(NULL, h->sizes, h->cap * sizeof *h->sizes);
+    geom__free(NULL, h->meshes, h->mcap * sizeof *h->meshes);
+    geom__free(NULL, h->top, (h->ntop ? h->ntop : 1) * sizeof *h->top);
+    geom__free(NULL, h->top_kind, (h->ntop ? h->ntop : 1) * sizeof *h->top_kind);
+    geom__free(NULL, h, sizeof *h);
 }
 
 static geom_mat4 mat_of(const double *m)
@@ -116,7 +116,7 @@ static geom_status mesh_of(geom_scene_shapes *h, const geom__ray_node_info *t, g
         geom_mesh_destroy(m);
         return st;
     }
-    uint32_t *sizes = geom_alloc(NULL, (t->nt ? t->nt : 1) * sizeof *sizes);
+    uint32_t *sizes = geom__alloc(NULL, (t->nt ? t->nt : 1) * sizeof *sizes);
     if (!sizes)
         return GEOM_ERR_NOMEM;
     for (size_t i = 0; i < t->nt; i++)
@@ -126,9 +126,9 @@ static geom_status mesh_of(geom_scene_shapes *h, const geom__ray_node_info *t, g
     size_t nch = 0;
     uint32_t *cidx = NULL;
     if (t->cuv || t->cnrm) {
-        cidx = geom_alloc(NULL, (t->nt ? 3 * t->nt : 1) * sizeof *cidx);
+        cidx = geom__alloc(NULL, (t->nt ? 3 * t->nt : 1) * sizeof *cidx);
         if (!cidx) {
-            geom_free(NULL, sizes, (t->nt ? t->nt : 1) * sizeof *sizes);
+            geom__free(NULL, sizes, (t->nt ? t->nt : 1) * sizeof *sizes);
             return GEOM_ERR_NOMEM;
         }
         for (size_t i = 0; i < 3 * t->nt; i++)
@@ -146,9 +146,9 @@ static geom_status mesh_of(geom_scene_shapes *h, const geom__ray_node_info *t, g
     bo.channels = nch ? ch : NULL;
     bo.n_channels = nch;
     st = geom_mesh_build(m, t->nv, t->pos, t->nt, sizes, t->tri, &bo, NULL, NULL);
-    geom_free(NULL, sizes, (t->nt ? t->nt : 1) * sizeof *sizes);
+    geom__free(NULL, sizes, (t->nt ? t->nt : 1) * sizeof *sizes);
     if (cidx)
-        geom_free(NULL, cidx, (t->nt ? 3 * t->nt : 1) * sizeof *cidx);
+        geom__free(NULL, cidx, (t->nt ? 3 * t->nt : 1) * sizeof *cidx);
     if (st == GEOM_OK && t->nrm && !t->cnrm && geom_mesh_n_vertices(m) >= t->nv) {
         uint32_t id;
         st = geom_mesh_channel_add(m, "normal", GEOM_MESH_DOMAIN_VERTEX, 3, &id);
@@ -171,7 +171,7 @@ static geom_status shape_of(geom_scene_shapes *h, uint32_t id, const geom_mat4 *
     const geom_ray_scene *rs = h->rs;
     geom__ray_node_info ndv;
     if (depth > 64 || geom__ray_scene_node_info(rs, id, &ndv) != GEOM_OK)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "scene: node %u out of range or nested too deeply", (unsigned)id);
     const geom__ray_node_info *nd = &ndv;
     if (nd->kind == GEOM_RAY_INSTANCE) {
@@ -326,7 +326,7 @@ static geom_status shape_of(geom_scene_shapes *h, uint32_t id, const geom_mat4 *
         break;
     }
     default:
-        st = geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "scene: node %u of kind %s",
+        st = geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "scene: node %u of kind %s",
                            (unsigned)id, geom_ray_kind_name(nd->kind));
     }
     *out = s;
@@ -337,24 +337,24 @@ geom_status geom_scene_shapes_from_ray(const geom_ray_scene *rs, geom_scene_shap
                                        geom_diag *diag)
 {
     if (!out)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_scene_shapes_from_ray: invalid argument");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_scene_shapes_from_ray: invalid argument");
     *out = NULL;
     if (!rs)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_scene_shapes_from_ray: invalid argument");
-    geom_scene_shapes *h = geom_alloc(NULL, sizeof *h);
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_scene_shapes_from_ray: invalid argument");
+    geom_scene_shapes *h = geom__alloc(NULL, sizeof *h);
     if (!h)
-        return geom_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_scene_shapes_from_ray: out of memory");
+        return geom__diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_scene_shapes_from_ray: out of memory");
     memset(h, 0, sizeof *h);
     h->rs = rs;
     size_t n = geom__ray_scene_top(rs, NULL, 0);
-    h->top = geom_alloc(NULL, (n ? n : 1) * sizeof *h->top);
-    h->top_kind = geom_alloc(NULL, (n ? n : 1) * sizeof *h->top_kind);
-    uint32_t *ids = geom_alloc(NULL, (n ? n : 1) * sizeof *ids);
+    h->top = geom__alloc(NULL, (n ? n : 1) * sizeof *h->top);
+    h->top_kind = geom__alloc(NULL, (n ? n : 1) * sizeof *h->top_kind);
+    uint32_t *ids = geom__alloc(NULL, (n ? n : 1) * sizeof *ids);
     h->ntop = n;
     if (!h->top || !h->top_kind || !ids) {
-        geom_free(NULL, ids, (n ? n : 1) * sizeof *ids);
+        geom__free(NULL, ids, (n ? n : 1) * sizeof *ids);
         geom_scene_shapes_destroy(h);
-        return geom_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_scene_shapes_from_ray: out of memory");
+        return geom__diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_scene_shapes_from_ray: out of memory");
     }
     geom__ray_scene_top(rs, ids, n);
     geom_status st = GEOM_OK;
@@ -362,7 +362,7 @@ geom_status geom_scene_shapes_from_ray(const geom_ray_scene *rs, geom_scene_shap
         h->top_kind[k] = geom_ray_scene_node_kind(rs, ids[k]);
         st = shape_of(h, ids[k], NULL, 0, &h->top[k], diag);
     }
-    geom_free(NULL, ids, (n ? n : 1) * sizeof *ids);
+    geom__free(NULL, ids, (n ? n : 1) * sizeof *ids);
     if (st != GEOM_OK) {
         geom_scene_shapes_destroy(h);
         return st;

@@ -49,7 +49,7 @@ static geom_status tri_push(tri_list *l, rtri **out)
 
 static void tri_list_free(tri_list *l)
 {
-    geom_free(l->alloc, l->v, l->cap * sizeof(rtri));
+    geom__free(l->alloc, l->v, l->cap * sizeof(rtri));
     l->v = NULL;
     l->n = l->cap = 0;
 }
@@ -310,9 +310,9 @@ static geom_status target_init(target *tg, uint32_t w, uint32_t h, int ids,
     tg->w = w;
     tg->h = h;
     size_t n = (size_t)w * h;
-    tg->depth = geom_alloc(a, n * sizeof(float));
+    tg->depth = geom__alloc(a, n * sizeof(float));
     if (ids)
-        tg->id = geom_alloc(a, n * sizeof(uint32_t));
+        tg->id = geom__alloc(a, n * sizeof(uint32_t));
     if (!tg->depth || (ids && !tg->id))
         return GEOM_ERR_NOMEM;
     for (size_t k = 0; k < n; k++) {
@@ -326,8 +326,8 @@ static geom_status target_init(target *tg, uint32_t w, uint32_t h, int ids,
 static void target_free(target *tg, const geom_allocator *a)
 {
     size_t n = (size_t)tg->w * tg->h;
-    geom_free(a, tg->depth, n * sizeof(float));
-    geom_free(a, tg->id, n * sizeof(uint32_t));
+    geom__free(a, tg->depth, n * sizeof(float));
+    geom__free(a, tg->id, n * sizeof(uint32_t));
     tg->depth = NULL;
     tg->id = NULL;
 }
@@ -573,13 +573,13 @@ geom_status geom_scene_raster(const geom_camera *cam_in, const geom_light *light
     /* Shadow maps. */
     double t0 = now();
     shadow *shadows = NULL;
-    double *vis = geom_alloc(a, (n_lights + 1) * sizeof(double));
+    double *vis = geom__alloc(a, (n_lights + 1) * sizeof(double));
     if (!vis)
         return GEOM_ERR_NOMEM;
     if (opt.shadows && n_lights && !geom_aabb_is_empty(sb)) {
-        shadows = geom_alloc(a, n_lights * sizeof(shadow));
+        shadows = geom__alloc(a, n_lights * sizeof(shadow));
         if (!shadows) {
-            geom_free(a, vis, (n_lights + 1) * sizeof(double));
+            geom__free(a, vis, (n_lights + 1) * sizeof(double));
             return GEOM_ERR_NOMEM;
         }
         memset(shadows, 0, n_lights * sizeof(shadow));
@@ -605,7 +605,7 @@ geom_status geom_scene_raster(const geom_camera *cam_in, const geom_light *light
     if (st == GEOM_OK)
         st = target_init(&tg, W, H, 1, a);
     if (st == GEOM_OK && tl.n) {
-        su = geom_alloc(a, tl.n * sizeof(setup));
+        su = geom__alloc(a, tl.n * sizeof(setup));
         if (!su)
             st = GEOM_ERR_NOMEM;
         su_n = tl.n;
@@ -630,7 +630,7 @@ geom_status geom_scene_raster(const geom_camera *cam_in, const geom_light *light
     /* Gouraud colours for the triangles that are seen. */
     if (st == GEOM_OK && opt.aov == GEOM_AOV_COLOR) {
         size_t n = (size_t)W * H;
-        unsigned char *seen = geom_alloc(a, tl.n + 1);
+        unsigned char *seen = geom__alloc(a, tl.n + 1);
         if (!seen)
             st = GEOM_ERR_NOMEM;
         else {
@@ -642,7 +642,7 @@ geom_status geom_scene_raster(const geom_camera *cam_in, const geom_light *light
                 if (seen[i] && materials[tl.v[i].material].shading == GEOM_SHADING_GOURAUD)
                     for (int c = 0; c < 3; c++)
                         tl.v[i].col[c] = shade_corner(&cx, &tl.v[i], c);
-            geom_free(a, seen, tl.n + 1);
+            geom__free(a, seen, tl.n + 1);
         }
     }
     uint32_t nch = opt.aov == GEOM_AOV_COLOR || opt.aov == GEOM_AOV_NORMAL ? 3 : 1;
@@ -815,14 +815,14 @@ geom_status geom_scene_raster(const geom_camera *cam_in, const geom_light *light
     }
     geom_scene_image_free(&big, a);
     target_free(&tg, a);
-    geom_free(a, su, su_n * sizeof(setup));
+    geom__free(a, su, su_n * sizeof(setup));
     tri_list_free(&tl);
     if (shadows) {
         for (size_t i = 0; i < n_lights; i++)
             shadow_free(&shadows[i], a);
-        geom_free(a, shadows, n_lights * sizeof(shadow));
+        geom__free(a, shadows, n_lights * sizeof(shadow));
     }
-    geom_free(a, vis, (n_lights + 1) * sizeof(double));
+    geom__free(a, vis, (n_lights + 1) * sizeof(double));
     if (report)
         *report = rep;
     return st;

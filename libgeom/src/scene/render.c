@@ -267,7 +267,7 @@ static geom_status add_one(geom_ray_scene *rs, const geom_shape *s, uint32_t *id
         if (!s->surfaces || !s->n_surfaces)
             return GEOM_ERR_INVALID_ARG;
         if (s->n_surfaces > 1 && !top)
-            return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+            return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                                  "object %s: a CSG child cannot have several surfaces",
                                  s->name ? s->name : "(unnamed)");
         for (size_t k = 0; k < s->n_surfaces && st == GEOM_OK; k++) {
@@ -279,7 +279,7 @@ static geom_status add_one(geom_ray_scene *rs, const geom_shape *s, uint32_t *id
         }
         return st;
     case GEOM_SHAPE_GROUP: {
-        uint32_t *mem = geom_alloc(NULL, (s->n_members + 1) * sizeof *mem);
+        uint32_t *mem = geom__alloc(NULL, (s->n_members + 1) * sizeof *mem);
         size_t nm = 0;
         if (!mem)
             return GEOM_ERR_NOMEM;
@@ -290,7 +290,7 @@ static geom_status add_one(geom_ray_scene *rs, const geom_shape *s, uint32_t *id
         }
         if (st == GEOM_OK)
             st = geom_ray_scene_add_group(rs, mem, nm, &id);
-        geom_free(NULL, mem, (s->n_members + 1) * sizeof *mem);
+        geom__free(NULL, mem, (s->n_members + 1) * sizeof *mem);
         break;
     }
     case GEOM_SHAPE_CSG: {
@@ -313,7 +313,7 @@ static geom_status add_one(geom_ray_scene *rs, const geom_shape *s, uint32_t *id
         ids[0] = id;
         *n = 1;
     } else if (diag && diag->message[0] == 0) {
-        geom_diag_set(diag, st, NULL, 0, 0, "object %s: %s", s->name ? s->name : "(unnamed)",
+        geom__diag_set(diag, st, NULL, 0, 0, "object %s: %s", s->name ? s->name : "(unnamed)",
                       geom_status_str(st));
     }
     return st;
@@ -323,7 +323,7 @@ geom_status geom_scene_shape_to_ray(geom_ray_scene *rs, const geom_shape *s, uin
                                     size_t *n_ids, geom_diag *diag)
 {
     if (!rs || !s || !ids || !n_ids)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_scene_shape_to_ray: invalid argument");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_scene_shape_to_ray: invalid argument");
     return add_one(rs, s, ids, n_ids, 1, diag);
 }
 
@@ -451,7 +451,7 @@ static geom_status attr_setup(const geom_ray_scene *rs, uint32_t node, const geo
         for (size_t k = 0; k < ni.nt; k++)
             if (ni.face[k] + (size_t)1 > nf)
                 nf = ni.face[k] + (size_t)1;
-        A->face_tri = geom_alloc(NULL, (nf ? nf : 1) * sizeof *A->face_tri);
+        A->face_tri = geom__alloc(NULL, (nf ? nf : 1) * sizeof *A->face_tri);
         if (!A->face_tri)
             return GEOM_ERR_NOMEM;
         A->nfaces = nf;
@@ -490,10 +490,10 @@ geom_status geom_scene_render(const geom_camera *cam_in, const geom_light *light
         memset(report, 0, sizeof *report);
     if (!cam_in || !out || (n_lights && !lights) || !materials || !n_materials ||
         (n_objects && !objects))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_scene_render: invalid argument");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_scene_render: invalid argument");
     for (size_t i = 0; i < n_objects; i++)
         if (!objects[i].shape || objects[i].material >= n_materials)
-            return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+            return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                                  "object %zu: no shape or material index out of range", i);
     geom_render_options opt;
     memset(&opt, 0, sizeof opt);
@@ -506,10 +506,10 @@ geom_status geom_scene_render(const geom_camera *cam_in, const geom_light *light
         return st;
     double t0 = now();
     size_t n = n_objects ? n_objects : 1;
-    geom_render_object_report *orep = geom_alloc(NULL, n * sizeof *orep);
-    geom_aabb *box = geom_alloc(NULL, n * sizeof *box);
-    unsigned *needs = geom_alloc(NULL, n * sizeof *needs);
-    uint32_t *omat = geom_alloc(NULL, n * sizeof *omat);
+    geom_render_object_report *orep = geom__alloc(NULL, n * sizeof *orep);
+    geom_aabb *box = geom__alloc(NULL, n * sizeof *box);
+    unsigned *needs = geom__alloc(NULL, n * sizeof *needs);
+    uint32_t *omat = geom__alloc(NULL, n * sizeof *omat);
     if (!orep || !box || !needs || !omat) {
         st = GEOM_ERR_NOMEM;
         goto done;
@@ -604,16 +604,16 @@ geom_status geom_scene_render(const geom_camera *cam_in, const geom_light *light
         /* meshes made for the ray path: subdivision surfaces refined to the
          * pixel error, displaced surfaces, polygon meshes triangulated for
          * their corner attributes */
-        geom_mesh **made = geom_alloc(NULL, n * sizeof *made);
-        geom_shape *mshape = geom_alloc(NULL, n * sizeof *mshape);
-        obj_attr *attr = geom_alloc(NULL, n * sizeof *attr);
-        uint32_t *first_root = geom_alloc(NULL, n * sizeof *first_root);
+        geom_mesh **made = geom__alloc(NULL, n * sizeof *made);
+        geom_shape *mshape = geom__alloc(NULL, n * sizeof *mshape);
+        obj_attr *attr = geom__alloc(NULL, n * sizeof *attr);
+        uint32_t *first_root = geom__alloc(NULL, n * sizeof *first_root);
         if (!rs || !made || !mshape || !attr || !first_root) {
             geom_ray_scene_destroy(rs);
-            geom_free(NULL, made, n * sizeof *made);
-            geom_free(NULL, mshape, n * sizeof *mshape);
-            geom_free(NULL, attr, n * sizeof *attr);
-            geom_free(NULL, first_root, n * sizeof *first_root);
+            geom__free(NULL, made, n * sizeof *made);
+            geom__free(NULL, mshape, n * sizeof *mshape);
+            geom__free(NULL, attr, n * sizeof *attr);
+            geom__free(NULL, first_root, n * sizeof *first_root);
             st = GEOM_ERR_NOMEM;
             goto done;
         }
@@ -654,10 +654,10 @@ geom_status geom_scene_render(const geom_camera *cam_in, const geom_light *light
             size_t k = sh->kind == GEOM_SHAPE_SURFACE && sh->n_surfaces > 1 ? sh->n_surfaces : 1;
             if (nroots + k > cap) {
                 size_t nc = (nroots + k) * 2;
-                uint32_t *a = geom_realloc(NULL, roots, cap * sizeof *a, nc * sizeof *a);
+                uint32_t *a = geom__realloc(NULL, roots, cap * sizeof *a, nc * sizeof *a);
                 if (a)
                     roots = a;
-                uint32_t *b = a ? geom_realloc(NULL, root_obj, cap * sizeof *b, nc * sizeof *b) : NULL;
+                uint32_t *b = a ? geom__realloc(NULL, root_obj, cap * sizeof *b, nc * sizeof *b) : NULL;
                 if (b)
                     root_obj = b;
                 if (!a || !b) {
@@ -721,23 +721,23 @@ geom_status geom_scene_render(const geom_camera *cam_in, const geom_light *light
         for (size_t i = 0; i < n_objects; i++) {
             geom_mesh_destroy(made[i]);
             if (attr[i].face_tri)
-                geom_free(NULL, attr[i].face_tri, (attr[i].nfaces ? attr[i].nfaces : 1) * sizeof(uint32_t));
+                geom__free(NULL, attr[i].face_tri, (attr[i].nfaces ? attr[i].nfaces : 1) * sizeof(uint32_t));
         }
-        geom_free(NULL, made, n * sizeof *made);
-        geom_free(NULL, mshape, n * sizeof *mshape);
-        geom_free(NULL, attr, n * sizeof *attr);
-        geom_free(NULL, first_root, n * sizeof *first_root);
-        geom_free(NULL, roots, cap * sizeof *roots);
-        geom_free(NULL, root_obj, cap * sizeof *root_obj);
+        geom__free(NULL, made, n * sizeof *made);
+        geom__free(NULL, mshape, n * sizeof *mshape);
+        geom__free(NULL, attr, n * sizeof *attr);
+        geom__free(NULL, first_root, n * sizeof *first_root);
+        geom__free(NULL, roots, cap * sizeof *roots);
+        geom__free(NULL, root_obj, cap * sizeof *root_obj);
         geom_ray_scene_destroy(rs);
     } else {
         /* raster: tessellate what is needed to the pixel error */
-        geom_mesh **meshes = geom_alloc(NULL, n * sizeof *meshes);
-        geom_scene_draw *draws = geom_alloc(NULL, n * sizeof *draws);
+        geom_mesh **meshes = geom__alloc(NULL, n * sizeof *meshes);
+        geom_scene_draw *draws = geom__alloc(NULL, n * sizeof *draws);
         size_t nd = 0;
         if (!meshes || !draws) {
-            geom_free(NULL, meshes, n * sizeof *meshes);
-            geom_free(NULL, draws, n * sizeof *draws);
+            geom__free(NULL, meshes, n * sizeof *meshes);
+            geom__free(NULL, draws, n * sizeof *draws);
             st = GEOM_ERR_NOMEM;
             goto done;
         }
@@ -782,16 +782,16 @@ geom_status geom_scene_render(const geom_camera *cam_in, const geom_light *light
         }
         for (size_t i = 0; i < n_objects; i++)
             geom_mesh_destroy(meshes[i]);
-        geom_free(NULL, meshes, n * sizeof *meshes);
-        geom_free(NULL, draws, n * sizeof *draws);
+        geom__free(NULL, meshes, n * sizeof *meshes);
+        geom__free(NULL, draws, n * sizeof *draws);
     }
 done:
     if (st == GEOM_OK && orep_out)
         memcpy(orep_out, orep, n_objects * sizeof *orep);
-    geom_free(NULL, orep, n * sizeof *orep);
-    geom_free(NULL, box, n * sizeof *box);
-    geom_free(NULL, needs, n * sizeof *needs);
-    geom_free(NULL, omat, n * sizeof *omat);
+    geom__free(NULL, orep, n * sizeof *orep);
+    geom__free(NULL, box, n * sizeof *box);
+    geom__free(NULL, needs, n * sizeof *needs);
+    geom__free(NULL, omat, n * sizeof *omat);
     if (report)
         *report = rep;
     return st;

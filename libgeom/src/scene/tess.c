@@ -156,8 +156,8 @@ static geom_status tess_planar(const double *pts, size_t n, const double nrm[3],
                                geom_mesh *out, geom_diag *diag)
 {
     size_t bytes = n * 3 * sizeof(double);
-    double *cn = geom_alloc(NULL, bytes), *cuv = geom_alloc(NULL, n * 2 * sizeof(double));
-    uint32_t *idx = geom_alloc(NULL, n * sizeof(uint32_t));
+    double *cn = geom__alloc(NULL, bytes), *cuv = geom__alloc(NULL, n * 2 * sizeof(double));
+    uint32_t *idx = geom__alloc(NULL, n * sizeof(uint32_t));
     geom_status st = GEOM_ERR_NOMEM;
     if (cn && cuv && idx) {
         double t[3], b[3], nn[3];
@@ -174,9 +174,9 @@ static geom_status tess_planar(const double *pts, size_t n, const double nrm[3],
         if (st == GEOM_OK)
             st = geom_mesh_triangulate(out, NULL);
     }
-    geom_free(NULL, cn, bytes);
-    geom_free(NULL, cuv, n * 2 * sizeof(double));
-    geom_free(NULL, idx, n * sizeof(uint32_t));
+    geom__free(NULL, cn, bytes);
+    geom__free(NULL, cuv, n * 2 * sizeof(double));
+    geom__free(NULL, idx, n * sizeof(uint32_t));
     return st;
 }
 
@@ -413,20 +413,20 @@ static void inode_free(inode *n)
     inode_free(n->b);
     for (size_t i = 0; i < n->nm; i++)
         inode_free(n->m[i]);
-    geom_free(NULL, n->m, n->nm * sizeof *n->m);
-    geom_free(NULL, n, sizeof *n);
+    geom__free(NULL, n->m, n->nm * sizeof *n->m);
+    geom__free(NULL, n, sizeof *n);
 }
 
 static inode *inode_make(const geom_shape *s, int top)
 {
-    inode *n = geom_alloc(NULL, sizeof *n);
+    inode *n = geom__alloc(NULL, sizeof *n);
     if (!n)
         return NULL;
     memset(n, 0, sizeof *n);
     n->s = s;
     if (s->transform && !top) {
         if (geom_mat4_inverse(*s->transform, &n->inv) != GEOM_OK) {
-            geom_free(NULL, n, sizeof *n);
+            geom__free(NULL, n, sizeof *n);
             return NULL;
         }
         n->has_inv = 1;
@@ -437,7 +437,7 @@ static inode *inode_make(const geom_shape *s, int top)
         n->b = inode_make(s->b, 0);
         ok = n->a && n->b;
     } else if (s->kind == GEOM_SHAPE_GROUP && s->n_members) {
-        n->m = geom_alloc(NULL, s->n_members * sizeof *n->m);
+        n->m = geom__alloc(NULL, s->n_members * sizeof *n->m);
         ok = n->m != NULL;
         if (ok) {
             memset(n->m, 0, s->n_members * sizeof *n->m);
@@ -487,7 +487,7 @@ static geom_status tess_iso(const geom_shape *s, const geom_tess_request *rq, ge
     geom_aabb b = shape_bounds(&local, rq->extent);
     if (geom_aabb_is_empty(b) || !isfinite(b.min.x) || !isfinite(b.max.x) ||
         !isfinite(b.min.y) || !isfinite(b.max.y) || !isfinite(b.min.z) || !isfinite(b.max.z))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "object %s: unbounded and no extent to cut it to", nm(s));
     geom_vec3 d = geom_vec3_sub(b.max, b.min);
     double diag_len = geom_vec3_length(d);
@@ -577,8 +577,8 @@ static geom_status tess_subdiv(const geom_shape *s, const geom_tess_request *rq,
     geom_mesh_clear(out);
     size_t nf = geom_mesh_n_faces(res), ni = 0;
     st = geom_mesh_to_soup(res, NULL, NULL, &ni);
-    uint32_t *sizes = geom_alloc(NULL, (nf + 1) * sizeof(uint32_t));
-    uint32_t *idx = geom_alloc(NULL, (ni + 1) * sizeof(uint32_t));
+    uint32_t *sizes = geom__alloc(NULL, (nf + 1) * sizeof(uint32_t));
+    uint32_t *idx = geom__alloc(NULL, (ni + 1) * sizeof(uint32_t));
     if (!sizes || !idx)
         st = GEOM_ERR_NOMEM;
     if (st == GEOM_OK)
@@ -596,8 +596,8 @@ static geom_status tess_subdiv(const geom_shape *s, const geom_tess_request *rq,
         (st = geom_mesh_channel_add(out, "normal", GEOM_MESH_DOMAIN_VERTEX, 3, &oid)) == GEOM_OK)
         memcpy(geom_mesh_channel_data(out, oid), geom_mesh_channel_cdata(res, nid),
                3 * geom_mesh_n_vertices(res) * sizeof(double));
-    geom_free(NULL, sizes, (nf + 1) * sizeof(uint32_t));
-    geom_free(NULL, idx, (ni + 1) * sizeof(uint32_t));
+    geom__free(NULL, sizes, (nf + 1) * sizeof(uint32_t));
+    geom__free(NULL, idx, (ni + 1) * sizeof(uint32_t));
     geom_mesh_destroy(res);
     return st;
 }
@@ -629,11 +629,11 @@ static geom_status tess_group(const geom_shape *s, const geom_tess_request *rq, 
             st = geom_mesh_to_soup(m, NULL, NULL, &mi_n);
         if (st == GEOM_OK && (nv + mv > capv || nf + mf > capf || ni + mi_n > capi)) {
             size_t cv = 2 * (nv + mv) + 16, cf = 2 * (nf + mf) + 16, ci = 2 * (ni + mi_n) + 16;
-            double *a = geom_realloc(NULL, xyz, 3 * capv * sizeof *a, 3 * cv * sizeof *a);
+            double *a = geom__realloc(NULL, xyz, 3 * capv * sizeof *a, 3 * cv * sizeof *a);
             if (a) { xyz = a; capv = cv; }
-            uint32_t *b = geom_realloc(NULL, sizes, capf * sizeof *b, cf * sizeof *b);
+            uint32_t *b = geom__realloc(NULL, sizes, capf * sizeof *b, cf * sizeof *b);
             if (b) { sizes = b; capf = cf; }
-            uint32_t *c = geom_realloc(NULL, idx, capi * sizeof *c, ci * sizeof *c);
+            uint32_t *c = geom__realloc(NULL, idx, capi * sizeof *c, ci * sizeof *c);
             if (c) { idx = c; capi = ci; }
             if (!a || !b || !c)
                 st = GEOM_ERR_NOMEM;
@@ -663,9 +663,9 @@ static geom_status tess_group(const geom_shape *s, const geom_tess_request *rq, 
             st = geom_mesh_vertex_normals(out, GEOM_NORMAL_WEIGHT_ANGLE,
                                           geom_mesh_channel_data(out, id), NULL);
     }
-    geom_free(NULL, xyz, 3 * capv * sizeof(double));
-    geom_free(NULL, sizes, capf * sizeof(uint32_t));
-    geom_free(NULL, idx, capi * sizeof(uint32_t));
+    geom__free(NULL, xyz, 3 * capv * sizeof(double));
+    geom__free(NULL, sizes, capf * sizeof(uint32_t));
+    geom__free(NULL, idx, capi * sizeof(uint32_t));
     return st;
 }
 
@@ -677,7 +677,7 @@ geom_status geom_scene_tessellate(const geom_shape *s, const geom_tess_request *
     if (info_out)
         memset(info_out, 0, sizeof *info_out);
     if (!s || !rq || !out || !(rq->tol > 0) || !isfinite(rq->tol))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "tessellation needs a shape, an output mesh and a tolerance > 0");
     double t0 = now();
     geom_status st = GEOM_OK;
@@ -740,7 +740,7 @@ geom_status geom_scene_tessellate(const geom_shape *s, const geom_tess_request *
             n = 8;
         if (n > 65536)
             n = 65536;
-        double *pts = geom_alloc(NULL, 3 * n * sizeof(double));
+        double *pts = geom__alloc(NULL, 3 * n * sizeof(double));
         if (!pts) {
             st = GEOM_ERR_NOMEM;
             break;
@@ -753,7 +753,7 @@ geom_status geom_scene_tessellate(const geom_shape *s, const geom_tess_request *
                 pts[3 * i + k] = s->p[k] + s->radius * (cos(a) * t[k] + sin(a) * b[k]);
         }
         st = tess_planar(pts, n, nn, attrs, out, diag);
-        geom_free(NULL, pts, 3 * n * sizeof(double));
+        geom__free(NULL, pts, 3 * n * sizeof(double));
         info.error.max_error = s->radius * (1 - cos(GEOM_PI / (double)n));
         info.method = "polygon";
         break;
@@ -761,7 +761,7 @@ geom_status geom_scene_tessellate(const geom_shape *s, const geom_tess_request *
     case GEOM_SHAPE_PLANE: {
         geom_aabb e = rq->extent;
         if (geom_aabb_is_empty(e) || geom_vec3_length(geom_vec3_sub(e.max, e.min)) == 0) {
-            st = geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+            st = geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                                "object %s: an unbounded plane needs an extent", nm(s));
             break;
         }
@@ -792,8 +792,8 @@ geom_status geom_scene_tessellate(const geom_shape *s, const geom_tess_request *
                 geom_mesh_clear(out);
                 size_t ni = 0, nf = geom_mesh_n_live_faces(c);
                 st = geom_mesh_to_soup(c, NULL, NULL, &ni);
-                uint32_t *sz = geom_alloc(NULL, (nf + 1) * sizeof(uint32_t));
-                uint32_t *ix = geom_alloc(NULL, (ni + 1) * sizeof(uint32_t));
+                uint32_t *sz = geom__alloc(NULL, (nf + 1) * sizeof(uint32_t));
+                uint32_t *ix = geom__alloc(NULL, (ni + 1) * sizeof(uint32_t));
                 if (!sz || !ix)
                     st = GEOM_ERR_NOMEM;
                 if (st == GEOM_OK)
@@ -820,7 +820,7 @@ geom_status geom_scene_tessellate(const geom_shape *s, const geom_tess_request *
                         ch[nch].n_values = geom_mesh_channel_size(c, id);
                         if (dom) {
                             const uint32_t *ci = geom_mesh_corner_cindices(c, id);
-                            cix[nch] = geom_alloc(NULL, (ni + 1) * sizeof(uint32_t));
+                            cix[nch] = geom__alloc(NULL, (ni + 1) * sizeof(uint32_t));
                             if (!cix[nch]) {
                                 st = GEOM_ERR_NOMEM;
                                 break;
@@ -850,9 +850,9 @@ geom_status geom_scene_tessellate(const geom_shape *s, const geom_tess_request *
                 }
                 for (size_t k = 0; k < nch; k++)
                     if (cix[k])
-                        geom_free(NULL, cix[k], (ni + 1) * sizeof(uint32_t));
-                geom_free(NULL, sz, (nf + 1) * sizeof(uint32_t));
-                geom_free(NULL, ix, (ni + 1) * sizeof(uint32_t));
+                        geom__free(NULL, cix[k], (ni + 1) * sizeof(uint32_t));
+                geom__free(NULL, sz, (nf + 1) * sizeof(uint32_t));
+                geom__free(NULL, ix, (ni + 1) * sizeof(uint32_t));
                 geom_mesh_destroy(c);
             }
             info.method = "mesh";
@@ -874,7 +874,7 @@ geom_status geom_scene_tessellate(const geom_shape *s, const geom_tess_request *
     case GEOM_SHAPE_CSG: {
         const geom_shape *bad = no_implicit(s);
         if (bad) {
-            st = geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+            st = geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                                "object %s: CSG needs an implicit form, and %s (a %s) has none",
                                nm(s), nm(bad),
                                bad->kind == GEOM_SHAPE_MESH ? "mesh"
@@ -887,7 +887,7 @@ geom_status geom_scene_tessellate(const geom_shape *s, const geom_tess_request *
         break;
     }
     default:
-        st = geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "object %s: unknown kind %d",
+        st = geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "object %s: unknown kind %d",
                            nm(s), (int)s->kind);
     }
     if (st == GEOM_OK && (attrs & GEOM_NEEDS_TANGENT) &&
@@ -965,9 +965,9 @@ geom_status geom_scene_displace(geom_mesh *m, const geom_texture *height, double
     uint32_t vuv = geom_mesh_channel_find(m, "uv", GEOM_MESH_DOMAIN_VERTEX);
     if (cuv == GEOM_INVALID_INDEX && vuv == GEOM_INVALID_INDEX)
         return GEOM_ERR_INVALID_ARG;
-    double *n = geom_alloc(NULL, (3 * nv + 1) * sizeof *n);
-    double *uv = geom_alloc(NULL, (2 * nv + 1) * sizeof *uv);
-    unsigned char *has = geom_alloc(NULL, nv + 1);
+    double *n = geom__alloc(NULL, (3 * nv + 1) * sizeof *n);
+    double *uv = geom__alloc(NULL, (2 * nv + 1) * sizeof *uv);
+    unsigned char *has = geom__alloc(NULL, nv + 1);
     geom_status st = GEOM_OK;
     if (!n || !uv || !has)
         st = GEOM_ERR_NOMEM;
@@ -1010,8 +1010,8 @@ geom_status geom_scene_displace(geom_mesh *m, const geom_texture *height, double
         if (st == GEOM_OK)
             st = geom_mesh_vertex_normals(m, GEOM_NORMAL_WEIGHT_ANGLE, geom_mesh_channel_data(m, c), NULL);
     }
-    geom_free(NULL, n, (3 * nv + 1) * sizeof *n);
-    geom_free(NULL, uv, (2 * nv + 1) * sizeof *uv);
-    geom_free(NULL, has, nv + 1);
+    geom__free(NULL, n, (3 * nv + 1) * sizeof *n);
+    geom__free(NULL, uv, (2 * nv + 1) * sizeof *uv);
+    geom__free(NULL, has, nv + 1);
     return st;
 }

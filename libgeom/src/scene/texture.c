@@ -13,11 +13,11 @@ geom_status geom_scene_image_init(geom_image *img, uint32_t width, uint32_t heig
     if (!img || width == 0 || height == 0 || channels == 0)
         return GEOM_ERR_INVALID_ARG;
     size_t n, bytes;
-    if (geom_size_mul((size_t)width, (size_t)height, &n) != GEOM_OK ||
-        geom_size_mul(n, channels, &n) != GEOM_OK ||
-        geom_size_mul(n, sizeof(double), &bytes) != GEOM_OK)
+    if (geom__size_mul((size_t)width, (size_t)height, &n) != GEOM_OK ||
+        geom__size_mul(n, channels, &n) != GEOM_OK ||
+        geom__size_mul(n, sizeof(double), &bytes) != GEOM_OK)
         return GEOM_ERR_LIMIT;
-    double *d = geom_alloc(alloc, bytes);
+    double *d = geom__alloc(alloc, bytes);
     if (!d)
         return GEOM_ERR_NOMEM;
     memset(d, 0, bytes);
@@ -32,7 +32,7 @@ void geom_scene_image_free(geom_image *img, const geom_allocator *alloc)
 {
     if (!img || !img->data)
         return;
-    geom_free(alloc, img->data,
+    geom__free(alloc, img->data,
               (size_t)img->width * img->height * img->channels * sizeof(double));
     memset(img, 0, sizeof *img);
 }
@@ -58,9 +58,9 @@ void geom_scene_texture_destroy(geom_texture *t)
     if (!t)
         return;
     for (uint32_t l = 0; l < t->levels; l++)
-        geom_free(talloc(t), t->level[l],
+        geom__free(talloc(t), t->level[l],
                   (size_t)t->w[l] * t->h[l] * t->channels * sizeof(double));
-    geom_free(talloc(t), t, sizeof *t);
+    geom__free(talloc(t), t, sizeof *t);
 }
 
 /* Box-filter weights of output texel o over input size n (n > 1): 2 taps
@@ -107,7 +107,7 @@ geom_status geom_scene_texture_create(const geom_image *img, geom_wrap wrap, con
     for (size_t i = 0; i < n; i++)
         if (!isfinite(img->data[i]))
             return GEOM_ERR_INVALID_ARG;
-    geom_texture *t = geom_alloc(alloc, sizeof *t);
+    geom_texture *t = geom__alloc(alloc, sizeof *t);
     if (!t)
         return GEOM_ERR_NOMEM;
     memset(t, 0, sizeof *t);
@@ -119,9 +119,9 @@ geom_status geom_scene_texture_create(const geom_image *img, geom_wrap wrap, con
     t->channels = img->channels;
     t->w[0] = img->width;
     t->h[0] = img->height;
-    t->level[0] = geom_alloc(alloc, n * sizeof(double));
+    t->level[0] = geom__alloc(alloc, n * sizeof(double));
     if (!t->level[0]) {
-        geom_free(alloc, t, sizeof *t);
+        geom__free(alloc, t, sizeof *t);
         return GEOM_ERR_NOMEM;
     }
     t->levels = 1;
@@ -132,7 +132,7 @@ geom_status geom_scene_texture_create(const geom_image *img, geom_wrap wrap, con
         if (pw == 1 && ph == 1)
             break;
         uint32_t w = pw > 1 ? pw / 2 : 1, h = ph > 1 ? ph / 2 : 1;
-        double *d = geom_alloc(alloc, (size_t)w * h * c * sizeof(double));
+        double *d = geom__alloc(alloc, (size_t)w * h * c * sizeof(double));
         if (!d) {
             geom_scene_texture_destroy(t);
             return GEOM_ERR_NOMEM;

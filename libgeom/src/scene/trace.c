@@ -217,13 +217,13 @@ geom_status geom__scene_trace(const geom__tracer *tr, const geom_camera *cam_in,
     c.fwd = r0.dir;
     if (cam.projection == GEOM_PROJECTION_PERSPECTIVE)
         geom_vec3_normalize(geom_vec3_sub(cam.center, cam.eye), &c.fwd);
-    c.vis = geom_alloc(a, (n_lights + 1) * sizeof(double));
+    c.vis = geom__alloc(a, (n_lights + 1) * sizeof(double));
     if (!c.vis)
         return GEOM_ERR_NOMEM;
     uint32_t nch = c.opt.aov == GEOM_AOV_COLOR || c.opt.aov == GEOM_AOV_NORMAL ? 3 : 1;
     st = geom_scene_image_init(out, cam.width, cam.height, nch, a);
     if (st != GEOM_OK) {
-        geom_free(a, c.vis, (n_lights + 1) * sizeof(double));
+        geom__free(a, c.vis, (n_lights + 1) * sizeof(double));
         return st;
     }
     uint32_t k = (uint32_t)ceil(sqrt((double)cam.samples) - 1e-9);
@@ -332,7 +332,7 @@ geom_status geom__scene_trace(const geom__tracer *tr, const geom_camera *cam_in,
     }
     if (c.opt.aov != GEOM_AOV_COLOR)
         rep.max_samples_per_pixel = 1;
-    geom_free(a, c.vis, (n_lights + 1) * sizeof(double));
+    geom__free(a, c.vis, (n_lights + 1) * sizeof(double));
     timespec_get(&ts1, TIME_UTC);
     rep.seconds = (double)(ts1.tv_sec - ts0.tv_sec) + 1e-9 * (double)(ts1.tv_nsec - ts0.tv_nsec);
     if (report)

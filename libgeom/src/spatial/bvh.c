@@ -128,9 +128,9 @@ static int ref_ok(const geom__bvh_ref *r)
 static void free_bvh(geom_bvh *b)
 {
     const geom_allocator *a = b->has_alloc ? &b->alloc : NULL;
-    geom_free(a, b->nodes, b->node_count * sizeof *b->nodes);
-    geom_free(a, b->prims, b->prim_count * sizeof *b->prims);
-    geom_free(a, b, sizeof *b);
+    geom__free(a, b->nodes, b->node_count * sizeof *b->nodes);
+    geom__free(a, b->prims, b->prim_count * sizeof *b->prims);
+    geom__free(a, b, sizeof *b);
 }
 
 void geom_bvh_destroy(geom_bvh *b)
@@ -183,14 +183,14 @@ static geom_status build_common(size_t n, const bounds_src *src, const geom_bvh_
         o = *opt;
     const geom_allocator *a = o.alloc;
     if (n >= ((size_t)1 << 31))
-        return geom_diag_set(diag, GEOM_ERR_LIMIT, "", 0, 0, "BVH: %zu primitives (at most 2^31-1)", n);
+        return geom__diag_set(diag, GEOM_ERR_LIMIT, "", 0, 0, "BVH: %zu primitives (at most 2^31-1)", n);
     if (o.method != GEOM_BVH_SAH && o.method != GEOM_BVH_LBVH)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "BVH: unknown method %d", (int)o.method);
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "BVH: unknown method %d", (int)o.method);
     if (o.bins > 256)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "BVH: %u bins (at most 256)", o.bins);
-    geom_bvh *b = geom_alloc(a, sizeof *b);
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "BVH: %u bins (at most 256)", o.bins);
+    geom_bvh *b = geom__alloc(a, sizeof *b);
     if (!b)
-        return geom_diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "BVH: out of memory");
+        return geom__diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "BVH: out of memory");
     memset(b, 0, sizeof *b);
     if (a) {
         b->alloc = *a;
@@ -214,15 +214,15 @@ static geom_status build_common(size_t n, const bounds_src *src, const geom_bvh_
     /* The LBVH sorts the references themselves; the SAH build keeps its own
      * compact copy and asks box_fn again, so it needs none here. */
     int keep_refs = o.method == GEOM_BVH_LBVH;
-    bd.refs = keep_refs ? geom_alloc(a, n * sizeof *bd.refs) : NULL;
+    bd.refs = keep_refs ? geom__alloc(a, n * sizeof *bd.refs) : NULL;
     geom__bvh_advise(a, bd.refs, n * sizeof *bd.refs);
-    bd.tmp = geom_alloc(a, 2 * n * sizeof *bd.tmp);
+    bd.tmp = geom__alloc(a, 2 * n * sizeof *bd.tmp);
     geom__bvh_advise(a, bd.tmp, 2 * n * sizeof *bd.tmp);
-    b->prims = geom_alloc(a, n * sizeof *b->prims);
+    b->prims = geom__alloc(a, n * sizeof *b->prims);
     b->prim_count = n;
     geom_status st = GEOM_OK;
     if ((keep_refs && !bd.refs) || !bd.tmp || !b->prims) {
-        st = geom_diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "BVH: out of memory");
+        st = geom__diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "BVH: out of memory");
         goto fail;
     }
     if (keep_refs) {
@@ -253,42 +253,42 @@ static geom_status build_common(size_t n, const bounds_src *src, const geom_bvh_
         }
         if (src->tris && !bad)
             for (int k = 0; k < 3; k++)
-                bad |= !geom_isfinite3(src->pos + 3 * (size_t)src->tris[3 * i + k]);
+                bad |= !geom__isfinite3(src->pos + 3 * (size_t)src->tris[3 * i + k]);
         if (bad) {
             if (src->tris) {
                 for (int k = 0; k < 3; k++)
-                    if (!geom_isfinite3(src->pos + 3 * (size_t)src->tris[3 * i + k])) {
-                        st = geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+                    if (!geom__isfinite3(src->pos + 3 * (size_t)src->tris[3 * i + k])) {
+                        st = geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                                            "BVH: triangle %zu: vertex %u has a NaN/Inf coordinate",
                                            i, src->tris[3 * i + k]);
                         goto fail;
                     }
             }
-            st = geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+            st = geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                                "BVH: primitive %zu has a NaN/Inf or empty box", i);
             goto fail;
         }
     }
     uint32_t root = o.method == GEOM_BVH_LBVH ? geom__bvh_build_lbvh(&bd) : geom__bvh_build_sah(&bd);
     if (root == UINT32_MAX) {
-        st = geom_diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "BVH: out of memory");
+        st = geom__diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "BVH: out of memory");
         goto fail;
     }
     if (bd.preorder && root == 0) {
         b->depth = preorder_in_place(bd.tmp, bd.tmp_count);
-        geom_bvh_node *shrunk = geom_realloc(a, bd.tmp, 2 * n * sizeof *bd.tmp,
+        geom_bvh_node *shrunk = geom__realloc(a, bd.tmp, 2 * n * sizeof *bd.tmp,
                                              bd.tmp_count * sizeof *b->nodes);
         if (!shrunk) {
-            st = geom_diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "BVH: out of memory");
+            st = geom__diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "BVH: out of memory");
             goto fail;
         }
         b->nodes = shrunk;
         bd.tmp = NULL;
         b->node_count = bd.tmp_count;
     } else {
-        b->nodes = geom_alloc(a, bd.tmp_count * sizeof *b->nodes);
+        b->nodes = geom__alloc(a, bd.tmp_count * sizeof *b->nodes);
         if (!b->nodes) {
-            st = geom_diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "BVH: out of memory");
+            st = geom__diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "BVH: out of memory");
             goto fail;
         }
         b->node_count = bd.tmp_count;
@@ -297,17 +297,17 @@ static geom_status build_common(size_t n, const bounds_src *src, const geom_bvh_
     }
     for (size_t i = 0; i < n; i++)
         b->prims[i] = bd.order ? bd.order[i] : bd.refs[i].id;
-    geom_free(a, bd.order, n * sizeof *bd.order);
+    geom__free(a, bd.order, n * sizeof *bd.order);
     if (keep_refs)
-        geom_free(a, bd.refs, n * sizeof *bd.refs);
-    geom_free(a, bd.tmp, 2 * n * sizeof *bd.tmp);
+        geom__free(a, bd.refs, n * sizeof *bd.refs);
+    geom__free(a, bd.tmp, 2 * n * sizeof *bd.tmp);
     *out = b;
     return GEOM_OK;
 fail:
-    geom_free(a, bd.order, n * sizeof *bd.order);
+    geom__free(a, bd.order, n * sizeof *bd.order);
     if (bd.refs)
-        geom_free(a, bd.refs, n * sizeof *bd.refs);
-    geom_free(a, bd.tmp, 2 * n * sizeof *bd.tmp);
+        geom__free(a, bd.refs, n * sizeof *bd.refs);
+    geom__free(a, bd.tmp, 2 * n * sizeof *bd.tmp);
     free_bvh(b);
     return st;
 }
@@ -319,10 +319,10 @@ geom_status geom_bvh_build_triangles(const double *positions, size_t nv, const u
     if (out)
         *out = NULL;
     if (!out || (nt && (!positions || !tris)))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "BVH: NULL argument");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "BVH: NULL argument");
     for (size_t i = 0; i < 3 * nt; i++)
         if (tris[i] >= nv)
-            return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+            return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                                  "BVH: triangle %zu: vertex index %u out of range (%zu vertices)",
                                  i / 3, tris[i], nv);
     bounds_src s = {positions, tris, NULL, NULL, NULL};
@@ -335,7 +335,7 @@ geom_status geom_bvh_build_boxes(const geom_aabb *boxes, size_t n, const geom_bv
     if (out)
         *out = NULL;
     if (!out || (n && !boxes))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "BVH: NULL argument");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "BVH: NULL argument");
     bounds_src s = {NULL, NULL, boxes, NULL, NULL};
     return build_common(n, &s, opt, out, diag);
 }
@@ -346,7 +346,7 @@ geom_status geom_bvh_build_callback(size_t n, geom_bvh_bounds_fn fn, void *user,
     if (out)
         *out = NULL;
     if (!out || (n && !fn))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "BVH: NULL argument");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "BVH: NULL argument");
     bounds_src s = {NULL, NULL, NULL, fn, user};
     return build_common(n, &s, opt, out, diag);
 }
@@ -357,7 +357,7 @@ geom_status geom_bvh_refit_triangles(geom_bvh *b, const double *positions, size_
     if (!b || nt != b->prim_count || (nt && (!positions || !tris)))
         return GEOM_ERR_INVALID_ARG;
     for (size_t i = 0; i < 3 * nt; i++)
-        if (tris[i] >= nv || !geom_isfinite3(positions + 3 * (size_t)tris[i]))
+        if (tris[i] >= nv || !geom__isfinite3(positions + 3 * (size_t)tris[i]))
             return GEOM_ERR_INVALID_ARG;
     bounds_src s = {positions, tris, NULL, NULL, NULL};
     /* Children follow their parent in the depth-first layout, so a reverse

@@ -97,9 +97,9 @@ uint32_t geom__bvh_build_lbvh(geom__bvh_build *b)
     double scale[3];
     for (int k = 0; k < 3; k++)
         scale[k] = chi[k] > clo[k] ? 2097151.0 / (chi[k] - clo[k]) : 0.0;
-    uint64_t *codes = geom_alloc(a, n * sizeof *codes);
-    uint32_t *perm = geom_alloc(a, n * sizeof *perm);
-    geom__bvh_ref *cp = geom_alloc(a, n * sizeof *cp);
+    uint64_t *codes = geom__alloc(a, n * sizeof *codes);
+    uint32_t *perm = geom__alloc(a, n * sizeof *perm);
+    geom__bvh_ref *cp = geom__alloc(a, n * sizeof *cp);
     geom__bvh_advise(a, codes, n * sizeof *codes);
     geom__bvh_advise(a, cp, n * sizeof *cp);
     uint32_t root = UINT32_MAX;
@@ -139,8 +139,8 @@ uint32_t geom__bvh_build_lbvh(geom__bvh_build *b)
     root = lnode(&c, 0, n);
     b->preorder = 1;
 done:
-    geom_free(a, codes, n * sizeof *codes);
-    geom_free(a, perm, n * sizeof *perm);
-    geom_free(a, cp, n * sizeof *cp);
+    geom__free(a, codes, n * sizeof *codes);
+    geom__free(a, perm, n * sizeof *perm);
+    geom__free(a, cp, n * sizeof *cp);
     return root;
 }

@@ -134,9 +134,9 @@ static int keyed_cmp(const void *pa, const void *pb)
  * returns 0 on success, -1 when out of memory (order left unchanged). */
 static int sort_axis(const geom_allocator *a, fref *r, uint32_t *ids, size_t n, int axis)
 {
-    keyed *k = geom_alloc(a, n * sizeof *k);
-    fref *cp = geom_alloc(a, n * sizeof *cp);
-    uint32_t *ci = geom_alloc(a, n * sizeof *ci);
+    keyed *k = geom__alloc(a, n * sizeof *k);
+    fref *cp = geom__alloc(a, n * sizeof *cp);
+    uint32_t *ci = geom__alloc(a, n * sizeof *ci);
     int ok = k && cp && ci;
     if (ok) {
         for (size_t i = 0; i < n; i++) {
@@ -151,9 +151,9 @@ static int sort_axis(const geom_allocator *a, fref *r, uint32_t *ids, size_t n, 
             ids[i] = ci[k[i].pos];
         }
     }
-    geom_free(a, k, n * sizeof *k);
-    geom_free(a, cp, n * sizeof *cp);
-    geom_free(a, ci, n * sizeof *ci);
+    geom__free(a, k, n * sizeof *k);
+    geom__free(a, cp, n * sizeof *cp);
+    geom__free(a, ci, n * sizeof *ci);
     return ok ? 0 : -1;
 }
 
@@ -368,12 +368,12 @@ uint32_t geom__bvh_build_sah(geom__bvh_build *b)
 {
     size_t n = b->n;
     const geom_allocator *a = b->alloc;
-    fref *fr = geom_alloc(a, n * sizeof *fr);
-    uint32_t *ids = geom_alloc(a, n * sizeof *ids);
+    fref *fr = geom__alloc(a, n * sizeof *fr);
+    uint32_t *ids = geom__alloc(a, n * sizeof *ids);
     geom__bvh_advise(a, fr, n * sizeof *fr);
     if (!fr || !ids) {
-        geom_free(a, fr, n * sizeof *fr);
-        geom_free(a, ids, n * sizeof *ids);
+        geom__free(a, fr, n * sizeof *fr);
+        geom__free(a, ids, n * sizeof *ids);
         return UINT32_MAX;
     }
     /* Centre and extent of the scene for the float copy. */
@@ -413,7 +413,7 @@ uint32_t geom__bvh_build_sah(geom__bvh_build *b)
     {
         root = build_node(&s, 0, n, &all, 0);
     }
-    geom_free(a, fr, n * sizeof *fr);
+    geom__free(a, fr, n * sizeof *fr);
     b->preorder = !(b->threads > 1 && n >= TASK_MIN);
     /* Exact boxes, bottom-up: a node's id is taken before its children's
      * (whatever the threads), so a reverse sweep sees children first. */

@@ -204,10 +204,10 @@ geom_status geom_meshdist_closest(const geom_meshdist *m, const double *queries,
                                   int threads, geom_diag *diag)
 {
     if (!m || (nq && !queries))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "closest point: NULL argument");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "closest point: NULL argument");
     size_t bad = geom__first_nonfinite(queries, nq, 3);
     if (bad < nq)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                              "closest point: query %zu has a NaN/Inf coordinate", bad);
     const geom_allocator *a = m->has_alloc ? &m->alloc : NULL;
     /* Queries in Morton order (of their own bounding box): consecutive
@@ -216,8 +216,8 @@ geom_status geom_meshdist_closest(const geom_meshdist *m, const double *queries,
     uint32_t *order = NULL;
     uint64_t *keys = NULL;
     if (nq >= 2 * CHUNK && nq < UINT32_MAX) {
-        order = geom_alloc(a, nq * sizeof *order);
-        keys = geom_alloc(a, nq * sizeof *keys);
+        order = geom__alloc(a, nq * sizeof *order);
+        keys = geom__alloc(a, nq * sizeof *keys);
         if (order && keys) {
             double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
             for (size_t i = 0; i < nq; i++)
@@ -239,14 +239,14 @@ geom_status geom_meshdist_closest(const geom_meshdist *m, const double *queries,
                 order[i] = (uint32_t)i;
             }
             if (geom__radix_sort64(a, keys, order, nq) != GEOM_OK) {
-                geom_free(a, order, nq * sizeof *order);
+                geom__free(a, order, nq * sizeof *order);
                 order = NULL;
             }
         } else {
-            geom_free(a, order, nq * sizeof *order);
+            geom__free(a, order, nq * sizeof *order);
             order = NULL;
         }
-        geom_free(a, keys, nq * sizeof *keys);
+        geom__free(a, keys, nq * sizeof *keys);
     }
     ptrdiff_t nchunks = (ptrdiff_t)((nq + CHUNK - 1) / CHUNK);
     int nth = geom__spatial_threads(threads);
@@ -269,6 +269,6 @@ geom_status geom_meshdist_closest(const geom_meshdist *m, const double *queries,
                 distance[i] = sqrt(d2);
         }
     }
-    geom_free(a, order, nq * sizeof *order);
+    geom__free(a, order, nq * sizeof *order);
     return GEOM_OK;
 }

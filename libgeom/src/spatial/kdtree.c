@@ -143,10 +143,10 @@ void geom_kdtree_destroy(geom_kdtree *t)
     if (!t)
         return;
     const geom_allocator *a = t->has_alloc ? &t->alloc : NULL;
-    geom_free(a, t->pts, 3 * t->n * sizeof *t->pts);
-    geom_free(a, t->ids, t->n * sizeof *t->ids);
-    geom_free(a, t->nodes, t->node_count * sizeof *t->nodes);
-    geom_free(a, t, sizeof *t);
+    geom__free(a, t->pts, 3 * t->n * sizeof *t->pts);
+    geom__free(a, t->ids, t->n * sizeof *t->ids);
+    geom__free(a, t->nodes, t->node_count * sizeof *t->nodes);
+    geom__free(a, t, sizeof *t);
 }
 
 geom_status geom_kdtree_build(const double *points, size_t n, int dim,
@@ -155,22 +155,22 @@ geom_status geom_kdtree_build(const double *points, size_t n, int dim,
     if (out)
         *out = NULL;
     if (!out || (n && !points) || (dim != 2 && dim != 3))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                              "kd-tree: NULL argument or dimension %d (2 or 3)", dim);
     if (n >= UINT32_MAX)
-        return geom_diag_set(diag, GEOM_ERR_LIMIT, "", 0, 0, "kd-tree: %zu points (at most 2^32-2)", n);
+        return geom__diag_set(diag, GEOM_ERR_LIMIT, "", 0, 0, "kd-tree: %zu points (at most 2^32-2)", n);
     size_t bad = geom__first_nonfinite(points, n, dim);
     if (bad < n)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                              "kd-tree: point %zu has a NaN/Inf coordinate", bad);
     geom_kdtree_options o;
     memset(&o, 0, sizeof o);
     if (opt)
         o = *opt;
     const geom_allocator *a = o.alloc;
-    geom_kdtree *t = geom_alloc(a, sizeof *t);
+    geom_kdtree *t = geom__alloc(a, sizeof *t);
     if (!t)
-        return geom_diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "kd-tree: out of memory");
+        return geom__diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "kd-tree: out of memory");
     memset(t, 0, sizeof *t);
     if (a) {
         t->alloc = *a;
@@ -183,16 +183,16 @@ geom_status geom_kdtree_build(const double *points, size_t n, int dim,
         t->leaf = 65535;
     t->node_count = n ? count_nodes(n, t->leaf) : 0;
     t->depth = n ? tree_depth(n, t->leaf) : 0;
-    t->pts = geom_alloc(a, 3 * n * sizeof *t->pts);
-    t->ids = geom_alloc(a, n * sizeof *t->ids);
-    t->nodes = geom_alloc(a, (t->node_count ? t->node_count : 1) * sizeof *t->nodes);
-    kpt *v = geom_alloc(a, n * sizeof *v);
+    t->pts = geom__alloc(a, 3 * n * sizeof *t->pts);
+    t->ids = geom__alloc(a, n * sizeof *t->ids);
+    t->nodes = geom__alloc(a, (t->node_count ? t->node_count : 1) * sizeof *t->nodes);
+    kpt *v = geom__alloc(a, n * sizeof *v);
     if (!t->pts || !t->ids || !t->nodes || !v) {
-        geom_free(a, v, n * sizeof *v);
+        geom__free(a, v, n * sizeof *v);
         if (!t->node_count)
             t->node_count = 1;
         geom_kdtree_destroy(t);
-        return geom_diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "kd-tree: out of memory");
+        return geom__diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "kd-tree: out of memory");
     }
     for (size_t i = 0; i < n; i++) {
         v[i].p[0] = points[(size_t)dim * i];
@@ -216,7 +216,7 @@ geom_status geom_kdtree_build(const double *points, size_t n, int dim,
         memcpy(t->pts + 3 * i, v[i].p, 3 * sizeof(double));
         t->ids[i] = v[i].id;
     }
-    geom_free(a, v, n * sizeof *v);
+    geom__free(a, v, n * sizeof *v);
     if (!t->node_count)
         t->node_count = 1; /* the allocated placeholder */
     *out = t;
@@ -278,7 +278,7 @@ geom_status geom_kdtree_knn(const geom_kdtree *t, const double *queries, size_t 
                             uint32_t *index, double *distance, int threads, geom_diag *diag)
 {
     if (!t)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "kNN: NULL argument");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "kNN: NULL argument");
     return geom__knn_batch(t->has_alloc ? &t->alloc : NULL, t, kd_knn_one, t->dim, t->n, queries, nq,
                            k, index, distance, threads, diag);
 }
@@ -337,18 +337,18 @@ geom_status geom_kdtree_radius(const geom_kdtree *t, const double *queries, size
                                geom_neighbors *out, int threads, geom_diag *diag)
 {
     if (!t || !out || (nq && !queries))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "radius query: NULL argument");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "radius query: NULL argument");
     if (!(r >= 0) || !isfinite(r))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                              "radius query: radius %g (must be finite and >= 0)", r);
     size_t bad = geom__first_nonfinite(queries, nq, t->dim);
     if (bad < nq)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                              "radius query: query %zu has a NaN/Inf coordinate", bad);
     rctx c = {t, queries, r, geom__r2_bound(r), NULL, NULL};
     geom_status st = geom__batch_rows(t->has_alloc ? &t->alloc : NULL, nq, radius_row, &c, threads, 1, out);
     if (st != GEOM_OK)
-        return geom_diag_set(diag, st, "", 0, 0, "radius query: out of memory");
+        return geom__diag_set(diag, st, "", 0, 0, "radius query: out of memory");
     return GEOM_OK;
 }
 

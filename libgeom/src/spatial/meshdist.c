@@ -13,12 +13,12 @@ void geom_meshdist_destroy(geom_meshdist *m)
     const geom_allocator *a = m->has_alloc ? &m->alloc : NULL;
     size_t nn = 0;
     geom_bvh_nodes(m->bvh, &nn);
-    geom_free(a, m->dip, (nn ? nn : 1) * sizeof *m->dip);
-    geom_free(a, m->tv, (m->nt ? 9 * m->nt : 1) * sizeof *m->tv);
+    geom__free(a, m->dip, (nn ? nn : 1) * sizeof *m->dip);
+    geom__free(a, m->tv, (m->nt ? 9 * m->nt : 1) * sizeof *m->tv);
     geom_bvh_destroy(m->bvh);
-    geom_free(a, m->pos, 3 * m->nv * sizeof *m->pos);
-    geom_free(a, m->tris, 3 * m->nt * sizeof *m->tris);
-    geom_free(a, m, sizeof *m);
+    geom__free(a, m->pos, 3 * m->nv * sizeof *m->pos);
+    geom__free(a, m->tris, 3 * m->nt * sizeof *m->tris);
+    geom__free(a, m, sizeof *m);
 }
 
 const geom_bvh *geom_meshdist_bvh(const geom_meshdist *m)
@@ -161,7 +161,7 @@ geom_status geom_meshdist_create(const double *positions, size_t nv, const uint3
     if (out)
         *out = NULL;
     if (!out || (nt && (!positions || !tris)))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "mesh distance: NULL argument");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "mesh distance: NULL argument");
     geom_meshdist_options o;
     memset(&o, 0, sizeof o);
     if (opt)
@@ -175,10 +175,10 @@ geom_status geom_meshdist_create(const double *positions, size_t nv, const uint3
     geom_status st = geom_bvh_build_triangles(positions, nv, tris, nt, &bo, &bvh, diag);
     if (st != GEOM_OK)
         return st;
-    geom_meshdist *m = geom_alloc(a, sizeof *m);
+    geom_meshdist *m = geom__alloc(a, sizeof *m);
     if (!m) {
         geom_bvh_destroy(bvh);
-        return geom_diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "mesh distance: out of memory");
+        return geom__diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "mesh distance: out of memory");
     }
     memset(m, 0, sizeof *m);
     if (a) {
@@ -191,15 +191,15 @@ geom_status geom_meshdist_create(const double *positions, size_t nv, const uint3
     m->nt = nt;
     size_t nn;
     geom_bvh_nodes(bvh, &nn);
-    m->pos = geom_alloc(a, 3 * nv * sizeof *m->pos);
-    m->tris = geom_alloc(a, 3 * nt * sizeof *m->tris);
-    m->dip = geom_alloc(a, (nn ? nn : 1) * sizeof *m->dip);
-    m->tv = geom_alloc(a, (nt ? 9 * nt : 1) * sizeof *m->tv);
+    m->pos = geom__alloc(a, 3 * nv * sizeof *m->pos);
+    m->tris = geom__alloc(a, 3 * nt * sizeof *m->tris);
+    m->dip = geom__alloc(a, (nn ? nn : 1) * sizeof *m->dip);
+    m->tv = geom__alloc(a, (nt ? 9 * nt : 1) * sizeof *m->tv);
     geom__bvh_advise(a, m->dip, (nn ? nn : 1) * sizeof *m->dip);
     geom__bvh_advise(a, m->tv, (nt ? 9 * nt : 1) * sizeof *m->tv);
     if (!m->pos || !m->tris || !m->dip || !m->tv) {
         geom_meshdist_destroy(m);
-        return geom_diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "mesh distance: out of memory");
+        return geom__diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "mesh distance: out of memory");
     }
     if (nv)
         memcpy(m->pos, positions, 3 * nv * sizeof *m->pos);

@@ -14,9 +14,9 @@ void geom_neighbors_free(geom_neighbors *nb)
         return;
     const geom_allocator *a = nb->alloc;
     size_t total = nb->offsets ? nb->offsets[nb->query_count] : 0;
-    geom_free(a, nb->offsets, (nb->query_count + 1) * sizeof *nb->offsets);
-    geom_free(a, nb->index, (nb->capacity ? nb->capacity : total) * sizeof *nb->index);
-    geom_free(a, nb->distance, (nb->capacity ? nb->capacity : total) * sizeof *nb->distance);
+    geom__free(a, nb->offsets, (nb->query_count + 1) * sizeof *nb->offsets);
+    geom__free(a, nb->index, (nb->capacity ? nb->capacity : total) * sizeof *nb->index);
+    geom__free(a, nb->distance, (nb->capacity ? nb->capacity : total) * sizeof *nb->distance);
     memset(nb, 0, sizeof *nb);
 }
 
@@ -70,11 +70,11 @@ geom_status geom__batch_rows(const geom_allocator *a, size_t nq, geom__row_fn fn
     geom_neighbors_free(out);
     out->alloc = a;
     size_t nch = (nq + CHUNK - 1) / CHUNK;
-    chunk *ch = geom_alloc(a, (nch ? nch : 1) * sizeof *ch);
-    out->offsets = geom_alloc(a, (nq + 1) * sizeof *out->offsets);
+    chunk *ch = geom__alloc(a, (nch ? nch : 1) * sizeof *ch);
+    out->offsets = geom__alloc(a, (nq + 1) * sizeof *out->offsets);
     if (!ch || !out->offsets) {
-        geom_free(a, ch, (nch ? nch : 1) * sizeof *ch);
-        geom_free(a, out->offsets, (nq + 1) * sizeof *out->offsets);
+        geom__free(a, ch, (nch ? nch : 1) * sizeof *ch);
+        geom__free(a, out->offsets, (nq + 1) * sizeof *out->offsets);
         out->offsets = NULL;
         return GEOM_ERR_NOMEM;
     }
@@ -108,9 +108,9 @@ geom_status geom__batch_rows(const geom_allocator *a, size_t nq, geom__row_fn fn
         total += ch[c].hits.n;
     }
     if (st == GEOM_OK) {
-        out->index = geom_alloc(a, (total ? total : 1) * sizeof *out->index);
+        out->index = geom__alloc(a, (total ? total : 1) * sizeof *out->index);
         if (with_dist)
-            out->distance = geom_alloc(a, (total ? total : 1) * sizeof *out->distance);
+            out->distance = geom__alloc(a, (total ? total : 1) * sizeof *out->distance);
         out->capacity = total ? total : 1;
         if (!out->index || (with_dist && !out->distance))
             st = GEOM_ERR_NOMEM;
@@ -131,12 +131,12 @@ geom_status geom__batch_rows(const geom_allocator *a, size_t nq, geom__row_fn fn
         }
     }
     for (size_t c = 0; c < nch; c++)
-        geom_free(a, ch[c].hits.h, ch[c].hits.cap * sizeof *ch[c].hits.h);
-    geom_free(a, ch, (nch ? nch : 1) * sizeof *ch);
+        geom__free(a, ch[c].hits.h, ch[c].hits.cap * sizeof *ch[c].hits.h);
+    geom__free(a, ch, (nch ? nch : 1) * sizeof *ch);
     if (st != GEOM_OK) {
-        geom_free(a, out->index, out->capacity * sizeof *out->index);
-        geom_free(a, out->distance, out->capacity * sizeof *out->distance);
-        geom_free(a, out->offsets, (nq + 1) * sizeof *out->offsets);
+        geom__free(a, out->index, out->capacity * sizeof *out->index);
+        geom__free(a, out->distance, out->capacity * sizeof *out->distance);
+        geom__free(a, out->offsets, (nq + 1) * sizeof *out->offsets);
         memset(out, 0, sizeof *out);
     }
     return st;
@@ -147,10 +147,10 @@ geom_status geom__knn_batch(const geom_allocator *a, const void *ctx, geom__knn_
                             double *distance, int threads, geom_diag *diag)
 {
     if (nq && !queries)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "kNN: NULL argument");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "kNN: NULL argument");
     size_t bad = geom__first_nonfinite(queries, nq, dim);
     if (bad < nq)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                              "kNN: query %zu has a NaN/Inf coordinate", bad);
     if (k == 0 || nq == 0)
         return GEOM_OK;
@@ -165,8 +165,8 @@ geom_status geom__knn_batch(const geom_allocator *a, const void *ctx, geom__knn_
     {
         double sd2[64];
         uint32_t sid[64];
-        double *d2 = kk <= 64 ? sd2 : geom_alloc(a, kk * sizeof *d2);
-        uint32_t *id = kk <= 64 ? sid : geom_alloc(a, kk * sizeof *id);
+        double *d2 = kk <= 64 ? sd2 : geom__alloc(a, kk * sizeof *d2);
+        uint32_t *id = kk <= 64 ? sid : geom__alloc(a, kk * sizeof *id);
         if (!d2 || !id) {
 #ifdef GEOM_SPATIAL_OPENMP
 #pragma omp atomic write
@@ -191,11 +191,11 @@ geom_status geom__knn_batch(const geom_allocator *a, const void *ctx, geom__knn_
             }
         }
         if (kk > 64) {
-            geom_free(a, d2, kk * sizeof *d2);
-            geom_free(a, id, kk * sizeof *id);
+            geom__free(a, d2, kk * sizeof *d2);
+            geom__free(a, id, kk * sizeof *id);
         }
     }
     if (st != GEOM_OK)
-        return geom_diag_set(diag, st, "", 0, 0, "kNN: out of memory");
+        return geom__diag_set(diag, st, "", 0, 0, "kNN: out of memory");
     return GEOM_OK;
 }

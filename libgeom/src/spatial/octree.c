@@ -70,13 +70,13 @@ static uint32_t new_nodes(bctx *c, uint32_t count)
         size_t nc = t->node_cap ? t->node_cap : 64;
         while (nc < t->node_count + count)
             nc *= 2;
-        geom_octree_node *p = geom_realloc(a, t->nodes, t->node_cap * sizeof *p, nc * sizeof *p);
+        geom_octree_node *p = geom__realloc(a, t->nodes, t->node_cap * sizeof *p, nc * sizeof *p);
         if (!p) {
             c->st = GEOM_ERR_NOMEM;
             return UINT32_MAX;
         }
         t->nodes = p;
-        uint64_t *q = geom_realloc(a, c->ncode, c->ncode_cap * sizeof *q, nc * sizeof *q);
+        uint64_t *q = geom__realloc(a, c->ncode, c->ncode_cap * sizeof *q, nc * sizeof *q);
         if (!q) {
             c->st = GEOM_ERR_NOMEM;
             return UINT32_MAX;
@@ -307,10 +307,10 @@ void geom_octree_destroy(geom_octree *t)
     if (!t)
         return;
     const geom_allocator *a = geom__octree_alloc(t);
-    geom_free(a, t->items, t->n * sizeof *t->items);
-    geom_free(a, t->ibox, 6 * t->n * sizeof *t->ibox);
-    geom_free(a, t->nodes, t->node_cap * sizeof *t->nodes);
-    geom_free(a, t, sizeof *t);
+    geom__free(a, t->items, t->n * sizeof *t->items);
+    geom__free(a, t->ibox, 6 * t->n * sizeof *t->ibox);
+    geom__free(a, t->nodes, t->node_cap * sizeof *t->nodes);
+    geom__free(a, t, sizeof *t);
 }
 
 static geom_status build(const src *s, size_t n, const geom_octree_options *opt, geom_octree **out,
@@ -322,10 +322,10 @@ static geom_status build(const src *s, size_t n, const geom_octree_options *opt,
         o = *opt;
     const geom_allocator *a = o.alloc;
     if (n >= UINT32_MAX)
-        return geom_diag_set(diag, GEOM_ERR_LIMIT, "", 0, 0, "tree: %zu %ss (at most 2^32-2)", n, what);
-    geom_octree *t = geom_alloc(a, sizeof *t);
+        return geom__diag_set(diag, GEOM_ERR_LIMIT, "", 0, 0, "tree: %zu %ss (at most 2^32-2)", n, what);
+    geom_octree *t = geom__alloc(a, sizeof *t);
     if (!t)
-        return geom_diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "tree: out of memory");
+        return geom__diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "tree: out of memory");
     memset(t, 0, sizeof *t);
     if (a) {
         t->alloc = *a;
@@ -345,13 +345,13 @@ static geom_status build(const src *s, size_t n, const geom_octree_options *opt,
     uint32_t *perm = NULL;
     double *box = NULL;
     geom_status st = GEOM_OK;
-    t->items = geom_alloc(a, n * sizeof *t->items);
-    t->ibox = geom_alloc(a, 6 * n * sizeof *t->ibox);
-    keys = geom_alloc(a, n * sizeof *keys);
-    perm = geom_alloc(a, n * sizeof *perm);
-    box = geom_alloc(a, 6 * n * sizeof *box);
+    t->items = geom__alloc(a, n * sizeof *t->items);
+    t->ibox = geom__alloc(a, 6 * n * sizeof *t->ibox);
+    keys = geom__alloc(a, n * sizeof *keys);
+    perm = geom__alloc(a, n * sizeof *perm);
+    box = geom__alloc(a, 6 * n * sizeof *box);
     if (!t->items || !t->ibox || !keys || !perm || !box) {
-        st = geom_diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "tree: out of memory");
+        st = geom__diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "tree: out of memory");
         goto done;
     }
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
@@ -360,7 +360,7 @@ static geom_status build(const src *s, size_t n, const geom_octree_options *opt,
         elem_box(s, i, b, b + 3);
         for (int k = 0; k < 3; k++) {
             if (!isfinite(b[k]) || !isfinite(b[3 + k])) {
-                st = geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+                st = geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                                    "tree: %s %zu has a NaN/Inf coordinate", what, i);
                 goto done;
             }
@@ -380,7 +380,7 @@ static geom_status build(const src *s, size_t n, const geom_octree_options *opt,
     if (!(side > 0))
         side = 1;
     if (!isfinite(side)) {
-        st = geom_diag_set(diag, GEOM_ERR_DOMAIN, "", 0, 0, "tree: extent overflows a double");
+        st = geom__diag_set(diag, GEOM_ERR_DOMAIN, "", 0, 0, "tree: extent overflows a double");
         goto done;
     }
     for (int k = 0; k < 3; k++)
@@ -425,7 +425,7 @@ static geom_status build(const src *s, size_t n, const geom_octree_options *opt,
         }
     }
     if (geom__radix_sort64(a, keys, perm, n) != GEOM_OK) {
-        st = geom_diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "tree: out of memory");
+        st = geom__diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "tree: out of memory");
         goto done;
     }
     for (size_t i = 0; i < n; i++) {
@@ -445,12 +445,12 @@ static geom_status build(const src *s, size_t n, const geom_octree_options *opt,
     t = NULL;
     goto done;
 nomem:
-    st = geom_diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "tree: out of memory");
+    st = geom__diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "tree: out of memory");
 done:
-    geom_free(a, c.ncode, c.ncode_cap * sizeof *c.ncode);
-    geom_free(a, keys, n * sizeof *keys);
-    geom_free(a, perm, n * sizeof *perm);
-    geom_free(a, box, 6 * n * sizeof *box);
+    geom__free(a, c.ncode, c.ncode_cap * sizeof *c.ncode);
+    geom__free(a, keys, n * sizeof *keys);
+    geom__free(a, perm, n * sizeof *perm);
+    geom__free(a, box, 6 * n * sizeof *box);
     geom_octree_destroy(t);
     return st;
 }
@@ -461,7 +461,7 @@ geom_status geom_octree_build_points(const double *points, size_t n, int dim,
     if (out)
         *out = NULL;
     if (!out || (n && !points) || (dim != 2 && dim != 3))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                              "tree: NULL argument or dimension %d (2 or 3)", dim);
     src s = {points, NULL, 1, dim};
     return build(&s, n, opt, out, diag, "point");
@@ -472,7 +472,7 @@ static geom_status check_idx(const uint32_t *idx, size_t m, size_t nv, int per, 
 {
     for (size_t i = 0; i < (size_t)per * m; i++)
         if (idx[i] >= nv)
-            return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+            return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                                  "tree: %s %zu: vertex index %u out of range (%zu vertices)", what,
                                  i / (size_t)per, idx[i], nv);
     return GEOM_OK;
@@ -485,7 +485,7 @@ geom_status geom_octree_build_segments(const double *positions, size_t nv, const
     if (out)
         *out = NULL;
     if (!out || (ns && (!positions || !segs)))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "tree: NULL argument");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "tree: NULL argument");
     geom_status st = check_idx(segs, ns, nv, 2, "segment", diag);
     if (st != GEOM_OK)
         return st;
@@ -500,7 +500,7 @@ geom_status geom_octree_build_triangles(const double *positions, size_t nv, cons
     if (out)
         *out = NULL;
     if (!out || (nt && (!positions || !tris)))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "tree: NULL argument");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "tree: NULL argument");
     geom_status st = check_idx(tris, nt, nv, 3, "triangle", diag);
     if (st != GEOM_OK)
         return st;

@@ -55,7 +55,7 @@ geom_status geom_octree_knn(const geom_octree *t, const double *queries, size_t 
                             uint32_t *index, double *distance, int threads, geom_diag *diag)
 {
     if (!t || !t->points)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                              "kNN: NULL tree or a tree of elements (kNN needs points)");
     return geom__knn_batch(geom__octree_alloc(t), t, knn_one, t->dim, t->n, queries, nq, k, index,
                            distance, threads, diag);
@@ -107,14 +107,14 @@ geom_status geom_octree_radius(const geom_octree *t, const double *queries, size
                                geom_neighbors *out, int threads, geom_diag *diag)
 {
     if (!t || !t->points || !out || (nq && !queries))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                              "radius query: NULL argument or a tree of elements");
     if (!(r >= 0) || !isfinite(r))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                              "radius query: radius %g (must be finite and >= 0)", r);
     size_t bad = geom__first_nonfinite(queries, nq, t->dim);
     if (bad < nq)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                              "radius query: query %zu has a NaN/Inf coordinate", bad);
     qctx c;
     memset(&c, 0, sizeof c);
@@ -124,7 +124,7 @@ geom_status geom_octree_radius(const geom_octree *t, const double *queries, size
     c.r2b = geom__r2_bound(r);
     geom_status st = geom__batch_rows(geom__octree_alloc(t), nq, radius_row, &c, threads, 1, out);
     if (st != GEOM_OK)
-        return geom_diag_set(diag, st, "", 0, 0, "radius query: out of memory");
+        return geom__diag_set(diag, st, "", 0, 0, "radius query: out of memory");
     return GEOM_OK;
 }
 

@@ -8,11 +8,11 @@ geom_status geom__radix_sort64(const geom_allocator *a, uint64_t *keys, uint32_t
 {
     if (n < 2)
         return GEOM_OK;
-    uint64_t *k2 = geom_alloc(a, n * sizeof *k2);
-    uint32_t *v2 = geom_alloc(a, n * sizeof *v2);
+    uint64_t *k2 = geom__alloc(a, n * sizeof *k2);
+    uint32_t *v2 = geom__alloc(a, n * sizeof *v2);
     if (!k2 || !v2) {
-        geom_free(a, k2, n * sizeof *k2);
-        geom_free(a, v2, n * sizeof *v2);
+        geom__free(a, k2, n * sizeof *k2);
+        geom__free(a, v2, n * sizeof *v2);
         return GEOM_ERR_NOMEM;
     }
     /* Skip the 16-bit digits in which all keys agree. */
@@ -25,10 +25,10 @@ geom_status geom__radix_sort64(const geom_allocator *a, uint64_t *keys, uint32_t
     uint64_t *src_k = keys, *dst_k = k2;
     uint32_t *src_v = vals, *dst_v = v2;
     static const size_t radix = 1u << 16;
-    size_t *count = geom_alloc(a, radix * sizeof *count);
+    size_t *count = geom__alloc(a, radix * sizeof *count);
     if (!count) {
-        geom_free(a, k2, n * sizeof *k2);
-        geom_free(a, v2, n * sizeof *v2);
+        geom__free(a, k2, n * sizeof *k2);
+        geom__free(a, v2, n * sizeof *v2);
         return GEOM_ERR_NOMEM;
     }
     for (int shift = 0; shift < 64; shift += 16) {
@@ -59,8 +59,8 @@ geom_status geom__radix_sort64(const geom_allocator *a, uint64_t *keys, uint32_t
         memcpy(keys, src_k, n * sizeof *keys);
         memcpy(vals, src_v, n * sizeof *vals);
     }
-    geom_free(a, count, radix * sizeof *count);
-    geom_free(a, k2, n * sizeof *k2);
-    geom_free(a, v2, n * sizeof *v2);
+    geom__free(a, count, radix * sizeof *count);
+    geom__free(a, k2, n * sizeof *k2);
+    geom__free(a, v2, n * sizeof *v2);
     return GEOM_OK;
 }

@@ -128,7 +128,7 @@ static inline int geom__hits_push(geom__hits *hs, uint32_t idx, double d2)
 {
     if (hs->n == hs->cap) {
         size_t nc = hs->cap ? 2 * hs->cap : 64;
-        geom__hit *p = geom_realloc(hs->a, hs->h, hs->cap * sizeof *p, nc * sizeof *p);
+        geom__hit *p = geom__realloc(hs->a, hs->h, hs->cap * sizeof *p, nc * sizeof *p);
         if (!p)
             return -1;
         hs->h = p;

@@ -147,12 +147,12 @@ static int heap_push(side_state *s, double term, double val, uint32_t node)
     if (s->n == s->cap) {
         const geom_allocator *a = s->m->has_alloc ? &s->m->alloc : NULL;
         size_t nc = 2 * s->cap;
-        heap_item *p = geom_alloc(a, nc * sizeof *p);
+        heap_item *p = geom__alloc(a, nc * sizeof *p);
         if (!p)
             return -1;
         memcpy(p, s->h, s->n * sizeof *p);
         if (s->on_heap)
-            geom_free(a, s->h, s->cap * sizeof *p);
+            geom__free(a, s->h, s->cap * sizeof *p);
         s->h = p;
         s->cap = nc;
         s->on_heap = 1;
@@ -298,7 +298,7 @@ static int sd_side(const geom_meshdist *m, const double q[3], double *err, size_
     *err = side_bound(&s);
     *work = s.ops;
     if (s.on_heap)
-        geom_free(m->has_alloc ? &m->alloc : NULL, s.h, s.cap * sizeof *s.h);
+        geom__free(m->has_alloc ? &m->alloc : NULL, s.h, s.cap * sizeof *s.h);
     return res;
 }
 
@@ -306,10 +306,10 @@ static geom_status run(const geom_meshdist *m, const double *queries, size_t nq,
                        int sd, geom_error_report *report, int threads, geom_diag *diag)
 {
     if (!m || !out || (nq && !queries))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "winding number: NULL argument");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "winding number: NULL argument");
     size_t bad = geom__first_nonfinite(queries, nq, 3);
     if (bad < nq)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                              "winding number: query %zu has a NaN/Inf coordinate", bad);
     /* Signed distance: the distances first, through the batch closest-point
      * query (Morton-ordered); the signs are applied below. */
@@ -326,12 +326,12 @@ static geom_status run(const geom_meshdist *m, const double *queries, size_t nq,
     (void)nth;
     /* Per-query errors go to out-of-band storage so the reduction is in
      * query order (max and sum are then thread-count independent). */
-    double *errs = report ? geom_alloc(m->has_alloc ? &m->alloc : NULL, (nq ? nq : 1) * sizeof *errs) : NULL;
-    size_t *works = report ? geom_alloc(m->has_alloc ? &m->alloc : NULL, (nq ? nq : 1) * sizeof *works) : NULL;
+    double *errs = report ? geom__alloc(m->has_alloc ? &m->alloc : NULL, (nq ? nq : 1) * sizeof *errs) : NULL;
+    size_t *works = report ? geom__alloc(m->has_alloc ? &m->alloc : NULL, (nq ? nq : 1) * sizeof *works) : NULL;
     if (report && (!errs || !works)) {
-        geom_free(m->has_alloc ? &m->alloc : NULL, errs, (nq ? nq : 1) * sizeof *errs);
-        geom_free(m->has_alloc ? &m->alloc : NULL, works, (nq ? nq : 1) * sizeof *works);
-        return geom_diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "winding number: out of memory");
+        geom__free(m->has_alloc ? &m->alloc : NULL, errs, (nq ? nq : 1) * sizeof *errs);
+        geom__free(m->has_alloc ? &m->alloc : NULL, works, (nq ? nq : 1) * sizeof *works);
+        return geom__diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "winding number: out of memory");
     }
 #ifdef GEOM_SPATIAL_OPENMP
 #pragma omp parallel for schedule(dynamic, 64) num_threads(nth) if (nq > 64)
@@ -375,10 +375,10 @@ static geom_status run(const geom_meshdist *m, const double *queries, size_t nq,
     }
     if (nomem) {
         if (report) {
-            geom_free(m->has_alloc ? &m->alloc : NULL, errs, (nq ? nq : 1) * sizeof *errs);
-            geom_free(m->has_alloc ? &m->alloc : NULL, works, (nq ? nq : 1) * sizeof *works);
+            geom__free(m->has_alloc ? &m->alloc : NULL, errs, (nq ? nq : 1) * sizeof *errs);
+            geom__free(m->has_alloc ? &m->alloc : NULL, works, (nq ? nq : 1) * sizeof *works);
         }
-        return geom_diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "signed distance: out of memory");
+        return geom__diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "signed distance: out of memory");
     }
     if (report) {
         for (size_t i = 0; i < nq; i++) {
@@ -391,8 +391,8 @@ static geom_status run(const geom_meshdist *m, const double *queries, size_t nq,
         report->mean_error = nq ? esum / (double)nq : 0.0;
         report->method = GEOM_ERROR_BOUND;
         report->evaluations = work;
-        geom_free(m->has_alloc ? &m->alloc : NULL, errs, (nq ? nq : 1) * sizeof *errs);
-        geom_free(m->has_alloc ? &m->alloc : NULL, works, (nq ? nq : 1) * sizeof *works);
+        geom__free(m->has_alloc ? &m->alloc : NULL, errs, (nq ? nq : 1) * sizeof *errs);
+        geom__free(m->has_alloc ? &m->alloc : NULL, works, (nq ? nq : 1) * sizeof *works);
     }
     return GEOM_OK;
 }

@@ -17,10 +17,10 @@ static geom_status grow(const geom_allocator *a, void **p, size_t *cap, size_t n
 
 void geom__cdt_free(geom__cdt *c)
 {
-    geom_free(c->a, c->xy, c->capp * 2 * sizeof(double));
-    geom_free(c->a, c->tri, c->capt * sizeof(geom__cdt_tri));
-    geom_free(c->a, c->stack, c->capstack * sizeof(int32_t));
-    geom_free(c->a, c->mark, c->capmark * sizeof(uint32_t));
+    geom__free(c->a, c->xy, c->capp * 2 * sizeof(double));
+    geom__free(c->a, c->tri, c->capt * sizeof(geom__cdt_tri));
+    geom__free(c->a, c->stack, c->capstack * sizeof(int32_t));
+    geom__free(c->a, c->mark, c->capmark * sizeof(uint32_t));
     memset(c, 0, sizeof *c);
 }
 

@@ -61,7 +61,7 @@ static geom_status bad(mapper *M, uint32_t e, const char *fmt, const char *a1)
     const geom__p21_entity *E = &M->p->ents[e];
     char msg[160];
     snprintf(msg, sizeof msg, fmt, a1 ? a1 : "");
-    return geom_diag_set(M->diag, GEOM_ERR_PARSE, M->p->source, E->line, E->column, "#%llu %s: %s",
+    return geom__diag_set(M->diag, GEOM_ERR_PARSE, M->p->source, E->line, E->column, "#%llu %s: %s",
                          (unsigned long long)E->id, geom__p21_type(M->p, e), msg);
 }
 
@@ -73,7 +73,7 @@ static geom_status note(mapper *M, uint32_t e, const char *reason)
         return GEOM_OK;
     if (b->nissues > M->capissues) {
         size_t nc = MAX_ISSUES;
-        geom_brep_issue *q = geom_realloc(M->a, b->issues, M->capissues * sizeof *q, nc * sizeof *q);
+        geom_brep_issue *q = geom__realloc(M->a, b->issues, M->capissues * sizeof *q, nc * sizeof *q);
         if (!q)
             return GEOM_ERR_NOMEM;
         b->issues = q;
@@ -299,7 +299,7 @@ static geom_status knots_from(mapper *M, uint32_t e, const geom__p21_value *vm,
     }
     if (total != need)
         return bad(M, e, "knot multiplicities do not add up to points + degree + 1%s", NULL);
-    double *kn = geom_alloc(M->a, need * sizeof *kn);
+    double *kn = geom__alloc(M->a, need * sizeof *kn);
     if (!kn)
         return GEOM_ERR_NOMEM;
     size_t j = 0;
@@ -307,7 +307,7 @@ static geom_status knots_from(mapper *M, uint32_t e, const geom__p21_value *vm,
         double m = 1, x;
         as_real(M, &lm[k], &m);
         if (!as_real(M, &lk[k], &x) || !isfinite(x)) {
-            geom_free(M->a, kn, need * sizeof *kn);
+            geom__free(M->a, kn, need * sizeof *kn);
             return bad(M, e, "knot is not a number%s", NULL);
         }
         for (int r = 0; r < (int)m; r++)
@@ -321,9 +321,9 @@ static void free_curve(const geom_allocator *a, geom_brep_curve *c)
 {
     if (c->type != GEOM_BREP_CURVE_NURBS)
         return;
-    geom_free(a, (void *)c->nurbs.knots, c->nknots * sizeof(double));
-    geom_free(a, (void *)c->nurbs.points, c->nurbs.n * c->nurbs.dim * sizeof(double));
-    geom_free(a, (void *)c->nurbs.weights, c->nurbs.n * sizeof(double));
+    geom__free(a, (void *)c->nurbs.knots, c->nknots * sizeof(double));
+    geom__free(a, (void *)c->nurbs.points, c->nurbs.n * c->nurbs.dim * sizeof(double));
+    geom__free(a, (void *)c->nurbs.weights, c->nurbs.n * sizeof(double));
     c->nurbs.knots = c->nurbs.points = c->nurbs.weights = NULL;
 }
 
@@ -357,9 +357,9 @@ static geom_status bspline_curve(mapper *M, uint32_t e, int dim2, geom_brep_curv
     geom_status st = knots_from(M, e, arg(M, pb, koff), arg(M, pb, koff + 1), need, &kn);
     if (st)
         return st;
-    P = geom_alloc(M->a, (size_t)n * c->dim * sizeof *P);
+    P = geom__alloc(M->a, (size_t)n * c->dim * sizeof *P);
     if (!P) {
-        geom_free(M->a, kn, need * sizeof *kn);
+        geom__free(M->a, kn, need * sizeof *kn);
         return GEOM_ERR_NOMEM;
     }
     c->nurbs.degree = (int)deg;
@@ -387,7 +387,7 @@ static geom_status bspline_curve(mapper *M, uint32_t e, int dim2, geom_brep_curv
     if (!st && pr) {
         uint32_t nw;
         const geom__p21_value *lw = as_list(M, arg(M, pr, 0), &nw);
-        W = geom_alloc(M->a, (size_t)n * sizeof *W);
+        W = geom__alloc(M->a, (size_t)n * sizeof *W);
         if (!W)
             st = GEOM_ERR_NOMEM;
         else if (!lw || nw != n)
@@ -506,8 +506,8 @@ static geom_status map_curve_(mapper *M, uint32_t e, int dim2, uint32_t *out, in
         c.nurbs.n = n;
         c.nurbs.dim = (size_t)c.dim;
         c.nknots = (size_t)n + 2;
-        double *kn = geom_alloc(M->a, c.nknots * sizeof *kn);
-        double *P = geom_alloc(M->a, (size_t)n * c.nurbs.dim * sizeof *P);
+        double *kn = geom__alloc(M->a, c.nknots * sizeof *kn);
+        double *P = geom__alloc(M->a, (size_t)n * c.nurbs.dim * sizeof *P);
         c.nurbs.knots = kn;
         c.nurbs.points = P;
         if (!kn || !P) {
@@ -555,10 +555,10 @@ static void free_surface(const geom_allocator *a, geom_brep_surface *s)
     if (s->type != GEOM_BREP_SURFACE_NURBS)
         return;
     const geom_nurbs_surface *n = &s->nurbs;
-    geom_free(a, (void *)n->knots_u, (n->nu + (size_t)n->degree_u + 1) * sizeof(double));
-    geom_free(a, (void *)n->knots_v, (n->nv + (size_t)n->degree_v + 1) * sizeof(double));
-    geom_free(a, (void *)n->points, 3 * n->nu * n->nv * sizeof(double));
-    geom_free(a, (void *)n->weights, n->nu * n->nv * sizeof(double));
+    geom__free(a, (void *)n->knots_u, (n->nu + (size_t)n->degree_u + 1) * sizeof(double));
+    geom__free(a, (void *)n->knots_v, (n->nv + (size_t)n->degree_v + 1) * sizeof(double));
+    geom__free(a, (void *)n->points, 3 * n->nu * n->nv * sizeof(double));
+    geom__free(a, (void *)n->weights, n->nu * n->nv * sizeof(double));
     s->nurbs.knots_u = s->nurbs.knots_v = s->nurbs.points = s->nurbs.weights = NULL;
 }
 
@@ -582,7 +582,7 @@ static geom_status bspline_surface(mapper *M, uint32_t e, geom_brep_surface *s)
     if (!r0 || nv < (uint32_t)dv + 1)
         return bad(M, e, "bad control point rows%s", NULL);
     size_t np;
-    if (geom_size_mul(nu, nv, &np) || np > ((size_t)1 << 24))
+    if (geom__size_mul(nu, nv, &np) || np > ((size_t)1 << 24))
         return bad(M, e, "too many control points%s", NULL);
     uint32_t koff = pc ? 0 : 8;
     memset(s, 0, sizeof *s);
@@ -601,7 +601,7 @@ static geom_status bspline_surface(mapper *M, uint32_t e, geom_brep_surface *s)
     st = knots_from(M, e, arg(M, pb, koff + 1), arg(M, pb, koff + 3), nv + (size_t)dv + 1, &kv);
     n->knots_v = kv;
     if (!st) {
-        P = geom_alloc(M->a, 3 * np * sizeof *P);
+        P = geom__alloc(M->a, 3 * np * sizeof *P);
         n->points = P;
         if (!P)
             st = GEOM_ERR_NOMEM;
@@ -623,7 +623,7 @@ static geom_status bspline_surface(mapper *M, uint32_t e, geom_brep_surface *s)
     if (!st && pr) {
         uint32_t m;
         const geom__p21_value *wr = as_list(M, arg(M, pr, 0), &m);
-        W = geom_alloc(M->a, np * sizeof *W);
+        W = geom__alloc(M->a, np * sizeof *W);
         n->weights = W;
         if (!W)
             st = GEOM_ERR_NOMEM;
@@ -1429,7 +1429,7 @@ static geom_status emit(mapper *M, walker *W, uint32_t body, const xform *X, dou
             return GEOM_OK;
     if (W->nem >= W->capem) {
         size_t nc = W->capem ? 2 * W->capem : 16;
-        emitted *q = geom_realloc(M->a, W->em, W->capem * sizeof *q, nc * sizeof *q);
+        emitted *q = geom__realloc(M->a, W->em, W->capem * sizeof *q, nc * sizeof *q);
         if (!q)
             return GEOM_ERR_NOMEM;
         W->em = q;
@@ -1534,9 +1534,9 @@ static geom_status assemble(mapper *M)
         if (geom__p21_part(p, (uint32_t)e, "REPRESENTATION_RELATIONSHIP") ||
             geom__p21_part(p, (uint32_t)e, "SHAPE_REPRESENTATION_RELATIONSHIP"))
             nrel++;
-    W.rels = geom_alloc(M->a, (nrel ? nrel : 1) * sizeof *W.rels);
-    uint8_t *child = geom_alloc(M->a, p->nents ? p->nents : 1);
-    uint8_t *parent = geom_alloc(M->a, p->nents ? p->nents : 1);
+    W.rels = geom__alloc(M->a, (nrel ? nrel : 1) * sizeof *W.rels);
+    uint8_t *child = geom__alloc(M->a, p->nents ? p->nents : 1);
+    uint8_t *parent = geom__alloc(M->a, p->nents ? p->nents : 1);
     if (!W.rels || !child || !parent) {
         st = GEOM_ERR_NOMEM;
         goto done;
@@ -1607,7 +1607,7 @@ static geom_status assemble(mapper *M)
                     if (!seen)
                         st = emit(M, &W, W2.em[k].body, &W2.em[k].X, W2.em[k].scale);
                 }
-                geom_free(M->a, W2.em, W2.capem * sizeof *W2.em);
+                geom__free(M->a, W2.em, W2.capem * sizeof *W2.em);
             }
         }
     }
@@ -1636,10 +1636,10 @@ static geom_status assemble(mapper *M)
         st = map_body(M, W.em[k].body);
     }
 done:
-    geom_free(M->a, W.rels, (nrel ? nrel : 1) * sizeof *W.rels);
-    geom_free(M->a, W.em, W.capem * sizeof *W.em);
-    geom_free(M->a, child, p->nents ? p->nents : 1);
-    geom_free(M->a, parent, p->nents ? p->nents : 1);
+    geom__free(M->a, W.rels, (nrel ? nrel : 1) * sizeof *W.rels);
+    geom__free(M->a, W.em, W.capem * sizeof *W.em);
+    geom__free(M->a, child, p->nents ? p->nents : 1);
+    geom__free(M->a, parent, p->nents ? p->nents : 1);
     return st;
 }
 
@@ -1663,19 +1663,19 @@ GEOM_API void geom_step_destroy(geom_brep *b)
         free_surface(a, &b->surfaces[k]);
     size_t *cap = in ? in->cap : NULL;
     if (cap) {
-        geom_free(a, b->solids, cap[A_SOLID] * sizeof *b->solids);
-        geom_free(a, b->shells, cap[A_SHELL] * sizeof *b->shells);
-        geom_free(a, b->faces, cap[A_FACE] * sizeof *b->faces);
-        geom_free(a, b->loops, cap[A_LOOP] * sizeof *b->loops);
-        geom_free(a, b->coedges, cap[A_COEDGE] * sizeof *b->coedges);
-        geom_free(a, b->edges, cap[A_EDGE] * sizeof *b->edges);
-        geom_free(a, b->vertices, cap[A_VERTEX] * sizeof *b->vertices);
-        geom_free(a, b->curves, cap[A_CURVE] * sizeof *b->curves);
-        geom_free(a, b->surfaces, cap[A_SURFACE] * sizeof *b->surfaces);
-        geom_free(a, b->issues, in->capissues * sizeof *b->issues);
+        geom__free(a, b->solids, cap[A_SOLID] * sizeof *b->solids);
+        geom__free(a, b->shells, cap[A_SHELL] * sizeof *b->shells);
+        geom__free(a, b->faces, cap[A_FACE] * sizeof *b->faces);
+        geom__free(a, b->loops, cap[A_LOOP] * sizeof *b->loops);
+        geom__free(a, b->coedges, cap[A_COEDGE] * sizeof *b->coedges);
+        geom__free(a, b->edges, cap[A_EDGE] * sizeof *b->edges);
+        geom__free(a, b->vertices, cap[A_VERTEX] * sizeof *b->vertices);
+        geom__free(a, b->curves, cap[A_CURVE] * sizeof *b->curves);
+        geom__free(a, b->surfaces, cap[A_SURFACE] * sizeof *b->surfaces);
+        geom__free(a, b->issues, in->capissues * sizeof *b->issues);
     }
-    geom_free(a, in, sizeof *in);
-    geom_free(a, b, sizeof *b);
+    geom__free(a, in, sizeof *in);
+    geom__free(a, b, sizeof *b);
 }
 
 GEOM_API geom_status geom_step_read_memory(const void *data, size_t size, const char *source_name,
@@ -1685,7 +1685,7 @@ GEOM_API geom_status geom_step_read_memory(const void *data, size_t size, const 
     if (out)
         *out = NULL;
     if (!out || (!data && size))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, source_name ? source_name : "", 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, source_name ? source_name : "", 0, 0,
                              "NULL argument");
     geom_step_read_options o;
     memset(&o, 0, sizeof o);
@@ -1698,18 +1698,18 @@ GEOM_API geom_status geom_step_read_memory(const void *data, size_t size, const 
                                      o.max_depth, o.alloc, diag);
     if (st)
         return st;
-    geom_brep *b = geom_alloc(o.alloc, sizeof *b);
-    brep_internal *in = geom_alloc(o.alloc, sizeof *in);
+    geom_brep *b = geom__alloc(o.alloc, sizeof *b);
+    brep_internal *in = geom__alloc(o.alloc, sizeof *in);
     size_t nb = p.nents ? p.nents : 1;
-    uint32_t *memo = geom_alloc(o.alloc, nb * sizeof *memo);
-    uint32_t *stamp = geom_alloc(o.alloc, nb * sizeof *stamp);
+    uint32_t *memo = geom__alloc(o.alloc, nb * sizeof *memo);
+    uint32_t *stamp = geom__alloc(o.alloc, nb * sizeof *stamp);
     if (!b || !in || !memo || !stamp) {
-        geom_free(o.alloc, b, sizeof *b);
-        geom_free(o.alloc, in, sizeof *in);
-        geom_free(o.alloc, memo, nb * sizeof *memo);
-        geom_free(o.alloc, stamp, nb * sizeof *stamp);
+        geom__free(o.alloc, b, sizeof *b);
+        geom__free(o.alloc, in, sizeof *in);
+        geom__free(o.alloc, memo, nb * sizeof *memo);
+        geom__free(o.alloc, stamp, nb * sizeof *stamp);
         geom__p21_free(&p);
-        return geom_diag_set(diag, GEOM_ERR_NOMEM, p.source, 0, 0, "out of memory");
+        return geom__diag_set(diag, GEOM_ERR_NOMEM, p.source, 0, 0, "out of memory");
     }
     memset(b, 0, sizeof *b);
     memset(in, 0, sizeof *in);
@@ -1739,11 +1739,11 @@ GEOM_API geom_status geom_step_read_memory(const void *data, size_t size, const 
     memcpy(in->cap, M.cap, sizeof M.cap);
     in->capissues = M.capissues;
     if (st == GEOM_ERR_NOMEM && diag && diag->status != GEOM_ERR_NOMEM)
-        geom_diag_set(diag, st, p.source, 0, 0, "out of memory");
+        geom__diag_set(diag, st, p.source, 0, 0, "out of memory");
     if (st == GEOM_ERR_DOMAIN)
-        st = geom_diag_set(diag, GEOM_ERR_PARSE, p.source, 0, 0, "unsupported geometry");
-    geom_free(o.alloc, memo, nb * sizeof *memo);
-    geom_free(o.alloc, stamp, nb * sizeof *stamp);
+        st = geom__diag_set(diag, GEOM_ERR_PARSE, p.source, 0, 0, "unsupported geometry");
+    geom__free(o.alloc, memo, nb * sizeof *memo);
+    geom__free(o.alloc, stamp, nb * sizeof *stamp);
     geom__p21_free(&p);
     if (st) {
         geom_step_destroy(b);
@@ -1759,22 +1759,22 @@ GEOM_API geom_status geom_step_read(const char *path, const geom_step_read_optio
     if (out)
         *out = NULL;
     if (!path || !out)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "NULL argument");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "NULL argument");
     FILE *f = fopen(path, "rb");
     if (!f)
-        return geom_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "cannot open: %s", strerror(errno));
+        return geom__diag_set(diag, GEOM_ERR_IO, path, 0, 0, "cannot open: %s", strerror(errno));
     const geom_allocator *a = options ? options->alloc : NULL;
     size_t cap = 1 << 16, n = 0;
-    char *buf = geom_alloc(a, cap);
+    char *buf = geom__alloc(a, cap);
     geom_status st = buf ? GEOM_OK : GEOM_ERR_NOMEM;
     size_t limit = options && options->max_bytes ? options->max_bytes : ((size_t)1 << 30);
     while (!st) {
         if (n == cap) {
             if (cap > limit) {
-                st = geom_diag_set(diag, GEOM_ERR_LIMIT, path, 0, 0, "file larger than the limit");
+                st = geom__diag_set(diag, GEOM_ERR_LIMIT, path, 0, 0, "file larger than the limit");
                 break;
             }
-            char *q = geom_realloc(a, buf, cap, 2 * cap);
+            char *q = geom__realloc(a, buf, cap, 2 * cap);
             if (!q) {
                 st = GEOM_ERR_NOMEM;
                 break;
@@ -1786,13 +1786,13 @@ GEOM_API geom_status geom_step_read(const char *path, const geom_step_read_optio
         n += r;
         if (r == 0) {
             if (ferror(f))
-                st = geom_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "read error");
+                st = geom__diag_set(diag, GEOM_ERR_IO, path, 0, 0, "read error");
             break;
         }
     }
     fclose(f);
     if (!st)
         st = geom_step_read_memory(buf, n, path, options, out, diag);
-    geom_free(a, buf, cap);
+    geom__free(a, buf, cap);
     return st;
 }

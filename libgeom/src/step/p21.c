@@ -38,7 +38,7 @@ static geom_status err(lexer *L, geom_status st, const char *fmt, const char *ar
 {
     char msg[GEOM_DIAG_MESSAGE_MAX];
     snprintf(msg, sizeof msg, fmt, arg ? arg : "");
-    return geom_diag_set(L->diag, st, L->p->source, L->line, L->col, "%s", msg);
+    return geom__diag_set(L->diag, st, L->p->source, L->line, L->col, "%s", msg);
 }
 
 static int peekc(const lexer *L)
@@ -95,7 +95,7 @@ static geom_status pool_add(geom__p21 *p, const char *s, size_t len, uint64_t *o
         return GEOM_ERR_LIMIT;
     while (p->npool + len + 1 > p->cappool) {
         size_t nc = p->cappool ? 2 * p->cappool : 4096;
-        char *q = geom_realloc(p->alloc, p->pool, p->cappool, nc);
+        char *q = geom__realloc(p->alloc, p->pool, p->cappool, nc);
         if (!q)
             return GEOM_ERR_NOMEM;
         p->pool = q;
@@ -159,7 +159,7 @@ static geom_status put_utf8(lexer *L, char **buf, size_t *len, size_t *cap, uint
 {
     if (*len + 4 >= *cap) {
         size_t nc = *cap ? 2 * *cap : 256;
-        char *q = geom_realloc(L->p->alloc, *buf, *cap, nc);
+        char *q = geom__realloc(L->p->alloc, *buf, *cap, nc);
         if (!q)
             return GEOM_ERR_NOMEM;
         *buf = q;
@@ -309,7 +309,7 @@ static geom_status string_lit(lexer *L, uint64_t *off, uint32_t *outlen)
             st = pool_add(L->p, buf ? buf : "", len, off);
         *outlen = (uint32_t)len;
     }
-    geom_free(L->p->alloc, buf, cap);
+    geom__free(L->p->alloc, buf, cap);
     return st;
 }
 
@@ -350,7 +350,7 @@ static geom_status list(lexer *L, int depth)
         return err(L, GEOM_ERR_LIMIT, "too many parameter values%s", NULL);
     while (p->nvals + cnt > p->capvals) {
         size_t nc = p->capvals ? 2 * p->capvals : 1024;
-        geom__p21_value *q = geom_realloc(p->alloc, p->vals, p->capvals * sizeof *q, nc * sizeof *q);
+        geom__p21_value *q = geom__realloc(p->alloc, p->vals, p->capvals * sizeof *q, nc * sizeof *q);
         if (!q)
             return GEOM_ERR_NOMEM;
         p->vals = q;
@@ -768,12 +768,12 @@ geom_status geom__p21_parse(geom__p21 *p, const char *text, size_t size, const c
     L.diag = diag;
     L.max_depth = max_depth > 0 ? max_depth : 64;
     if (size > (max_bytes ? max_bytes : ((size_t)1 << 30)))
-        return geom_diag_set(diag, GEOM_ERR_LIMIT, p->source, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_LIMIT, p->source, 0, 0,
                              "input of %zu bytes exceeds the limit", size);
     geom_status st = parse_all(&L);
     if (st != GEOM_OK && diag && diag->status != st)
-        geom_diag_set(diag, st, p->source, L.line, L.col, "%s", geom_status_str(st));
-    geom_free(alloc, L.tmp, L.captmp * sizeof *L.tmp);
+        geom__diag_set(diag, st, p->source, L.line, L.col, "%s", geom_status_str(st));
+    geom__free(alloc, L.tmp, L.captmp * sizeof *L.tmp);
     if (st != GEOM_OK)
         geom__p21_free(p);
     return st;
@@ -782,10 +782,10 @@ geom_status geom__p21_parse(geom__p21 *p, const char *text, size_t size, const c
 void geom__p21_free(geom__p21 *p)
 {
     const geom_allocator *a = p->alloc;
-    geom_free(a, p->vals, p->capvals * sizeof *p->vals);
-    geom_free(a, p->parts, p->capparts * sizeof *p->parts);
-    geom_free(a, p->ents, p->capents * sizeof *p->ents);
-    geom_free(a, p->pool, p->cappool);
+    geom__free(a, p->vals, p->capvals * sizeof *p->vals);
+    geom__free(a, p->parts, p->capparts * sizeof *p->parts);
+    geom__free(a, p->ents, p->capents * sizeof *p->ents);
+    geom__free(a, p->pool, p->cappool);
     geom__hindex_free(&p->hash, a);
     memset(p, 0, sizeof *p);
     p->alloc = a;

@@ -26,7 +26,7 @@ static geom_status bpush(const geom_allocator *a, buf *b, const void *x)
 
 static void bfree(const geom_allocator *a, buf *b)
 {
-    geom_free(a, b->p, b->cap * b->elem);
+    geom__free(a, b->p, b->cap * b->elem);
     b->p = NULL;
     b->n = b->cap = 0;
 }
@@ -950,13 +950,13 @@ GEOM_API geom_status geom_step_tessellate(const geom_brep *b, const geom_brep_te
                                           geom_diag *diag)
 {
     if (!b || !out)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "NULL argument");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "NULL argument");
     geom_brep_tess_options o;
     memset(&o, 0, sizeof o);
     if (options)
         o = *options;
     if (o.tolerance < 0 || !isfinite(o.tolerance) || o.angle_degrees < 0 || !isfinite(o.angle_degrees))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                              "tolerance and angle must be finite and >= 0");
     double t_start = now();
     tess T;
@@ -984,8 +984,8 @@ GEOM_API geom_status geom_step_tessellate(const geom_brep *b, const geom_brep_te
     }
     geom_status st = GEOM_OK;
     size_t ne = b->nedges ? b->nedges : 1;
-    T.efirst = geom_alloc(T.a, ne * sizeof(size_t));
-    T.ecount = geom_alloc(T.a, ne * sizeof(size_t));
+    T.efirst = geom__alloc(T.a, ne * sizeof(size_t));
+    T.ecount = geom__alloc(T.a, ne * sizeof(size_t));
     if (!T.efirst || !T.ecount)
         st = GEOM_ERR_NOMEM;
     for (size_t k = 0; k < b->nvertices && !st; k++) {
@@ -1000,11 +1000,11 @@ GEOM_API geom_status geom_step_tessellate(const geom_brep *b, const geom_brep_te
      * split those edge pieces (for both faces of the edge) and mesh again
      * the faces that use a split edge; the others keep their triangles */
     size_t nf = b->nfaces ? b->nfaces : 1;
-    buf *ftris = geom_alloc(T.a, nf * sizeof *ftris), *ftuv = geom_alloc(T.a, nf * sizeof *ftuv);
-    geom_brep_face_report *frs = geom_alloc(T.a, nf * sizeof *frs);
-    double *fsum = geom_alloc(T.a, nf * sizeof *fsum);
-    size_t *fcnt = geom_alloc(T.a, nf * sizeof *fcnt);
-    uint8_t *changed = geom_alloc(T.a, ne);
+    buf *ftris = geom__alloc(T.a, nf * sizeof *ftris), *ftuv = geom__alloc(T.a, nf * sizeof *ftuv);
+    geom_brep_face_report *frs = geom__alloc(T.a, nf * sizeof *frs);
+    double *fsum = geom__alloc(T.a, nf * sizeof *fsum);
+    size_t *fcnt = geom__alloc(T.a, nf * sizeof *fcnt);
+    uint8_t *changed = geom__alloc(T.a, ne);
     if (ftris && ftuv)
         for (size_t f = 0; f < nf; f++) {
             buf z3 = {NULL, 0, 0, 3 * sizeof(uint32_t)}, z6 = {NULL, 0, 0, 6 * sizeof(double)};
@@ -1092,25 +1092,25 @@ GEOM_API geom_status geom_step_tessellate(const geom_brep *b, const geom_brep_te
             bfree(T.a, &ftris[f]);
             bfree(T.a, &ftuv[f]);
         }
-    geom_free(T.a, ftris, nf * sizeof *ftris);
-    geom_free(T.a, ftuv, nf * sizeof *ftuv);
-    geom_free(T.a, frs, nf * sizeof *frs);
-    geom_free(T.a, fsum, nf * sizeof *fsum);
-    geom_free(T.a, fcnt, nf * sizeof *fcnt);
-    geom_free(T.a, changed, ne);
+    geom__free(T.a, ftris, nf * sizeof *ftris);
+    geom__free(T.a, ftuv, nf * sizeof *ftuv);
+    geom__free(T.a, frs, nf * sizeof *frs);
+    geom__free(T.a, fsum, nf * sizeof *fsum);
+    geom__free(T.a, fcnt, nf * sizeof *fcnt);
+    geom__free(T.a, changed, ne);
     if (st) {
-        geom_diag_set(diag, st, "", 0, 0, "tessellation failed: %s", geom_status_str(st));
+        geom__diag_set(diag, st, "", 0, 0, "tessellation failed: %s", geom_status_str(st));
         goto done;
     }
     {
         /* compact the used vertices and build the mesh once */
         size_t nv = T.pos.n, nt = T.tris.n;
-        uint32_t *map = geom_alloc(T.a, (nv ? nv : 1) * sizeof *map);
-        double *xyz = geom_alloc(T.a, (nv ? nv : 1) * 3 * sizeof *xyz);
-        uint32_t *sizes = geom_alloc(T.a, (nt ? nt : 1) * sizeof *sizes);
-        uint32_t *idx = geom_alloc(T.a, (nt ? nt : 1) * 3 * sizeof *idx);
+        uint32_t *map = geom__alloc(T.a, (nv ? nv : 1) * sizeof *map);
+        double *xyz = geom__alloc(T.a, (nv ? nv : 1) * 3 * sizeof *xyz);
+        uint32_t *sizes = geom__alloc(T.a, (nt ? nt : 1) * sizeof *sizes);
+        uint32_t *idx = geom__alloc(T.a, (nt ? nt : 1) * 3 * sizeof *idx);
         if (!map || !xyz || !sizes || !idx) {
-            st = geom_diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "out of memory");
+            st = geom__diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "out of memory");
         } else {
             for (size_t k = 0; k < nv; k++)
                 map[k] = GEOM_INVALID_INDEX;
@@ -1207,10 +1207,10 @@ GEOM_API geom_status geom_step_tessellate(const geom_brep *b, const geom_brep_te
                 stats->nonmanifold_edges = br.nonmanifold_edges;
             }
         }
-        geom_free(T.a, map, (nv ? nv : 1) * sizeof *map);
-        geom_free(T.a, xyz, (nv ? nv : 1) * 3 * sizeof *xyz);
-        geom_free(T.a, sizes, (nt ? nt : 1) * sizeof *sizes);
-        geom_free(T.a, idx, (nt ? nt : 1) * 3 * sizeof *idx);
+        geom__free(T.a, map, (nv ? nv : 1) * sizeof *map);
+        geom__free(T.a, xyz, (nv ? nv : 1) * 3 * sizeof *xyz);
+        geom__free(T.a, sizes, (nt ? nt : 1) * sizeof *sizes);
+        geom__free(T.a, idx, (nt ? nt : 1) * 3 * sizeof *idx);
     }
     if (st)
         goto done;
@@ -1238,8 +1238,8 @@ GEOM_API geom_status geom_step_tessellate(const geom_brep *b, const geom_brep_te
         stats->seconds = now() - t_start;
     }
 done:
-    geom_free(T.a, T.efirst, ne * sizeof(size_t));
-    geom_free(T.a, T.ecount, ne * sizeof(size_t));
+    geom__free(T.a, T.efirst, ne * sizeof(size_t));
+    geom__free(T.a, T.ecount, ne * sizeof(size_t));
     bfree(T.a, &T.pos);
     bfree(T.a, &T.samples);
     bfree(T.a, &T.tris);

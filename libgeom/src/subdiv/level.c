@@ -16,11 +16,11 @@
 void *sd_calloc(const geom_allocator *a, size_t n, size_t size)
 {
     size_t bytes;
-    if (geom_size_mul(n ? n : 1, size, &bytes) != GEOM_OK)
+    if (geom__size_mul(n ? n : 1, size, &bytes) != GEOM_OK)
         return NULL;
     if (!a || !a->alloc_fn)
         return calloc(1, bytes); /* libc: fresh pages come zeroed, no pass over them */
-    void *p = geom_alloc(a, bytes);
+    void *p = geom__alloc(a, bytes);
     if (p)
         memset(p, 0, bytes);
     return p;
@@ -29,15 +29,15 @@ void *sd_calloc(const geom_allocator *a, size_t n, size_t size)
 void *sd_malloc(const geom_allocator *a, size_t n, size_t size)
 {
     size_t bytes;
-    if (geom_size_mul(n ? n : 1, size, &bytes) != GEOM_OK)
+    if (geom__size_mul(n ? n : 1, size, &bytes) != GEOM_OK)
         return NULL;
-    return geom_alloc(a, bytes);
+    return geom__alloc(a, bytes);
 }
 
 void sd_free(const geom_allocator *a, void *p, size_t n, size_t size)
 {
     if (p)
-        geom_free(a, p, (n ? n : 1) * size);
+        geom__free(a, p, (n ? n : 1) * size);
 }
 
 void sd_fvar_free(const geom_allocator *a, const sd_level *l, sd_fvar *f)
@@ -98,7 +98,7 @@ void sd_level_free(const geom_allocator *a, sd_level *l)
     }
     sd_free(a, l->st_off, (size_t)l->nv + 1, sizeof(uint32_t));
     sd_free(a, l->vparent, l->nv, sizeof(uint32_t));
-    geom_free(a, l, sizeof *l);
+    geom__free(a, l, sizeof *l);
 }
 
 /* ------------------------------------------------------------ creasing */
@@ -367,13 +367,13 @@ geom_status sd_level0_build(const geom_allocator *a, uint32_t nv, uint32_t nf,
         if (sizes[f] < 3) {
             l->nf = 0;
             sd_level_free(a, l);
-            return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+            return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                                  "face %u has %u vertices (at least 3 needed)", f, sizes[f]);
         }
         if (sizes[f] > SD_VALENCE_LIMIT) {
             l->nf = 0;
             sd_level_free(a, l);
-            return geom_diag_set(diag, GEOM_ERR_LIMIT, NULL, 0, 0,
+            return geom__diag_set(diag, GEOM_ERR_LIMIT, NULL, 0, 0,
                                  "face %u has %u vertices (at most %u)", f, sizes[f],
                                  SD_VALENCE_LIMIT);
         }
@@ -382,7 +382,7 @@ geom_status sd_level0_build(const geom_allocator *a, uint32_t nv, uint32_t nf,
         if (total > (uint64_t)INT32_MAX) {
             l->nf = 0;
             sd_level_free(a, l);
-            return geom_diag_set(diag, GEOM_ERR_LIMIT, NULL, 0, 0, "too many face vertices");
+            return geom__diag_set(diag, GEOM_ERR_LIMIT, NULL, 0, 0, "too many face vertices");
         }
     }
     l->fv_off[nf] = (uint32_t)total;
@@ -397,7 +397,7 @@ geom_status sd_level0_build(const geom_allocator *a, uint32_t nv, uint32_t nf,
             while (f + 1 < nf && l->fv_off[f + 1] <= i)
                 f++;
             sd_level_free(a, l);
-            return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+            return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                                  "face %u uses vertex %u (only %u vertices)", f, idx[i], nv);
         }
         l->fv[i] = idx[i];
@@ -534,7 +534,7 @@ geom_status sd_level_complete(const geom_allocator *a, sd_level *l, geom_diag *d
     for (uint32_t v = 0; v < nv; v++) {
         uint32_t nfv = l->vf_off[v + 1] - l->vf_off[v], nev = l->ve_off[v + 1] - l->ve_off[v];
         if (nfv > SD_VALENCE_LIMIT || nev > SD_VALENCE_LIMIT) {
-            st = geom_diag_set(diag, GEOM_ERR_LIMIT, NULL, 0, 0,
+            st = geom__diag_set(diag, GEOM_ERR_LIMIT, NULL, 0, 0,
                                "vertex %u has %u faces and %u edges (at most %u)", v, nfv, nev,
                                SD_VALENCE_LIMIT);
             goto done;

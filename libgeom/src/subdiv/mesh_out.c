@@ -242,7 +242,7 @@ geom_status geom_subdiv_build_mesh(const geom_subdiv_refiner *r, int level, cons
     if (hole_faces)
         *hole_faces = 0;
     if (!r || !positions || !out || level < 0 || level >= r->nlevels)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_subdiv_build_mesh: invalid argument");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_subdiv_build_mesh: invalid argument");
     const geom_allocator *a = sd_alloc(r);
     const sd_level *l = r->lv[level];
     outmap om;
@@ -460,7 +460,7 @@ geom_status geom_subdiv_mesh(const geom_mesh *m, const geom_subdiv_options *opt,
     if (report)
         memset(report, 0, sizeof *report);
     if (!m || !out || levels < 0 || levels > GEOM_SUBDIV_MAX_LEVEL)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_subdiv_mesh: invalid argument");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_subdiv_mesh: invalid argument");
     geom_subdiv_refiner *r = NULL;
     geom_status st = geom_subdiv_refiner_create(m, opt, &r, diag);
     if (st != GEOM_OK)
@@ -476,7 +476,7 @@ geom_status geom_subdiv_mesh(const geom_mesh *m, const geom_subdiv_options *opt,
     double *pos = level0_vertex_data(a, m, l0, 0, 3), *lp = NULL;
     if (!pos) {
         geom_subdiv_refiner_destroy(r);
-        return geom_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_subdiv_mesh: out of memory");
+        return geom__diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_subdiv_mesh: out of memory");
     }
     geom_aabb box = geom_aabb_empty();
     for (uint32_t v = 0; v < l0->nv; v++)

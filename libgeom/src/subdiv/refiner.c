@@ -70,14 +70,14 @@ static geom_status read_option_tags(const geom_mesh *m, geom_subdiv_options *eff
             continue;
         if (strcmp(t.name, "interpolateboundary") == 0) {
             if (t.nint < 1 || t.ints[0] < 0 || t.ints[0] > 2)
-                return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+                return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                                      "tag %zu: interpolateboundary needs 0, 1 or 2", i);
             b = t.ints[0] == 0   ? GEOM_SUBDIV_BOUNDARY_NONE
                 : t.ints[0] == 1 ? GEOM_SUBDIV_BOUNDARY_EDGE_AND_CORNER
                                  : GEOM_SUBDIV_BOUNDARY_EDGE_ONLY;
         } else if (strcmp(t.name, "facevaryinginterpolateboundary") == 0) {
             if (t.nint < 1 || t.ints[0] < 0 || t.ints[0] > 5)
-                return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+                return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                                      "tag %zu: facevaryinginterpolateboundary needs 0..5", i);
             fv = (geom_subdiv_fvar)(t.ints[0] + 1);
         } else if (strcmp(t.name, "facevaryingpropagatecorners") == 0) {
@@ -85,13 +85,13 @@ static geom_status read_option_tags(const geom_mesh *m, geom_subdiv_options *eff
                 *propagate = 1;
         } else if (strcmp(t.name, "creasemethod") == 0) {
             if (t.nstring < 1 || (strcmp(t.strings[0], "normal") && strcmp(t.strings[0], "chaikin")))
-                return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+                return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                                      "tag %zu: creasemethod needs normal or chaikin", i);
             cm = strcmp(t.strings[0], "chaikin") == 0 ? GEOM_SUBDIV_CREASE_CHAIKIN
                                                       : GEOM_SUBDIV_CREASE_UNIFORM;
         } else if (strcmp(t.name, "smoothtriangles") == 0) {
             if (t.nstring < 1 || (strcmp(t.strings[0], "catmark") && strcmp(t.strings[0], "smooth")))
-                return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+                return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                                      "tag %zu: smoothtriangles needs catmark or smooth", i);
             tr = strcmp(t.strings[0], "smooth") == 0 ? GEOM_SUBDIV_TRIANGLES_SMOOTH
                                                      : GEOM_SUBDIV_TRIANGLES_CATMARK;
@@ -153,7 +153,7 @@ static geom_status set_crease(sd_level *l, uint32_t a, uint32_t b, double s, geo
 {
     uint32_t e = sd_find_edge(l, a, b);
     if (e == SD_INVALID)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "%s %zu: no edge between vertices %u and %u", what, i, a, b);
     l->esharp[e] = clamp_sharp(s);
     return GEOM_OK;
@@ -173,12 +173,12 @@ static geom_status read_sharp_tags(const geom_mesh *m, sd_level *l, const uint32
         if (strcmp(t.name, "crease") == 0) {
             size_t npairs = t.nint / 2;
             if (t.nfloat == 0 || (t.nfloat != 1 && t.nfloat != npairs))
-                return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+                return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                                      "tag %zu: crease needs 1 sharpness or one per edge", i);
             for (size_t j = 0; j < npairs; j++) {
                 int64_t a = t.ints[2 * j], b = t.ints[2 * j + 1];
                 if (a < 0 || b < 0 || a >= (int64_t)l->nv || b >= (int64_t)l->nv)
-                    return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+                    return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                                          "tag %zu: crease vertex out of range", i);
                 geom_status st = set_crease(l, (uint32_t)a, (uint32_t)b,
                                             t.floats[t.nfloat > 1 ? j : 0], diag, "crease tag", i);
@@ -187,12 +187,12 @@ static geom_status read_sharp_tags(const geom_mesh *m, sd_level *l, const uint32
             }
         } else if (strcmp(t.name, "corner") == 0) {
             if (t.nfloat == 0 || (t.nfloat != 1 && t.nfloat != t.nint))
-                return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+                return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                                      "tag %zu: corner needs 1 sharpness or one per vertex", i);
             for (size_t j = 0; j < t.nint; j++) {
                 int64_t v = t.ints[j];
                 if (v < 0 || v >= (int64_t)l->nv)
-                    return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+                    return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                                          "tag %zu: corner vertex %lld out of range", i,
                                          (long long)v);
                 l->vsharp[v] = clamp_sharp(t.floats[t.nfloat > 1 ? j : 0]);
@@ -201,7 +201,7 @@ static geom_status read_sharp_tags(const geom_mesh *m, sd_level *l, const uint32
             for (size_t j = 0; j < t.nint; j++) {
                 int64_t f = t.ints[j];
                 if (f < 0 || (size_t)f >= n_input_faces)
-                    return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+                    return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                                          "tag %zu: hole face %lld out of range", i, (long long)f);
                 uint32_t lf = face_of_input ? face_of_input[f] : (uint32_t)f;
                 if (lf != SD_INVALID && lf < l->nf)
@@ -228,13 +228,13 @@ static geom_status apply_option_arrays(const geom_subdiv_options *opt, sd_level 
     }
     for (size_t i = 0; i < opt->n_corners; i++) {
         if (opt->corner_verts[i] >= l->nv)
-            return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+            return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                                  "corner %zu: vertex %u out of range", i, opt->corner_verts[i]);
         l->vsharp[opt->corner_verts[i]] = clamp_sharp(opt->corner_sharpness[i]);
     }
     for (size_t i = 0; i < opt->n_holes; i++) {
         if (opt->hole_faces[i] >= l->nf)
-            return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+            return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                                  "hole %zu: face %u out of range", i, opt->hole_faces[i]);
         l->fhole[opt->hole_faces[i]] = 1;
     }
@@ -244,7 +244,7 @@ static geom_status apply_option_arrays(const geom_subdiv_options *opt, sd_level 
 static geom_subdiv_refiner *new_refiner(const geom_subdiv_options *opt)
 {
     const geom_allocator *a = opt ? opt->alloc : NULL;
-    geom_subdiv_refiner *r = geom_alloc(a, sizeof *r);
+    geom_subdiv_refiner *r = geom__alloc(a, sizeof *r);
     if (!r)
         return NULL;
     memset(r, 0, sizeof *r);
@@ -260,7 +260,7 @@ static geom_status finish_create(geom_subdiv_refiner *r, sd_level *l0, geom_diag
     if (is_tri_scheme(r->o.scheme)) {
         for (uint32_t f = 0; f < l0->nf; f++) {
             if (l0->fv_off[f + 1] - l0->fv_off[f] != 3)
-                return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+                return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                                      "%s subdivision needs triangles: face %u has %u vertices",
                                      geom_subdiv_scheme_name((geom_subdiv_scheme)r->o.scheme), f,
                                      l0->fv_off[f + 1] - l0->fv_off[f]);
@@ -279,7 +279,7 @@ void geom_subdiv_refiner_destroy(geom_subdiv_refiner *r)
     for (int i = 0; i < r->nlevels; i++)
         sd_level_free(a, r->lv[i]);
     geom_allocator copy = r->alloc;
-    geom_free(r->has_alloc ? &copy : NULL, r, sizeof *r);
+    geom__free(r->has_alloc ? &copy : NULL, r, sizeof *r);
 }
 
 geom_status geom_subdiv_refiner_create_soup(size_t nverts, size_t nfaces,
@@ -288,15 +288,15 @@ geom_status geom_subdiv_refiner_create_soup(size_t nverts, size_t nfaces,
                                             geom_subdiv_refiner **out, geom_diag *diag)
 {
     if (!out)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_subdiv_refiner_create_soup: invalid argument");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_subdiv_refiner_create_soup: invalid argument");
     *out = NULL;
     if (nfaces == 0 || !face_sizes || !indices)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "no faces to subdivide");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "no faces to subdivide");
     if (nverts > INT32_MAX || nfaces > INT32_MAX)
-        return geom_diag_set(diag, GEOM_ERR_LIMIT, NULL, 0, 0, "geom_subdiv_refiner_create_soup: too large for 32-bit indices");
+        return geom__diag_set(diag, GEOM_ERR_LIMIT, NULL, 0, 0, "geom_subdiv_refiner_create_soup: too large for 32-bit indices");
     geom_subdiv_refiner *r = new_refiner(opt);
     if (!r)
-        return geom_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_subdiv_refiner_create_soup: out of memory");
+        return geom__diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_subdiv_refiner_create_soup: out of memory");
     geom_subdiv_options eff;
     memset(&eff, 0, sizeof eff);
     if (opt)
@@ -391,13 +391,13 @@ geom_status geom_subdiv_refiner_create(const geom_mesh *m, const geom_subdiv_opt
                                        geom_subdiv_refiner **out, geom_diag *diag)
 {
     if (!out)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_subdiv_refiner_create: invalid argument");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_subdiv_refiner_create: invalid argument");
     *out = NULL;
     if (!m)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_subdiv_refiner_create: invalid argument");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "geom_subdiv_refiner_create: invalid argument");
     geom_subdiv_refiner *r = new_refiner(opt);
     if (!r)
-        return geom_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_subdiv_refiner_create: out of memory");
+        return geom__diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_subdiv_refiner_create: out of memory");
     const geom_allocator *a = sd_alloc(r);
     geom_subdiv_options eff;
     memset(&eff, 0, sizeof eff);
@@ -417,7 +417,7 @@ geom_status geom_subdiv_refiner_create(const geom_mesh *m, const geom_subdiv_opt
     if (st == GEOM_OK)
         st = mesh_soup(m, a, &nv0, &nf0, &total_fv, &sizes, &idx, &corner_he, &face_mesh);
     if (st == GEOM_OK && nf0 == 0)
-        st = geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "the mesh has no faces");
+        st = geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "the mesh has no faces");
     if (st == GEOM_OK)
         st = sd_level0_build(a, nv0, nf0, sizes, idx, &l0, diag);
     if (st == GEOM_OK) {

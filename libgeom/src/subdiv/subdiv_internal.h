@@ -13,37 +13,37 @@
 
 /* The module's internal functions are external symbols of the library:
  * give them the library's prefix (geom_<module>__, as the mesh module). */
-#define sd_alloc geom_subdiv__alloc
-#define sd_butterfly_stencils geom_subdiv__butterfly_stencils
-#define sd_calloc geom_subdiv__calloc
-#define sd_complete_level geom_subdiv__complete_level
-#define sd_crease_pair geom_subdiv__crease_pair
-#define sd_decrement geom_subdiv__decrement
-#define sd_edge_mask geom_subdiv__edge_mask
-#define sd_find_edge geom_subdiv__find_edge
-#define sd_fractional_weight geom_subdiv__fractional_weight
-#define sd_free geom_subdiv__free
-#define sd_fvar_free geom_subdiv__fvar_free
-#define sd_fvar_level0 geom_subdiv__fvar_level0
-#define sd_fvar_refine geom_subdiv__fvar_refine
-#define sd_level0_build geom_subdiv__level0_build
-#define sd_level0_tags geom_subdiv__level0_tags
-#define sd_level_complete geom_subdiv__level_complete
-#define sd_level_count geom_subdiv__level_count
-#define sd_level_free geom_subdiv__level_free
-#define sd_limit_masks geom_subdiv__limit_masks
-#define sd_malloc geom_subdiv__malloc
-#define sd_refine_level geom_subdiv__refine_level
-#define sd_refine_sqrt3 geom_subdiv__refine_sqrt3
-#define sd_rule_from_count geom_subdiv__rule_from_count
-#define sd_rule_from_edges geom_subdiv__rule_from_edges
-#define sd_scratch_free geom_subdiv__scratch_free
-#define sd_scratch_init geom_subdiv__scratch_init
-#define sd_sqrt3_alpha geom_subdiv__sqrt3_alpha
-#define sd_subdivide_edge_at_vertex geom_subdiv__subdivide_edge_at_vertex
-#define sd_subdivide_edges_around geom_subdiv__subdivide_edges_around
-#define sd_vertex_mask geom_subdiv__vertex_mask
-#define sd_vertex_rule geom_subdiv__vertex_rule
+#define sd_alloc geom__subdiv_alloc
+#define sd_butterfly_stencils geom__subdiv_butterfly_stencils
+#define sd_calloc geom__subdiv_calloc
+#define sd_complete_level geom__subdiv_complete_level
+#define sd_crease_pair geom__subdiv_crease_pair
+#define sd_decrement geom__subdiv_decrement
+#define sd_edge_mask geom__subdiv_edge_mask
+#define sd_find_edge geom__subdiv_find_edge
+#define sd_fractional_weight geom__subdiv_fractional_weight
+#define sd_free geom__subdiv_free
+#define sd_fvar_free geom__subdiv_fvar_free
+#define sd_fvar_level0 geom__subdiv_fvar_level0
+#define sd_fvar_refine geom__subdiv_fvar_refine
+#define sd_level0_build geom__subdiv_level0_build
+#define sd_level0_tags geom__subdiv_level0_tags
+#define sd_level_complete geom__subdiv_level_complete
+#define sd_level_count geom__subdiv_level_count
+#define sd_level_free geom__subdiv_level_free
+#define sd_limit_masks geom__subdiv_limit_masks
+#define sd_malloc geom__subdiv_malloc
+#define sd_refine_level geom__subdiv_refine_level
+#define sd_refine_sqrt3 geom__subdiv_refine_sqrt3
+#define sd_rule_from_count geom__subdiv_rule_from_count
+#define sd_rule_from_edges geom__subdiv_rule_from_edges
+#define sd_scratch_free geom__subdiv_scratch_free
+#define sd_scratch_init geom__subdiv_scratch_init
+#define sd_sqrt3_alpha geom__subdiv_sqrt3_alpha
+#define sd_subdivide_edge_at_vertex geom__subdiv_subdivide_edge_at_vertex
+#define sd_subdivide_edges_around geom__subdiv_subdivide_edges_around
+#define sd_vertex_mask geom__subdiv_vertex_mask
+#define sd_vertex_rule geom__subdiv_vertex_rule
 
 #include <string.h>
 

@@ -125,7 +125,7 @@ static geom_status parse_numbers(bpt_reader *r, const bpt_line *ln, size_t want,
             break;
         if (t[i] == ',') {
             if (need_value || count == 0)
-                return geom_diag_set(r->diag, GEOM_ERR_PARSE, r->source, ln->lineno, i + 1,
+                return geom__diag_set(r->diag, GEOM_ERR_PARSE, r->source, ln->lineno, i + 1,
                                      "empty field before ',' in %s", what);
             need_value = 1;
             ++i;
@@ -135,20 +135,20 @@ static geom_status parse_numbers(bpt_reader *r, const bpt_line *ln, size_t want,
         while (i < n && t[i] != ' ' && t[i] != '\t' && t[i] != ',')
             ++i;
         if (count == want)
-            return geom_diag_set(r->diag, GEOM_ERR_PARSE, r->source, ln->lineno, s + 1,
+            return geom__diag_set(r->diag, GEOM_ERR_PARSE, r->source, ln->lineno, s + 1,
                                  "too many values in %s (%zu expected)", what, want);
         if (!valid_number(t + s, i - s) || !convert(t + s, i - s, &vals[count]))
-            return geom_diag_set(r->diag, GEOM_ERR_PARSE, r->source, ln->lineno, s + 1,
+            return geom__diag_set(r->diag, GEOM_ERR_PARSE, r->source, ln->lineno, s + 1,
                                  "invalid number '%.*s' in %s", (int)(i - s > 40 ? 40 : i - s),
                                  t + s, what);
         ++count;
         need_value = 0;
     }
     if (need_value)
-        return geom_diag_set(r->diag, GEOM_ERR_PARSE, r->source, ln->lineno, n,
+        return geom__diag_set(r->diag, GEOM_ERR_PARSE, r->source, ln->lineno, n,
                              "trailing ',' in %s", what);
     if (count != want)
-        return geom_diag_set(r->diag, GEOM_ERR_PARSE, r->source, ln->lineno, 1,
+        return geom__diag_set(r->diag, GEOM_ERR_PARSE, r->source, ln->lineno, 1,
                              "%s has %zu values, %zu expected", what, count, want);
     return GEOM_OK;
 }
@@ -157,17 +157,17 @@ static geom_status parse_count(bpt_reader *r, const char *what, size_t *out)
 {
     bpt_line ln;
     if (!next_line(r, &ln))
-        return geom_diag_set(r->diag, GEOM_ERR_PARSE, r->source, r->lineno, 0,
+        return geom__diag_set(r->diag, GEOM_ERR_PARSE, r->source, r->lineno, 0,
                              "unexpected end of input: %s expected", what);
     double v;
     geom_status st = parse_numbers(r, &ln, 1, what, &v);
     if (st != GEOM_OK)
         return st;
     if (v != floor(v) || v < 1.0)
-        return geom_diag_set(r->diag, GEOM_ERR_PARSE, r->source, ln.lineno, 1,
+        return geom__diag_set(r->diag, GEOM_ERR_PARSE, r->source, ln.lineno, 1,
                              "%s must be a positive integer, not %.17g", what, v);
     if (v > (double)BPT_MAX_COUNT)
-        return geom_diag_set(r->diag, GEOM_ERR_LIMIT, r->source, ln.lineno, 1,
+        return geom__diag_set(r->diag, GEOM_ERR_LIMIT, r->source, ln.lineno, 1,
                              "%s %.17g is above the limit of %zu", what, v, BPT_MAX_COUNT);
     *out = (size_t)v;
     return GEOM_OK;
@@ -178,7 +178,7 @@ geom_status geom_surface_read_bpt_memory(const void *data, size_t size, const ch
                                          geom_diag *diag)
 {
     if (!out || (!data && size))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "bpt: NULL argument");
     *out = NULL;
     bpt_reader r = {data, size, 0, 0, source_name ? source_name : "<memory>", diag};
@@ -189,23 +189,23 @@ geom_status geom_surface_read_bpt_memory(const void *data, size_t size, const ch
     /* a patch line holds at least 31 bytes ("1,1,...,1"): reject counts
      * the input cannot hold before allocating */
     if (np > size / 31 + 1)
-        return geom_diag_set(diag, GEOM_ERR_PARSE, r.source, r.lineno, 1,
+        return geom__diag_set(diag, GEOM_ERR_PARSE, r.source, r.lineno, 1,
                              "patch count %zu is larger than the input can hold", np);
-    uint32_t *idx = geom_alloc(alloc, np * 16 * sizeof(uint32_t));
+    uint32_t *idx = geom__alloc(alloc, np * 16 * sizeof(uint32_t));
     if (!idx)
-        return geom_diag_set(diag, GEOM_ERR_NOMEM, r.source, 0, 0, "out of memory");
-    size_t *idx_line = geom_alloc(alloc, np * sizeof(size_t));
+        return geom__diag_set(diag, GEOM_ERR_NOMEM, r.source, 0, 0, "out of memory");
+    size_t *idx_line = geom__alloc(alloc, np * sizeof(size_t));
     double *pts = NULL;
     size_t pts_bytes = 0;
     geom_surface_set *set = NULL;
     if (!idx_line) {
-        st = geom_diag_set(diag, GEOM_ERR_NOMEM, r.source, 0, 0, "out of memory");
+        st = geom__diag_set(diag, GEOM_ERR_NOMEM, r.source, 0, 0, "out of memory");
         goto done;
     }
     for (size_t k = 0; k < np; ++k) {
         bpt_line ln;
         if (!next_line(&r, &ln)) {
-            st = geom_diag_set(diag, GEOM_ERR_PARSE, r.source, r.lineno, 0,
+            st = geom__diag_set(diag, GEOM_ERR_PARSE, r.source, r.lineno, 0,
                                "unexpected end of input: patch %zu of %zu expected", k + 1, np);
             goto done;
         }
@@ -217,7 +217,7 @@ geom_status geom_surface_read_bpt_memory(const void *data, size_t size, const ch
             goto done;
         for (int j = 0; j < 16; ++j) {
             if (v[j] != floor(v[j]) || v[j] < 1.0 || v[j] > (double)BPT_MAX_COUNT) {
-                st = geom_diag_set(diag, GEOM_ERR_PARSE, r.source, ln.lineno, 1,
+                st = geom__diag_set(diag, GEOM_ERR_PARSE, r.source, ln.lineno, 1,
                                    "patch %zu: index %d is %.17g, not a point number >= 1", k + 1,
                                    j + 1, v[j]);
                 goto done;
@@ -230,20 +230,20 @@ geom_status geom_surface_read_bpt_memory(const void *data, size_t size, const ch
     if (st != GEOM_OK)
         goto done;
     if (nq > size / 6 + 1) {
-        st = geom_diag_set(diag, GEOM_ERR_PARSE, r.source, r.lineno, 1,
+        st = geom__diag_set(diag, GEOM_ERR_PARSE, r.source, r.lineno, 1,
                            "point count %zu is larger than the input can hold", nq);
         goto done;
     }
     pts_bytes = nq * 3 * sizeof(double);
-    pts = geom_alloc(alloc, pts_bytes);
+    pts = geom__alloc(alloc, pts_bytes);
     if (!pts) {
-        st = geom_diag_set(diag, GEOM_ERR_NOMEM, r.source, 0, 0, "out of memory");
+        st = geom__diag_set(diag, GEOM_ERR_NOMEM, r.source, 0, 0, "out of memory");
         goto done;
     }
     for (size_t k = 0; k < nq; ++k) {
         bpt_line ln;
         if (!next_line(&r, &ln)) {
-            st = geom_diag_set(diag, GEOM_ERR_PARSE, r.source, r.lineno, 0,
+            st = geom__diag_set(diag, GEOM_ERR_PARSE, r.source, r.lineno, 0,
                                "unexpected end of input: point %zu of %zu expected", k + 1, nq);
             goto done;
         }
@@ -256,7 +256,7 @@ geom_status geom_surface_read_bpt_memory(const void *data, size_t size, const ch
     {
         bpt_line ln;
         if (next_line(&r, &ln)) {
-            st = geom_diag_set(diag, GEOM_ERR_PARSE, r.source, ln.lineno, 1,
+            st = geom__diag_set(diag, GEOM_ERR_PARSE, r.source, ln.lineno, 1,
                                "unexpected content after the %zu points", nq);
             goto done;
         }
@@ -264,14 +264,14 @@ geom_status geom_surface_read_bpt_memory(const void *data, size_t size, const ch
     for (size_t k = 0; k < np; ++k)
         for (int j = 0; j < 16; ++j)
             if (idx[16 * k + (size_t)j] > nq) {
-                st = geom_diag_set(diag, GEOM_ERR_PARSE, r.source, idx_line[k], 1,
+                st = geom__diag_set(diag, GEOM_ERR_PARSE, r.source, idx_line[k], 1,
                                    "patch %zu: index %d is %u, but there are %zu points", k + 1,
                                    j + 1, idx[16 * k + (size_t)j], nq);
                 goto done;
             }
     set = geom_surface_set_create(alloc);
     if (!set) {
-        st = geom_diag_set(diag, GEOM_ERR_NOMEM, r.source, 0, 0, "out of memory");
+        st = geom__diag_set(diag, GEOM_ERR_NOMEM, r.source, 0, 0, "out of memory");
         goto done;
     }
     for (size_t k = 0; k < np; ++k) {
@@ -289,7 +289,7 @@ geom_status geom_surface_read_bpt_memory(const void *data, size_t size, const ch
         snprintf(name, sizeof name, "patch %zu", k + 1);
         st = geom_surface_set_add(set, &s, name);
         if (st != GEOM_OK) {
-            geom_diag_set(diag, st, r.source, 0, 0, "out of memory");
+            geom__diag_set(diag, st, r.source, 0, 0, "out of memory");
             goto done;
         }
     }
@@ -297,9 +297,9 @@ geom_status geom_surface_read_bpt_memory(const void *data, size_t size, const ch
     set = NULL;
 done:
     geom_surface_set_destroy(set);
-    geom_free(alloc, pts, pts_bytes);
-    geom_free(alloc, idx_line, np * sizeof(size_t));
-    geom_free(alloc, idx, np * 16 * sizeof(uint32_t));
+    geom__free(alloc, pts, pts_bytes);
+    geom__free(alloc, idx_line, np * sizeof(size_t));
+    geom__free(alloc, idx, np * 16 * sizeof(uint32_t));
     return st;
 }
 
@@ -307,7 +307,7 @@ geom_status geom_surface_read_bpt(const char *path, const geom_allocator *alloc,
                                   geom_surface_set **out, geom_diag *diag)
 {
     if (!path || !out)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "bpt: NULL argument");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "bpt: NULL argument");
     *out = NULL;
     geom_file f;
     geom_status st = geom_file_map(path, alloc, &f, diag);

@@ -44,8 +44,8 @@ geom_status geom_surface_bilinear(const double p00[3], const double p10[3], cons
 {
     if (!p00 || !p10 || !p01 || !p11 || !knots_u || !knots_v || !points || !out)
         return GEOM_ERR_INVALID_ARG;
-    if (!geom_isfinite3(p00) || !geom_isfinite3(p10) || !geom_isfinite3(p01) ||
-        !geom_isfinite3(p11))
+    if (!geom__isfinite3(p00) || !geom__isfinite3(p10) || !geom__isfinite3(p01) ||
+        !geom__isfinite3(p11))
         return GEOM_ERR_INVALID_ARG;
     /* (i, j) at 3*(i*2 + j): (0,0) p00, (0,1) p01, (1,0) p10, (1,1) p11 */
     memcpy(points + 0, p00, 3 * sizeof(double));
@@ -59,15 +59,15 @@ geom_status geom_surface_bilinear(const double p00[3], const double p10[3], cons
 static geom_status check_curve(const geom_nurbs_curve *c, const char *what, geom_diag *diag)
 {
     if (!c)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "surface: %s is NULL", what);
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "surface: %s is NULL", what);
     if (c->dim != 2 && c->dim != 3)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "surface: %s has dimension %zu (2 or 3 needed)", what, c->dim);
     geom_diag d;
     geom_diag_clear(&d);
     geom_status st = geom_curve_nurbs_validate(c, c->n + (size_t)c->degree + 1, &d);
     if (st != GEOM_OK)
-        return geom_diag_set(diag, st, NULL, 0, 0, "surface: %s: %s", what, d.message);
+        return geom__diag_set(diag, st, NULL, 0, 0, "surface: %s: %s", what, d.message);
     return GEOM_OK;
 }
 
@@ -87,13 +87,13 @@ geom_status geom_surface_extrude(const geom_nurbs_curve *c, const double d[3], d
     if (st != GEOM_OK)
         return st;
     if (!d || !knots_u || !knots_v || !points || !out || (c->weights && !weights))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "surface: NULL argument to geom_surface_extrude");
-    if (!geom_isfinite3(d))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+    if (!geom__isfinite3(d))
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "surface: extrusion direction is not finite");
     if (d[0] == 0.0 && d[1] == 0.0 && d[2] == 0.0)
-        return geom_diag_set(diag, GEOM_ERR_DEGENERATE, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_DEGENERATE, NULL, 0, 0,
                              "surface: extrusion direction is zero");
     memcpy(knots_u, c->knots, (c->n + (size_t)c->degree + 1) * sizeof(double));
     knots_v[0] = knots_v[1] = 0.0;
@@ -178,20 +178,20 @@ geom_status geom_surface_revolve(const geom_nurbs_curve *c, const double origin[
     if (st != GEOM_OK)
         return st;
     if (!origin || !axis || !knots_u || !knots_v || !points || !weights || !out)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "surface: NULL argument to geom_surface_revolve");
-    if (!geom_isfinite3(origin) || !geom_isfinite3(axis) || !isfinite(angle) ||
-        (xaxis && !geom_isfinite3(xaxis)))
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+    if (!geom__isfinite3(origin) || !geom__isfinite3(axis) || !isfinite(angle) ||
+        (xaxis && !geom__isfinite3(xaxis)))
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "surface: revolution: non-finite origin, axis or angle");
     size_t nu, nk;
     st = geom_surface_revolve_bound(angle, &nu, &nk);
     if (st != GEOM_OK)
-        return geom_diag_set(diag, st, NULL, 0, 0,
+        return geom__diag_set(diag, st, NULL, 0, 0,
                              "surface: revolution angle %.17g is zero or above 2 pi", angle);
     geom_vec3 a;
     if (geom_vec3_normalize(geom_vec3_make(axis[0], axis[1], axis[2]), &a) != GEOM_OK)
-        return geom_diag_set(diag, GEOM_ERR_DEGENERATE, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_DEGENERATE, NULL, 0, 0,
                              "surface: revolution axis is zero");
     double A[3] = {a.x, a.y, a.z};
     double X2[3] = {0.0, 0.0, 0.0}; /* radius direction of 2D profiles */
@@ -199,11 +199,11 @@ geom_status geom_surface_revolve(const geom_nurbs_curve *c, const double origin[
         if (xaxis) {
             geom_vec3 x;
             if (geom_vec3_normalize(geom_vec3_make(xaxis[0], xaxis[1], xaxis[2]), &x) != GEOM_OK)
-                return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+                return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                                      "surface: revolution x axis is zero");
             X2[0] = x.x, X2[1] = x.y, X2[2] = x.z;
             if (fabs(dot3(X2, A)) > 1e-12)
-                return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+                return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                                      "surface: revolution x axis is not orthogonal to the axis");
         } else {
             /* a fixed perpendicular: the unit axis crossed with the world
@@ -223,7 +223,7 @@ geom_status geom_surface_revolve(const geom_nurbs_curve *c, const double origin[
     double arc_knots[16], arc_ctrl[18], arc_w[9];
     st = unit_arc(angle, arc_knots, arc_ctrl, arc_w);
     if (st != GEOM_OK)
-        return geom_diag_set(diag, st, NULL, 0, 0, "surface: revolution arc failed");
+        return geom__diag_set(diag, st, NULL, 0, 0, "surface: revolution arc failed");
     size_t n = c->n;
     for (size_t j = 0; j < n; ++j) {
         double O[3], X[3], Y[3], P[3];
@@ -286,7 +286,7 @@ static geom_status frame_axes(const geom_surface_frame *f, double *C, double *Z,
         X[0] = 1.0, X[1] = X[2] = 0.0;
         return GEOM_OK;
     }
-    if (!geom_isfinite3(f->center) || !geom_isfinite3(f->zaxis) || !geom_isfinite3(f->xaxis))
+    if (!geom__isfinite3(f->center) || !geom__isfinite3(f->zaxis) || !geom__isfinite3(f->xaxis))
         return GEOM_ERR_INVALID_ARG;
     if (fabs(dot3(f->zaxis, f->zaxis) - 1.0) > 1e-12 || fabs(dot3(f->xaxis, f->xaxis) - 1.0) > 1e-12 ||
         fabs(dot3(f->zaxis, f->xaxis)) > 1e-12)
@@ -410,7 +410,7 @@ static geom_status ruled_prepare(const geom_nurbs_curve *c, rcurve *out, geom_di
     size_t n = c->n, p = (size_t)c->degree;
     geom_status st = rcurve_alloc(&tmp, n, n + p + 1);
     if (st != GEOM_OK)
-        return geom_diag_set(diag, st, NULL, 0, 0, "surface: out of memory");
+        return geom__diag_set(diag, st, NULL, 0, 0, "surface: out of memory");
     memcpy(tmp.knots, c->knots, (n + p + 1) * sizeof(double));
     for (size_t i = 0; i < n; ++i) {
         curve_point3(c, i, tmp.points + 3 * i);
@@ -420,7 +420,7 @@ static geom_status ruled_prepare(const geom_nurbs_curve *c, rcurve *out, geom_di
     st = rcurve_alloc(out, n + 2 * p, n + 3 * p + 1);
     if (st != GEOM_OK) {
         rcurve_free(&tmp);
-        return geom_diag_set(diag, st, NULL, 0, 0, "surface: out of memory");
+        return geom__diag_set(diag, st, NULL, 0, 0, "surface: out of memory");
     }
     st = geom_curve_nurbs_clamp(&tmp.c, out->knots, out->points, out->weights, &out->c, diag);
     rcurve_free(&tmp);
@@ -443,12 +443,12 @@ static geom_status ruled_elevate(rcurve *r, int to, geom_diag *diag)
     size_t n, nk;
     geom_status st = geom_curve_nurbs_elevate_bound(&r->c, t, &n, &nk);
     if (st != GEOM_OK)
-        return geom_diag_set(diag, st, NULL, 0, 0, "surface: degree elevation failed");
+        return geom__diag_set(diag, st, NULL, 0, 0, "surface: degree elevation failed");
     rcurve e;
     memset(&e, 0, sizeof e);
     st = rcurve_alloc(&e, n, nk);
     if (st != GEOM_OK)
-        return geom_diag_set(diag, st, NULL, 0, 0, "surface: out of memory");
+        return geom__diag_set(diag, st, NULL, 0, 0, "surface: out of memory");
     st = geom_curve_nurbs_elevate(&r->c, t, e.knots, e.points, e.weights, &e.c, diag);
     if (st != GEOM_OK) {
         rcurve_free(&e);
@@ -494,7 +494,7 @@ static geom_status ruled_refine(rcurve *r, const double *x, size_t nx, geom_diag
     size_t n = r->c.n + nx, nk = n + (size_t)r->c.degree + 1;
     geom_status st = rcurve_alloc(&e, n, nk);
     if (st != GEOM_OK)
-        return geom_diag_set(diag, st, NULL, 0, 0, "surface: out of memory");
+        return geom__diag_set(diag, st, NULL, 0, 0, "surface: out of memory");
     st = geom_curve_nurbs_refine(&r->c, x, nx, e.knots, e.points, e.weights, &e.c, diag);
     if (st != GEOM_OK) {
         rcurve_free(&e);
@@ -527,7 +527,7 @@ static geom_status ruled_compatible(const geom_nurbs_curve *c0, const geom_nurbs
     size_t cap = r0->c.n + r1->c.n + 2 * (size_t)p + 2;
     double *x = malloc(cap * sizeof(double));
     if (!x)
-        return geom_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "surface: out of memory");
+        return geom__diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "surface: out of memory");
     size_t n0 = missing_knots(r0, r1, x);
     st = ruled_refine(r0, x, n0, diag);
     if (st == GEOM_OK) {
@@ -536,7 +536,7 @@ static geom_status ruled_compatible(const geom_nurbs_curve *c0, const geom_nurbs
     }
     free(x);
     if (st == GEOM_OK && (r0->c.n != r1->c.n))
-        st = geom_diag_set(diag, GEOM_ERR_DEGENERATE, NULL, 0, 0,
+        st = geom__diag_set(diag, GEOM_ERR_DEGENERATE, NULL, 0, 0,
                            "surface: ruled surface curves could not be made compatible");
     return st;
 }
@@ -564,11 +564,11 @@ geom_status geom_surface_ruled(const geom_nurbs_curve *c0, const geom_nurbs_curv
                                geom_nurbs_surface *out, geom_diag *diag)
 {
     if (!knots_u || !knots_v || !points || !out)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "surface: NULL argument to geom_surface_ruled");
     int rational = (c0 && c0->weights) || (c1 && c1->weights);
     if (rational && !weights)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "surface: a rational ruled surface needs a weights buffer");
     rcurve r0, r1;
     memset(&r0, 0, sizeof r0);

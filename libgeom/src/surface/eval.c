@@ -4,7 +4,7 @@
 
 #include <float.h>
 
-geom_status geom_surface_check_cheap(const geom_nurbs_surface *s)
+geom_status geom__surface_check_cheap(const geom_nurbs_surface *s)
 {
     if (!s || !s->knots_u || !s->knots_v || !s->points)
         return GEOM_ERR_INVALID_ARG;
@@ -15,7 +15,7 @@ geom_status geom_surface_check_cheap(const geom_nurbs_surface *s)
     return GEOM_OK;
 }
 
-double geom_surface_binom(int n, int k)
+double geom__surface_binom(int n, int k)
 {
     if (k < 0 || k > n)
         return 0.0;
@@ -38,28 +38,28 @@ static geom_status check_knots(const char *what, int p, size_t n, const double *
     geom_diag_clear(&d);
     geom_status st = geom_curve_nurbs_validate(&c, nk, &d);
     if (st != GEOM_OK)
-        return geom_diag_set(diag, st, NULL, 0, 0, "surface: %s: %s", what, d.message);
+        return geom__diag_set(diag, st, NULL, 0, 0, "surface: %s: %s", what, d.message);
     return GEOM_OK;
 }
 
 geom_status geom_surface_validate(const geom_nurbs_surface *s, geom_diag *diag)
 {
     if (!s)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "surface: NULL surface");
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "surface: NULL surface");
     if (!s->knots_u || !s->knots_v || !s->points)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "surface: NULL knots or points");
     if (s->degree_u < 1 || s->degree_v < 1)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "surface: degrees (%d, %d) must be >= 1", s->degree_u, s->degree_v);
     if (s->nu < (size_t)s->degree_u + 1 || s->nv < (size_t)s->degree_v + 1)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "surface: %zu x %zu control points are too few for degrees "
                              "(%d, %d)",
                              s->nu, s->nv, s->degree_u, s->degree_v);
     size_t total;
-    if (geom_size_mul(s->nu, s->nv, &total) != GEOM_OK || total > SIZE_MAX / 24)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+    if (geom__size_mul(s->nu, s->nv, &total) != GEOM_OK || total > SIZE_MAX / 24)
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "surface: %zu x %zu control points overflow", s->nu, s->nv);
     geom_status st = check_knots("knots_u", s->degree_u, s->nu, s->knots_u, s->points, diag);
     if (st != GEOM_OK)
@@ -70,13 +70,13 @@ geom_status geom_surface_validate(const geom_nurbs_surface *s, geom_diag *diag)
     for (size_t i = 0; i < s->nu; ++i)
         for (size_t j = 0; j < s->nv; ++j) {
             const double *P = s->points + 3 * (i * s->nv + j);
-            if (!geom_isfinite3(P))
-                return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+            if (!geom__isfinite3(P))
+                return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                                      "surface: points: point (%zu, %zu) is not finite", i, j);
             if (s->weights) {
                 double w = s->weights[i * s->nv + j];
                 if (!isfinite(w) || !(w > 0.0))
-                    return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+                    return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                                          "surface: weights: weight (%zu, %zu) is %.17g, not a "
                                          "finite value > 0",
                                          i, j, w);
@@ -87,7 +87,7 @@ geom_status geom_surface_validate(const geom_nurbs_surface *s, geom_diag *diag)
 
 geom_status geom_surface_domain(const geom_nurbs_surface *s, double domain[4])
 {
-    if (geom_surface_check_cheap(s) != GEOM_OK || !domain)
+    if (geom__surface_check_cheap(s) != GEOM_OK || !domain)
         return GEOM_ERR_INVALID_ARG;
     domain[0] = s->knots_u[s->degree_u];
     domain[1] = s->knots_u[s->nu];
@@ -96,7 +96,7 @@ geom_status geom_surface_domain(const geom_nurbs_surface *s, double domain[4])
     return GEOM_OK;
 }
 
-geom_status geom_surface_locate(const geom_nurbs_surface *s, double u, double v, unsigned flags,
+geom_status geom__surface_locate(const geom_nurbs_surface *s, double u, double v, unsigned flags,
                                 size_t *ku, size_t *kv)
 {
     double ue, ve;
@@ -114,7 +114,7 @@ geom_status geom_surface_locate(const geom_nurbs_surface *s, double u, double v,
     return GEOM_OK;
 }
 
-size_t geom_surface_point_work(const geom_nurbs_surface *s)
+size_t geom__surface_point_work(const geom_nurbs_surface *s)
 {
     size_t p1 = (size_t)s->degree_u + 1, q1 = (size_t)s->degree_v + 1;
     return p1 + q1 + geom__bs_basis_work(s->degree_u > s->degree_v ? s->degree_u
@@ -159,7 +159,7 @@ static void combine_point(const geom_nurbs_surface *s, size_t ku, size_t kv, con
     }
 }
 
-void geom_surface_span_point(const geom_nurbs_surface *s, size_t ku, size_t kv, double u,
+void geom__surface_span_point(const geom_nurbs_surface *s, size_t ku, size_t kv, double u,
                              double v, double out[3], double *work)
 {
     int p = s->degree_u, q = s->degree_v;
@@ -216,7 +216,7 @@ static void basis_ders(int p, const double *U, size_t k, double u, int nd, doubl
 #undef NDU
 }
 
-size_t geom_surface_derivs_work(const geom_nurbs_surface *s, int d)
+size_t geom__surface_derivs_work(const geom_nurbs_surface *s, int d)
 {
     size_t p1 = (size_t)s->degree_u + 1, q1 = (size_t)s->degree_v + 1;
     size_t d1 = (size_t)d + 1;
@@ -228,7 +228,7 @@ size_t geom_surface_derivs_work(const geom_nurbs_surface *s, int d)
     return du * p1 + dv * q1 + geom__bs_ders_work(pm) + 4 * du * q1 + 4 * d1 * d1;
 }
 
-void geom_surface_span_derivs(const geom_nurbs_surface *s, size_t ku, size_t kv, double u,
+void geom__surface_span_derivs(const geom_nurbs_surface *s, size_t ku, size_t kv, double u,
                               double v, int d, double *ders, double *work)
 {
     int p = s->degree_u, q = s->degree_v;
@@ -306,18 +306,18 @@ void geom_surface_span_derivs(const geom_nurbs_surface *s, size_t ku, size_t kv,
                 for (int c = 0; c < 3; ++c)
                     vv[c] = H[4 * ((size_t)k * d1 + (size_t)l) + (size_t)c];
                 for (int j = 1; j <= l; ++j) {
-                    double b = (j == 1 ? (double)l : geom_surface_binom(l, j)) * HW(0, j);
+                    double b = (j == 1 ? (double)l : geom__surface_binom(l, j)) * HW(0, j);
                     for (int c = 0; c < 3; ++c)
                         vv[c] -= b * SK(k, l - j, c);
                 }
                 for (int i = 1; i <= k; ++i) {
-                    double bi = i == 1 ? (double)k : geom_surface_binom(k, i);
+                    double bi = i == 1 ? (double)k : geom__surface_binom(k, i);
                     double b = bi * HW(i, 0);
                     for (int c = 0; c < 3; ++c)
                         vv[c] -= b * SK(k - i, l, c);
                     double v2[3] = {0.0, 0.0, 0.0};
                     for (int j = 1; j <= l; ++j) {
-                        double bj = (j == 1 ? (double)l : geom_surface_binom(l, j)) * HW(i, j);
+                        double bj = (j == 1 ? (double)l : geom__surface_binom(l, j)) * HW(i, j);
                         for (int c = 0; c < 3; ++c)
                             v2[c] += bj * SK(k - i, l - j, c);
                     }
@@ -338,16 +338,16 @@ void geom_surface_span_derivs(const geom_nurbs_surface *s, size_t ku, size_t kv,
 geom_status geom_surface_eval(const geom_nurbs_surface *s, double u, double v, unsigned flags,
                               double out[3])
 {
-    if (geom_surface_check_cheap(s) != GEOM_OK || !out)
+    if (geom__surface_check_cheap(s) != GEOM_OK || !out)
         return GEOM_ERR_INVALID_ARG;
     size_t ku, kv;
-    geom_status st = geom_surface_locate(s, u, v, flags, &ku, &kv);
+    geom_status st = geom__surface_locate(s, u, v, flags, &ku, &kv);
     if (st != GEOM_OK)
         return st;
     geom__scratch sc;
-    st = geom__scratch_init(&sc, geom_surface_point_work(s));
+    st = geom__scratch_init(&sc, geom__surface_point_work(s));
     if (st == GEOM_OK)
-        geom_surface_span_point(s, ku, kv, u, v, out, sc.mem);
+        geom__surface_span_point(s, ku, kv, u, v, out, sc.mem);
     geom__scratch_free(&sc);
     return st;
 }
@@ -355,18 +355,18 @@ geom_status geom_surface_eval(const geom_nurbs_surface *s, double u, double v, u
 geom_status geom_surface_derivs(const geom_nurbs_surface *s, double u, double v, int d,
                                 unsigned flags, double *ders)
 {
-    if (geom_surface_check_cheap(s) != GEOM_OK || !ders || d < 0)
+    if (geom__surface_check_cheap(s) != GEOM_OK || !ders || d < 0)
         return GEOM_ERR_INVALID_ARG;
     if (d > GEOM_SURFACE_MAX_DERIV)
         return GEOM_ERR_LIMIT;
     size_t ku, kv;
-    geom_status st = geom_surface_locate(s, u, v, flags, &ku, &kv);
+    geom_status st = geom__surface_locate(s, u, v, flags, &ku, &kv);
     if (st != GEOM_OK)
         return st;
     geom__scratch sc;
-    st = geom__scratch_init(&sc, geom_surface_derivs_work(s, d));
+    st = geom__scratch_init(&sc, geom__surface_derivs_work(s, d));
     if (st == GEOM_OK)
-        geom_surface_span_derivs(s, ku, kv, u, v, d, ders, sc.mem);
+        geom__surface_span_derivs(s, ku, kv, u, v, d, ders, sc.mem);
     geom__scratch_free(&sc);
     return st;
 }

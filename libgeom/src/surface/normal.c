@@ -36,11 +36,11 @@ static int unit3(const double *a, double *out)
     return 1;
 }
 
-size_t geom_surface_normal_work(const geom_nurbs_surface *s)
+size_t geom__surface_normal_work(const geom_nurbs_surface *s)
 {
     size_t d1 = NORD + 1;
     int pm = s->degree_u > s->degree_v ? s->degree_u : s->degree_v;
-    size_t a = 3 * d1 * d1 + geom_surface_derivs_work(s, NORD);
+    size_t a = 3 * d1 * d1 + geom__surface_derivs_work(s, NORD);
     size_t b = 2 * ((size_t)s->degree_u + 1) + 2 * ((size_t)s->degree_v + 1) +
                geom__bs_ders_work(pm);
     return a > b ? a : b;
@@ -108,7 +108,7 @@ static void ray_coeffs(const double *D, int a, int b, double nfu, double nfv, do
         for (int i = 0; i <= r; ++i) {
             double ca = (i == 0 ? 1.0 : (a == 0 ? 0.0 : pow((double)a, i)));
             double cb = (r - i == 0 ? 1.0 : (b == 0 ? 0.0 : pow((double)b, r - i)));
-            double c = geom_surface_binom(r, i) * ca * cb;
+            double c = geom__surface_binom(r, i) * ca * cb;
             if (c == 0.0)
                 continue;
             const double *Du = D + 3 * ((size_t)(1 + i) * d1 + (size_t)(r - i));
@@ -162,7 +162,7 @@ static int ray_first(const double *A, double *t)
     return 0;
 }
 
-int geom_surface_span_normal(const geom_nurbs_surface *s, size_t ku, size_t kv, double u, double v,
+int geom__surface_span_normal(const geom_nurbs_surface *s, size_t ku, size_t kv, double u, double v,
                              int su, int sv, double n[3], double tangent[3], double *work)
 {
     double wu = s->knots_u[ku + 1] - s->knots_u[ku];
@@ -171,7 +171,7 @@ int geom_surface_span_normal(const geom_nurbs_surface *s, size_t ku, size_t kv, 
     span_noise(s, ku, kv, u, v, wu, wv, work, &nfu, &nfv);
     double D1[12];
     double *pw = work;
-    geom_surface_span_derivs(s, ku, kv, u, v, 1, D1, pw);
+    geom__surface_span_derivs(s, ku, kv, u, v, 1, D1, pw);
     double A0[3] = {D1[6] * wu, D1[7] * wu, D1[8] * wu}; /* S^(1,0) */
     double B0[3] = {D1[3] * wv, D1[4] * wv, D1[5] * wv}; /* S^(0,1) */
     double c0[3];
@@ -186,7 +186,7 @@ int geom_surface_span_normal(const geom_nurbs_surface *s, size_t ku, size_t kv, 
     size_t d1 = NORD + 1;
     double *D = work;
     double *w2 = work + 3 * d1 * d1;
-    geom_surface_span_derivs(s, ku, kv, u, v, NORD, D, w2);
+    geom__surface_span_derivs(s, ku, kv, u, v, NORD, D, w2);
     double pu = 1.0;
     for (int k = 0; k <= NORD; ++k) {
         double pv = 1.0;
@@ -255,10 +255,10 @@ int geom_surface_span_normal(const geom_nurbs_surface *s, size_t ku, size_t kv, 
 geom_status geom_surface_normal(const geom_nurbs_surface *s, double u, double v, unsigned flags,
                                 double n[3], int *how)
 {
-    if (geom_surface_check_cheap(s) != GEOM_OK || !n)
+    if (geom__surface_check_cheap(s) != GEOM_OK || !n)
         return GEOM_ERR_INVALID_ARG;
     size_t ku, kv;
-    geom_status st = geom_surface_locate(s, u, v, flags, &ku, &kv);
+    geom_status st = geom__surface_locate(s, u, v, flags, &ku, &kv);
     if (st != GEOM_OK)
         return st;
     double u0 = s->knots_u[s->degree_u], u1 = s->knots_u[s->nu];
@@ -276,12 +276,12 @@ geom_status geom_surface_normal(const geom_nurbs_surface *s, double u, double v,
     else if (v == s->knots_v[kv + 1])
         sv = -1;
     geom__scratch sc;
-    st = geom__scratch_init(&sc, geom_surface_normal_work(s));
+    st = geom__scratch_init(&sc, geom__surface_normal_work(s));
     if (st != GEOM_OK) {
         geom__scratch_free(&sc);
         return st;
     }
-    int h = geom_surface_span_normal(s, ku, kv, u, v, su, sv, n, NULL, sc.mem);
+    int h = geom__surface_span_normal(s, ku, kv, u, v, su, sv, n, NULL, sc.mem);
     geom__scratch_free(&sc);
     if (how)
         *how = h;

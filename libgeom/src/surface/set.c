@@ -22,7 +22,7 @@ static const geom_allocator *set_alloc(const geom_surface_set *s)
 
 geom_surface_set *geom_surface_set_create(const geom_allocator *alloc)
 {
-    geom_surface_set *s = geom_alloc(alloc, sizeof *s);
+    geom_surface_set *s = geom__alloc(alloc, sizeof *s);
     if (!s)
         return NULL;
     memset(s, 0, sizeof *s);
@@ -39,14 +39,14 @@ void geom_surface_set_destroy(geom_surface_set *set)
         return;
     const geom_allocator *a = set_alloc(set);
     for (size_t i = 0; i < set->count; ++i)
-        geom_free(a, set->blocks[i], set->block_sizes[i]);
-    geom_free(a, set->views, set->cap * sizeof *set->views);
-    geom_free(a, set->blocks, set->cap * sizeof *set->blocks);
-    geom_free(a, set->block_sizes, set->cap * sizeof *set->block_sizes);
-    geom_free(a, set->names, set->cap * sizeof *set->names);
+        geom__free(a, set->blocks[i], set->block_sizes[i]);
+    geom__free(a, set->views, set->cap * sizeof *set->views);
+    geom__free(a, set->blocks, set->cap * sizeof *set->blocks);
+    geom__free(a, set->block_sizes, set->cap * sizeof *set->block_sizes);
+    geom__free(a, set->names, set->cap * sizeof *set->names);
     geom_allocator copy = set->alloc;
     int has = set->has_alloc;
-    geom_free(has ? &copy : NULL, set, sizeof *set);
+    geom__free(has ? &copy : NULL, set, sizeof *set);
 }
 
 size_t geom_surface_set_count(const geom_surface_set *set)
@@ -75,15 +75,15 @@ static geom_status grow(geom_surface_set *set)
     if (nc > SIZE_MAX / 256)
         return GEOM_ERR_LIMIT;
     /* all four arrays or none, so the recorded capacity stays right */
-    geom_nurbs_surface *v = geom_alloc(a, nc * sizeof *v);
-    double **b = geom_alloc(a, nc * sizeof *b);
-    size_t *bs = geom_alloc(a, nc * sizeof *bs);
-    char(*nm)[NAME_MAX_BYTES] = geom_alloc(a, nc * sizeof *nm);
+    geom_nurbs_surface *v = geom__alloc(a, nc * sizeof *v);
+    double **b = geom__alloc(a, nc * sizeof *b);
+    size_t *bs = geom__alloc(a, nc * sizeof *bs);
+    char(*nm)[NAME_MAX_BYTES] = geom__alloc(a, nc * sizeof *nm);
     if (!v || !b || !bs || !nm) {
-        geom_free(a, v, nc * sizeof *v);
-        geom_free(a, b, nc * sizeof *b);
-        geom_free(a, bs, nc * sizeof *bs);
-        geom_free(a, nm, nc * sizeof *nm);
+        geom__free(a, v, nc * sizeof *v);
+        geom__free(a, b, nc * sizeof *b);
+        geom__free(a, bs, nc * sizeof *bs);
+        geom__free(a, nm, nc * sizeof *nm);
         return GEOM_ERR_NOMEM;
     }
     if (set->count) {
@@ -92,10 +92,10 @@ static geom_status grow(geom_surface_set *set)
         memcpy(bs, set->block_sizes, set->count * sizeof *bs);
         memcpy(nm, set->names, set->count * sizeof *nm);
     }
-    geom_free(a, set->views, set->cap * sizeof *set->views);
-    geom_free(a, set->blocks, set->cap * sizeof *set->blocks);
-    geom_free(a, set->block_sizes, set->cap * sizeof *set->block_sizes);
-    geom_free(a, set->names, set->cap * sizeof *set->names);
+    geom__free(a, set->views, set->cap * sizeof *set->views);
+    geom__free(a, set->blocks, set->cap * sizeof *set->blocks);
+    geom__free(a, set->block_sizes, set->cap * sizeof *set->block_sizes);
+    geom__free(a, set->names, set->cap * sizeof *set->names);
     set->views = v;
     set->blocks = b;
     set->block_sizes = bs;
@@ -107,21 +107,21 @@ static geom_status grow(geom_surface_set *set)
 geom_status geom_surface_set_add(geom_surface_set *set, const geom_nurbs_surface *s,
                                  const char *name)
 {
-    if (!set || geom_surface_check_cheap(s) != GEOM_OK)
+    if (!set || geom__surface_check_cheap(s) != GEOM_OK)
         return GEOM_ERR_INVALID_ARG;
     size_t nku = s->nu + (size_t)s->degree_u + 1, nkv = s->nv + (size_t)s->degree_v + 1;
     size_t npts, total;
-    if (geom_size_mul(s->nu, s->nv, &npts) != GEOM_OK || npts > SIZE_MAX / 8)
+    if (geom__size_mul(s->nu, s->nv, &npts) != GEOM_OK || npts > SIZE_MAX / 8)
         return GEOM_ERR_LIMIT;
     total = nku + nkv + 3 * npts + (s->weights ? npts : 0);
     size_t bytes;
-    if (geom_size_mul(total, sizeof(double), &bytes) != GEOM_OK)
+    if (geom__size_mul(total, sizeof(double), &bytes) != GEOM_OK)
         return GEOM_ERR_LIMIT;
     geom_status st = grow(set);
     if (st != GEOM_OK)
         return st;
     const geom_allocator *a = set_alloc(set);
-    double *blk = geom_alloc(a, bytes);
+    double *blk = geom__alloc(a, bytes);
     if (!blk)
         return GEOM_ERR_NOMEM;
     double *ku = blk, *kv = ku + nku, *pts = kv + nkv, *w = pts + 3 * npts;

@@ -2,7 +2,7 @@
  * Private kernels of the surface module. Not installed.
  *
  * The span functions do no argument checking: callers check the surface
- * once (geom_surface_check_cheap or geom_surface_validate) and locate the
+ * once (geom__surface_check_cheap or geom_surface_validate) and locate the
  * spans, then call them in inner loops with caller-provided work memory
  * (sizes from the matching *_work functions; geom__scratch gives a
  * stack buffer with a heap fallback).
@@ -20,36 +20,36 @@
 #define GEOM_SURFACE_NORMAL_ORDER 9
 
 /** Non-NULL arrays, degrees >= 1, counts >= degree+1. */
-geom_status geom_surface_check_cheap(const geom_nurbs_surface *s);
+geom_status geom__surface_check_cheap(const geom_nurbs_surface *s);
 
 /**
  * Check (u, v) and find the spans: NaN/Inf -> GEOM_ERR_INVALID_ARG, outside
  * the domain -> GEOM_ERR_DOMAIN; flags GEOM_SURFACE_U_LEFT/V_LEFT.
  */
-geom_status geom_surface_locate(const geom_nurbs_surface *s, double u, double v, unsigned flags,
+geom_status geom__surface_locate(const geom_nurbs_surface *s, double u, double v, unsigned flags,
                                 size_t *ku, size_t *kv);
 
-/** Doubles of work for geom_surface_span_point. */
-size_t geom_surface_point_work(const geom_nurbs_surface *s);
+/** Doubles of work for geom__surface_span_point. */
+size_t geom__surface_point_work(const geom_nurbs_surface *s);
 
 /** S(u, v) on spans (ku, kv) (A3.5/A4.3, exact control points where the
  *  basis is one-hot). */
-void geom_surface_span_point(const geom_nurbs_surface *s, size_t ku, size_t kv, double u,
+void geom__surface_span_point(const geom_nurbs_surface *s, size_t ku, size_t kv, double u,
                              double v, double out[3], double *work);
 
-/** Doubles of work for geom_surface_span_derivs with order d. */
-size_t geom_surface_derivs_work(const geom_nurbs_surface *s, int d);
+/** Doubles of work for geom__surface_span_derivs with order d. */
+size_t geom__surface_derivs_work(const geom_nurbs_surface *s, int d);
 
 /**
  * All S^(k,l), k + l <= d, on spans (ku, kv): ders[3*(k*(d+1)+l)], zero for
  * k + l > d. Derivatives from control points relative to the span's first
- * control point; S^(0,0) from geom_surface_span_point.
+ * control point; S^(0,0) from geom__surface_span_point.
  */
-void geom_surface_span_derivs(const geom_nurbs_surface *s, size_t ku, size_t kv, double u,
+void geom__surface_span_derivs(const geom_nurbs_surface *s, size_t ku, size_t kv, double u,
                               double v, int d, double *ders, double *work);
 
-/** Doubles of work for geom_surface_span_normal. */
-size_t geom_surface_normal_work(const geom_nurbs_surface *s);
+/** Doubles of work for geom__surface_span_normal. */
+size_t geom__surface_normal_work(const geom_nurbs_surface *s);
 
 /**
  * Unit normal on spans (ku, kv) at (u, v) (see geom_surface_normal); su, sv
@@ -60,10 +60,10 @@ size_t geom_surface_normal_work(const geom_nurbs_surface *s);
  * the normal in the plane it spans with dP/dv). Returns GEOM_SURFACE_NORMAL_*;
  * n (and tangent) are zero for GEOM_SURFACE_NORMAL_NONE.
  */
-int geom_surface_span_normal(const geom_nurbs_surface *s, size_t ku, size_t kv, double u, double v,
+int geom__surface_span_normal(const geom_nurbs_surface *s, size_t ku, size_t kv, double u, double v,
                              int su, int sv, double n[3], double tangent[3], double *work);
 
 /** Binomial coefficient as a double (exact up to 2^53). */
-double geom_surface_binom(int n, int k);
+double geom__surface_binom(int n, int k);
 
 #endif

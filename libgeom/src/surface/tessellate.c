@@ -138,14 +138,14 @@ typedef struct ts {
 static void *ts_alloc(ts *T, size_t n, size_t size)
 {
     size_t bytes;
-    if (geom_size_mul(n ? n : 1, size, &bytes) != GEOM_OK)
+    if (geom__size_mul(n ? n : 1, size, &bytes) != GEOM_OK)
         return NULL;
-    return geom_alloc(T->alloc, bytes);
+    return geom__alloc(T->alloc, bytes);
 }
 
 static void ts_free(ts *T, void *p, size_t n, size_t size)
 {
-    geom_free(T->alloc, p, (n ? n : 1) * size);
+    geom__free(T->alloc, p, (n ? n : 1) * size);
 }
 
 static geom_status ts_grow(ts *T, void **p, size_t *cap, size_t need, size_t size)
@@ -218,7 +218,7 @@ static void cell_point(ts *T, const ts_cell *c, double u, double v, double *out)
 {
     size_t ku, kv;
     cell_spans(T, c, u, v, &ku, &kv);
-    geom_surface_span_point(T->surf[c->surf].s, ku, kv, u, v, out, T->sc.mem);
+    geom__surface_span_point(T->surf[c->surf].s, ku, kv, u, v, out, T->sc.mem);
     T->evals++;
 }
 
@@ -226,7 +226,7 @@ static void cell_derivs(ts *T, const ts_cell *c, double u, double v, int d, doub
 {
     size_t ku, kv;
     cell_spans(T, c, u, v, &ku, &kv);
-    geom_surface_span_derivs(T->surf[c->surf].s, ku, kv, u, v, d, out, T->sc.mem);
+    geom__surface_span_derivs(T->surf[c->surf].s, ku, kv, u, v, d, out, T->sc.mem);
     T->evals++;
 }
 
@@ -239,13 +239,13 @@ static void cell_normal(ts *T, const ts_cell *c, double u, double v, double *n, 
     double mu = 0.5 * (c->u0 + c->u1), mv = 0.5 * (c->v0 + c->v1);
     int su = u < mu ? 1 : -1, sv = v < mv ? 1 : -1;
     const geom_nurbs_surface *s = T->surf[c->surf].s;
-    int how = geom_surface_span_normal(s, ku, kv, u, v, su, sv, n, t, T->sc.mem);
+    int how = geom__surface_span_normal(s, ku, kv, u, v, su, sv, n, t, T->sc.mem);
     T->evals++;
     if (how == GEOM_SURFACE_NORMAL_LIMIT && T->counting)
         T->limit_normals++;
     if (how == GEOM_SURFACE_NORMAL_NONE) {
         cell_spans(T, c, mu, mv, &ku, &kv);
-        how = geom_surface_span_normal(s, ku, kv, mu, mv, 1, 1, n, t, T->sc.mem);
+        how = geom__surface_span_normal(s, ku, kv, mu, mv, 1, 1, n, t, T->sc.mem);
         if (how == GEOM_SURFACE_NORMAL_NONE) {
             n[0] = n[1] = 0.0, n[2] = 1.0;
             t[0] = 1.0, t[1] = t[2] = 0.0;
@@ -984,20 +984,20 @@ static geom_status local_add(ts *T, double u, double v, uint32_t vert, uint32_t 
 {
     if (T->nloc >= T->cap_loc) {
         size_t nc = T->cap_loc ? 2 * T->cap_loc : 256;
-        double *a = geom_realloc(T->alloc, T->lu, T->cap_loc * sizeof(double), nc * sizeof(double));
+        double *a = geom__realloc(T->alloc, T->lu, T->cap_loc * sizeof(double), nc * sizeof(double));
         if (!a)
             return GEOM_ERR_NOMEM;
         T->lu = a;
-        double *b = geom_realloc(T->alloc, T->lv, T->cap_loc * sizeof(double), nc * sizeof(double));
+        double *b = geom__realloc(T->alloc, T->lv, T->cap_loc * sizeof(double), nc * sizeof(double));
         if (!b)
             return GEOM_ERR_NOMEM;
         T->lv = b;
         uint32_t *c =
-            geom_realloc(T->alloc, T->lvert, T->cap_loc * sizeof(uint32_t), nc * sizeof(uint32_t));
+            geom__realloc(T->alloc, T->lvert, T->cap_loc * sizeof(uint32_t), nc * sizeof(uint32_t));
         if (!c)
             return GEOM_ERR_NOMEM;
         T->lvert = c;
-        double *d = geom_realloc(T->alloc, T->lnorm, T->cap_loc * 6 * sizeof(double),
+        double *d = geom__realloc(T->alloc, T->lnorm, T->cap_loc * 6 * sizeof(double),
                                  nc * 6 * sizeof(double));
         if (!d)
             return GEOM_ERR_NOMEM;
@@ -1604,12 +1604,12 @@ geom_status geom_surface_tessellate(const geom_nurbs_surface *surfaces, size_t n
         return tessellate_unscaled(surfaces, n, options, out, report, stats, diag);
     const geom_allocator *al = options ? options->alloc : NULL;
     size_t bytes = n * sizeof(geom_nurbs_surface);
-    geom_nurbs_surface *copy = geom_alloc(al, bytes);
-    double *pts = geom_alloc(al, total * sizeof(double));
+    geom_nurbs_surface *copy = geom__alloc(al, bytes);
+    double *pts = geom__alloc(al, total * sizeof(double));
     if (!copy || !pts) {
-        geom_free(al, copy, bytes);
-        geom_free(al, pts, total * sizeof(double));
-        return geom_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "tessellate: out of memory");
+        geom__free(al, copy, bytes);
+        geom__free(al, pts, total * sizeof(double));
+        return geom__diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "tessellate: out of memory");
     }
     size_t at = 0;
     for (size_t k = 0; k < n; ++k) {
@@ -1627,8 +1627,8 @@ geom_status geom_surface_tessellate(const geom_nurbs_surface *surfaces, size_t n
         memset(&o, 0, sizeof o);
     o.tolerance = ldexp(o.tolerance, -ex);
     geom_status st = tessellate_unscaled(copy, n, &o, out, report, stats, diag);
-    geom_free(al, copy, bytes);
-    geom_free(al, pts, total * sizeof(double));
+    geom__free(al, copy, bytes);
+    geom__free(al, pts, total * sizeof(double));
     if (st == GEOM_OK) {
         double *p = geom_mesh_positions(out);
         size_t nv = geom_mesh_n_vertices(out);
@@ -1657,32 +1657,32 @@ static geom_status tessellate_unscaled(const geom_nurbs_surface *surfaces, size_
     if (stats)
         memset(stats, 0, sizeof *stats);
     if (!surfaces || n == 0 || !out)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "tessellate: NULL surfaces or mesh, or no surface");
     if (o->mode != GEOM_SURFACE_TESS_ADAPTIVE && o->mode != GEOM_SURFACE_TESS_UNIFORM)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "tessellate: unknown mode %d", (int)o->mode);
     if (!isfinite(o->tolerance) || o->tolerance < 0.0 || !isfinite(o->angle_degrees) ||
         o->angle_degrees < 0.0 || o->grid_u < 0 || o->grid_v < 0 ||
         o->grid_u > (int)MAX_GRID || o->grid_v > (int)MAX_GRID || o->check_subdivisions < 0 ||
         o->check_subdivisions > 64)
-        return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "tessellate: an option is negative, not finite or too large");
     if (n >= NONE32 / 8)
-        return geom_diag_set(diag, GEOM_ERR_LIMIT, NULL, 0, 0, "tessellate: too many surfaces");
+        return geom__diag_set(diag, GEOM_ERR_LIMIT, NULL, 0, 0, "tessellate: too many surfaces");
     geom_aabb box = geom_aabb_empty();
     size_t work = 0;
     for (size_t k = 0; k < n; ++k) {
         geom_diag d;
         geom_diag_clear(&d);
         if (geom_surface_validate(&surfaces[k], &d) != GEOM_OK)
-            return geom_diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+            return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                                  "tessellate: surface %zu: %s", k, d.message);
         const geom_nurbs_surface *s = &surfaces[k];
         for (size_t i = 0; i < s->nu * s->nv; ++i)
             box = geom_aabb_extend(box, geom_vec3_make(s->points[3 * i], s->points[3 * i + 1],
                                                        s->points[3 * i + 2]));
-        size_t w = geom_surface_normal_work(s);
+        size_t w = geom__surface_normal_work(s);
         if (w > work)
             work = w;
     }
@@ -1720,7 +1720,7 @@ static geom_status tessellate_unscaled(const geom_nurbs_surface *surfaces, size_
                      (GEOM_SURFACE_ATTR_NORMAL | GEOM_SURFACE_ATTR_UV | GEOM_SURFACE_ATTR_TANGENT);
     geom_status st = geom__scratch_init(&T.sc, work);
     if (st != GEOM_OK)
-        return geom_diag_set(diag, st, NULL, 0, 0, "tessellate: out of memory");
+        return geom__diag_set(diag, st, NULL, 0, 0, "tessellate: out of memory");
     st = build_structure(&T, surfaces, n);
     if (st == GEOM_OK)
         st = weld(&T, stats);
@@ -1748,7 +1748,7 @@ static geom_status tessellate_unscaled(const geom_nurbs_surface *surfaces, size_
             over |= T.cells[i].M > MAX_GRID || T.cells[i].N > MAX_GRID;
         }
         if (over || est > (double)T.max_tri) {
-            st = geom_diag_set(diag, GEOM_ERR_LIMIT, NULL, 0, 0,
+            st = geom__diag_set(diag, GEOM_ERR_LIMIT, NULL, 0, 0,
                                "tessellate: the tolerance needs more than %zu triangles (or "
                                "more than %u quads along a cell)",
                                T.max_tri, MAX_GRID);
@@ -1847,7 +1847,7 @@ static geom_status tessellate_unscaled(const geom_nurbs_surface *surfaces, size_
             o->progress(o->progress_user, (double)(i + 1) / (double)T.ncells);
         st = emit_cell(&T, c, attrs, o->uv_normalized);
         if (st == GEOM_ERR_LIMIT)
-            st = geom_diag_set(diag, GEOM_ERR_LIMIT, NULL, 0, 0,
+            st = geom__diag_set(diag, GEOM_ERR_LIMIT, NULL, 0, 0,
                                "tessellate: more than %zu triangles", T.max_tri);
         if (st != GEOM_OK)
             goto fail;
@@ -1879,7 +1879,7 @@ static geom_status tessellate_unscaled(const geom_nurbs_surface *surfaces, size_
     return GEOM_OK;
 fail:
     if (st == GEOM_ERR_NOMEM)
-        geom_diag_set(diag, st, NULL, 0, 0, "tessellate: out of memory");
+        geom__diag_set(diag, st, NULL, 0, 0, "tessellate: out of memory");
     ts_release(&T);
     return st;
 }
