@@ -432,6 +432,35 @@ geom_status geom_meshio_write_memory(const geom_mesh *m, const geom_meshio_write
     return GEOM_OK;
 }
 
+/* Writes through a 64 KiB sink buffer flushed by flush(user, ...): the one
+ * streaming path of geom_meshio_write_stream and geom_meshio_write. */
+static geom_status write_flushed(const geom_mesh *m, const geom_meshio_write_options *o,
+                                 geom_meshio_format fmt,
+                                 geom_status (*flush)(void *, const void *, size_t, geom_diag *),
+                                 void *user, const char *path, geom_diag *diag)
+{
+    mio_sink k;
+    memset(&k, 0, sizeof k);
+    k.alloc = o->alloc;
+    k.diag = diag;
+    k.precision = o->precision;
+    k.cap = 1 << 16;
+    k.buf = geom__alloc(o->alloc, k.cap);
+    k.flush_fn = flush;
+    k.user = user;
+    if (!k.buf)
+        return geom__diag_set(diag, GEOM_ERR_NOMEM, path, 0, 0, "out of memory");
+    geom_status st = write_dispatch(m, o, fmt, &k);
+    if (st == GEOM_OK)
+        st = k.status;
+    if (st == GEOM_OK)
+        st = geom__meshio_sink_flush(&k);
+    geom__free(o->alloc, k.buf, k.cap);
+    if (st != GEOM_OK && diag && diag->status == GEOM_OK)
+        geom__diag_set(diag, st, path, 0, 0, "%s", geom_status_str(st));
+    return st;
+}
+
 typedef struct stream_user {
     geom_meshio_write_fn fn;
     void *user;
@@ -462,26 +491,7 @@ geom_status geom_meshio_write_stream(const geom_mesh *m, const geom_meshio_write
     if (st != GEOM_OK)
         return st;
     stream_user su = {fn, user};
-    mio_sink k;
-    memset(&k, 0, sizeof k);
-    k.alloc = o.alloc;
-    k.diag = diag;
-    k.precision = o.precision;
-    k.cap = 1 << 16;
-    k.buf = geom__alloc(o.alloc, k.cap);
-    k.flush_fn = stream_flush;
-    k.user = &su;
-    if (!k.buf)
-        return geom__diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "out of memory");
-    st = write_dispatch(m, &o, o.format, &k);
-    if (st == GEOM_OK)
-        st = k.status;
-    if (st == GEOM_OK)
-        st = geom__meshio_sink_flush(&k);
-    geom__free(o.alloc, k.buf, k.cap);
-    if (st != GEOM_OK && diag && diag->status == GEOM_OK)
-        geom__diag_set(diag, st, NULL, 0, 0, "%s", geom_status_str(st));
-    return st;
+    return write_flushed(m, &o, o.format, stream_flush, &su, NULL, diag);
 }
 
 void geom_meshio_buffer_free(void *data, size_t size, const geom_allocator *alloc)
@@ -515,29 +525,9 @@ geom_status geom_meshio_write(const geom_mesh *m, const char *path,
     st = geom_output_open(path, o.alloc, &at, diag);
     if (st != GEOM_OK)
         return st;
-    mio_sink k;
-    memset(&k, 0, sizeof k);
-    k.alloc = o.alloc;
-    k.diag = diag;
-    k.precision = o.precision;
-    k.cap = 1 << 16;
-    k.buf = geom__alloc(o.alloc, k.cap);
-    k.flush_fn = output_flush;
-    k.user = &at;
-    if (!k.buf) {
-        geom_output_abort(&at);
-        return geom__diag_set(diag, GEOM_ERR_NOMEM, path, 0, 0, "out of memory");
-    }
-    st = write_dispatch(m, &o, fmt, &k);
-    if (st == GEOM_OK)
-        st = k.status;
-    if (st == GEOM_OK)
-        st = geom__meshio_sink_flush(&k);
-    geom__free(o.alloc, k.buf, k.cap);
+    st = write_flushed(m, &o, fmt, output_flush, &at, path, diag);
     if (st != GEOM_OK) {
         geom_output_abort(&at);
-        if (diag && diag->status == GEOM_OK)
-            geom__diag_set(diag, st, path, 0, 0, "%s", geom_status_str(st));
         if (diag && diag->source[0] == '\0')
             snprintf(diag->source, sizeof diag->source, "%s", path);
         return st;
