@@ -158,6 +158,36 @@ static double face_scale(const geom_mesh *m, uint32_t f)
     return pow2_scale(ex + 1);
 }
 
+/* One corner of Newell's sum over positions scaled by g (a: the face's first
+ * vertex, b: this corner's vertex, c: the previous one): adds qprev x q to n,
+ * tracks the largest squared edge and flags zero-length edges and non-finite
+ * positions. The one loop body of poly_area_vector and
+ * geom__mesh_triangle_normal, so that both give the same bits. */
+static inline void newell_step(const double *a, const double *b, const double *c, double g,
+                               double n[3], double qprev[3], double *L2, int *zero_edge,
+                               int *finite)
+{
+    double q[3], e[3], x[3];
+    sub_scaled(b, a, g, q);
+    sub_scaled(b, c, g, e);
+    double l2 = dot3(e, e);
+    if (!geom__isfinite3(b))
+        *finite = 0;
+    if (l2 == 0.0)
+        *zero_edge = 1;
+    if (l2 == 0.0 && (e[0] != 0.0 || e[1] != 0.0 || e[2] != 0.0))
+        l2 = 0x1p-1074; /* underflowed, not coincident */
+    if (l2 > *L2)
+        *L2 = l2;
+    cross3(qprev, q, x);
+    n[0] += x[0];
+    n[1] += x[1];
+    n[2] += x[2];
+    qprev[0] = q[0];
+    qprev[1] = q[1];
+    qprev[2] = q[2];
+}
+
 /*
  * Geometry of a polygon face with positions scaled by g: the area vector
  * times 2 (Newell's sum of q_i x q_i+1 with q relative to the first vertex)
@@ -179,25 +209,7 @@ static int poly_area_vector(const geom_mesh *m, uint32_t f, double g, double n[3
         uint32_t hn = m->he_next[h];
         const double *b = p + 3 * (size_t)m->he_vertex[hn];
         const double *c = p + 3 * (size_t)m->he_vertex[h];
-        double q[3], e[3], x[3];
-        sub_scaled(b, a, g, q);
-        sub_scaled(b, c, g, e);
-        double l2 = dot3(e, e);
-        if (!geom__isfinite3(b))
-            finite = 0;
-        if (l2 == 0.0)
-            zero_edge = 1;
-        if (l2 == 0.0 && (e[0] != 0.0 || e[1] != 0.0 || e[2] != 0.0))
-            l2 = 0x1p-1074; /* underflowed, not coincident */
-        if (l2 > L2)
-            L2 = l2;
-        cross3(qprev, q, x);
-        n[0] += x[0];
-        n[1] += x[1];
-        n[2] += x[2];
-        qprev[0] = q[0];
-        qprev[1] = q[1];
-        qprev[2] = q[2];
+        newell_step(a, b, c, g, n, qprev, &L2, &zero_edge, &finite);
         h = hn;
     } while (h != h0 && ++guard < m->nh);
     double n2 = dot3(n, n);
@@ -229,25 +241,7 @@ geom_status geom__mesh_triangle_normal(const double *const v[3], double out[3])
     int zero_edge = 0, finite = 1;
     for (int i = 0; i < 3; i++) {
         const double *b = v[(i + 1) % 3], *c = v[i];
-        double q[3], e[3], x[3];
-        sub_scaled(b, a, g, q);
-        sub_scaled(b, c, g, e);
-        double l2 = dot3(e, e);
-        if (!geom__isfinite3(b))
-            finite = 0;
-        if (l2 == 0.0)
-            zero_edge = 1;
-        if (l2 == 0.0 && (e[0] != 0.0 || e[1] != 0.0 || e[2] != 0.0))
-            l2 = 0x1p-1074;
-        if (l2 > L2)
-            L2 = l2;
-        cross3(qprev, q, x);
-        n[0] += x[0];
-        n[1] += x[1];
-        n[2] += x[2];
-        qprev[0] = q[0];
-        qprev[1] = q[1];
-        qprev[2] = q[2];
+        newell_step(a, b, c, g, n, qprev, &L2, &zero_edge, &finite);
     }
     double n2 = dot3(n, n);
     if (!finite || zero_edge || !isfinite(n2) || !isfinite(L2) || n2 <= DEGEN2 * L2 * L2)
