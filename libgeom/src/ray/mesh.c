@@ -329,6 +329,38 @@ typedef struct w4entry {
     uint32_t child, count;
 } w4entry;
 
+/* The triangles first..first+count-1 (leaf order) against the ray: every hit
+ * pushed (GEOM__RAY_ALL), or the closest kept in best/best_t/best_b with tmax
+ * shrunk to it (ties by the smaller triangle index). The one leaf loop of both
+ * traversals. Returns -1 when out of memory, 1 when an any-hit query is
+ * answered, 0 otherwise. */
+static inline int leaf_hits(const geom__tmesh *m, const geom_ray *r, const geom__wbw *w,
+                            uint32_t first, uint32_t count, double tmin, double *tmax,
+                            int mode, uint32_t *best, double *best_t, double best_b[3],
+                            geom__rhits *out)
+{
+    for (uint32_t i = 0; i < count; i++) {
+        const double *tvp = m->tv + 9 * (size_t)(first + i);
+        double t, bc[3];
+        if (!geom__wbw_hit(w, tvp, tvp + 3, tvp + 6, tmin, *tmax, &t, bc)) continue;
+        uint32_t ti = m->tid[first + i];
+        if (mode == GEOM__RAY_ALL) {
+            geom_ray_hit *h = geom__rhits_push(out);
+            if (!h) return -1;
+            fill(m, r, ti, t, bc, h);
+        } else {
+            if (*best == GEOM_INVALID_INDEX || t < *best_t || (t == *best_t && ti < *best)) {
+                *best = ti;
+                *best_t = t;
+                memcpy(best_b, bc, sizeof bc);
+                *tmax = t;
+            }
+            if (mode == GEOM__RAY_ANY) return 1;
+        }
+    }
+    return 0;
+}
+
 static geom_status trace_wide(const geom__tmesh *m, const geom_ray *r, int mode, geom__rhits *out)
 {
     const struct geom__rbvh4 *W = m->wide;
@@ -406,27 +438,10 @@ static geom_status trace_wide(const geom__tmesh *m, const geom_ray *r, int mode,
             if (sp + nh > W4_STACK) return GEOM_ERR_LIMIT; /* cannot happen: depth checked at build */
             for (j = 0; j < nh; j++) stack[sp++] = hit[j];
         } else {
-            uint32_t i;
-            for (i = 0; i < e.count; i++) {
-                const double *tvp = m->tv + 9 * (size_t)(e.child + i);
-                uint32_t ti;
-                double t, bc[3];
-                if (!geom__wbw_hit(&w, tvp, tvp + 3, tvp + 6, tmin, tmax, &t, bc)) continue;
-                ti = m->tid[e.child + i];
-                if (mode == GEOM__RAY_ALL) {
-                    geom_ray_hit *h = geom__rhits_push(out);
-                    if (!h) return GEOM_ERR_NOMEM;
-                    fill(m, r, ti, t, bc, h);
-                } else {
-                    if (best == GEOM_INVALID_INDEX || t < best_t || (t == best_t && ti < best)) {
-                        best = ti;
-                        best_t = t;
-                        memcpy(best_b, bc, sizeof bc);
-                        tmax = t;
-                    }
-                    if (mode == GEOM__RAY_ANY) goto done;
-                }
-            }
+            int lr = leaf_hits(m, r, &w, e.child, e.count, tmin, &tmax, mode, &best, &best_t,
+                               best_b, out);
+            if (lr < 0) return GEOM_ERR_NOMEM;
+            if (lr > 0) goto done;
         }
     }
 done:
@@ -485,27 +500,10 @@ geom_status geom__ray_mesh(const geom__tmesh *m, const geom_ray *r, int mode, ge
                 stack[sp++] = ha ? a : b;
             }
         } else {
-            uint32_t i;
-            for (i = 0; i < nd->count; i++) {
-                const double *tvp = m->tv + 9 * (size_t)(nd->index + i);
-                uint32_t ti;
-                double t, bc[3];
-                if (!geom__wbw_hit(&w, tvp, tvp + 3, tvp + 6, r->tmin, tmax, &t, bc)) continue;
-                ti = m->tid[nd->index + i];
-                if (mode == GEOM__RAY_ALL) {
-                    geom_ray_hit *h = geom__rhits_push(out);
-                    if (!h) return GEOM_ERR_NOMEM;
-                    fill(m, r, ti, t, bc, h);
-                } else {
-                    if (best == GEOM_INVALID_INDEX || t < best_t || (t == best_t && ti < best)) {
-                        best = ti;
-                        best_t = t;
-                        memcpy(best_b, bc, sizeof bc);
-                        tmax = t;
-                    }
-                    if (mode == GEOM__RAY_ANY) goto done;
-                }
-            }
+            int lr = leaf_hits(m, r, &w, nd->index, nd->count, r->tmin, &tmax, mode, &best, &best_t,
+                               best_b, out);
+            if (lr < 0) return GEOM_ERR_NOMEM;
+            if (lr > 0) goto done;
         }
     }
 done:
