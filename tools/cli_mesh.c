@@ -196,3 +196,18 @@ int cli_mesh_format_option(const cli_tool *t, const char *arg, int input,
     *out = f;
     return CLI_CONTINUE;
 }
+
+size_t cli_mesh_degenerate_faces(const geom_mesh *m, size_t *first)
+{
+    size_t n = 0;
+    *first = 0;
+    for (size_t f = 0; f < geom_mesh_n_faces(m); f++) {
+        double fn[3];
+        if (geom_mesh_face_is_deleted(m, (uint32_t)f) ||
+            geom_mesh_face_normal(m, (uint32_t)f, fn) != GEOM_ERR_DEGENERATE)
+            continue;
+        if (!n++)
+            *first = f;
+    }
+    return n;
+}

@@ -58,6 +58,11 @@ int cli_mesh_format_option(const cli_tool *t, const char *arg, int input,
  */
 unsigned cli_mesh_mtllib_omit(const geom_mesh *m, const char *path, bool to_stdout);
 
+/* Degenerate (zero-area) live faces of m, the ones geom_mesh_face_normal
+ * refuses: their count, and the first one (0-based, in face order) in *first
+ * when there is any. Tools that compute normals or tangents warn with it. */
+size_t cli_mesh_degenerate_faces(const geom_mesh *m, size_t *first);
+
 #ifdef __cplusplus
 }
 #endif

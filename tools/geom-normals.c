@@ -188,15 +188,7 @@ int main(int argc, char **argv)
     /* degenerate (zero-area) faces have no normal: they contribute nothing,
      * which is said, with their count and the first one (0-based, in the
      * mesh's face order), rather than left to show as zero normals */
-    size_t ndeg = 0, first_deg = 0;
-    for (size_t f = 0; f < geom_mesh_n_faces(m); f++) {
-        double fn[3];
-        if (geom_mesh_face_is_deleted(m, (uint32_t)f) ||
-            geom_mesh_face_normal(m, (uint32_t)f, fn) != GEOM_ERR_DEGENERATE)
-            continue;
-        if (!ndeg++)
-            first_deg = f;
-    }
+    size_t first_deg = 0, ndeg = cli_mesh_degenerate_faces(m, &first_deg);
     char warning[256] = "";
     if (ndeg)
         snprintf(warning, sizeof warning,

@@ -44,8 +44,10 @@ static const cli_tool tool = {
     "Tangents follow MikkTSpace (the convention of Blender and glTF): per-face\n"
     "tangents from UV derivatives, angle-weighted over corners sharing position,\n"
     "normal and uv, orthogonalised against the normal; w = +-1 is the bitangent\n"
-    "sign. With --json, prints {\"faces\", \"corners\", \"tangents\", \"mirrored\",\n"
-    "\"seconds\"} on standard output (OUT must be a file).\n",
+    "sign. Degenerate (zero-area) faces are a warning with their count and the\n"
+    "first one. With --json, prints {\"faces\", \"corners\", \"tangents\",\n"
+    "\"mirrored\", \"degenerate_faces\", \"first_degenerate_face\", \"seconds\"}\n"
+    "and \"warnings\" on standard output (OUT must be a file).\n",
     "  geom-tangents --crease 45 textured.obj -o textured.glb\n"
     "  geom-tangents data/cube_seams.obj -o cube.glb\n",
 };
@@ -186,15 +188,37 @@ int main(int argc, char **argv)
         corners++;
         mirrored += d[4 * (size_t)ix[h] + 3] < 0.0;
     }
+    /* degenerate (zero-area) faces have no normal and no tangent frame of
+     * their own: said, with their count and the first one, as geom-normals does */
+    size_t first_deg = 0, ndeg = cli_mesh_degenerate_faces(m, &first_deg);
+    char warning[200] = "";
+    if (ndeg)
+        snprintf(warning, sizeof warning,
+                 "%zu degenerate (zero-area) face%s, the first face %zu: no normal or "
+                 "tangent frame of their own",
+                 ndeg, ndeg == 1 ? "" : "s", first_deg);
+    if (warning[0])
+        fprintf(stderr, "%s: warning: %s: %s\n", tool.name, argv[first], warning);
     st = cli_mesh_write_up(m, out_path, to.out_format, common.up_z, &diag);
     if (st != GEOM_OK) {
         geom_mesh_destroy(m);
         return cli_print_diag(&tool, &diag);
     }
     if (common.json) {
-        printf("{\"faces\":%zu,\"corners\":%zu,\"tangents\":%zu,\"mirrored\":%zu,\"seconds\":",
-               geom_mesh_n_live_faces(m), corners, nt, mirrored);
+        printf("{\"faces\":%zu,\"corners\":%zu,\"tangents\":%zu,\"mirrored\":%zu,"
+               "\"degenerate_faces\":%zu,\"first_degenerate_face\":",
+               geom_mesh_n_live_faces(m), corners, nt, mirrored, ndeg);
+        if (ndeg)
+            printf("%zu", first_deg);
+        else
+            printf("null");
+        printf(",\"seconds\":");
         cli_json_number(stdout, secs);
+        if (warning[0]) {
+            printf(",\"warnings\":[");
+            cli_json_string(stdout, warning);
+            printf("]");
+        }
         printf("}\n");
     }
     geom_mesh_destroy(m);

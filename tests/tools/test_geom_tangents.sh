@@ -151,6 +151,43 @@ import sys; sys.path.insert(0, "$T"); from glb import *
 check("$T/grid2.glb", False); print("ok")
 EOF
 
+# degenerate (zero-area) faces: a warning with the count and the first face
+# (0-based), in --json too
+cat >"$T/deg.obj" <<'EOF'
+v 0 0 0
+v 1 0 0
+v 1 1 0
+v 2 0 0
+v 3 0 0
+v 4 0 0
+vt 0 0
+vt 1 0
+vt 1 1
+f 1/1 2/2 3/3
+f 4/1 5/2 6/3
+EOF
+run --json "$T/deg.obj" -o "$T/deg.glb"
+expect_rc 0 "degenerate face"
+checks=$((checks + 1))
+case "$err" in
+*"warning"*"1 degenerate (zero-area) face, the first face 1"*) ;;
+*) fail "degenerate face: stderr '$err' lacks the count and first face" ;;
+esac
+pycheck "degenerate face --json" "$out" <<'EOF'
+import sys, json
+d = json.loads(sys.argv[1])
+assert d["degenerate_faces"] == 1 and d["first_degenerate_face"] == 1, d
+assert any("degenerate" in w for w in d["warnings"]), d
+print("ok")
+EOF
+run --json "$T/grid.obj" -o "$T/nodeg.glb"
+pycheck "no degenerate face --json" "$out" <<'EOF'
+import sys, json
+d = json.loads(sys.argv[1])
+assert d["degenerate_faces"] == 0 and d["first_degenerate_face"] is None and "warnings" not in d, d
+print("ok")
+EOF
+
 # errors
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' >"$T/nouv.obj"
 run "$T/nouv.obj" -o "$T/x.glb"
