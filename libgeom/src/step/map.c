@@ -59,7 +59,7 @@ static geom_status push(mapper *M, int which, void **arr, size_t *n, size_t elem
 static geom_status bad(mapper *M, uint32_t e, const char *fmt, const char *a1)
 {
     const geom__p21_entity *E = &M->p->ents[e];
-    char msg[160];
+    char msg[320]; /* larger than a diag message (256), so no -Wformat-truncation at -O3 */
     snprintf(msg, sizeof msg, fmt, a1 ? a1 : "");
     return geom__diag_set(M->diag, GEOM_ERR_PARSE, M->p->source, E->line, E->column, "#%llu %s: %s",
                          (unsigned long long)E->id, geom__p21_type(M->p, e), msg);
