@@ -17,6 +17,7 @@
  *
  *   bench_ray_repr [N]     (N x N rays, default 256)
  */
+#define _POSIX_C_SOURCE 200809L /* clock_gettime, CLOCK_THREAD_CPUTIME_ID */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
