@@ -181,7 +181,7 @@ static geom_status export_triangles(exp_walk *w, size_t nmax, size_t *fi, size_t
     double *pts = geom__alloc(al, 3 * nmax * sizeof(double));
     uint32_t *ub = geom__alloc(al, 4 * nmax * sizeof(uint32_t));
     geom_status st = pts && ub ? GEOM_OK : GEOM_ERR_NOMEM;
-    uint32_t *tris = ub, *hk = ub + 3 * nmax;
+    uint32_t *tris = ub, *hk = ub ? ub + 3 * nmax : NULL; /* no offset on NULL (UB) */
     for (int pass = 0; pass < 2 && st == GEOM_OK; pass++)
         for (size_t f = 0; f < nf && st == GEOM_OK; f++) {
             if (geom_mesh_face_is_deleted(m, (uint32_t)f))
