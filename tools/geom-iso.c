@@ -356,7 +356,7 @@ int main(int argc, char **argv)
     geom_iso_options o;
     memset(&o, 0, sizeof o);
     o.iso = a.iso;
-    o.refine = a.refine;
+    o.refine = a.refine ? GEOM_IMPLICIT_REFINE_AUTO : GEOM_IMPLICIT_REFINE_NEVER;
     o.normals = a.normals;
     o.caps = a.caps;
     o.threads = a.threads;

@@ -63,13 +63,14 @@ double gyroid(void *, const double p[3])
            std::sin(p[2]) * std::cos(p[0]);
 }
 
-void gyroid_grad(void *, const double p[3], double g[3])
+double gyroid_grad(void *u, const double p[3], double g[3]) // returns the value too
 {
     double sx = std::sin(p[0]), cx = std::cos(p[0]), sy = std::sin(p[1]), cy = std::cos(p[1]),
            sz = std::sin(p[2]), cz = std::cos(p[2]);
     g[0] = cx * cy - sz * sx;
     g[1] = -sx * sy + cy * cz;
     g[2] = -sy * sz + cz * cx;
+    return gyroid(u, p);
 }
 
 double torus(void *, const double p[3])
@@ -78,18 +79,19 @@ double torus(void *, const double p[3])
     return std::sqrt(q * q + p[2] * p[2]) - 0.35;
 }
 
-void torus_grad(void *, const double p[3], double g[3])
+double torus_grad(void *u, const double p[3], double g[3]) // returns the value too
 {
     double r = std::sqrt(p[0] * p[0] + p[1] * p[1]);
     double q = r - 1.0;
     double d = std::sqrt(q * q + p[2] * p[2]);
     if (r == 0 || d == 0) {
         g[0] = g[1] = g[2] = 0;
-        return;
+        return torus(u, p);
     }
     g[0] = q / d * p[0] / r;
     g[1] = q / d * p[1] / r;
     g[2] = p[2] / d;
+    return torus(u, p);
 }
 
 struct field_def {

@@ -271,7 +271,7 @@ static int flood_connected(const bilinear *b, int ca, int cb)
 /* Does our one-cell contour join the inside corners? */
 static int contour_joins(const bilinear *b, int code)
 {
-    geom_implicit_field f = {bilinear_cb, NULL, (void *)b, 1};
+    geom_implicit_field f = {.value = bilinear_cb, .user = (void *)b, .exact = 1};
     double bounds[4] = {0, 0, 1, 1};
     geom_implicit_isolines c;
     assert_int_equal(geom_implicit_contour(&f, bounds, 1, 1, NULL, &c, NULL), GEOM_OK);
@@ -458,7 +458,7 @@ static void test_random_ternary_grids(void **state)
         for (int k = 0; k < (N + 1) * (N + 1); k++)
             v[k] = floor(urand() * 3.0) - 1.0;
         grid_field g = {N, v};
-        geom_implicit_field f = {grid_cb, NULL, &g, trial % 2};
+        geom_implicit_field f = {.value = grid_cb, .user = &g, .exact = trial % 2};
         double bounds[4] = {0, 0, N, N};
         geom_implicit_isolines c;
         assert_int_equal(geom_implicit_contour(&f, bounds, N, N, NULL, &c, NULL), GEOM_OK);

@@ -264,12 +264,14 @@ static inline double iso_f_sphere(void *u, const double p[3])
     return sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) - 1.0;
 }
 
-static inline void iso_g_sphere(void *u, const double p[3], double g[3])
+/* gradient callbacks return the value too (geom_implicit_grad_fn) */
+static inline double iso_g_sphere(void *u, const double p[3], double g[3])
 {
     (void)u;
     double r = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
     for (int k = 0; k < 3; k++)
         g[k] = r > 0 ? p[k] / r : 0;
+    return r - 1.0;
 }
 
 /* Torus around z, radii 1 and 0.4 (exact signed distance). */
@@ -300,14 +302,14 @@ static inline double iso_f_gyroid(void *u, const double p[3])
     return sin(p[0]) * cos(p[1]) + sin(p[1]) * cos(p[2]) + sin(p[2]) * cos(p[0]);
 }
 
-static inline void iso_g_gyroid(void *u, const double p[3], double g[3])
+static inline double iso_g_gyroid(void *u, const double p[3], double g[3])
 {
-    (void)u;
     double sx = sin(p[0]), cx = cos(p[0]), sy = sin(p[1]), cy = cos(p[1]), sz = sin(p[2]),
            cz = cos(p[2]);
     g[0] = cx * cy - sz * sx;
     g[1] = -sx * sy + cy * cz;
     g[2] = -sy * sz + cz * cx;
+    return iso_f_gyroid(u, p);
 }
 
 /* Three metaballs (inverse-square potential) merged into one blob. */

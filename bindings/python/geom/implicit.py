@@ -150,7 +150,7 @@ def marching_cubes(field, bounds=None, resolution=None, iso=0.0, refine=False, n
     """
     opt = ffi.new("geom_iso_options *")
     opt.iso = float(iso)
-    opt.refine = 1 if refine else 0
+    opt.refine = lib.GEOM_IMPLICIT_REFINE_AUTO if refine else lib.GEOM_IMPLICIT_REFINE_NEVER
     opt.normals = 1 if normals else 0
     opt.caps = 1 if caps else 0
     opt.error = _ISO_ERROR[error]

@@ -6,16 +6,21 @@
  *    time) that gives the value, the exact gradient (forward-mode dual
  *    numbers) and interval bounds over a box.
  *  - Fields: a plain callback interface (value, optional gradient, user
- *    pointer) for user functions, with adapters from expressions and from
- *    sampled volumes.
- *  - Sampled volumes: dense float or double grids read from raw files and
- *    from NRRD, evaluated by trilinear interpolation.
+ *    pointer, optional batches and bounds) for user functions, with
+ *    adapters from expressions and from sampled volumes: the one field
+ *    type, also taken by marching cubes (geom/iso.h).
+ *  - Sampled volumes: dense float or double grids (geom_implicit_grid, the
+ *    one grid description) read from raw files and NRRD, MetaImage,
+ *    INRIMAGE and NIfTI, evaluated by trilinear interpolation.
  *  - Marching squares: isolines of f(x, y, z0) on a regular grid, saddles
  *    resolved by the asymptotic decider, vertices shared between cells and
  *    refined on their edge by safeguarded root finding, joined into
  *    polylines.
  *
- * Sign convention everywhere: f < 0 is inside, f > 0 outside.
+ * Sign convention everywhere: f < 0 is inside, f > 0 outside. Contouring
+ * at an isovalue iso (here and in geom/iso.h) counts f <= iso as inside
+ * and f > iso as outside: a sample exactly on the isovalue is inside, in
+ * 2D and 3D alike (the level set at iso + epsilon).
  *
  * Nothing here keeps global state or prints. A compiled expression and a
  * volume are immutable after creation (except geom_implicit_expr_set_time),
@@ -262,22 +267,61 @@ GEOM_API geom_status geom_implicit_expr_eval_bounds(const geom_implicit_expr *e,
 
 /** Value of a field at p (3 doubles). */
 typedef double (*geom_implicit_value_fn)(void *user, const double p[3]);
-/** Value of a field at p, and its gradient in grad (3 doubles). */
+/** Value of a field at p (returned) and its gradient in grad (3 doubles).
+ *  (Consumers that need only the gradient ignore the returned value; it
+ *  must still be the field's value at p.) */
 typedef double (*geom_implicit_grad_fn)(void *user, const double p[3], double grad[3]);
+/** Values at n points: p holds 3*n doubles (x, y, z of point i at
+ *  p[3i..3i+2]), out receives n doubles. Must give exactly what value()
+ *  gives at each point. Marching cubes calls it with the nodes of one grid
+ *  row at a time (constant y and z, increasing x). */
+typedef void (*geom_implicit_values_fn)(void *user, size_t n, const double *p, double *out);
+/** Values and gradients at n points: p holds 3*n doubles, values receives
+ *  n doubles and grads 3*n. Must give exactly what value() and gradient()
+ *  give at each point. */
+typedef void (*geom_implicit_gradients_fn)(void *user, size_t n, const double *p, double *values,
+                                           double *grads);
+/** Bounds of the field over the box lo..hi (3 doubles each, lo <= hi):
+ *  return nonzero only when out[0] <= value(p) <= out[1] at EVERY point p
+ *  of the box that value() can be called with, value() is never NaN there,
+ *  and out holds no NaN; return 0 when that cannot be guaranteed (out is
+ *  then ignored). Marching cubes uses it to skip the blocks of the grid
+ *  that the surface provably does not cross. */
+typedef int (*geom_implicit_bounds_fn)(void *user, const double lo[3], const double hi[3],
+                                       double out[2]);
 
 /**
- * A scalar field given by callbacks: how user functions, compiled
- * expressions and volumes are passed to the contouring functions. The
- * callbacks must be safe to call concurrently if the consumer is parallel.
+ * A scalar field given by callbacks: the one field type of the library,
+ * taken by marching squares (geom_implicit_contour) and marching cubes
+ * (geom_iso_extract; geom_iso_field is the same type). Only `value` is
+ * required; the others are optional and, except `gradient` and `exact`,
+ * for speed only (a consumer that does not use one ignores it). A
+ * zero-initialised struct with `value` set is a valid field. The callbacks
+ * must be safe to call concurrently if the consumer is parallel.
+ *
+ * Inside convention (the same in 2D and 3D): a point is inside when
+ * f <= iso and outside when f > iso (NaN: see each consumer). Equivalently
+ * the contour extracted is the level set at iso + epsilon for an
+ * infinitesimal epsilon > 0: grid values exactly equal to iso are inside.
+ * The positional order of the first four members (value, gradient, user,
+ * exact) is kept from earlier versions.
  */
 typedef struct geom_implicit_field {
-    geom_implicit_value_fn value; /**< required */
-    geom_implicit_grad_fn gradient; /**< optional (NULL: finite differences where needed) */
-    void *user;                   /**< passed to both callbacks */
+    geom_implicit_value_fn value;    /**< required */
+    geom_implicit_grad_fn gradient;  /**< optional (NULL: central differences where needed) */
+    void *user;                      /**< passed to every callback */
     /** Nonzero when value() is the exact function (an expression or a
      *  user formula) rather than an interpolant of samples: root refinement
-     *  on edges is then meaningful. */
+     *  on edges (GEOM_IMPLICIT_REFINE_AUTO) and the error measure of
+     *  marching cubes (GEOM_ISO_ERROR_AUTO) then apply. */
     int exact;
+    geom_implicit_values_fn values;       /**< optional batch of values */
+    /** optional batch of values and gradients (used with `gradient`) */
+    geom_implicit_gradients_fn gradients;
+    /** optional rigorous bounds over a box: with it, geom_iso_extract
+     *  samples only the blocks of the grid the surface may cross (see
+     *  geom_iso_options::dense); the output is the same. */
+    geom_implicit_bounds_fn bounds;
 } geom_implicit_field;
 
 /** Callbacks over a compiled expression (user = the geom_implicit_expr *):
@@ -285,30 +329,60 @@ typedef struct geom_implicit_field {
 GEOM_API double geom_implicit_expr_value_cb(void *user, const double p[3]);
 GEOM_API double geom_implicit_expr_grad_cb(void *user, const double p[3], double grad[3]);
 
-/** Fill *out with e's callbacks (exact = 1). e must outlive the field. */
+/** Fill *out with e's callbacks: value (geom_implicit_expr_eval), gradient
+ *  (exact, dual numbers), values (geom_implicit_expr_eval_many), gradients
+ *  (geom_implicit_expr_eval_grad_many), bounds (geom_implicit_expr_eval_bounds,
+ *  defined boxes only) and exact = 1. e must outlive the field. NULL out is
+ *  a no-op. */
 GEOM_API void geom_implicit_field_from_expr(const geom_implicit_expr *e, geom_implicit_field *out);
+
+/** Root refinement of vertices on their grid edges:
+ *  geom_implicit_contour_options::refine and geom_iso_options::refine.
+ *  The members are `int`; 0 (AUTO) is the default of both. */
+typedef enum geom_implicit_refine {
+    GEOM_IMPLICIT_REFINE_AUTO = 0,   /**< refine when field->exact */
+    GEOM_IMPLICIT_REFINE_ALWAYS = 1, /**< refine whatever the field is */
+    GEOM_IMPLICIT_REFINE_NEVER = 2   /**< linear interpolation only */
+} geom_implicit_refine;
 
 /* ----------------------------------------------------------------- volumes */
 
-/** Sample type of a volume. */
+/** Sample type of a dense grid or volume in memory: the one scalar-type
+ *  enum (geom_iso_scalar and GEOM_ISO_SCALAR_* are aliases of it). */
 typedef enum geom_implicit_scalar {
     GEOM_IMPLICIT_SCALAR_F32 = 1, /**< IEEE 754 binary32 */
     GEOM_IMPLICIT_SCALAR_F64 = 2  /**< IEEE 754 binary64 */
 } geom_implicit_scalar;
 
 /**
- * Shape and placement of a dense sampled volume: sample (i, j, k) sits at
- * origin + (i*spacing[0], j*spacing[1], k*spacing[2]) and is element
- * i + dims[0]*(j + dims[1]*k) of the data (x fastest).
- * Zero-initialised fields take defaults where stated.
+ * A dense sampled grid: the one description of one, used by volumes
+ * (geom_implicit_volume_create, geom_implicit_volume_get_desc), the
+ * trilinear interpolator (geom_implicit_samples_value) and marching cubes
+ * over samples (geom_iso_extract_grid). geom_implicit_volume_desc and
+ * geom_iso_grid are the same type.
+ * Sample (i, j, k) sits at origin + (i*spacing[0], j*spacing[1],
+ * k*spacing[2]) and is element i + dims[0]*(j + dims[1]*k) of the data
+ * (x fastest). Zero-initialised fields take defaults where stated.
  */
-typedef struct geom_implicit_volume_desc {
+typedef struct geom_implicit_grid {
     size_t dims[3];            /**< samples per axis, each >= 1 */
     geom_implicit_scalar type; /**< required (0 is invalid) */
-    double spacing[3];         /**< > 0; 0 = 1 */
-    double origin[3];          /**< default 0 */
-    int big_endian;            /**< raw files only: nonzero = big-endian samples */
-} geom_implicit_volume_desc;
+    /** the samples, borrowed (dims[0]*dims[1]*dims[2] floats or doubles
+     *  as type says), in the machine's byte order. Read by the iso grid
+     *  functions; geom_implicit_volume_create ignores it (the volume owns
+     *  its samples) and geom_implicit_volume_get_desc sets it to the
+     *  volume's. */
+    const void *data;
+    double spacing[3];         /**< > 0 and finite; 0 = 1 */
+    double origin[3];          /**< finite; default 0 */
+    /** Deprecated (only geom_implicit_volume_read_raw reads it): nonzero =
+     *  the raw file's samples are big-endian. Ignored everywhere else. */
+    int big_endian;
+} geom_implicit_grid;
+
+/** Deprecated alias of geom_implicit_grid (the volume description of
+ *  earlier versions; its members keep their names and meaning). */
+typedef struct geom_implicit_grid geom_implicit_volume_desc;
 
 /**
  * Trilinear interpolation at p (3 doubles) of borrowed samples `data`
@@ -318,20 +392,20 @@ typedef struct geom_implicit_volume_desc {
  * sample box are clamped onto it; along an axis the value is
  * (1 - t) a + t b, nested x, then y, then z, and exactly a (b) at t = 0
  * (t = 1) without reading the other end, so a sample position gives the
- * stored sample exactly and a NaN neighbour does not leak into it. NaN
- * coordinates, NULL d or data give NaN.
+ * stored sample exactly and a NaN neighbour does not leak into it. NULL
+ * data means d->data. NaN coordinates, NULL d, or no data give NaN.
  */
-GEOM_API double geom_implicit_samples_value(const geom_implicit_volume_desc *d, const void *data,
+GEOM_API double geom_implicit_samples_value(const geom_implicit_grid *d, const void *data,
                                             const double p[3]);
 
 /**
  * Gradient at p into grad (3 doubles) of the same samples: the trilinear
  * interpolation of per-sample central differences (s[i+1] - s[i-1]) /
  * (2 spacing), one-sided on the border, 0 along an axis with one sample.
- * NaN coordinates or NULL d or data give NaN components; NULL grad is a
- * no-op.
+ * NULL data means d->data. NaN coordinates, NULL d or no data give NaN
+ * components; NULL grad is a no-op.
  */
-GEOM_API void geom_implicit_samples_gradient(const geom_implicit_volume_desc *d, const void *data,
+GEOM_API void geom_implicit_samples_gradient(const geom_implicit_grid *d, const void *data,
                                              const double p[3], double grad[3]);
 
 /** A dense sampled volume (opaque). */
@@ -344,39 +418,34 @@ typedef struct geom_implicit_volume geom_implicit_volume;
  * GEOM_ERR_LIMIT when the sample count or byte size overflows size_t;
  * GEOM_ERR_NOMEM.
  */
-GEOM_API geom_status geom_implicit_volume_create(const geom_implicit_volume_desc *desc,
+GEOM_API geom_status geom_implicit_volume_create(const geom_implicit_grid *desc,
                                         const geom_allocator *alloc,
                                         geom_implicit_volume **out);
 
 /**
- * Read a raw volume: desc->dims[0]*dims[1]*dims[2] samples of desc->type,
- * little-endian (big-endian with desc->big_endian), x fastest, no header.
- * The file's size is checked against the dims before anything is
- * allocated: it must be exactly the expected number of bytes.
+ * Deprecated: geom_implicit_volume_read with format GEOM_IMPLICIT_VOLUME_RAW
+ * (this function is a thin wrapper of it). Reads a raw volume:
+ * desc->dims[0]*dims[1]*dims[2] samples of desc->type (F32 or F64),
+ * little-endian (big-endian with desc->big_endian), x fastest, no header,
+ * placed by desc->spacing and desc->origin. The file's size is checked
+ * against the dims before anything is allocated: it must be exactly the
+ * expected number of bytes.
  * Statuses: GEOM_OK; GEOM_ERR_INVALID_ARG (as geom_implicit_volume_create,
  * NULL path); GEOM_ERR_IO (cannot open or read: diag has the reason);
  * GEOM_ERR_PARSE (wrong file size: diag says both sizes);
  * GEOM_ERR_LIMIT; GEOM_ERR_NOMEM. NaN and infinite samples are kept.
  */
-GEOM_API geom_status geom_implicit_volume_read_raw(const char *path, const geom_implicit_volume_desc *desc,
+GEOM_API geom_status geom_implicit_volume_read_raw(const char *path, const geom_implicit_grid *desc,
                                           const geom_allocator *alloc,
                                           geom_implicit_volume **out, geom_diag *diag);
 
 /**
- * Read a NRRD file (Teem's format, versions NRRD0001..NRRD0005): attached
- * data (after the blank line ending the header) or detached ("data file:"
- * naming one file, relative to the header's directory; "LIST" and
- * multi-file forms are not supported), with "byte skip" (-1: the data ends
- * the file) and "line skip". Needed fields: type (float or double, any of
- * their NRRD spellings), dimension (1 to 3; missing axes have size 1),
- * sizes, encoding (raw, or ascii/text/txt), endian (for raw data).
- * Placement from "spacings" or from "space directions" (axis-aligned only)
- * with "space origin"; "axis mins" when there is no spacing information
- * gives the origin. Other fields are ignored.
- * gzip, bzip2 and hex encodings are GEOM_ERR_PARSE with a message saying
- * so (libgeom's core has no compression library): decompress first, e.g.
- * `unu save -f nrrd -e raw`.
- * The data's size is checked against the sizes before allocating.
+ * Deprecated: geom_implicit_volume_read with format
+ * GEOM_IMPLICIT_VOLUME_NRRD and no inflate callback (this function is a
+ * thin wrapper of it; see there for what is read: every NRRD sample type
+ * and the raw, ascii and hex encodings, attached or detached data).
+ * gzip-encoded data is GEOM_ERR_PARSE here (no decompressor is passed:
+ * call geom_implicit_volume_read with one), bzip2 always.
  * Statuses: GEOM_OK; GEOM_ERR_IO; GEOM_ERR_PARSE (diag: file, line and
  * column of the bad header field, or the byte offset for short data);
  * GEOM_ERR_LIMIT; GEOM_ERR_NOMEM; GEOM_ERR_INVALID_ARG for NULL arguments.
@@ -385,10 +454,11 @@ GEOM_API geom_status geom_implicit_volume_read_nrrd(const char *path, const geom
                                            geom_implicit_volume **out, geom_diag *diag);
 
 /**
- * As geom_implicit_volume_read_nrrd, from `size` bytes at `data` (never
- * read beyond size) holding a NRRD file with attached data; source_name
- * (NULL: "<memory>") names it in diagnostics. A detached header is
- * GEOM_ERR_PARSE.
+ * Deprecated: geom_implicit_volume_read_memory with format
+ * GEOM_IMPLICIT_VOLUME_NRRD and no inflate callback (a thin wrapper of
+ * it), from `size` bytes at `data` (never read beyond size) holding a NRRD
+ * file with attached data; source_name (NULL: "<memory>") names it in
+ * diagnostics. A detached header is GEOM_ERR_PARSE.
  */
 GEOM_API geom_status geom_implicit_volume_read_nrrd_memory(const void *data, size_t size,
                                                   const char *source_name,
@@ -398,8 +468,9 @@ GEOM_API geom_status geom_implicit_volume_read_nrrd_memory(const void *data, siz
 /** Free a volume. NULL is a no-op. */
 GEOM_API void geom_implicit_volume_destroy(geom_implicit_volume *v);
 
-/** The volume's shape (spacing filled in, never 0; big_endian 0). */
-GEOM_API void geom_implicit_volume_get_desc(const geom_implicit_volume *v, geom_implicit_volume_desc *out);
+/** The volume's shape (spacing filled in, never 0; big_endian 0; data =
+ *  the volume's samples, borrowed). */
+GEOM_API void geom_implicit_volume_get_desc(const geom_implicit_volume *v, geom_implicit_grid *out);
 
 /** The samples: dims[0]*dims[1]*dims[2] floats or doubles (by type), x
  *  fastest, in the machine's byte order. */
@@ -601,18 +672,12 @@ GEOM_API double geom_implicit_bracket_root(geom_implicit_root_fn fn, void *user,
 
 /* -------------------------------------------------------- marching squares */
 
-/** Root refinement choice of geom_implicit_contour_options::refine. */
-enum {
-    GEOM_IMPLICIT_REFINE_AUTO = 0,  /**< refine when field->exact */
-    GEOM_IMPLICIT_REFINE_ALWAYS = 1,
-    GEOM_IMPLICIT_REFINE_NEVER = 2  /**< linear interpolation only */
-};
-
 /** Options of geom_implicit_contour; zero-initialised = defaults. */
 typedef struct geom_implicit_contour_options {
     double iso;          /**< the isovalue (default 0) */
     double z;            /**< the field is evaluated at (x, y, z) (default 0) */
-    int refine;          /**< GEOM_IMPLICIT_REFINE_* (default AUTO) */
+    int refine;          /**< geom_implicit_refine (default AUTO: refine when
+                              field->exact), as geom_iso_options::refine */
     int max_iterations;  /**< root finding iterations per edge; 0 = 100 */
     const geom_allocator *alloc; /**< for the result and temporaries; NULL = libc */
 } geom_implicit_contour_options;
@@ -649,8 +714,8 @@ typedef struct geom_implicit_contour_report {
  * border, at a NaN region, at a vertex where more than two segments meet
  * (isolines crossing at a grid node), or where an isoline made of grid
  * nodes with f == iso ends (a zero set of zero width, e.g. the maximum
- * line of -(x - c)^2). Polylines are oriented with
- * the inside (f < iso) on their left, so closed loops around inside regions
+ * line of (x - c)^2 at iso 0). Polylines are oriented with
+ * the inside (f <= iso) on their left, so closed loops around inside regions
  * run counter-clockwise.
  */
 typedef struct geom_implicit_isolines {
@@ -668,9 +733,10 @@ typedef struct geom_implicit_isolines {
  * Marching squares on the grid of nx by ny cells covering
  * bounds = {x0, y0, x1, y1} (x0 < x1, y0 < y1): the field is sampled at the
  * (nx + 1) * (ny + 1) nodes x_i = (x0 (nx - i) + x1 i) / nx (likewise y),
- * z = opt->z. A node is inside when f < iso and outside when f >= iso
- * (values equal to iso are outside, so an isoline through a node passes
- * exactly through it, with one shared vertex and no zero-length or
+ * z = opt->z. A node is inside when f <= iso and outside when f > iso (the
+ * library's one inside convention, as geom_iso_extract: values equal to
+ * iso are inside, the isoline of iso + epsilon; an isoline through a node
+ * passes exactly through it, with one shared vertex and no zero-length or
  * duplicate segment). Each edge with one inside and one outside end holds
  * one vertex, shared by the cells on both sides (keyed by edge id; a
  * crossing at a node with f == iso is keyed by the node); its position is
@@ -681,10 +747,11 @@ typedef struct geom_implicit_isolines {
  * is NaN or max_iterations is reached; the bracket end with the smaller |f|
  * is kept (at a jump of f, a point next to the jump). A cell whose corners alternate (a saddle)
  * is resolved by the asymptotic decider of Nielson and Hamann (1991): the
- * inside corners are joined when the bilinear interpolant is < iso at its
+ * inside corners are joined when the bilinear interpolant is <= iso at its
  * saddle point (its sign computed from an accurately rounded 2x2
- * determinant), which reproduces the topology of the bilinear interpolant
- * of the node values. Cells with a NaN corner make no segments; infinite
+ * determinant; the same decision as geom_iso_extract's on a cell face),
+ * which reproduces the topology of the bilinear interpolant of the node
+ * values. Cells with a NaN corner make no segments; infinite
  * values are classified by sign (interpolation then starts at the edge's
  * midpoint).
  *

@@ -2,10 +2,12 @@
  * libgeom iso: isosurfaces of scalar fields on regular grids by a
  * topologically correct marching cubes.
  *
- *  - Fields: a plain callback interface (value, optional gradient, optional
- *    batch of values, user pointer, exact/sampled flag), and a helper over a
- *    dense sampled grid of floats or doubles (trilinear value,
- *    central-difference gradient), and adapters from the `implicit` module's
+ *  - Fields: the implicit module's one field type (geom_implicit_field:
+ *    value, optional gradient, optional batches and bounds, user pointer,
+ *    exact/sampled flag; geom_iso_field is a deprecated alias), a helper
+ *    over a dense sampled grid of floats or doubles (geom_implicit_grid,
+ *    alias geom_iso_grid: trilinear value, central-difference gradient),
+ *    and adapters from the `implicit` module's
  *    compiled expressions and sampled volumes (geom_iso_field_from_expr,
  *    geom_iso_field_from_volume, geom_iso_grid_from_volume); any other
  *    function plugs in through the callbacks.
@@ -25,7 +27,10 @@
  *    in order, so the output is identical whatever the number of threads.
  *
  * Sign convention: by default a point is inside when f <= iso and outside
- * when f > iso (geom_iso_options::inside selects f >= iso instead).
+ * when f > iso (geom_iso_options::inside selects f >= iso instead): the
+ * library's one inside convention, the same as marching squares'
+ * (geom_implicit_contour), samples exactly equal to iso included, so a
+ * plane z = const of the grid gives the same crossing edges in 2D and 3D.
  * Triangles are counter-clockwise seen from outside: their normals point
  * away from the inside (toward increasing f by default).
  *
@@ -46,80 +51,48 @@ extern "C" {
 
 /* ------------------------------------------------------------------ fields */
 
-/** Value of the field at p (3 doubles). */
-typedef double (*geom_iso_value_fn)(void *user, const double p[3]);
-/** Gradient of the field at p (3 doubles) into g (3 doubles). */
-typedef void (*geom_iso_gradient_fn)(void *user, const double p[3], double g[3]);
-/** Values at n points: p holds 3*n doubles (x, y, z of point i at
- *  p[3i..3i+2]), out receives n doubles. Must give exactly what value()
- *  gives at each point. The extractor calls it with the nodes of one grid
- *  row at a time (constant y and z, increasing x). */
-typedef void (*geom_iso_values_fn)(void *user, size_t n, const double *p, double *out);
-/** Values and gradients at n points: p holds 3*n doubles, values receives
- *  n doubles and grads 3*n. Must give exactly what value() and gradient()
- *  give at each point. The error report calls it with batches of vertices
- *  and triangle samples. */
-typedef void (*geom_iso_gradients_fn)(void *user, size_t n, const double *p, double *values,
-                                      double *grads);
-/** Bounds of the field over the box lo..hi (3 doubles each, lo <= hi):
- *  return nonzero only when out[0] <= value(p) <= out[1] at EVERY point p
- *  of the box that value() can be called with, value() is never NaN there,
- *  and out holds no NaN; return 0 when that cannot be guaranteed (out is
- *  then ignored). Used by the sparse extraction to skip the blocks of the
- *  grid that the surface provably does not cross. */
-typedef int (*geom_iso_bounds_fn)(void *user, const double lo[3], const double hi[3],
-                                  double out[2]);
-
-/**
- * A scalar field given by callbacks. Only `value` is required.
- * When more than one thread is used the callbacks are called concurrently.
+/*
+ * The field and the grid are the implicit module's (geom/implicit.h): one
+ * field type for marching squares and marching cubes, one grid
+ * description for volumes and sampled grids. The names below are
+ * deprecated aliases kept so that earlier code compiles unchanged (member
+ * names and meanings are the same). The one change for earlier iso code:
+ * a gradient callback now returns the field's value at p (double) instead
+ * of void (geom_implicit_grad_fn).
  */
-typedef struct geom_iso_field {
-    geom_iso_value_fn value;       /**< required */
-    geom_iso_gradient_fn gradient; /**< optional: NULL = central differences */
-    geom_iso_values_fn values;     /**< optional batch of values (speed only) */
-    void *user;                    /**< passed to every callback */
-    /** Nonzero when value() is the exact function (a formula) rather than
-     *  an interpolant of samples: vertices may then be refined by root
-     *  finding and the error is measured by default. */
-    int exact;
-    /** optional batch of values and gradients (speed only; used with
-     *  `gradient`) */
-    geom_iso_gradients_fn gradients;
-    /** optional rigorous bounds over a box (speed only): with it,
-     *  geom_iso_extract samples only the blocks of the grid the surface
-     *  may cross (see geom_iso_options::dense); the output is the same. */
-    geom_iso_bounds_fn bounds;
-} geom_iso_field;
+
+/** Deprecated alias of geom_implicit_value_fn. */
+typedef geom_implicit_value_fn geom_iso_value_fn;
+/** Deprecated alias of geom_implicit_grad_fn (returns the value, fills g). */
+typedef geom_implicit_grad_fn geom_iso_gradient_fn;
+/** Deprecated alias of geom_implicit_values_fn. */
+typedef geom_implicit_values_fn geom_iso_values_fn;
+/** Deprecated alias of geom_implicit_gradients_fn. */
+typedef geom_implicit_gradients_fn geom_iso_gradients_fn;
+/** Deprecated alias of geom_implicit_bounds_fn. */
+typedef geom_implicit_bounds_fn geom_iso_bounds_fn;
+
+/** Deprecated alias of geom_implicit_field (the same struct). */
+typedef struct geom_implicit_field geom_iso_field;
 
 /* ------------------------------------------------------------ sampled grid */
 
-/** Sample type of a geom_iso_grid. */
-typedef enum geom_iso_scalar {
-    GEOM_ISO_SCALAR_F32 = 1, /**< float */
-    GEOM_ISO_SCALAR_F64 = 2  /**< double */
-} geom_iso_scalar;
+/** Deprecated alias of geom_implicit_scalar (the same enum and values). */
+typedef enum geom_implicit_scalar geom_iso_scalar;
+#define GEOM_ISO_SCALAR_F32 GEOM_IMPLICIT_SCALAR_F32 /**< deprecated alias */
+#define GEOM_ISO_SCALAR_F64 GEOM_IMPLICIT_SCALAR_F64 /**< deprecated alias */
 
-/**
- * A dense sampled grid, borrowed (not copied): sample (i, j, k) is element
- * i + dims[0] * (j + dims[1] * k) of `data` (x fastest) and sits at
- * origin + (i * spacing[0], j * spacing[1], k * spacing[2]).
- * A zero-initialised spacing component means 1.
- */
-typedef struct geom_iso_grid {
-    size_t dims[3];       /**< samples per axis, each >= 1 */
-    geom_iso_scalar type; /**< type of the samples */
-    const void *data;     /**< dims[0]*dims[1]*dims[2] floats or doubles */
-    double spacing[3];    /**< > 0 and finite; 0 = 1 */
-    double origin[3];     /**< finite */
-} geom_iso_grid;
+/** Deprecated alias of geom_implicit_grid (the same struct: dims, type,
+ *  data, spacing, origin; big_endian is ignored here). The samples are
+ *  borrowed (not copied). */
+typedef struct geom_implicit_grid geom_iso_grid;
 
 /**
  * Check a grid description: GEOM_OK, or GEOM_ERR_INVALID_ARG (NULL grid or
  * data, a zero dimension, a bad type, a negative or non-finite spacing, a
  * non-finite origin), GEOM_ERR_LIMIT (sample count overflows size_t).
  */
-GEOM_API geom_status geom_iso_grid_check(const geom_iso_grid *g);
+GEOM_API geom_status geom_iso_grid_check(const geom_implicit_grid *g);
 
 /**
  * Trilinear interpolation of the samples at p (3 doubles), by
@@ -130,7 +103,7 @@ GEOM_API geom_status geom_iso_grid_check(const geom_iso_grid *g);
  * the spacing is computed exactly (e.g. power-of-two spacings). NaN
  * coordinates give NaN. g must have passed geom_iso_grid_check.
  */
-GEOM_API double geom_iso_grid_value(const geom_iso_grid *g, const double p[3]);
+GEOM_API double geom_iso_grid_value(const geom_implicit_grid *g, const double p[3]);
 
 /**
  * Gradient at p (3 doubles) into grad (3 doubles): the trilinear
@@ -139,17 +112,18 @@ GEOM_API double geom_iso_grid_value(const geom_iso_grid *g, const double p[3]);
  * 0 along an axis with one sample. Second-order accurate at samples for
  * smooth data. Outside the box, the gradient at the clamped point.
  */
-GEOM_API void geom_iso_grid_gradient(const geom_iso_grid *g, const double p[3], double grad[3]);
+GEOM_API void geom_iso_grid_gradient(const geom_implicit_grid *g, const double p[3], double grad[3]);
 
-/** Callbacks over a grid (user = the const geom_iso_grid *). */
+/** Callbacks over a grid (user = the const geom_implicit_grid *): value, and
+ *  gradient into grad returning the value (geom_implicit_grad_fn). */
 GEOM_API double geom_iso_grid_value_cb(void *user, const double p[3]);
-GEOM_API void geom_iso_grid_gradient_cb(void *user, const double p[3], double grad[3]);
+GEOM_API double geom_iso_grid_gradient_cb(void *user, const double p[3], double grad[3]);
 
 /**
  * Fill *out with g's callbacks (value, gradient, no batch, exact = 0).
  * g must outlive the field. GEOM_ERR_INVALID_ARG as geom_iso_grid_check.
  */
-GEOM_API geom_status geom_iso_field_from_grid(const geom_iso_grid *g, geom_iso_field *out);
+GEOM_API geom_status geom_iso_field_from_grid(const geom_implicit_grid *g, geom_implicit_field *out);
 
 /* -------------------------------------------------------------- extraction */
 
@@ -163,13 +137,17 @@ enum {
 /** Options of the extraction; zero-initialised (or NULL) = defaults. */
 typedef struct geom_iso_options {
     double iso;          /**< the isovalue (default 0), finite */
-    /** Nonzero: refine each vertex on its edge by the library's root
-     *  finder (geom_implicit_bracket_root: Illinois regula falsi with
-     *  bisection, until the bracket ends are adjacent doubles), when the
-     *  field is exact; ignored for sampled fields. Default: linear
-     *  interpolation of the node values. (The same meaning as
-     *  geom_implicit_contour_options::refine's AUTO when nonzero; 0 here is
-     *  its NEVER.) */
+    /** geom_implicit_refine, as geom_implicit_contour_options::refine:
+     *  refine each vertex on its edge by the library's root finder
+     *  (geom_implicit_bracket_root: Illinois regula falsi with bisection,
+     *  until the bracket ends are adjacent doubles) when the field is exact
+     *  (GEOM_IMPLICIT_REFINE_AUTO, 0, the default), always (_ALWAYS: also
+     *  an interpolant of samples given as a field), or never (_NEVER: linear
+     *  interpolation of the node values). geom_iso_extract_grid never
+     *  refines (its field is linear along the grid's edges). Before this
+     *  version, 0 meant never and any nonzero value "when exact": pass
+     *  GEOM_IMPLICIT_REFINE_NEVER for the old default. Other values
+     *  refine nothing (as in geom_implicit_contour). */
     int refine;
     int max_iterations;  /**< root finding iterations per edge; 0 = 64 */
     /** Nonzero: compute unit vertex normals, from field->gradient when
@@ -232,7 +210,8 @@ typedef struct geom_iso_options {
 
 /** geom_iso_options::inside values. */
 enum {
-    GEOM_ISO_INSIDE_BELOW = 0, /**< f <= iso is inside (default) */
+    GEOM_ISO_INSIDE_BELOW = 0, /**< f <= iso is inside (default; the convention
+                                    of geom_implicit_contour too) */
     GEOM_ISO_INSIDE_ABOVE = 1  /**< f >= iso is inside */
 };
 
@@ -375,7 +354,7 @@ typedef struct geom_iso_surface {
  * large for size_t); GEOM_ERR_NOMEM. On error *out is zeroed (nothing to
  * free).
  */
-GEOM_API geom_status geom_iso_extract(const geom_iso_field *field, const double bounds[6],
+GEOM_API geom_status geom_iso_extract(const geom_implicit_field *field, const double bounds[6],
                              const size_t res[3], const geom_iso_options *opt,
                              geom_iso_surface *out, geom_diag *diag);
 
@@ -389,7 +368,7 @@ GEOM_API geom_status geom_iso_extract(const geom_iso_field *field, const double 
  * gives an empty surface.
  * Statuses: as geom_iso_extract, GEOM_ERR_INVALID_ARG as geom_iso_grid_check.
  */
-GEOM_API geom_status geom_iso_extract_grid(const geom_iso_grid *grid, const geom_iso_options *opt,
+GEOM_API geom_status geom_iso_extract_grid(const geom_implicit_grid *grid, const geom_iso_options *opt,
                                   geom_iso_surface *out, geom_diag *diag);
 
 /** Free what an extraction allocated and zero *s. NULL or a zeroed struct
@@ -415,7 +394,7 @@ GEOM_API geom_status geom_iso_surface_to_mesh(const geom_iso_surface *s, geom_me
  * Statuses: GEOM_OK; GEOM_ERR_INVALID_ARG (NULL field/value, NULL arrays
  * with nonzero counts, an index out of range, non-finite iso).
  */
-GEOM_API geom_status geom_iso_measure_error(const geom_iso_field *field, double iso, size_t n_vertices,
+GEOM_API geom_status geom_iso_measure_error(const geom_implicit_field *field, double iso, size_t n_vertices,
                                    const double *xyz, size_t n_triangles, const uint32_t *tris,
                                    geom_error_report *vertex_error,
                                    geom_error_report *sample_error, size_t *unmeasured);
@@ -423,29 +402,27 @@ GEOM_API geom_status geom_iso_measure_error(const geom_iso_field *field, double 
 /* ------------------------------------------- fields from geom/implicit.h */
 
 /**
- * Fill a geom_iso_field with the compiled expression e's callbacks: value
- * (geom_implicit_expr_eval), gradient (exact, dual numbers), values
- * (geom_implicit_expr_eval_many, the batch path), gradients
- * (geom_implicit_expr_eval_grad_many), bounds (geom_implicit_expr_eval_bounds,
- * defined boxes only: the sparse path) and exact = 1. e must
- * outlive the field. GEOM_ERR_INVALID_ARG for NULL e or out (out zeroed
- * when not NULL).
+ * Deprecated: geom_implicit_field_from_expr, which fills the same field
+ * (value, exact gradient, values, gradients, bounds for the sparse path,
+ * exact = 1), with a status. e must outlive the field.
+ * GEOM_ERR_INVALID_ARG for NULL e or out (out zeroed when not NULL).
  */
-GEOM_API geom_status geom_iso_field_from_expr(const geom_implicit_expr *e, geom_iso_field *out);
+GEOM_API geom_status geom_iso_field_from_expr(const geom_implicit_expr *e, geom_implicit_field *out);
 
 /**
- * Fill a geom_iso_field with the sampled volume v's callbacks (trilinear
- * value, central-difference gradient, exact = 0). v must outlive the field.
- * GEOM_ERR_INVALID_ARG for NULL arguments.
+ * Deprecated: geom_implicit_field_from_volume, which fills the same field
+ * (trilinear value, central-difference gradient, exact = 0), with a
+ * status. v must outlive the field. GEOM_ERR_INVALID_ARG for NULL
+ * arguments (out zeroed when not NULL).
  */
-GEOM_API geom_status geom_iso_field_from_volume(const geom_implicit_volume *v, geom_iso_field *out);
+GEOM_API geom_status geom_iso_field_from_volume(const geom_implicit_volume *v, geom_implicit_field *out);
 
 /**
- * Describe v's samples as a geom_iso_grid (borrowing the data: v must
- * outlive the grid), so that marching cubes reads them directly.
- * GEOM_ERR_INVALID_ARG for NULL arguments.
+ * Describe v's samples as a grid (borrowing the data: v must outlive the
+ * grid), so that marching cubes reads them directly: the same as
+ * geom_implicit_volume_get_desc. GEOM_ERR_INVALID_ARG for NULL arguments.
  */
-GEOM_API geom_status geom_iso_grid_from_volume(const geom_implicit_volume *v, geom_iso_grid *out);
+GEOM_API geom_status geom_iso_grid_from_volume(const geom_implicit_volume *v, geom_implicit_grid *out);
 
 /* ------------------------------------------------------------- estimates */
 
@@ -461,7 +438,7 @@ GEOM_API geom_status geom_iso_grid_from_volume(const geom_implicit_volume *v, ge
  * GEOM_OK; GEOM_ERR_INVALID_ARG (NULL arguments, no value callback, a zero
  * res, an empty box, non-finite iso); GEOM_ERR_NOMEM.
  */
-GEOM_API geom_status geom_iso_estimate_triangles(const geom_iso_field *f, const double bounds[6],
+GEOM_API geom_status geom_iso_estimate_triangles(const geom_implicit_field *f, const double bounds[6],
                                                  const size_t res[3], double iso,
                                                  double *triangles);
 
@@ -472,7 +449,7 @@ GEOM_API geom_status geom_iso_estimate_triangles(const geom_iso_field *f, const 
  * GEOM_OK; the statuses of geom_iso_grid_check; GEOM_ERR_INVALID_ARG for a
  * NULL triangles or non-finite iso.
  */
-GEOM_API geom_status geom_iso_grid_estimate_triangles(const geom_iso_grid *g, double iso,
+GEOM_API geom_status geom_iso_grid_estimate_triangles(const geom_implicit_grid *g, double iso,
                                                       double *triangles);
 
 #ifdef __cplusplus

@@ -121,24 +121,20 @@ typedef struct rows {
     unsigned char *vs;   /* node-to-node segment emitted on the vertical side */
 } rows;
 
-/* Accurately rounded d0*d2 - d1*d3 (Kahan's algorithm with fma, on values
- * scaled by a power of two so that the products neither overflow nor lose
- * their sign to underflow in practice). */
+/* Exact sign of d0*d2 - d1*d3 (core's orient2d of (d0, d1), (d3, d2) and
+ * the origin, on values scaled by a power of two so that the products stay
+ * in range): the same predicate as geom_iso_extract's face decider. */
 static double det2(double d0, double d2, double d1, double d3)
 {
     double m = fmax(fmax(fabs(d0), fabs(d1)), fmax(fabs(d2), fabs(d3)));
     if (!(m > 0.0) || !isfinite(m))
-        return d0 * d2 - d1 * d3;
+        return d0 * d2 - d1 * d3; /* infinite corners: classified by sign */
     int e;
     frexp(m, &e);
-    d0 = ldexp(d0, -e);
-    d1 = ldexp(d1, -e);
-    d2 = ldexp(d2, -e);
-    d3 = ldexp(d3, -e);
-    double w = d1 * d3;
-    double err = fma(-d1, d3, w);
-    double f = fma(d0, d2, -w);
-    return f + err;
+    const double a[2] = {ldexp(d0, -e), ldexp(d1, -e)};
+    const double b[2] = {ldexp(d3, -e), ldexp(d2, -e)};
+    const double o[2] = {0.0, 0.0};
+    return geom_orient2d(a, b, o);
 }
 
 typedef struct cross {
@@ -153,7 +149,8 @@ static cross edge_vertex(ctx *c, rows *R, size_t i, int k, const double dv[4], c
     static const int ca[4] = {0, 1, 3, 0}, cb[4] = {1, 2, 2, 3};
     int a = ca[k], b = cb[k];
     cross r = {NOV, -1};
-    /* node vertex when the outside end is exactly on the isovalue */
+    /* node vertex when the inside end is exactly on the isovalue (the
+     * outside end is > 0, never 0) */
     int zc = dv[a] == 0.0 ? a : dv[b] == 0.0 ? b : -1;
     if (zc >= 0) {
         size_t ni = (zc == 0 || zc == 3) ? i : i + 1;
@@ -549,9 +546,11 @@ geom_status geom_implicit_contour(const geom_implicit_field *field, const double
                 rep->skipped_cells++;
                 continue;
             }
+            /* the library's one inside convention (as geom_iso_extract):
+             * f <= iso is inside, the level iso + epsilon */
             int in[4], code = 0;
             for (int k = 0; k < 4; k++) {
-                in[k] = dv[k] < 0.0;
+                in[k] = dv[k] <= 0.0;
                 code |= in[k] << k;
             }
             if (code == 0 || code == 15)
@@ -573,12 +572,14 @@ geom_status geom_implicit_contour(const geom_implicit_field *field, const double
                 continue;
             }
             /* Saddle: the inside corners are joined when the bilinear
-             * interpolant is negative at its saddle point. With D = d0 d2 -
-             * d1 d3 and denominator d0 + d2 - d1 - d3 (negative for code 5,
-             * positive for code 10), that is D > 0 (code 5), D < 0 (10). */
+             * interpolant is inside (<= 0) at its saddle point. With D = d0
+             * d2 - d1 d3 and denominator d0 + d2 - d1 - d3 (negative for
+             * code 5, positive for code 10: the outside corners are > 0),
+             * that is D >= 0 (code 5), D <= 0 (10); at D == 0 the level
+             * iso + epsilon joins them, as the 3D face decider does. */
             rep->saddles++;
             double D = det2(dv[0], dv[2], dv[1], dv[3]);
-            int joined = code == 5 ? D > 0.0 : D < 0.0;
+            int joined = code == 5 ? D >= 0.0 : D <= 0.0;
             for (int m = 0; m < 2; m++) {
                 int k = outs[m];
                 int target = joined ? (k + 1) & 3 : (k + 3) & 3;

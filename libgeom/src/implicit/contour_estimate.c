@@ -41,8 +41,8 @@ geom_status geom_implicit_contour_estimate(const geom_implicit_field *field,
                 double v[4] = {prev[i], prev[i + 1], cur[i], cur[i + 1]};
                 int in = 0, out = 0;
                 for (int q = 0; q < 4; q++) {
-                    in |= v[q] < 0.0;
-                    out |= v[q] >= 0.0;
+                    in |= v[q] <= 0.0; /* the one inside convention: f <= iso */
+                    out |= v[q] > 0.0;
                 }
                 crossing += in && out;
             }

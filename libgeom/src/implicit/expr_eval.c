@@ -746,12 +746,38 @@ double geom_implicit_expr_grad_cb(void *user, const double p[3], double grad[3])
     return geom_implicit_expr_eval_grad((const geom_implicit_expr *)user, p, grad);
 }
 
+static void expr_values_cb(void *user, size_t n, const double *p, double *out)
+{
+    geom_implicit_expr_eval_many((const geom_implicit_expr *)user, n, p, out);
+}
+
+static void expr_gradients_cb(void *user, size_t n, const double *p, double *values,
+                              double *grads)
+{
+    geom_implicit_expr_eval_grad_many((const geom_implicit_expr *)user, n, p, values, grads);
+}
+
+/* Rigorous bounds only over boxes where the expression is defined and
+ * finite everywhere (geom_implicit_bounds_fn's contract). */
+static int expr_bounds_cb(void *user, const double lo[3], const double hi[3], double out[2])
+{
+    int defined = 0;
+    if (geom_implicit_expr_eval_bounds((const geom_implicit_expr *)user, lo, hi, out, &defined) !=
+        GEOM_OK)
+        return 0;
+    return defined && !isnan(out[0]) && !isnan(out[1]);
+}
+
 void geom_implicit_field_from_expr(const geom_implicit_expr *e, geom_implicit_field *out)
 {
     if (!out)
         return;
+    memset(out, 0, sizeof *out);
     out->value = geom_implicit_expr_value_cb;
     out->gradient = geom_implicit_expr_grad_cb;
+    out->values = expr_values_cb;
+    out->gradients = expr_gradients_cb;
+    out->bounds = expr_bounds_cb;
     out->user = (void *)(uintptr_t)e;
     out->exact = 1;
 }

@@ -8,12 +8,12 @@
 
 #include <math.h>
 
-static inline double spacing_of(const geom_implicit_volume_desc *d, int a)
+static inline double spacing_of(const geom_implicit_grid *d, int a)
 {
     return d->spacing[a] > 0 ? d->spacing[a] : 1.0;
 }
 
-static inline double at(const geom_implicit_volume_desc *d, const void *data, size_t idx)
+static inline double at(const geom_implicit_grid *d, const void *data, size_t idx)
 {
     if (d->type == GEOM_IMPLICIT_SCALAR_F32)
         return (double)((const float *)data)[idx];
@@ -21,7 +21,7 @@ static inline double at(const geom_implicit_volume_desc *d, const void *data, si
 }
 
 /* Cell index and fraction along axis a for coordinate c (clamped). */
-static void locate(const geom_implicit_volume_desc *d, int a, double c, size_t *i0, double *f)
+static void locate(const geom_implicit_grid *d, int a, double c, size_t *i0, double *f)
 {
     size_t n = d->dims[a];
     if (n < 2) {
@@ -53,9 +53,11 @@ static inline double lerp(double a, double b, double t)
     return (1.0 - t) * a + t * b;
 }
 
-double geom_implicit_samples_value(const geom_implicit_volume_desc *d, const void *data,
+double geom_implicit_samples_value(const geom_implicit_grid *d, const void *data,
                                    const double p[3])
 {
+    if (d && !data)
+        data = d->data;
     if (!d || !data || !p || isnan(p[0]) || isnan(p[1]) || isnan(p[2]))
         return NAN;
     size_t i0[3];
@@ -78,7 +80,7 @@ double geom_implicit_samples_value(const geom_implicit_volume_desc *d, const voi
 
 /* Central difference of the samples at (i, j, k) along axis a: one-sided
  * on the border, 0 along an axis with one sample. */
-static double node_diff(const geom_implicit_volume_desc *d, const void *data, const size_t ijk[3],
+static double node_diff(const geom_implicit_grid *d, const void *data, const size_t ijk[3],
                         int a)
 {
     size_t n = d->dims[a];
@@ -95,12 +97,14 @@ static double node_diff(const geom_implicit_volume_desc *d, const void *data, co
     return (at(d, data, idx + stride) - at(d, data, idx - stride)) / (2.0 * sp);
 }
 
-void geom_implicit_samples_gradient(const geom_implicit_volume_desc *d, const void *data,
+void geom_implicit_samples_gradient(const geom_implicit_grid *d, const void *data,
                                     const double p[3], double grad[3])
 {
     if (!grad)
         return;
     grad[0] = grad[1] = grad[2] = NAN;
+    if (d && !data)
+        data = d->data;
     if (!d || !data || !p || isnan(p[0]) || isnan(p[1]) || isnan(p[2]))
         return;
     size_t i0[3];

@@ -215,7 +215,7 @@ static geom_status layout_bytes(const vf_layout *L, size_t *count, size_t *bytes
 static geom_status make_volume(vf_ctx *c, const vf_layout *L, const unsigned char *src,
                                const double *values, geom_implicit_volume **out)
 {
-    geom_implicit_volume_desc d;
+    geom_implicit_grid d;
     memset(&d, 0, sizeof d);
     d.type = stored_type(L);
     int flip[3];

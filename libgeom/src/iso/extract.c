@@ -1379,7 +1379,8 @@ static geom_status extract_field(const geom_iso_field *field, const double bound
             c.dstep[a] = 1e-3 * (bounds[a + 3] - bounds[a]) / (double)res[a];
         }
         c.iso = iso;
-        c.refine = opt && opt->refine && field->exact;
+        int rf = opt ? opt->refine : GEOM_IMPLICIT_REFINE_AUTO;
+        c.refine = rf == GEOM_IMPLICIT_REFINE_ALWAYS || (rf == GEOM_IMPLICIT_REFINE_AUTO && field->exact);
         c.normals = opt && opt->normals;
         c.caps = opt && opt->caps;
         c.max_iter = opt && opt->max_iterations > 0 ? opt->max_iterations : 64;
@@ -1472,13 +1473,14 @@ static double neg_value(void *u, const double p[3])
     return -f->value(f->user, p);
 }
 
-static void neg_gradient(void *u, const double p[3], double g[3])
+static double neg_gradient(void *u, const double p[3], double g[3])
 {
     const geom_iso_field *f = u;
-    f->gradient(f->user, p, g);
+    double v = f->gradient(f->user, p, g);
     g[0] = -g[0];
     g[1] = -g[1];
     g[2] = -g[2];
+    return -v;
 }
 
 static void neg_values(void *u, size_t n, const double *p, double *out)

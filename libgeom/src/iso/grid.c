@@ -4,7 +4,7 @@
 
 #include <string.h>
 
-geom_status geom_iso_grid_check(const geom_iso_grid *g)
+geom_status geom_iso_grid_check(const geom_implicit_grid *g)
 {
     if (!g || !g->data)
         return GEOM_ERR_INVALID_ARG;
@@ -26,51 +26,35 @@ geom_status geom_iso_grid_check(const geom_iso_grid *g)
     return GEOM_OK;
 }
 
-static void desc_of(const geom_iso_grid *g, geom_implicit_volume_desc *d)
+/* The implicit module's interpolator: one for the whole library (the grid
+ * is the implicit module's geom_implicit_grid). */
+double geom_iso_grid_value(const geom_implicit_grid *g, const double p[3])
 {
-    memset(d, 0, sizeof *d);
-    for (int a = 0; a < 3; a++) {
-        d->dims[a] = g->dims[a];
-        d->spacing[a] = g->spacing[a];
-        d->origin[a] = g->origin[a];
-    }
-    d->type = g->type == GEOM_ISO_SCALAR_F32 ? GEOM_IMPLICIT_SCALAR_F32 : GEOM_IMPLICIT_SCALAR_F64;
+    return geom_implicit_samples_value(g, g->data, p);
 }
 
-/* The implicit module's interpolator: one for the whole library. */
-double geom_iso_grid_value(const geom_iso_grid *g, const double p[3])
+void geom_iso_grid_gradient(const geom_implicit_grid *g, const double p[3], double grad[3])
 {
-    geom_implicit_volume_desc d;
-    desc_of(g, &d);
-    return geom_implicit_samples_value(&d, g->data, p);
-}
-
-void geom_iso_grid_gradient(const geom_iso_grid *g, const double p[3], double grad[3])
-{
-    geom_implicit_volume_desc d;
-    desc_of(g, &d);
-    geom_implicit_samples_gradient(&d, g->data, p, grad);
+    geom_implicit_samples_gradient(g, g->data, p, grad);
 }
 
 double geom_iso_grid_value_cb(void *user, const double p[3])
 {
-    return geom_iso_grid_value((const geom_iso_grid *)user, p);
+    return geom_iso_grid_value((const geom_implicit_grid *)user, p);
 }
 
-void geom_iso_grid_gradient_cb(void *user, const double p[3], double grad[3])
+double geom_iso_grid_gradient_cb(void *user, const double p[3], double grad[3])
 {
-    geom_iso_grid_gradient((const geom_iso_grid *)user, p, grad);
+    const geom_implicit_grid *g = user;
+    geom_implicit_samples_gradient(g, g->data, p, grad);
+    return geom_implicit_samples_value(g, g->data, p);
 }
 
-geom_status geom_iso_field_from_grid(const geom_iso_grid *g, geom_iso_field *out)
+geom_status geom_iso_field_from_grid(const geom_implicit_grid *g, geom_implicit_field *out)
 {
     if (!out)
         return GEOM_ERR_INVALID_ARG;
-    out->value = NULL;
-    out->gradient = NULL;
-    out->values = NULL;
-    out->user = NULL;
-    out->exact = 0;
+    memset(out, 0, sizeof *out);
     geom_status st = geom_iso_grid_check(g);
     if (st != GEOM_OK)
         return st;

@@ -506,7 +506,7 @@ static geom_status tess_iso(const geom_shape *s, const geom_tess_request *rq, ge
     f.exact = 1;
     geom_iso_options o;
     memset(&o, 0, sizeof o);
-    o.refine = 1;
+    o.refine = GEOM_IMPLICIT_REFINE_AUTO; /* the field is exact: refined */
     o.normals = (rq->attributes & (GEOM_NEEDS_NORMAL | GEOM_NEEDS_TANGENT)) != 0;
     o.caps = 1;
     o.error = GEOM_ISO_ERROR_ALWAYS;
