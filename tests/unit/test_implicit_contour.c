@@ -338,13 +338,15 @@ static void test_asymptotic_decider(void **state)
     }
     /* both outcomes were exercised */
     assert_true(joined_count > 50 && joined_count < 350);
-    /* a saddle value of exactly 0 counts as outside: the inside is split */
+    /* a saddle value of exactly 0 counts as inside (the library's one
+     * convention, f <= iso, as the 3D face decider): the inside corners are
+     * joined */
     bilinear t1 = {{1, -1, 1, -1}};
-    assert_int_equal(contour_joins(&t1, 10), 0);
+    assert_int_equal(contour_joins(&t1, 10), 1);
     bilinear t2 = {{-1, 1, -1, 1}};
-    assert_int_equal(contour_joins(&t2, 5), 0);
+    assert_int_equal(contour_joins(&t2, 5), 1);
     bilinear t3 = {{-3, 1, -1, 3}}; /* D = 3 - 3 = 0 */
-    assert_int_equal(contour_joins(&t3, 5), 0);
+    assert_int_equal(contour_joins(&t3, 5), 1);
     /* huge and tiny magnitudes: the determinant's sign survives scaling */
     bilinear t4 = {{-3e300, 1e300, -1.0000000000000002e300, 3e300}}; /* D > 0: joined */
     assert_int_equal(contour_joins(&t4, 5), 1);
@@ -404,15 +406,16 @@ static void test_iso_on_nodes(void **state)
     geom_implicit_isolines_free(&c);
     geom_implicit_expr_destroy(e);
 
-    /* a zero column with the inside on both sides: one polyline, not two */
-    e = contour_expr("-(x - 0.5)^2", 0, 0, 1, 1, 4, 4, 0, 0, &c);
+    /* a zero column (inside: f <= iso) with the outside on both sides: one
+     * polyline, not two */
+    e = contour_expr("(x - 0.5)^2", 0, 0, 1, 1, 4, 4, 0, 0, &c);
     nseg = check_structure(&c);
     assert_int_equal(nseg, 4);
     assert_int_equal(c.n_polylines, 1);
     geom_implicit_isolines_free(&c);
     geom_implicit_expr_destroy(e);
-    /* ... and with the outside on both sides: nothing */
-    e = contour_expr("(x - 0.5)^2", 0, 0, 1, 1, 4, 4, 0, 0, &c);
+    /* ... and with the inside on both sides: nothing */
+    e = contour_expr("-(x - 0.5)^2", 0, 0, 1, 1, 4, 4, 0, 0, &c);
     assert_int_equal(c.n_polylines, 0);
     assert_int_equal(c.n_vertices, 0);
     geom_implicit_isolines_free(&c);

@@ -116,7 +116,7 @@ static void run_case(const suite_case *c, long genus)
     memset(&o, 0, sizeof o);
     o.caps = c->caps;
     for (int refine = 0; refine < 2; refine++) {
-        o.refine = refine;
+        o.refine = refine ? GEOM_IMPLICIT_REFINE_AUTO : GEOM_IMPLICIT_REFINE_NEVER;
         geom_iso_surface s;
         assert_int_equal(geom_iso_extract(&fl, c->b, res, &o, &s, NULL), GEOM_OK);
         gv_soup_info info = check_surface(&s);

@@ -785,34 +785,10 @@ geom_status geom_subdiv_mesh(const geom_mesh *m, const geom_subdiv_options *opt,
     unsigned flags, geom_mesh **out, geom_subdiv_report *report, geom_diag *diag);
 """,
     "iso": """
-typedef double (*geom_iso_value_fn)(void *user, const double p[3]);
-typedef void (*geom_iso_gradient_fn)(void *user, const double p[3], double g[3]);
-typedef void (*geom_iso_values_fn)(void *user, size_t n, const double *p, double *out);
-typedef void (*geom_iso_gradients_fn)(void *user, size_t n, const double *p, double *values,
-    double *grads);
-typedef int (*geom_iso_bounds_fn)(void *user, const double lo[3], const double hi[3],
-    double out[2]);
-typedef struct geom_iso_field {
-    geom_iso_value_fn value;
-    geom_iso_gradient_fn gradient;
-    geom_iso_values_fn values;
-    void *user;
-    int exact;
-    geom_iso_gradients_fn gradients;
-    geom_iso_bounds_fn bounds;
-} geom_iso_field;
-typedef enum geom_iso_scalar {
-    GEOM_ISO_SCALAR_F32 = 1,
-    GEOM_ISO_SCALAR_F64 = 2
-} geom_iso_scalar;
-typedef struct geom_iso_grid {
-    size_t dims[3];
-    geom_iso_scalar type;
-    const void *data;
-    double spacing[3];
-    double origin[3];
-} geom_iso_grid;
-geom_status geom_iso_grid_check(const geom_iso_grid *g);
+typedef struct geom_implicit_field geom_iso_field;
+typedef enum geom_implicit_scalar geom_iso_scalar;
+typedef struct geom_implicit_grid geom_iso_grid;
+geom_status geom_iso_grid_check(const geom_implicit_grid *g);
 typedef struct geom_iso_options {
     double iso;
     int refine;
@@ -863,13 +839,13 @@ typedef struct geom_iso_surface {
     geom_iso_report report;
     geom_allocator alloc;
 } geom_iso_surface;
-geom_status geom_iso_extract(const geom_iso_field *field, const double bounds[6], const size_t
-    res[3], const geom_iso_options *opt, geom_iso_surface *out, geom_diag *diag);
-geom_status geom_iso_extract_grid(const geom_iso_grid *grid, const geom_iso_options *opt,
+geom_status geom_iso_extract(const geom_implicit_field *field, const double bounds[6], const
+    size_t res[3], const geom_iso_options *opt, geom_iso_surface *out, geom_diag *diag);
+geom_status geom_iso_extract_grid(const geom_implicit_grid *grid, const geom_iso_options *opt,
     geom_iso_surface *out, geom_diag *diag);
 void geom_iso_surface_free(geom_iso_surface *s);
 geom_status geom_iso_surface_to_mesh(const geom_iso_surface *s, geom_mesh *m, geom_diag *diag);
-geom_status geom_iso_field_from_expr(const geom_implicit_expr *e, geom_iso_field *out);
+geom_status geom_iso_field_from_expr(const geom_implicit_expr *e, geom_implicit_field *out);
 """,
     "implicit": """
 typedef struct geom_implicit_expr geom_implicit_expr;
@@ -898,26 +874,49 @@ double geom_implicit_bracket_root(geom_implicit_root_fn fn, void *user, double a
     fa, double fb, double x, int max_iterations, size_t *evaluations);
 geom_status geom_implicit_expr_eval_bounds(const geom_implicit_expr *e, const double lo[3],
     const double hi[3], double out[2], int *defined);
+typedef double (*geom_implicit_value_fn)(void *user, const double p[3]);
+typedef double (*geom_implicit_grad_fn)(void *user, const double p[3], double grad[3]);
+typedef void (*geom_implicit_values_fn)(void *user, size_t n, const double *p, double *out);
+typedef void (*geom_implicit_gradients_fn)(void *user, size_t n, const double *p, double *values,
+                                           double *grads);
+typedef int (*geom_implicit_bounds_fn)(void *user, const double lo[3], const double hi[3],
+                                       double out[2]);
+typedef struct geom_implicit_field {
+    geom_implicit_value_fn value;
+    geom_implicit_grad_fn gradient;
+    void *user;
+    int exact;
+    geom_implicit_values_fn values;
+    geom_implicit_gradients_fn gradients;
+    geom_implicit_bounds_fn bounds;
+} geom_implicit_field;
+typedef enum geom_implicit_refine {
+    GEOM_IMPLICIT_REFINE_AUTO = 0,
+    GEOM_IMPLICIT_REFINE_ALWAYS = 1,
+    GEOM_IMPLICIT_REFINE_NEVER = 2
+} geom_implicit_refine;
 typedef enum geom_implicit_scalar {
     GEOM_IMPLICIT_SCALAR_F32 = 1,
     GEOM_IMPLICIT_SCALAR_F64 = 2
 } geom_implicit_scalar;
-typedef struct geom_implicit_volume_desc {
+typedef struct geom_implicit_grid {
     size_t dims[3];
     geom_implicit_scalar type;
+    const void *data;
     double spacing[3];
     double origin[3];
     int big_endian;
-} geom_implicit_volume_desc;
-double geom_implicit_samples_value(const geom_implicit_volume_desc *d, const void *data, const
+} geom_implicit_grid;
+typedef struct geom_implicit_grid geom_implicit_volume_desc;
+double geom_implicit_samples_value(const geom_implicit_grid *d, const void *data, const
     double p[3]);
-void geom_implicit_samples_gradient(const geom_implicit_volume_desc *d, const void *data, const
+void geom_implicit_samples_gradient(const geom_implicit_grid *d, const void *data, const
     double p[3], double grad[3]);
 typedef struct geom_implicit_volume geom_implicit_volume;
-geom_status geom_implicit_volume_create(const geom_implicit_volume_desc *desc,
+geom_status geom_implicit_volume_create(const geom_implicit_grid *desc,
                                         const geom_allocator *alloc,
                                         geom_implicit_volume **out);
-geom_status geom_implicit_volume_read_raw(const char *path, const geom_implicit_volume_desc *desc,
+geom_status geom_implicit_volume_read_raw(const char *path, const geom_implicit_grid *desc,
                                           const geom_allocator *alloc,
                                           geom_implicit_volume **out, geom_diag *diag);
 geom_status geom_implicit_volume_read_nrrd(const char *path, const geom_allocator *alloc,
@@ -927,7 +926,7 @@ geom_status geom_implicit_volume_read_nrrd_memory(const void *data, size_t size,
                                                   const geom_allocator *alloc,
                                                   geom_implicit_volume **out, geom_diag *diag);
 void geom_implicit_volume_destroy(geom_implicit_volume *v);
-void geom_implicit_volume_get_desc(const geom_implicit_volume *v, geom_implicit_volume_desc *out);
+void geom_implicit_volume_get_desc(const geom_implicit_volume *v, geom_implicit_grid *out);
 void *geom_implicit_volume_data(geom_implicit_volume *v);
 const void *geom_implicit_volume_cdata(const geom_implicit_volume *v);
 double geom_implicit_volume_at(const geom_implicit_volume *v, size_t i, size_t j, size_t k);

@@ -141,7 +141,7 @@ def marching_cubes(field, bounds=None, resolution=None, iso=0.0, refine=False, n
         the boxes between samples (bounds and resolution unused);
       - a Python callable f(points (n, 3)) -> (n,) values, sampled like an
         expression (called one grid row at a time, from a single thread).
-    Inside is f <= iso; triangles face increasing f.
+    Inside is f <= iso (as in contour); triangles face increasing f.
 
     Returns (mesh, report): a Mesh (vertex channel "normal" when
     normals=True; its last report["n_cap_triangles"] faces are caps when
@@ -173,7 +173,8 @@ def marching_cubes(field, bounds=None, resolution=None, iso=0.0, refine=False, n
         vol = np.asfortranarray(field, dtype=dtype)  # i (x) fastest in memory
         grid = ffi.new("geom_iso_grid *")
         grid.dims = list(vol.shape)
-        grid.type = lib.GEOM_ISO_SCALAR_F32 if dtype == np.float32 else lib.GEOM_ISO_SCALAR_F64
+        grid.type = (lib.GEOM_IMPLICIT_SCALAR_F32 if dtype == np.float32
+                     else lib.GEOM_IMPLICIT_SCALAR_F64)
         buf = ffi.from_buffer(vol.reshape(-1, order="F"))
         keep += [vol, buf]
         grid.data = buf
