@@ -1490,10 +1490,13 @@ static geom_status dispatch(vf_ctx *c, geom_implicit_volume **out)
     }
 }
 
-/* Read from memory; a whole-file gzip stream is inflated first. */
+/* Read from memory; a whole-file gzip stream is inflated first (but for
+ * raw samples asked for without a decompressor: their first two bytes may
+ * be anything, 1f 8b included). */
 static geom_status read_buffer(vf_ctx *c, geom_implicit_volume **out)
 {
-    if (c->size >= 2 && c->buf[0] == 0x1f && c->buf[1] == 0x8b) {
+    int raw_plain = c->opt && c->opt->format == GEOM_IMPLICIT_VOLUME_RAW && !c->opt->inflate;
+    if (!raw_plain && c->size >= 2 && c->buf[0] == 0x1f && c->buf[1] == 0x8b) {
         unsigned char *raw;
         size_t n, cap;
         geom_status st = inflate_all(c, c->buf, c->size, 0, &raw, &n, &cap);
