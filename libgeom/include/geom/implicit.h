@@ -256,7 +256,7 @@ GEOM_API geom_status geom_implicit_expr_eval_interval(const geom_implicit_expr *
  * it says 0 whenever an intermediate interval is unbounded, or reaches
  * outside the domain of sqrt, log or a non-integer power). Used to skip
  * regions of a grid the level set provably does not cross
- * (geom_iso_field::bounds).
+ * (geom_implicit_field::bounds).
  * Statuses: GEOM_OK; GEOM_ERR_INVALID_ARG as geom_implicit_expr_eval_interval
  * or for NULL defined (*defined 0, out {NaN, NaN}).
  */
