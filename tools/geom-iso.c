@@ -258,12 +258,16 @@ static geom_status write_surface(const geom_iso_surface *s, const char *path, bo
             return geom_meshio_write_soup(&soup, path, &wo, diag);
         cli_output out;
         geom_status st = cli_output_open(&out, NULL, diag);
-        if (st == GEOM_OK)
+        if (st == GEOM_OK) {
             st = geom_meshio_write_soup_stream(&soup, &wo, stdout_write, out.fp, diag);
-        if (st == GEOM_OK)
-            st = cli_output_commit(&out, diag);
-        else
-            cli_output_abort(&out);
+            if (st == GEOM_OK || ferror(out.fp)) {
+                /* a write error is reported as for every tool's output */
+                geom_diag_clear(diag);
+                geom_status cst = cli_output_commit(&out, diag);
+                st = st == GEOM_OK ? cst : (cst != GEOM_OK ? cst : st);
+            } else
+                cli_output_abort(&out);
+        }
         return st;
     }
     geom_mesh *m = geom_mesh_create(NULL);
