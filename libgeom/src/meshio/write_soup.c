@@ -5,8 +5,8 @@
  * half-edge mesh would only be built to be written. The bytes are those
  * geom__meshio_write_obj writes for the mesh geom_mesh_build makes of the
  * same soup (vertices in order, faces in order from their first vertex, a
- * VERTEX "normal" channel as vn with v//vn corners); test_meshio_soup
- * checks that with cmp-like comparisons.
+ * VERTEX "normal" channel as vn with v//vn corners); test_iso_write
+ * compares the two byte for byte on isosurfaces.
  */
 #include "meshio/meshio_internal.h"
 
