@@ -232,9 +232,44 @@ static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
     return CLI_EXIT_USAGE;
 }
 
+static geom_status stdout_write(void *user, const void *data, size_t size)
+{
+    return fwrite(data, 1, size, (FILE *)user) == size ? GEOM_OK : GEOM_ERR_IO;
+}
+
 static geom_status write_surface(const geom_iso_surface *s, const char *path, bool up_z,
                                  geom_diag *diag)
 {
+    int to_stdout = strcmp(path, "-") == 0;
+    if (to_stdout || geom_meshio_format_from_name(path) == GEOM_MESHIO_FORMAT_OBJ) {
+        /* OBJ: written straight from the extraction's arrays, without a
+         * half-edge mesh (the same bytes) */
+        geom_meshio_soup soup;
+        memset(&soup, 0, sizeof soup);
+        soup.n_vertices = s->n_vertices;
+        soup.xyz = s->xyz;
+        soup.normals = s->normals;
+        soup.n_faces = s->n_triangles;
+        soup.indices = s->tris;
+        geom_meshio_write_options wo;
+        memset(&wo, 0, sizeof wo);
+        wo.format = GEOM_MESHIO_FORMAT_OBJ;
+        if (!to_stdout)
+            return geom_meshio_write_soup(&soup, path, &wo, diag);
+        cli_output out;
+        geom_status st = cli_output_open(&out, NULL, diag);
+        if (st == GEOM_OK) {
+            st = geom_meshio_write_soup_stream(&soup, &wo, stdout_write, out.fp, diag);
+            if (st == GEOM_OK || ferror(out.fp)) {
+                /* a write error is reported as for every tool's output */
+                geom_diag_clear(diag);
+                geom_status cst = cli_output_commit(&out, diag);
+                st = st == GEOM_OK ? cst : (cst != GEOM_OK ? cst : st);
+            } else
+                cli_output_abort(&out);
+        }
+        return st;
+    }
     geom_mesh *m = geom_mesh_create(NULL);
     if (!m)
         return cli_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "out of memory");
@@ -243,23 +278,7 @@ static geom_status write_surface(const geom_iso_surface *s, const char *path, bo
         geom_meshio_write_options wo;
         memset(&wo, 0, sizeof wo);
         wo.gltf_z_up = up_z;
-        if (strcmp(path, "-") == 0) {
-            wo.format = GEOM_MESHIO_FORMAT_OBJ;
-            void *buf = NULL;
-            size_t n = 0;
-            st = geom_meshio_write_memory(m, &wo, &buf, &n, diag);
-            if (st == GEOM_OK) {
-                cli_output out;
-                st = cli_output_open(&out, NULL, diag);
-                if (st == GEOM_OK) {
-                    fwrite(buf, 1, n, out.fp);
-                    st = cli_output_commit(&out, diag);
-                }
-                geom_meshio_buffer_free(buf, n, NULL);
-            }
-        } else {
-            st = geom_meshio_write(m, path, &wo, diag);
-        }
+        st = geom_meshio_write(m, path, &wo, diag);
     }
     geom_mesh_destroy(m);
     return st;

@@ -392,6 +392,18 @@ geom_status geom_meshio_write_memory(const geom_mesh *m, const geom_meshio_write
 typedef geom_status (*geom_meshio_write_fn)(void *user, const void *data, size_t size);
 geom_status geom_meshio_write_stream(const geom_mesh *m, const geom_meshio_write_options *opt,
     geom_meshio_write_fn fn, void *user, geom_diag *diag);
+typedef struct geom_meshio_soup {
+    size_t n_vertices;
+    const double *xyz;
+    const double *normals;
+    size_t n_faces;
+    const uint32_t *face_sizes;
+    const uint32_t *indices;
+} geom_meshio_soup;
+geom_status geom_meshio_write_soup(const geom_meshio_soup *s, const char *path,
+    const geom_meshio_write_options *opt, geom_diag *diag);
+geom_status geom_meshio_write_soup_stream(const geom_meshio_soup *s,
+    const geom_meshio_write_options *opt, geom_meshio_write_fn fn, void *user, geom_diag *diag);
 void geom_meshio_buffer_free(void *data, size_t size, const geom_allocator *alloc);
 """,
     "curve": """

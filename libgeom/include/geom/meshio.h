@@ -304,6 +304,46 @@ GEOM_API geom_status geom_meshio_write_stream(const geom_mesh *m, const geom_mes
  *  no-op. */
 GEOM_API void geom_meshio_buffer_free(void *data, size_t size, const geom_allocator *alloc);
 
+/**
+ * An indexed polygon soup for geom_meshio_write_soup: what a producer that
+ * already knows its connectivity (marching cubes: geom_iso_surface) writes
+ * without building a geom_mesh first.
+ */
+typedef struct geom_meshio_soup {
+    size_t n_vertices;
+    const double *xyz;          /**< 3 * n_vertices doubles */
+    const double *normals;      /**< 3 * n_vertices doubles (per vertex), or NULL */
+    size_t n_faces;
+    const uint32_t *face_sizes; /**< n_faces sizes (each >= 3), or NULL: all triangles */
+    const uint32_t *indices;    /**< 0-based vertex indices, the sum of the sizes */
+} geom_meshio_soup;
+
+/**
+ * Write the soup s to `path` atomically, as geom_meshio_write does, in OBJ
+ * (opt->format OBJ, or AUTO with a .obj name): the same bytes
+ * geom_meshio_write gives for the mesh geom_mesh_build makes of the soup
+ * when that build needs no repair (vertices in order, then the normals as
+ * vn, then each face from its first vertex, "f a//a b//b c//c" with
+ * normals), without the half-edge mesh (no memory or time for it). Nothing
+ * is repaired or reoriented: the faces are written as given. opt->omit
+ * (GEOM_MESHIO_ATTR_NORMAL) and opt->precision apply; other options are
+ * ignored.
+ * Statuses: GEOM_OK; GEOM_ERR_INVALID_ARG (NULL s, path or arrays, a format
+ * other than OBJ, a face with fewer than 3 vertices or an index past the
+ * vertices, a non-finite coordinate: the diag names it; nothing is left
+ * behind); GEOM_ERR_LIMIT (2^32 - 1 vertices or more); GEOM_ERR_IO;
+ * GEOM_ERR_NOMEM.
+ */
+GEOM_API geom_status geom_meshio_write_soup(const geom_meshio_soup *s, const char *path,
+                                   const geom_meshio_write_options *opt, geom_diag *diag);
+
+/** geom_meshio_write_soup through fn (as geom_meshio_write_stream):
+ *  opt->format must be OBJ. Statuses as geom_meshio_write_soup without
+ *  GEOM_ERR_IO, and fn's own status when it fails. */
+GEOM_API geom_status geom_meshio_write_soup_stream(const geom_meshio_soup *s,
+                                          const geom_meshio_write_options *opt,
+                                          geom_meshio_write_fn fn, void *user, geom_diag *diag);
+
 #ifdef __cplusplus
 }
 #endif

@@ -1,0 +1,174 @@
+/*
+ * Writing an indexed polygon soup (positions, optional per-vertex normals,
+ * faces) as OBJ without building a geom_mesh: for results whose
+ * connectivity their producer already guarantees (marching cubes), where a
+ * half-edge mesh would only be built to be written. The bytes are those
+ * geom__meshio_write_obj writes for the mesh geom_mesh_build makes of the
+ * same soup (vertices in order, faces in order from their first vertex, a
+ * VERTEX "normal" channel as vn with v//vn corners); test_iso_write
+ * compares the two byte for byte on isosurfaces.
+ */
+#include "meshio/meshio_internal.h"
+
+#include <stdio.h>
+
+#define SOUP_BUF (1u << 16)
+
+static geom_status check_soup(const geom_meshio_soup *s, const geom_meshio_write_options *o,
+                              geom_diag *diag, const char *path)
+{
+    if (!s)
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0, "NULL soup");
+    if ((s->n_vertices && !s->xyz) || (s->n_faces && !s->indices))
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0, "NULL soup arrays");
+    if (s->n_vertices >= (size_t)UINT32_MAX)
+        return geom__diag_set(diag, GEOM_ERR_LIMIT, path, 0, 0, "too many vertices");
+    if (o->format != GEOM_MESHIO_FORMAT_OBJ)
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0,
+                             "a soup is written as OBJ only (build a mesh for other formats)");
+    return GEOM_OK;
+}
+
+static void write_soup_obj(const geom_meshio_soup *s, const geom_meshio_write_options *o,
+                           mio_sink *k)
+{
+    geom__meshio_puts(k, "# written by libgeom ");
+    geom__meshio_puts(k, geom_version_string());
+    mio_putc(k, '\n');
+    size_t nv = s->n_vertices;
+    const double *nrm = (o->omit & GEOM_MESHIO_ATTR_NORMAL) ? NULL : s->normals;
+    for (int pass = 0; pass < 2; pass++) {
+        const double *d = pass ? nrm : s->xyz;
+        if (!d)
+            continue;
+        for (size_t v = 0; v < nv && k->status == GEOM_OK; v++) {
+            geom__meshio_puts(k, pass ? "vn" : "v");
+            for (int i = 0; i < 3; i++) {
+                mio_putc(k, ' ');
+                geom__meshio_put_double(k, d[3 * v + (size_t)i]);
+            }
+            mio_putc(k, '\n');
+        }
+    }
+    const uint32_t *ix = s->indices;
+    size_t c = 0;
+    for (size_t f = 0; f < s->n_faces && k->status == GEOM_OK; f++) {
+        size_t n = s->face_sizes ? s->face_sizes[f] : 3;
+        if (n < 3) {
+            geom__meshio_sink_fail(k, GEOM_ERR_INVALID_ARG, "face %zu has %zu vertices", f, n);
+            return;
+        }
+        mio_putc(k, 'f');
+        for (size_t q = 0; q < n; q++) {
+            uint32_t v = ix[c + q];
+            if ((size_t)v >= nv) {
+                geom__meshio_sink_fail(k, GEOM_ERR_INVALID_ARG,
+                                       "face %zu: vertex index %u out of range (%zu vertices)", f,
+                                       (unsigned)v, nv);
+                return;
+            }
+            mio_putc(k, ' ');
+            geom__meshio_put_u64(k, (uint64_t)v + 1);
+            if (nrm) {
+                geom__meshio_puts(k, "//");
+                geom__meshio_put_u64(k, (uint64_t)v + 1);
+            }
+        }
+        mio_putc(k, '\n');
+        c += n;
+    }
+}
+
+typedef struct soup_user {
+    geom_meshio_write_fn fn;
+    void *user;
+    geom_output *out;
+} soup_user;
+
+static geom_status soup_flush(void *user, const void *data, size_t n, geom_diag *diag)
+{
+    const soup_user *u = user;
+    if (u->out)
+        return geom_output_write(u->out, data, n, diag);
+    geom_status st = u->fn(u->user, data, n);
+    if (st != GEOM_OK && diag && diag->status == GEOM_OK)
+        geom__diag_set(diag, st, NULL, 0, 0, "output could not be written: %s",
+                      geom_status_str(st));
+    return st;
+}
+
+static geom_status write_soup(const geom_meshio_soup *s, const geom_meshio_write_options *o,
+                              soup_user *u, const char *path, geom_diag *diag)
+{
+    mio_sink k;
+    memset(&k, 0, sizeof k);
+    k.alloc = o->alloc;
+    k.diag = diag;
+    k.precision = o->precision;
+    k.cap = SOUP_BUF;
+    k.buf = geom__alloc(o->alloc, k.cap);
+    k.flush_fn = soup_flush;
+    k.user = u;
+    if (!k.buf)
+        return geom__diag_set(diag, GEOM_ERR_NOMEM, path, 0, 0, "out of memory");
+    write_soup_obj(s, o, &k);
+    geom_status st = k.status;
+    if (st == GEOM_OK)
+        st = geom__meshio_sink_flush(&k);
+    geom__free(o->alloc, k.buf, k.cap);
+    if (st != GEOM_OK && diag && diag->status == GEOM_OK)
+        geom__diag_set(diag, st, path, 0, 0, "%s", geom_status_str(st));
+    return st;
+}
+
+static void soup_options(const geom_meshio_write_options *opt, geom_meshio_write_options *o)
+{
+    if (opt)
+        *o = *opt;
+    else
+        memset(o, 0, sizeof *o);
+}
+
+geom_status geom_meshio_write_soup_stream(const geom_meshio_soup *s,
+                                          const geom_meshio_write_options *opt,
+                                          geom_meshio_write_fn fn, void *user, geom_diag *diag)
+{
+    geom_diag_clear(diag);
+    if (!fn)
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "NULL write function");
+    geom_meshio_write_options o;
+    soup_options(opt, &o);
+    geom_status st = check_soup(s, &o, diag, NULL);
+    if (st != GEOM_OK)
+        return st;
+    soup_user u = {fn, user, NULL};
+    return write_soup(s, &o, &u, NULL, diag);
+}
+
+geom_status geom_meshio_write_soup(const geom_meshio_soup *s, const char *path,
+                                   const geom_meshio_write_options *opt, geom_diag *diag)
+{
+    geom_diag_clear(diag);
+    if (!path)
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "NULL path");
+    geom_meshio_write_options o;
+    soup_options(opt, &o);
+    if (!o.format)
+        o.format = geom_meshio_format_from_name(path);
+    geom_status st = check_soup(s, &o, diag, path);
+    if (st != GEOM_OK)
+        return st;
+    geom_output at;
+    st = geom_output_open(path, o.alloc, &at, diag);
+    if (st != GEOM_OK)
+        return st;
+    soup_user u = {NULL, NULL, &at};
+    st = write_soup(s, &o, &u, path, diag);
+    if (st != GEOM_OK) {
+        geom_output_abort(&at);
+        if (diag && diag->source[0] == '\0')
+            snprintf(diag->source, sizeof diag->source, "%s", path);
+        return st;
+    }
+    return geom_output_commit(&at, diag);
+}
