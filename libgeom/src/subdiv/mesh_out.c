@@ -412,14 +412,29 @@ geom_status geom_subdiv_build_mesh(const geom_subdiv_refiner *r, int level, cons
         st = GEOM_ERR_NOMEM;
         goto done;
     }
-    geom_mesh_build_options bo;
-    memset(&bo, 0, sizeof bo);
-    bo.skip_invalid_faces = 1;
-    bo.keep_orientation = 1;
-    bo.trusted = 1; /* refined manifold topology; holes may leave bowties: then repaired */
-    bo.channels = chans;
-    bo.n_channels = nch;
-    st = geom_mesh_build(m, om.nv_out, soup_pos, om.nf_out, sizes, soup_idx, &bo, NULL, diag);
+    /* the level's own relations when it is an oriented manifold without
+     * holes (the common case), else the soup through geom_mesh_build */
+    int direct = !any_hole && sd_mesh_direct_applies(r, level);
+    for (uint32_t v = 0; direct && v < l->nv; v++)
+        if (!geom__isfinite3(positions + 3 * (size_t)v))
+            direct = 0; /* geom_mesh_build names it */
+    if (direct) {
+        st = sd_mesh_direct(a, l, positions, m);
+        if (st == GEOM_OK)
+            st = sd_mesh_direct_attach(m, chans, nch);
+        else if (st == SD_DIRECT_DECLINED)
+            direct = 0;
+    }
+    if (!direct) {
+        geom_mesh_build_options bo;
+        memset(&bo, 0, sizeof bo);
+        bo.skip_invalid_faces = 1;
+        bo.keep_orientation = 1;
+        bo.trusted = 1; /* refined topology; holes may leave bowties: then repaired */
+        bo.channels = chans;
+        bo.n_channels = nch;
+        st = geom_mesh_build(m, om.nv_out, soup_pos, om.nf_out, sizes, soup_idx, &bo, NULL, diag);
+    }
     if (st == GEOM_OK && like) {
         st = copy_groups(r, level, &om, like, m);
         for (size_t i = 0; st == GEOM_OK && i < geom_mesh_mtllib_count(like); i++)
