@@ -228,6 +228,9 @@ int main(int argc, char **argv)
     sub_opts so;
     memset(&so, 0, sizeof so);
     so.levels = 1;
+    /* the deepest level gets the relations the limit (the error report,
+     * --limit, --normals) reads, not those only further refinement would */
+    so.so.partial_last_level = 2;
     cli_common common;
     int first;
     int rc = cli_parse_args(&tool, argc, argv, "s:n:lb:f:i:", longopts, on_option, &so, &common,

@@ -1060,6 +1060,64 @@ static void test_build_mesh_like_soup(void **state)
     geom_mesh_destroy(pil);
 }
 
+/* partial_last_level = 2: the deepest level has only what the limit
+ * reads; limit positions and tangents equal those of the full level bit
+ * for bit, and refining further (which completes the level) gives the
+ * same next level as without the option. */
+static void check_limit_relations(const geom_mesh *m, geom_subdiv_scheme s)
+{
+    geom_subdiv_refiner *r[2];
+    double *lim[2][3];
+    for (int k = 0; k < 2; k++) {
+        geom_subdiv_options o;
+        memset(&o, 0, sizeof o);
+        o.scheme = s;
+        o.partial_last_level = 2 * k;
+        assert_int_equal(geom_subdiv_refiner_create(m, &o, &r[k], NULL), GEOM_OK);
+        assert_int_equal(geom_subdiv_refiner_refine(r[k], 1), GEOM_OK);
+        double **pos = refine_positions(r[k], m);
+        geom_subdiv_level_info li;
+        geom_subdiv_refiner_level_info(r[k], 1, &li);
+        for (int j = 0; j < 3; j++)
+            lim[k][j] = malloc(3 * li.vertices * sizeof(double));
+        assert_int_equal(geom_subdiv_limit(r[k], 3, pos[1], lim[k][0], lim[k][1], lim[k][2]),
+                         GEOM_OK);
+        if (k)
+            for (int j = 0; j < 3; j++)
+                assert_memory_equal(lim[0][j], lim[1][j], 3 * li.vertices * sizeof(double));
+        free_positions(pos, 1);
+        assert_int_equal(geom_subdiv_refiner_refine(r[k], 1), GEOM_OK);
+    }
+    geom_subdiv_level_info a, b;
+    geom_subdiv_refiner_level_info(r[0], 2, &a);
+    geom_subdiv_refiner_level_info(r[1], 2, &b);
+    assert_memory_equal(&a, &b, sizeof a);
+    double **p0 = refine_positions(r[0], m), **p1 = refine_positions(r[1], m);
+    assert_memory_equal(p0[2], p1[2], 3 * a.vertices * sizeof(double));
+    free_positions(p0, 2);
+    free_positions(p1, 2);
+    for (int k = 0; k < 2; k++) {
+        for (int j = 0; j < 3; j++)
+            free(lim[k][j]);
+        geom_subdiv_refiner_destroy(r[k]);
+    }
+}
+
+static void test_limit_relations_only(void **state)
+{
+    (void)state;
+    geom_mesh *cube = build(8, cube_v, 6, quad_sizes, cube_f);
+    check_limit_relations(cube, GEOM_SUBDIV_CATMULL_CLARK);
+    geom_mesh_destroy(cube);
+    geom_mesh *tg = tri_grid(4, 0.1, 0.2, 0.3, NULL); /* boundary and corners */
+    check_limit_relations(tg, GEOM_SUBDIV_LOOP);
+    check_limit_relations(tg, GEOM_SUBDIV_CATMULL_CLARK);
+    geom_mesh_destroy(tg);
+    geom_mesh *ico = build(12, ico_v, 20, tri_sizes, ico_f);
+    check_limit_relations(ico, GEOM_SUBDIV_LOOP);
+    geom_mesh_destroy(ico);
+}
+
 static void test_errors(void **state)
 {
     (void)state;
@@ -1132,6 +1190,7 @@ int main(void)
         cmocka_unit_test(test_mesh_refine_again),
         cmocka_unit_test(test_nonmanifold_soup),
         cmocka_unit_test(test_build_mesh_like_soup),
+        cmocka_unit_test(test_limit_relations_only),
         cmocka_unit_test(test_errors),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -146,7 +146,7 @@ typedef struct sd_level {
     uint8_t *fhole;
     uint32_t *face_parent; /* depth > 0: parent face of each face */
     uint32_t max_valence, max_edge_faces, max_face_size;
-    int complete;          /* incidence relations present (ef, vf, ve) */
+    int complete;          /* incidence relations present: SD_REL_* (0 none) */
     uint32_t n_sharp_edges, n_hole_faces; /* counted when the level is made */
     uint32_t nfvar;
     sd_fvar *fvar;         /* nfvar channels */
@@ -189,13 +189,19 @@ void sd_level0_tags(sd_level *l, const sd_opts *o, int *has_holes);
 void sd_level_count(sd_level *l);
 
 /* ----- refinement */
-/* Refine p into *out; full: also the child's incidence relations (needed
- * to refine it further or evaluate limits); otherwise sd_complete_level
- * adds them later. */
+/* Which incidence relations a child level gets (sd_level.complete). */
+#define SD_REL_NONE 0  /* none: enough to interpolate into the level */
+#define SD_REL_FULL 1  /* all: to refine it further, face-varying data */
+#define SD_REL_LIMIT 2 /* vertex-edges and vertex-faces: geom_subdiv_limit */
+/* Refine p into *out with the child's relations `rel` (SD_REL_*; face-
+ * varying channels and butterfly always get SD_REL_FULL); otherwise
+ * sd_complete_level adds them later. */
 geom_status sd_refine_level(const geom_allocator *a, const sd_opts *o, const sd_level *p,
-                            int full, sd_level **out);
+                            int rel, sd_level **out);
+/* Give child level c of p the relations `mode` (SD_REL_FULL or
+ * SD_REL_LIMIT; a level with all of them keeps them). */
 geom_status sd_complete_level(const geom_allocator *a, const sd_opts *o, const sd_level *p,
-                              sd_level *c);
+                              sd_level *c, int mode);
 /* Child index helpers for the split schemes (uniform refinement, face
  * points first). */
 static inline int sd_quad_split(const sd_opts *o)
