@@ -10,6 +10,12 @@
 geom_status cli_mesh_read(const char *tool_name, const char *path, geom_meshio_format fmt,
                           geom_mesh **m, geom_diag *diag)
 {
+    return cli_mesh_read_kept(tool_name, path, fmt, m, NULL, diag);
+}
+
+geom_status cli_mesh_read_kept(const char *tool_name, const char *path, geom_meshio_format fmt,
+                               geom_mesh **m, geom_file *kept, geom_diag *diag)
+{
     cli_input in;
     geom_status st = cli_input_open(&in, path, diag);
     if (st != GEOM_OK)
@@ -25,7 +31,10 @@ geom_status cli_mesh_read(const char *tool_name, const char *path, geom_meshio_f
     ro.format = fmt;
     geom_mesh_build_report r;
     st = geom_meshio_read_file(&file, in.name, &ro, m, &r, diag);
-    geom_file_unmap(&file);
+    if (kept && st == GEOM_OK)
+        *kept = file;
+    else
+        geom_file_unmap(&file);
     if (st == GEOM_OK) {
         /* repairs made while building the mesh are worth knowing */
         const struct {

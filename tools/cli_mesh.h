@@ -23,6 +23,11 @@ extern "C" {
  */
 geom_status cli_mesh_read(const char *tool_name, const char *path, geom_meshio_format fmt,
                           geom_mesh **m, geom_diag *diag);
+/* cli_mesh_read that keeps the input's bytes (file or standard input) in
+ * *kept on success, for messages that quote the input (release them with
+ * geom_file_unmap); kept NULL is cli_mesh_read. */
+geom_status cli_mesh_read_kept(const char *tool_name, const char *path, geom_meshio_format fmt,
+                               geom_mesh **m, geom_file *kept, geom_diag *diag);
 
 /** A warning for a mesh with nothing in it ("empty mesh: no vertices and
  *  no faces", "no faces: only N vertices"), or NULL when it has faces. */

@@ -32,7 +32,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/types.h>
 
 #include "geom/meshio.h"
 #include "geom/subdiv.h"
@@ -183,38 +182,34 @@ static geom_status limit_distance(const geom_subdiv_refiner *r, const double *po
     return st;
 }
 
-/* The line of the OBJ file's statement for tag number `tag` (0-based, in
+/* The line of the OBJ input's statement for tag number `tag` (0-based, in
  * file order, as geom_mesh_tag_get numbers them): the (tag+1)-th `t`
  * statement, counting a backslash-continued statement from its first line.
- * 0 when the file cannot be read again (standard input) or has no such tag. */
-static size_t obj_tag_line(const char *path, size_t tag)
+ * in holds the bytes the mesh was read from (a file or standard input), so
+ * the count is over what was parsed. 0 when there is no such tag. */
+static size_t obj_tag_line(const geom_file *in, size_t tag)
 {
-    if (!path || strcmp(path, "-") == 0)
-        return 0;
-    FILE *fp = fopen(path, "rb");
-    if (!fp)
-        return 0;
-    char *buf = NULL;
-    size_t cap = 0, lineno = 0, found = 0, seen = 0;
+    const char *p = (const char *)in->data, *end = p + in->size;
+    size_t lineno = 0, seen = 0;
     int cont = 0;
-    ssize_t n;
-    while (!found && (n = getline(&buf, &cap, fp)) >= 0) {
+    while (p < end) {
+        const char *eol = memchr(p, '\n', (size_t)(end - p));
+        const char *next = eol ? eol + 1 : end, *e = eol ? eol : end;
         lineno++;
         int was_cont = cont;
-        while (n > 0 && (buf[n - 1] == '\n' || buf[n - 1] == '\r'))
-            n--;
-        cont = n > 0 && buf[n - 1] == '\\';
-        if (was_cont)
-            continue;
-        const char *p = buf;
-        while (*p == ' ' || *p == '\t')
-            p++;
-        if (p[0] == 't' && (p[1] == ' ' || p[1] == '\t') && seen++ == tag)
-            found = lineno;
+        while (e > p && (e[-1] == '\r' || e[-1] == '\n'))
+            e--;
+        cont = e > p && e[-1] == '\\';
+        if (!was_cont) {
+            const char *q = p;
+            while (q < e && (*q == ' ' || *q == '\t'))
+                q++;
+            if (e - q >= 2 && q[0] == 't' && (q[1] == ' ' || q[1] == '\t') && seen++ == tag)
+                return lineno;
+        }
+        p = next;
     }
-    free(buf);
-    fclose(fp);
-    return found;
+    return 0;
 }
 
 int main(int argc, char **argv)
@@ -233,6 +228,9 @@ int main(int argc, char **argv)
     sub_opts so;
     memset(&so, 0, sizeof so);
     so.levels = 1;
+    /* the deepest level gets the relations the limit (the error report,
+     * --limit, --normals) reads, not those only further refinement would */
+    so.so.partial_last_level = 2;
     cli_common common;
     int first;
     int rc = cli_parse_args(&tool, argc, argv, "s:n:lb:f:i:", longopts, on_option, &so, &common,
@@ -258,7 +256,9 @@ int main(int argc, char **argv)
     geom_diag_clear(&diag);
     geom_mesh *m = NULL;
     const char *in_path = argc > first ? argv[first] : "-";
-    if (cli_mesh_read(tool.name, in_path, so.in_format, &m, &diag) != GEOM_OK)
+    geom_file in_bytes; /* kept until the tags were read, to name their lines */
+    memset(&in_bytes, 0, sizeof in_bytes);
+    if (cli_mesh_read_kept(tool.name, in_path, so.in_format, &m, &in_bytes, &diag) != GEOM_OK)
         return cli_print_diag(&tool, &diag);
     size_t in_faces = geom_mesh_n_live_faces(m), in_verts = geom_mesh_n_live_vertices(m);
     size_t triangulated = 0;
@@ -271,6 +271,7 @@ int main(int argc, char **argv)
         if (need) {
             geom_status ts = geom_mesh_triangulate(m, &triangulated);
             if (ts != GEOM_OK && ts != GEOM_ERR_DEGENERATE) {
+                geom_file_unmap(&in_bytes);
                 geom_mesh_destroy(m);
                 return cli_error(&tool, "%s: triangulation failed: %s", in_path,
                                  geom_status_str(ts));
@@ -294,6 +295,7 @@ int main(int argc, char **argv)
             tris = (quads ? 2.0 * corners : corners) * pow(per, so.levels - 1);
         if (cli_limits_check(&tool, &so.lim, "the subdivision", tris, 100.0 * tris) !=
             CLI_CONTINUE) {
+            geom_file_unmap(&in_bytes);
             geom_mesh_destroy(m);
             return CLI_EXIT_ERROR;
         }
@@ -302,22 +304,25 @@ int main(int argc, char **argv)
     cli_timer_start(&total);
     geom_subdiv_refiner *r = NULL;
     geom_status st = geom_subdiv_refiner_create(m, &so.so, &r, &diag);
+    size_t tag_line = 0;
+    if (st != GEOM_OK && diag.message[0] && !diag.source[0]) {
+        /* a tag the refiner refuses ("tag N: ...") is named by its line */
+        char *end;
+        const char *num = strncmp(diag.message, "tag ", 4) == 0          ? diag.message + 4
+                          : strncmp(diag.message, "crease tag ", 11) == 0 ? diag.message + 11
+                                                                           : NULL;
+        if (num) {
+            unsigned long long ti = strtoull(num, &end, 10);
+            if (end != num && *end == ':')
+                tag_line = obj_tag_line(&in_bytes, (size_t)ti);
+        }
+    }
+    geom_file_unmap(&in_bytes);
     if (st != GEOM_OK) {
         geom_mesh_destroy(m);
         if (diag.message[0]) {
-            /* a tag the refiner refuses ("tag N: ...") is named by its line */
-            size_t line = 0;
-            char *end;
-            const char *num = strncmp(diag.message, "tag ", 4) == 0          ? diag.message + 4
-                              : strncmp(diag.message, "crease tag ", 11) == 0 ? diag.message + 11
-                                                                               : NULL;
-            if (num && !diag.source[0]) {
-                unsigned long long ti = strtoull(num, &end, 10);
-                if (end != num && *end == ':')
-                    line = obj_tag_line(in_path, (size_t)ti);
-            }
             if (!diag.source[0])
-                cli_diag_locate(&diag, in_path, line);
+                cli_diag_locate(&diag, in_path, tag_line);
             return cli_print_diag(&tool, &diag);
         }
         return cli_error(&tool, "%s: %s", in_path, geom_status_str(st));

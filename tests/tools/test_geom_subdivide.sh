@@ -323,6 +323,28 @@ case "$err" in
 *"badedge.obj:6: "*) ;;
 *) fail "crease tag on no edge: expected FILE:6 in the message, got: $err" ;;
 esac
+# the same from standard input: the bytes read once are the ones searched
+# (the statement's first line), so the line is named there too
+"$TOOL" -i obj --levels 1 -o "$T/badtag_out.obj" <"$T/badtag.obj" >"$T/stdout" 2>"$T/stderr"
+rc=$?
+err=$(cat "$T/stderr")
+expect_rc 1 "crease tag out of range, from standard input"
+checks=$((checks + 1))
+case "$err" in
+*":8: tag 1: crease vertex out of range"*) ;;
+*) fail "bad crease tag from standard input: expected line 8 in the message, got: $err" ;;
+esac
+printf 'v 0 0 0\r\nv 1 0 0\r\nv 1 1 0\r\nv 0 1 0\r\nf 1 2 3 4\r\nt crease 2/1/0 0 2 1.0\r\n' |
+    "$TOOL" -i obj --levels 1 -o "$T/badtag_out.obj" >"$T/stdout" 2>"$T/stderr"
+rc=$?
+err=$(cat "$T/stderr")
+expect_rc 1 "crease tag on no edge, CRLF, from standard input"
+checks=$((checks + 1))
+case "$err" in
+*":6: crease tag 0: no edge"*) ;;
+*) fail "crease tag on no edge from standard input: expected line 6 in the message, got: $err" ;;
+esac
+[ ! -e "$T/badtag_out.obj" ] || fail "a failed run left $T/badtag_out.obj behind"
 
 echo "$checks checks, $failures failures"
 [ "$failures" -eq 0 ]

@@ -946,6 +946,178 @@ static void test_nonmanifold_soup(void **state)
     geom_subdiv_refiner_destroy(r);
 }
 
+/* The refined level's mesh made by geom_subdiv_build_mesh (directly from
+ * the level's relations where it is a manifold) against geom_mesh_build
+ * over the same level's soup (the repairing builder, a separate path): the
+ * same halfedges, faces, vertices, positions and UV corners, element for
+ * element. Closed, open (boundary), quad, triangle, with a UV channel with
+ * seams, and a Loop mesh with an interior vertex of valence 2 (whose
+ * children have two edges between one pair of vertices: geom_mesh_build
+ * repairs them, and so must the direct path's fallback). */
+static void check_like_soup_build(const geom_mesh *m, geom_subdiv_scheme s, int levels)
+{
+    geom_subdiv_refiner *r = refiner_for(m, s, levels);
+    double **pos = refine_positions(r, m);
+    geom_mesh *out = NULL;
+    assert_int_equal(geom_subdiv_build_mesh(r, levels, pos[levels], NULL, m, &out, NULL, NULL),
+                     GEOM_OK);
+    geom_subdiv_level_info li;
+    assert_int_equal(geom_subdiv_refiner_level_info(r, levels, &li), GEOM_OK);
+    uint32_t *sz = malloc(li.faces * sizeof(uint32_t)), *ix = malloc(li.face_vertices * 4);
+    assert_int_equal(geom_subdiv_refiner_faces(r, levels, sz, ix, NULL), GEOM_OK);
+    geom_mesh_build_options bo;
+    memset(&bo, 0, sizeof bo);
+    bo.skip_invalid_faces = 1;
+    bo.keep_orientation = 1;
+    geom_mesh *ref = geom_mesh_create(NULL);
+    assert_int_equal(geom_mesh_build(ref, li.vertices, pos[levels], li.faces, sz, ix, &bo, NULL,
+                                     NULL),
+                     GEOM_OK);
+    assert_int_equal(geom_mesh_n_vertices(out), geom_mesh_n_vertices(ref));
+    assert_int_equal(geom_mesh_n_halfedges(out), geom_mesh_n_halfedges(ref));
+    assert_int_equal(geom_mesh_n_faces(out), geom_mesh_n_faces(ref));
+    for (uint32_t h = 0; h < geom_mesh_n_halfedges(ref); h++) {
+        assert_int_equal(geom_mesh_he_next(out, h), geom_mesh_he_next(ref, h));
+        assert_int_equal(geom_mesh_he_prev(out, h), geom_mesh_he_prev(ref, h));
+        assert_int_equal(geom_mesh_he_vertex(out, h), geom_mesh_he_vertex(ref, h));
+        assert_int_equal(geom_mesh_he_face(out, h), geom_mesh_he_face(ref, h));
+    }
+    for (uint32_t v = 0; v < geom_mesh_n_vertices(ref); v++)
+        assert_int_equal(geom_mesh_vertex_he(out, v), geom_mesh_vertex_he(ref, v));
+    for (uint32_t f = 0; f < geom_mesh_n_faces(ref); f++)
+        assert_int_equal(geom_mesh_face_he(out, f), geom_mesh_face_he(ref, f));
+    assert_memory_equal(geom_mesh_cpositions(out), geom_mesh_cpositions(ref),
+                        3 * geom_mesh_n_vertices(ref) * sizeof(double));
+    uint32_t uv = geom_mesh_channel_find(out, "uv", GEOM_MESH_DOMAIN_CORNER);
+    if (uv != GEOM_INVALID_INDEX) {
+        /* corner k of face f in the level's order holds the level's value */
+        size_t nvals = geom_subdiv_fvar_size(r, 0, levels);
+        uint32_t *fv = malloc(li.face_vertices * sizeof(uint32_t));
+        assert_int_equal(geom_subdiv_fvar_face_values(r, 0, levels, fv), GEOM_OK);
+        assert_int_equal(geom_mesh_channel_size(out, uv), nvals);
+        const uint32_t *ci = geom_mesh_corner_cindices(out, uv);
+        size_t k = 0;
+        for (uint32_t f = 0; f < geom_mesh_n_faces(out); f++) {
+            uint32_t h0 = geom_mesh_face_he(out, f), h = h0;
+            do {
+                assert_int_equal(ci[h], fv[k++]);
+                h = geom_mesh_he_next(out, h);
+            } while (h != h0);
+        }
+        free(fv);
+    }
+    geom_mesh_destroy(ref);
+    geom_mesh_destroy(out);
+    free(sz);
+    free(ix);
+    free_positions(pos, levels);
+    geom_subdiv_refiner_destroy(r);
+}
+
+static void test_build_mesh_like_soup(void **state)
+{
+    (void)state;
+    geom_mesh *cube = build(8, cube_v, 6, quad_sizes, cube_f);
+    check_like_soup_build(cube, GEOM_SUBDIV_CATMULL_CLARK, 1);
+    check_like_soup_build(cube, GEOM_SUBDIV_CATMULL_CLARK, 2);
+    check_like_soup_build(cube, GEOM_SUBDIV_BILINEAR, 2);
+    /* with a seamed UV channel */
+    uint32_t uv;
+    assert_int_equal(geom_mesh_channel_add(cube, "uv", GEOM_MESH_DOMAIN_CORNER, 2, &uv), GEOM_OK);
+    assert_int_equal(geom_mesh_corner_pool_resize(cube, uv, 24), GEOM_OK);
+    double *pool = geom_mesh_channel_data(cube, uv);
+    uint32_t *ci = geom_mesh_corner_indices(cube, uv);
+    for (uint32_t f = 0; f < 6; f++) {
+        uint32_t h0 = geom_mesh_face_he(cube, f), h = h0, k = 0;
+        do {
+            ci[h] = 4 * f + k;
+            pool[2 * (4 * f + k)] = (k == 1 || k == 2);
+            pool[2 * (4 * f + k) + 1] = (k >= 2);
+            k++;
+            h = geom_mesh_he_next(cube, h);
+        } while (h != h0);
+    }
+    check_like_soup_build(cube, GEOM_SUBDIV_CATMULL_CLARK, 2);
+    geom_mesh_destroy(cube);
+    geom_mesh *qg = quad_grid(3, NULL); /* boundary and corners */
+    check_like_soup_build(qg, GEOM_SUBDIV_CATMULL_CLARK, 2);
+    geom_mesh_destroy(qg);
+    geom_mesh *tg = tri_grid(3, 0.1, 0.2, 0.3, NULL);
+    check_like_soup_build(tg, GEOM_SUBDIV_LOOP, 1);
+    check_like_soup_build(tg, GEOM_SUBDIV_LOOP, 2);
+    check_like_soup_build(tg, GEOM_SUBDIV_CATMULL_CLARK, 1);
+    geom_mesh_destroy(tg);
+    geom_mesh *ico = build(12, ico_v, 20, tri_sizes, ico_f);
+    check_like_soup_build(ico, GEOM_SUBDIV_LOOP, 2);
+    geom_mesh_destroy(ico);
+    /* a pillow: two triangles sharing all three edges (valence-2 vertices) */
+    static const double pv[] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    static const uint32_t pf[] = {0, 1, 2, 0, 2, 1}, ps[] = {3, 3};
+    geom_mesh *pil = build(3, pv, 2, ps, pf);
+    check_like_soup_build(pil, GEOM_SUBDIV_LOOP, 1);
+    check_like_soup_build(pil, GEOM_SUBDIV_LOOP, 2);
+    check_like_soup_build(pil, GEOM_SUBDIV_CATMULL_CLARK, 1);
+    geom_mesh_destroy(pil);
+}
+
+/* partial_last_level = 2: the deepest level has only what the limit
+ * reads; limit positions and tangents equal those of the full level bit
+ * for bit, and refining further (which completes the level) gives the
+ * same next level as without the option. */
+static void check_limit_relations(const geom_mesh *m, geom_subdiv_scheme s)
+{
+    geom_subdiv_refiner *r[2];
+    double *lim[2][3];
+    for (int k = 0; k < 2; k++) {
+        geom_subdiv_options o;
+        memset(&o, 0, sizeof o);
+        o.scheme = s;
+        o.partial_last_level = 2 * k;
+        assert_int_equal(geom_subdiv_refiner_create(m, &o, &r[k], NULL), GEOM_OK);
+        assert_int_equal(geom_subdiv_refiner_refine(r[k], 1), GEOM_OK);
+        double **pos = refine_positions(r[k], m);
+        geom_subdiv_level_info li;
+        geom_subdiv_refiner_level_info(r[k], 1, &li);
+        for (int j = 0; j < 3; j++)
+            lim[k][j] = malloc(3 * li.vertices * sizeof(double));
+        assert_int_equal(geom_subdiv_limit(r[k], 3, pos[1], lim[k][0], lim[k][1], lim[k][2]),
+                         GEOM_OK);
+        if (k)
+            for (int j = 0; j < 3; j++)
+                assert_memory_equal(lim[0][j], lim[1][j], 3 * li.vertices * sizeof(double));
+        free_positions(pos, 1);
+        assert_int_equal(geom_subdiv_refiner_refine(r[k], 1), GEOM_OK);
+    }
+    geom_subdiv_level_info a, b;
+    geom_subdiv_refiner_level_info(r[0], 2, &a);
+    geom_subdiv_refiner_level_info(r[1], 2, &b);
+    assert_memory_equal(&a, &b, sizeof a);
+    double **p0 = refine_positions(r[0], m), **p1 = refine_positions(r[1], m);
+    assert_memory_equal(p0[2], p1[2], 3 * a.vertices * sizeof(double));
+    free_positions(p0, 2);
+    free_positions(p1, 2);
+    for (int k = 0; k < 2; k++) {
+        for (int j = 0; j < 3; j++)
+            free(lim[k][j]);
+        geom_subdiv_refiner_destroy(r[k]);
+    }
+}
+
+static void test_limit_relations_only(void **state)
+{
+    (void)state;
+    geom_mesh *cube = build(8, cube_v, 6, quad_sizes, cube_f);
+    check_limit_relations(cube, GEOM_SUBDIV_CATMULL_CLARK);
+    geom_mesh_destroy(cube);
+    geom_mesh *tg = tri_grid(4, 0.1, 0.2, 0.3, NULL); /* boundary and corners */
+    check_limit_relations(tg, GEOM_SUBDIV_LOOP);
+    check_limit_relations(tg, GEOM_SUBDIV_CATMULL_CLARK);
+    geom_mesh_destroy(tg);
+    geom_mesh *ico = build(12, ico_v, 20, tri_sizes, ico_f);
+    check_limit_relations(ico, GEOM_SUBDIV_LOOP);
+    geom_mesh_destroy(ico);
+}
+
 static void test_errors(void **state)
 {
     (void)state;
@@ -1017,6 +1189,8 @@ int main(void)
         cmocka_unit_test(test_mesh_with_seams_and_tags),
         cmocka_unit_test(test_mesh_refine_again),
         cmocka_unit_test(test_nonmanifold_soup),
+        cmocka_unit_test(test_build_mesh_like_soup),
+        cmocka_unit_test(test_limit_relations_only),
         cmocka_unit_test(test_errors),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -168,8 +168,12 @@ typedef struct geom_subdiv_options {
      *  needs (face-vertices, face-edges, edge-vertices, sharpness, rules),
      *  as OpenSubdiv's UniformOptions::fullTopologyInLastLevel = false;
      *  faster, but geom_subdiv_limit* then return GEOM_ERR_INVALID_ARG until
-     *  a further refinement completes it. Ignored when face-varying
-     *  channels are present (they need the full topology). */
+     *  a further refinement completes it. 2: also what geom_subdiv_limit
+     *  and geom_subdiv_limit_normals read (vertex-edges, and vertex-faces
+     *  for Catmull-Clark and bilinear), not edge-faces: those two then
+     *  work (geom_subdiv_limit_fvar does not). Ignored when face-varying
+     *  channels are present or for butterfly (they need the full
+     *  topology). */
     int partial_last_level;
     const geom_allocator *alloc;    /**< NULL: libc */
 } geom_subdiv_options;

@@ -7,51 +7,6 @@
  */
 #include "masks.h"
 
-/* The kernels are inlined into each caller, so the 3-component call (the
- * positions) is compiled with a constant component count. */
-#if defined(__GNUC__) || defined(__clang__)
-#define SD_KERNEL static inline __attribute__((always_inline))
-#else
-#define SD_KERNEL static inline
-#endif
-
-static inline void set_w(double *d, const double *s, double w, size_t n)
-{
-    if (n == 3) {
-        d[0] = s[0] * w;
-        d[1] = s[1] * w;
-        d[2] = s[2] * w;
-        return;
-    }
-    for (size_t k = 0; k < n; k++)
-        d[k] = s[k] * w;
-}
-
-static inline void add_w(double *d, const double *s, double w, size_t n)
-{
-    if (n == 3) {
-        d[0] += s[0] * w;
-        d[1] += s[1] * w;
-        d[2] += s[2] * w;
-        return;
-    }
-    for (size_t k = 0; k < n; k++)
-        d[k] += s[k] * w;
-}
-
-SD_KERNEL void face_points(const sd_level *p, size_t n, const double *src, double *dst)
-{
-    for (uint32_t f = 0; f < p->nf; f++) {
-        uint32_t o = p->fv_off[f], m = p->fv_off[f + 1] - o;
-        double w = 1.0 / (double)m;
-        double *d = dst + (size_t)f * n;
-        for (size_t k = 0; k < n; k++)
-            d[k] = 0.0;
-        for (uint32_t i = 0; i < m; i++)
-            add_w(d, src + (size_t)p->fv[o + i] * n, w, n);
-    }
-}
-
 SD_KERNEL void edge_points(const sd_opts *o, const sd_level *p, const sd_level *c, size_t n,
                         const double *src, double *dst, double *fbuf)
 {
@@ -64,25 +19,25 @@ SD_KERNEL void edge_points(const sd_opts *o, const sd_level *p, const sd_level *
         double *d = dst + (size_t)cv * n;
         uint32_t fo = p->ef_off[e], nf = p->ef_off[e + 1] - fo;
         if (bilinear) {
-            set_w(d, src + (size_t)ev[0] * n, 0.5, n);
-            add_w(d, src + (size_t)ev[1] * n, 0.5, n);
+            sd_set_w(d, src + (size_t)ev[0] * n, 0.5, n);
+            sd_add_w(d, src + (size_t)ev[1] * n, 0.5, n);
             continue;
         }
         if (p->esharp[e] <= 0.0f && nf == 2 && !o->smooth_tri) {
             /* smooth edge, two faces */
             if (loop) {
-                set_w(d, src + (size_t)ev[0] * n, 0.375, n);
-                add_w(d, src + (size_t)ev[1] * n, 0.375, n);
+                sd_set_w(d, src + (size_t)ev[0] * n, 0.375, n);
+                sd_add_w(d, src + (size_t)ev[1] * n, 0.375, n);
                 for (uint32_t i = 0; i < 2; i++) {
                     uint32_t f = p->ef[fo + i], fi = p->ef_loc[fo + i];
                     uint32_t opp = p->fv[3 * (size_t)f + (fi + 2) % 3];
-                    add_w(d, src + (size_t)opp * n, 0.125, n);
+                    sd_add_w(d, src + (size_t)opp * n, 0.125, n);
                 }
             } else {
-                set_w(d, src + (size_t)ev[0] * n, 0.25, n);
-                add_w(d, src + (size_t)ev[1] * n, 0.25, n);
-                add_w(d, dst + (size_t)p->ef[fo] * n, 0.25, n);
-                add_w(d, dst + (size_t)p->ef[fo + 1] * n, 0.25, n);
+                sd_set_w(d, src + (size_t)ev[0] * n, 0.25, n);
+                sd_add_w(d, src + (size_t)ev[1] * n, 0.25, n);
+                sd_add_w(d, dst + (size_t)p->ef[fo] * n, 0.25, n);
+                sd_add_w(d, dst + (size_t)p->ef[fo + 1] * n, 0.25, n);
             }
             continue;
         }
@@ -90,20 +45,7 @@ SD_KERNEL void edge_points(const sd_opts *o, const sd_level *p, const sd_level *
         sd_mask m;
         m.f = fbuf;
         sd_edge_mask(o, p, e, c->vtag[cv] & SD_V_RULE, vw, &m);
-        set_w(d, src + (size_t)ev[0] * n, vw[0], n);
-        add_w(d, src + (size_t)ev[1] * n, vw[1], n);
-        for (int i = 0; i < m.nf; i++) {
-            uint32_t f = p->ef[fo + (uint32_t)i];
-            if (m.fcenters) {
-                add_w(d, dst + (size_t)f * n, m.f[i], n);
-            } else {
-                uint32_t fvo = p->fv_off[f], fs = p->fv_off[f + 1] - fvo;
-                uint32_t vi = p->ef_loc[fo + (uint32_t)i] + 2;
-                if (vi >= fs)
-                    vi -= fs;
-                add_w(d, src + (size_t)p->fv[fvo + vi] * n, m.f[i], n);
-            }
-        }
+        sd_edge_apply(p, e, &m, vw, ev, n, p->fv, NULL, src, dst, d);
     }
 }
 
@@ -121,7 +63,7 @@ SD_KERNEL void vertex_points(const sd_opts *o, const sd_level *p, const sd_level
         uint32_t eo = p->ve_off[v], ne = p->ve_off[v + 1] - eo;
         uint32_t fo = p->vf_off[v], nf = p->vf_off[v + 1] - fo;
         if (o->scheme == GEOM_SUBDIV_BILINEAR) {
-            set_w(d, sv, 1.0, n);
+            sd_set_w(d, sv, 1.0, n);
             continue;
         }
         sd_mask m;
@@ -143,9 +85,9 @@ SD_KERNEL void vertex_points(const sd_opts *o, const sd_level *p, const sd_level
                 for (uint32_t i = 0; i < ne; i++) {
                     const uint32_t *ev = p->ev + 2 * (size_t)p->ve[eo + i];
                     uint32_t ov = ev[0] == v ? ev[1] : ev[0];
-                    add_w(d, src + (size_t)ov * n, e, n);
+                    sd_add_w(d, src + (size_t)ov * n, e, n);
                 }
-                add_w(d, sv, vw, n);
+                sd_add_w(d, sv, vw, n);
             } else {
                 double vw = 0.5, w = 0.0625;
                 if (nf != 4) {
@@ -155,13 +97,13 @@ SD_KERNEL void vertex_points(const sd_opts *o, const sd_level *p, const sd_level
                 for (size_t k = 0; k < n; k++)
                     d[k] = 0.0;
                 for (uint32_t i = 0; i < nf; i++)
-                    add_w(d, dst + (size_t)p->vf[fo + i] * n, w, n);
+                    sd_add_w(d, dst + (size_t)p->vf[fo + i] * n, w, n);
                 for (uint32_t i = 0; i < ne; i++) {
                     const uint32_t *ev = p->ev + 2 * (size_t)p->ve[eo + i];
                     uint32_t ov = ev[0] == v ? ev[1] : ev[0];
-                    add_w(d, src + (size_t)ov * n, w, n);
+                    sd_add_w(d, src + (size_t)ov * n, w, n);
                 }
-                add_w(d, sv, vw, n);
+                sd_add_w(d, sv, vw, n);
             }
             continue;
         }
@@ -170,61 +112,42 @@ SD_KERNEL void vertex_points(const sd_opts *o, const sd_level *p, const sd_level
             d[k] = 0.0;
         if (m.nf > 0) {
             for (uint32_t i = 0; i < nf; i++)
-                add_w(d, dst + (size_t)p->vf[fo + i] * n, m.f[i], n);
+                sd_add_w(d, dst + (size_t)p->vf[fo + i] * n, m.f[i], n);
         }
         if (m.ne > 0) {
             for (uint32_t i = 0; i < ne; i++) {
                 const uint32_t *ev = p->ev + 2 * (size_t)p->ve[eo + i];
                 uint32_t ov = ev[0] == v ? ev[1] : ev[0];
-                add_w(d, src + (size_t)ov * n, m.e[i], n);
+                sd_add_w(d, src + (size_t)ov * n, m.e[i], n);
             }
         }
-        add_w(d, sv, m.v, n);
+        sd_add_w(d, sv, m.v, n);
     }
-}
-
-static geom_status check_level(const geom_subdiv_refiner *r, int level, size_t ncomp,
-                               const void *src, const void *dst)
-{
-    if (!r || !src || !dst || ncomp == 0 || level < 1 || level >= r->nlevels)
-        return GEOM_ERR_INVALID_ARG;
-    return GEOM_OK;
-}
-
-static geom_status stencil_interp(const sd_level *c, size_t n, const double *src, double *dst)
-{
-    for (uint32_t v = 0; v < c->nv; v++) {
-        double *d = dst + (size_t)v * n;
-        for (size_t k = 0; k < n; k++)
-            d[k] = 0.0;
-        for (uint32_t i = c->st_off[v]; i < c->st_off[v + 1]; i++)
-            add_w(d, src + (size_t)c->st_idx[i] * n, c->st_w[i], n);
-    }
-    return GEOM_OK;
 }
 
 geom_status geom_subdiv_interpolate(const geom_subdiv_refiner *r, int level, size_t ncomp,
                                     const double *src, double *dst)
 {
-    geom_status st = check_level(r, level, ncomp, src, dst);
+    geom_status st = sd_check_interp(r, level, ncomp, src, dst);
     if (st != GEOM_OK)
         return st;
     const sd_level *p = r->lv[level - 1], *c = r->lv[level];
-    if (c->st_off)
-        return stencil_interp(c, ncomp, src, dst);
+    if (c->st_off) {
+        sd_stencils_apply(c->nv, c->st_off, c->st_idx, c->st_w, ncomp, src, dst);
+        return GEOM_OK;
+    }
     const geom_allocator *a = sd_alloc(r);
     sd_scratch s;
-    uint32_t cap = p->max_valence > p->max_edge_faces ? p->max_valence : p->max_edge_faces;
-    if (sd_scratch_init(a, &s, cap + 2) != GEOM_OK)
+    if (sd_scratch_init(a, &s, sd_mask_room(p)) != GEOM_OK)
         return GEOM_ERR_NOMEM;
     if (ncomp == 3) {
         if (sd_quad_split(&r->o))
-            face_points(p, 3, src, dst);
+            sd_face_points(p, 3, p->fv, NULL, src, dst);
         edge_points(&r->o, p, c, 3, src, dst, s.w);
         vertex_points(&r->o, p, c, 3, src, dst, &s);
     } else {
         if (sd_quad_split(&r->o))
-            face_points(p, ncomp, src, dst);
+            sd_face_points(p, ncomp, p->fv, NULL, src, dst);
         edge_points(&r->o, p, c, ncomp, src, dst, s.w);
         vertex_points(&r->o, p, c, ncomp, src, dst, &s);
     }
@@ -235,7 +158,7 @@ geom_status geom_subdiv_interpolate(const geom_subdiv_refiner *r, int level, siz
 geom_status geom_subdiv_interpolate_varying(const geom_subdiv_refiner *r, int level, size_t ncomp,
                                             const double *src, double *dst)
 {
-    geom_status st = check_level(r, level, ncomp, src, dst);
+    geom_status st = sd_check_interp(r, level, ncomp, src, dst);
     if (st != GEOM_OK)
         return st;
     const sd_level *p = r->lv[level - 1], *c = r->lv[level];
@@ -246,38 +169,38 @@ geom_status geom_subdiv_interpolate_varying(const geom_subdiv_refiner *r, int le
             uint32_t kind = c->vparent[v] >> 30, par = c->vparent[v] & 0x3fffffffu;
             double *d = dst + (size_t)v * n;
             if (kind == GEOM_SUBDIV_FROM_VERTEX) {
-                set_w(d, src + (size_t)par * n, 1.0, n);
+                sd_set_w(d, src + (size_t)par * n, 1.0, n);
             } else if (kind == GEOM_SUBDIV_FROM_EDGE) {
-                set_w(d, src + (size_t)p->ev[2 * (size_t)par] * n, 0.5, n);
-                add_w(d, src + (size_t)p->ev[2 * (size_t)par + 1] * n, 0.5, n);
+                sd_set_w(d, src + (size_t)p->ev[2 * (size_t)par] * n, 0.5, n);
+                sd_add_w(d, src + (size_t)p->ev[2 * (size_t)par + 1] * n, 0.5, n);
             } else {
                 uint32_t o = p->fv_off[par], m = p->fv_off[par + 1] - o;
                 for (size_t k = 0; k < n; k++)
                     d[k] = 0.0;
                 for (uint32_t i = 0; i < m; i++)
-                    add_w(d, src + (size_t)p->fv[o + i] * n, 1.0 / (double)m, n);
+                    sd_add_w(d, src + (size_t)p->fv[o + i] * n, 1.0 / (double)m, n);
             }
         }
         return GEOM_OK;
     }
     int quad = sd_quad_split(&r->o);
     if (quad)
-        face_points(p, n, src, dst);
+        sd_face_points(p, n, p->fv, NULL, src, dst);
     uint32_t e0 = quad ? p->nf : 0, v0 = e0 + p->ne;
     for (uint32_t e = 0; e < p->ne; e++) {
         double *d = dst + (size_t)(e0 + e) * n;
-        set_w(d, src + (size_t)p->ev[2 * (size_t)e] * n, 0.5, n);
-        add_w(d, src + (size_t)p->ev[2 * (size_t)e + 1] * n, 0.5, n);
+        sd_set_w(d, src + (size_t)p->ev[2 * (size_t)e] * n, 0.5, n);
+        sd_add_w(d, src + (size_t)p->ev[2 * (size_t)e + 1] * n, 0.5, n);
     }
     for (uint32_t v = 0; v < p->nv; v++)
-        set_w(dst + (size_t)(v0 + v) * n, src + (size_t)v * n, 1.0, n);
+        sd_set_w(dst + (size_t)(v0 + v) * n, src + (size_t)v * n, 1.0, n);
     return GEOM_OK;
 }
 
 geom_status geom_subdiv_interpolate_face(const geom_subdiv_refiner *r, int level, size_t ncomp,
                                          const double *src, double *dst)
 {
-    geom_status st = check_level(r, level, ncomp, src, dst);
+    geom_status st = sd_check_interp(r, level, ncomp, src, dst);
     if (st != GEOM_OK)
         return st;
     const sd_level *c = r->lv[level];

@@ -8,30 +8,6 @@
  */
 #include "masks.h"
 
-static inline void set_w(double *d, const double *s, double w, size_t n)
-{
-    if (n == 3) {
-        d[0] = s[0] * w;
-        d[1] = s[1] * w;
-        d[2] = s[2] * w;
-        return;
-    }
-    for (size_t k = 0; k < n; k++)
-        d[k] = s[k] * w;
-}
-
-static inline void add_w(double *d, const double *s, double w, size_t n)
-{
-    if (n == 3) {
-        d[0] += s[0] * w;
-        d[1] += s[1] * w;
-        d[2] += s[2] * w;
-        return;
-    }
-    for (size_t k = 0; k < n; k++)
-        d[k] += s[k] * w;
-}
-
 static inline uint32_t vval(const sd_fvar *f, uint32_t v, uint32_t sib)
 {
     return f->slot_value[f->vsib_off[v] + sib];
@@ -136,7 +112,7 @@ geom_status geom_subdiv_interpolate_fvar(const geom_subdiv_refiner *r, uint32_t 
                                          int level, size_t ncomp, const double *src,
                                          double *dst)
 {
-    if (!r || !src || !dst || ncomp == 0 || level < 1 || level >= r->nlevels)
+    if (sd_check_interp(r, level, ncomp, src, dst) != GEOM_OK)
         return GEOM_ERR_INVALID_ARG;
     const sd_level *p = r->lv[level - 1], *c = r->lv[level];
     if (channel >= p->nfvar)
@@ -146,47 +122,31 @@ geom_status geom_subdiv_interpolate_fvar(const geom_subdiv_refiner *r, uint32_t 
     size_t n = ncomp;
     if (cf->st_off) {
         /* sqrt3: each value a combination of parent values */
-        for (uint32_t i = 0; i < cf->nvalues; i++) {
-            double *d = dst + (size_t)i * n;
-            for (size_t k = 0; k < n; k++)
-                d[k] = 0.0;
-            for (uint32_t j = cf->st_off[i]; j < cf->st_off[i + 1]; j++)
-                add_w(d, src + (size_t)cf->st_idx[j] * n, cf->st_w[j], n);
-        }
+        sd_stencils_apply(cf->nvalues, cf->st_off, cf->st_idx, cf->st_w, n, src, dst);
         return GEOM_OK;
     }
     const geom_allocator *a = sd_alloc(r);
     sd_scratch s;
-    uint32_t cap = p->max_valence > p->max_edge_faces ? p->max_valence : p->max_edge_faces;
-    if (sd_scratch_init(a, &s, cap + 2) != GEOM_OK)
+    uint32_t cap = sd_mask_room(p);
+    if (sd_scratch_init(a, &s, cap) != GEOM_OK)
         return GEOM_ERR_NOMEM;
-    uint32_t *evals = sd_calloc(a, (size_t)cap + 2, sizeof(uint32_t));
-    float *fbuf = sd_calloc(a, 2 * ((size_t)cap + 2), sizeof(float));
-    double *wbuf = sd_calloc(a, 2 * ((size_t)cap + 2), sizeof(double));
+    uint32_t *evals = sd_calloc(a, (size_t)cap, sizeof(uint32_t));
+    float *fbuf = sd_calloc(a, 2 * (size_t)cap, sizeof(float));
+    double *wbuf = sd_calloc(a, 2 * (size_t)cap, sizeof(double));
     if (!evals || !fbuf || !wbuf) {
         sd_scratch_free(a, &s);
-        sd_free(a, evals, (size_t)cap + 2, sizeof(uint32_t));
-        sd_free(a, fbuf, 2 * ((size_t)cap + 2), sizeof(float));
-        sd_free(a, wbuf, 2 * ((size_t)cap + 2), sizeof(double));
+        sd_free(a, evals, (size_t)cap, sizeof(uint32_t));
+        sd_free(a, fbuf, 2 * (size_t)cap, sizeof(float));
+        sd_free(a, wbuf, 2 * (size_t)cap, sizeof(double));
         return GEOM_ERR_NOMEM;
     }
     int quad = sd_quad_split(o);
     int linear = pf->is_linear || o->scheme == GEOM_SUBDIV_BILINEAR;
     uint32_t E0 = quad ? p->nf : 0, V0 = E0 + p->ne;
-    if (quad) {
-        for (uint32_t f = 0; f < p->nf; f++) {
-            uint32_t fo = p->fv_off[f], m = p->fv_off[f + 1] - fo;
-            double w = 1.0 / (double)m;
-            double *d = dst + (size_t)cf->vsib_off[f] * n;
-            for (size_t k = 0; k < n; k++)
-                d[k] = 0.0;
-            for (uint32_t i = 0; i < m; i++)
-                add_w(d, src + (size_t)pf->fvals[fo + i] * n, w, n);
-        }
-    }
+    if (quad)
+        sd_face_points(p, n, pf->fvals, cf->vsib_off, src, dst);
     for (uint32_t e = 0; e < p->ne; e++) {
         uint32_t cv = E0 + e, c0 = cf->vsib_off[cv];
-        uint32_t efo = p->ef_off[e];
         if (!(cf->slot_tag[c0] & SD_FV_MISMATCH)) {
             double vw[2] = {0.5, 0.5};
             sd_mask m;
@@ -197,28 +157,15 @@ geom_status geom_subdiv_interpolate_fvar(const geom_subdiv_refiner *r, uint32_t 
                 sd_edge_mask(o, p, e, c->vtag[cv] & SD_V_RULE, vw, &m);
             uint32_t ev[2];
             edge_face_values(pf, p, e, 0, ev);
-            double *d = dst + (size_t)c0 * n;
-            set_w(d, src + (size_t)ev[0] * n, vw[0], n);
-            add_w(d, src + (size_t)ev[1] * n, vw[1], n);
-            for (int i = 0; i < m.nf; i++) {
-                uint32_t fc = p->ef[efo + (uint32_t)i];
-                if (m.fcenters) {
-                    add_w(d, dst + (size_t)cf->vsib_off[fc] * n, m.f[i], n);
-                } else {
-                    uint32_t fo = p->fv_off[fc], fs = p->fv_off[fc + 1] - fo;
-                    uint32_t vi = p->ef_loc[efo + (uint32_t)i] + 2;
-                    if (vi >= fs)
-                        vi -= fs;
-                    add_w(d, src + (size_t)pf->fvals[fo + vi] * n, m.f[i], n);
-                }
-            }
+            sd_edge_apply(p, e, &m, vw, ev, n, pf->fvals, cf->vsib_off, src, dst,
+                          dst + (size_t)c0 * n);
         } else {
             for (uint32_t i = 0; i < cf->vsib_count[cv]; i++) {
                 uint32_t ev[2];
                 edge_face_values(pf, p, e, cf->parent_src[c0 + i], ev);
                 double *d = dst + (size_t)(c0 + i) * n;
-                set_w(d, src + (size_t)ev[0] * n, 0.5, n);
-                add_w(d, src + (size_t)ev[1] * n, 0.5, n);
+                sd_set_w(d, src + (size_t)ev[0] * n, 0.5, n);
+                sd_add_w(d, src + (size_t)ev[1] * n, 0.5, n);
             }
         }
     }
@@ -227,7 +174,7 @@ geom_status geom_subdiv_interpolate_fvar(const geom_subdiv_refiner *r, uint32_t 
         int matches = !(cf->slot_tag[c0] & SD_FV_MISMATCH);
         double *d = dst + (size_t)c0 * n;
         if (linear && matches) {
-            set_w(d, src + (size_t)vval(pf, v, 0) * n, 1.0, n);
+            sd_set_w(d, src + (size_t)vval(pf, v, 0) * n, 1.0, n);
             continue;
         }
         if (matches) {
@@ -239,15 +186,15 @@ geom_status geom_subdiv_interpolate_fvar(const geom_subdiv_refiner *r, uint32_t 
                 d[k] = 0.0;
             if (m.nf > 0) {
                 for (uint32_t i = p->vf_off[v]; i < p->vf_off[v + 1]; i++)
-                    add_w(d, dst + (size_t)cf->vsib_off[p->vf[i]] * n, m.f[i - p->vf_off[v]], n);
+                    sd_add_w(d, dst + (size_t)cf->vsib_off[p->vf[i]] * n, m.f[i - p->vf_off[v]], n);
             }
             if (m.ne > 0) {
                 vertex_edge_values(pf, p, v, evals);
                 uint32_t ne = p->ve_off[v + 1] - p->ve_off[v];
                 for (uint32_t i = 0; i < ne; i++)
-                    add_w(d, src + (size_t)evals[i] * n, m.e[i], n);
+                    sd_add_w(d, src + (size_t)evals[i] * n, m.e[i], n);
             }
-            add_w(d, src + (size_t)vval(pf, v, 0) * n, m.v, n);
+            sd_add_w(d, src + (size_t)vval(pf, v, 0) * n, m.v, n);
             continue;
         }
         const uint8_t *ptags = pf->slot_tag + pf->vsib_off[v];
@@ -257,7 +204,7 @@ geom_status geom_subdiv_interpolate_fvar(const geom_subdiv_refiner *r, uint32_t 
             uint32_t pval = vval(pf, v, ps);
             double *dd = dst + (size_t)(c0 + cs) * n;
             if (linear || !(ctags[cs] & SD_FV_CREASE)) {
-                set_w(dd, src + (size_t)pval * n, 1.0, n);
+                sd_set_w(dd, src + (size_t)pval * n, 1.0, n);
                 continue;
             }
             uint32_t ends[2];
@@ -271,15 +218,15 @@ geom_status geom_subdiv_interpolate_fvar(const geom_subdiv_refiner *r, uint32_t 
                 vwt = wcr * 0.75 + wc;
                 ewt = wcr * 0.125;
             }
-            set_w(dd, src + (size_t)ends[0] * n, ewt, n);
-            add_w(dd, src + (size_t)ends[1] * n, ewt, n);
-            add_w(dd, src + (size_t)pval * n, vwt, n);
+            sd_set_w(dd, src + (size_t)ends[0] * n, ewt, n);
+            sd_add_w(dd, src + (size_t)ends[1] * n, ewt, n);
+            sd_add_w(dd, src + (size_t)pval * n, vwt, n);
         }
     }
     sd_scratch_free(a, &s);
-    sd_free(a, evals, (size_t)cap + 2, sizeof(uint32_t));
-    sd_free(a, fbuf, 2 * ((size_t)cap + 2), sizeof(float));
-    sd_free(a, wbuf, 2 * ((size_t)cap + 2), sizeof(double));
+    sd_free(a, evals, (size_t)cap, sizeof(uint32_t));
+    sd_free(a, fbuf, 2 * (size_t)cap, sizeof(float));
+    sd_free(a, wbuf, 2 * (size_t)cap, sizeof(double));
     return GEOM_OK;
 }
 
@@ -340,28 +287,28 @@ geom_status geom_subdiv_limit_fvar(const geom_subdiv_refiner *r, uint32_t channe
                     uint32_t opp = vin + 2;
                     if (opp >= fs)
                         opp -= fs;
-                    add_w(d, src + (size_t)f->fvals[fo + opp] * n, m.f[i], n);
+                    sd_add_w(d, src + (size_t)f->fvals[fo + opp] * n, m.f[i], n);
                 }
             }
             if (m.ne > 0) {
                 vertex_edge_values(f, l, v, evals);
                 for (uint32_t i = 0; i < ne; i++)
-                    add_w(d, src + (size_t)evals[i] * n, m.e[i], n);
+                    sd_add_w(d, src + (size_t)evals[i] * n, m.e[i], n);
             }
-            add_w(d, src + (size_t)val * n, m.v, n);
+            sd_add_w(d, src + (size_t)val * n, m.v, n);
         } else {
             for (uint32_t i = 0; i < cnt; i++) {
                 uint32_t val = f->slot_value[so + i];
                 double *d = dst + (size_t)val * n;
                 if (!(f->slot_tag[so + i] & SD_FV_CREASE)) {
-                    set_w(d, src + (size_t)val * n, 1.0, n);
+                    sd_set_w(d, src + (size_t)val * n, 1.0, n);
                 } else {
                     uint32_t ends[2];
                     crease_end_values(f, l, v, i, ends);
                     /* single-precision weights, as OpenSubdiv's LimitFaceVarying */
-                    set_w(d, src + (size_t)ends[0] * n, (double)(1.0f / 6.0f), n);
-                    add_w(d, src + (size_t)ends[1] * n, (double)(1.0f / 6.0f), n);
-                    add_w(d, src + (size_t)val * n, (double)(2.0f / 3.0f), n);
+                    sd_set_w(d, src + (size_t)ends[0] * n, (double)(1.0f / 6.0f), n);
+                    sd_add_w(d, src + (size_t)ends[1] * n, (double)(1.0f / 6.0f), n);
+                    sd_add_w(d, src + (size_t)val * n, (double)(2.0f / 3.0f), n);
                 }
             }
         }

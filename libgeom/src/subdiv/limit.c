@@ -8,18 +8,6 @@
  */
 #include "masks.h"
 
-static inline void add_w(double *d, const double *s, double w, size_t n)
-{
-    if (n == 3) {
-        d[0] += s[0] * w;
-        d[1] += s[1] * w;
-        d[2] += s[2] * w;
-        return;
-    }
-    for (size_t k = 0; k < n; k++)
-        d[k] += s[k] * w;
-}
-
 double sd_sqrt3_alpha(uint32_t n)
 {
     return (4.0 - 2.0 * cos(2.0 * GEOM_PI / (double)n)) / 9.0;
@@ -31,10 +19,10 @@ static void apply(const sd_level *l, uint32_t v, const sd_mask *m, const uint32_
     for (size_t k = 0; k < n; k++)
         d[k] = 0.0;
     for (int i = 0; i < m->nf; i++)
-        add_w(d, src + (size_t)fidx[i] * n, m->f[i], n);
+        sd_add_w(d, src + (size_t)fidx[i] * n, m->f[i], n);
     for (int i = 0; i < m->ne; i++)
-        add_w(d, src + (size_t)eidx[i] * n, m->e[i], n);
-    add_w(d, src + (size_t)v * n, m->v, n);
+        sd_add_w(d, src + (size_t)eidx[i] * n, m->e[i], n);
+    sd_add_w(d, src + (size_t)v * n, m->v, n);
     (void)l;
 }
 
@@ -71,9 +59,9 @@ geom_status geom_subdiv_limit(const geom_subdiv_refiner *r, size_t ncomp, const 
                 d[k] = 0.0;
             for (uint32_t i = 0; i < ne; i++) {
                 const uint32_t *ev = l->ev + 2 * (size_t)l->ve[eo + i];
-                add_w(d, src + (size_t)(ev[0] == v ? ev[1] : ev[0]) * n, wq, n);
+                sd_add_w(d, src + (size_t)(ev[0] == v ? ev[1] : ev[0]) * n, wq, n);
             }
-            add_w(d, src + (size_t)v * n, 1.0 / (1.0 + 3.0 * al), n);
+            sd_add_w(d, src + (size_t)v * n, 1.0 / (1.0 + 3.0 * al), n);
         }
         return GEOM_OK;
     }

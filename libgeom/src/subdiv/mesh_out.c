@@ -6,6 +6,8 @@
 
 #include <stdlib.h>
 
+/* The output's faces and vertices among the level's: the maps are NULL
+ * (the identity) when no face is a hole. */
 typedef struct outmap {
     uint32_t nf_out;      /* faces kept (not holes) */
     uint32_t *face_level; /* per soup face: the level face */
@@ -13,6 +15,11 @@ typedef struct outmap {
     uint32_t *vert_old;   /* per soup vertex: level vertex */
     uint32_t nv_out;
 } outmap;
+
+static inline uint32_t om_vert(const outmap *om, uint32_t v)
+{
+    return om->vert_new ? om->vert_new[v] : v;
+}
 
 /* Values of the level-0 vertices / faces of a mesh channel. */
 static double *level0_vertex_data(const geom_allocator *a, const geom_mesh *m, const sd_level *l0,
@@ -110,8 +117,8 @@ static geom_status add_tags(const geom_subdiv_refiner *r, const sd_level *l, con
     size_t n = 0;
     for (uint32_t e = 0; e < l->ne; e++)
         if (l->esharp[e] > 0.0f && !(l->etag[e] & (SD_E_BOUNDARY | SD_E_NONMANIFOLD)) &&
-            om->vert_new[l->ev[2 * (size_t)e]] != SD_INVALID &&
-            om->vert_new[l->ev[2 * (size_t)e + 1]] != SD_INVALID)
+            om_vert(om, l->ev[2 * (size_t)e]) != SD_INVALID &&
+            om_vert(om, l->ev[2 * (size_t)e + 1]) != SD_INVALID)
             n++;
     if (n) {
         int64_t *iv = sd_calloc(a, 2 * n, sizeof(int64_t));
@@ -124,10 +131,10 @@ static geom_status add_tags(const geom_subdiv_refiner *r, const sd_level *l, con
         size_t k = 0;
         for (uint32_t e = 0; e < l->ne; e++) {
             if (l->esharp[e] > 0.0f && !(l->etag[e] & (SD_E_BOUNDARY | SD_E_NONMANIFOLD)) &&
-                om->vert_new[l->ev[2 * (size_t)e]] != SD_INVALID &&
-                om->vert_new[l->ev[2 * (size_t)e + 1]] != SD_INVALID) {
-                iv[2 * k] = om->vert_new[l->ev[2 * (size_t)e]];
-                iv[2 * k + 1] = om->vert_new[l->ev[2 * (size_t)e + 1]];
+                om_vert(om, l->ev[2 * (size_t)e]) != SD_INVALID &&
+                om_vert(om, l->ev[2 * (size_t)e + 1]) != SD_INVALID) {
+                iv[2 * k] = om_vert(om, l->ev[2 * (size_t)e]);
+                iv[2 * k + 1] = om_vert(om, l->ev[2 * (size_t)e + 1]);
                 fv[k] = l->esharp[e];
                 k++;
             }
@@ -141,7 +148,7 @@ static geom_status add_tags(const geom_subdiv_refiner *r, const sd_level *l, con
     }
     n = 0;
     for (uint32_t v = 0; v < l->nv; v++)
-        if (l->vsharp[v] > 0.0f && !(l->vtag[v] & SD_V_NONMANIFOLD) && om->vert_new[v] != SD_INVALID)
+        if (l->vsharp[v] > 0.0f && !(l->vtag[v] & SD_V_NONMANIFOLD) && om_vert(om, v) != SD_INVALID)
             n++;
     if (n) {
         int64_t *iv = sd_calloc(a, n, sizeof(int64_t));
@@ -154,8 +161,8 @@ static geom_status add_tags(const geom_subdiv_refiner *r, const sd_level *l, con
         size_t k = 0;
         for (uint32_t v = 0; v < l->nv; v++) {
             if (l->vsharp[v] > 0.0f && !(l->vtag[v] & SD_V_NONMANIFOLD) &&
-                om->vert_new[v] != SD_INVALID) {
-                iv[k] = om->vert_new[v];
+                om_vert(om, v) != SD_INVALID) {
+                iv[k] = om_vert(om, v);
                 fv[k] = l->vsharp[v];
                 k++;
             }
@@ -197,7 +204,7 @@ static geom_status copy_groups(const geom_subdiv_refiner *r, int level, const ou
     const uint32_t *forig = geom_mesh_face_origin(out);
     for (uint32_t f = 0; f < geom_mesh_n_faces(out); f++) {
         uint32_t sf = forig ? forig[f] : f;
-        uint32_t lf = om->face_level[sf];
+        uint32_t lf = om->face_level ? om->face_level[sf] : sf;
         for (int l = level; l > 0; l--)
             lf = r->lv[l]->face_parent[lf];
         og[f] = g0[lf];
@@ -256,10 +263,7 @@ geom_status geom_subdiv_build_mesh(const geom_subdiv_refiner *r, int level, cons
     geom_mesh_build_channel *chans = sd_calloc(a, nlike + 1, sizeof *chans);
     sd_stream_mem *mem = sd_calloc(a, nlike + 1, sizeof *mem);
     size_t nch = 0;
-    om.face_level = sd_calloc(a, l->nf, sizeof(uint32_t));
-    om.vert_new = sd_calloc(a, l->nv, sizeof(uint32_t));
-    om.vert_old = sd_calloc(a, l->nv, sizeof(uint32_t));
-    if (!chans || !mem || !om.face_level || !om.vert_new || !om.vert_old)
+    if (!chans || !mem)
         goto done;
     int any_hole = 0;
     for (uint32_t f = 0; f < l->nf; f++) {
@@ -269,32 +273,30 @@ geom_status geom_subdiv_build_mesh(const geom_subdiv_refiner *r, int level, cons
                 (*hole_faces)++;
             continue;
         }
-        om.face_level[om.nf_out++] = f;
+        om.nf_out++;
         nidx += l->fv_off[f + 1] - l->fv_off[f];
     }
-    for (uint32_t v = 0; v < l->nv; v++)
-        om.vert_new[v] = any_hole ? SD_INVALID : v;
+    om.nv_out = l->nv;
     if (any_hole) {
+        om.face_level = sd_malloc(a, om.nf_out, sizeof(uint32_t));
+        om.vert_new = sd_malloc(a, l->nv, sizeof(uint32_t));
+        om.vert_old = sd_malloc(a, l->nv, sizeof(uint32_t));
+        if (!om.face_level || !om.vert_new || !om.vert_old)
+            goto done;
+        for (uint32_t f = 0, i = 0; f < l->nf; f++)
+            if (!l->fhole[f])
+                om.face_level[i++] = f;
+        for (uint32_t v = 0; v < l->nv; v++)
+            om.vert_new[v] = SD_INVALID;
         for (uint32_t i = 0; i < om.nf_out; i++) {
             uint32_t f = om.face_level[i];
             for (uint32_t k = l->fv_off[f]; k < l->fv_off[f + 1]; k++)
                 om.vert_new[l->fv[k]] = 0;
         }
+        om.nv_out = 0;
         for (uint32_t v = 0; v < l->nv; v++)
             if (om.vert_new[v] == 0)
                 om.vert_new[v] = om.nv_out, om.vert_old[om.nv_out++] = v;
-    } else {
-        om.nv_out = l->nv;
-        for (uint32_t v = 0; v < l->nv; v++)
-            om.vert_old[v] = v;
-    }
-    /* the soup: the level's own arrays when no face was left out */
-    sizes = sd_calloc(a, om.nf_out, sizeof(uint32_t));
-    if (!sizes)
-        goto done;
-    for (uint32_t i = 0; i < om.nf_out; i++) {
-        uint32_t f = om.face_level[i];
-        sizes[i] = l->fv_off[f + 1] - l->fv_off[f];
     }
     const uint32_t *soup_idx = l->fv + l->fv_off[0];
     const double *soup_pos = positions;
@@ -412,14 +414,39 @@ geom_status geom_subdiv_build_mesh(const geom_subdiv_refiner *r, int level, cons
         st = GEOM_ERR_NOMEM;
         goto done;
     }
-    geom_mesh_build_options bo;
-    memset(&bo, 0, sizeof bo);
-    bo.skip_invalid_faces = 1;
-    bo.keep_orientation = 1;
-    bo.trusted = 1; /* refined manifold topology; holes may leave bowties: then repaired */
-    bo.channels = chans;
-    bo.n_channels = nch;
-    st = geom_mesh_build(m, om.nv_out, soup_pos, om.nf_out, sizes, soup_idx, &bo, NULL, diag);
+    /* the level's own relations when it is an oriented manifold without
+     * holes (the common case), else the soup through geom_mesh_build */
+    int direct = !any_hole && sd_mesh_direct_applies(r, level);
+    for (uint32_t v = 0; direct && v < l->nv; v++)
+        if (!geom__isfinite3(positions + 3 * (size_t)v))
+            direct = 0; /* geom_mesh_build names it */
+    if (direct) {
+        st = sd_mesh_direct(a, l, positions, m);
+        if (st == GEOM_OK)
+            st = sd_mesh_direct_attach(m, chans, nch);
+        else if (st == SD_DIRECT_DECLINED)
+            direct = 0;
+    }
+    if (!direct) {
+        /* the soup: the level's own arrays when no face was left out */
+        sizes = sd_malloc(a, om.nf_out, sizeof(uint32_t));
+        if (!sizes) {
+            st = GEOM_ERR_NOMEM;
+            goto done;
+        }
+        for (uint32_t i = 0; i < om.nf_out; i++) {
+            uint32_t f = om.face_level ? om.face_level[i] : i;
+            sizes[i] = l->fv_off[f + 1] - l->fv_off[f];
+        }
+        geom_mesh_build_options bo;
+        memset(&bo, 0, sizeof bo);
+        bo.skip_invalid_faces = 1;
+        bo.keep_orientation = 1;
+        bo.trusted = 1; /* refined topology; holes may leave bowties: then repaired */
+        bo.channels = chans;
+        bo.n_channels = nch;
+        st = geom_mesh_build(m, om.nv_out, soup_pos, om.nf_out, sizes, soup_idx, &bo, NULL, diag);
+    }
     if (st == GEOM_OK && like) {
         st = copy_groups(r, level, &om, like, m);
         for (size_t i = 0; st == GEOM_OK && i < geom_mesh_mtllib_count(like); i++)
@@ -436,7 +463,7 @@ done:
         }
     sd_free(a, mem, nlike + 1, sizeof *mem);
     sd_free(a, chans, nlike + 1, sizeof *chans);
-    sd_free(a, om.face_level, l->nf, sizeof(uint32_t));
+    sd_free(a, om.face_level, om.nf_out, sizeof(uint32_t));
     sd_free(a, om.vert_new, l->nv, sizeof(uint32_t));
     sd_free(a, om.vert_old, l->nv, sizeof(uint32_t));
     sd_free(a, sizes, om.nf_out, sizeof(uint32_t));

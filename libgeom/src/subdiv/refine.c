@@ -30,23 +30,50 @@ static geom_status alloc_child(const geom_allocator *a, sd_level *c, uint32_t fa
 }
 
 /* The incidence relations of a child level (edge-faces, vertex-faces,
- * vertex-edges with their local indices). */
-static geom_status alloc_relations(const geom_allocator *a, sd_level *c)
+ * vertex-edges with their local indices); SD_REL_LIMIT: only the vertex
+ * offsets and vertex-edges, and the vertex-faces of quad schemes (what
+ * geom_subdiv_limit reads; Loop's limit masks have no face weights). */
+static geom_status alloc_relations(const geom_allocator *a, const sd_opts *o, sd_level *c,
+                                   int mode)
 {
     uint32_t nfv = c->fv_off[c->nf];
-    c->ef_off = sd_malloc(a, (size_t)c->ne + 1, sizeof(uint32_t));
-    c->ef = sd_malloc(a, nfv, sizeof(uint32_t));
-    c->ef_loc = sd_malloc(a, nfv, sizeof(uint16_t));
+    int full = mode == SD_REL_FULL, vf = full || sd_quad_split(o);
     c->vf_off = sd_malloc(a, (size_t)c->nv + 1, sizeof(uint32_t));
-    c->vf = sd_malloc(a, nfv, sizeof(uint32_t));
-    c->vf_loc = sd_malloc(a, nfv, sizeof(uint16_t));
     c->ve_off = sd_malloc(a, (size_t)c->nv + 1, sizeof(uint32_t));
     c->ve = sd_malloc(a, 2 * (size_t)c->ne, sizeof(uint32_t));
     c->ve_loc = sd_malloc(a, 2 * (size_t)c->ne, sizeof(uint16_t));
-    if (!c->ef_off || !c->ef || !c->ef_loc || !c->vf_off || !c->vf || !c->vf_loc || !c->ve_off ||
-        !c->ve || !c->ve_loc)
+    if (!c->vf_off || !c->ve_off || !c->ve || !c->ve_loc)
+        return GEOM_ERR_NOMEM;
+    if (vf) {
+        c->vf = sd_malloc(a, nfv, sizeof(uint32_t));
+        c->vf_loc = sd_malloc(a, nfv, sizeof(uint16_t));
+        if (!c->vf || !c->vf_loc)
+            return GEOM_ERR_NOMEM;
+    }
+    if (!full)
+        return GEOM_OK;
+    c->ef_off = sd_malloc(a, (size_t)c->ne + 1, sizeof(uint32_t));
+    c->ef = sd_malloc(a, nfv, sizeof(uint32_t));
+    c->ef_loc = sd_malloc(a, nfv, sizeof(uint16_t));
+    if (!c->ef_off || !c->ef || !c->ef_loc)
         return GEOM_ERR_NOMEM;
     return GEOM_OK;
+}
+
+/* Free the relations of a level made with SD_REL_LIMIT (before the full
+ * ones are made). */
+static void free_relations(const geom_allocator *a, sd_level *c)
+{
+    uint32_t nfv = c->fv_off[c->nf];
+    sd_free(a, c->vf, nfv, sizeof(uint32_t));
+    sd_free(a, c->vf_loc, nfv, sizeof(uint16_t));
+    sd_free(a, c->vf_off, (size_t)c->nv + 1, sizeof(uint32_t));
+    sd_free(a, c->ve_off, (size_t)c->nv + 1, sizeof(uint32_t));
+    sd_free(a, c->ve, 2 * (size_t)c->ne, sizeof(uint32_t));
+    sd_free(a, c->ve_loc, 2 * (size_t)c->ne, sizeof(uint16_t));
+    c->vf = c->vf_off = c->ve_off = c->ve = NULL;
+    c->vf_loc = c->ve_loc = NULL;
+    c->complete = 0;
 }
 
 #define PNF(p, f) ((p)->fv_off[(f) + 1] - (p)->fv_off[f])
@@ -234,10 +261,21 @@ static geom_status refine_quad(const geom_allocator *a, const sd_opts *o, const 
     return GEOM_OK;
 }
 
+static void quad_edge_faces(const sd_level *p, sd_level *c);
+static void quad_vertex_relations(const sd_level *p, sd_level *c);
+
 static void quad_relations(const sd_level *p, sd_level *c)
 {
-    const uint32_t E0 = p->nf, V0 = p->nf + p->ne, CE0 = p->fv_off[p->nf];
-    /* Edge-faces. */
+    if (c->ef)
+        quad_edge_faces(p, c);
+    quad_vertex_relations(p, c);
+    finish_counts(p, c);
+}
+
+/* Edge-faces. */
+static void quad_edge_faces(const sd_level *p, sd_level *c)
+{
+    const uint32_t CE0 = p->fv_off[p->nf];
     uint32_t k = 0;
     for (uint32_t ce = 0; ce < CE0; ce++) {
         c->ef_off[ce] = k;
@@ -277,7 +315,12 @@ static void quad_relations(const sd_level *p, sd_level *c)
             }
         }
     }
-    /* Vertex-faces and vertex-edges. */
+}
+
+/* Vertex-faces and vertex-edges (vf, vf_loc and ve_loc when present). */
+static void quad_vertex_relations(const sd_level *p, sd_level *c)
+{
+    const uint32_t E0 = p->nf, V0 = p->nf + p->ne, CE0 = p->fv_off[p->nf];
     uint32_t kf = 0, ke = 0;
     for (uint32_t pf = 0; pf < p->nf; pf++) {
         c->vf_off[pf] = kf;
@@ -358,7 +401,6 @@ static void quad_relations(const sd_level *p, sd_level *c)
             c->ve_loc[ae++] = 1;
         }
     }
-    finish_counts(p, c);
 }
 
 static geom_status refine_tri(const geom_allocator *a, const sd_opts *o, const sd_level *p,
@@ -416,9 +458,21 @@ static geom_status refine_tri(const geom_allocator *a, const sd_opts *o, const s
     return GEOM_OK;
 }
 
+static void tri_edge_faces(const sd_level *p, sd_level *c);
+static void tri_vertex_relations(const sd_level *p, sd_level *c);
+
 static void tri_relations(const sd_level *p, sd_level *c)
 {
-    const uint32_t V0 = p->ne, CE0 = 3 * p->nf;
+    if (c->ef)
+        tri_edge_faces(p, c);
+    tri_vertex_relations(p, c);
+    finish_counts(p, c);
+}
+
+/* Edge-faces. */
+static void tri_edge_faces(const sd_level *p, sd_level *c)
+{
+    const uint32_t CE0 = 3 * p->nf;
     uint32_t k = 0;
     for (uint32_t ce = 0; ce < CE0; ce++) {
         c->ef_off[ce] = k;
@@ -454,6 +508,13 @@ static void tri_relations(const sd_level *p, sd_level *c)
             }
         }
     }
+}
+
+/* Vertex-faces (vf and vf_loc when present) and vertex-edges. */
+static void tri_vertex_relations(const sd_level *p, sd_level *c)
+{
+    const uint32_t V0 = p->ne, CE0 = 3 * p->nf;
+    int vf = c->vf != NULL;
     uint32_t kf = 0, ke = 0;
     for (uint32_t pe = 0; pe < p->ne; pe++) {
         c->vf_off[pe] = kf;
@@ -474,12 +535,14 @@ static void tri_relations(const sd_level *p, sd_level *c)
         const uint32_t *pev = p->ev + 2 * (size_t)pe;
         for (uint32_t i = p->ef_off[pe]; i < p->ef_off[pe + 1]; i++) {
             uint32_t pf = p->ef[i], ein = p->ef_loc[i];
-            c->vf[af] = 4 * pf + (ein + 1) % 3;
-            c->vf_loc[af++] = (uint16_t)ein;
-            c->vf[af] = 4 * pf + 3;
-            c->vf_loc[af++] = (uint16_t)((ein + 2) % 3);
-            c->vf[af] = 4 * pf + ein;
-            c->vf_loc[af++] = (uint16_t)((ein + 1) % 3);
+            if (vf) {
+                c->vf[af] = 4 * pf + (ein + 1) % 3;
+                c->vf_loc[af++] = (uint16_t)ein;
+                c->vf[af] = 4 * pf + 3;
+                c->vf_loc[af++] = (uint16_t)((ein + 2) % 3);
+                c->vf[af] = 4 * pf + ein;
+                c->vf_loc[af++] = (uint16_t)((ein + 1) % 3);
+            }
             uint32_t ce0 = SD_INVALID, ce1 = SD_INVALID;
             if (i == p->ef_off[pe]) {
                 uint32_t rev = 0;
@@ -504,7 +567,7 @@ static void tri_relations(const sd_level *p, sd_level *c)
     }
     for (uint32_t pv = 0; pv < p->nv; pv++) {
         uint32_t cv = V0 + pv, af = c->vf_off[cv], ae = c->ve_off[cv];
-        for (uint32_t i = p->vf_off[pv]; i < p->vf_off[pv + 1]; i++) {
+        for (uint32_t i = p->vf_off[pv]; vf && i < p->vf_off[pv + 1]; i++) {
             uint32_t pf = p->vf[i], vin = p->vf_loc[i];
             c->vf[af] = 4 * pf + vin;
             c->vf_loc[af++] = (uint16_t)vin;
@@ -514,27 +577,28 @@ static void tri_relations(const sd_level *p, sd_level *c)
             c->ve_loc[ae++] = 1;
         }
     }
-    finish_counts(p, c);
 }
 
 geom_status sd_complete_level(const geom_allocator *a, const sd_opts *o, const sd_level *p,
-                              sd_level *c)
+                              sd_level *c, int mode)
 {
-    if (c->complete)
+    if (c->complete == SD_REL_FULL || c->complete == mode)
         return GEOM_OK;
-    geom_status st = alloc_relations(a, c);
+    if (c->complete)
+        free_relations(a, c); /* limit relations, made again with the rest */
+    geom_status st = alloc_relations(a, o, c, mode);
     if (st != GEOM_OK)
         return st;
     if (sd_quad_split(o))
         quad_relations(p, c);
     else
         tri_relations(p, c);
-    c->complete = 1;
+    c->complete = mode;
     return GEOM_OK;
 }
 
 geom_status sd_refine_level(const geom_allocator *a, const sd_opts *o, const sd_level *p,
-                            int full, sd_level **out)
+                            int rel, sd_level **out)
 {
     *out = NULL;
     if (o->scheme == GEOM_SUBDIV_SQRT3)
@@ -550,8 +614,10 @@ geom_status sd_refine_level(const geom_allocator *a, const sd_opts *o, const sd_
     if (!c)
         return GEOM_ERR_NOMEM;
     /* Face-varying channels and butterfly need the child's full topology. */
-    if (st == GEOM_OK && (full || p->nfvar || o->scheme == GEOM_SUBDIV_BUTTERFLY))
-        st = sd_complete_level(a, o, p, c);
+    if (p->nfvar || o->scheme == GEOM_SUBDIV_BUTTERFLY)
+        rel = SD_REL_FULL;
+    if (st == GEOM_OK && rel != SD_REL_NONE)
+        st = sd_complete_level(a, o, p, c, rel);
     if (st == GEOM_OK && o->scheme == GEOM_SUBDIV_BUTTERFLY)
         st = sd_butterfly_stencils(a, p, c);
     if (st == GEOM_OK && p->nfvar) {

@@ -559,16 +559,18 @@ geom_status geom_subdiv_refiner_refine(geom_subdiv_refiner *r, int levels)
         }
     }
     const geom_allocator *a = sd_alloc(r);
-    if (levels > 0 && !r->lv[r->nlevels - 1]->complete) {
-        geom_status st =
-            sd_complete_level(a, &r->o, r->lv[r->nlevels - 2], r->lv[r->nlevels - 1]);
+    if (levels > 0 && r->lv[r->nlevels - 1]->complete != SD_REL_FULL) {
+        geom_status st = sd_complete_level(a, &r->o, r->lv[r->nlevels - 2],
+                                           r->lv[r->nlevels - 1], SD_REL_FULL);
         if (st != GEOM_OK)
             return st;
     }
     for (int i = 0; i < levels; i++) {
         sd_level *c = NULL;
-        int full = !r->opt.partial_last_level || i + 1 < levels;
-        geom_status st = sd_refine_level(a, &r->o, r->lv[r->nlevels - 1], full, &c);
+        int rel = !r->opt.partial_last_level || i + 1 < levels ? SD_REL_FULL
+                  : r->opt.partial_last_level == 2              ? SD_REL_LIMIT
+                                                                : SD_REL_NONE;
+        geom_status st = sd_refine_level(a, &r->o, r->lv[r->nlevels - 1], rel, &c);
         if (st != GEOM_OK)
             return st;
         sd_level_count(c);

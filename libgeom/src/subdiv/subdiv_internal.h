@@ -33,6 +33,9 @@
 #define sd_level_free geom__subdiv_level_free
 #define sd_limit_masks geom__subdiv_limit_masks
 #define sd_malloc geom__subdiv_malloc
+#define sd_mesh_direct geom__subdiv_mesh_direct
+#define sd_mesh_direct_applies geom__subdiv_mesh_direct_applies
+#define sd_mesh_direct_attach geom__subdiv_mesh_direct_attach
 #define sd_refine_level geom__subdiv_refine_level
 #define sd_refine_sqrt3 geom__subdiv_refine_sqrt3
 #define sd_rule_from_count geom__subdiv_rule_from_count
@@ -143,7 +146,7 @@ typedef struct sd_level {
     uint8_t *fhole;
     uint32_t *face_parent; /* depth > 0: parent face of each face */
     uint32_t max_valence, max_edge_faces, max_face_size;
-    int complete;          /* incidence relations present (ef, vf, ve) */
+    int complete;          /* incidence relations present: SD_REL_* (0 none) */
     uint32_t n_sharp_edges, n_hole_faces; /* counted when the level is made */
     uint32_t nfvar;
     sd_fvar *fvar;         /* nfvar channels */
@@ -186,13 +189,19 @@ void sd_level0_tags(sd_level *l, const sd_opts *o, int *has_holes);
 void sd_level_count(sd_level *l);
 
 /* ----- refinement */
-/* Refine p into *out; full: also the child's incidence relations (needed
- * to refine it further or evaluate limits); otherwise sd_complete_level
- * adds them later. */
+/* Which incidence relations a child level gets (sd_level.complete). */
+#define SD_REL_NONE 0  /* none: enough to interpolate into the level */
+#define SD_REL_FULL 1  /* all: to refine it further, face-varying data */
+#define SD_REL_LIMIT 2 /* vertex-edges and vertex-faces: geom_subdiv_limit */
+/* Refine p into *out with the child's relations `rel` (SD_REL_*; face-
+ * varying channels and butterfly always get SD_REL_FULL); otherwise
+ * sd_complete_level adds them later. */
 geom_status sd_refine_level(const geom_allocator *a, const sd_opts *o, const sd_level *p,
-                            int full, sd_level **out);
+                            int rel, sd_level **out);
+/* Give child level c of p the relations `mode` (SD_REL_FULL or
+ * SD_REL_LIMIT; a level with all of them keeps them). */
 geom_status sd_complete_level(const geom_allocator *a, const sd_opts *o, const sd_level *p,
-                              sd_level *c);
+                              sd_level *c, int mode);
 /* Child index helpers for the split schemes (uniform refinement, face
  * points first). */
 static inline int sd_quad_split(const sd_opts *o)
@@ -239,6 +248,23 @@ geom_status sd_refine_sqrt3(const geom_allocator *a, const sd_opts *o, const sd_
                             sd_level **out);
 geom_status sd_level_complete(const geom_allocator *a, sd_level *l, geom_diag *diag);
 double sd_sqrt3_alpha(uint32_t n);
+
+/* ----- the output mesh of a level without a rebuild (mesh_direct.c) */
+/* Whether level `level` of r (no holes assumed) can be built directly: an
+ * oriented manifold whose vertex pairs name one edge each (from level 0's
+ * tags; Catmull-Clark, bilinear and Loop levels >= 1). */
+int sd_mesh_direct_applies(const geom_subdiv_refiner *r, int level);
+/* Returned by sd_mesh_direct when the level is not such a mesh after all
+ * (m is then empty): build from the soup instead. */
+#define SD_DIRECT_DECLINED 1
+/* The topology and positions (3 per vertex, finite) of level l into the
+ * empty mesh m, exactly as geom_mesh_build would make them from the
+ * level's faces. GEOM_OK, SD_DIRECT_DECLINED, GEOM_ERR_NOMEM. */
+geom_status sd_mesh_direct(const geom_allocator *a, const sd_level *l, const double *positions,
+                           geom_mesh *m);
+/* Attach streams as geom_mesh_build does, to a mesh made by sd_mesh_direct
+ * (identity origin maps; corner indices in the level's face order). */
+geom_status sd_mesh_direct_attach(geom_mesh *m, const geom_mesh_build_channel *chans, size_t n);
 
 /* ----- masks for limit evaluation (limit.c) */
 int sd_vertex_rule(const sd_level *l, uint32_t v);
