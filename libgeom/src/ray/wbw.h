@@ -37,11 +37,20 @@ static inline int geom__wbw_owns(double px, double py, double qx, double qy)
 #define GEOM__WBW_INLINE static inline __attribute__((always_inline))
 #else
 #define GEOM__WBW_INLINE static inline
-#endif
 GEOM__WBW_INLINE int geom__wbw_hit(const geom__wbw *w, const double *v0, const double *v1, const double *v2,
                                 double tmin, double tmax, double *t, double *b)
 {
-    const int kx = w->kx, ky = w->ky, kz = w->kz;
+    return geom__wbw_hit_k(w, w->kx, w->ky, w->kz, v0, v1, v2, tmin, tmax, t, b);
+}
+
+#endif
+/* geom__wbw_hit with the ray's axes given (kx, ky, kz == w->kx, w->ky,
+ * w->kz): a caller that dispatches once per ray on the axes passes
+ * constants, and the permutation costs nothing per triangle. */
+GEOM__WBW_INLINE int geom__wbw_hit_k(const geom__wbw *w, const int kx, const int ky, const int kz,
+                                  const double *v0, const double *v1, const double *v2,
+                                  double tmin, double tmax, double *t, double *b)
+{
     double A[3], B[3], C[3], ax, ay, bx, by, cx, cy, e0, e1, e2, det, az, bz, cz, T;
     int k, pos, neg;
     for (k = 0; k < 3; k++) {
@@ -77,6 +86,12 @@ GEOM__WBW_INLINE int geom__wbw_hit(const geom__wbw *w, const double *v0, const d
     b[1] = e1 / det;
     b[2] = e2 / det;
     return 1;
+}
+
+GEOM__WBW_INLINE int geom__wbw_hit(const geom__wbw *w, const double *v0, const double *v1, const double *v2,
+                                double tmin, double tmax, double *t, double *b)
+{
+    return geom__wbw_hit_k(w, w->kx, w->ky, w->kz, v0, v1, v2, tmin, tmax, t, b);
 }
 
 #endif
