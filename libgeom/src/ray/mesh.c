@@ -512,7 +512,7 @@ static inline int w4d_node(const geom__rnode4 *q, const double o[3], const doubl
 static geom_status trace_wide(const geom__tmesh *m, const geom_ray *r, int mode, geom__rhits *out)
 {
     const struct geom__rbvh4 *W = m->wide;
-    w4entry stack[W4_STACK];
+    w4entry stack[W4_STACK], cur;
     int sp = 0, k, use_f;
     double o[3] = {r->origin.x, r->origin.y, r->origin.z}, inv[3];
     int neg[3];
@@ -546,18 +546,14 @@ static geom_status trace_wide(const geom__tmesh *m, const geom_ray *r, int mode,
     }
 #endif
     geom__wbw_setup(&w, r);
-    stack[sp].tn = tmin;
-    stack[sp].child = 0;
-    stack[sp].count = 0;
-    sp++;
-    while (sp > 0) {
-        const w4entry e = stack[--sp];
-        if (e.tn > tmax) continue; /* entered beyond the closest hit so far */
-        if (e.count == 0) {
-            const geom__rnode4 *q = &W->node[e.child];
+    cur.tn = tmin;
+    cur.child = 0;
+    cur.count = 0;
+    for (;;) {
+        if (cur.count == 0) {
+            const geom__rnode4 *q = &W->node[cur.child];
             double tn[4];
-            int j, nh = 0, mask;
-            w4entry hit[4];
+            int j, base = sp, mask;
 #if W4_SSE
             if (use_f) {
                 float tf4[4];
@@ -568,15 +564,26 @@ static geom_status trace_wide(const geom__tmesh *m, const geom_ray *r, int mode,
             {
                 mask = w4d_node(q, o, inv, neg, tmin, tmax, tn);
             }
+            if (mask == 0) goto pop;
+            if ((mask & (mask - 1)) == 0) { /* one child hit: visit it next, no stack traffic */
+                for (j = 0; !(mask & 1); j++, mask >>= 1) {}
+                cur.tn = tn[j];
+                cur.child = q->child[j];
+                cur.count = q->count[j];
+                continue;
+            }
+            if (sp + 4 > W4_STACK) return GEOM_ERR_LIMIT; /* cannot happen: depth checked at build */
+            /* The children hit, pushed in place by decreasing entry distance
+             * (the nearest is popped first); no copy through a buffer, which
+             * the compiler would make a block move that stalls the next pop. */
             for (j = 0; mask; j++, mask >>= 1) {
                 int i;
                 if (!(mask & 1)) continue;
-                /* insertion by decreasing entry distance: the nearest is pushed last */
-                i = nh++;
-                while (i > 0 && hit[i - 1].tn < tn[j]) { hit[i] = hit[i - 1]; i--; }
-                hit[i].tn = tn[j];
-                hit[i].child = q->child[j];
-                hit[i].count = q->count[j];
+                i = sp++;
+                while (i > base && stack[i - 1].tn < tn[j]) { stack[i] = stack[i - 1]; i--; }
+                stack[i].tn = tn[j];
+                stack[i].child = q->child[j];
+                stack[i].count = q->count[j];
                 if (q->count[j] == 0) {
                     const char *c = (const char *)&W->node[q->child[j]];
                     W4_PREFETCH(c);
@@ -588,11 +595,9 @@ static geom_status trace_wide(const geom__tmesh *m, const geom_ray *r, int mode,
                     W4_PREFETCH(c + 128);
                 }
             }
-            if (sp + nh > W4_STACK) return GEOM_ERR_LIMIT; /* cannot happen: depth checked at build */
-            for (j = 0; j < nh; j++) stack[sp++] = hit[j];
         } else {
             double tmax0 = tmax;
-            int lr = leaf_hits(m, r, &w, e.child, e.count, tmin, &tmax, mode, &best, &best_t,
+            int lr = leaf_hits(m, r, &w, cur.child, cur.count, tmin, &tmax, mode, &best, &best_t,
                                best_b, out);
             if (lr < 0) return GEOM_ERR_NOMEM;
             if (lr > 0) goto done;
@@ -602,6 +607,11 @@ static geom_status trace_wide(const geom__tmesh *m, const geom_ray *r, int mode,
             (void)tmax0;
 #endif
         }
+    pop:
+        do {
+            if (sp == 0) goto done;
+            cur = stack[--sp];
+        } while (cur.tn > tmax); /* entered beyond the closest hit so far */
     }
 done:
     if (mode != GEOM__RAY_ALL && best != GEOM_INVALID_INDEX) {
