@@ -19,9 +19,17 @@
  * nearest first, and skips a popped child whose entry distance is beyond the
  * closest hit so far. Triangles are stored in leaf order (9 doubles each),
  * so a leaf is one contiguous run. */
+#if defined(__linux__) && !defined(_DEFAULT_SOURCE)
+#define _DEFAULT_SOURCE /* madvise */
+#endif
 #include "ray/ray_internal.h"
 #include "ray/wbw.h"
 #include "geom/spatial.h"
+
+#include <stddef.h>
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 
 #if defined(__SSE2__) || defined(_M_X64)
 #include <emmintrin.h>
@@ -61,6 +69,21 @@ struct geom__rbvh4 {
 #else
 #define W4_PREFETCH(p) ((void)(p))
 #endif
+
+/* Ask for transparent huge pages on a large traversal array from the
+ * default allocator, before its first touch: random rays reach any node
+ * and any leaf, and 4 KiB pages then miss the TLB on most of them. Advice
+ * only; a caller's allocator is left alone. */
+static void advise_huge(const geom_allocator *alloc, void *p, size_t bytes)
+{
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    uintptr_t lo = ((uintptr_t)p + 4095) & ~(uintptr_t)4095, hi = ((uintptr_t)p + bytes) & ~(uintptr_t)4095;
+    if (alloc || !p || bytes < ((size_t)2 << 20)) return;
+    if (hi > lo) (void)madvise((void *)lo, hi - lo, MADV_HUGEPAGE);
+#else
+    (void)alloc, (void)p, (void)bytes;
+#endif
+}
 
 /* Traversal stack entries per query; a wide tree deeper than
  * (W4_STACK - 4) / 3 levels is not built (the binary traversal is used). */
@@ -209,6 +232,7 @@ done:
         void *mem = geom__alloc(alloc, (w->n + 1) * sizeof *w->node);
         if (mem) {
             geom__rnode4 *nd = (geom__rnode4 *)(((uintptr_t)mem + 63) & ~(uintptr_t)63);
+            advise_huge(alloc, mem, (w->n + 1) * sizeof *w->node);
             memcpy(nd, w->node, w->n * sizeof *nd);
             geom__free(alloc, w->mem, (w->cap + 1) * sizeof *w->node);
             w->mem = mem;
@@ -243,6 +267,7 @@ geom_status geom__ray_mesh_build(geom__tmesh *m, const geom_ray_build_options *o
         m->tv = geom__alloc(alloc, (np ? np : 1) * 9 * sizeof(double));
         m->tid = geom__alloc(alloc, (np ? np : 1) * sizeof(uint32_t));
         if (!m->tv || !m->tid) return GEOM_ERR_NOMEM;
+        advise_huge(alloc, m->tv, np * 9 * sizeof(double));
         for (i = 0; i < np; i++) {
             const uint32_t *t = m->tri + 3 * (size_t)pr[i];
             int k;
@@ -423,7 +448,8 @@ static int leaf_hits(const geom__tmesh *m, const geom_ray *r, const geom__wbw *w
 typedef struct w4f {
     float of[3], inv[3];
     float e;
-    int nhi[3]; /* 1: the near plane of axis k is the box's hi (direction < 0) */
+    int nhi[3];          /* 1: the near plane of axis k is the box's hi (direction < 0) */
+    size_t noff[3], foff[3]; /* byte offsets in a node of axis k's near and far planes */
 } w4f;
 
 /* Fill f for the ray (o, d); 0 when the float test cannot be used for it
@@ -439,6 +465,8 @@ static int w4f_setup(const struct geom__rbvh4 *W, const double o[3], const doubl
         if (!(fabs(o[k]) <= W4_FMAX)) return 0;
         f->of[k] = (float)o[k];
         f->nhi[k] = signbit(d[k]) != 0;
+        f->noff[k] = (f->nhi[k] ? offsetof(geom__rnode4, hi) : offsetof(geom__rnode4, lo)) + sizeof(float[4]) * (size_t)k;
+        f->foff[k] = (f->nhi[k] ? offsetof(geom__rnode4, lo) : offsetof(geom__rnode4, hi)) + sizeof(float[4]) * (size_t)k;
         if (d[k] == 0) {
             f->inv[k] = f->nhi[k] ? -INFINITY : INFINITY;
             continue;
@@ -464,8 +492,8 @@ static inline int w4f_node(const geom__rnode4 *q, const w4f *f, const __m128 vo[
     __m128 tn = vtmin, tf = vtmax;
     int k;
     for (k = 0; k < 3; k++) {
-        const float *np = f->nhi[k] ? q->hi[k] : q->lo[k];
-        const float *fp = f->nhi[k] ? q->lo[k] : q->hi[k];
+        const float *np = (const float *)((const char *)q + f->noff[k]);
+        const float *fp = (const float *)((const char *)q + f->foff[k]);
         __m128 a = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(np), vo[k]), vi[k]);
         __m128 c = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(fp), vo[k]), vi[k]);
         /* maxps/minps return the second operand when either is NaN */
@@ -545,7 +573,7 @@ static geom_status trace_wide(const geom__tmesh *m, const geom_ray *r, int mode,
         vtmax = _mm_set1_ps(f_up(tmax));
     }
 #endif
-    geom__wbw_setup(&w, r);
+    w.kz = -1; /* set up at the first leaf: a ray that reaches none needs no shear */
     cur.tn = tmin;
     cur.child = 0;
     cur.count = 0;
@@ -597,7 +625,9 @@ static geom_status trace_wide(const geom__tmesh *m, const geom_ray *r, int mode,
             }
         } else {
             double tmax0 = tmax;
-            int lr = leaf_hits(m, r, &w, cur.child, cur.count, tmin, &tmax, mode, &best, &best_t,
+            int lr;
+            if (w.kz < 0) geom__wbw_setup(&w, r);
+            lr = leaf_hits(m, r, &w, cur.child, cur.count, tmin, &tmax, mode, &best, &best_t,
                                best_b, out);
             if (lr < 0) return GEOM_ERR_NOMEM;
             if (lr > 0) goto done;
@@ -608,9 +638,12 @@ static geom_status trace_wide(const geom__tmesh *m, const geom_ray *r, int mode,
 #endif
         }
     pop:
-        do {
+        do { /* field by field, as pushed: a whole-entry load would wait for the stores */
             if (sp == 0) goto done;
-            cur = stack[--sp];
+            sp--;
+            cur.tn = stack[sp].tn;
+            cur.child = stack[sp].child;
+            cur.count = stack[sp].count;
         } while (cur.tn > tmax); /* entered beyond the closest hit so far */
     }
 done:
