@@ -8,17 +8,21 @@
  * Dammertz et al., "Shallow Bounding Volume Hierarchies", 2008): the wide
  * node repeatedly opens the child of largest surface area, and holds its
  * four children's boxes in structure-of-arrays floats rounded outward (each
- * float box contains the exact double box, so the tree stays conservative;
- * the slabs are then computed in double from the floats exactly converted,
- * with Ize's bounds). A node is 128 bytes, two cache lines. When rounding to
+ * float box contains the exact double box, so the tree stays conservative).
+ * The four slabs are computed at once in float SSE2 with bounds that cover
+ * the float arithmetic and the ray's rounding to float (w4f_node), or in
+ * double from the floats exactly converted with Ize's bounds (w4d_node: rays
+ * or boxes beyond 2^60, targets without SSE2). A node is 128 bytes, two
+ * cache lines. When rounding to
  * float would grow the boxes' total surface by more than 5 % (a mesh far
  * from the origin for its size) the wide tree is not built and the binary
  * double-precision tree is traversed. A ray tests the four boxes of a node
  * in one pass with its precomputed reciprocal direction and per-axis
  * near/far planes chosen by the direction's sign, visits the hit children
  * nearest first, and skips a popped child whose entry distance is beyond the
- * closest hit so far. Triangles are stored in leaf order (9 doubles each),
- * so a leaf is one contiguous run. */
+ * closest hit so far; a single hit child is visited next without the
+ * stack. Triangles are stored in leaf order (9 doubles each), so a leaf is
+ * one contiguous run, and a hit is filled from that copy. */
 #if defined(__linux__) && !defined(_DEFAULT_SOURCE)
 #define _DEFAULT_SOURCE /* madvise */
 #endif
