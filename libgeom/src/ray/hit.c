@@ -19,7 +19,7 @@ void geom__rhits_free(geom__rhits *l)
     geom__rhits_init(l, l->alloc);
 }
 
-geom_ray_hit *geom__rhits_push(geom__rhits *l)
+geom_ray_hit *geom__rhits_push_raw(geom__rhits *l)
 {
     if (l->n == l->cap) {
         size_t nc = l->cap * 2;
@@ -33,8 +33,14 @@ geom_ray_hit *geom__rhits_push(geom__rhits *l)
         l->cap = nc;
         l->heap = 1;
     }
-    memset(&l->h[l->n], 0, sizeof l->h[0]);
     return &l->h[l->n++];
+}
+
+geom_ray_hit *geom__rhits_push(geom__rhits *l)
+{
+    geom_ray_hit *h = geom__rhits_push_raw(l);
+    if (h) memset(h, 0, sizeof *h);
+    return h;
 }
 
 static int hit_cmp(const void *pa, const void *pb)

@@ -8,20 +8,39 @@
  * Dammertz et al., "Shallow Bounding Volume Hierarchies", 2008): the wide
  * node repeatedly opens the child of largest surface area, and holds its
  * four children's boxes in structure-of-arrays floats rounded outward (each
- * float box contains the exact double box, so the tree stays conservative;
- * the slabs are then computed in double from the floats exactly converted,
- * with Ize's bounds). A node is 128 bytes, two cache lines. When rounding to
+ * float box contains the exact double box, so the tree stays conservative).
+ * The four slabs are computed at once in float SSE2 with bounds that cover
+ * the float arithmetic and the ray's rounding to float (w4f_node), or in
+ * double from the floats exactly converted with Ize's bounds (w4d_node: rays
+ * or boxes beyond 2^60, targets without SSE2). A node is 128 bytes, two
+ * cache lines. When rounding to
  * float would grow the boxes' total surface by more than 5 % (a mesh far
  * from the origin for its size) the wide tree is not built and the binary
  * double-precision tree is traversed. A ray tests the four boxes of a node
  * in one pass with its precomputed reciprocal direction and per-axis
  * near/far planes chosen by the direction's sign, visits the hit children
  * nearest first, and skips a popped child whose entry distance is beyond the
- * closest hit so far. Triangles are stored in leaf order (9 doubles each),
- * so a leaf is one contiguous run. */
+ * closest hit so far; a single hit child is visited next without the
+ * stack. Triangles are stored in leaf order (9 doubles each), so a leaf is
+ * one contiguous run, and a hit is filled from that copy. */
+#if defined(__linux__) && !defined(_DEFAULT_SOURCE)
+#define _DEFAULT_SOURCE /* madvise */
+#endif
 #include "ray/ray_internal.h"
 #include "ray/wbw.h"
 #include "geom/spatial.h"
+
+#include <stddef.h>
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
+
+#if defined(__SSE2__) || defined(_M_X64)
+#include <emmintrin.h>
+#define W4_SSE 1
+#else
+#define W4_SSE 0
+#endif
 
 /* One 4-wide node: lane j is a child box [lo[.][j], hi[.][j]]; count[j] > 0
  * is a leaf holding the triangle slots child[j] .. child[j] + count[j],
@@ -38,7 +57,13 @@ struct geom__rbvh4 {
     void *mem;
     size_t n, cap;
     double area_d, area_f; /* total half-area of the lanes' boxes: exact, rounded to float */
+    int fbox;              /* every float box coordinate within +-W4_FMAX: the float slab test may run */
 };
+
+/* The float slab test (w4_sse) runs for a ray when the boxes, the origin and
+ * the reciprocal direction are all within +-2^60 (zero direction components
+ * excepted): no product or difference can then overflow a float. */
+#define W4_FMAX 1152921504606846976.0 /* 2^60 */
 
 /* Start loading a node or a leaf's triangles before they are needed: the
  * traversal is bound by memory latency, and the children hit by a ray are
@@ -48,6 +73,21 @@ struct geom__rbvh4 {
 #else
 #define W4_PREFETCH(p) ((void)(p))
 #endif
+
+/* Ask for transparent huge pages on a large traversal array from the
+ * default allocator, before its first touch: random rays reach any node
+ * and any leaf, and 4 KiB pages then miss the TLB on most of them. Advice
+ * only; a caller's allocator is left alone. */
+static void advise_huge(const geom_allocator *alloc, void *p, size_t bytes)
+{
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    uintptr_t lo = ((uintptr_t)p + 4095) & ~(uintptr_t)4095, hi = ((uintptr_t)p + bytes) & ~(uintptr_t)4095;
+    if (alloc || !p || bytes < ((size_t)2 << 20)) return;
+    if (hi > lo) (void)madvise((void *)lo, hi - lo, MADV_HUGEPAGE);
+#else
+    (void)alloc, (void)p, (void)bytes;
+#endif
+}
 
 /* Traversal stack entries per query; a wide tree deeper than
  * (W4_STACK - 4) / 3 levels is not built (the binary traversal is used). */
@@ -88,6 +128,22 @@ static float f_up(double x)
     return f;
 }
 
+/* f_up and f_down without a library call in the common range: x scaled
+ * away from zero by 2^-22 before rounding to nearest (relative error at most
+ * 2^-24) lands on the right side of x. */
+static inline float f_up_fast(double x)
+{
+    if (x >= 0x1p-100 && x <= 0x1p100) return (float)(x * (1 + 0x1p-22));
+    if (x <= -0x1p-100 && x >= -0x1p100) return (float)(x * (1 - 0x1p-22));
+    return x == 0 ? 0.0f : f_up(x);
+}
+static inline float f_down_fast(double x)
+{
+    if (x >= 0x1p-100 && x <= 0x1p100) return (float)(x * (1 - 0x1p-22));
+    if (x <= -0x1p-100 && x >= -0x1p100) return (float)(x * (1 + 0x1p-22));
+    return x == 0 ? 0.0f : f_down(x);
+}
+
 static void lane_set(struct geom__rbvh4 *w, geom__rnode4 *q, int j, const geom_aabb *b, uint32_t child,
                      uint32_t count)
 {
@@ -100,6 +156,8 @@ static void lane_set(struct geom__rbvh4 *w, geom__rnode4 *q, int j, const geom_a
     q->child[j] = child;
     q->count[j] = count;
     if (child != GEOM_INVALID_INDEX) {
+        for (k = 0; k < 3; k++)
+            if (!(q->lo[k][j] >= -W4_FMAX && q->hi[k][j] <= W4_FMAX)) w->fbox = 0;
         geom_aabb fb;
         fb.min.x = q->lo[0][j]; fb.min.y = q->lo[1][j]; fb.min.z = q->lo[2][j];
         fb.max.x = q->hi[0][j]; fb.max.y = q->hi[1][j]; fb.max.z = q->hi[2][j];
@@ -125,6 +183,7 @@ static geom_status wide_build(const geom_bvh *b, const geom_allocator *alloc, st
     w = geom__alloc(alloc, sizeof *w);
     if (!w) return GEOM_ERR_NOMEM;
     memset(w, 0, sizeof *w);
+    w->fbox = 1;
     w->cap = nn;
     w->n = 1;
     w->mem = geom__alloc(alloc, (w->cap + 1) * sizeof *w->node);
@@ -193,6 +252,7 @@ done:
         void *mem = geom__alloc(alloc, (w->n + 1) * sizeof *w->node);
         if (mem) {
             geom__rnode4 *nd = (geom__rnode4 *)(((uintptr_t)mem + 63) & ~(uintptr_t)63);
+            advise_huge(alloc, mem, (w->n + 1) * sizeof *w->node);
             memcpy(nd, w->node, w->n * sizeof *nd);
             geom__free(alloc, w->mem, (w->cap + 1) * sizeof *w->node);
             w->mem = mem;
@@ -227,6 +287,7 @@ geom_status geom__ray_mesh_build(geom__tmesh *m, const geom_ray_build_options *o
         m->tv = geom__alloc(alloc, (np ? np : 1) * 9 * sizeof(double));
         m->tid = geom__alloc(alloc, (np ? np : 1) * sizeof(uint32_t));
         if (!m->tv || !m->tid) return GEOM_ERR_NOMEM;
+        advise_huge(alloc, m->tv, np * 9 * sizeof(double));
         for (i = 0; i < np; i++) {
             const uint32_t *t = m->tri + 3 * (size_t)pr[i];
             int k;
@@ -304,13 +365,18 @@ static inline int node_hit(const slabray *s, const geom_aabb *b, double tmin, do
     return tn <= tf && tf >= tmin && tn <= tmax;
 }
 
-static void fill(const geom__tmesh *m, const geom_ray *r, uint32_t ti, double t, const double *b,
+/* The hit on the triangle in leaf slot `slot` (its vertices are read from
+ * the leaf-order copy, already in cache after the test). */
+static void fill(const geom__tmesh *m, const geom_ray *r, uint32_t slot, double t, const double *b,
                  geom_ray_hit *h)
 {
-    const uint32_t *tv = m->tri + 3 * (size_t)ti;
-    geom__tri_fill(r, m->pos + 3 * tv[0], m->pos + 3 * tv[1], m->pos + 3 * tv[2], t, b, h);
+    const double *v = m->tv + 9 * (size_t)slot;
+    uint32_t ti = m->tid[slot];
+    geom__tri_fill(r, v, v + 3, v + 6, t, b, h);
     h->prim = m->face ? m->face[ti] : ti;
+    h->object = 0;
     if (m->nrm) {
+        const uint32_t *tv = m->tri + 3 * (size_t)ti;
         geom_vec3 n = {0, 0, 0};
         int k;
         for (k = 0; k < 3; k++) {
@@ -330,27 +396,29 @@ typedef struct w4entry {
 } w4entry;
 
 /* The triangles first..first+count-1 (leaf order) against the ray: every hit
- * pushed (GEOM__RAY_ALL), or the closest kept in best/best_t/best_b with tmax
- * shrunk to it (ties by the smaller triangle index). The one leaf loop of both
- * traversals. Returns -1 when out of memory, 1 when an any-hit query is
+ * pushed (GEOM__RAY_ALL), or the closest kept in best (its leaf slot)/best_t/
+ * best_b with tmax shrunk to it (ties by the smaller triangle index). The one leaf loop of both
+ * traversals; kx, ky, kz are the ray's Woop axes, constants in each copy that
+ * leaf_hits makes. Returns -1 when out of memory, 1 when an any-hit query is
  * answered, 0 otherwise. */
-static inline int leaf_hits(const geom__tmesh *m, const geom_ray *r, const geom__wbw *w,
-                            uint32_t first, uint32_t count, double tmin, double *tmax,
-                            int mode, uint32_t *best, double *best_t, double best_b[3],
-                            geom__rhits *out)
+GEOM__WBW_INLINE int leaf_hits_k(const geom__tmesh *m, const geom_ray *r, const geom__wbw *w,
+                                 const int kx, const int ky, const int kz,
+                                 uint32_t first, uint32_t count, double tmin, double *tmax,
+                                 int mode, uint32_t *best, double *best_t, double best_b[3],
+                                 geom__rhits *out)
 {
     for (uint32_t i = 0; i < count; i++) {
         const double *tvp = m->tv + 9 * (size_t)(first + i);
         double t, bc[3];
-        if (!geom__wbw_hit(w, tvp, tvp + 3, tvp + 6, tmin, *tmax, &t, bc)) continue;
-        uint32_t ti = m->tid[first + i];
+        if (!geom__wbw_hit_k(w, kx, ky, kz, tvp, tvp + 3, tvp + 6, tmin, *tmax, &t, bc)) continue;
         if (mode == GEOM__RAY_ALL) {
-            geom_ray_hit *h = geom__rhits_push(out);
+            geom_ray_hit *h = geom__rhits_push_raw(out);
             if (!h) return -1;
-            fill(m, r, ti, t, bc, h);
+            fill(m, r, first + i, t, bc, h);
         } else {
-            if (*best == GEOM_INVALID_INDEX || t < *best_t || (t == *best_t && ti < *best)) {
-                *best = ti;
+            if (*best == GEOM_INVALID_INDEX || t < *best_t ||
+                (t == *best_t && m->tid[first + i] < m->tid[*best])) {
+                *best = first + i;
                 *best_t = t;
                 memcpy(best_b, bc, sizeof bc);
                 *tmax = t;
@@ -361,18 +429,150 @@ static inline int leaf_hits(const geom__tmesh *m, const geom_ray *r, const geom_
     return 0;
 }
 
+/* leaf_hits_k for the ray's axes (w->kx, w->ky, w->kz: one of six). */
+static int leaf_hits(const geom__tmesh *m, const geom_ray *r, const geom__wbw *w, uint32_t first,
+                     uint32_t count, double tmin, double *tmax, int mode, uint32_t *best,
+                     double *best_t, double best_b[3], geom__rhits *out)
+{
+#define LEAF_K(x, y, z) leaf_hits_k(m, r, w, x, y, z, first, count, tmin, tmax, mode, best, best_t, best_b, out)
+    switch (w->kz * 4 + w->kx) {
+    case 0 * 4 + 1: return LEAF_K(1, 2, 0);
+    case 0 * 4 + 2: return LEAF_K(2, 1, 0);
+    case 1 * 4 + 2: return LEAF_K(2, 0, 1);
+    case 1 * 4 + 0: return LEAF_K(0, 2, 1);
+    case 2 * 4 + 0: return LEAF_K(0, 1, 2);
+    case 2 * 4 + 1: return LEAF_K(1, 0, 2);
+    default: return LEAF_K(w->kx, w->ky, w->kz); /* not reached */
+    }
+#undef LEAF_K
+}
+
+/* Per-ray state of the float slab test of a 4-wide node (Ize, "Robust BVH
+ * Ray Traversal", JCGT 2013, in float). For an axis with direction d != 0,
+ * the exact slab distance (L - o) / d of a plane L (a float: the boxes are
+ * stored rounded outward) is computed as fl(fl(L - of) * inv) with of the
+ * origin and inv the reciprocal each rounded to float: that is
+ * (L - of) / d with a relative error of at most gamma(3) in float plus
+ * underflow, and (L - of) / d differs from (L - o) / d by at most
+ * e = |o - of| |1 / d|. So the near distance minus |near| c minus E, and the
+ * far distance plus |far| c plus E, with c = 2^-20 (16 float ulps: gamma(3)
+ * and the rounding of these two operations) and E = 2 max e + 2^-60 (the
+ * rounding of e, and underflow or flush-to-zero of a product: below 2^-126
+ * times |1/d| <= 2^60), bracket the exact slab interval. For d == 0 the
+ * reciprocal is +-inf: L - of has the sign of L - o or is zero (rounding is
+ * monotone and L is a float), so the distance is the exact +-inf or NaN,
+ * which the min/max below ignore (the ray lies in the slab, conservatively).
+ * The maximum of the near distances and the minimum of the far ones carry
+ * the bounds of the axis they come from, so the widened interval contains
+ * the exact one: no box a ray touches is ever skipped. */
+typedef struct w4f {
+    float of[3], inv[3];
+    float e;
+    int nhi[3];          /* 1: the near plane of axis k is the box's hi (direction < 0) */
+    size_t noff[3], foff[3]; /* byte offsets in a node of axis k's near and far planes */
+} w4f;
+
+/* Fill f for the ray (o, d); 0 when the float test cannot be used for it
+ * (a coordinate or reciprocal beyond 2^60, or boxes beyond it): the double
+ * slab test is used instead. */
+static int w4f_setup(const struct geom__rbvh4 *W, const double o[3], const double d[3], const double inv[3],
+                     w4f *f)
+{
+    double e = 0;
+    int k;
+    if (!W->fbox) return 0;
+    for (k = 0; k < 3; k++) {
+        double iv, ek;
+        if (!(fabs(o[k]) <= W4_FMAX)) return 0;
+        f->of[k] = (float)o[k];
+        f->nhi[k] = signbit(d[k]) != 0;
+        f->noff[k] = (f->nhi[k] ? offsetof(geom__rnode4, hi) : offsetof(geom__rnode4, lo)) + sizeof(float[4]) * (size_t)k;
+        f->foff[k] = (f->nhi[k] ? offsetof(geom__rnode4, lo) : offsetof(geom__rnode4, hi)) + sizeof(float[4]) * (size_t)k;
+        if (d[k] == 0) {
+            f->inv[k] = f->nhi[k] ? -INFINITY : INFINITY;
+            continue;
+        }
+        iv = inv[k];
+        if (!(fabs(iv) <= W4_FMAX)) return 0;
+        f->inv[k] = (float)iv;
+        ek = fabs(o[k] - (double)f->of[k]) * fabs(iv);
+        if (ek > e) e = ek;
+    }
+    f->e = f_up_fast(2 * e * (1 + 0x1p-40) + 0x1p-60);
+    return 1;
+}
+
+#if W4_SSE
+/* The four children of q against the ray: a bit mask of the lanes hit and
+ * their (conservative, never later than exact) entry distances. */
+static inline int w4f_node(const geom__rnode4 *q, const w4f *f, const __m128 vo[3], const __m128 vi[3],
+                           __m128 vtmin, __m128 vtmax, float tn_out[4])
+{
+    const __m128 absmask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+    const __m128 vc = _mm_set1_ps(0x1p-20f), ve = _mm_set1_ps(f->e);
+    __m128 tn = vtmin, tf = vtmax;
+    int k;
+    for (k = 0; k < 3; k++) {
+        const float *np = (const float *)((const char *)q + f->noff[k]);
+        const float *fp = (const float *)((const char *)q + f->foff[k]);
+        __m128 a = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(np), vo[k]), vi[k]);
+        __m128 c = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(fp), vo[k]), vi[k]);
+        /* maxps/minps return the second operand when either is NaN */
+        tn = _mm_max_ps(a, tn);
+        tf = _mm_min_ps(c, tf);
+    }
+    tn = _mm_sub_ps(_mm_sub_ps(tn, _mm_mul_ps(_mm_and_ps(tn, absmask), vc)), ve);
+    tf = _mm_add_ps(_mm_add_ps(tf, _mm_mul_ps(_mm_and_ps(tf, absmask), vc)), ve);
+    _mm_storeu_ps(tn_out, tn);
+    return _mm_movemask_ps(_mm_cmple_ps(tn, tf)) &
+           ~_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(_mm_load_si128((const __m128i *)q->child),
+                                                             _mm_set1_epi32(-1))));
+}
+#endif
+
+/* The same in double from the floats exactly converted, with Ize's bounds
+ * (2 gamma(3)): the path of rays the float test cannot take, and of targets
+ * without SSE2. */
+static inline int w4d_node(const geom__rnode4 *q, const double o[3], const double inv[3], const int neg[3],
+                           double tmin, double tmax, double tn_out[4])
+{
+    const double wid = 2 * geom__gamma(3);
+    double tn[4], tf[4];
+    int j, k, mask = 0;
+    for (j = 0; j < 4; j++) { tn[j] = -INFINITY; tf[j] = INFINITY; }
+    for (k = 0; k < 3; k++) {
+        const float *np = neg[k] ? q->hi[k] : q->lo[k];
+        const float *fp = neg[k] ? q->lo[k] : q->hi[k];
+        const double ok = o[k], iv = inv[k];
+        for (j = 0; j < 4; j++) {
+            double a = ((double)np[j] - ok) * iv, c = ((double)fp[j] - ok) * iv;
+            tn[j] = a > tn[j] ? a : tn[j];
+            tf[j] = c < tf[j] ? c : tf[j];
+        }
+    }
+    for (j = 0; j < 4; j++) {
+        double a = tn[j] - fabs(tn[j]) * wid, c = tf[j] + fabs(tf[j]) * wid;
+        tn_out[j] = a;
+        mask |= ((a <= c) & (c >= tmin) & (a <= tmax) & (q->child[j] != GEOM_INVALID_INDEX)) << j;
+    }
+    return mask;
+}
+
 static geom_status trace_wide(const geom__tmesh *m, const geom_ray *r, int mode, geom__rhits *out)
 {
     const struct geom__rbvh4 *W = m->wide;
-    const double wid = 2 * geom__gamma(3);
-    w4entry stack[W4_STACK];
-    int sp = 0, k;
+    w4entry stack[W4_STACK], cur;
+    int sp = 0, k, use_f;
     double o[3] = {r->origin.x, r->origin.y, r->origin.z}, inv[3];
     int neg[3];
     geom__wbw w;
+    w4f f;
     const double tmin = r->tmin;
     double tmax = r->tmax, best_b[3] = {0, 0, 0}, best_t = 0;
     uint32_t best = GEOM_INVALID_INDEX;
+#if W4_SSE
+    __m128 vo[3], vi[3], vtmin, vtmax;
+#endif
     {
         double d[3] = {r->dir.x, r->dir.y, r->dir.z};
         /* A zero component gives an infinite reciprocal: the slab distances
@@ -382,71 +582,94 @@ static geom_status trace_wide(const geom__tmesh *m, const geom_ray *r, int mode,
             neg[k] = signbit(d[k]) != 0;
             inv[k] = d[k] != 0 ? 1.0 / d[k] : (neg[k] ? -INFINITY : INFINITY);
         }
+        use_f = W4_SSE && w4f_setup(W, o, d, inv, &f);
     }
-    geom__wbw_setup(&w, r);
-    stack[sp].tn = tmin;
-    stack[sp].child = 0;
-    stack[sp].count = 0;
-    sp++;
-    while (sp > 0) {
-        const w4entry e = stack[--sp];
-        if (e.tn > tmax) continue; /* entered beyond the closest hit so far */
-        if (e.count == 0) {
-            const geom__rnode4 *q = &W->node[e.child];
-            double tn[4], tf[4];
-            int j, nh = 0;
-            w4entry hit[4];
-            for (j = 0; j < 4; j++) { tn[j] = -INFINITY; tf[j] = INFINITY; }
-            for (k = 0; k < 3; k++) {
-                const float *np = neg[k] ? q->hi[k] : q->lo[k];
-                const float *fp = neg[k] ? q->lo[k] : q->hi[k];
-                const double ok = o[k], iv = inv[k];
-                for (j = 0; j < 4; j++) {
-                    double a = ((double)np[j] - ok) * iv, c = ((double)fp[j] - ok) * iv;
-                    tn[j] = a > tn[j] ? a : tn[j];
-                    tf[j] = c < tf[j] ? c : tf[j];
-                }
-            }
+#if W4_SSE
+    if (use_f) {
+        for (k = 0; k < 3; k++) {
+            vo[k] = _mm_set1_ps(f.of[k]);
+            vi[k] = _mm_set1_ps(f.inv[k]);
+        }
+        vtmin = _mm_set1_ps(f_down_fast(tmin));
+        vtmax = _mm_set1_ps(f_up_fast(tmax));
+    }
+#endif
+    w.kz = -1; /* set up at the first leaf: a ray that reaches none needs no shear */
+    cur.tn = tmin;
+    cur.child = 0;
+    cur.count = 0;
+    for (;;) {
+        if (cur.count == 0) {
+            const geom__rnode4 *q = &W->node[cur.child];
+            double tn[4];
+            int j, base = sp, mask;
+#if W4_SSE
+            if (use_f) {
+                float tf4[4];
+                mask = w4f_node(q, &f, vo, vi, vtmin, vtmax, tf4);
+                for (j = 0; j < 4; j++) tn[j] = (double)tf4[j];
+            } else
+#endif
             {
-                int mask = 0;
-                for (j = 0; j < 4; j++) {
-                    double a = tn[j] - fabs(tn[j]) * wid, c = tf[j] + fabs(tf[j]) * wid;
-                    tn[j] = a;
-                    mask |= ((a <= c) & (c >= tmin) & (a <= tmax) & (q->child[j] != GEOM_INVALID_INDEX)) << j;
-                }
-                for (j = 0; mask; j++, mask >>= 1) {
-                    int i;
-                    if (!(mask & 1)) continue;
-                    /* insertion by decreasing entry distance: the nearest is pushed last */
-                    i = nh++;
-                    while (i > 0 && hit[i - 1].tn < tn[j]) { hit[i] = hit[i - 1]; i--; }
-                    hit[i].tn = tn[j];
-                    hit[i].child = q->child[j];
-                    hit[i].count = q->count[j];
-                    if (q->count[j] == 0) {
-                        const char *c = (const char *)&W->node[q->child[j]];
-                        W4_PREFETCH(c);
-                        W4_PREFETCH(c + 64);
-                    } else {
-                        const char *c = (const char *)(m->tv + 9 * (size_t)q->child[j]);
-                        W4_PREFETCH(c);
-                        W4_PREFETCH(c + 64);
-                        W4_PREFETCH(c + 128);
-                    }
+                mask = w4d_node(q, o, inv, neg, tmin, tmax, tn);
+            }
+            if (mask == 0) goto pop;
+            if ((mask & (mask - 1)) == 0) { /* one child hit: visit it next, no stack traffic */
+                for (j = 0; !(mask & 1); j++, mask >>= 1) {}
+                cur.tn = tn[j];
+                cur.child = q->child[j];
+                cur.count = q->count[j];
+                continue;
+            }
+            if (sp + 4 > W4_STACK) return GEOM_ERR_LIMIT; /* cannot happen: depth checked at build */
+            /* The children hit, pushed in place by decreasing entry distance
+             * (the nearest is popped first); no copy through a buffer, which
+             * the compiler would make a block move that stalls the next pop. */
+            for (j = 0; mask; j++, mask >>= 1) {
+                int i;
+                if (!(mask & 1)) continue;
+                i = sp++;
+                while (i > base && stack[i - 1].tn < tn[j]) { stack[i] = stack[i - 1]; i--; }
+                stack[i].tn = tn[j];
+                stack[i].child = q->child[j];
+                stack[i].count = q->count[j];
+                if (q->count[j] == 0) {
+                    const char *c = (const char *)&W->node[q->child[j]];
+                    W4_PREFETCH(c);
+                    W4_PREFETCH(c + 64);
+                } else {
+                    const char *c = (const char *)(m->tv + 9 * (size_t)q->child[j]);
+                    W4_PREFETCH(c);
+                    W4_PREFETCH(c + 64);
+                    W4_PREFETCH(c + 128);
                 }
             }
-            if (sp + nh > W4_STACK) return GEOM_ERR_LIMIT; /* cannot happen: depth checked at build */
-            for (j = 0; j < nh; j++) stack[sp++] = hit[j];
         } else {
-            int lr = leaf_hits(m, r, &w, e.child, e.count, tmin, &tmax, mode, &best, &best_t,
+            double tmax0 = tmax;
+            int lr;
+            if (w.kz < 0) geom__wbw_setup(&w, r);
+            lr = leaf_hits(m, r, &w, cur.child, cur.count, tmin, &tmax, mode, &best, &best_t,
                                best_b, out);
             if (lr < 0) return GEOM_ERR_NOMEM;
             if (lr > 0) goto done;
+#if W4_SSE
+            if (use_f && tmax != tmax0) vtmax = _mm_set1_ps(f_up_fast(tmax));
+#else
+            (void)tmax0;
+#endif
         }
+    pop:
+        do { /* field by field, as pushed: a whole-entry load would wait for the stores */
+            if (sp == 0) goto done;
+            sp--;
+            cur.tn = stack[sp].tn;
+            cur.child = stack[sp].child;
+            cur.count = stack[sp].count;
+        } while (cur.tn > tmax); /* entered beyond the closest hit so far */
     }
 done:
     if (mode != GEOM__RAY_ALL && best != GEOM_INVALID_INDEX) {
-        geom_ray_hit *h = geom__rhits_push(out);
+        geom_ray_hit *h = geom__rhits_push_raw(out);
         if (!h) return GEOM_ERR_NOMEM;
         fill(m, r, best, best_t, best_b, h);
     }
@@ -508,7 +731,7 @@ geom_status geom__ray_mesh(const geom__tmesh *m, const geom_ray *r, int mode, ge
     }
 done:
     if (mode != GEOM__RAY_ALL && best != GEOM_INVALID_INDEX) {
-        geom_ray_hit *h = geom__rhits_push(out);
+        geom_ray_hit *h = geom__rhits_push_raw(out);
         if (!h) return GEOM_ERR_NOMEM;
         fill(m, r, best, best_t, best_b, h);
     }

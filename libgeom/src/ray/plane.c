@@ -1,4 +1,6 @@
-/* Planes and disks. prm: point (0..2), unit normal (3..5), radius (6, disk). */
+/* Planes and disks. prm: point (0..2), unit normal (3..5), radius (6, disk),
+ * the (u, v) frame's tangents t1 (9..11) and t2 (12..14), made once when the
+ * object is added. */
 #include "ray/ray_internal.h"
 
 static geom_ray_hit *plane_hit(const geom__ray_node *nd, const geom_ray *r, geom__rhits *out,
@@ -38,28 +40,26 @@ static geom_ray_hit *plane_hit(const geom__ray_node *nd, const geom_ray *r, geom
 geom_status geom__ray_plane(const geom__ray_node *nd, const geom_ray *r, int mode, geom__rhits *out)
 {
     double rho2;
-    geom_vec3 rel, t1, t2;
+    geom_vec3 rel;
     geom_ray_hit *h;
     (void)mode;
     h = plane_hit(nd, r, out, &rho2, &rel);
     if (!h) return out->failed ? GEOM_ERR_NOMEM : GEOM_OK;
-    geom__frame(h->ng, &t1, &t2);
-    h->u = geom__dot(rel, t1);
-    h->v = geom__dot(rel, t2);
+    h->u = geom__dot(rel, geom__v3(nd->prm + 9));
+    h->v = geom__dot(rel, geom__v3(nd->prm + 12));
     return GEOM_OK;
 }
 
 geom_status geom__ray_disk(const geom__ray_node *nd, const geom_ray *r, int mode, geom__rhits *out)
 {
     double rho2, a;
-    geom_vec3 rel, t1, t2;
+    geom_vec3 rel;
     geom_ray_hit *h;
     (void)mode;
     h = plane_hit(nd, r, out, &rho2, &rel);
     if (!h) return out->failed ? GEOM_ERR_NOMEM : GEOM_OK;
-    geom__frame(h->ng, &t1, &t2);
     h->u = sqrt(rho2) / nd->prm[6];
-    a = atan2(geom__dot(rel, t2), geom__dot(rel, t1));
+    a = atan2(geom__dot(rel, geom__v3(nd->prm + 12)), geom__dot(rel, geom__v3(nd->prm + 9)));
     if (a < 0) a += 2 * GEOM_PI;
     h->v = a / (2 * GEOM_PI);
     if (h->v >= 1) h->v = 0;

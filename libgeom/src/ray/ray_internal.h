@@ -34,6 +34,8 @@ void geom__rhits_init(geom__rhits *l, const geom_allocator *alloc);
 void geom__rhits_free(geom__rhits *l);
 /* Append (returns the new slot, zeroed, or NULL when out of memory). */
 geom_ray_hit *geom__rhits_push(geom__rhits *l);
+/* Append without zeroing (the caller sets every field): the slot or NULL. */
+geom_ray_hit *geom__rhits_push_raw(geom__rhits *l);
 /* Sort [from, n) by t, entering first on ties. */
 void geom__rhits_sort(geom__rhits *l, size_t from);
 

@@ -100,6 +100,16 @@ static geom_status unit_normal(const double *n, double out[3])
     return GEOM_OK;
 }
 
+/* The (u, v) frame of a plane or disk, made once here rather than at every
+ * hit: prm[9..11] and prm[12..14] (plane.c). */
+static void plane_frame(geom__ray_node *nd)
+{
+    geom_vec3 t1, t2;
+    geom__frame(geom__v3(nd->prm + 3), &t1, &t2);
+    nd->prm[9] = t1.x; nd->prm[10] = t1.y; nd->prm[11] = t1.z;
+    nd->prm[12] = t2.x; nd->prm[13] = t2.y; nd->prm[14] = t2.z;
+}
+
 geom_status geom_ray_scene_add_plane(geom_ray_scene *s, const double point[3], const double n[3],
                                      uint32_t *id)
 {
@@ -111,6 +121,7 @@ geom_status geom_ray_scene_add_plane(geom_ray_scene *s, const double point[3], c
     if (!(nd = node_new(s, GEOM_RAY_PLANE, id))) return GEOM_ERR_NOMEM;
     memcpy(nd->prm, point, 3 * sizeof(double));
     memcpy(nd->prm + 3, un, sizeof un);
+    plane_frame(nd);
     return GEOM_OK;
 }
 
@@ -127,6 +138,7 @@ geom_status geom_ray_scene_add_disk(geom_ray_scene *s, const double center[3], c
     memcpy(nd->prm, center, 3 * sizeof(double));
     memcpy(nd->prm + 3, un, sizeof un);
     nd->prm[6] = radius;
+    plane_frame(nd);
     return GEOM_OK;
 }
 

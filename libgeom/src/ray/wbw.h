@@ -37,21 +37,30 @@ static inline int geom__wbw_owns(double px, double py, double qx, double qy)
 #define GEOM__WBW_INLINE static inline __attribute__((always_inline))
 #else
 #define GEOM__WBW_INLINE static inline
-#endif
 GEOM__WBW_INLINE int geom__wbw_hit(const geom__wbw *w, const double *v0, const double *v1, const double *v2,
                                 double tmin, double tmax, double *t, double *b)
 {
-    const int kx = w->kx, ky = w->ky, kz = w->kz;
-    double A[3], B[3], C[3], ax, ay, bx, by, cx, cy, e0, e1, e2, det, az, bz, cz, T;
-    int k, pos, neg;
-    for (k = 0; k < 3; k++) {
-        A[k] = v0[k] - w->o[k];
-        B[k] = v1[k] - w->o[k];
-        C[k] = v2[k] - w->o[k];
-    }
-    ax = A[kx] - w->sx * A[kz]; ay = A[ky] - w->sy * A[kz];
-    bx = B[kx] - w->sx * B[kz]; by = B[ky] - w->sy * B[kz];
-    cx = C[kx] - w->sx * C[kz]; cy = C[ky] - w->sy * C[kz];
+    return geom__wbw_hit_k(w, w->kx, w->ky, w->kz, v0, v1, v2, tmin, tmax, t, b);
+}
+
+#endif
+/* geom__wbw_hit with the ray's axes given (kx, ky, kz == w->kx, w->ky,
+ * w->kz): a caller that dispatches once per ray on the axes passes
+ * constants, and the permutation costs nothing per triangle. */
+GEOM__WBW_INLINE int geom__wbw_hit_k(const geom__wbw *w, const int kx, const int ky, const int kz,
+                                  const double *v0, const double *v1, const double *v2,
+                                  double tmin, double tmax, double *t, double *b)
+{
+    /* Vertices relative to the origin, component by component (no arrays:
+     * stored one double at a time and reloaded two at a time, they would
+     * stall store forwarding). */
+    const double ox = w->o[kx], oy = w->o[ky], oz = w->o[kz];
+    const double Az = v0[kz] - oz, Bz = v1[kz] - oz, Cz = v2[kz] - oz;
+    double ax, ay, bx, by, cx, cy, e0, e1, e2, det, az, bz, cz, T;
+    int pos, neg;
+    ax = (v0[kx] - ox) - w->sx * Az; ay = (v0[ky] - oy) - w->sy * Az;
+    bx = (v1[kx] - ox) - w->sx * Bz; by = (v1[ky] - oy) - w->sy * Bz;
+    cx = (v2[kx] - ox) - w->sx * Cz; cy = (v2[ky] - oy) - w->sy * Cz;
     e0 = geom__wbw_edge(bx, by, cx, cy); /* edge v1 -> v2: weight of v0 */
     e1 = geom__wbw_edge(cx, cy, ax, ay); /* edge v2 -> v0: weight of v1 */
     if ((e0 < 0 && e1 > 0) || (e0 > 0 && e1 < 0)) return 0; /* the common miss */
@@ -69,7 +78,7 @@ GEOM__WBW_INLINE int geom__wbw_hit(const geom__wbw *w, const double *v0, const d
     }
     det = e0 + e1 + e2;
     if (det == 0 || !isfinite(det)) return 0;
-    az = w->sz * A[kz]; bz = w->sz * B[kz]; cz = w->sz * C[kz];
+    az = w->sz * Az; bz = w->sz * Bz; cz = w->sz * Cz;
     T = e0 * az + e1 * bz + e2 * cz;
     *t = T / det;
     if (!(*t >= tmin && *t <= tmax)) return 0;
@@ -77,6 +86,12 @@ GEOM__WBW_INLINE int geom__wbw_hit(const geom__wbw *w, const double *v0, const d
     b[1] = e1 / det;
     b[2] = e2 / det;
     return 1;
+}
+
+GEOM__WBW_INLINE int geom__wbw_hit(const geom__wbw *w, const double *v0, const double *v1, const double *v2,
+                                double tmin, double tmax, double *t, double *b)
+{
+    return geom__wbw_hit_k(w, w->kx, w->ky, w->kz, v0, v1, v2, tmin, tmax, t, b);
 }
 
 #endif
