@@ -109,14 +109,19 @@ class NurbsCurve:
         us, scalar, shape = _params(u)
         dim = self.dim
         out = np.empty((us.size, dim))
-        status = np.empty(us.size, dtype=np.int32)
         uc = np.ascontiguousarray(us, dtype=np.float64)
-        check(lib.geom_curve_nurbs_eval_many(self._c, uc.size, ffi.from_buffer("double[]", uc),
-                                             _flags(left, wrap), ffi.from_buffer("double[]", out),
-                                             ffi.from_buffer("int32_t[]", status), ffi.NULL),
+        pu, po = ffi.from_buffer("double[]", uc), ffi.from_buffer("double[]", out)
+        nfail = ffi.new("size_t *")
+        fl = _flags(left, wrap)
+        # Row statuses are asked for only when some row failed (no n int32
+        # writes and no scan on the common path).
+        check(lib.geom_curve_nurbs_eval_many(self._c, uc.size, pu, fl, po, ffi.NULL, nfail),
               context="eval")
-        bad = np.nonzero(status)[0]
-        if bad.size:
+        if nfail[0]:
+            status = np.empty(us.size, dtype=np.int32)
+            lib.geom_curve_nurbs_eval_many(self._c, uc.size, pu, fl, po,
+                                           ffi.from_buffer("int32_t[]", status), ffi.NULL)
+            bad = np.nonzero(status)[0]
             check(int(status[bad[0]]), context="eval(%r)" % float(uc[bad[0]]))
         return out[0] if scalar else out.reshape(shape + (dim,))
 
