@@ -92,10 +92,18 @@ static void tri2_shared(const double a[2], const double b[2], const double c[2],
             }
             all = (int)acc;
             double *o = out + 3 * i0;
-            for (size_t j = 0; j < m; j++) {
-                o[3 * j] = l0[j];
-                o[3 * j + 1] = l1[j];
-                o[3 * j + 2] = l2[j];
+            if (m == BLOCK) { /* a constant count vectorises (interleaving stores) */
+                for (size_t j = 0; j < BLOCK; j++) {
+                    o[3 * j] = l0[j];
+                    o[3 * j + 1] = l1[j];
+                    o[3 * j + 2] = l2[j];
+                }
+            } else {
+                for (size_t j = 0; j < m; j++) {
+                    o[3 * j] = l0[j];
+                    o[3 * j + 1] = l1[j];
+                    o[3 * j + 2] = l2[j];
+                }
             }
         }
         if (all) {
@@ -203,9 +211,14 @@ static void tet_shared(const double a[3], const double b[3], const double c[3],
             }
             all = (int)acc;
             double *o = out + 4 * i0;
-            for (size_t j = 0; j < mm; j++)
-                for (int k = 0; k < 4; k++)
-                    o[4 * j + (size_t)k] = l[k][j];
+            if (mm == BLOCK) /* a constant count vectorises (interleaving stores) */
+                for (size_t j = 0; j < BLOCK; j++)
+                    for (size_t k = 0; k < 4; k++)
+                        o[4 * j + k] = l[k][j];
+            else
+                for (size_t j = 0; j < mm; j++)
+                    for (size_t k = 0; k < 4; k++)
+                        o[4 * j + k] = l[k][j];
         }
         if (all) {
             if (status)
