@@ -448,6 +448,8 @@ typedef struct geom_curve_polyline_options {
 geom_status geom_curve_nurbs_polyline(const geom_nurbs_curve *c, const
     geom_curve_polyline_options *options, double *params, double *points, size_t capacity,
     size_t *count, geom_error_report *report, geom_diag *diag);
+geom_status geom_curve_nurbs_polyline_estimate(const geom_nurbs_curve *c,
+    const geom_curve_polyline_options *options, double *count, int *is_bound, geom_diag *diag);
 geom_status geom_curve_nurbs_eval_many(const geom_nurbs_curve *c, size_t n, const double *u,
                                                 unsigned flags, double *out, int32_t *status,
                                                 size_t *n_failed);

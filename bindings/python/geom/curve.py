@@ -206,6 +206,22 @@ class NurbsCurve:
                                             diag), diag, context="polyline")
         return params, pts, error_report(rep)
 
+    def polyline_estimate(self, tolerance=0.0, method="bound"):
+        """The number of points polyline(tolerance, method) would return,
+        estimated before the work (geom_curve_nurbs_polyline_estimate):
+        returns (count, is_bound). For a polynomial curve count (a float: it
+        may be huge) is an upper bound (is_bound True); for a rational one an
+        estimate (is_bound False)."""
+        opt = ffi.new("geom_curve_polyline_options *")
+        opt.tolerance = tolerance
+        opt.method = _POLY_METHODS[method]
+        count = ffi.new("double *")
+        bound = ffi.new("int *")
+        diag = new_diag()
+        check(lib.geom_curve_nurbs_polyline_estimate(self._c, opt, count, bound, diag), diag,
+              context="polyline_estimate")
+        return float(count[0]), bool(bound[0])
+
     def insert_knot(self, u, times=1):
         """The same curve with the knot u inserted `times` times (A5.1)."""
         n, p, dim = self.n, self.degree, self.dim
