@@ -109,16 +109,20 @@ class NurbsSurface:
     def eval(self, u, v, flags=0):
         """S(u, v): (3,) for scalars, S + (3,) for arrays (broadcast)."""
         us, vs, scalar, shape = self._uv(u, v)
-        uv = np.ascontiguousarray(np.stack([us, vs], axis=1), dtype=np.float64)
+        uv = np.empty((us.size, 2))
+        uv[:, 0] = us
+        uv[:, 1] = vs
         out = np.empty((us.size, 3))
-        status = np.empty(us.size, dtype=np.int32)
-        check(lib.geom_surface_eval_many(self._s, us.size, ffi.from_buffer("double[]", uv), flags,
-                                         0, ffi.from_buffer("double[]", out),
-                                         ffi.from_buffer("int32_t[]", status), ffi.NULL),
+        puv, po = ffi.from_buffer("double[]", uv), ffi.from_buffer("double[]", out)
+        nfail = ffi.new("size_t *")
+        # Row statuses only when a row failed (no n int32 writes and no scan).
+        check(lib.geom_surface_eval_many(self._s, us.size, puv, flags, 0, po, ffi.NULL, nfail),
               context="eval")
-        bad = np.nonzero(status)[0]
-        if bad.size:
-            i = int(bad[0])
+        if nfail[0]:
+            status = np.empty(us.size, dtype=np.int32)
+            lib.geom_surface_eval_many(self._s, us.size, puv, flags, 0, po,
+                                       ffi.from_buffer("int32_t[]", status), ffi.NULL)
+            i = int(np.nonzero(status)[0][0])
             check(int(status[i]), context="eval(%r, %r)" % (us[i], vs[i]))
         return out[0] if scalar else out.reshape(shape + (3,))
 
