@@ -12,7 +12,7 @@ import os
 import numpy as np
 
 from ._ffi import ffi, lib
-from .core import GeomError, check, dptr, error_report, new_diag, struct_dict
+from .core import GeomError, Progress, check, dptr, error_report, new_diag, struct_dict
 from .mesh import Mesh
 
 U_LEFT = 1
@@ -493,7 +493,7 @@ def read_json(path_or_text, source_name=None):
 def tessellate(surfaces, tolerance=0.0, mode="adaptive", grid=(8, 8), per_surface=False,
                angle_degrees=0.0, attributes=("normal", "uv"), uv_normalized=False,
                no_weld=False, keep_orientation=False, check_subdivisions=0, max_triangles=0,
-               normal_weld_degrees=0.0):
+               normal_weld_degrees=0.0, progress=None):
     """Crack-free triangulation of one NurbsSurface or a list of them
     (geom_surface_tessellate), welded along shared boundaries.
 
@@ -504,7 +504,10 @@ def tessellate(surfaces, tolerance=0.0, mode="adaptive", grid=(8, 8), per_surfac
     among "normal", "uv", "tangent", and "source" (a face channel with the
     surface index). normal_weld_degrees: the corner normals of a vertex
     within this angle become one (0: the library's default, 0.01 degree;
-    negative: never).
+    negative: never). progress: a callable given the fraction (0..1] of
+    each pass's cells done (adaptive tessellation runs several passes; see
+    geom_surface_tess_options.progress); an exception it raises is raised
+    after the tessellation.
 
     Returns (mesh, report): report has the sampled error against the exact
     surfaces (max_error, mean_error, method, evaluations) and the
@@ -532,6 +535,8 @@ def tessellate(surfaces, tolerance=0.0, mode="adaptive", grid=(8, 8), per_surfac
     opt.check_subdivisions = int(check_subdivisions)
     opt.max_triangles = int(max_triangles)
     opt.normal_weld_degrees = float(normal_weld_degrees)
+    prog = Progress(progress)
+    prog.install(opt)
     mesh = Mesh()
     rep = ffi.new("geom_error_report *")
     stats = ffi.new("geom_surface_tess_stats *")
@@ -540,6 +545,9 @@ def tessellate(surfaces, tolerance=0.0, mode="adaptive", grid=(8, 8), per_surfac
     if st != 0:
         mesh.close()
         check(st, diag, context="tessellate")
+    if prog.error is not None:
+        mesh.close()
+        prog.reraise()
     report = error_report(rep)
     report["stats"] = struct_dict(stats[0], "geom_surface_tess_stats")
     del surfaces
