@@ -86,6 +86,23 @@ static void warn_dropped(const geom_mesh *m, const char *path, geom_meshio_forma
     }
 }
 
+/* --mtllib's FILE: the tool's argv, set once while parsing options. */
+static const char *user_mtllib;
+
+int cli_mesh_mtllib_option(const cli_tool *t, int opt, const char *arg)
+{
+    if (opt != CLI_OPT_MTLLIB)
+        return CLI_NOT_HANDLED;
+    for (const unsigned char *c = (const unsigned char *)arg; *c; c++)
+        if (*c <= ' ' || *c == 0x7f)
+            return cli_usage_error(t, "--mtllib: OBJ cannot hold a name with blanks or "
+                                      "control characters");
+    if (!arg[0])
+        return cli_usage_error(t, "--mtllib needs a file name");
+    user_mtllib = arg;
+    return CLI_CONTINUE;
+}
+
 unsigned cli_mesh_mtllib_omit(const geom_mesh *m, const char *path, bool to_stdout)
 {
     size_t n = geom_mesh_mtllib_count(m);
@@ -147,8 +164,9 @@ geom_status cli_mesh_write_up(const geom_mesh *m, const char *path, geom_meshio_
         return cli_diag_set(diag, GEOM_ERR_INVALID_ARG, where, 0, 0,
                             "output format not recognised from the name: give --format");
     wo.gltf_z_up = up_z;
+    bool mtl = wo.format == GEOM_MESHIO_FORMAT_OBJ && user_mtllib;
     if (wo.format == GEOM_MESHIO_FORMAT_OBJ)
-        wo.omit |= cli_mesh_mtllib_omit(m, path, to_stdout);
+        wo.omit |= mtl ? GEOM_MESHIO_ATTR_MTLLIB : cli_mesh_mtllib_omit(m, path, to_stdout);
     cli_output out;
     geom_status st;
     if (to_stdout) {
@@ -165,6 +183,8 @@ geom_status cli_mesh_write_up(const geom_mesh *m, const char *path, geom_meshio_
         warn_dropped(m, where, wo.format);
         st = cli_output_open(&out, NULL, diag);
         if (st == GEOM_OK) {
+            if (mtl)
+                fprintf(out.fp, "mtllib %s\n", user_mtllib);
             if (n > 0 && fwrite(buf, 1, n, out.fp) != n) {
                 cli_output_abort(&out);
                 st = cli_diag_set(diag, GEOM_ERR_IO, where, 0, 0, "write error: %s",
@@ -179,6 +199,8 @@ geom_status cli_mesh_write_up(const geom_mesh *m, const char *path, geom_meshio_
     if ((st = cli_output_open(&out, path, diag)) != GEOM_OK)
         return st;
     errno = 0;
+    if (mtl)
+        fprintf(out.fp, "mtllib %s\n", user_mtllib); /* errors: seen at the commit */
     st = geom_meshio_write_stream(m, &wo, write_to_fp, out.fp, diag);
     if (st != GEOM_OK) {
         int err = errno;

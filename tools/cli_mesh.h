@@ -63,6 +63,20 @@ int cli_mesh_format_option(const cli_tool *t, const char *arg, int input,
  */
 unsigned cli_mesh_mtllib_omit(const geom_mesh *m, const char *path, bool to_stdout);
 
+/** --mtllib=FILE (tools writing OBJ): the OBJ output references the
+ *  material library FILE (one `mtllib FILE` line first; the mesh's own
+ *  mtllib lines are dropped), whether or not FILE exists yet. */
+#define CLI_OPT_MTLLIB 0x1200
+#define CLI_MTLLIB_LONGOPT {"mtllib", required_argument, NULL, CLI_OPT_MTLLIB}
+#define CLI_MTLLIB_HELP                                                              \
+    "      --mtllib=FILE    OBJ output: reference the material library FILE\n"       \
+    "                       (instead of the input's, kept only when found next\n"    \
+    "                       to the output)\n"
+/** Handles CLI_OPT_MTLLIB for every later cli_mesh_write* of the process:
+ *  CLI_CONTINUE, CLI_EXIT_USAGE (a name with blanks or control characters,
+ *  which OBJ cannot hold) or CLI_NOT_HANDLED for other options. */
+int cli_mesh_mtllib_option(const cli_tool *t, int opt, const char *arg);
+
 /* Degenerate (zero-area) live faces of m, the ones geom_mesh_face_normal
  * refuses: their count, and the first one (0-based, in face order) in *first
  * when there is any. Tools that compute normals or tangents warn with it. */

@@ -50,6 +50,7 @@ static const cli_tool tool = {
     "      --cap            close the cuts of a closed mesh with cap faces\n"
     "  -f, --format=FMT     output format (obj, off, ply, stl, glb); default: from\n"
     "                       OUT's extension\n"
+    CLI_MTLLIB_HELP
     "  -i, --input-format=FMT  input format (obj, off, ply, stl); default: from\n"
     "                       IN's extension, else from the content\n",
     "Frustum SPEC fields (gluLookAt / gluPerspective conventions): eye and center\n"
@@ -137,6 +138,9 @@ static int parse_frustum(const cli_tool *t, const char *arg, geom_mat4 *vp)
 static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
 {
     clip_opts *o = user;
+    int mrc = cli_mesh_mtllib_option(t, opt, arg);
+    if (mrc != CLI_NOT_HANDLED)
+        return mrc;
     switch (opt) {
     case 'p': {
         if (o->nplanes == MAX_PLANES)
@@ -185,6 +189,7 @@ int main(int argc, char **argv)
                                              {"cap", no_argument, NULL, OPT_CAP},
                                              {"format", required_argument, NULL, 'f'},
                                              {"input-format", required_argument, NULL, 'i'},
+                                             CLI_MTLLIB_LONGOPT,
                                              {NULL, 0, NULL, 0}};
     static clip_opts co; /* large: keep it off the stack */
     memset(&co, 0, sizeof co);

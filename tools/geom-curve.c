@@ -167,6 +167,10 @@ static geom_status approximate(const curve_opts *o, const geom_nurbs_curve *c, d
     geom_curve_polyline_options po;
     memset(&po, 0, sizeof po);
     po.tolerance = o->tol;
+    /* the count was checked against --max-points before the work */
+    po.max_points = o->max_points <= 0.0  ? (size_t)MAX_POINTS_DEFAULT + 1
+                    : o->max_points < 1e15 ? (size_t)o->max_points + 1
+                                           : SIZE_MAX;
     size_t n = 0;
     geom_error_report rep;
     geom_status st = geom_curve_nurbs_polyline(c, &po, NULL, NULL, 0, &n, &rep, diag);
@@ -239,7 +243,23 @@ int main(int argc, char **argv)
     double limit = o.max_points > 0.0 ? o.max_points : MAX_POINTS_DEFAULT;
     double want = 0.0;
     int cut = 0;
-    for (size_t ci = 0; ci < f.ncurves; ++ci) {
+    /* the library's a priori bound first (no subdivision): when every
+     * curve has one and their sum fits, nothing is counted exactly */
+    int bounded = !o.samples;
+    double bound_sum = 0.0;
+    for (size_t ci = 0; ci < f.ncurves && bounded; ++ci) {
+        geom_curve_polyline_options po;
+        memset(&po, 0, sizeof po);
+        po.tolerance = o.tol;
+        double est = 0.0;
+        int is_bound = 0;
+        bounded = geom_curve_nurbs_polyline_estimate(&f.curves[ci].c, &po, &est, &is_bound,
+                                                     NULL) == GEOM_OK &&
+                  is_bound;
+        bound_sum += est;
+    }
+    size_t ncount = bounded && bound_sum <= limit ? 0 : f.ncurves;
+    for (size_t ci = 0; ci < ncount; ++ci) {
         size_t n = 0;
         if (o.samples) {
             n = (size_t)o.samples;

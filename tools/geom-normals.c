@@ -43,6 +43,7 @@ static const cli_tool tool = {
     "      --split-uv       also split at the seams of the \"uv\" channel\n"
     "  -f, --format=FMT     output format (obj, off, ply, stl, glb); default: from\n"
     "                       OUT's extension\n"
+    CLI_MTLLIB_HELP
     "  -i, --input-format=FMT  input format (obj, off, ply, stl); default: from\n"
     "                       IN's extension, else from the content\n",
     "Without --crease and --split-uv the normals are one per vertex (a vertex\n"
@@ -67,6 +68,9 @@ typedef struct normals_opts {
 static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
 {
     normals_opts *o = user;
+    int mrc = cli_mesh_mtllib_option(t, opt, arg);
+    if (mrc != CLI_NOT_HANDLED)
+        return mrc;
     switch (opt) {
     case 'w':
         if (strcmp(arg, "angle") == 0)
@@ -109,6 +113,7 @@ int main(int argc, char **argv)
                                              {"split-uv", no_argument, NULL, OPT_SPLIT_UV},
                                              {"format", required_argument, NULL, 'f'},
                                              {"input-format", required_argument, NULL, 'i'},
+                                             CLI_MTLLIB_LONGOPT,
                                              {NULL, 0, NULL, 0}};
     normals_opts no;
     memset(&no, 0, sizeof no);

@@ -55,6 +55,7 @@ static const cli_tool tool = {
     "                       loop, bilinear), angle-weighted (butterfly, sqrt3)\n"
     "  -f, --format=FMT     output format (obj, off, ply, stl, glb); default: from\n"
     "                       OUT's extension\n"
+    CLI_MTLLIB_HELP
     "  -i, --input-format=FMT  input format (obj, off, ply, stl); default: from\n"
     "                       IN's extension, else from the content\n"
     CLI_LIMIT_HELP,
@@ -84,6 +85,9 @@ typedef struct sub_opts {
 static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
 {
     sub_opts *o = user;
+    int mrc = cli_mesh_mtllib_option(t, opt, arg);
+    if (mrc != CLI_NOT_HANDLED)
+        return mrc;
     int lrc = cli_limits_option(t, &o->lim, opt, arg);
     if (lrc != CLI_NOT_HANDLED)
         return lrc;
@@ -224,6 +228,7 @@ int main(int argc, char **argv)
                                              {"format", required_argument, NULL, 'f'},
                                              {"input-format", required_argument, NULL, 'i'},
                                              CLI_LIMIT_LONGOPTS,
+                                             CLI_MTLLIB_LONGOPT,
                                              {NULL, 0, NULL, 0}};
     sub_opts so;
     memset(&so, 0, sizeof so);

@@ -39,6 +39,7 @@ static const cli_tool tool = {
     "                       ones when it has none\n"
     "  -f, --format=FMT     output format (glb, obj, off, ply, stl); default: from\n"
     "                       OUT's extension\n"
+    CLI_MTLLIB_HELP
     "  -i, --input-format=FMT  input format (obj, off, ply, stl); default: from\n"
     "                       IN's extension, else from the content\n",
     "Tangents follow MikkTSpace (the convention of Blender and glTF): per-face\n"
@@ -60,6 +61,9 @@ typedef struct tan_opts {
 static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
 {
     tan_opts *o = user;
+    int mrc = cli_mesh_mtllib_option(t, opt, arg);
+    if (mrc != CLI_NOT_HANDLED)
+        return mrc;
     switch (opt) {
     case 'c': {
         double d;
@@ -115,6 +119,7 @@ int main(int argc, char **argv)
     static const struct option longopts[] = {{"crease", required_argument, NULL, 'c'},
                                              {"format", required_argument, NULL, 'f'},
                                              {"input-format", required_argument, NULL, 'i'},
+                                             CLI_MTLLIB_LONGOPT,
                                              {NULL, 0, NULL, 0}};
     tan_opts to;
     memset(&to, 0, sizeof to);

@@ -70,6 +70,7 @@ static const cli_tool tool = {
     "                       normals are within DEG degrees (default 0.01; 0: never)\n"
     "  -f, --format=FMT     output format (obj, off, ply, stl, glb); default: from\n"
     "                       OUT's extension\n"
+    CLI_MTLLIB_HELP
     CLI_LIMIT_HELP,
     "Prints max_error (sampled chordal error), mean_error, triangles, vertices,\n"
     "surfaces and seconds (tessellation time); with --json one object with\n"
@@ -129,6 +130,9 @@ static int parse_positive(const char *arg, double *out)
 static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
 {
     tess_opts *o = user;
+    int mrc = cli_mesh_mtllib_option(t, opt, arg);
+    if (mrc != CLI_NOT_HANDLED)
+        return mrc;
     double d;
     int lrc = cli_limits_option(t, &o->lim, opt, arg);
     if (lrc != CLI_NOT_HANDLED)
@@ -469,6 +473,7 @@ int main(int argc, char **argv)
         {"normal-weld", required_argument, NULL, OPT_NORMAL_WELD},
         {"format", required_argument, NULL, 'f'},
         CLI_LIMIT_LONGOPTS,
+        CLI_MTLLIB_LONGOPT,
         {NULL, 0, NULL, 0}};
     tess_opts o;
     memset(&o, 0, sizeof o);

@@ -168,5 +168,20 @@ expect_rc 0 "--max-points above the count"
 run "$DATA/surfaces.json" -o "$T/x.obj" --max-points 1
 expect_rc 2 "--max-points 1"
 
+# the a priori bound (geom_curve_nurbs_polyline_estimate) of two polynomial
+# curves at 1e-6 is 2049 + 4098 = 6147 points for 2049 + 3656 = 5705 made:
+# above the bound no count is needed; between count and bound the exact
+# count decides (the run succeeds); below the count it fails naming it
+printf '{"curves": [{"type": "bezier", "points": [[0,0],[1,2],[3,2],[4,0]]}, {"type": "bspline", "degree": 2, "knots": [0,0,0,0.5,1,1,1], "points": [[0,0],[1,3],[2,-1],[4,0]]}]}' >"$T/poly.json"
+for lim in 7000 6000; do
+    run "$T/poly.json" -o "$T/poly.obj" --tol 1e-6 --max-points $lim
+    expect_rc 0 "--max-points $lim (count 5705, bound 6147)"
+    checks=$((checks + 1))
+    [ "$(grep -c '^v ' "$T/poly.obj")" = 5705 ] || fail "--max-points $lim: not 5705 vertices"
+done
+run "$T/poly.json" -o "$T/poly.obj" --tol 1e-6 --max-points 5000
+expect_rc 1 "--max-points below the count"
+expect_err "would have 5705 points (limit 5000" "exact count past the bound"
+
 echo "$checks checks, $failures failures"
 [ "$failures" -eq 0 ]

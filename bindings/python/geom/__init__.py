@@ -24,15 +24,16 @@ diagnostic (``.message``, ``.source``, ``.line``, ``.column``,
 """
 
 from ._ffi import has_module, library_path
-from .core import (STATUS, GeomError, incircle, orient2d, orient2d_exact, orient3d,
-                   orient3d_exact, status_name, version)
+from .core import (STATUS, GeomError, Output, Progress, incircle, orient2d, orient2d_exact,
+                   orient3d, orient3d_exact, status_name, version, write_file)
 
 __version__ = version()
 
 from . import bary, core  # noqa: E402
 
 __all__ = ["GeomError", "STATUS", "status_name", "version", "orient2d", "orient3d", "incircle",
-           "orient2d_exact", "orient3d_exact", "bary", "core", "has_module", "library_path"]
+           "orient2d_exact", "orient3d_exact", "bary", "core", "has_module", "library_path",
+           "Output", "Progress", "write_file"]
 
 if has_module("mesh") and has_module("meshio"):
     from . import mesh  # noqa: E402

@@ -124,6 +124,19 @@ typedef struct geom_ray {
     double tmin;
     double tmax;
 } geom_ray;
+typedef struct geom_output {
+    int fd;
+    char *temporary;
+    char *impl_path, *impl_dest;
+    size_t impl_path_size, impl_dest_size, impl_tmp_size;
+    const geom_allocator *impl_alloc;
+} geom_output;
+geom_status geom_output_open(const char *path, const geom_allocator *alloc,
+                                      geom_output *out, geom_diag *diag);
+geom_status geom_output_write(geom_output *out, const void *data, size_t n,
+                                       geom_diag *diag);
+geom_status geom_output_commit(geom_output *out, geom_diag *diag);
+void geom_output_abort(geom_output *out);
 """,
     "bary": """
 geom_status geom_bary_tri2(const double a[2], const double b[2], const double c[2], const double
@@ -460,6 +473,8 @@ typedef struct geom_curve_polyline_options {
 geom_status geom_curve_nurbs_polyline(const geom_nurbs_curve *c, const
     geom_curve_polyline_options *options, double *params, double *points, size_t capacity,
     size_t *count, geom_error_report *report, geom_diag *diag);
+geom_status geom_curve_nurbs_polyline_estimate(const geom_nurbs_curve *c,
+    const geom_curve_polyline_options *options, double *count, int *is_bound, geom_diag *diag);
 geom_status geom_curve_nurbs_eval_many(const geom_nurbs_curve *c, size_t n, const double *u,
                                                 unsigned flags, double *out, int32_t *status,
                                                 size_t *n_failed);
@@ -1091,6 +1106,39 @@ geom_status geom_scene_camera_project(const geom_camera *cam, geom_vec3 p, doubl
 double geom_scene_camera_pixel_size(const geom_camera *cam, double depth);
 double geom_scene_pixel_tolerance(const geom_camera *cam, geom_aabb box,
                                            double pixel_error, int *visible);
+typedef enum geom_aov {
+    GEOM_AOV_COLOR = 0,
+    GEOM_AOV_DEPTH = 1,
+    GEOM_AOV_NORMAL = 2,
+    GEOM_AOV_OBJECT = 3
+} geom_aov;
+typedef struct geom_trace_options {
+    geom_aov aov;
+    geom_vec3 background;
+    uint32_t max_depth;
+    double min_weight;
+    int no_shadows;
+    const geom_allocator *alloc;
+    void (*progress)(void *user, double fraction);
+    void *progress_user;
+} geom_trace_options;
+typedef enum geom_render_method {
+    GEOM_RENDER_RAY = 0,
+    GEOM_RENDER_RASTER = 1
+} geom_render_method;
+typedef struct geom_render_options {
+    geom_render_method method;
+    geom_aov aov;
+    geom_vec3 background;
+    double pixel_error;
+    double tolerance;
+    uint32_t max_depth;
+    double min_weight;
+    int no_shadows;
+    uint32_t shadow_map_size;
+    void (*progress)(void *user, double fraction);
+    void *progress_user;
+} geom_render_options;
 """,
     "spatial": """
 typedef struct geom_bvh geom_bvh;

@@ -7,6 +7,8 @@ column vector p; the conversion (a transpose of the 16 doubles) happens at
 the boundary and never shows.
 """
 
+import os
+
 import numpy as np
 
 from ._ffi import ffi, lib
@@ -361,3 +363,109 @@ def transform_point(m, p):
               context="transform_point (row %d)" % i)
         res[i] = (out.x, out.y, out.z)
     return res[0] if single else res
+
+
+class Progress:
+    """A Python callable as a C progress callback (the `progress` and
+    `progress_user` fields of the tessellation, iso and render options):
+    fn(fraction) is called with the fraction done in [0, 1]. An exception
+    raised by fn is kept (later calls are skipped) and raised again by
+    reraise() once the C call has returned; the C work itself runs to its
+    end. With fn None the fields stay NULL."""
+
+    def __init__(self, fn):
+        self.error = None
+        self._fn = fn
+        self._c = ffi.NULL if fn is None else ffi.callback("void(void *, double)", self._call)
+
+    def _call(self, user, fraction):
+        if self.error is None:
+            try:
+                self._fn(float(fraction))
+            except BaseException as e:  # noqa: B902 - re-raised after the C call
+                self.error = e
+
+    def install(self, options):
+        """Set options.progress (keep this object alive for the C call)."""
+        options.progress = self._c
+        options.progress_user = ffi.NULL
+
+    def reraise(self):
+        if self.error is not None:
+            raise self.error
+
+
+class Output:
+    """An output file written the way the tools write theirs
+    (geom_output_open/_write/_commit/_abort): a regular file (or a new
+    path) is written to a temporary file next to it and renamed over it on
+    commit, keeping the replaced file's mode, so a failed or interrupted
+    write never leaves a truncated file; a device or FIFO is written
+    through; a directory, a dangling link or a file the caller may not
+    write is refused (GeomError ERR_IO naming the path and the system's
+    reason).
+
+    As a context manager: committed on a normal exit, abandoned (the
+    destination left as it was) when the block raises::
+
+        with geom.Output("out.txt") as f:
+            f.write(b"...")
+    """
+
+    def __init__(self, path):
+        p = os.fsencode(path)
+        if b"\0" in p:
+            raise ValueError("path contains a NUL byte")
+        self._out = ffi.new("geom_output *")
+        self._out.fd = -1
+        diag = new_diag()
+        check(lib.geom_output_open(p, ffi.NULL, self._out, diag), diag, context="Output")
+        self.path = path
+
+    @property
+    def closed(self):
+        return self._out.fd < 0
+
+    @property
+    def temporary(self):
+        """The temporary file's path while open (None when written through
+        or closed)."""
+        t = self._out.temporary
+        return None if self.closed or t == ffi.NULL else os.fsdecode(ffi.string(t))
+
+    def write(self, data):
+        """Write bytes-like data; returns its length."""
+        buf = ffi.from_buffer(memoryview(data).cast("B"))
+        diag = new_diag()
+        check(lib.geom_output_write(self._out, buf, len(buf), diag), diag, context="Output.write")
+        return len(buf)
+
+    def commit(self):
+        """Finish: the file replaces the destination (fsync'd, renamed)."""
+        diag = new_diag()
+        check(lib.geom_output_commit(self._out, diag), diag, context="Output.commit")
+
+    def abort(self):
+        """Abandon: the temporary file is removed. A no-op once closed."""
+        lib.geom_output_abort(self._out)
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, exc_type, exc, tb):
+        if exc_type is None:
+            self.commit()
+        else:
+            self.abort()
+        return False
+
+    def __del__(self):
+        out = getattr(self, "_out", None)
+        if out is not None and out.fd >= 0:
+            lib.geom_output_abort(out)
+
+
+def write_file(path, data):
+    """Write bytes to path atomically with the rules of Output."""
+    with Output(path) as f:
+        f.write(data)

@@ -109,14 +109,19 @@ class NurbsCurve:
         us, scalar, shape = _params(u)
         dim = self.dim
         out = np.empty((us.size, dim))
-        status = np.empty(us.size, dtype=np.int32)
         uc = np.ascontiguousarray(us, dtype=np.float64)
-        check(lib.geom_curve_nurbs_eval_many(self._c, uc.size, ffi.from_buffer("double[]", uc),
-                                             _flags(left, wrap), ffi.from_buffer("double[]", out),
-                                             ffi.from_buffer("int32_t[]", status), ffi.NULL),
+        pu, po = ffi.from_buffer("double[]", uc), ffi.from_buffer("double[]", out)
+        nfail = ffi.new("size_t *")
+        fl = _flags(left, wrap)
+        # Row statuses are asked for only when some row failed (no n int32
+        # writes and no scan on the common path).
+        check(lib.geom_curve_nurbs_eval_many(self._c, uc.size, pu, fl, po, ffi.NULL, nfail),
               context="eval")
-        bad = np.nonzero(status)[0]
-        if bad.size:
+        if nfail[0]:
+            status = np.empty(us.size, dtype=np.int32)
+            lib.geom_curve_nurbs_eval_many(self._c, uc.size, pu, fl, po,
+                                           ffi.from_buffer("int32_t[]", status), ffi.NULL)
+            bad = np.nonzero(status)[0]
             check(int(status[bad[0]]), context="eval(%r)" % float(uc[bad[0]]))
         return out[0] if scalar else out.reshape(shape + (dim,))
 
@@ -200,6 +205,22 @@ class NurbsCurve:
         check(lib.geom_curve_nurbs_polyline(self._c, opt, dptr(params), dptr(pts), k, count, rep,
                                             diag), diag, context="polyline")
         return params, pts, error_report(rep)
+
+    def polyline_estimate(self, tolerance=0.0, method="bound"):
+        """The number of points polyline(tolerance, method) would return,
+        estimated before the work (geom_curve_nurbs_polyline_estimate):
+        returns (count, is_bound). For a polynomial curve count (a float: it
+        may be huge) is an upper bound (is_bound True); for a rational one an
+        estimate (is_bound False)."""
+        opt = ffi.new("geom_curve_polyline_options *")
+        opt.tolerance = tolerance
+        opt.method = _POLY_METHODS[method]
+        count = ffi.new("double *")
+        bound = ffi.new("int *")
+        diag = new_diag()
+        check(lib.geom_curve_nurbs_polyline_estimate(self._c, opt, count, bound, diag), diag,
+              context="polyline_estimate")
+        return float(count[0]), bool(bound[0])
 
     def insert_knot(self, u, times=1):
         """The same curve with the knot u inserted `times` times (A5.1)."""

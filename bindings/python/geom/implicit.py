@@ -15,7 +15,7 @@ import os
 import numpy as np
 
 from ._ffi import ffi, lib
-from .core import check, dptr, error_report, new_diag
+from .core import Progress, check, dptr, error_report, new_diag
 from .mesh import Mesh
 
 _ISO_ERROR = {"auto": 0, "always": 1, "never": 2}
@@ -125,7 +125,8 @@ class Expression:
 
 
 def marching_cubes(field, bounds=None, resolution=None, iso=0.0, refine=False, normals=False,
-                   caps=False, error="auto", threads=0, spacing=None, origin=None):
+                   caps=False, error="auto", threads=0, spacing=None, origin=None,
+                   progress=None):
     """Isosurface by topologically correct marching cubes (geom/iso.h).
 
     field is one of:
@@ -141,7 +142,9 @@ def marching_cubes(field, bounds=None, resolution=None, iso=0.0, refine=False, n
         the boxes between samples (bounds and resolution unused);
       - a Python callable f(points (n, 3)) -> (n,) values, sampled like an
         expression (called one grid row at a time, from a single thread).
-    Inside is f <= iso (as in contour); triangles face increasing f.
+    Inside is f <= iso (as in contour); triangles face increasing f. progress: a callable
+    given the fraction (0..1] of the grid's slabs extracted (on the calling
+    thread); an exception it raises is raised after the extraction.
 
     Returns (mesh, report): a Mesh (vertex channel "normal" when
     normals=True; its last report["n_cap_triangles"] faces are caps when
@@ -158,6 +161,8 @@ def marching_cubes(field, bounds=None, resolution=None, iso=0.0, refine=False, n
     if threads < 0:
         raise ValueError("threads must be >= 0 (0: all cores), got %d" % threads)
     opt.threads = min(threads, os.cpu_count() or 1)  # capped to the machine
+    prog = Progress(progress)
+    prog.install(opt)
     surf = ffi.new("geom_iso_surface *")
     diag = new_diag()
     keep = []
@@ -235,6 +240,7 @@ def marching_cubes(field, bounds=None, resolution=None, iso=0.0, refine=False, n
         if error_box:
             raise error_box[0]
         check(st, diag, context="marching_cubes")
+        prog.reraise()
         report = {k: v for k, v in _iso_report(surf.report).items()}
         report["n_cap_triangles"] = int(surf.n_cap_triangles)
         mesh = Mesh()

@@ -12,7 +12,7 @@ import os
 import numpy as np
 
 from ._ffi import ffi, lib
-from .core import GeomError, check, dptr, error_report, new_diag, struct_dict
+from .core import GeomError, Progress, check, dptr, error_report, new_diag, struct_dict
 from .mesh import Mesh
 
 U_LEFT = 1
@@ -109,16 +109,20 @@ class NurbsSurface:
     def eval(self, u, v, flags=0):
         """S(u, v): (3,) for scalars, S + (3,) for arrays (broadcast)."""
         us, vs, scalar, shape = self._uv(u, v)
-        uv = np.ascontiguousarray(np.stack([us, vs], axis=1), dtype=np.float64)
+        uv = np.empty((us.size, 2))
+        uv[:, 0] = us
+        uv[:, 1] = vs
         out = np.empty((us.size, 3))
-        status = np.empty(us.size, dtype=np.int32)
-        check(lib.geom_surface_eval_many(self._s, us.size, ffi.from_buffer("double[]", uv), flags,
-                                         0, ffi.from_buffer("double[]", out),
-                                         ffi.from_buffer("int32_t[]", status), ffi.NULL),
+        puv, po = ffi.from_buffer("double[]", uv), ffi.from_buffer("double[]", out)
+        nfail = ffi.new("size_t *")
+        # Row statuses only when a row failed (no n int32 writes and no scan).
+        check(lib.geom_surface_eval_many(self._s, us.size, puv, flags, 0, po, ffi.NULL, nfail),
               context="eval")
-        bad = np.nonzero(status)[0]
-        if bad.size:
-            i = int(bad[0])
+        if nfail[0]:
+            status = np.empty(us.size, dtype=np.int32)
+            lib.geom_surface_eval_many(self._s, us.size, puv, flags, 0, po,
+                                       ffi.from_buffer("int32_t[]", status), ffi.NULL)
+            i = int(np.nonzero(status)[0][0])
             check(int(status[i]), context="eval(%r, %r)" % (us[i], vs[i]))
         return out[0] if scalar else out.reshape(shape + (3,))
 
@@ -489,7 +493,7 @@ def read_json(path_or_text, source_name=None):
 def tessellate(surfaces, tolerance=0.0, mode="adaptive", grid=(8, 8), per_surface=False,
                angle_degrees=0.0, attributes=("normal", "uv"), uv_normalized=False,
                no_weld=False, keep_orientation=False, check_subdivisions=0, max_triangles=0,
-               normal_weld_degrees=0.0):
+               normal_weld_degrees=0.0, progress=None):
     """Crack-free triangulation of one NurbsSurface or a list of them
     (geom_surface_tessellate), welded along shared boundaries.
 
@@ -500,7 +504,10 @@ def tessellate(surfaces, tolerance=0.0, mode="adaptive", grid=(8, 8), per_surfac
     among "normal", "uv", "tangent", and "source" (a face channel with the
     surface index). normal_weld_degrees: the corner normals of a vertex
     within this angle become one (0: the library's default, 0.01 degree;
-    negative: never).
+    negative: never). progress: a callable given the fraction (0..1] of
+    each pass's cells done (adaptive tessellation runs several passes; see
+    geom_surface_tess_options.progress); an exception it raises is raised
+    after the tessellation.
 
     Returns (mesh, report): report has the sampled error against the exact
     surfaces (max_error, mean_error, method, evaluations) and the
@@ -528,6 +535,8 @@ def tessellate(surfaces, tolerance=0.0, mode="adaptive", grid=(8, 8), per_surfac
     opt.check_subdivisions = int(check_subdivisions)
     opt.max_triangles = int(max_triangles)
     opt.normal_weld_degrees = float(normal_weld_degrees)
+    prog = Progress(progress)
+    prog.install(opt)
     mesh = Mesh()
     rep = ffi.new("geom_error_report *")
     stats = ffi.new("geom_surface_tess_stats *")
@@ -536,6 +545,9 @@ def tessellate(surfaces, tolerance=0.0, mode="adaptive", grid=(8, 8), per_surfac
     if st != 0:
         mesh.close()
         check(st, diag, context="tessellate")
+    if prog.error is not None:
+        mesh.close()
+        prog.reraise()
     report = error_report(rep)
     report["stats"] = struct_dict(stats[0], "geom_surface_tess_stats")
     del surfaces

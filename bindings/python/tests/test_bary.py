@@ -145,3 +145,52 @@ def test_interpolate():
     assert np.allclose(bary.interpolate([0.2, 0.3, 0.5], attr), [0.2 + 0.6 + 1.5, 23])
     W = np.random.default_rng(15).random((10, 3))
     assert np.allclose(bary.interpolate(W, attr), W @ attr)
+
+
+def test_shared_simplex_batch_edges():
+    """One triangle (tetrahedron) for many points takes the lane loop: every
+    row equals the single-point call bitwise (tri2) or within the stated
+    accuracy (tet), exact zeros and ones on edges and vertices in any row of
+    a block, a NaN row raises naming it or is NaN alone, a degenerate
+    simplex raises."""
+    a, b, c = np.array([0.1, 0.2]), np.array([3.7, 0.2]), np.array([0.1, 5.3])
+    rng = np.random.default_rng(20)
+    p = rng.uniform(-1, 5, (203, 2))          # 12 full blocks of 16 and a tail
+    p[17] = a                                  # a vertex inside a block
+    p[64] = [(0.1 + 3.7) / 2, 0.2]             # on edge ab at a block start
+    p[202] = c                                 # the tail
+    l = bary.tri2(a, b, c, p)
+    for i in (0, 15, 16, 17, 63, 64, 65, 200, 202):
+        assert np.array_equal(l[i], bary.tri2(a, b, c, p[i]))
+    assert list(l[17]) == [1.0, 0.0, 0.0] and list(l[202]) == [0.0, 0.0, 1.0]
+    assert l[64][2] == 0.0
+    q = p.copy()
+    q[33, 1] = np.nan
+    with pytest.raises(geom.GeomError, match=r"row 33") as info:
+        bary.tri2(a, b, c, q)
+    assert info.value.code == "ERR_INVALID_ARG"
+    ln = bary.tri2(a, b, c, q, errors="nan")
+    assert np.isnan(ln[33]).all()
+    keep = np.arange(len(p)) != 33
+    assert np.array_equal(ln[keep], l[keep])
+    with pytest.raises(geom.GeomError) as info:
+        bary.tri2([0, 0], [1, 1], [2, 2], p)   # collinear: every row
+    assert info.value.code == "ERR_DEGENERATE" and "row 0" in str(info.value)
+    assert np.isnan(bary.tri2([0, 0], [1, 1], [2, 2], p, errors="nan")).all()
+    with pytest.raises(geom.GeomError):
+        bary.tri2(a, b, [np.nan, 0.0], p)      # NaN vertex
+    T = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=float) + 1e8
+    x = rng.uniform(-0.5, 1, (99, 3)) + 1e8
+    x[5] = T[2]
+    x[40] = (T[0] + T[1] + T[3]) / 3           # on the face opposite vertex 2
+    x[70, 0] = np.inf
+    lt = bary.tet(*T, x, errors="nan")
+    assert list(lt[5]) == [0.0, 0.0, 1.0, 0.0] and lt[40][2] == 0.0
+    assert np.isnan(lt[70]).all() and not np.isnan(np.delete(lt, 70, axis=0)).any()
+    for i in (0, 5, 16, 40, 98):
+        assert np.allclose(lt[i], bary.tet(*T, x[i]), rtol=5e-13, atol=0)
+    with pytest.raises(geom.GeomError, match=r"row 70"):
+        bary.tet(*T, x)
+    with pytest.raises(geom.GeomError) as info:
+        bary.tet(T[0], T[1], T[2], T[0] + T[1] - T[2], x)   # coplanar
+    assert info.value.code == "ERR_DEGENERATE"

@@ -101,3 +101,50 @@ def test_invalid_curves_and_domain():
     assert np.allclose(c.derivs(1.0, 1)[1], [1, -1])
     assert np.allclose(c.derivs(1.0, 1, left=True)[1], [1, 1])
     assert np.allclose(c(2.5, wrap=True), c(0.5))
+
+
+def test_eval_batch_matches_single_and_raises_on_nan():
+    """The batch evaluation equals the scalar one bitwise in every row
+    (blocks of one span and mixed spans, a tail block), exact control
+    points at the clamped ends; a NaN parameter raises naming it, one
+    outside the domain raises ERR_DOMAIN."""
+    rng = np.random.default_rng(30)
+    knots = np.concatenate([[0] * 4, [0.2, 0.5, 0.5, 0.9], [1] * 4])
+    P = rng.normal(size=(8, 3))
+    w = rng.uniform(0.5, 2, 8)
+    for crv in (geom.curve.NurbsCurve(3, knots, P), geom.curve.NurbsCurve(3, knots, P, w)):
+        u = np.concatenate([rng.uniform(0, 1, 250), knots, np.full(37, 0.3)])
+        X = crv.eval(u)
+        for i in range(0, u.size, 7):
+            assert np.array_equal(X[i], crv.eval(u[i]))
+        assert np.array_equal(crv.eval([0.0, 1.0]), P[[0, -1]])
+        with pytest.raises(geom.GeomError, match="nan") as info:
+            crv.eval(np.concatenate([u, [np.nan]]))
+        assert info.value.code == "ERR_INVALID_ARG"
+        with pytest.raises(geom.GeomError) as info:
+            crv.eval([0.5, 1.5])
+        assert info.value.code == "ERR_DOMAIN"
+
+
+def test_polyline_estimate_bounds_the_count():
+    """polyline_estimate is at least the polyline's count for polynomial
+    curves (a bound) and says it is only an estimate for rational ones."""
+    rng = np.random.default_rng(31)
+    for trial in range(40):
+        p = 1 + trial % 4
+        n = p + 1 + trial % 5
+        knots = np.concatenate([[0] * (p + 1), np.sort(rng.uniform(0, 1, n - p - 1)),
+                                [1] * (p + 1)])
+        crv = geom.curve.NurbsCurve(p, knots, rng.normal(size=(n, 2)))
+        for tol in (0.0, 1e-2, 1e-5):
+            est, is_bound = crv.polyline_estimate(tol)
+            assert is_bound and est >= len(crv.polyline(tol)[0])
+    s = np.sqrt(0.5)
+    circle = geom.curve.NurbsCurve(
+        2, [0, 0, 0, .25, .25, .5, .5, .75, .75, 1, 1, 1],
+        [[1, 0], [1, 1], [0, 1], [-1, 1], [-1, 0], [-1, -1], [0, -1], [1, -1], [1, 0]],
+        [1, s, 1, s, 1, s, 1, s, 1])
+    est, is_bound = circle.polyline_estimate(1e-3)
+    assert not is_bound and 1.0 <= est / len(circle.polyline(1e-3)[0]) <= 1.2
+    with pytest.raises(geom.GeomError):
+        circle.polyline_estimate(-1.0)

@@ -28,17 +28,9 @@ static void finish_row(geom_status st, double *out, size_t k, int32_t *status, s
         status[i] = (int32_t)st;
 }
 
-static inline double quot(double n, double d)
-{
-    double r = n / d;
-    if (r == 0.0 && n != 0.0)
-        r = copysign(DBL_TRUE_MIN, n) * copysign(1.0, d);
-    return r;
-}
-
 /* The filter of geom__bary_det2 without branches: 1 when x1*y2 - y1*x2 is
  * certified (an exact zero is left to the single-point function). */
-static inline int det2_ok(double x1, double y2, double y1, double x2, double *out)
+static inline int64_t det2_ok(double x1, double y2, double y1, double x2, double *out)
 {
     double t1 = x1 * y2, t2 = y1 * x2;
     double det = t1 - t2, sum = fabs(t1) + fabs(t2);
@@ -51,9 +43,20 @@ static inline int det2_ok(double x1, double y2, double y1, double x2, double *ou
  * branches, then its rows are checked only when one was not certified. */
 #define BLOCK 64
 
+/* A certified N is never 0: a zero quotient underflowed; keep its sign
+ * (IEEE gives the zero the quotient's sign). */
+static inline double keep_tiny(double q)
+{
+    return q == 0.0 ? copysign(DBL_TRUE_MIN, q) : q;
+}
+
 /* tri2 over n points p (stride sp) in the one triangle (a, b, c): the very
  * expressions of geom_bary_tri2 (bitwise the same results), with the
- * triangle's differences and D computed once. */
+ * triangle's differences and D computed once. Each block is gathered into
+ * lanes (px, py), computed lane by lane without branches (the loops the
+ * compiler vectorises; AVX2/AVX-512 clones), then stored; a block with an
+ * uncertified row sends that row through geom_bary_tri2. */
+GEOM_SIMD_CLONES
 static void tri2_shared(const double a[2], const double b[2], const double c[2], size_t n,
                         const double *p, size_t sp, double *out, int32_t *status, size_t *failed)
 {
@@ -62,34 +65,57 @@ static void tri2_shared(const double a[2], const double b[2], const double c[2],
     double d;
     int fast = geom__bary_finite(a, 2) && geom__bary_finite(b, 2) && geom__bary_finite(c, 2) &&
                geom__bary_det2(acx, bcy, acy, bcx, GEOM_BARY_REL, &d) && d != 0.0;
+    const double ax = a[0], ay = a[1], bx = b[0], by = b[1], cx = c[0], cy = c[1];
     for (size_t i0 = 0; i0 < n; i0 += BLOCK) {
         size_t m = n - i0 < BLOCK ? n - i0 : BLOCK;
-        int ok[BLOCK], all = fast;
+        int64_t ok[BLOCK];
+        int all = fast;
         if (fast) {
-            for (size_t j = 0; j < m; j++) {
-                const double *q = p + (i0 + j) * sp;
-                double *o = out + 3 * (i0 + j);
-                double pcx = q[0] - c[0], pcy = q[1] - c[1];
-                double apx = a[0] - q[0], apy = a[1] - q[1];
-                double bpx = b[0] - q[0], bpy = b[1] - q[1];
+            double px[BLOCK], py[BLOCK], l0[BLOCK], l1[BLOCK], l2[BLOCK];
+            for (size_t j = 0; j < BLOCK; j++) {
+                const double *q = p + (i0 + (j < m ? j : 0)) * sp;
+                px[j] = q[0];
+                py[j] = q[1];
+            }
+            int64_t acc = 1;
+            for (size_t j = 0; j < BLOCK; j++) {
+                double pcx = px[j] - cx, pcy = py[j] - cy;
+                double apx = ax - px[j], apy = ay - py[j];
+                double bpx = bx - px[j], bpy = by - py[j];
                 double n0, n1, n2;
                 ok[j] = det2_ok(pcx, bcy, pcy, bcx, &n0) & det2_ok(acx, pcy, acy, pcx, &n1) &
                         det2_ok(apx, bpy, apy, bpx, &n2);
-                o[0] = n0 / d;
-                o[1] = n1 / d;
-                o[2] = n2 / d;
-                all &= ok[j];
+                l0[j] = keep_tiny(n0 / d);
+                l1[j] = keep_tiny(n1 / d);
+                l2[j] = keep_tiny(n2 / d);
+                acc &= ok[j];
             }
+            all = (int)acc;
+            double *o = out + 3 * i0;
+            if (m == BLOCK) { /* a constant count vectorises (interleaving stores) */
+                for (size_t j = 0; j < BLOCK; j++) {
+                    o[3 * j] = l0[j];
+                    o[3 * j + 1] = l1[j];
+                    o[3 * j + 2] = l2[j];
+                }
+            } else {
+                for (size_t j = 0; j < m; j++) {
+                    o[3 * j] = l0[j];
+                    o[3 * j + 1] = l1[j];
+                    o[3 * j + 2] = l2[j];
+                }
+            }
+        }
+        if (all) {
+            if (status)
+                for (size_t j = 0; j < m; j++)
+                    status[i0 + j] = GEOM_OK;
+            continue;
         }
         for (size_t j = 0; j < m; j++) {
             size_t i = i0 + j;
             double *o = out + 3 * i;
-            if (all || (fast && ok[j])) {
-                /* a certified N is never 0: a zero quotient underflowed;
-                 * keep its sign (IEEE gives the zero the quotient's sign) */
-                for (int k = 0; k < 3; k++)
-                    if (o[k] == 0.0)
-                        o[k] = copysign(DBL_TRUE_MIN, o[k]);
+            if (fast && ok[j]) {
                 if (status)
                     status[i] = GEOM_OK;
                 continue;
@@ -102,7 +128,7 @@ static void tri2_shared(const double a[2], const double b[2], const double c[2],
 /* One 3x3 determinant expanded along the row r = (x, y, z) with the other
  * two rows' minors m and permanents pm fixed: the evaluation Shewchuk's
  * orient3d bound covers (any row order), so the same filter certifies it. */
-static inline int det3_row(double x, double y, double z, const double m[3], const double pm[3],
+static inline int64_t det3_row(double x, double y, double z, const double m[3], const double pm[3],
                            double *out)
 {
     double det = x * m[0] + y * m[1] + z * m[2];
@@ -138,6 +164,7 @@ static void sub3(const double a[3], const double b[3], double out[3])
  * the weights agree with geom_bary_tet's within its stated accuracy (the
  * rounding of a certified value may differ in the last bits), and every row
  * the filter cannot certify is geom_bary_tet's own result. */
+GEOM_SIMD_CLONES
 static void tet_shared(const double a[3], const double b[3], const double c[3],
                        const double d[3], size_t n, const double *p, size_t sp, double *out,
                        int32_t *status, size_t *failed)
@@ -156,25 +183,59 @@ static void tet_shared(const double a[3], const double b[3], const double c[3],
     double vol;
     int fast = geom__isfinite3(a) && geom__isfinite3(b) && geom__isfinite3(c) && geom__isfinite3(d) &&
                det3_row(ad[0], ad[1], ad[2], m[0], pm[0], &vol) && vol != 0.0;
-    for (size_t i = 0; i < n; i++) {
-        const double *q = p + i * sp;
-        double *o = out + 4 * i;
+    for (size_t i0 = 0; i0 < n; i0 += BLOCK) {
+        size_t mm = n - i0 < BLOCK ? n - i0 : BLOCK;
+        int64_t ok[BLOCK];
+        int all = fast;
         if (fast) {
-            double x = q[0] - d[0], y = q[1] - d[1], z = q[2] - d[2];
-            double xc = q[0] - c[0], yc = q[1] - c[1], zc = q[2] - c[2];
-            double n0, n1, n2, n3;
-            if (det3_row(x, y, z, m[0], pm[0], &n0) & det3_row(x, y, z, m[1], pm[1], &n1) &
-                det3_row(x, y, z, m[2], pm[2], &n2) & det3_row(xc, yc, zc, m[3], pm[3], &n3)) {
-                o[0] = quot(n0, vol);
-                o[1] = quot(n1, vol);
-                o[2] = quot(n2, vol);
-                o[3] = quot(n3, vol);
+            double px[BLOCK], py[BLOCK], pz[BLOCK], l[4][BLOCK];
+            for (size_t j = 0; j < BLOCK; j++) {
+                const double *q = p + (i0 + (j < mm ? j : 0)) * sp;
+                px[j] = q[0];
+                py[j] = q[1];
+                pz[j] = q[2];
+            }
+            int64_t acc = 1;
+            for (size_t j = 0; j < BLOCK; j++) {
+                double x = px[j] - d[0], y = py[j] - d[1], z = pz[j] - d[2];
+                double xc = px[j] - c[0], yc = py[j] - c[1], zc = pz[j] - c[2];
+                double n0, n1, n2, n3;
+                ok[j] = det3_row(x, y, z, m[0], pm[0], &n0) & det3_row(x, y, z, m[1], pm[1], &n1) &
+                        det3_row(x, y, z, m[2], pm[2], &n2) &
+                        det3_row(xc, yc, zc, m[3], pm[3], &n3);
+                l[0][j] = keep_tiny(n0 / vol);
+                l[1][j] = keep_tiny(n1 / vol);
+                l[2][j] = keep_tiny(n2 / vol);
+                l[3][j] = keep_tiny(n3 / vol);
+                acc &= ok[j];
+            }
+            all = (int)acc;
+            double *o = out + 4 * i0;
+            if (mm == BLOCK) /* a constant count vectorises (interleaving stores) */
+                for (size_t j = 0; j < BLOCK; j++)
+                    for (size_t k = 0; k < 4; k++)
+                        o[4 * j + k] = l[k][j];
+            else
+                for (size_t j = 0; j < mm; j++)
+                    for (size_t k = 0; k < 4; k++)
+                        o[4 * j + k] = l[k][j];
+        }
+        if (all) {
+            if (status)
+                for (size_t j = 0; j < mm; j++)
+                    status[i0 + j] = GEOM_OK;
+            continue;
+        }
+        for (size_t j = 0; j < mm; j++) {
+            size_t i = i0 + j;
+            double *o = out + 4 * i;
+            if (fast && ok[j]) {
                 if (status)
                     status[i] = GEOM_OK;
                 continue;
             }
+            finish_row(geom_bary_tet(a, b, c, d, p + i * sp, o), o, 4, status, i, failed);
         }
-        finish_row(geom_bary_tet(a, b, c, d, q, o), o, 4, status, i, failed);
     }
 }
 

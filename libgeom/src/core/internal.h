@@ -16,6 +16,27 @@
 #define GEOM_PRINTF(fmt, args)
 #endif
 
+/* Batch kernels whose lane loops vectorise are also compiled for AVX2 and
+ * AVX-512 and chosen when the library loads (ifunc), on x86-64 ELF with GCC
+ * or Clang. The build's -ffp-contract=off keeps every clone's results
+ * bitwise those of the baseline. Off under the sanitizers. */
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(undefined_behavior_sanitizer)
+#define GEOM__NO_CLONES 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__)
+#define GEOM__NO_CLONES 1
+#endif
+#if defined(__x86_64__) && defined(__ELF__) && defined(__has_attribute) && !defined(GEOM__NO_CLONES)
+#if __has_attribute(target_clones)
+#define GEOM_SIMD_CLONES __attribute__((target_clones("default", "avx2", "avx512f")))
+#endif
+#endif
+#ifndef GEOM_SIMD_CLONES
+#define GEOM_SIMD_CLONES
+#endif
+
 /* Fill d (if non-NULL) with status, source, line, column and a printf-style
  * message; returns status so callers can `return geom__diag_set(...)`. */
 geom_status geom__diag_set(geom_diag *d, geom_status status, const char *source, size_t line,

@@ -2,7 +2,6 @@
  * subdivided until every piece is within the tolerance of its chord. */
 #include "curve/bspline_basis.h"
 
-#define PL_MAX_DEPTH 50
 
 double geom_curve_segment_distance(size_t dim, const double *a, const double *b, const double *q)
 {
@@ -132,8 +131,8 @@ static void span_polyline(pl_ctx *x, double *stack, pl_piece *info, double *work
             return;
         }
         double m = 0.5 * (pc.a + pc.b);
-        if (e <= x->tol || pc.depth >= PL_MAX_DEPTH || !(m > pc.a && m < pc.b) ||
-            top + 2 > PL_MAX_DEPTH + 2) {
+        if (e <= x->tol || pc.depth >= GEOM__CURVE_PL_MAX_DEPTH || !(m > pc.a && m < pc.b) ||
+            top + 2 > GEOM__CURVE_PL_MAX_DEPTH + 2) {
             double E[GEOM_CURVE_MAX_DIM];
             to_euclid(x, b + (x->q1 - 1) * x->D, E);
             emit(x, pc.b, E);
@@ -159,6 +158,38 @@ static void span_polyline(pl_ctx *x, double *stack, pl_piece *info, double *work
     }
 }
 
+geom_status geom__curve_polyline_options(const geom_nurbs_curve *c,
+                                         const geom_curve_polyline_options *options,
+                                         geom_curve_polyline_options *opt, geom_diag *diag)
+{
+    geom_curve_polyline_options o = {0.0, 0, 0};
+    if (options)
+        o = *options;
+    if (!isfinite(o.tolerance) || o.tolerance < 0.0 ||
+        (o.method != 0 && o.method != GEOM_ERROR_BOUND && o.method != GEOM_ERROR_SAMPLED))
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: bad polyline options");
+    size_t dim = c->dim;
+    if (o.tolerance == 0.0) {
+        /* 1e-3 of the control box's diagonal, without overflow */
+        double lo[GEOM_CURVE_MAX_DIM], hi[GEOM_CURVE_MAX_DIM], zero[GEOM_CURVE_MAX_DIM] = {0};
+        for (size_t d = 0; d < dim; ++d) {
+            lo[d] = INFINITY;
+            hi[d] = -INFINITY;
+            for (size_t i = 0; i < c->n; ++i) {
+                lo[d] = fmin(lo[d], c->points[i * dim + d]);
+                hi[d] = fmax(hi[d], c->points[i * dim + d]);
+            }
+            hi[d] = 0.5 * hi[d] - 0.5 * lo[d]; /* half the extent */
+        }
+        o.tolerance = 2e-3 * geom_curve_segment_distance(dim, zero, zero, hi);
+        if (!(o.tolerance > 0.0))
+            o.tolerance = 1e-300; /* all control points coincide */
+    }
+    o.method = o.method == GEOM_ERROR_SAMPLED ? GEOM_ERROR_SAMPLED : GEOM_ERROR_BOUND;
+    *opt = o;
+    return GEOM_OK;
+}
+
 geom_status geom_curve_nurbs_polyline(const geom_nurbs_curve *c,
                                       const geom_curve_polyline_options *options, double *params,
                                       double *points, size_t capacity, size_t *count,
@@ -171,29 +202,11 @@ geom_status geom_curve_nurbs_polyline(const geom_nurbs_curve *c,
         return st;
     if (!count)
         return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: NULL count");
-    geom_curve_polyline_options opt = {0.0, 0, 0};
-    if (options)
-        opt = *options;
-    if (!isfinite(opt.tolerance) || opt.tolerance < 0.0 ||
-        (opt.method != 0 && opt.method != GEOM_ERROR_BOUND && opt.method != GEOM_ERROR_SAMPLED))
-        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: bad polyline options");
+    geom_curve_polyline_options opt;
+    st = geom__curve_polyline_options(c, options, &opt, diag);
+    if (st != GEOM_OK)
+        return st;
     size_t dim = c->dim, p = (size_t)c->degree;
-    if (opt.tolerance == 0.0) {
-        /* 1e-3 of the control box's diagonal, without overflow */
-        double lo[GEOM_CURVE_MAX_DIM], hi[GEOM_CURVE_MAX_DIM], zero[GEOM_CURVE_MAX_DIM] = {0};
-        for (size_t d = 0; d < dim; ++d) {
-            lo[d] = INFINITY;
-            hi[d] = -INFINITY;
-            for (size_t i = 0; i < c->n; ++i) {
-                lo[d] = fmin(lo[d], c->points[i * dim + d]);
-                hi[d] = fmax(hi[d], c->points[i * dim + d]);
-            }
-            hi[d] = 0.5 * hi[d] - 0.5 * lo[d]; /* half the extent */
-        }
-        opt.tolerance = 2e-3 * geom_curve_segment_distance(dim, zero, zero, hi);
-        if (!(opt.tolerance > 0.0))
-            opt.tolerance = 1e-300; /* all control points coincide */
-    }
     pl_ctx x;
     memset(&x, 0, sizeof x);
     x.dim = dim;
@@ -203,16 +216,16 @@ geom_status geom_curve_nurbs_polyline(const geom_nurbs_curve *c,
     x.points = points;
     x.capacity = capacity;
     x.max_points = opt.max_points ? opt.max_points : ((size_t)1 << 20);
-    x.method = opt.method == GEOM_ERROR_SAMPLED ? GEOM_ERROR_SAMPLED : GEOM_ERROR_BOUND;
+    x.method = opt.method;
     x.tol = opt.tolerance;
-    size_t P = x.q1 * x.D, nstack = PL_MAX_DEPTH + 4;
+    size_t P = x.q1 * x.D, nstack = GEOM__CURVE_PL_MAX_DEPTH + 4;
     geom__scratch sc;
     st = geom__scratch_init(&sc, nstack * P + P + geom__curve_span_bezier_work(c));
     if (st != GEOM_OK) {
         geom__scratch_free(&sc);
         return geom__diag_set(diag, st, NULL, 0, 0, "curve: out of memory");
     }
-    pl_piece info[PL_MAX_DEPTH + 4];
+    pl_piece info[GEOM__CURVE_PL_MAX_DEPTH + 4];
     double *stack = sc.mem, *work = sc.mem + nstack * P;
     int first = 1;
     for (size_t k = p; k < c->n && !x.overflow; ++k) {

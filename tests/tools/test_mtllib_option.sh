@@ -1,0 +1,50 @@
+#!/bin/bash
+# --mtllib FILE on the tools that write OBJ through cli_mesh: the output's
+# only mtllib line names FILE (whether or not it exists; the input's own
+# library is dropped), usemtl groups stay, other formats are unchanged,
+# standard output gets it too; a name OBJ cannot hold is a usage error
+# (exit 2). Without --mtllib the input's library is still kept only when it
+# is next to the output.
+# Usage: test_mtllib_option.sh DATA_DIR TOOL...   (geom-normals, geom-tangents,
+#        geom-clip, geom-subdivide: mesh in, mesh out; geom-tessellate: surfaces)
+set -u
+DATA=$1
+shift
+T=$(mktemp -d "${TMPDIR:-/tmp}/geom-mtllib-test.XXXXXX") || exit 1
+trap 'rm -rf "$T"' EXIT
+failures=0
+checks=0
+fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
+check() { checks=$((checks + 1)); "$@"; }
+cp "$DATA/cube_seams.obj" "$T/in.obj"
+mkdir -p "$T/out"
+for tool in "$@"; do
+    name=$(basename "$tool")
+    case "$name" in
+    geom-tessellate) in=("$DATA/teapot.bpt") ;;
+    geom-clip) in=("$T/in.obj" --plane 0,0,1,100) ;;
+    *) in=("$T/in.obj") ;;
+    esac
+    "$tool" "${in[@]}" --mtllib shiny.mtl -o "$T/out/a.obj" >"$T/log" 2>&1
+    check [ $? -eq 0 ] || fail "$name --mtllib: exit $? ($(cat "$T/log"))"
+    check [ "$(grep -c '^mtllib' "$T/out/a.obj")" = 1 ] || fail "$name: not one mtllib line"
+    check grep -qx 'mtllib shiny.mtl' "$T/out/a.obj" || fail "$name: mtllib shiny.mtl missing"
+    if [ "$name" != geom-tessellate ]; then
+        check grep -q '^usemtl' "$T/out/a.obj" || fail "$name: usemtl lost"
+        # without the option: the input's cube.mtl is not next to the output
+        "$tool" "${in[@]}" -o "$T/out/b.obj" >"$T/log" 2>&1
+        check grep -q '^mtllib' "$T/out/b.obj" && fail "$name: dangling mtllib kept"
+    fi
+    "$tool" "${in[@]}" --mtllib shiny.mtl -f obj -o - >"$T/out/c.obj" 2>"$T/log"
+    check [ "$(head -c 17 "$T/out/c.obj")" = "mtllib shiny.mtl" ] ||
+        fail "$name: stdout has no mtllib line first"
+    "$tool" "${in[@]}" --mtllib shiny.mtl -o "$T/out/d.ply" >"$T/log" 2>&1
+    check [ $? -eq 0 ] || fail "$name --mtllib with PLY output"
+    check grep -aq 'shiny' "$T/out/d.ply" && fail "$name: mtllib in a PLY"
+    "$tool" "${in[@]}" --mtllib 'two words.mtl' -o "$T/out/e.obj" >"$T/log" 2>&1
+    check [ $? -eq 2 ] || fail "$name: a name with a blank is not a usage error"
+    check grep -q 'blanks' "$T/log" || fail "$name: message does not say why"
+    check [ ! -e "$T/out/e.obj" ] || fail "$name: output written after a usage error"
+done
+echo "$checks checks, $failures failures"
+[ "$failures" -eq 0 ]
