@@ -203,5 +203,14 @@ expect_rc 2 "unknown output extension"
 run "$T/none.obj" -o "$T/x.glb"
 expect_rc 1 "missing input"
 
+# An invalid face: the library's hint (geom_diag.hint) becomes a tool hint;
+# geom-tangents has no --skip-invalid, so it names geom-convert's.
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\nf 1/1 2/1 2/1\n' >"$T/dup.obj"
+run "$T/dup.obj"
+expect_rc 1 "a face with a repeated vertex"
+checks=$((checks + 1))
+[ "$err" = "geom-tangents: $T/dup.obj:6: face 2: vertex 2 appears twice (again at corner 3): expected distinct vertices (geom-convert --skip-invalid can drop such faces first)" ] ||
+    fail "invalid-face hint: $err"
+
 echo "$checks checks, $failures failures"
 [ "$failures" -eq 0 ]

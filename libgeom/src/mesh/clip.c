@@ -777,16 +777,9 @@ static geom_status make_caps(clip_ctx *c, const double *snapped)
             int ona = a >= nv || c->sg[a] == 0, onb = bb >= nv || c->sg[bb] == 0;
             if (!ona || !onb)
                 continue;
-            if (b.nde + 1 > b.decap) {
-                size_t nc = b.decap ? 2 * b.decap : 256;
-                uint64_t *q = geom__realloc(al, b.de, b.decap * 8, nc * 8);
-                if (!q) {
-                    st = GEOM_ERR_NOMEM;
-                    goto done;
-                }
-                b.de = q;
-                b.decap = nc;
-            }
+            st = geom__grow(al, (void **)&b.de, &b.decap, b.nde + 1, sizeof *b.de);
+            if (st != GEOM_OK)
+                goto done;
             b.de[b.nde++] = ((uint64_t)a << 32) | bb;
         }
         base += n;

@@ -769,17 +769,9 @@ geom_status geom_mesh_corner_normals(geom_mesh *m, const geom_corner_normal_opti
             size_t i = (start + j) % k;
             if (hard[i] || !have_fan) {
                 have_fan = 1;
-                if (nfans + 1 > fans_cap) {
-                    size_t nc2 = fans_cap ? 2 * fans_cap : 1024;
-                    double *f2 = geom__realloc(al, fans, fans_cap * 3 * sizeof(double),
-                                              nc2 * 3 * sizeof(double));
-                    if (!f2) {
-                        st = GEOM_ERR_NOMEM;
-                        goto done;
-                    }
-                    fans = f2;
-                    fans_cap = nc2;
-                }
+                st = geom__grow(al, (void **)&fans, &fans_cap, nfans + 1, 3 * sizeof(double));
+                if (st != GEOM_OK)
+                    goto done;
                 cur = nfans++;
                 fans[3 * cur] = fans[3 * cur + 1] = fans[3 * cur + 2] = 0.0;
             }

@@ -126,14 +126,9 @@ typedef struct geom__hits {
 /* Append; returns 0 or -1 when out of memory. */
 static inline int geom__hits_push(geom__hits *hs, uint32_t idx, double d2)
 {
-    if (hs->n == hs->cap) {
-        size_t nc = hs->cap ? 2 * hs->cap : 64;
-        geom__hit *p = geom__realloc(hs->a, hs->h, hs->cap * sizeof *p, nc * sizeof *p);
-        if (!p)
-            return -1;
-        hs->h = p;
-        hs->cap = nc;
-    }
+    if (hs->n == hs->cap &&
+        geom__grow(hs->a, (void **)&hs->h, &hs->cap, hs->n + 1, sizeof *hs->h) != GEOM_OK)
+        return -1;
     hs->h[hs->n].d2 = d2;
     hs->h[hs->n].idx = idx;
     hs->h[hs->n].pad = 0;

@@ -93,14 +93,9 @@ static geom_status pool_add(geom__p21 *p, const char *s, size_t len, uint64_t *o
 {
     if (p->npool + len + 1 > UINT32_MAX)
         return GEOM_ERR_LIMIT;
-    while (p->npool + len + 1 > p->cappool) {
-        size_t nc = p->cappool ? 2 * p->cappool : 4096;
-        char *q = geom__realloc(p->alloc, p->pool, p->cappool, nc);
-        if (!q)
-            return GEOM_ERR_NOMEM;
-        p->pool = q;
-        p->cappool = nc;
-    }
+    geom_status st = geom__grow(p->alloc, (void **)&p->pool, &p->cappool, p->npool + len + 1, 1);
+    if (st != GEOM_OK)
+        return st;
     *off = p->npool;
     if (len)
         memcpy(p->pool + p->npool, s, len);
@@ -157,14 +152,9 @@ static int hexval(int c)
 /* Append code point cp as UTF-8 to buf (growable). */
 static geom_status put_utf8(lexer *L, char **buf, size_t *len, size_t *cap, uint32_t cp)
 {
-    if (*len + 4 >= *cap) {
-        size_t nc = *cap ? 2 * *cap : 256;
-        char *q = geom__realloc(L->p->alloc, *buf, *cap, nc);
-        if (!q)
-            return GEOM_ERR_NOMEM;
-        *buf = q;
-        *cap = nc;
-    }
+    geom_status st = geom__grow(L->p->alloc, (void **)buf, cap, *len + 5, 1);
+    if (st != GEOM_OK)
+        return st;
     char *o = *buf + *len;
     if (cp < 0x80) {
         o[0] = (char)cp;
@@ -348,14 +338,9 @@ static geom_status list(lexer *L, int depth)
     size_t cnt = L->ntmp - mark;
     if (p->nvals + cnt > UINT32_MAX - 1)
         return err(L, GEOM_ERR_LIMIT, "too many parameter values%s", NULL);
-    while (p->nvals + cnt > p->capvals) {
-        size_t nc = p->capvals ? 2 * p->capvals : 1024;
-        geom__p21_value *q = geom__realloc(p->alloc, p->vals, p->capvals * sizeof *q, nc * sizeof *q);
-        if (!q)
-            return GEOM_ERR_NOMEM;
-        p->vals = q;
-        p->capvals = nc;
-    }
+    st = geom__grow(p->alloc, (void **)&p->vals, &p->capvals, p->nvals + cnt, sizeof *p->vals);
+    if (st != GEOM_OK)
+        return st;
     geom__p21_value lv;
     memset(&lv, 0, sizeof lv);
     lv.kind = GEOM__P21_LIST;
