@@ -151,10 +151,26 @@ void geom__bs_ders(int p, const double *U, size_t k, double u, int nd, double *d
     for (int j = 0; j <= p; ++j)
         D(0, j) = NDU(j, p);
     int ne = nd < p ? nd : p;
-    for (int r = 0; r <= p; ++r) {
-        int s1 = 0, s2 = 1;
-        A(0, 0) = 1.0;
-        for (int kk = 1; kk <= ne; ++kk) {
+    /* Order 1 straight from the degree p-1 column (one division a term):
+     *   N'_r = p (N_{r-1,p-1} / (u_{k+r} - u_{k+r-p}) - N_{r,p-1} / (u_{k+r+1} - u_{k+r+1-p})).
+     * It is A2.3's first step with N/den in place of (1/den)*N, and the
+     * common case (points with first derivatives, normals) stops here. */
+    if (ne >= 1)
+        for (int r = 0; r <= p; ++r) {
+            double d = 0.0;
+            if (r > 0)
+                d += NDU(r - 1, p - 1) / NDU(p, r - 1);
+            if (r < p)
+                d -= NDU(r, p - 1) / NDU(p, r);
+            D(1, r) = d;
+        }
+    for (int r = 0; ne >= 2 && r <= p; ++r) {
+        /* A2.3 from order 2, its coefficients a_{1,j} set as its first step does */
+        int s1 = 1, s2 = 0;
+        A(1, 0) = r >= 1 ? 1.0 / NDU(p, r - 1) : 0.0;
+        if (r <= p - 1)
+            A(1, 1) = -1.0 / NDU(p, r);
+        for (int kk = 2; kk <= ne; ++kk) {
             double d = 0.0;
             int rk = r - kk, pk = p - kk;
             if (r >= kk) {

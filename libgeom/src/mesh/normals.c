@@ -93,17 +93,7 @@ static inline int normalize3(double v[3])
         v[2] *= inv;
         return 1;
     }
-    double mx = fmax(fabs(v[0]), fmax(fabs(v[1]), fabs(v[2])));
-    if (!(mx > 0.0) || !isfinite(mx)) {
-        v[0] = v[1] = v[2] = 0.0;
-        return 0;
-    }
-    double x = v[0] / mx, y = v[1] / mx, z = v[2] / mx;
-    double l = sqrt(x * x + y * y + z * z);
-    v[0] = x / l;
-    v[1] = y / l;
-    v[2] = z / l;
-    return 1;
+    return geom__mesh_normalize3(v);
 }
 
 /* The power of two that brings the extent of the live vertices (finite
