@@ -165,6 +165,11 @@ static inline double geom__r2_bound(double r)
 
 /* First non-finite point among n points of dimension dim, or n. */
 size_t geom__first_nonfinite(const double *p, size_t n, int dim);
+/* The checks of a radius query's arguments (kd-tree and octree): radius r
+ * finite and >= 0, every query finite. GEOM_OK or GEOM_ERR_INVALID_ARG with
+ * the reason in diag. */
+geom_status geom__radius_query_check(const double *queries, size_t nq, int dim, double r,
+                                     geom_diag *diag);
 
 /* ---- distance index over a triangle mesh (meshdist.c, winding.c) */
 typedef struct geom__dipole {

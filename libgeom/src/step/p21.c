@@ -149,6 +149,23 @@ static int hexval(int c)
     return -1;
 }
 
+/* The digits of an instance id after its '#' (already consumed). */
+static geom_status instance_id(lexer *L, uint64_t *out)
+{
+    uint64_t id = 0;
+    size_t d = 0;
+    while (peekc(L) >= '0' && peekc(L) <= '9') {
+        if (id > (UINT64_MAX - 9) / 10)
+            return err(L, GEOM_ERR_PARSE, "instance id too large%s", NULL);
+        id = id * 10 + (uint64_t)(peekc(L) - '0');
+        adv(L), d++;
+    }
+    if (d == 0)
+        return err(L, GEOM_ERR_PARSE, "'#' without an instance number%s", NULL);
+    *out = id;
+    return GEOM_OK;
+}
+
 /* Append code point cp as UTF-8 to buf (growable). */
 static geom_status put_utf8(lexer *L, char **buf, size_t *len, size_t *cap, uint32_t cp)
 {
@@ -426,17 +443,8 @@ static geom_status value(lexer *L, int depth)
         v.n = (uint32_t)(L->line > UINT32_MAX ? UINT32_MAX : L->line);
         v.off = L->col;
         adv(L);
-        uint64_t id = 0;
-        size_t d = 0;
-        while (peekc(L) >= '0' && peekc(L) <= '9') {
-            if (id > (UINT64_MAX - 9) / 10)
-                return err(L, GEOM_ERR_PARSE, "instance id too large%s", NULL);
-            id = id * 10 + (uint64_t)(peekc(L) - '0');
-            adv(L), d++;
-        }
-        if (d == 0)
-            return err(L, GEOM_ERR_PARSE, "'#' without an instance number%s", NULL);
-        v.u.ref = id;
+        if ((st = instance_id(L, &v.u.ref)) != GEOM_OK)
+            return st;
     } else if (c == '\'') {
         v.kind = GEOM__P21_STRING;
         if ((st = string_lit(L, &v.off, &v.n)) != GEOM_OK)
@@ -702,16 +710,9 @@ static geom_status parse_all(lexer *L)
             if (c == '#') {
                 size_t line = L->line, col = L->col;
                 adv(L);
-                uint64_t id = 0;
-                size_t d = 0;
-                while (peekc(L) >= '0' && peekc(L) <= '9') {
-                    if (id > (UINT64_MAX - 9) / 10)
-                        return err(L, GEOM_ERR_PARSE, "instance id too large%s", NULL);
-                    id = id * 10 + (uint64_t)(peekc(L) - '0');
-                    adv(L), d++;
-                }
-                if (d == 0)
-                    return err(L, GEOM_ERR_PARSE, "'#' without an instance number%s", NULL);
+                uint64_t id;
+                if ((st = instance_id(L, &id)) != GEOM_OK)
+                    return st;
                 if ((st = instance(L, id, line, col, 0)) != GEOM_OK)
                     return st;
             } else if (at(L, "ENDSEC")) {

@@ -1390,6 +1390,18 @@ static int sig_changed(const ts_cell *c, const uint32_t *old)
     return 0;
 }
 
+/* Triangulate c again, and check it again when its signature changed (or
+ * it was never checked). */
+static geom_status retriangulate(ts *T, ts_cell *c)
+{
+    uint32_t old[6];
+    memcpy(old, c->sig, sizeof old);
+    geom_status st = triangulate_cell(T, c);
+    if (st == GEOM_OK && (!c->checked || sig_changed(c, old)))
+        check_cell(T, c);
+    return st;
+}
+
 /* Weld the corner normals of each vertex that agree within the angle tol
  * (radians): corners of one vertex whose normals differ only by the
  * rounding of two patches' evaluations (a G1 seam) take the first such
@@ -1745,13 +1757,9 @@ static geom_status tessellate_unscaled(const geom_nurbs_surface *surfaces, size_
         int failing = 0;
         for (size_t i = 0; i < T.ncells; ++i) {
             ts_cell *c = &T.cells[i];
-            uint32_t old[6];
-            memcpy(old, c->sig, sizeof old);
-            st = triangulate_cell(&T, c);
+            st = retriangulate(&T, c);
             if (st != GEOM_OK)
                 goto fail;
-            if (!c->checked || sig_changed(c, old))
-                check_cell(&T, c);
             if (T.adaptive && (c->err > T.tol || (T.ang_tol > 0.0 && c->ang > T.ang_tol)))
                 failing = 1;
             if (o->progress)
@@ -1817,13 +1825,9 @@ static geom_status tessellate_unscaled(const geom_nurbs_surface *surfaces, size_
     size_t ecount = 0;
     for (size_t i = 0; i < T.ncells; ++i) {
         ts_cell *c = &T.cells[i];
-        uint32_t old[6];
-        memcpy(old, c->sig, sizeof old);
-        st = triangulate_cell(&T, c);
+        st = retriangulate(&T, c);
         if (st != GEOM_OK)
             goto fail;
-        if (!c->checked || sig_changed(c, old))
-            check_cell(&T, c);
         emax = fmax(emax, c->err);
         if (c->ecnt) /* weighted running mean of the cells' means */
             esum += (c->esum - esum) * ((double)c->ecnt / (double)(ecount + c->ecnt));
