@@ -16,6 +16,13 @@ expect_rc() { # STATUS WHAT
     checks=$((checks + 1))
     [ "$rc" -eq "$1" ] || fail "$2: exit status $rc, expected $1 (stderr: $err)"
 }
+expect_err() { # TEXT WHAT: stderr contains TEXT
+    checks=$((checks + 1))
+    case "$err" in
+    *"$1"*) ;;
+    *) fail "$2: stderr '$err' does not contain '$1'" ;;
+    esac
+}
 # pycheck WHAT ARGS... <<SCRIPT: run a Python check; it prints "ok".
 pycheck() {
     local what=$1
