@@ -259,33 +259,24 @@ void cli_print_escaped(FILE *fp, const char *s)
     }
 }
 
-/* Library messages that name an options field as a hint, and the tool
- * option that sets it: the tools' messages name the option. */
+/* The tool's own words for a library hint (geom_diag.hint): the option that
+ * does it, when this tool has that option, or else geom-convert's. */
 static const struct {
-    const char *field_hint, *option, *hint;
+    geom_diag_hint hint;
+    const char *option, *text, *elsewhere;
 } cli_hints[] = {
-    {"(set skip_invalid_faces to skip such faces)", "--skip-invalid",
-     "(--skip-invalid skips such faces)"},
+    {GEOM_DIAG_HINT_SKIP_INVALID_FACES, "--skip-invalid", "(--skip-invalid skips such faces)",
+     "(geom-convert --skip-invalid can drop such faces first)"},
 };
 
-/* msg with each library-field hint replaced by the tool's option (or, when
- * this tool lacks the option, by geom-convert's). */
-static void cli_rewrite_hints(const cli_tool *tool, char *msg, size_t size)
+static void cli_print_hint(const cli_tool *tool, geom_diag_hint h)
 {
     for (size_t i = 0; i < sizeof cli_hints / sizeof cli_hints[0]; i++) {
-        char *at = strstr(msg, cli_hints[i].field_hint);
-        if (!at)
+        if (cli_hints[i].hint != h)
             continue;
         const char *opts = tool->options_help ? tool->options_help : "";
-        char hint[160];
-        if (strstr(opts, cli_hints[i].option))
-            snprintf(hint, sizeof hint, "%s", cli_hints[i].hint);
-        else
-            snprintf(hint, sizeof hint, "(geom-convert %s can drop such faces first)",
-                     cli_hints[i].option);
-        char rest[1024];
-        snprintf(rest, sizeof rest, "%s", at + strlen(cli_hints[i].field_hint));
-        snprintf(at, size - (size_t)(at - msg), "%s%s", hint, rest);
+        fprintf(stderr, " %s",
+                strstr(opts, cli_hints[i].option) ? cli_hints[i].text : cli_hints[i].elsewhere);
     }
 }
 
@@ -304,8 +295,8 @@ int cli_print_diag(const cli_tool *tool, const geom_diag *d)
     /* Text from the input may be part of the message: escape what could
      * drive the terminal. */
     fprintf(stderr, "%s: ", tool->name);
-    cli_rewrite_hints(tool, big ? big : small, big ? need + 1 : sizeof small);
     cli_print_escaped(stderr, big ? big : small); /* small is truncated if big failed */
+    cli_print_hint(tool, d->hint);
     fputc('\n', stderr);
     free(big);
     return CLI_EXIT_ERROR;

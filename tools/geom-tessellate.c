@@ -205,48 +205,6 @@ static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
     return CLI_EXIT_USAGE;
 }
 
-/* The whole input ("-": standard input) into a malloc'd buffer. */
-static geom_status read_all(const char *path, char **data, size_t *size, const char **name,
-                            geom_diag *diag)
-{
-    cli_input in;
-    geom_status st = cli_input_open(&in, path, diag);
-    if (st != GEOM_OK)
-        return st;
-    *name = in.name;
-    size_t cap = 1 << 16, n = 0;
-    char *buf = malloc(cap);
-    while (buf) {
-        if (n == cap) {
-            char *q = cap > ((size_t)-1) / 4 ? NULL : realloc(buf, 2 * cap);
-            if (!q) {
-                free(buf);
-                buf = NULL;
-                break;
-            }
-            buf = q;
-            cap *= 2;
-        }
-        size_t got = fread(buf + n, 1, cap - n, in.fp);
-        n += got;
-        if (got == 0)
-            break;
-    }
-    if (!buf) {
-        cli_input_close(&in);
-        return cli_diag_set(diag, GEOM_ERR_NOMEM, path, 0, 0, "out of memory");
-    }
-    if (ferror(in.fp)) {
-        free(buf);
-        cli_input_close(&in);
-        return cli_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "read error");
-    }
-    cli_input_close(&in);
-    *data = buf;
-    *size = n;
-    return GEOM_OK;
-}
-
 static int ends_with(const char *s, const char *suffix)
 {
     size_t a = strlen(s), b = strlen(suffix);
@@ -261,12 +219,18 @@ static int ends_with(const char *s, const char *suffix)
 /* Surfaces from IN: JSON or .bpt. */
 static geom_status read_surfaces(const char *path, geom_surface_set **set, geom_diag *diag)
 {
-    char *data = NULL;
-    size_t size = 0;
-    const char *name = path;
-    geom_status st = read_all(path, &data, &size, &name, diag);
+    cli_input in;
+    geom_status st = cli_input_open(&in, path, diag);
     if (st != GEOM_OK)
         return st;
+    const char *name = in.name;
+    geom_file file;
+    st = cli_read_all(in.fp, name, &file, diag);
+    cli_input_close(&in);
+    if (st != GEOM_OK)
+        return st;
+    const char *data = (const char *)file.data;
+    size_t size = file.size;
     int json;
     if (ends_with(path, ".json"))
         json = 1;
@@ -294,7 +258,7 @@ static geom_status read_surfaces(const char *path, geom_surface_set **set, geom_
     } else {
         st = geom_surface_read_bpt_memory(data, size, name, NULL, set, diag);
     }
-    free(data);
+    geom_file_unmap(&file);
     return st;
 }
 

@@ -721,42 +721,12 @@ done:
 
 geom_status sj_read_file(const char *path, sj_file *out, geom_diag *diag)
 {
-    sj_ctx x = {path, diag, ""};
     if (out)
         memset(out, 0, sizeof *out);
-    FILE *fp = fopen(path, "rb");
-    if (!fp)
-        return sj_fail(&x, GEOM_ERR_IO, 0, 0, "cannot open: %s", strerror(errno));
-    errno = 0;
-    size_t cap = 1 << 16, n = 0;
-    char *buf = malloc(cap);
-    while (buf) {
-        if (n == cap) {
-            char *q = cap > ((size_t)-1) / 4 ? NULL : realloc(buf, 2 * cap);
-            if (!q) {
-                free(buf);
-                buf = NULL;
-                break;
-            }
-            buf = q;
-            cap *= 2;
-        }
-        size_t got = fread(buf + n, 1, cap - n, fp);
-        n += got;
-        if (got == 0)
-            break;
-    }
-    int err = ferror(fp) ? (errno ? errno : EIO) : 0;
-    fclose(fp);
-    if (!buf)
-        return sj_fail(&x, GEOM_ERR_NOMEM, 0, 0, "out of memory");
-    if (err) {
-        free(buf);
-        return sj_fail(&x, GEOM_ERR_IO, 0, 0, "%s",
-                       err == EISDIR ? "is a directory, not a file (expected an input file)"
-                                     : "read error");
-    }
-    geom_status st = sj_read_memory(buf, n, path, out, diag);
-    free(buf);
+    geom_file f;
+    geom_status st = geom_file_map(path, NULL, &f, diag);
+    if (st == GEOM_OK)
+        st = sj_read_memory((const char *)f.data, f.size, path, out, diag);
+    geom_file_unmap(&f);
     return st;
 }

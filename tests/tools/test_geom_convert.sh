@@ -308,5 +308,15 @@ expect_rc 0 "-o FILE"
 checks=$((checks + 1))
 [ "$(head -n 1 "$T/o.off")" = "OFF" ] || fail "-o FILE content"
 
+# An invalid face: the library's hint (geom_diag.hint) names the tool's option.
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2\n' >"$T/two.obj"
+run "$T/two.obj" "$T/two.off"
+expect_rc 1 "a face of two vertices"
+checks=$((checks + 1))
+[ "$err" = "geom-convert: $T/two.obj:5: face 2: expected at least 3 vertices, found 2 (--skip-invalid skips such faces)" ] ||
+    fail "invalid-face hint: $err"
+run --skip-invalid "$T/two.obj" "$T/two.off"
+expect_rc 0 "--skip-invalid"
+
 echo "$checks checks, $failures failures"
 [ "$failures" -eq 0 ]

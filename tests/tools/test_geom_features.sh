@@ -16,27 +16,7 @@ PY=${PYTHON3:-/usr/bin/python3}
 T=$(mktemp -d "${TMPDIR:-/tmp}/geom-features-test.XXXXXX") || exit 1
 trap 'rm -rf "$T"' EXIT
 
-failures=0
-checks=0
-fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
-run() {
-    "$TOOL" "$@" >"$T/stdout" 2>"$T/stderr"
-    rc=$?
-    out=$(cat "$T/stdout")
-    err=$(cat "$T/stderr")
-}
-expect_rc() {
-    checks=$((checks + 1))
-    [ "$rc" -eq "$1" ] || fail "$2: exit status $rc, expected $1 (stderr: $err)"
-}
-pycheck() {
-    local what=$1
-    shift
-    checks=$((checks + 1))
-    local res
-    res=$("$PY" - "$@" 2>&1) || { fail "$what: $res"; return; }
-    [ "$res" = "ok" ] || fail "$what: $res"
-}
+. "$(dirname "$0")/testlib.sh"
 
 cat >"$T/lines.py" <<'EOF'
 import math

@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "unit/test_util.h"
 #include "geom/mesh.h"
 
 static geom_mesh *mk(size_t nv, const double *xyz, size_t nf, const uint32_t *sizes,
@@ -169,40 +170,6 @@ static void test_strip(void **state)
 }
 
 /* ------------------------------------------------ allocation failures */
-
-/* A counting allocator that fails once `budget` allocations have been
- * made, and checks that every free names the size that was allocated. */
-typedef struct oom_state {
-    long budget; /* allocations left; < 0: unlimited */
-    long live;
-    int bad_free;
-} oom_state;
-
-static void *oom_alloc(void *user, size_t size)
-{
-    oom_state *s = user;
-    if (s->budget == 0)
-        return NULL;
-    if (s->budget > 0)
-        s->budget--;
-    size_t *p = malloc(size + 16);
-    if (!p)
-        return NULL;
-    p[0] = size;
-    s->live++;
-    return (char *)p + 16;
-}
-
-static void oom_free(void *user, void *ptr, size_t size)
-{
-    oom_state *s = user;
-    size_t *p = (size_t *)((char *)ptr - 16);
-    /* geom__alloc turns a 0-byte request into 1 byte */
-    if (p[0] != size && !(p[0] == 1 && size == 0))
-        s->bad_free = 1;
-    s->live--;
-    free(p);
-}
 
 static void test_out_of_memory(void **state)
 {

@@ -21,14 +21,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "unit/scene_testutil.h"
 #include "geom/scene.h"
 #include "geom/subdiv.h"
-
-static void assert_close(double x, double y, double tol)
-{
-    if (!(fabs(x - y) <= tol))
-        fail_msg("%.17g != %.17g (tol %g)", x, y, tol);
-}
 
 /* Quad z = 0 over [-1, 1]^2 (one face of 4 vertices) with uv = ((x+1)/4 +
  * 1/4, (y+1)/4 + 1/4), as a VERTEX channel or a CORNER channel. */
@@ -66,42 +61,14 @@ static geom_mesh *quad(int corner)
     return m;
 }
 
-static double uv_of(uint32_t x, uint32_t y, uint32_t c)
-{
-    return c == 0 ? (x + 0.5) / 64.0 : 1.0 - (y + 0.5) / 64.0;
-}
-
-static geom_texture *uv_texture(void)
-{
-    geom_image img = {0};
-    assert_int_equal(geom_scene_image_init(&img, 64, 64, 3, NULL), GEOM_OK);
-    for (uint32_t y = 0; y < 64; y++)
-        for (uint32_t x = 0; x < 64; x++)
-            for (uint32_t c = 0; c < 3; c++)
-                img.data[(y * 64 + x) * 3 + c] = uv_of(x, y, c);
-    geom_texture *tex;
-    assert_int_equal(geom_scene_texture_create(&img, GEOM_WRAP_CLAMP, NULL, &tex), GEOM_OK);
-    geom_scene_image_free(&img, NULL);
-    return tex;
-}
-
 static void check_quad(int corner, int transformed, int method, int via_ray_scene)
 {
     geom_texture *tex = uv_texture();
     geom_mesh *q = quad(corner);
-    geom_material mat = {0};
-    mat.ka = geom_vec3_make(1, 1, 1);
-    mat.texture = tex;
-    geom_light amb = {0};
-    amb.kind = GEOM_LIGHT_AMBIENT;
-    amb.color = geom_vec3_make(1, 1, 1);
-    geom_camera cam = {0};
-    cam.eye = geom_vec3_make(0.3, -2.2, 1.3);
-    cam.center = geom_vec3_make(0.1, 0.2, 0);
-    cam.up = geom_vec3_make(0, 0, 1);
-    cam.fovy_degrees = 50;
-    cam.width = 160;
-    cam.height = 120;
+    geom_material mat;
+    geom_light amb;
+    geom_camera cam;
+    textured_quad_view(tex, &mat, &amb, &cam);
     /* transformed: the quad built at z = 0 is moved up by 0.5 and scaled by
      * 2 in x; the analytic plane follows */
     geom_mat4 M = geom_mat4_mul(geom_mat4_translate(geom_vec3_make(0, 0, 0.5)),

@@ -14,15 +14,10 @@
 #include <math.h>
 #include <string.h>
 
+#include "unit/test_util.h"
 #include "geom/scene.h"
 
 #define M_PI 3.14159265358979323846
-
-static void assert_close(double x, double y, double tol)
-{
-    if (!(fabs(x - y) <= tol))
-        fail_msg("%.17g != %.17g (tol %g)", x, y, tol);
-}
 
 static void test_camera_ray_project(void **state)
 {

@@ -51,6 +51,10 @@ typedef enum geom_status {
 } geom_status;
 const char *geom_version_string(void);
 const char *geom_status_str(geom_status s);
+typedef enum geom_diag_hint {
+    GEOM_DIAG_HINT_NONE = 0,
+    GEOM_DIAG_HINT_SKIP_INVALID_FACES = 1
+} geom_diag_hint;
 typedef struct geom_diag {
     geom_status status;
     char message[GEOM_DIAG_MESSAGE_MAX];
@@ -58,6 +62,7 @@ typedef struct geom_diag {
     size_t line;
     size_t column;
     uint64_t byte_offset;
+    geom_diag_hint hint;
 } geom_diag;
 void geom_diag_clear(geom_diag *d);
 size_t geom_diag_format(const geom_diag *d, char *buf, size_t size);

@@ -74,10 +74,22 @@ GEOM_API const char *geom_status_str(geom_status s);
 #define GEOM_DIAG_MESSAGE_MAX 256
 
 /**
+ * What a caller could change to get past a failure, beside the message: the
+ * message itself names no option field, so a tool can name its own option.
+ */
+typedef enum geom_diag_hint {
+    GEOM_DIAG_HINT_NONE = 0, /**< nothing to suggest */
+    /** an invalid face (fewer than 3 vertices, a vertex repeated) stopped
+     *  reading a mesh; geom_mesh_build_options.skip_invalid_faces skips such
+     *  faces instead */
+    GEOM_DIAG_HINT_SKIP_INVALID_FACES = 1
+} geom_diag_hint;
+
+/**
  * Optional diagnostic receiver. Functions taking a `geom_diag *` accept NULL.
  * On failure they fill it: the status, a message, and where input is text or a
  * file, the source name, 1-based line and column (0 when unknown) or, for
- * binary input, the byte offset.
+ * binary input, the byte offset, and a geom_diag_hint.
  */
 typedef struct geom_diag {
     geom_status status;
@@ -86,6 +98,7 @@ typedef struct geom_diag {
     size_t line;                        /**< 1-based; 0 if not applicable */
     size_t column;                      /**< 1-based; 0 if not applicable */
     uint64_t byte_offset;               /**< for binary input; 0 if not applicable */
+    geom_diag_hint hint;                /**< GEOM_DIAG_HINT_NONE unless stated */
 } geom_diag;
 
 /** Reset a diagnostic to "no error". NULL is a no-op. */

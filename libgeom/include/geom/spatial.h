@@ -340,7 +340,11 @@ typedef struct geom_meshdist_options {
                                       tolerance; 0 = Barill's criterion alone
                                       (faster; the reported bound is then the
                                       sum of the accepted terms, rigorous but
-                                      pessimistic) */
+                                      pessimistic). Used by
+                                      geom_meshdist_winding only:
+                                      geom_meshdist_signed_distance ignores it
+                                      (its sign is exact, refined until
+                                      decided, so no tolerance applies) */
     int threads;                 /**< 0 = all available; results do not depend on it */
     const geom_allocator *alloc; /**< NULL = malloc */
 } geom_meshdist_options;
@@ -406,7 +410,7 @@ GEOM_API geom_status geom_meshdist_winding(const geom_meshdist *m, const double 
  * Signed distance: the closest-point distance, negative inside, inside
  * meaning winding number >= 1/2 (exactly 1/2 counts as inside). The sign is
  * that of the exact solid-angle sum: the fast approximation (Barill's
- * criterion; the tolerance option is not used here) is refined while its
+ * criterion; the tolerance option is ignored here) is refined while its
  * error bound straddles 1/2, always opening the approximated node with the
  * largest error term (a node's term uses the larger of R - r and the distance
  * to its box as the distance bound), and a query still undecided with every

@@ -68,9 +68,90 @@ static inline size_t geom__bs_ders_work(int p)
 /**
  * A2.3: ders[j*(p+1) + r] = j-th derivative of N_{k-p+r,p} at u, for
  * j = 0..nd (rows above p are zero). Row 0 equals geom__bs_basis.
+ * Inline: the hot callers (surface and curve evaluation) want it in place.
  */
-void geom__bs_ders(int p, const double *U, size_t k, double u, int nd, double *ders,
-                        double *work);
+static inline void geom__bs_ders(int p, const double *U, size_t k, double u, int nd,
+                                 double *ders, double *work)
+{
+    size_t q = (size_t)p + 1;
+    double *ndu = work;         /* ndu[j*q + r]: row j, column r */
+    double *left = ndu + q * q; /* q */
+    double *right = left + q;   /* q */
+    double *a = right + q;      /* 2 rows of q */
+#define NDU(j, r) ndu[(size_t)(j)*q + (size_t)(r)]
+#define A(s, j) a[(size_t)(s)*q + (size_t)(j)]
+#define D(kk, j) ders[(size_t)(kk)*q + (size_t)(j)]
+    NDU(0, 0) = 1.0;
+    for (int j = 1; j <= p; ++j) {
+        left[j] = u - U[k + 1 - (size_t)j];
+        right[j] = U[k + (size_t)j] - u;
+        double saved = 0.0;
+        for (int r = 0; r < j; ++r) {
+            NDU(j, r) = right[r + 1] + left[j - r]; /* lower triangle: knot differences */
+            double t = NDU(r, j - 1);
+            NDU(r, j) = saved + (right[r + 1] * t) / NDU(j, r);
+            saved = (left[j - r] * t) / NDU(j, r);
+        }
+        NDU(j, j) = saved;
+    }
+    for (int j = 0; j <= p; ++j)
+        D(0, j) = NDU(j, p);
+    int ne = nd < p ? nd : p;
+    /* Order 1 straight from the degree p-1 column (one division a term):
+     *   N'_r = p (N_{r-1,p-1} / (u_{k+r} - u_{k+r-p}) - N_{r,p-1} / (u_{k+r+1} - u_{k+r+1-p})).
+     * It is A2.3's first step with N/den in place of (1/den)*N, and the
+     * common case (points with first derivatives, normals) stops here. */
+    if (ne >= 1)
+        for (int r = 0; r <= p; ++r) {
+            double d = 0.0;
+            if (r > 0)
+                d += NDU(r - 1, p - 1) / NDU(p, r - 1);
+            if (r < p)
+                d -= NDU(r, p - 1) / NDU(p, r);
+            D(1, r) = d;
+        }
+    for (int r = 0; ne >= 2 && r <= p; ++r) {
+        /* A2.3 from order 2, its coefficients a_{1,j} set as its first step does */
+        int s1 = 1, s2 = 0;
+        A(1, 0) = r >= 1 ? 1.0 / NDU(p, r - 1) : 0.0;
+        if (r <= p - 1)
+            A(1, 1) = -1.0 / NDU(p, r);
+        for (int kk = 2; kk <= ne; ++kk) {
+            double d = 0.0;
+            int rk = r - kk, pk = p - kk;
+            if (r >= kk) {
+                A(s2, 0) = A(s1, 0) / NDU(pk + 1, rk);
+                d = A(s2, 0) * NDU(rk, pk);
+            }
+            int j1 = rk >= -1 ? 1 : -rk;
+            int j2 = (r - 1 <= pk) ? kk - 1 : p - r;
+            for (int j = j1; j <= j2; ++j) {
+                A(s2, j) = (A(s1, j) - A(s1, j - 1)) / NDU(pk + 1, rk + j);
+                d += A(s2, j) * NDU(rk + j, pk);
+            }
+            if (r <= pk) {
+                A(s2, kk) = -A(s1, kk - 1) / NDU(pk + 1, r);
+                d += A(s2, kk) * NDU(r, pk);
+            }
+            D(kk, r) = d;
+            int t = s1;
+            s1 = s2;
+            s2 = t;
+        }
+    }
+    double f = (double)p;
+    for (int kk = 1; kk <= ne; ++kk) {
+        for (int j = 0; j <= p; ++j)
+            D(kk, j) *= f;
+        f *= (double)(p - kk);
+    }
+    for (int kk = ne + 1; kk <= nd; ++kk)
+        for (int j = 0; j <= p; ++j)
+            D(kk, j) = 0.0;
+#undef NDU
+#undef A
+#undef D
+}
 
 /* ---------------------------------------------------- parameter reduction */
 

@@ -45,14 +45,11 @@ static geom_status read_all(int fd, const char *name, const geom_allocator *a, g
         return geom__diag_set(diag, GEOM_ERR_NOMEM, name, 0, 0, "out of memory reading the file");
     for (;;) {
         if (n == cap) {
-            unsigned char *q = cap > SIZE_MAX / 2 ? NULL : geom__realloc(a, buf, cap, cap * 2);
-            if (!q) {
+            geom_status st = geom__grow(a, (void **)&buf, &cap, n + 1, 1);
+            if (st != GEOM_OK) {
                 geom__free(a, buf, cap);
-                return geom__diag_set(diag, cap > SIZE_MAX / 2 ? GEOM_ERR_LIMIT : GEOM_ERR_NOMEM,
-                                     name, 0, 0, "out of memory reading the file");
+                return geom__diag_set(diag, st, name, 0, 0, "out of memory reading the file");
             }
-            buf = q;
-            cap *= 2;
         }
         ssize_t got = read(fd, buf + n, cap - n);
         if (got < 0 && errno == EINTR)

@@ -43,22 +43,9 @@ geom_status geom__mesh_pool_reserve(geom_mesh *m, geom__mesh_channel *c, size_t 
 {
     if (n <= c->data_cap)
         return GEOM_OK;
-    if (n > (size_t)UINT32_MAX - 1)
+    if (n > (size_t)UINT32_MAX - 1) /* pool values are indexed by uint32 */
         return GEOM_ERR_LIMIT;
-    size_t nc = c->data_cap < 16 ? 16 : c->data_cap;
-    while (nc < n)
-        nc = nc > SIZE_MAX / 4 ? n : nc * 2;
-    if (nc > (size_t)UINT32_MAX - 1)
-        nc = (size_t)UINT32_MAX - 1;
-    size_t ob = c->data_cap * c->ncomp * sizeof(double), nb;
-    if (geom__size_mul(nc, c->ncomp * sizeof(double), &nb) != GEOM_OK)
-        return GEOM_ERR_LIMIT;
-    double *d = geom__realloc(&m->alloc, c->data, ob, nb);
-    if (!d)
-        return GEOM_ERR_NOMEM;
-    c->data = d;
-    c->data_cap = nc;
-    return GEOM_OK;
+    return geom__grow(&m->alloc, (void **)&c->data, &c->data_cap, n, c->ncomp * sizeof(double));
 }
 
 size_t geom_mesh_channel_count(const geom_mesh *m) { return m ? m->n_channels : 0; }

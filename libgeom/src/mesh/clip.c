@@ -77,20 +77,6 @@ static inline void cross3(const double a[3], const double b[3], double out[3])
     out[1] = a[2] * b[0] - a[0] * b[2];
     out[2] = a[0] * b[1] - a[1] * b[0];
 }
-static inline int normalize3(double v[3])
-{
-    double mx = fmax(fabs(v[0]), fmax(fabs(v[1]), fabs(v[2])));
-    if (!(mx > 0.0) || !isfinite(mx)) {
-        v[0] = v[1] = v[2] = 0.0;
-        return 0;
-    }
-    double x = v[0] / mx, y = v[1] / mx, z = v[2] / mx;
-    double l = sqrt(x * x + y * y + z * z);
-    v[0] = x / l;
-    v[1] = y / l;
-    v[2] = z / l;
-    return 1;
-}
 
 /* The two ends of edge e: A = from(2e), B = to(2e); t of the cut from A. */
 static void cut_param(const clip_ctx *c, uint32_t e, uint32_t *A, uint32_t *B, double *t)
@@ -360,7 +346,7 @@ static geom_status clip_face(clip_ctx *c, const double *snapped, uint32_t f, fac
     double nf[3], dir[3];
     face_newell(m, snapped, f, nf);
     cross3(c->n, nf, dir);
-    int ok = normalize3(dir);
+    int ok = geom__mesh_normalize3(dir);
     tkey *keys = NULL;
     if (ok) {
         keys = geom__alloc(c->al, 2 * nch * sizeof(tkey));
@@ -718,9 +704,9 @@ static void plane_frame(const double nc[3], double u[3], double w[3])
         k = 2;
     a[k] = 1.0;
     cross3(a, nc, u); /* orthogonal to nc */
-    normalize3(u);
+    geom__mesh_normalize3(u);
     cross3(nc, u, w);
-    normalize3(w);
+    geom__mesh_normalize3(w);
 }
 
 typedef struct cap_bufs {
@@ -777,16 +763,9 @@ static geom_status make_caps(clip_ctx *c, const double *snapped)
             int ona = a >= nv || c->sg[a] == 0, onb = bb >= nv || c->sg[bb] == 0;
             if (!ona || !onb)
                 continue;
-            if (b.nde + 1 > b.decap) {
-                size_t nc = b.decap ? 2 * b.decap : 256;
-                uint64_t *q = geom__realloc(al, b.de, b.decap * 8, nc * 8);
-                if (!q) {
-                    st = GEOM_ERR_NOMEM;
-                    goto done;
-                }
-                b.de = q;
-                b.decap = nc;
-            }
+            st = geom__grow(al, (void **)&b.de, &b.decap, b.nde + 1, sizeof *b.de);
+            if (st != GEOM_OK)
+                goto done;
             b.de[b.nde++] = ((uint64_t)a << 32) | bb;
         }
         base += n;

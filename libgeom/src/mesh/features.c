@@ -160,17 +160,9 @@ geom_status geom_mesh_features(geom_mesh *m, const geom_feature_options *opt, ui
                     v = m->he_vertex[hb ^ 1u];
                 }
                 for (;;) {
-                    if (n + 2 > poly_cap) {
-                        size_t nc = poly_cap ? 2 * poly_cap : 64;
-                        uint32_t *p2 = geom__realloc(al, poly, poly_cap * sizeof(uint32_t),
-                                                    nc * sizeof(uint32_t));
-                        if (!p2) {
-                            st = GEOM_ERR_NOMEM;
-                            goto done;
-                        }
-                        poly = p2;
-                        poly_cap = nc;
-                    }
+                    st = geom__grow(al, (void **)&poly, &poly_cap, n + 2, sizeof(uint32_t));
+                    if (st != GEOM_OK)
+                        goto done;
                     poly[n++] = v;
                     used[e] = 1;
                     uint32_t w = m->he_vertex[he_from(m, e, v)];

@@ -237,4 +237,22 @@ size_t geom__mesh_input_corners(const geom_mesh *m, uint32_t f, uint32_t *out);
  * positions v[0], v[1], v[2], bit for bit (normals.c). */
 geom_status geom__mesh_triangle_normal(const double *const v[3], double out[3]);
 
+/* Normalise v in place, scaling by its largest component first so nothing
+ * overflows or underflows: (0,0,0) and 0 for a zero or non-finite vector, 1
+ * otherwise (normals.c, tangents.c, clip.c). */
+static inline int geom__mesh_normalize3(double v[3])
+{
+    double mx = fmax(fabs(v[0]), fmax(fabs(v[1]), fabs(v[2])));
+    if (!(mx > 0.0) || !isfinite(mx)) {
+        v[0] = v[1] = v[2] = 0.0;
+        return 0;
+    }
+    double x = v[0] / mx, y = v[1] / mx, z = v[2] / mx;
+    double l = sqrt(x * x + y * y + z * z);
+    v[0] = x / l;
+    v[1] = y / l;
+    v[2] = z / l;
+    return 1;
+}
+
 #endif

@@ -93,17 +93,7 @@ static inline int normalize3(double v[3])
         v[2] *= inv;
         return 1;
     }
-    double mx = fmax(fabs(v[0]), fmax(fabs(v[1]), fabs(v[2])));
-    if (!(mx > 0.0) || !isfinite(mx)) {
-        v[0] = v[1] = v[2] = 0.0;
-        return 0;
-    }
-    double x = v[0] / mx, y = v[1] / mx, z = v[2] / mx;
-    double l = sqrt(x * x + y * y + z * z);
-    v[0] = x / l;
-    v[1] = y / l;
-    v[2] = z / l;
-    return 1;
+    return geom__mesh_normalize3(v);
 }
 
 /* The power of two that brings the extent of the live vertices (finite
@@ -769,17 +759,9 @@ geom_status geom_mesh_corner_normals(geom_mesh *m, const geom_corner_normal_opti
             size_t i = (start + j) % k;
             if (hard[i] || !have_fan) {
                 have_fan = 1;
-                if (nfans + 1 > fans_cap) {
-                    size_t nc2 = fans_cap ? 2 * fans_cap : 1024;
-                    double *f2 = geom__realloc(al, fans, fans_cap * 3 * sizeof(double),
-                                              nc2 * 3 * sizeof(double));
-                    if (!f2) {
-                        st = GEOM_ERR_NOMEM;
-                        goto done;
-                    }
-                    fans = f2;
-                    fans_cap = nc2;
-                }
+                st = geom__grow(al, (void **)&fans, &fans_cap, nfans + 1, 3 * sizeof(double));
+                if (st != GEOM_OK)
+                    goto done;
                 cur = nfans++;
                 fans[3 * cur] = fans[3 * cur + 1] = fans[3 * cur + 2] = 0.0;
             }

@@ -57,20 +57,6 @@ static inline double dot3(const double a[3], const double b[3])
 {
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
-static inline int normalize3(double v[3])
-{
-    double mx = fmax(fabs(v[0]), fmax(fabs(v[1]), fabs(v[2])));
-    if (!(mx > 0.0) || !isfinite(mx)) {
-        v[0] = v[1] = v[2] = 0.0;
-        return 0;
-    }
-    double x = v[0] / mx, y = v[1] / mx, z = v[2] / mx;
-    double l = sqrt(x * x + y * y + z * z);
-    v[0] = x / l;
-    v[1] = y / l;
-    v[2] = z / l;
-    return 1;
-}
 /* v - (n.v) n, normalised (zero if that vanishes). n is unit or zero. */
 static inline void project_unit(const double v[3], const double n[3], double out[3])
 {
@@ -78,7 +64,7 @@ static inline void project_unit(const double v[3], const double n[3], double out
     out[0] = v[0] - d * n[0];
     out[1] = v[1] - d * n[1];
     out[2] = v[2] - d * n[2];
-    normalize3(out);
+    geom__mesh_normalize3(out);
 }
 
 /* A unit vector orthogonal to unit n (Duff et al., "Building an orthonormal
@@ -96,7 +82,7 @@ static void basis_from_normal(const double n[3], double t[3])
     t[0] = 1.0 + s * n[0] * n[0] * a;
     t[1] = s * b;
     t[2] = -s * n[0];
-    normalize3(t);
+    geom__mesh_normalize3(t);
 }
 
 typedef struct tan_ctx {
@@ -135,7 +121,7 @@ static void corner_normal(const tan_ctx *x, uint32_t h, double n[3])
         n[1] = x->fn[3 * (size_t)f + 1];
         n[2] = x->fn[3 * (size_t)f + 2];
     }
-    normalize3(n);
+    geom__mesh_normalize3(n);
 }
 
 /* Squared distance of two UVs / two positions. */
@@ -197,7 +183,7 @@ static void tri_setup(const tan_ctx *x, tri_info *t)
     double s = area2 > 0.0 ? 1.0 : -1.0;
     for (int k = 0; k < 3; k++)
         t->os[k] = s * (t31v * d1[k] - t21v * d2[k]);
-    if (normalize3(t->os))
+    if (geom__mesh_normalize3(t->os))
         t->any = 0;
 }
 

@@ -338,13 +338,9 @@ geom_status geom_kdtree_radius(const geom_kdtree *t, const double *queries, size
 {
     if (!t || !out || (nq && !queries))
         return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "radius query: NULL argument");
-    if (!(r >= 0) || !isfinite(r))
-        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
-                             "radius query: radius %g (must be finite and >= 0)", r);
-    size_t bad = geom__first_nonfinite(queries, nq, t->dim);
-    if (bad < nq)
-        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
-                             "radius query: query %zu has a NaN/Inf coordinate", bad);
+    geom_status st0 = geom__radius_query_check(queries, nq, t->dim, r, diag);
+    if (st0 != GEOM_OK)
+        return st0;
     rctx c = {t, queries, r, geom__r2_bound(r), NULL, NULL};
     geom_status st = geom__batch_rows(t->has_alloc ? &t->alloc : NULL, nq, radius_row, &c, threads, 1, out);
     if (st != GEOM_OK)

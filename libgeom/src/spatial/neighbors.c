@@ -58,6 +58,19 @@ size_t geom__first_nonfinite(const double *p, size_t n, int dim)
     return n;
 }
 
+geom_status geom__radius_query_check(const double *queries, size_t nq, int dim, double r,
+                                     geom_diag *diag)
+{
+    if (!(r >= 0) || !isfinite(r))
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+                             "radius query: radius %g (must be finite and >= 0)", r);
+    size_t bad = geom__first_nonfinite(queries, nq, dim);
+    if (bad < nq)
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+                             "radius query: query %zu has a NaN/Inf coordinate", bad);
+    return GEOM_OK;
+}
+
 typedef struct chunk {
     geom__hits hits;
     size_t counts[CHUNK];

@@ -66,24 +66,13 @@ static uint32_t new_nodes(bctx *c, uint32_t count)
 {
     geom_octree *t = c->t;
     const geom_allocator *a = geom__octree_alloc(t);
-    if (t->node_count + count > t->node_cap) {
-        size_t nc = t->node_cap ? t->node_cap : 64;
-        while (nc < t->node_count + count)
-            nc *= 2;
-        geom_octree_node *p = geom__realloc(a, t->nodes, t->node_cap * sizeof *p, nc * sizeof *p);
-        if (!p) {
-            c->st = GEOM_ERR_NOMEM;
-            return UINT32_MAX;
-        }
-        t->nodes = p;
-        uint64_t *q = geom__realloc(a, c->ncode, c->ncode_cap * sizeof *q, nc * sizeof *q);
-        if (!q) {
-            c->st = GEOM_ERR_NOMEM;
-            return UINT32_MAX;
-        }
-        c->ncode = q;
-        c->ncode_cap = nc;
-        t->node_cap = nc;
+    size_t need = t->node_count + count;
+    geom_status st = geom__grow(a, (void **)&t->nodes, &t->node_cap, need, sizeof *t->nodes);
+    if (st == GEOM_OK)
+        st = geom__grow(a, (void **)&c->ncode, &c->ncode_cap, need, sizeof *c->ncode);
+    if (st != GEOM_OK) {
+        c->st = st;
+        return UINT32_MAX;
     }
     uint32_t id = (uint32_t)t->node_count;
     t->node_count += count;

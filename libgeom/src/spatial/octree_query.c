@@ -109,13 +109,9 @@ geom_status geom_octree_radius(const geom_octree *t, const double *queries, size
     if (!t || !t->points || !out || (nq && !queries))
         return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                              "radius query: NULL argument or a tree of elements");
-    if (!(r >= 0) || !isfinite(r))
-        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
-                             "radius query: radius %g (must be finite and >= 0)", r);
-    size_t bad = geom__first_nonfinite(queries, nq, t->dim);
-    if (bad < nq)
-        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
-                             "radius query: query %zu has a NaN/Inf coordinate", bad);
+    geom_status st0 = geom__radius_query_check(queries, nq, t->dim, r, diag);
+    if (st0 != GEOM_OK)
+        return st0;
     qctx c;
     memset(&c, 0, sizeof c);
     c.t = t;

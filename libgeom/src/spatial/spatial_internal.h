@@ -126,14 +126,9 @@ typedef struct geom__hits {
 /* Append; returns 0 or -1 when out of memory. */
 static inline int geom__hits_push(geom__hits *hs, uint32_t idx, double d2)
 {
-    if (hs->n == hs->cap) {
-        size_t nc = hs->cap ? 2 * hs->cap : 64;
-        geom__hit *p = geom__realloc(hs->a, hs->h, hs->cap * sizeof *p, nc * sizeof *p);
-        if (!p)
-            return -1;
-        hs->h = p;
-        hs->cap = nc;
-    }
+    if (hs->n == hs->cap &&
+        geom__grow(hs->a, (void **)&hs->h, &hs->cap, hs->n + 1, sizeof *hs->h) != GEOM_OK)
+        return -1;
     hs->h[hs->n].d2 = d2;
     hs->h[hs->n].idx = idx;
     hs->h[hs->n].pad = 0;
@@ -170,6 +165,11 @@ static inline double geom__r2_bound(double r)
 
 /* First non-finite point among n points of dimension dim, or n. */
 size_t geom__first_nonfinite(const double *p, size_t n, int dim);
+/* The checks of a radius query's arguments (kd-tree and octree): radius r
+ * finite and >= 0, every query finite. GEOM_OK or GEOM_ERR_INVALID_ARG with
+ * the reason in diag. */
+geom_status geom__radius_query_check(const double *queries, size_t nq, int dim, double r,
+                                     geom_diag *diag);
 
 /* ---- distance index over a triangle mesh (meshdist.c, winding.c) */
 typedef struct geom__dipole {

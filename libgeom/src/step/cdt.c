@@ -10,11 +10,6 @@
 
 #include <string.h>
 
-static geom_status grow(const geom_allocator *a, void **p, size_t *cap, size_t need, size_t elem)
-{
-    return geom__grow(a, p, cap, need, elem);
-}
-
 void geom__cdt_free(geom__cdt *c)
 {
     geom__free(c->a, c->xy, c->capp * 2 * sizeof(double));
@@ -26,7 +21,7 @@ void geom__cdt_free(geom__cdt *c)
 
 static geom_status add_point(geom__cdt *c, double x, double y, int32_t *id)
 {
-    geom_status st = grow(c->a, (void **)&c->xy, &c->capp, c->np + 1, 2 * sizeof(double));
+    geom_status st = geom__grow(c->a, (void **)&c->xy, &c->capp, c->np + 1, 2 * sizeof(double));
     if (st)
         return st;
     c->xy[2 * c->np] = x;
@@ -37,10 +32,10 @@ static geom_status add_point(geom__cdt *c, double x, double y, int32_t *id)
 
 static geom_status new_tri(geom__cdt *c, int32_t a, int32_t b, int32_t d, int32_t *out)
 {
-    geom_status st = grow(c->a, (void **)&c->tri, &c->capt, c->nt + 1, sizeof(geom__cdt_tri));
+    geom_status st = geom__grow(c->a, (void **)&c->tri, &c->capt, c->nt + 1, sizeof(geom__cdt_tri));
     if (st)
         return st;
-    st = grow(c->a, (void **)&c->mark, &c->capmark, c->nt + 1, sizeof(uint32_t));
+    st = geom__grow(c->a, (void **)&c->mark, &c->capmark, c->nt + 1, sizeof(uint32_t));
     if (st)
         return st;
     geom__cdt_tri *t = &c->tri[c->nt];
@@ -160,7 +155,7 @@ geom_status geom__cdt_insert(geom__cdt *c, double x, double y, int32_t *vid)
      * without crossing constrained edges */
     c->stamp++;
     size_t ns = 0;
-    geom_status st = grow(c->a, (void **)&c->stack, &c->capstack, 1, sizeof(int32_t));
+    geom_status st = geom__grow(c->a, (void **)&c->stack, &c->capstack, 1, sizeof(int32_t));
     if (st)
         return st;
     c->stack[ns++] = t0;
@@ -174,7 +169,7 @@ geom_status geom__cdt_insert(geom__cdt *c, double x, double y, int32_t *vid)
                 continue;
             const geom__cdt_tri *U = &c->tri[u];
             if (geom_incircle(P(c, U->v[0]), P(c, U->v[1]), P(c, U->v[2]), q) > 0) {
-                if ((st = grow(c->a, (void **)&c->stack, &c->capstack, ns + 1, sizeof(int32_t))))
+                if ((st = geom__grow(c->a, (void **)&c->stack, &c->capstack, ns + 1, sizeof(int32_t))))
                     return st;
                 c->stack[ns++] = u;
                 c->mark[u] = c->stamp;
@@ -377,7 +372,7 @@ void geom__cdt_classify(geom__cdt *c)
             continue;
         if (T->v[0] < 3 || T->v[1] < 3 || T->v[2] < 3) {
             T->inside = 0;
-            if (grow(c->a, (void **)&c->stack, &c->capstack, ns + 1, sizeof(int32_t)))
+            if (geom__grow(c->a, (void **)&c->stack, &c->capstack, ns + 1, sizeof(int32_t)))
                 return;
             c->stack[ns++] = (int32_t)t;
         }
@@ -394,7 +389,7 @@ void geom__cdt_classify(geom__cdt *c)
             if (c->tri[t].con[k])
                 continue;
             c->tri[u].inside = c->tri[t].inside;
-            if (grow(c->a, (void **)&c->stack, &c->capstack, ns + 1, sizeof(int32_t)))
+            if (geom__grow(c->a, (void **)&c->stack, &c->capstack, ns + 1, sizeof(int32_t)))
                 return;
             c->stack[ns++] = u;
         }
@@ -407,7 +402,7 @@ void geom__cdt_classify(geom__cdt *c)
                     if (u < 0 || c->tri[u].dead || c->tri[u].inside != 2 || !c->tri[w].con[k])
                         continue;
                     c->tri[u].inside = (uint8_t)!c->tri[w].inside;
-                    if (grow(c->a, (void **)&c->stack, &c->capstack, ns + 1, sizeof(int32_t)))
+                    if (geom__grow(c->a, (void **)&c->stack, &c->capstack, ns + 1, sizeof(int32_t)))
                         return;
                     c->stack[ns++] = u;
                 }

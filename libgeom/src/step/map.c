@@ -1427,14 +1427,9 @@ static geom_status emit(mapper *M, walker *W, uint32_t body, const xform *X, dou
     for (size_t k = 0; k < W->nem; k++)
         if (W->em[k].body == body && xf_equal(&W->em[k].X, X))
             return GEOM_OK;
-    if (W->nem >= W->capem) {
-        size_t nc = W->capem ? 2 * W->capem : 16;
-        emitted *q = geom__realloc(M->a, W->em, W->capem * sizeof *q, nc * sizeof *q);
-        if (!q)
-            return GEOM_ERR_NOMEM;
-        W->em = q;
-        W->capem = nc;
-    }
+    geom_status st = geom__grow(M->a, (void **)&W->em, &W->capem, W->nem + 1, sizeof *W->em);
+    if (st != GEOM_OK)
+        return st;
     W->em[W->nem].body = body;
     W->em[W->nem].X = *X;
     W->em[W->nem].scale = scale;
@@ -1760,39 +1755,10 @@ GEOM_API geom_status geom_step_read(const char *path, const geom_step_read_optio
         *out = NULL;
     if (!path || !out)
         return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0, "NULL argument");
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return geom__diag_set(diag, GEOM_ERR_IO, path, 0, 0, "cannot open: %s", strerror(errno));
-    const geom_allocator *a = options ? options->alloc : NULL;
-    size_t cap = 1 << 16, n = 0;
-    char *buf = geom__alloc(a, cap);
-    geom_status st = buf ? GEOM_OK : GEOM_ERR_NOMEM;
-    size_t limit = options && options->max_bytes ? options->max_bytes : ((size_t)1 << 30);
-    while (!st) {
-        if (n == cap) {
-            if (cap > limit) {
-                st = geom__diag_set(diag, GEOM_ERR_LIMIT, path, 0, 0, "file larger than the limit");
-                break;
-            }
-            char *q = geom__realloc(a, buf, cap, 2 * cap);
-            if (!q) {
-                st = GEOM_ERR_NOMEM;
-                break;
-            }
-            buf = q;
-            cap *= 2;
-        }
-        size_t r = fread(buf + n, 1, cap - n, f);
-        n += r;
-        if (r == 0) {
-            if (ferror(f))
-                st = geom__diag_set(diag, GEOM_ERR_IO, path, 0, 0, "read error");
-            break;
-        }
-    }
-    fclose(f);
-    if (!st)
-        st = geom_step_read_memory(buf, n, path, options, out, diag);
-    geom__free(a, buf, cap);
+    geom_file f;
+    geom_status st = geom_file_map(path, options ? options->alloc : NULL, &f, diag);
+    if (!st) /* the parser checks max_bytes */
+        st = geom_step_read_memory(f.data, f.size, path, options, out, diag);
+    geom_file_unmap(&f);
     return st;
 }

@@ -93,14 +93,9 @@ static geom_status pool_add(geom__p21 *p, const char *s, size_t len, uint64_t *o
 {
     if (p->npool + len + 1 > UINT32_MAX)
         return GEOM_ERR_LIMIT;
-    while (p->npool + len + 1 > p->cappool) {
-        size_t nc = p->cappool ? 2 * p->cappool : 4096;
-        char *q = geom__realloc(p->alloc, p->pool, p->cappool, nc);
-        if (!q)
-            return GEOM_ERR_NOMEM;
-        p->pool = q;
-        p->cappool = nc;
-    }
+    geom_status st = geom__grow(p->alloc, (void **)&p->pool, &p->cappool, p->npool + len + 1, 1);
+    if (st != GEOM_OK)
+        return st;
     *off = p->npool;
     if (len)
         memcpy(p->pool + p->npool, s, len);
@@ -154,17 +149,29 @@ static int hexval(int c)
     return -1;
 }
 
+/* The digits of an instance id after its '#' (already consumed). */
+static geom_status instance_id(lexer *L, uint64_t *out)
+{
+    uint64_t id = 0;
+    size_t d = 0;
+    while (peekc(L) >= '0' && peekc(L) <= '9') {
+        if (id > (UINT64_MAX - 9) / 10)
+            return err(L, GEOM_ERR_PARSE, "instance id too large%s", NULL);
+        id = id * 10 + (uint64_t)(peekc(L) - '0');
+        adv(L), d++;
+    }
+    if (d == 0)
+        return err(L, GEOM_ERR_PARSE, "'#' without an instance number%s", NULL);
+    *out = id;
+    return GEOM_OK;
+}
+
 /* Append code point cp as UTF-8 to buf (growable). */
 static geom_status put_utf8(lexer *L, char **buf, size_t *len, size_t *cap, uint32_t cp)
 {
-    if (*len + 4 >= *cap) {
-        size_t nc = *cap ? 2 * *cap : 256;
-        char *q = geom__realloc(L->p->alloc, *buf, *cap, nc);
-        if (!q)
-            return GEOM_ERR_NOMEM;
-        *buf = q;
-        *cap = nc;
-    }
+    geom_status st = geom__grow(L->p->alloc, (void **)buf, cap, *len + 5, 1);
+    if (st != GEOM_OK)
+        return st;
     char *o = *buf + *len;
     if (cp < 0x80) {
         o[0] = (char)cp;
@@ -348,14 +355,9 @@ static geom_status list(lexer *L, int depth)
     size_t cnt = L->ntmp - mark;
     if (p->nvals + cnt > UINT32_MAX - 1)
         return err(L, GEOM_ERR_LIMIT, "too many parameter values%s", NULL);
-    while (p->nvals + cnt > p->capvals) {
-        size_t nc = p->capvals ? 2 * p->capvals : 1024;
-        geom__p21_value *q = geom__realloc(p->alloc, p->vals, p->capvals * sizeof *q, nc * sizeof *q);
-        if (!q)
-            return GEOM_ERR_NOMEM;
-        p->vals = q;
-        p->capvals = nc;
-    }
+    st = geom__grow(p->alloc, (void **)&p->vals, &p->capvals, p->nvals + cnt, sizeof *p->vals);
+    if (st != GEOM_OK)
+        return st;
     geom__p21_value lv;
     memset(&lv, 0, sizeof lv);
     lv.kind = GEOM__P21_LIST;
@@ -441,17 +443,8 @@ static geom_status value(lexer *L, int depth)
         v.n = (uint32_t)(L->line > UINT32_MAX ? UINT32_MAX : L->line);
         v.off = L->col;
         adv(L);
-        uint64_t id = 0;
-        size_t d = 0;
-        while (peekc(L) >= '0' && peekc(L) <= '9') {
-            if (id > (UINT64_MAX - 9) / 10)
-                return err(L, GEOM_ERR_PARSE, "instance id too large%s", NULL);
-            id = id * 10 + (uint64_t)(peekc(L) - '0');
-            adv(L), d++;
-        }
-        if (d == 0)
-            return err(L, GEOM_ERR_PARSE, "'#' without an instance number%s", NULL);
-        v.u.ref = id;
+        if ((st = instance_id(L, &v.u.ref)) != GEOM_OK)
+            return st;
     } else if (c == '\'') {
         v.kind = GEOM__P21_STRING;
         if ((st = string_lit(L, &v.off, &v.n)) != GEOM_OK)
@@ -717,16 +710,9 @@ static geom_status parse_all(lexer *L)
             if (c == '#') {
                 size_t line = L->line, col = L->col;
                 adv(L);
-                uint64_t id = 0;
-                size_t d = 0;
-                while (peekc(L) >= '0' && peekc(L) <= '9') {
-                    if (id > (UINT64_MAX - 9) / 10)
-                        return err(L, GEOM_ERR_PARSE, "instance id too large%s", NULL);
-                    id = id * 10 + (uint64_t)(peekc(L) - '0');
-                    adv(L), d++;
-                }
-                if (d == 0)
-                    return err(L, GEOM_ERR_PARSE, "'#' without an instance number%s", NULL);
+                uint64_t id;
+                if ((st = instance_id(L, &id)) != GEOM_OK)
+                    return st;
                 if ((st = instance(L, id, line, col, 0)) != GEOM_OK)
                     return st;
             } else if (at(L, "ENDSEC")) {

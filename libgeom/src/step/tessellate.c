@@ -563,6 +563,20 @@ typedef struct fpt {
     double off[3]; /* position - S(uv): the edge gap at a boundary point, else 0 */
 } fpt;
 
+/* Triangle t of C if it is alive and inside the face: its points V (from
+ * pts) and their positions X. 0 otherwise. */
+static int live_tri(const tess *T, const geom__cdt *C, const buf *pts, size_t t, fpt V[3],
+                    const double *X[3])
+{
+    if (C->tri[t].dead || !C->tri[t].inside)
+        return 0;
+    for (int k = 0; k < 3; k++) {
+        V[k] = ((const fpt *)pts->p)[C->tri[t].v[k]];
+        X[k] = posof(T, V[k].vid);
+    }
+    return 1;
+}
+
 /* The surface at the barycentric point bc of triangle V, displaced by the
  * corners' offsets interpolated alike: what the triangle is measured
  * against, so that an edge curve lying off its surface (the file's own
@@ -742,14 +756,10 @@ static geom_status mesh_face(tess *T, uint32_t fi, geom_brep_face_report *rep)
     for (int round = 0; round < 40 && !st; round++) {
         size_t inserted = 0, nt = C.nt;
         for (size_t t = 0; t < nt && !st; t++) {
-            if (C.tri[t].dead || !C.tri[t].inside)
-                continue;
             fpt V[3];
             const double *X[3];
-            for (int k = 0; k < 3; k++) {
-                V[k] = ((const fpt *)pts.p)[C.tri[t].v[k]];
-                X[k] = posof(T, V[k].vid);
-            }
+            if (!live_tri(T, &C, &pts, t, V, X))
+                continue;
             double err, best[2];
             int on_edge;
             tri_error(&F, V, X, &err, best, &on_edge);
@@ -836,14 +846,10 @@ static geom_status mesh_face(tess *T, uint32_t fi, geom_brep_face_report *rep)
     double ferr = 0;
     size_t ntri = 0;
     for (size_t t = 0; t < C.nt && !st; t++) {
-        if (C.tri[t].dead || !C.tri[t].inside)
-            continue;
         fpt V[3];
         const double *X[3];
-        for (int k = 0; k < 3; k++) {
-            V[k] = ((const fpt *)pts.p)[C.tri[t].v[k]];
-            X[k] = posof(T, V[k].vid);
-        }
+        if (!live_tri(T, &C, &pts, t, V, X))
+            continue;
         if (V[0].vid == V[1].vid || V[1].vid == V[2].vid || V[2].vid == V[0].vid)
             continue; /* collapsed at a pole */
         double err, best[2];

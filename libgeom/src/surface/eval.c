@@ -169,53 +169,6 @@ void geom__surface_span_point(const geom_nurbs_surface *s, size_t ku, size_t kv,
     combine_point(s, ku, kv, Nu, Nv, out);
 }
 
-/*
- * Basis functions and derivatives up to nd at u in span k (as
- * geom__bs_ders, ders[j*(p+1) + r]). For nd <= 1 -- the common case:
- * points with first derivatives, normals -- the degree p-1 column of the
- * triangle gives the first derivatives directly,
- *   N'_r = p (N_{r-1,p-1} / (u_{k+r} - u_{k+r-p}) - N_{r,p-1} / (u_{k+r+1} - u_{k+r+1-p})),
- * with row 0 computed exactly as geom__bs_basis does; higher orders
- * go through A2.3. work: geom__bs_ders_work(p).
- */
-static void basis_ders(int p, const double *U, size_t k, double u, int nd, double *ders,
-                       double *work)
-{
-    if (nd >= 2) {
-        geom__bs_ders(p, U, k, u, nd, ders, work);
-        return;
-    }
-    size_t q = (size_t)p + 1;
-    double *ndu = work, *left = ndu + q * q, *right = left + q;
-#define NDU(j, r) ndu[(size_t)(j)*q + (size_t)(r)]
-    NDU(0, 0) = 1.0;
-    for (int j = 1; j <= p; ++j) {
-        left[j] = u - U[k + 1 - (size_t)j];
-        right[j] = U[k + (size_t)j] - u;
-        double saved = 0.0;
-        for (int r = 0; r < j; ++r) {
-            double den = right[r + 1] + left[j - r];
-            NDU(j, r) = den;
-            double t = NDU(r, j - 1);
-            NDU(r, j) = saved + (right[r + 1] * t) / den;
-            saved = (left[j - r] * t) / den;
-        }
-        NDU(j, j) = saved;
-    }
-    for (int r = 0; r <= p; ++r)
-        ders[r] = NDU(r, p);
-    if (nd == 1)
-        for (int r = 0; r <= p; ++r) {
-            double d = 0.0;
-            if (r > 0)
-                d += NDU(r - 1, p - 1) / NDU(p, r - 1);
-            if (r < p)
-                d -= NDU(r, p - 1) / NDU(p, r);
-            ders[q + (size_t)r] = (double)p * d;
-        }
-#undef NDU
-}
-
 size_t geom__surface_derivs_work(const geom_nurbs_surface *s, int d)
 {
     size_t p1 = (size_t)s->degree_u + 1, q1 = (size_t)s->degree_v + 1;
@@ -240,8 +193,8 @@ void geom__surface_span_derivs(const geom_nurbs_surface *s, size_t ku, size_t kv
     double *bw = Nv + (size_t)(dv + 1) * q1;        /* basis work */
     double *net = bw + geom__bs_ders_work(pm); /* (du+1)(q+1)*4 */
     double *H = net + 4 * (size_t)(du + 1) * q1;    /* d1*d1*4 homogeneous table */
-    basis_ders(p, s->knots_u, ku, u, du, Nu, bw);
-    basis_ders(q, s->knots_v, kv, v, dv, Nv, bw);
+    geom__bs_ders(p, s->knots_u, ku, u, du, Nu, bw);
+    geom__bs_ders(q, s->knots_v, kv, v, dv, Nv, bw);
     size_t i0 = ku - (size_t)p, j0 = kv - (size_t)q, nv = s->nv;
     const double *Pref = s->points + 3 * (i0 * nv + j0);
     int rational = s->weights != NULL;

@@ -113,7 +113,7 @@ typedef struct ts {
     double *lu, *lv;
     uint32_t *lvert;
     double *lnorm;
-    size_t nloc, cap_loc;
+    size_t nloc, cap_lu, cap_lv, cap_lvert, cap_lnorm;
     /* triangles of the current cell (local sample indices) */
     uint32_t *ltri;
     size_t nltri, cap_ltri;
@@ -148,11 +148,6 @@ static void ts_free(ts *T, void *p, size_t n, size_t size)
     geom__free(T->alloc, p, (n ? n : 1) * size);
 }
 
-static geom_status ts_grow(ts *T, void **p, size_t *cap, size_t need, size_t size)
-{
-    return geom__grow(T->alloc, p, cap, need, size);
-}
-
 /* ----------------------------------------------------------------- pools */
 
 static geom_status pool_add(ts *T, ts_pool *P, const double *v, uint32_t *idx)
@@ -172,7 +167,7 @@ static geom_status pool_add(ts *T, ts_pool *P, const double *v, uint32_t *idx)
     if (P->n >= NONE32 - 1)
         return GEOM_ERR_LIMIT;
     size_t cap = P->cap;
-    geom_status st = ts_grow(T, (void **)&P->vals, &cap, (P->n + 1) * nc, sizeof(double));
+    geom_status st = geom__grow(T->alloc, (void **)&P->vals, &cap, (P->n + 1) * nc, sizeof(double));
     if (st != GEOM_OK)
         return st;
     P->cap = cap;
@@ -899,7 +894,7 @@ static geom_status add_vertex(ts *T, const double *p, uint32_t *id)
     if (T->nverts >= NONE32 - 1)
         return GEOM_ERR_LIMIT;
     geom_status st =
-        ts_grow(T, (void **)&T->pos, &T->cap_verts, 3 * (T->nverts + 1), sizeof(double));
+        geom__grow(T->alloc, (void **)&T->pos, &T->cap_verts, 3 * (T->nverts + 1), sizeof(double));
     if (st != GEOM_OK)
         return st;
     if (p)
@@ -982,27 +977,17 @@ static uint32_t edge_vertex(ts *T, const ts_edge *e, uint32_t k)
 
 static geom_status local_add(ts *T, double u, double v, uint32_t vert, uint32_t *idx)
 {
-    if (T->nloc >= T->cap_loc) {
-        size_t nc = T->cap_loc ? 2 * T->cap_loc : 256;
-        double *a = geom__realloc(T->alloc, T->lu, T->cap_loc * sizeof(double), nc * sizeof(double));
-        if (!a)
-            return GEOM_ERR_NOMEM;
-        T->lu = a;
-        double *b = geom__realloc(T->alloc, T->lv, T->cap_loc * sizeof(double), nc * sizeof(double));
-        if (!b)
-            return GEOM_ERR_NOMEM;
-        T->lv = b;
-        uint32_t *c =
-            geom__realloc(T->alloc, T->lvert, T->cap_loc * sizeof(uint32_t), nc * sizeof(uint32_t));
-        if (!c)
-            return GEOM_ERR_NOMEM;
-        T->lvert = c;
-        double *d = geom__realloc(T->alloc, T->lnorm, T->cap_loc * 6 * sizeof(double),
-                                 nc * 6 * sizeof(double));
-        if (!d)
-            return GEOM_ERR_NOMEM;
-        T->lnorm = d;
-        T->cap_loc = nc;
+    size_t need = T->nloc + 1;
+    if (need > T->cap_lnorm) { /* grown last: the four arrays hold need when it does */
+        geom_status st = geom__grow(T->alloc, (void **)&T->lu, &T->cap_lu, need, sizeof(double));
+        if (st == GEOM_OK)
+            st = geom__grow(T->alloc, (void **)&T->lv, &T->cap_lv, need, sizeof(double));
+        if (st == GEOM_OK)
+            st = geom__grow(T->alloc, (void **)&T->lvert, &T->cap_lvert, need, sizeof(uint32_t));
+        if (st == GEOM_OK)
+            st = geom__grow(T->alloc, (void **)&T->lnorm, &T->cap_lnorm, need, 6 * sizeof(double));
+        if (st != GEOM_OK)
+            return st;
     }
     T->lu[T->nloc] = u;
     T->lv[T->nloc] = v;
@@ -1015,7 +1000,7 @@ static geom_status local_tri(ts *T, uint32_t a, uint32_t b, uint32_t c)
 {
     if (T->lvert[a] == T->lvert[b] || T->lvert[b] == T->lvert[c] || T->lvert[a] == T->lvert[c])
         return GEOM_OK; /* on a collapsed edge */
-    geom_status st = ts_grow(T, (void **)&T->ltri, &T->cap_ltri, 3 * (T->nltri + 1),
+    geom_status st = geom__grow(T->alloc, (void **)&T->ltri, &T->cap_ltri, 3 * (T->nltri + 1),
                              sizeof(uint32_t));
     if (st != GEOM_OK)
         return st;
@@ -1324,12 +1309,12 @@ static geom_status emit_cell(ts *T, ts_cell *c, unsigned attrs, int uv_norm)
             st = GEOM_ERR_LIMIT;
             break;
         }
-        st = ts_grow(T, (void **)&T->tri, &T->cap_tri, 3 * (T->ntri + 1), sizeof(uint32_t));
+        st = geom__grow(T->alloc, (void **)&T->tri, &T->cap_tri, 3 * (T->ntri + 1), sizeof(uint32_t));
         if (st == GEOM_OK && attrs)
-            st = ts_grow(T, (void **)&T->tcorn, &T->cap_tcorn, 9 * (T->ntri + 1),
+            st = geom__grow(T->alloc, (void **)&T->tcorn, &T->cap_tcorn, 9 * (T->ntri + 1),
                          sizeof(uint32_t));
         if (st == GEOM_OK)
-            st = ts_grow(T, (void **)&T->tsurf, &T->cap_tsurf, T->ntri + 1, sizeof(uint32_t));
+            st = geom__grow(T->alloc, (void **)&T->tsurf, &T->cap_tsurf, T->ntri + 1, sizeof(uint32_t));
         if (st != GEOM_OK)
             break;
         T->tsurf[T->ntri] = T->surf[c->surf].orig;
@@ -1376,13 +1361,13 @@ static void ts_release(ts *T)
     if (T->pos)
         ts_free(T, T->pos, T->cap_verts, sizeof(double));
     if (T->lu)
-        ts_free(T, T->lu, T->cap_loc, sizeof(double));
+        ts_free(T, T->lu, T->cap_lu, sizeof(double));
     if (T->lv)
-        ts_free(T, T->lv, T->cap_loc, sizeof(double));
+        ts_free(T, T->lv, T->cap_lv, sizeof(double));
     if (T->lvert)
-        ts_free(T, T->lvert, T->cap_loc, sizeof(uint32_t));
+        ts_free(T, T->lvert, T->cap_lvert, sizeof(uint32_t));
     if (T->lnorm)
-        ts_free(T, T->lnorm, 6 * T->cap_loc, sizeof(double));
+        ts_free(T, T->lnorm, 6 * T->cap_lnorm, sizeof(double));
     if (T->ltri)
         ts_free(T, T->ltri, T->cap_ltri, sizeof(uint32_t));
     if (T->tri)
@@ -1403,6 +1388,18 @@ static int sig_changed(const ts_cell *c, const uint32_t *old)
         if (c->sig[k] != old[k])
             return 1;
     return 0;
+}
+
+/* Triangulate c again, and check it again when its signature changed (or
+ * it was never checked). */
+static geom_status retriangulate(ts *T, ts_cell *c)
+{
+    uint32_t old[6];
+    memcpy(old, c->sig, sizeof old);
+    geom_status st = triangulate_cell(T, c);
+    if (st == GEOM_OK && (!c->checked || sig_changed(c, old)))
+        check_cell(T, c);
+    return st;
 }
 
 /* Weld the corner normals of each vertex that agree within the angle tol
@@ -1760,13 +1757,9 @@ static geom_status tessellate_unscaled(const geom_nurbs_surface *surfaces, size_
         int failing = 0;
         for (size_t i = 0; i < T.ncells; ++i) {
             ts_cell *c = &T.cells[i];
-            uint32_t old[6];
-            memcpy(old, c->sig, sizeof old);
-            st = triangulate_cell(&T, c);
+            st = retriangulate(&T, c);
             if (st != GEOM_OK)
                 goto fail;
-            if (!c->checked || sig_changed(c, old))
-                check_cell(&T, c);
             if (T.adaptive && (c->err > T.tol || (T.ang_tol > 0.0 && c->ang > T.ang_tol)))
                 failing = 1;
             if (o->progress)
@@ -1832,13 +1825,9 @@ static geom_status tessellate_unscaled(const geom_nurbs_surface *surfaces, size_
     size_t ecount = 0;
     for (size_t i = 0; i < T.ncells; ++i) {
         ts_cell *c = &T.cells[i];
-        uint32_t old[6];
-        memcpy(old, c->sig, sizeof old);
-        st = triangulate_cell(&T, c);
+        st = retriangulate(&T, c);
         if (st != GEOM_OK)
             goto fail;
-        if (!c->checked || sig_changed(c, old))
-            check_cell(&T, c);
         emax = fmax(emax, c->err);
         if (c->ecnt) /* weighted running mean of the cells' means */
             esum += (c->esum - esum) * ((double)c->ecnt / (double)(ecount + c->ecnt));
