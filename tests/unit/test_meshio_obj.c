@@ -481,6 +481,46 @@ static void test_skip_invalid(void **state)
     geom_mesh_destroy(m);
 }
 
+/* Face locations are kept as runs of evenly stepping lines: an invalid face
+ * anywhere (after even gaps, uneven gaps, a step back to the same line
+ * through a continuation, and a run of one) is reported at its own line,
+ * counted here by brute force. */
+static void test_face_lines(void **state)
+{
+    (void)state;
+    /* gap pattern before each face: 0 = none, k = k comment lines */
+    static const int gaps[] = {0, 0, 0, 2, 2, 2, 0, 5, 1, 0, 0, 3, 0, 7, 7, 0, 1, 1, 1, 0};
+    const size_t nf = sizeof gaps / sizeof gaps[0];
+    char *text = malloc(8192);
+    assert_non_null(text);
+    for (size_t bad = 0; bad < nf; bad++) {
+        size_t n = 0, line = 0, bad_line = 0;
+        n += (size_t)sprintf(text + n, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n");
+        line = 4;
+        for (size_t f = 0; f < nf; f++) {
+            for (int g = 0; g < gaps[f]; g++, line++)
+                n += (size_t)sprintf(text + n, "# gap\n");
+            line++;
+            if (f == bad) {
+                bad_line = line;
+                n += (size_t)sprintf(text + n, "f 1 2 2\n");
+            } else {
+                n += (size_t)sprintf(text + n, "f %zu %zu 4\n", 1 + f % 2, 2 - f % 2);
+            }
+        }
+        geom_mesh *m = NULL;
+        geom_diag d;
+        geom_mesh_build_report r;
+        assert_int_equal(mt_read(text, n, GEOM_MESHIO_FORMAT_OBJ, 0, &m, &r, &d, NULL),
+                         GEOM_ERR_PARSE);
+        if (d.line != bad_line)
+            fprintf(stderr, "bad face %zu: line %zu, expected %zu\n", bad, d.line, bad_line);
+        assert_int_equal(d.line, bad_line);
+        assert_null(m);
+    }
+    free(text);
+}
+
 static void test_limits(void **state)
 {
     (void)state;
@@ -1007,6 +1047,7 @@ int main(void)
         cmocka_unit_test(test_osd_shapes),      cmocka_unit_test(test_format_names),
         cmocka_unit_test(test_atomic_write),    cmocka_unit_test(test_read_nomem),
         cmocka_unit_test(test_read_file_mapped), cmocka_unit_test(test_write_stream),
+        cmocka_unit_test(test_face_lines),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -473,7 +473,7 @@ geom_status geom__meshio_read_glb(mio_ctx *c, mio_soup *s)
         for (size_t t = 0; t < nidx / 3 && st == GEOM_OK; t++) {
             if (MIO_RESERVE(c->alloc, s->fidx, 3) != GEOM_OK ||
                 MIO_PUSH(c->alloc, s->fsize, 3) != GEOM_OK ||
-                MIO_PUSH(c->alloc, s->floc, (uint64_t)0) != GEOM_OK) {
+                mio_floc_push(c->alloc, s, 0) != GEOM_OK) {
                 st = GEOM_ERR_NOMEM;
                 break;
             }

@@ -171,11 +171,23 @@ typedef struct mio_tagrec {
 
 #define MIO_NOSTR SIZE_MAX
 
+/* Face locations (a line, or a byte offset in binary input), kept for
+ * diagnostics only, as runs of faces whose locations step evenly: faces
+ * face0, face0 + 1, ... (up to the next run's face0) are at loc0,
+ * loc0 + step, ... One run for a file whose faces are one a line (or one
+ * fixed-size record each), instead of 8 bytes a face at the build's peak. */
+typedef struct mio_locrun {
+    uint64_t loc0;
+    uint32_t face0, step;
+} mio_locrun;
+
 typedef struct mio_soup {
     MIO_ARR(double) pos;      /* 3 per vertex */
     MIO_ARR(uint32_t) fsize;  /* per face */
     MIO_ARR(uint32_t) fidx;   /* per corner */
-    MIO_ARR(uint64_t) floc;   /* per face: line (text) or byte offset (binary) */
+    MIO_ARR(mio_locrun) floc; /* face locations (mio_floc_push, geom__meshio_floc) */
+    size_t floc_n;            /* faces located so far */
+    uint64_t floc_last;       /* the last face's location */
     int loc_is_offset;
     mio_chan chan[MIO_MAX_CHANNELS];
     size_t nchan;
@@ -193,6 +205,37 @@ typedef struct mio_soup {
 
 void geom__meshio_soup_free(mio_soup *s, const geom_allocator *a);
 static inline size_t mio_soup_nv(const mio_soup *s) { return s->pos.n / 3; }
+
+/* Record the location of the next face (faces are located in order). */
+static inline geom_status mio_floc_push(const geom_allocator *a, mio_soup *s, uint64_t loc)
+{
+    size_t nr = s->floc.n;
+    if (nr) {
+        mio_locrun *r = &s->floc.p[nr - 1];
+        size_t in_run = s->floc_n - r->face0;
+        uint64_t d = loc - s->floc_last;
+        if (loc >= s->floc_last &&
+            (in_run == 1 ? d <= UINT32_MAX : d == r->step)) {
+            r->step = (uint32_t)d;
+            s->floc_last = loc;
+            s->floc_n++;
+            return GEOM_OK;
+        }
+    }
+    if (s->floc_n > UINT32_MAX)
+        return GEOM_ERR_LIMIT;
+    if (MIO_RESERVE(a, s->floc, 1) != GEOM_OK)
+        return GEOM_ERR_NOMEM;
+    mio_locrun *r = &s->floc.p[s->floc.n++];
+    r->loc0 = loc;
+    r->face0 = (uint32_t)s->floc_n;
+    r->step = 0;
+    s->floc_last = loc;
+    s->floc_n++;
+    return GEOM_OK;
+}
+/* The location of face f (< s->floc_n). */
+uint64_t geom__meshio_floc(const mio_soup *s, size_t f);
 /* The channel (name, domain), created with ncomp comps if absent; for VERTEX
  * and FACE channels created late, existing elements get `fill` (ncomp
  * values, NULL = zeros). NULL on NOMEM or when MIO_MAX_CHANNELS is reached. */

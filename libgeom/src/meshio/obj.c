@@ -343,7 +343,7 @@ static geom_status obj_face(obj_state *o, size_t pos, const char *kwt, int is_li
     if (s->fsize.n >= c->max_elements)
         return geom__meshio_check_count(c, s->fsize.n + 1, "faces", o->lineno, 0);
     if (MIO_PUSH(c->alloc, s->fsize, (uint32_t)n) != GEOM_OK ||
-        MIO_PUSH(c->alloc, s->floc, (uint64_t)o->lineno) != GEOM_OK)
+        mio_floc_push(c->alloc, s, (uint64_t)o->lineno) != GEOM_OK)
         return GEOM_ERR_NOMEM;
     return obj_group_face(o);
 }

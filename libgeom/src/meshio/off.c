@@ -382,7 +382,7 @@ geom_status geom__meshio_read_off(mio_ctx *c, mio_soup *s)
             fc->val.n += fcolor_n;
         }
         if (MIO_PUSH(c->alloc, s->fsize, (uint32_t)cnt) != GEOM_OK ||
-            MIO_PUSH(c->alloc, s->floc, (uint64_t)r.lineno) != GEOM_OK) {
+            mio_floc_push(c->alloc, s, (uint64_t)r.lineno) != GEOM_OK) {
             st = GEOM_ERR_NOMEM;
             goto done;
         }

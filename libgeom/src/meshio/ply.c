@@ -635,7 +635,7 @@ geom_status geom__meshio_read_ply(mio_ctx *c, mio_soup *s)
                     goto done;
                 }
                 if (MIO_PUSH(c->alloc, s->fsize, (uint32_t)nidx) != GEOM_OK ||
-                    MIO_PUSH(c->alloc, s->floc, loc) != GEOM_OK) {
+                    mio_floc_push(c->alloc, s, loc) != GEOM_OK) {
                     st = GEOM_ERR_NOMEM;
                     goto done;
                 }
