@@ -521,6 +521,42 @@ static void test_face_lines(void **state)
     free(text);
 }
 
+/* Integers are written digit pairs at a time: every length from 1 to 20
+ * digits, both sides of each power of ten, 0 and the int64 extremes, as
+ * printf writes them (tag integers go through the same printer as indices). */
+static void test_integer_text(void **state)
+{
+    (void)state;
+    int64_t v[64];
+    size_t n = 0;
+    v[n++] = 0;
+    v[n++] = INT64_MAX;
+    v[n++] = INT64_MIN;
+    v[n++] = INT64_MIN + 1;
+    int64_t p = 1;
+    for (int k = 0; k < 19; k++, p *= 10) {
+        v[n++] = p;
+        v[n++] = p - 1 > 0 ? p - 1 : 7;
+        v[n++] = -(p + 1);
+    }
+    geom_mesh *m = geom_mesh_create(NULL);
+    assert_non_null(m);
+    geom_mesh_tag t = {"ints", n, 0, 0, v, NULL, NULL};
+    assert_int_equal(geom_mesh_tag_add(m, &t), GEOM_OK);
+    size_t size;
+    char *data = mt_write(m, GEOM_MESHIO_FORMAT_OBJ, GEOM_MESHIO_ENCODING_DEFAULT, &size);
+    char want[2048];
+    size_t w = (size_t)snprintf(want, sizeof want, "t ints %zu/0/0", n);
+    for (size_t i = 0; i < n; i++)
+        w += (size_t)snprintf(want + w, sizeof want - w, " %lld", (long long)v[i]);
+    snprintf(want + w, sizeof want - w, "\n");
+    if (!strstr(data, want))
+        fprintf(stderr, "expected '%s' in\n%s\n", want, data);
+    assert_non_null(strstr(data, want));
+    geom_meshio_buffer_free(data, size, NULL);
+    geom_mesh_destroy(m);
+}
+
 static void test_limits(void **state)
 {
     (void)state;
@@ -1047,7 +1083,7 @@ int main(void)
         cmocka_unit_test(test_osd_shapes),      cmocka_unit_test(test_format_names),
         cmocka_unit_test(test_atomic_write),    cmocka_unit_test(test_read_nomem),
         cmocka_unit_test(test_read_file_mapped), cmocka_unit_test(test_write_stream),
-        cmocka_unit_test(test_face_lines),
+        cmocka_unit_test(test_face_lines),      cmocka_unit_test(test_integer_text),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

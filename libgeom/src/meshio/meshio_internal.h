@@ -288,6 +288,21 @@ static inline void mio_putc(mio_sink *k, char ch)
         geom__meshio_put(k, &ch, 1);
     }
 }
+/* Make room for `need` more bytes at k->buf + k->n (flushing a file sink,
+ * growing a memory sink); 0 when the sink has failed. */
+int geom__meshio_sink_make_room(mio_sink *k, size_t need);
+/* Room for need (<= 1024) bytes to be written at k->buf + k->n directly,
+ * then counted with mio_advance; 0 when the sink has failed. */
+static inline int mio_room(mio_sink *k, size_t need)
+{
+    return (k->cap - k->n >= need && k->status == GEOM_OK) ||
+           geom__meshio_sink_make_room(k, need);
+}
+static inline void mio_advance(mio_sink *k, size_t n)
+{
+    k->n += n;
+    k->total += n;
+}
 void geom__meshio_puts(mio_sink *k, const char *s);
 /* A finite double as text: geom_format_double_digits with k->precision (0:
  * the shortest that reads back exactly); non-finite: GEOM_ERR_INVALID_ARG. */
