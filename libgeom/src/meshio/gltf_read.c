@@ -349,7 +349,7 @@ geom_status geom__meshio_read_glb(mio_ctx *c, mio_soup *s)
     static const char *const chan_name[4] = {"normal", "uv", "tangent", "color"};
     static const size_t want_comp[4] = {3, 2, 4, 0};
     mio_chan *ch[4] = {NULL, NULL, NULL, NULL};
-    mio_hash hash;
+    geom__hindex hash;
     memset(&hash, 0, sizeof hash);
     MIO_ARR(uint32_t) remap;
     memset(&remap, 0, sizeof remap);

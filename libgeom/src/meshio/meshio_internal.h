@@ -21,7 +21,7 @@
 
 /* ------------------------------------------------------- growable arrays */
 
-/* Grow *p to at least `need` elements: core's geom__grow (core/grow.c). */
+/* Arrays grown through core's geom__grow (core/grow.c). */
 
 #define MIO_ARR(T)                                                                         \
     struct {                                                                               \
@@ -47,13 +47,6 @@
         (arr).p = NULL;                                                                    \
         (arr).n = (arr).cap = 0;                                                           \
     } while (0)
-
-/* ------------------------------------------------------------ hash index */
-
-/* The hash index and mixer are core's (core/hash.c); these names are kept
- * so that the readers and writers need not change (the lead's prefix sed
- * renames them to the core names). */
-typedef geom__hindex mio_hash;
 
 /* ---------------------------------------------------------------- numbers */
 
@@ -365,6 +358,15 @@ geom_status geom__meshio_export_build(mio_export *e, const geom_mesh *m,
                                       const uint32_t chan[MIO_NATTR],
                                       const geom_allocator *alloc, int triangulate);
 void geom__meshio_export_free(mio_export *e);
+/* The view the per-vertex text and binary writers (OFF, PLY) write: chan[]
+ * the normal (3+ components), uv (2+), color (3+) and, when `tangents`,
+ * tangent (3+) channels that opt->omit leaves (GEOM_INVALID_INDEX: not
+ * written), *fcol the FACE "color" channel (3+ components, or
+ * GEOM_INVALID_INDEX), e built over chan[] without triangulating. A failure
+ * fails the sink and is returned. */
+geom_status geom__meshio_export_prepare(mio_export *e, const geom_mesh *m,
+                                        const geom_meshio_write_options *opt, int tangents,
+                                        uint32_t chan[MIO_NATTR], uint32_t *fcol, mio_sink *k);
 /* The ncomp values of attribute a at output vertex k into out (zeros when
  * the corner has no value); returns the channel's ncomp (0 if no channel). */
 size_t geom__meshio_export_value(const mio_export *e, const geom_mesh *m, int a, size_t k,

@@ -21,7 +21,7 @@ typedef struct obj_state {
     int dirty;
     int have_groups;
     uint32_t cur_group;
-    mio_hash ghash;
+    geom__hindex ghash;
 } obj_state;
 
 static size_t col_of(const obj_state *o, const char *t) { return (size_t)(t - o->line) + 1; }

@@ -143,10 +143,7 @@ static geom_status validate_faces(mio_ctx *c, const mio_soup *s, size_t *n_inval
             bad = 1;
             if (!c->skip_invalid) {
                 char msg[160];
-                snprintf(msg, sizeof msg,
-                         "expected at least 3 vertices, found %zu (set skip_invalid_faces "
-                         "to skip such faces)",
-                         n);
+                snprintf(msg, sizeof msg, "expected at least 3 vertices, found %zu", n);
                 st = face_error(c, s, f, msg);
             }
             (*n_invalid)++;
@@ -169,7 +166,7 @@ static geom_status validate_faces(mio_ctx *c, const mio_soup *s, size_t *n_inval
                     char msg[160];
                     snprintf(msg, sizeof msg,
                              "vertex %zu appears twice (again at corner %zu): expected "
-                             "distinct vertices (set skip_invalid_faces to skip such faces)",
+                             "distinct vertices",
                              (size_t)v + 1, k + 1);
                     st = face_error(c, s, f, msg);
                 }

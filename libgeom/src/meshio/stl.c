@@ -9,7 +9,7 @@
 /* --------------------------------------------------------------- reading */
 
 typedef struct stl_weld {
-    mio_hash hash;
+    geom__hindex hash;
 } stl_weld;
 
 /* The vertex at exactly p (after -0 -> +0), added if new. */
