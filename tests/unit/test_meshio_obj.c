@@ -481,6 +481,82 @@ static void test_skip_invalid(void **state)
     geom_mesh_destroy(m);
 }
 
+/* Face locations are kept as runs of evenly stepping lines: an invalid face
+ * anywhere (after even gaps, uneven gaps, a step back to the same line
+ * through a continuation, and a run of one) is reported at its own line,
+ * counted here by brute force. */
+static void test_face_lines(void **state)
+{
+    (void)state;
+    /* gap pattern before each face: 0 = none, k = k comment lines */
+    static const int gaps[] = {0, 0, 0, 2, 2, 2, 0, 5, 1, 0, 0, 3, 0, 7, 7, 0, 1, 1, 1, 0};
+    const size_t nf = sizeof gaps / sizeof gaps[0];
+    char *text = malloc(8192);
+    assert_non_null(text);
+    for (size_t bad = 0; bad < nf; bad++) {
+        size_t n = 0, line = 0, bad_line = 0;
+        n += (size_t)sprintf(text + n, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n");
+        line = 4;
+        for (size_t f = 0; f < nf; f++) {
+            for (int g = 0; g < gaps[f]; g++, line++)
+                n += (size_t)sprintf(text + n, "# gap\n");
+            line++;
+            if (f == bad) {
+                bad_line = line;
+                n += (size_t)sprintf(text + n, "f 1 2 2\n");
+            } else {
+                n += (size_t)sprintf(text + n, "f %zu %zu 4\n", 1 + f % 2, 2 - f % 2);
+            }
+        }
+        geom_mesh *m = NULL;
+        geom_diag d;
+        geom_mesh_build_report r;
+        assert_int_equal(mt_read(text, n, GEOM_MESHIO_FORMAT_OBJ, 0, &m, &r, &d, NULL),
+                         GEOM_ERR_PARSE);
+        if (d.line != bad_line)
+            fprintf(stderr, "bad face %zu: line %zu, expected %zu\n", bad, d.line, bad_line);
+        assert_int_equal(d.line, bad_line);
+        assert_null(m);
+    }
+    free(text);
+}
+
+/* Integers are written digit pairs at a time: every length from 1 to 20
+ * digits, both sides of each power of ten, 0 and the int64 extremes, as
+ * printf writes them (tag integers go through the same printer as indices). */
+static void test_integer_text(void **state)
+{
+    (void)state;
+    int64_t v[64];
+    size_t n = 0;
+    v[n++] = 0;
+    v[n++] = INT64_MAX;
+    v[n++] = INT64_MIN;
+    v[n++] = INT64_MIN + 1;
+    int64_t p = 1;
+    for (int k = 0; k < 19; k++, p *= 10) {
+        v[n++] = p;
+        v[n++] = p - 1 > 0 ? p - 1 : 7;
+        v[n++] = -(p + 1);
+    }
+    geom_mesh *m = geom_mesh_create(NULL);
+    assert_non_null(m);
+    geom_mesh_tag t = {"ints", n, 0, 0, v, NULL, NULL};
+    assert_int_equal(geom_mesh_tag_add(m, &t), GEOM_OK);
+    size_t size;
+    char *data = mt_write(m, GEOM_MESHIO_FORMAT_OBJ, GEOM_MESHIO_ENCODING_DEFAULT, &size);
+    char want[2048];
+    size_t w = (size_t)snprintf(want, sizeof want, "t ints %zu/0/0", n);
+    for (size_t i = 0; i < n; i++)
+        w += (size_t)snprintf(want + w, sizeof want - w, " %lld", (long long)v[i]);
+    snprintf(want + w, sizeof want - w, "\n");
+    if (!strstr(data, want))
+        fprintf(stderr, "expected '%s' in\n%s\n", want, data);
+    assert_non_null(strstr(data, want));
+    geom_meshio_buffer_free(data, size, NULL);
+    geom_mesh_destroy(m);
+}
+
 static void test_limits(void **state)
 {
     (void)state;
@@ -1007,6 +1083,7 @@ int main(void)
         cmocka_unit_test(test_osd_shapes),      cmocka_unit_test(test_format_names),
         cmocka_unit_test(test_atomic_write),    cmocka_unit_test(test_read_nomem),
         cmocka_unit_test(test_read_file_mapped), cmocka_unit_test(test_write_stream),
+        cmocka_unit_test(test_face_lines),      cmocka_unit_test(test_integer_text),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

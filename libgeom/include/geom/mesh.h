@@ -213,18 +213,16 @@ typedef struct geom_mesh_build_options {
      *  linked is then detached as for non-manifold edges). */
     int keep_orientation;
     /**
-     * Nonzero: the input is known to be a valid oriented manifold polygon
-     * mesh (what the library's own tessellation, marching cubes, subdivision
-     * and clipping produce): every index in range, no repeated vertex in a
-     * face, every edge used by at most two faces and then in opposite
-     * directions, the faces around each vertex one fan. Every input is
-     * first built directly (halfedges linked as the faces give them, the
-     * edge pairing and the vertex fans checked on the way) and goes through
-     * the repair passes (validation, orientation, non-manifold edges and
-     * vertices) only when that check fails, so the flag changes no result:
-     * the direct build is the one the repairing build gives for such input,
-     * element for element, and the report says what a repair changed.
-     * Debug builds (NDEBUG undefined) validate every directly built result.
+     * Deprecated, ignored: kept so that code setting it still compiles, and
+     * to be removed in a later release. Every input is first built directly
+     * (halfedges linked as the faces give them, the edge pairing and the
+     * vertex fans checked on the way) and goes through the repair passes
+     * only when that check fails, so input that is already a valid oriented
+     * manifold (what the library's own tessellation, marching cubes,
+     * subdivision and clipping produce) takes the direct path whatever this
+     * field says, and the result is the repairing build's, element for
+     * element. Debug builds (NDEBUG undefined) validate every directly built
+     * result.
      */
     int trusted;
     /** Attribute streams attached to the result, in this order
@@ -279,7 +277,7 @@ typedef struct geom_mesh_build_report {
  * their order without the skipped ones; geom_mesh_face_origin() maps them).
  * opt->channels attach attribute streams (vertex, face and corner values)
  * in the same call. Input that needs no repair is linked directly, without
- * the repair passes (see geom_mesh_build_options.trusted).
+ * the repair passes (geom_mesh_build_options.trusted is ignored).
  * report and diag may be NULL; opt NULL means defaults.
  * Returns GEOM_OK (repairs are not errors: see the report),
  * GEOM_ERR_INVALID_ARG for an invalid face when skip_invalid_faces is 0 (the

@@ -174,33 +174,73 @@ static dec ryu(uint64_t mant, uint32_t bexp)
     return d;
 }
 
-/* number of decimal digits of v (v < 10^17 here) */
-static int decimal_length(uint64_t v)
+static const uint64_t pow10_u64[20] = {
+    UINT64_C(1), UINT64_C(10), UINT64_C(100), UINT64_C(1000), UINT64_C(10000),
+    UINT64_C(100000), UINT64_C(1000000), UINT64_C(10000000), UINT64_C(100000000),
+    UINT64_C(1000000000), UINT64_C(10000000000), UINT64_C(100000000000),
+    UINT64_C(1000000000000), UINT64_C(10000000000000), UINT64_C(100000000000000),
+    UINT64_C(1000000000000000), UINT64_C(10000000000000000), UINT64_C(100000000000000000),
+    UINT64_C(1000000000000000000), UINT64_C(10000000000000000000)};
+
+int geom__decimal_length(uint64_t v)
 {
-    int n = 1;
-    uint64_t t = 10;
-    while (n < 20 && v >= t) {
-        n++;
-        if (n == 20)
-            break;
-        t *= 10;
+    /* 1233 / 4096 ~ log10(2): t + 1 is the length or one more (v | 1:
+     * 0 has one digit, and v | 1 < 10^t exactly when v < 10^t) */
+    const uint64_t w = v | 1;
+    const int t = ((64 - __builtin_clzll(w)) * 1233) >> 12;
+    return t - (w < pow10_u64[t]) + 1;
+}
+
+/* "00" .. "99" */
+static const char digit_pairs[201] =
+    "00010203040506070809101112131415161718192021222324252627282930313233343536373839"
+    "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
+    "8081828384858687888990919293949596979899";
+
+/* Exactly n (<= 10) digits of w, ending at e. */
+static void put_digits32(char *e, uint32_t w, int n)
+{
+    while (n >= 2) {
+        uint32_t q = w / 100;
+        e -= 2;
+        memcpy(e, digit_pairs + 2 * (w - 100 * q), 2);
+        w = q;
+        n -= 2;
     }
-    return n;
+    if (n)
+        e[-1] = (char)('0' + w);
+}
+
+void geom__put_digits(char *p, uint64_t v, int n)
+{
+    char *e = p + n;
+    /* eight digits a step in 32 bits */
+    while (n > 8) {
+        uint64_t q = v / 100000000;
+        put_digits32(e, (uint32_t)(v - 100000000 * q), 8);
+        e -= 8;
+        n -= 8;
+        v = q;
+    }
+    put_digits32(e, (uint32_t)v, n);
 }
 
 /* The n digits of v at p, with a '.' after the first `point` digits when
- * 0 < point < n; returns the end. Written in place, last digit first (no
- * staging buffer: reading back bytes just stored one at a time stalls). */
+ * 0 < point < n; returns the end. The digits after the point and those
+ * before it are written separately, in place, two at a time (no staging
+ * buffer: reading back bytes just stored one at a time stalls). */
 static char *emit_digits(char *p, uint64_t v, int n, int point)
 {
-    const int gap = point > 0 && point < n;
-    for (int i = n - 1; i >= 0; i--) {
-        p[i + (gap && i >= point)] = (char)('0' + v % 10);
-        v /= 10;
+    if (point <= 0 || point >= n) {
+        geom__put_digits(p, v, n);
+        return p + n;
     }
-    if (gap)
-        p[point] = '.';
-    return p + n + gap;
+    const uint64_t scale = pow10_u64[n - point];
+    const uint64_t hi = v / scale;
+    geom__put_digits(p, hi, point);
+    p[point] = '.';
+    geom__put_digits(p + point + 1, v - hi * scale, n - point);
+    return p + n + 1;
 }
 
 size_t geom_format_double(double x, char buf[GEOM_DOUBLE_CHARS])
@@ -234,7 +274,7 @@ size_t geom_format_double(double x, char buf[GEOM_DOUBLE_CHARS])
         d.digits /= 10;
         d.exp++;
     }
-    const int n = decimal_length(d.digits);
+    const int n = geom__decimal_length(d.digits);
     const int X = d.exp + n - 1; /* exponent of the first digit */
     const int P = n > 15 ? n : 15;
     if (X >= -4 && X < P) {

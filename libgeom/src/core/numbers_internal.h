@@ -17,4 +17,10 @@ static inline int32_t geom__pow5_bits(int32_t e)
     return (int32_t)(((uint32_t)e * 1217359u) >> 19) + 1;
 }
 
+/* Decimal digits of v (1..20). */
+int geom__decimal_length(uint64_t v);
+/* Exactly n decimal digits of v (v < 10^n) at p[0..n), two at a time; no
+ * NUL. Shared by the double printer and meshio's integer output. */
+void geom__put_digits(char *p, uint64_t v, int n);
+
 #endif

@@ -119,10 +119,14 @@ static size_t fast_pair(fast_ctx *x)
     return 2 * (size_t)E;
 }
 
-/* Phase 3: face cycles and the boundary halfedges' target and face. */
+/* Phase 3: face cycles (he_next only) and the boundary halfedges' target
+ * and face. x->he_of lives in m->he_prev (H >= C entries), which is written
+ * here by no one: the face cycles' he_prev is filled afterwards from their
+ * he_next (fast_prev), once he_of is no longer needed. */
 static void fast_halfedges(const fast_ctx *x, geom_mesh *m)
 {
     const uint32_t *cv = x->cv, *he_of = x->he_of;
+    uint32_t *next = m->he_next, *hv = m->he_vertex, *hf = m->he_face;
     for (size_t f = 0; f < x->F; ++f) {
         uint32_t s = x->tri ? (uint32_t)(3 * f) : x->fs[f];
         uint32_t e = x->tri ? s + 3 : x->fs[f + 1];
@@ -130,17 +134,28 @@ static void fast_halfedges(const fast_ctx *x, geom_mesh *m)
         uint32_t hp = he_of[e - 1] & ~PAIRED;
         for (uint32_t c = s; c < e; ++c) {
             uint32_t hc = he_of[c], h = hc & ~PAIRED;
-            m->he_vertex[h] = c + 1 < e ? cv[c + 1] : cv[s];
-            m->he_face[h] = (uint32_t)f;
-            geom__mesh_link(m, hp, h);
+            hv[h] = c + 1 < e ? cv[c + 1] : cv[s];
+            hf[h] = (uint32_t)f;
+            next[hp] = h;
             if (!(hc & PAIRED)) {
-                m->he_vertex[h ^ 1u] = cv[c]; /* boundary halfedge */
-                m->he_face[h ^ 1u] = INV;
+                hv[h ^ 1u] = cv[c]; /* boundary halfedge */
+                hf[h ^ 1u] = INV;
             }
             hp = h;
         }
         m->f_he[f] = hp;
     }
+}
+
+/* The face cycles' he_prev, from their he_next (the boundary cycles are
+ * linked, both ways, by fast_vertices). */
+static void fast_prev(geom_mesh *m)
+{
+    const uint32_t *next = m->he_next, *hf = m->he_face;
+    uint32_t *prev = m->he_prev;
+    for (size_t h = 0; h < m->nh; ++h)
+        if (hf[h] != INV)
+            prev[next[h]] = (uint32_t)h;
 }
 
 /* Phase 4. Returns 1 when a vertex must be split (the repair). */
@@ -229,10 +244,18 @@ int geom__mesh_build_fast(geom_mesh *m, size_t nverts, const double *xyz, size_t
     geom__mesh_bs_free_one(&S, x.outc);
     if ((*stp = geom__mesh_build_storage(m, nverts, H, nfaces)) != GEOM_OK)
         goto fail_mesh;
+    /* he_of moves into he_prev (H >= C), whose pages are the only ones of
+     * the new halfedge arrays touched so far: the corner numbering and the
+     * four halfedge arrays are never resident together */
+    if (C)
+        memcpy(m->he_prev, x.he_of, C * sizeof(uint32_t));
+    geom__mesh_bs_free_one(&S, x.he_of);
+    x.he_of = m->he_prev;
     fast_halfedges(&x, m);
+    x.he_of = NULL;
+    fast_prev(m);
     /* the corner arrays are done: freed before the vertex arrays are
      * written, which keeps them out of the peak */
-    geom__mesh_bs_free_one(&S, x.he_of);
     geom__mesh_bs_free_one(&S, x.cb);
     geom__mesh_bs_free_one(&S, x.fs);
     if (fast_vertices(&x, m, rep)) {

@@ -52,10 +52,6 @@
 
 #define INV GEOM_INVALID_INDEX
 
-/* core's union-find (core/unionfind.c) */
-static uint32_t uf_find(uint32_t *parent, uint32_t x) { return geom__uf_find(parent, x); }
-static void uf_union(uint32_t *parent, uint32_t a, uint32_t b) { geom__uf_union(parent, a, b); }
-
 enum { FL_DETACHED = 1, FL_NONMANIFOLD = 2 };
 
 /*
@@ -99,14 +95,14 @@ static uint32_t cf_prev(const cfans *k, uint32_t c)
  * vertex): join their fans, or close the path into a cycle. */
 static void cf_join(cfans *k, uint32_t a, uint32_t b)
 {
-    uint32_t ra = uf_find(k->fan, a), rb = uf_find(k->fan, b);
+    uint32_t ra = geom__uf_find(k->fan, a), rb = geom__uf_find(k->fan, b);
     if (ra == rb) {
         k->out_end[ra] = k->in_end[ra] = INV;
         return;
     }
     uint32_t in = k->in_end[ra], out = k->out_end[rb];
-    uf_union(k->fan, ra, rb);
-    uint32_t r = uf_find(k->fan, ra);
+    geom__uf_union(k->fan, ra, rb);
+    uint32_t r = geom__uf_find(k->fan, ra);
     k->in_end[r] = in;
     k->out_end[r] = out;
 }
@@ -151,8 +147,8 @@ static uint32_t cf_map(uint32_t r, uint32_t a0, uint32_t a1, uint32_t b0, uint32
 static int glue_ok(const cfans *k, const uint32_t *eglue, uint32_t x, uint32_t y,
                    uint32_t close[4], int *nclose)
 {
-    uint32_t a0 = uf_find(k->fan, x), a1 = uf_find(k->fan, cf_next(k, y));
-    uint32_t b0 = uf_find(k->fan, cf_next(k, x)), b1 = uf_find(k->fan, y);
+    uint32_t a0 = geom__uf_find(k->fan, x), a1 = geom__uf_find(k->fan, cf_next(k, y));
+    uint32_t b0 = geom__uf_find(k->fan, cf_next(k, x)), b1 = geom__uf_find(k->fan, y);
     /* the other ends: in ends' unglued edge is the previous corner's */
     uint32_t w[5] = {x, INV, INV, INV, INV};
     int n = 1;
@@ -171,12 +167,12 @@ static int glue_ok(const cfans *k, const uint32_t *eglue, uint32_t x, uint32_t y
     for (int e = 0; e < n; ++e) {
         if (w[e] == INV || (e > 0 && (w[e] == x || w[e] == y)))
             return 0; /* cannot happen: a path fan has both ends */
-        p[e][0] = cf_map(uf_find(k->fan, w[e]), a0, a1, b0, b1);
-        p[e][1] = cf_map(uf_find(k->fan, cf_next(k, w[e])), a0, a1, b0, b1);
+        p[e][0] = cf_map(geom__uf_find(k->fan, w[e]), a0, a1, b0, b1);
+        p[e][1] = cf_map(geom__uf_find(k->fan, cf_next(k, w[e])), a0, a1, b0, b1);
         uint32_t g = e > 0 ? eglue[w[e]] : INV;
         if (g != INV) {
-            uint32_t q0 = cf_map(uf_find(k->fan, g), a0, a1, b0, b1);
-            uint32_t q1 = cf_map(uf_find(k->fan, cf_next(k, g)), a0, a1, b0, b1);
+            uint32_t q0 = cf_map(geom__uf_find(k->fan, g), a0, a1, b0, b1);
+            uint32_t q1 = cf_map(geom__uf_find(k->fan, cf_next(k, g)), a0, a1, b0, b1);
             if ((q0 == p[e][0] && q1 == p[e][1]) || (q0 == p[e][1] && q1 == p[e][0]))
                 return 0;
         }
@@ -457,8 +453,8 @@ static void rp_multi_close(rctx *x, cfans *K)
     for (size_t c = 0; c < C; ++c)
         slot[c] = INV;
 #define SRC(y) (flip[cf[y]] ? cb[y] : cv[y])
-#define FAN_LO(y) uf_find(K->fan, SRC(y) == LO(y) ? (y) : cf_next(K, (y)))
-#define FAN_HI(y) uf_find(K->fan, SRC(y) == LO(y) ? cf_next(K, (y)) : (y))
+#define FAN_LO(y) geom__uf_find(K->fan, SRC(y) == LO(y) ? (y) : cf_next(K, (y)))
+#define FAN_HI(y) geom__uf_find(K->fan, SRC(y) == LO(y) ? cf_next(K, (y)) : (y))
     for (size_t i = 0; i < C;) {
         size_t j = edge_run(x, i);
         if (j - i > 2) {
@@ -652,11 +648,11 @@ static geom_status rp_fans(rctx *x, geom_mesh *m, size_t H, const double *xyz,
             continue;
         uint32_t g = m->he_prev[h] ^ 1u; /* ccw neighbour around from(h) */
         if (m->he_face[g] != INV)
-            uf_union(par, (uint32_t)h, g);
+            geom__uf_union(par, (uint32_t)h, g);
     }
     for (size_t h = 0; h < H; ++h)
         if (m->he_face[h] != INV)
-            par[h] = uf_find(par, (uint32_t)h);
+            par[h] = geom__uf_find(par, (uint32_t)h);
     /* roots are the smallest members: assign output vertices in place */
     uint32_t *new_orig = x->tmp; /* added vertices <= fans <= C */
     size_t added = 0;

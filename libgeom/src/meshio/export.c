@@ -103,7 +103,7 @@ typedef struct exp_walk {
     const uint32_t *cidx[MIO_NATTR];
     const uint32_t *vmap;
     uint8_t *primary_set;
-    mio_hash hash;
+    geom__hindex hash;
     int ncorner;
 } exp_walk;
 
@@ -310,6 +310,30 @@ geom_status geom__meshio_export_build(mio_export *e, const geom_mesh *m,
     if (st != GEOM_OK)
         geom__meshio_export_free(e);
     return st;
+}
+
+geom_status geom__meshio_export_prepare(mio_export *e, const geom_mesh *m,
+                                        const geom_meshio_write_options *opt, int tangents,
+                                        uint32_t chan[MIO_NATTR], uint32_t *fcol, mio_sink *k)
+{
+    static const size_t min_ncomp[MIO_NATTR] = {3, 2, 3, 3}; /* normal, uv, color, tangent */
+    for (int a = 0; a < MIO_NATTR; a++) {
+        chan[a] = a == MIO_ATTR_TANGENT && !tangents
+                      ? GEOM_INVALID_INDEX
+                      : geom__meshio_attr_channel(m, a, opt->omit);
+        if (chan[a] != GEOM_INVALID_INDEX && geom_mesh_channel_ncomp(m, chan[a]) < min_ncomp[a])
+            chan[a] = GEOM_INVALID_INDEX;
+    }
+    *fcol = (opt->omit & GEOM_MESHIO_ATTR_COLOR)
+                ? GEOM_INVALID_INDEX
+                : geom_mesh_channel_find(m, "color", GEOM_MESH_DOMAIN_FACE);
+    if (*fcol != GEOM_INVALID_INDEX && geom_mesh_channel_ncomp(m, *fcol) < 3)
+        *fcol = GEOM_INVALID_INDEX;
+    geom_status st = geom__meshio_export_build(e, m, chan, opt->alloc, 0);
+    if (st != GEOM_OK)
+        return geom__meshio_sink_fail(k, st, "%s while preparing the output",
+                                      geom_status_str(st));
+    return GEOM_OK;
 }
 
 size_t geom__meshio_export_value(const mio_export *e, const geom_mesh *m, int a, size_t k,

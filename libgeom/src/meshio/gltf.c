@@ -160,7 +160,7 @@ geom_status geom__meshio_write_glb(const geom_mesh *m, const geom_meshio_write_o
             geom__meshio_put_u32(&bin, e.fidx[i], 0);
     }
     view_len[MIO_NATTR + 1] = bin.total - view_off[MIO_NATTR + 1];
-    while (bin.total % 4)
+    while (bin.total % 4 && bin.status == GEOM_OK)
         mio_putc(&bin, 0);
 
     /* JSON chunk */
@@ -215,7 +215,7 @@ geom_status geom__meshio_write_glb(const geom_mesh *m, const geom_meshio_write_o
         geom__meshio_put_u64(&json, bin.total);
         geom__meshio_puts(&json, "}]}");
     }
-    while (json.total % 4)
+    while (json.total % 4 && json.status == GEOM_OK)
         mio_putc(&json, ' ');
 
     st = bin.status != GEOM_OK ? bin.status : json.status;

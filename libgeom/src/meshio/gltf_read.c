@@ -349,7 +349,7 @@ geom_status geom__meshio_read_glb(mio_ctx *c, mio_soup *s)
     static const char *const chan_name[4] = {"normal", "uv", "tangent", "color"};
     static const size_t want_comp[4] = {3, 2, 4, 0};
     mio_chan *ch[4] = {NULL, NULL, NULL, NULL};
-    mio_hash hash;
+    geom__hindex hash;
     memset(&hash, 0, sizeof hash);
     MIO_ARR(uint32_t) remap;
     memset(&remap, 0, sizeof remap);
@@ -473,7 +473,7 @@ geom_status geom__meshio_read_glb(mio_ctx *c, mio_soup *s)
         for (size_t t = 0; t < nidx / 3 && st == GEOM_OK; t++) {
             if (MIO_RESERVE(c->alloc, s->fidx, 3) != GEOM_OK ||
                 MIO_PUSH(c->alloc, s->fsize, 3) != GEOM_OK ||
-                MIO_PUSH(c->alloc, s->floc, (uint64_t)0) != GEOM_OK) {
+                mio_floc_push(c->alloc, s, 0) != GEOM_OK) {
                 st = GEOM_ERR_NOMEM;
                 break;
             }

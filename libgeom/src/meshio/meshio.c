@@ -361,18 +361,27 @@ static geom_status write_dispatch(const geom_mesh *m, const geom_meshio_write_op
     return geom__meshio_sink_fail(k, GEOM_ERR_INVALID_ARG, "unknown output format %d", (int)fmt);
 }
 
-static geom_status check_write_args(const geom_mesh *m, const geom_meshio_write_options *o,
-                                    geom_meshio_format fmt, geom_diag *diag, const char *path)
+/* The writers' common prologue: the options defaulted (opt NULL: all
+ * zero), the format resolved (from path's name when not given) and the
+ * arguments checked. */
+static geom_status write_prepare(const geom_mesh *m, const geom_meshio_write_options *opt,
+                                 const char *path, geom_meshio_write_options *o,
+                                 geom_meshio_format *fmt, geom_diag *diag)
 {
+    if (opt)
+        *o = *opt;
+    else
+        memset(o, 0, sizeof *o);
+    *fmt = o->format ? o->format : geom_meshio_format_from_name(path);
     if (!m)
         return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0, "NULL mesh");
-    if (fmt < GEOM_MESHIO_FORMAT_OBJ || fmt > GEOM_MESHIO_FORMAT_GLB)
+    if (*fmt < GEOM_MESHIO_FORMAT_OBJ || *fmt > GEOM_MESHIO_FORMAT_GLB)
         return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0,
                              "output format not given and not recognised from the name");
     if ((unsigned)o->encoding > GEOM_MESHIO_ENCODING_BINARY_BE)
         return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0, "unknown encoding %d",
                              (int)o->encoding);
-    if (fmt == GEOM_MESHIO_FORMAT_STL && o->encoding == GEOM_MESHIO_ENCODING_BINARY_BE)
+    if (*fmt == GEOM_MESHIO_FORMAT_STL && o->encoding == GEOM_MESHIO_ENCODING_BINARY_BE)
         return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0,
                              "binary STL is little endian only");
     return GEOM_OK;
@@ -389,11 +398,8 @@ geom_status geom_meshio_write_memory(const geom_mesh *m, const geom_meshio_write
     if (!data || !size)
         return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "NULL output pointer");
     geom_meshio_write_options o;
-    if (opt)
-        o = *opt;
-    else
-        memset(&o, 0, sizeof o);
-    geom_status st = check_write_args(m, &o, o.format, diag, NULL);
+    geom_meshio_format fmt;
+    geom_status st = write_prepare(m, opt, NULL, &o, &fmt, diag);
     if (st != GEOM_OK)
         return st;
     mio_sink k;
@@ -401,7 +407,7 @@ geom_status geom_meshio_write_memory(const geom_mesh *m, const geom_meshio_write
     k.alloc = o.alloc;
     k.diag = diag;
     k.precision = o.precision;
-    st = write_dispatch(m, &o, o.format, &k);
+    st = write_dispatch(m, &o, fmt, &k);
     if (st == GEOM_OK)
         st = k.status;
     if (st == GEOM_OK) {
@@ -483,15 +489,12 @@ geom_status geom_meshio_write_stream(const geom_mesh *m, const geom_meshio_write
     if (!fn)
         return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "NULL write function");
     geom_meshio_write_options o;
-    if (opt)
-        o = *opt;
-    else
-        memset(&o, 0, sizeof o);
-    geom_status st = check_write_args(m, &o, o.format, diag, NULL);
+    geom_meshio_format fmt;
+    geom_status st = write_prepare(m, opt, NULL, &o, &fmt, diag);
     if (st != GEOM_OK)
         return st;
     stream_user su = {fn, user};
-    return write_flushed(m, &o, o.format, stream_flush, &su, NULL, diag);
+    return write_flushed(m, &o, fmt, stream_flush, &su, NULL, diag);
 }
 
 void geom_meshio_buffer_free(void *data, size_t size, const geom_allocator *alloc)
@@ -513,12 +516,8 @@ geom_status geom_meshio_write(const geom_mesh *m, const char *path,
     if (!path)
         return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "NULL path");
     geom_meshio_write_options o;
-    if (opt)
-        o = *opt;
-    else
-        memset(&o, 0, sizeof o);
-    geom_meshio_format fmt = o.format ? o.format : geom_meshio_format_from_name(path);
-    geom_status st = check_write_args(m, &o, fmt, diag, path);
+    geom_meshio_format fmt;
+    geom_status st = write_prepare(m, opt, path, &o, &fmt, diag);
     if (st != GEOM_OK)
         return st;
     geom_output at;

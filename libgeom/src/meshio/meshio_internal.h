@@ -21,7 +21,7 @@
 
 /* ------------------------------------------------------- growable arrays */
 
-/* Grow *p to at least `need` elements: core's geom__grow (core/grow.c). */
+/* Arrays grown through core's geom__grow (core/grow.c). */
 
 #define MIO_ARR(T)                                                                         \
     struct {                                                                               \
@@ -47,13 +47,6 @@
         (arr).p = NULL;                                                                    \
         (arr).n = (arr).cap = 0;                                                           \
     } while (0)
-
-/* ------------------------------------------------------------ hash index */
-
-/* The hash index and mixer are core's (core/hash.c); these names are kept
- * so that the readers and writers need not change (the lead's prefix sed
- * renames them to the core names). */
-typedef geom__hindex mio_hash;
 
 /* ---------------------------------------------------------------- numbers */
 
@@ -171,11 +164,23 @@ typedef struct mio_tagrec {
 
 #define MIO_NOSTR SIZE_MAX
 
+/* Face locations (a line, or a byte offset in binary input), kept for
+ * diagnostics only, as runs of faces whose locations step evenly: faces
+ * face0, face0 + 1, ... (up to the next run's face0) are at loc0,
+ * loc0 + step, ... One run for a file whose faces are one a line (or one
+ * fixed-size record each), instead of 8 bytes a face at the build's peak. */
+typedef struct mio_locrun {
+    uint64_t loc0;
+    uint32_t face0, step;
+} mio_locrun;
+
 typedef struct mio_soup {
     MIO_ARR(double) pos;      /* 3 per vertex */
     MIO_ARR(uint32_t) fsize;  /* per face */
     MIO_ARR(uint32_t) fidx;   /* per corner */
-    MIO_ARR(uint64_t) floc;   /* per face: line (text) or byte offset (binary) */
+    MIO_ARR(mio_locrun) floc; /* face locations (mio_floc_push, geom__meshio_floc) */
+    size_t floc_n;            /* faces located so far */
+    uint64_t floc_last;       /* the last face's location */
     int loc_is_offset;
     mio_chan chan[MIO_MAX_CHANNELS];
     size_t nchan;
@@ -193,6 +198,37 @@ typedef struct mio_soup {
 
 void geom__meshio_soup_free(mio_soup *s, const geom_allocator *a);
 static inline size_t mio_soup_nv(const mio_soup *s) { return s->pos.n / 3; }
+
+/* Record the location of the next face (faces are located in order). */
+static inline geom_status mio_floc_push(const geom_allocator *a, mio_soup *s, uint64_t loc)
+{
+    size_t nr = s->floc.n;
+    if (nr) {
+        mio_locrun *r = &s->floc.p[nr - 1];
+        size_t in_run = s->floc_n - r->face0;
+        uint64_t d = loc - s->floc_last;
+        if (loc >= s->floc_last &&
+            (in_run == 1 ? d <= UINT32_MAX : d == r->step)) {
+            r->step = (uint32_t)d;
+            s->floc_last = loc;
+            s->floc_n++;
+            return GEOM_OK;
+        }
+    }
+    if (s->floc_n > UINT32_MAX)
+        return GEOM_ERR_LIMIT;
+    if (MIO_RESERVE(a, s->floc, 1) != GEOM_OK)
+        return GEOM_ERR_NOMEM;
+    mio_locrun *r = &s->floc.p[s->floc.n++];
+    r->loc0 = loc;
+    r->face0 = (uint32_t)s->floc_n;
+    r->step = 0;
+    s->floc_last = loc;
+    s->floc_n++;
+    return GEOM_OK;
+}
+/* The location of face f (< s->floc_n). */
+uint64_t geom__meshio_floc(const mio_soup *s, size_t f);
 /* The channel (name, domain), created with ncomp comps if absent; for VERTEX
  * and FACE channels created late, existing elements get `fill` (ncomp
  * values, NULL = zeros). NULL on NOMEM or when MIO_MAX_CHANNELS is reached. */
@@ -244,6 +280,21 @@ static inline void mio_putc(mio_sink *k, char ch)
     } else {
         geom__meshio_put(k, &ch, 1);
     }
+}
+/* Make room for `need` more bytes at k->buf + k->n (flushing a file sink,
+ * growing a memory sink); 0 when the sink has failed. */
+int geom__meshio_sink_make_room(mio_sink *k, size_t need);
+/* Room for need (<= 1024) bytes to be written at k->buf + k->n directly,
+ * then counted with mio_advance; 0 when the sink has failed. */
+static inline int mio_room(mio_sink *k, size_t need)
+{
+    return (k->cap - k->n >= need && k->status == GEOM_OK) ||
+           geom__meshio_sink_make_room(k, need);
+}
+static inline void mio_advance(mio_sink *k, size_t n)
+{
+    k->n += n;
+    k->total += n;
 }
 void geom__meshio_puts(mio_sink *k, const char *s);
 /* A finite double as text: geom_format_double_digits with k->precision (0:
@@ -307,6 +358,15 @@ geom_status geom__meshio_export_build(mio_export *e, const geom_mesh *m,
                                       const uint32_t chan[MIO_NATTR],
                                       const geom_allocator *alloc, int triangulate);
 void geom__meshio_export_free(mio_export *e);
+/* The view the per-vertex text and binary writers (OFF, PLY) write: chan[]
+ * the normal (3+ components), uv (2+), color (3+) and, when `tangents`,
+ * tangent (3+) channels that opt->omit leaves (GEOM_INVALID_INDEX: not
+ * written), *fcol the FACE "color" channel (3+ components, or
+ * GEOM_INVALID_INDEX), e built over chan[] without triangulating. A failure
+ * fails the sink and is returned. */
+geom_status geom__meshio_export_prepare(mio_export *e, const geom_mesh *m,
+                                        const geom_meshio_write_options *opt, int tangents,
+                                        uint32_t chan[MIO_NATTR], uint32_t *fcol, mio_sink *k);
 /* The ncomp values of attribute a at output vertex k into out (zeros when
  * the corner has no value); returns the channel's ncomp (0 if no channel). */
 size_t geom__meshio_export_value(const mio_export *e, const geom_mesh *m, int a, size_t k,

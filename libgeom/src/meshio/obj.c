@@ -1,5 +1,7 @@
 /* Wavefront OBJ: reading into a soup (v, vt, vn, f, l, g, o, s, usemtl,
  * mtllib, t) and writing a mesh back with the same structure. */
+#include "core/numbers_internal.h"
+#include "mesh/mesh_internal.h"
 #include "meshio/meshio_internal.h"
 
 #include <stdio.h>
@@ -19,7 +21,7 @@ typedef struct obj_state {
     int dirty;
     int have_groups;
     uint32_t cur_group;
-    mio_hash ghash;
+    geom__hindex ghash;
 } obj_state;
 
 static size_t col_of(const obj_state *o, const char *t) { return (size_t)(t - o->line) + 1; }
@@ -343,7 +345,7 @@ static geom_status obj_face(obj_state *o, size_t pos, const char *kwt, int is_li
     if (s->fsize.n >= c->max_elements)
         return geom__meshio_check_count(c, s->fsize.n + 1, "faces", o->lineno, 0);
     if (MIO_PUSH(c->alloc, s->fsize, (uint32_t)n) != GEOM_OK ||
-        MIO_PUSH(c->alloc, s->floc, (uint64_t)o->lineno) != GEOM_OK)
+        mio_floc_push(c->alloc, s, (uint64_t)o->lineno) != GEOM_OK)
         return GEOM_ERR_NOMEM;
     return obj_group_face(o);
 }
@@ -561,6 +563,14 @@ geom_status geom__meshio_read_obj(mio_ctx *c, mio_soup *s)
 
 /* --------------------------------------------------------------- writing */
 
+/* v in decimal at p; returns the end (at most 20 bytes). */
+static inline char *put_index(char *p, uint64_t v)
+{
+    int n = geom__decimal_length(v);
+    geom__put_digits(p, v, n);
+    return p + n;
+}
+
 /* End a line; a line whose text ends with a backslash would continue on the
  * next one when read back, so it gets a trailing space (which the reader
  * drops) first. `last` is the last string written on the line. */
@@ -676,7 +686,7 @@ geom_status geom__meshio_write_obj(const geom_mesh *m, const geom_meshio_write_o
     const char *state[4] = {NULL, NULL, NULL, NULL};
     uint32_t prev_group = GEOM_INVALID_INDEX;
     for (size_t f = 0; f < nf && k->status == GEOM_OK; f++) {
-        if (geom_mesh_face_is_deleted(m, (uint32_t)f))
+        if (m->f_del[f])
             continue;
         if (fg && fg[f] != prev_group) {
             const char *want[4] = {NULL, NULL, NULL, NULL};
@@ -696,7 +706,7 @@ geom_status geom__meshio_write_obj(const geom_mesh *m, const geom_meshio_write_o
             }
             prev_group = fg[f];
         }
-        uint32_t h0 = geom_mesh_face_he(m, (uint32_t)f), h = h0;
+        uint32_t h0 = m->f_he[f], h = h0;
         /* which of vt / vn every corner of this face has */
         int use[2] = {0, 0};
         for (int c = 0; c < 2; c++) {
@@ -713,23 +723,27 @@ geom_status geom__meshio_write_obj(const geom_mesh *m, const geom_meshio_write_o
             h = h0;
         }
         mio_putc(k, 'f');
+        /* each corner " v[/[vt][/vn]]" (at most 33 bytes) straight into
+         * the sink's buffer */
         do {
-            uint32_t v = geom_mesh_he_vertex(m, h);
-            mio_putc(k, ' ');
-            geom__meshio_put_u64(k, (uint64_t)vmap[v] + 1);
-            uint64_t idx[2];
-            for (int c = 0; c < 2; c++)
-                idx[c] = cix[c] ? (uint64_t)cix[c][h] + 1 : (uint64_t)vmap[v] + 1;
+            if (!mio_room(k, 40))
+                break;
+            char *p0 = (char *)k->buf + k->n, *p = p0;
+            uint32_t v = m->he_vertex[h];
+            uint64_t vi = (uint64_t)vmap[v] + 1;
+            *p++ = ' ';
+            p = put_index(p, vi);
             if (use[0] || use[1]) {
-                mio_putc(k, '/');
+                *p++ = '/';
                 if (use[0])
-                    geom__meshio_put_u64(k, idx[0]);
+                    p = put_index(p, cix[0] ? (uint64_t)cix[0][h] + 1 : vi);
                 if (use[1]) {
-                    mio_putc(k, '/');
-                    geom__meshio_put_u64(k, idx[1]);
+                    *p++ = '/';
+                    p = put_index(p, cix[1] ? (uint64_t)cix[1][h] + 1 : vi);
                 }
             }
-            h = geom_mesh_he_next(m, h);
+            mio_advance(k, (size_t)(p - p0));
+            h = m->he_next[h];
         } while (h != h0 && h != GEOM_INVALID_INDEX);
         mio_putc(k, '\n');
     }

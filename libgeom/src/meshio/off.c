@@ -382,7 +382,7 @@ geom_status geom__meshio_read_off(mio_ctx *c, mio_soup *s)
             fc->val.n += fcolor_n;
         }
         if (MIO_PUSH(c->alloc, s->fsize, (uint32_t)cnt) != GEOM_OK ||
-            MIO_PUSH(c->alloc, s->floc, (uint64_t)r.lineno) != GEOM_OK) {
+            mio_floc_push(c->alloc, s, (uint64_t)r.lineno) != GEOM_OK) {
             st = GEOM_ERR_NOMEM;
             goto done;
         }
@@ -415,28 +415,11 @@ static void put_color(mio_sink *k, double v)
 geom_status geom__meshio_write_off(const geom_mesh *m, const geom_meshio_write_options *opt,
                                    mio_sink *k)
 {
-    uint32_t chan[MIO_NATTR];
-    for (int a = 0; a < MIO_NATTR; a++)
-        chan[a] = a == MIO_ATTR_TANGENT ? GEOM_INVALID_INDEX
-                                        : geom__meshio_attr_channel(m, a, opt->omit);
-    if (chan[MIO_ATTR_NORMAL] != GEOM_INVALID_INDEX &&
-        geom_mesh_channel_ncomp(m, chan[MIO_ATTR_NORMAL]) < 3)
-        chan[MIO_ATTR_NORMAL] = GEOM_INVALID_INDEX;
-    if (chan[MIO_ATTR_UV] != GEOM_INVALID_INDEX && geom_mesh_channel_ncomp(m, chan[MIO_ATTR_UV]) < 2)
-        chan[MIO_ATTR_UV] = GEOM_INVALID_INDEX;
-    if (chan[MIO_ATTR_COLOR] != GEOM_INVALID_INDEX &&
-        geom_mesh_channel_ncomp(m, chan[MIO_ATTR_COLOR]) < 3)
-        chan[MIO_ATTR_COLOR] = GEOM_INVALID_INDEX;
-    uint32_t fcol = (opt->omit & GEOM_MESHIO_ATTR_COLOR)
-                        ? GEOM_INVALID_INDEX
-                        : geom_mesh_channel_find(m, "color", GEOM_MESH_DOMAIN_FACE);
-    if (fcol != GEOM_INVALID_INDEX && geom_mesh_channel_ncomp(m, fcol) < 3)
-        fcol = GEOM_INVALID_INDEX;
+    uint32_t chan[MIO_NATTR], fcol;
     mio_export e;
-    geom_status st = geom__meshio_export_build(&e, m, chan, opt->alloc, 0);
+    geom_status st = geom__meshio_export_prepare(&e, m, opt, 0, chan, &fcol, k);
     if (st != GEOM_OK)
-        return geom__meshio_sink_fail(k, st, "%s while preparing the output",
-                                      geom_status_str(st));
+        return st;
     int has_n = chan[MIO_ATTR_NORMAL] != GEOM_INVALID_INDEX;
     int has_c = chan[MIO_ATTR_COLOR] != GEOM_INVALID_INDEX;
     int has_st = chan[MIO_ATTR_UV] != GEOM_INVALID_INDEX;

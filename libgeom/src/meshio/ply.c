@@ -635,7 +635,7 @@ geom_status geom__meshio_read_ply(mio_ctx *c, mio_soup *s)
                     goto done;
                 }
                 if (MIO_PUSH(c->alloc, s->fsize, (uint32_t)nidx) != GEOM_OK ||
-                    MIO_PUSH(c->alloc, s->floc, loc) != GEOM_OK) {
+                    mio_floc_push(c->alloc, s, loc) != GEOM_OK) {
                     st = GEOM_ERR_NOMEM;
                     goto done;
                 }
@@ -722,38 +722,33 @@ static unsigned char to_u8(double v)
     return (unsigned char)(v * 255.0 + 0.5);
 }
 
+/* n color components (0..1) as uchar: " r g b[ a]" in ASCII, n bytes else. */
+static void put_colors(mio_sink *k, const double *col, int n, int ascii)
+{
+    for (int j = 0; j < n; j++) {
+        unsigned char u = to_u8(col[j]);
+        if (ascii) {
+            mio_putc(k, ' ');
+            geom__meshio_put_u64(k, u);
+        } else {
+            geom__meshio_put(k, &u, 1);
+        }
+    }
+}
+
 geom_status geom__meshio_write_ply(const geom_mesh *m, const geom_meshio_write_options *opt,
                                    mio_sink *k)
 {
     int ascii = opt->encoding == GEOM_MESHIO_ENCODING_ASCII;
     int be = opt->encoding == GEOM_MESHIO_ENCODING_BINARY_BE;
     int as_float = opt->ply_float && !ascii;
-    uint32_t chan[MIO_NATTR];
-    for (int a = 0; a < MIO_NATTR; a++)
-        chan[a] = geom__meshio_attr_channel(m, a, opt->omit);
     /* tangents (x, y, z and the bitangent sign w) as tangent_x..tangent_w:
      * PLY has no standard name for them */
-    if (chan[MIO_ATTR_TANGENT] != GEOM_INVALID_INDEX &&
-        geom_mesh_channel_ncomp(m, chan[MIO_ATTR_TANGENT]) < 3)
-        chan[MIO_ATTR_TANGENT] = GEOM_INVALID_INDEX;
-    if (chan[MIO_ATTR_NORMAL] != GEOM_INVALID_INDEX &&
-        geom_mesh_channel_ncomp(m, chan[MIO_ATTR_NORMAL]) < 3)
-        chan[MIO_ATTR_NORMAL] = GEOM_INVALID_INDEX;
-    if (chan[MIO_ATTR_UV] != GEOM_INVALID_INDEX && geom_mesh_channel_ncomp(m, chan[MIO_ATTR_UV]) < 2)
-        chan[MIO_ATTR_UV] = GEOM_INVALID_INDEX;
-    if (chan[MIO_ATTR_COLOR] != GEOM_INVALID_INDEX &&
-        geom_mesh_channel_ncomp(m, chan[MIO_ATTR_COLOR]) < 3)
-        chan[MIO_ATTR_COLOR] = GEOM_INVALID_INDEX;
-    uint32_t fcol = (opt->omit & GEOM_MESHIO_ATTR_COLOR)
-                        ? GEOM_INVALID_INDEX
-                        : geom_mesh_channel_find(m, "color", GEOM_MESH_DOMAIN_FACE);
-    if (fcol != GEOM_INVALID_INDEX && geom_mesh_channel_ncomp(m, fcol) < 3)
-        fcol = GEOM_INVALID_INDEX;
+    uint32_t chan[MIO_NATTR], fcol;
     mio_export e;
-    geom_status st = geom__meshio_export_build(&e, m, chan, opt->alloc, 0);
+    geom_status st = geom__meshio_export_prepare(&e, m, opt, 1, chan, &fcol, k);
     if (st != GEOM_OK)
-        return geom__meshio_sink_fail(k, st, "%s while preparing the output",
-                                      geom_status_str(st));
+        return st;
     int has_n = chan[MIO_ATTR_NORMAL] != GEOM_INVALID_INDEX;
     int has_uv = chan[MIO_ATTR_UV] != GEOM_INVALID_INDEX;
     int has_c = chan[MIO_ATTR_COLOR] != GEOM_INVALID_INDEX;
@@ -830,15 +825,7 @@ geom_status geom__meshio_write_ply(const geom_mesh *m, const geom_meshio_write_o
         if (has_c) {
             val[3] = 1.0;
             geom__meshio_export_value(&e, m, MIO_ATTR_COLOR, i, val, 4);
-            for (int j = 0; j < 3 + alpha; j++) {
-                unsigned char u = to_u8(val[j]);
-                if (ascii) {
-                    mio_putc(k, ' ');
-                    geom__meshio_put_u64(k, u);
-                } else {
-                    geom__meshio_put(k, &u, 1);
-                }
-            }
+            put_colors(k, val, 3 + alpha, ascii);
         }
         if (ascii)
             mio_putc(k, '\n');
@@ -866,16 +853,7 @@ geom_status geom__meshio_write_ply(const geom_mesh *m, const geom_meshio_write_o
         }
         off += n;
         if (fcd) {
-            const double *col = fcd + (size_t)e.fface[f] * fnc;
-            for (int j = 0; j < 3 + falpha; j++) {
-                unsigned char u = to_u8(col[j]);
-                if (ascii) {
-                    mio_putc(k, ' ');
-                    geom__meshio_put_u64(k, u);
-                } else {
-                    geom__meshio_put(k, &u, 1);
-                }
-            }
+            put_colors(k, fcd + (size_t)e.fface[f] * fnc, 3 + falpha, ascii);
         }
         if (ascii)
             mio_putc(k, '\n');

@@ -1,5 +1,6 @@
 /* meshio output sink: buffered bytes, text numbers and binary scalars. */
 #include "meshio/meshio_internal.h"
+#include "core/numbers_internal.h"
 
 #include <stdio.h>
 
@@ -63,28 +64,50 @@ void geom__meshio_put(mio_sink *k, const void *p, size_t n)
     }
 }
 
+int geom__meshio_sink_make_room(mio_sink *k, size_t need)
+{
+    if (k->status != GEOM_OK)
+        return 0;
+    if (k->cap - k->n >= need)
+        return 1;
+    if (k->flush_fn) {
+        if (geom__meshio_sink_flush(k) != GEOM_OK)
+            return 0;
+        if (k->cap >= need)
+            return 1;
+    }
+    /* a memory sink (or a file sink's buffer too small: never, at 64 KiB):
+     * grow, keeping one spare byte for the final NUL */
+    geom_status st = geom__grow(k->alloc, (void **)&k->buf, &k->cap, k->n + need + 1, 1);
+    if (st != GEOM_OK) {
+        geom__meshio_sink_fail(k, st, "out of memory for %llu bytes of output",
+                               (unsigned long long)(k->total + need));
+        return 0;
+    }
+    return 1;
+}
+
 void geom__meshio_puts(mio_sink *k, const char *s) { geom__meshio_put(k, s, strlen(s)); }
 
+/* Formatted in place in the sink's buffer: no copy. */
 void geom__meshio_put_double(mio_sink *k, double x)
 {
     if (!isfinite(x)) {
         geom__meshio_sink_fail(k, GEOM_ERR_INVALID_ARG, "cannot write a non-finite value");
         return;
     }
-    char buf[GEOM_DOUBLE_CHARS];
-    size_t n = geom_format_double_digits(x, k->precision, buf);
-    geom__meshio_put(k, buf, n);
+    if (!mio_room(k, GEOM_DOUBLE_CHARS))
+        return;
+    mio_advance(k, geom_format_double_digits(x, k->precision, (char *)k->buf + k->n));
 }
 
 void geom__meshio_put_u64(mio_sink *k, uint64_t v)
 {
-    char buf[24];
-    size_t i = sizeof buf;
-    do {
-        buf[--i] = (char)('0' + v % 10);
-        v /= 10;
-    } while (v);
-    geom__meshio_put(k, buf + i, sizeof buf - i);
+    if (!mio_room(k, 20))
+        return;
+    int n = geom__decimal_length(v);
+    geom__put_digits((char *)k->buf + k->n, v, n);
+    mio_advance(k, (size_t)n);
 }
 
 void geom__meshio_put_i64(mio_sink *k, int64_t v)

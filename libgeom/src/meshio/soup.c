@@ -12,6 +12,7 @@ void geom__meshio_soup_free(mio_soup *s, const geom_allocator *a)
     MIO_FREE(a, s->fsize);
     MIO_FREE(a, s->fidx);
     MIO_FREE(a, s->floc);
+    s->floc_n = 0;
     for (size_t i = 0; i < s->nchan; i++) {
         MIO_FREE(a, s->chan[i].val);
         MIO_FREE(a, s->chan[i].idx);
@@ -93,12 +94,28 @@ geom_status geom__meshio_check_count(mio_ctx *c, size_t n, const char *what, uin
 
 /* ------------------------------------------------------------- validation */
 
+uint64_t geom__meshio_floc(const mio_soup *s, size_t f)
+{
+    if (f >= s->floc_n || s->floc.n == 0)
+        return 0;
+    size_t lo = 0, hi = s->floc.n - 1; /* the last run with face0 <= f */
+    while (lo < hi) {
+        size_t mid = lo + (hi - lo + 1) / 2;
+        if (s->floc.p[mid].face0 <= f)
+            lo = mid;
+        else
+            hi = mid - 1;
+    }
+    const mio_locrun *r = &s->floc.p[lo];
+    return r->loc0 + (uint64_t)r->step * (f - r->face0);
+}
+
 static geom_status face_error(mio_ctx *c, const mio_soup *s, size_t f, const char *msg)
 {
+    uint64_t loc = geom__meshio_floc(s, f);
     if (s->loc_is_offset)
-        return geom__meshio_err_off(c, GEOM_ERR_PARSE, s->floc.p[f], "face %zu: %s", f + 1, msg);
-    return geom__meshio_err_line(c, GEOM_ERR_PARSE, (size_t)s->floc.p[f], 0, "face %zu: %s",
-                                 f + 1, msg);
+        return geom__meshio_err_off(c, GEOM_ERR_PARSE, loc, "face %zu: %s", f + 1, msg);
+    return geom__meshio_err_line(c, GEOM_ERR_PARSE, (size_t)loc, 0, "face %zu: %s", f + 1, msg);
 }
 
 static geom_status validate_faces(mio_ctx *c, const mio_soup *s, size_t *n_invalid)
@@ -401,6 +418,7 @@ geom_status geom__meshio_soup_finish(mio_ctx *c, mio_soup *s, const geom_meshio_
             st = vs;
     }
     MIO_FREE(c->alloc, s->floc); /* face locations serve diagnostics only: done */
+    s->floc_n = 0;
     if (st != GEOM_OK) {
         if (c->diag && c->diag->source[0] == '\0')
             snprintf(c->diag->source, sizeof c->diag->source, "%s", c->source);

@@ -9,7 +9,7 @@
 /* --------------------------------------------------------------- reading */
 
 typedef struct stl_weld {
-    mio_hash hash;
+    geom__hindex hash;
 } stl_weld;
 
 /* The vertex at exactly p (after -0 -> +0), added if new. */
@@ -63,7 +63,6 @@ static geom_status stl_binary(mio_ctx *c, mio_soup *s, stl_weld *w)
                                     "%zu triangles exceed the limit of %zu elements", n,
                                     c->max_elements);
     if (MIO_RESERVE(c->alloc, s->fsize, n) != GEOM_OK ||
-        MIO_RESERVE(c->alloc, s->floc, n) != GEOM_OK ||
         MIO_RESERVE(c->alloc, s->fidx, 3 * n) != GEOM_OK ||
         geom__hindex_reserve(&w->hash, c->alloc, n / 2 + 4) != GEOM_OK)
         return GEOM_ERR_NOMEM;
@@ -88,7 +87,8 @@ static geom_status stl_binary(mio_ctx *c, mio_soup *s, stl_weld *w)
             s->fidx.p[s->fidx.n++] = v;
         }
         s->fsize.p[s->fsize.n++] = 3;
-        s->floc.p[s->floc.n++] = off;
+        if (mio_floc_push(c->alloc, s, off) != GEOM_OK)
+            return GEOM_ERR_NOMEM;
     }
     return GEOM_OK;
 }
@@ -207,7 +207,7 @@ static geom_status stl_ascii(mio_ctx *c, mio_soup *s, stl_weld *w)
         if (s->fsize.n >= c->max_elements)
             return geom__meshio_check_count(c, s->fsize.n + 1, "faces", fline, 0);
         if (MIO_PUSH(c->alloc, s->fsize, n) != GEOM_OK ||
-            MIO_PUSH(c->alloc, s->floc, (uint64_t)fline) != GEOM_OK)
+            mio_floc_push(c->alloc, s, (uint64_t)fline) != GEOM_OK)
             return GEOM_ERR_NOMEM;
     }
 }
