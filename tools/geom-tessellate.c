@@ -375,6 +375,12 @@ static int tessellate_step(const char *in, const tess_opts *o, int json, const c
     for (size_t k = 0; k < b->nissues && k < 64; ++k)
         fprintf(stderr, "%s: %s: note: #%llu %s: %s\n", tool.name, in,
                 (unsigned long long)b->issues[k].entity, b->issues[k].type, b->issues[k].reason);
+    if (b->nfaces == 0) { /* nothing to tessellate is an error, never 0 triangles and exit 0 */
+        size_t nissues = b->nissues;
+        geom_step_destroy(b);
+        return cli_error(&tool, "%s: no B-rep face to tessellate (%zu unsupported entities)", in,
+                         nissues);
+    }
     geom_brep_tess_options to;
     memset(&to, 0, sizeof to);
     to.tolerance = o->to.tolerance;
