@@ -252,10 +252,21 @@ int main(int argc, char **argv)
         geom_mesh_destroy(m);
         return cli_print_diag(&tool, &diag);
     }
+    /* an empty result is a warning (issue 15), on stderr and in --json */
+    const char *empty = geom_mesh_n_live_faces(m) == 0 && in_faces > 0
+                            ? "empty result: every face was clipped away"
+                            : NULL;
+    if (empty)
+        fprintf(stderr, "%s: %s: warning: %s\n", tool.name, argv[first], empty);
     if (common.json) {
         printf("{\"vertices\":%zu,\"faces\":%zu,\"input_faces\":%zu,\"seconds\":",
                geom_mesh_n_live_vertices(m), geom_mesh_n_live_faces(m), in_faces);
         cli_json_number(stdout, secs);
+        if (empty) {
+            printf(",\"warnings\":[");
+            cli_json_string(stdout, empty);
+            printf("]");
+        }
         printf("}\n");
     }
     geom_mesh_destroy(m);

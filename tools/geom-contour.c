@@ -315,6 +315,11 @@ int main(int argc, char **argv)
                         "cells); the first at node (%zu, %zu), point (%.17g, %.17g)\n",
                 tool.name, rp->nan_nodes, rp->nan_nodes == 1 ? "" : "s", rp->nan_first[0],
                 rp->nan_first[1], rp->nan_point[0], rp->nan_point[1]);
+    /* an empty result is a warning (issue 15), on stderr and in --json */
+    const int empty = c.n_polylines == 0;
+    if (empty)
+        fprintf(stderr, "%s: warning: empty result: no isoline (the curve f = %.17g misses the "
+                        "box, or the field is NaN there)\n", tool.name, o.iso);
     if (common.json) {
         printf("{\"vertices\":%zu,\"polylines\":%zu,\"closed\":%zu,\"max_error\":", c.n_vertices,
                c.n_polylines, closed);
@@ -334,9 +339,16 @@ int main(int argc, char **argv)
             cli_json_number(stdout, rp->nan_point[0]);
             printf(",");
             cli_json_number(stdout, rp->nan_point[1]);
-            printf("]},\"warnings\":[\"the field is NaN at %zu grid nodes, the first at node "
-                   "(%zu, %zu)\"]",
-                   rp->nan_nodes, rp->nan_first[0], rp->nan_first[1]);
+            printf("]}");
+        }
+        if (empty || rp->nan_nodes) {
+            printf(",\"warnings\":[");
+            if (empty)
+                printf("\"empty result: no isoline\"%s", rp->nan_nodes ? "," : "");
+            if (rp->nan_nodes)
+                printf("\"the field is NaN at %zu grid nodes, the first at node (%zu, %zu)\"",
+                       rp->nan_nodes, rp->nan_first[0], rp->nan_first[1]);
+            printf("]");
         }
         printf("}\n");
     } else {

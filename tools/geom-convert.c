@@ -209,6 +209,8 @@ int main(int argc, char **argv)
         return cli_print_diag(&tool, &diag);
     }
     report_repairs(name, &report, &stats);
+    if (cli_mesh_empty_warning(m))
+        fprintf(stderr, "%s: %s: warning: %s\n", tool.name, name, cli_mesh_empty_warning(m));
     free(name);
     if (co.w.format == GEOM_MESHIO_FORMAT_OBJ && !(co.w.omit & GEOM_MESHIO_ATTR_META))
         co.w.omit |= cli_mesh_mtllib_omit(m, out_path, to_stdout);

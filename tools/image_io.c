@@ -1,6 +1,7 @@
 /* PNG through libspng, PFM by hand. */
 #include "image_io.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -60,7 +61,9 @@ geom_status image_write_png(FILE *fp, const geom_image *img, int srgb, geom_diag
         err = spng_set_srgb(ctx, 0); /* perceptual intent */
     if (!err)
         err = spng_encode_image(ctx, buf, n, SPNG_FMT_PNG, SPNG_ENCODE_FINALIZE);
-    if (err)
+    if (err && ferror(fp)) /* the stream failed (ENOSPC, EIO): say why */
+        st = cli_diag_set(diag, GEOM_ERR_IO, NULL, 0, 0, "write error: %s", strerror(errno));
+    else if (err)
         st = cli_diag_set(diag, GEOM_ERR_IO, NULL, 0, 0, "PNG encoding failed: %s",
                           spng_strerror(err));
     spng_ctx_free(ctx);

@@ -623,7 +623,6 @@ geom_status scene_json_read_memory(const char *text, size_t len, const char *bas
                                    const char *tool_name, scene_json_objects *out, geom_diag *diag)
 {
     sc_ctx x;
-    const char *end = NULL;
     cJSON *root;
     geom_status st;
     memset(&x, 0, sizeof x);
@@ -631,18 +630,8 @@ geom_status scene_json_read_memory(const char *text, size_t len, const char *bas
     x.diag = diag;
     if (!out || (!text && len)) return GEOM_ERR_INVALID_ARG;
     memset(out, 0, sizeof *out);
-    if (memchr(text, '\0', len)) return fail(&x, GEOM_ERR_PARSE, "NUL byte in the JSON text");
-    root = cJSON_ParseWithLengthOpts(text, len, &end, 0);
-    if (!root) {
-        size_t off = end && end >= text && end <= text + len ? (size_t)(end - text) : 0, line = 1, col = 1, i;
-        for (i = 0; i < off; i++) {
-            if (text[i] == '\n') { line++; col = 1; }
-            else col++;
-        }
-        st = fail(&x, GEOM_ERR_PARSE, "JSON syntax error");
-        if (diag) { diag->line = line; diag->column = col; }
-        return st;
-    }
+    st = sj_json_parse(text, len, x.source, &root, diag);
+    if (st != GEOM_OK) return st;
     if (!cJSON_IsObject(root) || !key(root, "objects")) {
         cJSON_Delete(root);
         return fail(&x, GEOM_ERR_PARSE, "expected an object {\"objects\": [...]}");

@@ -8,6 +8,7 @@
 #include "cli.h"
 #include "image_io.h"
 #include "scene_json.h"
+#include "surface_json.h"
 
 static geom_status fail(const char *src, geom_diag *d, const char *where, const char *msg)
 {
@@ -422,19 +423,11 @@ geom_status srj_load(const char *path, const char *tool_name, srj_file *out, geo
         return st;
     const unsigned char *text = file_.data;
     size_t len = file_.size;
-    const char *end = NULL;
-    cJSON *root = cJSON_ParseWithLengthOpts((const char *)text, len, &end, 0);
-    if (!root) {
-        size_t line = 1, col = 1;
-        for (const unsigned char *p = text; end && p < (const unsigned char *)end; p++) {
-            if (*p == '\n') {
-                line++;
-                col = 1;
-            } else
-                col++;
-        }
+    cJSON *root = NULL;
+    st = sj_json_parse((const char *)text, len, path, &root, d);
+    if (st != GEOM_OK) {
         geom_file_unmap(&file_);
-        return cli_diag_set(d, GEOM_ERR_PARSE, path, line, col, "JSON syntax error");
+        return st;
     }
     geom_file_unmap(&file_);
     st = srj_parse(root, path, &out->render, d);

@@ -614,32 +614,34 @@ static void set_where(sj_ctx *x, const char *list, size_t i, const cJSON *e)
         snprintf(x->where, sizeof x->where, "%s[%zu]", list, i);
 }
 
-geom_status sj_read_memory(const char *text, size_t len, const char *source, sj_file *out,
-                           geom_diag *diag)
+geom_status sj_json_parse(const char *text, size_t len, const char *source, cJSON **root,
+                          geom_diag *diag)
 {
     sj_ctx x = {source ? source : "<memory>", diag, ""};
-    if (!out || (!text && len))
+    *root = NULL;
+    if (!text && len)
         return sj_fail(&x, GEOM_ERR_INVALID_ARG, 0, 0, "NULL argument");
-    memset(out, 0, sizeof *out);
-    if (memchr(text, '\0', len))
+    if (len && memchr(text, '\0', len))
         return sj_fail(&x, GEOM_ERR_PARSE, 0, 0, "NUL byte in the JSON text");
     const char *end = NULL, *start = text;
     int trailing = 0;
     if (len >= 3 && memcmp(text, "\xEF\xBB\xBF", 3) == 0)
         start += 3; /* a UTF-8 byte-order mark */
-    cJSON *root = cJSON_ParseWithLengthOpts(start, len - (size_t)(start - text), &end, 0);
-    if (root && end) { /* only white space may follow the value */
+    cJSON *r = len ? cJSON_ParseWithLengthOpts(start, len - (size_t)(start - text), &end, 0) : NULL;
+    if (r && end) { /* only white space may follow the value */
         const char *q = end;
         while (q < text + len && (*q == ' ' || *q == '\t' || *q == '\n' || *q == '\r'))
             q++;
         if (q < text + len) {
-            cJSON_Delete(root);
-            root = NULL;
+            cJSON_Delete(r);
+            r = NULL;
             end = q;
             trailing = 1;
         }
     }
-    if (!root) {
+    if (!r) {
+        if (start == text + len)
+            return sj_fail(&x, GEOM_ERR_PARSE, 0, 0, "empty file: expected a JSON object");
         size_t off = end && end >= text && end <= text + len ? (size_t)(end - text) : 0;
         size_t line = 1, col = 1;
         for (size_t i = 0; i < off; ++i) {
@@ -651,6 +653,21 @@ geom_status sj_read_memory(const char *text, size_t len, const char *source, sj_
         return sj_fail(&x, GEOM_ERR_PARSE, line, col,
                        trailing ? "text after the JSON value" : "JSON syntax error");
     }
+    *root = r;
+    return GEOM_OK;
+}
+
+geom_status sj_read_memory(const char *text, size_t len, const char *source, sj_file *out,
+                           geom_diag *diag)
+{
+    sj_ctx x = {source ? source : "<memory>", diag, ""};
+    if (!out || (!text && len))
+        return sj_fail(&x, GEOM_ERR_INVALID_ARG, 0, 0, "NULL argument");
+    memset(out, 0, sizeof *out);
+    cJSON *root;
+    geom_status pst = sj_json_parse(text, len, source, &root, diag);
+    if (pst != GEOM_OK)
+        return pst;
     geom_status st = GEOM_OK;
     if (!cJSON_IsObject(root)) {
         st = sj_fail(&x, GEOM_ERR_PARSE, 0, 0,

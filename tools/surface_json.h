@@ -63,6 +63,15 @@ typedef struct sj_file {
 geom_status sj_read_memory(const char *text, size_t len, const char *source, sj_file *out,
                            geom_diag *diag);
 
+struct cJSON;
+/** Parse JSON text (len bytes, no NUL needed) as every tool reads JSON: a
+ *  UTF-8 byte-order mark is skipped; a NUL byte, an empty file, a syntax
+ *  error (with its line and column) and anything but white space after the
+ *  value are GEOM_ERR_PARSE naming `source`. *root (free with cJSON_Delete)
+ *  is NULL on error. */
+geom_status sj_json_parse(const char *text, size_t len, const char *source, struct cJSON **root,
+                          geom_diag *diag);
+
 /** sj_read_memory on the file at path (GEOM_ERR_IO if it cannot be read). */
 geom_status sj_read_file(const char *path, sj_file *out, geom_diag *diag);
 

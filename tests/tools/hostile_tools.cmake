@@ -19,7 +19,7 @@ endif()
 # The hostile-input corpus through every tool that reads it.
 set(_hostile_tools "")
 foreach(_t geom-info geom-convert geom-normals geom-tangents geom-features geom-subdivide
-           geom-tessellate)
+           geom-tessellate geom-iso geom-render geom-scene geom-raycast geom-query)
   if(TARGET ${_t})
     list(APPEND _hostile_tools $<TARGET_FILE:${_t}>)
   endif()

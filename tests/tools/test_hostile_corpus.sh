@@ -3,8 +3,13 @@
 # tool that reads it: each file must give exit status 1 (never 0, never a
 # signal), a message on stderr naming the file and containing the words
 # EXPECT.tsv lists for it, no output file, and no control byte copied to the
-# terminal. Mesh files go through every mesh-reading tool, surface files
-# through geom-tessellate; a directory as input is named as one.
+# terminal. Mesh files (OBJ, OFF, PLY, STL, GLB) go through every mesh-reading
+# tool, surface and STEP files through geom-tessellate, volumes through
+# geom-iso --volume, scene files through geom-render, geom-scene and
+# geom-raycast (render_* files only through the first two: geom-raycast
+# ignores the rendering keys), point files through geom-query (as the points
+# and as the queries) and ray files through geom-raycast --rays; a directory
+# as input is named as one.
 # Usage: test_hostile_corpus.sh CORPUS_DIR TOOL...
 set -u
 C=$1
@@ -15,39 +20,80 @@ failures=0
 checks=0
 fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
 expect_of() { awk -F'\t' -v f="$1" '$1 == f { print $2 }' "$C/EXPECT.tsv"; }
+SCENE="$C/../../../data/scenes/spheres.json"
+TETRA="$C/../../../data/tetra.off"
+# check NAME REL CMD...: run CMD (in the corpus directory, stdin empty) and
+# check its exit status, message and output as described above.
+check() {
+    local name=$1 rel=$2 want rc
+    shift 2
+    want=$(expect_of "$rel")
+    checks=$((checks + 1))
+    [ -n "$want" ] || { fail "$rel: not listed in EXPECT.tsv"; return; }
+    (cd "$C" && timeout 60 "$@" </dev/null >"$T/out" 2>"$T/err"); rc=$?
+    [ $rc -eq 1 ] || fail "$name $rel: exit status $rc, expected 1 ($(head -c 200 "$T/err"))"
+    grep -qF -- "$rel" "$T/err" || fail "$name $rel: the message does not name the file: $(head -c 200 "$T/err")"
+    grep -qF -- "$want" "$T/err" || fail "$name $rel: expected '$want' in: $(head -c 300 "$T/err")"
+    if LC_ALL=C grep -q '[[:cntrl:]]' <(tr -d '\n' <"$T/err"); then
+        fail "$name $rel: a control byte reached stderr"
+    fi
+    for o in "$T"/out.*; do
+        [ ! -e "$o" ] || fail "$name $rel: an output file was written ($(basename "$o"))"
+    done
+    rm -f "$T"/out.*
+}
 for tool in "$@"; do
     name=$(basename "$tool")
     case $name in
-    geom-tessellate) files=("$C"/surface/*) ;;
-    geom-info | geom-convert | geom-normals | geom-tangents | geom-features | geom-subdivide)
-        files=("$C"/mesh/*) ;;
-    *) continue ;;
+    geom-info)
+        for f in "$C"/mesh/*; do check "$name" "${f#"$C"/}" "$tool" "${f#"$C"/}"; done ;;
+    geom-convert | geom-normals | geom-tangents | geom-features | geom-subdivide)
+        for f in "$C"/mesh/*; do
+            check "$name" "${f#"$C"/}" "$tool" "${f#"$C"/}" -o "$T/out.obj"
+        done ;;
+    geom-tessellate)
+        for f in "$C"/surface/* "$C"/step/*; do
+            check "$name" "${f#"$C"/}" "$tool" "${f#"$C"/}" -o "$T/out.obj"
+        done ;;
+    geom-iso)
+        for f in "$C"/volume/*; do
+            check "$name" "${f#"$C"/}" "$tool" --volume "${f#"$C"/}" --iso 0.5 -o "$T/out.obj"
+        done ;;
+    geom-render)
+        for f in "$C"/scene/*; do
+            check "$name" "${f#"$C"/}" "$tool" "${f#"$C"/}" -o "$T/out.png"
+        done ;;
+    geom-scene)
+        for f in "$C"/scene/*; do
+            check "$name" "${f#"$C"/}" "$tool" "${f#"$C"/}" --export "$T/out.glb"
+        done ;;
+    geom-raycast)
+        for f in "$C"/scene/*; do
+            case $f in */render_*) continue ;; esac
+            check "$name" "${f#"$C"/}" "$tool" "${f#"$C"/}" -o "$T/out.txt"
+        done
+        for f in "$C"/rays/*; do
+            check "$name" "${f#"$C"/}" "$tool" "$SCENE" --rays "${f#"$C"/}" -o "$T/out.txt"
+        done ;;
+    geom-query)
+        for f in "$C"/points/*; do
+            check "$name" "${f#"$C"/}" "$tool" "${f#"$C"/}" --knn 1 -o "$T/out.txt"
+            check "$name --queries" "${f#"$C"/}" "$tool" "$TETRA" --knn 1 --queries "${f#"$C"/}" \
+                -o "$T/out.txt"
+        done ;;
     esac
-    for f in "${files[@]}"; do
-        rel=${f#"$C"/}
-        want=$(expect_of "$rel")
-        checks=$((checks + 1))
-        [ -n "$want" ] || { fail "$rel: not listed in EXPECT.tsv"; continue; }
-        if [ "$name" = geom-info ]; then
-            (cd "$C" && "$tool" "$rel" >"$T/out" 2>"$T/err"); rc=$?
-        else
-            (cd "$C" && "$tool" "$rel" -o "$T/out.obj" >/dev/null 2>"$T/err"); rc=$?
-        fi
-        [ $rc -eq 1 ] || fail "$name $rel: exit status $rc, expected 1 ($(head -c 200 "$T/err"))"
-        grep -qF -- "$rel" "$T/err" || fail "$name $rel: the message does not name the file: $(head -c 200 "$T/err")"
-        grep -qF -- "$want" "$T/err" || fail "$name $rel: expected '$want' in: $(head -c 300 "$T/err")"
-        if LC_ALL=C grep -q '[[:cntrl:]]' <(tr -d '\n' <"$T/err"); then
-            fail "$name $rel: a control byte reached stderr"
-        fi
-        [ ! -e "$T/out.obj" ] || fail "$name $rel: an output file was written"
-        rm -f "$T/out.obj"
-    done
 done
 # A directory given as the input says so.
 mkdir "$T/adir"
 for tool in "$@"; do
     checks=$((checks + 1))
-    "$tool" "$T/adir" -o "$T/out.obj" >/dev/null 2>"$T/err"; rc=$?
+    case $(basename "$tool") in
+    geom-iso) "$tool" --volume "$T/adir" -o "$T/out.obj" </dev/null >/dev/null 2>"$T/err"; rc=$? ;;
+    geom-scene) "$tool" "$T/adir" --export "$T/out.obj" </dev/null >/dev/null 2>"$T/err"; rc=$? ;;
+    geom-query) "$tool" "$T/adir" --knn 1 </dev/null >/dev/null 2>"$T/err"; rc=$? ;;
+    geom-render) "$tool" "$T/adir" -o "$T/out.png" </dev/null >/dev/null 2>"$T/err"; rc=$? ;;
+    *) "$tool" "$T/adir" -o "$T/out.obj" </dev/null >/dev/null 2>"$T/err"; rc=$? ;;
+    esac
     [ $rc -eq 1 ] && grep -q "is a directory" "$T/err" ||
         fail "$(basename "$tool") DIR: exit $rc, expected 1 and 'is a directory': $(head -c 200 "$T/err")"
 done

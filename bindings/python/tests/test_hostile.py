@@ -126,3 +126,23 @@ def test_undiagnosed_failure_never_says_ok():
     text = str(e.value)
     assert not text.endswith(": ok") and ": ok" not in text, text
     assert "invalid argument" in text or e.value.name in text
+
+
+@pytest.mark.parametrize("path", sorted(glob.glob(os.path.join(HOSTILE, "volume", "*"))))
+def test_hostile_volume_corpus(path):
+    # every volume of the corpus is refused, from its path and from its bytes
+    # (a detached .mhd header cannot be read from memory: refused as well)
+    with pytest.raises(ERRORS):
+        geom.implicit.read_volume(path)
+    with open(path, "rb") as f:
+        data = f.read()
+    with pytest.raises(ERRORS):
+        geom.implicit.read_volume(data)
+
+
+@pytest.mark.parametrize("path", sorted(glob.glob(os.path.join(HOSTILE, "surface", "*"))))
+def test_hostile_surface_corpus(path):
+    # curve/surface JSON and .bpt files of the corpus are refused
+    reader = geom.surface.read_bpt if path.endswith(".bpt") else geom.surface.read_json
+    with pytest.raises(ERRORS):
+        reader(path)

@@ -296,6 +296,14 @@ static geom_status slurp(const char *path, const geom_allocator *alloc, unsigned
     FILE *fp = fopen(path, "rb");
     if (!fp)
         return geom__diag_set(diag, GEOM_ERR_IO, path, 0, 0, "cannot open: %s", strerror(errno));
+    /* a directory opens but cannot be read: say so (not "out of memory") */
+    errno = 0;
+    if (getc(fp) == EOF && ferror(fp)) {
+        int e = errno;
+        fclose(fp);
+        return geom__diag_set(diag, GEOM_ERR_IO, path, 0, 0, "cannot read: %s",
+                              e == EISDIR ? "is a directory" : strerror(e));
+    }
     long end = -1;
     if (fseek(fp, 0, SEEK_END) == 0)
         end = ftell(fp);
@@ -530,6 +538,11 @@ static geom_status load_detached(vf_ctx *c, const char *file, unsigned char **da
         return geom__diag_set(c->diag, GEOM_ERR_NOMEM, c->name, 0, 0, "out of memory");
     geom_status st = slurp(*dpath, c->alloc, data, size, c->diag);
     if (st != GEOM_OK) {
+        if (c->diag) { /* name the header too: it is the file the user gave */
+            char why[GEOM_DIAG_MESSAGE_MAX];
+            snprintf(why, sizeof why, "%s", c->diag->message);
+            geom__diag_set(c->diag, st, c->name, 0, 0, "data file %s: %s", *dpath, why);
+        }
         geom__free(c->alloc, *dpath, *dcap);
         *dpath = NULL;
     }

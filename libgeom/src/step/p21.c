@@ -756,6 +756,23 @@ geom_status geom__p21_parse(geom__p21 *p, const char *text, size_t size, const c
     if (size > (max_bytes ? max_bytes : ((size_t)1 << 30)))
         return geom__diag_set(diag, GEOM_ERR_LIMIT, p->source, 0, 0,
                              "input of %zu bytes exceeds the limit", size);
+    /* Part 21 is 7-bit text: name UTF-16 and NUL bytes as such (issue 15) */
+    if (size >= 2 && ((unsigned char)text[0] == 0xFF || (unsigned char)text[0] == 0xFE) &&
+        ((unsigned char)text[1] == 0xFF || (unsigned char)text[1] == 0xFE) && text[0] != text[1])
+        return geom__diag_set(diag, GEOM_ERR_PARSE, p->source, 1, 1,
+                              "UTF-16 text: a STEP file is 7-bit ISO 10303-21 text");
+    const char *nul = size ? memchr(text, '\0', size) : NULL;
+    if (nul) {
+        size_t line = 1, col = 1;
+        for (const char *q = text; q < nul; q++) {
+            if (*q == '\n')
+                line++, col = 1;
+            else
+                col++;
+        }
+        return geom__diag_set(diag, GEOM_ERR_PARSE, p->source, line, col,
+                              "NUL byte at byte offset %zu", (size_t)(nul - text));
+    }
     geom_status st = parse_all(&L);
     if (st != GEOM_OK && diag && diag->status != st)
         geom__diag_set(diag, st, p->source, L.line, L.col, "%s", geom_status_str(st));
