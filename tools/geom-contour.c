@@ -34,7 +34,7 @@ static const cli_tool tool = {
     "polylines (`l` lines) to OUT (standard output when OUT is '-' or absent;\n"
     "then --format is needed).",
     "  -e, --expr=E         the function, e.g. 'smooth_union(sphere(1), box(1,0.5,1,1.2,\n"
-    "                       0.3,1), 0.2)'; inside is f < V\n"
+    "                       0.3,1), 0.2)'; inside is f <= V\n"
     "  -b, --bounds=X0,Y0,X1,Y1  the rectangle to contour (X0 < X1, Y0 < Y1)\n"
     "  -r, --res=N[,NY]     cells along x (and y; default NY = N), at most 100000\n"
     "  -i, --iso=V          the isovalue (default 0)\n"
