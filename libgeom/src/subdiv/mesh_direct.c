@@ -11,9 +11,10 @@
  * maps), so outputs do not change. It applies to levels that are oriented
  * manifolds whose vertex pairs name one edge each: sd_mesh_direct_applies
  * says which from the base level's tags; the build itself re-checks every
- * edge (at most two uses, in opposite directions) and every vertex (one
- * fan) and declines (SD_DIRECT_DECLINED, m left empty) otherwise, and the
- * caller then builds from the soup.
+ * edge (at most two uses, in opposite directions; debug builds also every
+ * vertex's single fan) and declines (SD_DIRECT_DECLINED, m left empty)
+ * otherwise, and the caller then builds from the soup. test_subdiv
+ * compares it with geom_mesh_build element for element.
  */
 #include "subdiv_internal.h"
 
@@ -87,16 +88,16 @@ static int direct_halfedges(const sd_level *l, geom_mesh *m, uint32_t *en, const
 }
 
 /* Outgoing halfedges (the lowest interior one; the boundary one where
- * there is one), boundary cycles, and the one-fan check. cnt: nv entries.
- * Returns 0, or 1 to decline. */
+ * there is one), boundary cycles, and (debug builds) the one-fan check:
+ * sd_mesh_direct_applies made sure of it, as level 0 orders every vertex's
+ * faces in one fan or tags it non-manifold. cnt: nv entries. Returns 0, or
+ * 1 to decline. */
 static int direct_vertices(geom_mesh *m, uint32_t *cnt)
 {
     const size_t H = m->nh, nv = m->nv;
-    memset(cnt, 0, nv * sizeof(uint32_t));
     memset(m->v_he, 0xff, nv * sizeof(uint32_t));
     for (size_t h = 0; h < H; ++h) {
         uint32_t v = m->he_vertex[h ^ 1u];
-        cnt[v]++;
         if (m->he_face[h] != INV && m->v_he[v] == INV)
             m->v_he[v] = (uint32_t)h;
     }
@@ -111,9 +112,14 @@ static int direct_vertices(geom_mesh *m, uint32_t *cnt)
     for (size_t b = 1; b < H; b += 2)
         if (m->he_face[b] == INV)
             geom__mesh_link(m, (uint32_t)b, m->v_he[m->he_vertex[b]]);
+    for (size_t v = 0; v < nv; ++v)
+        m->vertex_origin[v] = (uint32_t)v;
+#ifndef NDEBUG
+    memset(cnt, 0, nv * sizeof(uint32_t));
+    for (size_t h = 0; h < H; ++h)
+        cnt[m->he_vertex[h ^ 1u]]++;
     for (size_t v = 0; v < nv; ++v) {
         uint32_t h0 = m->v_he[v], h = h0, n = 0;
-        m->vertex_origin[v] = (uint32_t)v;
         if (h0 == INV)
             continue;
         do {
@@ -123,6 +129,9 @@ static int direct_vertices(geom_mesh *m, uint32_t *cnt)
         if (n != cnt[v])
             return 1;
     }
+#else
+    (void)cnt;
+#endif
     return 0;
 }
 
@@ -152,11 +161,13 @@ geom_status sd_mesh_direct(const geom_allocator *a, const sd_level *l, const dou
     st = geom__mesh_build_storage(m, l->nv, 2 * (size_t)E, l->nf);
     if (st != GEOM_OK)
         goto out;
+#ifndef NDEBUG
     cnt = sd_malloc(a, l->nv ? l->nv : 1, sizeof(uint32_t));
     if (!cnt) {
         st = GEOM_ERR_NOMEM;
         goto out;
     }
+#endif
     declined = direct_halfedges(l, m, en, uses, hs);
     /* the edge arrays are done: freed before the vertex pass */
     sd_free(a, en, ne, sizeof(uint32_t));
