@@ -265,7 +265,7 @@ static void test_far_origins(void **state)
 {
     cube q = make_cube(0.25, 0.5, -0.125, 1.0 / 3);
     geom_ray_scene *s = scene_of(&q);
-    unsigned long x = 88172645463325252ul;
+    uint64_t x = 88172645463325252u;
     int it;
     (void)state;
     for (it = 0; it < 3000; it++) {
