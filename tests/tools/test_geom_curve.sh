@@ -20,34 +20,7 @@ PY=${PYTHON3:-/usr/bin/python3}
 T=$(mktemp -d "${TMPDIR:-/tmp}/geom-curve-test.XXXXXX") || exit 1
 trap 'rm -rf "$T"' EXIT
 
-failures=0
-checks=0
-fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
-run() {
-    "$TOOL" "$@" >"$T/stdout" 2>"$T/stderr"
-    rc=$?
-    out=$(cat "$T/stdout")
-    err=$(cat "$T/stderr")
-}
-expect_rc() {
-    checks=$((checks + 1))
-    [ "$rc" -eq "$1" ] || fail "$2: exit status $rc, expected $1 (stderr: $err)"
-}
-expect_err() {
-    checks=$((checks + 1))
-    case "$err" in
-    *"$1"*) ;;
-    *) fail "$2: stderr '$err' does not contain '$1'" ;;
-    esac
-}
-pycheck() {
-    local what=$1
-    shift
-    checks=$((checks + 1))
-    local res
-    res=$("$PY" - "$@" 2>&1) || { fail "$what: $res"; return; }
-    [ "$res" = "ok" ] || fail "$what: $res"
-}
+. "$(dirname "$0")/testlib.sh"
 
 run --help
 expect_rc 0 "--help"
