@@ -34,6 +34,10 @@
 #include "geom/iso.h"
 #include "geom/meshio.h"
 
+/* Peak bytes per output triangle for --max-memory: measured 108 at res 600
+ * (the extraction's arrays and the mesh built for non-OBJ formats). */
+#define ISO_PEAK_BYTES_PER_TRIANGLE 120.0
+
 static const cli_tool tool = {
     "geom-iso",
     "(--expr E | --volume FILE [--dims X,Y,Z --type T]) [OPTION]... -o OUT",
@@ -401,7 +405,7 @@ int main(int argc, char **argv)
         double est = 0.0;
         if (st == GEOM_OK && geom_iso_estimate_triangles(&f, a.bounds, a.res, a.iso, &est) ==
                                  GEOM_OK &&
-            cli_limits_check(&tool, &a.lim, "the isosurface", est, est * 80.0) != CLI_CONTINUE) {
+            cli_limits_check(&tool, &a.lim, "the isosurface", est, est * ISO_PEAK_BYTES_PER_TRIANGLE) != CLI_CONTINUE) {
             geom_implicit_expr_destroy(expr);
             return CLI_EXIT_ERROR;
         }
@@ -436,7 +440,7 @@ int main(int argc, char **argv)
             double est = 0.0;
             if (st == GEOM_OK && geom_iso_estimate_triangles(&f, a.bounds, a.res, a.iso, &est) ==
                                      GEOM_OK &&
-                cli_limits_check(&tool, &a.lim, "the isosurface", est, est * 80.0) !=
+                cli_limits_check(&tool, &a.lim, "the isosurface", est, est * ISO_PEAK_BYTES_PER_TRIANGLE) !=
                     CLI_CONTINUE) {
                 geom_implicit_volume_destroy(vol);
                 return CLI_EXIT_ERROR;
@@ -448,7 +452,7 @@ int main(int argc, char **argv)
             st = geom_iso_grid_from_volume(vol, &g);
             double est = 0.0;
             if (st == GEOM_OK && geom_iso_grid_estimate_triangles(&g, a.iso, &est) == GEOM_OK &&
-                cli_limits_check(&tool, &a.lim, "the isosurface", est, est * 80.0) !=
+                cli_limits_check(&tool, &a.lim, "the isosurface", est, est * ISO_PEAK_BYTES_PER_TRIANGLE) !=
                     CLI_CONTINUE) {
                 geom_implicit_volume_destroy(vol);
                 return CLI_EXIT_ERROR;

@@ -538,10 +538,10 @@ static geom_status load_detached(vf_ctx *c, const char *file, unsigned char **da
         return geom__diag_set(c->diag, GEOM_ERR_NOMEM, c->name, 0, 0, "out of memory");
     geom_status st = slurp(*dpath, c->alloc, data, size, c->diag);
     if (st != GEOM_OK) {
-        if (c->diag) { /* name the header too: it is the file the user gave */
+        if (c->diag) { /* the data file is the source; name the header the user gave too */
             char why[GEOM_DIAG_MESSAGE_MAX];
             snprintf(why, sizeof why, "%s", c->diag->message);
-            geom__diag_set(c->diag, st, c->name, 0, 0, "data file %s: %s", *dpath, why);
+            geom__diag_set(c->diag, st, *dpath, 0, 0, "%s (data file named by %s)", why, c->name);
         }
         geom__free(c->alloc, *dpath, *dcap);
         *dpath = NULL;
