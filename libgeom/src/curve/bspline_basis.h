@@ -138,12 +138,15 @@ void geom__curve_span_derivs(const geom_nurbs_curve *c, size_t k, double u, int 
 /** Deepest midpoint subdivision of a span in geom_curve_nurbs_polyline. */
 #define GEOM__CURVE_PL_MAX_DEPTH 50
 
-/** The options geom_curve_nurbs_polyline works with: checked (the same
- *  GEOM_ERR_INVALID_ARG message), the default tolerance resolved, method
- *  GEOM_ERROR_BOUND or GEOM_ERROR_SAMPLED. Shared with the estimate. */
+/** The arguments and options geom_curve_nurbs_polyline works with: c
+ *  validated, count (the caller's output pointer) non-NULL, the options
+ *  checked (the same GEOM_ERR_INVALID_ARG messages), the default tolerance
+ *  resolved, method GEOM_ERROR_BOUND or GEOM_ERROR_SAMPLED. Shared with the
+ *  estimate. */
 geom_status geom__curve_polyline_options(const geom_nurbs_curve *c,
                                          const geom_curve_polyline_options *options,
-                                         geom_curve_polyline_options *opt, geom_diag *diag);
+                                         const void *count, geom_curve_polyline_options *opt,
+                                         geom_diag *diag);
 
 /** Doubles of work for geom__curve_span_bezier: (p+1)*hdim. */
 static inline size_t geom__curve_span_bezier_work(const geom_nurbs_curve *c)

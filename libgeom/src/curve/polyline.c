@@ -160,8 +160,16 @@ static void span_polyline(pl_ctx *x, double *stack, pl_piece *info, double *work
 
 geom_status geom__curve_polyline_options(const geom_nurbs_curve *c,
                                          const geom_curve_polyline_options *options,
-                                         geom_curve_polyline_options *opt, geom_diag *diag)
+                                         const void *count, geom_curve_polyline_options *opt,
+                                         geom_diag *diag)
 {
+    if (!c)
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: NULL curve");
+    geom_status st = geom_curve_nurbs_validate(c, c->n + (size_t)c->degree + 1, diag);
+    if (st != GEOM_OK)
+        return st;
+    if (!count)
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: NULL count");
     geom_curve_polyline_options o = {0.0, 0, 0};
     if (options)
         o = *options;
@@ -195,15 +203,8 @@ geom_status geom_curve_nurbs_polyline(const geom_nurbs_curve *c,
                                       double *points, size_t capacity, size_t *count,
                                       geom_error_report *report, geom_diag *diag)
 {
-    if (!c)
-        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: NULL curve");
-    geom_status st = geom_curve_nurbs_validate(c, c->n + (size_t)c->degree + 1, diag);
-    if (st != GEOM_OK)
-        return st;
-    if (!count)
-        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: NULL count");
     geom_curve_polyline_options opt;
-    st = geom__curve_polyline_options(c, options, &opt, diag);
+    geom_status st = geom__curve_polyline_options(c, options, count, &opt, diag);
     if (st != GEOM_OK)
         return st;
     size_t dim = c->dim, p = (size_t)c->degree;

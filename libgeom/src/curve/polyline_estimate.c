@@ -18,15 +18,8 @@ geom_status geom_curve_nurbs_polyline_estimate(const geom_nurbs_curve *c,
                                                const geom_curve_polyline_options *options,
                                                double *count, int *is_bound, geom_diag *diag)
 {
-    if (!c)
-        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: NULL curve");
-    geom_status st = geom_curve_nurbs_validate(c, c->n + (size_t)c->degree + 1, diag);
-    if (st != GEOM_OK)
-        return st;
-    if (!count)
-        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: NULL count");
     geom_curve_polyline_options opt;
-    st = geom__curve_polyline_options(c, options, &opt, diag);
+    geom_status st = geom__curve_polyline_options(c, options, count, &opt, diag);
     if (st != GEOM_OK)
         return st;
     size_t dim = c->dim, p = (size_t)c->degree, D = geom__curve_hdim(c);

@@ -158,18 +158,27 @@ static void fast_prev(geom_mesh *m)
             prev[next[h]] = (uint32_t)h;
 }
 
-/* Phase 4. Returns 1 when a vertex must be split (the repair). */
-static int fast_vertices(const fast_ctx *x, geom_mesh *m, geom_mesh_build_report *rep)
+/* Declared in mesh_internal.h: outgoing halfedges, boundary links and
+ * (with cnt) the one-fan check, for the fast path and subdivision's direct
+ * output. */
+int geom__mesh_link_vertices(geom_mesh *m, uint32_t *cnt, size_t *isolated)
 {
-    const size_t H = m->nh, nv = x->nverts;
-    uint32_t *cnt = x->cnt; /* outgoing halfedges per vertex, for the fan check */
-    memset(cnt, 0, (nv + 1) * sizeof(uint32_t));
+    const size_t H = m->nh, nv = m->nv;
     memset(m->v_he, 0xff, nv * sizeof(uint32_t));
-    for (size_t h = 0; h < H; ++h) {
-        uint32_t v = m->he_vertex[h ^ 1u];
-        cnt[v]++;
-        if (m->he_face[h] != INV && m->v_he[v] == INV)
-            m->v_he[v] = (uint32_t)h;
+    if (cnt) {
+        memset(cnt, 0, nv * sizeof(uint32_t));
+        for (size_t h = 0; h < H; ++h) {
+            uint32_t v = m->he_vertex[h ^ 1u];
+            cnt[v]++;
+            if (m->he_face[h] != INV && m->v_he[v] == INV)
+                m->v_he[v] = (uint32_t)h;
+        }
+    } else {
+        for (size_t h = 0; h < H; ++h) {
+            uint32_t v = m->he_vertex[h ^ 1u];
+            if (m->he_face[h] != INV && m->v_he[v] == INV)
+                m->v_he[v] = (uint32_t)h;
+        }
     }
     for (size_t b = 1; b < H; b += 2) {
         if (m->he_face[b] != INV)
@@ -182,11 +191,14 @@ static int fast_vertices(const fast_ctx *x, geom_mesh *m, geom_mesh_build_report
     for (size_t b = 1; b < H; b += 2)
         if (m->he_face[b] == INV)
             geom__mesh_link(m, (uint32_t)b, m->v_he[m->he_vertex[b]]);
+    if (!cnt)
+        return 0;
     /* one fan per vertex: rotating from v_he visits every outgoing halfedge */
     for (size_t v = 0; v < nv; ++v) {
         uint32_t h0 = m->v_he[v], h = h0, n = 0;
         if (h0 == INV) {
-            rep->isolated_vertices++;
+            if (isolated)
+                (*isolated)++;
             continue;
         }
         do {
@@ -197,6 +209,12 @@ static int fast_vertices(const fast_ctx *x, geom_mesh *m, geom_mesh_build_report
             return 1;
     }
     return 0;
+}
+
+/* Phase 4. Returns 1 when a vertex must be split (the repair). */
+static int fast_vertices(const fast_ctx *x, geom_mesh *m, geom_mesh_build_report *rep)
+{
+    return geom__mesh_link_vertices(m, x->cnt, &rep->isolated_vertices);
 }
 
 int geom__mesh_build_fast(geom_mesh *m, size_t nverts, const double *xyz, size_t nfaces,

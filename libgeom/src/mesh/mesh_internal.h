@@ -195,6 +195,14 @@ geom_status geom__mesh_ensure_origins(geom_mesh *m);
  * (zero): the builder writes he_next, he_prev, he_vertex, he_face, v_he,
  * f_he, vertex_origin, face_origin and the positions itself, every entry. */
 geom_status geom__mesh_build_storage(geom_mesh *m, size_t nv, size_t nh, size_t nf);
+/* Outgoing halfedges (the first interior one in index order; the boundary
+ * one where there is one) and the boundary cycles' links, for a mesh whose
+ * face cycles (he_next, he_face, he_vertex) are set. With cnt (nv entries of
+ * scratch) also the one-fan check: rotating from v_he visits every outgoing
+ * halfedge, and *isolated (if non-NULL) counts vertices with none. Returns 1
+ * when a vertex has two boundary gaps or (with cnt) more than one fan, for
+ * the caller to repair or decline; else 0 (build_fast.c). */
+int geom__mesh_link_vertices(geom_mesh *m, uint32_t *cnt, size_t *isolated);
 /* Give a new, empty mesh (no vertex storage yet, no channel but positions)
  * the block xyz (3*nv doubles, allocated with m's allocator, exactly that
  * size) as its positions' storage, with room for nv vertices; m owns it

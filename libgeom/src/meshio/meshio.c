@@ -439,9 +439,10 @@ geom_status geom_meshio_write_memory(const geom_mesh *m, const geom_meshio_write
 }
 
 /* Writes through a 64 KiB sink buffer flushed by flush(user, ...): the one
- * streaming path of geom_meshio_write_stream and geom_meshio_write. */
-static geom_status write_flushed(const geom_mesh *m, const geom_meshio_write_options *o,
-                                 geom_meshio_format fmt,
+ * streaming path of every mesh and soup writer; body(ctx, o, k) puts the
+ * bytes, a failure inside it is k->status. */
+static geom_status write_flushed(geom__meshio_body_fn body, const void *ctx,
+                                 const geom_meshio_write_options *o,
                                  geom_status (*flush)(void *, const void *, size_t, geom_diag *),
                                  void *user, const char *path, geom_diag *diag)
 {
@@ -456,7 +457,7 @@ static geom_status write_flushed(const geom_mesh *m, const geom_meshio_write_opt
     k.user = user;
     if (!k.buf)
         return geom__diag_set(diag, GEOM_ERR_NOMEM, path, 0, 0, "out of memory");
-    geom_status st = write_dispatch(m, o, fmt, &k);
+    geom_status st = body(ctx, o, &k);
     if (st == GEOM_OK)
         st = k.status;
     if (st == GEOM_OK)
@@ -482,6 +483,49 @@ static geom_status stream_flush(void *user, const void *data, size_t n, geom_dia
     return st;
 }
 
+/* The sink's flush function over core's cp-like output (core/output.c). */
+static geom_status output_flush(void *user, const void *data, size_t n, geom_diag *diag)
+{
+    return geom_output_write(user, data, n, diag);
+}
+
+geom_status geom__meshio_write_body_stream(geom__meshio_body_fn body, const void *ctx,
+                                           const geom_meshio_write_options *o,
+                                           geom_meshio_write_fn fn, void *user, geom_diag *diag)
+{
+    stream_user su = {fn, user};
+    return write_flushed(body, ctx, o, stream_flush, &su, NULL, diag);
+}
+
+geom_status geom__meshio_write_body_path(geom__meshio_body_fn body, const void *ctx,
+                                         const geom_meshio_write_options *o, const char *path,
+                                         geom_diag *diag)
+{
+    geom_output at;
+    geom_status st = geom_output_open(path, o->alloc, &at, diag);
+    if (st != GEOM_OK)
+        return st;
+    st = write_flushed(body, ctx, o, output_flush, &at, path, diag);
+    if (st != GEOM_OK) {
+        geom_output_abort(&at);
+        if (diag && diag->source[0] == '\0')
+            snprintf(diag->source, sizeof diag->source, "%s", path);
+        return st;
+    }
+    return geom_output_commit(&at, diag);
+}
+
+typedef struct mesh_body {
+    const geom_mesh *m;
+    geom_meshio_format fmt;
+} mesh_body;
+
+static geom_status write_mesh_body(const void *ctx, const geom_meshio_write_options *o, mio_sink *k)
+{
+    const mesh_body *b = ctx;
+    return write_dispatch(b->m, o, b->fmt, k);
+}
+
 geom_status geom_meshio_write_stream(const geom_mesh *m, const geom_meshio_write_options *opt,
                                      geom_meshio_write_fn fn, void *user, geom_diag *diag)
 {
@@ -493,20 +537,14 @@ geom_status geom_meshio_write_stream(const geom_mesh *m, const geom_meshio_write
     geom_status st = write_prepare(m, opt, NULL, &o, &fmt, diag);
     if (st != GEOM_OK)
         return st;
-    stream_user su = {fn, user};
-    return write_flushed(m, &o, fmt, stream_flush, &su, NULL, diag);
+    mesh_body b = {m, fmt};
+    return geom__meshio_write_body_stream(write_mesh_body, &b, &o, fn, user, diag);
 }
 
 void geom_meshio_buffer_free(void *data, size_t size, const geom_allocator *alloc)
 {
     if (data)
         geom__free(alloc, data, size + 1);
-}
-
-/* The sink's flush function over core's cp-like output (core/output.c). */
-static geom_status output_flush(void *user, const void *data, size_t n, geom_diag *diag)
-{
-    return geom_output_write(user, data, n, diag);
 }
 
 geom_status geom_meshio_write(const geom_mesh *m, const char *path,
@@ -520,16 +558,6 @@ geom_status geom_meshio_write(const geom_mesh *m, const char *path,
     geom_status st = write_prepare(m, opt, path, &o, &fmt, diag);
     if (st != GEOM_OK)
         return st;
-    geom_output at;
-    st = geom_output_open(path, o.alloc, &at, diag);
-    if (st != GEOM_OK)
-        return st;
-    st = write_flushed(m, &o, fmt, output_flush, &at, path, diag);
-    if (st != GEOM_OK) {
-        geom_output_abort(&at);
-        if (diag && diag->source[0] == '\0')
-            snprintf(diag->source, sizeof diag->source, "%s", path);
-        return st;
-    }
-    return geom_output_commit(&at, diag);
+    mesh_body b = {m, fmt};
+    return geom__meshio_write_body_path(write_mesh_body, &b, &o, path, diag);
 }

@@ -309,6 +309,17 @@ void geom__meshio_put_f32(mio_sink *k, float v, int be);
 void geom__meshio_put_f64(mio_sink *k, double v, int be);
 /* Flush buffered bytes (file sinks). */
 geom_status geom__meshio_sink_flush(mio_sink *k);
+/* The one buffered write path (meshio.c): body(ctx, o, k) puts the bytes
+ * into a 64 KiB sink; _stream flushes it through fn(user, ...), _path into
+ * an atomic geom_output at path (committed on success, aborted otherwise). */
+typedef geom_status (*geom__meshio_body_fn)(const void *ctx, const geom_meshio_write_options *o,
+                                            mio_sink *k);
+geom_status geom__meshio_write_body_stream(geom__meshio_body_fn body, const void *ctx,
+                                           const geom_meshio_write_options *o,
+                                           geom_meshio_write_fn fn, void *user, geom_diag *diag);
+geom_status geom__meshio_write_body_path(geom__meshio_body_fn body, const void *ctx,
+                                         const geom_meshio_write_options *o, const char *path,
+                                         geom_diag *diag);
 /* Fail the sink with a status and message (first error wins). */
 geom_status geom__meshio_sink_fail(mio_sink *k, geom_status st, const char *fmt, ...)
     GEOM_PRINTF(3, 4);

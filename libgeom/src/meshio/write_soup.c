@@ -12,8 +12,6 @@
 
 #include <stdio.h>
 
-#define SOUP_BUF (1u << 16)
-
 static geom_status check_soup(const geom_meshio_soup *s, const geom_meshio_write_options *o,
                               geom_diag *diag, const char *path)
 {
@@ -79,46 +77,10 @@ static void write_soup_obj(const geom_meshio_soup *s, const geom_meshio_write_op
     }
 }
 
-typedef struct soup_user {
-    geom_meshio_write_fn fn;
-    void *user;
-    geom_output *out;
-} soup_user;
-
-static geom_status soup_flush(void *user, const void *data, size_t n, geom_diag *diag)
+static geom_status soup_body(const void *ctx, const geom_meshio_write_options *o, mio_sink *k)
 {
-    const soup_user *u = user;
-    if (u->out)
-        return geom_output_write(u->out, data, n, diag);
-    geom_status st = u->fn(u->user, data, n);
-    if (st != GEOM_OK && diag && diag->status == GEOM_OK)
-        geom__diag_set(diag, st, NULL, 0, 0, "output could not be written: %s",
-                      geom_status_str(st));
-    return st;
-}
-
-static geom_status write_soup(const geom_meshio_soup *s, const geom_meshio_write_options *o,
-                              soup_user *u, const char *path, geom_diag *diag)
-{
-    mio_sink k;
-    memset(&k, 0, sizeof k);
-    k.alloc = o->alloc;
-    k.diag = diag;
-    k.precision = o->precision;
-    k.cap = SOUP_BUF;
-    k.buf = geom__alloc(o->alloc, k.cap);
-    k.flush_fn = soup_flush;
-    k.user = u;
-    if (!k.buf)
-        return geom__diag_set(diag, GEOM_ERR_NOMEM, path, 0, 0, "out of memory");
-    write_soup_obj(s, o, &k);
-    geom_status st = k.status;
-    if (st == GEOM_OK)
-        st = geom__meshio_sink_flush(&k);
-    geom__free(o->alloc, k.buf, k.cap);
-    if (st != GEOM_OK && diag && diag->status == GEOM_OK)
-        geom__diag_set(diag, st, path, 0, 0, "%s", geom_status_str(st));
-    return st;
+    write_soup_obj(ctx, o, k);
+    return GEOM_OK;
 }
 
 static void soup_options(const geom_meshio_write_options *opt, geom_meshio_write_options *o)
@@ -141,8 +103,7 @@ geom_status geom_meshio_write_soup_stream(const geom_meshio_soup *s,
     geom_status st = check_soup(s, &o, diag, NULL);
     if (st != GEOM_OK)
         return st;
-    soup_user u = {fn, user, NULL};
-    return write_soup(s, &o, &u, NULL, diag);
+    return geom__meshio_write_body_stream(soup_body, s, &o, fn, user, diag);
 }
 
 geom_status geom_meshio_write_soup(const geom_meshio_soup *s, const char *path,
@@ -158,17 +119,5 @@ geom_status geom_meshio_write_soup(const geom_meshio_soup *s, const char *path,
     geom_status st = check_soup(s, &o, diag, path);
     if (st != GEOM_OK)
         return st;
-    geom_output at;
-    st = geom_output_open(path, o.alloc, &at, diag);
-    if (st != GEOM_OK)
-        return st;
-    soup_user u = {NULL, NULL, &at};
-    st = write_soup(s, &o, &u, path, diag);
-    if (st != GEOM_OK) {
-        geom_output_abort(&at);
-        if (diag && diag->source[0] == '\0')
-            snprintf(diag->source, sizeof diag->source, "%s", path);
-        return st;
-    }
-    return geom_output_commit(&at, diag);
+    return geom__meshio_write_body_path(soup_body, s, &o, path, diag);
 }

@@ -94,44 +94,13 @@ static int direct_halfedges(const sd_level *l, geom_mesh *m, uint32_t *en, const
  * 1 to decline. */
 static int direct_vertices(geom_mesh *m, uint32_t *cnt)
 {
-    const size_t H = m->nh, nv = m->nv;
-    memset(m->v_he, 0xff, nv * sizeof(uint32_t));
-    for (size_t h = 0; h < H; ++h) {
-        uint32_t v = m->he_vertex[h ^ 1u];
-        if (m->he_face[h] != INV && m->v_he[v] == INV)
-            m->v_he[v] = (uint32_t)h;
-    }
-    for (size_t b = 1; b < H; b += 2) {
-        if (m->he_face[b] != INV)
-            continue;
-        uint32_t v = m->he_vertex[b ^ 1u];
-        if (m->he_face[m->v_he[v]] == INV)
-            return 1;
-        m->v_he[v] = (uint32_t)b;
-    }
-    for (size_t b = 1; b < H; b += 2)
-        if (m->he_face[b] == INV)
-            geom__mesh_link(m, (uint32_t)b, m->v_he[m->he_vertex[b]]);
-    for (size_t v = 0; v < nv; ++v)
-        m->vertex_origin[v] = (uint32_t)v;
-#ifndef NDEBUG
-    memset(cnt, 0, nv * sizeof(uint32_t));
-    for (size_t h = 0; h < H; ++h)
-        cnt[m->he_vertex[h ^ 1u]]++;
-    for (size_t v = 0; v < nv; ++v) {
-        uint32_t h0 = m->v_he[v], h = h0, n = 0;
-        if (h0 == INV)
-            continue;
-        do {
-            h = m->he_next[h ^ 1u];
-            n++;
-        } while (h != h0 && n <= cnt[v]);
-        if (n != cnt[v])
-            return 1;
-    }
-#else
-    (void)cnt;
+#ifdef NDEBUG
+    cnt = NULL; /* the fan check runs in debug builds only */
 #endif
+    if (geom__mesh_link_vertices(m, cnt, NULL))
+        return 1;
+    for (size_t v = 0; v < m->nv; ++v)
+        m->vertex_origin[v] = (uint32_t)v;
     return 0;
 }
 
