@@ -16,9 +16,7 @@ C=$1
 shift
 T=$(mktemp -d "${TMPDIR:-/tmp}/geom-hostile.XXXXXX") || exit 1
 trap 'rm -rf "$T"' EXIT
-failures=0
-checks=0
-fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
+. "$(dirname "$0")/testlib.sh" # failures, checks, fail
 expect_of() { awk -F'\t' -v f="$1" '$1 == f { print $2 }' "$C/EXPECT.tsv"; }
 SCENE="$C/../../../data/scenes/spheres.json"
 TETRA="$C/../../../data/tetra.off"

@@ -12,9 +12,7 @@ DATA=$1
 shift
 T=$(mktemp -d "${TMPDIR:-/tmp}/geom-mtllib-test.XXXXXX") || exit 1
 trap 'rm -rf "$T"' EXIT
-failures=0
-checks=0
-fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
+. "$(dirname "$0")/testlib.sh" # failures, checks, fail
 check() { checks=$((checks + 1)); "$@"; }
 cp "$DATA/cube_seams.obj" "$T/in.obj"
 mkdir -p "$T/out"
