@@ -534,10 +534,12 @@ static void test_integer_text(void **state)
     v[n++] = INT64_MIN;
     v[n++] = INT64_MIN + 1;
     int64_t p = 1;
-    for (int k = 0; k < 19; k++, p *= 10) {
+    for (int k = 0; k < 19; k++) { /* p = 10^k; 10^19 would overflow */
         v[n++] = p;
         v[n++] = p - 1 > 0 ? p - 1 : 7;
         v[n++] = -(p + 1);
+        if (k < 18)
+            p *= 10;
     }
     geom_mesh *m = geom_mesh_create(NULL);
     assert_non_null(m);
