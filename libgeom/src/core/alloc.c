@@ -1,8 +1,15 @@
 /* Allocation through the optional geom_allocator. */
+#if defined(__linux__) && !defined(_DEFAULT_SOURCE)
+#define _DEFAULT_SOURCE /* madvise */
+#endif
 #include "core/internal.h"
 
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 
 void *geom__alloc(const geom_allocator *a, size_t size)
 {
@@ -54,4 +61,18 @@ geom_status geom__size_mul(size_t n, size_t size, size_t *out)
         return GEOM_ERR_LIMIT;
     *out = n * size;
     return GEOM_OK;
+}
+
+void geom__advise_huge(const geom_allocator *a, void *p, size_t bytes, size_t min_bytes)
+{
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    if (a || !p || bytes < min_bytes)
+        return;
+    uintptr_t lo = ((uintptr_t)p + 4095) & ~(uintptr_t)4095;
+    uintptr_t hi = ((uintptr_t)p + bytes) & ~(uintptr_t)4095;
+    if (hi > lo)
+        (void)madvise((void *)lo, hi - lo, MADV_HUGEPAGE);
+#else
+    (void)a, (void)p, (void)bytes, (void)min_bytes;
+#endif
 }

@@ -50,6 +50,11 @@ geom_status geom__diag_set_offset(geom_diag *d, geom_status status, const char *
 void *geom__alloc(const geom_allocator *a, size_t size);
 void *geom__realloc(const geom_allocator *a, void *ptr, size_t old_size, size_t new_size);
 void geom__free(const geom_allocator *a, void *ptr, size_t size);
+/* Advice only: ask for transparent huge pages on a large array from libc's
+ * malloc (bytes >= min_bytes; the first touch of a 100 MB array otherwise
+ * costs tens of thousands of page faults). A caller's allocator is left
+ * alone; no-op where madvise has no MADV_HUGEPAGE. */
+void geom__advise_huge(const geom_allocator *a, void *p, size_t bytes, size_t min_bytes);
 /* n*size with overflow check: returns 0 and sets *out, or GEOM_ERR_LIMIT. */
 geom_status geom__size_mul(size_t n, size_t size, size_t *out);
 

@@ -23,17 +23,11 @@
  * closest hit so far; a single hit child is visited next without the
  * stack. Triangles are stored in leaf order (9 doubles each), so a leaf is
  * one contiguous run, and a hit is filled from that copy. */
-#if defined(__linux__) && !defined(_DEFAULT_SOURCE)
-#define _DEFAULT_SOURCE /* madvise */
-#endif
 #include "ray/ray_internal.h"
 #include "ray/wbw.h"
 #include "geom/spatial.h"
 
 #include <stddef.h>
-#if defined(__linux__)
-#include <sys/mman.h>
-#endif
 
 #if defined(__SSE2__) || defined(_M_X64)
 #include <emmintrin.h>
@@ -78,17 +72,6 @@ struct geom__rbvh4 {
  * default allocator, before its first touch: random rays reach any node
  * and any leaf, and 4 KiB pages then miss the TLB on most of them. Advice
  * only; a caller's allocator is left alone. */
-static void advise_huge(const geom_allocator *alloc, void *p, size_t bytes)
-{
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-    uintptr_t lo = ((uintptr_t)p + 4095) & ~(uintptr_t)4095, hi = ((uintptr_t)p + bytes) & ~(uintptr_t)4095;
-    if (alloc || !p || bytes < ((size_t)2 << 20)) return;
-    if (hi > lo) (void)madvise((void *)lo, hi - lo, MADV_HUGEPAGE);
-#else
-    (void)alloc, (void)p, (void)bytes;
-#endif
-}
-
 /* Traversal stack entries per query; a wide tree deeper than
  * (W4_STACK - 4) / 3 levels is not built (the binary traversal is used). */
 #define W4_STACK 256
@@ -252,7 +235,7 @@ done:
         void *mem = geom__alloc(alloc, (w->n + 1) * sizeof *w->node);
         if (mem) {
             geom__rnode4 *nd = (geom__rnode4 *)(((uintptr_t)mem + 63) & ~(uintptr_t)63);
-            advise_huge(alloc, mem, (w->n + 1) * sizeof *w->node);
+            geom__advise_huge(alloc, mem, (w->n + 1) * sizeof *w->node, (size_t)2 << 20);
             memcpy(nd, w->node, w->n * sizeof *nd);
             geom__free(alloc, w->mem, (w->cap + 1) * sizeof *w->node);
             w->mem = mem;
@@ -287,7 +270,7 @@ geom_status geom__ray_mesh_build(geom__tmesh *m, const geom_ray_build_options *o
         m->tv = geom__alloc(alloc, (np ? np : 1) * 9 * sizeof(double));
         m->tid = geom__alloc(alloc, (np ? np : 1) * sizeof(uint32_t));
         if (!m->tv || !m->tid) return GEOM_ERR_NOMEM;
-        advise_huge(alloc, m->tv, np * 9 * sizeof(double));
+        geom__advise_huge(alloc, m->tv, np * 9 * sizeof(double), (size_t)2 << 20);
         for (i = 0; i < np; i++) {
             const uint32_t *t = m->tri + 3 * (size_t)pr[i];
             int k;

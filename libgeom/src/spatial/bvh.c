@@ -1,33 +1,10 @@
 /* BVH: input validation, primitive bounds, depth-first flattening, refit and
  * accessors. The builders (binned SAH, LBVH) are in bvh_sah.c and bvh_lbvh.c. */
-#if defined(__linux__) && !defined(_DEFAULT_SOURCE)
-#define _DEFAULT_SOURCE /* madvise */
-#endif
 #include "spatial/spatial_internal.h"
 
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
-#if defined(__linux__)
-#include <sys/mman.h>
-#endif
-
-void geom__bvh_advise(const geom_allocator *a, void *p, size_t bytes)
-{
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-    /* Large build arrays from malloc: ask for transparent huge pages (the
-     * first touch of a 100 MB array otherwise costs tens of thousands of
-     * page faults). Advice only; a caller's allocator is left alone. */
-    if (a || !p || bytes < ((size_t)8 << 20))
-        return;
-    uintptr_t lo = ((uintptr_t)p + 4095) & ~(uintptr_t)4095;
-    uintptr_t hi = ((uintptr_t)p + bytes) & ~(uintptr_t)4095;
-    if (hi > lo)
-        (void)madvise((void *)lo, hi - lo, MADV_HUGEPAGE);
-#else
-    (void)a, (void)p, (void)bytes;
-#endif
-}
 
 uint32_t geom__bvh_tmp_new(geom__bvh_build *b)
 {
@@ -215,9 +192,9 @@ static geom_status build_common(size_t n, const bounds_src *src, const geom_bvh_
      * compact copy and asks box_fn again, so it needs none here. */
     int keep_refs = o.method == GEOM_BVH_LBVH;
     bd.refs = keep_refs ? geom__alloc(a, n * sizeof *bd.refs) : NULL;
-    geom__bvh_advise(a, bd.refs, n * sizeof *bd.refs);
+    geom__advise_huge(a, bd.refs, n * sizeof *bd.refs, GEOM__BVH_HUGE_MIN);
     bd.tmp = geom__alloc(a, 2 * n * sizeof *bd.tmp);
-    geom__bvh_advise(a, bd.tmp, 2 * n * sizeof *bd.tmp);
+    geom__advise_huge(a, bd.tmp, 2 * n * sizeof *bd.tmp, GEOM__BVH_HUGE_MIN);
     b->prims = geom__alloc(a, n * sizeof *b->prims);
     b->prim_count = n;
     geom_status st = GEOM_OK;

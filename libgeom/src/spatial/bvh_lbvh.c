@@ -100,8 +100,8 @@ uint32_t geom__bvh_build_lbvh(geom__bvh_build *b)
     uint64_t *codes = geom__alloc(a, n * sizeof *codes);
     uint32_t *perm = geom__alloc(a, n * sizeof *perm);
     geom__bvh_ref *cp = geom__alloc(a, n * sizeof *cp);
-    geom__bvh_advise(a, codes, n * sizeof *codes);
-    geom__bvh_advise(a, cp, n * sizeof *cp);
+    geom__advise_huge(a, codes, n * sizeof *codes, GEOM__BVH_HUGE_MIN);
+    geom__advise_huge(a, cp, n * sizeof *cp, GEOM__BVH_HUGE_MIN);
     uint32_t root = UINT32_MAX;
     if (!codes || !perm || !cp)
         goto done;

@@ -370,7 +370,7 @@ uint32_t geom__bvh_build_sah(geom__bvh_build *b)
     const geom_allocator *a = b->alloc;
     fref *fr = geom__alloc(a, n * sizeof *fr);
     uint32_t *ids = geom__alloc(a, n * sizeof *ids);
-    geom__bvh_advise(a, fr, n * sizeof *fr);
+    geom__advise_huge(a, fr, n * sizeof *fr, GEOM__BVH_HUGE_MIN);
     if (!fr || !ids) {
         geom__free(a, fr, n * sizeof *fr);
         geom__free(a, ids, n * sizeof *ids);

@@ -195,8 +195,8 @@ geom_status geom_meshdist_create(const double *positions, size_t nv, const uint3
     m->tris = geom__alloc(a, 3 * nt * sizeof *m->tris);
     m->dip = geom__alloc(a, (nn ? nn : 1) * sizeof *m->dip);
     m->tv = geom__alloc(a, (nt ? 9 * nt : 1) * sizeof *m->tv);
-    geom__bvh_advise(a, m->dip, (nn ? nn : 1) * sizeof *m->dip);
-    geom__bvh_advise(a, m->tv, (nt ? 9 * nt : 1) * sizeof *m->tv);
+    geom__advise_huge(a, m->dip, (nn ? nn : 1) * sizeof *m->dip, GEOM__BVH_HUGE_MIN);
+    geom__advise_huge(a, m->tv, (nt ? 9 * nt : 1) * sizeof *m->tv, GEOM__BVH_HUGE_MIN);
     if (!m->pos || !m->tris || !m->dip || !m->tv) {
         geom_meshdist_destroy(m);
         return geom__diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "mesh distance: out of memory");

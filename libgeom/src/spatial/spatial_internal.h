@@ -67,9 +67,8 @@ struct geom_bvh {
     size_t depth;
 };
 
-/* Advise the kernel to back a large malloc'd build array with huge pages
- * (Linux, default allocator only; a no-op otherwise). */
-void geom__bvh_advise(const geom_allocator *a, void *p, size_t bytes);
+/* Huge-page advice for the BVH builders' and meshdist's large arrays. */
+#define GEOM__BVH_HUGE_MIN ((size_t)8 << 20)
 
 /* Take a temp node slot (thread safe). */
 uint32_t geom__bvh_tmp_new(geom__bvh_build *b);
