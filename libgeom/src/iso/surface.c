@@ -37,7 +37,6 @@ geom_status geom_iso_surface_to_mesh(const geom_iso_surface *s, geom_mesh *m, ge
     geom_mesh_build_options bo;
     memset(&bo, 0, sizeof bo);
     bo.keep_orientation = 1;
-    bo.trusted = 1; /* marching cubes output: oriented and manifold */
     bo.channels = &nch;
     bo.n_channels = s->normals ? 1 : 0;
     geom_mesh_build_report rep;

@@ -33,8 +33,8 @@
  *    channel and in a FACE "normal" channel, zero in every other corner and
  *    face channel; vertex channels are those of the shared boundary
  *    vertices.
- * The result is built once by geom_mesh_build (orientation kept, trusted:
- * repaired only where the pieces need it) with its vertex, face and corner
+ * The result is built once by geom_mesh_build (orientation kept; its direct link
+ * first, repaired only where the pieces need it) with its vertex, face and corner
  * channels; EDGE channels are added after the others. Face groups
  * and material libraries are copied; tags and polylines are not (their
  * indices refer to the input). When every live vertex lies strictly above
@@ -1419,7 +1419,6 @@ geom_status geom_mesh_clip_plane(const geom_mesh *m, const double plane[4],
             memset(&bo, 0, sizeof bo);
             bo.keep_orientation = 1;
             bo.skip_invalid_faces = 1;
-            bo.trusted = 1; /* pieces of an oriented manifold; else repaired */
             bo.channels = S.ch;
             bo.n_channels = S.n;
             st = geom_mesh_build(o, nout, xyz, c.nf, c.fsize, indices, &bo, NULL, NULL);

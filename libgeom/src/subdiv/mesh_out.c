@@ -442,7 +442,6 @@ geom_status geom_subdiv_build_mesh(const geom_subdiv_refiner *r, int level, cons
         memset(&bo, 0, sizeof bo);
         bo.skip_invalid_faces = 1;
         bo.keep_orientation = 1;
-        bo.trusted = 1; /* refined topology; holes may leave bowties: then repaired */
         bo.channels = chans;
         bo.n_channels = nch;
         st = geom_mesh_build(m, om.nv_out, soup_pos, om.nf_out, sizes, soup_idx, &bo, NULL, diag);

@@ -1549,7 +1549,6 @@ static geom_status build_mesh(ts *T, geom_mesh *out, unsigned attrs, geom_diag *
     geom_mesh_build_options bo;
     memset(&bo, 0, sizeof bo);
     bo.keep_orientation = T->opt->keep_orientation || T->opt->no_weld;
-    bo.trusted = 1; /* patches oriented alike need no repair; others fall back */
     bo.channels = chans;
     bo.n_channels = nch;
     st = geom_mesh_build(out, nv, xyz, T->ntri, sizes, T->tri, &bo, NULL, diag);
