@@ -339,6 +339,18 @@ geom_status cli_inflate(void *user, const void *in, size_t in_size, void *out, s
 /** Whether cli_inflate works (the build found zlib). */
 bool cli_have_inflate(void);
 
+/**
+ * Decompress a bzip2 stream (concatenated streams included) as cli_inflate
+ * does gzip: a geom_implicit_inflate_fn for the volume readers' bunzip2
+ * option (cli_bunzip2.c). Without libbz2 at build time cli_have_bunzip2()
+ * is false: pass NULL then, so that the reader names the missing library.
+ */
+geom_status cli_bunzip2(void *user, const void *in, size_t in_size, void *out, size_t out_cap,
+                        size_t *out_size);
+
+/** Whether cli_bunzip2 works (the build found libbz2, Debian libbz2-dev). */
+bool cli_have_bunzip2(void);
+
 /* ------------------------------------------------------------------- limits */
 
 /*

@@ -392,6 +392,7 @@ int main(int argc, char **argv)
         o.progress_user = &prog;
     }
     int detected = 0;
+    char spacing_warning[GEOM_DIAG_MESSAGE_MAX] = ""; /* the volume's spacing read as 1 */
     size_t nb_below = 0, nb_total = 0;
     geom_iso_surface s;
     memset(&s, 0, sizeof s);
@@ -426,9 +427,15 @@ int main(int argc, char **argv)
             ro.skip = (uint64_t)a.skip;
         }
         ro.inflate = cli_inflate;
-        st = geom_implicit_volume_read(a.volume, &ro, NULL, &vol, NULL, &diag);
+        ro.bunzip2 = cli_have_bunzip2() ? cli_bunzip2 : NULL;
+        geom_implicit_volume_file_info vinfo;
+        st = geom_implicit_volume_read(a.volume, &ro, NULL, &vol, &vinfo, &diag);
         if (st != GEOM_OK)
             return cli_print_diag(&tool, &diag);
+        if (vinfo.spacing_defaulted[0] || vinfo.spacing_defaulted[1] || vinfo.spacing_defaulted[2]) {
+            snprintf(spacing_warning, sizeof spacing_warning, "%s", vinfo.spacing_note);
+            fprintf(stderr, "%s: warning: %s: %s\n", tool.name, a.volume, spacing_warning);
+        }
         if (a.inside < 0) {
             boundary_below(vol, a.iso, &nb_below, &nb_total);
             detected = 1;
@@ -524,13 +531,17 @@ int main(int argc, char **argv)
             }
             printf("]}");
         }
-        if (s.n_triangles == 0 || r->nan_nodes) {
+        if (s.n_triangles == 0 || r->nan_nodes || spacing_warning[0]) {
             printf(",\"warnings\":[");
             if (s.n_triangles == 0)
-                printf("\"empty isosurface: no triangles\"%s", r->nan_nodes ? "," : "");
+                printf("\"empty isosurface: no triangles\"%s",
+                       r->nan_nodes || spacing_warning[0] ? "," : "");
             if (r->nan_nodes)
-                printf("\"the field is NaN at %zu grid nodes, the first at node (%zu, %zu, %zu)\"",
-                       r->nan_nodes, r->nan_first[0], r->nan_first[1], r->nan_first[2]);
+                printf("\"the field is NaN at %zu grid nodes, the first at node (%zu, %zu, %zu)\"%s",
+                       r->nan_nodes, r->nan_first[0], r->nan_first[1], r->nan_first[2],
+                       spacing_warning[0] ? "," : "");
+            if (spacing_warning[0])
+                cli_json_string(stdout, spacing_warning);
             printf("]");
         }
         printf("}\n");

@@ -444,8 +444,8 @@ GEOM_API geom_status geom_implicit_volume_read_raw(const char *path, const geom_
  * GEOM_IMPLICIT_VOLUME_NRRD and no inflate callback (this function is a
  * thin wrapper of it; see there for what is read: every NRRD sample type
  * and the raw, ascii and hex encodings, attached or detached data).
- * gzip-encoded data is GEOM_ERR_PARSE here (no decompressor is passed:
- * call geom_implicit_volume_read with one), bzip2 always.
+ * gzip- and bzip2-encoded data are GEOM_ERR_PARSE here (no decompressor is
+ * passed: call geom_implicit_volume_read with one).
  * Statuses: GEOM_OK; GEOM_ERR_IO; GEOM_ERR_PARSE (diag: file, line and
  * column of the bad header field, or the byte offset for short data);
  * GEOM_ERR_LIMIT; GEOM_ERR_NOMEM; GEOM_ERR_INVALID_ARG for NULL arguments.
@@ -559,16 +559,31 @@ typedef struct geom_implicit_volume_read_options {
      *  data; NULL: those are GEOM_ERR_PARSE with a message saying so. */
     geom_implicit_inflate_fn inflate;
     void *inflate_user;
+    /** Decompression for NRRD bzip2 data and whole files compressed with
+     *  bzip2: a bzip2 stream (concatenated streams continue), with the
+     *  contract of geom_implicit_inflate_fn (GEOM_ERR_LIMIT when out_cap is
+     *  too small, GEOM_ERR_PARSE for a corrupt or truncated stream). NULL:
+     *  bzip2 data is GEOM_ERR_PARSE with a message saying so. The tools pass
+     *  one over libbz2 when built with it (Debian libbz2-dev). */
+    geom_implicit_inflate_fn bunzip2;
+    void *bunzip2_user;
 } geom_implicit_volume_read_options;
 
 /** What a volume file said, filled by geom_implicit_volume_read (optional). */
 typedef struct geom_implicit_volume_file_info {
     geom_implicit_volume_format format; /**< the format read */
     geom_implicit_sample sample;        /**< the file's sample type */
-    int compressed;                     /**< gzip/zlib data was inflated */
+    int compressed;                     /**< gzip/zlib or bzip2 data was decompressed */
     int flipped[3];                     /**< axis stored in decreasing world order
                                              (a negative direction), reversed on reading */
     int scaled;                         /**< NIfTI scl_slope/scl_inter applied */
+    /** Axis whose spacing the header leaves unknown or gives an invalid value
+     *  (NRRD "spacings" nan; NIfTI pixdim[1..3] NaN, infinite, zero or
+     *  negative) and which was read with spacing 1: the caller should warn.
+     *  spacing_note then names the header field, its line or byte offset,
+     *  and the value (one line of text). */
+    int spacing_defaulted[3];
+    char spacing_note[GEOM_DIAG_MESSAGE_MAX];
 } geom_implicit_volume_file_info;
 
 /**
@@ -577,22 +592,32 @@ typedef struct geom_implicit_volume_file_info {
  *  - raw: options->dims samples of options->sample after options->skip
  *    header bytes; the remaining size must be exactly the samples' size;
  *  - NRRD0001..5: all eight sample types (every NRRD spelling), encodings
- *    raw, ascii/text/txt, hex and gzip/gz (bzip2 is GEOM_ERR_PARSE),
- *    attached or detached ("data file", relative to the header) data, "byte
- *    skip" (-1 = data ends the file) and "line skip"; placement from "space
- *    directions" + "space origin", else "spacings" + "axis mins";
+ *    raw, ascii/text/txt, hex, gzip/gz and bzip2/bz2 (through
+ *    options->bunzip2), attached or detached ("data file", relative to the
+ *    header) data, "byte skip" (-1 = data ends the file) and "line skip";
+ *    placement from "space directions" + "space origin", else "spacings" +
+ *    "axis mins". A "spacings" value nan (Teem's "unknown") reads as 1 and
+ *    is reported in info->spacing_defaulted; zero or infinite is
+ *    GEOM_ERR_PARSE; negative reverses the axis, as a negative direction;
  *  - MetaImage (.mha with ElementDataFile = LOCAL, .mhd naming a data file):
  *    NDims 1..3, ElementNumberOfChannels 1, ElementType MET_UCHAR..
  *    MET_DOUBLE, ElementSpacing/ElementSize, Offset/Origin/Position,
- *    TransformMatrix, ElementByteOrderMSB, HeaderSize, CompressedData;
+ *    TransformMatrix, ElementByteOrderMSB, HeaderSize, CompressedData; a
+ *    spacing that is not a positive finite number is GEOM_ERR_PARSE;
  *  - INRIMAGE-4: XDIM/YDIM/ZDIM, VDIM 1, TYPE (unsigned fixed, signed fixed,
  *    float) with PIXSIZE, CPU (decm/alpha/pc little-endian; sun/sgi big),
- *    VX/VY/VZ spacing, XO/YO/ZO (or TX/TY/TZ) origin;
+ *    VX/VY/VZ spacing (not a positive finite number: GEOM_ERR_PARSE),
+ *    XO/YO/ZO (or TX/TY/TZ) origin;
  *  - NIfTI-1 (magic "n+1" single file or "ni1" .hdr naming the .img), either
  *    byte order, datatypes 2, 4, 8, 16, 64, 256, 512, 768, dims beyond the
  *    third of size 1; placement from the sform (sform_code > 0), else the
  *    qform quaternion, else pixdim; scl_slope/scl_inter applied (the volume
- *    is then float64).
+ *    is then float64). A pixdim[1..3] the placement uses that is NaN,
+ *    infinite, zero or negative (voxel widths are positive in nifti1.h)
+ *    reads as 1, as the reference nifti1_io does, and is reported in
+ *    info->spacing_defaulted.
+ * A whole file compressed with bzip2 is decompressed first too, through
+ * options->bunzip2.
  * The placement must be axis-aligned (each grid axis along one world axis,
  * in the same order, within 1e-6 relative); an axis with a negative
  * direction is reversed so that the spacing is positive, which keeps the
@@ -602,7 +627,8 @@ typedef struct geom_implicit_volume_file_info {
  * geom_implicit_volume_create rejects); GEOM_ERR_IO (cannot open/read: diag
  * names the file and the reason); GEOM_ERR_PARSE (unknown format, malformed
  * header: diag has the file and line, or the byte offset; unsupported type,
- * encoding or orientation; size mismatch; compressed data without inflate);
+ * encoding or orientation; size mismatch; compressed data without inflate
+ * or bunzip2; a corrupt or truncated compressed stream, naming the file);
  * GEOM_ERR_LIMIT (sizes overflow); GEOM_ERR_NOMEM.
  */
 GEOM_API geom_status geom_implicit_volume_read(const char *path,

@@ -347,28 +347,51 @@ static char *sibling_path(const char *header, const char *file, const geom_alloc
     return p;
 }
 
-/* Inflate in[0..n) into a new buffer of *cap_out bytes (free with that
- * size) holding *out_size bytes; exact when `expect` is nonzero, else sized
- * from the gzip trailer and grown as needed. */
-static geom_status inflate_all(vf_ctx *c, const unsigned char *in, size_t n, size_t expect,
-                               unsigned char **out, size_t *out_size, size_t *cap_out)
+/* Is in[0..n) a bzip2 stream? "BZh", the block size '1'..'9', then the
+ * magic of a block (pi) or of the end of stream (sqrt(pi)). */
+static int is_bzip2(const unsigned char *b, size_t n)
 {
-    if (!c->opt || !c->opt->inflate)
-        return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
-                             "compressed data and no decompressor (libgeom has no zlib: the "
-                             "caller must pass an inflate callback, as the tools do)");
-    /* deflate expands at most 1032:1, so a size claim beyond that is false
-     * (and is refused before allocating it) */
-    size_t most = n > (SIZE_MAX - 4096) / 1032 ? SIZE_MAX - 1 : n * 1032 + 4096;
+    static const unsigned char block[6] = {0x31, 0x41, 0x59, 0x26, 0x53, 0x59},
+                               eos[6] = {0x17, 0x72, 0x45, 0x38, 0x50, 0x90};
+    return n >= 10 && b[0] == 'B' && b[1] == 'Z' && b[2] == 'h' && b[3] >= '1' && b[3] <= '9' &&
+           (memcmp(b + 4, block, 6) == 0 || memcmp(b + 4, eos, 6) == 0);
+}
+
+/* Decompress in[0..n) (codec 'g': zlib or gzip through options->inflate;
+ * 'b': bzip2 through options->bunzip2) into a new buffer of *cap_out bytes
+ * (free with that size) holding *out_size bytes; exact when `expect` is
+ * nonzero, else sized from the gzip trailer (or 4n for bzip2) and grown as
+ * needed. */
+static geom_status inflate_all(vf_ctx *c, int codec, const unsigned char *in, size_t n,
+                               size_t expect, unsigned char **out, size_t *out_size,
+                               size_t *cap_out)
+{
+    int bz = codec == 'b';
+    geom_implicit_inflate_fn fn = !c->opt ? NULL : bz ? c->opt->bunzip2 : c->opt->inflate;
+    void *user = !c->opt ? NULL : bz ? c->opt->bunzip2_user : c->opt->inflate_user;
+    const char *what = bz ? "bzip2" : "compressed";
+    if (!fn)
+        return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0, "%s",
+                              bz ? "bzip2 data and no bzip2 decompressor (libgeom has no libbz2: "
+                                   "the caller must pass a bunzip2 callback, as the tools do when "
+                                   "built with libbz2, Debian libbz2-dev)"
+                                 : "compressed data and no decompressor (libgeom has no zlib: the "
+                                   "caller must pass an inflate callback, as the tools do)");
+    /* deflate expands at most 1032:1, bzip2 at most about 4.6e7:1 (runs
+     * of 255 bytes in 5, then runs of a million symbols in 20 bits), so a
+     * size claim beyond that is false (and is refused before allocating) */
+    size_t ratio = bz ? 46000000 : 1032;
+    size_t most = n > (SIZE_MAX - 4096) / ratio ? SIZE_MAX - 1 : n * ratio + 4096;
     if (expect > most)
         return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
-                             "%zu compressed bytes cannot hold the %zu bytes the header declares",
-                             n, expect);
+                             "%zu %s bytes cannot hold the %zu bytes the header declares", n,
+                             what, expect);
     size_t cap = expect;
     if (cap == 0) {
-        cap = n >= 4 ? (size_t)load_uint(in + n - 4, 4, 0) : 0; /* gzip ISIZE (mod 2^32) */
+        /* gzip ISIZE (mod 2^32); bzip2 stores no size */
+        cap = n >= 4 && !bz ? (size_t)load_uint(in + n - 4, 4, 0) : 0;
         if (cap < n)
-            cap = n * 4 + 64;
+            cap = n > (SIZE_MAX - 64) / 4 ? SIZE_MAX - 1 : n * 4 + 64;
         if (cap > most)
             cap = most;
     }
@@ -377,15 +400,15 @@ static geom_status inflate_all(vf_ctx *c, const unsigned char *in, size_t n, siz
         unsigned char *buf = geom__alloc(c->alloc, alloc_size);
         if (!buf)
             return geom__diag_set(c->diag, GEOM_ERR_NOMEM, c->name, 0, 0,
-                                 "out of memory inflating to %zu bytes", cap);
+                                 "out of memory decompressing to %zu bytes", cap);
         size_t got = 0;
-        geom_status st = c->opt->inflate(c->opt->inflate_user, in, n, buf, alloc_size, &got);
+        geom_status st = fn(user, in, n, buf, alloc_size, &got);
         if (st == GEOM_OK && got <= cap) {
             if (expect && got != expect) {
                 geom__free(c->alloc, buf, alloc_size);
                 return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
-                                     "compressed data inflates to %zu bytes, expected %zu", got,
-                                     expect);
+                                     "%s data decompresses to %zu bytes, expected %zu", what,
+                                     got, expect);
             }
             *out = buf;
             *out_size = got;
@@ -397,12 +420,15 @@ static geom_status inflate_all(vf_ctx *c, const unsigned char *in, size_t n, siz
             st = GEOM_ERR_LIMIT; /* filled the spare byte */
         if (st != GEOM_ERR_LIMIT || expect)
             return geom__diag_set(c->diag, st == GEOM_ERR_LIMIT ? GEOM_ERR_PARSE : st, c->name, 0,
-                                 0, "%s", st == GEOM_ERR_LIMIT
-                                              ? "compressed data inflates to more than expected"
-                                              : "corrupt compressed data");
+                                 0, "%s %s",
+                                 st == GEOM_ERR_LIMIT ? what : bz ? "corrupt or truncated" : "corrupt",
+                                 st == GEOM_ERR_LIMIT ? "data decompresses to more than expected"
+                                 : bz                 ? "bzip2 data"
+                                                      : "compressed data");
         if (cap >= most)
             return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, 0, 0,
-                                 "compressed data inflates to more than 1032 times its size");
+                                 "%s data decompresses to more than %zu times its size", what,
+                                 ratio);
         cap = cap > most / 2 ? most : cap * 2;
     }
     return geom__diag_set(c->diag, GEOM_ERR_LIMIT, c->name, 0, 0, "decompressed data too large");
@@ -410,7 +436,7 @@ static geom_status inflate_all(vf_ctx *c, const unsigned char *in, size_t n, siz
 
 /*
  * Decode the samples of `L` from payload[0..n): `encoding` 0 raw, 'g' zlib
- * or gzip compressed, 'a' ASCII numbers, 'h' hex. `exact` nonzero: raw data
+ * or gzip compressed, 'b' bzip2 compressed, 'a' ASCII numbers, 'h' hex. `exact` nonzero: raw data
  * must be exactly the size (else at least). Offsets in messages are relative
  * to `base` in the input.
  */
@@ -432,10 +458,10 @@ static geom_status decode_payload(vf_ctx *c, const vf_layout *L, const unsigned 
                 L->dims[1], L->dims[2], geom_implicit_sample_name(L->sample), bytes);
         return make_volume(c, L, p, NULL, out);
     }
-    if (encoding == 'g') {
+    if (encoding == 'g' || encoding == 'b') {
         unsigned char *raw;
         size_t got, cap;
-        st = inflate_all(c, p, n, bytes, &raw, &got, &cap);
+        st = inflate_all(c, encoding, p, n, bytes, &raw, &got, &cap);
         if (st != GEOM_OK)
             return st;
         if (c->info)
@@ -641,6 +667,25 @@ static geom_status line_err(vf_ctx *c, const vf_lines *L, const char *what, cons
     return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, L->lineno, 1, "%s '%.80s'", what, val);
 }
 
+/* Record that the header's spacing of axis `a` was unknown or invalid and
+ * read as 1 (info->spacing_defaulted, with `note` naming the field, where it
+ * is and its value: the caller warns). */
+static void spacing_defaulted(vf_ctx *c, int a, const char *note)
+{
+    if (!c->info)
+        return;
+    c->info->spacing_defaulted[a] = 1;
+    snprintf(c->info->spacing_note, sizeof c->info->spacing_note, "%s", note);
+}
+
+/* A spacing value that is not a positive finite number (MetaImage,
+ * INRIMAGE): an error naming the line, the field and the value. */
+static geom_status bad_spacing(vf_ctx *c, size_t line, const char *key, double v)
+{
+    return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, line, 1,
+                          "%s: spacing %g is not a positive finite number", key, v);
+}
+
 /* The next "KEY = value" line of a text header (MetaImage, INRIMAGE),
  * blank lines and '#' comments skipped: 1 with *key and *val trimmed in
  * place, 0 at the end of the header, -1 after setting *st to the error (an
@@ -781,6 +826,8 @@ static geom_status read_nrrd(vf_ctx *c, geom_implicit_volume **out)
     int nsizes = 0;
     double spacings[16], mins[16], dirs[16][3], sorigin[3] = {0, 0, 0};
     int nspacings = 0, nmins = 0, ndirs = 0, have_sorigin = 0;
+    size_t spacings_line = 0;
+    char spacings_val[96] = "";
     char data_file[1024] = "";
     long long byte_skip = 0, line_skip = 0;
     for (;;) {
@@ -824,7 +871,7 @@ static geom_status read_nrrd(vf_ctx *c, geom_implicit_volume **out)
             else if (ieq(val, "gzip") || ieq(val, "gz"))
                 encoding = 'g';
             else if (ieq(val, "bzip2") || ieq(val, "bz2"))
-                return line_err(c, &Ls, "unsupported encoding (recompress with gzip or raw):", val);
+                encoding = 'b';
             else
                 return line_err(c, &Ls, "unknown encoding", val);
         } else if (ieq(key, "endian")) {
@@ -841,6 +888,8 @@ static geom_status read_nrrd(vf_ctx *c, geom_implicit_volume **out)
             nspacings = parse_doubles(tmp, spacings, 16);
             if (nspacings < 1)
                 return line_err(c, &Ls, "bad spacings", val);
+            spacings_line = Ls.lineno;
+            snprintf(spacings_val, sizeof spacings_val, "%.80s", val);
         } else if (ieq(key, "axis mins") || ieq(key, "axismins")) {
             nmins = parse_doubles(val, mins, 16);
             if (nmins < 1)
@@ -881,7 +930,8 @@ static geom_status read_nrrd(vf_ctx *c, geom_implicit_volume **out)
     if (nsizes != dimension)
         return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, Ls.lineno, 0,
                              "sizes has %d values but dimension is %d", nsizes, dimension);
-    if (geom_implicit_sample_size(Lay.sample) > 1 && (encoding == 0 || encoding == 'g' || encoding == 'h') && !endian)
+    if (geom_implicit_sample_size(Lay.sample) > 1 &&
+        (encoding == 0 || encoding == 'g' || encoding == 'b' || encoding == 'h') && !endian)
         return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, Ls.lineno, 0,
                              "NRRD header lacks the 'endian' field needed for %s data",
                              geom_implicit_sample_name(Lay.sample));
@@ -903,9 +953,30 @@ static geom_status read_nrrd(vf_ctx *c, geom_implicit_volume **out)
         if (have_sorigin)
             memcpy(Lay.origin, sorigin, sizeof sorigin);
     } else {
+        /* Teem: a spacing is nonzero and finite, or nan for "unknown" (read
+         * as 1 with a note for the caller); negative reverses the axis */
+        char unknown[32] = "";
+        for (int a = 0; a < 3 && a < nspacings; a++) {
+            if (isnan(spacings[a])) {
+                size_t u = strlen(unknown);
+                snprintf(unknown + u, sizeof unknown - u, "%s%d", u ? ", " : "", a);
+                continue;
+            }
+            if (!isfinite(spacings[a]) || spacings[a] == 0.0)
+                return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, spacings_line, 1,
+                                      "spacings: axis %d has spacing %g in '%s' (nonzero and "
+                                      "finite, or nan for unknown)",
+                                      a, spacings[a], spacings_val);
+            Lay.axis[a][a] = spacings[a];
+        }
         for (int a = 0; a < 3 && a < nspacings; a++)
-            if (isfinite(spacings[a]))
-                Lay.axis[a][a] = spacings[a];
+            if (isnan(spacings[a])) {
+                char note[GEOM_DIAG_MESSAGE_MAX];
+                snprintf(note, sizeof note,
+                         "line %zu: 'spacings: %s': axis %s spacing unknown (nan), 1 used",
+                         spacings_line, spacings_val, unknown);
+                spacing_defaulted(c, a, note);
+            }
         if (have_sorigin)
             memcpy(Lay.origin, sorigin, sizeof sorigin);
         else
@@ -1048,8 +1119,11 @@ static geom_status read_metaimage(vf_ctx *c, geom_implicit_volume **out)
             int k = parse_doubles(val, v, 16);
             if (k < 1)
                 return line_err(c, &Ls, "bad spacing", val);
-            for (int a = 0; a < 3 && a < k; a++)
+            for (int a = 0; a < 3 && a < k; a++) {
+                if (!(isfinite(v[a]) && v[a] > 0.0))
+                    return bad_spacing(c, Ls.lineno, key, v[a]);
                 spacing[a] = v[a];
+            }
         } else if (ieq(key, "Offset") || ieq(key, "Origin") || ieq(key, "Position")) {
             double v[16];
             int k = parse_doubles(val, v, 16);
@@ -1227,6 +1301,8 @@ static geom_status read_inrimage(vf_ctx *c, geom_implicit_volume **out)
         } else if (!strcmp(key, "VX") || !strcmp(key, "VY") || !strcmp(key, "VZ")) {
             if (parse_doubles(val, &vox[key[1] - 'X'], 1) != 1)
                 return line_err(c, &Ls, "bad voxel size", val);
+            if (!(isfinite(vox[key[1] - 'X']) && vox[key[1] - 'X'] > 0.0))
+                return bad_spacing(c, Ls.lineno, key, vox[key[1] - 'X']);
         } else if (!strcmp(key, "XO") || !strcmp(key, "YO") || !strcmp(key, "ZO") ||
                    !strcmp(key, "TX") || !strcmp(key, "TY") || !strcmp(key, "TZ")) {
             int a = key[0] == 'T' ? key[1] - 'X' : key[0] - 'X';
@@ -1339,6 +1415,22 @@ static geom_status read_nifti(vf_ctx *c, geom_implicit_volume **out)
         Lay.inter = inter;
     }
     int qcode = nii_i16(h, 252, big), scode = nii_i16(h, 254, big);
+    if (scode <= 0) {
+        /* the placement uses pixdim[1..3]: voxel widths, positive in
+         * nifti1.h; otherwise 1, as nifti1_io does, and a note */
+        char note[GEOM_DIAG_MESSAGE_MAX] = "";
+        for (int a = 0; a < 3 && a < ndim; a++)
+            if (!(isfinite(pix[a + 1]) && pix[a + 1] > 0.0)) {
+                size_t u = strlen(note);
+                snprintf(note + u, sizeof note - u, "%spixdim[%d] = %g (byte %d)", u ? ", " : "",
+                         a + 1, pix[a + 1], 76 + 4 * (a + 1));
+                pix[a + 1] = 1.0;
+                spacing_defaulted(c, a, "");
+            }
+        if (note[0] && c->info)
+            snprintf(c->info->spacing_note, sizeof c->info->spacing_note,
+                     "%s: not a positive voxel width, 1 used", note);
+    }
     if (scode > 0) {
         for (int w = 0; w < 3; w++) {
             for (int a = 0; a < 3; a++)
@@ -1361,7 +1453,7 @@ static geom_status read_nifti(vf_ctx *c, geom_implicit_volume **out)
             Lay.origin[w] = nii_f32(h, 268 + 4 * (size_t)w, big);
     } else {
         for (int a = 0; a < 3; a++)
-            Lay.axis[a][a] = pix[a + 1] > 0.0 ? pix[a + 1] : 1.0;
+            Lay.axis[a][a] = pix[a + 1] > 0.0 ? pix[a + 1] : 1.0; /* a < ndim: checked above */
     }
     for (int a = ndim; a < 3; a++) { /* missing axes: unit spacing */
         memset(Lay.axis[a], 0, sizeof Lay.axis[a]);
@@ -1503,16 +1595,19 @@ static geom_status dispatch(vf_ctx *c, geom_implicit_volume **out)
     }
 }
 
-/* Read from memory; a whole-file gzip stream is inflated first (but for
- * raw samples asked for without a decompressor: their first two bytes may
- * be anything, 1f 8b included). */
+/* Read from memory; a whole-file gzip or bzip2 stream is decompressed
+ * first (but for raw samples asked for without that decompressor: their
+ * first bytes may be anything, 1f 8b or "BZh" included). */
 static geom_status read_buffer(vf_ctx *c, geom_implicit_volume **out)
 {
-    int raw_plain = c->opt && c->opt->format == GEOM_IMPLICIT_VOLUME_RAW && !c->opt->inflate;
-    if (!raw_plain && c->size >= 2 && c->buf[0] == 0x1f && c->buf[1] == 0x8b) {
+    int raw_fmt = c->opt && c->opt->format == GEOM_IMPLICIT_VOLUME_RAW;
+    int gz = c->size >= 2 && c->buf[0] == 0x1f && c->buf[1] == 0x8b &&
+             !(raw_fmt && !c->opt->inflate);
+    int bz = is_bzip2(c->buf, c->size) && !(raw_fmt && !c->opt->bunzip2);
+    if (gz || bz) {
         unsigned char *raw;
         size_t n, cap;
-        geom_status st = inflate_all(c, c->buf, c->size, 0, &raw, &n, &cap);
+        geom_status st = inflate_all(c, bz ? 'b' : 'g', c->buf, c->size, 0, &raw, &n, &cap);
         if (st != GEOM_OK)
             return st;
         if (c->info)
