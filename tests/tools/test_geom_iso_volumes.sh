@@ -2,9 +2,9 @@
 # Tests of geom-iso --volume on every volume format and sample type: Python
 # (numpy, gzip, struct) writes the distance to a centre, sampled on an
 # anisotropic grid with an origin, as raw (every sample type, both byte
-# orders, with --skip), NRRD (raw, gzip, ascii, detached), MetaImage (.mha,
-# .mhd + .raw, compressed), INRIMAGE (.inr, .inr.gz) and NIfTI-1 (.nii,
-# .nii.gz, negative sform axis); every vertex of the isosurface must lie at
+# orders, with --skip), NRRD (raw, gzip, bzip2, ascii, detached), MetaImage
+# (.mha, .mhd + .raw, compressed), INRIMAGE (.inr, .inr.gz) and NIfTI-1 (.nii,
+# .nii.gz, .nii.bz2, negative sform axis); every vertex of the isosurface must lie at
 # the sphere's radius around the world centre (so spacing and origin come
 # from the header) and every file must give a closed surface. Then CGAL's
 # liver.inr.gz (libcgal-demo) when present: vertices inside the header's box.
@@ -107,6 +107,27 @@ open(T + '/v.nii', 'wb').write(nifti('i16', 4, True))
 case(T + '/v.nii', 'i16')
 open(T + '/v.nii.gz', 'wb').write(gzip.compress(nifti('f32', 16, False)))
 case(T + '/v.nii.gz', 'f32')
+# bzip2: the NRRD encoding and a whole .nii.bz2 (Python's bz2: the same
+# samples as v_i16.nrrd and v.nii.gz, which must read identically); a
+# truncated stream
+import bz2
+open(T + '/bz.nrrd', 'wb').write(nrrd_head('i16', 'bzip2').encode() + bz2.compress(arr('i16', True)))
+case(T + '/bz.nrrd', 'i16')
+open(T + '/v.nii.bz2', 'wb').write(bz2.compress(nifti('f32', 16, False)))
+case(T + '/v.nii.bz2', 'f32')
+bzd = nrrd_head('i16', 'bzip2').encode() + bz2.compress(arr('i16', True))
+open(T + '/cut_bz.nrrd', 'wb').write(bzd[:len(bzd) - 40])
+bad = bytearray(bzd); bad[len(bzd) // 2] ^= 0x55
+open(T + '/corrupt_bz.nrrd', 'wb').write(bytes(bad))
+# spacing: NRRD nan (unknown: 1 with a warning), NIfTI pixdim 0 (1 with a
+# warning), MetaImage and INRIMAGE zero spacing (errors)
+open(T + '/nan.nrrd', 'wb').write(('NRRD0004\ntype: float\ndimension: 3\nsizes: %d %d %d\n'
+    'encoding: raw\nendian: little\nspacings: nan 1 nan\n\n' % n).encode() + arr('f32'))
+h = bytearray(nifti('f32', 16, False)); struct.pack_into('<hh', h, 252, 0, 0)
+struct.pack_into('<f', h, 80, 0.0)
+open(T + '/pix0.nii', 'wb').write(bytes(h))
+open(T + '/zero.mha', 'wb').write(mhead('u8', 'LOCAL').replace(b'ElementSpacing = 0.5', b'ElementSpacing = 0') + arr('u8'))
+open(T + '/zero.inr', 'wb').write(inr('u8', False).replace(b'VY=0.6\n', b'VY=0\n\n\n'))
 open(T + '/cases', 'w').write('\n'.join(cases) + '\n')
 open(T + '/centre', 'w').write('%.17g %.17g %.17g\n' % c)
 PYEOF
@@ -156,6 +177,38 @@ head -c 500 "$T/v.nii.gz" >"$T/cut.nii.gz"
 [ $rc -eq 2 ] || fail "raw without --type: exit $rc"
 "$TOOL" --volume "$T/raw_u8_0.bin" --dims 24,20,16 --type u8 --skip 14 -o "$T/o.obj" 2>"$T/err"; rc=$?
 [ $rc -eq 1 ] && grep -q "need" "$T/err" || fail "--skip 14: exit $rc, $(cat "$T/err")"
+
+# bzip2 reads exactly as raw and gzip: the same OBJ, byte for byte
+checks=$((checks + 2))
+"$TOOL" --volume "$T/v_i16.nrrd" --iso -1000 -o "$T/a.obj" >/dev/null 2>&1
+"$TOOL" --volume "$T/bz.nrrd" --iso -1000 -o "$T/b.obj" >/dev/null 2>&1
+cmp -s "$T/a.obj" "$T/b.obj" || fail "bzip2 NRRD differs from raw NRRD"
+"$TOOL" --volume "$T/v.nii.gz" --iso 2 -o "$T/a.obj" >/dev/null 2>&1
+"$TOOL" --volume "$T/v.nii.bz2" --iso 2 -o "$T/b.obj" >/dev/null 2>&1
+cmp -s "$T/a.obj" "$T/b.obj" || fail ".nii.bz2 differs from .nii.gz"
+# truncated and corrupt bzip2 streams: exit 1, the file and "bzip2" named
+for f in cut_bz corrupt_bz; do
+    checks=$((checks + 1))
+    "$TOOL" --volume "$T/$f.nrrd" --iso 0 -o "$T/o.obj" 2>"$T/err"; rc=$?
+    [ $rc -eq 1 ] && grep -q "$f.nrrd.*bzip2" "$T/err" || fail "$f: exit $rc, $(cat "$T/err")"
+done
+# unknown spacing: read as 1 with a warning naming the file, the field and
+# the value, and --json carries it; invalid MetaImage/INRIMAGE spacing: errors
+checks=$((checks + 4))
+"$TOOL" --volume "$T/nan.nrrd" --iso 2 --json -o "$T/o.obj" >"$T/j" 2>"$T/err" || fail "nan.nrrd: $(cat "$T/err")"
+grep -q "warning: .*nan.nrrd: line 7: 'spacings: nan 1 nan': axis 0, 2 spacing unknown (nan), 1 used" "$T/err" ||
+    fail "nan.nrrd: no warning: $(cat "$T/err")"
+"$PY" -c 'import json,sys; w=json.load(open(sys.argv[1])).get("warnings",[]); sys.exit(0 if any("spacings: nan 1 nan" in x for x in w) else 1)' "$T/j" ||
+    fail "nan.nrrd: --json lacks the warning: $(cat "$T/j")"
+"$TOOL" --volume "$T/pix0.nii" --iso 2 -o "$T/o.obj" >/dev/null 2>"$T/err" || fail "pix0.nii: $(cat "$T/err")"
+grep -q "warning: .*pix0.nii: pixdim\[1\] = 0 (byte 80): not a positive voxel width, 1 used" "$T/err" ||
+    fail "pix0.nii: no warning: $(cat "$T/err")"
+"$TOOL" --volume "$T/zero.mha" --iso 40 -o "$T/o.obj" 2>"$T/err"; rc=$?
+[ $rc -eq 1 ] && grep -q "zero.mha:8:1: ElementSpacing: spacing 0 is not a positive finite number" "$T/err" ||
+    fail "zero.mha: exit $rc, $(cat "$T/err")"
+checks=$((checks + 1))
+"$TOOL" --volume "$T/zero.inr" --iso 40 -o "$T/o.obj" 2>"$T/err"; rc=$?
+[ $rc -eq 1 ] && grep -q "zero.inr:.*VY: spacing 0" "$T/err" || fail "zero.inr: exit $rc, $(cat "$T/err")"
 
 LIVER=/usr/share/doc/libcgal-dev/data.tar.gz
 if [ -f "$LIVER" ] && tar xzf "$LIVER" -C "$T" data/images/liver.inr.gz 2>/dev/null; then

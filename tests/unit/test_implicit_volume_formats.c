@@ -2,8 +2,9 @@
 /*
  * Tests of the volume file readers (geom_implicit_volume_read*): every
  * sample type in both byte orders with a header offset, NRRD (raw, ASCII,
- * hex, gzip through a stand-in inflate callback, detached data, negative
- * space directions), MetaImage (.mha and .mhd + .raw), INRIMAGE and NIfTI-1
+ * hex, gzip through a stand-in inflate callback, bzip2 through a stand-in
+ * bunzip2 callback, detached data, negative space directions, the spacing
+ * rules: nan/invalid spacing reported or refused, never silently 1), MetaImage (.mha and .mhd + .raw), INRIMAGE and NIfTI-1
  * (sform, qform, pixdim, scaling, .hdr/.img pairs). Every file is made here
  * from the closed form value(i, j, k) below, encoded by hand (byte by byte,
  * independent of the reader), and the samples read back are compared with
@@ -601,6 +602,241 @@ static void test_whole_file_gzip(void **state)
                      GEOM_ERR_PARSE);
 }
 
+/* Stand-in for libbz2: "BZh9", the block magic 31 41 59 26 53 59, then the
+ * plain bytes; anything else is corrupt. */
+static geom_status fake_bunzip2(void *user, const void *in, size_t n, void *out, size_t cap,
+                                size_t *got)
+{
+    static const unsigned char head[10] = {'B', 'Z', 'h', '9', 0x31, 0x41, 0x59, 0x26, 0x53, 0x59};
+    (*(int *)user)++;
+    *got = 0;
+    if (n < 10 || memcmp(in, head, 10) != 0)
+        return GEOM_ERR_PARSE;
+    if (n - 10 > cap)
+        return GEOM_ERR_LIMIT;
+    memcpy(out, (const unsigned char *)in + 10, n - 10);
+    *got = n - 10;
+    return GEOM_OK;
+}
+
+static size_t nrrd_bz_file(unsigned char *buf, size_t cap, geom_implicit_sample s, int corrupt)
+{
+    static const unsigned char head[10] = {'B', 'Z', 'h', '9', 0x31, 0x41, 0x59, 0x26, 0x53, 0x59};
+    size_t len = (size_t)snprintf((char *)buf, cap,
+                                  "NRRD0005\ntype: %s\ndimension: 3\nsizes: %d %d %d\n"
+                                  "encoding: bzip2\nendian: little\nspacings: 2 3 4\n\n",
+                                  nrrd_type_name(s), NX, NY, NZ);
+    memcpy(buf + len, head, 10);
+    if (corrupt)
+        buf[len + 1] = 'X';
+    return len + 10 + put_all(buf + len + 10, s, 0);
+}
+
+/* NRRD bzip2 encoding and whole .bz2 files go through options->bunzip2 (never
+ * the gzip callback); without it, or on corrupt data, a clear error. */
+static void test_bzip2(void **state)
+{
+    (void)state;
+    unsigned char buf[4096];
+    int bz_calls = 0, gz_calls = 0;
+    geom_implicit_volume_read_options o;
+    memset(&o, 0, sizeof o);
+    o.inflate = fake_inflate;
+    o.inflate_user = &gz_calls;
+    o.bunzip2 = fake_bunzip2;
+    o.bunzip2_user = &bz_calls;
+    double org[3] = {0, 0, 0}, step[3] = {2, 3, 4};
+    for (size_t t = 0; t < 8; t++) {
+        size_t len = nrrd_bz_file(buf, sizeof buf, all_types[t], 0);
+        geom_implicit_volume *v;
+        geom_implicit_volume_file_info info;
+        geom_diag diag;
+        if (geom_implicit_volume_read_memory(buf, len, "t.nrrd", &o, NULL, &v, &info, &diag) !=
+            GEOM_OK)
+            fail_msg("%s: %s", nrrd_type_name(all_types[t]), diag.message);
+        assert_int_equal(info.compressed, 1);
+        check_volume(v, all_types[t], org, step);
+        geom_implicit_volume_destroy(v);
+    }
+    assert_int_equal(bz_calls, 8);
+    assert_int_equal(gz_calls, 0);
+    /* a corrupt stream: GEOM_ERR_PARSE naming the source and bzip2 */
+    size_t len = nrrd_bz_file(buf, sizeof buf, GEOM_IMPLICIT_SAMPLE_F32, 1);
+    geom_implicit_volume *v = NULL;
+    geom_diag diag;
+    assert_int_equal(geom_implicit_volume_read_memory(buf, len, "bad.nrrd", &o, NULL, &v, NULL,
+                                                      &diag),
+                     GEOM_ERR_PARSE);
+    assert_null(v);
+    assert_string_equal(diag.source, "bad.nrrd");
+    assert_non_null(strstr(diag.message, "bzip2"));
+    /* short data: decompresses to fewer bytes than the header declares */
+    len = nrrd_bz_file(buf, sizeof buf, GEOM_IMPLICIT_SAMPLE_F32, 0);
+    assert_int_equal(geom_implicit_volume_read_memory(buf, len - 3, "short.nrrd", &o, NULL, &v,
+                                                      NULL, &diag),
+                     GEOM_ERR_PARSE);
+    assert_non_null(strstr(diag.message, "expected"));
+    /* no bunzip2 callback: the message names the missing library */
+    o.bunzip2 = NULL;
+    assert_int_equal(geom_implicit_volume_read_memory(buf, len, "t.nrrd", &o, NULL, &v, NULL,
+                                                      &diag),
+                     GEOM_ERR_PARSE);
+    assert_non_null(strstr(diag.message, "libbz2"));
+    assert_int_equal(gz_calls, 0);
+    /* a whole NIfTI file compressed with bzip2, detected by its magic */
+    o.bunzip2 = fake_bunzip2;
+    static const unsigned char head[10] = {'B', 'Z', 'h', '9', 0x31, 0x41, 0x59, 0x26, 0x53, 0x59};
+    unsigned char nii[10 + 352 + 4 * N];
+    memcpy(nii, head, 10);
+    nifti_header(nii + 10, 16, 32, 0, "n+1");
+    for (int a = 1; a <= 3; a++)
+        putf(nii + 10, 76 + 4 * (size_t)a, 1.0, 0);
+    size_t nlen = 10 + 352 + put_all(nii + 10 + 352, GEOM_IMPLICIT_SAMPLE_F32, 0);
+    geom_implicit_volume_file_info info;
+    assert_int_equal(geom_implicit_volume_read_memory(nii, nlen, "t.nii.bz2", &o, NULL, &v, &info,
+                                                      &diag),
+                     GEOM_OK);
+    assert_int_equal(info.compressed, 1);
+    assert_int_equal(info.format, GEOM_IMPLICIT_VOLUME_NIFTI);
+    double unit[3] = {1, 1, 1};
+    check_volume(v, GEOM_IMPLICIT_SAMPLE_F32, org, unit);
+    geom_implicit_volume_destroy(v);
+    /* raw samples that happen to start with the magic are raw without the callback */
+    o.bunzip2 = NULL;
+    o.inflate = NULL;
+    o.format = GEOM_IMPLICIT_VOLUME_RAW;
+    o.dims[0] = 10;
+    o.dims[1] = o.dims[2] = 1;
+    o.sample = GEOM_IMPLICIT_SAMPLE_U8;
+    assert_int_equal(geom_implicit_volume_read_memory(head, 10, "r.raw", &o, NULL, &v, NULL, &diag),
+                     GEOM_OK);
+    assert_true(geom_implicit_volume_at(v, 0, 0, 0) == 'B');
+    geom_implicit_volume_destroy(v);
+}
+
+static geom_status read_info(const unsigned char *buf, size_t n, const char *name,
+                             geom_implicit_volume **v, geom_implicit_volume_file_info *info,
+                             geom_diag *diag)
+{
+    geom_status st = geom_implicit_volume_read_memory(buf, n, name, NULL, NULL, v, info, diag);
+    if (st != GEOM_OK)
+        assert_null(*v);
+    return st;
+}
+
+/* Unknown or invalid header spacing is never silently 1: NRRD nan (Teem's
+ * "unknown") and NIfTI pixdim <= 0 / NaN are read as 1 and reported in the
+ * file info with the field, its place and its value; NRRD 0 or inf,
+ * MetaImage and INRIMAGE non-positive or non-finite spacing are errors
+ * naming the line, the key and the value. */
+static void test_spacing_rules(void **state)
+{
+    (void)state;
+    unsigned char buf[4096];
+    geom_implicit_volume *v = NULL;
+    geom_implicit_volume_file_info info;
+    geom_diag diag;
+    /* NRRD */
+    static const char *nrrd = "NRRD0004\ntype: uchar\ndimension: 3\nsizes: %d %d %d\n"
+                              "encoding: raw\nspacings: %s\n\n";
+    int n = snprintf((char *)buf, sizeof buf, nrrd, NX, NY, NZ, "nan 0.5 NaN");
+    size_t len = (size_t)n + put_all(buf + n, GEOM_IMPLICIT_SAMPLE_U8, 0);
+    assert_int_equal(read_info(buf, len, "s.nrrd", &v, &info, &diag), GEOM_OK);
+    assert_int_equal(info.spacing_defaulted[0], 1);
+    assert_int_equal(info.spacing_defaulted[1], 0);
+    assert_int_equal(info.spacing_defaulted[2], 1);
+    assert_non_null(strstr(info.spacing_note, "line 6"));
+    assert_non_null(strstr(info.spacing_note, "spacings: nan 0.5 NaN"));
+    assert_non_null(strstr(info.spacing_note, "axis 0, 2"));
+    double org[3] = {0, 0, 0}, step[3] = {1, 0.5, 1};
+    check_volume(v, GEOM_IMPLICIT_SAMPLE_U8, org, step);
+    geom_implicit_volume_destroy(v);
+    /* a negative NRRD spacing reverses the axis (Teem allows it): no note */
+    n = snprintf((char *)buf, sizeof buf, nrrd, NX, NY, NZ, "-2 1 1");
+    len = (size_t)n + put_all(buf + n, GEOM_IMPLICIT_SAMPLE_U8, 0);
+    assert_int_equal(read_info(buf, len, "s.nrrd", &v, &info, &diag), GEOM_OK);
+    assert_int_equal(info.spacing_defaulted[0], 0);
+    assert_int_equal(info.flipped[0], 1);
+    assert_string_equal(info.spacing_note, "");
+    double step2[3] = {-2, 1, 1};
+    check_volume(v, GEOM_IMPLICIT_SAMPLE_U8, org, step2);
+    geom_implicit_volume_destroy(v);
+    static const char *bad_nrrd[] = {"1 0 1", "1 1 inf", "-inf 1 1"};
+    for (int b = 0; b < 3; b++) {
+        n = snprintf((char *)buf, sizeof buf, nrrd, NX, NY, NZ, bad_nrrd[b]);
+        len = (size_t)n + put_all(buf + n, GEOM_IMPLICIT_SAMPLE_U8, 0);
+        assert_int_equal(read_info(buf, len, "s.nrrd", &v, &info, &diag), GEOM_ERR_PARSE);
+        assert_int_equal(diag.line, 6);
+        assert_non_null(strstr(diag.message, "spacings"));
+        assert_non_null(strstr(diag.message, bad_nrrd[b]));
+    }
+    /* MetaImage ElementSpacing / ElementSize */
+    static const char *bad_met[] = {"ElementSpacing = nan 1 1", "ElementSpacing = 1 0 1",
+                                    "ElementSpacing = 1 1 -2", "ElementSize = 1 inf 1"};
+    for (int b = 0; b < 4; b++) {
+        n = snprintf((char *)buf, sizeof buf,
+                     "NDims = 3\nDimSize = %d %d %d\nElementType = MET_UCHAR\n%s\n"
+                     "ElementDataFile = LOCAL\n",
+                     NX, NY, NZ, bad_met[b]);
+        len = (size_t)n + put_all(buf + n, GEOM_IMPLICIT_SAMPLE_U8, 0);
+        assert_int_equal(read_info(buf, len, "s.mha", &v, &info, &diag), GEOM_ERR_PARSE);
+        assert_int_equal(diag.line, 4);
+        assert_string_equal(diag.source, "s.mha");
+        assert_non_null(strstr(diag.message, b == 3 ? "ElementSize" : "ElementSpacing"));
+        assert_non_null(strstr(diag.message, "positive"));
+    }
+    /* INRIMAGE VX/VY/VZ */
+    static const char *bad_inr[] = {"VX=0", "VY=-1.5", "VZ=nan"};
+    for (int b = 0; b < 3; b++) {
+        memset(buf, '\n', 256);
+        n = snprintf((char *)buf, 256,
+                     "#INRIMAGE-4#{\nXDIM=%d\nYDIM=%d\nZDIM=%d\nVDIM=1\nTYPE=unsigned fixed\n"
+                     "PIXSIZE=8 bits\nCPU=decm\n%s\n",
+                     NX, NY, NZ, bad_inr[b]);
+        buf[n] = '\n';
+        memcpy(buf + 252, "##}\n", 4);
+        len = 256 + put_all(buf + 256, GEOM_IMPLICIT_SAMPLE_U8, 0);
+        assert_int_equal(read_info(buf, len, "s.inr", &v, &info, &diag), GEOM_ERR_PARSE);
+        assert_int_equal(diag.line, 9);
+        assert_non_null(strstr(diag.message, bad_inr[b][1] == 'X' ? "VX" : bad_inr[b][1] == 'Y' ? "VY" : "VZ"));
+    }
+    /* NIfTI pixdim: without an sform (pixdim or qform placement) */
+    unsigned char nii[352 + N];
+    for (int q = 0; q < 2; q++) {
+        nifti_header(nii, 2, 8, 0, "n+1");
+        putf(nii, 76, 1, 0); /* qfac */
+        putf(nii, 80, 0.0, 0);
+        putf(nii, 84, 3.0, 0);
+        putf(nii, 88, q ? NAN : -2.0, 0);
+        if (q) {
+            put16(nii, 252, 1, 0); /* qform: identity quaternion, offset (0, 0, 0) */
+        }
+        len = 352 + put_all(nii + 352, GEOM_IMPLICIT_SAMPLE_U8, 0);
+        assert_int_equal(read_info(nii, len, "s.nii", &v, &info, &diag), GEOM_OK);
+        assert_int_equal(info.spacing_defaulted[0], 1);
+        assert_int_equal(info.spacing_defaulted[1], 0);
+        assert_int_equal(info.spacing_defaulted[2], 1);
+        assert_non_null(strstr(info.spacing_note, "pixdim[1] = 0 (byte 80)"));
+        assert_non_null(strstr(info.spacing_note, q ? "pixdim[3] = nan (byte 88)"
+                                                     : "pixdim[3] = -2 (byte 88)"));
+        double s3[3] = {1, 3, 1};
+        check_volume(v, GEOM_IMPLICIT_SAMPLE_U8, org, s3);
+        geom_implicit_volume_destroy(v);
+    }
+    /* with an sform, pixdim is not used: no note */
+    nifti_header(nii, 2, 8, 0, "n+1");
+    put16(nii, 254, 1, 0);
+    putf(nii, 280, 2, 0);
+    putf(nii, 300, 2, 0);
+    putf(nii, 320, 2, 0);
+    len = 352 + put_all(nii + 352, GEOM_IMPLICIT_SAMPLE_U8, 0);
+    assert_int_equal(read_info(nii, len, "s.nii", &v, &info, &diag), GEOM_OK);
+    assert_int_equal(info.spacing_defaulted[0] + info.spacing_defaulted[1] + info.spacing_defaulted[2], 0);
+    double s2[3] = {2, 2, 2};
+    check_volume(v, GEOM_IMPLICIT_SAMPLE_U8, org, s2);
+    geom_implicit_volume_destroy(v);
+}
+
 /* CGAL's skull_2.9.inr (64^3 float32) when GEOM_CGAL_IMAGES names the
  * directory holding it (tests/tools extracts it from libcgal-demo). The
  * reference samples are decoded here byte by byte from the file. */
@@ -644,7 +880,8 @@ int main(void)
         cmocka_unit_test(test_nrrd),         cmocka_unit_test(test_errors),
         cmocka_unit_test(test_metaimage),    cmocka_unit_test(test_inrimage),
         cmocka_unit_test(test_nifti),        cmocka_unit_test(test_whole_file_gzip),
-        cmocka_unit_test(test_cgal_skull),
+        cmocka_unit_test(test_cgal_skull),   cmocka_unit_test(test_bzip2),
+        cmocka_unit_test(test_spacing_rules),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
