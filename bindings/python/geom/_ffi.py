@@ -998,6 +998,8 @@ typedef struct geom_implicit_volume_read_options {
     uint64_t skip;
     geom_implicit_inflate_fn inflate;
     void *inflate_user;
+    geom_implicit_inflate_fn bunzip2;
+    void *bunzip2_user;
 } geom_implicit_volume_read_options;
 typedef struct geom_implicit_volume_file_info {
     geom_implicit_volume_format format;
@@ -1005,6 +1007,8 @@ typedef struct geom_implicit_volume_file_info {
     int compressed;
     int flipped[3];
     int scaled;
+    int spacing_defaulted[3];
+    char spacing_note[GEOM_DIAG_MESSAGE_MAX];
 } geom_implicit_volume_file_info;
 geom_status geom_implicit_volume_read(const char *path,
                                                const geom_implicit_volume_read_options *options,

@@ -315,6 +315,29 @@ def _inflate(user, src, n, dst, cap, got):
     return 0
 
 
+@ffi.callback("geom_status(void *, const void *, size_t, void *, size_t, size_t *)",
+              error=lib.GEOM_ERR_PARSE)
+def _bunzip2(user, src, n, dst, cap, got):
+    import bz2
+    data, rest = b"", bytes(ffi.buffer(src, n))
+    try:
+        while rest:  # concatenated streams, as the bzip2 program reads them
+            d = bz2.BZ2Decompressor()
+            data += d.decompress(rest, cap + 1 - len(data))
+            if len(data) > cap:
+                break
+            if not d.eof:
+                return lib.GEOM_ERR_PARSE  # truncated
+            rest = d.unused_data
+    except (OSError, ValueError, EOFError):
+        return lib.GEOM_ERR_PARSE
+    got[0] = len(data)
+    if len(data) > cap:
+        return lib.GEOM_ERR_LIMIT
+    ffi.memmove(dst, data, len(data))
+    return 0
+
+
 class Volume:
     """A sampled volume read from a file (read_volume): samples[i, j, k]
     (x index first; float32 or float64 as read_volume says), spacing and
@@ -375,9 +398,12 @@ class Volume:
 def read_volume(path_or_bytes, dims=None, dtype=None, spacing=None, origin=None,
                 big_endian=False, skip=0, format=None, source_name=None):
     """Read a volume file (geom_implicit_volume_read): NRRD (.nrrd, .nhdr;
-    raw, ascii, hex, gzip), MetaImage (.mha, .mhd), INRIMAGE (.inr) and
-    NIfTI-1 (.nii, .hdr/.img), each possibly gzipped (inflated with Python's
-    zlib), with spacing and origin from the header; or raw samples: dims
+    raw, ascii, hex, gzip, bzip2), MetaImage (.mha, .mhd), INRIMAGE (.inr)
+    and NIfTI-1 (.nii, .hdr/.img), each possibly gzipped or bzip2-compressed
+    (decompressed with Python's zlib and bz2), with spacing and origin from
+    the header (a spacing the header leaves unknown, NRRD nan, or gives
+    invalid, NIfTI pixdim <= 0, is read as 1 with a RuntimeWarning and
+    listed in info["warnings"]); or raw samples: dims
     (nx, ny, nz) and dtype (a numpy dtype or "u8".."f64"; 64-bit integers
     and complex raise TypeError) after `skip` header bytes, x fastest.
     path_or_bytes is a path or a bytes-like object. Returns a Volume.
@@ -411,16 +437,19 @@ def read_volume(path_or_bytes, dims=None, dtype=None, spacing=None, origin=None,
         if origin is not None:
             opt.origin = [float(x) for x in origin]
     opt.inflate = _inflate
+    opt.bunzip2 = _bunzip2
     out = ffi.new("geom_implicit_volume **")
     info = ffi.new("geom_implicit_volume_file_info *")
     diag = new_diag()
     if isinstance(path_or_bytes, (bytes, bytearray, memoryview)):
         buf = ffi.from_buffer(path_or_bytes)
-        name = (source_name or "<memory>").encode()
+        where = source_name or "<memory>"
+        name = where.encode()
         st = lib.geom_implicit_volume_read_memory(buf, len(buf), name, opt, ffi.NULL, out, info,
                                                   diag)
     else:
         path = os.fspath(path_or_bytes)
+        where = path if isinstance(path, str) else os.fsdecode(path)
         raw = path.encode() if isinstance(path, str) else path
         if b"\0" in raw:
             raise ValueError("path contains a NUL byte")
@@ -438,7 +467,16 @@ def read_volume(path_or_bytes, dims=None, dtype=None, spacing=None, origin=None,
             "sample": ffi.string(lib.geom_implicit_sample_name(info.sample)).decode(),
             "compressed": bool(info.compressed),
             "flipped": tuple(bool(x) for x in info.flipped),
-            "scaled": bool(info.scaled)}
+            "scaled": bool(info.scaled),
+            "spacing_defaulted": tuple(bool(x) for x in info.spacing_defaulted),
+            "warnings": []}
+    if any(meta["spacing_defaulted"]):
+        # the header's spacing was unknown (NRRD nan) or invalid (NIfTI
+        # pixdim <= 0): read as 1, never silently
+        note = ffi.string(info.spacing_note).decode("utf-8", "replace")
+        meta["warnings"].append(note)
+        import warnings
+        warnings.warn("%s: %s" % (where, note), RuntimeWarning, stacklevel=2)
     return Volume(data.reshape(shape, order="F"), tuple(d.spacing), tuple(d.origin), meta)
 
 

@@ -1,6 +1,7 @@
 """Volume files through the binding (geom.read_volume) and the batch entry
-points: files made here from a closed form (every sample type, NRRD gzip,
-MetaImage, INRIMAGE, NIfTI-1 gzipped, raw with a header) read back exactly
+points: files made here from a closed form (every sample type, NRRD gzip
+and bzip2, MetaImage, INRIMAGE, NIfTI-1 gzipped, raw with a header, unknown
+or invalid spacing warned about or refused) read back exactly
 at the header's placement; dtypes that cannot be read exactly are refused;
 batch evaluation (bary, curve, surface, volume) against numpy closed
 forms, failing rows as NaN or raised."""
@@ -59,6 +60,58 @@ def test_nrrd_gzip_and_flip():
         p = (ORG[0] + i * SP[0], ORG[1] + j * SP[1], ORG[2] - k * SP[2])
         assert vol.eval(p) == v[i, j, k]
     assert vol.origin[2] == ORG[2] - 2 * SP[2]
+
+
+def test_nrrd_bzip2_reads_as_raw(tmp_path):
+    import bz2
+    v = values("i2")
+    head = ("NRRD0005\ntype: short\ndimension: 3\nsizes: %d %d %d\nencoding: %s\n"
+            "endian: big\nspacings: %g %g %g\naxis mins: %g %g %g\n\n")
+    raw = geom.read_volume((head % (N + ("raw",) + SP + ORG)).encode() + raw_bytes(v, True))
+    data = bz2.compress(raw_bytes(v, True))
+    bz = geom.read_volume((head % (N + ("bzip2",) + SP + ORG)).encode() + data)
+    assert bz.info["compressed"] and not raw.info["compressed"]
+    assert np.array_equal(bz.samples, raw.samples) and np.array_equal(bz.samples, v)
+    assert bz.spacing == raw.spacing == SP and bz.origin == raw.origin == ORG
+    # two concatenated streams, as the bzip2 program writes with cat
+    half = len(raw_bytes(v, True)) // 2
+    two = bz2.compress(raw_bytes(v, True)[:half]) + bz2.compress(raw_bytes(v, True)[half:])
+    assert np.array_equal(geom.read_volume((head % (N + ("bz2",) + SP + ORG)).encode() + two)
+                          .samples, v)
+    # truncated and corrupt streams: GeomError naming the file and bzip2
+    for name, body in [("cut.nrrd", data[:-30]),
+                       ("bad.nrrd", data[:20] + bytes([data[20] ^ 0x55]) + data[21:])]:
+        p = tmp_path / name
+        p.write_bytes((head % (N + ("bzip2",) + SP + ORG)).encode() + body)
+        with pytest.raises(geom.GeomError, match=name + ".*bzip2"):
+            geom.read_volume(str(p))
+
+
+def test_unknown_spacing_warns():
+    v = values("u1")
+    head = ("NRRD0004\ntype: uchar\ndimension: 3\nsizes: %d %d %d\nencoding: raw\n"
+            "spacings: 0.5 nan 2\n\n" % N).encode()
+    with pytest.warns(RuntimeWarning, match=r"x.nrrd: line 6: 'spacings: 0.5 nan 2': axis 1"):
+        vol = geom.read_volume(head + raw_bytes(v), source_name="x.nrrd")
+    assert vol.spacing == (0.5, 1.0, 2.0)
+    assert vol.info["spacing_defaulted"] == (False, True, False)
+    assert "spacing unknown (nan), 1 used" in vol.info["warnings"][0]
+    with pytest.raises(geom.GeomError, match="spacings"):
+        geom.read_volume(head.replace(b"nan", b"0") + raw_bytes(v))
+    h = bytearray(352)
+    struct.pack_into("<i", h, 0, 348)
+    struct.pack_into("<8h", h, 40, 3, N[0], N[1], N[2], 1, 1, 1, 1)
+    struct.pack_into("<hh", h, 70, 2, 8)
+    struct.pack_into("<8f", h, 76, 1, -0.5, 2, 0, 0, 0, 0, 0)
+    struct.pack_into("<f", h, 108, 352)
+    h[344:348] = b"n+1\0"
+    with pytest.warns(RuntimeWarning, match=r"pixdim\[1\] = -0.5 \(byte 80\), pixdim\[3\] = 0"):
+        vol = geom.read_volume(bytes(h) + raw_bytes(v))
+    assert vol.spacing == (1.0, 2.0, 1.0)
+    with pytest.raises(geom.GeomError, match="ElementSpacing"):
+        geom.read_volume(("NDims = 3\nDimSize = %d %d %d\nElementType = MET_UCHAR\n"
+                          "ElementSpacing = 1 nan 1\nElementDataFile = LOCAL\n" % N).encode()
+                         + raw_bytes(v))
 
 
 def test_nifti_gz_and_metaimage(tmp_path):
