@@ -103,6 +103,11 @@ int cli_mesh_mtllib_option(const cli_tool *t, int opt, const char *arg)
     return CLI_CONTINUE;
 }
 
+const char *cli_mesh_user_mtllib(void)
+{
+    return user_mtllib;
+}
+
 unsigned cli_mesh_mtllib_omit(const geom_mesh *m, const char *path, bool to_stdout)
 {
     size_t n = geom_mesh_mtllib_count(m);

@@ -77,6 +77,11 @@ unsigned cli_mesh_mtllib_omit(const geom_mesh *m, const char *path, bool to_stdo
  *  which OBJ cannot hold) or CLI_NOT_HANDLED for other options. */
 int cli_mesh_mtllib_option(const cli_tool *t, int opt, const char *arg);
 
+/** The FILE given with --mtllib (NULL when none): for a tool writing OBJ
+ *  through its own path (geom-convert), which then writes the one `mtllib
+ *  FILE` line first and omits GEOM_MESHIO_ATTR_MTLLIB. */
+const char *cli_mesh_user_mtllib(void);
+
 /* Degenerate (zero-area) live faces of m, the ones geom_mesh_face_normal
  * refuses: their count, and the first one (0-based, in face order) in *first
  * when there is any. Tools that compute normals or tangents warn with it. */

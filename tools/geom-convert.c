@@ -10,8 +10,10 @@
  * OUT "-" (or -o -) writes to standard output and needs --format. A file OUT
  * is written atomically: on any error nothing is left behind and an existing
  * OUT is untouched. Doubles are written so they read back exactly unless
- * --precision asks for fewer digits. Repairs made while building the mesh
- * (see geom_mesh_build) are reported on standard error.
+ * --precision asks for fewer digits. --mtllib FILE makes OBJ output name
+ * the material library FILE (one mtllib line, the input's dropped).
+ * Repairs made while building the mesh (see geom_mesh_build) are reported
+ * on standard error.
  *
  * Exit status 0 on success, 1 on a read, parse or write error, 2 on a usage
  * error.
@@ -41,6 +43,9 @@ static const cli_tool tool = {
     "      --no-normals, --no-uvs, --no-colors, --no-tangents\n"
     "                          do not write that attribute\n"
     "      --no-meta           OBJ: do not write groups, tags, mtllibs and lines\n"
+    "      --mtllib=FILE       OBJ: reference the material library FILE (one\n"
+    "                          mtllib line, the input's dropped; without it the\n"
+    "                          input's is kept only when found next to OUT)\n"
     "      --keep-v            glTF: do not flip v to glTF's top-left origin\n"
     "      --skip-invalid      skip faces with repeated vertices or fewer than 3\n"
     "                          instead of failing\n",
@@ -74,6 +79,9 @@ typedef struct convert_opts {
 static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
 {
     convert_opts *o = user;
+    int mrc = cli_mesh_mtllib_option(t, opt, arg);
+    if (mrc != CLI_NOT_HANDLED)
+        return mrc;
     switch (opt) {
     case 'f':
         return cli_mesh_format_option(t, arg, 0, &o->w.format);
@@ -141,6 +149,7 @@ int main(int argc, char **argv)
         {"no-meta", no_argument, NULL, OPT_NO_META},
         {"keep-v", no_argument, NULL, OPT_KEEP_V},
         {"skip-invalid", no_argument, NULL, OPT_SKIP_INVALID},
+        CLI_MTLLIB_LONGOPT,
         {NULL, 0, NULL, 0}};
     convert_opts co;
     memset(&co, 0, sizeof co);
@@ -212,10 +221,14 @@ int main(int argc, char **argv)
     if (cli_mesh_empty_warning(m))
         fprintf(stderr, "%s: %s: warning: %s\n", tool.name, name, cli_mesh_empty_warning(m));
     free(name);
-    if (co.w.format == GEOM_MESHIO_FORMAT_OBJ && !(co.w.omit & GEOM_MESHIO_ATTR_META))
+    /* --mtllib FILE: one `mtllib FILE` line first, the mesh's own dropped */
+    const char *mtl = co.w.format == GEOM_MESHIO_FORMAT_OBJ ? cli_mesh_user_mtllib() : NULL;
+    if (mtl)
+        co.w.omit |= GEOM_MESHIO_ATTR_MTLLIB;
+    else if (co.w.format == GEOM_MESHIO_FORMAT_OBJ && !(co.w.omit & GEOM_MESHIO_ATTR_META))
         co.w.omit |= cli_mesh_mtllib_omit(m, out_path, to_stdout);
 
-    if (!to_stdout) {
+    if (!to_stdout && !mtl) {
         st = geom_meshio_write(m, out_path, &co.w, &diag);
         geom_mesh_destroy(m);
         return st == GEOM_OK ? CLI_EXIT_OK : cli_print_diag(&tool, &diag);
@@ -226,11 +239,13 @@ int main(int argc, char **argv)
     geom_mesh_destroy(m);
     if (st != GEOM_OK)
         return cli_print_diag(&tool, &diag);
-    cli_output out;
-    if (cli_output_open(&out, NULL, &diag) != GEOM_OK) {
+    cli_output out; /* standard output, or OUT atomically (--mtllib) */
+    if (cli_output_open(&out, to_stdout ? NULL : out_path, &diag) != GEOM_OK) {
         geom_meshio_buffer_free(buf, n, NULL);
         return cli_print_diag(&tool, &diag);
     }
+    if (mtl)
+        fprintf(out.fp, "mtllib %s\n", mtl); /* write errors: seen at the commit */
     fwrite(buf, 1, n, out.fp);
     geom_meshio_buffer_free(buf, n, NULL);
     if (cli_output_commit(&out, &diag) != GEOM_OK)

@@ -6,7 +6,8 @@
 # (exit 2). Without --mtllib the input's library is still kept only when it
 # is next to the output.
 # Usage: test_mtllib_option.sh DATA_DIR TOOL...   (geom-normals, geom-tangents,
-#        geom-clip, geom-subdivide: mesh in, mesh out; geom-tessellate: surfaces)
+#        geom-clip, geom-subdivide, geom-convert: mesh in, mesh out;
+#        geom-tessellate: surfaces)
 set -u
 DATA=$1
 shift
