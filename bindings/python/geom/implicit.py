@@ -308,6 +308,11 @@ def _inflate(user, src, n, dst, cap, got):
         data = zlib.decompressobj(47).decompress(bytes(ffi.buffer(src, n)), cap + 1)
     except zlib.error:
         return lib.GEOM_ERR_PARSE
+    return _deliver(data, dst, cap, got)
+
+
+def _deliver(data, dst, cap, got):
+    """The end of a decompression callback: data into dst (cap bytes)."""
     got[0] = len(data)
     if len(data) > cap:
         return lib.GEOM_ERR_LIMIT
@@ -331,11 +336,7 @@ def _bunzip2(user, src, n, dst, cap, got):
             rest = d.unused_data
     except (OSError, ValueError, EOFError):
         return lib.GEOM_ERR_PARSE
-    got[0] = len(data)
-    if len(data) > cap:
-        return lib.GEOM_ERR_LIMIT
-    ffi.memmove(dst, data, len(data))
-    return 0
+    return _deliver(data, dst, cap, got)
 
 
 class Volume:
