@@ -15,7 +15,7 @@ geom_status cli_bunzip2(void *user, const void *in, size_t in_size, void *out, s
     const char *src = in;
     char *dst = out;
     size_t in_left = in_size, out_left = out_cap, total = 0;
-    int ret = BZ_OK;
+    int ret = in_size ? BZ_OK : BZ_UNEXPECTED_EOF; /* nothing is not a stream */
     /* one stream after the other (as `cat a.bz2 b.bz2`, or pbzip2's output) */
     while (in_left > 0 && ret == BZ_OK) {
         bz_stream bs;

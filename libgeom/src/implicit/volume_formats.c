@@ -964,9 +964,9 @@ static geom_status read_nrrd(vf_ctx *c, geom_implicit_volume **out)
             }
             if (!isfinite(spacings[a]) || spacings[a] == 0.0)
                 return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, spacings_line, 1,
-                                      "spacings: axis %d has spacing %g in '%s' (nonzero and "
+                                      "spacings: axis %d has %s spacing in '%s' (nonzero and "
                                       "finite, or nan for unknown)",
-                                      a, spacings[a], spacings_val);
+                                      a, spacings[a] == 0.0 ? "zero" : "infinite", spacings_val);
             Lay.axis[a][a] = spacings[a];
         }
         for (int a = 0; a < 3 && a < nspacings; a++)
