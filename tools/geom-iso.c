@@ -11,7 +11,7 @@
  * --expr: libgeom's expression language (geom/implicit.h), contoured over
  * the box --bounds split into --res cells per axis (required). --volume: a
  * raw file (little-endian, x fastest; --dims and --type required) or, when
- * --dims is absent, NRRD, MetaImage, INRIMAGE or NIfTI-1 (gzip too; see
+ * --dims is absent, NRRD, MetaImage, INRIMAGE or NIfTI-1 (gzip, bzip2; see
  * geom_implicit_volume_read and docs/formats.md); its own samples are the grid
  * nodes (no --bounds or --res needed; given, they resample the volume's
  * trilinear interpolant). Inside is f <= V (--inside below, the default for
@@ -47,8 +47,9 @@ static const cli_tool tool = {
     "the extension; standard output when OUT is '-': then OBJ).",
     "  -e, --expr=E         the function, e.g. 'torus(1, 0.3)'; inside is f <= V\n"
     "      --volume=FILE    a volume: NRRD (.nrrd, .nhdr), MetaImage (.mha, .mhd),\n"
-    "                       INRIMAGE (.inr), NIfTI-1 (.nii), each also gzipped,\n"
-    "                       with spacing and origin from the header; or raw\n"
+    "                       INRIMAGE (.inr), NIfTI-1 (.nii), each also gzipped\n"
+    "                       or bzip2ed, with spacing and origin from the\n"
+    "                       header (unknown spacing: 1, warned); or raw\n"
     "                       samples with --dims and --type\n"
     "      --dims=X,Y,Z     samples per axis of a raw volume\n"
     "      --type=T         the raw samples' type: u8, i8, u16, i16, u32, i32,\n"
@@ -432,7 +433,7 @@ int main(int argc, char **argv)
         st = geom_implicit_volume_read(a.volume, &ro, NULL, &vol, &vinfo, &diag);
         if (st != GEOM_OK)
             return cli_print_diag(&tool, &diag);
-        if (vinfo.spacing_defaulted[0] || vinfo.spacing_defaulted[1] || vinfo.spacing_defaulted[2]) {
+        if (vinfo.spacing_note[0]) { /* an axis in vinfo.spacing_defaulted */
             snprintf(spacing_warning, sizeof spacing_warning, "%s", vinfo.spacing_note);
             fprintf(stderr, "%s: warning: %s: %s\n", tool.name, a.volume, spacing_warning);
         }
@@ -537,7 +538,8 @@ int main(int argc, char **argv)
                 printf("\"empty isosurface: no triangles\"%s",
                        r->nan_nodes || spacing_warning[0] ? "," : "");
             if (r->nan_nodes)
-                printf("\"the field is NaN at %zu grid nodes, the first at node (%zu, %zu, %zu)\"%s",
+                printf("\"the field is NaN at %zu grid nodes, the first at node "
+                       "(%zu, %zu, %zu)\"%s",
                        r->nan_nodes, r->nan_first[0], r->nan_first[1], r->nan_first[2],
                        spacing_warning[0] ? "," : "");
             if (spacing_warning[0])

@@ -421,7 +421,9 @@ static geom_status inflate_all(vf_ctx *c, int codec, const unsigned char *in, si
         if (st != GEOM_ERR_LIMIT || expect)
             return geom__diag_set(c->diag, st == GEOM_ERR_LIMIT ? GEOM_ERR_PARSE : st, c->name, 0,
                                  0, "%s %s",
-                                 st == GEOM_ERR_LIMIT ? what : bz ? "corrupt or truncated" : "corrupt",
+                                 st == GEOM_ERR_LIMIT ? what
+                                 : bz                 ? "corrupt or truncated"
+                                                      : "corrupt",
                                  st == GEOM_ERR_LIMIT ? "data decompresses to more than expected"
                                  : bz                 ? "bzip2 data"
                                                       : "compressed data");
@@ -436,9 +438,9 @@ static geom_status inflate_all(vf_ctx *c, int codec, const unsigned char *in, si
 
 /*
  * Decode the samples of `L` from payload[0..n): `encoding` 0 raw, 'g' zlib
- * or gzip compressed, 'b' bzip2 compressed, 'a' ASCII numbers, 'h' hex. `exact` nonzero: raw data
- * must be exactly the size (else at least). Offsets in messages are relative
- * to `base` in the input.
+ * or gzip compressed, 'b' bzip2 compressed, 'a' ASCII numbers, 'h' hex.
+ * `exact` nonzero: raw data must be exactly the size (else at least).
+ * Offsets in messages are relative to `base` in the input.
  */
 static geom_status decode_payload(vf_ctx *c, const vf_layout *L, const unsigned char *p, size_t n,
                                   int encoding, int exact, uint64_t base,
