@@ -16,6 +16,7 @@
 #include "geom/mesh.h"
 #include "geom/meshio.h"
 
+#include <stdarg.h>
 #include <stdint.h>
 #include <string.h>
 
@@ -70,6 +71,11 @@ typedef struct mio_ctx {
     size_t size;
 } mio_ctx;
 
+/* Set d (if not NULL) to st at source line:col (0: unknown) with the message
+ * fmt/ap, formatted before d is touched; returns st. The one formatting path
+ * of the readers' and the sink's errors. */
+geom_status geom__meshio_vdiag(geom_diag *d, geom_status st, const char *source, size_t line,
+                               size_t col, const char *fmt, va_list ap) GEOM_PRINTF(6, 0);
 geom_status geom__meshio_err_line(mio_ctx *c, geom_status st, size_t line, size_t col,
                                   const char *fmt, ...) GEOM_PRINTF(5, 6);
 geom_status geom__meshio_err_off(mio_ctx *c, geom_status st, uint64_t off, const char *fmt,
