@@ -99,6 +99,15 @@ int cli_error(const cli_tool *tool, const char *fmt, ...)
     return CLI_EXIT_ERROR;
 }
 
+int cli_operands(const cli_tool *tool, int argc, char **argv, int first, int min, int max)
+{
+    if (argc - first < min)
+        return cli_usage_error(tool, "missing input operand");
+    if (argc - first > max)
+        return cli_usage_error(tool, "extra operand '%s'", argv[first + max]);
+    return CLI_CONTINUE;
+}
+
 int cli_parse_args(const cli_tool *tool, int argc, char **argv, const char *shortopts,
                    const struct option *longopts, cli_option_fn on_option, void *user,
                    cli_common *common, int *first_operand)
@@ -535,6 +544,15 @@ void cli_json_error_report(FILE *fp, const geom_error_report *r, const char *mea
     fprintf(fp, ",\"evaluations\":%zu,\"pieces\":%zu,\"seconds\":", r->evaluations, r->pieces);
     cli_json_number(fp, r->seconds);
     fputc('}', fp);
+}
+
+void cli_json_warning(FILE *fp, const char *w)
+{
+    if (!w || !w[0])
+        return;
+    fputs(",\"warnings\":[", fp);
+    cli_json_string(fp, w);
+    fputc(']', fp);
 }
 
 void cli_json_string(FILE *fp, const char *s)

@@ -134,6 +134,14 @@ int cli_parse_args(const cli_tool *tool, int argc, char **argv, const char *shor
                    const struct option *longopts, cli_option_fn on_option, void *user,
                    cli_common *common, int *first_operand);
 
+/**
+ * Check the operands cli_parse_args left in argv[first..argc): at least min
+ * and at most max of them. Fewer prints "missing input operand", more
+ * prints "extra operand 'X'" (X the first one past max), both as usage
+ * errors (CLI_EXIT_USAGE). Returns CLI_CONTINUE when the count fits.
+ */
+int cli_operands(const cli_tool *tool, int argc, char **argv, int first, int min, int max);
+
 /** Print the full --help text of `tool` to fp. */
 void cli_print_usage(const cli_tool *tool, FILE *fp);
 
@@ -280,6 +288,10 @@ void cli_json_error_report(FILE *fp, const geom_error_report *r, const char *mea
  *  characters and DEL as \u00XX; valid UTF-8 sequences are passed through,
  *  any other byte >= 0x80 becomes \ufffd, so the output is valid UTF-8). */
 void cli_json_string(FILE *fp, const char *s);
+
+/** Print `,"warnings":[w]` (w as cli_json_string) when w is neither NULL
+ *  nor empty, else nothing: the warnings member of a tool's JSON summary. */
+void cli_json_warning(FILE *fp, const char *w);
 
 /** A destination for a tool's output: standard output, a device or FIFO
  *  written through, or a regular file replaced through a temporary file. */

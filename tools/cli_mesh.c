@@ -247,3 +247,60 @@ size_t cli_mesh_degenerate_faces(const geom_mesh *m, size_t *first)
     }
     return n;
 }
+
+/* ------------------------------------ the prologue of a mesh-in, mesh-out tool */
+
+int cli_mesh_io_option(const cli_tool *t, int opt, const char *arg, geom_meshio_format *in_fmt,
+                       geom_meshio_format *out_fmt)
+{
+    if (opt == CLI_OPT_FORMAT && out_fmt)
+        return cli_mesh_format_option(t, arg, 0, out_fmt);
+    if (opt == CLI_OPT_INPUT_FORMAT && in_fmt)
+        return cli_mesh_format_option(t, arg, 1, in_fmt);
+    return cli_mesh_mtllib_option(t, opt, arg);
+}
+
+int cli_mesh_output(const cli_tool *t, const cli_common *common, const char *what,
+                    geom_meshio_format *fmt, const char **path)
+{
+    const char *out = common->output ? common->output : "-";
+    bool to_stdout = strcmp(out, "-") == 0;
+    if (*fmt == GEOM_MESHIO_FORMAT_AUTO) {
+        if (to_stdout)
+            return cli_usage_error(t, "writing to standard output needs --format");
+        *fmt = geom_meshio_format_from_name(out);
+        if (*fmt == GEOM_MESHIO_FORMAT_AUTO)
+            return cli_usage_error(t, "cannot tell the output format from '%s': use --format",
+                                   out);
+    }
+    if (common->json && to_stdout)
+        return cli_usage_error(t, "--json needs the %s written to a file (-o OUT)", what);
+    *path = out;
+    return CLI_CONTINUE;
+}
+
+int cli_mesh_open(const cli_tool *t, int argc, char **argv, int first, const cli_common *common,
+                  geom_meshio_format in_fmt, geom_meshio_format *out_fmt, const char **out_path,
+                  geom_mesh **m)
+{
+    int rc = cli_operands(t, argc, argv, first, 1, 1);
+    if (rc == CLI_CONTINUE)
+        rc = cli_mesh_output(t, common, "mesh", out_fmt, out_path);
+    if (rc != CLI_CONTINUE)
+        return rc;
+    geom_diag diag;
+    geom_diag_clear(&diag);
+    *m = NULL;
+    if (cli_mesh_read(t->name, argv[first], in_fmt, m, &diag) != GEOM_OK)
+        return cli_print_diag(t, &diag);
+    return CLI_CONTINUE;
+}
+
+int cli_mesh_crease_option(const cli_tool *t, const char *arg, double *deg)
+{
+    double d;
+    if (cli_parse_double(arg, strlen(arg), 0, &d, NULL) != GEOM_OK || !(d > 0.0) || !(d < 180.0))
+        return cli_usage_error(t, "--crease takes an angle in degrees in (0, 180), not '%s'", arg);
+    *deg = d;
+    return CLI_CONTINUE;
+}

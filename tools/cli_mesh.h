@@ -87,6 +87,58 @@ const char *cli_mesh_user_mtllib(void);
  * when there is any. Tools that compute normals or tangents warn with it. */
 size_t cli_mesh_degenerate_faces(const geom_mesh *m, size_t *first);
 
+/* ------------------------------------ the prologue of a mesh-in, mesh-out tool */
+
+/** Short options of the mesh tools' --format and --input-format, and the
+ *  long options cli_mesh_io_option handles (put them in a tool's option
+ *  table; a tool without --format lists the other two itself). */
+#define CLI_OPT_FORMAT 'f'
+#define CLI_OPT_INPUT_FORMAT 'i'
+#define CLI_MESH_IO_LONGOPTS                                                   \
+    {"format", required_argument, NULL, CLI_OPT_FORMAT},                      \
+    {"input-format", required_argument, NULL, CLI_OPT_INPUT_FORMAT},          \
+    CLI_MTLLIB_LONGOPT
+
+/**
+ * The mesh I/O options, first in a tool's cli_option_fn: --mtllib
+ * (cli_mesh_mtllib_option), -f/--format into *out_fmt (when out_fmt is not
+ * NULL) and -i/--input-format into *in_fmt (when in_fmt is not NULL), each
+ * as cli_mesh_format_option. Returns CLI_CONTINUE, CLI_EXIT_USAGE after the
+ * message, or CLI_NOT_HANDLED for any other option.
+ */
+int cli_mesh_io_option(const cli_tool *t, int opt, const char *arg, geom_meshio_format *in_fmt,
+                       geom_meshio_format *out_fmt);
+
+/**
+ * Where a tool writes its result after cli_parse_args: *path is -o's FILE
+ * or "-" (standard output), and *fmt, when still GEOM_MESHIO_FORMAT_AUTO
+ * (no --format), the format of path's extension. Usage errors
+ * (CLI_EXIT_USAGE after the message): standard output without a format
+ * ("writing to standard output needs --format"), an extension no format has
+ * ("cannot tell the output format from 'X': use --format"), and --json with
+ * the result on standard output, where the summary goes ("--json needs the
+ * <what> written to a file (-o OUT)"; what: "mesh", "output", ...).
+ * Returns CLI_CONTINUE.
+ */
+int cli_mesh_output(const cli_tool *t, const cli_common *common, const char *what,
+                    geom_meshio_format *fmt, const char **path);
+
+/**
+ * The rest of the prologue of a tool that reads one mesh and writes one,
+ * after cli_parse_args: exactly one operand (cli_operands), the output
+ * (cli_mesh_output, what "mesh"), then the mesh in argv[first] read with
+ * cli_mesh_read in format in_fmt. Returns CLI_CONTINUE with *m (destroy
+ * it), or the exit status after the message: CLI_EXIT_USAGE, or
+ * CLI_EXIT_ERROR with the reader's diagnostic printed (cli_print_diag).
+ */
+int cli_mesh_open(const cli_tool *t, int argc, char **argv, int first, const cli_common *common,
+                  geom_meshio_format in_fmt, geom_meshio_format *out_fmt, const char **out_path,
+                  geom_mesh **m);
+
+/** A --crease=DEG argument (a dihedral angle in degrees, 0 < DEG < 180)
+ *  into *deg: CLI_CONTINUE, or CLI_EXIT_USAGE after the message. */
+int cli_mesh_crease_option(const cli_tool *t, const char *arg, double *deg);
+
 #ifdef __cplusplus
 }
 #endif

@@ -138,9 +138,9 @@ static int parse_frustum(const cli_tool *t, const char *arg, geom_mat4 *vp)
 static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
 {
     clip_opts *o = user;
-    int mrc = cli_mesh_mtllib_option(t, opt, arg);
-    if (mrc != CLI_NOT_HANDLED)
-        return mrc;
+    int rc = cli_mesh_io_option(t, opt, arg, &o->in_format, &o->out_format);
+    if (rc != CLI_NOT_HANDLED)
+        return rc;
     switch (opt) {
     case 'p': {
         if (o->nplanes == MAX_PLANES)
@@ -171,10 +171,6 @@ static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
     case OPT_CAP:
         o->cap = 1;
         return CLI_CONTINUE;
-    case 'f':
-        return cli_mesh_format_option(t, arg, 0, &o->out_format);
-    case 'i':
-        return cli_mesh_format_option(t, arg, 1, &o->in_format);
     default:
         break;
     }
@@ -187,9 +183,7 @@ int main(int argc, char **argv)
                                              {"frustum", required_argument, NULL, OPT_FRUSTUM},
                                              {"matrix", required_argument, NULL, OPT_MATRIX},
                                              {"cap", no_argument, NULL, OPT_CAP},
-                                             {"format", required_argument, NULL, 'f'},
-                                             {"input-format", required_argument, NULL, 'i'},
-                                             CLI_MTLLIB_LONGOPT,
+                                             CLI_MESH_IO_LONGOPTS,
                                              {NULL, 0, NULL, 0}};
     static clip_opts co; /* large: keep it off the stack */
     memset(&co, 0, sizeof co);
@@ -197,32 +191,19 @@ int main(int argc, char **argv)
     int first;
     int rc = cli_parse_args(&tool, argc, argv, "p:f:i:", longopts, on_option, &co, &common,
                             &first);
+    const char *out_path = NULL;
+    geom_mesh *m = NULL;
+    if (rc == CLI_CONTINUE) /* the operand count first, then what to clip by */
+        rc = cli_operands(&tool, argc, argv, first, 1, 1);
+    if (rc == CLI_CONTINUE && co.nplanes == 0 && !co.have_frustum)
+        rc = cli_usage_error(&tool, "give --plane, --frustum or --matrix");
+    if (rc == CLI_CONTINUE)
+        rc = cli_mesh_open(&tool, argc, argv, first, &common, co.in_format, &co.out_format,
+                           &out_path, &m);
     if (rc != CLI_CONTINUE)
         return rc;
-    if (argc - first < 1)
-        return cli_usage_error(&tool, "missing input operand");
-    if (argc - first > 1)
-        return cli_usage_error(&tool, "extra operand '%s'", argv[first + 1]);
-    if (co.nplanes == 0 && !co.have_frustum)
-        return cli_usage_error(&tool, "give --plane, --frustum or --matrix");
-    const char *out_path = common.output ? common.output : "-";
-    int to_stdout = strcmp(out_path, "-") == 0;
-    if (co.out_format == GEOM_MESHIO_FORMAT_AUTO) {
-        if (to_stdout)
-            return cli_usage_error(&tool, "writing to standard output needs --format");
-        co.out_format = geom_meshio_format_from_name(out_path);
-        if (co.out_format == GEOM_MESHIO_FORMAT_AUTO)
-            return cli_usage_error(&tool, "cannot tell the output format from '%s': use --format",
-                                   out_path);
-    }
-    if (common.json && to_stdout)
-        return cli_usage_error(&tool, "--json needs the mesh written to a file (-o OUT)");
-
     geom_diag diag;
     geom_diag_clear(&diag);
-    geom_mesh *m = NULL;
-    if (cli_mesh_read(tool.name, argv[first], co.in_format, &m, &diag) != GEOM_OK)
-        return cli_print_diag(&tool, &diag);
     size_t in_faces = geom_mesh_n_live_faces(m);
     geom_clip_options opt;
     memset(&opt, 0, sizeof opt);
@@ -262,11 +243,7 @@ int main(int argc, char **argv)
         printf("{\"vertices\":%zu,\"faces\":%zu,\"input_faces\":%zu,\"seconds\":",
                geom_mesh_n_live_vertices(m), geom_mesh_n_live_faces(m), in_faces);
         cli_json_number(stdout, secs);
-        if (empty) {
-            printf(",\"warnings\":[");
-            cli_json_string(stdout, empty);
-            printf("]");
-        }
+        cli_json_warning(stdout, empty);
         printf("}\n");
     }
     geom_mesh_destroy(m);

@@ -4,7 +4,7 @@
  * a mesh as polylines and write them as OBJ lines.
  *
  *   geom-features [--crease DEG] [--eye X,Y,Z] [--kinds LIST] [--with-mesh]
- *                 IN -o OUT.obj
+ *                 [--mtllib FILE] IN -o OUT.obj
  *
  * Edges are classified by geom_mesh_features: boundary edges, creases
  * (dihedral angle above --crease, default 30 degrees) and, with --eye,
@@ -13,7 +13,8 @@
  * vertices where exactly two feature edges meet (closed loops repeat their
  * first vertex). The output is an OBJ file of the polylines' vertices
  * ("v") and one "l" statement per polyline; --with-mesh writes the whole
- * mesh with the polylines added. With --json a summary (edges of each kind,
+ * mesh with the polylines added; --mtllib FILE makes the output reference the
+ * material library FILE, as on geom-normals. With --json a summary (edges of each kind,
  * polylines, seconds) is printed on standard output (OUT must be a file).
  *
  * Exit status 0 on success, 1 on a read, parse or write error, 2 on a usage
@@ -41,6 +42,7 @@ static const cli_tool tool = {
     "                       with --eye)\n"
     "      --with-mesh      write the whole mesh with the polylines, not only the\n"
     "                       polylines\n"
+    CLI_MTLLIB_HELP
     "  -i, --input-format=FMT  input format (obj, off, ply, stl); default: from\n"
     "                       IN's extension, else from the content\n",
     "Polylines follow feature edges through vertices where exactly two of them\n"
@@ -63,16 +65,12 @@ typedef struct feat_opts {
 static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
 {
     feat_opts *o = user;
+    int rc = cli_mesh_io_option(t, opt, arg, &o->in_format, NULL);
+    if (rc != CLI_NOT_HANDLED)
+        return rc;
     switch (opt) {
-    case 'c': {
-        double d;
-        if (cli_parse_double(arg, strlen(arg), 0, &d, NULL) != GEOM_OK || !(d > 0.0) ||
-            !(d < 180.0))
-            return cli_usage_error(t, "--crease takes an angle in degrees in (0, 180), not '%s'",
-                                   arg);
-        o->fo.crease_degrees = d;
-        return CLI_CONTINUE;
-    }
+    case 'c':
+        return cli_mesh_crease_option(t, arg, &o->fo.crease_degrees);
     case 'e': {
         size_t n = 0;
         if (cli_parse_numbers(arg, strlen(arg), 0, o->fo.eye, 3, &n, NULL) != GEOM_OK || n != 3)
@@ -107,8 +105,6 @@ static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
     case OPT_WITH_MESH:
         o->with_mesh = 1;
         return CLI_CONTINUE;
-    case 'i':
-        return cli_mesh_format_option(t, arg, 1, &o->in_format);
     default:
         break;
     }
@@ -122,6 +118,7 @@ int main(int argc, char **argv)
                                              {"kinds", required_argument, NULL, 'k'},
                                              {"with-mesh", no_argument, NULL, OPT_WITH_MESH},
                                              {"input-format", required_argument, NULL, 'i'},
+                                             CLI_MTLLIB_LONGOPT,
                                              {NULL, 0, NULL, 0}};
     feat_opts fo;
     memset(&fo, 0, sizeof fo);
@@ -129,18 +126,17 @@ int main(int argc, char **argv)
     int first;
     int rc = cli_parse_args(&tool, argc, argv, "c:e:k:i:", longopts, on_option, &fo, &common,
                             &first);
+    geom_meshio_format out_format = GEOM_MESHIO_FORMAT_OBJ; /* the only one: no --format */
+    const char *out_path = NULL;
+    if (rc == CLI_CONTINUE)
+        rc = cli_operands(&tool, argc, argv, first, 1, 1);
+    if (rc == CLI_CONTINUE)
+        rc = cli_mesh_output(&tool, &common, "output", &out_format, &out_path);
     if (rc != CLI_CONTINUE)
         return rc;
-    if (argc - first < 1)
-        return cli_usage_error(&tool, "missing input operand");
-    if (argc - first > 1)
-        return cli_usage_error(&tool, "extra operand '%s'", argv[first + 1]);
-    const char *out_path = common.output ? common.output : "-";
     if (strcmp(out_path, "-") != 0 &&
         geom_meshio_format_from_name(out_path) != GEOM_MESHIO_FORMAT_OBJ)
         return cli_usage_error(&tool, "polylines are written as OBJ: OUT must end in .obj");
-    if (common.json && strcmp(out_path, "-") == 0)
-        return cli_usage_error(&tool, "--json needs the output written to a file (-o OUT)");
     unsigned kinds = fo.kinds;
     if (!kinds)
         kinds = GEOM_FEATURE_BOUNDARY | GEOM_FEATURE_CREASE |
@@ -227,7 +223,7 @@ int main(int argc, char **argv)
         }
         out = lines;
     }
-    st = cli_mesh_write(out, out_path, GEOM_MESHIO_FORMAT_OBJ, &diag);
+    st = cli_mesh_write(out, out_path, out_format, &diag);
     geom_mesh_destroy(lines);
     geom_mesh_destroy(m);
     if (st != GEOM_OK)

@@ -68,9 +68,9 @@ typedef struct normals_opts {
 static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
 {
     normals_opts *o = user;
-    int mrc = cli_mesh_mtllib_option(t, opt, arg);
-    if (mrc != CLI_NOT_HANDLED)
-        return mrc;
+    int rc = cli_mesh_io_option(t, opt, arg, &o->in_format, &o->out_format);
+    if (rc != CLI_NOT_HANDLED)
+        return rc;
     switch (opt) {
     case 'w':
         if (strcmp(arg, "angle") == 0)
@@ -84,22 +84,11 @@ static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
         else
             return cli_usage_error(t, "unknown weight '%s' (uniform, area, angle, max)", arg);
         return CLI_CONTINUE;
-    case 'c': {
-        double d;
-        if (cli_parse_double(arg, strlen(arg), 0, &d, NULL) != GEOM_OK || !(d > 0.0) ||
-            !(d < 180.0))
-            return cli_usage_error(t, "--crease takes an angle in degrees in (0, 180), not '%s'",
-                                   arg);
-        o->no.crease_degrees = d;
-        return CLI_CONTINUE;
-    }
+    case 'c':
+        return cli_mesh_crease_option(t, arg, &o->no.crease_degrees);
     case OPT_SPLIT_UV:
         o->split_uv = 1;
         return CLI_CONTINUE;
-    case 'f':
-        return cli_mesh_format_option(t, arg, 0, &o->out_format);
-    case 'i':
-        return cli_mesh_format_option(t, arg, 1, &o->in_format);
     default:
         break;
     }
@@ -111,9 +100,7 @@ int main(int argc, char **argv)
     static const struct option longopts[] = {{"weight", required_argument, NULL, 'w'},
                                              {"crease", required_argument, NULL, 'c'},
                                              {"split-uv", no_argument, NULL, OPT_SPLIT_UV},
-                                             {"format", required_argument, NULL, 'f'},
-                                             {"input-format", required_argument, NULL, 'i'},
-                                             CLI_MTLLIB_LONGOPT,
+                                             CLI_MESH_IO_LONGOPTS,
                                              {NULL, 0, NULL, 0}};
     normals_opts no;
     memset(&no, 0, sizeof no);
@@ -121,30 +108,15 @@ int main(int argc, char **argv)
     int first;
     int rc = cli_parse_args(&tool, argc, argv, "w:c:f:i:", longopts, on_option, &no, &common,
                             &first);
+    const char *out_path = NULL;
+    geom_mesh *m = NULL;
+    if (rc == CLI_CONTINUE)
+        rc = cli_mesh_open(&tool, argc, argv, first, &common, no.in_format, &no.out_format,
+                           &out_path, &m);
     if (rc != CLI_CONTINUE)
         return rc;
-    if (argc - first < 1)
-        return cli_usage_error(&tool, "missing input operand");
-    if (argc - first > 1)
-        return cli_usage_error(&tool, "extra operand '%s'", argv[first + 1]);
-    const char *out_path = common.output ? common.output : "-";
-    int to_stdout = strcmp(out_path, "-") == 0;
-    if (no.out_format == GEOM_MESHIO_FORMAT_AUTO) {
-        if (to_stdout)
-            return cli_usage_error(&tool, "writing to standard output needs --format");
-        no.out_format = geom_meshio_format_from_name(out_path);
-        if (no.out_format == GEOM_MESHIO_FORMAT_AUTO)
-            return cli_usage_error(&tool, "cannot tell the output format from '%s': use --format",
-                                   out_path);
-    }
-    if (common.json && to_stdout)
-        return cli_usage_error(&tool, "--json needs the mesh written to a file (-o OUT)");
-
     geom_diag diag;
     geom_diag_clear(&diag);
-    geom_mesh *m = NULL;
-    if (cli_mesh_read(tool.name, argv[first], no.in_format, &m, &diag) != GEOM_OK)
-        return cli_print_diag(&tool, &diag);
     if (no.split_uv) {
         uint32_t uv = geom_mesh_channel_find(m, "uv", GEOM_MESH_DOMAIN_CORNER);
         if (uv == GEOM_INVALID_INDEX) {
@@ -221,11 +193,7 @@ int main(int argc, char **argv)
             printf("null");
         printf(",\"seconds\":");
         cli_json_number(stdout, secs);
-        if (warning[0]) {
-            printf(",\"warnings\":[");
-            cli_json_string(stdout, warning);
-            printf("]");
-        }
+        cli_json_warning(stdout, warning);
         printf("}\n");
     }
     geom_mesh_destroy(m);

@@ -61,23 +61,12 @@ typedef struct tan_opts {
 static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
 {
     tan_opts *o = user;
-    int mrc = cli_mesh_mtllib_option(t, opt, arg);
-    if (mrc != CLI_NOT_HANDLED)
-        return mrc;
+    int rc = cli_mesh_io_option(t, opt, arg, &o->in_format, &o->out_format);
+    if (rc != CLI_NOT_HANDLED)
+        return rc;
     switch (opt) {
-    case 'c': {
-        double d;
-        if (cli_parse_double(arg, strlen(arg), 0, &d, NULL) != GEOM_OK || !(d > 0.0) ||
-            !(d < 180.0))
-            return cli_usage_error(t, "--crease takes an angle in degrees in (0, 180), not '%s'",
-                                   arg);
-        o->crease = d;
-        return CLI_CONTINUE;
-    }
-    case 'f':
-        return cli_mesh_format_option(t, arg, 0, &o->out_format);
-    case 'i':
-        return cli_mesh_format_option(t, arg, 1, &o->in_format);
+    case 'c':
+        return cli_mesh_crease_option(t, arg, &o->crease);
     default:
         break;
     }
@@ -117,9 +106,7 @@ static geom_status vertex_to_corner(geom_mesh *m, const char *name)
 int main(int argc, char **argv)
 {
     static const struct option longopts[] = {{"crease", required_argument, NULL, 'c'},
-                                             {"format", required_argument, NULL, 'f'},
-                                             {"input-format", required_argument, NULL, 'i'},
-                                             CLI_MTLLIB_LONGOPT,
+                                             CLI_MESH_IO_LONGOPTS,
                                              {NULL, 0, NULL, 0}};
     tan_opts to;
     memset(&to, 0, sizeof to);
@@ -127,30 +114,15 @@ int main(int argc, char **argv)
     int first;
     int rc = cli_parse_args(&tool, argc, argv, "c:f:i:", longopts, on_option, &to, &common,
                             &first);
+    const char *out_path = NULL;
+    geom_mesh *m = NULL;
+    if (rc == CLI_CONTINUE)
+        rc = cli_mesh_open(&tool, argc, argv, first, &common, to.in_format, &to.out_format,
+                           &out_path, &m);
     if (rc != CLI_CONTINUE)
         return rc;
-    if (argc - first < 1)
-        return cli_usage_error(&tool, "missing input operand");
-    if (argc - first > 1)
-        return cli_usage_error(&tool, "extra operand '%s'", argv[first + 1]);
-    const char *out_path = common.output ? common.output : "-";
-    int to_stdout = strcmp(out_path, "-") == 0;
-    if (to.out_format == GEOM_MESHIO_FORMAT_AUTO) {
-        if (to_stdout)
-            return cli_usage_error(&tool, "writing to standard output needs --format");
-        to.out_format = geom_meshio_format_from_name(out_path);
-        if (to.out_format == GEOM_MESHIO_FORMAT_AUTO)
-            return cli_usage_error(&tool, "cannot tell the output format from '%s': use --format",
-                                   out_path);
-    }
-    if (common.json && to_stdout)
-        return cli_usage_error(&tool, "--json needs the mesh written to a file (-o OUT)");
-
     geom_diag diag;
     geom_diag_clear(&diag);
-    geom_mesh *m = NULL;
-    if (cli_mesh_read(tool.name, argv[first], to.in_format, &m, &diag) != GEOM_OK)
-        return cli_print_diag(&tool, &diag);
     geom_status st = GEOM_OK;
     if (geom_mesh_channel_find(m, "uv", GEOM_MESH_DOMAIN_CORNER) == GEOM_INVALID_INDEX)
         st = vertex_to_corner(m, "uv");
@@ -219,11 +191,7 @@ int main(int argc, char **argv)
             printf("null");
         printf(",\"seconds\":");
         cli_json_number(stdout, secs);
-        if (warning[0]) {
-            printf(",\"warnings\":[");
-            cli_json_string(stdout, warning);
-            printf("]");
-        }
+        cli_json_warning(stdout, warning);
         printf("}\n");
     }
     geom_mesh_destroy(m);

@@ -1,7 +1,7 @@
 # --mtllib on the tools that write OBJ through cli_mesh (issue 14): one
 # script over every such tool that was built.
 set(_mtl_tools "")
-foreach(_verb normals tangents clip subdivide tessellate convert)
+foreach(_verb normals tangents clip subdivide tessellate convert features)
   if(TARGET geom-${_verb})
     list(APPEND _mtl_tools $<TARGET_FILE:geom-${_verb}>)
   endif()

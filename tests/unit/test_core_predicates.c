@@ -5,11 +5,7 @@
  * integers, and the determinants are evaluated in 512-bit two's-complement
  * integer arithmetic written in this file.
  */
-#include <stdarg.h>
-#include <stddef.h>
-#include <setjmp.h>
-#include <stdint.h>
-#include <cmocka.h>
+#include "unit/test_util.h"
 
 #include <float.h>
 #include <math.h>
@@ -381,10 +377,7 @@ static void test_incircle_near_degenerate(void **state)
 static uint64_t rng_state = 0x9e3779b97f4a7c15ull;
 static uint64_t rng(void)
 {
-    rng_state ^= rng_state << 13;
-    rng_state ^= rng_state >> 7;
-    rng_state ^= rng_state << 17;
-    return rng_state;
+    return test_xorshift64(&rng_state);
 }
 
 static double rnd_dyadic(void)

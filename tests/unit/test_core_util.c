@@ -5,11 +5,7 @@
  * components of random graphs; roots are the smallest members) and the hash
  * index (against a linear scan, with deliberately colliding hashes).
  */
-#include <stdarg.h>
-#include <stddef.h>
-#include <setjmp.h>
-#include <stdint.h>
-#include <cmocka.h>
+#include "unit/test_util.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -19,10 +15,7 @@
 static uint64_t rng = 88172645463325252ull;
 static uint64_t next(void)
 {
-    rng ^= rng << 13;
-    rng ^= rng >> 7;
-    rng ^= rng << 17;
-    return rng;
+    return test_xorshift64(&rng);
 }
 
 static void test_grow_push(void **state)

@@ -7,12 +7,7 @@
  * where the trusted build must fall back. Streams: vertex, face and corner
  * values follow their input element through flips, splits and skipped
  * faces; invalid streams are rejected. */
-#include <setjmp.h>
-#include <stdarg.h>
-#include <stddef.h>
-#include <stdint.h>
-
-#include <cmocka.h>
+#include "unit/test_util.h"
 
 #include "geom/mesh.h"
 
@@ -39,10 +34,7 @@ static void soup_free(soup *s)
 static uint64_t rng_state = 0x9e3779b97f4a7c15ull;
 static uint32_t rnd(uint32_t n)
 {
-    rng_state ^= rng_state << 13;
-    rng_state ^= rng_state >> 7;
-    rng_state ^= rng_state << 17;
-    return (uint32_t)(rng_state % n);
+    return (uint32_t)(test_xorshift64(&rng_state) % n);
 }
 
 /* nu x nv grid (closed into a torus when `closed`), quads or triangles,
@@ -112,19 +104,7 @@ static soup grid(uint32_t nu, uint32_t nv, int tris, int closed, uint32_t drop, 
 /* Every array the public API shows, compared element by element. */
 static void assert_same_mesh(const geom_mesh *a, const geom_mesh *b)
 {
-    assert_int_equal(geom_mesh_n_vertices(a), geom_mesh_n_vertices(b));
-    assert_int_equal(geom_mesh_n_halfedges(a), geom_mesh_n_halfedges(b));
-    assert_int_equal(geom_mesh_n_faces(a), geom_mesh_n_faces(b));
-    for (uint32_t h = 0; h < geom_mesh_n_halfedges(a); h++) {
-        assert_int_equal(geom_mesh_he_next(a, h), geom_mesh_he_next(b, h));
-        assert_int_equal(geom_mesh_he_prev(a, h), geom_mesh_he_prev(b, h));
-        assert_int_equal(geom_mesh_he_vertex(a, h), geom_mesh_he_vertex(b, h));
-        assert_int_equal(geom_mesh_he_face(a, h), geom_mesh_he_face(b, h));
-    }
-    for (uint32_t v = 0; v < geom_mesh_n_vertices(a); v++)
-        assert_int_equal(geom_mesh_vertex_he(a, v), geom_mesh_vertex_he(b, v));
-    for (uint32_t f = 0; f < geom_mesh_n_faces(a); f++)
-        assert_int_equal(geom_mesh_face_he(a, f), geom_mesh_face_he(b, f));
+    assert_same_connectivity(a, b);
     const uint32_t *va = geom_mesh_vertex_origin(a), *vb = geom_mesh_vertex_origin(b);
     const uint32_t *fa = geom_mesh_face_origin(a), *fb = geom_mesh_face_origin(b);
     assert_non_null(va);

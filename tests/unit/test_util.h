@@ -13,12 +13,44 @@
 #include <stdlib.h>
 
 #include "geom/core.h"
+#include "geom/mesh.h"
 
 /* Fail unless |x - y| <= tol (NaN fails), printing both to the last bit. */
 static inline void assert_close(double x, double y, double tol)
 {
     if (!(fabs(x - y) <= tol))
         fail_msg("%.17g != %.17g (tol %g)", x, y, tol);
+}
+
+/* Marsaglia's xorshift64 (shifts 13, 7, 17) on *state (nonzero): the
+ * reproducible stream the random tests draw from. */
+static inline uint64_t test_xorshift64(uint64_t *state)
+{
+    uint64_t x = *state;
+    x ^= x << 13;
+    x ^= x >> 7;
+    x ^= x << 17;
+    return *state = x;
+}
+
+/* Fail unless a and b have the same connectivity, element for element:
+ * counts, each halfedge's next, prev, vertex and face, each vertex's and
+ * each face's halfedge. */
+static inline void assert_same_connectivity(const geom_mesh *a, const geom_mesh *b)
+{
+    assert_int_equal(geom_mesh_n_vertices(a), geom_mesh_n_vertices(b));
+    assert_int_equal(geom_mesh_n_halfedges(a), geom_mesh_n_halfedges(b));
+    assert_int_equal(geom_mesh_n_faces(a), geom_mesh_n_faces(b));
+    for (uint32_t h = 0; h < geom_mesh_n_halfedges(a); h++) {
+        assert_int_equal(geom_mesh_he_next(a, h), geom_mesh_he_next(b, h));
+        assert_int_equal(geom_mesh_he_prev(a, h), geom_mesh_he_prev(b, h));
+        assert_int_equal(geom_mesh_he_vertex(a, h), geom_mesh_he_vertex(b, h));
+        assert_int_equal(geom_mesh_he_face(a, h), geom_mesh_he_face(b, h));
+    }
+    for (uint32_t v = 0; v < geom_mesh_n_vertices(a); v++)
+        assert_int_equal(geom_mesh_vertex_he(a, v), geom_mesh_vertex_he(b, v));
+    for (uint32_t f = 0; f < geom_mesh_n_faces(a); f++)
+        assert_int_equal(geom_mesh_face_he(a, f), geom_mesh_face_he(b, f));
 }
 
 /* A counting allocator that fails once `budget` allocations have been made

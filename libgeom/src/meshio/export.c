@@ -17,6 +17,18 @@ uint32_t geom__meshio_attr_channel(const geom_mesh *m, int which, unsigned omit)
     return id;
 }
 
+void geom__meshio_attr_channels(const geom_mesh *m, unsigned omit, int tangents,
+                                uint32_t chan[MIO_NATTR])
+{
+    static const size_t min_ncomp[MIO_NATTR] = {3, 2, 3, 3}; /* normal, uv, color, tangent */
+    for (int a = 0; a < MIO_NATTR; a++) {
+        chan[a] = a == MIO_ATTR_TANGENT && !tangents ? GEOM_INVALID_INDEX
+                                                     : geom__meshio_attr_channel(m, a, omit);
+        if (chan[a] != GEOM_INVALID_INDEX && geom_mesh_channel_ncomp(m, chan[a]) < min_ncomp[a])
+            chan[a] = GEOM_INVALID_INDEX;
+    }
+}
+
 geom_status geom__meshio_check_finite(const geom_mesh *m, mio_sink *k)
 {
     const double *p = geom_mesh_cpositions(m);
@@ -59,41 +71,34 @@ void geom__meshio_export_free(mio_export *e)
     memset(e, 0, sizeof *e);
 }
 
-/* Grow the per-output-vertex arrays to hold n entries. */
+/* Grow the per-output-vertex arrays to hold n entries, each through
+ * geom__grow to the same capacity. */
 static geom_status grow_out(mio_export *e, size_t n)
 {
     if (n <= e->cap_v)
         return GEOM_OK;
-    size_t cap = e->cap_v ? e->cap_v : 16;
-    while (cap < n)
-        cap *= 2;
-    size_t old = e->cap_v;
-    size_t tmp = old;
-    if (geom__grow(e->alloc, (void **)&e->vert, &tmp, cap, sizeof(uint32_t)) != GEOM_OK)
-        return GEOM_ERR_NOMEM;
-    for (int i = 0; i < MIO_NATTR; i++) {
-        tmp = old;
-        if (geom__grow(e->alloc, (void **)&e->aidx[i], &tmp, cap, sizeof(uint32_t)) !=
-            GEOM_OK) {
-            /* keep the arrays' sizes consistent for export_free: shrink
-             * what was grown is not possible, so record the larger cap
-             * only when all succeeded; free the grown ones now */
-            for (int j = 0; j <= i; j++) {
-                geom__free(e->alloc, e->aidx[j], (j < i ? cap : old) * sizeof(uint32_t));
-                e->aidx[j] = NULL;
-            }
-            for (int j = i + 1; j < MIO_NATTR; j++) {
-                geom__free(e->alloc, e->aidx[j], old * sizeof(uint32_t));
-                e->aidx[j] = NULL;
-            }
-            geom__free(e->alloc, e->vert, cap * sizeof(uint32_t));
-            e->vert = NULL;
-            e->cap_v = 0;
-            return GEOM_ERR_NOMEM;
-        }
+    uint32_t **arr[1 + MIO_NATTR] = {&e->vert};
+    size_t cap[1 + MIO_NATTR];
+    geom_status st = GEOM_OK;
+    for (int i = 0; i <= MIO_NATTR; i++) {
+        if (i)
+            arr[i] = &e->aidx[i - 1];
+        cap[i] = e->cap_v;
+        if (st == GEOM_OK) /* the others to the capacity the first got */
+            st = geom__grow(e->alloc, (void **)arr[i], &cap[i], i ? cap[0] : n,
+                            sizeof(uint32_t));
     }
-    e->cap_v = cap;
-    return GEOM_OK;
+    if (st == GEOM_OK) {
+        e->cap_v = cap[0];
+        return GEOM_OK;
+    }
+    /* their sizes now differ: free them all, so export_free has none */
+    for (int i = 0; i <= MIO_NATTR; i++) {
+        geom__free(e->alloc, *arr[i], cap[i] * sizeof(uint32_t));
+        *arr[i] = NULL;
+    }
+    e->cap_v = 0;
+    return st;
 }
 
 /* State of one export_build while the corners are visited. */
@@ -219,6 +224,7 @@ geom_status geom__meshio_export_build(mio_export *e, const geom_mesh *m,
 {
     memset(e, 0, sizeof *e);
     e->alloc = alloc;
+    e->fcol = GEOM_INVALID_INDEX;
     size_t nv = geom_mesh_n_vertices(m), nf = geom_mesh_n_faces(m);
     exp_walk w;
     memset(&w, 0, sizeof w);
@@ -314,26 +320,33 @@ geom_status geom__meshio_export_build(mio_export *e, const geom_mesh *m,
 
 geom_status geom__meshio_export_prepare(mio_export *e, const geom_mesh *m,
                                         const geom_meshio_write_options *opt, int tangents,
-                                        uint32_t chan[MIO_NATTR], uint32_t *fcol, mio_sink *k)
+                                        mio_sink *k)
 {
-    static const size_t min_ncomp[MIO_NATTR] = {3, 2, 3, 3}; /* normal, uv, color, tangent */
-    for (int a = 0; a < MIO_NATTR; a++) {
-        chan[a] = a == MIO_ATTR_TANGENT && !tangents
-                      ? GEOM_INVALID_INDEX
-                      : geom__meshio_attr_channel(m, a, opt->omit);
-        if (chan[a] != GEOM_INVALID_INDEX && geom_mesh_channel_ncomp(m, chan[a]) < min_ncomp[a])
-            chan[a] = GEOM_INVALID_INDEX;
-    }
-    *fcol = (opt->omit & GEOM_MESHIO_ATTR_COLOR)
-                ? GEOM_INVALID_INDEX
-                : geom_mesh_channel_find(m, "color", GEOM_MESH_DOMAIN_FACE);
-    if (*fcol != GEOM_INVALID_INDEX && geom_mesh_channel_ncomp(m, *fcol) < 3)
-        *fcol = GEOM_INVALID_INDEX;
+    uint32_t chan[MIO_NATTR];
+    geom__meshio_attr_channels(m, opt->omit, tangents, chan);
+    uint32_t fcol = (opt->omit & GEOM_MESHIO_ATTR_COLOR)
+                        ? GEOM_INVALID_INDEX
+                        : geom_mesh_channel_find(m, "color", GEOM_MESH_DOMAIN_FACE);
+    if (fcol != GEOM_INVALID_INDEX && geom_mesh_channel_ncomp(m, fcol) < 3)
+        fcol = GEOM_INVALID_INDEX;
     geom_status st = geom__meshio_export_build(e, m, chan, opt->alloc, 0);
     if (st != GEOM_OK)
         return geom__meshio_sink_fail(k, st, "%s while preparing the output",
                                       geom_status_str(st));
+    e->fcol = fcol;
     return GEOM_OK;
+}
+
+size_t geom__meshio_export_face_color(const mio_export *e, const geom_mesh *m, size_t f,
+                                      double rgba[4])
+{
+    if (e->fcol == GEOM_INVALID_INDEX)
+        return 0;
+    size_t nc = geom_mesh_channel_ncomp(m, e->fcol);
+    const double *col = geom_mesh_channel_cdata(m, e->fcol) + (size_t)e->fface[f] * nc;
+    for (size_t j = 0; j < 4; j++)
+        rgba[j] = j < nc ? col[j] : 1.0;
+    return nc;
 }
 
 size_t geom__meshio_export_value(const mio_export *e, const geom_mesh *m, int a, size_t k,

@@ -71,12 +71,7 @@ geom_status geom__meshio_write_glb(const geom_mesh *m, const geom_meshio_write_o
     if (geom__meshio_check_finite(m, k) != GEOM_OK)
         return k->status;
     uint32_t chan[MIO_NATTR];
-    static const size_t min_comp[MIO_NATTR] = {3, 2, 3, 3};
-    for (int a = 0; a < MIO_NATTR; a++) {
-        chan[a] = geom__meshio_attr_channel(m, a, opt->omit);
-        if (chan[a] != GEOM_INVALID_INDEX && geom_mesh_channel_ncomp(m, chan[a]) < min_comp[a])
-            chan[a] = GEOM_INVALID_INDEX;
-    }
+    geom__meshio_attr_channels(m, opt->omit, 1, chan);
     mio_export e;
     geom_status st = geom__meshio_export_build(&e, m, chan, al, 1); /* triangles */
     if (st != GEOM_OK) {

@@ -16,6 +16,7 @@
 #include "geom/mesh.h"
 #include "geom/meshio.h"
 
+#include <stdarg.h>
 #include <stdint.h>
 #include <string.h>
 
@@ -70,6 +71,11 @@ typedef struct mio_ctx {
     size_t size;
 } mio_ctx;
 
+/* Set d (if not NULL) to st at source line:col (0: unknown) with the message
+ * fmt/ap, formatted before d is touched; returns st. The one formatting path
+ * of the readers' and the sink's errors. */
+geom_status geom__meshio_vdiag(geom_diag *d, geom_status st, const char *source, size_t line,
+                               size_t col, const char *fmt, va_list ap) GEOM_PRINTF(6, 0);
 geom_status geom__meshio_err_line(mio_ctx *c, geom_status st, size_t line, size_t col,
                                   const char *fmt, ...) GEOM_PRINTF(5, 6);
 geom_status geom__meshio_err_off(mio_ctx *c, geom_status st, uint64_t off, const char *fmt,
@@ -338,6 +344,11 @@ enum { MIO_ATTR_NORMAL = 0, MIO_ATTR_UV = 1, MIO_ATTR_COLOR = 2, MIO_ATTR_TANGEN
 /* The attribute channel to write for `which` (CORNER channel of that name
  * first, else VERTEX), or GEOM_INVALID_INDEX if absent or omitted. */
 uint32_t geom__meshio_attr_channel(const geom_mesh *m, int which, unsigned omit);
+/* The channels the per-vertex writers (OFF, PLY, glTF) write: chan[a] is
+ * geom__meshio_attr_channel's normal (3+ components), uv (2+), color (3+)
+ * and, when `tangents`, tangent (3+) channel, else GEOM_INVALID_INDEX. */
+void geom__meshio_attr_channels(const geom_mesh *m, unsigned omit, int tangents,
+                                uint32_t chan[MIO_NATTR]);
 
 /* A mesh seen as output vertices (one per distinct (vertex, corner indices
  * of the selected CORNER channels)) and faces over them. Output vertex k
@@ -351,6 +362,8 @@ typedef struct mio_export {
     uint32_t *vert;       /* nv */
     uint32_t *aidx[MIO_NATTR];
     uint32_t chan[MIO_NATTR]; /* channel ids (GEOM_INVALID_INDEX: not written) */
+    uint32_t fcol;        /* FACE "color" channel (3+ components) written, or
+                             GEOM_INVALID_INDEX (set by export_prepare only) */
     size_t nf;            /* live faces */
     uint32_t *fsize;      /* nf */
     uint32_t *fface;      /* nf: the mesh face */
@@ -369,15 +382,24 @@ geom_status geom__meshio_export_build(mio_export *e, const geom_mesh *m,
                                       const uint32_t chan[MIO_NATTR],
                                       const geom_allocator *alloc, int triangulate);
 void geom__meshio_export_free(mio_export *e);
-/* The view the per-vertex text and binary writers (OFF, PLY) write: chan[]
- * the normal (3+ components), uv (2+), color (3+) and, when `tangents`,
- * tangent (3+) channels that opt->omit leaves (GEOM_INVALID_INDEX: not
- * written), *fcol the FACE "color" channel (3+ components, or
- * GEOM_INVALID_INDEX), e built over chan[] without triangulating. A failure
- * fails the sink and is returned. */
+/* The view the per-vertex text and binary writers (OFF, PLY) write: the
+ * channels of geom__meshio_attr_channels (tangents only when `tangents`),
+ * e->fcol the FACE "color" channel (3+ components) unless opt->omit drops
+ * colours, e built over them without triangulating. A failure fails the
+ * sink and is returned. */
 geom_status geom__meshio_export_prepare(mio_export *e, const geom_mesh *m,
                                         const geom_meshio_write_options *opt, int tangents,
-                                        uint32_t chan[MIO_NATTR], uint32_t *fcol, mio_sink *k);
+                                        mio_sink *k);
+/* Whether attribute a is written. */
+static inline int mio_export_has(const mio_export *e, int a)
+{
+    return e->chan[a] != GEOM_INVALID_INDEX;
+}
+/* The colour of output face f (e->fcol) into rgba, alpha 1 when the channel
+ * has three components; the channel's ncomp, or 0 (rgba untouched) when
+ * faces have no colour. */
+size_t geom__meshio_export_face_color(const mio_export *e, const geom_mesh *m, size_t f,
+                                      double rgba[4]);
 /* The ncomp values of attribute a at output vertex k into out (zeros when
  * the corner has no value); returns the channel's ncomp (0 if no channel). */
 size_t geom__meshio_export_value(const mio_export *e, const geom_mesh *m, int a, size_t k,

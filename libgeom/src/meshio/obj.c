@@ -31,12 +31,11 @@ static geom_status obj_err(obj_state *o, geom_status st, const char *t, const ch
 
 static geom_status obj_err(obj_state *o, geom_status st, const char *t, const char *fmt, ...)
 {
-    char msg[GEOM_DIAG_MESSAGE_MAX];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(msg, sizeof msg, fmt, ap);
+    geom__meshio_vdiag(o->c->diag, st, o->c->source, o->lineno, t ? col_of(o, t) : 0, fmt, ap);
     va_end(ap);
-    return geom__meshio_err_line(o->c, st, o->lineno, t ? col_of(o, t) : 0, "%s", msg);
+    return st;
 }
 
 static geom_status num_err(obj_state *o, const char *t, size_t tl, int rc, const char *what)

@@ -415,14 +415,12 @@ static void put_color(mio_sink *k, double v)
 geom_status geom__meshio_write_off(const geom_mesh *m, const geom_meshio_write_options *opt,
                                    mio_sink *k)
 {
-    uint32_t chan[MIO_NATTR], fcol;
     mio_export e;
-    geom_status st = geom__meshio_export_prepare(&e, m, opt, 0, chan, &fcol, k);
+    geom_status st = geom__meshio_export_prepare(&e, m, opt, 0, k);
     if (st != GEOM_OK)
         return st;
-    int has_n = chan[MIO_ATTR_NORMAL] != GEOM_INVALID_INDEX;
-    int has_c = chan[MIO_ATTR_COLOR] != GEOM_INVALID_INDEX;
-    int has_st = chan[MIO_ATTR_UV] != GEOM_INVALID_INDEX;
+    int has_n = mio_export_has(&e, MIO_ATTR_NORMAL), has_c = mio_export_has(&e, MIO_ATTR_COLOR);
+    int has_st = mio_export_has(&e, MIO_ATTR_UV);
     if (has_st)
         geom__meshio_puts(k, "ST");
     if (has_c)
@@ -469,8 +467,6 @@ geom_status geom__meshio_write_off(const geom_mesh *m, const geom_meshio_write_o
         }
         mio_putc(k, '\n');
     }
-    const double *fcd = fcol != GEOM_INVALID_INDEX ? geom_mesh_channel_cdata(m, fcol) : NULL;
-    size_t fnc = fcd ? geom_mesh_channel_ncomp(m, fcol) : 0;
     size_t off = 0;
     for (size_t f = 0; f < e.nf && k->status == GEOM_OK; f++) {
         geom__meshio_put_u64(k, e.fsize[f]);
@@ -479,12 +475,11 @@ geom_status geom__meshio_write_off(const geom_mesh *m, const geom_meshio_write_o
             geom__meshio_put_u64(k, e.fidx[off + j]);
         }
         off += e.fsize[f];
-        if (fcd) {
-            const double *col = fcd + (size_t)e.fface[f] * fnc;
-            for (size_t j = 0; j < 4; j++) {
-                mio_putc(k, ' ');
-                put_color(k, j < fnc ? col[j] : 1.0);
-            }
+        double col[4];
+        size_t nc = geom__meshio_export_face_color(&e, m, f, col);
+        for (size_t j = 0; nc && j < 4; j++) {
+            mio_putc(k, ' ');
+            put_color(k, col[j]);
         }
         mio_putc(k, '\n');
     }

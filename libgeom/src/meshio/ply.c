@@ -744,16 +744,14 @@ geom_status geom__meshio_write_ply(const geom_mesh *m, const geom_meshio_write_o
     int as_float = opt->ply_float && !ascii;
     /* tangents (x, y, z and the bitangent sign w) as tangent_x..tangent_w:
      * PLY has no standard name for them */
-    uint32_t chan[MIO_NATTR], fcol;
     mio_export e;
-    geom_status st = geom__meshio_export_prepare(&e, m, opt, 1, chan, &fcol, k);
+    geom_status st = geom__meshio_export_prepare(&e, m, opt, 1, k);
     if (st != GEOM_OK)
         return st;
-    int has_n = chan[MIO_ATTR_NORMAL] != GEOM_INVALID_INDEX;
-    int has_uv = chan[MIO_ATTR_UV] != GEOM_INVALID_INDEX;
-    int has_c = chan[MIO_ATTR_COLOR] != GEOM_INVALID_INDEX;
-    int has_t = chan[MIO_ATTR_TANGENT] != GEOM_INVALID_INDEX;
-    int alpha = has_c && geom_mesh_channel_ncomp(m, chan[MIO_ATTR_COLOR]) >= 4;
+    int has_n = mio_export_has(&e, MIO_ATTR_NORMAL), has_uv = mio_export_has(&e, MIO_ATTR_UV);
+    int has_c = mio_export_has(&e, MIO_ATTR_COLOR), has_t = mio_export_has(&e, MIO_ATTR_TANGENT);
+    int alpha = has_c && geom_mesh_channel_ncomp(m, e.chan[MIO_ATTR_COLOR]) >= 4;
+    uint32_t fcol = e.fcol;
     int falpha = fcol != GEOM_INVALID_INDEX && geom_mesh_channel_ncomp(m, fcol) >= 4;
     const char *ft = as_float ? "float" : "double";
 
@@ -830,8 +828,6 @@ geom_status geom__meshio_write_ply(const geom_mesh *m, const geom_meshio_write_o
         if (ascii)
             mio_putc(k, '\n');
     }
-    const double *fcd = fcol != GEOM_INVALID_INDEX ? geom_mesh_channel_cdata(m, fcol) : NULL;
-    size_t fnc = fcd ? geom_mesh_channel_ncomp(m, fcol) : 0;
     size_t off = 0;
     for (size_t f = 0; f < e.nf && k->status == GEOM_OK; f++) {
         uint32_t n = e.fsize[f];
@@ -852,9 +848,9 @@ geom_status geom__meshio_write_ply(const geom_mesh *m, const geom_meshio_write_o
                 geom__meshio_put_u32(k, e.fidx[off + j], be);
         }
         off += n;
-        if (fcd) {
-            put_colors(k, fcd + (size_t)e.fface[f] * fnc, 3 + falpha, ascii);
-        }
+        double col[4];
+        if (geom__meshio_export_face_color(&e, m, f, col))
+            put_colors(k, col, 3 + falpha, ascii);
         if (ascii)
             mio_putc(k, '\n');
     }

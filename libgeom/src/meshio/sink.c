@@ -9,14 +9,10 @@ geom_status geom__meshio_sink_fail(mio_sink *k, geom_status st, const char *fmt,
     if (k->status != GEOM_OK)
         return k->status;
     k->status = st;
-    if (k->diag) {
-        char msg[GEOM_DIAG_MESSAGE_MAX];
-        va_list ap;
-        va_start(ap, fmt);
-        vsnprintf(msg, sizeof msg, fmt, ap);
-        va_end(ap);
-        geom__diag_set(k->diag, st, NULL, 0, 0, "%s", msg);
-    }
+    va_list ap;
+    va_start(ap, fmt);
+    geom__meshio_vdiag(k->diag, st, NULL, 0, 0, fmt, ap);
+    va_end(ap);
     return st;
 }
 

@@ -49,30 +49,35 @@ int geom__meshio_parse_int64(const char *s, size_t len, int64_t *out)
 
 /* ------------------------------------------------------------- diagnostics */
 
+geom_status geom__meshio_vdiag(geom_diag *d, geom_status st, const char *source, size_t line,
+                               size_t col, const char *fmt, va_list ap)
+{
+    if (d) {
+        char msg[GEOM_DIAG_MESSAGE_MAX]; /* first: an argument may point into d */
+        vsnprintf(msg, sizeof msg, fmt, ap);
+        geom__diag_set(d, st, source, line, col, "%s", msg);
+    }
+    return st;
+}
+
 geom_status geom__meshio_err_line(mio_ctx *c, geom_status st, size_t line, size_t col,
                                   const char *fmt, ...)
 {
-    if (c->diag) {
-        char msg[GEOM_DIAG_MESSAGE_MAX];
-        va_list ap;
-        va_start(ap, fmt);
-        vsnprintf(msg, sizeof msg, fmt, ap);
-        va_end(ap);
-        geom__diag_set(c->diag, st, c->source, line, col, "%s", msg);
-    }
+    va_list ap;
+    va_start(ap, fmt);
+    geom__meshio_vdiag(c->diag, st, c->source, line, col, fmt, ap);
+    va_end(ap);
     return st;
 }
 
 geom_status geom__meshio_err_off(mio_ctx *c, geom_status st, uint64_t off, const char *fmt, ...)
 {
-    if (c->diag) {
-        char msg[GEOM_DIAG_MESSAGE_MAX];
-        va_list ap;
-        va_start(ap, fmt);
-        vsnprintf(msg, sizeof msg, fmt, ap);
-        va_end(ap);
-        geom__diag_set_offset(c->diag, st, c->source, off, "%s", msg);
-    }
+    va_list ap;
+    va_start(ap, fmt);
+    geom__meshio_vdiag(c->diag, st, c->source, 0, 0, fmt, ap);
+    va_end(ap);
+    if (c->diag)
+        c->diag->byte_offset = off; /* as geom__diag_set_offset: no line or column */
     return st;
 }
 

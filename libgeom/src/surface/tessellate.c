@@ -532,76 +532,65 @@ static int cmp_pos(const ts *T, uint32_t a, uint32_t b)
     return 0;
 }
 
-/* Heap sort of node ids by position (no qsort: it takes no context). */
-static void sift_nodes(const ts *T, uint32_t *v, size_t i, size_t n)
+/* Heap sort of n elements of `size` bytes under less(ctx, a, b), one for
+ * the node ids and the edge keys (no qsort: it takes no context). */
+typedef int (*heap_less_fn)(const void *ctx, const void *a, const void *b);
+
+static void heap_swap(unsigned char *a, unsigned char *b, size_t size)
+{
+    for (size_t k = 0; k < size; ++k) {
+        unsigned char t = a[k];
+        a[k] = b[k];
+        b[k] = t;
+    }
+}
+
+static void heap_sift(unsigned char *v, size_t size, size_t i, size_t n, heap_less_fn less,
+                      const void *ctx)
 {
     for (;;) {
         size_t l = 2 * i + 1, m = i;
-        if (l < n && cmp_pos(T, v[l], v[m]) > 0)
+        if (l < n && less(ctx, v + m * size, v + l * size))
             m = l;
-        if (l + 1 < n && cmp_pos(T, v[l + 1], v[m]) > 0)
+        if (l + 1 < n && less(ctx, v + m * size, v + (l + 1) * size))
             m = l + 1;
         if (m == i)
             return;
-        uint32_t t = v[i];
-        v[i] = v[m];
-        v[m] = t;
+        heap_swap(v + i * size, v + m * size, size);
         i = m;
     }
 }
 
-static void sort_nodes(const ts *T, uint32_t *v, size_t n)
+static void heap_sort(void *base, size_t n, size_t size, heap_less_fn less, const void *ctx)
 {
+    unsigned char *v = base;
     for (size_t i = n / 2; i-- > 0;)
-        sift_nodes(T, v, i, n);
+        heap_sift(v, size, i, n, less, ctx);
     for (size_t k = n; k-- > 1;) {
-        uint32_t t = v[0];
-        v[0] = v[k];
-        v[k] = t;
-        sift_nodes(T, v, 0, k);
+        heap_swap(v, v + k * size, size);
+        heap_sift(v, size, 0, k, less, ctx);
     }
+}
+
+/* node ids by position */
+static int node_less(const void *ctx, const void *a, const void *b)
+{
+    return cmp_pos(ctx, *(const uint32_t *)a, *(const uint32_t *)b) < 0;
 }
 
 typedef struct ekey {
     uint32_t lo, hi, id;
 } ekey;
 
-static int ekey_less(const ekey *a, const ekey *b)
+static int ekey_less(const void *ctx, const void *pa, const void *pb)
 {
+    const ekey *a = pa, *b = pb;
+    (void)ctx;
     if (a->lo != b->lo)
         return a->lo < b->lo;
     if (a->hi != b->hi)
         return a->hi < b->hi;
     return a->id < b->id;
-}
-
-static void sift_keys(ekey *v, size_t i, size_t n)
-{
-    for (;;) {
-        size_t l = 2 * i + 1, m = i;
-        if (l < n && ekey_less(&v[m], &v[l]))
-            m = l;
-        if (l + 1 < n && ekey_less(&v[m], &v[l + 1]))
-            m = l + 1;
-        if (m == i)
-            return;
-        ekey t = v[i];
-        v[i] = v[m];
-        v[m] = t;
-        i = m;
-    }
-}
-
-static void sort_keys(ekey *v, size_t n)
-{
-    for (size_t i = n / 2; i-- > 0;)
-        sift_keys(v, i, n);
-    for (size_t k = n; k-- > 1;) {
-        ekey t = v[0];
-        v[0] = v[k];
-        v[k] = t;
-        sift_keys(v, 0, k);
-    }
 }
 
 static const double probe_t[3] = {0.2113248654051871, 0.5, 0.7886751345948129};
@@ -653,7 +642,7 @@ static geom_status weld(ts *T, geom_surface_tess_stats *stats)
     for (size_t i = 0; i < T->nnodes; ++i)
         if (T->nodes[i].boundary)
             ids[nb++] = (uint32_t)i;
-    sort_nodes(T, ids, nb);
+    heap_sort(ids, nb, sizeof *ids, node_less, T);
     for (size_t i = 1; i < nb; ++i)
         if (cmp_pos(T, ids[i - 1], ids[i]) == 0)
             node_union(T, ids[i - 1], ids[i]);
@@ -676,7 +665,7 @@ static geom_status weld(ts *T, geom_surface_tess_stats *stats)
         keys[ne].id = (uint32_t)i;
         ne++;
     }
-    sort_keys(keys, ne);
+    heap_sort(keys, ne, sizeof *keys, ekey_less, NULL);
     for (size_t i = 0; i < ne;) {
         size_t j = i;
         while (j < ne && keys[j].lo == keys[i].lo && keys[j].hi == keys[i].hi)
