@@ -26,6 +26,7 @@
  * combinatorial triangulation of the polygon.
  */
 #include "mesh/mesh_internal.h"
+#include "mesh/triangulate_internal.h"
 
 #include <float.h>
 
@@ -541,7 +542,7 @@ static geom_status triangulate_large(ec *e, uint32_t *tris)
     return GEOM_OK;
 }
 
-geom_status geom_polygon_triangulate(size_t n, const double *pts, uint32_t *tris)
+geom_status geom__polygon_earclip(size_t n, const double *pts, uint32_t *tris)
 {
     if (n < 3 || !pts || !tris)
         return GEOM_ERR_INVALID_ARG;
@@ -717,6 +718,30 @@ geom_status geom_polygon_triangulate(size_t n, const double *pts, uint32_t *tris
         geom__free(NULL, db, 3 * n * sizeof(double));
     }
     return GEOM_OK;
+}
+
+/* Above this many vertices the monotone sweep (triangulate_sweep.c) runs
+ * first; at or below it the ear clipper alone (best-shaped ears first). */
+#define SWEEP_MIN 64
+
+geom_status geom_polygon_triangulate(size_t n, const double *pts, uint32_t *tris)
+{
+    if (n <= SWEEP_MIN || !pts || !tris)
+        return geom__polygon_earclip(n, pts, tris);
+    if (n > (size_t)UINT32_MAX - 1)
+        return GEOM_ERR_LIMIT;
+    double nrm[3];
+    if (!newell(n, pts, nrm) || (nrm[0] == 0.0 && nrm[1] == 0.0 && nrm[2] == 0.0))
+        return geom__polygon_earclip(n, pts, tris); /* the fan and its status */
+    int k = 0;
+    if (fabs(nrm[1]) > fabs(nrm[k]))
+        k = 1;
+    if (fabs(nrm[2]) > fabs(nrm[k]))
+        k = 2;
+    geom_status st = geom__polygon_triangulate_sweep(n, pts, (k + 1) % 3, (k + 2) % 3, tris);
+    if (st != GEOM_ERR_DEGENERATE)
+        return st;
+    return geom__polygon_earclip(n, pts, tris); /* rejected: not simple */
 }
 
 /* --------------------------------------------------------------- mesh */
