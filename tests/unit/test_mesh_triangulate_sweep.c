@@ -610,6 +610,53 @@ static void test_non_simple(void **state)
     assert_true(pieces > 0);
 }
 
+/* geom_mesh_triangulate on one face of 100k vertices (a jagged star):
+ * n-3 faces added, a valid mesh of n-2 positive triangles, Euler
+ * characteristic 1. Its diagonal lookup used to be a linear scan per
+ * diagonal (quadratic in the face size). */
+static void test_mesh_big_face(void **state)
+{
+    (void)state;
+    size_t n = 100000;
+    double *xy = malloc(2 * n * sizeof(double)), *p = malloc(3 * n * sizeof(double));
+    uint32_t *idx = malloc(n * sizeof(uint32_t)), sz = (uint32_t)n;
+    assert_non_null(xy);
+    assert_non_null(p);
+    assert_non_null(idx);
+    uint64_t s = 99;
+    jagged(n, &s, xy);
+    for (size_t i = 0; i < n; ++i) {
+        p[3 * i] = xy[2 * i];
+        p[3 * i + 1] = xy[2 * i + 1];
+        p[3 * i + 2] = 0.5;
+        idx[i] = (uint32_t)i;
+    }
+    geom_mesh *m = geom_mesh_create(NULL);
+    assert_non_null(m);
+    assert_int_equal(geom_mesh_build(m, n, p, 1, &sz, idx, NULL, NULL, NULL), GEOM_OK);
+    size_t added = 0, nd = 0;
+    assert_int_equal(geom_mesh_triangulate(m, &added), GEOM_OK);
+    assert_int_equal(added, n - 3);
+    assert_int_equal(geom_mesh_n_faces(m), n - 2);
+    assert_int_equal(geom_mesh_validate(m, NULL, 0, &nd), GEOM_OK);
+    assert_int_equal(nd, 0);
+    assert_int_equal(geom_mesh_n_edges(m), n + (n - 3));
+    const double *pos = geom_mesh_cpositions(m);
+    for (uint32_t f = 0; f < n - 2; ++f) {
+        assert_int_equal(geom_mesh_face_valence(m, f), 3);
+        uint32_t h = geom_mesh_face_he(m, f), v[3];
+        for (int k = 0; k < 3; ++k, h = geom_mesh_he_next(m, h))
+            v[k] = geom_mesh_he_vertex(m, h);
+        double a[2] = {pos[3 * v[0]], pos[3 * v[0] + 1]}, b[2] = {pos[3 * v[1]], pos[3 * v[1] + 1]},
+               c[2] = {pos[3 * v[2]], pos[3 * v[2] + 1]};
+        assert_true(geom_orient2d(a, b, c) > 0.0);
+    }
+    geom_mesh_destroy(m);
+    free(xy);
+    free(p);
+    free(idx);
+}
+
 static int report(void **state)
 {
     (void)state;
@@ -626,6 +673,7 @@ int main(void)
         cmocka_unit_test(test_random_simple),  cmocka_unit_test(test_structured),
         cmocka_unit_test(test_duplicates_spikes), cmocka_unit_test(test_offsets_scales),
         cmocka_unit_test(test_bridged_holes),  cmocka_unit_test(test_non_simple),
+        cmocka_unit_test(test_mesh_big_face),
     };
     return cmocka_run_group_tests(tests, NULL, report);
 }
