@@ -71,27 +71,43 @@ static int above(const double *xy, uint32_t a, uint32_t b)
     return a < b;
 }
 
-/* Bottom-up merge sort of idx (n entries) by the sweep order; tmp: n. */
-static void sweep_sort(const double *xy, uint32_t *idx, uint32_t *tmp, size_t n)
+/* Sort keys: the coordinates next to the index, so the merge passes stream
+ * through memory instead of fetching xy at random. */
+typedef struct skey {
+    double y, x;
+    uint32_t i, pad;
+} skey;
+
+static int key_above(const skey *a, const skey *b)
 {
-    uint32_t *a = idx, *b = tmp;
+    if (a->y != b->y)
+        return a->y > b->y;
+    if (a->x != b->x)
+        return a->x < b->x;
+    return a->i < b->i;
+}
+
+/* Bottom-up merge sort of k (n keys) by the sweep order; tmp: n keys.
+ * Returns the array holding the result (k or tmp). */
+static skey *sweep_sort(skey *k, skey *tmp, size_t n)
+{
+    skey *a = k, *b = tmp;
     for (size_t w = 1; w < n; w *= 2) {
         for (size_t lo = 0; lo < n; lo += 2 * w) {
             size_t mid = lo + w < n ? lo + w : n, hi = lo + 2 * w < n ? lo + 2 * w : n;
-            size_t i = lo, j = mid, k = lo;
+            size_t i = lo, j = mid, o = lo;
             while (i < mid && j < hi)
-                b[k++] = above(xy, a[j], a[i]) ? a[j++] : a[i++];
+                b[o++] = key_above(a + j, a + i) ? a[j++] : a[i++];
             while (i < mid)
-                b[k++] = a[i++];
+                b[o++] = a[i++];
             while (j < hi)
-                b[k++] = a[j++];
+                b[o++] = a[j++];
         }
-        uint32_t *t = a;
+        skey *t = a;
         a = b;
         b = t;
     }
-    if (a != idx)
-        memcpy(idx, a, n * sizeof *idx);
+    return a;
 }
 
 /* ----------------------------------------------------------- status treap */
@@ -546,12 +562,22 @@ geom_status geom__polygon_triangulate_sweep_ex(size_t n, const double *pts, int 
     }
 
     /* 3: sort, sweep */
-    uint32_t *order = pool, *tmp = pool + n;
+    {
+        /* 2m keys (48 bytes per vertex) fit in the pool (64 per vertex) */
+        skey *k = (skey *)(void *)pool, *srt;
+        for (size_t i = 0; i < m; ++i) {
+            k[i].y = xy[2 * i + 1];
+            k[i].x = xy[2 * i];
+            k[i].i = (uint32_t)i;
+            k[i].pad = 0;
+        }
+        srt = sweep_sort(k, k + m, m);
+        for (size_t i = 0; i < m; ++i)
+            s.rank[srt[i].i] = (uint32_t)i;
+    }
+    uint32_t *order = pool;
     for (size_t i = 0; i < m; ++i)
-        order[i] = (uint32_t)i;
-    sweep_sort(xy, order, tmp, m);
-    for (size_t i = 0; i < m; ++i)
-        s.rank[order[i]] = (uint32_t)i;
+        order[s.rank[i]] = (uint32_t)i;
     s.tl = pool + n;
     s.tr = pool + 2 * n;
     s.tp = pool + 3 * n;
