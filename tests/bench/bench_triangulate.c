@@ -5,7 +5,7 @@
  * library's ear clipper (grid-bounded emptiness tests, the path used before
  * the sweep and still its fallback; geom__polygon_earclip) on the same input
  * in the same run, up to 100k vertices (best of 3; one run at 100k; not
- * run at a size when it took more than 2 s at the previous one).
+ * run at a size when it took more than 2 s of CPU at the previous one).
  *
  * Columns: n, the sweep's time (best of 3; wall clock and, in parentheses,
  * this process's CPU time: under load the CPU time is the steadier figure),
@@ -155,7 +155,7 @@ int main(int argc, char **argv)
                 }
                 re = measure(n, xy, te);
             }
-            eprev = ebest;
+            eprev = ecbest;
             char es[32] = "-", ra[32] = "-";
             if (isfinite(ebest)) {
                 snprintf(es, sizeof es, "%.4f (%.4f)", ebest, ecbest);
