@@ -636,7 +636,7 @@ GEOM_API geom_status geom_mesh_features(geom_mesh *m, const geom_feature_options
 
 typedef struct geom_clip_options {
     /** Nonzero: close the cut of a closed mesh with cap faces (triangulated
-     *  by ear clipping), which get interpolated-free attributes: "normal"
+     *  by geom_polygon_triangulate, then Lawson flips), which get interpolated-free attributes: "normal"
      *  (CORNER or FACE, 3 comps) = the cap's outward normal, i.e. minus the
      *  unit plane normal -(a,b,c)/|(a,b,c)|, other CORNER and FACE channels
      *  zero (VERTEX channels are those of the shared cut vertices). */
