@@ -596,7 +596,7 @@ geom_status geom__polygon_triangulate_sweep_ex(size_t n, const double *pts, int 
     size_t nd = s.nd, H = m + 2 * nd;
     uint32_t *start = pool, *out = pool + (m + 1), *pos = out + H, *face = pos + H,
              *pu = face + H, *stk = pu + H;
-    uint8_t *seen = bb, *chain = bb + H;
+    uint8_t *seen = bb, *chain = bb + H, *mark = bb + 2 * H; /* 2H + m <= 7n */
     memset(start, 0, (m + 1) * sizeof *start);
     for (size_t i = 0; i < m; ++i)
         start[i + 1] = 1;
@@ -630,6 +630,7 @@ geom_status geom__polygon_triangulate_sweep_ex(size_t n, const double *pts, int 
             pos[o[a]] = (uint32_t)a;
     }
     memset(seen, 0, H);
+    memset(mark, 0, m);
     size_t faces = 0;
     for (size_t h0 = 0; h0 < H; ++h0) {
         if (seen[h0])
@@ -656,6 +657,16 @@ geom_status geom__polygon_triangulate_sweep_ex(size_t n, const double *pts, int 
             continue;
         if (pc.nt + (k - 2) > n - 2)
             goto done; /* more triangles than a triangulation has */
+        /* a face through one vertex twice: not a simple polygon's piece */
+        int twice = 0;
+        for (size_t i = 0; i < k; ++i) {
+            twice |= mark[face[i]];
+            mark[face[i]] = 1;
+        }
+        for (size_t i = 0; i < k; ++i)
+            mark[face[i]] = 0;
+        if (twice)
+            goto done;
         /* 5 */
         size_t nt0 = pc.nt;
         pc.bad = 0;
