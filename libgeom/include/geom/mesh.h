@@ -477,24 +477,45 @@ GEOM_API geom_status geom_mesh_validate(const geom_mesh *m, geom_mesh_defect *de
 /* --------------------------------------------------------- triangulation */
 
 /**
- * Ear-clipping triangulation of a simple polygon of n >= 3 points (3*n
- * doubles) lying (nearly) in a plane, convex or not: the polygon is
- * projected onto the plane of its Newell normal and ears are found with the
- * exact orient2d predicate; tris receives (n-2)*3 indices into the polygon.
- * Ties (collinear vertices) are resolved so no zero-area triangle is made
- * when another choice exists. Above 64 vertices the emptiness tests only
- * visit the grid cells each candidate ear's triangle covers (same ear rule):
- * about 1 s for a random star-shaped polygon of 100,000 vertices (grows as
- * about n^1.4 there, not n^2; polygons whose ears cover much of the polygon's
- * bounding box, e.g. long thin combs, cost more). Allocates O(n) scratch
- * (GEOM_ERR_NOMEM). GEOM_ERR_DEGENERATE for a zero-area polygon
- * (a fan is still written), GEOM_ERR_INVALID_ARG for n < 3, NULL pointers
- * or a non-finite coordinate (a fan is written in that last case too).
+ * Triangulation of a simple polygon of n >= 3 points (3*n doubles) lying
+ * (nearly) in a plane, convex or not: the polygon is projected onto the
+ * coordinate plane most orthogonal to its Newell normal (the projected
+ * coordinates are the input doubles themselves, so the exact orient2d
+ * predicate decides every orientation); tris receives (n-2)*3 indices into
+ * the polygon, every triangle with the polygon's own winding.
+ *  - n <= 64: ear clipping (Meisters 1975), the best-shaped ear first; ties
+ *    (collinear vertices) are resolved so no zero-area triangle is made when
+ *    another choice exists. Triangles in clipping order.
+ *  - n > 64: monotone decomposition (Lee & Preparata 1977; de Berg et al.,
+ *    "Computational Geometry", 3rd ed., ch. 3) in O(n log n) time and about
+ *    100 bytes of scratch per vertex: a top-to-bottom sweep with a balanced
+ *    status tree adds the diagonals that cut the polygon into y-monotone
+ *    pieces, each triangulated in linear time. Every triangle is strictly
+ *    positive (exact orient2d) except where a repeated vertex or a zero-width
+ *    spike forces a zero-area one (one per such vertex; those come first).
+ *    Then the pieces' triangles, piece by piece, each piece's from its
+ *    highest vertex down. No shape optimisation: triangles are long and thin
+ *    where the polygon is (no Delaunay flips). About 0.05 s of CPU for
+ *    100,000 vertices, 1.4 s for 1,000,000 (BENCHMARKS.md). Weakly simple
+ *    polygons (holes joined by bridges walked both ways, as
+ *    geom_mesh_clip_plane's caps) go through the sweep too.
+ *  - Non-simple input (self-intersecting or overlapping sides: the sweep
+ *    finds its order inconsistent and rejects it), or a monotone piece whose
+ *    stack triangulation would make a non-positive triangle: the ear clipper
+ *    (grid-bounded emptiness tests: about n^1.4 on random polygons, up to
+ *    quadratic) does the whole polygon, or that piece. Its fallbacks (a
+ *    collinear vertex, any convex vertex, any vertex) always give n-2
+ *    triangles forming a combinatorial triangulation of the polygon (every
+ *    side once, every diagonal twice), which may overlap for such input.
+ * Allocates O(n) scratch (GEOM_ERR_NOMEM). GEOM_ERR_DEGENERATE for a
+ * zero-area polygon (a fan is still written), GEOM_ERR_INVALID_ARG for n < 3,
+ * NULL pointers or a non-finite coordinate (a fan is written in that last
+ * case too).
  */
 GEOM_API geom_status geom_polygon_triangulate(size_t n, const double *pts, uint32_t *tris);
 
-/** Triangulate every face with more than three vertices in place (ear
- *  clipping as above), keeping corner-channel indices, face channels (copied
+/** Triangulate every face with more than three vertices in place (as
+ *  geom_polygon_triangulate; O(n log n) in the face size), keeping corner-channel indices, face channels (copied
  *  to the new faces) and face groups. *n_new_faces (may be NULL) receives the
  *  number of faces added. GEOM_ERR_INVALID_ARG (mesh unchanged) if such a
  *  face has a non-finite vertex position; GEOM_ERR_NOMEM. */
@@ -615,7 +636,7 @@ GEOM_API geom_status geom_mesh_features(geom_mesh *m, const geom_feature_options
 
 typedef struct geom_clip_options {
     /** Nonzero: close the cut of a closed mesh with cap faces (triangulated
-     *  by ear clipping), which get interpolated-free attributes: "normal"
+     *  by geom_polygon_triangulate, then Lawson flips), which get interpolated-free attributes: "normal"
      *  (CORNER or FACE, 3 comps) = the cap's outward normal, i.e. minus the
      *  unit plane normal -(a,b,c)/|(a,b,c)|, other CORNER and FACE channels
      *  zero (VERTEX channels are those of the shared cut vertices). */

@@ -26,6 +26,7 @@
  * combinatorial triangulation of the polygon.
  */
 #include "mesh/mesh_internal.h"
+#include "mesh/triangulate_internal.h"
 
 #include <float.h>
 
@@ -541,7 +542,7 @@ static geom_status triangulate_large(ec *e, uint32_t *tris)
     return GEOM_OK;
 }
 
-geom_status geom_polygon_triangulate(size_t n, const double *pts, uint32_t *tris)
+geom_status geom__polygon_earclip(size_t n, const double *pts, uint32_t *tris)
 {
     if (n < 3 || !pts || !tris)
         return GEOM_ERR_INVALID_ARG;
@@ -719,6 +720,30 @@ geom_status geom_polygon_triangulate(size_t n, const double *pts, uint32_t *tris
     return GEOM_OK;
 }
 
+/* Above this many vertices the monotone sweep (triangulate_sweep.c) runs
+ * first; at or below it the ear clipper alone (best-shaped ears first). */
+#define SWEEP_MIN 64
+
+geom_status geom_polygon_triangulate(size_t n, const double *pts, uint32_t *tris)
+{
+    if (n <= SWEEP_MIN || !pts || !tris)
+        return geom__polygon_earclip(n, pts, tris);
+    if (n > (size_t)UINT32_MAX - 1)
+        return GEOM_ERR_LIMIT;
+    double nrm[3];
+    if (!newell(n, pts, nrm) || (nrm[0] == 0.0 && nrm[1] == 0.0 && nrm[2] == 0.0))
+        return geom__polygon_earclip(n, pts, tris); /* the fan and its status */
+    int k = 0;
+    if (fabs(nrm[1]) > fabs(nrm[k]))
+        k = 1;
+    if (fabs(nrm[2]) > fabs(nrm[k]))
+        k = 2;
+    geom_status st = geom__polygon_triangulate_sweep(n, pts, (k + 1) % 3, (k + 2) % 3, tris);
+    if (st != GEOM_ERR_DEGENERATE)
+        return st;
+    return geom__polygon_earclip(n, pts, tris); /* rejected: not simple */
+}
+
 /* --------------------------------------------------------------- mesh */
 
 geom_status geom_mesh_triangulate(geom_mesh *m, size_t *n_new_faces)
@@ -749,9 +774,14 @@ geom_status geom_mesh_triangulate(geom_mesh *m, size_t *n_new_faces)
     geom_status st = geom__mesh_reserve(m, m->nv, m->nh + 2 * add, m->nf + add);
     if (st != GEOM_OK)
         return st;
-    /* scratch: pts 3n doubles; tris 3(n-2), hk n, diag keys 2(n-3) + halfedges (n-3) */
+    /* scratch: pts 3n doubles; tris 3(n-2), hk n, diagonals (n-3) x (lo, hi,
+     * halfedge, hash slot), hash slots hc (a power of two >= 2n; linear
+     * probing, emptied after each face) */
     const geom_allocator *a = &m->alloc;
-    size_t nd = 3 * nmax, nu = 3 * nmax + nmax + 3 * nmax;
+    size_t hc = 16;
+    while (hc < 2 * nmax)
+        hc *= 2;
+    size_t nd = 3 * nmax, nu = 3 * nmax + nmax + 4 * nmax + hc;
     double *pts = geom__alloc(a, nd * sizeof(double));
     uint32_t *ub = geom__alloc(a, nu * sizeof(uint32_t));
     if (!pts || !ub) {
@@ -759,7 +789,9 @@ geom_status geom_mesh_triangulate(geom_mesh *m, size_t *n_new_faces)
         geom__free(a, ub, nu * sizeof(uint32_t));
         return GEOM_ERR_NOMEM;
     }
-    uint32_t *tris = ub, *hk = ub + 3 * nmax, *dg = hk + nmax;
+    uint32_t *tris = ub, *hk = ub + 3 * nmax, *dg = hk + nmax, *hs = dg + 4 * nmax;
+    for (size_t i = 0; i < hc; ++i)
+        hs[i] = INV;
     const double *pos = geom__mesh_pos(m);
     for (size_t f = 0; f < nf0; ++f) {
         if (m->f_del[f])
@@ -799,19 +831,24 @@ geom_status geom_mesh_triangulate(geom_mesh *m, size_t *n_new_faces)
                     /* diagonal la -> lb: existing (opposite direction) or new */
                     uint32_t lo = la < lb ? la : lb, hi = la < lb ? lb : la;
                     he = INV;
-                    for (size_t d = 0; d < ndg; ++d)
-                        if (dg[3 * d] == lo && dg[3 * d + 1] == hi) {
-                            he = dg[3 * d + 2] ^ 1u;
+                    size_t slot = (size_t)((lo * 2654435761u) ^ (hi * 40503u)) & (hc - 1);
+                    for (; hs[slot] != INV; slot = (slot + 1) & (hc - 1)) {
+                        const uint32_t *d = dg + 4 * (size_t)hs[slot];
+                        if (d[0] == lo && d[1] == hi) {
+                            he = d[2] ^ 1u;
                             break;
                         }
+                    }
                     if (he == INV) {
                         he = (uint32_t)m->nh;
                         geom__mesh_resize(m, m->nv, m->nh + 2, m->nf);
                         m->he_vertex[he] = m->he_vertex[hk[lb]];
                         m->he_vertex[he ^ 1u] = m->he_vertex[hk[la]];
-                        dg[3 * ndg] = lo;
-                        dg[3 * ndg + 1] = hi;
-                        dg[3 * ndg + 2] = he;
+                        dg[4 * ndg] = lo;
+                        dg[4 * ndg + 1] = hi;
+                        dg[4 * ndg + 2] = he;
+                        dg[4 * ndg + 3] = (uint32_t)slot;
+                        hs[slot] = (uint32_t)ndg;
                         ndg++;
                     }
                     /* corner of this triangle at lb: the polygon's corner at lb */
@@ -829,6 +866,8 @@ geom_status geom_mesh_triangulate(geom_mesh *m, size_t *n_new_faces)
             geom__mesh_link(m, th[2], th[0]);
             m->f_he[face] = th[0];
         }
+        for (size_t d = 0; d < ndg; ++d)
+            hs[dg[4 * d + 3]] = INV;
     }
     geom__free(a, pts, nd * sizeof(double));
     geom__free(a, ub, nu * sizeof(uint32_t));
