@@ -30,15 +30,15 @@
 
 #define TS_PI 3.14159265358979323846
 
-static uint64_t ts_lcg(uint64_t *s)
+static inline uint64_t ts_lcg(uint64_t *s)
 {
     *s = *s * 6364136223846793005ull + 1442695040888963407ull;
     return *s >> 11;
 }
 
-static double ts_unif(uint64_t *s) { return (double)ts_lcg(s) * 0x1p-53; }
+static inline double ts_unif(uint64_t *s) { return (double)ts_lcg(s) * 0x1p-53; }
 
-static size_t ts_star(size_t n, double *xy, uint64_t s)
+static inline size_t ts_star(size_t n, double *xy, uint64_t s)
 {
     for (size_t i = 0; i < n; ++i) {
         double r = 0.2 + 0.8 * ts_unif(&s), th = 2 * TS_PI * (double)i / (double)n;
@@ -48,7 +48,7 @@ static size_t ts_star(size_t n, double *xy, uint64_t s)
     return n;
 }
 
-static size_t ts_jagged(size_t n, double *xy, uint64_t s)
+static inline size_t ts_jagged(size_t n, double *xy, uint64_t s)
 {
     for (size_t i = 0; i < n; ++i) {
         double th = 2 * TS_PI * ((double)i + 0.9 * ts_unif(&s)) / (double)n;
@@ -59,7 +59,7 @@ static size_t ts_jagged(size_t n, double *xy, uint64_t s)
     return n;
 }
 
-static size_t ts_spiral(size_t n, double *xy, uint64_t s)
+static inline size_t ts_spiral(size_t n, double *xy, uint64_t s)
 {
     (void)s;
     size_t M = n / 2, k = 0;
@@ -73,7 +73,7 @@ static size_t ts_spiral(size_t n, double *xy, uint64_t s)
     return k;
 }
 
-static size_t ts_comb(size_t n, double *xy, uint64_t s)
+static inline size_t ts_comb(size_t n, double *xy, uint64_t s)
 {
     (void)s;
     size_t K = n / 4, m = 0;
@@ -94,7 +94,7 @@ static size_t ts_comb(size_t n, double *xy, uint64_t s)
 
 /* Chain from p to q (both excluded) through the points idx[0..k), appended
  * to out. */
-static void ts_chain(const double *P, uint32_t p, uint32_t q, uint32_t *idx, size_t k,
+static inline void ts_chain(const double *P, uint32_t p, uint32_t q, uint32_t *idx, size_t k,
                      uint32_t *out, size_t *no, uint64_t *s)
 {
     while (k > 0) {
@@ -125,7 +125,7 @@ static void ts_chain(const double *P, uint32_t p, uint32_t q, uint32_t *idx, siz
 }
 
 /* scratch: P (2n doubles), idx and out (n each), caller-provided */
-static size_t ts_random(size_t n, double *xy, uint64_t s, double *P, uint32_t *idx, uint32_t *out)
+static inline size_t ts_random(size_t n, double *xy, uint64_t s, double *P, uint32_t *idx, uint32_t *out)
 {
     for (size_t i = 0; i < n; ++i) {
         P[2 * i] = ts_unif(&s);
@@ -150,7 +150,7 @@ static size_t ts_random(size_t n, double *xy, uint64_t s, double *P, uint32_t *i
     return no;
 }
 
-static size_t ts_collinear(size_t n, double *xy, uint64_t s)
+static inline size_t ts_collinear(size_t n, double *xy, uint64_t s)
 {
     (void)s;
     size_t q = n / 4 - n / 32, m = 0, c = 0;
@@ -166,7 +166,7 @@ static size_t ts_collinear(size_t n, double *xy, uint64_t s)
     return m;
 }
 
-static size_t ts_holes(size_t n, double *xy, uint64_t s)
+static inline size_t ts_holes(size_t n, double *xy, uint64_t s)
 {
     (void)s;
     size_t k = (n - 4) / 8, m = 0;

@@ -24,6 +24,7 @@
 #include <cmocka.h>
 
 #include "../../libgeom/src/mesh/triangulate_internal.h"
+#include "bench/triangulate_shapes.h"
 #include "geom/mesh.h"
 
 #include <math.h>
@@ -31,7 +32,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define PI 3.14159265358979323846
 
 static size_t n_polygons, n_triangles, n_zero, n_fallback_pieces, n_disjoint_pairs;
 
@@ -309,48 +309,10 @@ static void test_random_simple(void **state)
 
 /* ------------------------------------------------- structured polygons */
 
-static size_t comb(size_t K, double *xy)
-{
-    size_t m = 0;
-#define P(x, y) (xy[2 * m] = (double)(x), xy[2 * m + 1] = (double)(y), ++m)
-    P(0, 0);
-    P(2 * K - 1, 0);
-    for (size_t i = K; i-- > 0;) {
-        P(2 * i + 1, 3);
-        P(2 * i, 3);
-        if (i > 0) {
-            P(2 * i, 1);
-            P(2 * i - 1, 1);
-        }
-    }
-#undef P
-    return m;
-}
-
-static size_t spiral(size_t M, double *xy)
-{
-    size_t k = 0;
-    for (size_t j = 0; j < 2 * M; ++j) {
-        size_t i = j < M ? j : 2 * M - 1 - j;
-        double th = 4 * PI * (double)i / (double)(M - 1), r = 1 + th / PI + (j < M ? 0.4 : -0.4);
-        xy[2 * k] = r * cos(th);
-        xy[2 * k + 1] = r * sin(th);
-        ++k;
-    }
-    return k;
-}
-
-/* Jagged star: angles jittered, radii alternating deep and random. */
-static size_t jagged(size_t n, uint64_t *s, double *xy)
-{
-    for (size_t i = 0; i < n; ++i) {
-        double th = 2 * PI * ((double)i + 0.9 * unif(s)) / (double)n;
-        double r = i % 2 ? 0.01 + 0.05 * unif(s) : 0.5 + 0.5 * unif(s);
-        xy[2 * i] = r * cos(th);
-        xy[2 * i + 1] = r * sin(th);
-    }
-    return n;
-}
+/* comb(K): 4K vertices; spiral(M): 2M; jagged: tests/bench/triangulate_shapes.h */
+static size_t comb(size_t K, double *xy) { return ts_comb(4 * K, xy, 0); }
+static size_t spiral(size_t M, double *xy) { return ts_spiral(2 * M, xy, 0); }
+static size_t jagged(size_t n, uint64_t *s, double *xy) { return ts_jagged(n, xy, lcg(s)); }
 
 /* A rectangle (or an integer staircase) with collinear runs on every side. */
 static size_t collinear_box(size_t per_side, double *xy)
