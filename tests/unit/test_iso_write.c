@@ -183,6 +183,56 @@ static void test_refusals(void **state)
     free(got.p);
 }
 
+/* A bad face at the end of a soup larger than the writer's buffer: the
+ * error comes before any byte reaches the stream (the faces are checked
+ * first), so a caller's stream never gets a partial OBJ. */
+static void test_bad_face_writes_nothing(void **state)
+{
+    (void)state;
+    const size_t nv = 200000, nf = nv - 2;
+    double *xyz = malloc(3 * nv * sizeof(double));
+    uint32_t *ix = malloc(3 * nf * sizeof(uint32_t));
+    uint32_t *sizes = malloc(nf * sizeof(uint32_t));
+    assert_non_null(xyz);
+    assert_non_null(ix);
+    assert_non_null(sizes);
+    for (size_t v = 0; v < nv; v++) {
+        xyz[3 * v] = 0.1 * (double)v;
+        xyz[3 * v + 1] = (double)(v % 7) / 3.0;
+        xyz[3 * v + 2] = 1e-3 * (double)v;
+    }
+    for (size_t f = 0; f < nf; f++) {
+        ix[3 * f] = (uint32_t)f;
+        ix[3 * f + 1] = (uint32_t)f + 1;
+        ix[3 * f + 2] = (uint32_t)f + 2;
+        sizes[f] = 3;
+    }
+    geom_meshio_soup s = {nv, xyz, xyz, nf, NULL, ix};
+    geom_meshio_write_options wo;
+    memset(&wo, 0, sizeof wo);
+    wo.format = GEOM_MESHIO_FORMAT_OBJ;
+    membuf got = {NULL, 0, 0};
+    assert_int_equal(geom_meshio_write_soup_stream(&s, &wo, to_mem, &got, NULL), GEOM_OK);
+    assert_true(got.n > (size_t)1 << 22); /* more than any write buffer */
+    geom_diag d;
+    ix[3 * nf - 1] = (uint32_t)nv; /* the last face's last index */
+    got.n = 0;
+    assert_int_equal(geom_meshio_write_soup_stream(&s, &wo, to_mem, &got, &d),
+                     GEOM_ERR_INVALID_ARG);
+    assert_non_null(strstr(d.message, "out of range"));
+    assert_int_equal(got.n, 0);
+    ix[3 * nf - 1] = (uint32_t)nv - 1;
+    s.face_sizes = sizes;
+    sizes[nf - 1] = 2; /* a 2-gon last */
+    assert_int_equal(geom_meshio_write_soup_stream(&s, &wo, to_mem, &got, &d),
+                     GEOM_ERR_INVALID_ARG);
+    assert_int_equal(got.n, 0);
+    free(got.p);
+    free(xyz);
+    free(ix);
+    free(sizes);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -190,6 +240,7 @@ int main(void)
         cmocka_unit_test(test_normals),
         cmocka_unit_test(test_caps_above),
         cmocka_unit_test(test_refusals),
+        cmocka_unit_test(test_bad_face_writes_nothing),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -24,6 +24,22 @@ static geom_status check_soup(const geom_meshio_soup *s, const geom_meshio_write
     if (o->format != GEOM_MESHIO_FORMAT_OBJ)
         return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0,
                              "a soup is written as OBJ only (build a mesh for other formats)");
+    /* every face before the first byte: a bad face found while writing
+     * would leave a partial file on the caller's stream */
+    const uint32_t *ix = s->indices;
+    size_t nv = s->n_vertices, c = 0;
+    for (size_t f = 0; f < s->n_faces; f++) {
+        size_t n = s->face_sizes ? s->face_sizes[f] : 3;
+        if (n < 3)
+            return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0,
+                                 "face %zu has %zu vertices", f, n);
+        for (size_t q = 0; q < n; q++)
+            if ((size_t)ix[c + q] >= nv)
+                return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0,
+                                     "face %zu: vertex index %u out of range (%zu vertices)", f,
+                                     (unsigned)ix[c + q], nv);
+        c += n;
+    }
     return GEOM_OK;
 }
 
@@ -51,20 +67,10 @@ static void write_soup_obj(const geom_meshio_soup *s, const geom_meshio_write_op
     const uint32_t *ix = s->indices;
     size_t c = 0;
     for (size_t f = 0; f < s->n_faces && k->status == GEOM_OK; f++) {
-        size_t n = s->face_sizes ? s->face_sizes[f] : 3;
-        if (n < 3) {
-            geom__meshio_sink_fail(k, GEOM_ERR_INVALID_ARG, "face %zu has %zu vertices", f, n);
-            return;
-        }
+        size_t n = s->face_sizes ? s->face_sizes[f] : 3; /* checked by check_soup */
         mio_putc(k, 'f');
         for (size_t q = 0; q < n; q++) {
             uint32_t v = ix[c + q];
-            if ((size_t)v >= nv) {
-                geom__meshio_sink_fail(k, GEOM_ERR_INVALID_ARG,
-                                       "face %zu: vertex index %u out of range (%zu vertices)", f,
-                                       (unsigned)v, nv);
-                return;
-            }
             mio_putc(k, ' ');
             geom__meshio_put_u64(k, (uint64_t)v + 1);
             if (nrm) {
