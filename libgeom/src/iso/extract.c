@@ -49,6 +49,10 @@ typedef struct ctx {
      * (bx, by, bz) at bx + nb[0] * (by + nb[1] * bz); NULL = dense. */
     const uint8_t *blk;
     size_t bsz, nb[3];
+    /* The stream path (geom_iso_extract_stream): the chunks go to sink
+     * instead of the output arrays; NULL = arrays. */
+    geom_iso_chunk_fn sink;
+    void *sink_user;
 } ctx;
 
 /* Block classes of the sparse path. */
@@ -1010,6 +1014,204 @@ static void classify_blocks(const ctx *c, uint8_t *blk, const size_t b0[3], cons
     }
 }
 
+/* Six times the signed volume of the tetrahedron (origin, a, b, c). */
+static inline double tri_volume6(const double *a, const double *b, const double *c)
+{
+    return a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2]) +
+           a[2] * (b[0] * c[1] - b[1] * c[0]);
+}
+
+/* The error sampling rule: every s-th vertex and surface triangle, the
+ * smallest s keeping the points within the budget. */
+static size_t error_stride(const geom_iso_options *opt, size_t nv, size_t nst)
+{
+    size_t budget = opt && opt->error_samples ? opt->error_samples : 65536;
+    if (budget < 5)
+        budget = 5; /* one vertex and one triangle's 4 samples */
+    size_t stride = 1;
+    if (budget != SIZE_MAX && nv + 4 * nst > budget) {
+        stride = (nv + 4 * nst) / budget;
+        if (stride < 1)
+            stride = 1;
+        while ((nv + stride - 1) / stride + 4 * ((nst + stride - 1) / stride) > budget)
+            stride++;
+    }
+    return stride;
+}
+
+static int error_wanted(const ctx *c, const geom_iso_options *opt)
+{
+    int err = opt ? opt->error : GEOM_ISO_ERROR_AUTO;
+    return err == GEOM_ISO_ERROR_ALWAYS ||
+           (err == GEOM_ISO_ERROR_AUTO && c->field->exact && !c->grid);
+}
+
+static void error_report(geom_iso_report *r, const iso_err_acc *acc)
+{
+    r->vertex_error.max_error = acc->vmax;
+    r->vertex_error.mean_error = acc->vcount ? acc->vsum / (double)acc->vcount : 0;
+    r->vertex_error.method = GEOM_ERROR_SAMPLED;
+    r->sample_error.max_error = acc->smax;
+    r->sample_error.mean_error = acc->scount ? acc->ssum / (double)acc->scount : 0;
+    r->sample_error.method = GEOM_ERROR_SAMPLED;
+    r->unmeasured = acc->unmeasured;
+    r->vertex_error.evaluations += acc->evaluations;
+    r->vertex_error.pieces = acc->vcount;
+    r->sample_error.pieces = acc->scount;
+    r->error.max_error = fmax(acc->vmax, acc->smax);
+    r->error.mean_error = r->sample_error.mean_error;
+    r->error.method = GEOM_ERROR_SAMPLED;
+    r->error.pieces = acc->vcount + acc->scount;
+}
+
+/* Append n doubles to (*p, *len, *cap); 0 when out of memory. */
+static int push_doubles(const geom_allocator *al, double **p, size_t *len, size_t *cap,
+                        const double *x, size_t n)
+{
+    if (!grow(al, (void **)p, cap, *len + n, sizeof(double)))
+        return 0;
+    memcpy(*p + *len, x, n * sizeof(double));
+    *len += n;
+    return 1;
+}
+
+/* The stream path's output, after the slabs' renumbering (remap): slab by
+ * slab, its new vertices (those not mapped onto the previous slab's) and
+ * its triangles, renumbered, go to the sink, then the caps. On the way:
+ * the signed volume (the same terms in the same order as signed_volume)
+ * and the error sample points (those the array path measures: the
+ * vertices and surface triangles whose number is a multiple of the
+ * stride), measured at the end. Each slab's arrays are freed once sent. */
+static geom_status stream_slabs(const ctx *c, const geom_iso_options *opt, slab *sl,
+                                size_t nslabs, uint32_t *const *remap, size_t nv, size_t nt,
+                                size_t ncap, int threads, geom_iso_surface *out)
+{
+    const geom_allocator *al = c->alloc;
+    geom_iso_report *r = &out->report;
+    out->n_vertices = nv;
+    out->n_triangles = nt + ncap;
+    out->n_cap_triangles = ncap;
+    int measure = error_wanted(c, opt);
+    size_t stride = measure ? error_stride(opt, nv, nt) : 1;
+    geom_status st = GEOM_OK;
+    uint8_t *mask = NULL; /* with caps: vertices of a surface triangle */
+    if (measure && ncap) {
+        mask = geom__alloc(al, nv ? nv : 1);
+        if (!mask)
+            return GEOM_ERR_NOMEM;
+        memset(mask, 0, nv);
+        for (size_t q = 0; q < nslabs; q++)
+            for (size_t t = 0; t < 3 * sl[q].ntri; t++)
+                mask[remap[q][sl[q].tri[t]]] = 1;
+    }
+    double *cx = NULL, *cn = NULL, *ev = NULL, *et = NULL, *cvol = NULL;
+    uint32_t *ct = NULL, *cap = NULL;
+    size_t capx = 0, capn = 0, capt = 0, nev = 0, capev = 0, net = 0, capet = 0;
+    if (ncap) {
+        cap = geom__alloc(al, 3 * ncap * sizeof(uint32_t));
+        cvol = geom__alloc(al, ncap * sizeof(double));
+        if (!cap || !cvol)
+            st = GEOM_ERR_NOMEM;
+    }
+    double vol = 0.0;
+    size_t vbase = 0, tbase = 0, cbase = 0;
+    for (size_t q = 0; q < nslabs && st == GEOM_OK; q++) {
+        slab *s = &sl[q];
+        const uint32_t *rm = remap[q];
+        if (!grow(al, (void **)&cx, &capx, s->nv, 3 * sizeof(double)) ||
+            (c->normals && !grow(al, (void **)&cn, &capn, s->nv, 3 * sizeof(double))) ||
+            !grow(al, (void **)&ct, &capt, s->ntri, 3 * sizeof(uint32_t))) {
+            st = GEOM_ERR_NOMEM;
+            break;
+        }
+        size_t nnew = 0;
+        for (size_t v = 0; v < s->nv; v++) {
+            if (rm[v] < vbase)
+                continue; /* a copy of the previous slab's vertex */
+            memcpy(cx + 3 * nnew, s->xyz + 3 * v, 3 * sizeof(double));
+            if (c->normals)
+                memcpy(cn + 3 * nnew, s->nrm + 3 * v, 3 * sizeof(double));
+            size_t g = vbase + nnew;
+            if (measure && g % stride == 0 && (!mask || mask[g]) &&
+                !push_doubles(al, &ev, &nev, &capev, s->xyz + 3 * v, 3))
+                st = GEOM_ERR_NOMEM;
+            nnew++;
+        }
+        for (size_t t = 0; t < s->ntri; t++) {
+            const uint32_t *lt = s->tri + 3 * t;
+            const double *a = s->xyz + 3 * (size_t)lt[0], *b = s->xyz + 3 * (size_t)lt[1],
+                         *d = s->xyz + 3 * (size_t)lt[2];
+            vol += tri_volume6(a, b, d);
+            ct[3 * t] = rm[lt[0]];
+            ct[3 * t + 1] = rm[lt[1]];
+            ct[3 * t + 2] = rm[lt[2]];
+            if (measure && (tbase + t) % stride == 0) {
+                double p9[9];
+                memcpy(p9, a, 3 * sizeof(double));
+                memcpy(p9 + 3, b, 3 * sizeof(double));
+                memcpy(p9 + 6, d, 3 * sizeof(double));
+                if (!push_doubles(al, &et, &net, &capet, p9, 9))
+                    st = GEOM_ERR_NOMEM;
+            }
+        }
+        for (size_t t = 0; t < s->ncap && st == GEOM_OK; t++) {
+            const uint32_t *lt = s->cap + 3 * t;
+            cvol[cbase + t] = tri_volume6(s->xyz + 3 * (size_t)lt[0], s->xyz + 3 * (size_t)lt[1],
+                                          s->xyz + 3 * (size_t)lt[2]);
+            for (int k = 0; k < 3; k++)
+                cap[3 * (cbase + t) + (size_t)k] = rm[lt[k]];
+        }
+        if (st == GEOM_OK && (nnew || s->ntri)) {
+            geom_iso_chunk ch = {vbase, nnew, cx, c->normals ? cn : NULL, s->ntri, ct, 0};
+            st = c->sink(c->sink_user, &ch);
+        }
+        vbase += nnew;
+        tbase += s->ntri;
+        cbase += s->ncap;
+        slab_free(al, s);
+    }
+    if (st == GEOM_OK && ncap) {
+        for (size_t t = 0; t < ncap; t++)
+            vol += cvol[t];
+        geom_iso_chunk ch = {nv, 0, NULL, NULL, ncap, cap, 1};
+        st = c->sink(c->sink_user, &ch);
+    }
+    r->signed_volume = vol / 6.0;
+    geom__free(al, cx, capx * 3 * sizeof(double));
+    geom__free(al, cn, capn * 3 * sizeof(double));
+    geom__free(al, ct, capt * 3 * sizeof(uint32_t));
+    geom__free(al, cap, 3 * ncap * sizeof(uint32_t));
+    geom__free(al, cvol, ncap * sizeof(double));
+    geom__free(al, mask, nv ? nv : 1);
+    if (st == GEOM_OK && measure) {
+        /* the sample points gathered: vertices, then triangle corners */
+        double te = now_seconds();
+        size_t nvs = nev / 3, nts = net / 9, npts = nvs + 3 * nts;
+        uint8_t *vm = geom__alloc(al, npts ? npts : 1);
+        uint32_t *ti = geom__alloc(al, (nts ? 3 * nts : 1) * sizeof(uint32_t));
+        if (!vm || !ti || !push_doubles(al, &ev, &nev, &capev, et, net))
+            st = GEOM_ERR_NOMEM;
+        else {
+            memset(vm, 1, nvs);
+            memset(vm + nvs, 0, 3 * nts);
+            for (size_t q = 0; q < 3 * nts; q++)
+                ti[q] = (uint32_t)(nvs + q);
+            iso_err_acc acc;
+            st = geom__iso_measure(c->field, c->iso, npts, ev, vm, nts, ti, 1, c->dstep, threads,
+                                   al, &acc);
+            if (st == GEOM_OK)
+                error_report(r, &acc);
+        }
+        geom__free(al, vm, npts ? npts : 1);
+        geom__free(al, ti, (nts ? 3 * nts : 1) * sizeof(uint32_t));
+        r->error_stride = stride;
+        r->error_seconds = now_seconds() - te;
+    }
+    geom__free(al, ev, capev * sizeof(double));
+    geom__free(al, et, capet * sizeof(double));
+    return st;
+}
+
 static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_surface *out,
                            double t_start, geom_diag *diag)
 {
@@ -1169,7 +1371,9 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
         nt += s->ntri;
         ncap += s->ncap;
     }
-    if (st == GEOM_OK) {
+    if (st == GEOM_OK && c.sink)
+        st = stream_slabs(&c, opt, sl, nslabs, remap, nv, nt, ncap, threads, out);
+    else if (st == GEOM_OK) {
         size_t tb;
         if (geom__size_mul(nt + ncap, 3 * sizeof(uint32_t), &tb) != GEOM_OK ||
             nv > SIZE_MAX / (3 * sizeof(double)))
@@ -1184,7 +1388,7 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
                 st = GEOM_ERR_NOMEM;
         }
     }
-    if (st == GEOM_OK) {
+    if (st == GEOM_OK && !c.sink) {
         size_t to = 0;
         for (size_t q = 0; q < nslabs; q++) {
             slab *s = &sl[q];
@@ -1241,10 +1445,7 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
     c.blk = blk = NULL;
 
     if (st == GEOM_OK) {
-        int err = opt ? opt->error : GEOM_ISO_ERROR_AUTO;
-        int measure = err == GEOM_ISO_ERROR_ALWAYS ||
-                      (err == GEOM_ISO_ERROR_AUTO && c.field->exact && !c.grid);
-        if (measure) {
+        if (!c.sink && error_wanted(&c, opt)) {
             double te = now_seconds();
             iso_err_acc acc;
             size_t nst = out->n_triangles - out->n_cap_triangles;
@@ -1260,41 +1461,14 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
                         mask[out->tris[q]] = 1;
                 }
             }
-            /* the sampling rule: every s-th vertex and surface triangle,
-             * the smallest s keeping the points within the budget */
-            size_t budget = opt && opt->error_samples ? opt->error_samples : 65536;
-            if (budget < 5)
-                budget = 5; /* one vertex and one triangle's 4 samples */
-            size_t stride = 1;
-            if (budget != SIZE_MAX && out->n_vertices + 4 * nst > budget) {
-                stride = (out->n_vertices + 4 * nst) / budget;
-                if (stride < 1)
-                    stride = 1;
-                while ((out->n_vertices + stride - 1) / stride + 4 * ((nst + stride - 1) / stride) >
-                       budget)
-                    stride++;
-            }
+            size_t stride = error_stride(opt, out->n_vertices, nst);
             r->error_stride = stride;
             if (st == GEOM_OK)
                 st = geom__iso_measure(c.field, c.iso, out->n_vertices, out->xyz, mask, nst,
                                        out->tris, stride, c.dstep, threads, al, &acc);
             geom__free(al, mask, out->n_vertices ? out->n_vertices : 1);
-            if (st == GEOM_OK) {
-                r->vertex_error.max_error = acc.vmax;
-                r->vertex_error.mean_error = acc.vcount ? acc.vsum / (double)acc.vcount : 0;
-                r->vertex_error.method = GEOM_ERROR_SAMPLED;
-                r->sample_error.max_error = acc.smax;
-                r->sample_error.mean_error = acc.scount ? acc.ssum / (double)acc.scount : 0;
-                r->sample_error.method = GEOM_ERROR_SAMPLED;
-                r->unmeasured = acc.unmeasured;
-                r->vertex_error.evaluations += acc.evaluations;
-                r->vertex_error.pieces = acc.vcount;
-                r->sample_error.pieces = acc.scount;
-                r->error.max_error = fmax(acc.vmax, acc.smax);
-                r->error.mean_error = r->sample_error.mean_error;
-                r->error.method = GEOM_ERROR_SAMPLED;
-                r->error.pieces = acc.vcount + acc.scount;
-            }
+            if (st == GEOM_OK)
+                error_report(r, &acc);
             r->error_seconds = now_seconds() - te;
         }
         r->sample_error.evaluations = r->vertex_error.evaluations;
@@ -1319,7 +1493,8 @@ static void init_out(geom_iso_surface *out, const geom_iso_options *opt)
 
 static geom_status extract_field(const geom_iso_field *field, const double bounds[6],
                                  const size_t res[3], const geom_iso_options *opt,
-                                 geom_iso_surface *out, geom_diag *diag)
+                                 geom_iso_chunk_fn sink, void *sink_user, geom_iso_surface *out,
+                                 geom_diag *diag)
 {
     double t0 = now_seconds();
     if (!out)
@@ -1372,6 +1547,8 @@ static geom_status extract_field(const geom_iso_field *field, const double bound
         memset(&c, 0, sizeof c);
         c.field = field;
         c.grid = NULL;
+        c.sink = sink;
+        c.sink_user = sink_user;
         for (int a = 0; a < 3; a++) {
             c.n[a] = res[a];
             c.coord[a] = coord[a];
@@ -1517,19 +1694,19 @@ static int neg_bounds(void *u, const double lo[3], const double hi[3], double ou
 static void signed_volume(geom_iso_surface *out)
 {
     double v = 0.0;
-    for (size_t t = 0; t < out->n_triangles; t++) {
-        const double *a = out->xyz + 3 * (size_t)out->tris[3 * t];
-        const double *b = out->xyz + 3 * (size_t)out->tris[3 * t + 1];
-        const double *c = out->xyz + 3 * (size_t)out->tris[3 * t + 2];
-        v += a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2]) +
-             a[2] * (b[0] * c[1] - b[1] * c[0]);
-    }
+    for (size_t t = 0; t < out->n_triangles; t++)
+        v += tri_volume6(out->xyz + 3 * (size_t)out->tris[3 * t],
+                         out->xyz + 3 * (size_t)out->tris[3 * t + 1],
+                         out->xyz + 3 * (size_t)out->tris[3 * t + 2]);
     out->report.signed_volume = v / 6.0;
 }
 
-geom_status geom_iso_extract(const geom_iso_field *field, const double bounds[6],
-                             const size_t res[3], const geom_iso_options *opt,
-                             geom_iso_surface *out, geom_diag *diag)
+/* geom_iso_extract, to arrays (sink NULL) or to sink (the stream path,
+ * which sums the signed volume itself). */
+static geom_status extract_top(const geom_iso_field *field, const double bounds[6],
+                               const size_t res[3], const geom_iso_options *opt,
+                               geom_iso_chunk_fn sink, void *sink_user, geom_iso_surface *out,
+                               geom_diag *diag)
 {
     geom_status st;
     if (opt && opt->inside == GEOM_ISO_INSIDE_ABOVE && field && field->value) {
@@ -1544,17 +1721,38 @@ geom_status geom_iso_extract(const geom_iso_field *field, const double bounds[6]
         neg.exact = field->exact;
         geom_iso_options o = *opt;
         o.iso = -opt->iso;
-        st = extract_field(&neg, bounds, res, &o, out, diag);
+        st = extract_field(&neg, bounds, res, &o, sink, sink_user, out, diag);
     } else if (opt && opt->inside != GEOM_ISO_INSIDE_BELOW && opt->inside != GEOM_ISO_INSIDE_ABOVE) {
         if (out)
             memset(out, 0, sizeof *out);
         return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                              "geom_iso_extract: inside must be GEOM_ISO_INSIDE_BELOW or _ABOVE");
     } else
-        st = extract_field(field, bounds, res, opt, out, diag);
-    if (st == GEOM_OK)
+        st = extract_field(field, bounds, res, opt, sink, sink_user, out, diag);
+    if (st == GEOM_OK && !sink)
         signed_volume(out);
     return st;
+}
+
+geom_status geom_iso_extract(const geom_iso_field *field, const double bounds[6],
+                             const size_t res[3], const geom_iso_options *opt,
+                             geom_iso_surface *out, geom_diag *diag)
+{
+    return extract_top(field, bounds, res, opt, NULL, NULL, out, diag);
+}
+
+geom_status geom_iso_extract_stream(const geom_iso_field *field, const double bounds[6],
+                                    const size_t res[3], const geom_iso_options *opt,
+                                    geom_iso_chunk_fn fn, void *user, geom_iso_surface *out,
+                                    geom_diag *diag)
+{
+    if (!fn) {
+        if (out)
+            memset(out, 0, sizeof *out);
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+                              "geom_iso_extract_stream: NULL chunk function");
+    }
+    return extract_top(field, bounds, res, opt, fn, user, out, diag);
 }
 
 geom_status geom_iso_extract_grid(const geom_iso_grid *grid, const geom_iso_options *opt,
