@@ -377,7 +377,9 @@ typedef struct geom_iso_chunk {
     size_t first_vertex;   /**< number of xyz[0] in the whole surface (0-based) */
     size_t n_vertices;     /**< new vertices in this chunk */
     const double *xyz;     /**< 3 * n_vertices doubles */
-    const double *normals; /**< 3 * n_vertices doubles, or NULL (no opt->normals) */
+    /** 3 * n_vertices doubles; NULL exactly when there are no normals
+     *  (no opt->normals), also in a chunk without vertices */
+    const double *normals;
     size_t n_triangles;
     /** 3 * n_triangles vertex numbers of the whole surface, each below
      *  first_vertex + n_vertices (a triangle may use earlier chunks'

@@ -1173,7 +1173,9 @@ static geom_status stream_slabs(const ctx *c, const geom_iso_options *opt, slab 
     if (st == GEOM_OK && ncap) {
         for (size_t t = 0; t < ncap; t++)
             vol += cvol[t];
-        geom_iso_chunk ch = {nv, 0, NULL, NULL, ncap, cap, 1};
+        /* normals given (with no vertices) when there are: the faces
+         * then name theirs */
+        geom_iso_chunk ch = {nv, 0, NULL, c->normals ? cn : NULL, ncap, cap, 1};
         st = c->sink(c->sink_user, &ch);
     }
     r->signed_volume = vol / 6.0;
