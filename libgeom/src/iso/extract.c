@@ -49,6 +49,9 @@ typedef struct ctx {
      * (bx, by, bz) at bx + nb[0] * (by + nb[1] * bz); NULL = dense. */
     const uint8_t *blk;
     size_t bsz, nb[3];
+    /* per block row (by, bz) at by + nb[1] * bz: the class of all its
+     * blocks when they are skipped and of one class, else ROW_MIXED */
+    const uint8_t *rowcls;
     /* The stream path (geom_iso_extract_stream): the chunks go to sink
      * instead of the output arrays; NULL = arrays. */
     geom_iso_chunk_fn sink;
@@ -56,7 +59,13 @@ typedef struct ctx {
 } ctx;
 
 /* Block classes of the sparse path. */
-enum { BLK_SAMPLE = 0, BLK_OUT = 1, BLK_IN = 2 };
+enum { BLK_SAMPLE = 0, BLK_OUT = 1, BLK_IN = 2, ROW_MIXED = 0xFF };
+
+#if defined(__GNUC__)
+#define ISO_PREFETCH(p) __builtin_prefetch((p), 1)
+#else
+#define ISO_PREFETCH(p) ((void)(p))
+#endif
 
 typedef struct slab {
     size_t k0, k1;
@@ -361,6 +370,30 @@ static void sparse_row(slab *s, const ctx *c, work *w, size_t k, layer *L, size_
     }
 }
 
+/* The class of every block containing node row j of node layer k when
+ * they are all skipped and of one class (the row's nodes then all have its
+ * sign), else ROW_MIXED. */
+static uint8_t uniform_row(const ctx *c, size_t j, size_t k)
+{
+    size_t B = c->bsz, nby = c->nb[1], nbz = c->nb[2];
+    size_t bys[2], bzs[2];
+    int ny_ = 0, nz_ = 0;
+    if (j / B < nby)
+        bys[ny_++] = j / B;
+    if (j % B == 0 && j > 0)
+        bys[ny_++] = j / B - 1;
+    if (k / B < nbz)
+        bzs[nz_++] = k / B;
+    if (k % B == 0 && k > 0)
+        bzs[nz_++] = k / B - 1;
+    uint8_t u = c->rowcls[bys[0] + nby * bzs[0]];
+    for (int a = 0; a < ny_; a++)
+        for (int b = 0; b < nz_; b++)
+            if (c->rowcls[bys[a] + nby * bzs[b]] != u)
+                return ROW_MIXED;
+    return u;
+}
+
 static void eval_layer(slab *s, const ctx *c, work *w, size_t k, layer *L, int count)
 {
     size_t nx = c->n[0], nx1 = nx + 1, ny1 = c->n[1] + 1;
@@ -371,6 +404,19 @@ static void eval_layer(slab *s, const ctx *c, work *w, size_t k, layer *L, int c
     else
         L->v = L->buf;
     for (size_t j = 0; j < ny1; j++) {
+        uint8_t u = c->blk ? uniform_row(c, j, k) : ROW_MIXED;
+        if (u != ROW_MIXED) {
+            /* as sparse_row makes it, without a sign change */
+            memset(L->s + j * nx1, u == BLK_OUT ? 1 : 0, nx1);
+            if (c->caps && L->buf == L->v) {
+                double fill = u == BLK_OUT ? HUGE_VAL : -HUGE_VAL, *vr = L->buf + j * nx1;
+                for (size_t i = 0; i < nx1; i++)
+                    vr[i] = fill;
+            }
+            L->rlo[j] = (uint32_t)nx;
+            L->rhi[j] = 0;
+            continue;
+        }
         if (c->blk)
             sparse_row(s, c, w, k, L, j, &niso, &nnan);
         else
@@ -856,6 +902,28 @@ static void run_slab(const ctx *c, slab *s, work *wp)
                     e3 = lt->s[q1 + nx];
             if (e0 != e1 || e0 != e2 || e0 != e3)
                 R = nx;
+            if (j + 1 < ny) {
+                /* the next cell row's first and last active cells: their
+                 * vertex id slots (lines first touched there) */
+                size_t jn = j + 1;
+                uint32_t Ln = lb->rlo[jn], Rn = lb->rhi[jn];
+                const uint32_t lo2[3] = {lb->rlo[jn + 1], lt->rlo[jn], lt->rlo[jn + 1]};
+                const uint32_t hi2[3] = {lb->rhi[jn + 1], lt->rhi[jn], lt->rhi[jn + 1]};
+                for (int q = 0; q < 3; q++) {
+                    Ln = lo2[q] < Ln ? lo2[q] : Ln;
+                    Rn = hi2[q] > Rn ? hi2[q] : Rn;
+                }
+                if (Ln < Rn) {
+                    const size_t at[2] = {Ln, Rn - 1};
+                    for (int q = 0; q < 2; q++) {
+                        ISO_PREFETCH(&lb->xv[(jn + 1) * nx + at[q]]);
+                        ISO_PREFETCH(&lt->xv[(jn + 1) * nx + at[q]]);
+                        ISO_PREFETCH(&lb->yv[jn * nx1 + at[q]]);
+                        ISO_PREFETCH(&lt->yv[jn * nx1 + at[q]]);
+                        ISO_PREFETCH(&w->zv[(jn + 1) * nx1 + at[q]]);
+                    }
+                }
+            }
             if (c->caps && (zcap || j == 0 || j + 1 == ny)) {
                 for (size_t i = 0; i < nx; i++)
                     visit_cell(s, c, w, i, j, 1);
@@ -1224,7 +1292,7 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
     const geom_allocator *al = c.alloc;
     size_t nz = c.n[2];
     /* the sparse path: classify the blocks first */
-    uint8_t *blk = NULL;
+    uint8_t *blk = NULL, *rowcls = NULL;
     size_t nblk = 0, nskipped = 0, cells_eval = c.n[0] * c.n[1] * c.n[2];
     if (!(opt && opt->dense) && (c.grid || c.field->bounds)) {
         size_t B = opt && opt->block_size ? opt->block_size : 8;
@@ -1240,6 +1308,21 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
         size_t b0[3] = {0, 0, 0};
         classify_blocks(&c, blk, b0, c.nb);
         c.blk = blk;
+        rowcls = geom__alloc(al, c.nb[1] * c.nb[2]);
+        if (!rowcls) {
+            geom__free(al, blk, nblk);
+            return geom__diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "geom_iso: out of memory");
+        }
+        for (size_t bz = 0; bz < c.nb[2]; bz++)
+            for (size_t by = 0; by < c.nb[1]; by++) {
+                const uint8_t *row = blk + c.nb[0] * (by + c.nb[1] * bz);
+                uint8_t u = row[0] == BLK_SAMPLE ? (uint8_t)ROW_MIXED : row[0];
+                for (size_t bx = 1; bx < c.nb[0] && u != ROW_MIXED; bx++)
+                    if (row[bx] != u)
+                        u = ROW_MIXED;
+                rowcls[by + c.nb[1] * bz] = u;
+            }
+        c.rowcls = rowcls;
         cells_eval = 0;
         for (size_t bz = 0; bz < c.nb[2]; bz++)
             for (size_t by = 0; by < c.nb[1]; by++)
@@ -1265,6 +1348,7 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
     slab *sl = geom__alloc(al, nslabs * sizeof(slab));
     if (!sl) {
         geom__free(al, blk, nblk ? nblk : 1);
+        geom__free(al, rowcls, c.nb[1] * c.nb[2]);
         return geom__diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "geom_iso: out of memory");
     }
     memset(sl, 0, nslabs * sizeof(slab));
@@ -1444,7 +1528,9 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
     r->blocks = nblk;
     r->blocks_skipped = nskipped;
     geom__free(al, blk, nblk ? nblk : 1);
-    c.blk = blk = NULL;
+    geom__free(al, rowcls, c.nb[1] * c.nb[2]);
+    c.blk = blk = rowcls = NULL;
+    c.rowcls = NULL;
 
     if (st == GEOM_OK) {
         if (!c.sink && error_wanted(&c, opt)) {
