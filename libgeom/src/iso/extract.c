@@ -110,6 +110,9 @@ typedef struct work {
     size_t k; /* current cell layer */
     layer *lb, *lt;
     int ok;
+    /* the thread's last slab's vertex and triangle counts, plus 1/8: the
+     * next slab's first capacity (no growth by doubling, as a rule) */
+    size_t hint_nv, hint_tri;
 } work;
 
 /* ------------------------------------------------------------ growth */
@@ -873,6 +876,14 @@ static void run_slab(const ctx *c, slab *s, work *wp)
     if (wp->base > UINT32_MAX / 2)
         work_clear_slots(c, wp);
     work *w = wp;
+    if (w->hint_nv &&
+        (!grow(c->alloc, (void **)&s->xyz, &s->capv, w->hint_nv, 3 * sizeof(double)) ||
+         (c->normals &&
+          !grow(c->alloc, (void **)&s->nrm, &s->capn, w->hint_nv, 3 * sizeof(double))) ||
+         !grow(c->alloc, (void **)&s->tri, &s->captri, w->hint_tri, 3 * sizeof(uint32_t)))) {
+        s->status = GEOM_ERR_NOMEM;
+        return;
+    }
     w->lb = &w->L[0];
     w->lt = &w->L[1];
     eval_layer(s, c, w, s->k0, w->lb, 1);
@@ -967,6 +978,8 @@ static void run_slab(const ctx *c, slab *s, work *wp)
     }
     /* next slab on this thread: ids above every slot written so far */
     w->base += (uint32_t)s->nv + 1;
+    w->hint_nv = s->nv + s->nv / 8;
+    w->hint_tri = s->ntri + s->ntri / 8;
 }
 
 /* ------------------------------------------------------------ driver */
