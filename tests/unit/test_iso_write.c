@@ -53,19 +53,31 @@ static void soup_of(const geom_iso_surface *s, geom_meshio_soup *soup)
     soup->indices = s->tris;
 }
 
+/* The field of expr, the options and the resolution res, res + 1, res + 2
+ * of the tests below. */
+static void setup(const char *expr, size_t res, int normals, int caps, int above,
+                  geom_implicit_expr **e, geom_iso_field *f, geom_iso_options *o, size_t r[3])
+{
+    *e = NULL;
+    assert_int_equal(geom_implicit_expr_compile(expr, strlen(expr), NULL, e, NULL), GEOM_OK);
+    assert_int_equal(geom_iso_field_from_expr(*e, f), GEOM_OK);
+    memset(o, 0, sizeof *o);
+    o->normals = normals;
+    o->caps = caps;
+    o->inside = above ? GEOM_ISO_INSIDE_ABOVE : GEOM_ISO_INSIDE_BELOW;
+    r[0] = res;
+    r[1] = res + 1;
+    r[2] = res + 2;
+}
+
 static void same_bytes(const char *expr, const double b[6], size_t res, int normals, int caps,
                        int above, unsigned omit)
 {
-    geom_implicit_expr *e = NULL;
-    assert_int_equal(geom_implicit_expr_compile(expr, strlen(expr), NULL, &e, NULL), GEOM_OK);
+    geom_implicit_expr *e;
     geom_iso_field f;
-    assert_int_equal(geom_iso_field_from_expr(e, &f), GEOM_OK);
     geom_iso_options o;
-    memset(&o, 0, sizeof o);
-    o.normals = normals;
-    o.caps = caps;
-    o.inside = above ? GEOM_ISO_INSIDE_ABOVE : GEOM_ISO_INSIDE_BELOW;
-    size_t r[3] = {res, res + 1, res + 2};
+    size_t r[3];
+    setup(expr, res, normals, caps, above, &e, &f, &o, r);
     geom_iso_surface s;
     assert_int_equal(geom_iso_extract(&f, b, r, &o, &s, NULL), GEOM_OK);
     assert_true(s.n_triangles > 0);
@@ -314,19 +326,14 @@ static char *regroup(const char *p, size_t n)
 static void same_stream(const char *expr, const double b[6], size_t res, int normals, int caps,
                         int above, int dense, size_t layers)
 {
-    geom_implicit_expr *e = NULL;
-    assert_int_equal(geom_implicit_expr_compile(expr, strlen(expr), NULL, &e, NULL), GEOM_OK);
+    geom_implicit_expr *e;
     geom_iso_field f;
-    assert_int_equal(geom_iso_field_from_expr(e, &f), GEOM_OK);
     geom_iso_options o;
-    memset(&o, 0, sizeof o);
-    o.normals = normals;
-    o.caps = caps;
+    size_t r[3];
+    setup(expr, res, normals, caps, above, &e, &f, &o, r);
     o.dense = dense;
     o.slab_layers = layers;
     o.error_samples = 1000; /* a stride > 1 */
-    o.inside = above ? GEOM_ISO_INSIDE_ABOVE : GEOM_ISO_INSIDE_BELOW;
-    size_t r[3] = {res, res + 1, res + 2};
     geom_iso_surface s, t;
     assert_int_equal(geom_iso_extract(&f, b, r, &o, &s, NULL), GEOM_OK);
     collect c;
@@ -423,14 +430,16 @@ static void test_stream(void **state)
     const uint32_t tri[3] = {10, 11, 13};
     geom_meshio_soup soup = {3, xyz, NULL, 1, NULL, tri};
     membuf got = {NULL, 0, 0};
-    assert_int_equal(geom_meshio_write_soup_part(&soup, 10, 0, NULL, to_mem, &got, NULL),
-                     GEOM_ERR_INVALID_ARG);
-    assert_int_equal(got.n, 0);
-    const uint32_t ok[3] = {2, 11, 12};
-    soup.indices = ok;
     geom_meshio_write_options wo;
     memset(&wo, 0, sizeof wo);
     wo.format = GEOM_MESHIO_FORMAT_OBJ;
+    geom_diag d;
+    assert_int_equal(geom_meshio_write_soup_part(&soup, 10, 0, &wo, to_mem, &got, &d),
+                     GEOM_ERR_INVALID_ARG);
+    assert_non_null(strstr(d.message, "out of range"));
+    assert_int_equal(got.n, 0);
+    const uint32_t ok[3] = {2, 11, 12};
+    soup.indices = ok;
     assert_int_equal(geom_meshio_write_soup_part(&soup, 10, 0, &wo, to_mem, &got, NULL), GEOM_OK);
     assert_int_equal(got.n, strlen("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 3 12 13\n"));
     assert_memory_equal(got.p, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 3 12 13\n", got.n);

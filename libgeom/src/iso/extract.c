@@ -311,6 +311,23 @@ static void eval_range(slab *s, const ctx *c, work *w, size_t k, layer *L, size_
         }
 }
 
+/* The block rows containing node row j (bys, *ny_ of them) and node layer
+ * k (bzs, *nz_): one or two along each axis. */
+static void row_blocks(const ctx *c, size_t j, size_t k, size_t bys[2], int *ny_, size_t bzs[2],
+                       int *nz_)
+{
+    size_t B = c->bsz;
+    *ny_ = *nz_ = 0;
+    if (j / B < c->nb[1])
+        bys[(*ny_)++] = j / B;
+    if (j % B == 0 && j > 0)
+        bys[(*ny_)++] = j / B - 1;
+    if (k / B < c->nb[2])
+        bzs[(*nz_)++] = k / B;
+    if (k % B == 0 && k > 0)
+        bzs[(*nz_)++] = k / B - 1;
+}
+
 /* Row j of node layer k on the sparse path: the nodes of sampled blocks
  * are evaluated; the others lie in skipped blocks only, all of one class,
  * and get its sign (and, with caps, a value of that sign: caps read the
@@ -319,19 +336,10 @@ static void sparse_row(slab *s, const ctx *c, work *w, size_t k, layer *L, size_
                        size_t *niso, size_t *nnan)
 {
     size_t nx = c->n[0], nx1 = nx + 1, B = c->bsz;
-    size_t nbx = c->nb[0], nby = c->nb[1], nbz = c->nb[2];
-    /* the block rows containing node row j and node layer k (one or two
-     * along each axis) */
+    size_t nbx = c->nb[0], nby = c->nb[1];
     size_t bys[2], bzs[2];
-    int ny_ = 0, nz_ = 0;
-    if (j / B < nby)
-        bys[ny_++] = j / B;
-    if (j % B == 0 && j > 0)
-        bys[ny_++] = j / B - 1;
-    if (k / B < nbz)
-        bzs[nz_++] = k / B;
-    if (k % B == 0 && k > 0)
-        bzs[nz_++] = k / B - 1;
+    int ny_, nz_;
+    row_blocks(c, j, k, bys, &ny_, bzs, &nz_);
     uint8_t *sr = L->s + j * nx1;
     double *vr = (c->caps && L->buf == L->v) ? L->buf + j * nx1 : NULL;
     size_t run0 = SIZE_MAX; /* first block of the current run of sampled blocks */
@@ -378,17 +386,10 @@ static void sparse_row(slab *s, const ctx *c, work *w, size_t k, layer *L, size_
  * sign), else ROW_MIXED. */
 static uint8_t uniform_row(const ctx *c, size_t j, size_t k)
 {
-    size_t B = c->bsz, nby = c->nb[1], nbz = c->nb[2];
+    size_t nby = c->nb[1];
     size_t bys[2], bzs[2];
-    int ny_ = 0, nz_ = 0;
-    if (j / B < nby)
-        bys[ny_++] = j / B;
-    if (j % B == 0 && j > 0)
-        bys[ny_++] = j / B - 1;
-    if (k / B < nbz)
-        bzs[nz_++] = k / B;
-    if (k % B == 0 && k > 0)
-        bzs[nz_++] = k / B - 1;
+    int ny_, nz_;
+    row_blocks(c, j, k, bys, &ny_, bzs, &nz_);
     uint8_t u = c->rowcls[bys[0] + nby * bzs[0]];
     for (int a = 0; a < ny_; a++)
         for (int b = 0; b < nz_; b++)

@@ -108,22 +108,6 @@ static void soup_options(const geom_meshio_write_options *opt, geom_meshio_write
         memset(o, 0, sizeof *o);
 }
 
-geom_status geom_meshio_write_soup_stream(const geom_meshio_soup *s,
-                                          const geom_meshio_write_options *opt,
-                                          geom_meshio_write_fn fn, void *user, geom_diag *diag)
-{
-    geom_diag_clear(diag);
-    if (!fn)
-        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "NULL write function");
-    geom_meshio_write_options o;
-    soup_options(opt, &o);
-    geom_status st = check_soup(s, 0, &o, diag, NULL);
-    if (st != GEOM_OK)
-        return st;
-    soup_part sp = {s, 0, 1};
-    return geom__meshio_write_body_stream(soup_body, &sp, &o, fn, user, diag);
-}
-
 geom_status geom_meshio_write_soup_part(const geom_meshio_soup *s, size_t first_vertex,
                                         int header, const geom_meshio_write_options *opt,
                                         geom_meshio_write_fn fn, void *user, geom_diag *diag)
@@ -138,6 +122,13 @@ geom_status geom_meshio_write_soup_part(const geom_meshio_soup *s, size_t first_
         return st;
     soup_part sp = {s, first_vertex, header};
     return geom__meshio_write_body_stream(soup_body, &sp, &o, fn, user, diag);
+}
+
+geom_status geom_meshio_write_soup_stream(const geom_meshio_soup *s,
+                                          const geom_meshio_write_options *opt,
+                                          geom_meshio_write_fn fn, void *user, geom_diag *diag)
+{
+    return geom_meshio_write_soup_part(s, 0, 1, opt, fn, user, diag);
 }
 
 geom_status geom_meshio_write_soup(const geom_meshio_soup *s, const char *path,
