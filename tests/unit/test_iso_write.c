@@ -281,7 +281,8 @@ static geom_status collect_chunk(void *user, const geom_iso_chunk *ch)
         memcpy(c->nrm + 3 * c->nv, ch->normals, 3 * ch->n_vertices * sizeof(double));
     for (size_t q = 0; q < 3 * ch->n_triangles; q++)
         assert_true(ch->tris[q] < ch->first_vertex + ch->n_vertices);
-    memcpy(c->tris + 3 * c->nt, ch->tris, 3 * ch->n_triangles * sizeof(uint32_t));
+    if (ch->n_triangles)
+        memcpy(c->tris + 3 * c->nt, ch->tris, 3 * ch->n_triangles * sizeof(uint32_t));
     geom_meshio_soup soup = {ch->n_vertices, ch->xyz, ch->normals, ch->n_triangles, NULL,
                              ch->tris};
     geom_meshio_write_options wo;

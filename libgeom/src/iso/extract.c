@@ -1150,6 +1150,8 @@ static void error_report(geom_iso_report *r, const iso_err_acc *acc)
 static int push_doubles(const geom_allocator *al, double **p, size_t *len, size_t *cap,
                         const double *x, size_t n)
 {
+    if (n == 0)
+        return 1;
     if (!grow(al, (void **)p, cap, *len + n, sizeof(double)))
         return 0;
     memcpy(*p + *len, x, n * sizeof(double));
