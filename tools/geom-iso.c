@@ -242,6 +242,64 @@ static geom_status stdout_write(void *user, const void *data, size_t size)
     return fwrite(data, 1, size, (FILE *)user) == size ? GEOM_OK : GEOM_ERR_IO;
 }
 
+/* OBJ written chunk by chunk as the extraction hands them over
+ * (geom_iso_extract_stream): no array of the whole surface, and each
+ * chunk's v lines before its f lines (the mesh read back is the one
+ * geom_iso_extract makes). */
+typedef struct obj_stream {
+    cli_output out;
+    int started; /* the header line is written */
+    geom_diag wdiag; /* the writer's message, when it fails */
+} obj_stream;
+
+static geom_status write_part(obj_stream *w, const geom_meshio_soup *soup, size_t first)
+{
+    geom_meshio_write_options wo;
+    memset(&wo, 0, sizeof wo);
+    wo.format = GEOM_MESHIO_FORMAT_OBJ;
+    geom_status st = geom_meshio_write_soup_part(soup, first, !w->started, &wo, stdout_write,
+                                                 w->out.fp, &w->wdiag);
+    w->started = 1;
+    return st;
+}
+
+static geom_status write_chunk(void *user, const geom_iso_chunk *ch)
+{
+    geom_meshio_soup soup = {ch->n_vertices, ch->xyz, ch->normals, ch->n_triangles, NULL,
+                             ch->tris};
+    return write_part(user, &soup, ch->first_vertex);
+}
+
+static geom_status extract_to_obj(const geom_iso_field *f, const double bounds[6],
+                                  const size_t res[3], const geom_iso_options *o,
+                                  const char *path, geom_iso_surface *s, geom_diag *diag)
+{
+    obj_stream w;
+    memset(&w, 0, sizeof w);
+    geom_diag_clear(&w.wdiag);
+    int to_stdout = strcmp(path, "-") == 0;
+    geom_status st = cli_output_open(&w.out, to_stdout ? NULL : path, diag);
+    if (st != GEOM_OK)
+        return st;
+    st = geom_iso_extract_stream(f, bounds, res, o, write_chunk, &w, s, diag);
+    if (st == GEOM_OK && !w.started) { /* an empty surface: the header line only */
+        geom_meshio_soup none = {0, NULL, NULL, 0, NULL, NULL};
+        st = write_part(&w, &none, 0);
+    }
+    if (st != GEOM_OK && w.wdiag.status != GEOM_OK)
+        *diag = w.wdiag; /* the writer's reason, not the extraction's summary */
+    if (st == GEOM_OK)
+        return cli_output_commit(&w.out, diag);
+    if (to_stdout && ferror(w.out.fp)) {
+        /* a write error is reported as for every tool's output */
+        geom_diag_clear(diag);
+        geom_status cst = cli_output_commit(&w.out, diag);
+        return cst != GEOM_OK ? cst : st;
+    }
+    cli_output_abort(&w.out);
+    return st;
+}
+
 static geom_status write_surface(const geom_iso_surface *s, const char *path, bool up_z,
                                  geom_diag *diag)
 {
@@ -395,6 +453,9 @@ int main(int argc, char **argv)
     int detected = 0;
     char spacing_warning[GEOM_DIAG_MESSAGE_MAX] = ""; /* the volume's spacing read as 1 */
     size_t nb_below = 0, nb_total = 0;
+    /* an expression's OBJ is written while the surface is extracted */
+    int obj_out = to_stdout || geom_meshio_format_from_name(out_path) == GEOM_MESHIO_FORMAT_OBJ;
+    int streamed = 0;
     geom_iso_surface s;
     memset(&s, 0, sizeof s);
     geom_status st;
@@ -411,7 +472,10 @@ int main(int argc, char **argv)
             geom_implicit_expr_destroy(expr);
             return CLI_EXIT_ERROR;
         }
-        if (st == GEOM_OK)
+        if (st == GEOM_OK && obj_out) {
+            st = extract_to_obj(&f, a.bounds, a.res, &o, out_path, &s, &diag);
+            streamed = 1;
+        } else if (st == GEOM_OK)
             st = geom_iso_extract(&f, a.bounds, a.res, &o, &s, &diag);
     } else {
         geom_implicit_volume_read_options ro;
@@ -478,7 +542,8 @@ int main(int argc, char **argv)
         return cli_print_diag(&tool, &diag);
     }
     double secs = s.report.seconds;
-    st = write_surface(&s, out_path, common.up_z, &diag);
+    if (!streamed)
+        st = write_surface(&s, out_path, common.up_z, &diag);
     double total = cli_timer_elapsed(&timer);
     if (st != GEOM_OK) {
         geom_iso_surface_free(&s);
@@ -577,7 +642,8 @@ int main(int argc, char **argv)
                     r->cells_evaluated, r->cells, r->blocks_skipped, r->blocks);
         else
             fprintf(fp, "cells_evaluated %zu of %zu (dense)\n", r->cells_evaluated, r->cells);
-        fprintf(fp, "seconds %.6g (extraction; %.6g in all)\n", secs, total);
+        fprintf(fp, "seconds %.6g (extraction%s; %.6g in all)\n", secs,
+                streamed ? " and OBJ output" : "", total);
     }
     geom_iso_surface_free(&s);
     geom_implicit_expr_destroy(expr);

@@ -422,6 +422,9 @@ geom_status geom_meshio_write_soup(const geom_meshio_soup *s, const char *path,
     const geom_meshio_write_options *opt, geom_diag *diag);
 geom_status geom_meshio_write_soup_stream(const geom_meshio_soup *s,
     const geom_meshio_write_options *opt, geom_meshio_write_fn fn, void *user, geom_diag *diag);
+geom_status geom_meshio_write_soup_part(const geom_meshio_soup *s, size_t first_vertex,
+    int header, const geom_meshio_write_options *opt, geom_meshio_write_fn fn, void *user,
+    geom_diag *diag);
 void geom_meshio_buffer_free(void *data, size_t size, const geom_allocator *alloc);
 """,
     "curve": """
@@ -874,6 +877,19 @@ typedef struct geom_iso_surface {
 geom_status geom_iso_extract(const geom_implicit_field *field, const double bounds[6], const
     size_t res[3], const geom_iso_options *opt, geom_iso_surface *out, geom_diag *diag);
 geom_status geom_iso_extract_grid(const geom_implicit_grid *grid, const geom_iso_options *opt,
+    geom_iso_surface *out, geom_diag *diag);
+typedef struct geom_iso_chunk {
+    size_t first_vertex;
+    size_t n_vertices;
+    const double *xyz;
+    const double *normals;
+    size_t n_triangles;
+    const uint32_t *tris;
+    int caps;
+} geom_iso_chunk;
+typedef geom_status (*geom_iso_chunk_fn)(void *user, const geom_iso_chunk *chunk);
+geom_status geom_iso_extract_stream(const geom_implicit_field *field, const double bounds[6],
+    const size_t res[3], const geom_iso_options *opt, geom_iso_chunk_fn fn, void *user,
     geom_iso_surface *out, geom_diag *diag);
 void geom_iso_surface_free(geom_iso_surface *s);
 geom_status geom_iso_surface_to_mesh(const geom_iso_surface *s, geom_mesh *m, geom_diag *diag);

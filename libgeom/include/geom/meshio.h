@@ -344,6 +344,27 @@ GEOM_API geom_status geom_meshio_write_soup_stream(const geom_meshio_soup *s,
                                           const geom_meshio_write_options *opt,
                                           geom_meshio_write_fn fn, void *user, geom_diag *diag);
 
+/**
+ * One part of an OBJ written part by part through fn (a producer that
+ * streams its result, e.g. geom_iso_extract_stream's chunks): with header
+ * nonzero the "# written by libgeom" line first, then the part's vertices
+ * as v lines (and vn lines with normals), then its faces as f lines. The
+ * part's vertex i is the file's vertex first_vertex + i (0-based), and
+ * face indices are file numbers (0-based): each below first_vertex +
+ * s->n_vertices, so a face may use vertices of earlier parts. The parts
+ * of one file read back as the mesh of the whole soup (the same vertices,
+ * normals and faces in the same order), with its v and f lines
+ * interleaved. Every face is checked before any byte is written. opt as
+ * for geom_meshio_write_soup_stream (format OBJ; omit and precision apply).
+ * Statuses: GEOM_OK; GEOM_ERR_INVALID_ARG (NULL s, arrays or fn, a face of
+ * fewer than 3 vertices or an index out of range, a format other than OBJ);
+ * GEOM_ERR_LIMIT (first_vertex + n_vertices reaches 2^32 - 1); fn's own
+ * status when it fails.
+ */
+GEOM_API geom_status geom_meshio_write_soup_part(const geom_meshio_soup *s, size_t first_vertex,
+                                        int header, const geom_meshio_write_options *opt,
+                                        geom_meshio_write_fn fn, void *user, geom_diag *diag);
+
 #ifdef __cplusplus
 }
 #endif

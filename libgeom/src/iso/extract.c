@@ -49,10 +49,23 @@ typedef struct ctx {
      * (bx, by, bz) at bx + nb[0] * (by + nb[1] * bz); NULL = dense. */
     const uint8_t *blk;
     size_t bsz, nb[3];
+    /* per block row (by, bz) at by + nb[1] * bz: the class of all its
+     * blocks when they are skipped and of one class, else ROW_MIXED */
+    const uint8_t *rowcls;
+    /* The stream path (geom_iso_extract_stream): the chunks go to sink
+     * instead of the output arrays; NULL = arrays. */
+    geom_iso_chunk_fn sink;
+    void *sink_user;
 } ctx;
 
 /* Block classes of the sparse path. */
-enum { BLK_SAMPLE = 0, BLK_OUT = 1, BLK_IN = 2 };
+enum { BLK_SAMPLE = 0, BLK_OUT = 1, BLK_IN = 2, ROW_MIXED = 0xFF };
+
+#if defined(__GNUC__)
+#define ISO_PREFETCH(p) __builtin_prefetch((p), 1)
+#else
+#define ISO_PREFETCH(p) ((void)(p))
+#endif
 
 typedef struct slab {
     size_t k0, k1;
@@ -97,6 +110,9 @@ typedef struct work {
     size_t k; /* current cell layer */
     layer *lb, *lt;
     int ok;
+    /* the thread's last slab's vertex and triangle counts, plus 1/8: the
+     * next slab's first capacity (no growth by doubling, as a rule) */
+    size_t hint_nv, hint_tri;
 } work;
 
 /* ------------------------------------------------------------ growth */
@@ -295,6 +311,23 @@ static void eval_range(slab *s, const ctx *c, work *w, size_t k, layer *L, size_
         }
 }
 
+/* The block rows containing node row j (bys, *ny_ of them) and node layer
+ * k (bzs, *nz_): one or two along each axis. */
+static void row_blocks(const ctx *c, size_t j, size_t k, size_t bys[2], int *ny_, size_t bzs[2],
+                       int *nz_)
+{
+    size_t B = c->bsz;
+    *ny_ = *nz_ = 0;
+    if (j / B < c->nb[1])
+        bys[(*ny_)++] = j / B;
+    if (j % B == 0 && j > 0)
+        bys[(*ny_)++] = j / B - 1;
+    if (k / B < c->nb[2])
+        bzs[(*nz_)++] = k / B;
+    if (k % B == 0 && k > 0)
+        bzs[(*nz_)++] = k / B - 1;
+}
+
 /* Row j of node layer k on the sparse path: the nodes of sampled blocks
  * are evaluated; the others lie in skipped blocks only, all of one class,
  * and get its sign (and, with caps, a value of that sign: caps read the
@@ -303,19 +336,10 @@ static void sparse_row(slab *s, const ctx *c, work *w, size_t k, layer *L, size_
                        size_t *niso, size_t *nnan)
 {
     size_t nx = c->n[0], nx1 = nx + 1, B = c->bsz;
-    size_t nbx = c->nb[0], nby = c->nb[1], nbz = c->nb[2];
-    /* the block rows containing node row j and node layer k (one or two
-     * along each axis) */
+    size_t nbx = c->nb[0], nby = c->nb[1];
     size_t bys[2], bzs[2];
-    int ny_ = 0, nz_ = 0;
-    if (j / B < nby)
-        bys[ny_++] = j / B;
-    if (j % B == 0 && j > 0)
-        bys[ny_++] = j / B - 1;
-    if (k / B < nbz)
-        bzs[nz_++] = k / B;
-    if (k % B == 0 && k > 0)
-        bzs[nz_++] = k / B - 1;
+    int ny_, nz_;
+    row_blocks(c, j, k, bys, &ny_, bzs, &nz_);
     uint8_t *sr = L->s + j * nx1;
     double *vr = (c->caps && L->buf == L->v) ? L->buf + j * nx1 : NULL;
     size_t run0 = SIZE_MAX; /* first block of the current run of sampled blocks */
@@ -357,6 +381,23 @@ static void sparse_row(slab *s, const ctx *c, work *w, size_t k, layer *L, size_
     }
 }
 
+/* The class of every block containing node row j of node layer k when
+ * they are all skipped and of one class (the row's nodes then all have its
+ * sign), else ROW_MIXED. */
+static uint8_t uniform_row(const ctx *c, size_t j, size_t k)
+{
+    size_t nby = c->nb[1];
+    size_t bys[2], bzs[2];
+    int ny_, nz_;
+    row_blocks(c, j, k, bys, &ny_, bzs, &nz_);
+    uint8_t u = c->rowcls[bys[0] + nby * bzs[0]];
+    for (int a = 0; a < ny_; a++)
+        for (int b = 0; b < nz_; b++)
+            if (c->rowcls[bys[a] + nby * bzs[b]] != u)
+                return ROW_MIXED;
+    return u;
+}
+
 static void eval_layer(slab *s, const ctx *c, work *w, size_t k, layer *L, int count)
 {
     size_t nx = c->n[0], nx1 = nx + 1, ny1 = c->n[1] + 1;
@@ -367,6 +408,19 @@ static void eval_layer(slab *s, const ctx *c, work *w, size_t k, layer *L, int c
     else
         L->v = L->buf;
     for (size_t j = 0; j < ny1; j++) {
+        uint8_t u = c->blk ? uniform_row(c, j, k) : ROW_MIXED;
+        if (u != ROW_MIXED) {
+            /* as sparse_row makes it, without a sign change */
+            memset(L->s + j * nx1, u == BLK_OUT ? 1 : 0, nx1);
+            if (c->caps && L->buf == L->v) {
+                double fill = u == BLK_OUT ? HUGE_VAL : -HUGE_VAL, *vr = L->buf + j * nx1;
+                for (size_t i = 0; i < nx1; i++)
+                    vr[i] = fill;
+            }
+            L->rlo[j] = (uint32_t)nx;
+            L->rhi[j] = 0;
+            continue;
+        }
         if (c->blk)
             sparse_row(s, c, w, k, L, j, &niso, &nnan);
         else
@@ -823,6 +877,14 @@ static void run_slab(const ctx *c, slab *s, work *wp)
     if (wp->base > UINT32_MAX / 2)
         work_clear_slots(c, wp);
     work *w = wp;
+    if (w->hint_nv &&
+        (!grow(c->alloc, (void **)&s->xyz, &s->capv, w->hint_nv, 3 * sizeof(double)) ||
+         (c->normals &&
+          !grow(c->alloc, (void **)&s->nrm, &s->capn, w->hint_nv, 3 * sizeof(double))) ||
+         !grow(c->alloc, (void **)&s->tri, &s->captri, w->hint_tri, 3 * sizeof(uint32_t)))) {
+        s->status = GEOM_ERR_NOMEM;
+        return;
+    }
     w->lb = &w->L[0];
     w->lt = &w->L[1];
     eval_layer(s, c, w, s->k0, w->lb, 1);
@@ -852,6 +914,28 @@ static void run_slab(const ctx *c, slab *s, work *wp)
                     e3 = lt->s[q1 + nx];
             if (e0 != e1 || e0 != e2 || e0 != e3)
                 R = nx;
+            if (j + 1 < ny) {
+                /* the next cell row's first and last active cells: their
+                 * vertex id slots (lines first touched there) */
+                size_t jn = j + 1;
+                uint32_t Ln = lb->rlo[jn], Rn = lb->rhi[jn];
+                const uint32_t lo2[3] = {lb->rlo[jn + 1], lt->rlo[jn], lt->rlo[jn + 1]};
+                const uint32_t hi2[3] = {lb->rhi[jn + 1], lt->rhi[jn], lt->rhi[jn + 1]};
+                for (int q = 0; q < 3; q++) {
+                    Ln = lo2[q] < Ln ? lo2[q] : Ln;
+                    Rn = hi2[q] > Rn ? hi2[q] : Rn;
+                }
+                if (Ln < Rn) {
+                    const size_t at[2] = {Ln, Rn - 1};
+                    for (int q = 0; q < 2; q++) {
+                        ISO_PREFETCH(&lb->xv[(jn + 1) * nx + at[q]]);
+                        ISO_PREFETCH(&lt->xv[(jn + 1) * nx + at[q]]);
+                        ISO_PREFETCH(&lb->yv[jn * nx1 + at[q]]);
+                        ISO_PREFETCH(&lt->yv[jn * nx1 + at[q]]);
+                        ISO_PREFETCH(&w->zv[(jn + 1) * nx1 + at[q]]);
+                    }
+                }
+            }
             if (c->caps && (zcap || j == 0 || j + 1 == ny)) {
                 for (size_t i = 0; i < nx; i++)
                     visit_cell(s, c, w, i, j, 1);
@@ -895,6 +979,8 @@ static void run_slab(const ctx *c, slab *s, work *wp)
     }
     /* next slab on this thread: ids above every slot written so far */
     w->base += (uint32_t)s->nv + 1;
+    w->hint_nv = s->nv + s->nv / 8;
+    w->hint_tri = s->ntri + s->ntri / 8;
 }
 
 /* ------------------------------------------------------------ driver */
@@ -1010,6 +1096,208 @@ static void classify_blocks(const ctx *c, uint8_t *blk, const size_t b0[3], cons
     }
 }
 
+/* Six times the signed volume of the tetrahedron (origin, a, b, c). */
+static inline double tri_volume6(const double *a, const double *b, const double *c)
+{
+    return a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2]) +
+           a[2] * (b[0] * c[1] - b[1] * c[0]);
+}
+
+/* The error sampling rule: every s-th vertex and surface triangle, the
+ * smallest s keeping the points within the budget. */
+static size_t error_stride(const geom_iso_options *opt, size_t nv, size_t nst)
+{
+    size_t budget = opt && opt->error_samples ? opt->error_samples : 65536;
+    if (budget < 5)
+        budget = 5; /* one vertex and one triangle's 4 samples */
+    size_t stride = 1;
+    if (budget != SIZE_MAX && nv + 4 * nst > budget) {
+        stride = (nv + 4 * nst) / budget;
+        if (stride < 1)
+            stride = 1;
+        while ((nv + stride - 1) / stride + 4 * ((nst + stride - 1) / stride) > budget)
+            stride++;
+    }
+    return stride;
+}
+
+static int error_wanted(const ctx *c, const geom_iso_options *opt)
+{
+    int err = opt ? opt->error : GEOM_ISO_ERROR_AUTO;
+    return err == GEOM_ISO_ERROR_ALWAYS ||
+           (err == GEOM_ISO_ERROR_AUTO && c->field->exact && !c->grid);
+}
+
+static void error_report(geom_iso_report *r, const iso_err_acc *acc)
+{
+    r->vertex_error.max_error = acc->vmax;
+    r->vertex_error.mean_error = acc->vcount ? acc->vsum / (double)acc->vcount : 0;
+    r->vertex_error.method = GEOM_ERROR_SAMPLED;
+    r->sample_error.max_error = acc->smax;
+    r->sample_error.mean_error = acc->scount ? acc->ssum / (double)acc->scount : 0;
+    r->sample_error.method = GEOM_ERROR_SAMPLED;
+    r->unmeasured = acc->unmeasured;
+    r->vertex_error.evaluations += acc->evaluations;
+    r->vertex_error.pieces = acc->vcount;
+    r->sample_error.pieces = acc->scount;
+    r->error.max_error = fmax(acc->vmax, acc->smax);
+    r->error.mean_error = r->sample_error.mean_error;
+    r->error.method = GEOM_ERROR_SAMPLED;
+    r->error.pieces = acc->vcount + acc->scount;
+}
+
+/* Append n doubles to (*p, *len, *cap); 0 when out of memory. */
+static int push_doubles(const geom_allocator *al, double **p, size_t *len, size_t *cap,
+                        const double *x, size_t n)
+{
+    if (n == 0)
+        return 1;
+    if (!grow(al, (void **)p, cap, *len + n, sizeof(double)))
+        return 0;
+    memcpy(*p + *len, x, n * sizeof(double));
+    *len += n;
+    return 1;
+}
+
+/* The stream path's output, after the slabs' renumbering (remap): slab by
+ * slab, its new vertices (those not mapped onto the previous slab's) and
+ * its triangles, renumbered, go to the sink, then the caps. On the way:
+ * the signed volume (the same terms in the same order as signed_volume)
+ * and the error sample points (those the array path measures: the
+ * vertices and surface triangles whose number is a multiple of the
+ * stride), measured at the end. Each slab's arrays are freed once sent. */
+static geom_status stream_slabs(const ctx *c, const geom_iso_options *opt, slab *sl,
+                                size_t nslabs, uint32_t *const *remap, size_t nv, size_t nt,
+                                size_t ncap, int threads, geom_iso_surface *out)
+{
+    const geom_allocator *al = c->alloc;
+    geom_iso_report *r = &out->report;
+    out->n_vertices = nv;
+    out->n_triangles = nt + ncap;
+    out->n_cap_triangles = ncap;
+    int measure = error_wanted(c, opt);
+    size_t stride = measure ? error_stride(opt, nv, nt) : 1;
+    geom_status st = GEOM_OK;
+    uint8_t *mask = NULL; /* with caps: vertices of a surface triangle */
+    if (measure && ncap) {
+        mask = geom__alloc(al, nv ? nv : 1);
+        if (!mask)
+            return GEOM_ERR_NOMEM;
+        memset(mask, 0, nv);
+        for (size_t q = 0; q < nslabs; q++)
+            for (size_t t = 0; t < 3 * sl[q].ntri; t++)
+                mask[remap[q][sl[q].tri[t]]] = 1;
+    }
+    double *cx = NULL, *cn = NULL, *ev = NULL, *et = NULL, *cvol = NULL;
+    uint32_t *ct = NULL, *cap = NULL;
+    size_t capx = 0, capn = 0, capt = 0, nev = 0, capev = 0, net = 0, capet = 0;
+    if (ncap) {
+        cap = geom__alloc(al, 3 * ncap * sizeof(uint32_t));
+        cvol = geom__alloc(al, ncap * sizeof(double));
+        if (!cap || !cvol)
+            st = GEOM_ERR_NOMEM;
+    }
+    double vol = 0.0;
+    size_t vbase = 0, tbase = 0, cbase = 0;
+    for (size_t q = 0; q < nslabs && st == GEOM_OK; q++) {
+        slab *s = &sl[q];
+        const uint32_t *rm = remap[q];
+        if (!grow(al, (void **)&cx, &capx, s->nv, 3 * sizeof(double)) ||
+            (c->normals && !grow(al, (void **)&cn, &capn, s->nv, 3 * sizeof(double))) ||
+            !grow(al, (void **)&ct, &capt, s->ntri, 3 * sizeof(uint32_t))) {
+            st = GEOM_ERR_NOMEM;
+            break;
+        }
+        size_t nnew = 0;
+        for (size_t v = 0; v < s->nv; v++) {
+            if (rm[v] < vbase)
+                continue; /* a copy of the previous slab's vertex */
+            memcpy(cx + 3 * nnew, s->xyz + 3 * v, 3 * sizeof(double));
+            if (c->normals)
+                memcpy(cn + 3 * nnew, s->nrm + 3 * v, 3 * sizeof(double));
+            size_t g = vbase + nnew;
+            if (measure && g % stride == 0 && (!mask || mask[g]) &&
+                !push_doubles(al, &ev, &nev, &capev, s->xyz + 3 * v, 3))
+                st = GEOM_ERR_NOMEM;
+            nnew++;
+        }
+        for (size_t t = 0; t < s->ntri; t++) {
+            const uint32_t *lt = s->tri + 3 * t;
+            const double *a = s->xyz + 3 * (size_t)lt[0], *b = s->xyz + 3 * (size_t)lt[1],
+                         *d = s->xyz + 3 * (size_t)lt[2];
+            vol += tri_volume6(a, b, d);
+            ct[3 * t] = rm[lt[0]];
+            ct[3 * t + 1] = rm[lt[1]];
+            ct[3 * t + 2] = rm[lt[2]];
+            if (measure && (tbase + t) % stride == 0) {
+                double p9[9];
+                memcpy(p9, a, 3 * sizeof(double));
+                memcpy(p9 + 3, b, 3 * sizeof(double));
+                memcpy(p9 + 6, d, 3 * sizeof(double));
+                if (!push_doubles(al, &et, &net, &capet, p9, 9))
+                    st = GEOM_ERR_NOMEM;
+            }
+        }
+        for (size_t t = 0; t < s->ncap && st == GEOM_OK; t++) {
+            const uint32_t *lt = s->cap + 3 * t;
+            cvol[cbase + t] = tri_volume6(s->xyz + 3 * (size_t)lt[0], s->xyz + 3 * (size_t)lt[1],
+                                          s->xyz + 3 * (size_t)lt[2]);
+            for (int k = 0; k < 3; k++)
+                cap[3 * (cbase + t) + (size_t)k] = rm[lt[k]];
+        }
+        if (st == GEOM_OK && (nnew || s->ntri)) {
+            geom_iso_chunk ch = {vbase, nnew, cx, c->normals ? cn : NULL, s->ntri, ct, 0};
+            st = c->sink(c->sink_user, &ch);
+        }
+        vbase += nnew;
+        tbase += s->ntri;
+        cbase += s->ncap;
+        slab_free(al, s);
+    }
+    if (st == GEOM_OK && ncap) {
+        for (size_t t = 0; t < ncap; t++)
+            vol += cvol[t];
+        /* normals given (with no vertices) when there are: the faces
+         * then name theirs */
+        geom_iso_chunk ch = {nv, 0, NULL, c->normals ? cn : NULL, ncap, cap, 1};
+        st = c->sink(c->sink_user, &ch);
+    }
+    r->signed_volume = vol / 6.0;
+    geom__free(al, cx, capx * 3 * sizeof(double));
+    geom__free(al, cn, capn * 3 * sizeof(double));
+    geom__free(al, ct, capt * 3 * sizeof(uint32_t));
+    geom__free(al, cap, 3 * ncap * sizeof(uint32_t));
+    geom__free(al, cvol, ncap * sizeof(double));
+    geom__free(al, mask, nv ? nv : 1);
+    if (st == GEOM_OK && measure) {
+        /* the sample points gathered: vertices, then triangle corners */
+        double te = now_seconds();
+        size_t nvs = nev / 3, nts = net / 9, npts = nvs + 3 * nts;
+        uint8_t *vm = geom__alloc(al, npts ? npts : 1);
+        uint32_t *ti = geom__alloc(al, (nts ? 3 * nts : 1) * sizeof(uint32_t));
+        if (!vm || !ti || !push_doubles(al, &ev, &nev, &capev, et, net))
+            st = GEOM_ERR_NOMEM;
+        else {
+            memset(vm, 1, nvs);
+            memset(vm + nvs, 0, 3 * nts);
+            for (size_t q = 0; q < 3 * nts; q++)
+                ti[q] = (uint32_t)(nvs + q);
+            iso_err_acc acc;
+            st = geom__iso_measure(c->field, c->iso, npts, ev, vm, nts, ti, 1, c->dstep, threads,
+                                   al, &acc);
+            if (st == GEOM_OK)
+                error_report(r, &acc);
+        }
+        geom__free(al, vm, npts ? npts : 1);
+        geom__free(al, ti, (nts ? 3 * nts : 1) * sizeof(uint32_t));
+        r->error_stride = stride;
+        r->error_seconds = now_seconds() - te;
+    }
+    geom__free(al, ev, capev * sizeof(double));
+    geom__free(al, et, capet * sizeof(double));
+    return st;
+}
+
 static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_surface *out,
                            double t_start, geom_diag *diag)
 {
@@ -1020,7 +1308,7 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
     const geom_allocator *al = c.alloc;
     size_t nz = c.n[2];
     /* the sparse path: classify the blocks first */
-    uint8_t *blk = NULL;
+    uint8_t *blk = NULL, *rowcls = NULL;
     size_t nblk = 0, nskipped = 0, cells_eval = c.n[0] * c.n[1] * c.n[2];
     if (!(opt && opt->dense) && (c.grid || c.field->bounds)) {
         size_t B = opt && opt->block_size ? opt->block_size : 8;
@@ -1036,6 +1324,21 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
         size_t b0[3] = {0, 0, 0};
         classify_blocks(&c, blk, b0, c.nb);
         c.blk = blk;
+        rowcls = geom__alloc(al, c.nb[1] * c.nb[2]);
+        if (!rowcls) {
+            geom__free(al, blk, nblk);
+            return geom__diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "geom_iso: out of memory");
+        }
+        for (size_t bz = 0; bz < c.nb[2]; bz++)
+            for (size_t by = 0; by < c.nb[1]; by++) {
+                const uint8_t *row = blk + c.nb[0] * (by + c.nb[1] * bz);
+                uint8_t u = row[0] == BLK_SAMPLE ? (uint8_t)ROW_MIXED : row[0];
+                for (size_t bx = 1; bx < c.nb[0] && u != ROW_MIXED; bx++)
+                    if (row[bx] != u)
+                        u = ROW_MIXED;
+                rowcls[by + c.nb[1] * bz] = u;
+            }
+        c.rowcls = rowcls;
         cells_eval = 0;
         for (size_t bz = 0; bz < c.nb[2]; bz++)
             for (size_t by = 0; by < c.nb[1]; by++)
@@ -1061,6 +1364,7 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
     slab *sl = geom__alloc(al, nslabs * sizeof(slab));
     if (!sl) {
         geom__free(al, blk, nblk ? nblk : 1);
+        geom__free(al, rowcls, c.nb[1] * c.nb[2]);
         return geom__diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "geom_iso: out of memory");
     }
     memset(sl, 0, nslabs * sizeof(slab));
@@ -1169,7 +1473,9 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
         nt += s->ntri;
         ncap += s->ncap;
     }
-    if (st == GEOM_OK) {
+    if (st == GEOM_OK && c.sink)
+        st = stream_slabs(&c, opt, sl, nslabs, remap, nv, nt, ncap, threads, out);
+    else if (st == GEOM_OK) {
         size_t tb;
         if (geom__size_mul(nt + ncap, 3 * sizeof(uint32_t), &tb) != GEOM_OK ||
             nv > SIZE_MAX / (3 * sizeof(double)))
@@ -1184,7 +1490,7 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
                 st = GEOM_ERR_NOMEM;
         }
     }
-    if (st == GEOM_OK) {
+    if (st == GEOM_OK && !c.sink) {
         size_t to = 0;
         for (size_t q = 0; q < nslabs; q++) {
             slab *s = &sl[q];
@@ -1238,13 +1544,12 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
     r->blocks = nblk;
     r->blocks_skipped = nskipped;
     geom__free(al, blk, nblk ? nblk : 1);
-    c.blk = blk = NULL;
+    geom__free(al, rowcls, c.nb[1] * c.nb[2]);
+    c.blk = blk = rowcls = NULL;
+    c.rowcls = NULL;
 
     if (st == GEOM_OK) {
-        int err = opt ? opt->error : GEOM_ISO_ERROR_AUTO;
-        int measure = err == GEOM_ISO_ERROR_ALWAYS ||
-                      (err == GEOM_ISO_ERROR_AUTO && c.field->exact && !c.grid);
-        if (measure) {
+        if (!c.sink && error_wanted(&c, opt)) {
             double te = now_seconds();
             iso_err_acc acc;
             size_t nst = out->n_triangles - out->n_cap_triangles;
@@ -1260,41 +1565,14 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
                         mask[out->tris[q]] = 1;
                 }
             }
-            /* the sampling rule: every s-th vertex and surface triangle,
-             * the smallest s keeping the points within the budget */
-            size_t budget = opt && opt->error_samples ? opt->error_samples : 65536;
-            if (budget < 5)
-                budget = 5; /* one vertex and one triangle's 4 samples */
-            size_t stride = 1;
-            if (budget != SIZE_MAX && out->n_vertices + 4 * nst > budget) {
-                stride = (out->n_vertices + 4 * nst) / budget;
-                if (stride < 1)
-                    stride = 1;
-                while ((out->n_vertices + stride - 1) / stride + 4 * ((nst + stride - 1) / stride) >
-                       budget)
-                    stride++;
-            }
+            size_t stride = error_stride(opt, out->n_vertices, nst);
             r->error_stride = stride;
             if (st == GEOM_OK)
                 st = geom__iso_measure(c.field, c.iso, out->n_vertices, out->xyz, mask, nst,
                                        out->tris, stride, c.dstep, threads, al, &acc);
             geom__free(al, mask, out->n_vertices ? out->n_vertices : 1);
-            if (st == GEOM_OK) {
-                r->vertex_error.max_error = acc.vmax;
-                r->vertex_error.mean_error = acc.vcount ? acc.vsum / (double)acc.vcount : 0;
-                r->vertex_error.method = GEOM_ERROR_SAMPLED;
-                r->sample_error.max_error = acc.smax;
-                r->sample_error.mean_error = acc.scount ? acc.ssum / (double)acc.scount : 0;
-                r->sample_error.method = GEOM_ERROR_SAMPLED;
-                r->unmeasured = acc.unmeasured;
-                r->vertex_error.evaluations += acc.evaluations;
-                r->vertex_error.pieces = acc.vcount;
-                r->sample_error.pieces = acc.scount;
-                r->error.max_error = fmax(acc.vmax, acc.smax);
-                r->error.mean_error = r->sample_error.mean_error;
-                r->error.method = GEOM_ERROR_SAMPLED;
-                r->error.pieces = acc.vcount + acc.scount;
-            }
+            if (st == GEOM_OK)
+                error_report(r, &acc);
             r->error_seconds = now_seconds() - te;
         }
         r->sample_error.evaluations = r->vertex_error.evaluations;
@@ -1319,7 +1597,8 @@ static void init_out(geom_iso_surface *out, const geom_iso_options *opt)
 
 static geom_status extract_field(const geom_iso_field *field, const double bounds[6],
                                  const size_t res[3], const geom_iso_options *opt,
-                                 geom_iso_surface *out, geom_diag *diag)
+                                 geom_iso_chunk_fn sink, void *sink_user, geom_iso_surface *out,
+                                 geom_diag *diag)
 {
     double t0 = now_seconds();
     if (!out)
@@ -1372,6 +1651,8 @@ static geom_status extract_field(const geom_iso_field *field, const double bound
         memset(&c, 0, sizeof c);
         c.field = field;
         c.grid = NULL;
+        c.sink = sink;
+        c.sink_user = sink_user;
         for (int a = 0; a < 3; a++) {
             c.n[a] = res[a];
             c.coord[a] = coord[a];
@@ -1517,19 +1798,19 @@ static int neg_bounds(void *u, const double lo[3], const double hi[3], double ou
 static void signed_volume(geom_iso_surface *out)
 {
     double v = 0.0;
-    for (size_t t = 0; t < out->n_triangles; t++) {
-        const double *a = out->xyz + 3 * (size_t)out->tris[3 * t];
-        const double *b = out->xyz + 3 * (size_t)out->tris[3 * t + 1];
-        const double *c = out->xyz + 3 * (size_t)out->tris[3 * t + 2];
-        v += a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2]) +
-             a[2] * (b[0] * c[1] - b[1] * c[0]);
-    }
+    for (size_t t = 0; t < out->n_triangles; t++)
+        v += tri_volume6(out->xyz + 3 * (size_t)out->tris[3 * t],
+                         out->xyz + 3 * (size_t)out->tris[3 * t + 1],
+                         out->xyz + 3 * (size_t)out->tris[3 * t + 2]);
     out->report.signed_volume = v / 6.0;
 }
 
-geom_status geom_iso_extract(const geom_iso_field *field, const double bounds[6],
-                             const size_t res[3], const geom_iso_options *opt,
-                             geom_iso_surface *out, geom_diag *diag)
+/* geom_iso_extract, to arrays (sink NULL) or to sink (the stream path,
+ * which sums the signed volume itself). */
+static geom_status extract_top(const geom_iso_field *field, const double bounds[6],
+                               const size_t res[3], const geom_iso_options *opt,
+                               geom_iso_chunk_fn sink, void *sink_user, geom_iso_surface *out,
+                               geom_diag *diag)
 {
     geom_status st;
     if (opt && opt->inside == GEOM_ISO_INSIDE_ABOVE && field && field->value) {
@@ -1544,17 +1825,38 @@ geom_status geom_iso_extract(const geom_iso_field *field, const double bounds[6]
         neg.exact = field->exact;
         geom_iso_options o = *opt;
         o.iso = -opt->iso;
-        st = extract_field(&neg, bounds, res, &o, out, diag);
+        st = extract_field(&neg, bounds, res, &o, sink, sink_user, out, diag);
     } else if (opt && opt->inside != GEOM_ISO_INSIDE_BELOW && opt->inside != GEOM_ISO_INSIDE_ABOVE) {
         if (out)
             memset(out, 0, sizeof *out);
         return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
                              "geom_iso_extract: inside must be GEOM_ISO_INSIDE_BELOW or _ABOVE");
     } else
-        st = extract_field(field, bounds, res, opt, out, diag);
-    if (st == GEOM_OK)
+        st = extract_field(field, bounds, res, opt, sink, sink_user, out, diag);
+    if (st == GEOM_OK && !sink)
         signed_volume(out);
     return st;
+}
+
+geom_status geom_iso_extract(const geom_iso_field *field, const double bounds[6],
+                             const size_t res[3], const geom_iso_options *opt,
+                             geom_iso_surface *out, geom_diag *diag)
+{
+    return extract_top(field, bounds, res, opt, NULL, NULL, out, diag);
+}
+
+geom_status geom_iso_extract_stream(const geom_iso_field *field, const double bounds[6],
+                                    const size_t res[3], const geom_iso_options *opt,
+                                    geom_iso_chunk_fn fn, void *user, geom_iso_surface *out,
+                                    geom_diag *diag)
+{
+    if (!fn) {
+        if (out)
+            memset(out, 0, sizeof *out);
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, "", 0, 0,
+                              "geom_iso_extract_stream: NULL chunk function");
+    }
+    return extract_top(field, bounds, res, opt, fn, user, out, diag);
 }
 
 geom_status geom_iso_extract_grid(const geom_iso_grid *grid, const geom_iso_options *opt,

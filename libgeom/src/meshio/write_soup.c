@@ -12,27 +12,54 @@
 
 #include <stdio.h>
 
-static geom_status check_soup(const geom_meshio_soup *s, const geom_meshio_write_options *o,
-                              geom_diag *diag, const char *path)
+/* first: the file's (0-based) number of the soup's first vertex; face
+ * indices are file numbers. */
+static geom_status check_soup(const geom_meshio_soup *s, size_t first,
+                              const geom_meshio_write_options *o, geom_diag *diag,
+                              const char *path)
 {
     if (!s)
         return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0, "NULL soup");
     if ((s->n_vertices && !s->xyz) || (s->n_faces && !s->indices))
         return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0, "NULL soup arrays");
-    if (s->n_vertices >= (size_t)UINT32_MAX)
+    if (s->n_vertices >= (size_t)UINT32_MAX || first >= (size_t)UINT32_MAX - s->n_vertices)
         return geom__diag_set(diag, GEOM_ERR_LIMIT, path, 0, 0, "too many vertices");
     if (o->format != GEOM_MESHIO_FORMAT_OBJ)
         return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0,
                              "a soup is written as OBJ only (build a mesh for other formats)");
+    /* every face before the first byte: a bad face found while writing
+     * would leave a partial file on the caller's stream */
+    const uint32_t *ix = s->indices;
+    size_t nv = first + s->n_vertices, c = 0;
+    for (size_t f = 0; f < s->n_faces; f++) {
+        size_t n = s->face_sizes ? s->face_sizes[f] : 3;
+        if (n < 3)
+            return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0,
+                                 "face %zu has %zu vertices", f, n);
+        for (size_t q = 0; q < n; q++)
+            if ((size_t)ix[c + q] >= nv)
+                return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0,
+                                     "face %zu: vertex index %u out of range (%zu vertices)", f,
+                                     (unsigned)ix[c + q], nv);
+        c += n;
+    }
     return GEOM_OK;
 }
 
-static void write_soup_obj(const geom_meshio_soup *s, const geom_meshio_write_options *o,
-                           mio_sink *k)
+typedef struct soup_part {
+    const geom_meshio_soup *s;
+    size_t first; /* file number of s's first vertex (0-based) */
+    int header;
+} soup_part;
+
+static void write_soup_obj(const soup_part *sp, const geom_meshio_write_options *o, mio_sink *k)
 {
-    geom__meshio_puts(k, "# written by libgeom ");
-    geom__meshio_puts(k, geom_version_string());
-    mio_putc(k, '\n');
+    const geom_meshio_soup *s = sp->s;
+    if (sp->header) {
+        geom__meshio_puts(k, "# written by libgeom ");
+        geom__meshio_puts(k, geom_version_string());
+        mio_putc(k, '\n');
+    }
     size_t nv = s->n_vertices;
     const double *nrm = (o->omit & GEOM_MESHIO_ATTR_NORMAL) ? NULL : s->normals;
     for (int pass = 0; pass < 2; pass++) {
@@ -51,25 +78,15 @@ static void write_soup_obj(const geom_meshio_soup *s, const geom_meshio_write_op
     const uint32_t *ix = s->indices;
     size_t c = 0;
     for (size_t f = 0; f < s->n_faces && k->status == GEOM_OK; f++) {
-        size_t n = s->face_sizes ? s->face_sizes[f] : 3;
-        if (n < 3) {
-            geom__meshio_sink_fail(k, GEOM_ERR_INVALID_ARG, "face %zu has %zu vertices", f, n);
-            return;
-        }
+        size_t n = s->face_sizes ? s->face_sizes[f] : 3; /* checked by check_soup */
         mio_putc(k, 'f');
         for (size_t q = 0; q < n; q++) {
-            uint32_t v = ix[c + q];
-            if ((size_t)v >= nv) {
-                geom__meshio_sink_fail(k, GEOM_ERR_INVALID_ARG,
-                                       "face %zu: vertex index %u out of range (%zu vertices)", f,
-                                       (unsigned)v, nv);
-                return;
-            }
+            uint64_t v = (uint64_t)ix[c + q] + 1;
             mio_putc(k, ' ');
-            geom__meshio_put_u64(k, (uint64_t)v + 1);
+            geom__meshio_put_u64(k, v);
             if (nrm) {
                 geom__meshio_puts(k, "//");
-                geom__meshio_put_u64(k, (uint64_t)v + 1);
+                geom__meshio_put_u64(k, v);
             }
         }
         mio_putc(k, '\n');
@@ -91,19 +108,27 @@ static void soup_options(const geom_meshio_write_options *opt, geom_meshio_write
         memset(o, 0, sizeof *o);
 }
 
-geom_status geom_meshio_write_soup_stream(const geom_meshio_soup *s,
-                                          const geom_meshio_write_options *opt,
-                                          geom_meshio_write_fn fn, void *user, geom_diag *diag)
+geom_status geom_meshio_write_soup_part(const geom_meshio_soup *s, size_t first_vertex,
+                                        int header, const geom_meshio_write_options *opt,
+                                        geom_meshio_write_fn fn, void *user, geom_diag *diag)
 {
     geom_diag_clear(diag);
     if (!fn)
         return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "NULL write function");
     geom_meshio_write_options o;
     soup_options(opt, &o);
-    geom_status st = check_soup(s, &o, diag, NULL);
+    geom_status st = check_soup(s, first_vertex, &o, diag, NULL);
     if (st != GEOM_OK)
         return st;
-    return geom__meshio_write_body_stream(soup_body, s, &o, fn, user, diag);
+    soup_part sp = {s, first_vertex, header};
+    return geom__meshio_write_body_stream(soup_body, &sp, &o, fn, user, diag);
+}
+
+geom_status geom_meshio_write_soup_stream(const geom_meshio_soup *s,
+                                          const geom_meshio_write_options *opt,
+                                          geom_meshio_write_fn fn, void *user, geom_diag *diag)
+{
+    return geom_meshio_write_soup_part(s, 0, 1, opt, fn, user, diag);
 }
 
 geom_status geom_meshio_write_soup(const geom_meshio_soup *s, const char *path,
@@ -116,8 +141,9 @@ geom_status geom_meshio_write_soup(const geom_meshio_soup *s, const char *path,
     soup_options(opt, &o);
     if (!o.format)
         o.format = geom_meshio_format_from_name(path);
-    geom_status st = check_soup(s, &o, diag, path);
+    geom_status st = check_soup(s, 0, &o, diag, path);
     if (st != GEOM_OK)
         return st;
-    return geom__meshio_write_body_path(soup_body, s, &o, path, diag);
+    soup_part sp = {s, 0, 1};
+    return geom__meshio_write_body_path(soup_body, &sp, &o, path, diag);
 }
