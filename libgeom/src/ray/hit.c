@@ -22,15 +22,14 @@ void geom__rhits_free(geom__rhits *l)
 geom_ray_hit *geom__rhits_push_raw(geom__rhits *l)
 {
     if (l->n == l->cap) {
-        size_t nc = l->cap * 2;
-        geom_ray_hit *nh;
-        if (nc > ((size_t)-1) / sizeof *nh) { l->failed = 1; return NULL; }
-        nh = geom__alloc(l->alloc, nc * sizeof *nh);
-        if (!nh) { l->failed = 1; return NULL; }
-        memcpy(nh, l->h, l->n * sizeof *nh);
-        if (l->heap) geom__free(l->alloc, l->h, l->cap * sizeof *l->h);
+        /* The inline buffer is not the allocator's: the first growth starts
+         * a heap array and copies it over. */
+        geom_ray_hit *nh = l->heap ? l->h : NULL;
+        size_t cap = l->heap ? l->cap : 0;
+        if (geom__grow(l->alloc, (void **)&nh, &cap, l->n + 1, sizeof *nh) != GEOM_OK) { l->failed = 1; return NULL; }
+        if (!l->heap) memcpy(nh, l->h, l->n * sizeof *nh);
         l->h = nh;
-        l->cap = nc;
+        l->cap = cap;
         l->heap = 1;
     }
     return &l->h[l->n++];

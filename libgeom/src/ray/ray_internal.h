@@ -19,6 +19,59 @@ static inline double geom__gamma(int n)
     return (n * e) / (1.0 - n * e);
 }
 
+/* A ray's slab-test state computed once per query (Ize, "Robust BVH Ray
+ * Traversal", JCGT 2013): the reciprocal direction, used by every box test of
+ * the scene-level traversal instead of a division per slab. A slab distance
+ * fl(fl(L - o) * fl(1/d)) is within gamma(3) relative of the exact (L - o)/d;
+ * the largest near and smallest far distance are each one of them, so
+ * widening both by 2 gamma(3) |t| (as geom_ray_aabb does) keeps the test
+ * conservative. A zero component has an infinite reciprocal: the distances
+ * are then +-inf (origin outside the slab: the right answer) or NaN (origin
+ * on a slab plane), which the comparisons ignore (the ray is in the slab).
+ * ok == 0 (a reciprocal beyond 2^1000, or a NaN-free test impossible) sends
+ * every box to geom_ray_aabb; ok == -1: not computed yet (geom__rslab_hit
+ * computes it at the first box, so a ray that needs none costs no division). */
+typedef struct geom__rslab {
+    double o[3], inv[3];
+    int neg[3];
+    int ok;
+} geom__rslab;
+
+static inline void geom__rslab_init(geom__rslab *s, const geom_ray *r)
+{
+    const double d[3] = {r->dir.x, r->dir.y, r->dir.z};
+    int k;
+    s->o[0] = r->origin.x; s->o[1] = r->origin.y; s->o[2] = r->origin.z;
+    s->ok = 1;
+    for (k = 0; k < 3; k++) {
+        s->neg[k] = signbit(d[k]) != 0;
+        s->inv[k] = d[k] != 0 ? 1.0 / d[k] : (s->neg[k] ? -INFINITY : INFINITY);
+        if (d[k] != 0 && !(fabs(s->inv[k]) <= 0x1p1000)) s->ok = 0;
+    }
+}
+
+/* Whether the ray r (whose state s is, or ok == -1) meets the finite box b
+ * within [r->tmin, r->tmax]: the answer of geom_ray_aabb(r, b, NULL, NULL)
+ * but for the last rounding of a slab distance (both are conservative). */
+static inline int geom__rslab_hit(geom__rslab *s, const geom_ray *r, const geom_aabb *b)
+{
+    const double *lo = &b->min.x, *hi = &b->max.x;
+    const double w = 2 * geom__gamma(3);
+    double tn = -INFINITY, tf = INFINITY;
+    int k;
+    if (s->ok < 0) geom__rslab_init(s, r);
+    if (!s->ok) return geom_ray_aabb(r, *b, NULL, NULL);
+    for (k = 0; k < 3; k++) {
+        double a = ((s->neg[k] ? hi[k] : lo[k]) - s->o[k]) * s->inv[k];
+        double c = ((s->neg[k] ? lo[k] : hi[k]) - s->o[k]) * s->inv[k];
+        tn = a > tn ? a : tn; /* NaN ignored */
+        tf = c < tf ? c : tf;
+    }
+    tn -= fabs(tn) * w; /* +-inf - inf: NaN, a miss below (the exact distance is infinite) */
+    tf += fabs(tf) * w;
+    return tn <= tf && tf >= r->tmin && tn <= r->tmax;
+}
+
 /* A growable list of hits with a small inline buffer: no allocation for
  * the common closest/any queries. Never copied by value. */
 typedef struct geom__rhits {
