@@ -1003,7 +1003,13 @@ static int visit(const geom_ray_scene *s, uint32_t i, geom_ray *q, geom__rslab *
     const geom__ray_node *nd = &s->nodes[s->roots[i]];
     size_t start = out->n, j;
     if (nd->bounded && !geom__rslab_hit(sl, q, &nd->box)) return 0;
-    *st = geom__ray_node_query(s, s->roots[i], q, mode, out);
+    if ((nd->kind == GEOM_RAY_MESH || nd->kind == GEOM_RAY_SUBDIV) && !nd->has_xf) {
+        /* geom__ray_node_query's mesh case, with the ray's reciprocal */
+        *st = geom__ray_mesh_sl(nd->mesh, q, sl, mode, out);
+        if (*st == GEOM_OK && out->failed) *st = GEOM_ERR_NOMEM;
+    } else {
+        *st = geom__ray_node_query(s, s->roots[i], q, mode, out);
+    }
     if (*st != GEOM_OK) return 1;
     for (j = start; j < out->n; j++) out->h[j].object = i;
     if (mode == GEOM__RAY_ANY && out->n > 0) return 1;
@@ -1026,7 +1032,7 @@ static geom_status run(const geom_ray_scene *s, const geom_ray *r, int mode, geo
     size_t i;
     geom_status st = GEOM_OK;
     if (!s->built) return GEOM_ERR_INVALID_ARG;
-    if ((st = geom_ray_check(r)) != GEOM_OK) return st;
+    if (!geom__ray_valid(r)) return GEOM_ERR_INVALID_ARG;
     if (!(r->tmin <= r->tmax)) return GEOM_OK;
     sl.ok = -1; /* computed at the first box test */
     for (i = 0; i < s->nunbounded; i++)
