@@ -22,15 +22,14 @@ void geom__rhits_free(geom__rhits *l)
 geom_ray_hit *geom__rhits_push_raw(geom__rhits *l)
 {
     if (l->n == l->cap) {
-        size_t nc = l->cap * 2;
-        geom_ray_hit *nh;
-        if (nc > ((size_t)-1) / sizeof *nh) { l->failed = 1; return NULL; }
-        nh = geom__alloc(l->alloc, nc * sizeof *nh);
-        if (!nh) { l->failed = 1; return NULL; }
-        memcpy(nh, l->h, l->n * sizeof *nh);
-        if (l->heap) geom__free(l->alloc, l->h, l->cap * sizeof *l->h);
+        /* The inline buffer is not the allocator's: the first growth starts
+         * a heap array and copies it over. */
+        geom_ray_hit *nh = l->heap ? l->h : NULL;
+        size_t cap = l->heap ? l->cap : 0;
+        if (geom__grow(l->alloc, (void **)&nh, &cap, l->n + 1, sizeof *nh) != GEOM_OK) { l->failed = 1; return NULL; }
+        if (!l->heap) memcpy(nh, l->h, l->n * sizeof *nh);
         l->h = nh;
-        l->cap = nc;
+        l->cap = cap;
         l->heap = 1;
     }
     return &l->h[l->n++];
@@ -59,16 +58,22 @@ void geom__rhits_sort(geom__rhits *l, size_t from)
     if (l->n > from + 1) qsort(l->h + from, l->n - from, sizeof *l->h, hit_cmp);
 }
 
+void geom__rslab_init(geom__rslab *s, const geom_ray *r)
+{
+    const double d[3] = {r->dir.x, r->dir.y, r->dir.z};
+    int k;
+    s->o[0] = r->origin.x; s->o[1] = r->origin.y; s->o[2] = r->origin.z;
+    s->ok = 1;
+    for (k = 0; k < 3; k++) {
+        s->neg[k] = signbit(d[k]) != 0;
+        s->inv[k] = d[k] != 0 ? 1.0 / d[k] : (s->neg[k] ? -INFINITY : INFINITY);
+        if (d[k] != 0 && !(fabs(s->inv[k]) <= 0x1p1000)) s->ok = 0;
+    }
+}
+
 geom_status geom_ray_check(const geom_ray *r)
 {
-    if (!r) return GEOM_ERR_INVALID_ARG;
-    if (!isfinite(r->origin.x) || !isfinite(r->origin.y) || !isfinite(r->origin.z))
-        return GEOM_ERR_INVALID_ARG;
-    if (!isfinite(r->dir.x) || !isfinite(r->dir.y) || !isfinite(r->dir.z))
-        return GEOM_ERR_INVALID_ARG;
-    if (r->dir.x == 0 && r->dir.y == 0 && r->dir.z == 0) return GEOM_ERR_INVALID_ARG;
-    if (isnan(r->tmin) || isnan(r->tmax)) return GEOM_ERR_INVALID_ARG;
-    return GEOM_OK;
+    return r && geom__ray_valid(r) ? GEOM_OK : GEOM_ERR_INVALID_ARG;
 }
 
 geom_vec3 geom__perr_ray(const geom_ray *r, double t)

@@ -541,7 +541,8 @@ static inline int w4d_node(const geom__rnode4 *q, const double o[3], const doubl
     return mask;
 }
 
-static geom_status trace_wide(const geom__tmesh *m, const geom_ray *r, int mode, geom__rhits *out)
+static geom_status trace_wide(const geom__tmesh *m, const geom_ray *r, const geom__rslab *sl, int mode,
+                              geom__rhits *out)
 {
     const struct geom__rbvh4 *W = m->wide;
     w4entry stack[W4_STACK], cur;
@@ -561,9 +562,16 @@ static geom_status trace_wide(const geom__tmesh *m, const geom_ray *r, int mode,
         /* A zero component gives an infinite reciprocal: the slab distances
          * are then +-inf, or NaN for an origin on the slab plane, which the
          * comparisons below ignore (the ray lies in the slab). */
-        for (k = 0; k < 3; k++) {
-            neg[k] = signbit(d[k]) != 0;
-            inv[k] = d[k] != 0 ? 1.0 / d[k] : (neg[k] ? -INFINITY : INFINITY);
+        if (sl) { /* computed by the caller with the same definition */
+            for (k = 0; k < 3; k++) {
+                neg[k] = sl->neg[k];
+                inv[k] = sl->inv[k];
+            }
+        } else {
+            for (k = 0; k < 3; k++) {
+                neg[k] = signbit(d[k]) != 0;
+                inv[k] = d[k] != 0 ? 1.0 / d[k] : (neg[k] ? -INFINITY : INFINITY);
+            }
         }
         use_f = W4_SSE && w4f_setup(W, o, d, inv, &f);
     }
@@ -661,6 +669,12 @@ done:
 
 geom_status geom__ray_mesh(const geom__tmesh *m, const geom_ray *r, int mode, geom__rhits *out)
 {
+    return geom__ray_mesh_sl(m, r, NULL, mode, out);
+}
+
+geom_status geom__ray_mesh_sl(const geom__tmesh *m, const geom_ray *r, const geom__rslab *sl, int mode,
+                              geom__rhits *out)
+{
     const geom_bvh_node *nodes;
     size_t nn = 0;
     uint32_t stack[256];
@@ -671,7 +685,7 @@ geom_status geom__ray_mesh(const geom__tmesh *m, const geom_ray *r, int mode, ge
     uint32_t best = GEOM_INVALID_INDEX;
     int k;
     if (!m->bvh) return GEOM_OK;
-    if (m->wide) return trace_wide(m, r, mode, out);
+    if (m->wide) return trace_wide(m, r, sl && sl->ok >= 0 ? sl : NULL, mode, out);
     nodes = geom_bvh_nodes(m->bvh, &nn);
     if (nn == 0) return GEOM_OK;
     s.o[0] = r->origin.x; s.o[1] = r->origin.y; s.o[2] = r->origin.z;

@@ -19,6 +19,67 @@ static inline double geom__gamma(int n)
     return (n * e) / (1.0 - n * e);
 }
 
+/* geom_ray_check without the call: finite origin and direction, a nonzero
+ * direction, tmin and tmax not NaN. */
+static inline int geom__ray_valid(const geom_ray *r)
+{
+    return fabs(r->origin.x) <= DBL_MAX && fabs(r->origin.y) <= DBL_MAX && fabs(r->origin.z) <= DBL_MAX &&
+           fabs(r->dir.x) <= DBL_MAX && fabs(r->dir.y) <= DBL_MAX && fabs(r->dir.z) <= DBL_MAX &&
+           (r->dir.x != 0 || r->dir.y != 0 || r->dir.z != 0) && !isnan(r->tmin) && !isnan(r->tmax);
+}
+
+/* A ray's slab-test state computed once per query (Ize, "Robust BVH Ray
+ * Traversal", JCGT 2013): the reciprocal direction, used by every box test of
+ * the scene-level traversal instead of a division per slab. A slab distance
+ * fl(fl(L - o) * fl(1/d)) is within gamma(3) relative of the exact (L - o)/d;
+ * the largest near and smallest far distance are each one of them, so
+ * widening both by 2 gamma(3) |t| (as geom_ray_aabb does) keeps the test
+ * conservative. A zero component has an infinite reciprocal: the distances
+ * are then +-inf (origin outside the slab: the right answer) or NaN (origin
+ * on a slab plane), which the comparisons ignore (the ray is in the slab).
+ * ok == 0 (a reciprocal beyond 2^1000, or a NaN-free test impossible) sends
+ * every box to geom_ray_aabb; ok == -1: not computed yet (geom__rslab_hit
+ * computes it at the first box, so a ray that needs none costs no division). */
+typedef struct geom__rslab {
+    double o[3], inv[3];
+    int neg[3];
+    int ok;
+} geom__rslab;
+
+/* Compute s for r (hit.c): inv[k] = 1/d[k], or +-inf (the sign of d[k]) for
+ * a zero component; neg[k] = the sign bit of d[k]. */
+void geom__rslab_init(geom__rslab *s, const geom_ray *r);
+
+#if defined(__GNUC__) || defined(__clang__)
+#define GEOM__RAY_INLINE static inline __attribute__((always_inline))
+#else
+#define GEOM__RAY_INLINE static inline
+#endif
+
+/* Whether the ray r (whose state s is, or ok == -1) meets the finite box b
+ * within [r->tmin, r->tmax]: the answer of geom_ray_aabb(r, b, NULL, NULL)
+ * but for the last rounding of a slab distance (both are conservative). */
+GEOM__RAY_INLINE int geom__rslab_hit(geom__rslab *s, const geom_ray *r, const geom_aabb *b)
+{
+    const double *lo = &b->min.x, *hi = &b->max.x;
+    const double w = 2 * geom__gamma(3);
+    double tn = -INFINITY, tf = INFINITY;
+    int k;
+    if (s->ok <= 0) {
+        if (s->ok < 0) geom__rslab_init(s, r);
+        if (!s->ok) return geom_ray_aabb(r, *b, NULL, NULL);
+    }
+    for (k = 0; k < 3; k++) {
+        double a = ((s->neg[k] ? hi[k] : lo[k]) - s->o[k]) * s->inv[k];
+        double c = ((s->neg[k] ? lo[k] : hi[k]) - s->o[k]) * s->inv[k];
+        tn = a > tn ? a : tn; /* NaN ignored */
+        tf = c < tf ? c : tf;
+    }
+    tn -= fabs(tn) * w; /* +-inf - inf: NaN, a miss below (the exact distance is infinite) */
+    tf += fabs(tf) * w;
+    return tn <= tf && tf >= r->tmin && tn <= r->tmax;
+}
+
 /* A growable list of hits with a small inline buffer: no allocation for
  * the common closest/any queries. Never copied by value. */
 typedef struct geom__rhits {
@@ -130,6 +191,10 @@ geom_status geom__ray_torus(const geom__ray_node *nd, const geom_ray *r, int mod
 geom_status geom__ray_tri(const geom__ray_node *nd, const geom_ray *r, int mode, geom__rhits *out);
 geom_status geom__ray_polygon(const geom__ray_node *nd, const geom_ray *r, int mode, geom__rhits *out);
 geom_status geom__ray_mesh(const geom__tmesh *m, const geom_ray *r, int mode, geom__rhits *out);
+/* geom__ray_mesh with the ray's slab state (sl->ok >= 0: computed for r) or
+ * NULL: the reciprocal direction is then not computed again. */
+geom_status geom__ray_mesh_sl(const geom__tmesh *m, const geom_ray *r, const geom__rslab *sl, int mode,
+                              geom__rhits *out);
 geom_status geom__ray_surface(const geom__tsurf *sf, const geom_ray *r, int mode, geom__rhits *out);
 geom_status geom__ray_implicit(const geom__ray_node *nd, const geom_ray *r, int mode, geom__rhits *out);
 geom_status geom__ray_volume(const geom__ray_node *nd, const geom_ray *r, int mode, geom__rhits *out);

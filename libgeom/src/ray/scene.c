@@ -64,13 +64,7 @@ static geom__ray_node *node_new(geom_ray_scene *s, geom_ray_kind kind, uint32_t 
     geom__ray_node *nd;
     if (!s) return NULL;
     if (s->n >= 0x7fffffffu) return NULL;
-    if (s->n == s->cap) {
-        size_t nc = s->cap ? 2 * s->cap : 16;
-        geom__ray_node *nn = geom__realloc(s->alloc, s->nodes, s->cap * sizeof *nn, nc * sizeof *nn);
-        if (!nn) return NULL;
-        s->nodes = nn;
-        s->cap = nc;
-    }
+    if (geom__grow(s->alloc, (void **)&s->nodes, &s->cap, s->n + 1, sizeof *s->nodes) != GEOM_OK) return NULL;
     nd = &s->nodes[s->n];
     memset(nd, 0, sizeof *nd);
     nd->kind = kind;
@@ -605,13 +599,7 @@ uint32_t geom_ray_scene_find(const geom_ray_scene *s, const char *name)
 
 static geom_status roots_reserve(geom_ray_scene *s, size_t n)
 {
-    if (n > s->roots_cap) {
-        uint32_t *nr = geom__realloc(s->alloc, s->roots, s->roots_cap * sizeof *nr, n * sizeof *nr);
-        if (!nr) return GEOM_ERR_NOMEM;
-        s->roots = nr;
-        s->roots_cap = n;
-    }
-    return GEOM_OK;
+    return geom__grow(s->alloc, (void **)&s->roots, &s->roots_cap, n, sizeof *s->roots);
 }
 
 geom_status geom_ray_scene_set_objects(geom_ray_scene *s, const uint32_t *ids, size_t n)
@@ -1009,12 +997,19 @@ static void keep_closest(geom__rhits *l, size_t from)
 
 /* Query top-level object i; 1 = stop (any hit found). Keeps the closest
  * hit in slot 0 in closest mode (ties: the smaller object index). */
-static int visit(const geom_ray_scene *s, uint32_t i, geom_ray *q, int mode, geom__rhits *out, geom_status *st)
+static int visit(const geom_ray_scene *s, uint32_t i, geom_ray *q, geom__rslab *sl, int mode,
+                 geom__rhits *out, geom_status *st)
 {
     const geom__ray_node *nd = &s->nodes[s->roots[i]];
     size_t start = out->n, j;
-    if (nd->bounded && !geom_ray_aabb(q, nd->box, NULL, NULL)) return 0;
-    *st = geom__ray_node_query(s, s->roots[i], q, mode, out);
+    if (nd->bounded && !geom__rslab_hit(sl, q, &nd->box)) return 0;
+    if ((nd->kind == GEOM_RAY_MESH || nd->kind == GEOM_RAY_SUBDIV) && !nd->has_xf) {
+        /* geom__ray_node_query's mesh case, with the ray's reciprocal */
+        *st = geom__ray_mesh_sl(nd->mesh, q, sl, mode, out);
+        if (*st == GEOM_OK && out->failed) *st = GEOM_ERR_NOMEM;
+    } else {
+        *st = geom__ray_node_query(s, s->roots[i], q, mode, out);
+    }
     if (*st != GEOM_OK) return 1;
     for (j = start; j < out->n; j++) out->h[j].object = i;
     if (mode == GEOM__RAY_ANY && out->n > 0) return 1;
@@ -1033,13 +1028,15 @@ static int visit(const geom_ray_scene *s, uint32_t i, geom_ray *q, int mode, geo
 static geom_status run(const geom_ray_scene *s, const geom_ray *r, int mode, geom__rhits *out)
 {
     geom_ray q = *r;
+    geom__rslab sl;
     size_t i;
     geom_status st = GEOM_OK;
     if (!s->built) return GEOM_ERR_INVALID_ARG;
-    if ((st = geom_ray_check(r)) != GEOM_OK) return st;
+    if (!geom__ray_valid(r)) return GEOM_ERR_INVALID_ARG;
     if (!(r->tmin <= r->tmax)) return GEOM_OK;
+    sl.ok = -1; /* computed at the first box test */
     for (i = 0; i < s->nunbounded; i++)
-        if (visit(s, s->unbounded[i], &q, mode, out, &st)) return st;
+        if (visit(s, s->unbounded[i], &q, &sl, mode, out, &st)) return st;
     if (s->top) {
         size_t nn = 0;
         const geom_bvh_node *nodes = geom_bvh_nodes(s->top, &nn);
@@ -1050,7 +1047,7 @@ static geom_status run(const geom_ray_scene *s, const geom_ray *r, int mode, geo
         stack[sp++] = 0;
         while (sp > 0) {
             const geom_bvh_node *nd = &nodes[stack[--sp]];
-            if (!geom_ray_aabb(&q, nd->box, NULL, NULL)) continue;
+            if (!geom__rslab_hit(&sl, &q, &nd->box)) continue;
             if (nd->count == 0) {
                 if (sp + 2 > 256) return GEOM_ERR_LIMIT;
                 stack[sp++] = nd->index;
@@ -1058,7 +1055,7 @@ static geom_status run(const geom_ray_scene *s, const geom_ray *r, int mode, geo
             } else {
                 uint32_t k;
                 for (k = 0; k < nd->count; k++)
-                    if (visit(s, s->top_obj[prims[nd->index + k]], &q, mode, out, &st)) return st;
+                    if (visit(s, s->top_obj[prims[nd->index + k]], &q, &sl, mode, out, &st)) return st;
             }
         }
     }

@@ -37,12 +37,6 @@ static inline int geom__wbw_owns(double px, double py, double qx, double qy)
 #define GEOM__WBW_INLINE static inline __attribute__((always_inline))
 #else
 #define GEOM__WBW_INLINE static inline
-GEOM__WBW_INLINE int geom__wbw_hit(const geom__wbw *w, const double *v0, const double *v1, const double *v2,
-                                double tmin, double tmax, double *t, double *b)
-{
-    return geom__wbw_hit_k(w, w->kx, w->ky, w->kz, v0, v1, v2, tmin, tmax, t, b);
-}
-
 #endif
 /* geom__wbw_hit with the ray's axes given (kx, ky, kz == w->kx, w->ky,
  * w->kz): a caller that dispatches once per ray on the axes passes
