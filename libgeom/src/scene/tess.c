@@ -671,16 +671,16 @@ static geom_status tess_group(const geom_shape *s, const geom_tess_request *rq, 
         size_t mv = geom_mesh_n_vertices(m), mf = geom_mesh_n_live_faces(m), mi_n = 0;
         if (st == GEOM_OK)
             st = geom_mesh_to_soup(m, NULL, NULL, &mi_n);
-        if (st == GEOM_OK && (nv + mv > capv || nf + mf > capf || ni + mi_n > capi)) {
-            size_t cv = 2 * (nv + mv) + 16, cf = 2 * (nf + mf) + 16, ci = 2 * (ni + mi_n) + 16;
-            double *a = geom__realloc(NULL, xyz, 3 * capv * sizeof *a, 3 * cv * sizeof *a);
-            if (a) { xyz = a; capv = cv; }
-            uint32_t *b = geom__realloc(NULL, sizes, capf * sizeof *b, cf * sizeof *b);
-            if (b) { sizes = b; capf = cf; }
-            uint32_t *c = geom__realloc(NULL, idx, capi * sizeof *c, ci * sizeof *c);
-            if (c) { idx = c; capi = ci; }
-            if (!a || !b || !c)
-                st = GEOM_ERR_NOMEM;
+        if (st == GEOM_OK) {
+            void *a = xyz, *b = sizes, *c = idx;
+            st = geom__grow(NULL, &a, &capv, nv + mv, 3 * sizeof *xyz);
+            xyz = a;
+            if (st == GEOM_OK)
+                st = geom__grow(NULL, &b, &capf, nf + mf, sizeof *sizes);
+            sizes = b;
+            if (st == GEOM_OK)
+                st = geom__grow(NULL, &c, &capi, ni + mi_n, sizeof *idx);
+            idx = c;
         }
         if (st == GEOM_OK)
             st = geom_mesh_to_soup(m, sizes + nf, idx + ni, &mi_n);
