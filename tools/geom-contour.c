@@ -339,8 +339,8 @@ int main(int argc, char **argv)
     const geom_error_report *er = &c.report.error;
     const geom_implicit_contour_report *rp = &c.report;
     if (rp->nan_nodes)
-        fprintf(stderr, "%s: warning: the field is NaN at %zu grid node%s (taken as outside, as "
-                        "+inf); the first at node (%zu, %zu), point (%.17g, %.17g)\n",
+        fprintf(stderr, "%s: warning: the field is NaN at %zu grid node%s (counted outside, as in "
+                        "geom-iso); the first at node (%zu, %zu), point (%.17g, %.17g)\n",
                 tool.name, rp->nan_nodes, rp->nan_nodes == 1 ? "" : "s", rp->nan_first[0],
                 rp->nan_first[1], rp->nan_point[0], rp->nan_point[1]);
     /* an empty result is a warning (issue 15), on stderr and in --json */
