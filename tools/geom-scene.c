@@ -147,9 +147,10 @@ int main(int argc, char **argv)
         size_t worst = 0;
         for (size_t i = 1; i < f.n_objects; i++)
             worst = per[i] > per[worst] ? i : worst;
-        char what[160];
-        snprintf(what, sizeof what, "the export (%zu objects; the largest, %s, about %.0f)",
-                 f.n_objects, f.n_objects ? f.names[worst] : "-", f.n_objects ? per[worst] : 0.0);
+        char what[512];
+        snprintf(what, sizeof what, "%s: the export (%zu objects; the largest, %s, about %.0f)",
+                 argv[first], f.n_objects, f.n_objects ? f.names[worst] : "-",
+                 f.n_objects ? per[worst] : 0.0);
         if (cli_limits_check(&tool, &o.lim, what, est, est * EXPORT_BYTES_PER_TRIANGLE) !=
             CLI_CONTINUE) {
             free(per);

@@ -364,8 +364,10 @@ static int tessellate_step(const char *in, const tess_opts *o, int json, const c
      * STEP_BYTES_PER_TRIANGLE at the peak); the library also stops at
      * --max-triangles during the work */
     double est = 0;
+    char what[300];
+    snprintf(what, sizeof what, "%s: the tessellation", in);
     if (geom_step_tess_estimate(b, &to, &est, NULL) == GEOM_OK &&
-        cli_limits_check(&tool, &o->lim, "the tessellation", est, est * STEP_BYTES_PER_TRIANGLE) !=
+        cli_limits_check(&tool, &o->lim, what, est, est * STEP_BYTES_PER_TRIANGLE) !=
             CLI_CONTINUE) {
         geom_step_destroy(b);
         return CLI_EXIT_ERROR;
