@@ -12,6 +12,22 @@
 /* Coarse cells per axis at most. */
 #define COARSE 64
 
+/* The arguments both estimates take, as geom_implicit_contour checks them. */
+static geom_status check_args(const geom_implicit_field *field, const double bounds[4], size_t nx,
+                              size_t ny, const geom_implicit_contour_options *opt)
+{
+    double iso = opt ? opt->iso : 0.0, z = opt ? opt->z : 0.0;
+    if (!field || !field->value || !bounds || nx == 0 || ny == 0 || !isfinite(iso) ||
+        !isfinite(z))
+        return GEOM_ERR_INVALID_ARG;
+    for (int k = 0; k < 4; k++)
+        if (!isfinite(bounds[k]))
+            return GEOM_ERR_INVALID_ARG;
+    if (!(bounds[0] < bounds[2]) || !(bounds[1] < bounds[3]))
+        return GEOM_ERR_INVALID_ARG;
+    return GEOM_OK;
+}
+
 geom_status geom_implicit_contour_estimate(const geom_implicit_field *field,
                                            const double bounds[4], size_t nx, size_t ny,
                                            const geom_implicit_contour_options *opt,
@@ -21,13 +37,7 @@ geom_status geom_implicit_contour_estimate(const geom_implicit_field *field,
         return GEOM_ERR_INVALID_ARG;
     *vertices = 0.0;
     double iso = opt ? opt->iso : 0.0, z = opt ? opt->z : 0.0;
-    if (!field || !field->value || !bounds || nx == 0 || ny == 0 || !isfinite(iso) ||
-        !isfinite(z))
-        return GEOM_ERR_INVALID_ARG;
-    for (int k = 0; k < 4; k++)
-        if (!isfinite(bounds[k]))
-            return GEOM_ERR_INVALID_ARG;
-    if (!(bounds[0] < bounds[2]) || !(bounds[1] < bounds[3]))
+    if (check_args(field, bounds, nx, ny, opt) != GEOM_OK)
         return GEOM_ERR_INVALID_ARG;
     size_t cx = nx < COARSE ? nx : COARSE, cy = ny < COARSE ? ny : COARSE;
     double prev[COARSE + 1], cur[COARSE + 1];
@@ -190,13 +200,7 @@ geom_status geom_implicit_contour_estimate_cells(const geom_implicit_field *fiel
         return GEOM_ERR_INVALID_ARG;
     *cells = 0.0;
     double iso = opt ? opt->iso : 0.0, z = opt ? opt->z : 0.0;
-    if (!field || !field->value || !bounds || nx == 0 || ny == 0 || !isfinite(iso) ||
-        !isfinite(z))
-        return GEOM_ERR_INVALID_ARG;
-    for (int k = 0; k < 4; k++)
-        if (!isfinite(bounds[k]))
-            return GEOM_ERR_INVALID_ARG;
-    if (!(bounds[0] < bounds[2]) || !(bounds[1] < bounds[3]))
+    if (check_args(field, bounds, nx, ny, opt) != GEOM_OK)
         return GEOM_ERR_INVALID_ARG;
     if (!field->bounds) {
         *cells = (double)nx * (double)ny;
