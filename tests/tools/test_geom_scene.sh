@@ -66,4 +66,32 @@ JSON
 if "$tool" "$tmp/bad.json" --export "$tmp/b.obj" 2> "$tmp/err"; then fail "CSG with a mesh accepted"; fi
 grep -q "widget" "$tmp/err" && grep -q "tetra" "$tmp/err" || fail "error does not name the objects: $(cat "$tmp/err")"
 [ ! -e "$tmp/b.obj" ] || fail "a failed export left a file"
+# the output's size before the work: a tolerance far too fine is refused at
+# once with the estimate (triangles, then memory) in the message, no file
+# left (issue 15: the old tool said "limit exceeded" after working, no figure)
+start=$(date +%s)
+if "$tool" "$tmp/s.json" --export "$tmp/fine.obj" --tol 1e-7 2> "$tmp/err"; then
+    fail "--tol 1e-7 accepted"
+fi
+grep -q "about [0-9]* triangles (estimate), more than --max-triangles 50000000" "$tmp/err" ||
+    fail "no estimate in the message: $(cat "$tmp/err")"
+grep -q "ball" "$tmp/err" || fail "the largest object is not named: $(cat "$tmp/err")"
+[ ! -e "$tmp/fine.obj" ] || fail "a refused export left a file"
+if "$tool" "$tmp/s.json" --export "$tmp/fine.obj" --tol 1e-3 --max-triangles 1000 2> "$tmp/err"; then
+    fail "--max-triangles 1000 not honoured"
+fi
+grep -q "more than --max-triangles 1000;" "$tmp/err" || fail "$(cat "$tmp/err")"
+if "$tool" "$tmp/s.json" --export "$tmp/fine.obj" --tol 1e-3 --max-memory 1M 2> "$tmp/err"; then
+    fail "--max-memory 1M not honoured"
+fi
+grep -q "MiB (estimate), more than --max-memory 1 MiB" "$tmp/err" || fail "$(cat "$tmp/err")"
+[ $(( $(date +%s) - start )) -lt 20 ] || fail "the refusals took $(( $(date +%s) - start )) s"
+# the estimate is reported next to the count made, and is close to it
+"$tool" "$tmp/s.json" --export "$tmp/s.obj" --json > "$tmp/r.json"
+"$py" - "$tmp/r.json" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+ratio = r["estimated_triangles"] / r["triangles"]
+assert 0.5 <= ratio <= 4, (r["estimated_triangles"], r["triangles"])
+PY
 echo ok

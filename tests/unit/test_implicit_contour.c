@@ -134,7 +134,9 @@ static double circle_error(size_t n, int refine, double *reported)
     }
     *reported = c.report.error.max_error;
     assert_int_equal(c.report.error.method, GEOM_ERROR_SAMPLED);
-    assert_true(c.report.error.evaluations >= (n + 1) * (n + 1));
+    /* every node of the cells the sparse path samples (at least those
+     * along the circle), plus the error measure */
+    assert_true(c.report.error.evaluations >= c.n_vertices);
     assert_int_equal(c.report.cells, n * n);
     assert_true(c.report.seconds >= 0.0);
     geom_implicit_isolines_free(&c);
@@ -502,13 +504,21 @@ static void test_nonfinite_fields(void **state)
 {
     (void)state;
     geom_implicit_isolines c;
-    /* NaN for x < 0: those cells make nothing */
+    /* NaN for x < 0 is outside (as +inf, as geom_iso_extract has it): the
+     * inside strip 0 <= x <= 0.25 is closed on its NaN side too, the
+     * vertices there refined onto the edge of the NaN region (x -> 0-) */
     geom_implicit_expr *e = contour_expr("sqrt(x) - 0.5", -1, 0, 1, 1, 8, 4, 0, 0, &c);
     check_structure(&c);
     assert_true(c.report.skipped_cells > 0);
-    assert_int_equal(c.n_polylines, 1);
-    for (size_t v = 0; v < c.n_vertices; v++)
-        assert_true(fabs(c.xy[2 * v] - 0.25) < 1e-16);
+    assert_int_equal(c.report.nan_nodes, 4 * 5);
+    assert_int_equal(c.n_polylines, 2);
+    size_t at_quarter = 0, at_nan_edge = 0;
+    for (size_t v = 0; v < c.n_vertices; v++) {
+        at_quarter += fabs(c.xy[2 * v] - 0.25) < 1e-16;
+        at_nan_edge += c.xy[2 * v] <= 0.0 && c.xy[2 * v] > -1e-12;
+    }
+    assert_int_equal(at_quarter, 5);
+    assert_int_equal(at_nan_edge, 5);
     geom_implicit_isolines_free(&c);
     geom_implicit_expr_destroy(e);
     /* +-inf at a node column: classified by sign, no NaN vertex */
@@ -524,9 +534,222 @@ static void test_nonfinite_fields(void **state)
     geom_implicit_expr_destroy(e);
     /* everything NaN */
     e = contour_expr("sqrt(-1 - x*x)", -1, -1, 1, 1, 5, 5, 0, 0, &c);
-    assert_int_equal(c.n_polylines, 0);
+    assert_int_equal(c.n_polylines, 0); /* all outside */
     assert_int_equal(c.report.skipped_cells, 25);
+    assert_int_equal(c.report.nan_nodes, 36);
     geom_implicit_isolines_free(&c);
+    geom_implicit_expr_destroy(e);
+}
+
+/* ------------------------------------------- NaN is +inf, as in 3D */
+
+/* A 2D grid field (user = values, nx1 per row, cell size 1). */
+typedef struct gridf {
+    const double *v;
+    size_t nx1, ny1;
+} gridf;
+
+static double grid_value(void *user, const double p[3])
+{
+    const gridf *g = user;
+    long i = lround(p[0]), j = lround(p[1]);
+    if (i < 0 || j < 0 || (size_t)i >= g->nx1 || (size_t)j >= g->ny1)
+        return 1.0;
+    if (fabs(p[0] - (double)i) > 1e-9 || fabs(p[1] - (double)j) > 1e-9) {
+        /* between nodes (refinement off: never asked) */
+        return NAN;
+    }
+    return g->v[(size_t)i + g->nx1 * (size_t)j];
+}
+
+static void contour_grid(const double *v, size_t n1, geom_implicit_isolines *c)
+{
+    gridf g = {v, n1, n1};
+    geom_implicit_field f;
+    memset(&f, 0, sizeof f);
+    f.value = grid_value;
+    f.user = &g;
+    double b[4] = {0, 0, (double)(n1 - 1), (double)(n1 - 1)};
+    geom_implicit_contour_options o;
+    memset(&o, 0, sizeof o);
+    o.refine = GEOM_IMPLICIT_REFINE_NEVER;
+    assert_int_equal(geom_implicit_contour(&f, b, n1 - 1, n1 - 1, &o, c, NULL), GEOM_OK);
+}
+
+/* A grid with NaN nodes contours exactly as the same grid with +inf there
+ * (the 3D convention: geom_iso_extract's NaN is +ISO_BIG, outside), on
+ * random ternary grids with NaN sprinkled in; the NaN report stays. The old
+ * code made no segment in a cell with a NaN corner. */
+static void test_nan_is_outside_as_in_3d(void **state)
+{
+    (void)state;
+    enum { N1 = 9 };
+    double a[N1 * N1], b[N1 * N1];
+    size_t differing_cells = 0;
+    for (int trial = 0; trial < 200; trial++) {
+        for (size_t k = 0; k < N1 * N1; k++) {
+            double r = urand();
+            a[k] = r < 0.15 ? NAN : r < 0.5 ? -1.0 : r < 0.6 ? 0.0 : 2.0 * urand() + 0.1;
+            b[k] = isnan(a[k]) ? INFINITY : a[k];
+        }
+        geom_implicit_isolines ca, cb;
+        contour_grid(a, N1, &ca);
+        contour_grid(b, N1, &cb);
+        check_structure(&ca);
+        assert_int_equal(ca.n_vertices, cb.n_vertices);
+        assert_int_equal(ca.n_polylines, cb.n_polylines);
+        assert_memory_equal(ca.xy, cb.xy, 2 * ca.n_vertices * sizeof(double));
+        assert_memory_equal(ca.start, cb.start, (ca.n_polylines + 1) * sizeof(size_t));
+        if (ca.n_polylines) {
+            assert_memory_equal(ca.indices, cb.indices, ca.start[ca.n_polylines] * sizeof(uint32_t));
+            assert_memory_equal(ca.closed, cb.closed, ca.n_polylines);
+        }
+        assert_int_equal(ca.report.saddles, cb.report.saddles);
+        assert_true(ca.report.nan_nodes > 0);
+        assert_int_equal(cb.report.nan_nodes, 0);
+        /* the first NaN in scan order */
+        size_t first = SIZE_MAX;
+        for (size_t k = 0; k < N1 * N1 && first == SIZE_MAX; k++)
+            if (isnan(a[k]))
+                first = k;
+        assert_int_equal(ca.report.nan_first[0], first % N1);
+        assert_int_equal(ca.report.nan_first[1], first / N1);
+        differing_cells += ca.report.skipped_cells;
+        geom_implicit_isolines_free(&ca);
+        geom_implicit_isolines_free(&cb);
+    }
+    assert_true(differing_cells > 1000);
+    /* one NaN corner next to three inside ones: a segment cuts it off (the
+     * old code made none) */
+    double g[4] = {-1, NAN, -1, -1};
+    geom_implicit_isolines c;
+    contour_grid(g, 2, &c);
+    assert_int_equal(c.n_polylines, 1);
+    assert_int_equal(c.n_vertices, 2);
+    geom_implicit_isolines_free(&c);
+}
+
+/* ------------------------------------------------ sparse = dense */
+
+static void contour_field(const geom_implicit_field *f, const double b[4], size_t nx, size_t ny,
+                          double iso, int refine, geom_implicit_isolines *c)
+{
+    geom_implicit_contour_options o;
+    memset(&o, 0, sizeof o);
+    o.iso = iso;
+    o.refine = refine;
+    geom_diag d;
+    if (geom_implicit_contour(f, b, nx, ny, &o, c, &d) != GEOM_OK)
+        fail_msg("contour: %s", d.message);
+}
+
+/* With field->bounds (the sparse path: blocks the interval bounds prove
+ * free of the isoline are skipped) the output equals the dense path's
+ * (the same field without bounds) vertex for vertex, bit for bit and in the
+ * same order, with the same report but for the evaluations; and the work
+ * is a small part of the grid for a curve. */
+static void test_sparse_equals_dense(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *e;
+        double b[4];
+        size_t nx, ny;
+        double iso;
+    } cases[] = {
+        {"x^2 + y^2 - 1", {-2, -2, 2, 2}, 300, 300, 0},
+        {"x^2 + y^2 - 1", {-2, -2, 2, 2}, 77, 301, 0.5},
+        {"sin(3*x) * sin(3*y)", {-3, -3, 3, 3}, 250, 250, 0},     /* saddles, lines */
+        {"sin(x) * sin(y)", {-6.2831853071795862, -6.2831853071795862, 6.2831853071795862,
+                             6.2831853071795862}, 64, 64, 0},     /* zeros on nodes */
+        {"sqrt(sin(7*x)) - 0.5", {-1, -1, 1, 1}, 200, 90, 0},     /* NaN patches */
+        {"torus(1, 0.3)", {-2, -2, 2, 2}, 333, 200, 0},
+        {"gyroid(2)", {-3, -3, 3, 3}, 180, 180, 0.2},
+        {"max(abs(x), abs(y)) - 1", {-1.5, -1.5, 1.5, 1.5}, 30, 30, 0}, /* on nodes */
+        {"x", {-1, -1, 1, 1}, 1, 1, 0},
+        {"1/x - 2", {-1, 0, 1, 1}, 40, 20, 0},                     /* infinities */
+        {"(x - 1e8)^2 + y^2 - 1", {1e8 - 2, -2, 1e8 + 2, 2}, 500, 500, 0},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++)
+        for (int refine = GEOM_IMPLICIT_REFINE_NEVER; refine >= GEOM_IMPLICIT_REFINE_AUTO;
+             refine--) {
+            geom_implicit_expr *e = compile_ok(cases[k].e);
+            geom_implicit_field sparse, dense;
+            geom_implicit_field_from_expr(e, &sparse);
+            dense = sparse;
+            dense.bounds = NULL;
+            geom_implicit_isolines a, b;
+            contour_field(&sparse, cases[k].b, cases[k].nx, cases[k].ny, cases[k].iso, refine, &a);
+            contour_field(&dense, cases[k].b, cases[k].nx, cases[k].ny, cases[k].iso, refine, &b);
+            if (a.n_vertices != b.n_vertices || a.n_polylines != b.n_polylines)
+                fail_msg("'%s': sparse %zu vertices %zu polylines, dense %zu, %zu", cases[k].e,
+                         a.n_vertices, a.n_polylines, b.n_vertices, b.n_polylines);
+            assert_memory_equal(a.xy, b.xy, 2 * a.n_vertices * sizeof(double));
+            assert_memory_equal(a.start, b.start, (a.n_polylines + 1) * sizeof(size_t));
+            if (a.n_polylines) {
+                assert_memory_equal(a.indices, b.indices,
+                                    a.start[a.n_polylines] * sizeof(uint32_t));
+                assert_memory_equal(a.closed, b.closed, a.n_polylines);
+            }
+            assert_int_equal(a.report.cells, b.report.cells);
+            assert_int_equal(a.report.saddles, b.report.saddles);
+            assert_int_equal(a.report.skipped_cells, b.report.skipped_cells);
+            assert_int_equal(a.report.nan_nodes, b.report.nan_nodes);
+            assert_int_equal(a.report.nan_first[0], b.report.nan_first[0]);
+            assert_int_equal(a.report.nan_first[1], b.report.nan_first[1]);
+            assert_int_equal(a.report.refined, b.report.refined);
+            assert_true(a.report.error.max_error == b.report.error.max_error);
+            assert_true(a.report.error.evaluations <= b.report.error.evaluations);
+            /* the estimate of the work: exact for the dense path */
+            double cells_sparse = -1, cells_dense = -1;
+            geom_implicit_contour_options o;
+            memset(&o, 0, sizeof o);
+            o.iso = cases[k].iso;
+            assert_int_equal(geom_implicit_contour_estimate_cells(&sparse, cases[k].b, cases[k].nx,
+                                                                  cases[k].ny, &o, &cells_sparse),
+                             GEOM_OK);
+            assert_int_equal(geom_implicit_contour_estimate_cells(&dense, cases[k].b, cases[k].nx,
+                                                                  cases[k].ny, &o, &cells_dense),
+                             GEOM_OK);
+            assert_true(cells_dense == (double)cases[k].nx * (double)cases[k].ny);
+            assert_true(cells_sparse <= cells_dense);
+            geom_implicit_isolines_free(&a);
+            geom_implicit_isolines_free(&b);
+            geom_implicit_expr_destroy(e);
+        }
+}
+
+/* The time scales with the curve, not the grid: a circle on a 20000^2 grid
+ * (4e8 cells; the dense path took about 90 s) samples under 1% of the
+ * cells, and the work estimate says so before the work. */
+static void test_sparse_work(void **state)
+{
+    (void)state;
+    const size_t n = 20000;
+    geom_implicit_expr *e = compile_ok("x^2 + y^2 - 1");
+    geom_implicit_field f;
+    geom_implicit_field_from_expr(e, &f);
+    double b[4] = {-2, -2, 2, 2};
+    double cells = 0;
+    assert_int_equal(geom_implicit_contour_estimate_cells(&f, b, n, n, NULL, &cells), GEOM_OK);
+    assert_true(cells > 0 && cells < 0.01 * (double)n * (double)n);
+    geom_implicit_isolines c;
+    contour_field(&f, b, n, n, 0, GEOM_IMPLICIT_REFINE_NEVER, &c);
+    assert_int_equal(c.n_polylines, 1);
+    assert_true(c.n_vertices > 19 * n / 10); /* about 8 / h = 2 n crossings */
+    assert_true((double)c.report.error.evaluations < 4.0 * cells + 4.0 * (double)c.n_vertices);
+    assert_int_equal(c.report.cells, n * n);
+    geom_implicit_isolines_free(&c);
+    /* bad arguments */
+    assert_int_equal(geom_implicit_contour_estimate_cells(&f, b, n, n, NULL, NULL),
+                     GEOM_ERR_INVALID_ARG);
+    assert_int_equal(geom_implicit_contour_estimate_cells(NULL, b, n, n, NULL, &cells),
+                     GEOM_ERR_INVALID_ARG);
+    assert_int_equal(geom_implicit_contour_estimate_cells(&f, b, 0, n, NULL, &cells),
+                     GEOM_ERR_INVALID_ARG);
+    double empty[4] = {0, 0, 0, 1};
+    assert_int_equal(geom_implicit_contour_estimate_cells(&f, empty, n, n, NULL, &cells),
+                     GEOM_ERR_INVALID_ARG);
     geom_implicit_expr_destroy(e);
 }
 
@@ -665,6 +888,9 @@ int main(void)
         cmocka_unit_test(test_iso_on_nodes),
         cmocka_unit_test(test_random_ternary_grids),
         cmocka_unit_test(test_nonfinite_fields),
+        cmocka_unit_test(test_nan_is_outside_as_in_3d),
+        cmocka_unit_test(test_sparse_equals_dense),
+        cmocka_unit_test(test_sparse_work),
         cmocka_unit_test(test_invalid_arguments),
         cmocka_unit_test(test_to_mesh),
         cmocka_unit_test(test_allocation_failures),

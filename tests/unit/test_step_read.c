@@ -223,6 +223,52 @@ static geom_status read_text(const char *text, geom_diag *d, geom_brep **b)
 #define HEAD "ISO-10303-21;\nHEADER;\nFILE_NAME('a''b',$);\nENDSEC;\nDATA;\n"
 #define TAIL "ENDSEC;\nEND-ISO-10303-21;\n"
 
+/* geom_step_tess_estimate before the work against the triangles made:
+ * the sphere (one face, a seam and two poles) and the seamless cylinder
+ * within a factor 2 at every tolerance, per face summing to the total;
+ * bad arguments refused. */
+static void test_tess_estimate(void **state)
+{
+    (void)state;
+    static const char *files[2] = {"sphere.step", "cylinder_noseam.step"};
+    for (int k = 0; k < 2; k++) {
+        size_t n;
+        char *t = slurp(files[k], &n);
+        assert_non_null(t);
+        geom_brep *b = NULL;
+        assert_int_equal(geom_step_read_memory(t, n, files[k], NULL, &b, NULL), GEOM_OK);
+        free(t);
+        for (double tol = 0; tol >= 0; tol = tol == 0 ? 0.5 : tol > 2e-3 ? tol / 4 : -1) {
+            geom_brep_tess_options o;
+            memset(&o, 0, sizeof o);
+            o.tolerance = tol;
+            double est = -1, *pf = calloc(b->nfaces, sizeof *pf), sum = 0;
+            assert_int_equal(geom_step_tess_estimate(b, &o, &est, pf), GEOM_OK);
+            for (size_t f = 0; f < b->nfaces; f++)
+                sum += pf[f];
+            assert_true(fabs(sum - est) <= 1e-9 * est);
+            free(pf);
+            geom_mesh *m = geom_mesh_create(NULL);
+            geom_brep_tess_stats st;
+            assert_int_equal(geom_step_tessellate(b, &o, m, NULL, NULL, &st, NULL), GEOM_OK);
+            double ratio = est / (double)st.triangles;
+            if (!(ratio >= 0.5 && ratio <= 2.0))
+                fail_msg("%s tol %g: estimate %g, made %zu", files[k], tol, est, st.triangles);
+            geom_mesh_destroy(m);
+        }
+        double e;
+        assert_int_equal(geom_step_tess_estimate(b, NULL, NULL, NULL), GEOM_ERR_INVALID_ARG);
+        assert_int_equal(geom_step_tess_estimate(NULL, NULL, &e, NULL), GEOM_ERR_INVALID_ARG);
+        geom_brep_tess_options bad;
+        memset(&bad, 0, sizeof bad);
+        bad.tolerance = -1;
+        assert_int_equal(geom_step_tess_estimate(b, &bad, &e, NULL), GEOM_ERR_INVALID_ARG);
+        bad.tolerance = NAN;
+        assert_int_equal(geom_step_tess_estimate(b, &bad, &e, NULL), GEOM_ERR_INVALID_ARG);
+        geom_step_destroy(b);
+    }
+}
+
 static void test_parser(void **state)
 {
     (void)state;
@@ -283,6 +329,7 @@ int main(void)
         cmocka_unit_test(test_sphere_inch),
         cmocka_unit_test(test_cylinder_noseam),
         cmocka_unit_test(test_transformation_operator),
+        cmocka_unit_test(test_tess_estimate),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

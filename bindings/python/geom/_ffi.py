@@ -750,6 +750,8 @@ geom_status geom_step_tessellate(const geom_brep *b, const geom_brep_tess_option
                                           geom_mesh *out, geom_error_report *report,
                                           geom_brep_face_report *faces, geom_brep_tess_stats *stats,
                                           geom_diag *diag);
+geom_status geom_step_tess_estimate(const geom_brep *b, const geom_brep_tess_options *options,
+                                             double *triangles, double *per_face);
 """,
     "subdiv": """
 typedef enum geom_subdiv_scheme {

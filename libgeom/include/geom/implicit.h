@@ -721,9 +721,11 @@ typedef struct geom_implicit_contour_report {
     geom_error_report error;
     size_t unmeasured;    /**< vertices left out of the error measure */
     double seconds;       /**< wall-clock time of the whole call */
-    size_t cells;         /**< cells processed */
+    size_t cells;         /**< cells of the grid (nx * ny; those sampled: see
+                               *   geom_implicit_contour_estimate_cells) */
     size_t saddles;       /**< ambiguous cells decided by the asymptotic decider */
-    size_t skipped_cells; /**< cells with a NaN corner value (no segment made) */
+    size_t skipped_cells; /**< cells with a NaN corner value (NaN is outside;
+                               *   the name is kept from when they were skipped) */
     size_t refined;       /**< vertices refined by root finding */
     /** Grid nodes where the field is NaN, and the first of them in scan
      *  order (rows of increasing y, then x): its node index (i, j) and its
@@ -777,9 +779,19 @@ typedef struct geom_implicit_isolines {
  * saddle point (its sign computed from an accurately rounded 2x2
  * determinant; the same decision as geom_iso_extract's on a cell face),
  * which reproduces the topology of the bilinear interpolant of the node
- * values. Cells with a NaN corner make no segments; infinite
- * values are classified by sign (interpolation then starts at the edge's
- * midpoint).
+ * values. Infinite values are classified by sign (interpolation then
+ * starts at the edge's midpoint) and a NaN value is outside, as +infinity
+ * (as geom_iso_extract treats it): a contour closes around the edge of a
+ * region where the field is undefined. The saddle decider takes
+ * infinities as +-DBL_MAX, as geom_iso_extract's does.
+ *
+ * Work: when field->bounds is set (expression fields), the grid is cut
+ * into blocks of 16 x 16 cells and only the blocks the bounds cannot prove
+ * free of the isoline are sampled (see
+ * geom_implicit_contour_estimate_cells), so the time grows with the
+ * isoline's length rather than with nx * ny; the output is the same as
+ * sampling every cell (the dense path, taken without field->bounds), vertex
+ * for vertex and in the same order, since a skipped cell makes nothing.
  *
  * Accuracy: with linear interpolation the vertex error is O(h^2) for
  * smooth f; with refinement it is the root of f along the edge to about an
@@ -811,6 +823,29 @@ GEOM_API geom_status geom_implicit_contour_estimate(const geom_implicit_field *f
                                                    const double bounds[4], size_t nx, size_t ny,
                                                    const geom_implicit_contour_options *opt,
                                                    double *vertices);
+
+/**
+ * The work geom_implicit_contour would do with the same arguments, before
+ * doing it: the number of grid cells it samples. Without field->bounds
+ * that is every cell, nx * ny (the dense path). With field->bounds (every
+ * expression field has them) the grid is cut into blocks of 16 x 16 cells
+ * (larger on grids of more than about 2^36 cells) and the blocks the
+ * bounds prove f - iso of one strict sign over are skipped, by recursive
+ * halving (a quadtree over the blocks); *cells is then exactly the number
+ * of cells in the remaining blocks, the cells geom_implicit_contour
+ * samples (each needs at most 4 node values). Costs about 4/3 bounds calls
+ * per remaining block times the quadtree depth, plus a bitmap of one bit
+ * per block (freed). Lets callers refuse a run that would take too long
+ * (geom-contour's --max-cells) even when the output is small.
+ * Statuses: GEOM_OK; GEOM_ERR_INVALID_ARG (NULL field, value, bounds or
+ * cells, nx or ny 0, non-finite or empty bounds, non-finite iso or z);
+ * GEOM_ERR_NOMEM.
+ */
+GEOM_API geom_status geom_implicit_contour_estimate_cells(const geom_implicit_field *field,
+                                                         const double bounds[4], size_t nx,
+                                                         size_t ny,
+                                                         const geom_implicit_contour_options *opt,
+                                                         double *cells);
 
 /** Free what geom_implicit_contour allocated and zero *c. NULL or a zeroed
  *  struct is a no-op. */

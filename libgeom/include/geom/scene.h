@@ -467,6 +467,31 @@ GEOM_API geom_status geom_scene_tessellate(const geom_shape *s, const geom_tess_
                                            geom_mesh *out, geom_tess_info *info, geom_diag *diag);
 
 /**
+ * The number of triangles geom_scene_tessellate(s, rq, ...) would make,
+ * estimated before the work (for callers that refuse an output too large):
+ * spheres, tori and surfaces: geom_surface_tess_estimate at rq->tol (not a
+ * bound: typically within a factor 2); boxes 12, planes 2, polygons n - 2,
+ * disks their sides - 2 (exact); meshes their faces' valence - 2 summed
+ * (exact); subdivision surfaces: the control points' limit distance at
+ * level 1 (geom_subdiv_mesh, one level: the tessellation's first step)
+ * taken to shrink 4 times a
+ * level, which gives the level geom_scene_tessellate stops at (1..7), and
+ * the faces of that level (Catmull-Clark: 2 triangles per quad, one quad
+ * per level-0 corner times 4^(level-1); other schemes 4^level triangles
+ * per triangle); quadrics, implicit surfaces, volumes and CSG:
+ * geom_iso_estimate_triangles on the finest grid the marching-cubes passes
+ * can reach (the first pass's cell size halved twice, at most 256 cells a
+ * axis); groups: the sum over their members. s->transform is not applied
+ * (rq->tol is in s's frame, as for geom_scene_tessellate).
+ * Statuses: GEOM_OK; GEOM_ERR_INVALID_ARG (NULL pointers, tol <= 0, a
+ * shape without its data, an unbounded implicit shape with an empty
+ * extent, a CSG child without an implicit form); GEOM_ERR_NOMEM; and
+ * geom_subdiv_mesh's.
+ */
+GEOM_API geom_status geom_scene_tessellate_estimate(const geom_shape *s, const geom_tess_request *rq,
+                                                    double *triangles);
+
+/**
  * Displacement mapping: move every vertex of m along its angle-weighted
  * vertex normal by scale (0 = 1) times channel 0 of `height` at the vertex's
  * UV ("uv" VERTEX channel, else its first corner's: vertices on a UV seam
@@ -674,6 +699,25 @@ GEOM_API geom_status geom_scene_export(const geom_camera *cam, const geom_materi
                                        size_t n, const char *const *names,
                                        const geom_export_options *opt, geom_mesh *out,
                                        geom_export_object_report *reports, geom_diag *diag);
+
+/**
+ * The triangles geom_scene_export would make with the same arguments,
+ * before the work: each object's request (tolerance, attributes, extent)
+ * as geom_scene_export forms it, and geom_scene_tessellate_estimate of it;
+ * per_object (n doubles, NULL allowed) receives each object's estimate and
+ * *triangles their sum (an estimate, not a bound: see
+ * geom_scene_tessellate_estimate for each kind). geom-scene --export checks
+ * it against --max-triangles and --max-memory before tessellating.
+ * Statuses: GEOM_OK; GEOM_ERR_INVALID_ARG (as geom_scene_export, or NULL
+ * triangles; diag names the object), GEOM_ERR_NOMEM, geom_subdiv_mesh's.
+ */
+GEOM_API geom_status geom_scene_export_estimate(const geom_camera *cam,
+                                                const geom_material *materials,
+                                                size_t n_materials,
+                                                const geom_scene_object *objects, size_t n,
+                                                const geom_export_options *opt,
+                                                double *per_object, double *triangles,
+                                                geom_diag *diag);
 
 #ifdef __cplusplus
 }

@@ -325,6 +325,34 @@ GEOM_API geom_status geom_step_tessellate(const geom_brep *b, const geom_brep_te
                                           geom_brep_face_report *faces, geom_brep_tess_stats *stats,
                                           geom_diag *diag);
 
+/**
+ * The number of triangles geom_step_tessellate(b, options, ...) would make,
+ * estimated before the work (for callers that refuse an output too large:
+ * geom-tessellate's --max-triangles and --max-memory). Per face: its
+ * parameter box, from 17 points of each of its edges inverted onto its
+ * surface (unwrapped across the seams of periodic surfaces, at most one
+ * period wide); over that box the surface module's per-patch estimate
+ * (geom_surface_tess_estimate's adaptive model: a flat triangle of
+ * parameter size h deviates by about |S''| h^2 / 8, on an 8 x 8 sample grid,
+ * or 4 samples per knot span for B-spline surfaces) from the surface's
+ * second derivatives (exact for B-splines, central differences of the
+ * closed-form first derivatives for planes, cylinders, cones, spheres,
+ * tori, surfaces of revolution and of linear extrusion); plus the boundary
+ * samples of its edges (each edge's chords from its curvature at 16
+ * points, and at least the tessellator's initial pieces) less 2. The
+ * tolerance is options->tolerance or its default (NULL options: defaults);
+ * options->angle_degrees is not modelled (an angle bound adds triangles
+ * the estimate does not count). NOT an upper bound: measured 0.6-2.5 times
+ * the count made on gmsh-doc's STEP files (BENCHMARKS.md). Costs about
+ * 17 point inversions per edge use and 64-65,536 derivative evaluations per
+ * face, far less than the tessellation. per_face (b->nfaces doubles, NULL
+ * allowed) receives each face's estimate.
+ * Statuses: GEOM_OK; GEOM_ERR_INVALID_ARG (NULL b or triangles, a negative
+ * or non-finite tolerance); GEOM_ERR_NOMEM.
+ */
+GEOM_API geom_status geom_step_tess_estimate(const geom_brep *b, const geom_brep_tess_options *options,
+                                             double *triangles, double *per_face);
+
 #ifdef __cplusplus
 }
 #endif

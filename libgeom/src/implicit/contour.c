@@ -82,7 +82,8 @@ typedef struct edge_fn {
 static double along_edge(void *u, double t)
 {
     edge_fn *e = u;
-    return e->axis == 0 ? field_at(e->c, t, e->other) : field_at(e->c, e->other, t);
+    double d = e->axis == 0 ? field_at(e->c, t, e->other) : field_at(e->c, e->other, t);
+    return isnan(d) ? INFINITY : d; /* NaN is outside along the edge too */
 }
 
 /*
@@ -119,16 +120,28 @@ typedef struct rows {
     unsigned char *hs[2]; /* node-to-node segment emitted on the horizontal side */
     uint32_t *v;         /* vertical edge vertices of the row */
     unsigned char *vs;   /* node-to-node segment emitted on the vertical side */
+    size_t *s[2];        /* the grid row each node slot holds (SIZE_MAX: none) */
+    size_t *sv;          /* the cell row each vertical slot holds */
 } rows;
+
+/* Infinities as +-DBL_MAX for the decider, as geom_iso_extract has them. */
+static double finite_or_max(double d)
+{
+    return d > DBL_MAX ? DBL_MAX : d < -DBL_MAX ? -DBL_MAX : d;
+}
 
 /* Exact sign of d0*d2 - d1*d3 (core's orient2d of (d0, d1), (d3, d2) and
  * the origin, on values scaled by a power of two so that the products stay
  * in range): the same predicate as geom_iso_extract's face decider. */
 static double det2(double d0, double d2, double d1, double d3)
 {
+    d0 = finite_or_max(d0);
+    d1 = finite_or_max(d1);
+    d2 = finite_or_max(d2);
+    d3 = finite_or_max(d3);
     double m = fmax(fmax(fabs(d0), fabs(d1)), fmax(fabs(d2), fabs(d3)));
-    if (!(m > 0.0) || !isfinite(m))
-        return d0 * d2 - d1 * d3; /* infinite corners: classified by sign */
+    if (!(m > 0.0))
+        return 0.0;
     int e;
     frexp(m, &e);
     const double a[2] = {ldexp(d0, -e), ldexp(d1, -e)};
@@ -209,6 +222,102 @@ static void emit_segment(ctx *c, rows *R, size_t i, cross p, cross q)
         }
     }
     add_segment(c, p.v, q.v);
+}
+
+/* Node i of grid row jrow into row slot r (once: the stamp says whether it
+ * is there), its edge slots cleared; a NaN node is counted, the first in
+ * scan order (rows of increasing y, then x) kept. */
+static void node_at(ctx *c, rows *R, int r, size_t i, size_t jrow, const double *X, double y,
+                    geom_implicit_contour_report *rep)
+{
+    if (R->s[r][i] == jrow)
+        return;
+    R->s[r][i] = jrow;
+    double d = field_at(c, X[i], y);
+    if (isnan(d)) {
+        if (rep->nan_nodes++ == 0 || jrow < rep->nan_first[1] ||
+            (jrow == rep->nan_first[1] && i < rep->nan_first[0])) {
+            rep->nan_first[0] = i;
+            rep->nan_first[1] = jrow;
+            rep->nan_point[0] = X[i];
+            rep->nan_point[1] = y;
+        }
+    }
+    R->d[r][i] = d;
+    R->h[r][i] = NOV;
+    R->nd[r][i] = NOV;
+    R->hs[r][i] = 0;
+}
+
+static void vertical_at(rows *R, size_t i, size_t j)
+{
+    if (R->sv[i] == j)
+        return;
+    R->sv[i] = j;
+    R->v[i] = NOV;
+    R->vs[i] = 0;
+}
+
+/* Cells i0..i1-1 of cell row j (between y = yb and yt), left to right. */
+static void cell_run(ctx *c, rows *R, const double *X, size_t j, double yb, double yt, size_t i0,
+                     size_t i1, geom_implicit_contour_report *rep)
+{
+    for (size_t i = i0; i < i1 && c->err == GEOM_OK; i++) {
+        for (size_t q = i; q <= i + 1; q++) {
+            node_at(c, R, 0, q, j, X, yb, rep);
+            node_at(c, R, 1, q, j + 1, X, yt, rep);
+            vertical_at(R, q, j);
+        }
+        double dv[4] = {R->d[0][i], R->d[0][i + 1], R->d[1][i + 1], R->d[1][i]};
+        /* a NaN corner is outside, as +inf (as geom_iso_extract has it) */
+        if (isnan(dv[0]) || isnan(dv[1]) || isnan(dv[2]) || isnan(dv[3])) {
+            rep->skipped_cells++;
+            for (int k = 0; k < 4; k++)
+                if (isnan(dv[k]))
+                    dv[k] = INFINITY;
+        }
+        /* the library's one inside convention (as geom_iso_extract):
+         * f <= iso is inside, the level iso + epsilon */
+        int in[4], code = 0;
+        for (int k = 0; k < 4; k++) {
+            in[k] = dv[k] <= 0.0;
+            code |= in[k] << k;
+        }
+        if (code == 0 || code == 15)
+            continue;
+        /* Crossings: edge k runs from corner k to corner k+1 (CCW);
+         * "out" when it leaves the inside, "in" when it enters. */
+        int outs[2], ins[2], no = 0, ni = 0;
+        for (int k = 0; k < 4; k++) {
+            int a = in[k], b = in[(k + 1) & 3];
+            if (a && !b)
+                outs[no++] = k;
+            else if (!a && b)
+                ins[ni++] = k;
+        }
+        if (no == 1) {
+            cross p = edge_vertex(c, R, i, outs[0], dv, X, yb, yt);
+            cross q = edge_vertex(c, R, i, ins[0], dv, X, yb, yt);
+            emit_segment(c, R, i, p, q);
+            continue;
+        }
+        /* Saddle: the inside corners are joined when the bilinear
+         * interpolant is inside (<= 0) at its saddle point. With D = d0
+         * d2 - d1 d3 and denominator d0 + d2 - d1 - d3 (negative for
+         * code 5, positive for code 10: the outside corners are > 0),
+         * that is D >= 0 (code 5), D <= 0 (10); at D == 0 the level
+         * iso + epsilon joins them, as the 3D face decider does. */
+        rep->saddles++;
+        double D = det2(dv[0], dv[2], dv[1], dv[3]);
+        int joined = code == 5 ? D >= 0.0 : D <= 0.0;
+        for (int m = 0; m < 2; m++) {
+            int k = outs[m];
+            int target = joined ? (k + 1) & 3 : (k + 3) & 3;
+            cross p = edge_vertex(c, R, i, k, dv, X, yb, yt);
+            cross q = edge_vertex(c, R, i, target, dv, X, yb, yt);
+            emit_segment(c, R, i, p, q);
+        }
+    }
 }
 
 /* ----------------------------------------------------------- polylines */
@@ -498,113 +607,79 @@ geom_status geom_implicit_contour(const geom_implicit_field *field, const double
     }
     R.v = geom__alloc(c.alloc, n1 * sizeof(uint32_t));
     R.vs = geom__alloc(c.alloc, n1);
+    R.s[0] = geom__alloc(c.alloc, n1 * sizeof(size_t));
+    R.s[1] = geom__alloc(c.alloc, n1 * sizeof(size_t));
+    R.sv = geom__alloc(c.alloc, n1 * sizeof(size_t));
     geom_status st = GEOM_OK;
     if (!X || !R.d[0] || !R.d[1] || !R.h[0] || !R.h[1] || !R.nd[0] || !R.nd[1] || !R.hs[0] ||
-        !R.hs[1] || !R.v || !R.vs) {
+        !R.hs[1] || !R.v || !R.vs || !R.s[0] || !R.s[1] || !R.sv) {
         st = GEOM_ERR_NOMEM;
         goto cleanup;
     }
     for (size_t i = 0; i <= nx; i++)
         X[i] = i == nx ? bounds[2]
                        : (bounds[0] * (double)(nx - i) + bounds[2] * (double)i) / (double)nx;
-    double yb = bounds[1];
     geom_implicit_contour_report *rep = &out->report;
-    for (size_t i = 0; i <= nx; i++) {
-        R.d[0][i] = field_at(&c, X[i], yb);
-        if (isnan(R.d[0][i]) && rep->nan_nodes++ == 0) {
-            rep->nan_first[0] = i;
-            rep->nan_first[1] = 0;
-            rep->nan_point[0] = X[i];
-            rep->nan_point[1] = yb;
-        }
-        R.h[0][i] = NOV;
-        R.nd[0][i] = NOV;
-        R.hs[0][i] = 0;
-    }
+    rep->cells = nx * ny;
+    for (int r = 0; r < 2; r++)
+        for (size_t i = 0; i <= nx; i++)
+            R.s[r][i] = SIZE_MAX;
+    for (size_t i = 0; i <= nx; i++)
+        R.sv[i] = SIZE_MAX;
+    /* the blocks the isoline may cross (every cell without field->bounds) */
+    uint64_t *bits = NULL;
+    size_t wpr = 0, B = 0, calls = 0;
+    double active = 0;
+    st = geom__contour_blocks(field, bounds, nx, ny, o.iso, o.z, c.alloc, &bits, &wpr, &B, &active,
+                              &calls);
+    if (st != GEOM_OK)
+        goto cleanup;
+    size_t nby = B ? (ny + B - 1) / B : 0;
     for (size_t j = 0; j < ny && c.err == GEOM_OK; j++) {
-        double yt = j + 1 == ny ? bounds[3]
-                                : (bounds[1] * (double)(ny - j - 1) + bounds[3] * (double)(j + 1)) /
-                                      (double)ny;
-        for (size_t i = 0; i <= nx; i++) {
-            R.d[1][i] = field_at(&c, X[i], yt);
-            if (isnan(R.d[1][i]) && rep->nan_nodes++ == 0) {
-                rep->nan_first[0] = i;
-                rep->nan_first[1] = j + 1;
-                rep->nan_point[0] = X[i];
-                rep->nan_point[1] = yt;
-            }
-            R.h[1][i] = NOV;
-            R.nd[1][i] = NOV;
-            R.hs[1][i] = 0;
-            R.v[i] = NOV;
-            R.vs[i] = 0;
-        }
-        for (size_t i = 0; i < nx && c.err == GEOM_OK; i++) {
-            double dv[4] = {R.d[0][i], R.d[0][i + 1], R.d[1][i + 1], R.d[1][i]};
-            rep->cells++;
-            if (isnan(dv[0]) || isnan(dv[1]) || isnan(dv[2]) || isnan(dv[3])) {
-                rep->skipped_cells++;
-                continue;
-            }
-            /* the library's one inside convention (as geom_iso_extract):
-             * f <= iso is inside, the level iso + epsilon */
-            int in[4], code = 0;
-            for (int k = 0; k < 4; k++) {
-                in[k] = dv[k] <= 0.0;
-                code |= in[k] << k;
-            }
-            if (code == 0 || code == 15)
-                continue;
-            /* Crossings: edge k runs from corner k to corner k+1 (CCW);
-             * "out" when it leaves the inside, "in" when it enters. */
-            int outs[2], ins[2], no = 0, ni = 0;
-            for (int k = 0; k < 4; k++) {
-                int a = in[k], b = in[(k + 1) & 3];
-                if (a && !b)
-                    outs[no++] = k;
-                else if (!a && b)
-                    ins[ni++] = k;
-            }
-            if (no == 1) {
-                cross p = edge_vertex(&c, &R, i, outs[0], dv, X, yb, yt);
-                cross q = edge_vertex(&c, &R, i, ins[0], dv, X, yb, yt);
-                emit_segment(&c, &R, i, p, q);
-                continue;
-            }
-            /* Saddle: the inside corners are joined when the bilinear
-             * interpolant is inside (<= 0) at its saddle point. With D = d0
-             * d2 - d1 d3 and denominator d0 + d2 - d1 - d3 (negative for
-             * code 5, positive for code 10: the outside corners are > 0),
-             * that is D >= 0 (code 5), D <= 0 (10); at D == 0 the level
-             * iso + epsilon joins them, as the 3D face decider does. */
-            rep->saddles++;
-            double D = det2(dv[0], dv[2], dv[1], dv[3]);
-            int joined = code == 5 ? D >= 0.0 : D <= 0.0;
-            for (int m = 0; m < 2; m++) {
-                int k = outs[m];
-                int target = joined ? (k + 1) & 3 : (k + 3) & 3;
-                cross p = edge_vertex(&c, &R, i, k, dv, X, yb, yt);
-                cross q = edge_vertex(&c, &R, i, target, dv, X, yb, yt);
-                emit_segment(&c, &R, i, p, q);
+        double yb = j == 0 ? bounds[1] : geom__contour_coord(bounds[1], bounds[3], ny, j);
+        double yt = geom__contour_coord(bounds[1], bounds[3], ny, j + 1);
+        if (!bits) {
+            cell_run(&c, &R, X, j, yb, yt, 0, nx, rep);
+        } else {
+            /* runs of active blocks in this block row, left to right */
+            const uint64_t *row = bits + (j / B) * wpr;
+            size_t nbx = (nx + B - 1) / B;
+            for (size_t bx = 0; bx < nbx && c.err == GEOM_OK;) {
+                uint64_t w = row[bx / 64] >> (bx % 64);
+                if (w == 0) {
+                    bx = (bx / 64 + 1) * 64;
+                    continue;
+                }
+                if (!(w & 1)) {
+                    bx += (size_t)__builtin_ctzll(w);
+                    continue;
+                }
+                size_t bend = bx;
+                while (bend < nbx && ((row[bend / 64] >> (bend % 64)) & 1))
+                    bend++;
+                size_t ie = bend * B < nx ? bend * B : nx;
+                cell_run(&c, &R, X, j, yb, yt, bx * B, ie, rep);
+                bx = bend;
             }
         }
         /* the top row becomes the bottom row */
-        for (int k = 0; k < 1; k++) {
-            double *td = R.d[0];
-            R.d[0] = R.d[1];
-            R.d[1] = td;
-            uint32_t *th = R.h[0];
-            R.h[0] = R.h[1];
-            R.h[1] = th;
-            uint32_t *tn = R.nd[0];
-            R.nd[0] = R.nd[1];
-            R.nd[1] = tn;
-            unsigned char *ts = R.hs[0];
-            R.hs[0] = R.hs[1];
-            R.hs[1] = ts;
-        }
-        yb = yt;
+        double *td = R.d[0];
+        R.d[0] = R.d[1];
+        R.d[1] = td;
+        uint32_t *th = R.h[0];
+        R.h[0] = R.h[1];
+        R.h[1] = th;
+        uint32_t *tn = R.nd[0];
+        R.nd[0] = R.nd[1];
+        R.nd[1] = tn;
+        unsigned char *ts = R.hs[0];
+        R.hs[0] = R.hs[1];
+        R.hs[1] = ts;
+        size_t *tsz = R.s[0];
+        R.s[0] = R.s[1];
+        R.s[1] = tsz;
     }
+    geom__contour_blocks_free(c.alloc, bits, wpr, nby);
     st = c.err;
     if (st == GEOM_OK)
         st = join(&c, out);
@@ -639,6 +714,9 @@ cleanup:
     }
     geom__free(c.alloc, R.v, n1 * sizeof(uint32_t));
     geom__free(c.alloc, R.vs, n1);
+    for (int r = 0; r < 2; r++)
+        geom__free(c.alloc, R.s[r], n1 * sizeof(size_t));
+    geom__free(c.alloc, R.sv, n1 * sizeof(size_t));
     geom__free(c.alloc, c.xy, c.cap_v * 2 * sizeof(double));
     geom__free(c.alloc, c.seg, c.cap_seg * 2 * sizeof(uint32_t));
     if (st != GEOM_OK) {

@@ -52,4 +52,26 @@ int geom__implicit_op_arity(int op);
 double geom__implicit_run_double(const expr_ins *code, size_t n, double x, double y, double z,
                             double t);
 
+/* Marching squares' sparse path (contour_estimate.c): the grid of nx x ny
+ * cells over bounds is cut into blocks of *block x *block cells (16, or
+ * more so that the bitmap stays under 2^27 bytes); a block is active unless
+ * field->bounds proves f - iso of one strict sign over it (recursive
+ * halving, a quadtree over the blocks). *bits receives the row-major
+ * bitmap of active blocks (nbx = ceil(nx / block) bits per block row,
+ * rounded up to 64-bit words: *words_per_row), *cells the number of cells
+ * in active blocks, *calls the bounds calls made. Without field->bounds
+ * *bits is NULL and *cells = nx * ny. GEOM_OK or GEOM_ERR_NOMEM. */
+geom_status geom__contour_blocks(const geom_implicit_field *field, const double bounds[4],
+                                 size_t nx, size_t ny, double iso, double z,
+                                 const geom_allocator *a, uint64_t **bits, size_t *words_per_row,
+                                 size_t *block, double *cells, size_t *calls);
+/* Free geom__contour_blocks' bitmap (rows block rows). */
+void geom__contour_blocks_free(const geom_allocator *a, uint64_t *bits, size_t words_per_row,
+                               size_t rows);
+/* Node coordinate i of n cells over [a, b], as marching squares samples it. */
+static inline double geom__contour_coord(double a, double b, size_t n, size_t i)
+{
+    return i == n ? b : (a * (double)(n - i) + b * (double)i) / (double)n;
+}
+
 #endif

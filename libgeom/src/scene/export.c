@@ -28,6 +28,117 @@ static void corner_value(const geom_mesh *m, int c, uint32_t h, double *v)
                NC[c] * sizeof(double));
 }
 
+/* Checks the objects and returns the extent unbounded shapes are cut to:
+ * twice the box of the bounded ones and the eye. */
+static geom_status export_extent(const geom_camera *cam, size_t n_materials,
+                                 const geom_scene_object *objects, size_t n, geom_aabb *out,
+                                 geom_diag *diag)
+{
+    geom_aabb all = geom_aabb_empty();
+    for (size_t i = 0; i < n; i++) {
+        if (objects[i].material >= n_materials || !objects[i].shape)
+            return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+                                 "object %zu: no shape or material out of range", i);
+        geom_aabb b = geom_scene_shape_bounds(objects[i].shape);
+        if (!geom_aabb_is_empty(b) && isfinite(b.min.x) && isfinite(b.max.x) && isfinite(b.min.y) &&
+            isfinite(b.max.y) && isfinite(b.min.z) && isfinite(b.max.z))
+            all = geom_aabb_union(all, b);
+    }
+    if (cam)
+        all = geom_aabb_extend(all, cam->eye);
+    if (geom_aabb_is_empty(all))
+        all.min = all.max = geom_vec3_make(0, 0, 0);
+    geom_vec3 c = geom_vec3_scale(geom_vec3_add(all.min, all.max), 0.5);
+    geom_vec3 h = geom_vec3_sub(all.max, all.min);
+    double m = fmax(h.x, fmax(h.y, h.z)) + 1;
+    all.min = geom_vec3_sub(c, geom_vec3_make(m, m, m));
+    all.max = geom_vec3_add(c, geom_vec3_make(m, m, m));
+    *out = all;
+    return GEOM_OK;
+}
+
+/* Object i's tessellation request (its own frame), its world tolerance
+ * (*tol) and the transform's largest scale (*sc: errors scale by it). */
+static void export_request(const geom_camera *cam, const geom_material *materials,
+                           const geom_scene_object *obj, const geom_export_options *opt,
+                           geom_aabb all, geom_tess_request *rq, double *tol_out, double *sc_out)
+{
+    const geom_shape *sh = obj->shape;
+    unsigned need = geom_scene_material_needs(&materials[obj->material]) &
+                    (GEOM_NEEDS_NORMAL | GEOM_NEEDS_UV | GEOM_NEEDS_TANGENT);
+    if (need & GEOM_NEEDS_TANGENT)
+        need |= GEOM_NEEDS_UV;
+    double pe = opt->pixel_error > 0 ? opt->pixel_error : 0.5;
+    geom_aabb b = geom_scene_shape_bounds(sh);
+    if (!(isfinite(b.min.x) && isfinite(b.max.x) && isfinite(b.min.y) && isfinite(b.max.y) &&
+          isfinite(b.min.z) && isfinite(b.max.z)))
+        b = all;
+    double tol = opt->tolerance > 0 ? opt->tolerance : geom_scene_pixel_tolerance(cam, b, pe, NULL);
+    if (!(tol > 0))
+        tol = 1e-3 * geom_vec3_length(geom_vec3_sub(b.max, b.min)) + 1e-12;
+    memset(rq, 0, sizeof *rq);
+    double sc = 1;
+    if (sh->transform) {
+        sc = 0;
+        for (int c = 0; c < 3; c++)
+            sc = fmax(sc, geom_vec3_length(geom_vec3_make(sh->transform->m[4 * c],
+                                                          sh->transform->m[4 * c + 1],
+                                                          sh->transform->m[4 * c + 2])));
+        if (!(sc > 0))
+            sc = 1;
+        geom_mat4 inv;
+        if (geom_mat4_inverse(*sh->transform, &inv) == GEOM_OK) {
+            rq->extent = geom_aabb_empty();
+            for (int c = 0; c < 8; c++) {
+                geom_vec3 p = geom_vec3_make(c & 1 ? all.max.x : all.min.x, c & 2 ? all.max.y : all.min.y,
+                                             c & 4 ? all.max.z : all.min.z), q;
+                geom_mat4_transform_point(inv, p, &q);
+                rq->extent = geom_aabb_extend(rq->extent, q);
+            }
+        }
+    } else
+        rq->extent = all;
+    rq->tol = tol / sc;
+    rq->attributes = need;
+    *tol_out = tol;
+    *sc_out = sc;
+}
+
+geom_status geom_scene_export_estimate(const geom_camera *cam, const geom_material *materials,
+                                       size_t n_materials, const geom_scene_object *objects,
+                                       size_t n, const geom_export_options *opt_in,
+                                       double *per_object, double *triangles, geom_diag *diag)
+{
+    geom_export_options opt;
+    memset(&opt, 0, sizeof opt);
+    if (opt_in)
+        opt = *opt_in;
+    if (triangles)
+        *triangles = 0;
+    if (!triangles || (n && !objects) || !materials || !n_materials ||
+        (!cam && !(opt.tolerance > 0)))
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
+                             "export estimate needs objects, materials, a camera or a tolerance, "
+                             "and an output");
+    geom_aabb all;
+    geom_status st = export_extent(cam, n_materials, objects, n, &all, diag);
+    double total = 0;
+    for (size_t i = 0; i < n && st == GEOM_OK; i++) {
+        geom_tess_request rq;
+        double tol, sc, t = 0;
+        export_request(cam, materials, &objects[i], &opt, all, &rq, &tol, &sc);
+        st = geom_scene_tessellate_estimate(objects[i].shape, &rq, &t);
+        if (st != GEOM_OK)
+            geom__diag_set(diag, st, NULL, 0, 0, "object %zu: no estimate: %s", i,
+                          geom_status_str(st));
+        if (per_object)
+            per_object[i] = t;
+        total += t;
+    }
+    *triangles = st == GEOM_OK ? total : 0;
+    return st;
+}
+
 geom_status geom_scene_export(const geom_camera *cam, const geom_material *materials,
                               size_t n_materials, const geom_scene_object *objects, size_t n,
                               const char *const *names, const geom_export_options *opt_in,
@@ -43,29 +154,10 @@ geom_status geom_scene_export(const geom_camera *cam, const geom_material *mater
     int has_world = 0;
     for (int k = 0; k < 16; k++)
         has_world |= opt.world.m[k] != 0;
-    /* extent for unbounded shapes */
-    geom_aabb all = geom_aabb_empty();
-    for (size_t i = 0; i < n; i++) {
-        if (objects[i].material >= n_materials || !objects[i].shape)
-            return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
-                                 "object %zu: no shape or material out of range", i);
-        geom_aabb b = geom_scene_shape_bounds(objects[i].shape);
-        if (!geom_aabb_is_empty(b) && isfinite(b.min.x) && isfinite(b.max.x) && isfinite(b.min.y) &&
-            isfinite(b.max.y) && isfinite(b.min.z) && isfinite(b.max.z))
-            all = geom_aabb_union(all, b);
-    }
-    if (cam)
-        all = geom_aabb_extend(all, cam->eye);
-    if (geom_aabb_is_empty(all))
-        all.min = all.max = geom_vec3_make(0, 0, 0);
-    {
-        geom_vec3 c = geom_vec3_scale(geom_vec3_add(all.min, all.max), 0.5);
-        geom_vec3 h = geom_vec3_sub(all.max, all.min);
-        double m = fmax(h.x, fmax(h.y, h.z)) + 1;
-        all.min = geom_vec3_sub(c, geom_vec3_make(m, m, m));
-        all.max = geom_vec3_add(c, geom_vec3_make(m, m, m));
-    }
-    double pe = opt.pixel_error > 0 ? opt.pixel_error : 0.5;
+    geom_aabb all;
+    geom_status st0 = export_extent(cam, n_materials, objects, n, &all, diag);
+    if (st0 != GEOM_OK)
+        return st0;
     geom_mesh **parts = geom__alloc(NULL, (n ? n : 1) * sizeof *parts);
     if (!parts)
         return geom__diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_scene_export: out of memory");
@@ -74,43 +166,11 @@ geom_status geom_scene_export(const geom_camera *cam, const geom_material *mater
     geom_status st = GEOM_OK;
     for (size_t i = 0; i < n && st == GEOM_OK; i++) {
         const geom_shape *sh = objects[i].shape;
-        unsigned need = geom_scene_material_needs(&materials[objects[i].material]) &
-                        (GEOM_NEEDS_NORMAL | GEOM_NEEDS_UV | GEOM_NEEDS_TANGENT);
-        if (need & GEOM_NEEDS_TANGENT)
-            need |= GEOM_NEEDS_UV;
-        any |= need;
-        geom_aabb b = geom_scene_shape_bounds(sh);
-        if (!(isfinite(b.min.x) && isfinite(b.max.x) && isfinite(b.min.y) && isfinite(b.max.y) &&
-              isfinite(b.min.z) && isfinite(b.max.z)))
-            b = all;
-        double tol = opt.tolerance > 0 ? opt.tolerance : geom_scene_pixel_tolerance(cam, b, pe, NULL);
-        if (!(tol > 0))
-            tol = 1e-3 * geom_vec3_length(geom_vec3_sub(b.max, b.min)) + 1e-12;
         geom_tess_request rq;
-        memset(&rq, 0, sizeof rq);
-        double sc = 1;
-        if (sh->transform) {
-            sc = 0;
-            for (int c = 0; c < 3; c++)
-                sc = fmax(sc, geom_vec3_length(geom_vec3_make(sh->transform->m[4 * c],
-                                                              sh->transform->m[4 * c + 1],
-                                                              sh->transform->m[4 * c + 2])));
-            if (!(sc > 0))
-                sc = 1;
-            geom_mat4 inv;
-            if (geom_mat4_inverse(*sh->transform, &inv) == GEOM_OK) {
-                rq.extent = geom_aabb_empty();
-                for (int c = 0; c < 8; c++) {
-                    geom_vec3 p = geom_vec3_make(c & 1 ? all.max.x : all.min.x, c & 2 ? all.max.y : all.min.y,
-                                                 c & 4 ? all.max.z : all.min.z), q;
-                    geom_mat4_transform_point(inv, p, &q);
-                    rq.extent = geom_aabb_extend(rq.extent, q);
-                }
-            }
-        } else
-            rq.extent = all;
-        rq.tol = tol / sc;
-        rq.attributes = need;
+        double tol, sc;
+        export_request(cam, materials, &objects[i], &opt, all, &rq, &tol, &sc);
+        unsigned need = rq.attributes;
+        any |= need;
         parts[i] = geom_mesh_create(NULL);
         if (!parts[i]) {
             st = GEOM_ERR_NOMEM;
@@ -135,7 +195,15 @@ geom_status geom_scene_export(const geom_camera *cam, const geom_material *mater
         r.attributes = need;
         if (reports)
             reports[i] = r;
-        if (st != GEOM_OK && diag && !strstr(diag->message, "object"))
+        if (st == GEOM_ERR_LIMIT && diag) {
+            /* say how far over: the estimate at the tolerance asked */
+            double est = 0;
+            geom_scene_tessellate_estimate(sh, &rq, &est);
+            geom__diag_set(diag, st, NULL, 0, 0,
+                          "object %s: limit exceeded: about %.0f triangles (estimate) at "
+                          "tolerance %.3g; coarsen the tolerance",
+                          names && names[i] ? names[i] : "?", est, tol);
+        } else if (st != GEOM_OK && diag && !strstr(diag->message, "object"))
             geom__diag_set(diag, st, NULL, 0, 0, "object %s: %s",
                           names && names[i] ? names[i] : "?", geom_status_str(st));
     }

@@ -13,7 +13,7 @@ struct geom_scene_shapes {
     /* everything allocated, freed at destroy */
     void **blocks;
     size_t *sizes;
-    size_t nblocks, cap;
+    size_t nblocks, cap, scap; /* capacities of blocks and sizes */
     geom_mesh **meshes;
     size_t nmeshes, mcap;
     const geom_shape **top;
@@ -23,17 +23,15 @@ struct geom_scene_shapes {
 
 static void *hold(geom_scene_shapes *h, size_t size)
 {
-    if (h->nblocks == h->cap) {
-        size_t nc = h->cap ? 2 * h->cap : 64;
-        void **nb = geom__realloc(NULL, h->blocks, h->cap * sizeof *nb, nc * sizeof *nb);
-        if (!nb)
-            return NULL;
+    {
+        void *nb = h->blocks, *ns = h->sizes;
+        geom_status st = geom__grow(NULL, &nb, &h->cap, h->nblocks + 1, sizeof *h->blocks);
         h->blocks = nb;
-        size_t *ns = geom__realloc(NULL, h->sizes, h->cap * sizeof *ns, nc * sizeof *ns);
-        if (!ns)
-            return NULL;
+        if (st == GEOM_OK)
+            st = geom__grow(NULL, &ns, &h->scap, h->nblocks + 1, sizeof *h->sizes);
         h->sizes = ns;
-        h->cap = nc;
+        if (st != GEOM_OK)
+            return NULL;
     }
     void *p = geom__alloc(NULL, size ? size : 1);
     if (!p)
@@ -46,14 +44,11 @@ static void *hold(geom_scene_shapes *h, size_t size)
 
 static geom_status keep_mesh(geom_scene_shapes *h, geom_mesh *m)
 {
-    if (h->nmeshes == h->mcap) {
-        size_t nc = h->mcap ? 2 * h->mcap : 16;
-        geom_mesh **nm = geom__realloc(NULL, h->meshes, h->mcap * sizeof *nm, nc * sizeof *nm);
-        if (!nm)
-            return GEOM_ERR_NOMEM;
-        h->meshes = nm;
-        h->mcap = nc;
-    }
+    void *nm = h->meshes;
+    geom_status st = geom__grow(NULL, &nm, &h->mcap, h->nmeshes + 1, sizeof *h->meshes);
+    h->meshes = nm;
+    if (st != GEOM_OK)
+        return st;
     h->meshes[h->nmeshes++] = m;
     return GEOM_OK;
 }
@@ -67,7 +62,7 @@ void geom_scene_shapes_destroy(geom_scene_shapes *h)
     for (size_t i = 0; i < h->nmeshes; i++)
         geom_mesh_destroy(h->meshes[i]);
     geom__free(NULL, h->blocks, h->cap * sizeof *h->blocks);
-    geom__free(NULL, h->sizes, h->cap * sizeof *h->sizes);
+    geom__free(NULL, h->sizes, h->scap * sizeof *h->sizes);
     geom__free(NULL, h->meshes, h->mcap * sizeof *h->meshes);
     geom__free(NULL, h->top, (h->ntop ? h->ntop : 1) * sizeof *h->top);
     geom__free(NULL, h->top_kind, (h->ntop ? h->ntop : 1) * sizeof *h->top_kind);

@@ -600,7 +600,7 @@ geom_status geom_scene_render(const geom_camera *cam_in, const geom_light *light
     if (opt.method == GEOM_RENDER_RAY) {
         geom_ray_scene *rs = geom_ray_scene_create(NULL);
         uint32_t *roots = NULL, *root_obj = NULL;
-        size_t nroots = 0, cap = 0;
+        size_t nroots = 0, cap = 0, cap_obj = 0;
         /* meshes made for the ray path: subdivision surfaces refined to the
          * pixel error, displaced surfaces, polygon meshes triangulated for
          * their corner attributes */
@@ -652,19 +652,15 @@ geom_status geom_scene_render(const geom_camera *cam_in, const geom_light *light
                 sh = &mshape[i];
             }
             size_t k = sh->kind == GEOM_SHAPE_SURFACE && sh->n_surfaces > 1 ? sh->n_surfaces : 1;
-            if (nroots + k > cap) {
-                size_t nc = (nroots + k) * 2;
-                uint32_t *a = geom__realloc(NULL, roots, cap * sizeof *a, nc * sizeof *a);
-                if (a)
-                    roots = a;
-                uint32_t *b = a ? geom__realloc(NULL, root_obj, cap * sizeof *b, nc * sizeof *b) : NULL;
-                if (b)
-                    root_obj = b;
-                if (!a || !b) {
-                    st = GEOM_ERR_NOMEM;
+            {
+                void *a = roots, *b = root_obj;
+                st = geom__grow(NULL, &a, &cap, nroots + k, sizeof *roots);
+                roots = a;
+                if (st == GEOM_OK)
+                    st = geom__grow(NULL, &b, &cap_obj, nroots + k, sizeof *root_obj);
+                root_obj = b;
+                if (st != GEOM_OK)
                     break;
-                }
-                cap = nc;
             }
             size_t got = 0;
             st = geom_scene_shape_to_ray(rs, sh, roots + nroots, &got, diag);
@@ -728,7 +724,7 @@ geom_status geom_scene_render(const geom_camera *cam_in, const geom_light *light
         geom__free(NULL, attr, n * sizeof *attr);
         geom__free(NULL, first_root, n * sizeof *first_root);
         geom__free(NULL, roots, cap * sizeof *roots);
-        geom__free(NULL, root_obj, cap * sizeof *root_obj);
+        geom__free(NULL, root_obj, cap_obj * sizeof *root_obj);
         geom_ray_scene_destroy(rs);
     } else {
         /* raster: tessellate what is needed to the pixel error */

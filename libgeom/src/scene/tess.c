@@ -36,6 +36,23 @@ static unsigned surf_attrs(unsigned a)
     return f;
 }
 
+/* The exact NURBS of a sphere or a torus (arrays in *b). */
+typedef struct quadric_nurbs {
+    double ku[12], kv[12], pts[243], w[81];
+} quadric_nurbs;
+
+static geom_status sphere_torus_nurbs(const geom_shape *s, quadric_nurbs *b, geom_nurbs_surface *ns)
+{
+    if (s->kind == GEOM_SHAPE_TORUS)
+        return geom_surface_torus(NULL, s->major, s->minor, b->ku, b->kv, b->pts, b->w, ns);
+    geom_surface_frame fr;
+    memset(&fr, 0, sizeof fr);
+    memcpy(fr.center, s->p, sizeof fr.center);
+    fr.zaxis[2] = 1;
+    fr.xaxis[0] = 1;
+    return geom_surface_sphere(&fr, s->radius, b->ku, b->kv, b->pts, b->w, ns);
+}
+
 static geom_status tess_nurbs(const geom_nurbs_surface *s, size_t n, const geom_tess_request *rq,
                               geom_mesh *out, geom_tess_info *info, geom_diag *diag)
 {
@@ -478,6 +495,30 @@ static double iso_value_cb(void *user, const double p[3])
     return inode_f((const inode *)user, geom_vec3_make(p[0], p[1], p[2]));
 }
 
+/* The marching-cubes box of an implicit shape's bounds b (padded by a few
+ * percent so a surface touching the box is closed by caps) into bounds,
+ * and the first pass's cell size for tolerance tol. */
+static double iso_grid(geom_aabb b, double tol, double bounds[6])
+{
+    geom_vec3 d = geom_vec3_sub(b.max, b.min);
+    double diag_len = geom_vec3_length(d);
+    double pad = 0.02 * diag_len + 1e-12;
+    double bx[6] = {b.min.x - pad, b.min.y - pad, b.min.z - pad,
+                    b.max.x + pad, b.max.y + pad, b.max.z + pad};
+    memcpy(bounds, bx, sizeof bx);
+    return fmax(diag_len / 256, fmin(diag_len / 24, 8 * tol));
+}
+
+/* Cells per axis for cell size h: 2..256. */
+static void iso_res(const double bounds[6], double h, size_t res[3])
+{
+    for (int i = 0; i < 3; i++) {
+        double ext = bounds[3 + i] - bounds[i];
+        double r = ceil(ext / h);
+        res[i] = r < 2 ? 2 : (r > 256 ? 256 : (size_t)r);
+    }
+}
+
 static geom_status tess_iso(const geom_shape *s, const geom_tess_request *rq, geom_mesh *out,
                             geom_tess_info *info, geom_diag *diag)
 {
@@ -489,13 +530,8 @@ static geom_status tess_iso(const geom_shape *s, const geom_tess_request *rq, ge
         !isfinite(b.min.y) || !isfinite(b.max.y) || !isfinite(b.min.z) || !isfinite(b.max.z))
         return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "object %s: unbounded and no extent to cut it to", nm(s));
-    geom_vec3 d = geom_vec3_sub(b.max, b.min);
-    double diag_len = geom_vec3_length(d);
-    /* pad by a few percent so a surface touching the box is closed by caps */
-    double pad = 0.02 * diag_len + 1e-12;
-    double bounds[6] = {b.min.x - pad, b.min.y - pad, b.min.z - pad,
-                        b.max.x + pad, b.max.y + pad, b.max.z + pad};
-    double h = fmax(diag_len / 256, fmin(diag_len / 24, 8 * rq->tol));
+    double bounds[6];
+    double h = iso_grid(b, rq->tol, bounds);
     geom_iso_field f;
     memset(&f, 0, sizeof f);
     inode *root = inode_make(&local, 1);
@@ -516,11 +552,7 @@ static geom_status tess_iso(const geom_shape *s, const geom_tess_request *rq, ge
     info->method = "iso";
     for (int pass = 0; pass < 4; pass++) {
         size_t res[3];
-        for (int i = 0; i < 3; i++) {
-            double ext = bounds[3 + i] - bounds[i];
-            double r = ceil(ext / h);
-            res[i] = r < 2 ? 2 : (r > 256 ? 256 : (size_t)r);
-        }
+        iso_res(bounds, h, res);
         memset(&surf, 0, sizeof surf);
         st = geom_iso_extract(&f, bounds, res, &o, &surf, diag);
         if (st != GEOM_OK) {
@@ -602,6 +634,18 @@ static geom_status tess_subdiv(const geom_shape *s, const geom_tess_request *rq,
     return st;
 }
 
+/* Sides of the polygon standing for a disk at tolerance tol. */
+static size_t disk_sides(const geom_shape *s, double tol)
+{
+    double c = 1 - tol / s->radius;
+    size_t n = c <= -1 ? 8 : (size_t)ceil(GEOM_PI / acos(c > -1 ? c : -1));
+    if (n < 8)
+        n = 8;
+    if (n > 65536)
+        n = 65536;
+    return n;
+}
+
 /* A group: its members tessellated (their transforms applied) and joined
  * into one mesh (positions and vertex normals; corner channels dropped). */
 static geom_status tess_group(const geom_shape *s, const geom_tess_request *rq, geom_mesh *out,
@@ -627,16 +671,16 @@ static geom_status tess_group(const geom_shape *s, const geom_tess_request *rq, 
         size_t mv = geom_mesh_n_vertices(m), mf = geom_mesh_n_live_faces(m), mi_n = 0;
         if (st == GEOM_OK)
             st = geom_mesh_to_soup(m, NULL, NULL, &mi_n);
-        if (st == GEOM_OK && (nv + mv > capv || nf + mf > capf || ni + mi_n > capi)) {
-            size_t cv = 2 * (nv + mv) + 16, cf = 2 * (nf + mf) + 16, ci = 2 * (ni + mi_n) + 16;
-            double *a = geom__realloc(NULL, xyz, 3 * capv * sizeof *a, 3 * cv * sizeof *a);
-            if (a) { xyz = a; capv = cv; }
-            uint32_t *b = geom__realloc(NULL, sizes, capf * sizeof *b, cf * sizeof *b);
-            if (b) { sizes = b; capf = cf; }
-            uint32_t *c = geom__realloc(NULL, idx, capi * sizeof *c, ci * sizeof *c);
-            if (c) { idx = c; capi = ci; }
-            if (!a || !b || !c)
-                st = GEOM_ERR_NOMEM;
+        if (st == GEOM_OK) {
+            void *a = xyz, *b = sizes, *c = idx;
+            st = geom__grow(NULL, &a, &capv, nv + mv, 3 * sizeof *xyz);
+            xyz = a;
+            if (st == GEOM_OK)
+                st = geom__grow(NULL, &b, &capf, nf + mf, sizeof *sizes);
+            sizes = b;
+            if (st == GEOM_OK)
+                st = geom__grow(NULL, &c, &capi, ni + mi_n, sizeof *idx);
+            idx = c;
         }
         if (st == GEOM_OK)
             st = geom_mesh_to_soup(m, sizes + nf, idx + ni, &mi_n);
@@ -685,23 +729,11 @@ geom_status geom_scene_tessellate(const geom_shape *s, const geom_tess_request *
     info.method = "exact";
     info.error.method = GEOM_ERROR_BOUND;
     switch (s->kind) {
-    case GEOM_SHAPE_SPHERE: {
-        double ku[12], kv[8], pts[135], w[45];
-        geom_surface_frame fr;
-        memset(&fr, 0, sizeof fr);
-        memcpy(fr.center, s->p, sizeof fr.center);
-        fr.zaxis[2] = 1;
-        fr.xaxis[0] = 1;
-        geom_nurbs_surface ns;
-        st = geom_surface_sphere(&fr, s->radius, ku, kv, pts, w, &ns);
-        if (st == GEOM_OK)
-            st = tess_nurbs(&ns, 1, rq, out, &info, diag);
-        break;
-    }
+    case GEOM_SHAPE_SPHERE:
     case GEOM_SHAPE_TORUS: {
-        double ku[12], kv[12], pts[243], w[81];
+        quadric_nurbs qn;
         geom_nurbs_surface ns;
-        st = geom_surface_torus(NULL, s->major, s->minor, ku, kv, pts, w, &ns);
+        st = sphere_torus_nurbs(s, &qn, &ns);
         if (st == GEOM_OK)
             st = tess_nurbs(&ns, 1, rq, out, &info, diag);
         break;
@@ -734,12 +766,7 @@ geom_status geom_scene_tessellate(const geom_shape *s, const geom_tess_request *
         }
         break;
     case GEOM_SHAPE_DISK: {
-        double c = 1 - rq->tol / s->radius;
-        size_t n = c <= -1 ? 8 : (size_t)ceil(GEOM_PI / acos(c > -1 ? c : -1));
-        if (n < 8)
-            n = 8;
-        if (n > 65536)
-            n = 65536;
+        size_t n = disk_sides(s, rq->tol);
         double *pts = geom__alloc(NULL, 3 * n * sizeof(double));
         if (!pts) {
             st = GEOM_ERR_NOMEM;
@@ -904,6 +931,139 @@ geom_status geom_scene_tessellate(const geom_shape *s, const geom_tess_request *
     info.seconds = now() - t0;
     if (info_out)
         *info_out = info;
+    return st;
+}
+
+/* ------------------------------------------------------------ estimate */
+
+geom_status geom_scene_tessellate_estimate(const geom_shape *s, const geom_tess_request *rq,
+                                           double *triangles)
+{
+    if (!triangles)
+        return GEOM_ERR_INVALID_ARG;
+    *triangles = 0;
+    if (!s || !rq || !(rq->tol > 0) || !isfinite(rq->tol))
+        return GEOM_ERR_INVALID_ARG;
+    geom_status st = GEOM_OK;
+    double t = 0;
+    switch (s->kind) {
+    case GEOM_SHAPE_SPHERE:
+    case GEOM_SHAPE_TORUS:
+    case GEOM_SHAPE_SURFACE: {
+        /* the surface module's estimate with the options tess_nurbs uses */
+        geom_surface_tess_options o;
+        memset(&o, 0, sizeof o);
+        o.tolerance = rq->tol;
+        if (s->kind == GEOM_SHAPE_SURFACE) {
+            if (!s->surfaces || !s->n_surfaces)
+                return GEOM_ERR_INVALID_ARG;
+            st = geom_surface_tess_estimate(s->surfaces, s->n_surfaces, &o, &t);
+        } else {
+            quadric_nurbs qn;
+            geom_nurbs_surface ns;
+            st = sphere_torus_nurbs(s, &qn, &ns);
+            if (st == GEOM_OK)
+                st = geom_surface_tess_estimate(&ns, 1, &o, &t);
+        }
+        break;
+    }
+    case GEOM_SHAPE_BOX:
+        t = 12;
+        break;
+    case GEOM_SHAPE_POLYGON:
+        t = s->n_vertices >= 3 ? (double)s->n_vertices - 2 : 0;
+        break;
+    case GEOM_SHAPE_DISK:
+        t = (double)disk_sides(s, rq->tol) - 2;
+        break;
+    case GEOM_SHAPE_PLANE:
+        t = 2;
+        break;
+    case GEOM_SHAPE_MESH:
+    case GEOM_SHAPE_SUBDIV: {
+        if (!s->mesh)
+            return GEOM_ERR_INVALID_ARG;
+        double corners = 0, polys = 0;
+        size_t nf = geom_mesh_n_faces(s->mesh);
+        for (uint32_t f = 0; f < nf; f++)
+            if (!geom_mesh_face_is_deleted(s->mesh, f)) {
+                double val = (double)geom_mesh_face_valence(s->mesh, f);
+                corners += val;
+                polys += val - 2;
+            }
+        if (s->kind == GEOM_SHAPE_MESH) {
+            t = polys;
+            break;
+        }
+        /* tess_subdiv refines until the control points are within tol of
+         * the limit, at most to level 7; that distance shrinks about 4 times
+         * a level (second-order convergence), from level 1's, which is
+         * measured here (tess_subdiv's first step) */
+        geom_subdiv_options o;
+        memset(&o, 0, sizeof o);
+        o.scheme = (geom_subdiv_scheme)s->scheme;
+        geom_subdiv_report rep;
+        memset(&rep, 0, sizeof rep);
+        geom_mesh *tmp = NULL;
+        st = geom_subdiv_mesh(s->mesh, &o, 1, 0, &tmp, &rep, NULL);
+        geom_mesh_destroy(tmp);
+        if (st != GEOM_OK)
+            break;
+        int level = 1;
+        double d = rep.max_limit_distance;
+        while (level < 7 && !(d <= rq->tol)) {
+            d /= 4;
+            level++;
+        }
+        /* Catmull-Clark: one quad per corner at level 1, 4 per quad a level
+         * after, 2 triangles each; Loop: 4 triangles per triangle a level */
+        double four = ldexp(1.0, 2 * (level - 1));
+        t = s->scheme == GEOM_SUBDIV_LOOP ? polys * 4 * four : corners * four * 2;
+        break;
+    }
+    case GEOM_SHAPE_GROUP:
+        for (size_t k = 0; k < s->n_members && st == GEOM_OK; k++) {
+            double m = 0;
+            geom_tess_request r2 = *rq;
+            r2.attributes = 0;
+            st = geom_scene_tessellate_estimate(s->members[k], &r2, &m);
+            t += m;
+        }
+        break;
+    case GEOM_SHAPE_QUADRIC:
+    case GEOM_SHAPE_IMPLICIT:
+    case GEOM_SHAPE_VOLUME:
+    case GEOM_SHAPE_CSG: {
+        if (no_implicit(s))
+            return GEOM_ERR_INVALID_ARG;
+        geom_shape local = *s;
+        local.transform = NULL;
+        geom_aabb b = shape_bounds(&local, rq->extent);
+        if (geom_aabb_is_empty(b) || !isfinite(b.min.x) || !isfinite(b.max.x) ||
+            !isfinite(b.min.y) || !isfinite(b.max.y) || !isfinite(b.min.z) || !isfinite(b.max.z))
+            return GEOM_ERR_INVALID_ARG;
+        /* the iso module's estimate at the finest grid tess_iso can reach
+         * (the cell size halved twice, at most 256 cells per axis) */
+        double bounds[6];
+        double h = iso_grid(b, rq->tol, bounds) / 4;
+        size_t res[3];
+        iso_res(bounds, h, res);
+        inode *root = inode_make(&local, 1);
+        if (!root)
+            return GEOM_ERR_NOMEM;
+        geom_implicit_field f;
+        memset(&f, 0, sizeof f);
+        f.value = iso_value_cb;
+        f.user = root;
+        f.exact = 1;
+        st = geom_iso_estimate_triangles(&f, bounds, res, 0.0, &t);
+        inode_free(root);
+        break;
+    }
+    default:
+        return GEOM_ERR_INVALID_ARG;
+    }
+    *triangles = st == GEOM_OK ? t : 0;
     return st;
 }
 

@@ -96,4 +96,8 @@ double geom__brep_surface_invert(const geom_brep *b, const geom_brep_surface *s,
 int geom__brep_curve_domain(const geom_brep_curve *c, double *t0, double *t1);
 int geom__brep_curve_periodic(const geom_brep_curve *c);
 
+/* The default chordal tolerance: 1e-3 of the diagonal of the vertices'
+ * box (estimate.c; geom_brep_tess_options::tolerance 0). */
+double geom__step_default_tolerance(const geom_brep *b);
+
 #endif

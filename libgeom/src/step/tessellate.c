@@ -978,16 +978,8 @@ GEOM_API geom_status geom_step_tessellate(const geom_brep *b, const geom_brep_te
     T.max_tris = o.max_triangles ? o.max_triangles : ((size_t)1 << 24);
     T.cos_angle = o.angle_degrees > 0 ? cos(o.angle_degrees * GEOM_PI / 180) : 1;
     T.tol = o.tolerance;
-    if (!(T.tol > 0)) {
-        geom_aabb box = geom_aabb_empty();
-        for (size_t k = 0; k < b->nvertices; k++)
-            box = geom_aabb_extend(box, geom_vec3_make(b->vertices[k].p[0], b->vertices[k].p[1],
-                                                       b->vertices[k].p[2]));
-        double diag_len = geom_aabb_is_empty(box)
-                              ? 1
-                              : geom_vec3_length(geom_vec3_sub(box.max, box.min));
-        T.tol = 1e-3 * (diag_len > 0 ? diag_len : 1);
-    }
+    if (!(T.tol > 0))
+        T.tol = geom__step_default_tolerance(b);
     geom_status st = GEOM_OK;
     size_t ne = b->nedges ? b->nedges : 1;
     T.efirst = geom__alloc(T.a, ne * sizeof(size_t));

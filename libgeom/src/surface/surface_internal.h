@@ -66,4 +66,15 @@ int geom__surface_span_normal(const geom_nurbs_surface *s, size_t ku, size_t kv,
 /** Binomial coefficient as a double (exact up to 2^53). */
 double geom__surface_binom(int n, int k);
 
+/* The surface module's per-patch triangle estimate (tess_estimate.c),
+ * shared with the STEP faces' (step/estimate.c): fn gives |S_uu|, |S_uv|,
+ * |S_vv| at (u, v) (returns 0 where undefined); the triangles a flat
+ * tessellation within tol needs over the parameter box dom (u0 u1 v0 v1),
+ * sampled at the centres of a gu x gv grid, each sample cell counting at
+ * least floor_count triangles per direction (1 where the tessellator
+ * starts from a grid, 0 where it adds interior points only as needed). */
+typedef int (*geom__second_derivs_fn)(void *user, double u, double v, double out[3]);
+double geom__tess_estimate_grid(geom__second_derivs_fn fn, void *user, const double dom[4],
+                                size_t gu, size_t gv, double tol, double floor_count);
+
 #endif

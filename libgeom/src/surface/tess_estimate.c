@@ -5,6 +5,7 @@
 #include "surface/surface_internal.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <string.h>
 
 /* Distinct non-empty knot spans of the domain. */
@@ -33,10 +34,50 @@ static double len3(const double *v)
  * Adaptive: a flat triangle over a parameter box hu x hv deviates from the
  * surface by about (|S_uu| hu^2 + 2 |S_uv| hu hv + |S_vv| hv^2) / 8; the
  * tolerance then allows hu = sqrt(8 tol / |S_uu|) (same along v; see
- * TRI_ERROR_DIVISOR). Over a
- * 4x4 sample grid per knot span the counts nu = du / hu, nv = dv / hv are
- * summed (2 triangles per quad, at least 2 per cell).
+ * TRI_ERROR_DIVISOR). Over a gu x gv sample grid of the parameter box dom
+ * (cell centres) the counts nu = du / hu, nv = dv / hv are summed (2
+ * triangles per quad, at least floor_count per cell and direction: 1 for
+ * the patch tessellator, which starts from a grid). The one per-patch estimate of
+ * the library: NURBS surfaces here, STEP faces (step/estimate.c) through
+ * their own second derivatives.
  */
+double geom__tess_estimate_grid(geom__second_derivs_fn fn, void *user, const double dom[4],
+                                size_t gu, size_t gv, double tol, double floor_count)
+{
+    double du = (dom[1] - dom[0]) / (double)gu, dv = (dom[3] - dom[2]) / (double)gv;
+    double total = 0.0;
+    for (size_t i = 0; i < gu; i++)
+        for (size_t j = 0; j < gv; j++) {
+            double u = dom[0] + ((double)i + 0.5) * du, v = dom[2] + ((double)j + 0.5) * dv;
+            double sd[3];
+            if (!fn(user, u, v, sd))
+                continue;
+            double suu = sd[0], suv = sd[1], svv = sd[2];
+            double cu = sqrt((suu + suv) / (TRI_ERROR_DIVISOR * tol)) * du;
+            double cv = sqrt((svv + suv) / (TRI_ERROR_DIVISOR * tol)) * dv;
+            if (!isfinite(cu) || !isfinite(cv))
+                continue;
+            double nu = cu > floor_count ? cu : floor_count;
+            double nv = cv > floor_count ? cv : floor_count;
+            total += 2.0 * nu * nv;
+        }
+    return total;
+}
+
+/* |S_uu|, |S_uv|, |S_vv| of a NURBS surface. */
+static int nurbs_second(void *user, double u, double v, double out[3])
+{
+    double ders[27];
+    if (geom_surface_derivs((const geom_nurbs_surface *)user, u, v, 2, 0, ders) != GEOM_OK)
+        return 0;
+    /* S^(k,l) at 3*(k*3 + l) */
+    out[0] = len3(ders + 3 * 6);
+    out[1] = len3(ders + 3 * 4);
+    out[2] = len3(ders + 3 * 2);
+    return 1;
+}
+
+/* A NURBS surface: a 4x4 grid per knot span (at most 256 a side). */
 static double adaptive_estimate(const geom_nurbs_surface *s, double tol)
 {
     double dom[4];
@@ -44,23 +85,8 @@ static double adaptive_estimate(const geom_nurbs_surface *s, double tol)
         return 0.0;
     size_t su = spans(s->knots_u, s->nu, s->degree_u), sv = spans(s->knots_v, s->nv, s->degree_v);
     size_t gu = su * 4 > 256 ? 256 : su * 4, gv = sv * 4 > 256 ? 256 : sv * 4;
-    double du = (dom[1] - dom[0]) / (double)gu, dv = (dom[3] - dom[2]) / (double)gv;
-    double total = 0.0;
-    double ders[27];
-    for (size_t i = 0; i < gu; i++)
-        for (size_t j = 0; j < gv; j++) {
-            double u = dom[0] + ((double)i + 0.5) * du, v = dom[2] + ((double)j + 0.5) * dv;
-            if (geom_surface_derivs(s, u, v, 2, 0, ders) != GEOM_OK)
-                continue;
-            /* S^(k,l) at 3*(k*3 + l) */
-            double suu = len3(ders + 3 * 6), svv = len3(ders + 3 * 2), suv = len3(ders + 3 * 4);
-            double cu = sqrt((suu + suv) / (TRI_ERROR_DIVISOR * tol)) * du;
-            double cv = sqrt((svv + suv) / (TRI_ERROR_DIVISOR * tol)) * dv;
-            if (!isfinite(cu) || !isfinite(cv))
-                continue;
-            double nu = cu > 1.0 ? cu : 1.0, nv = cv > 1.0 ? cv : 1.0;
-            total += 2.0 * nu * nv;
-        }
+    double total = geom__tess_estimate_grid(nurbs_second, (void *)(uintptr_t)s, dom, gu, gv, tol,
+                                            1.0);
     /* at least two triangles per knot-span cell */
     double floor_ = 2.0 * (double)su * (double)sv;
     return total > floor_ ? total : floor_;
