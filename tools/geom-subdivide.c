@@ -383,6 +383,15 @@ int main(int argc, char **argv)
         geom_aabb b = geom_mesh_bbox(m);
         if (!geom_aabb_is_empty(b))
             bbox = geom_vec3_length(geom_vec3_sub(b.max, b.min));
+        /* a mesh with nothing but positions (no other channel, group,
+         * material library or tag) gives the output nothing more: it is
+         * not kept through the refinement (the output is built with like =
+         * NULL, the same mesh) */
+        if (geom_mesh_channel_count(m) == 1 && geom_mesh_group_count(m) == 0 &&
+            geom_mesh_mtllib_count(m) == 0 && geom_mesh_tag_count(m) == 0) {
+            geom_mesh_destroy(m);
+            m = NULL;
+        }
     }
     double work = setup;
     double *lim_last = NULL; /* the last level's limit positions, with --limit */
