@@ -330,6 +330,98 @@ static int order_vertex(const sd_level *l, uint32_t v, uint32_t *fo, uint32_t *e
     return eCount == ec && fCount == fc;
 }
 
+/* Vertices with at most this many faces are ordered by order_vertex_local. */
+#define SD_LOCAL_ORDER_MAX 64
+
+/* Uses of edge e among the corners at v: out[i] (the edge leaving v in
+ * face i of v) and in[i] (the edge arriving); *other receives the last
+ * face other than `not` that uses e (n when none). */
+static uint32_t local_uses(const uint32_t *out, const uint32_t *in, uint32_t n, uint32_t e,
+                           uint32_t not, uint32_t *other)
+{
+    uint32_t c = 0;
+    *other = n;
+    for (uint32_t i = 0; i < n; i++) {
+        uint32_t u = (out[i] == e) + (in[i] == e);
+        c += u;
+        if (u && i != not)
+            *other = i;
+    }
+    return c;
+}
+
+/* order_vertex for a vertex that occurs once in each of its faces, from
+ * each face's two edges at v (read once per face, independent loads)
+ * instead of walking edge-faces (dependent loads): the same orders and the
+ * same verdict (1 ordered, 0 not manifold). -1 when it cannot say (v twice
+ * in a face, an edge with more than two uses, many faces): order_vertex
+ * decides. out, in: SD_LOCAL_ORDER_MAX entries each. v is not tagged
+ * non-manifold, so its edges are used at most twice, by different faces,
+ * in opposite directions. */
+static int order_vertex_local(const sd_level *l, uint32_t v, uint32_t *fo, uint32_t *eo,
+                              uint32_t *out, uint32_t *in)
+{
+    const uint32_t *vF = l->vf + l->vf_off[v], *vE = l->ve + l->ve_off[v];
+    uint32_t fc = l->vf_off[v + 1] - l->vf_off[v], ec = l->ve_off[v + 1] - l->ve_off[v];
+    if (fc == 0 || ec < 2 || ec > fc + 1)
+        return 0;
+    if (fc > SD_LOCAL_ORDER_MAX)
+        return -1;
+    for (uint32_t i = 0; i < fc; i++) {
+        uint32_t f = vF[i], o = l->fv_off[f], n = l->fv_off[f + 1] - o, k = 0;
+        const uint32_t *fv = l->fv + o;
+        while (k < n && fv[k] != v)
+            k++;
+        for (uint32_t j = k + 1; j < n; j++)
+            if (fv[j] == v)
+                return -1;
+        if (k == n)
+            return -1;
+        out[i] = l->fe[o + k];
+        in[i] = l->fe[o + (k ? k - 1 : n - 1)];
+    }
+    uint32_t cur = 0, eStart = SD_INVALID, other;
+    if (ec == fc) {
+        eStart = out[0];
+    } else {
+        /* the first one-face edge (in vE order) leaving v in its face; a
+         * last one-face edge that does not leave v ends the walk at once */
+        for (uint32_t j = 0; j < ec; j++) {
+            uint32_t e = vE[j], c = local_uses(out, in, fc, e, SD_INVALID, &other);
+            if (c > 2)
+                return -1;
+            if (c != 1)
+                continue;
+            eStart = e;
+            cur = other;
+            if (out[cur] == e)
+                break;
+        }
+        if (eStart == SD_INVALID || out[cur] != eStart)
+            return 0;
+    }
+    uint32_t eCount = 1, fCount = 1, eFirst = eStart;
+    fo[0] = vF[cur];
+    eo[0] = eStart;
+    while (eCount < ec) {
+        uint32_t eNext = in[cur];
+        if (eNext == eStart || eNext == eFirst)
+            return 0;
+        eo[eCount++] = eNext;
+        if (fCount < fc) {
+            uint32_t c = local_uses(out, in, fc, eNext, cur, &other);
+            if (c > 2 || (c == 2 && (other == fc || out[other] != eNext)))
+                return -1;
+            if (c == 1)
+                return 0; /* a boundary before the fan is done */
+            cur = other;
+            fo[fCount++] = vF[cur];
+        }
+        eStart = eNext;
+    }
+    return eCount == ec && fCount == fc;
+}
+
 /* Counting sort: for each key in keys[0..n), in order, append position
  * value val(i) to the list of key; off has nk + 1 entries. */
 static void csr_fill(uint32_t nk, uint32_t n, const uint32_t *keys, uint32_t *off, uint32_t *cursor,
@@ -565,7 +657,11 @@ geom_status sd_level_complete(const geom_allocator *a, sd_level *l, geom_diag *d
     for (uint32_t v = 0; v < nv; v++) {
         if (l->vtag[v] & SD_V_NONMANIFOLD)
             continue;
-        if (order_vertex(l, v, tmpf, tmpe)) {
+        uint32_t lout[SD_LOCAL_ORDER_MAX], lin[SD_LOCAL_ORDER_MAX];
+        int ok = order_vertex_local(l, v, tmpf, tmpe, lout, lin);
+        if (ok < 0)
+            ok = order_vertex(l, v, tmpf, tmpe);
+        if (ok) {
             memcpy(l->vf + l->vf_off[v], tmpf,
                    (size_t)(l->vf_off[v + 1] - l->vf_off[v]) * sizeof(uint32_t));
             memcpy(l->ve + l->ve_off[v], tmpe,
