@@ -421,10 +421,8 @@ geom_status geom_subdiv_build_mesh(const geom_subdiv_refiner *r, int level, cons
         if (!geom__isfinite3(positions + 3 * (size_t)v))
             direct = 0; /* geom_mesh_build names it */
     if (direct) {
-        st = sd_mesh_direct(a, l, positions, m);
-        if (st == GEOM_OK)
-            st = sd_mesh_direct_attach(m, chans, nch);
-        else if (st == SD_DIRECT_DECLINED)
+        st = sd_mesh_direct(l, positions, chans, nch, m);
+        if (st == SD_DIRECT_DECLINED)
             direct = 0;
     }
     if (!direct) {
