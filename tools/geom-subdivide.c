@@ -432,7 +432,7 @@ int main(int argc, char **argv)
      * same bytes) */
     geom_meshio_soup soup;
     memset(&soup, 0, sizeof soup);
-    uint32_t *soup_sizes = NULL, *soup_idx = NULL;
+    uint32_t *soup_sizes = NULL;
     double *soup_nrm = NULL;
     int plain = 0;
     if (st == GEOM_OK) {
@@ -459,21 +459,24 @@ int main(int argc, char **argv)
         plain = st == GEOM_OK && so.out_format == GEOM_MESHIO_FORMAT_OBJ && !to_stdout &&
                 !so.mtllib && geom_subdiv_level_is_plain(r, so.levels, pos, nrm != NULL, m);
         if (plain) {
+            /* written from the refiner's own face arrays; the input is not
+             * needed any more */
+            geom_mesh_destroy(m);
+            m = NULL;
             geom_subdiv_refiner_level_info(r, so.levels, &li);
             int tris = li.face_vertices == 3 * li.faces;
-            soup_idx = malloc((li.face_vertices + 1) * sizeof(uint32_t));
             soup_sizes = tris ? NULL : malloc((li.faces + 1) * sizeof(uint32_t));
-            if (!soup_idx || (!tris && !soup_sizes))
+            if (!tris && !soup_sizes)
                 st = GEOM_ERR_NOMEM;
-            else
-                st = geom_subdiv_refiner_faces(r, so.levels, soup_sizes, soup_idx, NULL);
+            else if (!tris)
+                st = geom_subdiv_refiner_faces(r, so.levels, soup_sizes, NULL, NULL);
             soup.n_vertices = li.vertices;
             soup.xyz = pos;
             soup.normals = soup_nrm = nrm;
+            nrm = NULL;
             soup.n_faces = li.faces;
             soup.face_sizes = soup_sizes;
-            soup.indices = soup_idx;
-            nrm = NULL;
+            soup.indices = geom_subdiv_refiner_face_indices(r, so.levels);
         } else if (st == GEOM_OK) {
             st = geom_subdiv_build_mesh(r, so.levels, pos, nrm, m, &out, &holes, &diag);
         }
@@ -492,13 +495,11 @@ int main(int argc, char **argv)
         work += cli_timer_elapsed(&t);
     }
     free(lim_last);
-    geom_subdiv_refiner_destroy(r);
-    if (st == GEOM_OK && plain) {
-        /* nothing else is needed from the input or the refiner now */
-        geom_mesh_destroy(m);
-        m = NULL;
+    if (st == GEOM_OK && plain) /* before the refiner, whose faces it writes */
         st = write_soup(&soup, out_path, &diag);
-    } else if (st == GEOM_OK) {
+    free(soup_nrm);
+    geom_subdiv_refiner_destroy(r);
+    if (st == GEOM_OK && !plain) {
         free(pos);
         pos = NULL;
         st = cli_mesh_write_up(out, out_path, so.out_format, common.up_z, &diag);
@@ -509,9 +510,7 @@ int main(int argc, char **argv)
         }
     }
     free(pos);
-    free(soup_nrm);
     free(soup_sizes);
-    free(soup_idx);
     if (st != GEOM_OK) {
         geom_mesh_destroy(m);
         geom_mesh_destroy(out);

@@ -272,6 +272,13 @@ GEOM_API geom_status geom_subdiv_refiner_level_info(const geom_subdiv_refiner *r
 GEOM_API geom_status geom_subdiv_refiner_faces(const geom_subdiv_refiner *r, int level,
                                       uint32_t *face_sizes, uint32_t *indices, uint8_t *is_hole);
 
+/** The face-vertex indices of level `level` (face_vertices entries, faces in
+ *  order: what geom_subdiv_refiner_faces copies into `indices`), without a
+ *  copy: valid until r is refined again or destroyed. NULL for a NULL r or
+ *  a level out of 0..max_level. */
+GEOM_API const uint32_t *geom_subdiv_refiner_face_indices(const geom_subdiv_refiner *r,
+                                                          int level);
+
 /** Edge vertices of a level: 2 per edge (edges entries * 2), and optionally
  *  each edge's sharpness (edges floats; 10 = infinite). */
 GEOM_API geom_status geom_subdiv_refiner_edges(const geom_subdiv_refiner *r, int level, uint32_t *verts,
