@@ -514,7 +514,10 @@ geom_status sd_level_complete(const geom_allocator *a, sd_level *l, geom_diag *d
     uint32_t *vhead = sd_calloc(a, nv, sizeof(uint32_t));
     uint32_t *vtail = sd_calloc(a, nv, sizeof(uint32_t));
     uint32_t *vcount = sd_calloc(a, nv, sizeof(uint32_t));
-    uint32_t *enext = sd_calloc(a, 2 * (size_t)cap, sizeof(uint32_t));
+    /* per edge end k (2e: ev[2e]'s, 2e + 1: ev[2e + 1]'s): the next end in
+     * its vertex's list at enext[2k], the edge's other vertex at
+     * enext[2k + 1] (one cache line per step of the search) */
+    uint32_t *enext = sd_malloc(a, 4 * (size_t)cap, sizeof(uint32_t));
     uint32_t *ecount = sd_calloc(a, cap, sizeof(uint32_t));
     uint32_t *elast = sd_calloc(a, cap, sizeof(uint32_t));
     uint8_t *enm = sd_calloc(a, cap, 1);
@@ -537,10 +540,9 @@ geom_status sd_level_complete(const geom_allocator *a, sd_level *l, geom_diag *d
                  * (OpenSubdiv walks v0's; high-valence vertices would make
                  * that quadratic). */
                 uint32_t a0 = vcount[v0] <= vcount[v1] ? v0 : v1, a1 = a0 == v0 ? v1 : v0;
-                for (uint32_t k = vhead[a0]; k != SD_INVALID; k = enext[k]) {
-                    uint32_t c = k >> 1;
-                    if (ev[2 * c] == a1 || ev[2 * c + 1] == a1) {
-                        e = c;
+                for (uint32_t k = vhead[a0]; k != SD_INVALID; k = enext[2 * (size_t)k]) {
+                    if (enext[2 * (size_t)k + 1] == a1) {
+                        e = k >> 1;
                         break;
                     }
                 }
@@ -564,12 +566,13 @@ geom_status sd_level_complete(const geom_allocator *a, sd_level *l, geom_diag *d
                 ev[2 * e + 1] = v1;
                 for (int k = 0; k < 2; k++) {
                     uint32_t v = ev[2 * e + k], node = 2 * e + (uint32_t)k;
-                    enext[node] = SD_INVALID;
+                    enext[2 * (size_t)node] = SD_INVALID;
+                    enext[2 * (size_t)node + 1] = ev[2 * e + 1 - (uint32_t)k];
                     vcount[v]++;
                     if (vtail[v] == SD_INVALID)
                         vhead[v] = node;
                     else
-                        enext[vtail[v]] = node;
+                        enext[2 * (size_t)vtail[v]] = node;
                     vtail[v] = node;
                 }
             }
@@ -706,7 +709,7 @@ done:
     sd_free(a, vhead, nv, sizeof(uint32_t));
     sd_free(a, vtail, nv, sizeof(uint32_t));
     sd_free(a, vcount, nv, sizeof(uint32_t));
-    sd_free(a, enext, 2 * (size_t)cap, sizeof(uint32_t));
+    sd_free(a, enext, 4 * (size_t)cap, sizeof(uint32_t));
     sd_free(a, ecount, cap, sizeof(uint32_t));
     sd_free(a, elast, cap, sizeof(uint32_t));
     sd_free(a, enm, cap, 1);
