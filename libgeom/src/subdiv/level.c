@@ -353,14 +353,16 @@ static uint32_t local_uses(const uint32_t *out, const uint32_t *in, uint32_t n, 
 /* order_vertex for a vertex that occurs once in each of its faces, from
  * each face's two edges at v (read once per face, independent loads)
  * instead of walking edge-faces (dependent loads): the same orders and the
- * same verdict (1 ordered, 0 not manifold). -1 when it cannot say (v twice
+ * same verdict (2 ordered, with loc[i] the index of v in face fo[i]; 0 not
+ * manifold). -1 when it cannot say (v twice
  * in a face, an edge with more than two uses, many faces): order_vertex
  * decides. out, in: SD_LOCAL_ORDER_MAX entries each. v is not tagged
  * non-manifold, so its edges are used at most twice, by different faces,
  * in opposite directions. */
 static int order_vertex_local(const sd_level *l, uint32_t v, uint32_t *fo, uint32_t *eo,
-                              uint32_t *out, uint32_t *in)
+                              uint32_t *out, uint32_t *in, uint16_t *loc)
 {
+    uint16_t kk[SD_LOCAL_ORDER_MAX];
     const uint32_t *vF = l->vf + l->vf_off[v], *vE = l->ve + l->ve_off[v];
     uint32_t fc = l->vf_off[v + 1] - l->vf_off[v], ec = l->ve_off[v + 1] - l->ve_off[v];
     if (fc == 0 || ec < 2 || ec > fc + 1)
@@ -379,6 +381,7 @@ static int order_vertex_local(const sd_level *l, uint32_t v, uint32_t *fo, uint3
             return -1;
         out[i] = l->fe[o + k];
         in[i] = l->fe[o + (k ? k - 1 : n - 1)];
+        kk[i] = (uint16_t)k;
     }
     uint32_t cur = 0, eStart = SD_INVALID, other;
     if (ec == fc) {
@@ -402,6 +405,7 @@ static int order_vertex_local(const sd_level *l, uint32_t v, uint32_t *fo, uint3
     }
     uint32_t eCount = 1, fCount = 1, eFirst = eStart;
     fo[0] = vF[cur];
+    loc[0] = kk[cur];
     eo[0] = eStart;
     while (eCount < ec) {
         uint32_t eNext = in[cur];
@@ -415,11 +419,12 @@ static int order_vertex_local(const sd_level *l, uint32_t v, uint32_t *fo, uint3
             if (c == 1)
                 return 0; /* a boundary before the fan is done */
             cur = other;
+            loc[fCount] = kk[cur];
             fo[fCount++] = vF[cur];
         }
         eStart = eNext;
     }
-    return eCount == ec && fCount == fc;
+    return eCount == ec && fCount == fc ? 2 : 0;
 }
 
 /* Counting sort: for each key in keys[0..n), in order, append position
@@ -657,24 +662,30 @@ geom_status sd_level_complete(const geom_allocator *a, sd_level *l, geom_diag *d
     tmpe = sd_calloc(a, (size_t)l->max_valence + 1, sizeof(uint32_t));
     if (!tmpf || !tmpe)
         goto done;
+    /* and the vertex's index in each of its faces (OpenSubdiv's
+     * Level::populateLocalIndices), known already where order_vertex_local
+     * ordered them */
     for (uint32_t v = 0; v < nv; v++) {
-        if (l->vtag[v] & SD_V_NONMANIFOLD)
-            continue;
-        uint32_t lout[SD_LOCAL_ORDER_MAX], lin[SD_LOCAL_ORDER_MAX];
-        int ok = order_vertex_local(l, v, tmpf, tmpe, lout, lin);
-        if (ok < 0)
-            ok = order_vertex(l, v, tmpf, tmpe);
-        if (ok) {
-            memcpy(l->vf + l->vf_off[v], tmpf,
-                   (size_t)(l->vf_off[v + 1] - l->vf_off[v]) * sizeof(uint32_t));
-            memcpy(l->ve + l->ve_off[v], tmpe,
-                   (size_t)(l->ve_off[v + 1] - l->ve_off[v]) * sizeof(uint32_t));
-        } else {
-            l->vtag[v] |= SD_V_NONMANIFOLD;
+        if (!(l->vtag[v] & SD_V_NONMANIFOLD)) {
+            uint32_t lout[SD_LOCAL_ORDER_MAX], lin[SD_LOCAL_ORDER_MAX];
+            uint16_t lloc[SD_LOCAL_ORDER_MAX];
+            int ok = order_vertex_local(l, v, tmpf, tmpe, lout, lin, lloc);
+            if (ok < 0)
+                ok = order_vertex(l, v, tmpf, tmpe);
+            if (ok) {
+                memcpy(l->vf + l->vf_off[v], tmpf,
+                       (size_t)(l->vf_off[v + 1] - l->vf_off[v]) * sizeof(uint32_t));
+                memcpy(l->ve + l->ve_off[v], tmpe,
+                       (size_t)(l->ve_off[v + 1] - l->ve_off[v]) * sizeof(uint32_t));
+            } else {
+                l->vtag[v] |= SD_V_NONMANIFOLD;
+            }
+            if (ok == 2) {
+                memcpy(l->vf_loc + l->vf_off[v], lloc,
+                       (size_t)(l->vf_off[v + 1] - l->vf_off[v]) * sizeof(uint16_t));
+                continue;
+            }
         }
-    }
-    /* Local indices (OpenSubdiv's Level::populateLocalIndices). */
-    for (uint32_t v = 0; v < nv; v++) {
         uint32_t last = SD_INVALID;
         for (uint32_t i = l->vf_off[v]; i < l->vf_off[v + 1]; i++) {
             uint32_t f = l->vf[i], o = l->fv_off[f], n = l->fv_off[f + 1] - o;
@@ -685,6 +696,9 @@ geom_status sd_level_complete(const geom_allocator *a, sd_level *l, geom_diag *d
             l->vf_loc[i] = (uint16_t)k;
             last = f;
         }
+    }
+    /* Local indices of the edges (OpenSubdiv's Level::populateLocalIndices). */
+    for (uint32_t v = 0; v < nv; v++) {
         for (uint32_t i = l->ve_off[v]; i < l->ve_off[v + 1]; i++) {
             uint32_t e = l->ve[i];
             if (l->ev[2 * e] != l->ev[2 * e + 1])
