@@ -79,6 +79,28 @@ SD_KERNEL void sd_set_w(double *d, const double *s, double w, size_t n)
         d[k] = s[k] * w;
 }
 
+/* The smooth vertex-point weights of a vertex with n faces: Loop (Warren's
+ * beta: each edge neighbour ew, the vertex vw) and Catmull-Clark (each
+ * edge neighbour and each face point ew, the vertex vw). The vertex
+ * masks (masks.c) and the direct smooth path of interp.c share them. */
+static inline void sd_smooth_weights(int loop, uint32_t n, double *ew, double *vw)
+{
+    if (loop) {
+        *ew = 0.0625;
+        *vw = 0.625;
+        if (n != 6) {
+            double dn = (double)n, inv = 1.0 / dn;
+            double c = cos(GEOM_PI * 2.0 * inv);
+            double beta = 0.25 * c + 0.375;
+            *ew = (0.625 - beta * beta) * inv;
+            *vw = 1.0 - *ew * dn;
+        }
+        return;
+    }
+    *vw = (double)((int)n - 2) / (double)n;
+    *ew = 1.0 / (double)(n * n);
+}
+
 /* d = 0 (n values): three stores for positions, not a call to memset per
  * vertex. */
 static inline void sd_zero(double *d, size_t n)
