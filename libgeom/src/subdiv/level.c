@@ -351,38 +351,28 @@ static uint32_t local_uses(const uint32_t *out, const uint32_t *in, uint32_t n, 
 }
 
 /* order_vertex for a vertex that occurs once in each of its faces, from
- * each face's two edges at v (read once per face, independent loads)
- * instead of walking edge-faces (dependent loads): the same orders and the
- * same verdict (2 ordered, with loc[i] the index of v in face fo[i]; 0 not
- * manifold). -1 when it cannot say (v twice
- * in a face, an edge with more than two uses, many faces): order_vertex
- * decides. out, in: SD_LOCAL_ORDER_MAX entries each. v is not tagged
- * non-manifold, so its edges are used at most twice, by different faces,
- * in opposite directions. */
+ * each face's two edges at v (out[i] leaving v, in[i] arriving, and v's
+ * index in the face at vf_loc: written with the vertex-face lists, in face
+ * order) instead of walking edge-faces (dependent loads over the whole
+ * level): the same orders and the same verdict (2 ordered, with loc[i] the
+ * index of v in face fo[i]; 0 not manifold). -1 when it cannot say (v
+ * twice in a face, an edge with more than two uses, many faces):
+ * order_vertex decides. v is not tagged non-manifold, so its edges are
+ * used at most twice, by different faces, in opposite directions. */
 static int order_vertex_local(const sd_level *l, uint32_t v, uint32_t *fo, uint32_t *eo,
-                              uint32_t *out, uint32_t *in, uint16_t *loc)
+                              const uint32_t *out, const uint32_t *in, uint16_t *loc)
 {
-    uint16_t kk[SD_LOCAL_ORDER_MAX];
+    const uint16_t *kk = l->vf_loc + l->vf_off[v];
     const uint32_t *vF = l->vf + l->vf_off[v], *vE = l->ve + l->ve_off[v];
     uint32_t fc = l->vf_off[v + 1] - l->vf_off[v], ec = l->ve_off[v + 1] - l->ve_off[v];
     if (fc == 0 || ec < 2 || ec > fc + 1)
         return 0;
     if (fc > SD_LOCAL_ORDER_MAX)
         return -1;
-    for (uint32_t i = 0; i < fc; i++) {
-        uint32_t f = vF[i], o = l->fv_off[f], n = l->fv_off[f + 1] - o, k = 0;
-        const uint32_t *fv = l->fv + o;
-        while (k < n && fv[k] != v)
-            k++;
-        for (uint32_t j = k + 1; j < n; j++)
-            if (fv[j] == v)
-                return -1;
-        if (k == n)
+    /* the entries of one face are adjacent (written in face order) */
+    for (uint32_t i = 1; i < fc; i++)
+        if (vF[i] == vF[i - 1])
             return -1;
-        out[i] = l->fe[o + k];
-        in[i] = l->fe[o + (k ? k - 1 : n - 1)];
-        kk[i] = (uint16_t)k;
-    }
     uint32_t cur = 0, eStart = SD_INVALID, other;
     if (ec == fc) {
         eStart = out[0];
@@ -528,8 +518,11 @@ geom_status sd_level_complete(const geom_allocator *a, sd_level *l, geom_diag *d
     uint8_t *enm = sd_calloc(a, cap, 1);
     uint32_t *ev = sd_calloc(a, 2 * (size_t)cap, sizeof(uint32_t));
     uint32_t *cursor = NULL, *tmpf = NULL, *tmpe = NULL;
+    uint32_t *vout = sd_malloc(a, total, sizeof(uint32_t));
+    uint32_t *vin = sd_malloc(a, total, sizeof(uint32_t));
     l->fe = sd_calloc(a, total, sizeof(uint32_t));
-    if (!vhead || !vtail || !vcount || !enext || !ecount || !elast || !enm || !ev || !l->fe)
+    if (!vhead || !vtail || !vcount || !enext || !ecount || !elast || !enm || !ev || !l->fe ||
+        !vout || !vin)
         goto done;
     for (uint32_t v = 0; v < nv; v++)
         vhead[v] = vtail[v] = SD_INVALID;
@@ -626,9 +619,20 @@ geom_status sd_level_complete(const geom_allocator *a, sd_level *l, geom_diag *d
         for (uint32_t v = 0; v < nv; v++)
             l->vf_off[v + 1] += l->vf_off[v];
         memcpy(cursor, l->vf_off, (size_t)nv * sizeof(uint32_t));
-        for (uint32_t f = 0; f < nf; f++)
-            for (uint32_t i = l->fv_off[f]; i < l->fv_off[f + 1]; i++)
-                l->vf[cursor[l->fv[i]]++] = f;
+        /* with each entry, the corner's index in the face and its edges
+         * leaving (vout) and arriving at (vin) the vertex: what ordering
+         * the vertex reads, written here in face order instead of gathered
+         * from every face again */
+        for (uint32_t f = 0; f < nf; f++) {
+            uint32_t o = l->fv_off[f], n = l->fv_off[f + 1] - o;
+            for (uint32_t k = 0; k < n; k++) {
+                uint32_t slot = cursor[l->fv[o + k]]++;
+                l->vf[slot] = f;
+                l->vf_loc[slot] = (uint16_t)k;
+                vout[slot] = l->fe[o + k];
+                vin[slot] = l->fe[o + (k ? k - 1 : n - 1)];
+            }
+        }
         csr_fill(nv, 2 * ne, l->ev, l->ve_off, cursor, l->ve, 2);
     }
     for (uint32_t v = 0; v < nv; v++) {
@@ -667,9 +671,9 @@ geom_status sd_level_complete(const geom_allocator *a, sd_level *l, geom_diag *d
      * ordered them */
     for (uint32_t v = 0; v < nv; v++) {
         if (!(l->vtag[v] & SD_V_NONMANIFOLD)) {
-            uint32_t lout[SD_LOCAL_ORDER_MAX], lin[SD_LOCAL_ORDER_MAX];
             uint16_t lloc[SD_LOCAL_ORDER_MAX];
-            int ok = order_vertex_local(l, v, tmpf, tmpe, lout, lin, lloc);
+            int ok = order_vertex_local(l, v, tmpf, tmpe, vout + l->vf_off[v],
+                                        vin + l->vf_off[v], lloc);
             if (ok < 0)
                 ok = order_vertex(l, v, tmpf, tmpe);
             if (ok) {
@@ -720,6 +724,8 @@ geom_status sd_level_complete(const geom_allocator *a, sd_level *l, geom_diag *d
     }
     st = GEOM_OK;
 done:
+    sd_free(a, vout, total, sizeof(uint32_t));
+    sd_free(a, vin, total, sizeof(uint32_t));
     sd_free(a, vhead, nv, sizeof(uint32_t));
     sd_free(a, vtail, nv, sizeof(uint32_t));
     sd_free(a, vcount, nv, sizeof(uint32_t));
