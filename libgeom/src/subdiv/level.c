@@ -417,6 +417,11 @@ static int order_vertex_local(const sd_level *l, uint32_t v, uint32_t *fo, uint3
     return eCount == ec && fCount == fc ? 2 : 0;
 }
 
+/* A vertex pair and the first edge made between them (sd_level_complete). */
+typedef struct edge_slot {
+    uint32_t lo, hi, e;
+} edge_slot;
+
 /* Counting sort: for each key in keys[0..n), in order, append position
  * value val(i) to the list of key; off has nk + 1 entries. */
 static void csr_fill(uint32_t nk, uint32_t n, const uint32_t *keys, uint32_t *off, uint32_t *cursor,
@@ -506,13 +511,16 @@ geom_status sd_level_complete(const geom_allocator *a, sd_level *l, geom_diag *d
     uint32_t nv = l->nv, nf = l->nf, total = l->fv_off[nf];
     geom_status st = GEOM_ERR_NOMEM;
     uint32_t cap = total;
-    uint32_t *vhead = sd_calloc(a, nv, sizeof(uint32_t));
-    uint32_t *vtail = sd_calloc(a, nv, sizeof(uint32_t));
-    uint32_t *vcount = sd_calloc(a, nv, sizeof(uint32_t));
-    /* per edge end k (2e: ev[2e]'s, 2e + 1: ev[2e + 1]'s): the next end in
-     * its vertex's list at enext[2k], the edge's other vertex at
-     * enext[2k + 1] (one cache line per step of the search) */
-    uint32_t *enext = sd_malloc(a, 4 * (size_t)cap, sizeof(uint32_t));
+    /* The first edge made between two vertices, by the vertex pair (open
+     * addressing, at most half full). OpenSubdiv walks v0's edges in
+     * creation order for it; the first one joining v0 and v1 is the one
+     * made first, which the table keeps (a later edge between the same
+     * two vertices, made for a non-manifold use, never replaces it). */
+    unsigned bits = 1;
+    while (bits < 63 && ((size_t)1 << bits) < 2 * (size_t)cap)
+        bits++;
+    const size_t hmask = ((size_t)1 << bits) - 1;
+    edge_slot *ht = sd_malloc(a, hmask + 1, sizeof(edge_slot));
     uint32_t *ecount = sd_calloc(a, cap, sizeof(uint32_t));
     uint32_t *elast = sd_calloc(a, cap, sizeof(uint32_t));
     uint8_t *enm = sd_calloc(a, cap, 1);
@@ -521,28 +529,28 @@ geom_status sd_level_complete(const geom_allocator *a, sd_level *l, geom_diag *d
     uint32_t *vout = sd_malloc(a, total, sizeof(uint32_t));
     uint32_t *vin = sd_malloc(a, total, sizeof(uint32_t));
     l->fe = sd_calloc(a, total, sizeof(uint32_t));
-    if (!vhead || !vtail || !vcount || !enext || !ecount || !elast || !enm || !ev || !l->fe ||
-        !vout || !vin)
+    if (!ht || !ecount || !elast || !enm || !ev || !l->fe || !vout || !vin)
         goto done;
-    for (uint32_t v = 0; v < nv; v++)
-        vhead[v] = vtail[v] = SD_INVALID;
+    for (size_t i = 0; i <= hmask; i++)
+        ht[i].e = SD_INVALID;
     uint32_t ne = 0;
     for (uint32_t f = 0; f < nf; f++) {
         uint32_t o = l->fv_off[f], n = l->fv_off[f + 1] - o;
         for (uint32_t i = 0; i < n; i++) {
             uint32_t v0 = l->fv[o + i], v1 = l->fv[o + (i + 1) % n];
             uint32_t e = SD_INVALID;
+            edge_slot *slot = NULL;
             if (v0 != v1) {
-                /* Both lists are in creation order: the first edge joining
-                 * v0 and v1 is the same in either, so walk the shorter
-                 * (OpenSubdiv walks v0's; high-valence vertices would make
-                 * that quadratic). */
-                uint32_t a0 = vcount[v0] <= vcount[v1] ? v0 : v1, a1 = a0 == v0 ? v1 : v0;
-                for (uint32_t k = vhead[a0]; k != SD_INVALID; k = enext[2 * (size_t)k]) {
-                    if (enext[2 * (size_t)k + 1] == a1) {
-                        e = k >> 1;
-                        break;
-                    }
+                uint32_t lo = v0 < v1 ? v0 : v1, hi = v0 < v1 ? v1 : v0;
+                size_t h = (size_t)((((uint64_t)lo << 32 | hi) * 0x9E3779B97F4A7C15ull) >>
+                                    (64 - bits));
+                while (ht[h].e != SD_INVALID && (ht[h].lo != lo || ht[h].hi != hi))
+                    h = (h + 1) & hmask;
+                slot = &ht[h];
+                e = slot->e;
+                if (e == SD_INVALID) {
+                    slot->lo = lo;
+                    slot->hi = hi;
                 }
             } else {
                 enm[ne] = 1;
@@ -562,17 +570,8 @@ geom_status sd_level_complete(const geom_allocator *a, sd_level *l, geom_diag *d
                 e = ne++;
                 ev[2 * e] = v0;
                 ev[2 * e + 1] = v1;
-                for (int k = 0; k < 2; k++) {
-                    uint32_t v = ev[2 * e + k], node = 2 * e + (uint32_t)k;
-                    enext[2 * (size_t)node] = SD_INVALID;
-                    enext[2 * (size_t)node + 1] = ev[2 * e + 1 - (uint32_t)k];
-                    vcount[v]++;
-                    if (vtail[v] == SD_INVALID)
-                        vhead[v] = node;
-                    else
-                        enext[2 * (size_t)vtail[v]] = node;
-                    vtail[v] = node;
-                }
+                if (slot && slot->e == SD_INVALID)
+                    slot->e = e;
             }
             ecount[e]++;
             elast[e] = f;
@@ -726,10 +725,7 @@ geom_status sd_level_complete(const geom_allocator *a, sd_level *l, geom_diag *d
 done:
     sd_free(a, vout, total, sizeof(uint32_t));
     sd_free(a, vin, total, sizeof(uint32_t));
-    sd_free(a, vhead, nv, sizeof(uint32_t));
-    sd_free(a, vtail, nv, sizeof(uint32_t));
-    sd_free(a, vcount, nv, sizeof(uint32_t));
-    sd_free(a, enext, 4 * (size_t)cap, sizeof(uint32_t));
+    sd_free(a, ht, hmask + 1, sizeof(edge_slot));
     sd_free(a, ecount, cap, sizeof(uint32_t));
     sd_free(a, elast, cap, sizeof(uint32_t));
     sd_free(a, enm, cap, 1);
