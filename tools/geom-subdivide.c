@@ -29,6 +29,9 @@
 #include "cli_mesh.h"
 
 #include <errno.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -265,6 +268,15 @@ int main(int argc, char **argv)
                                              CLI_LIMIT_LONGOPTS,
                                              CLI_MTLLIB_LONGOPT,
                                              {NULL, 0, NULL, 0}};
+#ifdef __GLIBC__
+    /* The levels' arrays, the positions and the limit report's are made and
+     * freed in turn: malloc keeps freed memory for the next ones instead of
+     * returning it to the system to fault it in again (first-touch page
+     * faults were a fifth of the run; this saves a fifth of them on the
+     * bunny at +1 MB of peak). */
+    mallopt(M_MMAP_THRESHOLD, 1 << 30);
+    mallopt(M_TRIM_THRESHOLD, 1 << 30);
+#endif
     sub_opts so;
     memset(&so, 0, sizeof so);
     so.levels = 1;
