@@ -346,5 +346,23 @@ case "$err" in
 esac
 [ ! -e "$T/badtag_out.obj" ] || fail "a failed run left $T/badtag_out.obj behind"
 
+# An OBJ file of a plain level (no holes, creases, UVs, groups: the cube and
+# the tetrahedron) is written straight from the refined level's faces; the
+# same run to standard output builds the mesh and writes it (the other
+# path): the bytes must be the same, with and without --normals and --limit.
+grep -v '^vt' "$T/cube.obj" | sed 's#/[0-9]*##g' >"$T/bare.obj"
+for args in "--levels 1" "--levels 2 --limit --normals" "--scheme loop --levels 2" \
+    "--scheme bilinear --levels 1"; do
+    for shape in bare tet cube; do
+        # shellcheck disable=SC2086
+        "$TOOL" $args "$T/$shape.obj" -o "$T/plain_file.obj" 2>/dev/null
+        # shellcheck disable=SC2086
+        "$TOOL" $args "$T/$shape.obj" -f obj -o - >"$T/plain_stdout.obj" 2>/dev/null
+        checks=$((checks + 1))
+        [ -s "$T/plain_file.obj" ] && cmp -s "$T/plain_file.obj" "$T/plain_stdout.obj" ||
+            fail "$shape $args: the OBJ file differs from the mesh written to standard output"
+    done
+done
+
 echo "$checks checks, $failures failures"
 [ "$failures" -eq 0 ]

@@ -18,6 +18,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "geom/meshio.h"
 #include "geom/subdiv.h"
 
 /* ------------------------------------------------------------ helpers */
@@ -49,6 +50,27 @@ static const uint32_t quad_sizes[64] = {4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4
                                         4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4,
                                         4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4,
                                         4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4};
+
+/* A CORNER "uv" channel with seams on the cube: every face gets its own
+ * four UVs (0,0) (1,0) (1,1) (0,1). */
+static void add_seamed_uv(geom_mesh *m)
+{
+    uint32_t uv;
+    assert_int_equal(geom_mesh_channel_add(m, "uv", GEOM_MESH_DOMAIN_CORNER, 2, &uv), GEOM_OK);
+    assert_int_equal(geom_mesh_corner_pool_resize(m, uv, 24), GEOM_OK);
+    double *pool = geom_mesh_channel_data(m, uv);
+    uint32_t *ci = geom_mesh_corner_indices(m, uv);
+    for (uint32_t f = 0; f < 6; f++) {
+        uint32_t h0 = geom_mesh_face_he(m, f), h = h0, k = 0;
+        do {
+            ci[h] = 4 * f + k;
+            pool[2 * (4 * f + k)] = (k == 1 || k == 2);
+            pool[2 * (4 * f + k) + 1] = (k >= 2);
+            k++;
+            h = geom_mesh_he_next(m, h);
+        } while (h != h0);
+    }
+}
 
 static geom_subdiv_refiner *refiner_for(const geom_mesh *m, geom_subdiv_scheme s, int levels)
 {
@@ -769,21 +791,7 @@ static void test_mesh_with_seams_and_tags(void **state)
     (void)state;
     geom_mesh *m = build(8, cube_v, 6, quad_sizes, cube_f);
     /* a UV channel with a seam: every face gets its own four UVs */
-    uint32_t uv;
-    assert_int_equal(geom_mesh_channel_add(m, "uv", GEOM_MESH_DOMAIN_CORNER, 2, &uv), GEOM_OK);
-    assert_int_equal(geom_mesh_corner_pool_resize(m, uv, 24), GEOM_OK);
-    double *pool = geom_mesh_channel_data(m, uv);
-    uint32_t *ci = geom_mesh_corner_indices(m, uv);
-    for (uint32_t f = 0; f < 6; f++) {
-        uint32_t h0 = geom_mesh_face_he(m, f), h = h0, k = 0;
-        do {
-            ci[h] = 4 * f + k;
-            pool[2 * (4 * f + k)] = (k == 1 || k == 2);
-            pool[2 * (4 * f + k) + 1] = (k >= 2);
-            k++;
-            h = geom_mesh_he_next(m, h);
-        } while (h != h0);
-    }
+    add_seamed_uv(m);
     /* hole on face 0, interpolateboundary tag */
     int64_t hole = 0;
     geom_mesh_tag t = {"hole", 1, 0, 0, &hole, NULL, NULL};
@@ -1022,21 +1030,7 @@ static void test_build_mesh_like_soup(void **state)
     check_like_soup_build(cube, GEOM_SUBDIV_CATMULL_CLARK, 2);
     check_like_soup_build(cube, GEOM_SUBDIV_BILINEAR, 2);
     /* with a seamed UV channel */
-    uint32_t uv;
-    assert_int_equal(geom_mesh_channel_add(cube, "uv", GEOM_MESH_DOMAIN_CORNER, 2, &uv), GEOM_OK);
-    assert_int_equal(geom_mesh_corner_pool_resize(cube, uv, 24), GEOM_OK);
-    double *pool = geom_mesh_channel_data(cube, uv);
-    uint32_t *ci = geom_mesh_corner_indices(cube, uv);
-    for (uint32_t f = 0; f < 6; f++) {
-        uint32_t h0 = geom_mesh_face_he(cube, f), h = h0, k = 0;
-        do {
-            ci[h] = 4 * f + k;
-            pool[2 * (4 * f + k)] = (k == 1 || k == 2);
-            pool[2 * (4 * f + k) + 1] = (k >= 2);
-            k++;
-            h = geom_mesh_he_next(cube, h);
-        } while (h != h0);
-    }
+    add_seamed_uv(cube);
     check_like_soup_build(cube, GEOM_SUBDIV_CATMULL_CLARK, 2);
     geom_mesh_destroy(cube);
     geom_mesh *qg = quad_grid(3, NULL); /* boundary and corners */
@@ -1101,6 +1095,136 @@ static void check_limit_relations(const geom_mesh *m, geom_subdiv_scheme s)
             free(lim[k][j]);
         geom_subdiv_refiner_destroy(r[k]);
     }
+}
+
+/* geom_subdiv_level_is_plain: where it says so, the level written as a soup
+ * (geom_meshio_write_soup_stream over geom_subdiv_refiner_face_indices)
+ * gives the very bytes geom_meshio_write gives for the mesh
+ * geom_subdiv_build_mesh makes (the separate, mesh-building path); where
+ * the output carries more (holes, creases, UVs), it says no. */
+typedef struct membuf {
+    char *d;
+    size_t n;
+} membuf;
+
+static geom_status membuf_write(void *user, const void *data, size_t size)
+{
+    membuf *b = user;
+    char *d = realloc(b->d, b->n + size + 1);
+    if (!d)
+        return GEOM_ERR_NOMEM;
+    memcpy(d + b->n, data, size);
+    b->d = d;
+    b->n += size;
+    return GEOM_OK;
+}
+
+static int check_plain(const geom_mesh *m, geom_subdiv_scheme s, int levels, int normals)
+{
+    geom_subdiv_refiner *r = refiner_for(m, s, levels);
+    double **pos = refine_positions(r, m);
+    geom_subdiv_level_info li;
+    assert_int_equal(geom_subdiv_refiner_level_info(r, levels, &li), GEOM_OK);
+    double *nrm = NULL;
+    if (normals) {
+        nrm = malloc(3 * li.vertices * sizeof(double));
+        assert_int_equal(geom_subdiv_limit_normals(r, pos[levels], nrm, NULL), GEOM_OK);
+    }
+    int plain = geom_subdiv_level_is_plain(r, levels, pos[levels], normals, m);
+    /* the indices without a copy are those geom_subdiv_refiner_faces copies */
+    const uint32_t *fi = geom_subdiv_refiner_face_indices(r, levels);
+    uint32_t *sz = malloc(li.faces * sizeof(uint32_t)), *ix = malloc(li.face_vertices * 4);
+    assert_int_equal(geom_subdiv_refiner_faces(r, levels, sz, ix, NULL), GEOM_OK);
+    assert_non_null(fi);
+    assert_memory_equal(fi, ix, li.face_vertices * sizeof(uint32_t));
+    if (plain) {
+        geom_mesh *out = NULL;
+        assert_int_equal(
+            geom_subdiv_build_mesh(r, levels, pos[levels], nrm, m, &out, NULL, NULL), GEOM_OK);
+        geom_meshio_write_options wo;
+        memset(&wo, 0, sizeof wo);
+        wo.format = GEOM_MESHIO_FORMAT_OBJ;
+        membuf a = {NULL, 0}, b = {NULL, 0};
+        assert_int_equal(geom_meshio_write_stream(out, &wo, membuf_write, &a, NULL), GEOM_OK);
+        geom_meshio_soup soup;
+        memset(&soup, 0, sizeof soup);
+        soup.n_vertices = li.vertices;
+        soup.xyz = pos[levels];
+        soup.normals = nrm;
+        soup.n_faces = li.faces;
+        soup.face_sizes = sz;
+        soup.indices = fi;
+        assert_int_equal(geom_meshio_write_soup_stream(&soup, &wo, membuf_write, &b, NULL),
+                         GEOM_OK);
+        assert_int_equal(a.n, b.n);
+        assert_memory_equal(a.d, b.d, a.n);
+        free(a.d);
+        free(b.d);
+        geom_mesh_destroy(out);
+    }
+    free(sz);
+    free(ix);
+    free(nrm);
+    free_positions(pos, levels);
+    geom_subdiv_refiner_destroy(r);
+    return plain;
+}
+
+static void test_plain_level_soup(void **state)
+{
+    (void)state;
+    geom_mesh *cube = build(8, cube_v, 6, quad_sizes, cube_f);
+    assert_true(check_plain(cube, GEOM_SUBDIV_CATMULL_CLARK, 1, 0));
+    assert_true(check_plain(cube, GEOM_SUBDIV_CATMULL_CLARK, 2, 1));
+    assert_true(check_plain(cube, GEOM_SUBDIV_BILINEAR, 2, 0));
+    /* level 0 is the input as built, not the refiner's soup */
+    geom_subdiv_refiner *r = refiner_for(cube, GEOM_SUBDIV_CATMULL_CLARK, 1);
+    assert_false(geom_subdiv_level_is_plain(r, 0, cube_v, 0, cube));
+    assert_false(geom_subdiv_level_is_plain(r, 2, cube_v, 0, cube));
+    assert_false(geom_subdiv_level_is_plain(NULL, 1, cube_v, 0, cube));
+    assert_null(geom_subdiv_refiner_face_indices(r, 2));
+    assert_null(geom_subdiv_refiner_face_indices(NULL, 0));
+    geom_subdiv_refiner_destroy(r);
+    /* a crease still sharp at the level: the output carries a crease tag */
+    int64_t cr[2] = {4, 5};
+    double crs = 3.0;
+    geom_mesh_tag t = {"crease", 2, 1, 0, cr, &crs, NULL};
+    geom_mesh *creased = build(8, cube_v, 6, quad_sizes, cube_f);
+    assert_int_equal(geom_mesh_tag_add(creased, &t), GEOM_OK);
+    assert_false(check_plain(creased, GEOM_SUBDIV_CATMULL_CLARK, 1, 0));
+    geom_mesh_destroy(creased);
+    /* a hole: its faces are left out */
+    int64_t hole = 0;
+    geom_mesh_tag th = {"hole", 1, 0, 0, &hole, NULL, NULL};
+    geom_mesh *holed = build(8, cube_v, 6, quad_sizes, cube_f);
+    assert_int_equal(geom_mesh_tag_add(holed, &th), GEOM_OK);
+    assert_false(check_plain(holed, GEOM_SUBDIV_CATMULL_CLARK, 1, 0));
+    geom_mesh_destroy(holed);
+    /* UVs: the output has vt lines */
+    add_seamed_uv(cube);
+    assert_false(check_plain(cube, GEOM_SUBDIV_CATMULL_CLARK, 1, 0));
+    geom_mesh_destroy(cube);
+    /* open (boundary edges are sharp but not tagged), triangles */
+    geom_mesh *qg = quad_grid(3, NULL);
+    assert_true(check_plain(qg, GEOM_SUBDIV_CATMULL_CLARK, 2, 1));
+    geom_mesh_destroy(qg);
+    geom_mesh *tg = tri_grid(3, 0.1, 0.2, 0.3, NULL);
+    assert_true(check_plain(tg, GEOM_SUBDIV_LOOP, 1, 0));
+    assert_true(check_plain(tg, GEOM_SUBDIV_LOOP, 2, 1));
+    geom_mesh_destroy(tg);
+    geom_mesh *ico = build(12, ico_v, 20, tri_sizes, ico_f);
+    assert_true(check_plain(ico, GEOM_SUBDIV_LOOP, 2, 0));
+    geom_mesh_destroy(ico);
+    /* the pillow's valence-2 vertices: the build repairs, so not plain */
+    static const double pv[] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    static const uint32_t pf[] = {0, 1, 2, 0, 2, 1}, ps[] = {3, 3};
+    geom_mesh *pil = build(3, pv, 2, ps, pf);
+    assert_false(check_plain(pil, GEOM_SUBDIV_LOOP, 1, 0));
+    geom_mesh_destroy(pil);
+    /* butterfly levels are not made plain */
+    geom_mesh *ico2 = build(12, ico_v, 20, tri_sizes, ico_f);
+    assert_false(check_plain(ico2, GEOM_SUBDIV_BUTTERFLY, 1, 0));
+    geom_mesh_destroy(ico2);
 }
 
 static void test_limit_relations_only(void **state)
@@ -1190,6 +1314,7 @@ int main(void)
         cmocka_unit_test(test_mesh_refine_again),
         cmocka_unit_test(test_nonmanifold_soup),
         cmocka_unit_test(test_build_mesh_like_soup),
+        cmocka_unit_test(test_plain_level_soup),
         cmocka_unit_test(test_limit_relations_only),
         cmocka_unit_test(test_errors),
     };

@@ -272,6 +272,13 @@ GEOM_API geom_status geom_subdiv_refiner_level_info(const geom_subdiv_refiner *r
 GEOM_API geom_status geom_subdiv_refiner_faces(const geom_subdiv_refiner *r, int level,
                                       uint32_t *face_sizes, uint32_t *indices, uint8_t *is_hole);
 
+/** The face-vertex indices of level `level` (face_vertices entries, faces in
+ *  order: what geom_subdiv_refiner_faces copies into `indices`), without a
+ *  copy: valid until r is refined again or destroyed. NULL for a NULL r or
+ *  a level out of 0..max_level. */
+GEOM_API const uint32_t *geom_subdiv_refiner_face_indices(const geom_subdiv_refiner *r,
+                                                          int level);
+
 /** Edge vertices of a level: 2 per edge (edges entries * 2), and optionally
  *  each edge's sharpness (edges floats; 10 = infinite). */
 GEOM_API geom_status geom_subdiv_refiner_edges(const geom_subdiv_refiner *r, int level, uint32_t *verts,
@@ -466,6 +473,28 @@ GEOM_API geom_status geom_subdiv_mesh(const geom_mesh *m, const geom_subdiv_opti
 GEOM_API geom_status geom_subdiv_build_mesh(const geom_subdiv_refiner *r, int level, const double *positions,
                                    const double *normals, const geom_mesh *like, geom_mesh **out,
                                    size_t *hole_faces, geom_diag *diag);
+
+/**
+ * Whether the mesh geom_subdiv_build_mesh(r, level, positions, normals,
+ * like, ...) would make (normals non-NULL when with_normals) is plainly the
+ * level itself: all its vertices in order with their positions (and a
+ * VERTEX "normal" channel when with_normals) and nothing else, and all its
+ * faces in geom_subdiv_refiner_faces order, each starting at its first
+ * vertex. That holds for a level >= 1 of Catmull-Clark, bilinear or Loop
+ * over an oriented manifold base without isolated vertices (nothing is
+ * repaired), without hole faces, creases or corners still sharp, and when
+ * `like` (may be NULL) has no other channel (a "normal" one only with
+ * with_normals, which replaces it), no face group, material library or
+ * option tag; positions (3 per vertex) must be finite.
+ * A writer can then write the level straight from its faces and positions
+ * (geom_meshio_write_soup gives the same OBJ bytes geom_meshio_write gives
+ * for the mesh) without building the half-edge mesh: geom-subdivide does.
+ * Returns 1 when so; 0 otherwise, and for a NULL r or positions or a level
+ * out of 1..max_level.
+ */
+GEOM_API int geom_subdiv_level_is_plain(const geom_subdiv_refiner *r, int level,
+                                        const double *positions, int with_normals,
+                                        const geom_mesh *like);
 
 #ifdef __cplusplus
 }

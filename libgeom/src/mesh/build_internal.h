@@ -51,4 +51,34 @@ geom_status geom__mesh_build_repair(geom_mesh *m, size_t nverts, const double *x
                                     const uint32_t *indices, int skip, int keep,
                                     geom_mesh_build_report *rep, geom_diag *diag);
 
+/* Face cycles with their edges numbered by the caller, for
+ * geom__mesh_build_cycles. */
+typedef struct geom__mesh_cycles {
+    size_t nv;               /* vertices */
+    const double *xyz;       /* 3 * nv doubles, finite */
+    size_t nf;               /* faces */
+    const uint32_t *fv_off;  /* nf + 1 offsets into fv and fe */
+    const uint32_t *fv;      /* corner vertices, each face in order */
+    const uint32_t *fe;      /* per corner: the edge to the next corner (< ne) */
+    size_t ne;               /* edges */
+    uint32_t max_face_size;
+} geom__mesh_cycles;
+
+/* Returned by geom__mesh_build_cycles for faces that are not an oriented
+ * manifold whose vertex pairs name one edge each (m is then empty). */
+#define GEOM_MESH__CYCLES_DECLINED 1
+
+/*
+ * Make the empty mesh m of the faces c (positions c->xyz), exactly the mesh
+ * geom_mesh_build makes of them when they form an oriented manifold in which
+ * each vertex has one fan (the caller knows it; debug builds check it), and
+ * attach the streams chans[0..nchans) as geom_mesh_build does (identity
+ * origin maps). Every edge is checked (at most two uses, in opposite
+ * directions, never twice in one face); otherwise GEOM_MESH__CYCLES_DECLINED
+ * and the caller builds through geom_mesh_build. GEOM_OK,
+ * GEOM_MESH__CYCLES_DECLINED, GEOM_ERR_NOMEM (m empty). build_cycles.c.
+ */
+geom_status geom__mesh_build_cycles(geom_mesh *m, const geom__mesh_cycles *c,
+                                    const geom_mesh_build_channel *chans, size_t nchans);
+
 #endif

@@ -71,17 +71,10 @@ SD_KERNEL void vertex_points(const sd_opts *o, const sd_level *p, const sd_level
         m.f = fw;
         if (rule == SD_RULE_SMOOTH || rule == SD_RULE_DART) {
             /* direct smooth masks */
+            double e, vw;
+            sd_smooth_weights(loop, nf, &e, &vw);
+            sd_zero(d, n);
             if (loop) {
-                double e = 0.0625, vw = 0.625;
-                if (nf != 6) {
-                    double dn = (double)nf, inv = 1.0 / dn;
-                    double cs = cos(GEOM_PI * 2.0 * inv);
-                    double beta = 0.25 * cs + 0.375;
-                    e = (0.625 - beta * beta) * inv;
-                    vw = 1.0 - e * dn;
-                }
-                for (size_t k = 0; k < n; k++)
-                    d[k] = 0.0;
                 for (uint32_t i = 0; i < ne; i++) {
                     const uint32_t *ev = p->ev + 2 * (size_t)p->ve[eo + i];
                     uint32_t ov = ev[0] == v ? ev[1] : ev[0];
@@ -89,27 +82,19 @@ SD_KERNEL void vertex_points(const sd_opts *o, const sd_level *p, const sd_level
                 }
                 sd_add_w(d, sv, vw, n);
             } else {
-                double vw = 0.5, w = 0.0625;
-                if (nf != 4) {
-                    vw = (double)((int)nf - 2) / (double)nf;
-                    w = 1.0 / (double)(nf * nf);
-                }
-                for (size_t k = 0; k < n; k++)
-                    d[k] = 0.0;
                 for (uint32_t i = 0; i < nf; i++)
-                    sd_add_w(d, dst + (size_t)p->vf[fo + i] * n, w, n);
+                    sd_add_w(d, dst + (size_t)p->vf[fo + i] * n, e, n);
                 for (uint32_t i = 0; i < ne; i++) {
                     const uint32_t *ev = p->ev + 2 * (size_t)p->ve[eo + i];
                     uint32_t ov = ev[0] == v ? ev[1] : ev[0];
-                    sd_add_w(d, src + (size_t)ov * n, w, n);
+                    sd_add_w(d, src + (size_t)ov * n, e, n);
                 }
                 sd_add_w(d, sv, vw, n);
             }
             continue;
         }
         sd_vertex_mask(o, p, c, v, cv, &m, s);
-        for (size_t k = 0; k < n; k++)
-            d[k] = 0.0;
+        sd_zero(d, n);
         if (m.nf > 0) {
             for (uint32_t i = 0; i < nf; i++)
                 sd_add_w(d, dst + (size_t)p->vf[fo + i] * n, m.f[i], n);

@@ -330,6 +330,98 @@ static int order_vertex(const sd_level *l, uint32_t v, uint32_t *fo, uint32_t *e
     return eCount == ec && fCount == fc;
 }
 
+/* Vertices with at most this many faces are ordered by order_vertex_local. */
+#define SD_LOCAL_ORDER_MAX 64
+
+/* Uses of edge e among the corners at v: out[i] (the edge leaving v in
+ * face i of v) and in[i] (the edge arriving); *other receives the last
+ * face other than `not` that uses e (n when none). */
+static uint32_t local_uses(const uint32_t *out, const uint32_t *in, uint32_t n, uint32_t e,
+                           uint32_t not, uint32_t *other)
+{
+    uint32_t c = 0;
+    *other = n;
+    for (uint32_t i = 0; i < n; i++) {
+        uint32_t u = (out[i] == e) + (in[i] == e);
+        c += u;
+        if (u && i != not)
+            *other = i;
+    }
+    return c;
+}
+
+/* order_vertex for a vertex that occurs once in each of its faces, from
+ * each face's two edges at v (out[i] leaving v, in[i] arriving, and v's
+ * index in the face at vf_loc: written with the vertex-face lists, in face
+ * order) instead of walking edge-faces (dependent loads over the whole
+ * level): the same orders and the same verdict (2 ordered, with loc[i] the
+ * index of v in face fo[i]; 0 not manifold). -1 when it cannot say (v
+ * twice in a face, an edge with more than two uses, many faces):
+ * order_vertex decides. v is not tagged non-manifold, so its edges are
+ * used at most twice, by different faces, in opposite directions. */
+static int order_vertex_local(const sd_level *l, uint32_t v, uint32_t *fo, uint32_t *eo,
+                              const uint32_t *out, const uint32_t *in, uint16_t *loc)
+{
+    const uint16_t *kk = l->vf_loc + l->vf_off[v];
+    const uint32_t *vF = l->vf + l->vf_off[v], *vE = l->ve + l->ve_off[v];
+    uint32_t fc = l->vf_off[v + 1] - l->vf_off[v], ec = l->ve_off[v + 1] - l->ve_off[v];
+    if (fc == 0 || ec < 2 || ec > fc + 1)
+        return 0;
+    if (fc > SD_LOCAL_ORDER_MAX)
+        return -1;
+    /* the entries of one face are adjacent (written in face order) */
+    for (uint32_t i = 1; i < fc; i++)
+        if (vF[i] == vF[i - 1])
+            return -1;
+    uint32_t cur = 0, eStart = SD_INVALID, other;
+    if (ec == fc) {
+        eStart = out[0];
+    } else {
+        /* the first one-face edge (in vE order) leaving v in its face; a
+         * last one-face edge that does not leave v ends the walk at once */
+        for (uint32_t j = 0; j < ec; j++) {
+            uint32_t e = vE[j], c = local_uses(out, in, fc, e, SD_INVALID, &other);
+            if (c > 2)
+                return -1;
+            if (c != 1)
+                continue;
+            eStart = e;
+            cur = other;
+            if (out[cur] == e)
+                break;
+        }
+        if (eStart == SD_INVALID || out[cur] != eStart)
+            return 0;
+    }
+    uint32_t eCount = 1, fCount = 1, eFirst = eStart;
+    fo[0] = vF[cur];
+    loc[0] = kk[cur];
+    eo[0] = eStart;
+    while (eCount < ec) {
+        uint32_t eNext = in[cur];
+        if (eNext == eStart || eNext == eFirst)
+            return 0;
+        eo[eCount++] = eNext;
+        if (fCount < fc) {
+            uint32_t c = local_uses(out, in, fc, eNext, cur, &other);
+            if (c > 2 || (c == 2 && (other == fc || out[other] != eNext)))
+                return -1;
+            if (c == 1)
+                return 0; /* a boundary before the fan is done */
+            cur = other;
+            loc[fCount] = kk[cur];
+            fo[fCount++] = vF[cur];
+        }
+        eStart = eNext;
+    }
+    return eCount == ec && fCount == fc ? 2 : 0;
+}
+
+/* A vertex pair and the first edge made between them (sd_level_complete). */
+typedef struct edge_slot {
+    uint32_t lo, hi, e;
+} edge_slot;
+
 /* Counting sort: for each key in keys[0..n), in order, append position
  * value val(i) to the list of key; off has nk + 1 entries. */
 static void csr_fill(uint32_t nk, uint32_t n, const uint32_t *keys, uint32_t *off, uint32_t *cursor,
@@ -419,38 +511,46 @@ geom_status sd_level_complete(const geom_allocator *a, sd_level *l, geom_diag *d
     uint32_t nv = l->nv, nf = l->nf, total = l->fv_off[nf];
     geom_status st = GEOM_ERR_NOMEM;
     uint32_t cap = total;
-    uint32_t *vhead = sd_calloc(a, nv, sizeof(uint32_t));
-    uint32_t *vtail = sd_calloc(a, nv, sizeof(uint32_t));
-    uint32_t *vcount = sd_calloc(a, nv, sizeof(uint32_t));
-    uint32_t *enext = sd_calloc(a, 2 * (size_t)cap, sizeof(uint32_t));
+    /* The first edge made between two vertices, by the vertex pair (open
+     * addressing, at most half full). OpenSubdiv walks v0's edges in
+     * creation order for it; the first one joining v0 and v1 is the one
+     * made first, which the table keeps (a later edge between the same
+     * two vertices, made for a non-manifold use, never replaces it). */
+    unsigned bits = 1;
+    while (bits < 63 && ((size_t)1 << bits) < 2 * (size_t)cap)
+        bits++;
+    const size_t hmask = ((size_t)1 << bits) - 1;
+    edge_slot *ht = sd_malloc(a, hmask + 1, sizeof(edge_slot));
     uint32_t *ecount = sd_calloc(a, cap, sizeof(uint32_t));
     uint32_t *elast = sd_calloc(a, cap, sizeof(uint32_t));
     uint8_t *enm = sd_calloc(a, cap, 1);
     uint32_t *ev = sd_calloc(a, 2 * (size_t)cap, sizeof(uint32_t));
     uint32_t *cursor = NULL, *tmpf = NULL, *tmpe = NULL;
+    uint32_t *vout = sd_malloc(a, total, sizeof(uint32_t));
+    uint32_t *vin = sd_malloc(a, total, sizeof(uint32_t));
     l->fe = sd_calloc(a, total, sizeof(uint32_t));
-    if (!vhead || !vtail || !vcount || !enext || !ecount || !elast || !enm || !ev || !l->fe)
+    if (!ht || !ecount || !elast || !enm || !ev || !l->fe || !vout || !vin)
         goto done;
-    for (uint32_t v = 0; v < nv; v++)
-        vhead[v] = vtail[v] = SD_INVALID;
+    for (size_t i = 0; i <= hmask; i++)
+        ht[i].e = SD_INVALID;
     uint32_t ne = 0;
     for (uint32_t f = 0; f < nf; f++) {
         uint32_t o = l->fv_off[f], n = l->fv_off[f + 1] - o;
         for (uint32_t i = 0; i < n; i++) {
             uint32_t v0 = l->fv[o + i], v1 = l->fv[o + (i + 1) % n];
             uint32_t e = SD_INVALID;
+            edge_slot *slot = NULL;
             if (v0 != v1) {
-                /* Both lists are in creation order: the first edge joining
-                 * v0 and v1 is the same in either, so walk the shorter
-                 * (OpenSubdiv walks v0's; high-valence vertices would make
-                 * that quadratic). */
-                uint32_t a0 = vcount[v0] <= vcount[v1] ? v0 : v1, a1 = a0 == v0 ? v1 : v0;
-                for (uint32_t k = vhead[a0]; k != SD_INVALID; k = enext[k]) {
-                    uint32_t c = k >> 1;
-                    if (ev[2 * c] == a1 || ev[2 * c + 1] == a1) {
-                        e = c;
-                        break;
-                    }
+                uint32_t lo = v0 < v1 ? v0 : v1, hi = v0 < v1 ? v1 : v0;
+                size_t h = (size_t)((((uint64_t)lo << 32 | hi) * 0x9E3779B97F4A7C15ull) >>
+                                    (64 - bits));
+                while (ht[h].e != SD_INVALID && (ht[h].lo != lo || ht[h].hi != hi))
+                    h = (h + 1) & hmask;
+                slot = &ht[h];
+                e = slot->e;
+                if (e == SD_INVALID) {
+                    slot->lo = lo;
+                    slot->hi = hi;
                 }
             } else {
                 enm[ne] = 1;
@@ -470,16 +570,8 @@ geom_status sd_level_complete(const geom_allocator *a, sd_level *l, geom_diag *d
                 e = ne++;
                 ev[2 * e] = v0;
                 ev[2 * e + 1] = v1;
-                for (int k = 0; k < 2; k++) {
-                    uint32_t v = ev[2 * e + k], node = 2 * e + (uint32_t)k;
-                    enext[node] = SD_INVALID;
-                    vcount[v]++;
-                    if (vtail[v] == SD_INVALID)
-                        vhead[v] = node;
-                    else
-                        enext[vtail[v]] = node;
-                    vtail[v] = node;
-                }
+                if (slot && slot->e == SD_INVALID)
+                    slot->e = e;
             }
             ecount[e]++;
             elast[e] = f;
@@ -526,9 +618,20 @@ geom_status sd_level_complete(const geom_allocator *a, sd_level *l, geom_diag *d
         for (uint32_t v = 0; v < nv; v++)
             l->vf_off[v + 1] += l->vf_off[v];
         memcpy(cursor, l->vf_off, (size_t)nv * sizeof(uint32_t));
-        for (uint32_t f = 0; f < nf; f++)
-            for (uint32_t i = l->fv_off[f]; i < l->fv_off[f + 1]; i++)
-                l->vf[cursor[l->fv[i]]++] = f;
+        /* with each entry, the corner's index in the face and its edges
+         * leaving (vout) and arriving at (vin) the vertex: what ordering
+         * the vertex reads, written here in face order instead of gathered
+         * from every face again */
+        for (uint32_t f = 0; f < nf; f++) {
+            uint32_t o = l->fv_off[f], n = l->fv_off[f + 1] - o;
+            for (uint32_t k = 0; k < n; k++) {
+                uint32_t slot = cursor[l->fv[o + k]]++;
+                l->vf[slot] = f;
+                l->vf_loc[slot] = (uint16_t)k;
+                vout[slot] = l->fe[o + k];
+                vin[slot] = l->fe[o + (k ? k - 1 : n - 1)];
+            }
+        }
         csr_fill(nv, 2 * ne, l->ev, l->ve_off, cursor, l->ve, 2);
     }
     for (uint32_t v = 0; v < nv; v++) {
@@ -562,20 +665,30 @@ geom_status sd_level_complete(const geom_allocator *a, sd_level *l, geom_diag *d
     tmpe = sd_calloc(a, (size_t)l->max_valence + 1, sizeof(uint32_t));
     if (!tmpf || !tmpe)
         goto done;
+    /* and the vertex's index in each of its faces (OpenSubdiv's
+     * Level::populateLocalIndices), known already where order_vertex_local
+     * ordered them */
     for (uint32_t v = 0; v < nv; v++) {
-        if (l->vtag[v] & SD_V_NONMANIFOLD)
-            continue;
-        if (order_vertex(l, v, tmpf, tmpe)) {
-            memcpy(l->vf + l->vf_off[v], tmpf,
-                   (size_t)(l->vf_off[v + 1] - l->vf_off[v]) * sizeof(uint32_t));
-            memcpy(l->ve + l->ve_off[v], tmpe,
-                   (size_t)(l->ve_off[v + 1] - l->ve_off[v]) * sizeof(uint32_t));
-        } else {
-            l->vtag[v] |= SD_V_NONMANIFOLD;
+        if (!(l->vtag[v] & SD_V_NONMANIFOLD)) {
+            uint16_t lloc[SD_LOCAL_ORDER_MAX];
+            int ok = order_vertex_local(l, v, tmpf, tmpe, vout + l->vf_off[v],
+                                        vin + l->vf_off[v], lloc);
+            if (ok < 0)
+                ok = order_vertex(l, v, tmpf, tmpe);
+            if (ok) {
+                memcpy(l->vf + l->vf_off[v], tmpf,
+                       (size_t)(l->vf_off[v + 1] - l->vf_off[v]) * sizeof(uint32_t));
+                memcpy(l->ve + l->ve_off[v], tmpe,
+                       (size_t)(l->ve_off[v + 1] - l->ve_off[v]) * sizeof(uint32_t));
+            } else {
+                l->vtag[v] |= SD_V_NONMANIFOLD;
+            }
+            if (ok == 2) {
+                memcpy(l->vf_loc + l->vf_off[v], lloc,
+                       (size_t)(l->vf_off[v + 1] - l->vf_off[v]) * sizeof(uint16_t));
+                continue;
+            }
         }
-    }
-    /* Local indices (OpenSubdiv's Level::populateLocalIndices). */
-    for (uint32_t v = 0; v < nv; v++) {
         uint32_t last = SD_INVALID;
         for (uint32_t i = l->vf_off[v]; i < l->vf_off[v + 1]; i++) {
             uint32_t f = l->vf[i], o = l->fv_off[f], n = l->fv_off[f + 1] - o;
@@ -586,6 +699,9 @@ geom_status sd_level_complete(const geom_allocator *a, sd_level *l, geom_diag *d
             l->vf_loc[i] = (uint16_t)k;
             last = f;
         }
+    }
+    /* Local indices of the edges (OpenSubdiv's Level::populateLocalIndices). */
+    for (uint32_t v = 0; v < nv; v++) {
         for (uint32_t i = l->ve_off[v]; i < l->ve_off[v + 1]; i++) {
             uint32_t e = l->ve[i];
             if (l->ev[2 * e] != l->ev[2 * e + 1])
@@ -607,10 +723,9 @@ geom_status sd_level_complete(const geom_allocator *a, sd_level *l, geom_diag *d
     }
     st = GEOM_OK;
 done:
-    sd_free(a, vhead, nv, sizeof(uint32_t));
-    sd_free(a, vtail, nv, sizeof(uint32_t));
-    sd_free(a, vcount, nv, sizeof(uint32_t));
-    sd_free(a, enext, 2 * (size_t)cap, sizeof(uint32_t));
+    sd_free(a, vout, total, sizeof(uint32_t));
+    sd_free(a, vin, total, sizeof(uint32_t));
+    sd_free(a, ht, hmask + 1, sizeof(edge_slot));
     sd_free(a, ecount, cap, sizeof(uint32_t));
     sd_free(a, elast, cap, sizeof(uint32_t));
     sd_free(a, enm, cap, 1);

@@ -16,8 +16,7 @@ double sd_sqrt3_alpha(uint32_t n)
 static void apply(const sd_level *l, uint32_t v, const sd_mask *m, const uint32_t *eidx,
                   const uint32_t *fidx, size_t n, const double *src, double *d)
 {
-    for (size_t k = 0; k < n; k++)
-        d[k] = 0.0;
+    sd_zero(d, n);
     for (int i = 0; i < m->nf; i++)
         sd_add_w(d, src + (size_t)fidx[i] * n, m->f[i], n);
     for (int i = 0; i < m->ne; i++)

@@ -131,15 +131,9 @@ static void crease_mask(int valence, const int ends[2], sd_mask *m)
 static void smooth_mask(const sd_opts *o, int nfaces, sd_mask *m)
 {
     int n = nfaces;
+    double ew, vw;
+    sd_smooth_weights(o->scheme == GEOM_SUBDIV_LOOP, (uint32_t)n, &ew, &vw);
     if (o->scheme == GEOM_SUBDIV_LOOP) {
-        double ew = 0.0625, vw = 0.625;
-        if (n != 6) {
-            double dn = (double)n, inv = 1.0 / dn;
-            double c = cos(GEOM_PI * 2.0 * inv);
-            double beta = 0.25 * c + 0.375;
-            ew = (0.625 - beta * beta) * inv;
-            vw = 1.0 - ew * dn;
-        }
         m->v = vw;
         m->ne = n;
         m->nf = 0;
@@ -148,14 +142,13 @@ static void smooth_mask(const sd_opts *o, int nfaces, sd_mask *m)
             m->e[i] = ew;
         return;
     }
-    m->v = (double)(n - 2) / (double)n;
-    double fw = 1.0 / (double)(n * n);
+    m->v = vw;
     m->ne = n;
     m->nf = n;
     m->fcenters = 1;
     for (int i = 0; i < n; i++) {
-        m->e[i] = fw;
-        m->f[i] = fw;
+        m->e[i] = ew;
+        m->f[i] = ew;
     }
 }
 

@@ -79,6 +79,40 @@ SD_KERNEL void sd_set_w(double *d, const double *s, double w, size_t n)
         d[k] = s[k] * w;
 }
 
+/* The smooth vertex-point weights of a vertex with n faces: Loop (Warren's
+ * beta: each edge neighbour ew, the vertex vw) and Catmull-Clark (each
+ * edge neighbour and each face point ew, the vertex vw). The vertex
+ * masks (masks.c) and the direct smooth path of interp.c share them. */
+static inline void sd_smooth_weights(int loop, uint32_t n, double *ew, double *vw)
+{
+    if (loop) {
+        *ew = 0.0625;
+        *vw = 0.625;
+        if (n != 6) {
+            double dn = (double)n, inv = 1.0 / dn;
+            double c = cos(GEOM_PI * 2.0 * inv);
+            double beta = 0.25 * c + 0.375;
+            *ew = (0.625 - beta * beta) * inv;
+            *vw = 1.0 - *ew * dn;
+        }
+        return;
+    }
+    *vw = (double)((int)n - 2) / (double)n;
+    *ew = 1.0 / (double)(n * n);
+}
+
+/* d = 0 (n values): three stores for positions, not a call to memset per
+ * vertex. */
+static inline void sd_zero(double *d, size_t n)
+{
+    if (n == 3) {
+        d[0] = d[1] = d[2] = 0.0;
+        return;
+    }
+    for (size_t k = 0; k < n; k++)
+        d[k] = 0.0;
+}
+
 SD_KERNEL void sd_add_w(double *d, const double *s, double w, size_t n)
 {
     if (n == 3) {
@@ -99,8 +133,7 @@ static inline void sd_stencils_apply(uint32_t count, const uint32_t *off, const 
 {
     for (uint32_t i = 0; i < count; i++) {
         double *d = dst + (size_t)i * n;
-        for (size_t k = 0; k < n; k++)
-            d[k] = 0.0;
+        sd_zero(d, n);
         for (uint32_t j = off[i]; j < off[i + 1]; j++)
             sd_add_w(d, src + (size_t)idx[j] * n, w[j], n);
     }
@@ -121,8 +154,7 @@ SD_KERNEL void sd_face_points(const sd_level *p, size_t n, const uint32_t *val, 
         uint32_t o = p->fv_off[f], m = p->fv_off[f + 1] - o;
         double w = 1.0 / (double)m;
         double *d = dst + sd_at(at, f) * n;
-        for (size_t k = 0; k < n; k++)
-            d[k] = 0.0;
+        sd_zero(d, n);
         for (uint32_t i = 0; i < m; i++)
             sd_add_w(d, src + (size_t)val[o + i] * n, w, n);
     }

@@ -421,10 +421,8 @@ geom_status geom_subdiv_build_mesh(const geom_subdiv_refiner *r, int level, cons
         if (!geom__isfinite3(positions + 3 * (size_t)v))
             direct = 0; /* geom_mesh_build names it */
     if (direct) {
-        st = sd_mesh_direct(a, l, positions, m);
-        if (st == GEOM_OK)
-            st = sd_mesh_direct_attach(m, chans, nch);
-        else if (st == SD_DIRECT_DECLINED)
+        st = sd_mesh_direct(l, positions, chans, nch, m);
+        if (st == SD_DIRECT_DECLINED)
             direct = 0;
     }
     if (!direct) {
@@ -474,6 +472,60 @@ done:
     }
     *out = m;
     return GEOM_OK;
+}
+
+/* Whether add_tags would give the output no crease or corner tag (no
+ * option tag in like, no edge or vertex of l still sharp apart from
+ * boundaries and non-manifold ones). */
+static int no_tags(const sd_level *l, const geom_mesh *like)
+{
+    for (size_t i = 0; like && i < geom_mesh_tag_count(like); i++) {
+        geom_mesh_tag t;
+        if (geom_mesh_tag_get(like, i, &t) == GEOM_OK && t.name && is_option_tag(t.name))
+            return 0;
+    }
+    for (uint32_t e = 0; e < l->ne; e++)
+        if (l->esharp[e] > 0.0f && !(l->etag[e] & (SD_E_BOUNDARY | SD_E_NONMANIFOLD)))
+            return 0;
+    for (uint32_t v = 0; v < l->nv; v++)
+        if (l->vsharp[v] > 0.0f && !(l->vtag[v] & SD_V_NONMANIFOLD))
+            return 0;
+    return 1;
+}
+
+int geom_subdiv_level_is_plain(const geom_subdiv_refiner *r, int level, const double *positions,
+                               int with_normals, const geom_mesh *like)
+{
+    if (!r || !positions || level < 1 || level >= r->nlevels)
+        return 0;
+    const sd_level *l = r->lv[level], *l0 = r->lv[0];
+    if (l->n_hole_faces || !sd_mesh_direct_applies(r, level))
+        return 0;
+    /* an isolated vertex of level 0 stays one (the build keeps it, a soup
+     * writer would too, but the direct build is not made for it) */
+    for (uint32_t v = 0; v < l0->nv; v++)
+        if (l0->vf_off[v + 1] == l0->vf_off[v])
+            return 0;
+    if (like) {
+        /* positions only, or normals that with_normals replaces */
+        for (uint32_t ch = 1; ch < geom_mesh_channel_count(like); ch++) {
+            geom_mesh_domain d = geom_mesh_channel_domain(like, ch);
+            const char *name = geom_mesh_channel_name(like, ch);
+            int vn = d == GEOM_MESH_DOMAIN_VERTEX && geom_mesh_channel_ncomp(like, ch) == 3;
+            if (!with_normals || !name || strcmp(name, "normal") != 0 ||
+                !(vn || d == GEOM_MESH_DOMAIN_CORNER))
+                return 0;
+        }
+        if ((geom_mesh_face_cgroups(like) && geom_mesh_group_count(like)) ||
+            geom_mesh_mtllib_count(like))
+            return 0;
+    }
+    if (!no_tags(l, like))
+        return 0;
+    for (uint32_t v = 0; v < l->nv; v++)
+        if (!geom__isfinite3(positions + 3 * (size_t)v))
+            return 0;
+    return 1;
 }
 
 geom_status geom_subdiv_mesh(const geom_mesh *m, const geom_subdiv_options *opt, int levels,

@@ -639,6 +639,12 @@ geom_status geom_subdiv_refiner_faces(const geom_subdiv_refiner *r, int level,
     return GEOM_OK;
 }
 
+const uint32_t *geom_subdiv_refiner_face_indices(const geom_subdiv_refiner *r, int level)
+{
+    const sd_level *l = get_level(r, level);
+    return l ? l->fv : NULL;
+}
+
 geom_status geom_subdiv_refiner_edges(const geom_subdiv_refiner *r, int level, uint32_t *verts,
                                       float *sharpness)
 {

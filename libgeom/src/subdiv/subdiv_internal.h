@@ -35,7 +35,6 @@
 #define sd_malloc geom__subdiv_malloc
 #define sd_mesh_direct geom__subdiv_mesh_direct
 #define sd_mesh_direct_applies geom__subdiv_mesh_direct_applies
-#define sd_mesh_direct_attach geom__subdiv_mesh_direct_attach
 #define sd_refine_level geom__subdiv_refine_level
 #define sd_refine_sqrt3 geom__subdiv_refine_sqrt3
 #define sd_rule_from_count geom__subdiv_rule_from_count
@@ -259,12 +258,11 @@ int sd_mesh_direct_applies(const geom_subdiv_refiner *r, int level);
 #define SD_DIRECT_DECLINED 1
 /* The topology and positions (3 per vertex, finite) of level l into the
  * empty mesh m, exactly as geom_mesh_build would make them from the
- * level's faces. GEOM_OK, SD_DIRECT_DECLINED, GEOM_ERR_NOMEM. */
-geom_status sd_mesh_direct(const geom_allocator *a, const sd_level *l, const double *positions,
-                           geom_mesh *m);
-/* Attach streams as geom_mesh_build does, to a mesh made by sd_mesh_direct
- * (identity origin maps; corner indices in the level's face order). */
-geom_status sd_mesh_direct_attach(geom_mesh *m, const geom_mesh_build_channel *chans, size_t n);
+ * level's faces, with the streams chans attached as geom_mesh_build
+ * attaches them (identity origin maps; corner indices in the level's face
+ * order). GEOM_OK, SD_DIRECT_DECLINED, GEOM_ERR_NOMEM. */
+geom_status sd_mesh_direct(const sd_level *l, const double *positions,
+                           const geom_mesh_build_channel *chans, size_t nchans, geom_mesh *m);
 
 /* ----- masks for limit evaluation (limit.c) */
 int sd_vertex_rule(const sd_level *l, uint32_t v);
