@@ -52,4 +52,10 @@ int geom__implicit_op_arity(int op);
 double geom__implicit_run_double(const expr_ins *code, size_t n, double x, double y, double z,
                             double t);
 
+/* geom_implicit_samples_value at n points p (3*n doubles) of d (its own
+ * samples d->data) into out (n doubles), bitwise the same values, blocks of
+ * points at a time (trilinear.c). */
+void geom__implicit_samples_values(const geom_implicit_grid *d, size_t n, const double *p,
+                                   double *out);
+
 #endif
