@@ -189,6 +189,62 @@ static double d_scalar_unary(const expr_ins *in, double a)
     }
 }
 
+#define XB_LANES(EXPR)                                                                         \
+    for (int l = 0; l < XB; l++)                                                               \
+    r[l] = (EXPR)
+
+/* The pair "a*b then add or subtract it from the slot below" (sums of
+ * products) in one lane loop, rounding each operation as the two would. */
+GEOM__CLONE_INLINE void x_mul_addsub(int sub, double *restrict r, const double *restrict lf,
+                                     const double *restrict va, double ca,
+                                     const double *restrict vb, double cb)
+{
+    if (va && vb) {
+        if (sub)
+            XB_LANES(d_sub(lf[l], d_mul(va[l], vb[l])));
+        else
+            XB_LANES(d_add(lf[l], d_mul(va[l], vb[l])));
+    } else if (va) {
+        if (sub)
+            XB_LANES(d_sub(lf[l], d_mul(va[l], cb)));
+        else
+            XB_LANES(d_add(lf[l], d_mul(va[l], cb)));
+    } else {
+        if (sub)
+            XB_LANES(d_sub(lf[l], d_mul(ca, vb[l])));
+        else
+            XB_LANES(d_add(lf[l], d_mul(ca, vb[l])));
+    }
+}
+
+/* sqrt or abs, then +, -, *, / a constant (distances: sqrt(...) - r,
+ * abs(x) - h) in one lane loop. */
+#define XB_UNARY_CONST(U)                                                                      \
+    do {                                                                                       \
+        if (bop == OP_ADD)                                                                     \
+            XB_LANES(d_add(U(va[l]), c));                                                      \
+        else if (bop == OP_SUB)                                                                \
+            XB_LANES(d_sub(U(va[l]), c));                                                      \
+        else if (bop == OP_MUL)                                                                \
+            XB_LANES(d_mul(U(va[l]), c));                                                      \
+        else                                                                                   \
+            XB_LANES(d_div(U(va[l]), c));                                                      \
+    } while (0)
+
+GEOM__CLONE_INLINE void x_unary_const(int uop, int bop, double *restrict r,
+                                      const double *restrict va, double c)
+{
+    if (uop == OP_SQRT)
+        XB_UNARY_CONST(d_sqrt);
+    else
+        XB_UNARY_CONST(d_abs);
+}
+#undef XB_UNARY_CONST
+#undef XB_LANES
+
+static int is_addsub(int op) { return op == OP_ADD || op == OP_SUB; }
+static int is_arith(int op) { return is_addsub(op) || op == OP_MUL || op == OP_DIV; }
+
 /* nb blocks of XB points p (3 doubles each) into out; the program's
  * max_stack must be at most XSTACK. */
 GEOM_SIMD_CLONES
@@ -208,6 +264,11 @@ static void d_run_blocks(const expr_ins *code, size_t ncode, size_t nb, const do
         size_t sp = 0;
         v[0] = NULL;
         c[0] = NAN;
+        /* The buffer an operation writes into slot q: not the slot's
+         * operand, and the output itself for the program's last operation
+         * (whose result is slot 0; i is that operation's last instruction). */
+#define DST_LAST(q, other) (i + 1 == ncode && (q) == 0 ? out : (other))
+#define DST(q) DST_LAST(q, buf[q][v[q] == buf[q][0]])
         for (size_t i = 0; i < ncode; i++) {
             const expr_ins *in = &code[i];
             switch ((expr_op)in->op) {
@@ -221,8 +282,16 @@ static void d_run_blocks(const expr_ins *code, size_t ncode, size_t nb, const do
                 size_t a = sp - 2, b = sp - 1;
                 if (!v[a] && !v[b]) {
                     c[a] = d_scalar_binary(in->op, c[a], c[b]);
+                } else if (in->op == OP_MUL && i + 1 < ncode && is_addsub(code[i + 1].op) &&
+                           sp >= 3 && v[sp - 3]) {
+                    size_t f = sp - 3; /* fused with the next add/sub */
+                    i++;
+                    double *r = DST(f);
+                    x_mul_addsub(code[i].op == OP_SUB, r, v[f], v[a], c[a], v[b], c[b]);
+                    v[f] = r;
+                    sp--;
                 } else {
-                    double *r = buf[a][v[a] == buf[a][0]];
+                    double *r = DST(a);
                     x_binary(in->op, r, v[a], c[a], v[b], c[b]);
                     v[a] = r;
                 }
@@ -234,8 +303,14 @@ static void d_run_blocks(const expr_ins *code, size_t ncode, size_t nb, const do
                 size_t a = sp - 1;
                 if (!v[a]) {
                     c[a] = d_scalar_unary(in, c[a]);
+                } else if ((in->op == OP_SQRT || in->op == OP_ABS) && i + 2 < ncode &&
+                           code[i + 1].op == OP_CONST && is_arith(code[i + 2].op)) {
+                    i += 2; /* fused with "constant, operation" */
+                    double *r = DST(a);
+                    x_unary_const(in->op, code[i].op, r, v[a], code[i - 1].c);
+                    v[a] = r;
                 } else {
-                    double *r = buf[a][v[a] == buf[a][0]];
+                    double *r = DST(a);
                     x_unary(in, r, v[a]);
                     v[a] = r;
                 }
@@ -252,7 +327,7 @@ static void d_run_blocks(const expr_ins *code, size_t ncode, size_t nb, const do
                             buf[q][0][l] = c[q];
                         v[q] = buf[q][0];
                     }
-                double *r = buf[first][k == 0 || v[first] == buf[first][0]];
+                double *r = k == 0 ? DST_LAST(first, buf[first][1]) : DST(first);
                 for (int l = 0; l < XB; l++) {
                     double args[8];
                     for (size_t q = 0; q < k; q++)
@@ -272,6 +347,10 @@ static void d_run_blocks(const expr_ins *code, size_t ncode, size_t nb, const do
             }
             }
         }
+#undef DST
+#undef DST_LAST
+        if (v[0] == out)
+            continue;
         if (v[0])
             memcpy(out, v[0], XB * sizeof(double));
         else
