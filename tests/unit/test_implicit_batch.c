@@ -8,34 +8,15 @@
  * NaN/Inf coordinates; every operation, constants folded at run time (t),
  * block tails and programs deeper than the block stack.
  */
-#include <stdarg.h>
-#include <stddef.h>
-#include <setjmp.h>
-#include <stdint.h>
-#include <cmocka.h>
+#include "unit/test_util.h"
 
-#include <math.h>
-#include <stdlib.h>
 #include <string.h>
 
 #include "geom/implicit.h"
 
 static uint64_t rng_state = 0x9E3779B97F4A7C15ull;
 
-static double urand(void)
-{
-    rng_state ^= rng_state << 13;
-    rng_state ^= rng_state >> 7;
-    rng_state ^= rng_state << 17;
-    return (double)(rng_state >> 11) * 0x1p-53;
-}
-
-/* Same bits, or both NaN (the single functions' NaN payloads are not part
- * of their contract). */
-static int same(double a, double b)
-{
-    return memcmp(&a, &b, sizeof a) == 0 || (isnan(a) && isnan(b));
-}
+static double urand(void) { return test_urand(&rng_state); }
 
 /* n points in [-lo, hi]^3 with some special coordinates mixed in. */
 static double *points(size_t n, double lo, double hi)
@@ -93,7 +74,7 @@ static void check_expr(geom_implicit_expr *e, const char *text, size_t n, const 
     geom_implicit_expr_eval_many(e, n, p, out);
     for (size_t i = 0; i < n; i++) {
         double v = geom_implicit_expr_eval(e, &p[3 * i]);
-        if (!same(v, out[i]))
+        if (!same_bits_or_nan(v, out[i]))
             fail_msg("%s at point %zu (%g, %g, %g): batch %.17g, single %.17g", text, i,
                      p[3 * i], p[3 * i + 1], p[3 * i + 2], out[i], v);
     }
@@ -195,7 +176,7 @@ static void test_volume_batch_bitwise(void **state)
                     geom_implicit_volume_eval_many(v, n, p, out, NULL);
                     for (size_t i = 0; i < n; i++) {
                         double w = geom_implicit_volume_eval(v, &p[3 * i]);
-                        if (!same(w, out[i]))
+                        if (!same_bits_or_nan(w, out[i]))
                             fail_msg("volume %zux%zux%zu type %d at (%.17g, %.17g, %.17g): "
                                      "batch %.17g, single %.17g",
                                      dm[0], dm[1], dm[2], type, p[3 * i], p[3 * i + 1],
@@ -204,7 +185,8 @@ static void test_volume_batch_bitwise(void **state)
                     /* the tail after the last full block, and n = 0 */
                     geom_implicit_volume_eval_many(v, 70, p + 3, out, NULL);
                     for (size_t i = 0; i < 70; i++)
-                        assert_true(same(geom_implicit_volume_eval(v, &p[3 + 3 * i]), out[i]));
+                        assert_true(same_bits_or_nan(geom_implicit_volume_eval(v, &p[3 + 3 * i]),
+                                                     out[i]));
                     geom_implicit_volume_eval_many(v, 0, p, out, NULL);
                     free(p);
                     geom_implicit_volume_destroy(v);

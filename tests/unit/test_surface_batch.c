@@ -5,32 +5,15 @@
  * one above the block kernel's largest degree, several spans, parameters on
  * knots (both limits), outside the domain, NaN and Inf, block tails.
  */
-#include <stdarg.h>
-#include <stddef.h>
-#include <setjmp.h>
-#include <stdint.h>
-#include <cmocka.h>
+#include "unit/test_util.h"
 
-#include <math.h>
-#include <stdlib.h>
 #include <string.h>
 
 #include "geom/surface.h"
 
 static uint64_t rng_state = 0x243F6A8885A308D3ull;
 
-static double urand(void)
-{
-    rng_state ^= rng_state << 13;
-    rng_state ^= rng_state >> 7;
-    rng_state ^= rng_state << 17;
-    return (double)(rng_state >> 11) * 0x1p-53;
-}
-
-static int same(double a, double b)
-{
-    return memcmp(&a, &b, sizeof a) == 0 || (isnan(a) && isnan(b));
-}
+static double urand(void) { return test_urand(&rng_state); }
 
 /* Clamped knots of degree p for n points, interior knots at i / (n - p),
  * one of them doubled when n allows. */
@@ -91,7 +74,7 @@ static void check_surface(int p, int q, size_t nu, size_t nv, int rational)
                     continue;
                 }
                 for (int d = 0; d < 3; d++)
-                    if (!same(o[d], out[3 * i + d]))
+                    if (!same_bits_or_nan(o[d], out[3 * i + d]))
                         fail_msg("p=%d q=%d rational=%d flags=%u row %zu (%.17g, %.17g): "
                                  "batch %.17g, single %.17g",
                                  p, q, rational, flags, i, uv[2 * i], uv[2 * i + 1],

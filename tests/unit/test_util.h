@@ -11,6 +11,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "geom/core.h"
 
@@ -19,6 +20,21 @@ static inline void assert_close(double x, double y, double tol)
 {
     if (!(fabs(x - y) <= tol))
         fail_msg("%.17g != %.17g (tol %g)", x, y, tol);
+}
+
+/* xorshift64: a double in [0, 1) from the state *s (nonzero). */
+static inline double test_urand(uint64_t *s)
+{
+    *s ^= *s << 13;
+    *s ^= *s >> 7;
+    *s ^= *s << 17;
+    return (double)(*s >> 11) * 0x1p-53;
+}
+
+/* a and b the same bits, or both NaN (NaN payloads are no contract). */
+static inline int same_bits_or_nan(double a, double b)
+{
+    return memcmp(&a, &b, sizeof a) == 0 || (isnan(a) && isnan(b));
 }
 
 /* A counting allocator that fails once `budget` allocations have been made

@@ -64,19 +64,11 @@ static inline geom__xval geom__bary_orient2d_acc(const double a[2], const double
 static inline int geom__bary_det3(const double a[3], const double b[3], const double c[3],
                                   const double d[3], double *out)
 {
-    double adx = a[0] - d[0], bdx = b[0] - d[0], cdx = c[0] - d[0];
-    double ady = a[1] - d[1], bdy = b[1] - d[1], cdy = c[1] - d[1];
-    double adz = a[2] - d[2], bdz = b[2] - d[2], cdz = c[2] - d[2];
-    double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy;
-    double cdxady = cdx * ady, adxcdy = adx * cdy;
-    double adxbdy = adx * bdy, bdxady = bdx * ady;
-    double det = adz * (bdxcdy - cdxbdy) + bdz * (cdxady - adxcdy) + cdz * (adxbdy - bdxady);
-    double aadz = fabs(adz), abdz = fabs(bdz), acdz = fabs(cdz);
-    double perm = (fabs(bdxcdy) + fabs(cdxbdy)) * aadz + (fabs(cdxady) + fabs(adxcdy)) * abdz +
-                  (fabs(adxbdy) + fabs(bdxady)) * acdz;
-    double tiny = GEOM_BARY_TINY * (1.0 + aadz + abdz + acdz);
+    double perm, zterm;
+    double det = geom__orient3d_fast(a, b, c, d, &perm, &zterm);
     *out = det;
-    return (fabs(det) >= (GEOM_BARY_O3D_A * GEOM_BARY_REL) * perm + tiny) & (perm < GEOM_BARY_BIG);
+    return (fabs(det) >= (GEOM_BARY_O3D_A * GEOM_BARY_REL) * perm + GEOM_BARY_TINY * zterm) &
+           (perm < GEOM_BARY_BIG);
 }
 
 /* n doubles of v all finite? */
