@@ -11,6 +11,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "geom/core.h"
 #include "geom/mesh.h"
@@ -51,6 +52,16 @@ static inline void assert_same_connectivity(const geom_mesh *a, const geom_mesh 
         assert_int_equal(geom_mesh_vertex_he(a, v), geom_mesh_vertex_he(b, v));
     for (uint32_t f = 0; f < geom_mesh_n_faces(a); f++)
         assert_int_equal(geom_mesh_face_he(a, f), geom_mesh_face_he(b, f));
+/* xorshift64: a double in [0, 1) from the state *s (nonzero). */
+static inline double test_urand(uint64_t *s)
+{
+    return (double)(test_xorshift64(s) >> 11) * 0x1p-53;
+}
+
+/* a and b the same bits, or both NaN (NaN payloads are no contract). */
+static inline int same_bits_or_nan(double a, double b)
+{
+    return memcmp(&a, &b, sizeof a) == 0 || (isnan(a) && isnan(b));
 }
 
 /* A counting allocator that fails once `budget` allocations have been made

@@ -91,7 +91,7 @@ class Expression:
         if pts.shape[-1:] != (3,):
             raise ValueError("points must have shape (..., 3), got %s" % (pts.shape,))
         flat = pts.reshape(-1, 3)
-        out = np.zeros(flat.shape[0])
+        out = np.empty(flat.shape[0])
         if flat.shape[0]:
             lib.geom_implicit_expr_eval_many(self._ptr, flat.shape[0], dptr(flat), dptr(out))
         return float(out[0]) if pts.ndim == 1 else out.reshape(pts.shape[:-1])
@@ -103,12 +103,11 @@ class Expression:
         if pts.shape[-1:] != (3,):
             raise ValueError("points must have shape (..., 3), got %s" % (pts.shape,))
         flat = pts.reshape(-1, 3)
-        vals = np.zeros(flat.shape[0])
-        grads = np.zeros_like(flat)
-        pp, pg = ffi.from_buffer("double[]", flat), ffi.from_buffer("double[]", grads)
-        fn, e = lib.geom_implicit_expr_eval_grad, self._ptr
-        for i in range(flat.shape[0]):
-            vals[i] = fn(e, pp + 3 * i, pg + 3 * i)
+        vals = np.empty(flat.shape[0])
+        grads = np.empty(flat.shape)
+        if flat.shape[0]:
+            lib.geom_implicit_expr_eval_grad_many(self._ptr, flat.shape[0], dptr(flat),
+                                                  dptr(vals), dptr(grads))
         if pts.ndim == 1:
             return float(vals[0]), grads[0]
         return vals.reshape(pts.shape[:-1]), grads.reshape(pts.shape)

@@ -58,6 +58,19 @@ static inline geom__xval geom__bary_orient2d_acc(const double a[2], const double
     return geom__xeval_orient2d(a, b, c);
 }
 
+/* det[a-d; b-d; c-d] in floating point; 1 if its relative error is
+ * certified to be at most 2^-42 (without branches: the batch kernel runs it
+ * lane by lane). geom_bary_tet's determinants, and the batch's. */
+static inline int geom__bary_det3(const double a[3], const double b[3], const double c[3],
+                                  const double d[3], double *out)
+{
+    double perm, zterm;
+    double det = geom__orient3d_fast(a, b, c, d, &perm, &zterm);
+    *out = det;
+    return (fabs(det) >= (GEOM_BARY_O3D_A * GEOM_BARY_REL) * perm + GEOM_BARY_TINY * zterm) &
+           (perm < GEOM_BARY_BIG);
+}
+
 /* n doubles of v all finite? */
 static inline int geom__bary_finite(const double *v, size_t n)
 {

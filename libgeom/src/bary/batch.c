@@ -50,6 +50,32 @@ static inline double keep_tiny(double q)
     return q == 0.0 ? copysign(DBL_TRUE_MIN, q) : q;
 }
 
+/* The end of a block of m rows from row i0 of a shared-simplex kernel
+ * (vertices v, k weights a row): every row OK when the block was certified
+ * (all), else each uncertified row (!fast or !ok[j]) through the
+ * single-point function, which evaluates it exactly. */
+static void finish_block(geom_bary_simplex kind, const double *const v[4], const double *p,
+                         size_t sp, size_t i0, size_t m, int fast, int all, const int64_t *ok,
+                         double *out, int32_t *status, size_t *failed)
+{
+    size_t k = kind == GEOM_BARY_TET ? 4 : 3;
+    if (all && !status)
+        return;
+    for (size_t j = 0; j < m; j++) {
+        size_t i = i0 + j;
+        if (all || (fast && ok[j])) {
+            if (status)
+                status[i] = GEOM_OK;
+            continue;
+        }
+        double *o = out + k * i;
+        geom_status st = kind == GEOM_BARY_TET
+                             ? geom_bary_tet(v[0], v[1], v[2], v[3], p + i * sp, o)
+                             : geom_bary_tri2(v[0], v[1], v[2], p + i * sp, o);
+        finish_row(st, o, k, status, i, failed);
+    }
+}
+
 /* tri2 over n points p (stride sp) in the one triangle (a, b, c): the very
  * expressions of geom_bary_tri2 (bitwise the same results), with the
  * triangle's differences and D computed once. Each block is gathered into
@@ -66,6 +92,7 @@ static void tri2_shared(const double a[2], const double b[2], const double c[2],
     int fast = geom__bary_finite(a, 2) && geom__bary_finite(b, 2) && geom__bary_finite(c, 2) &&
                geom__bary_det2(acx, bcy, acy, bcx, GEOM_BARY_REL, &d) && d != 0.0;
     const double ax = a[0], ay = a[1], bx = b[0], by = b[1], cx = c[0], cy = c[1];
+    const double *const v[4] = {a, b, c, NULL};
     for (size_t i0 = 0; i0 < n; i0 += BLOCK) {
         size_t m = n - i0 < BLOCK ? n - i0 : BLOCK;
         int64_t ok[BLOCK];
@@ -106,103 +133,52 @@ static void tri2_shared(const double a[2], const double b[2], const double c[2],
                 }
             }
         }
-        if (all) {
-            if (status)
-                for (size_t j = 0; j < m; j++)
-                    status[i0 + j] = GEOM_OK;
-            continue;
-        }
-        for (size_t j = 0; j < m; j++) {
-            size_t i = i0 + j;
-            double *o = out + 3 * i;
-            if (fast && ok[j]) {
-                if (status)
-                    status[i] = GEOM_OK;
-                continue;
-            }
-            finish_row(geom_bary_tri2(a, b, c, p + i * sp, o), o, 3, status, i, failed);
-        }
+        finish_block(GEOM_BARY_TRI2, v, p, sp, i0, m, fast, all, ok, out, status, failed);
     }
 }
 
-/* One 3x3 determinant expanded along the row r = (x, y, z) with the other
- * two rows' minors m and permanents pm fixed: the evaluation Shewchuk's
- * orient3d bound covers (any row order), so the same filter certifies it. */
-static inline int64_t det3_row(double x, double y, double z, const double m[3], const double pm[3],
-                           double *out)
-{
-    double det = x * m[0] + y * m[1] + z * m[2];
-    double ax = fabs(x), ay = fabs(y), az = fabs(z);
-    double perm = ax * pm[0] + ay * pm[1] + az * pm[2];
-    double tiny = GEOM_BARY_TINY * (1.0 + ax + ay + az);
-    *out = det;
-    return (fabs(det) >= (GEOM_BARY_O3D_A * GEOM_BARY_REL) * perm + tiny) &
-           (perm < GEOM_BARY_BIG);
-}
-
-/* Minors and permanents of rows u, v for the expansion along the other row
- * (placed first): det[r; u; v] = r . (u x v). */
-static void minors(const double u[3], const double v[3], double m[3], double pm[3])
-{
-    double t[6] = {u[1] * v[2], u[2] * v[1], u[2] * v[0], u[0] * v[2], u[0] * v[1], u[1] * v[0]};
-    for (int k = 0; k < 3; k++) {
-        m[k] = t[2 * k] - t[2 * k + 1];
-        pm[k] = fabs(t[2 * k]) + fabs(t[2 * k + 1]);
-    }
-}
-
-static void sub3(const double a[3], const double b[3], double out[3])
-{
-    for (int k = 0; k < 3; k++)
-        out[k] = a[k] - b[k];
-}
-
-/* tet over n points in the one tetrahedron (a, b, c, d). With p in place of
- * a vertex, the determinant is linear in p: N_a = (p-d).((b-d)x(c-d)),
- * N_b = (p-d).((c-d)x(a-d)), N_c = (p-d).((a-d)x(b-d)), and N_d, by
- * translation invariance, (p-c).((b-c)x(a-c)). Each is certified on its own;
- * the weights agree with geom_bary_tet's within its stated accuracy (the
- * rounding of a certified value may differ in the last bits), and every row
- * the filter cannot certify is geom_bary_tet's own result. */
+/* tet over n points in the one tetrahedron (a, b, c, d): geom_bary_tet's
+ * own determinants (geom__bary_det3 with p in place of each vertex, and D)
+ * and quotients, lane by lane without branches (the terms that do not
+ * depend on p are hoisted by the compiler: the same operations, the same
+ * bits), so the weights are bitwise geom_bary_tet's; every row the filter
+ * cannot certify goes through geom_bary_tet. Blocks as tri2_shared. */
 GEOM_SIMD_CLONES
 static void tet_shared(const double a[3], const double b[3], const double c[3],
                        const double d[3], size_t n, const double *p, size_t sp, double *out,
                        int32_t *status, size_t *failed)
 {
-    double ad[3], bd[3], cd[3], ac[3], bc[3];
-    sub3(a, d, ad);
-    sub3(b, d, bd);
-    sub3(c, d, cd);
-    sub3(a, c, ac);
-    sub3(b, c, bc);
-    double m[4][3], pm[4][3];
-    minors(bd, cd, m[0], pm[0]);
-    minors(cd, ad, m[1], pm[1]);
-    minors(ad, bd, m[2], pm[2]);
-    minors(bc, ac, m[3], pm[3]);
     double vol;
     int fast = geom__isfinite3(a) && geom__isfinite3(b) && geom__isfinite3(c) && geom__isfinite3(d) &&
-               det3_row(ad[0], ad[1], ad[2], m[0], pm[0], &vol) && vol != 0.0;
+               geom__bary_det3(a, b, c, d, &vol) && vol != 0.0;
+    const double *const v[4] = {a, b, c, d};
     for (size_t i0 = 0; i0 < n; i0 += BLOCK) {
         size_t mm = n - i0 < BLOCK ? n - i0 : BLOCK;
         int64_t ok[BLOCK];
         int all = fast;
         if (fast) {
             double px[BLOCK], py[BLOCK], pz[BLOCK], l[4][BLOCK];
-            for (size_t j = 0; j < BLOCK; j++) {
-                const double *q = p + (i0 + (j < mm ? j : 0)) * sp;
-                px[j] = q[0];
-                py[j] = q[1];
-                pz[j] = q[2];
+            if (sp == 3 && mm == BLOCK) { /* packed points: a constant stride vectorises */
+                const double *q = p + 3 * i0;
+                for (size_t j = 0; j < BLOCK; j++) {
+                    px[j] = q[3 * j];
+                    py[j] = q[3 * j + 1];
+                    pz[j] = q[3 * j + 2];
+                }
+            } else {
+                for (size_t j = 0; j < BLOCK; j++) {
+                    const double *q = p + (i0 + (j < mm ? j : 0)) * sp;
+                    px[j] = q[0];
+                    py[j] = q[1];
+                    pz[j] = q[2];
+                }
             }
             int64_t acc = 1;
             for (size_t j = 0; j < BLOCK; j++) {
-                double x = px[j] - d[0], y = py[j] - d[1], z = pz[j] - d[2];
-                double xc = px[j] - c[0], yc = py[j] - c[1], zc = pz[j] - c[2];
+                const double q[3] = {px[j], py[j], pz[j]};
                 double n0, n1, n2, n3;
-                ok[j] = det3_row(x, y, z, m[0], pm[0], &n0) & det3_row(x, y, z, m[1], pm[1], &n1) &
-                        det3_row(x, y, z, m[2], pm[2], &n2) &
-                        det3_row(xc, yc, zc, m[3], pm[3], &n3);
+                ok[j] = geom__bary_det3(q, b, c, d, &n0) & geom__bary_det3(a, q, c, d, &n1) &
+                        geom__bary_det3(a, b, q, d, &n2) & geom__bary_det3(a, b, c, q, &n3);
                 l[0][j] = keep_tiny(n0 / vol);
                 l[1][j] = keep_tiny(n1 / vol);
                 l[2][j] = keep_tiny(n2 / vol);
@@ -212,30 +188,18 @@ static void tet_shared(const double a[3], const double b[3], const double c[3],
             all = (int)acc;
             double *o = out + 4 * i0;
             if (mm == BLOCK) /* a constant count vectorises (interleaving stores) */
-                for (size_t j = 0; j < BLOCK; j++)
-                    for (size_t k = 0; k < 4; k++)
-                        o[4 * j + k] = l[k][j];
+                for (size_t j = 0; j < BLOCK; j++) {
+                    o[4 * j] = l[0][j];
+                    o[4 * j + 1] = l[1][j];
+                    o[4 * j + 2] = l[2][j];
+                    o[4 * j + 3] = l[3][j];
+                }
             else
                 for (size_t j = 0; j < mm; j++)
                     for (size_t k = 0; k < 4; k++)
                         o[4 * j + k] = l[k][j];
         }
-        if (all) {
-            if (status)
-                for (size_t j = 0; j < mm; j++)
-                    status[i0 + j] = GEOM_OK;
-            continue;
-        }
-        for (size_t j = 0; j < mm; j++) {
-            size_t i = i0 + j;
-            double *o = out + 4 * i;
-            if (fast && ok[j]) {
-                if (status)
-                    status[i] = GEOM_OK;
-                continue;
-            }
-            finish_row(geom_bary_tet(a, b, c, d, p + i * sp, o), o, 4, status, i, failed);
-        }
+        finish_block(GEOM_BARY_TET, v, p, sp, i0, mm, fast, all, ok, out, status, failed);
     }
 }
 

@@ -28,26 +28,6 @@ static int same3(const double a[3], const double b[3])
     return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
 }
 
-/* det[a-d; b-d; c-d] in floating point; 1 if its relative error is
- * certified to be at most 2^-42. */
-static int det3(const double a[3], const double b[3], const double c[3], const double d[3],
-                double *out)
-{
-    double adx = a[0] - d[0], bdx = b[0] - d[0], cdx = c[0] - d[0];
-    double ady = a[1] - d[1], bdy = b[1] - d[1], cdy = c[1] - d[1];
-    double adz = a[2] - d[2], bdz = b[2] - d[2], cdz = c[2] - d[2];
-    double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy;
-    double cdxady = cdx * ady, adxcdy = adx * cdy;
-    double adxbdy = adx * bdy, bdxady = bdx * ady;
-    double det = adz * (bdxcdy - cdxbdy) + bdz * (cdxady - adxcdy) + cdz * (adxbdy - bdxady);
-    double aadz = fabs(adz), abdz = fabs(bdz), acdz = fabs(cdz);
-    double perm = (fabs(bdxcdy) + fabs(cdxbdy)) * aadz + (fabs(cdxady) + fabs(adxcdy)) * abdz +
-                  (fabs(adxbdy) + fabs(bdxady)) * acdz;
-    double tiny = GEOM_BARY_TINY * (1.0 + aadz + abdz + acdz);
-    *out = det;
-    return fabs(det) >= (GEOM_BARY_O3D_A * GEOM_BARY_REL) * perm + tiny && perm < GEOM_BARY_BIG;
-}
-
 geom_status geom_bary_tet(const double a[3], const double b[3], const double c[3],
                           const double d[3], const double p[3], double l[4])
 {
@@ -61,9 +41,9 @@ geom_status geom_bary_tet(const double a[3], const double b[3], const double c[3
     double vol, nv[4];
     const double *q[4][4] = {{p, b, c, d}, {a, p, c, d}, {a, b, p, d}, {a, b, c, p}};
     /* p == a (b, c, d) makes N_a (N_b, ...) the very expression of D. */
-    unsigned slow = det3(a, b, c, d, &vol) ? 0u : 16u;
+    unsigned slow = geom__bary_det3(a, b, c, d, &vol) ? 0u : 16u;
     for (int i = 0; i < 4; i++)
-        if (!det3(q[i][0], q[i][1], q[i][2], q[i][3], &nv[i]))
+        if (!geom__bary_det3(q[i][0], q[i][1], q[i][2], q[i][3], &nv[i]))
             slow |= 1u << i;
     if (!slow) {
         set4(l, quot(nv[0], vol), quot(nv[1], vol), quot(nv[2], vol), quot(nv[3], vol));

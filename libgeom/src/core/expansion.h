@@ -200,6 +200,26 @@ static inline double geom__xval_ratio(geom__xval n, geom__xval d)
     return geom__xval_to_double(geom__xval_div(n, d));
 }
 
+/* The floating-point stage of orient3d: det[a-d; b-d; c-d] as Shewchuk
+ * evaluates it, with its permanent (the bound's sum of product magnitudes)
+ * and 1 + |adz| + |bdz| + |cdz| (the underflow allowance's factor). One
+ * expression for geom_orient3d and the barycentric tet filter. */
+static inline double geom__orient3d_fast(const double a[3], const double b[3], const double c[3],
+                                         const double d[3], double *permanent, double *zterm)
+{
+    double adx = a[0] - d[0], bdx = b[0] - d[0], cdx = c[0] - d[0];
+    double ady = a[1] - d[1], bdy = b[1] - d[1], cdy = c[1] - d[1];
+    double adz = a[2] - d[2], bdz = b[2] - d[2], cdz = c[2] - d[2];
+    double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy;
+    double cdxady = cdx * ady, adxcdy = adx * cdy;
+    double adxbdy = adx * bdy, bdxady = bdx * ady;
+    double aadz = fabs(adz), abdz = fabs(bdz), acdz = fabs(cdz);
+    *permanent = (fabs(bdxcdy) + fabs(cdxbdy)) * aadz + (fabs(cdxady) + fabs(adxcdy)) * abdz +
+                 (fabs(adxbdy) + fabs(bdxady)) * acdz;
+    *zterm = 1.0 + aadz + abdz + acdz;
+    return adz * (bdxcdy - cdxbdy) + bdz * (cdxady - adxcdy) + cdz * (adxbdy - bdxady);
+}
+
 /* Exact values of the determinants, for all finite input (the caller checks
  * finiteness). orient2d = (a-c) x (b-c); orient3d = det[a-d; b-d; c-d];
  * incircle = the lifted 3x3 determinant of a-d, b-d, c-d. */

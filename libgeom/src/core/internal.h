@@ -36,6 +36,13 @@
 #ifndef GEOM_SIMD_CLONES
 #define GEOM_SIMD_CLONES
 #endif
+/* A helper of a GEOM_SIMD_CLONES kernel: inlined into each clone, so it is
+ * compiled for that clone's instruction set (a call would run the default). */
+#if defined(__GNUC__)
+#define GEOM__CLONE_INLINE static inline __attribute__((always_inline))
+#else
+#define GEOM__CLONE_INLINE static inline
+#endif
 
 /* Fill d (if non-NULL) with status, source, line, column and a printf-style
  * message; returns status so callers can `return geom__diag_set(...)`. */

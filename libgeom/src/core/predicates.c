@@ -68,22 +68,11 @@ double geom_orient2d_exact(const double a[2], const double b[2], const double c[
 
 double geom_orient3d(const double a[3], const double b[3], const double c[3], const double d[3])
 {
-    double adx = a[0] - d[0], bdx = b[0] - d[0], cdx = c[0] - d[0];
-    double ady = a[1] - d[1], bdy = b[1] - d[1], cdy = c[1] - d[1];
-    double adz = a[2] - d[2], bdz = b[2] - d[2], cdz = c[2] - d[2];
-
-    double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy;
-    double cdxady = cdx * ady, adxcdy = adx * cdy;
-    double adxbdy = adx * bdy, bdxady = bdx * ady;
-
-    double det = adz * (bdxcdy - cdxbdy) + bdz * (cdxady - adxcdy) + cdz * (adxbdy - bdxady);
-    double aadz = fabs(adz), abdz = fabs(bdz), acdz = fabs(cdz);
-    double permanent = (fabs(bdxcdy) + fabs(cdxbdy)) * aadz + (fabs(cdxady) + fabs(adxcdy)) * abdz +
-                       (fabs(adxbdy) + fabs(bdxady)) * acdz;
+    double permanent, zterm;
+    double det = geom__orient3d_fast(a, b, c, d, &permanent, &zterm);
     /* An underflowed inner product is off by 2^-1075 and then multiplied by
      * a z difference. */
-    double errbound =
-        o3d_errbound_a * permanent + GEOM_UNDERFLOW_TINY * (1.0 + aadz + abdz + acdz);
+    double errbound = o3d_errbound_a * permanent + GEOM_UNDERFLOW_TINY * zterm;
     if (det > errbound || -det > errbound)
         return det;
     if (!geom__isfinite3(a) || !geom__isfinite3(b) || !geom__isfinite3(c) || !geom__isfinite3(d))

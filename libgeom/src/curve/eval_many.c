@@ -1,4 +1,5 @@
 /* Batch evaluation of a curve over an array of parameters (for bindings). */
+#include "curve/basis_lanes.h"
 #include "curve/bspline_basis.h"
 
 #include <math.h>
@@ -7,21 +8,8 @@
 
 /* Parameters per block of the batch loop, and the largest degree it takes
  * (higher degrees go point by point through geom_curve_nurbs_eval). */
-#define EM_BLOCK 16
-#define EM_MAXP 8
-
-/* Span of ue: the previous row's span *kc when ue lies strictly inside it
- * (every caller's answer there, left limit or not), else the search. */
-static size_t span_cached(const geom_nurbs_curve *c, double ue, int left, size_t *kc)
-{
-    const double *U = c->knots;
-    size_t k = *kc;
-    if (k != SIZE_MAX && U[k] < ue && ue < U[k + 1])
-        return k;
-    k = geom__bs_span(c->degree, c->n, U, ue, left);
-    *kc = k;
-    return k;
-}
+#define EM_BLOCK GEOM__BS_LANES
+#define EM_MAXP GEOM__BS_LANES_MAXP
 
 /* geom__bs_basis and combine_point of eval.c for EM_BLOCK parameters ue of
  * spans k (one span per lane), lane by lane: every lane does the very
@@ -37,34 +25,8 @@ static void eval_block(const geom_nurbs_curve *c, const size_t *k, const double 
     enum { B = EM_BLOCK };
     int p = c->degree;
     size_t dim = c->dim;
-    const double *U = c->knots;
-    double N[EM_MAXP + 1][B], L[EM_MAXP + 1][B], R[EM_MAXP + 1][B], saved[B];
-    double ua[B], ub[B];
-    for (int i = 0; i < B; ++i)
-        N[0][i] = 1.0;
-    for (int j = 1; j <= p; ++j) {
-        for (int i = 0; i < B; ++i) {
-            ua[i] = U[k[i] + 1 - (size_t)j];
-            ub[i] = U[k[i] + (size_t)j];
-        }
-        for (int i = 0; i < B; ++i) {
-            L[j][i] = ue[i] - ua[i];
-            R[j][i] = ub[i] - ue[i];
-            saved[i] = 0.0;
-        }
-        for (int r = 0; r < j; ++r) {
-            const double *rr = R[r + 1], *ll = L[j - r];
-            double *nn = N[r];
-            for (int i = 0; i < B; ++i) {
-                double den = rr[i] + ll[i];
-                double nr = nn[i];
-                nn[i] = saved[i] + (rr[i] * nr) / den;
-                saved[i] = (ll[i] * nr) / den;
-            }
-        }
-        for (int i = 0; i < B; ++i)
-            N[j][i] = saved[i];
-    }
+    double N[EM_MAXP + 1][B];
+    geom__bs_basis_lanes(p, c->knots, k, ue, N);
     double acc[GEOM_CURVE_MAX_DIM][B], Pj[GEOM_CURVE_MAX_DIM][B];
     for (size_t d = 0; d < dim; ++d)
         for (int i = 0; i < B; ++i)
@@ -183,7 +145,7 @@ geom_status geom_curve_nurbs_eval_many(const geom_nurbs_curve *c, size_t n, cons
             }
             if (st == GEOM_OK) {
                 ue[nv] = e;
-                k[nv] = span_cached(c, e, left, &kc);
+                k[nv] = geom__bs_span_cached(c->degree, c->n, c->knots, e, left, &kc);
                 row[nv++] = j;
             } else {
                 fail_row(out + dim * (i0 + j), dim, st, status, i0 + j, &failed);

@@ -366,23 +366,13 @@ static void emit(parser *P, int op, int n, double c, size_t at)
             k = 0;
         }
     }
-    if (P->n == P->cap) {
-        size_t ncap = P->cap ? 2 * P->cap : 64;
-        size_t oldb, newb;
-        if (geom__size_mul(ncap, sizeof(expr_ins), &newb) != GEOM_OK) {
-            fail_at(P, GEOM_ERR_LIMIT, at, "program too large");
-            return;
-        }
-        oldb = P->cap * sizeof(expr_ins);
-        expr_ins *nc = P->code ? geom__realloc(P->alloc, P->code, oldb, newb)
-                               : geom__alloc(P->alloc, newb);
-        if (!nc) {
-            fail_at(P, GEOM_ERR_NOMEM, at, "out of memory");
-            return;
-        }
-        P->code = nc;
-        P->cap = ncap;
+    void *code = P->code;
+    geom_status gst = geom__grow(P->alloc, &code, &P->cap, P->n + 1, sizeof(expr_ins));
+    if (gst != GEOM_OK) {
+        fail_at(P, gst, at, gst == GEOM_ERR_LIMIT ? "program too large" : "out of memory");
+        return;
     }
+    P->code = code;
     P->code[P->n].op = op;
     P->code[P->n].n = n;
     P->code[P->n].c = c;

@@ -93,6 +93,272 @@ static void d_run_batch(const expr_ins *code, size_t ncode, size_t n, const doub
     }
 }
 
+/* Blocks of XB points with operands in place: each stack slot is a vector
+ * of XB lanes or one constant (a push of x, y or z points at the gathered
+ * coordinates, a constant or t stays a scalar until an operation needs
+ * lanes), and each operation writes a slot buffer different from its
+ * operands, so its lane loop is a plain vectorisable loop over restrict
+ * arrays (AVX2/AVX-512 clones). An operation on constants only is done
+ * once on the scalars: the same d_* function, the same value. Every lane
+ * does exactly d_run's operations, so the results are bitwise d_run's. */
+enum { XB = 64, XSTACK = 24 };
+
+/* The lane loop of a binary operation for each operand kind. */
+#define XB_BINARY(FN)                                                                          \
+    do {                                                                                       \
+        if (va && vb)                                                                          \
+            for (int l = 0; l < XB; l++)                                                       \
+                r[l] = FN(va[l], vb[l]);                                                       \
+        else if (va)                                                                           \
+            for (int l = 0; l < XB; l++)                                                       \
+                r[l] = FN(va[l], cb);                                                          \
+        else                                                                                   \
+            for (int l = 0; l < XB; l++)                                                       \
+                r[l] = FN(ca, vb[l]);                                                          \
+    } while (0)
+
+GEOM__CLONE_INLINE void x_binary(int op, double *restrict r, const double *restrict va, double ca,
+                                 const double *restrict vb, double cb)
+{
+    switch (op) {
+    case OP_ADD: XB_BINARY(d_add); break;
+    case OP_SUB: XB_BINARY(d_sub); break;
+    case OP_MUL: XB_BINARY(d_mul); break;
+    case OP_DIV: XB_BINARY(d_div); break;
+    case OP_POW: XB_BINARY(d_pow); break;
+    case OP_MIN: XB_BINARY(d_min); break;
+    case OP_MAX: XB_BINARY(d_max); break;
+    default: XB_BINARY(d_atan2); break; /* OP_ATAN2 */
+    }
+}
+#undef XB_BINARY
+
+static double d_scalar_binary(int op, double a, double b)
+{
+    switch (op) {
+    case OP_ADD: return d_add(a, b);
+    case OP_SUB: return d_sub(a, b);
+    case OP_MUL: return d_mul(a, b);
+    case OP_DIV: return d_div(a, b);
+    case OP_POW: return d_pow(a, b);
+    case OP_MIN: return d_min(a, b);
+    case OP_MAX: return d_max(a, b);
+    default: return d_atan2(a, b);
+    }
+}
+
+#define XB_UNARY(FN)                                                                           \
+    for (int l = 0; l < XB; l++)                                                               \
+    r[l] = FN(va[l])
+
+GEOM__CLONE_INLINE void x_unary(const expr_ins *in, double *restrict r, const double *restrict va)
+{
+    switch ((expr_op)in->op) {
+    case OP_NEG: XB_UNARY(d_neg); break;
+    case OP_SQRT: XB_UNARY(d_sqrt); break;
+    case OP_ABS: XB_UNARY(d_abs); break;
+    case OP_SIN: XB_UNARY(d_sin); break;
+    case OP_COS: XB_UNARY(d_cos); break;
+    case OP_TAN: XB_UNARY(d_tan); break;
+    case OP_EXP: XB_UNARY(d_exp); break;
+    case OP_LOG: XB_UNARY(d_log); break;
+    default: /* OP_POWI */
+        if (in->n == 2) { /* powi(a, 2) without its branches, as d_run_lanes */
+            XB_UNARY(d_sqr);
+        } else {
+            for (int l = 0; l < XB; l++)
+                r[l] = d_powi(va[l], in->n);
+        }
+        break;
+    }
+}
+#undef XB_UNARY
+
+static double d_scalar_unary(const expr_ins *in, double a)
+{
+    switch ((expr_op)in->op) {
+    case OP_NEG: return d_neg(a);
+    case OP_SQRT: return d_sqrt(a);
+    case OP_ABS: return d_abs(a);
+    case OP_SIN: return d_sin(a);
+    case OP_COS: return d_cos(a);
+    case OP_TAN: return d_tan(a);
+    case OP_EXP: return d_exp(a);
+    case OP_LOG: return d_log(a);
+    default: return d_powi(a, in->n);
+    }
+}
+
+#define XB_LANES(EXPR)                                                                         \
+    for (int l = 0; l < XB; l++)                                                               \
+    r[l] = (EXPR)
+
+/* The pair "a*b then add or subtract it from the slot below" (sums of
+ * products) in one lane loop, rounding each operation as the two would. */
+GEOM__CLONE_INLINE void x_mul_addsub(int sub, double *restrict r, const double *restrict lf,
+                                     const double *restrict va, double ca,
+                                     const double *restrict vb, double cb)
+{
+    if (va && vb) {
+        if (sub)
+            XB_LANES(d_sub(lf[l], d_mul(va[l], vb[l])));
+        else
+            XB_LANES(d_add(lf[l], d_mul(va[l], vb[l])));
+    } else if (va) {
+        if (sub)
+            XB_LANES(d_sub(lf[l], d_mul(va[l], cb)));
+        else
+            XB_LANES(d_add(lf[l], d_mul(va[l], cb)));
+    } else {
+        if (sub)
+            XB_LANES(d_sub(lf[l], d_mul(ca, vb[l])));
+        else
+            XB_LANES(d_add(lf[l], d_mul(ca, vb[l])));
+    }
+}
+
+/* sqrt or abs, then +, -, *, / a constant (distances: sqrt(...) - r,
+ * abs(x) - h) in one lane loop. */
+#define XB_UNARY_CONST(U)                                                                      \
+    do {                                                                                       \
+        if (bop == OP_ADD)                                                                     \
+            XB_LANES(d_add(U(va[l]), c));                                                      \
+        else if (bop == OP_SUB)                                                                \
+            XB_LANES(d_sub(U(va[l]), c));                                                      \
+        else if (bop == OP_MUL)                                                                \
+            XB_LANES(d_mul(U(va[l]), c));                                                      \
+        else                                                                                   \
+            XB_LANES(d_div(U(va[l]), c));                                                      \
+    } while (0)
+
+GEOM__CLONE_INLINE void x_unary_const(int uop, int bop, double *restrict r,
+                                      const double *restrict va, double c)
+{
+    if (uop == OP_SQRT)
+        XB_UNARY_CONST(d_sqrt);
+    else
+        XB_UNARY_CONST(d_abs);
+}
+#undef XB_UNARY_CONST
+#undef XB_LANES
+
+static int is_addsub(int op) { return op == OP_ADD || op == OP_SUB; }
+static int is_arith(int op) { return is_addsub(op) || op == OP_MUL || op == OP_DIV; }
+
+/* nb blocks of XB points p (3 doubles each) into out; the program's
+ * max_stack must be at most XSTACK. */
+GEOM_SIMD_CLONES
+static void d_run_blocks(const expr_ins *code, size_t ncode, size_t nb, const double *p, double t,
+                         double *out)
+{
+    double X[XB], Y[XB], Z[XB];
+    double buf[XSTACK][2][XB];
+    const double *v[XSTACK]; /* lanes of a slot, NULL: the constant c[slot] */
+    double c[XSTACK];
+    for (size_t blk = 0; blk < nb; blk++, p += 3 * XB, out += XB) {
+        for (int l = 0; l < XB; l++) {
+            X[l] = p[3 * l];
+            Y[l] = p[3 * l + 1];
+            Z[l] = p[3 * l + 2];
+        }
+        size_t sp = 0;
+        v[0] = NULL;
+        c[0] = NAN;
+        /* The buffer an operation writes into slot q: not the slot's
+         * operand, and the output itself for the program's last operation
+         * (whose result is slot 0; i is that operation's last instruction). */
+#define DST_LAST(q, other) (i + 1 == ncode && (q) == 0 ? out : (other))
+#define DST(q) DST_LAST(q, buf[q][v[q] == buf[q][0]])
+        for (size_t i = 0; i < ncode; i++) {
+            const expr_ins *in = &code[i];
+            switch ((expr_op)in->op) {
+            case OP_CONST: v[sp] = NULL; c[sp++] = in->c; break;
+            case OP_T: v[sp] = NULL; c[sp++] = t; break;
+            case OP_X: v[sp++] = X; break;
+            case OP_Y: v[sp++] = Y; break;
+            case OP_Z: v[sp++] = Z; break;
+            case OP_ADD: case OP_SUB: case OP_MUL: case OP_DIV: case OP_POW: case OP_MIN:
+            case OP_MAX: case OP_ATAN2: {
+                size_t a = sp - 2, b = sp - 1;
+                if (!v[a] && !v[b]) {
+                    c[a] = d_scalar_binary(in->op, c[a], c[b]);
+                } else if (in->op == OP_MUL && i + 1 < ncode && is_addsub(code[i + 1].op) &&
+                           sp >= 3 && v[sp - 3]) {
+                    size_t f = sp - 3; /* fused with the next add/sub */
+                    i++;
+                    double *r = DST(f);
+                    x_mul_addsub(code[i].op == OP_SUB, r, v[f], v[a], c[a], v[b], c[b]);
+                    v[f] = r;
+                    sp--;
+                } else {
+                    double *r = DST(a);
+                    x_binary(in->op, r, v[a], c[a], v[b], c[b]);
+                    v[a] = r;
+                }
+                sp--;
+                break;
+            }
+            case OP_NEG: case OP_SQRT: case OP_ABS: case OP_SIN: case OP_COS: case OP_TAN:
+            case OP_EXP: case OP_LOG: case OP_POWI: {
+                size_t a = sp - 1;
+                if (!v[a]) {
+                    c[a] = d_scalar_unary(in, c[a]);
+                } else if ((in->op == OP_SQRT || in->op == OP_ABS) && i + 2 < ncode &&
+                           code[i + 1].op == OP_CONST && is_arith(code[i + 2].op)) {
+                    i += 2; /* fused with "constant, operation" */
+                    double *r = DST(a);
+                    x_unary_const(in->op, code[i].op, r, v[a], code[i - 1].c);
+                    v[a] = r;
+                } else {
+                    double *r = DST(a);
+                    x_unary(in, r, v[a]);
+                    v[a] = r;
+                }
+                break;
+            }
+            case OP_COUNT:
+                break;
+            default: { /* clamp, smin, smax and the primitives, lane by lane */
+                size_t k = (size_t)geom__implicit_op_arity(in->op);
+                size_t first = sp - k;
+                for (size_t q = first; q < sp; q++)
+                    if (!v[q]) {
+                        for (int l = 0; l < XB; l++)
+                            buf[q][0][l] = c[q];
+                        v[q] = buf[q][0];
+                    }
+                double *r = k == 0 ? DST_LAST(first, buf[first][1]) : DST(first);
+                for (int l = 0; l < XB; l++) {
+                    double args[8];
+                    for (size_t q = 0; q < k; q++)
+                        args[q] = v[first + q][l];
+                    if (in->op == OP_CLAMP)
+                        r[l] = d_clamp(args[0], args[1], args[2]);
+                    else if (in->op == OP_SMIN)
+                        r[l] = d_smin(args[0], args[1], args[2]);
+                    else if (in->op == OP_SMAX)
+                        r[l] = d_neg(d_smin(d_neg(args[0]), d_neg(args[1]), args[2]));
+                    else
+                        r[l] = d_prim(in->op, X[l], Y[l], Z[l], k ? args : NULL);
+                }
+                v[first] = r;
+                sp = first + 1;
+                break;
+            }
+            }
+        }
+#undef DST
+#undef DST_LAST
+        if (v[0] == out)
+            continue;
+        if (v[0])
+            memcpy(out, v[0], XB * sizeof(double));
+        else
+            for (int l = 0; l < XB; l++)
+                out[l] = c[0];
+    }
+}
+
 /* ================================================================== duals */
 
 typedef struct dual {
@@ -605,6 +871,12 @@ void geom_implicit_expr_eval_many(const geom_implicit_expr *e, size_t n, const d
     if (!e || (!p && n > 0)) {
         for (size_t i = 0; i < n; i++)
             out[i] = NAN;
+        return;
+    }
+    if (e->max_stack <= XSTACK) {
+        size_t done = n / XB * XB;
+        d_run_blocks(e->code, e->n, n / XB, p, e->t, out);
+        d_run_batch(e->code, e->n, n - done, p + 3 * done, e->t, out + done);
         return;
     }
     if (e->max_stack <= BATCH_STACK) {

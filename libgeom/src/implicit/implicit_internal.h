@@ -73,5 +73,10 @@ static inline double geom__contour_coord(double a, double b, size_t n, size_t i)
 {
     return i == n ? b : (a * (double)(n - i) + b * (double)i) / (double)n;
 }
+/* geom_implicit_samples_value at n points p (3*n doubles) of d (its own
+ * samples d->data) into out (n doubles), bitwise the same values, blocks of
+ * points at a time (trilinear.c). */
+void geom__implicit_samples_values(const geom_implicit_grid *d, size_t n, const double *p,
+                                   double *out);
 
 #endif

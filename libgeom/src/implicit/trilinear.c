@@ -127,3 +127,119 @@ void geom_implicit_samples_gradient(const geom_implicit_grid *d, const void *dat
     grad[1] = g[1];
     grad[2] = g[2];
 }
+
+/* ------------------------------------------------------------------ batch */
+
+
+/* Lanes per block of the batch interpolator. */
+#define TRI_BLOCK 64
+
+/* geom_implicit_samples_value's locate() for TRI_BLOCK coordinates c along
+ * an axis with n >= 2 samples (umax = n - 1), without branches: the same
+ * operations in the same order, so the same cells and fractions. */
+GEOM__CLONE_INLINE void locate_lanes(const double *restrict c, double o, double s, double umax,
+                                int32_t *restrict i0, double *restrict f)
+{
+    for (int l = 0; l < TRI_BLOCK; l++) {
+        double u = (c[l] - o) / s;
+        u = u > 0.0 ? u : 0.0;
+        u = u > umax ? umax : u;
+        double fl = (double)(int32_t)u; /* floor(u): 0 <= u < 2^31 */
+        fl = fl >= umax ? umax - 1.0 : fl;
+        f[l] = u - fl;
+        i0[l] = (int32_t)fl;
+    }
+}
+
+/* lerp() of TRI_BLOCK lanes: out = (1 - t) a + t b, exactly a at t = 0 and
+ * b at t = 1. */
+GEOM__CLONE_INLINE void lerp_lanes(const double *restrict a, const double *restrict b,
+                              const double *restrict t, double *restrict out)
+{
+    for (int l = 0; l < TRI_BLOCK; l++) {
+        double m = (1.0 - t[l]) * a[l] + t[l] * b[l];
+        out[l] = t[l] == 0.0 ? a[l] : t[l] == 1.0 ? b[l] : m;
+    }
+}
+
+/* TRI_BLOCK points p (3 doubles each) of a grid with every dims >= 2 and
+ * below 2^31: gathered into lanes, located, the 8 corner samples loaded,
+ * then interpolated lane by lane without branches (the loops the compiler
+ * vectorises), each lane doing exactly geom_implicit_samples_value's
+ * operations; samples of type T. */
+#define TRI_VALUES_BLOCK(name, T)                                                              \
+    GEOM__CLONE_INLINE void name(const double *o, const double *s, const double *um, int64_t nx,   \
+                            int64_t nxy, const T *restrict S, const double *restrict p,       \
+                            double *restrict out)                                              \
+    {                                                                                          \
+        double c[3][TRI_BLOCK], t[3][TRI_BLOCK], v[8][TRI_BLOCK], w[4][TRI_BLOCK];             \
+        int32_t i0[3][TRI_BLOCK];                                                              \
+        int64_t b[TRI_BLOCK];                                                                  \
+        for (int l = 0; l < TRI_BLOCK; l++) {                                                  \
+            c[0][l] = p[3 * l];                                                                \
+            c[1][l] = p[3 * l + 1];                                                            \
+            c[2][l] = p[3 * l + 2];                                                            \
+        }                                                                                      \
+        locate_lanes(c[0], o[0], s[0], um[0], i0[0], t[0]);                                    \
+        locate_lanes(c[1], o[1], s[1], um[1], i0[1], t[1]);                                    \
+        locate_lanes(c[2], o[2], s[2], um[2], i0[2], t[2]);                                    \
+        for (int l = 0; l < TRI_BLOCK; l++)                                                    \
+            b[l] = (int64_t)i0[0][l] + nx * (int64_t)i0[1][l] + nxy * (int64_t)i0[2][l];       \
+        for (int l = 0; l < TRI_BLOCK; l++) {                                                  \
+            const T *q = S + b[l];                                                             \
+            v[0][l] = (double)q[0];                                                            \
+            v[1][l] = (double)q[1];                                                            \
+            v[2][l] = (double)q[nx];                                                           \
+            v[3][l] = (double)q[nx + 1];                                                       \
+            v[4][l] = (double)q[nxy];                                                          \
+            v[5][l] = (double)q[nxy + 1];                                                      \
+            v[6][l] = (double)q[nxy + nx];                                                     \
+            v[7][l] = (double)q[nxy + nx + 1];                                                 \
+        }                                                                                      \
+        for (int k = 0; k < 4; k++)                                                            \
+            lerp_lanes(v[2 * k], v[2 * k + 1], t[0], w[k]);                                    \
+        lerp_lanes(w[0], w[1], t[1], v[0]);                                                    \
+        lerp_lanes(w[2], w[3], t[1], v[1]);                                                    \
+        lerp_lanes(v[0], v[1], t[2], v[2]);                                                    \
+        for (int l = 0; l < TRI_BLOCK; l++)                                                    \
+            out[l] = isnan(c[0][l]) | isnan(c[1][l]) | isnan(c[2][l]) ? NAN : v[2][l];         \
+    }
+TRI_VALUES_BLOCK(values_block_f32, float)
+TRI_VALUES_BLOCK(values_block_f64, double)
+
+GEOM_SIMD_CLONES
+static void values_blocks(const geom_implicit_grid *d, const void *data, size_t nb,
+                          const double *p, double *out)
+{
+    double s[3], um[3];
+    for (int a = 0; a < 3; a++) {
+        s[a] = spacing_of(d, a);
+        um[a] = (double)(d->dims[a] - 1);
+    }
+    int64_t nx = (int64_t)d->dims[0], nxy = nx * (int64_t)d->dims[1];
+    if (d->type == GEOM_IMPLICIT_SCALAR_F32)
+        for (size_t i = 0; i < nb; i++)
+            values_block_f32(d->origin, s, um, nx, nxy, (const float *)data, p + 3 * TRI_BLOCK * i,
+                         out + TRI_BLOCK * i);
+    else
+        for (size_t i = 0; i < nb; i++)
+            values_block_f64(d->origin, s, um, nx, nxy, (const double *)data, p + 3 * TRI_BLOCK * i,
+                         out + TRI_BLOCK * i);
+}
+
+void geom__implicit_samples_values(const geom_implicit_grid *d, size_t n, const double *p,
+                                   double *out)
+{
+    size_t done = 0;
+    if (d && d->data && p) {
+        int fast = d->type == GEOM_IMPLICIT_SCALAR_F32 || d->type == GEOM_IMPLICIT_SCALAR_F64;
+        for (int a = 0; a < 3; a++)
+            fast &= d->dims[a] >= 2 && d->dims[a] <= INT32_MAX;
+        if (fast) {
+            done = n / TRI_BLOCK * TRI_BLOCK;
+            values_blocks(d, d->data, n / TRI_BLOCK, p, out);
+        }
+    }
+    for (size_t i = done; i < n; i++)
+        out[i] = p ? geom_implicit_samples_value(d, NULL, p + 3 * i) : NAN;
+}

@@ -6,6 +6,12 @@ void geom_implicit_volume_eval_many(const geom_implicit_volume *v, size_t n, con
 {
     if (!out)
         return;
+    if (v && p && !grad) { /* values only: the block interpolator (trilinear.c) */
+        geom_implicit_grid g;
+        geom_implicit_volume_get_desc(v, &g);
+        geom__implicit_samples_values(&g, n, p, out);
+        return;
+    }
     for (size_t i = 0; i < n; i++)
         out[i] = !v || !p ? NAN
                  : grad  ? geom_implicit_volume_eval_grad(v, p + 3 * i, grad + 3 * i)

@@ -1,0 +1,208 @@
+/*
+ * The batch evaluators of expressions and volumes against their single-point
+ * functions, bit for bit: geom_implicit_expr_eval_many (blocks of points
+ * with operands in place, AVX2/AVX-512 clones) against
+ * geom_implicit_expr_eval, and geom_implicit_volume_eval_many (the block
+ * trilinear interpolator) against geom_implicit_volume_eval, over points
+ * inside and outside the domain, on sample positions and cell faces, and
+ * NaN/Inf coordinates; every operation, constants folded at run time (t),
+ * block tails and programs deeper than the block stack.
+ */
+#include "unit/test_util.h"
+
+#include <string.h>
+
+#include "geom/implicit.h"
+
+static uint64_t rng_state = 0x9E3779B97F4A7C15ull;
+
+static double urand(void) { return test_urand(&rng_state); }
+
+/* n points in [-lo, hi]^3 with some special coordinates mixed in. */
+static double *points(size_t n, double lo, double hi)
+{
+    double *p = malloc(3 * n * sizeof(double));
+    assert_non_null(p);
+    static const double special[] = {NAN, INFINITY, -INFINITY, 0.0, -0.0, 1e300, -1e300,
+                                     1e-310, 0.5, 1.0};
+    for (size_t i = 0; i < 3 * n; i++) {
+        p[i] = lo + (hi - lo) * urand();
+        if (i % 37 == 5)
+            p[i] = special[(i / 37) % (sizeof special / sizeof special[0])];
+        if (i % 41 == 7)
+            p[i] = floor(p[i]); /* sample positions and cell faces */
+    }
+    return p;
+}
+
+static const char *const exprs[] = {
+    "sqrt(x*x + y*y + z*z) - 1", "x + y - z", "x*y*z", "x/y", "1/(x - 0.1)", "x^2", "x^3",
+    "x^4 - y^5", "x^-2", "sqrt(x)", "log(x)", "exp(x*y)", "sin(3*x) + cos(2*y)", "tan(x)",
+    "abs(x - y)", "-x", "min(x, y, z)", "max(x*y, z)", "clamp(x*3, -1, 1)", "clamp(t, x, y)",
+    "atan2(y, x)", "pow(x, y)", "pow(abs(x), y)", "x^0.5", "2^x", "t", "t * 2 + x",
+    "sin(t) * x - cos(t)", "min(t, 1) + max(x, t)", "sqrt(t) / (x - t)", "(t + 1)^3 * y",
+    "atan2(t, x) + pow(t, y) + t^2", "sphere(1)", "sphere(t)", "sphere(0.3, 0.1, -0.2, 0.7)",
+    "ellipsoid(1, 0.5, 2)", "torus(1, 0.3)", "box(0.5, 0.7, 0.2)", "cylinder(0.5, 0.8)",
+    "plane(1, -2, 0.5, 0.1)", "capsule(-1, 0, 0, 1, 0.5, 0, 0.2)", "gyroid()", "gyroid(3)",
+    "gyroid(4, 0.2)", "x + gyroid()", "smooth_union(sphere(0.5), box(0.3, 0.3, 0.3), 0.2)",
+    "smooth_intersection(sphere(0.8), gyroid(5), t)",
+    "smooth_difference(box(1, 1, 1), sphere(1.2), 0.3)", "x - x", "(x + 1e16) - 1e16",
+    "1e300 * x * y", "x / (y*y)", "sqrt(x) + sqrt(-x)", "pow(x, 0)", "pow(0, x)",
+    "x^(y*2)", "x*(y*(z*(x*(y*(z*(x*(y+1)+2)+3)+4)+5)+6)+7)",
+};
+
+/* A program n levels deep: x+(x+(...(x)...)). */
+static char *nested(int n)
+{
+    char *s = malloc((size_t)n * 4 + 2);
+    assert_non_null(s);
+    size_t k = 0;
+    for (int i = 0; i < n; i++) {
+        memcpy(s + k, "x+(", 3);
+        k += 3;
+    }
+    s[k++] = 'x';
+    for (int i = 0; i < n; i++)
+        s[k++] = ')';
+    s[k] = '\0';
+    return s;
+}
+
+static void check_expr(geom_implicit_expr *e, const char *text, size_t n, const double *p,
+                       double *out)
+{
+    geom_implicit_expr_eval_many(e, n, p, out);
+    for (size_t i = 0; i < n; i++) {
+        double v = geom_implicit_expr_eval(e, &p[3 * i]);
+        if (!same_bits_or_nan(v, out[i]))
+            fail_msg("%s at point %zu (%g, %g, %g): batch %.17g, single %.17g", text, i,
+                     p[3 * i], p[3 * i + 1], p[3 * i + 2], out[i], v);
+    }
+}
+
+static void test_expr_batch_bitwise(void **state)
+{
+    (void)state;
+    /* full blocks of 64 and tails of every length up to a block */
+    static const size_t counts[] = {1, 63, 64, 65, 127, 128, 1000, 4099};
+    double *p = points(4099, -2.5, 2.5), *out = malloc(4099 * sizeof(double));
+    assert_non_null(out);
+    for (size_t k = 0; k < sizeof exprs / sizeof exprs[0]; k++) {
+        geom_implicit_expr *e = NULL;
+        assert_int_equal(geom_implicit_expr_compile(exprs[k], strlen(exprs[k]), NULL, &e, NULL),
+                         GEOM_OK);
+        static const double times[] = {0.25, -1.5, NAN};
+        for (size_t ti = 0; ti < 3; ti++) {
+            geom_implicit_expr_set_time(e, times[ti]);
+            for (size_t c = 0; c < sizeof counts / sizeof counts[0]; c++)
+                check_expr(e, exprs[k], counts[c], p, out);
+        }
+        geom_implicit_expr_destroy(e);
+    }
+    /* stacks around the block evaluator's depth and beyond */
+    static const int depths[] = {20, 23, 24, 25, 40, 70};
+    for (size_t d = 0; d < sizeof depths / sizeof depths[0]; d++) {
+        char *s = nested(depths[d]);
+        geom_implicit_expr_options opt = {NULL, 0, 200};
+        geom_implicit_expr *e = NULL;
+        assert_int_equal(geom_implicit_expr_compile(s, strlen(s), &opt, &e, NULL), GEOM_OK);
+        check_expr(e, s, 1000, p, out);
+        geom_implicit_expr_destroy(e);
+        free(s);
+    }
+    free(p);
+    free(out);
+}
+
+static geom_implicit_volume *random_volume(size_t nx, size_t ny, size_t nz,
+                                           geom_implicit_scalar type, const double sp[3],
+                                           const double org[3])
+{
+    geom_implicit_volume_desc d;
+    memset(&d, 0, sizeof d);
+    d.dims[0] = nx, d.dims[1] = ny, d.dims[2] = nz;
+    d.type = type;
+    for (int a = 0; a < 3; a++) {
+        d.spacing[a] = sp[a];
+        d.origin[a] = org[a];
+    }
+    geom_implicit_volume *v = NULL;
+    assert_int_equal(geom_implicit_volume_create(&d, NULL, &v), GEOM_OK);
+    size_t m = nx * ny * nz;
+    void *data = geom_implicit_volume_data(v);
+    for (size_t i = 0; i < m; i++) {
+        double s = 2.0 * urand() - 1.0;
+        if (i % 53 == 11)
+            s = NAN; /* a NaN sample must not leak into its neighbours' values */
+        if (i % 97 == 13)
+            s = INFINITY;
+        if (type == GEOM_IMPLICIT_SCALAR_F32)
+            ((float *)data)[i] = (float)s;
+        else
+            ((double *)data)[i] = s;
+    }
+    return v;
+}
+
+static void test_volume_batch_bitwise(void **state)
+{
+    (void)state;
+    static const size_t dims[][3] = {{32, 32, 32}, {5, 7, 3}, {2, 2, 2}, {1, 9, 4}, {6, 1, 1}};
+    static const double sps[][3] = {{1, 1, 1}, {0.5, 2.0, 0.3}, {0, 0, 0}, {1e-3, 7, 1}};
+    static const double orgs[][3] = {{0, 0, 0}, {-1.25, 0.5, 3}, {1e8, -1e8, 0.1}};
+    size_t n = 2000;
+    double *out = malloc(n * sizeof(double));
+    assert_non_null(out);
+    for (int type = GEOM_IMPLICIT_SCALAR_F32; type <= GEOM_IMPLICIT_SCALAR_F64; type++)
+        for (size_t di = 0; di < sizeof dims / sizeof dims[0]; di++)
+            for (size_t si = 0; si < sizeof sps / sizeof sps[0]; si++)
+                for (size_t oi = 0; oi < sizeof orgs / sizeof orgs[0]; oi++) {
+                    const size_t *dm = dims[di];
+                    geom_implicit_volume *v = random_volume(
+                        dm[0], dm[1], dm[2], (geom_implicit_scalar)type, sps[si], orgs[oi]);
+                    double *p = malloc(3 * n * sizeof(double));
+                    assert_non_null(p);
+                    /* in sample units around the box, some points well outside */
+                    double *q = points(n, -0.3, 1.3);
+                    for (size_t i = 0; i < 3 * n; i++) {
+                        int a = (int)(i % 3);
+                        double s = sps[si][a] > 0 ? sps[si][a] : 1.0;
+                        double u = q[i] * (double)(dm[a] - 1);
+                        if (i % 41 == 7)
+                            u = floor(u);
+                        p[i] = isfinite(q[i]) ? orgs[oi][a] + u * s : q[i];
+                    }
+                    free(q);
+                    geom_implicit_volume_eval_many(v, n, p, out, NULL);
+                    for (size_t i = 0; i < n; i++) {
+                        double w = geom_implicit_volume_eval(v, &p[3 * i]);
+                        if (!same_bits_or_nan(w, out[i]))
+                            fail_msg("volume %zux%zux%zu type %d at (%.17g, %.17g, %.17g): "
+                                     "batch %.17g, single %.17g",
+                                     dm[0], dm[1], dm[2], type, p[3 * i], p[3 * i + 1],
+                                     p[3 * i + 2], out[i], w);
+                    }
+                    /* the tail after the last full block, and n = 0 */
+                    geom_implicit_volume_eval_many(v, 70, p + 3, out, NULL);
+                    for (size_t i = 0; i < 70; i++)
+                        assert_true(same_bits_or_nan(geom_implicit_volume_eval(v, &p[3 + 3 * i]),
+                                                     out[i]));
+                    geom_implicit_volume_eval_many(v, 0, p, out, NULL);
+                    free(p);
+                    geom_implicit_volume_destroy(v);
+                }
+    /* NULL volume or points: NaN */
+    double p0[3] = {0, 0, 0};
+    geom_implicit_volume_eval_many(NULL, 1, p0, out, NULL);
+    assert_true(isnan(out[0]));
+    free(out);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_expr_batch_bitwise),
+        cmocka_unit_test(test_volume_batch_bitwise),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
