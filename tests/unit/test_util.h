@@ -52,6 +52,8 @@ static inline void assert_same_connectivity(const geom_mesh *a, const geom_mesh 
         assert_int_equal(geom_mesh_vertex_he(a, v), geom_mesh_vertex_he(b, v));
     for (uint32_t f = 0; f < geom_mesh_n_faces(a); f++)
         assert_int_equal(geom_mesh_face_he(a, f), geom_mesh_face_he(b, f));
+}
+
 /* xorshift64: a double in [0, 1) from the state *s (nonzero). */
 static inline double test_urand(uint64_t *s)
 {
