@@ -128,23 +128,29 @@ static void test_box_plane(void **state)
     geom_mesh_destroy(m);
 }
 
+/* cut = box [-1, 1]^3 minus the ball of radius 0.8 at (0, 0, 1). */
+static void box_minus_ball(geom_shape *box, geom_shape *ball, geom_shape *cut)
+{
+    memset(box, 0, sizeof *box);
+    box->kind = GEOM_SHAPE_BOX;
+    box->min[0] = box->min[1] = box->min[2] = -1;
+    box->max[0] = box->max[1] = box->max[2] = 1;
+    memset(ball, 0, sizeof *ball);
+    ball->kind = GEOM_SHAPE_SPHERE;
+    ball->p[2] = 1;
+    ball->radius = 0.8;
+    memset(cut, 0, sizeof *cut);
+    cut->kind = GEOM_SHAPE_CSG;
+    cut->csg_op = 3;
+    cut->a = box;
+    cut->b = ball;
+}
+
 static void test_csg(void **state)
 {
     (void)state;
     geom_shape box, ball, cut, mesh_child, bad;
-    memset(&box, 0, sizeof box);
-    box.kind = GEOM_SHAPE_BOX;
-    box.min[0] = box.min[1] = box.min[2] = -1;
-    box.max[0] = box.max[1] = box.max[2] = 1;
-    memset(&ball, 0, sizeof ball);
-    ball.kind = GEOM_SHAPE_SPHERE;
-    ball.p[2] = 1;
-    ball.radius = 0.8;
-    memset(&cut, 0, sizeof cut);
-    cut.kind = GEOM_SHAPE_CSG;
-    cut.csg_op = 3;
-    cut.a = &box;
-    cut.b = &ball;
+    box_minus_ball(&box, &ball, &cut);
     cut.name = "part";
     geom_tess_request rq;
     memset(&rq, 0, sizeof rq);
@@ -266,19 +272,7 @@ static void test_estimate(void **state)
     }
     /* marching cubes: a CSG difference */
     geom_shape box, ball, cut;
-    memset(&box, 0, sizeof box);
-    box.kind = GEOM_SHAPE_BOX;
-    box.min[0] = box.min[1] = box.min[2] = -1;
-    box.max[0] = box.max[1] = box.max[2] = 1;
-    memset(&ball, 0, sizeof ball);
-    ball.kind = GEOM_SHAPE_SPHERE;
-    ball.p[2] = 1;
-    ball.radius = 0.8;
-    memset(&cut, 0, sizeof cut);
-    cut.kind = GEOM_SHAPE_CSG;
-    cut.csg_op = 3;
-    cut.a = &box;
-    cut.b = &ball;
+    box_minus_ball(&box, &ball, &cut);
     rq.tol = 5e-3;
     check_estimate(&cut, &rq, 0.5, 20.0);
     /* a group: the sum of its members */

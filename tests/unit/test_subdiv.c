@@ -20,6 +20,7 @@
 
 #include "geom/meshio.h"
 #include "geom/subdiv.h"
+#include "test_util.h"
 
 /* ------------------------------------------------------------ helpers */
 
@@ -981,19 +982,7 @@ static void check_like_soup_build(const geom_mesh *m, geom_subdiv_scheme s, int 
     assert_int_equal(geom_mesh_build(ref, li.vertices, pos[levels], li.faces, sz, ix, &bo, NULL,
                                      NULL),
                      GEOM_OK);
-    assert_int_equal(geom_mesh_n_vertices(out), geom_mesh_n_vertices(ref));
-    assert_int_equal(geom_mesh_n_halfedges(out), geom_mesh_n_halfedges(ref));
-    assert_int_equal(geom_mesh_n_faces(out), geom_mesh_n_faces(ref));
-    for (uint32_t h = 0; h < geom_mesh_n_halfedges(ref); h++) {
-        assert_int_equal(geom_mesh_he_next(out, h), geom_mesh_he_next(ref, h));
-        assert_int_equal(geom_mesh_he_prev(out, h), geom_mesh_he_prev(ref, h));
-        assert_int_equal(geom_mesh_he_vertex(out, h), geom_mesh_he_vertex(ref, h));
-        assert_int_equal(geom_mesh_he_face(out, h), geom_mesh_he_face(ref, h));
-    }
-    for (uint32_t v = 0; v < geom_mesh_n_vertices(ref); v++)
-        assert_int_equal(geom_mesh_vertex_he(out, v), geom_mesh_vertex_he(ref, v));
-    for (uint32_t f = 0; f < geom_mesh_n_faces(ref); f++)
-        assert_int_equal(geom_mesh_face_he(out, f), geom_mesh_face_he(ref, f));
+    assert_same_connectivity(out, ref);
     assert_memory_equal(geom_mesh_cpositions(out), geom_mesh_cpositions(ref),
                         3 * geom_mesh_n_vertices(ref) * sizeof(double));
     uint32_t uv = geom_mesh_channel_find(out, "uv", GEOM_MESH_DOMAIN_CORNER);
