@@ -151,10 +151,9 @@ static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
     case OPT_NORMALS:
         o->normals = 1;
         return CLI_CONTINUE;
-    case 'f':
-        return cli_mesh_format_option(t, arg, 0, &o->out_format);
-    case 'i':
-        return cli_mesh_format_option(t, arg, 1, &o->in_format);
+    case CLI_OPT_FORMAT:
+    case CLI_OPT_INPUT_FORMAT:
+        return cli_mesh_io_option(t, opt, arg, &o->in_format, &o->out_format);
     default:
         break;
     }
@@ -289,20 +288,13 @@ int main(int argc, char **argv)
                             &first);
     if (rc != CLI_CONTINUE)
         return rc;
-    if (argc - first > 1)
-        return cli_usage_error(&tool, "extra operand '%s'", argv[first + 1]);
-    const char *out_path = common.output ? common.output : "-";
+    const char *out_path = NULL;
+    rc = cli_operands(&tool, argc, argv, first, 0, 1); /* IN is optional: "-" */
+    if (rc == CLI_CONTINUE)
+        rc = cli_mesh_output(&tool, &common, "mesh", &so.out_format, &out_path);
+    if (rc != CLI_CONTINUE)
+        return rc;
     int to_stdout = strcmp(out_path, "-") == 0;
-    if (so.out_format == GEOM_MESHIO_FORMAT_AUTO) {
-        if (to_stdout)
-            return cli_usage_error(&tool, "writing to standard output needs --format");
-        so.out_format = geom_meshio_format_from_name(out_path);
-        if (so.out_format == GEOM_MESHIO_FORMAT_AUTO)
-            return cli_usage_error(&tool, "cannot tell the output format from '%s': use --format",
-                                   out_path);
-    }
-    if (common.json && to_stdout)
-        return cli_usage_error(&tool, "--json needs the mesh written to a file (-o OUT)");
 
     geom_diag diag;
     geom_diag_clear(&diag);
