@@ -844,9 +844,19 @@ static void test_mesh_with_seams_and_tags(void **state)
     }
     assert_true(found_crease && found_ib);
     geom_mesh_destroy(out);
-    /* GEOM_SUBDIV_LIMIT: vertices on the limit surface, distance 0 */
+    /* GEOM_SUBDIV_LIMIT: vertices on the limit surface, distance 0; the
+     * level_* fields keep the refined level's distance, bit for bit what
+     * the same call without the flag reports */
+    geom_subdiv_report plain;
+    assert_int_equal(geom_subdiv_mesh(m, NULL, 1, 0, &out, &plain, NULL), GEOM_OK);
+    geom_mesh_destroy(out);
+    assert_true(plain.max_limit_distance > 0.0);
+    assert_true(plain.level_max_limit_distance == plain.max_limit_distance);
+    assert_true(plain.level_rms_limit_distance == plain.rms_limit_distance);
     assert_int_equal(geom_subdiv_mesh(m, NULL, 1, GEOM_SUBDIV_LIMIT, &out, &rep, NULL), GEOM_OK);
     assert_double_equal(rep.max_limit_distance, 0.0, 0);
+    assert_true(rep.level_max_limit_distance == plain.max_limit_distance);
+    assert_true(rep.level_rms_limit_distance == plain.rms_limit_distance);
     geom_mesh_destroy(out);
     geom_mesh_destroy(m);
 }

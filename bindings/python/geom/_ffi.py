@@ -817,6 +817,8 @@ typedef struct geom_subdiv_report {
     double rms_limit_distance;
     double bbox_diagonal;
     geom_error_report error;
+    double level_max_limit_distance;
+    double level_rms_limit_distance;
 } geom_subdiv_report;
 geom_status geom_subdiv_mesh(const geom_mesh *m, const geom_subdiv_options *opt, int levels,
     unsigned flags, geom_mesh **out, geom_subdiv_report *report, geom_diag *diag);

@@ -435,6 +435,12 @@ typedef struct geom_subdiv_report {
      *  measured, tolerance 0 (a fixed number of levels), seconds = the
      *  whole call. */
     geom_error_report error;
+    /** max_limit_distance and rms_limit_distance of the final refined level
+     *  before any GEOM_SUBDIV_LIMIT projection, whatever the flags: a caller
+     *  that keeps the limit positions gets the refined level's error from
+     *  the same call (measured at every vertex, as above). */
+    double level_max_limit_distance;
+    double level_rms_limit_distance;
 } geom_subdiv_report;
 
 /**

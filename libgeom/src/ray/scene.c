@@ -379,8 +379,8 @@ geom_status geom_ray_scene_add_subdiv(geom_ray_scene *s, const geom_mesh *gm, in
                                       uint32_t *id, geom_diag *diag)
 {
     geom_subdiv_options o;
-    geom_subdiv_report rep, rep0;
-    geom_mesh *lim = NULL, *raw = NULL;
+    geom_subdiv_report rep;
+    geom_mesh *lim = NULL;
     geom__tmesh *m;
     geom__ray_node *nd;
     geom_status st;
@@ -393,14 +393,8 @@ geom_status geom_ray_scene_add_subdiv(geom_ray_scene *s, const geom_mesh *gm, in
     o.alloc = s->alloc;
     st = geom_subdiv_mesh(gm, &o, levels, GEOM_SUBDIV_LIMIT | GEOM_SUBDIV_NORMALS, &lim, &rep, diag);
     if (st != GEOM_OK) return st;
-    /* The same level without the limit projection: its distance to the
-     * limit estimates the traced surface's (both O(h^2)). */
-    st = geom_subdiv_mesh(gm, &o, levels, 0, &raw, &rep0, diag);
-    geom_mesh_destroy(raw);
-    if (st != GEOM_OK) {
-        geom_mesh_destroy(lim);
-        return st;
-    }
+    /* The refined level's distance to the limit (rep.level_*, measured
+     * before the projection) estimates the traced surface's: both O(h^2). */
     st = tmesh_from_mesh(s, lim, &m);
     geom_mesh_destroy(lim);
     if (st != GEOM_OK) return st;
@@ -417,8 +411,8 @@ geom_status geom_ray_scene_add_subdiv(geom_ray_scene *s, const geom_mesh *gm, in
         nd->levels = asked_levels;
     }
     nd->mesh = m;
-    nd->err.max_error = rep0.max_limit_distance;
-    nd->err.mean_error = rep0.rms_limit_distance;
+    nd->err.max_error = rep.level_max_limit_distance;
+    nd->err.mean_error = rep.level_rms_limit_distance;
     nd->err.method = GEOM_ERROR_ESTIMATE;
     nd->err.evaluations = rep.vertices;
     return GEOM_OK;

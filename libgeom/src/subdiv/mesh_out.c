@@ -632,6 +632,8 @@ geom_status geom_subdiv_mesh(const geom_mesh *m, const geom_subdiv_options *opt,
             (flags & GEOM_SUBDIV_LIMIT) || counted == 0 ? 0.0 : sqrt(sum / (double)counted);
         report->bbox_diagonal =
             geom_aabb_is_empty(box) ? 0.0 : geom_vec3_length(geom_vec3_sub(box.max, box.min));
+        report->level_max_limit_distance = maxd;
+        report->level_rms_limit_distance = counted == 0 ? 0.0 : sqrt(sum / (double)counted);
         geom_error_report *e = &report->error;
         int on_limit = (flags & GEOM_SUBDIV_LIMIT) != 0;
         e->max_error = report->max_limit_distance;
