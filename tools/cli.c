@@ -350,6 +350,21 @@ geom_status cli_read_all(FILE *fp, const char *name, geom_file *out, geom_diag *
 
 /* -------------------------------------------------------------------- lines */
 
+bool cli_ends_with(const char *s, const char *suffix)
+{
+    size_t a = strlen(s), b = strlen(suffix);
+    if (a < b)
+        return false;
+    for (size_t i = 0; i < b; ++i) {
+        char c = s[a - b + i];
+        if (c >= 'A' && c <= 'Z')
+            c = (char)(c - 'A' + 'a');
+        if (c != suffix[i])
+            return false;
+    }
+    return true;
+}
+
 void cli_lines_init(cli_lines *r, FILE *fp, const char *source)
 {
     memset(r, 0, sizeof *r);

@@ -199,6 +199,11 @@ void cli_input_close(cli_input *in);
  */
 geom_status cli_read_all(FILE *fp, const char *name, geom_file *out, geom_diag *diag);
 
+/** True if s ends with suffix, ASCII letters of s compared case-blind
+ *  (suffix given in lower case: ".json" matches "A.JSON"): how tools tell a
+ *  file's format from its extension. */
+bool cli_ends_with(const char *s, const char *suffix);
+
 /* -------------------------------------------------------------------- lines */
 
 /** Reads lines of any length from a FILE, counting them. Zero-initialise or
