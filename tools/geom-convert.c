@@ -160,10 +160,9 @@ int main(int argc, char **argv)
     if (rc != CLI_CONTINUE)
         return rc;
     int nops = argc - first;
-    if (nops < 1)
-        return cli_usage_error(&tool, "missing input operand");
-    if (nops > 2)
-        return cli_usage_error(&tool, "extra operand '%s'", argv[first + 2]);
+    rc = cli_operands(&tool, argc, argv, first, 1, 2);
+    if (rc != CLI_CONTINUE)
+        return rc;
     if (nops == 2 && common.output)
         return cli_usage_error(&tool, "give the output either as OUT or with -o, not both");
     const char *in_path = argv[first];

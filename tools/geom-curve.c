@@ -191,10 +191,9 @@ int main(int argc, char **argv)
                             &first);
     if (rc != CLI_CONTINUE)
         return rc;
-    if (argc - first < 1)
-        return cli_usage_error(&tool, "missing input operand");
-    if (argc - first > 1)
-        return cli_usage_error(&tool, "extra operand '%s'", argv[first + 1]);
+    rc = cli_operands(&tool, argc, argv, first, 1, 1);
+    if (rc != CLI_CONTINUE)
+        return rc;
     if (o.tol > 0.0 && o.samples)
         return cli_usage_error(&tool, "--tol and --samples exclude each other");
     if (!common.output)

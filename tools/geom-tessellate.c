@@ -467,10 +467,9 @@ int main(int argc, char **argv)
                             &first);
     if (rc != CLI_CONTINUE)
         return rc;
-    if (argc - first < 1)
-        return cli_usage_error(&tool, "missing input operand");
-    if (argc - first > 1)
-        return cli_usage_error(&tool, "extra operand '%s'", argv[first + 1]);
+    rc = cli_operands(&tool, argc, argv, first, 1, 1);
+    if (rc != CLI_CONTINUE)
+        return rc;
     if (o.have_tol && o.have_grid)
         return cli_usage_error(&tool, "--tol and --grid exclude each other");
     if (o.to.angle_degrees > 0.0 && o.have_grid)
