@@ -348,6 +348,42 @@ geom_status cli_read_all(FILE *fp, const char *name, geom_file *out, geom_diag *
     return geom_file_map_fd(fileno(fp), name, NULL, out, diag);
 }
 
+geom_status cli_read_input(const char *path, geom_file *file, char **name, geom_diag *diag)
+{
+    cli_input in;
+    *name = NULL;
+    geom_status st = cli_input_open(&in, path, diag);
+    if (st != GEOM_OK)
+        return st;
+    st = cli_read_all(in.fp, in.name, file, diag);
+    *name = strdup(in.name);
+    cli_input_close(&in);
+    if (st != GEOM_OK || !*name) {
+        geom_file_unmap(file);
+        free(*name);
+        *name = NULL;
+        if (st == GEOM_OK)
+            st = cli_diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "out of memory");
+        return st;
+    }
+    return GEOM_OK;
+}
+
+bool cli_ends_with(const char *s, const char *suffix)
+{
+    size_t a = strlen(s), b = strlen(suffix);
+    if (a < b)
+        return false;
+    for (size_t i = 0; i < b; ++i) {
+        char c = s[a - b + i];
+        if (c >= 'A' && c <= 'Z')
+            c = (char)(c - 'A' + 'a');
+        if (c != suffix[i])
+            return false;
+    }
+    return true;
+}
+
 /* -------------------------------------------------------------------- lines */
 
 void cli_lines_init(cli_lines *r, FILE *fp, const char *source)

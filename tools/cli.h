@@ -199,6 +199,22 @@ void cli_input_close(cli_input *in);
  */
 geom_status cli_read_all(FILE *fp, const char *name, geom_file *out, geom_diag *diag);
 
+/** True if s ends with suffix, ASCII letters of s compared case-blind
+ *  (suffix given in lower case: ".json" matches "A.JSON"): how tools tell a
+ *  file's format from its extension. */
+bool cli_ends_with(const char *s, const char *suffix);
+
+/**
+ * All of the input `path` (NULL or "-": standard input) through
+ * cli_input_open and cli_read_all into *file (release with
+ * geom_file_unmap), and a malloc'd copy of its name (the path or
+ * "<stdin>") into *name for diagnostics made after the input is closed
+ * (free it). On failure there is nothing to release: GEOM_ERR_IO or
+ * GEOM_ERR_NOMEM ("out of memory" when the name could not be copied) in
+ * diag.
+ */
+geom_status cli_read_input(const char *path, geom_file *file, char **name, geom_diag *diag);
+
 /* -------------------------------------------------------------------- lines */
 
 /** Reads lines of any length from a FILE, counting them. Zero-initialise or

@@ -125,8 +125,9 @@ int main(int argc, char **argv)
     int rc = cli_parse_args(&tool, argc, argv, NULL, NULL, NULL, NULL, &common, &first);
     if (rc != CLI_CONTINUE)
         return rc;
-    if (argc - first > 1)
-        return cli_usage_error(&tool, "extra operand '%s'", argv[first + 1]);
+    rc = cli_operands(&tool, argc, argv, first, 0, 1);
+    if (rc != CLI_CONTINUE)
+        return rc;
 
     geom_diag diag;
     geom_diag_clear(&diag);

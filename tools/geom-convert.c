@@ -160,10 +160,9 @@ int main(int argc, char **argv)
     if (rc != CLI_CONTINUE)
         return rc;
     int nops = argc - first;
-    if (nops < 1)
-        return cli_usage_error(&tool, "missing input operand");
-    if (nops > 2)
-        return cli_usage_error(&tool, "extra operand '%s'", argv[first + 2]);
+    rc = cli_operands(&tool, argc, argv, first, 1, 2);
+    if (rc != CLI_CONTINUE)
+        return rc;
     if (nops == 2 && common.output)
         return cli_usage_error(&tool, "give the output either as OUT or with -o, not both");
     const char *in_path = argv[first];
@@ -189,20 +188,11 @@ int main(int argc, char **argv)
 
     geom_diag diag;
     geom_diag_clear(&diag);
-    cli_input in;
-    if (cli_input_open(&in, in_path, &diag) != GEOM_OK)
-        return cli_print_diag(&tool, &diag);
     geom_file file;
-    geom_status st = cli_read_all(in.fp, in.name, &file, &diag);
-    char *name = strdup(in.name);
-    cli_input_close(&in);
-    if (st != GEOM_OK || !name) {
-        geom_file_unmap(&file);
-        free(name);
-        if (st == GEOM_OK)
-            cli_diag_set(&diag, GEOM_ERR_NOMEM, NULL, 0, 0, "out of memory");
+    char *name;
+    geom_status st = cli_read_input(in_path, &file, &name, &diag);
+    if (st != GEOM_OK)
         return cli_print_diag(&tool, &diag);
-    }
     geom_meshio_read_stats stats;
     geom_meshio_read_options ro;
     memset(&ro, 0, sizeof ro);

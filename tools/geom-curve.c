@@ -28,7 +28,6 @@
  */
 #include "cli.h"
 
-#include <ctype.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -108,17 +107,6 @@ static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
         break;
     }
     return CLI_EXIT_USAGE;
-}
-
-static int ends_with(const char *s, const char *suffix)
-{
-    size_t a = strlen(s), b = strlen(suffix);
-    if (a < b)
-        return 0;
-    for (size_t i = 0; i < b; ++i)
-        if (tolower((unsigned char)s[a - b + i]) != suffix[i])
-            return 0;
-    return 1;
 }
 
 #ifdef GEOM_HAVE_CJSON
@@ -203,10 +191,9 @@ int main(int argc, char **argv)
                             &first);
     if (rc != CLI_CONTINUE)
         return rc;
-    if (argc - first < 1)
-        return cli_usage_error(&tool, "missing input operand");
-    if (argc - first > 1)
-        return cli_usage_error(&tool, "extra operand '%s'", argv[first + 1]);
+    rc = cli_operands(&tool, argc, argv, first, 1, 1);
+    if (rc != CLI_CONTINUE)
+        return rc;
     if (o.tol > 0.0 && o.samples)
         return cli_usage_error(&tool, "--tol and --samples exclude each other");
     if (!common.output)
@@ -214,9 +201,9 @@ int main(int argc, char **argv)
     const char *out_path = common.output;
     int to_stdout = strcmp(out_path, "-") == 0;
     if (!o.have_format) {
-        if (ends_with(out_path, ".csv"))
+        if (cli_ends_with(out_path, ".csv"))
             o.csv = 1;
-        else if (ends_with(out_path, ".obj"))
+        else if (cli_ends_with(out_path, ".obj"))
             o.csv = 0;
         else if (!to_stdout)
             return cli_usage_error(&tool, "cannot tell the format from '%s': use --format",

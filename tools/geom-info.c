@@ -189,25 +189,17 @@ int main(int argc, char **argv)
     int rc = cli_parse_args(&tool, argc, argv, "f:", longopts, on_option, &io, &common, &first);
     if (rc != CLI_CONTINUE)
         return rc;
-    if (argc - first > 1)
-        return cli_usage_error(&tool, "extra operand '%s'", argv[first + 1]);
+    rc = cli_operands(&tool, argc, argv, first, 0, 1);
+    if (rc != CLI_CONTINUE)
+        return rc;
 
     geom_diag diag;
     geom_diag_clear(&diag);
-    cli_input in;
-    if (cli_input_open(&in, first < argc ? argv[first] : NULL, &diag) != GEOM_OK)
-        return cli_print_diag(&tool, &diag);
     geom_file file;
-    geom_status st = cli_read_all(in.fp, in.name, &file, &diag);
-    char *name = strdup(in.name);
-    cli_input_close(&in);
-    if (st != GEOM_OK || !name) {
-        geom_file_unmap(&file);
-        free(name);
-        if (st == GEOM_OK)
-            cli_diag_set(&diag, GEOM_ERR_NOMEM, NULL, 0, 0, "out of memory");
+    char *name;
+    geom_status st = cli_read_input(first < argc ? argv[first] : NULL, &file, &name, &diag);
+    if (st != GEOM_OK)
         return cli_print_diag(&tool, &diag);
-    }
 
     geom_meshio_read_stats stats;
     geom_meshio_read_options ro;

@@ -270,8 +270,9 @@ int main(int argc, char **argv)
         return rc;
     if (first >= argc)
         return cli_usage_error(&tool, "missing POINTS or MESH operand");
-    if (argc - first > 1)
-        return cli_usage_error(&tool, "extra operand '%s'", argv[first + 1]);
+    rc = cli_operands(&tool, argc, argv, first, 0, 1);
+    if (rc != CLI_CONTINUE)
+        return rc;
     if (o.query == Q_NONE)
         return cli_usage_error(&tool, "give one of --knn, --radius, --box, --closest, --signed-distance");
     int meshq = o.query == Q_CLOSEST || o.query == Q_SD;

@@ -205,17 +205,6 @@ static int on_option(const cli_tool *t, void *user, int opt, const char *arg)
     return CLI_EXIT_USAGE;
 }
 
-static int ends_with(const char *s, const char *suffix)
-{
-    size_t a = strlen(s), b = strlen(suffix);
-    if (a < b)
-        return 0;
-    for (size_t i = 0; i < b; ++i)
-        if (tolower((unsigned char)s[a - b + i]) != suffix[i])
-            return 0;
-    return 1;
-}
-
 /* Surfaces from IN: JSON or .bpt. */
 static geom_status read_surfaces(const char *path, geom_surface_set **set, geom_diag *diag)
 {
@@ -232,9 +221,9 @@ static geom_status read_surfaces(const char *path, geom_surface_set **set, geom_
     const char *data = (const char *)file.data;
     size_t size = file.size;
     int json;
-    if (ends_with(path, ".json"))
+    if (cli_ends_with(path, ".json"))
         json = 1;
-    else if (ends_with(path, ".bpt"))
+    else if (cli_ends_with(path, ".bpt"))
         json = 0;
     else {
         size_t i = 0;
@@ -270,8 +259,8 @@ static geom_status read_surfaces(const char *path, geom_surface_set **set, geom_
 
 static int is_step_path(const char *path)
 {
-    return ends_with(path, ".step") || ends_with(path, ".stp") || ends_with(path, ".STEP") ||
-           ends_with(path, ".STP");
+    return cli_ends_with(path, ".step") || cli_ends_with(path, ".stp") || cli_ends_with(path, ".STEP") ||
+           cli_ends_with(path, ".STP");
 }
 
 /* STEP is Z-up; glTF is Y-up: (x, y, z) -> (x, z, -y) for positions and
@@ -478,10 +467,9 @@ int main(int argc, char **argv)
                             &first);
     if (rc != CLI_CONTINUE)
         return rc;
-    if (argc - first < 1)
-        return cli_usage_error(&tool, "missing input operand");
-    if (argc - first > 1)
-        return cli_usage_error(&tool, "extra operand '%s'", argv[first + 1]);
+    rc = cli_operands(&tool, argc, argv, first, 1, 1);
+    if (rc != CLI_CONTINUE)
+        return rc;
     if (o.have_tol && o.have_grid)
         return cli_usage_error(&tool, "--tol and --grid exclude each other");
     if (o.to.angle_degrees > 0.0 && o.have_grid)

@@ -99,24 +99,9 @@ geom_status image_write_pfm(FILE *fp, const geom_image *img, geom_diag *diag)
     return st;
 }
 
-static int ends_with(const char *s, const char *suf)
-{
-    size_t a = strlen(s), b = strlen(suf);
-    if (a < b)
-        return 0;
-    for (size_t i = 0; i < b; i++) {
-        char c = s[a - b + i];
-        if (c >= 'A' && c <= 'Z')
-            c = (char)(c - 'A' + 'a');
-        if (c != suf[i])
-            return 0;
-    }
-    return 1;
-}
-
 geom_status image_write_file(const char *path, const geom_image *img, int srgb, geom_diag *diag)
 {
-    int png = ends_with(path, ".png"), pfm = ends_with(path, ".pfm");
+    int png = cli_ends_with(path, ".png"), pfm = cli_ends_with(path, ".pfm");
     if (!png && !pfm)
         return cli_diag_set(diag, GEOM_ERR_INVALID_ARG, path, 0, 0,
                             "unknown image format (use .png or .pfm)");

@@ -541,6 +541,20 @@ static inline int w4d_node(const geom__rnode4 *q, const double o[3], const doubl
     return mask;
 }
 
+/* A traversal's end: the closest (or any) hit found, when one was, goes
+ * into out; GEOM__RAY_ALL has pushed its hits already. Once per ray, after
+ * the traversal loop. */
+static inline geom_status finish(const geom__tmesh *m, const geom_ray *r, int mode, uint32_t best,
+                                 double best_t, const double best_b[3], geom__rhits *out)
+{
+    if (mode != GEOM__RAY_ALL && best != GEOM_INVALID_INDEX) {
+        geom_ray_hit *h = geom__rhits_push_raw(out);
+        if (!h) return GEOM_ERR_NOMEM;
+        fill(m, r, best, best_t, best_b, h);
+    }
+    return GEOM_OK;
+}
+
 static geom_status trace_wide(const geom__tmesh *m, const geom_ray *r, const geom__rslab *sl, int mode,
                               geom__rhits *out)
 {
@@ -659,12 +673,7 @@ static geom_status trace_wide(const geom__tmesh *m, const geom_ray *r, const geo
         } while (cur.tn > tmax); /* entered beyond the closest hit so far */
     }
 done:
-    if (mode != GEOM__RAY_ALL && best != GEOM_INVALID_INDEX) {
-        geom_ray_hit *h = geom__rhits_push_raw(out);
-        if (!h) return GEOM_ERR_NOMEM;
-        fill(m, r, best, best_t, best_b, h);
-    }
-    return GEOM_OK;
+    return finish(m, r, mode, best, best_t, best_b, out);
 }
 
 geom_status geom__ray_mesh(const geom__tmesh *m, const geom_ray *r, int mode, geom__rhits *out)
@@ -727,10 +736,5 @@ geom_status geom__ray_mesh_sl(const geom__tmesh *m, const geom_ray *r, const geo
         }
     }
 done:
-    if (mode != GEOM__RAY_ALL && best != GEOM_INVALID_INDEX) {
-        geom_ray_hit *h = geom__rhits_push_raw(out);
-        if (!h) return GEOM_ERR_NOMEM;
-        fill(m, r, best, best_t, best_b, h);
-    }
-    return GEOM_OK;
+    return finish(m, r, mode, best, best_t, best_b, out);
 }

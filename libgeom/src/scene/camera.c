@@ -163,6 +163,19 @@ double geom_scene_camera_pixel_size(const geom_camera *cam, double depth)
     return 2.0 * fabs(depth) * tan(c.fovy_degrees * GEOM_PI / 360.0) / c.height;
 }
 
+/* Widen [*lo, *hi] by the depths of b's corners along dir (scene_internal.h). */
+void geom__scene_box_depth_range(geom_aabb b, geom_vec3 eye, geom_vec3 dir, double *lo,
+                                 double *hi)
+{
+    for (int c = 0; c < 8; c++) {
+        geom_vec3 p = geom_vec3_make(c & 1 ? b.max.x : b.min.x, c & 2 ? b.max.y : b.min.y,
+                                     c & 4 ? b.max.z : b.min.z);
+        double d = geom_vec3_dot(geom_vec3_sub(p, eye), dir);
+        *lo = fmin(*lo, d);
+        *hi = fmax(*hi, d);
+    }
+}
+
 /* Where the box lies against the frustum of vp: 0 outside, 1 inside, 2 cut. */
 int geom__scene_box_frustum(geom_aabb b, geom_mat4 vp)
 {
@@ -204,13 +217,7 @@ double geom_scene_pixel_tolerance(const geom_camera *cam_in, geom_aabb box, doub
         return 0;
     double diag = geom_vec3_length(geom_vec3_sub(box.max, box.min));
     double dmin = INFINITY, dmax = -INFINITY;
-    for (int c = 0; c < 8; c++) {
-        geom_vec3 p = geom_vec3_make(c & 1 ? box.max.x : box.min.x, c & 2 ? box.max.y : box.min.y,
-                                     c & 4 ? box.max.z : box.min.z);
-        double d = geom_vec3_dot(geom_vec3_sub(p, cam.eye), f);
-        dmin = fmin(dmin, d);
-        dmax = fmax(dmax, d);
-    }
+    geom__scene_box_depth_range(box, cam.eye, f, &dmin, &dmax);
     int vis = 0;
     if (dmax > 0 || cam.projection == GEOM_PROJECTION_ORTHOGRAPHIC) {
         double near = cam.projection == GEOM_PROJECTION_ORTHOGRAPHIC ? 1 : fmax(dmax * 1e-6, 1e-300);

@@ -533,15 +533,8 @@ geom_status geom_scene_raster(const geom_camera *cam_in, const geom_light *light
     geom_vec3 fwd;
     geom_vec3_normalize(geom_vec3_sub(cam.center, cam.eye), &fwd);
     double zmin = INFINITY, zmax = 0;
-    if (!geom_aabb_is_empty(sb)) {
-        for (int c = 0; c < 8; c++) {
-            geom_vec3 p = geom_vec3_make(c & 1 ? sb.max.x : sb.min.x, c & 2 ? sb.max.y : sb.min.y,
-                                         c & 4 ? sb.max.z : sb.min.z);
-            double z = geom_vec3_dot(geom_vec3_sub(p, cam.eye), fwd);
-            zmin = fmin(zmin, z);
-            zmax = fmax(zmax, z);
-        }
-    }
+    if (!geom_aabb_is_empty(sb))
+        geom__scene_box_depth_range(sb, cam.eye, fwd, &zmin, &zmax);
     int ortho = cam.projection == GEOM_PROJECTION_ORTHOGRAPHIC;
     if (!(zmax > 0)) { /* nothing in front of the camera */
         zmin = 0.5;

@@ -59,6 +59,12 @@ void geom__scene_cam_ray(const geom__scene_cam *k, double x, double y, geom_ray 
 /* World-space bounding box of a draw (its mesh's box, transformed). */
 geom_aabb geom__scene_draw_bbox(const geom_scene_draw *d);
 
+/* Widen [*lo, *hi] by the depths of box b's 8 corners along dir from eye
+ * (dot(corner - eye, dir), taken with fmin/fmax): the depth range of a box
+ * seen from a camera. */
+void geom__scene_box_depth_range(geom_aabb b, geom_vec3 eye, geom_vec3 dir, double *lo,
+                                 double *hi);
+
 /* Where box b lies against the frustum of the clip matrix vp: 0 outside,
  * 1 inside, 2 cut. */
 int geom__scene_box_frustum(geom_aabb b, geom_mat4 vp);

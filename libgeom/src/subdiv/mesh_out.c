@@ -21,29 +21,27 @@ static inline uint32_t om_vert(const outmap *om, uint32_t v)
     return om->vert_new ? om->vert_new[v] : v;
 }
 
-/* Values of the level-0 vertices / faces of a mesh channel. */
-static double *level0_vertex_data(const geom_allocator *a, const geom_mesh *m, const sd_level *l0,
-                                  uint32_t ch, size_t nc)
-{
-    double *d = sd_calloc(a, (size_t)l0->nv * nc, sizeof(double));
-    if (!d)
-        return NULL;
-    const double *src = geom_mesh_channel_cdata(m, ch);
-    size_t n = geom_mesh_channel_size(m, ch);
-    for (uint32_t v = 0; v < l0->nv && v < n; v++)
-        memcpy(d + (size_t)v * nc, src + (size_t)v * nc, nc * sizeof(double));
-    return d;
-}
+/* Kinds of data refine_data refines: vertex, face or face-varying. */
+enum { KIND_VERTEX, KIND_FACE, KIND_FVAR };
 
-static double *level0_face_data(const geom_allocator *a, const geom_mesh *m, const sd_level *l0,
-                                uint32_t ch, size_t nc)
+/* Values of the level-0 vertices (KIND_VERTEX) or live faces (KIND_FACE) of
+ * a mesh channel, in a zeroed array of one row per level-0 element. */
+static double *level0_data(const geom_allocator *a, const geom_mesh *m, const sd_level *l0,
+                           int kind, uint32_t ch, size_t nc)
 {
-    double *d = sd_calloc(a, (size_t)l0->nf * nc, sizeof(double));
+    uint32_t n0 = kind == KIND_VERTEX ? l0->nv : l0->nf;
+    double *d = sd_calloc(a, (size_t)n0 * nc, sizeof(double));
     if (!d)
         return NULL;
     const double *src = geom_mesh_channel_cdata(m, ch);
+    if (kind == KIND_VERTEX) {
+        size_t n = geom_mesh_channel_size(m, ch);
+        for (uint32_t v = 0; v < n0 && v < n; v++)
+            memcpy(d + (size_t)v * nc, src + (size_t)v * nc, nc * sizeof(double));
+        return d;
+    }
     uint32_t f0 = 0;
-    for (uint32_t f = 0; f < geom_mesh_n_faces(m) && f0 < l0->nf; f++) {
+    for (uint32_t f = 0; f < geom_mesh_n_faces(m) && f0 < n0; f++) {
         if (geom_mesh_face_is_deleted(m, f))
             continue;
         memcpy(d + (size_t)f0 * nc, src + (size_t)f * nc, nc * sizeof(double));
@@ -53,8 +51,6 @@ static double *level0_face_data(const geom_allocator *a, const geom_mesh *m, con
 }
 
 /* Refine data from level 0 to `level` (vertex, face or face-varying). */
-enum { KIND_VERTEX, KIND_FACE, KIND_FVAR };
-
 static geom_status refine_data(const geom_subdiv_refiner *r, int level, int kind, uint32_t fch,
                                size_t nc, double *d0, double **out)
 {
@@ -333,8 +329,7 @@ geom_status geom_subdiv_build_mesh(const geom_subdiv_refiner *r, int level, cons
             lv = normals;
         } else {
             int kind = dom == GEOM_MESH_DOMAIN_VERTEX ? KIND_VERTEX : KIND_FACE;
-            double *d0 = kind == KIND_VERTEX ? level0_vertex_data(a, like, r->lv[0], ch, nc)
-                                             : level0_face_data(a, like, r->lv[0], ch, nc);
+            double *d0 = level0_data(a, like, r->lv[0], kind, ch, nc);
             if (!d0) {
                 st = GEOM_ERR_NOMEM;
                 break;
@@ -551,7 +546,7 @@ geom_status geom_subdiv_mesh(const geom_mesh *m, const geom_subdiv_options *opt,
     geom_allocator acopy = r->alloc;
     const geom_allocator *a = r->has_alloc ? &acopy : NULL;
     const sd_level *l0 = r->lv[0], *ll = r->lv[levels];
-    double *pos = level0_vertex_data(a, m, l0, 0, 3), *lp = NULL;
+    double *pos = level0_data(a, m, l0, KIND_VERTEX, 0, 3), *lp = NULL;
     if (!pos) {
         geom_subdiv_refiner_destroy(r);
         return geom__diag_set(diag, GEOM_ERR_NOMEM, NULL, 0, 0, "geom_subdiv_mesh: out of memory");

@@ -255,6 +255,16 @@ static geom_subdiv_refiner *new_refiner(const geom_subdiv_options *opt)
     return r;
 }
 
+/* Keep the effective options in r->opt without their arrays (creases,
+ * corners, holes: the caller's, applied at creation and not kept). */
+static void keep_options(geom_subdiv_refiner *r, geom_subdiv_options eff)
+{
+    eff.n_creases = eff.n_corners = eff.n_holes = 0;
+    eff.crease_verts = eff.corner_verts = eff.hole_faces = NULL;
+    eff.crease_sharpness = eff.corner_sharpness = NULL;
+    r->opt = eff;
+}
+
 static geom_status finish_create(geom_subdiv_refiner *r, sd_level *l0, geom_diag *diag)
 {
     if (is_tri_scheme(r->o.scheme)) {
@@ -313,10 +323,7 @@ geom_status geom_subdiv_refiner_create_soup(size_t nverts, size_t nfaces,
     }
     if (st == GEOM_OK)
         st = finish_create(r, l0, diag);
-    eff.n_creases = eff.n_corners = eff.n_holes = 0;
-    eff.crease_verts = eff.corner_verts = eff.hole_faces = NULL;
-    eff.crease_sharpness = eff.corner_sharpness = NULL;
-    r->opt = eff;
+    keep_options(r, eff);
     if (st != GEOM_OK) {
         geom_subdiv_refiner_destroy(r);
         return st;
@@ -479,10 +486,7 @@ geom_status geom_subdiv_refiner_create(const geom_mesh *m, const geom_subdiv_opt
     sd_free(a, corner_he, total_fv, sizeof(uint32_t));
     sd_free(a, face_mesh, nf0, sizeof(uint32_t));
     sd_free(a, face_of_input, n_input, sizeof(uint32_t));
-    eff.n_creases = eff.n_corners = eff.n_holes = 0;
-    eff.crease_verts = eff.corner_verts = eff.hole_faces = NULL;
-    eff.crease_sharpness = eff.corner_sharpness = NULL;
-    r->opt = eff;
+    keep_options(r, eff);
     if (st != GEOM_OK) {
         geom_subdiv_refiner_destroy(r);
         return st;
