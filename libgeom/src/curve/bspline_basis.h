@@ -87,6 +87,15 @@ void geom__curve_hbuf_finish(const geom__curve_hbuf *b, size_t n);
 
 /* -------------------------------------------------------- shared helpers */
 
+/** 1 if v[0..n) are all finite, 0 otherwise. */
+static inline int geom__curve_finite_n(const double *v, size_t n)
+{
+    for (size_t i = 0; i < n; ++i)
+        if (!isfinite(v[i]))
+            return 0;
+    return 1;
+}
+
 /**
  * Cheap checks done on every evaluation: non-NULL curve and arrays,
  * degree >= 1, n >= degree+1, 1 <= dim <= GEOM_CURVE_MAX_DIM.
