@@ -102,6 +102,10 @@ static inline int geom__curve_finite_n(const double *v, size_t n)
  */
 geom_status geom__curve_check_cheap(const geom_nurbs_curve *c);
 
+/** The entry check of the operations on a whole curve: NULL c ->
+ *  GEOM_ERR_INVALID_ARG "curve: NULL curve", then geom_curve_nurbs_validate. */
+geom_status geom__curve_check(const geom_nurbs_curve *c, geom_diag *diag);
+
 /** Validation shared by the knot operations (insert.c): a valid curve
  *  (geom_curve_nurbs_validate) and non-NULL output buffers. */
 geom_status geom__curve_check_knot_op(const geom_nurbs_curve *c, const double *knots,

@@ -2,6 +2,13 @@
  * reduction with the curve flags, and homogeneous output buffers. */
 #include "curve/bspline_basis.h"
 
+geom_status geom__curve_check(const geom_nurbs_curve *c, geom_diag *diag)
+{
+    if (!c)
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: NULL curve");
+    return geom_curve_nurbs_validate(c, c->n + (size_t)c->degree + 1, diag);
+}
+
 geom_status geom__curve_check_cheap(const geom_nurbs_curve *c)
 {
     if (!c || !c->knots || !c->points)
