@@ -85,6 +85,12 @@ static inline void geom__curve_hbuf_get(const geom__curve_hbuf *b, size_t i, dou
 /** Turn points [0, n) of b from (w P, w) back into Euclidean P. */
 void geom__curve_hbuf_finish(const geom__curve_hbuf *b, size_t n);
 
+/** geom__curve_hbuf_finish(b, n), then out = the curve of that degree, n
+ *  points and knots, whose points and weights are b's (weights NULL for a
+ *  polynomial curve). */
+void geom__curve_hbuf_result(const geom__curve_hbuf *b, int degree, size_t n,
+                             const double *knots, geom_nurbs_curve *out);
+
 /* -------------------------------------------------------- shared helpers */
 
 /** 1 if v[0..n) are all finite, 0 otherwise. */

@@ -52,3 +52,15 @@ void geom__curve_hbuf_finish(const geom__curve_hbuf *b, size_t n)
             P[d] /= w;
     }
 }
+
+void geom__curve_hbuf_result(const geom__curve_hbuf *b, int degree, size_t n,
+                             const double *knots, geom_nurbs_curve *out)
+{
+    geom__curve_hbuf_finish(b, n);
+    out->degree = degree;
+    out->n = n;
+    out->dim = b->dim;
+    out->knots = knots;
+    out->points = b->pts;
+    out->weights = b->w;
+}

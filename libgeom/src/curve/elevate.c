@@ -207,12 +207,6 @@ geom_status geom_curve_nurbs_elevate(const geom_nurbs_curve *c, int times, doubl
 #undef NB
     geom__scratch_free(&sc);
     size_t nh = (size_t)(mh - ph); /* number of control points */
-    geom__curve_hbuf_finish(&hb, nh);
-    out->degree = (int)ph;
-    out->n = nh;
-    out->dim = c->dim;
-    out->knots = knots;
-    out->points = points;
-    out->weights = hb.w;
+    geom__curve_hbuf_result(&hb, (int)ph, nh, knots, out);
     return GEOM_OK;
 }

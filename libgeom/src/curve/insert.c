@@ -92,12 +92,6 @@ geom_status geom_curve_nurbs_insert_knot(const geom_nurbs_curve *c, double u, si
             geom__curve_hbuf_set(&hb, i, R + (i - L) * D);
         geom__scratch_free(&sc);
     }
-    geom__curve_hbuf_finish(&hb, n + r);
-    out->degree = c->degree;
-    out->n = n + r;
-    out->dim = c->dim;
-    out->knots = knots;
-    out->points = points;
-    out->weights = c->weights ? weights : NULL;
+    geom__curve_hbuf_result(&hb, c->degree, n + r, knots, out);
     return GEOM_OK;
 }
