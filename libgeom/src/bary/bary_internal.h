@@ -87,6 +87,34 @@ static inline void geom__bary_zero(double *w, size_t n)
             w[i] = 0.0;
 }
 
+/* l = (x, y, z). */
+static inline void geom__bary_set3(double l[3], double x, double y, double z)
+{
+    l[0] = x;
+    l[1] = y;
+    l[2] = z;
+}
+
+/* n / d for certified doubles, keeping the sign of a quotient that
+ * underflows. */
+static inline double geom__bary_quot(double n, double d)
+{
+    double r = n / d;
+    if (r == 0.0 && n != 0.0)
+        r = copysign(DBL_TRUE_MIN, n) * copysign(1.0, d);
+    return r;
+}
+
+static inline int geom__bary_same2(const double a[2], const double b[2])
+{
+    return a[0] == b[0] && a[1] == b[1];
+}
+
+static inline int geom__bary_same3(const double a[3], const double b[3])
+{
+    return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
+}
+
 /* Is p (collinear with a and b, a != b) strictly between a and b? Exact. */
 static inline int geom__bary_between(const double a[2], const double b[2], const double p[2])
 {

@@ -14,11 +14,6 @@
 
 #include <limits.h>
 
-static int same2(const double a[2], const double b[2])
-{
-    return a[0] == b[0] && a[1] == b[1];
-}
-
 /* One pass: w[i] = W_i * 2^-shift (sign-normalised), *gmax the largest
  * exponent. Sets *outside if some A_i has the wrong sign and *edge to 1 +
  * the first i with A_i == 0. */
@@ -100,7 +95,7 @@ geom_status geom_bary_wachspress(size_t n, const double *poly, const double p[2]
     if (flips > 2)
         return GEOM_ERR_DOMAIN;
     for (size_t i = 0; i < n; i++) {
-        if (same2(p, poly + 2 * i)) {
+        if (geom__bary_same2(p, poly + 2 * i)) {
             w[i] = 1.0;
             return GEOM_OK;
         }
