@@ -87,6 +87,22 @@ static inline void geom__bary_zero(double *w, size_t n)
             w[i] = 0.0;
 }
 
+/* The argument check of the polygon coordinates (mean value, Wachspress):
+ * GEOM_ERR_INVALID_ARG for NULL w, n < 3, NULL or non-finite poly or p; w
+ * (when not NULL) is zeroed in every case. */
+static inline geom_status geom__bary_poly_check(size_t n, const double *poly, const double p[2],
+                                                double *w)
+{
+    if (!w)
+        return GEOM_ERR_INVALID_ARG;
+    if (n < 3 || !poly || !p || !geom__bary_finite(poly, 2 * n) || !geom__bary_finite(p, 2)) {
+        geom__bary_zero(w, n);
+        return GEOM_ERR_INVALID_ARG;
+    }
+    geom__bary_zero(w, n);
+    return GEOM_OK;
+}
+
 /* l = (x, y, z). */
 static inline void geom__bary_set3(double l[3], double x, double y, double z)
 {

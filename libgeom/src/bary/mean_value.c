@@ -117,13 +117,9 @@ static size_t mvc_pass(const mvc_ctx *c, int shift, double *w, int *gmax)
 
 geom_status geom_bary_mean_value(size_t n, const double *poly, const double p[2], double *w)
 {
-    if (!w)
-        return GEOM_ERR_INVALID_ARG;
-    if (n < 3 || !poly || !p || !geom__bary_finite(poly, 2 * n) || !geom__bary_finite(p, 2)) {
-        geom__bary_zero(w, n);
-        return GEOM_ERR_INVALID_ARG;
-    }
-    geom__bary_zero(w, n);
+    geom_status st = geom__bary_poly_check(n, poly, p, w);
+    if (st != GEOM_OK)
+        return st;
     for (size_t i = 0; i < n; i++) {
         size_t j = i + 1 == n ? 0 : i + 1;
         if (geom__bary_same2(poly + 2 * i, poly + 2 * j))

@@ -52,13 +52,9 @@ static void wp_pass(size_t n, const double *poly, const double p[2], int orient,
 
 geom_status geom_bary_wachspress(size_t n, const double *poly, const double p[2], double *w)
 {
-    if (!w)
-        return GEOM_ERR_INVALID_ARG;
-    if (n < 3 || !poly || !p || !geom__bary_finite(poly, 2 * n) || !geom__bary_finite(p, 2)) {
-        geom__bary_zero(w, n);
-        return GEOM_ERR_INVALID_ARG;
-    }
-    geom__bary_zero(w, n);
+    geom_status st = geom__bary_poly_check(n, poly, p, w);
+    if (st != GEOM_OK)
+        return st;
     /* Turn signs: collinear consecutive vertices (including repeated ones)
      * are degenerate; mixed signs are not convex. */
     int orient = 0, mixed = 0;
