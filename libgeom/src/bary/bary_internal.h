@@ -87,6 +87,50 @@ static inline void geom__bary_zero(double *w, size_t n)
             w[i] = 0.0;
 }
 
+/* The argument check of the polygon coordinates (mean value, Wachspress):
+ * GEOM_ERR_INVALID_ARG for NULL w, n < 3, NULL or non-finite poly or p; w
+ * (when not NULL) is zeroed in every case. */
+static inline geom_status geom__bary_poly_check(size_t n, const double *poly, const double p[2],
+                                                double *w)
+{
+    if (!w)
+        return GEOM_ERR_INVALID_ARG;
+    if (n < 3 || !poly || !p || !geom__bary_finite(poly, 2 * n) || !geom__bary_finite(p, 2)) {
+        geom__bary_zero(w, n);
+        return GEOM_ERR_INVALID_ARG;
+    }
+    geom__bary_zero(w, n);
+    return GEOM_OK;
+}
+
+/* l = (x, y, z). */
+static inline void geom__bary_set3(double l[3], double x, double y, double z)
+{
+    l[0] = x;
+    l[1] = y;
+    l[2] = z;
+}
+
+/* n / d for certified doubles, keeping the sign of a quotient that
+ * underflows. */
+static inline double geom__bary_quot(double n, double d)
+{
+    double r = n / d;
+    if (r == 0.0 && n != 0.0)
+        r = copysign(DBL_TRUE_MIN, n) * copysign(1.0, d);
+    return r;
+}
+
+static inline int geom__bary_same2(const double a[2], const double b[2])
+{
+    return a[0] == b[0] && a[1] == b[1];
+}
+
+static inline int geom__bary_same3(const double a[3], const double b[3])
+{
+    return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
+}
+
 /* Is p (collinear with a and b, a != b) strictly between a and b? Exact. */
 static inline int geom__bary_between(const double a[2], const double b[2], const double p[2])
 {

@@ -20,11 +20,6 @@
 
 #include <limits.h>
 
-static int same2(const double a[2], const double b[2])
-{
-    return a[0] == b[0] && a[1] == b[1];
-}
-
 typedef struct mvc_ctx {
     size_t n;
     const double *poly;
@@ -122,16 +117,12 @@ static size_t mvc_pass(const mvc_ctx *c, int shift, double *w, int *gmax)
 
 geom_status geom_bary_mean_value(size_t n, const double *poly, const double p[2], double *w)
 {
-    if (!w)
-        return GEOM_ERR_INVALID_ARG;
-    if (n < 3 || !poly || !p || !geom__bary_finite(poly, 2 * n) || !geom__bary_finite(p, 2)) {
-        geom__bary_zero(w, n);
-        return GEOM_ERR_INVALID_ARG;
-    }
-    geom__bary_zero(w, n);
+    geom_status st = geom__bary_poly_check(n, poly, p, w);
+    if (st != GEOM_OK)
+        return st;
     for (size_t i = 0; i < n; i++) {
         size_t j = i + 1 == n ? 0 : i + 1;
-        if (same2(poly + 2 * i, poly + 2 * j))
+        if (geom__bary_same2(poly + 2 * i, poly + 2 * j))
             return GEOM_ERR_DEGENERATE;
     }
     int flat = 1;
@@ -140,7 +131,7 @@ geom_status geom_bary_mean_value(size_t n, const double *poly, const double p[2]
     if (flat)
         return GEOM_ERR_DEGENERATE;
     for (size_t i = 0; i < n; i++) {
-        if (same2(p, poly + 2 * i)) {
+        if (geom__bary_same2(p, poly + 2 * i)) {
             w[i] = 1.0;
             return GEOM_OK;
         }

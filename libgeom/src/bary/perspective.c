@@ -8,23 +8,16 @@
 
 #include <limits.h>
 
-static void set3(double l[3], double x, double y, double z)
-{
-    l[0] = x;
-    l[1] = y;
-    l[2] = z;
-}
-
 geom_status geom_bary_perspective(const double l[3], const double w[3], double lp[3])
 {
     if (!lp)
         return GEOM_ERR_INVALID_ARG;
     if (!l || !w || !geom__isfinite3(l) || !geom__isfinite3(w)) {
-        set3(lp, 0.0, 0.0, 0.0);
+        geom__bary_set3(lp, 0.0, 0.0, 0.0);
         return GEOM_ERR_INVALID_ARG;
     }
     if (w[0] == 0.0 || w[1] == 0.0 || w[2] == 0.0) {
-        set3(lp, 0.0, 0.0, 0.0);
+        geom__bary_set3(lp, 0.0, 0.0, 0.0);
         return GEOM_ERR_DEGENERATE;
     }
     double q[3] = {l[0] / w[0], l[1] / w[1], l[2] / w[2]};
@@ -44,9 +37,9 @@ geom_status geom_bary_perspective(const double l[3], const double w[3], double l
         s = q[0] + q[1] + q[2];
     }
     if (s == 0.0 || !isfinite(s)) {
-        set3(lp, 0.0, 0.0, 0.0);
+        geom__bary_set3(lp, 0.0, 0.0, 0.0);
         return GEOM_ERR_DEGENERATE;
     }
-    set3(lp, q[0] / s, q[1] / s, q[2] / s);
+    geom__bary_set3(lp, q[0] / s, q[1] / s, q[2] / s);
     return GEOM_OK;
 }

@@ -15,19 +15,6 @@ static void set4(double l[4], double x, double y, double z, double w)
     l[3] = w;
 }
 
-static double quot(double n, double d)
-{
-    double r = n / d;
-    if (r == 0.0 && n != 0.0)
-        r = copysign(DBL_TRUE_MIN, n) * copysign(1.0, d);
-    return r;
-}
-
-static int same3(const double a[3], const double b[3])
-{
-    return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
-}
-
 geom_status geom_bary_tet(const double a[3], const double b[3], const double c[3],
                           const double d[3], const double p[3], double l[4])
 {
@@ -46,7 +33,8 @@ geom_status geom_bary_tet(const double a[3], const double b[3], const double c[3
         if (!geom__bary_det3(q[i][0], q[i][1], q[i][2], q[i][3], &nv[i]))
             slow |= 1u << i;
     if (!slow) {
-        set4(l, quot(nv[0], vol), quot(nv[1], vol), quot(nv[2], vol), quot(nv[3], vol));
+        set4(l, geom__bary_quot(nv[0], vol), geom__bary_quot(nv[1], vol),
+             geom__bary_quot(nv[2], vol), geom__bary_quot(nv[3], vol));
         return GEOM_OK;
     }
     /* Evaluate exactly what the filter could not certify. */
@@ -57,7 +45,7 @@ geom_status geom_bary_tet(const double a[3], const double b[3], const double c[3
     }
     const double *v[4] = {a, b, c, d};
     for (int i = 0; i < 4; i++) {
-        if (same3(p, v[i])) {
+        if (geom__bary_same3(p, v[i])) {
             set4(l, 0.0, 0.0, 0.0, 0.0);
             l[i] = 1.0;
             return GEOM_OK;

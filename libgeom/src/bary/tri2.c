@@ -8,40 +8,18 @@
  */
 #include "bary/bary_internal.h"
 
-static void set3(double l[3], double x, double y, double z)
-{
-    l[0] = x;
-    l[1] = y;
-    l[2] = z;
-}
-
-/* n / d for certified doubles, keeping the sign of a quotient that
- * underflows. */
-static double quot(double n, double d)
-{
-    double r = n / d;
-    if (r == 0.0 && n != 0.0)
-        r = copysign(DBL_TRUE_MIN, n) * copysign(1.0, d);
-    return r;
-}
-
-static int same2(const double a[2], const double b[2])
-{
-    return a[0] == b[0] && a[1] == b[1];
-}
-
 geom_status geom_bary_tri2(const double a[2], const double b[2], const double c[2],
                            const double p[2], double l[3])
 {
     if (!l)
         return GEOM_ERR_INVALID_ARG;
     if (!a || !b || !c || !p) {
-        set3(l, 0.0, 0.0, 0.0);
+        geom__bary_set3(l, 0.0, 0.0, 0.0);
         return GEOM_ERR_INVALID_ARG;
     }
     if (!geom__bary_finite(a, 2) || !geom__bary_finite(b, 2) || !geom__bary_finite(c, 2) ||
         !geom__bary_finite(p, 2)) {
-        set3(l, 0.0, 0.0, 0.0);
+        geom__bary_set3(l, 0.0, 0.0, 0.0);
         return GEOM_ERR_INVALID_ARG;
     }
     double acx = a[0] - c[0], acy = a[1] - c[1];
@@ -63,28 +41,29 @@ geom_status geom_bary_tri2(const double a[2], const double b[2], const double c[
         slow |= 4u;
     if (!slow) {
         if (d == 0.0) {
-            set3(l, 0.0, 0.0, 0.0);
+            geom__bary_set3(l, 0.0, 0.0, 0.0);
             return GEOM_ERR_DEGENERATE;
         }
-        set3(l, quot(nv[0], d), quot(nv[1], d), quot(nv[2], d));
+        geom__bary_set3(l, geom__bary_quot(nv[0], d), geom__bary_quot(nv[1], d),
+                        geom__bary_quot(nv[2], d));
         return GEOM_OK;
     }
     /* Evaluate exactly what the filter could not certify. */
     geom__xval xd = (slow & 8u) ? geom__xeval_orient2d(a, b, c) : geom__xval_from_double(d);
     if (xd.m == 0.0) {
-        set3(l, 0.0, 0.0, 0.0);
+        geom__bary_set3(l, 0.0, 0.0, 0.0);
         return GEOM_ERR_DEGENERATE;
     }
-    if (same2(p, a)) {
-        set3(l, 1.0, 0.0, 0.0);
+    if (geom__bary_same2(p, a)) {
+        geom__bary_set3(l, 1.0, 0.0, 0.0);
         return GEOM_OK;
     }
-    if (same2(p, b)) {
-        set3(l, 0.0, 1.0, 0.0);
+    if (geom__bary_same2(p, b)) {
+        geom__bary_set3(l, 0.0, 1.0, 0.0);
         return GEOM_OK;
     }
-    if (same2(p, c)) {
-        set3(l, 0.0, 0.0, 1.0);
+    if (geom__bary_same2(p, c)) {
+        geom__bary_set3(l, 0.0, 0.0, 1.0);
         return GEOM_OK;
     }
     const double *q[3][3] = {{p, b, c}, {a, p, c}, {a, b, p}};

@@ -13,26 +13,6 @@
 /* 12 eps * 2^42: the accepted relative error is 2^-42. */
 #define TRI3_K (12.0 * GEOM_BARY_EPS * GEOM_BARY_REL)
 
-static void set3(double l[3], double x, double y, double z)
-{
-    l[0] = x;
-    l[1] = y;
-    l[2] = z;
-}
-
-static double quot(double n, double d)
-{
-    double r = n / d;
-    if (r == 0.0 && n != 0.0)
-        r = copysign(DBL_TRUE_MIN, n) * copysign(1.0, d);
-    return r;
-}
-
-static int same3(const double a[3], const double b[3])
-{
-    return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
-}
-
 /* n = u x v in floating point, with the sums of the absolute products. */
 static void cross_abs(const double u[3], const double v[3], double n[3], double na[3])
 {
@@ -64,7 +44,7 @@ geom_status geom_bary_tri3(const double a[3], const double b[3], const double c[
         return GEOM_ERR_INVALID_ARG;
     if (!a || !b || !c || !p || !geom__isfinite3(a) || !geom__isfinite3(b) || !geom__isfinite3(c) ||
         !geom__isfinite3(p)) {
-        set3(l, 0.0, 0.0, 0.0);
+        geom__bary_set3(l, 0.0, 0.0, 0.0);
         return GEOM_ERR_INVALID_ARG;
     }
     double u[3], v[3], e0[3], f0[3], e1[3], f1[3], f2[3];
@@ -92,7 +72,8 @@ geom_status geom_bary_tri3(const double a[3], const double b[3], const double c[
     if (!dot_certified(n, na, m, ma, &nv[2]))
         slow |= 4u;
     if (!slow) {
-        set3(l, quot(nv[0], d), quot(nv[1], d), quot(nv[2], d));
+        geom__bary_set3(l, geom__bary_quot(nv[0], d), geom__bary_quot(nv[1], d),
+                        geom__bary_quot(nv[2], d));
         return GEOM_OK;
     }
     /* Evaluate exactly what the filter could not certify. */
@@ -101,15 +82,15 @@ geom_status geom_bary_tri3(const double a[3], const double b[3], const double c[
     if (!(slow & 8u))
         den = geom__xval_from_double(d);
     if (den.m == 0.0) {
-        set3(l, 0.0, 0.0, 0.0);
+        geom__bary_set3(l, 0.0, 0.0, 0.0);
         return GEOM_ERR_DEGENERATE;
     }
-    if (same3(p, a)) {
-        set3(l, 1.0, 0.0, 0.0);
-    } else if (same3(p, b)) {
-        set3(l, 0.0, 1.0, 0.0);
-    } else if (same3(p, c)) {
-        set3(l, 0.0, 0.0, 1.0);
+    if (geom__bary_same3(p, a)) {
+        geom__bary_set3(l, 1.0, 0.0, 0.0);
+    } else if (geom__bary_same3(p, b)) {
+        geom__bary_set3(l, 0.0, 1.0, 0.0);
+    } else if (geom__bary_same3(p, c)) {
+        geom__bary_set3(l, 0.0, 0.0, 1.0);
     } else {
         for (int i = 0; i < 3; i++)
             l[i] = (slow & (1u << i)) ? geom__xval_ratio(num[i], den)

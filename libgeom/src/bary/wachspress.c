@@ -14,11 +14,6 @@
 
 #include <limits.h>
 
-static int same2(const double a[2], const double b[2])
-{
-    return a[0] == b[0] && a[1] == b[1];
-}
-
 /* One pass: w[i] = W_i * 2^-shift (sign-normalised), *gmax the largest
  * exponent. Sets *outside if some A_i has the wrong sign and *edge to 1 +
  * the first i with A_i == 0. */
@@ -57,13 +52,9 @@ static void wp_pass(size_t n, const double *poly, const double p[2], int orient,
 
 geom_status geom_bary_wachspress(size_t n, const double *poly, const double p[2], double *w)
 {
-    if (!w)
-        return GEOM_ERR_INVALID_ARG;
-    if (n < 3 || !poly || !p || !geom__bary_finite(poly, 2 * n) || !geom__bary_finite(p, 2)) {
-        geom__bary_zero(w, n);
-        return GEOM_ERR_INVALID_ARG;
-    }
-    geom__bary_zero(w, n);
+    geom_status st = geom__bary_poly_check(n, poly, p, w);
+    if (st != GEOM_OK)
+        return st;
     /* Turn signs: collinear consecutive vertices (including repeated ones)
      * are degenerate; mixed signs are not convex. */
     int orient = 0, mixed = 0;
@@ -100,7 +91,7 @@ geom_status geom_bary_wachspress(size_t n, const double *poly, const double p[2]
     if (flips > 2)
         return GEOM_ERR_DOMAIN;
     for (size_t i = 0; i < n; i++) {
-        if (same2(p, poly + 2 * i)) {
+        if (geom__bary_same2(p, poly + 2 * i)) {
             w[i] = 1.0;
             return GEOM_OK;
         }

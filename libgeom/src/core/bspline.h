@@ -165,4 +165,22 @@ static inline void geom__bs_ders(int p, const double *U, size_t k, double u, int
 geom_status geom__bs_param(int p, size_t n, const double *U, double u, int wrap, int want_left,
                            double *u_eval, int *left);
 
+/* ------------------------------------------------------------- binomials */
+
+/** The binomial coefficient C(n, k) as a double (0 for k < 0 or k > n),
+ *  by the product C(n-k+i, i) = C(n-k+i-1, i-1) * (n-k+i) / i. Not rounded:
+ *  past 2^53 intermediate products round, so callers that want an integer
+ *  round themselves. */
+static inline double geom__binom(long n, long k)
+{
+    if (k < 0 || k > n)
+        return 0.0;
+    if (k > n - k)
+        k = n - k;
+    double b = 1.0;
+    for (long i = 1; i <= k; ++i)
+        b = b * (double)(n - k + i) / (double)i;
+    return b;
+}
+
 #endif

@@ -68,9 +68,7 @@ geom_status geom_curve_nurbs_arc_length(const geom_nurbs_curve *c, double u0, do
                                         double rel_tol, double *length, geom_error_report *report,
                                         geom_diag *diag)
 {
-    if (!c)
-        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: NULL curve");
-    geom_status st = geom_curve_nurbs_validate(c, c->n + (size_t)c->degree + 1, diag);
+    geom_status st = geom__curve_check(c, diag);
     if (st != GEOM_OK)
         return st;
     if (!length || !isfinite(u0) || !isfinite(u1) || !isfinite(rel_tol) || rel_tol < 0.0)

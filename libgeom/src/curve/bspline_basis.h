@@ -85,13 +85,32 @@ static inline void geom__curve_hbuf_get(const geom__curve_hbuf *b, size_t i, dou
 /** Turn points [0, n) of b from (w P, w) back into Euclidean P. */
 void geom__curve_hbuf_finish(const geom__curve_hbuf *b, size_t n);
 
+/** geom__curve_hbuf_finish(b, n), then out = the curve of that degree, n
+ *  points and knots, whose points and weights are b's (weights NULL for a
+ *  polynomial curve). */
+void geom__curve_hbuf_result(const geom__curve_hbuf *b, int degree, size_t n,
+                             const double *knots, geom_nurbs_curve *out);
+
 /* -------------------------------------------------------- shared helpers */
+
+/** 1 if v[0..n) are all finite, 0 otherwise. */
+static inline int geom__curve_finite_n(const double *v, size_t n)
+{
+    for (size_t i = 0; i < n; ++i)
+        if (!isfinite(v[i]))
+            return 0;
+    return 1;
+}
 
 /**
  * Cheap checks done on every evaluation: non-NULL curve and arrays,
  * degree >= 1, n >= degree+1, 1 <= dim <= GEOM_CURVE_MAX_DIM.
  */
 geom_status geom__curve_check_cheap(const geom_nurbs_curve *c);
+
+/** The entry check of the operations on a whole curve: NULL c ->
+ *  GEOM_ERR_INVALID_ARG "curve: NULL curve", then geom_curve_nurbs_validate. */
+geom_status geom__curve_check(const geom_nurbs_curve *c, geom_diag *diag);
 
 /** Validation shared by the knot operations (insert.c): a valid curve
  *  (geom_curve_nurbs_validate) and non-NULL output buffers. */

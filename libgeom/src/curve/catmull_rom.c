@@ -73,22 +73,15 @@ static double knot_step(const double *a, const double *b, size_t dim, double alp
     return pow(L, alpha);
 }
 
-static int finite_n(const double *v, size_t n)
-{
-    for (size_t i = 0; i < n; ++i)
-        if (!isfinite(v[i]))
-            return 0;
-    return 1;
-}
-
 geom_status geom_curve_catmull_rom_eval(size_t dim, const double *p0, const double *p1,
                                         const double *p2, const double *p3, double alpha, double s,
                                         double *out)
 {
     if (dim < 1 || dim > GEOM_CURVE_MAX_DIM || !p0 || !p1 || !p2 || !p3 || !out)
         return GEOM_ERR_INVALID_ARG;
-    if (!isfinite(alpha) || !isfinite(s) || !finite_n(p0, dim) || !finite_n(p1, dim) ||
-        !finite_n(p2, dim) || !finite_n(p3, dim))
+    if (!isfinite(alpha) || !isfinite(s) || !geom__curve_finite_n(p0, dim) ||
+        !geom__curve_finite_n(p1, dim) || !geom__curve_finite_n(p2, dim) ||
+        !geom__curve_finite_n(p3, dim))
         return GEOM_ERR_INVALID_ARG;
     if (!(alpha >= 0.0 && alpha <= 1.0))
         return GEOM_ERR_DOMAIN;
@@ -118,7 +111,7 @@ static geom_status check_common(size_t dim, size_t n, const double *points, geom
     if (geom_curve_catmull_rom_segments(n, ends, nseg) != GEOM_OK)
         return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "curve: %zu points are too few for this end treatment", n);
-    if (!finite_n(points, n * dim))
+    if (!geom__curve_finite_n(points, n * dim))
         return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "curve: a point has a non-finite coordinate");
     return GEOM_OK;

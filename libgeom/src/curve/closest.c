@@ -257,9 +257,7 @@ static geom_status search_span(cp_ctx *x, size_t k, double *stack, cp_piece *inf
 geom_status geom_curve_nurbs_closest_point(const geom_nurbs_curve *c, const double *q, double *u,
                                            double *point, double *distance, geom_diag *diag)
 {
-    if (!c)
-        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: NULL curve");
-    geom_status st = geom_curve_nurbs_validate(c, c->n + (size_t)c->degree + 1, diag);
+    geom_status st = geom__curve_check(c, diag);
     if (st != GEOM_OK)
         return st;
     if (!q)

@@ -2,6 +2,13 @@
  * reduction with the curve flags, and homogeneous output buffers. */
 #include "curve/bspline_basis.h"
 
+geom_status geom__curve_check(const geom_nurbs_curve *c, geom_diag *diag)
+{
+    if (!c)
+        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: NULL curve");
+    return geom_curve_nurbs_validate(c, c->n + (size_t)c->degree + 1, diag);
+}
+
 geom_status geom__curve_check_cheap(const geom_nurbs_curve *c)
 {
     if (!c || !c->knots || !c->points)
@@ -44,4 +51,16 @@ void geom__curve_hbuf_finish(const geom__curve_hbuf *b, size_t n)
         for (size_t d = 0; d < b->dim; ++d)
             P[d] /= w;
     }
+}
+
+void geom__curve_hbuf_result(const geom__curve_hbuf *b, int degree, size_t n,
+                             const double *knots, geom_nurbs_curve *out)
+{
+    geom__curve_hbuf_finish(b, n);
+    out->degree = degree;
+    out->n = n;
+    out->dim = b->dim;
+    out->knots = knots;
+    out->points = b->pts;
+    out->weights = b->w;
 }

@@ -37,14 +37,6 @@ static void sincos_exact(double theta, double *c, double *s)
     *s = sin(theta);
 }
 
-static int finite_n(const double *v, size_t n)
-{
-    for (size_t i = 0; i < n; ++i)
-        if (!isfinite(v[i]))
-            return 0;
-    return 1;
-}
-
 static double dot(const double *a, const double *b, size_t dim)
 {
     double s = 0.0;
@@ -120,7 +112,8 @@ static geom_status check_arc_args(size_t dim, const double *center, const double
         !weights || !out)
         return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "curve: bad dimension or NULL argument");
-    if (!finite_n(center, dim) || !finite_n(xaxis, dim) || !finite_n(yaxis, dim))
+    if (!geom__curve_finite_n(center, dim) || !geom__curve_finite_n(xaxis, dim) ||
+        !geom__curve_finite_n(yaxis, dim))
         return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "curve: center or axes not finite");
     return GEOM_OK;
@@ -218,8 +211,9 @@ geom_status geom_curve_nurbs_conic(size_t dim, const double *p0, const double *t
         !weights || !out)
         return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "curve: bad dimension or NULL argument");
-    if (!finite_n(p0, dim) || !finite_n(t0, dim) || !finite_n(p2, dim) || !finite_n(t2, dim) ||
-        (point && !finite_n(point, dim)) || (!point && !isfinite(weight)))
+    if (!geom__curve_finite_n(p0, dim) || !geom__curve_finite_n(t0, dim) ||
+        !geom__curve_finite_n(p2, dim) || !geom__curve_finite_n(t2, dim) ||
+        (point && !geom__curve_finite_n(point, dim)) || (!point && !isfinite(weight)))
         return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0,
                              "curve: conic input not finite");
     double P1[GEOM_CURVE_MAX_DIM], a, b;

@@ -65,9 +65,7 @@ void geom__curve_hsplit(int p, size_t D, const double *b, double t, double *left
 geom_status geom_curve_nurbs_decompose(const geom_nurbs_curve *c, double *bezier_points,
                                        double *bezier_weights, double *breaks, geom_diag *diag)
 {
-    if (!c)
-        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: NULL curve");
-    geom_status st = geom_curve_nurbs_validate(c, c->n + (size_t)c->degree + 1, diag);
+    geom_status st = geom__curve_check(c, diag);
     if (st != GEOM_OK)
         return st;
     if (!bezier_points || (c->weights && !bezier_weights))

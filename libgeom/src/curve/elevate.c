@@ -1,18 +1,6 @@
 /* Degree elevation (The NURBS Book A5.9). */
 #include "curve/bspline_basis.h"
 
-static double binom(long n, long k)
-{
-    if (k < 0 || k > n)
-        return 0.0;
-    if (k > n - k)
-        k = n - k;
-    double b = 1.0;
-    for (long i = 1; i <= k; ++i)
-        b = b * (double)(n - k + i) / (double)i;
-    return b;
-}
-
 /* Largest degree an elevation may reach: past about 1020 the binomial
  * coefficients of A5.9 overflow a double (NaN control points), and the work
  * grows with the square of the degree. */
@@ -100,10 +88,10 @@ geom_status geom_curve_nurbs_elevate(const geom_nurbs_curve *c, int times, doubl
     BZ(0, 0) = 1.0;
     BZ(ph, p) = 1.0;
     for (long i = 1; i <= ph2; ++i) {
-        double inv = 1.0 / binom(ph, i);
+        double inv = 1.0 / geom__binom(ph, i);
         long mpi = p < i ? p : i;
         for (long j = (i - t > 0 ? i - t : 0); j <= mpi; ++j)
-            BZ(i, j) = inv * binom(p, j) * binom(t, i - j);
+            BZ(i, j) = inv * geom__binom(p, j) * geom__binom(t, i - j);
     }
     for (long i = ph2 + 1; i <= ph - 1; ++i) {
         long mpi = p < i ? p : i;
@@ -207,12 +195,6 @@ geom_status geom_curve_nurbs_elevate(const geom_nurbs_curve *c, int times, doubl
 #undef NB
     geom__scratch_free(&sc);
     size_t nh = (size_t)(mh - ph); /* number of control points */
-    geom__curve_hbuf_finish(&hb, nh);
-    out->degree = (int)ph;
-    out->n = nh;
-    out->dim = c->dim;
-    out->knots = knots;
-    out->points = points;
-    out->weights = hb.w;
+    geom__curve_hbuf_result(&hb, (int)ph, nh, knots, out);
     return GEOM_OK;
 }

@@ -2,20 +2,13 @@
  * curves. */
 #include "curve/bspline_basis.h"
 
-static int finite_n(const double *v, size_t n)
-{
-    for (size_t i = 0; i < n; ++i)
-        if (!isfinite(v[i]))
-            return 0;
-    return 1;
-}
-
 geom_status geom_curve_hermite_to_bezier(size_t dim, const double *p0, const double *m0,
                                          const double *p1, const double *m1, double *bezier)
 {
     if (dim < 1 || dim > GEOM_CURVE_MAX_DIM || !p0 || !m0 || !p1 || !m1 || !bezier)
         return GEOM_ERR_INVALID_ARG;
-    if (!finite_n(p0, dim) || !finite_n(m0, dim) || !finite_n(p1, dim) || !finite_n(m1, dim))
+    if (!geom__curve_finite_n(p0, dim) || !geom__curve_finite_n(m0, dim) ||
+        !geom__curve_finite_n(p1, dim) || !geom__curve_finite_n(m1, dim))
         return GEOM_ERR_INVALID_ARG;
     for (size_t d = 0; d < dim; ++d) {
         bezier[d] = p0[d];
@@ -56,7 +49,7 @@ geom_status geom_curve_hermite_spline_to_bezier(size_t dim, size_t n, const doub
 {
     if (dim < 1 || dim > GEOM_CURVE_MAX_DIM || n < 2 || !points || !tangents || !bezier)
         return GEOM_ERR_INVALID_ARG;
-    if (!finite_n(points, n * dim) || !finite_n(tangents, n * dim))
+    if (!geom__curve_finite_n(points, n * dim) || !geom__curve_finite_n(tangents, n * dim))
         return GEOM_ERR_INVALID_ARG;
     geom_status st = check_params(params, n);
     if (st != GEOM_OK)

@@ -6,9 +6,7 @@ geom_status geom__curve_check_knot_op(const geom_nurbs_curve *c, const double *k
                                      const double *points, const double *weights,
                                      const geom_nurbs_curve *out, geom_diag *diag)
 {
-    if (!c)
-        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: NULL curve");
-    geom_status st = geom_curve_nurbs_validate(c, c->n + (size_t)c->degree + 1, diag);
+    geom_status st = geom__curve_check(c, diag);
     if (st != GEOM_OK)
         return st;
     if (!knots || !points || !out || (c->weights && !weights))
@@ -94,12 +92,6 @@ geom_status geom_curve_nurbs_insert_knot(const geom_nurbs_curve *c, double u, si
             geom__curve_hbuf_set(&hb, i, R + (i - L) * D);
         geom__scratch_free(&sc);
     }
-    geom__curve_hbuf_finish(&hb, n + r);
-    out->degree = c->degree;
-    out->n = n + r;
-    out->dim = c->dim;
-    out->knots = knots;
-    out->points = points;
-    out->weights = c->weights ? weights : NULL;
+    geom__curve_hbuf_result(&hb, c->degree, n + r, knots, out);
     return GEOM_OK;
 }

@@ -163,9 +163,7 @@ geom_status geom__curve_polyline_options(const geom_nurbs_curve *c,
                                          const void *count, geom_curve_polyline_options *opt,
                                          geom_diag *diag)
 {
-    if (!c)
-        return geom__diag_set(diag, GEOM_ERR_INVALID_ARG, NULL, 0, 0, "curve: NULL curve");
-    geom_status st = geom_curve_nurbs_validate(c, c->n + (size_t)c->degree + 1, diag);
+    geom_status st = geom__curve_check(c, diag);
     if (st != GEOM_OK)
         return st;
     if (!count)

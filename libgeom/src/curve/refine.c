@@ -109,13 +109,7 @@ geom_status geom_curve_nurbs_refine(const geom_nurbs_curve *c, const double *x, 
     copy_in(c, knots, &hb);
     if (nx > 0)
         refine_in_place(c->degree, n, knots, &hb, x, nx, geom__curve_hdim(c));
-    geom__curve_hbuf_finish(&hb, n + nx);
-    out->degree = c->degree;
-    out->n = n + nx;
-    out->dim = c->dim;
-    out->knots = knots;
-    out->points = points;
-    out->weights = hb.w;
+    geom__curve_hbuf_result(&hb, c->degree, n + nx, knots, out);
     return GEOM_OK;
 }
 
@@ -163,12 +157,6 @@ geom_status geom_curve_nurbs_clamp(const geom_nurbs_curve *c, double *knots, dou
         if (hb.w)
             memmove(hb.w, hb.w + first, nn * sizeof(double));
     }
-    geom__curve_hbuf_finish(&hb, nn);
-    out->degree = c->degree;
-    out->n = nn;
-    out->dim = c->dim;
-    out->knots = knots;
-    out->points = points;
-    out->weights = hb.w;
+    geom__curve_hbuf_result(&hb, c->degree, nn, knots, out);
     return GEOM_OK;
 }

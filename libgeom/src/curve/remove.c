@@ -132,13 +132,7 @@ geom_status geom_curve_nurbs_remove_knot(const geom_nurbs_curve *c, double u, si
         }
     }
     size_t nn = N - (size_t)t;
-    geom__curve_hbuf_finish(&hb, nn);
-    out->degree = c->degree;
-    out->n = nn;
-    out->dim = c->dim;
-    out->knots = knots;
-    out->points = points;
-    out->weights = hb.w;
+    geom__curve_hbuf_result(&hb, c->degree, nn, knots, out);
     if (removed)
         *removed = (size_t)t;
     return GEOM_OK;

@@ -397,6 +397,21 @@ static void expect_operand_error(parser *P)
     fail_at(P, GEOM_ERR_PARSE, P->tpos, "expected a number, a name or '(', found %s", what);
 }
 
+/* After an argument of fn's list (opened at open_pos), neither ',' nor ')':
+ * the parse error, unless one is already set. */
+static void expected_comma_or_paren(parser *P, const fn_def *fn, size_t open_pos)
+{
+    if (P->err)
+        return;
+    char what[64];
+    describe(P, what, sizeof what);
+    size_t ol, oc;
+    locate(P, open_pos, &ol, &oc);
+    fail_at(P, GEOM_ERR_PARSE, P->tpos,
+            "expected ',' or ')' in the arguments of '%s' (opened at column %zu), found %s",
+            fn->name, oc, what);
+}
+
 static void parse_call(parser *P, const fn_def *fn, size_t name_pos)
 {
     size_t open_pos = P->tpos;
@@ -430,15 +445,7 @@ static void parse_call(parser *P, const fn_def *fn, size_t name_pos)
                 next(P);
                 break;
             }
-            if (P->err)
-                return;
-            char what[64];
-            describe(P, what, sizeof what);
-            size_t ol, oc;
-            locate(P, open_pos, &ol, &oc);
-            fail_at(P, GEOM_ERR_PARSE, P->tpos,
-                    "expected ',' or ')' in the arguments of '%s' (opened at column %zu), found %s",
-                    fn->name, oc, what);
+            expected_comma_or_paren(P, fn, open_pos);
             return;
         }
     }
@@ -559,15 +566,7 @@ static void parse_primary(parser *P)
             }
             if (is_punct(P, ')'))
                 break;
-            if (P->err)
-                return;
-            char what[64];
-            describe(P, what, sizeof what);
-            size_t ol, oc;
-            locate(P, open_pos, &ol, &oc);
-            fail_at(P, GEOM_ERR_PARSE, P->tpos,
-                    "expected ',' or ')' in the arguments of '%s' (opened at column %zu), found %s",
-                    fn->name, oc, what);
+            expected_comma_or_paren(P, fn, open_pos);
             return;
         }
         if (P->err)

@@ -17,14 +17,7 @@ geom_status geom__surface_check_cheap(const geom_nurbs_surface *s)
 
 double geom__surface_binom(int n, int k)
 {
-    if (k < 0 || k > n)
-        return 0.0;
-    if (k > n - k)
-        k = n - k;
-    double b = 1.0;
-    for (int i = 1; i <= k; ++i)
-        b = b * (double)(n - k + i) / (double)i;
-    return nearbyint(b);
+    return nearbyint(geom__binom(n, k));
 }
 
 /* Knot rules of one direction, through the curve validator (dimension 1,
