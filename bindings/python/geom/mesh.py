@@ -708,7 +708,7 @@ class Mesh:
 
     def triangulate(self):
         """Triangulate every polygon with more than three vertices in place
-        (ear clipping with exact predicates), keeping corner channels; returns
+        (geom_polygon_triangulate: exact predicates), keeping corner channels; returns
         the number of faces added."""
         n = ffi.new("size_t *")
         check(lib.geom_mesh_triangulate(self._ptr, n), context="triangulate")
@@ -893,9 +893,11 @@ class Mesh:
 
 
 def polygon_triangulate(points):
-    """Ear-clipping triangulation of one simple polygon ((n, 3) points, or
+    """Triangulation of one simple polygon ((n, 3) points, or
     (n, 2) taken at z = 0): (n - 2, 3) indices into the polygon
-    (geom_polygon_triangulate). Raises GeomError ERR_DEGENERATE for a
+    (geom_polygon_triangulate: a monotone-decomposition sweep above 64
+    vertices, O(n log n); ear clipping up to 64 and for non-simple input).
+    Raises GeomError ERR_DEGENERATE for a
     zero-area polygon."""
     pts = np.asarray(points, dtype=np.float64)
     if pts.ndim == 2 and pts.shape[1] == 2:

@@ -25,8 +25,8 @@
  *  - with caps, the cut's boundary edges that lie in the plane are chained
  *    into loops, loops are nested (holes joined to their outer loop by a
  *    bridge, after Eberly's "Triangulation by ear clipping") and
- *    triangulated by the library's ear clipper (geom_polygon_triangulate,
- *    exact orientation tests, best-shaped ear first), then
+ *    triangulated by geom_polygon_triangulate (exact orientation tests;
+ *    a monotone sweep above 64 vertices, ear clipping below), then
  *    improved by Lawson flips towards the constrained Delaunay triangulation
  *    (no slivers where the loop has nearly collinear vertices); cap corners
  *    get the cap's outward normal -(a,b,c)/|(a,b,c)| in a CORNER "normal"
