@@ -13,6 +13,7 @@
 #include <cmocka.h>
 
 #include "geom/mesh.h"
+#include "bench/triangulate_shapes.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -85,22 +86,10 @@ static void tri2d(size_t n, const double *xy, int sign)
     free(t);
 }
 
+/* The comb of K teeth: 4K vertices (tests/bench/triangulate_shapes.h). */
 static size_t comb(int K, double *xy)
 {
-    size_t n = 0;
-#define P(x, y) (xy[2 * n] = (x), xy[2 * n + 1] = (y), ++n)
-    P(0, 0);
-    P(2 * K - 1, 0);
-    for (int i = K - 1; i >= 0; --i) {
-        P(2 * i + 1, 3);
-        P(2 * i, 3);
-        if (i > 0) {
-            P(2 * i, 1);
-            P(2 * i - 1, 1);
-        }
-    }
-#undef P
-    return n;
+    return ts_comb(4 * (size_t)K, xy, 0);
 }
 
 static size_t spiral(int M, double *xy)
