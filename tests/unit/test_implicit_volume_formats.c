@@ -342,6 +342,44 @@ static void test_errors(void **state)
                      GEOM_ERR_PARSE);
 }
 
+/* The dimension count and sizes fields of NRRD ("dimension", "sizes") and
+ * MetaImage ("NDims", "DimSize"): the same checks and messages, each naming
+ * its own field and the line. */
+static void test_dims_fields(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *text;
+        size_t line;
+        const char *msg;
+    } cases[] = {
+        {"NRRD0004\ntype: uchar\ndimension: 0\n", 3, "bad dimension '0'"},
+        {"NRRD0004\ntype: uchar\ndimension: 17\n", 3, "bad dimension '17'"},
+        {"NRRD0004\ntype: uchar\ndimension: 3 3\n", 3, "bad dimension '3 3'"},
+        {"NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 x 2\n", 4, "bad sizes '2 x 2'"},
+        {"NRRD0004\ntype: uchar\ndimension: 3\nsizes: \n", 4, "bad sizes ''"},
+        {"NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 2\nencoding: raw\n\n", 6,
+         "sizes has 2 values but dimension is 3"},
+        {"NDims = 0\n", 1, "bad NDims '0'"},
+        {"NDims = 3\nDimSize = 2 -2 2\n", 2, "bad DimSize '2 -2 2'"},
+        {"NDims = 3\nDimSize = 2 2\nElementType = MET_UCHAR\nElementDataFile = LOCAL\n", 4,
+         "DimSize has 2 values but NDims is 3"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        geom_diag d;
+        assert_int_equal(read_text(cases[i].text, 8, &d), GEOM_ERR_PARSE);
+        if (!strstr(d.message, cases[i].msg) || d.line != cases[i].line)
+            fail_msg("case %zu: line %zu '%s', expected line %zu '%s'", i, (size_t)d.line,
+                     d.message, cases[i].line, cases[i].msg);
+    }
+    /* without NDims, DimSize alone sets the count (4-D with a unit axis) */
+    geom_diag d;
+    assert_int_equal(read_text("DimSize = 2 2 2 1\nElementType = MET_UCHAR\n"
+                               "ElementDataFile = LOCAL\n",
+                               8, &d),
+                     GEOM_OK);
+}
+
 static void test_metaimage(void **state)
 {
     (void)state;
@@ -881,10 +919,10 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sample_names), cmocka_unit_test(test_raw_all_types),
         cmocka_unit_test(test_nrrd),         cmocka_unit_test(test_errors),
-        cmocka_unit_test(test_metaimage),    cmocka_unit_test(test_inrimage),
-        cmocka_unit_test(test_nifti),        cmocka_unit_test(test_whole_file_gzip),
-        cmocka_unit_test(test_cgal_skull),   cmocka_unit_test(test_bzip2),
-        cmocka_unit_test(test_spacing_rules),
+        cmocka_unit_test(test_dims_fields),  cmocka_unit_test(test_metaimage),
+        cmocka_unit_test(test_inrimage),     cmocka_unit_test(test_nifti),
+        cmocka_unit_test(test_whole_file_gzip), cmocka_unit_test(test_cgal_skull),
+        cmocka_unit_test(test_bzip2),        cmocka_unit_test(test_spacing_rules),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -57,12 +57,27 @@ static int ieq(const char *a, const char *b)
     return *a == *b;
 }
 
+/* A sample type's name (ASCII case-blind) and the type: the tables of the
+ * API's names, NRRD's and MetaImage's. */
+typedef struct sample_name {
+    const char *n;
+    geom_implicit_sample s;
+} sample_name;
+
+/* The type named t in the n entries of tab into *s: 0, or -1 (unknown). */
+static int sample_lookup(const sample_name *tab, size_t n, const char *t, geom_implicit_sample *s)
+{
+    for (size_t i = 0; i < n; i++)
+        if (ieq(t, tab[i].n)) {
+            *s = tab[i].s;
+            return 0;
+        }
+    return -1;
+}
+
 geom_status geom_implicit_sample_parse(const char *name, geom_implicit_sample *out)
 {
-    static const struct {
-        const char *name;
-        geom_implicit_sample s;
-    } tab[] = {{"u8", GEOM_IMPLICIT_SAMPLE_U8},       {"uint8", GEOM_IMPLICIT_SAMPLE_U8},
+    static const sample_name tab[] = {{"u8", GEOM_IMPLICIT_SAMPLE_U8},       {"uint8", GEOM_IMPLICIT_SAMPLE_U8},
                {"i8", GEOM_IMPLICIT_SAMPLE_I8},       {"int8", GEOM_IMPLICIT_SAMPLE_I8},
                {"u16", GEOM_IMPLICIT_SAMPLE_U16},     {"uint16", GEOM_IMPLICIT_SAMPLE_U16},
                {"i16", GEOM_IMPLICIT_SAMPLE_I16},     {"int16", GEOM_IMPLICIT_SAMPLE_I16},
@@ -73,12 +88,8 @@ geom_status geom_implicit_sample_parse(const char *name, geom_implicit_sample *o
                {"float64", GEOM_IMPLICIT_SAMPLE_F64}, {"double", GEOM_IMPLICIT_SAMPLE_F64}};
     if (!name || !out)
         return GEOM_ERR_INVALID_ARG;
-    for (size_t i = 0; i < sizeof tab / sizeof tab[0]; i++)
-        if (ieq(name, tab[i].name)) {
-            *out = tab[i].s;
-            return GEOM_OK;
-        }
-    return GEOM_ERR_PARSE;
+    return sample_lookup(tab, sizeof tab / sizeof tab[0], name, out) == 0 ? GEOM_OK
+                                                                          : GEOM_ERR_PARSE;
 }
 
 const char *geom_implicit_volume_format_name(geom_implicit_volume_format f)
@@ -586,6 +597,16 @@ typedef struct vf_lines {
     char line[4096];
 } vf_lines;
 
+/* A text header's reader over size bytes at buf, and the layout it fills
+ * (layout_init): the start of the NRRD, MetaImage and INRIMAGE readers. */
+static void header_start(vf_lines *L, const unsigned char *buf, size_t size, vf_layout *Lay)
+{
+    memset(L, 0, sizeof *L);
+    L->buf = buf;
+    L->size = size;
+    layout_init(Lay);
+}
+
 /* 1: a line (in L->line, without its end); 0: end; -1 too long or NUL. */
 static int next_line(vf_lines *L)
 {
@@ -719,6 +740,32 @@ static int next_key_value(vf_ctx *c, vf_lines *L, const char *what, char **key, 
     }
 }
 
+/* A header's dimension count (NRRD "dimension", MetaImage "NDims": sizes
+ * NULL, one number from 1 to 16) or its sizes (NRRD "sizes", MetaImage
+ * "DimSize": up to 16 numbers into sizes[16]) into *n; on a bad value, a
+ * parse error "<what> '<value>'" naming the line. */
+static geom_status parse_dims_field(vf_ctx *c, const vf_lines *L, const char *what,
+                                    const char *val, size_t *sizes, int *n)
+{
+    size_t d = 0;
+    int k = sizes ? parse_sizes(val, sizes, 16) : parse_sizes(val, &d, 1);
+    if (sizes ? k < 1 : (k != 1 || d < 1 || d > 16))
+        return line_err(c, L, what, val);
+    *n = sizes ? k : (int)d;
+    return GEOM_OK;
+}
+
+/* n sizes against the header's dimension count (`count`, 0 where the header
+ * gave none), the fields named `sizes_key` and `count_key` in the message. */
+static geom_status check_dim_count(vf_ctx *c, int n, int count, const char *sizes_key,
+                                   const char *count_key, size_t line)
+{
+    if (count && n != count)
+        return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, line, 0,
+                             "%s has %d values but %s is %d", sizes_key, n, count_key, count);
+    return GEOM_OK;
+}
+
 /* Dimensions beyond the supported three must be 1. */
 static geom_status take_dims(vf_ctx *c, vf_layout *Lay, const size_t *sz, int n, size_t line)
 {
@@ -742,10 +789,7 @@ static geom_status take_dims(vf_ctx *c, vf_layout *Lay, const size_t *sz, int n,
 
 static int nrrd_type(const char *t, geom_implicit_sample *s)
 {
-    static const struct {
-        const char *n;
-        geom_implicit_sample s;
-    } tab[] = {
+    static const sample_name tab[] = {
         {"signed char", GEOM_IMPLICIT_SAMPLE_I8},      {"int8", GEOM_IMPLICIT_SAMPLE_I8},
         {"int8_t", GEOM_IMPLICIT_SAMPLE_I8},           {"uchar", GEOM_IMPLICIT_SAMPLE_U8},
         {"unsigned char", GEOM_IMPLICIT_SAMPLE_U8},    {"uint8", GEOM_IMPLICIT_SAMPLE_U8},
@@ -761,12 +805,7 @@ static int nrrd_type(const char *t, geom_implicit_sample *s)
         {"uint32", GEOM_IMPLICIT_SAMPLE_U32},          {"uint32_t", GEOM_IMPLICIT_SAMPLE_U32},
         {"float", GEOM_IMPLICIT_SAMPLE_F32},           {"double", GEOM_IMPLICIT_SAMPLE_F64},
     };
-    for (size_t i = 0; i < sizeof tab / sizeof tab[0]; i++)
-        if (ieq(t, tab[i].n)) {
-            *s = tab[i].s;
-            return 0;
-        }
-    return -1;
+    return sample_lookup(tab, sizeof tab / sizeof tab[0], t, s);
 }
 
 /* Parse "space directions": per axis "(x,y,z)" or "none". */
@@ -814,11 +853,8 @@ static int nrrd_directions(const char *s, double dir[][3], int *ndir, int max)
 static geom_status read_nrrd(vf_ctx *c, geom_implicit_volume **out)
 {
     vf_lines Ls;
-    memset(&Ls, 0, sizeof Ls);
-    Ls.buf = c->buf;
-    Ls.size = c->size;
     vf_layout Lay;
-    layout_init(&Lay);
+    header_start(&Ls, c->buf, c->size, &Lay);
     int r = next_line(&Ls);
     if (r != 1 || strncmp(Ls.line, "NRRD000", 7) != 0 || Ls.line[7] < '1' || Ls.line[7] > '5')
         return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, 1, 1,
@@ -854,14 +890,11 @@ static geom_status read_nrrd(vf_ctx *c, geom_implicit_volume **out)
                 return line_err(c, &Ls, "unsupported NRRD type", val);
             have_type = 1;
         } else if (ieq(key, "dimension")) {
-            size_t d;
-            if (parse_sizes(val, &d, 1) != 1 || d < 1 || d > 16)
-                return line_err(c, &Ls, "bad dimension", val);
-            dimension = (int)d;
+            if (parse_dims_field(c, &Ls, "bad dimension", val, NULL, &dimension) != GEOM_OK)
+                return GEOM_ERR_PARSE;
         } else if (ieq(key, "sizes")) {
-            nsizes = parse_sizes(val, sizes, 16);
-            if (nsizes < 1)
-                return line_err(c, &Ls, "bad sizes", val);
+            if (parse_dims_field(c, &Ls, "bad sizes", val, sizes, &nsizes) != GEOM_OK)
+                return GEOM_ERR_PARSE;
             have_sizes = 1;
         } else if (ieq(key, "encoding")) {
             if (ieq(val, "raw"))
@@ -929,9 +962,8 @@ static geom_status read_nrrd(vf_ctx *c, geom_implicit_volume **out)
                              "NRRD header lacks the '%s' field",
                              !have_type ? "type" : !dimension ? "dimension"
                              : !have_sizes ? "sizes" : "encoding");
-    if (nsizes != dimension)
-        return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, Ls.lineno, 0,
-                             "sizes has %d values but dimension is %d", nsizes, dimension);
+    if (check_dim_count(c, nsizes, dimension, "sizes", "dimension", Ls.lineno) != GEOM_OK)
+        return GEOM_ERR_PARSE;
     if (geom_implicit_sample_size(Lay.sample) > 1 &&
         (encoding == 0 || encoding == 'g' || encoding == 'b' || encoding == 'h') && !endian)
         return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, Ls.lineno, 0,
@@ -1050,20 +1082,12 @@ static geom_status read_nrrd(vf_ctx *c, geom_implicit_volume **out)
 
 static int met_type(const char *t, geom_implicit_sample *s)
 {
-    static const struct {
-        const char *n;
-        geom_implicit_sample s;
-    } tab[] = {{"MET_UCHAR", GEOM_IMPLICIT_SAMPLE_U8},   {"MET_CHAR", GEOM_IMPLICIT_SAMPLE_I8},
+    static const sample_name tab[] = {{"MET_UCHAR", GEOM_IMPLICIT_SAMPLE_U8},   {"MET_CHAR", GEOM_IMPLICIT_SAMPLE_I8},
                {"MET_USHORT", GEOM_IMPLICIT_SAMPLE_U16}, {"MET_SHORT", GEOM_IMPLICIT_SAMPLE_I16},
                {"MET_UINT", GEOM_IMPLICIT_SAMPLE_U32},   {"MET_INT", GEOM_IMPLICIT_SAMPLE_I32},
                {"MET_ULONG", GEOM_IMPLICIT_SAMPLE_U32},  {"MET_LONG", GEOM_IMPLICIT_SAMPLE_I32},
                {"MET_FLOAT", GEOM_IMPLICIT_SAMPLE_F32},  {"MET_DOUBLE", GEOM_IMPLICIT_SAMPLE_F64}};
-    for (size_t i = 0; i < sizeof tab / sizeof tab[0]; i++)
-        if (ieq(t, tab[i].n)) {
-            *s = tab[i].s;
-            return 0;
-        }
-    return -1;
+    return sample_lookup(tab, sizeof tab / sizeof tab[0], t, s);
 }
 
 static int met_bool(const char *v, int *out)
@@ -1082,11 +1106,8 @@ static int met_bool(const char *v, int *out)
 static geom_status read_metaimage(vf_ctx *c, geom_implicit_volume **out)
 {
     vf_lines Ls;
-    memset(&Ls, 0, sizeof Ls);
-    Ls.buf = c->buf;
-    Ls.size = c->size;
     vf_layout Lay;
-    layout_init(&Lay);
+    header_start(&Ls, c->buf, c->size, &Lay);
     int ndims = 0, have_type = 0, compressed = 0, have_dims = 0, have_matrix = 0;
     size_t dimsz[16];
     int ndimsz = 0;
@@ -1102,14 +1123,11 @@ static geom_status read_metaimage(vf_ctx *c, geom_implicit_volume **out)
         if (r == 0)
             break;
         if (ieq(key, "NDims")) {
-            size_t d;
-            if (parse_sizes(val, &d, 1) != 1 || d < 1 || d > 16)
-                return line_err(c, &Ls, "bad NDims", val);
-            ndims = (int)d;
+            if (parse_dims_field(c, &Ls, "bad NDims", val, NULL, &ndims) != GEOM_OK)
+                return GEOM_ERR_PARSE;
         } else if (ieq(key, "DimSize")) {
-            ndimsz = parse_sizes(val, dimsz, 16);
-            if (ndimsz < 1)
-                return line_err(c, &Ls, "bad DimSize", val);
+            if (parse_dims_field(c, &Ls, "bad DimSize", val, dimsz, &ndimsz) != GEOM_OK)
+                return GEOM_ERR_PARSE;
             have_dims = 1;
         } else if (ieq(key, "ElementType")) {
             if (met_type(val, &Lay.sample) != 0)
@@ -1170,10 +1188,9 @@ static geom_status read_metaimage(vf_ctx *c, geom_implicit_volume **out)
         return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, Ls.lineno, 0,
                              "MetaImage header lacks '%s'",
                              !have_type ? "ElementType" : !have_dims ? "DimSize" : "ElementDataFile");
-    if (ndims && ndimsz != ndims)
-        return geom__diag_set(c->diag, GEOM_ERR_PARSE, c->name, Ls.lineno, 0,
-                             "DimSize has %d values but NDims is %d", ndimsz, ndims);
-    geom_status st = take_dims(c, &Lay, dimsz, ndimsz, Ls.lineno);
+    geom_status st = check_dim_count(c, ndimsz, ndims, "DimSize", "NDims", Ls.lineno);
+    if (st == GEOM_OK)
+        st = take_dims(c, &Lay, dimsz, ndimsz, Ls.lineno);
     if (st != GEOM_OK)
         return st;
     for (int a = 0; a < 3; a++)
@@ -1254,11 +1271,8 @@ static geom_status read_inrimage(vf_ctx *c, geom_implicit_volume **out)
         hlen++;
     size_t hsize = (hlen + 255) / 256 * 256;
     vf_lines Ls;
-    memset(&Ls, 0, sizeof Ls);
-    Ls.buf = c->buf;
-    Ls.size = (size_t)(end - c->buf);
     vf_layout Lay;
-    layout_init(&Lay);
+    header_start(&Ls, c->buf, (size_t)(end - c->buf), &Lay);
     size_t dims[3] = {0, 0, 0};
     int kind = 0; /* 'u' unsigned fixed, 's' signed fixed, 'f' float */
     size_t bits = 0;
