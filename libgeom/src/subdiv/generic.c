@@ -48,6 +48,24 @@ static void stb_free(stb *s)
     s->w = NULL;
 }
 
+/* The stencil offsets (c->nv + 1) and vertex parents of level c: 0 when out
+ * of memory (butterfly and sqrt(3) alike). */
+static int stencils_alloc(const geom_allocator *a, sd_level *c)
+{
+    c->st_off = sd_calloc(a, (size_t)c->nv + 1, sizeof(uint32_t));
+    c->vparent = sd_calloc(a, c->nv, sizeof(uint32_t));
+    return c->st_off && c->vparent;
+}
+
+/* Start the stencil of child vertex cv, made from element i of the parent
+ * (`from`: GEOM_SUBDIV_FROM_FACE, _EDGE or _VERTEX). */
+static void stb_begin(stb *s, sd_level *c, uint32_t cv, uint32_t from, uint32_t i)
+{
+    c->st_off[cv] = (uint32_t)s->n;
+    s->start = s->n;
+    c->vparent[cv] = (from << 30) | i;
+}
+
 static void stb_push(stb *s, uint32_t i, double w)
 {
     if (s->failed)
@@ -254,21 +272,15 @@ static void butterfly_edge(const sd_level *p, uint32_t e, stb *b)
 geom_status sd_butterfly_stencils(const geom_allocator *a, const sd_level *p, sd_level *c)
 {
     stb b = {NULL, NULL, 0, 0, 0, a, 0};
-    c->st_off = sd_calloc(a, (size_t)c->nv + 1, sizeof(uint32_t));
-    c->vparent = sd_calloc(a, c->nv, sizeof(uint32_t));
-    if (!c->st_off || !c->vparent)
+    if (!stencils_alloc(a, c))
         return GEOM_ERR_NOMEM;
     for (uint32_t e = 0; e < p->ne; e++) {
-        c->st_off[e] = (uint32_t)b.n;
-        b.start = b.n;
+        stb_begin(&b, c, e, GEOM_SUBDIV_FROM_EDGE, e);
         butterfly_edge(p, e, &b);
-        c->vparent[e] = ((uint32_t)GEOM_SUBDIV_FROM_EDGE << 30) | e;
     }
     for (uint32_t v = 0; v < p->nv; v++) {
-        c->st_off[p->ne + v] = (uint32_t)b.n;
-        b.start = b.n;
+        stb_begin(&b, c, p->ne + v, GEOM_SUBDIV_FROM_VERTEX, v);
         stb_push(&b, v, 1.0);
-        c->vparent[p->ne + v] = ((uint32_t)GEOM_SUBDIV_FROM_VERTEX << 30) | v;
     }
     c->st_off[c->nv] = (uint32_t)b.n;
     geom_status st = b.n > INT32_MAX ? GEOM_ERR_LIMIT : stb_finish(&b, &c->st_idx, &c->st_w);
@@ -358,22 +370,15 @@ geom_status sd_refine_sqrt3(const geom_allocator *a, const sd_opts *o, const sd_
         c->fhole[f] = p->fhole[c->face_parent[f]];
     /* Vertex stencils: centroids, then relaxed vertices. */
     st = GEOM_ERR_NOMEM;
-    c->st_off = sd_calloc(a, (size_t)c->nv + 1, sizeof(uint32_t));
-    c->vparent = sd_calloc(a, c->nv, sizeof(uint32_t));
-    if (!c->st_off || !c->vparent)
+    if (!stencils_alloc(a, c))
         goto fail;
     for (uint32_t f = 0; f < p->nf; f++) {
-        c->st_off[f] = (uint32_t)b.n;
-        b.start = b.n;
+        stb_begin(&b, c, f, GEOM_SUBDIV_FROM_FACE, f);
         for (uint32_t j = 0; j < 3; j++)
             stb_push(&b, p->fv[3 * (size_t)f + j], 1.0 / 3.0);
-        c->vparent[f] = ((uint32_t)GEOM_SUBDIV_FROM_FACE << 30) | f;
     }
     for (uint32_t v = 0; v < p->nv; v++) {
-        uint32_t cv = p->nf + v;
-        c->st_off[cv] = (uint32_t)b.n;
-        b.start = b.n;
-        c->vparent[cv] = ((uint32_t)GEOM_SUBDIV_FROM_VERTEX << 30) | v;
+        stb_begin(&b, c, p->nf + v, GEOM_SUBDIV_FROM_VERTEX, v);
         uint32_t eo = p->ve_off[v], n = p->ve_off[v + 1] - eo;
         if (!interior_manifold(p, v)) {
             stb_push(&b, v, 1.0);

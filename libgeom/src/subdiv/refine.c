@@ -197,6 +197,23 @@ static void finish_counts(const sd_level *p, sd_level *c)
     c->depth = p->depth + 1;
 }
 
+/* The two child edges of each parent edge pe (CE0 + 2 pe + j, from the
+ * edge's midpoint vertex E0 + pe to the child of its end j, the vertices of
+ * level c numbered from V0), then the tags and sharpness (propagate):
+ * the same for both splits. */
+static void split_edges(const sd_opts *o, const sd_level *p, sd_level *c, uint32_t CE0,
+                        uint32_t E0, uint32_t V0, float *buf)
+{
+    for (uint32_t pe = 0; pe < p->ne; pe++) {
+        for (uint32_t j = 0; j < 2; j++) {
+            size_t ce = CE0 + 2 * (size_t)pe + j;
+            c->ev[2 * ce] = E0 + pe;
+            c->ev[2 * ce + 1] = V0 + p->ev[2 * (size_t)pe + j];
+        }
+    }
+    propagate(o, p, c, CE0, E0, V0, buf);
+}
+
 static geom_status refine_quad(const geom_allocator *a, const sd_opts *o, const sd_level *p,
                                sd_level *c, float *buf)
 {
@@ -250,32 +267,15 @@ static geom_status refine_quad(const geom_allocator *a, const sd_opts *o, const 
             c->ev[2 * (size_t)(off + j) + 1] = E0 + p->fe[off + j];
         }
     }
-    for (uint32_t pe = 0; pe < p->ne; pe++) {
-        for (uint32_t j = 0; j < 2; j++) {
-            size_t ce = CE0 + 2 * (size_t)pe + j;
-            c->ev[2 * ce] = E0 + pe;
-            c->ev[2 * ce + 1] = V0 + p->ev[2 * (size_t)pe + j];
-        }
-    }
-    propagate(o, p, c, CE0, E0, V0, buf);
+    split_edges(o, p, c, CE0, E0, V0, buf);
     return GEOM_OK;
 }
 
-static void quad_edge_faces(const sd_level *p, sd_level *c);
-static void quad_vertex_relations(const sd_level *p, sd_level *c);
-
-static void quad_relations(const sd_level *p, sd_level *c)
+/* The edge-face offsets of level c, for both splits: the CE0 interior
+ * child edges (inside a parent face) have two faces each, the two halves of
+ * a parent edge as many as the parent edge. */
+static void edge_face_offsets(const sd_level *p, sd_level *c, uint32_t CE0)
 {
-    if (c->ef)
-        quad_edge_faces(p, c);
-    quad_vertex_relations(p, c);
-    finish_counts(p, c);
-}
-
-/* Edge-faces. */
-static void quad_edge_faces(const sd_level *p, sd_level *c)
-{
-    const uint32_t CE0 = p->fv_off[p->nf];
     uint32_t k = 0;
     for (uint32_t ce = 0; ce < CE0; ce++) {
         c->ef_off[ce] = k;
@@ -288,6 +288,13 @@ static void quad_edge_faces(const sd_level *p, sd_level *c)
         k += PNEF(p, pe);
     }
     c->ef_off[c->ne] = k;
+}
+
+/* Edge-faces. */
+static void quad_edge_faces(const sd_level *p, sd_level *c)
+{
+    const uint32_t CE0 = p->fv_off[p->nf];
+    edge_face_offsets(p, c, CE0);
     for (uint32_t pf = 0; pf < p->nf; pf++) {
         uint32_t off = p->fv_off[pf], n = PNF(p, pf);
         for (uint32_t j = 0; j < n; j++) {
@@ -317,6 +324,22 @@ static void quad_edge_faces(const sd_level *p, sd_level *c)
     }
 }
 
+/* The vertex-face and vertex-edge offsets of the children of the parent's
+ * vertices (numbered from V0, the last of level c), which keep their
+ * parent's counts, after kf faces and ke edges of the other children. */
+static void vertex_child_offsets(const sd_level *p, sd_level *c, uint32_t V0, uint32_t kf,
+                                 uint32_t ke)
+{
+    for (uint32_t pv = 0; pv < p->nv; pv++) {
+        c->vf_off[V0 + pv] = kf;
+        c->ve_off[V0 + pv] = ke;
+        kf += p->vf_off[pv + 1] - p->vf_off[pv];
+        ke += p->ve_off[pv + 1] - p->ve_off[pv];
+    }
+    c->vf_off[c->nv] = kf;
+    c->ve_off[c->nv] = ke;
+}
+
 /* Vertex-faces and vertex-edges (vf, vf_loc and ve_loc when present). */
 static void quad_vertex_relations(const sd_level *p, sd_level *c)
 {
@@ -334,14 +357,7 @@ static void quad_vertex_relations(const sd_level *p, sd_level *c)
         kf += 2 * PNEF(p, pe);
         ke += PNEF(p, pe) + 2;
     }
-    for (uint32_t pv = 0; pv < p->nv; pv++) {
-        c->vf_off[V0 + pv] = kf;
-        c->ve_off[V0 + pv] = ke;
-        kf += p->vf_off[pv + 1] - p->vf_off[pv];
-        ke += p->ve_off[pv + 1] - p->ve_off[pv];
-    }
-    c->vf_off[c->nv] = kf;
-    c->ve_off[c->nv] = ke;
+    vertex_child_offsets(p, c, V0, kf, ke);
     for (uint32_t pf = 0; pf < p->nf; pf++) {
         uint32_t off = p->fv_off[pf], n = PNF(p, pf), af = c->vf_off[pf], ae = c->ve_off[pf];
         for (uint32_t j = 0; j < n; j++) {
@@ -447,44 +463,15 @@ static geom_status refine_tri(const geom_allocator *a, const sd_opts *o, const s
         c->ev[2 * (size_t)(fce + 1)] = ecv[1], c->ev[2 * (size_t)(fce + 1) + 1] = ecv[0];
         c->ev[2 * (size_t)(fce + 2)] = ecv[2], c->ev[2 * (size_t)(fce + 2) + 1] = ecv[1];
     }
-    for (uint32_t pe = 0; pe < p->ne; pe++) {
-        for (uint32_t j = 0; j < 2; j++) {
-            size_t ce = CE0 + 2 * (size_t)pe + j;
-            c->ev[2 * ce] = pe;
-            c->ev[2 * ce + 1] = V0 + p->ev[2 * (size_t)pe + j];
-        }
-    }
-    propagate(o, p, c, CE0, 0, V0, buf);
+    split_edges(o, p, c, CE0, 0, V0, buf);
     return GEOM_OK;
-}
-
-static void tri_edge_faces(const sd_level *p, sd_level *c);
-static void tri_vertex_relations(const sd_level *p, sd_level *c);
-
-static void tri_relations(const sd_level *p, sd_level *c)
-{
-    if (c->ef)
-        tri_edge_faces(p, c);
-    tri_vertex_relations(p, c);
-    finish_counts(p, c);
 }
 
 /* Edge-faces. */
 static void tri_edge_faces(const sd_level *p, sd_level *c)
 {
     const uint32_t CE0 = 3 * p->nf;
-    uint32_t k = 0;
-    for (uint32_t ce = 0; ce < CE0; ce++) {
-        c->ef_off[ce] = k;
-        k += 2;
-    }
-    for (uint32_t pe = 0; pe < p->ne; pe++) {
-        c->ef_off[CE0 + 2 * pe] = k;
-        k += PNEF(p, pe);
-        c->ef_off[CE0 + 2 * pe + 1] = k;
-        k += PNEF(p, pe);
-    }
-    c->ef_off[c->ne] = k;
+    edge_face_offsets(p, c, CE0);
     for (uint32_t pf = 0; pf < p->nf; pf++) {
         for (uint32_t j = 0; j < 3; j++) {
             uint32_t at = c->ef_off[3 * pf + j];
@@ -522,14 +509,7 @@ static void tri_vertex_relations(const sd_level *p, sd_level *c)
         kf += 3 * PNEF(p, pe);
         ke += 2 * PNEF(p, pe) + 2;
     }
-    for (uint32_t pv = 0; pv < p->nv; pv++) {
-        c->vf_off[V0 + pv] = kf;
-        c->ve_off[V0 + pv] = ke;
-        kf += p->vf_off[pv + 1] - p->vf_off[pv];
-        ke += p->ve_off[pv + 1] - p->ve_off[pv];
-    }
-    c->vf_off[c->nv] = kf;
-    c->ve_off[c->nv] = ke;
+    vertex_child_offsets(p, c, V0, kf, ke);
     for (uint32_t pe = 0; pe < p->ne; pe++) {
         uint32_t af = c->vf_off[pe], ae = c->ve_off[pe];
         const uint32_t *pev = p->ev + 2 * (size_t)pe;
@@ -589,10 +569,11 @@ geom_status sd_complete_level(const geom_allocator *a, const sd_opts *o, const s
     geom_status st = alloc_relations(a, o, c, mode);
     if (st != GEOM_OK)
         return st;
-    if (sd_quad_split(o))
-        quad_relations(p, c);
-    else
-        tri_relations(p, c);
+    int quad = sd_quad_split(o);
+    if (c->ef)
+        (quad ? quad_edge_faces : tri_edge_faces)(p, c);
+    (quad ? quad_vertex_relations : tri_vertex_relations)(p, c);
+    finish_counts(p, c);
     c->complete = mode;
     return GEOM_OK;
 }
