@@ -314,14 +314,22 @@ geom_status geom_parse_double(const char *s, const char *end, double *out, const
     }
 
     /* significand: the first 19 significant digits in w; value is
-     * (all significant digits) * 10^(dexp + exponent) */
-    const char *mstart = p;
+     * (all significant digits) * 10^(dexp + exponent). One pass over the
+     * integer and the fraction digits, which accumulate alike; dexp counts
+     * the digits after the point. */
+    const char *mstart = p, *dot = NULL;
     uint64_t w = 0;
-    int64_t nd = 0, dexp = 0;
-    int any = 0, cut_nonzero = 0;
-    while (p < end && is_digit(*p)) {
+    int64_t nd = 0;
+    int cut_nonzero = 0;
+    for (; p < end; p++) {
         unsigned d = (unsigned)(*p - '0');
-        any = 1;
+        if (d > 9) {
+            if (*p == '.' && !dot) {
+                dot = p;
+                continue;
+            }
+            break;
+        }
         if (nd < 19) {
             if (nd || d) {
                 w = w * 10 + d;
@@ -331,28 +339,11 @@ geom_status geom_parse_double(const char *s, const char *end, double *out, const
             nd++;
             cut_nonzero |= d != 0;
         }
-        p++;
     }
-    if (p < end && *p == '.') {
-        const char *dot = p++;
-        while (p < end && is_digit(*p)) {
-            unsigned d = (unsigned)(*p - '0');
-            any = 1;
-            dexp--;
-            if (nd < 19) {
-                if (nd || d) {
-                    w = w * 10 + d;
-                    nd++;
-                }
-            } else {
-                nd++;
-                cut_nonzero |= d != 0;
-            }
-            p++;
-        }
-        if (!any)
-            p = dot;
-    }
+    int64_t dexp = dot ? -(int64_t)(p - dot - 1) : 0;
+    int any = p - mstart > (dot != NULL); /* a digit, not only a point */
+    if (!any && dot)
+        p = dot;
     if (!any)
         return GEOM_ERR_PARSE;
     const char *mend = p;
