@@ -577,6 +577,23 @@ static geom_status tess_iso(const geom_shape *s, const geom_tess_request *rq, ge
     return st;
 }
 
+/* m as a polygon soup (geom_mesh_to_soup) in arrays allocated here:
+ * *sizes (nf + 1 entries, nf >= m's live faces) and *idx (*ni + 1); both
+ * are allocated (or NULL) whatever the status: free them with those sizes. */
+static geom_status mesh_soup(const geom_mesh *m, size_t nf, uint32_t **sizes, uint32_t **idx,
+                             size_t *ni)
+{
+    *ni = 0;
+    geom_status st = geom_mesh_to_soup(m, NULL, NULL, ni);
+    *sizes = geom__alloc(NULL, (nf + 1) * sizeof(uint32_t));
+    *idx = geom__alloc(NULL, (*ni + 1) * sizeof(uint32_t));
+    if (!*sizes || !*idx)
+        st = GEOM_ERR_NOMEM;
+    if (st == GEOM_OK)
+        st = geom_mesh_to_soup(m, *sizes, *idx, ni);
+    return st;
+}
+
 static geom_status tess_subdiv(const geom_shape *s, const geom_tess_request *rq, geom_mesh *out,
                                geom_tess_info *info, geom_diag *diag)
 {
@@ -608,13 +625,8 @@ static geom_status tess_subdiv(const geom_shape *s, const geom_tess_request *rq,
     /* move the result into out */
     geom_mesh_clear(out);
     size_t nf = geom_mesh_n_faces(res), ni = 0;
-    st = geom_mesh_to_soup(res, NULL, NULL, &ni);
-    uint32_t *sizes = geom__alloc(NULL, (nf + 1) * sizeof(uint32_t));
-    uint32_t *idx = geom__alloc(NULL, (ni + 1) * sizeof(uint32_t));
-    if (!sizes || !idx)
-        st = GEOM_ERR_NOMEM;
-    if (st == GEOM_OK)
-        st = geom_mesh_to_soup(res, sizes, idx, &ni);
+    uint32_t *sizes, *idx;
+    st = mesh_soup(res, nf, &sizes, &idx, &ni);
     if (st == GEOM_OK) {
         geom_mesh_build_options bo;
         memset(&bo, 0, sizeof bo);
@@ -818,13 +830,8 @@ geom_status geom_scene_tessellate(const geom_shape *s, const geom_tess_request *
                 /* replace out's contents: swap through a soup-free copy */
                 geom_mesh_clear(out);
                 size_t ni = 0, nf = geom_mesh_n_live_faces(c);
-                st = geom_mesh_to_soup(c, NULL, NULL, &ni);
-                uint32_t *sz = geom__alloc(NULL, (nf + 1) * sizeof(uint32_t));
-                uint32_t *ix = geom__alloc(NULL, (ni + 1) * sizeof(uint32_t));
-                if (!sz || !ix)
-                    st = GEOM_ERR_NOMEM;
-                if (st == GEOM_OK)
-                    st = geom_mesh_to_soup(c, sz, ix, &ni);
+                uint32_t *sz, *ix;
+                st = mesh_soup(c, nf, &sz, &ix, &ni);
                 /* the attribute channels the renderers read travel along:
                  * VERTEX values as they are, CORNER values in the soup's
                  * corner order (h = face_he, next, ...: the corner at

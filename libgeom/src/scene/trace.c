@@ -178,6 +178,29 @@ static double luminance(geom_vec3 c)
     return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
 }
 
+/* A pixel's samples so far: the colour sum, the luminance sum and sum of
+ * squares (for the standard error of the mean), and their count. */
+typedef struct px_sum {
+    geom_vec3 sum;
+    double lsum, lsq;
+    uint32_t n;
+} px_sum;
+
+/* One primary sample through image position (x, y), traced and added to s
+ * (both sampling passes). */
+static void take_sample(tctx *c, const geom__scene_cam *kc, double x, double y, px_sum *s)
+{
+    geom_ray r;
+    geom__scene_cam_ray(kc, x, y, &r);
+    c->rep->primary_rays++;
+    geom_vec3 col = trace(c, &r, 0, 1.0, NULL);
+    double l = luminance(col);
+    s->sum = geom_vec3_add(s->sum, col);
+    s->lsum += l;
+    s->lsq += l * l;
+    s->n++;
+}
+
 geom_status geom__scene_trace(const geom__tracer *tr, const geom_camera *cam_in,
                               const geom_light *lights, size_t n_lights,
                               const geom_material *materials, size_t n_materials,
@@ -265,9 +288,7 @@ geom_status geom__scene_trace(const geom__tracer *tr, const geom_camera *cam_in,
                 continue;
             }
             uint64_t seed = cam.seed ^ mix64(((uint64_t)j << 32) | i);
-            geom_vec3 sum = {0, 0, 0};
-            double lsum = 0, lsq = 0;
-            uint32_t n = 0;
+            px_sum ps = {{0, 0, 0}, 0, 0, 0};
             /* first pass: k x k grid (regular: centres; jittered/adaptive: random in each stratum) */
             for (uint32_t b = 0; b < k; b++)
                 for (uint32_t a2 = 0; a2 < k; a2++) {
@@ -276,20 +297,14 @@ geom_status geom__scene_trace(const geom__tracer *tr, const geom_camera *cam_in,
                         ox = rnd(&seed);
                         oy = rnd(&seed);
                     }
-                    geom_ray r;
-                    geom__scene_cam_ray(&kc, i + (a2 + ox) / k, j + (b + oy) / k, &r);
-                    rep.primary_rays++;
-                    geom_vec3 col = trace(&c, &r, 0, 1.0, NULL);
-                    double l = luminance(col);
-                    sum = geom_vec3_add(sum, col);
-                    lsum += l;
-                    lsq += l * l;
-                    n++;
+                    take_sample(&c, &kc, i + (a2 + ox) / k, j + (b + oy) / k, &ps);
                 }
             /* adaptive: batches of 4 stratified samples while the standard
              * error of the mean exceeds the tolerance */
             for (;;) {
                 double stderr_ = 0;
+                uint32_t n = ps.n;
+                double lsum = ps.lsum, lsq = ps.lsq;
                 if (n > 1) {
                     double mean = lsum / n, var = (lsq - n * mean * mean) / (n - 1);
                     stderr_ = var > 0 ? sqrt(var / n) : 0;
@@ -301,23 +316,16 @@ geom_status geom__scene_trace(const geom__tracer *tr, const geom_camera *cam_in,
                 }
                 for (uint32_t q = 0; q < 4; q++) {
                     double ox = ((q & 1) + rnd(&seed)) / 2, oy = ((q >> 1) + rnd(&seed)) / 2;
-                    geom_ray r;
-                    geom__scene_cam_ray(&kc, i + ox, j + oy, &r);
-                    rep.primary_rays++;
-                    geom_vec3 col = trace(&c, &r, 0, 1.0, NULL);
-                    double l = luminance(col);
-                    sum = geom_vec3_add(sum, col);
-                    lsum += l;
-                    lsq += l * l;
-                    n++;
+                    take_sample(&c, &kc, i + ox, j + oy, &ps);
                 }
             }
+            uint32_t n = ps.n;
             total += n;
             if (n > rep.max_samples_per_pixel)
                 rep.max_samples_per_pixel = n;
-            px[0] = sum.x / n;
-            px[1] = sum.y / n;
-            px[2] = sum.z / n;
+            px[0] = ps.sum.x / n;
+            px[1] = ps.sum.y / n;
+            px[2] = ps.sum.z / n;
         }
     }
     if (c.opt.progress)
