@@ -9,6 +9,7 @@
 
 #include "core/internal.h"
 
+#include <math.h>
 #include <stddef.h>
 
 /* ------------------------------------------------------------------ scratch */
@@ -168,9 +169,10 @@ geom_status geom__bs_param(int p, size_t n, const double *U, double u, int wrap,
 /* ------------------------------------------------------------- binomials */
 
 /** The binomial coefficient C(n, k) as a double (0 for k < 0 or k > n),
- *  by the product C(n-k+i, i) = C(n-k+i-1, i-1) * (n-k+i) / i. Not rounded:
- *  past 2^53 intermediate products round, so callers that want an integer
- *  round themselves. */
+ *  by the product C(n-k+i, i) = C(n-k+i-1, i-1) * (n-k+i) / i, rounded to
+ *  the nearest integer: exact while the products stay below 2^53 (every
+ *  step is then an exact integer), an integer past that (where intermediate
+ *  products round). Curves and surfaces alike. */
 static inline double geom__binom(long n, long k)
 {
     if (k < 0 || k > n)
@@ -180,7 +182,7 @@ static inline double geom__binom(long n, long k)
     double b = 1.0;
     for (long i = 1; i <= k; ++i)
         b = b * (double)(n - k + i) / (double)i;
-    return b;
+    return nearbyint(b);
 }
 
 #endif

@@ -15,11 +15,6 @@ geom_status geom__surface_check_cheap(const geom_nurbs_surface *s)
     return GEOM_OK;
 }
 
-double geom__surface_binom(int n, int k)
-{
-    return nearbyint(geom__binom(n, k));
-}
-
 /* Knot rules of one direction, through the curve validator (dimension 1,
  * its points only need to be finite: the surface's first n coordinates). */
 static geom_status check_knots(const char *what, int p, size_t n, const double *U,
@@ -252,18 +247,18 @@ void geom__surface_span_derivs(const geom_nurbs_surface *s, size_t ku, size_t kv
                 for (int c = 0; c < 3; ++c)
                     vv[c] = H[4 * ((size_t)k * d1 + (size_t)l) + (size_t)c];
                 for (int j = 1; j <= l; ++j) {
-                    double b = (j == 1 ? (double)l : geom__surface_binom(l, j)) * HW(0, j);
+                    double b = (j == 1 ? (double)l : geom__binom(l, j)) * HW(0, j);
                     for (int c = 0; c < 3; ++c)
                         vv[c] -= b * SK(k, l - j, c);
                 }
                 for (int i = 1; i <= k; ++i) {
-                    double bi = i == 1 ? (double)k : geom__surface_binom(k, i);
+                    double bi = i == 1 ? (double)k : geom__binom(k, i);
                     double b = bi * HW(i, 0);
                     for (int c = 0; c < 3; ++c)
                         vv[c] -= b * SK(k - i, l, c);
                     double v2[3] = {0.0, 0.0, 0.0};
                     for (int j = 1; j <= l; ++j) {
-                        double bj = (j == 1 ? (double)l : geom__surface_binom(l, j)) * HW(i, j);
+                        double bj = (j == 1 ? (double)l : geom__binom(l, j)) * HW(i, j);
                         for (int c = 0; c < 3; ++c)
                             v2[c] += bj * SK(k - i, l - j, c);
                     }

@@ -108,7 +108,7 @@ static void ray_coeffs(const double *D, int a, int b, double nfu, double nfv, do
         for (int i = 0; i <= r; ++i) {
             double ca = (i == 0 ? 1.0 : (a == 0 ? 0.0 : pow((double)a, i)));
             double cb = (r - i == 0 ? 1.0 : (b == 0 ? 0.0 : pow((double)b, r - i)));
-            double c = geom__surface_binom(r, i) * ca * cb;
+            double c = geom__binom(r, i) * ca * cb;
             if (c == 0.0)
                 continue;
             const double *Du = D + 3 * ((size_t)(1 + i) * d1 + (size_t)(r - i));

@@ -63,10 +63,6 @@ size_t geom__surface_normal_work(const geom_nurbs_surface *s);
 int geom__surface_span_normal(const geom_nurbs_surface *s, size_t ku, size_t kv, double u, double v,
                              int su, int sv, double n[3], double tangent[3], double *work);
 
-/** Binomial coefficient as a double (exact up to 2^53): geom__binom rounded
- *  to the nearest integer. */
-double geom__surface_binom(int n, int k);
-
 /* The surface module's per-patch triangle estimate (tess_estimate.c),
  * shared with the STEP faces' (step/estimate.c): fn gives |S_uu|, |S_uv|,
  * |S_vv| at (u, v) (returns 0 where undefined); the triangles a flat
