@@ -127,9 +127,11 @@ geom_status geom__curve_check_knot_op(const geom_nurbs_curve *c, const double *k
 geom_status geom__curve_prepare_param(const geom_nurbs_curve *c, double u, unsigned flags,
                                      double *u_eval, int *left);
 
-/** The same for a bare knot vector (degree p, n control points). */
-geom_status geom__curve_prepare_param_knots(int p, size_t n, const double *U, double u,
-                                           unsigned flags, double *u_eval, int *left);
+/** The same for a bare knot vector (degree p, n control points), then the
+ *  knot span of *u_eval (with the left limit where asked) in *span: the
+ *  first step of every single-parameter evaluation. */
+geom_status geom__curve_locate_knots(int p, size_t n, const double *U, double u, unsigned flags,
+                                     double *u_eval, size_t *span);
 
 /**
  * Homogeneous derivatives 0..nd at u in span k: out[j*D + d] (D = hdim).

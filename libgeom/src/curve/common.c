@@ -29,10 +29,14 @@ static geom_status prepare(int p, size_t n, const double *U, double u, unsigned 
                           (flags & GEOM_CURVE_LEFT_LIMIT) != 0, u_eval, left);
 }
 
-geom_status geom__curve_prepare_param_knots(int p, size_t n, const double *U, double u,
-                                           unsigned flags, double *u_eval, int *left)
+geom_status geom__curve_locate_knots(int p, size_t n, const double *U, double u, unsigned flags,
+                                     double *u_eval, size_t *span)
 {
-    return prepare(p, n, U, u, flags, u_eval, left);
+    int left;
+    geom_status st = prepare(p, n, U, u, flags, u_eval, &left);
+    if (st == GEOM_OK)
+        *span = geom__bs_span(p, n, U, *u_eval, left);
+    return st;
 }
 
 geom_status geom__curve_prepare_param(const geom_nurbs_curve *c, double u, unsigned flags,

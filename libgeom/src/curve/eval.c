@@ -57,11 +57,10 @@ geom_status geom_curve_nurbs_eval(const geom_nurbs_curve *c, double u, unsigned 
     if (st != GEOM_OK || !out)
         return GEOM_ERR_INVALID_ARG;
     double ue;
-    int left;
-    st = geom__curve_prepare_param(c, u, flags, &ue, &left);
+    size_t k;
+    st = geom__curve_locate_knots(c->degree, c->n, c->knots, u, flags, &ue, &k);
     if (st != GEOM_OK)
         return st;
-    size_t k = geom__bs_span(c->degree, c->n, c->knots, ue, left);
     size_t q = (size_t)c->degree + 1;
     geom__scratch s;
     st = geom__scratch_init(&s, q + geom__bs_basis_work(c->degree));
@@ -114,11 +113,10 @@ geom_status geom_curve_nurbs_derivs(const geom_nurbs_curve *c, double u, int nde
     if (nderiv > 4096)
         return GEOM_ERR_LIMIT;
     double ue;
-    int left;
-    st = geom__curve_prepare_param(c, u, flags, &ue, &left);
+    size_t k;
+    st = geom__curve_locate_knots(c->degree, c->n, c->knots, u, flags, &ue, &k);
     if (st != GEOM_OK)
         return st;
-    size_t k = geom__bs_span(c->degree, c->n, c->knots, ue, left);
     geom__scratch s;
     st = geom__scratch_init(&s, geom__curve_span_derivs_work(c, nderiv));
     if (st == GEOM_OK)
