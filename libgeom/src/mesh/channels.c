@@ -172,6 +172,40 @@ geom_status geom_mesh_corner_pool_resize(geom_mesh *m, uint32_t id, size_t n)
     return GEOM_OK;
 }
 
+geom_status geom__mesh_corner_channel_store(geom_mesh *m, const char *name, size_t ncomp,
+                                            const double *values, size_t npool,
+                                            const uint32_t *indices, uint32_t *id)
+{
+    geom_status st;
+    uint32_t cid = geom_mesh_channel_find(m, name, GEOM_MESH_DOMAIN_CORNER);
+    if (cid != GEOM_INVALID_INDEX && geom_mesh_channel_ncomp(m, cid) != ncomp) {
+        st = geom_mesh_channel_remove(m, cid);
+        if (st != GEOM_OK)
+            return st;
+        cid = GEOM_INVALID_INDEX;
+    }
+    if (cid == GEOM_INVALID_INDEX) {
+        st = geom_mesh_channel_add(m, name, GEOM_MESH_DOMAIN_CORNER, ncomp, &cid);
+        if (st != GEOM_OK)
+            return st;
+    }
+    st = geom_mesh_corner_pool_resize(m, cid, npool);
+    if (st != GEOM_OK)
+        return st;
+    double *data = geom_mesh_channel_data(m, cid);
+    uint32_t *ix = geom_mesh_corner_indices(m, cid);
+    size_t nh = m->nh;
+    if ((npool && !data) || (nh && !ix))
+        return GEOM_ERR_INVALID_ARG;
+    if (npool)
+        memcpy(data, values, npool * ncomp * sizeof(double));
+    if (nh)
+        memcpy(ix, indices, nh * sizeof(uint32_t));
+    if (id)
+        *id = cid;
+    return GEOM_OK;
+}
+
 uint32_t *geom_mesh_corner_indices(geom_mesh *m, uint32_t id)
 {
     return CHOK(m, id) ? m->channels[id].corner : NULL;

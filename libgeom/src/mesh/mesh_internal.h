@@ -217,6 +217,15 @@ void geom__mesh_channel_free(geom_mesh *m, geom__mesh_channel *c);
 /* Grow a CORNER channel's pool capacity to at least n values (no zeroing). */
 geom_status geom__mesh_pool_reserve(geom_mesh *m, geom__mesh_channel *c, size_t n);
 
+/* Store a computed corner channel `name` of ncomp components: a channel of
+ * that name with another width is replaced, the pool becomes the npool
+ * values at `values` (npool*ncomp doubles) and the per-halfedge indices
+ * the m->nh at `indices`; *id (NULL allowed) gets the channel. The last
+ * step of geom_mesh_corner_normals and geom_mesh_tangents. */
+geom_status geom__mesh_corner_channel_store(geom_mesh *m, const char *name, size_t ncomp,
+                                            const double *values, size_t npool,
+                                            const uint32_t *indices, uint32_t *id);
+
 /* ---------------------------------------------------------- meta.c */
 
 void geom__mesh_meta_free(geom_mesh *m);

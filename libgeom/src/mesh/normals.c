@@ -210,6 +210,18 @@ static int poly_area_vector(const geom_mesh *m, uint32_t f, double g, double n[3
     return 1;
 }
 
+/* n normalised into out: GEOM_ERR_DEGENERATE (out left as it is) when n
+ * cannot be normalised. The tail of the face-normal functions. */
+static geom_status unit_normal_out(double n[3], double out[3])
+{
+    if (!normalize3(n))
+        return GEOM_ERR_DEGENERATE;
+    out[0] = n[0];
+    out[1] = n[1];
+    out[2] = n[2];
+    return GEOM_OK;
+}
+
 /* geom_mesh_face_normal of a triangle face whose cycle from f_he visits
  * v[0], v[1], v[2] (the same operations in the same order as face_scale,
  * poly_area_vector and normalize3 on that face, so the same bits), for
@@ -236,12 +248,7 @@ geom_status geom__mesh_triangle_normal(const double *const v[3], double out[3])
     double n2 = dot3(n, n);
     if (!finite || zero_edge || !isfinite(n2) || !isfinite(L2) || n2 <= DEGEN2 * L2 * L2)
         return GEOM_ERR_DEGENERATE;
-    if (!normalize3(n))
-        return GEOM_ERR_DEGENERATE;
-    out[0] = n[0];
-    out[1] = n[1];
-    out[2] = n[2];
-    return GEOM_OK;
+    return unit_normal_out(n, out);
 }
 
 geom_status geom_mesh_face_normal(const geom_mesh *m, uint32_t f, double out[3])
@@ -253,12 +260,7 @@ geom_status geom_mesh_face_normal(const geom_mesh *m, uint32_t f, double out[3])
     double n[3];
     if (!poly_area_vector(m, f, face_scale(m, f), n, NULL))
         return GEOM_ERR_DEGENERATE;
-    if (!normalize3(n))
-        return GEOM_ERR_DEGENERATE;
-    out[0] = n[0];
-    out[1] = n[1];
-    out[2] = n[2];
-    return GEOM_OK;
+    return unit_normal_out(n, out);
 }
 
 /* ------------------------------------------------- corner contributions */
@@ -807,35 +809,7 @@ geom_status geom_mesh_corner_normals(geom_mesh *m, const geom_corner_normal_opti
     }
     /* contrib[0 .. 3*nfans) now holds the fan normals (nfans <= nh). */
 
-    {
-        uint32_t cid = geom_mesh_channel_find(m, "normal", GEOM_MESH_DOMAIN_CORNER);
-        if (cid != INV && geom_mesh_channel_ncomp(m, cid) != 3) {
-            st = geom_mesh_channel_remove(m, cid);
-            if (st != GEOM_OK)
-                goto done;
-            cid = INV;
-        }
-        if (cid == INV) {
-            st = geom_mesh_channel_add(m, "normal", GEOM_MESH_DOMAIN_CORNER, 3, &cid);
-            if (st != GEOM_OK)
-                goto done;
-        }
-        st = geom_mesh_corner_pool_resize(m, cid, nfans);
-        if (st != GEOM_OK)
-            goto done;
-        double *data = geom_mesh_channel_data(m, cid);
-        uint32_t *ix = geom_mesh_corner_indices(m, cid);
-        if ((nfans && !data) || (nh && !ix)) {
-            st = GEOM_ERR_INVALID_ARG;
-            goto done;
-        }
-        if (nfans)
-            memcpy(data, contrib, nfans * 3 * sizeof(double));
-        if (nh)
-            memcpy(ix, cidx, nh * sizeof(uint32_t));
-        if (id)
-            *id = cid;
-    }
+    st = geom__mesh_corner_channel_store(m, "normal", 3, contrib, nfans, cidx, id);
 
 done:
     geom__free(al, contrib, (nh ? nh : 1) * 3 * sizeof(double));

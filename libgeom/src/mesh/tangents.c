@@ -599,34 +599,8 @@ static geom_status tan_frames(tan_work *W)
 /* Phase 7: the "tangent" corner channel (4 components) from the pool. */
 static geom_status tan_store(tan_work *W, uint32_t *id)
 {
-    geom_mesh *m = W->m;
-    geom_status st;
-    uint32_t tid = geom_mesh_channel_find(m, "tangent", GEOM_MESH_DOMAIN_CORNER);
-    if (tid != INV && geom_mesh_channel_ncomp(m, tid) != 4) {
-        st = geom_mesh_channel_remove(m, tid);
-        if (st != GEOM_OK)
-            return st;
-        tid = INV;
-    }
-    if (tid == INV) {
-        st = geom_mesh_channel_add(m, "tangent", GEOM_MESH_DOMAIN_CORNER, 4, &tid);
-        if (st != GEOM_OK)
-            return st;
-    }
-    st = geom_mesh_corner_pool_resize(m, tid, W->npool);
-    if (st != GEOM_OK)
-        return st;
-    double *d = geom_mesh_channel_data(m, tid);
-    uint32_t *ix = geom_mesh_corner_indices(m, tid);
-    if ((W->npool && !d) || (W->nh && !ix))
-        return GEOM_ERR_INVALID_ARG;
-    if (W->npool)
-        memcpy(d, W->pool, W->npool * 4 * sizeof(double));
-    if (W->nh)
-        memcpy(ix, W->corner_out, W->nh * sizeof(uint32_t));
-    if (id)
-        *id = tid;
-    return GEOM_OK;
+    return geom__mesh_corner_channel_store(W->m, "tangent", 4, W->pool, W->npool, W->corner_out,
+                                           id);
 }
 
 static void tan_free(tan_work *W)

@@ -239,6 +239,25 @@ static int add_diag(sw *s, uint32_t a, uint32_t b)
     return 1;
 }
 
+/* De Berg et al.'s fix-up: when the helper of edge e is a merge vertex, the
+ * diagonal from v to it. 0 when the diagonal cannot be added. */
+static int fix_up(sw *s, uint32_t v, uint32_t e)
+{
+    return !s->merge[s->helper[e]] || add_diag(s, v, s->helper[e]);
+}
+
+/* The edge directly left of v, fixed up, gets v as its helper (merge
+ * vertices, and regular ones with the interior to their left). 0 on
+ * inconsistency. */
+static int left_helper(sw *s, uint32_t v)
+{
+    uint32_t ej = t_left_of(s, v);
+    if (ej == NIL || !fix_up(s, v, ej))
+        return 0;
+    s->helper[ej] = v;
+    return 1;
+}
+
 /* Steps 3: the diagonals of the monotone decomposition; 0 on inconsistency. */
 static int make_monotone(sw *s, const uint32_t *order)
 {
@@ -265,32 +284,23 @@ static int make_monotone(sw *s, const uint32_t *order)
             double o = ori(s, p, v, q);
             if (o == 0.0 || !s->in_t[p])
                 return 0;
-            if (s->merge[s->helper[p]] && !add_diag(s, v, s->helper[p]))
+            if (!fix_up(s, v, p))
                 return 0;
             t_delete(s, p);
             if (o < 0.0) { /* merge */
                 s->merge[v] = 1;
-                uint32_t ej = t_left_of(s, v);
-                if (ej == NIL)
+                if (!left_helper(s, v))
                     return 0;
-                if (s->merge[s->helper[ej]] && !add_diag(s, v, s->helper[ej]))
-                    return 0;
-                s->helper[ej] = v;
             }
         } else if (pa) { /* regular, interior to the right: edge p ends, edge v starts */
             if (!s->in_t[p])
                 return 0;
-            if (s->merge[s->helper[p]] && !add_diag(s, v, s->helper[p]))
+            if (!fix_up(s, v, p))
                 return 0;
             t_replace(s, p, v);
             s->helper[v] = v;
-        } else { /* regular, interior to the left */
-            uint32_t ej = t_left_of(s, v);
-            if (ej == NIL)
-                return 0;
-            if (s->merge[s->helper[ej]] && !add_diag(s, v, s->helper[ej]))
-                return 0;
-            s->helper[ej] = v;
+        } else if (!left_helper(s, v)) { /* regular, interior to the left */
+            return 0;
         }
     }
     return s->root == NIL;
