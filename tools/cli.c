@@ -108,6 +108,16 @@ int cli_operands(const cli_tool *tool, int argc, char **argv, int first, int min
     return CLI_CONTINUE;
 }
 
+int cli_positive_option(const cli_tool *tool, const char *name, const char *arg, double *out)
+{
+    char *end;
+    double v = strtod(arg, &end);
+    if (*end || !(v > 0) || !isfinite(v))
+        return cli_usage_error(tool, "%s: expected a number > 0, not '%s'", name, arg);
+    *out = v;
+    return CLI_CONTINUE;
+}
+
 int cli_parse_args(const cli_tool *tool, int argc, char **argv, const char *shortopts,
                    const struct option *longopts, cli_option_fn on_option, void *user,
                    cli_common *common, int *first_operand)

@@ -142,6 +142,13 @@ int cli_parse_args(const cli_tool *tool, int argc, char **argv, const char *shor
  */
 int cli_operands(const cli_tool *tool, int argc, char **argv, int first, int min, int max);
 
+/**
+ * The value of an option that takes a finite number > 0 (geom-render's and
+ * geom-scene's --tol and --pixel-error): *out and CLI_CONTINUE, else the
+ * usage error "NAME: expected a number > 0, not 'ARG'" (CLI_EXIT_USAGE).
+ */
+int cli_positive_option(const cli_tool *tool, const char *name, const char *arg, double *out);
+
 /** Print the full --help text of `tool` to fp. */
 void cli_print_usage(const cli_tool *tool, FILE *fp);
 
@@ -378,6 +385,11 @@ geom_status cli_bunzip2(void *user, const void *in, size_t in_size, void *out, s
 
 /** Whether cli_bunzip2 works (the build found libbz2, Debian libbz2-dev). */
 bool cli_have_bunzip2(void);
+
+/** What cli_inflate and cli_bunzip2 are when their library was not found:
+ *  *out_size = 0 and GEOM_ERR_PARSE, whatever the input (cli_inflate.c). */
+geom_status cli_decompress_missing(void *user, const void *in, size_t in_size, void *out,
+                                   size_t out_cap, size_t *out_size);
 
 /* ------------------------------------------------------------------- limits */
 

@@ -81,13 +81,7 @@ bool cli_have_bunzip2(void)
 geom_status cli_bunzip2(void *user, const void *in, size_t in_size, void *out, size_t out_cap,
                         size_t *out_size)
 {
-    (void)user;
-    (void)in;
-    (void)in_size;
-    (void)out;
-    (void)out_cap;
-    *out_size = 0;
-    return GEOM_ERR_PARSE;
+    return cli_decompress_missing(user, in, in_size, out, out_cap, out_size);
 }
 
 bool cli_have_bunzip2(void)

@@ -279,6 +279,29 @@ int cli_mesh_output(const cli_tool *t, const cli_common *common, const char *wha
     return CLI_CONTINUE;
 }
 
+geom_status cli_mesh_read_input(const char *path, geom_meshio_format fmt, bool skip_invalid,
+                                geom_mesh **m, geom_mesh_build_report *report,
+                                geom_meshio_read_stats *stats, char **name, geom_diag *diag)
+{
+    *m = NULL;
+    geom_file file;
+    geom_status st = cli_read_input(path, &file, name, diag);
+    if (st != GEOM_OK)
+        return st;
+    geom_meshio_read_options ro;
+    memset(&ro, 0, sizeof ro);
+    ro.format = fmt;
+    ro.build.skip_invalid_faces = skip_invalid;
+    ro.stats = stats;
+    st = geom_meshio_read_file(&file, *name, &ro, m, report, diag);
+    geom_file_unmap(&file);
+    if (st != GEOM_OK) {
+        free(*name);
+        *name = NULL;
+    }
+    return st;
+}
+
 int cli_mesh_open(const cli_tool *t, int argc, char **argv, int first, const cli_common *common,
                   geom_meshio_format in_fmt, geom_meshio_format *out_fmt, const char **out_path,
                   geom_mesh **m)

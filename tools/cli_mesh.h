@@ -124,6 +124,19 @@ int cli_mesh_output(const cli_tool *t, const cli_common *common, const char *wha
                     geom_meshio_format *fmt, const char **path);
 
 /**
+ * The mesh in the input `path` (NULL or "-": standard input, through
+ * cli_read_input) read in format fmt, invalid faces skipped when
+ * skip_invalid, with the build report and the reader's statistics: the
+ * reading of a tool that reports on the input itself (geom-info,
+ * geom-convert). On success *m (destroy it) and *name (the input's name for
+ * messages: free it); on failure nothing to release and the diagnostic in
+ * diag.
+ */
+geom_status cli_mesh_read_input(const char *path, geom_meshio_format fmt, bool skip_invalid,
+                                geom_mesh **m, geom_mesh_build_report *report,
+                                geom_meshio_read_stats *stats, char **name, geom_diag *diag);
+
+/**
  * The rest of the prologue of a tool that reads one mesh and writes one,
  * after cli_parse_args: exactly one operand (cli_operands), the output
  * (cli_mesh_output, what "mesh"), then the mesh in argv[first] read with

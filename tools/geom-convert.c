@@ -188,25 +188,14 @@ int main(int argc, char **argv)
 
     geom_diag diag;
     geom_diag_clear(&diag);
-    geom_file file;
     char *name;
-    geom_status st = cli_read_input(in_path, &file, &name, &diag);
+    geom_meshio_read_stats stats;
+    geom_mesh *m;
+    geom_mesh_build_report report;
+    geom_status st = cli_mesh_read_input(in_path, co.in_format, co.skip_invalid, &m, &report,
+                                         &stats, &name, &diag);
     if (st != GEOM_OK)
         return cli_print_diag(&tool, &diag);
-    geom_meshio_read_stats stats;
-    geom_meshio_read_options ro;
-    memset(&ro, 0, sizeof ro);
-    ro.format = co.in_format;
-    ro.build.skip_invalid_faces = co.skip_invalid;
-    ro.stats = &stats;
-    geom_mesh *m = NULL;
-    geom_mesh_build_report report;
-    st = geom_meshio_read_file(&file, name, &ro, &m, &report, &diag);
-    geom_file_unmap(&file);
-    if (st != GEOM_OK) {
-        free(name);
-        return cli_print_diag(&tool, &diag);
-    }
     report_repairs(name, &report, &stats);
     if (cli_mesh_empty_warning(m))
         fprintf(stderr, "%s: %s: warning: %s\n", tool.name, name, cli_mesh_empty_warning(m));

@@ -195,26 +195,14 @@ int main(int argc, char **argv)
 
     geom_diag diag;
     geom_diag_clear(&diag);
-    geom_file file;
     char *name;
-    geom_status st = cli_read_input(first < argc ? argv[first] : NULL, &file, &name, &diag);
+    geom_meshio_read_stats stats;
+    geom_mesh *m;
+    geom_mesh_build_report report;
+    geom_status st = cli_mesh_read_input(first < argc ? argv[first] : NULL, io.format,
+                                         io.skip_invalid, &m, &report, &stats, &name, &diag);
     if (st != GEOM_OK)
         return cli_print_diag(&tool, &diag);
-
-    geom_meshio_read_stats stats;
-    geom_meshio_read_options ro;
-    memset(&ro, 0, sizeof ro);
-    ro.format = io.format;
-    ro.build.skip_invalid_faces = io.skip_invalid;
-    ro.stats = &stats;
-    geom_mesh *m = NULL;
-    geom_mesh_build_report report;
-    st = geom_meshio_read_file(&file, name, &ro, &m, &report, &diag);
-    geom_file_unmap(&file);
-    if (st != GEOM_OK) {
-        free(name);
-        return cli_print_diag(&tool, &diag);
-    }
     /* Nothing read: a file of another kind (every statement unrecognised)
      * is an error; a truly empty mesh is a warning. */
     const char *warning = NULL;

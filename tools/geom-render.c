@@ -55,7 +55,6 @@ typedef struct opts {
 static int on_opt(const cli_tool *t, void *user, int opt, const char *arg)
 {
     opts *o = user;
-    char *end;
     switch (opt) {
     case 'm':
         if (!strcmp(arg, "ray"))
@@ -76,17 +75,9 @@ static int on_opt(const cli_tool *t, void *user, int opt, const char *arg)
             return cli_usage_error(t, "--aov: expected depth, normal or object, not '%s'", arg);
         break;
     case OPT_PIXEL_ERROR:
-    case OPT_TOL: {
-        double v = strtod(arg, &end);
-        if (*end || !(v > 0) || !isfinite(v))
-            return cli_usage_error(t, "%s: expected a number > 0, not '%s'",
-                                   opt == OPT_TOL ? "--tol" : "--pixel-error", arg);
-        if (opt == OPT_TOL)
-            o->r.tolerance = v;
-        else
-            o->r.pixel_error = v;
-        break;
-    }
+        return cli_positive_option(t, "--pixel-error", arg, &o->r.pixel_error);
+    case OPT_TOL:
+        return cli_positive_option(t, "--tol", arg, &o->r.tolerance);
     case OPT_NO_SHADOWS:
         o->r.no_shadows = 1;
         break;

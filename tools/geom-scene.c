@@ -54,7 +54,6 @@ typedef struct opts {
 static int on_opt(const cli_tool *t, void *user, int opt, const char *arg)
 {
     opts *o = user;
-    char *end;
     int lrc = cli_limits_option(t, &o->lim, opt, arg);
     if (lrc != CLI_NOT_HANDLED)
         return lrc;
@@ -63,17 +62,9 @@ static int on_opt(const cli_tool *t, void *user, int opt, const char *arg)
         o->export_path = arg;
         break;
     case OPT_TOL:
-    case OPT_PIXEL_ERROR: {
-        double v = strtod(arg, &end);
-        if (*end || !(v > 0) || !isfinite(v))
-            return cli_usage_error(t, "%s: expected a number > 0, not '%s'",
-                                   opt == OPT_TOL ? "--tol" : "--pixel-error", arg);
-        if (opt == OPT_TOL)
-            o->e.tolerance = v;
-        else
-            o->e.pixel_error = v;
-        break;
-    }
+        return cli_positive_option(t, "--tol", arg, &o->e.tolerance);
+    case OPT_PIXEL_ERROR:
+        return cli_positive_option(t, "--pixel-error", arg, &o->e.pixel_error);
     default:
         return CLI_EXIT_USAGE;
     }

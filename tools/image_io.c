@@ -157,13 +157,8 @@ static geom_status read_pfm(const char *path, const unsigned char *d, size_t n, 
 geom_status image_read_file(const char *path, int srgb, geom_image *out, geom_diag *diag)
 {
     memset(out, 0, sizeof *out);
-    FILE *fp = fopen(path, "rb");
-    if (!fp)
-        return cli_diag_set(diag, GEOM_ERR_IO, path, 0, 0, "cannot open");
     geom_file file_;
-    memset(&file_, 0, sizeof file_);
-    geom_status st = cli_read_all(fp, path, &file_, diag);
-    fclose(fp);
+    geom_status st = geom_file_map(path, NULL, &file_, diag);
     if (st != GEOM_OK)
         return st;
     const unsigned char *data = file_.data;

@@ -412,13 +412,8 @@ void srj_file_free(srj_file *f)
 geom_status srj_load(const char *path, const char *tool_name, srj_file *out, geom_diag *d)
 {
     memset(out, 0, sizeof *out);
-    FILE *fp = fopen(path, "rb");
-    if (!fp)
-        return cli_diag_set(d, GEOM_ERR_IO, path, 0, 0, "cannot open");
     geom_file file_;
-    memset(&file_, 0, sizeof file_);
-    geom_status st = cli_read_all(fp, path, &file_, d);
-    fclose(fp);
+    geom_status st = geom_file_map(path, NULL, &file_, d);
     if (st != GEOM_OK)
         return st;
     const unsigned char *text = file_.data;

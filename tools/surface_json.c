@@ -101,24 +101,43 @@ static geom_status get_bool(const sj_ctx *x, const cJSON *obj, const char *name,
     return GEOM_OK;
 }
 
+/* The list under key `name` (exactly `want` items unless want == 0) as *v
+ * with its length *n, and *buf malloc'd for its items of `item` doubles
+ * each. The messages call it "a list of <kind>" and count its <unit>. */
+static geom_status get_list(const sj_ctx *x, const cJSON *obj, const char *name, size_t want,
+                            const char *kind, const char *unit, size_t item, const cJSON **v,
+                            size_t *n, double **buf)
+{
+    *buf = NULL;
+    *v = key(obj, name);
+    if (!*v)
+        return sj_fail(x, GEOM_ERR_PARSE, 0, 0, "missing key \"%s\"", name);
+    if (!cJSON_IsArray(*v))
+        return sj_fail(x, GEOM_ERR_PARSE, 0, 0, "\"%s\": expected a list of %s", name, kind);
+    *n = (size_t)cJSON_GetArraySize(*v);
+    if (*n > SJ_MAX_COUNT)
+        return sj_fail(x, GEOM_ERR_LIMIT, 0, 0, "\"%s\": more than %zu %s", name, SJ_MAX_COUNT,
+                       unit);
+    if (want && *n != want)
+        return sj_fail(x, GEOM_ERR_PARSE, 0, 0, "\"%s\": %zu %s, %zu expected", name, *n, unit,
+                       want);
+    *buf = malloc((*n ? *n : 1) * item * sizeof(double));
+    if (!*buf)
+        return sj_fail(x, GEOM_ERR_NOMEM, 0, 0, "out of memory");
+    return GEOM_OK;
+}
+
 /* A list of numbers (exactly `want` unless want == 0): *out malloc'd. */
 static geom_status get_numbers(const sj_ctx *x, const cJSON *obj, const char *name, size_t want,
                                double **out, size_t *count)
 {
     *out = NULL;
-    const cJSON *v = key(obj, name);
-    if (!v)
-        return sj_fail(x, GEOM_ERR_PARSE, 0, 0, "missing key \"%s\"", name);
-    if (!cJSON_IsArray(v))
-        return sj_fail(x, GEOM_ERR_PARSE, 0, 0, "\"%s\": expected a list of numbers", name);
-    size_t n = (size_t)cJSON_GetArraySize(v);
-    if (n > SJ_MAX_COUNT)
-        return sj_fail(x, GEOM_ERR_LIMIT, 0, 0, "\"%s\": more than %zu values", name, SJ_MAX_COUNT);
-    if (want && n != want)
-        return sj_fail(x, GEOM_ERR_PARSE, 0, 0, "\"%s\": %zu values, %zu expected", name, n, want);
-    double *a = malloc((n ? n : 1) * sizeof(double));
-    if (!a)
-        return sj_fail(x, GEOM_ERR_NOMEM, 0, 0, "out of memory");
+    const cJSON *v;
+    size_t n;
+    double *a;
+    geom_status st = get_list(x, obj, name, want, "numbers", "values", 1, &v, &n, &a);
+    if (st != GEOM_OK)
+        return st;
     size_t i = 0;
     const cJSON *e;
     cJSON_ArrayForEach(e, v)
@@ -167,19 +186,12 @@ static geom_status get_points(const sj_ctx *x, const cJSON *obj, const char *nam
                               size_t *dim, double **out, size_t *count)
 {
     *out = NULL;
-    const cJSON *v = key(obj, name);
-    if (!v)
-        return sj_fail(x, GEOM_ERR_PARSE, 0, 0, "missing key \"%s\"", name);
-    if (!cJSON_IsArray(v))
-        return sj_fail(x, GEOM_ERR_PARSE, 0, 0, "\"%s\": expected a list of points", name);
-    size_t n = (size_t)cJSON_GetArraySize(v);
-    if (n > SJ_MAX_COUNT)
-        return sj_fail(x, GEOM_ERR_LIMIT, 0, 0, "\"%s\": more than %zu points", name, SJ_MAX_COUNT);
-    if (want && n != want)
-        return sj_fail(x, GEOM_ERR_PARSE, 0, 0, "\"%s\": %zu points, %zu expected", name, n, want);
-    double *a = malloc((n ? n : 1) * 3 * sizeof(double));
-    if (!a)
-        return sj_fail(x, GEOM_ERR_NOMEM, 0, 0, "out of memory");
+    const cJSON *v;
+    size_t n;
+    double *a;
+    geom_status st = get_list(x, obj, name, want, "points", "points", 3, &v, &n, &a);
+    if (st != GEOM_OK)
+        return st;
     size_t i = 0;
     const cJSON *e;
     cJSON_ArrayForEach(e, v)
@@ -187,7 +199,7 @@ static geom_status get_points(const sj_ctx *x, const cJSON *obj, const char *nam
         char what[64];
         snprintf(what, sizeof what, "\"%s\"[%zu]", name, i);
         double p[3];
-        geom_status st = get_point(x, e, what, dim, p);
+        st = get_point(x, e, what, dim, p);
         if (st != GEOM_OK) {
             free(a);
             return st;

@@ -5,13 +5,7 @@
 # (an object behind the camera is not built, analytic shapes are never
 # tessellated for ray, no refraction rays without glass); bad input fails
 # with a message naming the file and the key; progress only on a terminal.
-set -euo pipefail
-tool=$1
-data=$2
-py=${PYTHON3:-/usr/bin/python3}
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-fail() { echo "FAIL: $*" >&2; exit 1; }
+. "$(dirname "$0")/strict.sh" "$@"
 
 cat > "$tmp/lambert.json" <<'JSON'
 {"camera": {"eye": [0, 0, 5], "center": [0, 0, 0], "projection": "orthographic",

@@ -4,13 +4,7 @@
 # pixel-error tolerance coarser for an object behind the camera, UVs only for
 # the textured material, transforms applied, glTF written Y-up, a CSG with a
 # mesh child refused naming it.
-set -euo pipefail
-tool=$1
-data=$2
-py=${PYTHON3:-/usr/bin/python3}
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-fail() { echo "FAIL: $*" >&2; exit 1; }
+. "$(dirname "$0")/strict.sh" "$@"
 "$py" - "$tmp" <<'PY'
 import struct, zlib, sys
 # a 4x4 grey PNG texture

@@ -7,13 +7,7 @@
 # --json is within a factor 3 of the count made at the default tolerance.
 # Exit 77 (skipped) without gmsh-doc's files only for those; sphere.step
 # always runs.
-set -euo pipefail
-tool=$1
-data=$2
-py=${PYTHON3:-/usr/bin/python3}
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-fail() { echo "FAIL: $*" >&2; exit 1; }
+. "$(dirname "$0")/strict.sh" "$@"
 files=("$data/sphere.step")
 for f in $(find /usr/share/doc/gmsh-doc /usr/share/doc/gmsh -name '*.st*p.gz' 2>/dev/null | sort); do
     b=$(basename "$f" .gz)
