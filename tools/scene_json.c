@@ -317,14 +317,15 @@ static geom_status read_volume(const sc_ctx *x, const cJSON *o, geom_implicit_vo
     st = geom_implicit_volume_read(path, &ro, NULL, out, &info, &d);
     if (st == GEOM_OK && info.spacing_note[0] && x->tool)
         fprintf(stderr, "%s: warning: %s: %s\n", x->tool, path, info.spacing_note);
-    free(path);
     if (st != GEOM_OK) {
         char m[GEOM_DIAG_MESSAGE_MAX + 300];
-        if (d.status == GEOM_OK && !d.message[0]) return wrap(x, st, &d, "file");
+        if (!d.message[0]) snprintf(d.message, sizeof d.message, "%s", geom_status_str(st));
+        if (!d.source[0]) snprintf(d.source, sizeof d.source, "%s", path);
         geom_diag_format(&d, m, sizeof m);
-        return fail(x, st, "\"file\": %s", m);
+        st = fail(x, st, "\"file\": %s", m);
     }
-    return GEOM_OK;
+    free(path);
+    return st;
 }
 
 static geom_status parse_obj(sc_ctx *x, const cJSON *o, uint32_t *id, int depth);
