@@ -822,6 +822,45 @@ typedef struct geom_subdiv_report {
 } geom_subdiv_report;
 geom_status geom_subdiv_mesh(const geom_mesh *m, const geom_subdiv_options *opt, int levels,
     unsigned flags, geom_mesh **out, geom_subdiv_report *report, geom_diag *diag);
+typedef struct geom_subdiv_refiner geom_subdiv_refiner;
+geom_status geom_subdiv_refiner_create(const geom_mesh *m, const geom_subdiv_options *opt, geom_subdiv_refiner **out, geom_diag *diag);
+geom_status geom_subdiv_refiner_create_soup(size_t nverts, size_t nfaces, const uint32_t *face_sizes, const uint32_t *indices, const geom_subdiv_options *opt, geom_subdiv_refiner **out, geom_diag *diag);
+void geom_subdiv_refiner_destroy(geom_subdiv_refiner *r);
+geom_status geom_subdiv_refiner_add_fvar(geom_subdiv_refiner *r, size_t n_values, const uint32_t *face_values, uint32_t *channel);
+size_t geom_subdiv_refiner_fvar_count(const geom_subdiv_refiner *r);
+uint32_t geom_subdiv_refiner_fvar_mesh_channel(const geom_subdiv_refiner *r, uint32_t channel);
+geom_status geom_subdiv_refiner_refine(geom_subdiv_refiner *r, int levels);
+int geom_subdiv_refiner_max_level(const geom_subdiv_refiner *r);
+geom_subdiv_scheme geom_subdiv_refiner_scheme(const geom_subdiv_refiner *r);
+geom_subdiv_options geom_subdiv_refiner_options(const geom_subdiv_refiner *r);
+typedef struct geom_subdiv_level_info {
+    size_t vertices, edges, faces;
+    size_t face_vertices;
+    size_t max_valence;
+    size_t sharp_edges;
+    size_t hole_faces;
+} geom_subdiv_level_info;
+geom_status geom_subdiv_refiner_level_info(const geom_subdiv_refiner *r, int level, geom_subdiv_level_info *info);
+geom_status geom_subdiv_refiner_faces(const geom_subdiv_refiner *r, int level, uint32_t *face_sizes, uint32_t *indices, uint8_t *is_hole);
+const uint32_t *geom_subdiv_refiner_face_indices(const geom_subdiv_refiner *r, int level);
+geom_status geom_subdiv_refiner_edges(const geom_subdiv_refiner *r, int level, uint32_t *verts, float *sharpness);
+geom_status geom_subdiv_refiner_vertex_rules(const geom_subdiv_refiner *r, int level, float *sharpness, uint8_t *rule);
+typedef enum geom_subdiv_origin {
+    GEOM_SUBDIV_FROM_FACE = 0, GEOM_SUBDIV_FROM_EDGE = 1, GEOM_SUBDIV_FROM_VERTEX = 2} geom_subdiv_origin;
+uint32_t geom_subdiv_refiner_child_vertex(const geom_subdiv_refiner *r, int level, geom_subdiv_origin kind, uint32_t index);
+geom_status geom_subdiv_refiner_vertex_parent(const geom_subdiv_refiner *r, int level, uint32_t v, geom_subdiv_origin *kind, uint32_t *parent);
+uint32_t geom_subdiv_refiner_face_parent(const geom_subdiv_refiner *r, int level, uint32_t f);
+geom_status geom_subdiv_interpolate(const geom_subdiv_refiner *r, int level, size_t ncomp, const double *src, double *dst);
+geom_status geom_subdiv_interpolate_varying(const geom_subdiv_refiner *r, int level, size_t ncomp, const double *src, double *dst);
+geom_status geom_subdiv_interpolate_face(const geom_subdiv_refiner *r, int level, size_t ncomp, const double *src, double *dst);
+size_t geom_subdiv_fvar_size(const geom_subdiv_refiner *r, uint32_t channel, int level);
+geom_status geom_subdiv_fvar_face_values(const geom_subdiv_refiner *r, uint32_t channel, int level, uint32_t *face_values);
+geom_status geom_subdiv_interpolate_fvar(const geom_subdiv_refiner *r, uint32_t channel, int level, size_t ncomp, const double *src, double *dst);
+geom_status geom_subdiv_limit(const geom_subdiv_refiner *r, size_t ncomp, const double *src, double *pos, double *tan1, double *tan2);
+geom_status geom_subdiv_limit_normals(const geom_subdiv_refiner *r, const double *src, double *normals, size_t *n_degenerate);
+geom_status geom_subdiv_limit_fvar(const geom_subdiv_refiner *r, uint32_t channel, size_t ncomp, const double *src, double *dst);
+geom_status geom_subdiv_build_mesh(const geom_subdiv_refiner *r, int level, const double *positions, const double *normals, const geom_mesh *like, geom_mesh **out, size_t *hole_faces, geom_diag *diag);
+int geom_subdiv_level_is_plain(const geom_subdiv_refiner *r, int level, const double *positions, int with_normals, const geom_mesh *like);
 """,
     "iso": """
 typedef struct geom_implicit_field geom_iso_field;
@@ -898,6 +937,8 @@ geom_status geom_iso_extract_stream(const geom_implicit_field *field, const doub
 void geom_iso_surface_free(geom_iso_surface *s);
 geom_status geom_iso_surface_to_mesh(const geom_iso_surface *s, geom_mesh *m, geom_diag *diag);
 geom_status geom_iso_field_from_expr(const geom_implicit_expr *e, geom_implicit_field *out);
+geom_status geom_iso_estimate_triangles(const geom_implicit_field *f, const double bounds[6], const size_t res[3], double iso, double *triangles);
+geom_status geom_iso_grid_estimate_triangles(const geom_implicit_grid *g, double iso, double *triangles);
 """,
     "implicit": """
 typedef struct geom_implicit_expr geom_implicit_expr;
@@ -1103,6 +1144,31 @@ geom_status geom_ray_scene_closest(const geom_ray_scene *s, const geom_ray *r,
 geom_status geom_ray_scene_any(const geom_ray_scene *s, const geom_ray *r, int *found);
 geom_status geom_ray_scene_all(const geom_ray_scene *s, const geom_ray *r,
     geom_ray_hit *hits, size_t cap, size_t *n);
+typedef enum geom_ray_kind {
+    GEOM_RAY_PLANE = 1, GEOM_RAY_DISK, GEOM_RAY_BOX, GEOM_RAY_OBOX, GEOM_RAY_SPHERE, GEOM_RAY_QUADRIC, GEOM_RAY_TORUS, GEOM_RAY_TRIANGLE, GEOM_RAY_POLYGON, GEOM_RAY_MESH, GEOM_RAY_SURFACE, GEOM_RAY_SUBDIV, GEOM_RAY_IMPLICIT, GEOM_RAY_VOLUME, GEOM_RAY_CSG, GEOM_RAY_INSTANCE, GEOM_RAY_GROUP} geom_ray_kind;
+typedef enum geom_ray_csg_op {
+    GEOM_RAY_CSG_UNION = 1, GEOM_RAY_CSG_INTERSECTION, GEOM_RAY_CSG_DIFFERENCE} geom_ray_csg_op;
+const char *geom_ray_kind_name(geom_ray_kind k);
+geom_status geom_ray_scene_add_disk(geom_ray_scene *s, const double center[3], const double n[3], double radius, uint32_t *id);
+geom_status geom_ray_scene_add_obox(geom_ray_scene *s, const double center[3], const double axes[9], const double half[3], uint32_t *id);
+geom_status geom_ray_scene_add_triangle(geom_ray_scene *s, const double v[9], uint32_t *id);
+geom_status geom_ray_scene_add_polygon(geom_ray_scene *s, const double *v, size_t n, uint32_t *id);
+geom_status geom_ray_scene_add_mesh(geom_ray_scene *s, const geom_mesh *m, uint32_t *id);
+geom_status geom_ray_scene_add_surface(geom_ray_scene *s, const geom_nurbs_surface *surf, uint32_t *id, geom_diag *diag);
+geom_status geom_ray_scene_add_subdiv(geom_ray_scene *s, const geom_mesh *m, int scheme, int levels, uint32_t *id, geom_diag *diag);
+geom_status geom_ray_scene_add_implicit(geom_ray_scene *s, const geom_implicit_expr *e, const double bounds[6], double lipschitz, uint32_t *id);
+geom_status geom_ray_scene_add_volume(geom_ray_scene *s, const geom_implicit_volume *v, double iso, uint32_t *id);
+geom_status geom_ray_scene_add_csg(geom_ray_scene *s, geom_ray_csg_op op, uint32_t a, uint32_t b, uint32_t *id);
+geom_status geom_ray_scene_add_group(geom_ray_scene *s, const uint32_t *ids, size_t n, uint32_t *id);
+geom_status geom_ray_scene_add_instance(geom_ray_scene *s, uint32_t of, const double m[16], uint32_t *id);
+geom_status geom_ray_scene_set_name(geom_ray_scene *s, uint32_t id, const char *name);
+uint32_t geom_ray_scene_find(const geom_ray_scene *s, const char *name);
+geom_status geom_ray_scene_set_objects(geom_ray_scene *s, const uint32_t *ids, size_t n);
+size_t geom_ray_scene_node_count(const geom_ray_scene *s);
+size_t geom_ray_scene_object_count(const geom_ray_scene *s);
+uint32_t geom_ray_scene_object_node(const geom_ray_scene *s, size_t i);
+geom_ray_kind geom_ray_scene_node_kind(const geom_ray_scene *s, uint32_t id);
+geom_status geom_ray_scene_object_error(const geom_ray_scene *s, uint32_t id, geom_error_report *out);
 """,
     "scene": """
 typedef enum geom_projection {
@@ -1168,6 +1234,96 @@ typedef struct geom_render_options {
     void (*progress)(void *user, double fraction);
     void *progress_user;
 } geom_render_options;
+typedef struct geom_texture geom_texture;
+typedef enum geom_shading {
+    GEOM_SHADING_PHONG = 0, GEOM_SHADING_GOURAUD = 1, GEOM_SHADING_FLAT = 2} geom_shading;
+typedef enum geom_specular {
+    GEOM_SPECULAR_BLINN = 0, GEOM_SPECULAR_PHONG = 1} geom_specular;
+typedef enum geom_style {
+    GEOM_STYLE_STANDARD = 0, GEOM_STYLE_COOL_TO_WARM = 1} geom_style;
+typedef struct geom_material {
+    geom_vec3 ka, kd, ks;
+    double ns;
+    geom_specular specular;
+    double reflect;
+    double transmit;
+    double ior;
+    const geom_texture *texture;
+    const geom_texture *bump;
+    double bump_scale;
+    const geom_texture *normal_map;
+    const geom_texture *displace;
+    double displace_scale;
+    geom_shading shading;
+    geom_style style;
+    double gooch_b, gooch_y, gooch_alpha, gooch_beta;
+    double line_width;
+    double crease_degrees;
+} geom_material;
+geom_material geom_scene_material_default(void);
+unsigned geom_scene_material_needs(const geom_material *m);
+typedef enum geom_shape_kind {
+    GEOM_SHAPE_SPHERE = 1, GEOM_SHAPE_BOX, GEOM_SHAPE_PLANE, GEOM_SHAPE_DISK, GEOM_SHAPE_TORUS, GEOM_SHAPE_QUADRIC, GEOM_SHAPE_POLYGON, GEOM_SHAPE_MESH, GEOM_SHAPE_SURFACE, GEOM_SHAPE_SUBDIV, GEOM_SHAPE_IMPLICIT, GEOM_SHAPE_VOLUME, GEOM_SHAPE_CSG, GEOM_SHAPE_GROUP} geom_shape_kind;
+typedef struct geom_shape {
+    geom_shape_kind kind;
+    const char *name;
+    double p[3], n[3], radius;
+    double min[3], max[3];
+    double major, minor;
+    double q[10];
+    const double *clip;
+    int capped;
+    const double *vertices;
+    size_t n_vertices;
+    const geom_mesh *mesh;
+    int scheme;
+    const geom_nurbs_surface *surfaces;
+    size_t n_surfaces;
+    const geom_implicit_expr *expr;
+    double bounds[6];
+    const geom_implicit_volume *volume;
+    double iso;
+    int csg_op;
+    const struct geom_shape *a, *b;
+    const struct geom_shape *const *members;
+    size_t n_members;
+    const geom_mat4 *transform;
+} geom_shape;
+typedef struct geom_scene_shapes geom_scene_shapes;
+geom_status geom_scene_shapes_from_ray(const geom_ray_scene *rs, geom_scene_shapes **out, geom_diag *diag);
+size_t geom_scene_shapes_count(const geom_scene_shapes *s);
+const geom_shape *geom_scene_shapes_get(const geom_scene_shapes *s, size_t i);
+const char *geom_scene_shapes_kind_name(const geom_scene_shapes *s, size_t i);
+void geom_scene_shapes_destroy(geom_scene_shapes *s);
+typedef struct geom_tess_request {
+    double tol;
+    unsigned attributes;
+    geom_aabb extent;
+} geom_tess_request;
+typedef struct geom_tess_info {
+    geom_error_report error;
+    size_t triangles;
+    double seconds;
+    const char *method;
+} geom_tess_info;
+geom_status geom_scene_tessellate(const geom_shape *s, const geom_tess_request *rq, geom_mesh *out, geom_tess_info *info, geom_diag *diag);
+geom_status geom_scene_tessellate_estimate(const geom_shape *s, const geom_tess_request *rq, double *triangles);
+typedef struct geom_scene_object {
+    const geom_shape *shape;
+    uint32_t material;
+} geom_scene_object;
+typedef struct geom_export_options {
+    double tolerance;
+    double pixel_error;
+    geom_mat4 world;
+} geom_export_options;
+typedef struct geom_export_object_report {
+    double tolerance;
+    geom_tess_info tess;
+    unsigned attributes;
+} geom_export_object_report;
+geom_status geom_scene_export(const geom_camera *cam, const geom_material *materials, size_t n_materials, const geom_scene_object *objects, size_t n, const char *const *names, const geom_export_options *opt, geom_mesh *out, geom_export_object_report *reports, geom_diag *diag);
+geom_status geom_scene_export_estimate(const geom_camera *cam, const geom_material *materials, size_t n_materials, const geom_scene_object *objects, size_t n, const geom_export_options *opt, double *per_object, double *triangles, geom_diag *diag);
 """,
     "spatial": """
 typedef struct geom_bvh geom_bvh;

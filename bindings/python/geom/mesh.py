@@ -845,42 +845,8 @@ class Mesh:
         sharpness (k,)); holes: face indices. The result's subdiv_report
         holds what was done and the distance of the vertices to the limit
         surface."""
-        if not has_module("subdiv"):
-            raise NotImplementedError("libgeom was built without the subdiv module")
-        opt = ffi.new("geom_subdiv_options *")
-        sch = ffi.new("geom_subdiv_scheme *")
-        check(lib.geom_subdiv_scheme_from_name(str(scheme).encode(), sch),
-              context="subdivide: unknown scheme %r" % (scheme,))
-        opt.scheme = sch[0]
-        opt.boundary = _choice(_SUBDIV_BOUNDARY, boundary, "boundary")
-        opt.fvar_boundary = _choice(_SUBDIV_FVAR, fvar_boundary, "fvar_boundary")
-        opt.crease_method = _choice(_SUBDIV_CREASE, crease_method, "crease_method")
-        opt.triangles = _choice(_SUBDIV_TRIANGLES, triangles, "triangles")
-        opt.ignore_tags = 1 if ignore_tags else 0
-        keep = []
-        if creases is not None:
-            pairs = np.ascontiguousarray(np.asarray(creases[0]).reshape(-1, 2), dtype=np.uint32)
-            sharp = np.ascontiguousarray(creases[1], dtype=np.float64).reshape(-1)
-            if sharp.size != pairs.shape[0]:
-                raise ValueError("creases: one sharpness per vertex pair")
-            keep += [pairs, sharp]
-            opt.n_creases = pairs.shape[0]
-            opt.crease_verts = _u32ptr(pairs)
-            opt.crease_sharpness = dptr(sharp)
-        if corners is not None:
-            verts = np.ascontiguousarray(np.asarray(corners[0]).reshape(-1), dtype=np.uint32)
-            sharp = np.ascontiguousarray(corners[1], dtype=np.float64).reshape(-1)
-            if sharp.size != verts.size:
-                raise ValueError("corners: one sharpness per vertex")
-            keep += [verts, sharp]
-            opt.n_corners = verts.size
-            opt.corner_verts = _u32ptr(verts)
-            opt.corner_sharpness = dptr(sharp)
-        if holes is not None:
-            hf = np.ascontiguousarray(np.asarray(holes).reshape(-1), dtype=np.uint32)
-            keep.append(hf)
-            opt.n_holes = hf.size
-            opt.hole_faces = _u32ptr(hf)
+        opt, keep = subdiv_options(scheme, boundary, fvar_boundary, crease_method, triangles,
+                                   ignore_tags, creases, corners, holes)
         flags = (1 if limit else 0) | (2 if normals else 0)
         out = ffi.new("geom_mesh **")
         rep = ffi.new("geom_subdiv_report *")
@@ -890,6 +856,49 @@ class Mesh:
         m = Mesh._wrap(out[0])
         m.subdiv_report = struct_dict(rep[0], "geom_subdiv_report")
         return m
+
+
+def subdiv_options(scheme="catmull-clark", boundary=None, fvar_boundary=None, crease_method=None,
+                   triangles=None, ignore_tags=False, creases=None, corners=None, holes=None):
+    """(geom_subdiv_options *, arrays to keep alive while it is used) from
+    the arguments of Mesh.subdivide (also used by geom.subdiv.Refiner)."""
+    if not has_module("subdiv"):
+        raise NotImplementedError("libgeom was built without the subdiv module")
+    opt = ffi.new("geom_subdiv_options *")
+    sch = ffi.new("geom_subdiv_scheme *")
+    check(lib.geom_subdiv_scheme_from_name(str(scheme).encode(), sch),
+          context="subdivide: unknown scheme %r" % (scheme,))
+    opt.scheme = sch[0]
+    opt.boundary = _choice(_SUBDIV_BOUNDARY, boundary, "boundary")
+    opt.fvar_boundary = _choice(_SUBDIV_FVAR, fvar_boundary, "fvar_boundary")
+    opt.crease_method = _choice(_SUBDIV_CREASE, crease_method, "crease_method")
+    opt.triangles = _choice(_SUBDIV_TRIANGLES, triangles, "triangles")
+    opt.ignore_tags = 1 if ignore_tags else 0
+    keep = []
+    if creases is not None:
+        pairs = np.ascontiguousarray(np.asarray(creases[0]).reshape(-1, 2), dtype=np.uint32)
+        sharp = np.ascontiguousarray(creases[1], dtype=np.float64).reshape(-1)
+        if sharp.size != pairs.shape[0]:
+            raise ValueError("creases: one sharpness per vertex pair")
+        keep += [pairs, sharp]
+        opt.n_creases = pairs.shape[0]
+        opt.crease_verts = _u32ptr(pairs)
+        opt.crease_sharpness = dptr(sharp)
+    if corners is not None:
+        verts = np.ascontiguousarray(np.asarray(corners[0]).reshape(-1), dtype=np.uint32)
+        sharp = np.ascontiguousarray(corners[1], dtype=np.float64).reshape(-1)
+        if sharp.size != verts.size:
+            raise ValueError("corners: one sharpness per vertex")
+        keep += [verts, sharp]
+        opt.n_corners = verts.size
+        opt.corner_verts = _u32ptr(verts)
+        opt.corner_sharpness = dptr(sharp)
+    if holes is not None:
+        hf = np.ascontiguousarray(np.asarray(holes).reshape(-1), dtype=np.uint32)
+        keep.append(hf)
+        opt.n_holes = hf.size
+        opt.hole_faces = _u32ptr(hf)
+    return opt, keep
 
 
 def polygon_triangulate(points):
