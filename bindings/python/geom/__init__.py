@@ -15,6 +15,7 @@ Submodules:
                  limit positions and normals, the level's mesh)
   geom.curve     NurbsCurve (evaluation, derivatives, exact circles, ...)
   geom.surface   NurbsSurface, .bpt patches, tessellation to a Mesh
+  geom.step      Brep: STEP files read, evaluated, estimated and tessellated
   geom.implicit  Expression, marching_cubes, read_volume, Volume
   geom.iso       isosurfaces chunk by chunk (extract_stream, chunks) and
                  triangle estimates
@@ -58,6 +59,9 @@ if has_module("surface") and has_module("meshio"):
     from . import surface  # noqa: E402
     from .surface import NurbsSurface, tessellate  # noqa: E402
     __all__ += ["surface", "NurbsSurface", "tessellate"]
+if has_module("step") and has_module("meshio"):
+    from . import step  # noqa: E402
+    __all__ += ["step"]
 if has_module("implicit") and has_module("iso") and has_module("meshio"):
     from . import implicit  # noqa: E402
     from .implicit import Expression, Volume, marching_cubes, read_volume  # noqa: E402
