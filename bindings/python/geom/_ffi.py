@@ -518,6 +518,20 @@ typedef struct geom_kb_params {
 geom_status geom_curve_kochanek_bartels_to_bezier(size_t dim, size_t n, const double *points,
     const geom_kb_params *tcb, size_t ntcb, geom_curve_end ends, double *bezier,
     geom_diag *diag);
+geom_status geom_curve_bezier_split(int degree, size_t dim, const double *ctrl, double t, double *left, double *right);
+geom_status geom_curve_bezier_elevate(int degree, size_t dim, const double *ctrl, int times, double *out);
+geom_status geom_curve_bezier_bbox(int degree, size_t dim, const double *ctrl, double *min, double *max);
+geom_status geom_curve_bezier_bbox_tight(int degree, size_t dim, const double *ctrl, double *min, double *max);
+geom_status geom_curve_hermite_to_bezier(size_t dim, const double *p0, const double *m0, const double *p1, const double *m1, double *bezier);
+geom_status geom_curve_hermite_eval(size_t dim, const double *p0, const double *m0, const double *p1, const double *m1, double t, int nderiv, double *ders);
+geom_status geom_curve_catmull_rom_eval(size_t dim, const double *p0, const double *p1, const double *p2, const double *p3, double alpha, double s, double *out);
+geom_status geom_curve_nurbs_periodic(int degree, size_t m, size_t dim, const double *points, const double *weights, double *knots, double *points_out, double *weights_out, geom_nurbs_curve *out);
+geom_status geom_curve_nurbs_clamp(const geom_nurbs_curve *c, double *knots, double *points, double *weights, geom_nurbs_curve *out, geom_diag *diag);
+geom_status geom_curve_nurbs_segments(const geom_nurbs_curve *c, size_t *nseg);
+geom_status geom_curve_nurbs_decompose(const geom_nurbs_curve *c, double *bezier_points, double *bezier_weights, double *breaks, geom_diag *diag);
+geom_status geom_curve_nurbs_ellipse_arc(size_t dim, const double *center, const double *xaxis, const double *yaxis, double start, double end, double *knots, double *points, double *weights, geom_nurbs_curve *out, geom_diag *diag);
+geom_status geom_curve_nurbs_conic(size_t dim, const double *p0, const double *t0, const double *p2, const double *t2, const double *point, double weight, double *knots, double *points, double *weights, geom_nurbs_curve *out, geom_diag *diag);
+double geom_curve_segment_distance(size_t dim, const double *a, const double *b, const double *q);
 """,
     "surface": """
 typedef struct geom_nurbs_surface {
@@ -604,6 +618,12 @@ geom_status geom_surface_tessellate(const geom_nurbs_surface *surfaces, size_t n
 geom_status geom_surface_eval_many(const geom_nurbs_surface *s, size_t n, const double *uv,
                                             unsigned flags, int normals, double *out,
                                             int32_t *status, size_t *n_failed);
+geom_status geom_surface_extrude(const geom_nurbs_curve *c, const double d[3], double *knots_u, double *knots_v, double *points, double *weights, geom_nurbs_surface *out, geom_diag *diag);
+geom_status geom_surface_ruled_bound(const geom_nurbs_curve *c0, const geom_nurbs_curve *c1, size_t *nu, size_t *nknots_u);
+geom_status geom_surface_ruled(const geom_nurbs_curve *c0, const geom_nurbs_curve *c1, double *knots_u, double *knots_v, double *points, double *weights, geom_nurbs_surface *out, geom_diag *diag);
+geom_status geom_surface_revolve_bound(double angle, size_t *nu, size_t *nknots_u);
+geom_status geom_surface_revolve(const geom_nurbs_curve *c, const double origin[3], const double axis[3], const double *xaxis, double angle, double *knots_u, double *knots_v, double *points, double *weights, geom_nurbs_surface *out, geom_diag *diag);
+geom_status geom_surface_tess_estimate(const geom_nurbs_surface *s, size_t n, const geom_surface_tess_options *opt, double *triangles);
 """,
     "step": """
 typedef enum geom_brep_curve_type {
