@@ -1110,6 +1110,40 @@ size_t geom_implicit_sample_size(geom_implicit_sample s);
 const char *geom_implicit_volume_format_name(geom_implicit_volume_format f);
 void geom_implicit_volume_eval_many(const geom_implicit_volume *v, size_t n,
                                              const double *p, double *out, double *grad);
+typedef struct geom_implicit_contour_options {
+    double iso;
+    double z;
+    int refine;
+    int max_iterations;
+    const geom_allocator *alloc;
+} geom_implicit_contour_options;
+typedef struct geom_implicit_contour_report {
+    geom_error_report error;
+    size_t unmeasured;
+    double seconds;
+    size_t cells;
+    size_t saddles;
+    size_t skipped_cells;
+    size_t refined;
+    size_t nan_nodes;
+    size_t nan_first[2];
+    double nan_point[2];
+} geom_implicit_contour_report;
+typedef struct geom_implicit_isolines {
+    size_t n_vertices;
+    double *xy;
+    size_t n_polylines;
+    size_t *start;
+    uint32_t *indices;
+    unsigned char *closed;
+    geom_implicit_contour_report report;
+    geom_allocator alloc;
+} geom_implicit_isolines;
+geom_status geom_implicit_contour(const geom_implicit_field *field, const double bounds[4], size_t nx, size_t ny, const geom_implicit_contour_options *opt, geom_implicit_isolines *out, geom_diag *diag);
+geom_status geom_implicit_contour_estimate(const geom_implicit_field *field, const double bounds[4], size_t nx, size_t ny, const geom_implicit_contour_options *opt, double *vertices);
+geom_status geom_implicit_contour_estimate_cells(const geom_implicit_field *field, const double bounds[4], size_t nx, size_t ny, const geom_implicit_contour_options *opt, double *cells);
+void geom_implicit_isolines_free(geom_implicit_isolines *c);
+geom_status geom_implicit_isolines_to_mesh(const geom_implicit_isolines *c, double z, geom_mesh *m);
 """,
     "ray": """
 typedef struct geom_ray_hit {

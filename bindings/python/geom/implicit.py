@@ -280,6 +280,73 @@ def marching_cubes(field, bounds=None, resolution=None, iso=0.0, refine=False, n
         del keep
 
 
+def contour(field, bounds, resolution, iso=0.0, z=0.0, refine=None):
+    """Isolines f(x, y, z) = iso of a 2-D slice by marching squares with the
+    asymptotic decider (geom_implicit_contour): field an expression string,
+    an Expression or a Python function of (n, 3) points; bounds (x0, y0,
+    x1, y1) split into resolution (nx, ny) cells. refine: None (the
+    default: refine exact fields), True or False.
+
+    Returns (xy (n, 2), polylines, closed, report): polylines a list of
+    vertex-index arrays (closed loops list each vertex once, inside f <= iso
+    on the left), closed a bool array, report the achieved error (distance
+    estimate |f - iso| / |grad f| at the vertices) and the counts."""
+    keep, error_box = [], []
+    b4 = np.ascontiguousarray(bounds, dtype=np.float64).reshape(4)
+    nx, ny = (int(r) for r in resolution)
+    f, b, res, _ = _function_field(field, (b4[0], b4[1], 0, b4[2], b4[3], 1), (nx, ny, 1),
+                                   keep, error_box)
+    opt = ffi.new("geom_implicit_contour_options *")
+    opt.iso, opt.z = float(iso), float(z)
+    opt.refine = (lib.GEOM_IMPLICIT_REFINE_AUTO if refine is None else
+                  lib.GEOM_IMPLICIT_REFINE_ALWAYS if refine else lib.GEOM_IMPLICIT_REFINE_NEVER)
+    out = ffi.new("geom_implicit_isolines *")
+    diag = new_diag()
+    st = lib.geom_implicit_contour(f, dptr(b4), nx, ny, opt, out, diag)
+    try:
+        if error_box:
+            raise error_box[0]
+        check(st, diag, context="contour")
+        nv, npl = int(out.n_vertices), int(out.n_polylines)
+        xy = (np.frombuffer(ffi.buffer(out.xy, 16 * nv), dtype=np.float64).reshape(nv, 2).copy()
+              if nv else np.empty((0, 2)))
+        start = np.frombuffer(ffi.buffer(out.start, ffi.sizeof("size_t") * (npl + 1)),
+                              dtype=np.uintp).astype(np.int64)
+        idx = (np.frombuffer(ffi.buffer(out.indices, 4 * int(start[-1])), dtype=np.uint32).copy()
+               if start[-1] else np.empty(0, dtype=np.uint32))
+        lines = [idx[start[k]:start[k + 1]] for k in range(npl)]
+        closed = (np.frombuffer(ffi.buffer(out.closed, npl), dtype=np.uint8).astype(bool)
+                  if npl else np.empty(0, dtype=bool))
+        r = out.report
+        report = {"error": error_report(r.error), "unmeasured": int(r.unmeasured),
+                  "seconds": float(r.seconds), "cells": int(r.cells), "saddles": int(r.saddles),
+                  "refined": int(r.refined), "nan_nodes": int(r.nan_nodes)}
+        return xy, lines, closed, report
+    finally:
+        lib.geom_implicit_isolines_free(out)
+        del keep
+
+
+def contour_estimate(field, bounds, resolution, iso=0.0, z=0.0):
+    """(vertices, cells): the vertices contour() would make, estimated from
+    at most 65^2 samples (features thinner than a coarse cell are missed),
+    and the grid cells it would sample (exact)."""
+    keep, error_box = [], []
+    b4 = np.ascontiguousarray(bounds, dtype=np.float64).reshape(4)
+    nx, ny = (int(r) for r in resolution)
+    f, b, res, _ = _function_field(field, (b4[0], b4[1], 0, b4[2], b4[3], 1), (nx, ny, 1),
+                                   keep, error_box)
+    opt = ffi.new("geom_implicit_contour_options *")
+    opt.iso, opt.z = float(iso), float(z)
+    v, c = ffi.new("double *"), ffi.new("double *")
+    st = lib.geom_implicit_contour_estimate(f, dptr(b4), nx, ny, opt, v)
+    if st == 0:
+        st = lib.geom_implicit_contour_estimate_cells(f, dptr(b4), nx, ny, opt, c)
+    if error_box:
+        raise error_box[0]
+    check(st, context="contour_estimate")
+    return float(v[0]), float(c[0])
+
 def _iso_report(r):
     return {
         "vertex_error": error_report(r.vertex_error),
