@@ -352,6 +352,41 @@ geom_status geom_mesh_halfedge_arrays(const geom_mesh *m, uint32_t *next, uint32
 geom_status geom_mesh_vertex_rings(const geom_mesh *m, geom_mesh_circ_kind kind,
                                             size_t *offsets, uint32_t *items, size_t capacity,
                                             size_t *count);
+geom_status geom_mesh_add_vertex(geom_mesh *m, const double p[3], uint32_t *out);
+geom_status geom_mesh_add_face(geom_mesh *m, size_t n, const uint32_t *verts, uint32_t *out);
+void geom_mesh_clear(geom_mesh *m);
+geom_status geom_mesh_compact(geom_mesh *m, uint32_t *vertex_map, uint32_t *face_map);
+geom_status geom_mesh_delete_face(geom_mesh *m, uint32_t f);
+geom_status geom_mesh_delete_vertex(geom_mesh *m, uint32_t v);
+uint32_t geom_mesh_find_edge(const geom_mesh *m, uint32_t a, uint32_t b);
+uint32_t geom_mesh_find_halfedge(const geom_mesh *m, uint32_t a, uint32_t b);
+geom_status geom_mesh_polyline_add(geom_mesh *m, size_t n, const uint32_t *verts);
+geom_status geom_mesh_mtllib_add(geom_mesh *m, const char *name);
+size_t geom_mesh_mtllib_count(const geom_mesh *m);
+const char *geom_mesh_mtllib_get(const geom_mesh *m, size_t i);
+typedef struct geom_mesh_tag {
+    const char *name;
+    size_t nint, nfloat, nstring;
+    const int64_t *ints;
+    const double *floats;
+    const char *const *strings;
+} geom_mesh_tag;
+geom_status geom_mesh_tag_get(const geom_mesh *m, size_t i, geom_mesh_tag *out);
+geom_status geom_mesh_tag_add(geom_mesh *m, const geom_mesh_tag *tag);
+typedef struct geom_mesh_group {
+    const char *group;
+    const char *object;
+    const char *material;
+    const char *smoothing;
+} geom_mesh_group;
+geom_status geom_mesh_group_get(const geom_mesh *m, size_t i, geom_mesh_group *out);
+geom_status geom_mesh_group_add(geom_mesh *m, const geom_mesh_group *g, uint32_t *id);
+uint32_t *geom_mesh_face_groups(geom_mesh *m);
+const uint32_t *geom_mesh_face_cgroups(const geom_mesh *m);
+size_t geom_mesh_vertex_valence(const geom_mesh *m, uint32_t v);
+bool geom_mesh_face_is_degenerate(const geom_mesh *m, uint32_t f);
+bool geom_mesh_vertex_is_deleted(const geom_mesh *m, uint32_t v);
+bool geom_mesh_edge_is_deleted(const geom_mesh *m, uint32_t e);
 """,
     "meshio": """
 typedef enum geom_meshio_format {

@@ -704,6 +704,161 @@ class Mesh:
             out.append(from_c_uint32(verts[0], n[0]).astype(np.int64))
         return out
 
+    # ------------------------------------------------------------- editing
+
+    def add_vertex(self, p):
+        """Append a vertex at p (3 numbers); returns its index."""
+        a = np.ascontiguousarray(p, dtype=np.float64).reshape(3)
+        out = ffi.new("uint32_t *")
+        check(lib.geom_mesh_add_vertex(self._ptr, dptr(a), out), context="add_vertex")
+        return int(out[0])
+
+    def add_face(self, verts):
+        """Append a face over existing vertices (counter-clockwise from
+        outside); returns its index. GeomError ERR_NONMANIFOLD when it would
+        make the mesh non-manifold (nothing is changed)."""
+        v = np.ascontiguousarray(np.asarray(verts).reshape(-1), dtype=np.uint32)
+        out = ffi.new("uint32_t *")
+        check(lib.geom_mesh_add_face(self._ptr, v.size, _u32ptr(v), out), context="add_face")
+        return int(out[0])
+
+    def add_polyline(self, verts):
+        """Append a polyline (OBJ l) over existing vertices."""
+        v = np.ascontiguousarray(np.asarray(verts).reshape(-1), dtype=np.uint32)
+        check(lib.geom_mesh_polyline_add(self._ptr, v.size, _u32ptr(v)), context="add_polyline")
+
+    def delete_face(self, f):
+        """Mark face f deleted (its edges and vertices left unused are
+        deleted too); compact() removes them."""
+        check(lib.geom_mesh_delete_face(self._ptr, int(f)), context="delete_face")
+
+    def delete_vertex(self, v):
+        """Delete vertex v and every face around it (marks; see compact)."""
+        check(lib.geom_mesh_delete_vertex(self._ptr, int(v)), context="delete_vertex")
+
+    def is_deleted(self, kind, i):
+        """Whether vertex/face/edge i (kind "vertex", "face", "edge") is
+        marked deleted."""
+        fn = {"vertex": lib.geom_mesh_vertex_is_deleted, "face": lib.geom_mesh_face_is_deleted,
+              "edge": lib.geom_mesh_edge_is_deleted}[kind]
+        return bool(fn(self._ptr, int(i)))
+
+    def compact(self):
+        """Remove what is marked deleted; returns (vertex_map, face_map):
+        the new index of every old vertex and face (-1 when deleted)."""
+        nv, nf = self.n_vertices, self.n_faces
+        vm = np.empty(max(nv, 1), dtype=np.uint32)
+        fm = np.empty(max(nf, 1), dtype=np.uint32)
+        check(lib.geom_mesh_compact(self._ptr, _u32ptr(vm), _u32ptr(fm)), context="compact")
+        conv = lambda a, n: np.where(a[:n] == 0xFFFFFFFF, -1, a[:n].astype(np.int64))  # noqa: E731
+        return conv(vm, nv), conv(fm, nf)
+
+    def clear(self):
+        """Remove every element, channel (but "position"), tag and polyline."""
+        lib.geom_mesh_clear(self._ptr)
+
+    def find_halfedge(self, a, b):
+        """The halfedge from vertex a to vertex b, or None."""
+        h = lib.geom_mesh_find_halfedge(self._ptr, int(a), int(b))
+        return None if h == 0xFFFFFFFF else int(h)
+
+    def find_edge(self, a, b):
+        """The edge between vertices a and b, or None."""
+        e = lib.geom_mesh_find_edge(self._ptr, int(a), int(b))
+        return None if e == 0xFFFFFFFF else int(e)
+
+    def vertex_valences(self):
+        """Edges at every vertex (n_vertices,) int64."""
+        p = self._ptr
+        return np.array([lib.geom_mesh_vertex_valence(p, v) for v in range(self.n_vertices)],
+                        dtype=np.int64)
+
+    def degenerate_faces(self):
+        """Indices of the degenerate faces: two coincident vertices, or an
+        area at most 1e-14 times the square of the longest edge."""
+        p = self._ptr
+        return np.array([f for f in range(self.n_faces) if lib.geom_mesh_face_is_degenerate(p, f)],
+                        dtype=np.int64)
+
+    @property
+    def mtllibs(self):
+        """The material libraries (OBJ mtllib) the mesh names."""
+        p = self._ptr
+        return [ffi.string(lib.geom_mesh_mtllib_get(p, i)).decode()
+                for i in range(lib.geom_mesh_mtllib_count(p))]
+
+    def add_mtllib(self, name):
+        check(lib.geom_mesh_mtllib_add(self._ptr, str(name).encode()), context="add_mtllib")
+
+    @property
+    def tags(self):
+        """The subdivision tags (OBJ t lines) as a list of (name, ints,
+        floats, strings)."""
+        p = self._ptr
+        t = ffi.new("geom_mesh_tag *")
+        out = []
+        for i in range(lib.geom_mesh_tag_count(p)):
+            check(lib.geom_mesh_tag_get(p, i, t), context="tags")
+            out.append((ffi.string(t.name).decode(), [int(t.ints[k]) for k in range(t.nint)],
+                        [float(t.floats[k]) for k in range(t.nfloat)],
+                        [ffi.string(t.strings[k]).decode() for k in range(t.nstring)]))
+        return out
+
+    def add_tag(self, name, ints=(), floats=(), strings=()):
+        """Append a tag, e.g. add_tag("crease", [0, 1], [2.0])."""
+        ia = ffi.new("int64_t[]", [int(x) for x in ints] or [0])
+        fa = ffi.new("double[]", [float(x) for x in floats] or [0.0])
+        keep = [ffi.new("char[]", str(x).encode()) for x in strings]
+        sa = ffi.new("char *[]", keep or [ffi.NULL])
+        nm = ffi.new("char[]", str(name).encode())
+        t = ffi.new("geom_mesh_tag *")
+        t.name, t.nint, t.nfloat, t.nstring = nm, len(ints), len(floats), len(strings)
+        t.ints, t.floats, t.strings = ia, fa, sa
+        check(lib.geom_mesh_tag_add(self._ptr, t), context="add_tag")
+
+    @property
+    def groups(self):
+        """The face groups (OBJ g/o/usemtl/s) as dicts of group, object,
+        material, smoothing (None when unset)."""
+        p = self._ptr
+        g = ffi.new("geom_mesh_group *")
+        out = []
+        for i in range(lib.geom_mesh_group_count(p)):
+            check(lib.geom_mesh_group_get(p, i, g), context="groups")
+            out.append({k: (None if getattr(g, k) == ffi.NULL else ffi.string(getattr(g, k)).decode())
+                        for k in ("group", "object", "material", "smoothing")})
+        return out
+
+    def face_groups(self):
+        """The group id of every face (n_faces,) int64, -1 for none."""
+        p = self._ptr
+        ids = lib.geom_mesh_face_cgroups(p)
+        if ids == ffi.NULL:
+            return np.full(self.n_faces, -1, dtype=np.int64)
+        a = from_c_uint32(ids, self.n_faces).astype(np.int64)
+        a[a == 0xFFFFFFFF] = -1
+        return a
+
+    def set_face_groups(self, group, faces):
+        """Add a group (dict with any of group, object, material, smoothing)
+        and put the faces (indices) in it; returns its id."""
+        g = ffi.new("geom_mesh_group *")
+        keep = []
+        for k in ("group", "object", "material", "smoothing"):
+            if group.get(k) is not None:
+                keep.append(ffi.new("char[]", str(group[k]).encode()))
+                setattr(g, k, keep[-1])
+        gid = ffi.new("uint32_t *")
+        check(lib.geom_mesh_group_add(self._ptr, g, gid), context="set_face_groups")
+        ids = lib.geom_mesh_face_groups(self._ptr)
+        if ids == ffi.NULL:
+            raise MemoryError("geom_mesh_face_groups")
+        for f in np.asarray(faces).reshape(-1):
+            if not 0 <= int(f) < self.n_faces:
+                raise IndexError("face %d out of range" % int(f))
+            ids[int(f)] = gid[0]
+        return int(gid[0])
+
     # ---------------------------------------------------------- operations
 
     def triangulate(self):
