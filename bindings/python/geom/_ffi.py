@@ -461,6 +461,7 @@ geom_status geom_meshio_write_soup_part(const geom_meshio_soup *s, size_t first_
     int header, const geom_meshio_write_options *opt, geom_meshio_write_fn fn, void *user,
     geom_diag *diag);
 void geom_meshio_buffer_free(void *data, size_t size, const geom_allocator *alloc);
+geom_meshio_format geom_meshio_format_sniff(const void *data, size_t size);
 """,
     "curve": """
 typedef struct geom_nurbs_curve {
@@ -994,6 +995,7 @@ geom_status geom_iso_surface_to_mesh(const geom_iso_surface *s, geom_mesh *m, ge
 geom_status geom_iso_field_from_expr(const geom_implicit_expr *e, geom_implicit_field *out);
 geom_status geom_iso_estimate_triangles(const geom_implicit_field *f, const double bounds[6], const size_t res[3], double iso, double *triangles);
 geom_status geom_iso_grid_estimate_triangles(const geom_implicit_grid *g, double iso, double *triangles);
+geom_status geom_iso_measure_error(const geom_implicit_field *field, double iso, size_t n_vertices, const double *xyz, size_t n_triangles, const uint32_t *tris, geom_error_report *vertex_error, geom_error_report *sample_error, size_t *unmeasured);
 """,
     "implicit": """
 typedef struct geom_implicit_expr geom_implicit_expr;
@@ -1258,6 +1260,9 @@ size_t geom_ray_scene_object_count(const geom_ray_scene *s);
 uint32_t geom_ray_scene_object_node(const geom_ray_scene *s, size_t i);
 geom_ray_kind geom_ray_scene_node_kind(const geom_ray_scene *s, uint32_t id);
 geom_status geom_ray_scene_object_error(const geom_ray_scene *s, uint32_t id, geom_error_report *out);
+typedef enum geom_ray_quadric_shape {
+    GEOM_RAY_QUADRIC_ELLIPSOID = 1, GEOM_RAY_QUADRIC_CYLINDER, GEOM_RAY_QUADRIC_CONE, GEOM_RAY_QUADRIC_PARABOLOID, GEOM_RAY_QUADRIC_HYPERBOLOID1, GEOM_RAY_QUADRIC_HYPERBOLOID2} geom_ray_quadric_shape;
+geom_status geom_ray_quadric_make(geom_ray_quadric_shape shape, const double *p, double q[10]);
 """,
     "scene": """
 typedef enum geom_projection {
@@ -1551,6 +1556,7 @@ geom_status geom_meshdist_signed_distance(const geom_meshdist *m, const double *
     size_t nq, double *sd,
     geom_error_report *report, int threads,
     geom_diag *diag);
+geom_status geom_octree_ray(const geom_octree *t, const geom_ray *ray, geom_neighbors *out);
 """,
 }
 

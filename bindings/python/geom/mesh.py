@@ -1013,6 +1013,13 @@ class Mesh:
         return m
 
 
+def sniff_format(data):
+    """The mesh format geom_meshio_format_sniff guesses from file content
+    (bytes): "ply", "glb", "stl", "off", else "obj"."""
+    b = bytes(data)
+    return _format_name(lib.geom_meshio_format_sniff(ffi.from_buffer(b) if b else ffi.NULL, len(b)))
+
+
 def subdiv_options(scheme="catmull-clark", boundary=None, fvar_boundary=None, crease_method=None,
                    triangles=None, ignore_tags=False, creases=None, corners=None, holes=None):
     """(geom_subdiv_options *, arrays to keep alive while it is used) from

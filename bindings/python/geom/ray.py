@@ -357,3 +357,20 @@ class RayScene:
                  "normal": (hits[i].ng.x, hits[i].ng.y, hits[i].ng.z), "uv": (hits[i].u, hits[i].v),
                  "prim": int(hits[i].prim), "object": int(hits[i].object), "enter": bool(hits[i].enter)}
                 for i in range(int(cnt[0]))]
+
+
+_QUADRICS = {"ellipsoid": 1, "cylinder": 2, "cone": 3, "paraboloid": 4, "hyperboloid1": 5,
+             "hyperboloid2": 6}
+
+
+def quadric(shape, *params):
+    """Coefficients (10,) of a standard quadric about the z axis for
+    RayScene.add_quadric (geom_ray_quadric_make): "ellipsoid" (rx, ry, rz),
+    "cylinder" (r), "cone" (k: x^2 + y^2 = (k z)^2), "paraboloid" (k),
+    "hyperboloid1" / "hyperboloid2" (a, c); inside F < 0 is the solid."""
+    if shape not in _QUADRICS:
+        raise ValueError("shape must be one of %s, got %r" % (sorted(_QUADRICS), shape))
+    p = ffi.new("double[3]", [float(x) for x in params[:3]])
+    q = ffi.new("double[10]")
+    check(lib.geom_ray_quadric_make(_QUADRICS[shape], p, q), context="quadric")
+    return np.array(list(q))
