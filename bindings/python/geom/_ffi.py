@@ -1418,6 +1418,8 @@ typedef struct geom_export_object_report {
 } geom_export_object_report;
 geom_status geom_scene_export(const geom_camera *cam, const geom_material *materials, size_t n_materials, const geom_scene_object *objects, size_t n, const char *const *names, const geom_export_options *opt, geom_mesh *out, geom_export_object_report *reports, geom_diag *diag);
 geom_status geom_scene_export_estimate(const geom_camera *cam, const geom_material *materials, size_t n_materials, const geom_scene_object *objects, size_t n, const geom_export_options *opt, double *per_object, double *triangles, geom_diag *diag);
+geom_aabb geom_scene_shape_bounds(const geom_shape *s);
+geom_status geom_scene_mesh_transform(geom_mesh *m, geom_mat4 M);
 """,
     "spatial": """
 typedef struct geom_bvh geom_bvh;

@@ -38,6 +38,40 @@ def project(cam, p):
     return np.array([out[0], out[1], out[2]])
 
 
+def camera_matrices(cam, near, far):
+    """(view, projection) numpy (4, 4) matrices M[row, col] (OpenGL
+    convention) of the camera with these near and far distances."""
+    from .core import from_mat4
+    v, p = ffi.new("geom_mat4 *"), ffi.new("geom_mat4 *")
+    check(lib.geom_scene_camera_matrices(cam, float(near), float(far), v, p),
+          context="camera_matrices")
+    return from_mat4(v[0]), from_mat4(p[0])
+
+
+def pixel_size(cam, depth):
+    """World size of one pixel at view depth `depth`."""
+    return float(lib.geom_scene_camera_pixel_size(cam, float(depth)))
+
+
+def pixel_tolerance(cam, lo, hi, pixel_error=0.5):
+    """(chordal tolerance, visible) that keeps the projected error of an
+    object with world box [lo, hi] below pixel_error pixels
+    (geom_scene_pixel_tolerance)."""
+    box = ffi.new("geom_aabb *")
+    box.min.x, box.min.y, box.min.z = (float(v) for v in lo)
+    box.max.x, box.max.y, box.max.z = (float(v) for v in hi)
+    vis = ffi.new("int *")
+    t = lib.geom_scene_pixel_tolerance(cam, box[0], float(pixel_error), vis)
+    return float(t), bool(vis[0])
+
+
+def mesh_transform(mesh, matrix):
+    """Apply a (4, 4) affine matrix to a Mesh in place: positions, normals
+    (inverse transpose, renormalised) and tangents."""
+    from .core import to_mat4
+    check(lib.geom_scene_mesh_transform(mesh._ptr, to_mat4(matrix)), context="mesh_transform")
+
+
 # ------------------------------------------------------------ tessellation
 
 _NEEDS = {"uv": 1, "tangent": 2, "normal": 4}  # GEOM_NEEDS_* (scene.h, an anonymous enum)
@@ -83,6 +117,12 @@ class Shapes:
         if not 0 <= i < len(self):
             raise IndexError("shape %d out of 0..%d" % (i, len(self) - 1))
         return lib.geom_scene_shapes_get(self._p, i)
+
+    def bounds(self, i):
+        """(lo, hi) of object i in its own frame (infinite for unbounded
+        shapes)."""
+        b = lib.geom_scene_shape_bounds(self._get(i))
+        return (np.array([b.min.x, b.min.y, b.min.z]), np.array([b.max.x, b.max.y, b.max.z]))
 
     def kind(self, i):
         """The ray-module kind name of object i ("sphere", "mesh", ...)."""

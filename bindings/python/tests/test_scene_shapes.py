@@ -5,6 +5,8 @@ estimates against the tessellation actually made, per-object export
 estimates against the single-object ones, and ray hits of the new kinds
 against closed forms."""
 
+import math
+
 import numpy as np
 import pytest
 
@@ -120,3 +122,22 @@ def test_volume_in_a_ray_scene():
     assert h["normal"][0][0] < -0.99
     sh = geom.scene.Shapes(s)
     assert sh.kind(0) == "volume" and sh.estimate(0, 1e-2) > 0
+
+
+def test_camera_helpers_and_bounds():
+    cam = geom.scene.camera([0, 0, 10], [0, 0, 0], fovy=90, width=200, height=100)
+    view, proj = geom.scene.camera_matrices(cam, 1.0, 100.0)
+    p = view @ np.array([1.0, 2.0, 0.0, 1.0])
+    np.testing.assert_allclose(p, [1, 2, -10, 1], atol=1e-12)          # look down -z
+    assert proj[3, 2] == pytest.approx(-1) and proj[0, 0] == pytest.approx(0.5)   # aspect 2
+    assert geom.scene.pixel_size(cam, 10) == pytest.approx(2 * 10 * math.tan(math.pi / 4) / 100)
+    tol, vis = geom.scene.pixel_tolerance(cam, [-1, -1, -1], [1, 1, 1], 0.5)
+    assert vis and tol == pytest.approx(0.5 * 2 * 9 / 100)              # nearest depth 9
+    tol2, vis2 = geom.scene.pixel_tolerance(cam, [100, 0, 0], [101, 1, 1], 0.5)
+    assert not vis2
+    sh = geom.scene.Shapes(scene())
+    lo, hi = sh.bounds(0)
+    np.testing.assert_array_equal(lo, [2, 2, 2]) and np.testing.assert_array_equal(hi, [3, 4, 5])
+    m, _ = sh.tessellate(0, 1e-3)
+    geom.scene.mesh_transform(m, geom.core.translate([1, 0, 0]) @ geom.core.scale([2, 2, 2]))
+    np.testing.assert_allclose(m.positions.min(axis=0), [5, 4, 4])
