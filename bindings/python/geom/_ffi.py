@@ -1420,6 +1420,64 @@ geom_status geom_scene_export(const geom_camera *cam, const geom_material *mater
 geom_status geom_scene_export_estimate(const geom_camera *cam, const geom_material *materials, size_t n_materials, const geom_scene_object *objects, size_t n, const geom_export_options *opt, double *per_object, double *triangles, geom_diag *diag);
 geom_aabb geom_scene_shape_bounds(const geom_shape *s);
 geom_status geom_scene_mesh_transform(geom_mesh *m, geom_mat4 M);
+typedef struct geom_image {
+    uint32_t width, height, channels;
+    double *data;
+} geom_image;
+geom_status geom_scene_image_init(geom_image *img, uint32_t width, uint32_t height, uint32_t channels, const geom_allocator *alloc);
+void geom_scene_image_free(geom_image *img, const geom_allocator *alloc);
+typedef enum geom_light_kind {
+    GEOM_LIGHT_POINT = 0, GEOM_LIGHT_DIRECTIONAL = 1, GEOM_LIGHT_AMBIENT = 2} geom_light_kind;
+typedef struct geom_light {
+    geom_light_kind kind;
+    geom_vec3 position;
+    geom_vec3 direction;
+    geom_vec3 color;
+} geom_light;
+typedef struct geom_trace_report {
+    size_t primary_rays;
+    size_t shadow_rays;
+    size_t reflection_rays;
+    size_t refraction_rays;
+    size_t total_internal_reflections;
+    size_t cut_by_depth;
+    size_t cut_by_weight;
+    uint32_t max_samples_per_pixel;
+    double mean_samples_per_pixel;
+    geom_error_report image_error;
+    double seconds;
+} geom_trace_report;
+geom_status geom_scene_trace(const geom_ray_scene *rs, const uint32_t *object_material, size_t n_objects, const geom_camera *cam, const geom_light *lights, size_t n_lights, const geom_material *materials, size_t n_materials, const geom_trace_options *opt, geom_image *out, geom_trace_report *report);
+typedef struct geom_raster_report {
+    size_t triangles_in;
+    size_t triangles_clipped;
+    size_t fragments;
+    size_t shadow_maps;
+    uint32_t samples_per_pixel;
+    double seconds_clip, seconds_raster, seconds_shade, seconds_shadow;
+} geom_raster_report;
+typedef struct geom_render_object_report {
+    int visible;
+    int needed;
+    int acceleration;
+    size_t accel_triangles;
+    int tessellated;
+    double tolerance;
+    geom_tess_info tess;
+    int normals, uvs, tangents;
+    int displaced;
+} geom_render_object_report;
+typedef struct geom_render_report {
+    double seconds_build;
+    double seconds_render;
+    size_t objects_needed;
+    int refraction;
+    int reflection;
+    geom_ray_build_info ray_build;
+    geom_trace_report trace;
+    geom_raster_report raster;
+} geom_render_report;
+geom_status geom_scene_render(const geom_camera *cam, const geom_light *lights, size_t n_lights, const geom_material *materials, size_t n_materials, const geom_scene_object *objects, size_t n_objects, const geom_render_options *opt, geom_image *out, geom_render_report *report, geom_render_object_report *object_reports, geom_diag *diag);
 """,
     "spatial": """
 typedef struct geom_bvh geom_bvh;

@@ -119,8 +119,8 @@ class Shapes:
         return lib.geom_scene_shapes_get(self._p, i)
 
     def bounds(self, i):
-        """(lo, hi) of object i in its own frame (infinite for unbounded
-        shapes)."""
+        """(lo, hi): the world box of object i (its transform applied;
+        infinite for unbounded shapes)."""
         b = lib.geom_scene_shape_bounds(self._get(i))
         return (np.array([b.min.x, b.min.y, b.min.z]), np.array([b.max.x, b.max.y, b.max.z]))
 
@@ -181,3 +181,143 @@ def export_estimate(shapes, tolerance=0.0, camera=None, pixel_error=0.0):
                                          opt, ffi.from_buffer("double[]", per) if n else ffi.NULL,
                                          tot, diag), diag, "export_estimate")
     return float(tot[0]), per
+
+
+# ---------------------------------------------------------------- rendering
+
+_AOV = {"color": 0, "depth": 1, "normal": 2, "object": 3}
+_LIGHT = {"point": 0, "directional": 1, "ambient": 2}
+_SHADING = {"phong": 0, "gouraud": 1, "flat": 2}
+_SPECULAR = {"blinn": 0, "phong": 1}
+_STYLE = {"standard": 0, "cool-to-warm": 1}
+
+
+def _vec(v, what):
+    a = np.broadcast_to(np.asarray(v, dtype=np.float64), (3,)) if np.ndim(v) == 0 else \
+        np.asarray(v, dtype=np.float64).reshape(3)
+    if not np.isfinite(a).all():
+        raise ValueError("%s must be finite" % what)
+    return [float(x) for x in a]
+
+
+def _lights(lights):
+    n = len(lights)
+    arr = ffi.new("geom_light[]", max(n, 1))
+    for i, d in enumerate(lights):
+        kind = d.get("kind", "point")
+        if kind not in _LIGHT:
+            raise ValueError("light kind must be point, directional or ambient, got %r" % (kind,))
+        arr[i].kind = _LIGHT[kind]
+        for k in ("position", "direction"):
+            if k in d:
+                x, y, z = _vec(d[k], k)
+                setattr(arr[i], k, {"x": x, "y": y, "z": z})
+        x, y, z = _vec(d.get("color", 1.0), "color")
+        arr[i].color = {"x": x, "y": y, "z": z}
+    return arr, n
+
+
+def _materials(materials):
+    """geom_material[] from dicts (keys as the scene JSON's "materials":
+    ka, kd, ks (number or RGB), ns, specular, reflect, transmit, ior,
+    shading, style, line_width, crease_degrees, gooch_b/y/alpha/beta);
+    missing keys keep geom_scene_material_default's values."""
+    mats = list(materials) or [{}]
+    arr = ffi.new("geom_material[]", len(mats))
+    for i, d in enumerate(mats):
+        m = lib.geom_scene_material_default()
+        for k, v in d.items():
+            if k in ("ka", "kd", "ks"):
+                x, y, z = _vec(v, k)
+                setattr(m, k, {"x": x, "y": y, "z": z})
+            elif k == "specular":
+                m.specular = _SPECULAR[v]
+            elif k == "shading":
+                m.shading = _SHADING[v]
+            elif k == "style":
+                m.style = _STYLE[v]
+            elif k in ("ns", "reflect", "transmit", "ior", "line_width", "crease_degrees",
+                       "gooch_b", "gooch_y", "gooch_alpha", "gooch_beta"):
+                setattr(m, k, float(v))
+            else:
+                raise ValueError("unknown material key %r (textures are not bound in Python: use "
+                                 "geom-render with a scene file)" % (k,))
+        arr[i] = m
+    return arr, len(mats)
+
+
+def _image(img):
+    try:
+        w, h, c = int(img.width), int(img.height), int(img.channels)
+        return np.frombuffer(ffi.buffer(img.data, 8 * w * h * c), dtype=np.float64).reshape(h, w, c).copy()
+    finally:
+        lib.geom_scene_image_free(img, ffi.NULL)
+
+
+def render(shapes, camera, lights=({"kind": "directional", "direction": (0, 0, -1)},),
+           materials=({},), object_material=None, method="ray", aov="color", background=0.0,
+           pixel_error=0.0, tolerance=0.0, max_depth=0, no_shadows=False):
+    """Render the objects of a Shapes with the camera (camera()) and lights
+    (dicts: kind "point" (position), "directional" (direction) or
+    "ambient", color) by ray tracing (method "ray") or rasterization
+    ("raster", tessellating each object to pixel_error pixels or a world
+    tolerance), doing only the work the picture needs
+    (geom_scene_render). object_material: a material index per object
+    (default 0). aov: "color" (RGB), "depth", "normal" (xyz) or "object"
+    (index, -1 for the background). Returns (image (height, width,
+    channels), report dict with the per-object reports under "objects")."""
+    from .core import struct_dict
+    n = len(shapes)
+    objs = ffi.new("geom_scene_object[]", max(n, 1))
+    om = [0] * n if object_material is None else [int(x) for x in object_material]
+    if len(om) != n:
+        raise ValueError("object_material: one index per object (%d)" % n)
+    for i in range(n):
+        objs[i].shape = shapes._get(i)
+        objs[i].material = om[i]
+    L, nl = _lights(lights)
+    M, nm = _materials(materials)
+    opt = ffi.new("geom_render_options *")
+    opt.method = {"ray": 0, "raster": 1}[method]
+    opt.aov = _AOV[aov]
+    x, y, z = _vec(background, "background")
+    opt.background = {"x": x, "y": y, "z": z}
+    opt.pixel_error, opt.tolerance = float(pixel_error), float(tolerance)
+    opt.max_depth = int(max_depth)
+    opt.no_shadows = 1 if no_shadows else 0
+    img = ffi.new("geom_image *")
+    rep = ffi.new("geom_render_report *")
+    orep = ffi.new("geom_render_object_report[]", max(n, 1))
+    diag = new_diag()
+    check(lib.geom_scene_render(camera, L, nl, M, nm, objs, n, opt, img, rep, orep, diag), diag,
+          "render")
+    image = _image(img)
+    report = struct_dict(rep[0], "geom_render_report")
+    report["objects"] = [struct_dict(orep[i], "geom_render_object_report") for i in range(n)]
+    return image, report
+
+
+def trace(ray_scene, camera, lights=({"kind": "directional", "direction": (0, 0, -1)},),
+          materials=({},), object_material=None, aov="color", background=0.0, max_depth=0,
+          no_shadows=False):
+    """Whitted ray tracing of a built RayScene (geom_scene_trace): hit
+    object i gets materials[object_material[i]] (default 0). Returns
+    (image (height, width, channels), report dict)."""
+    from .core import struct_dict
+    n = ray_scene.object_count
+    om = np.zeros(max(n, 1), dtype=np.uint32)
+    if object_material is not None:
+        om[:n] = np.asarray(object_material, dtype=np.uint32).reshape(n)
+    L, nl = _lights(lights)
+    M, nm = _materials(materials)
+    opt = ffi.new("geom_trace_options *")
+    opt.aov = _AOV[aov]
+    x, y, z = _vec(background, "background")
+    opt.background = {"x": x, "y": y, "z": z}
+    opt.max_depth = int(max_depth)
+    opt.no_shadows = 1 if no_shadows else 0
+    img = ffi.new("geom_image *")
+    rep = ffi.new("geom_trace_report *")
+    check(lib.geom_scene_trace(ray_scene._s, ffi.cast("uint32_t *", ffi.from_buffer("uint32_t[]", om)),
+                               n, camera, L, nl, M, nm, opt, img, rep), context="trace")
+    return _image(img), struct_dict(rep[0], "geom_trace_report")

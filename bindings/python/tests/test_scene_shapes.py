@@ -141,3 +141,35 @@ def test_camera_helpers_and_bounds():
     m, _ = sh.tessellate(0, 1e-3)
     geom.scene.mesh_transform(m, geom.core.translate([1, 0, 0]) @ geom.core.scale([2, 2, 2]))
     np.testing.assert_allclose(m.positions.min(axis=0), [5, 4, 4])
+
+
+def test_render_and_trace_against_ray_queries():
+    rs = geom.RayScene()
+    rs.add_sphere([0, 0, 0], 1)
+    rs.add_box([-3, -3, -2], [3, 3, -1.5])
+    rs.build()
+    cam = geom.scene.camera([0, 0, 10], [0, 0, 0], width=40, height=30, fovy=30)
+    sh = geom.scene.Shapes(rs)
+    img, rep = geom.scene.render(sh, cam)      # default: one directional light along -z
+    depth, _ = geom.scene.render(sh, cam, aov="depth")
+    obj, _ = geom.scene.render(sh, cam, aov="object")
+    rows, cols = np.mgrid[0:30, 0:40]
+    o, d = [], []
+    for r, c in zip(rows.ravel(), cols.ravel()):
+        a, b = geom.scene.camera_ray(cam, c + 0.5, r + 0.5)
+        o.append(a)
+        d.append(b)
+    h = rs.closest(np.array(o), np.array(d))
+    # Lambert with the default kd 0.8 (the sphere's shadow on the box is hidden from this eye)
+    want = np.where(h["hit"], 0.8 * np.maximum(h["normal"][:, 2], 0), 0)
+    np.testing.assert_allclose(img[:, :, 0].ravel(), want, atol=1e-12)
+    np.testing.assert_allclose(depth[:, :, 0].ravel()[h["hit"]], 10 - h["point"][h["hit"], 2],
+                               atol=1e-9)                                  # view depth
+    np.testing.assert_array_equal(obj[:, :, 0].ravel(), np.where(h["hit"], h["object"], -1))
+    assert rep["objects"][0]["needed"] and not rep["objects"][0]["tessellated"]
+    t, trep = geom.scene.trace(rs, cam)
+    assert np.array_equal(t, img) and trep["primary_rays"] == 1200
+    ras, rrep = geom.scene.render(sh, cam, method="raster", aov="object")
+    assert np.mean(ras == obj) >= 0.97 and rrep["objects"][0]["tessellated"]
+    with pytest.raises(ValueError):
+        geom.scene.render(sh, cam, materials=[{"texture": "x.png"}])
