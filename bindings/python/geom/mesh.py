@@ -307,6 +307,16 @@ class Mesh:
         return int(lib.geom_mesh_n_edges(self._ptr))
 
     @property
+    def n_live_vertices(self):
+        """Vertices not marked deleted."""
+        return int(lib.geom_mesh_n_live_vertices(self._ptr))
+
+    @property
+    def n_live_edges(self):
+        """Edges not marked deleted."""
+        return int(lib.geom_mesh_n_live_edges(self._ptr))
+
+    @property
     def n_halfedges(self):
         return int(lib.geom_mesh_n_halfedges(self._ptr))
 

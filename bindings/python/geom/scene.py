@@ -183,6 +183,39 @@ def export_estimate(shapes, tolerance=0.0, camera=None, pixel_error=0.0):
     return float(tot[0]), per
 
 
+
+def export(shapes, tolerance=0.0, camera=None, pixel_error=0.0, world=None, names=None,
+           materials=({},), object_material=None):
+    """(Mesh, reports): every object tessellated (geom_scene_export, as
+    geom-scene --export: normals always, UVs/tangents where its material
+    needs them) to a world tolerance or the camera's pixel-error
+    tolerance, transformed, times world (a (4, 4) matrix, e.g. Z-up to
+    glTF's Y-up) and joined, one face group per object (its "object" name from names)."""
+    from .core import struct_dict, to_mat4
+    from .mesh import Mesh
+    n = len(shapes)
+    objs = ffi.new("geom_scene_object[]", max(n, 1))
+    om = [0] * n if object_material is None else [int(x) for x in object_material]
+    for i in range(n):
+        objs[i].shape = shapes._get(i)
+        objs[i].material = om[i]
+    M, nm = _materials(materials)
+    opt = ffi.new("geom_export_options *")
+    opt.tolerance, opt.pixel_error = float(tolerance), float(pixel_error)
+    if world is not None:
+        opt.world = to_mat4(world)
+    keep = [ffi.new("char[]", str(x).encode()) for x in names] if names is not None else []
+    nms = ffi.new("char *[]", keep) if keep else ffi.NULL
+    reps = ffi.new("geom_export_object_report[]", max(n, 1))
+    m = Mesh()
+    diag = new_diag()
+    st = lib.geom_scene_export(camera if camera is not None else ffi.NULL, M, nm, objs, n, nms,
+                               opt, m._ptr, reps, diag)
+    if st != 0:
+        m.close()
+        check(st, diag, "export")
+    return m, [struct_dict(reps[i], "geom_export_object_report") for i in range(n)]
+
 # ---------------------------------------------------------------- rendering
 
 _AOV = {"color": 0, "depth": 1, "normal": 2, "object": 3}

@@ -41,7 +41,7 @@ def test_build_find_delete_compact():
     assert (m.n_vertices, m.n_faces) == (8, 3)
     m.delete_vertex(4)                 # the centre: every face goes
     m.compact()
-    assert m.n_faces == 0
+    assert m.n_faces == 0 and m.n_live_vertices == 0 and m.n_live_edges == 0
 
 
 def test_degenerate_polyline_and_clear():

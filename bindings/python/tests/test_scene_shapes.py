@@ -173,3 +173,17 @@ def test_render_and_trace_against_ray_queries():
     assert np.mean(ras == obj) >= 0.97 and rrep["objects"][0]["tessellated"]
     with pytest.raises(ValueError):
         geom.scene.render(sh, cam, materials=[{"texture": "x.png"}])
+
+
+def test_export_joins_the_estimated_objects():
+    sh = geom.scene.Shapes(scene())
+    tot, per = geom.scene.export_estimate(sh, tolerance=1e-3)
+    m, reps = geom.scene.export(sh, tolerance=1e-3, names=["b%d" % i for i in range(6)])
+    made = [r["tess"]["triangles"] for r in reps]
+    assert made[:3] == [12, 3, 2] and per[:3].tolist() == [12, 3, 2]
+    assert sum(made) == int(np.sum(np.asarray(m.face_sizes) - 2))
+    assert [g["object"] for g in m.groups] == ["b%d" % i for i in range(6)]
+    assert m.has_channel("normal", "corner")
+    zup = np.array([[1, 0, 0, 0], [0, 0, 1, 0], [0, -1, 0, 0], [0, 0, 0, 1.0]])   # Z-up to Y-up
+    m2, _ = geom.scene.export(sh, tolerance=1e-3, world=zup)
+    np.testing.assert_allclose(m2.positions, m.positions @ zup[:3, :3].T, atol=1e-12)
