@@ -21,9 +21,7 @@ TOOL=$1
 PY=${PYTHON3:-/usr/bin/python3}
 T=$(mktemp -d "${TMPDIR:-/tmp}/geom-scenevol-test.XXXXXX") || exit 1
 trap 'rm -rf "$T"' EXIT
-failures=0
-checks=0
-fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
+. "$(dirname "$0")/testlib.sh"
 
 "$PY" - "$T" <<'PYEOF' || { echo "FAIL: cannot make the test volumes" >&2; exit 1; }
 import sys, gzip, bz2, struct, zlib, numpy as np
@@ -170,32 +168,29 @@ while read -r f; do
 done < <(cat "$T/same" "$T/other")
 
 # unknown spacing: read as 1, warning naming the file
-checks=$((checks + 1))
-"$TOOL" "$T/s_nan.json" --rays "$T/rays.txt" >"$T/o.out" 2>"$T/err"
-rc=$?
-grep -q "^geom-raycast: warning: .*nan.nrrd: .*spacing unknown (nan), 1 used" "$T/err" && [ $rc -eq 0 ] ||
-    fail "nan spacing: exit $rc, stderr: $(cat "$T/err")"
+run "$T/s_nan.json" --rays "$T/rays.txt"
+expect_rc 0 "nan spacing"
+expect_err "geom-raycast: warning: $T/nan.nrrd: " "nan spacing"
+expect_err "spacing unknown (nan), 1 used" "nan spacing"
 
 # bad volume files: exit 1, message naming scene, object, key and file
 for f in cut_gz.nrrd corrupt_bz.nrrd badhead.nrrd short.mha cut.nii.gz notvol.txt missing.nrrd; do
+    run "$T/bad_$f.json" --rays "$T/rays.txt"
+    expect_rc 1 "bad $f"
     checks=$((checks + 1))
-    "$TOOL" "$T/bad_$f.json" --rays "$T/rays.txt" >"$T/o.out" 2>"$T/err"
-    rc=$?
-    err=$(cat "$T/err")
-    [ $rc -eq 1 ] || fail "bad $f: exit $rc, expected 1 (stderr: $err)"
     [[ $err == "geom-raycast: "*"bad_$f.json"*"objects[0]"*'"file": '*"$T/$f"* ]] ||
         fail "bad $f: message does not name the scene, object, key and file: $err"
-    [ "$(wc -l <"$T/err")" -le 2 ] || fail "bad $f: more than a message: $err"
+    checks=$((checks + 1))
+    [ "$(wc -l <"$T/stderr")" -le 2 ] || fail "bad $f: more than a message: $err"
 done
 
 # raw keys misused
 bad_keys() { # JSON extra keys, expected message part
-    checks=$((checks + 1))
     printf '{"objects": [{"type": "volume", "file": "le.bin", "iso": 2000%s}]}\n' "$1" >"$T/k.json"
-    "$TOOL" "$T/k.json" --rays "$T/rays.txt" >"$T/o.out" 2>"$T/err"
-    rc=$?
-    err=$(cat "$T/err")
-    [ $rc -eq 1 ] && [[ $err == *"objects[0]"*"$2"* ]] || fail "keys '$1': exit $rc, stderr '$err' (expected '$2')"
+    run "$T/k.json" --rays "$T/rays.txt"
+    expect_rc 1 "keys '$1'"
+    expect_err "objects[0]" "keys '$1'"
+    expect_err "$2" "keys '$1'"
 }
 bad_keys ', "dims": [24, 20, 16]' 'a raw volume needs both "dims" and "sample"'
 bad_keys ', "sample": "i16"' 'a raw volume needs both "dims" and "sample"'
@@ -207,5 +202,4 @@ bad_keys ', "dims": [24, 20, 16], "sample": "i16", "spacing": [1, 0, 1]' '"spaci
 bad_keys ', "dims": [24, 20, 16], "sample": "i16", "big_endian": 1' '"big_endian": expected true or false'
 bad_keys ', "dims": [24, 20, 16], "sample": "i16"' 'le.bin: byte 15373: data has 15373 bytes but 24x20x16 i16 samples need 15360'
 
-echo "$checks checks, $failures failures"
-[ "$failures" -eq 0 ]
+testlib_summary

@@ -280,6 +280,18 @@ def marching_cubes(field, bounds=None, resolution=None, iso=0.0, refine=False, n
         del keep
 
 
+def _contour_args(field, bounds, resolution, iso, z, keep, error_box):
+    """(field *, bounds (4,), nx, ny, geom_implicit_contour_options *) of
+    contour()'s arguments (what C must not free goes to keep)."""
+    b4 = np.ascontiguousarray(bounds, dtype=np.float64).reshape(4)
+    nx, ny = (int(r) for r in resolution)
+    f, _, _, _ = _function_field(field, (b4[0], b4[1], 0, b4[2], b4[3], 1), (nx, ny, 1),
+                                 keep, error_box)
+    opt = ffi.new("geom_implicit_contour_options *")
+    opt.iso, opt.z = float(iso), float(z)
+    return f, b4, nx, ny, opt
+
+
 def contour(field, bounds, resolution, iso=0.0, z=0.0, refine=None):
     """Isolines f(x, y, z) = iso of a 2-D slice by marching squares with the
     asymptotic decider (geom_implicit_contour): field an expression string,
@@ -292,12 +304,7 @@ def contour(field, bounds, resolution, iso=0.0, z=0.0, refine=None):
     on the left), closed a bool array, report the achieved error (distance
     estimate |f - iso| / |grad f| at the vertices) and the counts."""
     keep, error_box = [], []
-    b4 = np.ascontiguousarray(bounds, dtype=np.float64).reshape(4)
-    nx, ny = (int(r) for r in resolution)
-    f, b, res, _ = _function_field(field, (b4[0], b4[1], 0, b4[2], b4[3], 1), (nx, ny, 1),
-                                   keep, error_box)
-    opt = ffi.new("geom_implicit_contour_options *")
-    opt.iso, opt.z = float(iso), float(z)
+    f, b4, nx, ny, opt = _contour_args(field, bounds, resolution, iso, z, keep, error_box)
     opt.refine = (lib.GEOM_IMPLICIT_REFINE_AUTO if refine is None else
                   lib.GEOM_IMPLICIT_REFINE_ALWAYS if refine else lib.GEOM_IMPLICIT_REFINE_NEVER)
     out = ffi.new("geom_implicit_isolines *")
@@ -332,12 +339,7 @@ def contour_estimate(field, bounds, resolution, iso=0.0, z=0.0):
     at most 65^2 samples (features thinner than a coarse cell are missed),
     and the grid cells it would sample (exact)."""
     keep, error_box = [], []
-    b4 = np.ascontiguousarray(bounds, dtype=np.float64).reshape(4)
-    nx, ny = (int(r) for r in resolution)
-    f, b, res, _ = _function_field(field, (b4[0], b4[1], 0, b4[2], b4[3], 1), (nx, ny, 1),
-                                   keep, error_box)
-    opt = ffi.new("geom_implicit_contour_options *")
-    opt.iso, opt.z = float(iso), float(z)
+    f, b4, nx, ny, opt = _contour_args(field, bounds, resolution, iso, z, keep, error_box)
     v, c = ffi.new("double *"), ffi.new("double *")
     st = lib.geom_implicit_contour_estimate(f, dptr(b4), nx, ny, opt, v)
     if st == 0:

@@ -4,7 +4,7 @@ geom-render and geom-scene tools)."""
 import numpy as np
 
 from ._ffi import ffi, lib
-from .core import check, new_diag
+from .core import check, flag_bits, new_diag
 
 
 def camera(eye, center, up=(0, 1, 0), fovy=45.0, width=320, height=240, orthographic=False,
@@ -83,12 +83,7 @@ def _request(tol, attributes, extent):
     if not (tol > 0 and np.isfinite(tol)):
         raise ValueError("tol must be a finite number > 0, got %r" % (tol,))
     rq.tol = tol
-    bits = 0
-    for a in attributes:
-        if a not in _NEEDS:
-            raise ValueError("attributes are 'normal', 'uv', 'tangent', got %r" % (a,))
-        bits |= _NEEDS[a]
-    rq.attributes = bits
+    rq.attributes = flag_bits(_NEEDS, attributes, "attributes")
     if extent is not None:
         e = np.asarray(extent, dtype=np.float64).reshape(6)
         rq.extent.min.x, rq.extent.min.y, rq.extent.min.z = (float(v) for v in e[:3])

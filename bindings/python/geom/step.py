@@ -12,7 +12,7 @@ geom_brep_tess_stats (faces_failed, open_edges, edge_gap, ...).
 import numpy as np
 
 from ._ffi import ffi, lib
-from .core import check, error_report, new_diag, struct_dict
+from .core import check, error_report, flag_bits, new_diag, struct_dict
 
 _ATTR = {"normal": 1, "uv": 2, "source": 8}  # GEOM_SURFACE_ATTR_* (surface.h macros)
 
@@ -103,12 +103,7 @@ class Brep:
         o = ffi.new("geom_brep_tess_options *")
         o.tolerance = float(tolerance)
         o.angle_degrees = float(angle)
-        bits = 0
-        for a in attributes:
-            if a not in _ATTR:
-                raise ValueError("attributes are 'normal', 'uv', 'source', got %r" % (a,))
-            bits |= _ATTR[a]
-        o.attributes = bits
+        o.attributes = flag_bits(_ATTR, attributes, "attributes")
         o.max_triangles = int(max_triangles)
         return o
 
