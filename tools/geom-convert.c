@@ -29,9 +29,9 @@
 static const cli_tool tool = {
     "geom-convert",
     "[OPTION]... IN [OUT]",
-    "Convert the mesh in IN to OUT (or -o FILE). Formats: obj, off, ply, stl\n"
-    "(read and write) and glb (glTF 2.0 binary, write only). '-' is standard\n"
-    "input or output.",
+    "Convert the mesh in IN to OUT (or -o FILE). Formats, read and written:\n"
+    "obj, off, ply, stl and glb (glTF 2.0 binary). '-' is standard input or\n"
+    "output.",
     "  -f, --format=FMT        output format; default: from OUT's extension\n"
     "  -i, --input-format=FMT  input format; default: from IN's extension, else\n"
     "                          from the content\n"

@@ -1,6 +1,7 @@
 /* Scene files for ray casting (see scene_json.h). */
 #include "scene_json.h"
 
+#include "cli.h"
 #include "cli_mesh.h"
 #include "geom/subdiv.h"
 #include "surface_json.h"
@@ -257,6 +258,76 @@ static geom_status add_surfaces(const sc_ctx *x, const sj_file *f, const char *k
     return st;
 }
 
+/* The "file" of a volume object through geom_implicit_volume_read, as
+ * geom-iso --volume reads it: every header format, gzip through zlib and
+ * bzip2 through libbz2 (cli_inflate, cli_bunzip2); a headerless file with
+ * "dims" and "sample" (optional "skip", "spacing", "origin", "big_endian").
+ * A spacing the header leaves unknown is read as 1 with a warning on stderr
+ * (when the tool's name is known), as geom-iso prints it. */
+static geom_status read_volume(const sc_ctx *x, const cJSON *o, geom_implicit_volume **out)
+{
+    const char *f, *sample = NULL;
+    const cJSON *dims = key(o, "dims"), *be = key(o, "big_endian");
+    geom_implicit_volume_read_options ro;
+    geom_implicit_volume_file_info info;
+    geom_status st;
+    geom_diag d;
+    char *path;
+    double a[3], skip = 0;
+    int k;
+    memset(&ro, 0, sizeof ro);
+    if ((st = str(x, o, "file", 1, &f)) != GEOM_OK) return st;
+    if ((st = str(x, o, "sample", 0, &sample)) != GEOM_OK) return st;
+    if (!dims != !sample) return fail(x, GEOM_ERR_PARSE, "a raw volume needs both \"dims\" and \"sample\"");
+    if (!dims) {
+        static const char *const raw_only[] = {"skip", "spacing", "origin", "big_endian"};
+        for (k = 0; k < 4; k++)
+            if (key(o, raw_only[k]))
+                return fail(x, GEOM_ERR_PARSE, "\"%s\" applies to raw volumes (with \"dims\" and \"sample\")",
+                            raw_only[k]);
+    } else {
+        ro.format = GEOM_IMPLICIT_VOLUME_RAW;
+        if ((st = nums(x, dims, "dims", a, 3)) != GEOM_OK) return st;
+        for (k = 0; k < 3; k++) {
+            if (!(a[k] >= 1 && a[k] <= 1e15 && a[k] == floor(a[k])))
+                return fail(x, GEOM_ERR_PARSE, "\"dims\": element %d is not an integer >= 1", k);
+            ro.dims[k] = (size_t)a[k];
+        }
+        if (geom_implicit_sample_parse(sample, &ro.sample) != GEOM_OK)
+            return fail(x, GEOM_ERR_PARSE, "\"sample\": unknown sample type \"%s\" (u8, i8, u16, i16, u32, i32, f32, f64)",
+                        sample);
+        if ((st = num(x, o, "skip", 0, 0, &skip)) != GEOM_OK) return st;
+        if (!(skip >= 0 && skip <= 9e15 && skip == floor(skip)))
+            return fail(x, GEOM_ERR_PARSE, "\"skip\": expected a byte count >= 0");
+        ro.skip = (uint64_t)skip;
+        if (key(o, "spacing")) {
+            if ((st = vec3(x, o, "spacing", ro.spacing)) != GEOM_OK) return st;
+            for (k = 0; k < 3; k++)
+                if (!(ro.spacing[k] > 0)) return fail(x, GEOM_ERR_PARSE, "\"spacing\": expected numbers > 0");
+        }
+        if (key(o, "origin") && (st = vec3(x, o, "origin", ro.origin)) != GEOM_OK) return st;
+        if (be && !cJSON_IsBool(be)) return fail(x, GEOM_ERR_PARSE, "\"big_endian\": expected true or false");
+        ro.big_endian = be && cJSON_IsTrue(be);
+    }
+    ro.inflate = cli_inflate;
+    ro.bunzip2 = cli_have_bunzip2() ? cli_bunzip2 : NULL;
+    if (!(path = resolve(x, f))) return fail(x, GEOM_ERR_NOMEM, "out of memory");
+    geom_diag_clear(&d);
+    memset(&info, 0, sizeof info);
+    st = geom_implicit_volume_read(path, &ro, NULL, out, &info, &d);
+    if (st == GEOM_OK && info.spacing_note[0] && x->tool)
+        fprintf(stderr, "%s: warning: %s: %s\n", x->tool, path, info.spacing_note);
+    if (st != GEOM_OK) {
+        char m[GEOM_DIAG_MESSAGE_MAX + 300];
+        if (!d.message[0]) snprintf(d.message, sizeof d.message, "%s", geom_status_str(st));
+        if (!d.source[0]) snprintf(d.source, sizeof d.source, "%s", path);
+        geom_diag_format(&d, m, sizeof m);
+        st = fail(x, st, "\"file\": %s", m);
+    }
+    free(path);
+    return st;
+}
+
 static geom_status parse_obj(sc_ctx *x, const cJSON *o, uint32_t *id, int depth);
 
 static geom_status parse_body(sc_ctx *x, const cJSON *o, const char *type, uint32_t *id, int depth)
@@ -427,17 +498,9 @@ static geom_status parse_body(sc_ctx *x, const cJSON *o, const char *type, uint3
         return lib(x, geom_ray_scene_add_implicit(sc, ex, a, L, id), "implicit");
     }
     if (!strcmp(type, "volume")) {
-        const char *f;
-        char *path;
         geom_implicit_volume *v = NULL;
-        geom_diag d;
-        if ((st = str(x, o, "file", 1, &f)) != GEOM_OK) return st;
         if ((st = num(x, o, "iso", 1, 0, &r)) != GEOM_OK) return st;
-        if (!(path = resolve(x, f))) return fail(x, GEOM_ERR_NOMEM, "out of memory");
-        geom_diag_clear(&d);
-        st = geom_implicit_volume_read_nrrd(path, NULL, &v, &d);
-        free(path);
-        if (st != GEOM_OK) return wrap(x, st, &d, "file");
+        if ((st = read_volume(x, o, &v)) != GEOM_OK) return st;
         if ((st = own(x, v, 1)) != GEOM_OK) {
             geom_implicit_volume_destroy(v);
             return st;

@@ -5,3 +5,9 @@ if(TARGET geom-raycast)
             $<TARGET_FILE:geom-raycast> ${PROJECT_VERSION})
   set_tests_properties(tool_geom_raycast PROPERTIES ENVIRONMENT "PYTHON3=${GEOM_SYSTEM_PYTHON3}")
 endif()
+# Volumes in scene files: every format and encoding geom-iso --volume reads.
+if(TARGET geom-raycast AND TARGET geom_scene_json)
+  add_test(NAME tool_scene_volumes
+    COMMAND ${GEOM_BASH} ${CMAKE_CURRENT_SOURCE_DIR}/test_scene_volumes.sh $<TARGET_FILE:geom-raycast>)
+  set_tests_properties(tool_scene_volumes PROPERTIES ENVIRONMENT "PYTHON3=${GEOM_SYSTEM_PYTHON3}")
+endif()

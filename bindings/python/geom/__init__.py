@@ -11,11 +11,17 @@ Submodules:
                  queries, closest points, winding numbers, signed distance)
   geom.mesh      Mesh (half-edge mesh, file I/O, normals, features, clipping,
                  subdivision)
+  geom.subdiv    Refiner (topology refined once, data interpolated per level,
+                 limit positions and normals, the level's mesh)
   geom.curve     NurbsCurve (evaluation, derivatives, exact circles, ...)
   geom.surface   NurbsSurface, .bpt patches, tessellation to a Mesh
+  geom.step      Brep: STEP files read, evaluated, estimated and tessellated
   geom.implicit  Expression, marching_cubes, read_volume, Volume
+  geom.iso       isosurfaces chunk by chunk (extract_stream, chunks) and
+                 triangle estimates
   geom.ray       RayScene (closest / any / all hits of numpy ray arrays)
-  geom.scene     cameras: primary rays, projection to pixels
+  geom.scene     cameras: primary rays, projection to pixels; Shapes (a
+                 RayScene's objects tessellated, triangle estimates)
 
 Every error status of the C library raises geom.GeomError, which carries the
 status (``.code`` e.g. "ERR_PARSE", ``.name`` e.g. "parse error") and the
@@ -39,6 +45,9 @@ if has_module("mesh") and has_module("meshio"):
     from . import mesh  # noqa: E402
     from .mesh import Mesh  # noqa: E402
     __all__ += ["mesh", "Mesh"]
+if has_module("subdiv") and has_module("meshio"):
+    from . import subdiv  # noqa: E402
+    __all__ += ["subdiv"]
 if has_module("spatial"):
     from . import spatial  # noqa: E402
     __all__ += ["spatial"]
@@ -50,10 +59,15 @@ if has_module("surface") and has_module("meshio"):
     from . import surface  # noqa: E402
     from .surface import NurbsSurface, tessellate  # noqa: E402
     __all__ += ["surface", "NurbsSurface", "tessellate"]
+if has_module("step") and has_module("meshio"):
+    from . import step  # noqa: E402
+    __all__ += ["step"]
 if has_module("implicit") and has_module("iso") and has_module("meshio"):
     from . import implicit  # noqa: E402
     from .implicit import Expression, Volume, marching_cubes, read_volume  # noqa: E402
     __all__ += ["implicit", "Expression", "Volume", "marching_cubes", "read_volume"]
+    from . import iso  # noqa: E402
+    __all__ += ["iso"]
 if has_module("ray"):
     from . import ray  # noqa: E402
     from .ray import RayScene  # noqa: E402

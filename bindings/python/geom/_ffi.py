@@ -352,6 +352,41 @@ geom_status geom_mesh_halfedge_arrays(const geom_mesh *m, uint32_t *next, uint32
 geom_status geom_mesh_vertex_rings(const geom_mesh *m, geom_mesh_circ_kind kind,
                                             size_t *offsets, uint32_t *items, size_t capacity,
                                             size_t *count);
+geom_status geom_mesh_add_vertex(geom_mesh *m, const double p[3], uint32_t *out);
+geom_status geom_mesh_add_face(geom_mesh *m, size_t n, const uint32_t *verts, uint32_t *out);
+void geom_mesh_clear(geom_mesh *m);
+geom_status geom_mesh_compact(geom_mesh *m, uint32_t *vertex_map, uint32_t *face_map);
+geom_status geom_mesh_delete_face(geom_mesh *m, uint32_t f);
+geom_status geom_mesh_delete_vertex(geom_mesh *m, uint32_t v);
+uint32_t geom_mesh_find_edge(const geom_mesh *m, uint32_t a, uint32_t b);
+uint32_t geom_mesh_find_halfedge(const geom_mesh *m, uint32_t a, uint32_t b);
+geom_status geom_mesh_polyline_add(geom_mesh *m, size_t n, const uint32_t *verts);
+geom_status geom_mesh_mtllib_add(geom_mesh *m, const char *name);
+size_t geom_mesh_mtllib_count(const geom_mesh *m);
+const char *geom_mesh_mtllib_get(const geom_mesh *m, size_t i);
+typedef struct geom_mesh_tag {
+    const char *name;
+    size_t nint, nfloat, nstring;
+    const int64_t *ints;
+    const double *floats;
+    const char *const *strings;
+} geom_mesh_tag;
+geom_status geom_mesh_tag_get(const geom_mesh *m, size_t i, geom_mesh_tag *out);
+geom_status geom_mesh_tag_add(geom_mesh *m, const geom_mesh_tag *tag);
+typedef struct geom_mesh_group {
+    const char *group;
+    const char *object;
+    const char *material;
+    const char *smoothing;
+} geom_mesh_group;
+geom_status geom_mesh_group_get(const geom_mesh *m, size_t i, geom_mesh_group *out);
+geom_status geom_mesh_group_add(geom_mesh *m, const geom_mesh_group *g, uint32_t *id);
+uint32_t *geom_mesh_face_groups(geom_mesh *m);
+const uint32_t *geom_mesh_face_cgroups(const geom_mesh *m);
+size_t geom_mesh_vertex_valence(const geom_mesh *m, uint32_t v);
+bool geom_mesh_face_is_degenerate(const geom_mesh *m, uint32_t f);
+bool geom_mesh_vertex_is_deleted(const geom_mesh *m, uint32_t v);
+bool geom_mesh_edge_is_deleted(const geom_mesh *m, uint32_t e);
 """,
     "meshio": """
 typedef enum geom_meshio_format {
@@ -426,6 +461,7 @@ geom_status geom_meshio_write_soup_part(const geom_meshio_soup *s, size_t first_
     int header, const geom_meshio_write_options *opt, geom_meshio_write_fn fn, void *user,
     geom_diag *diag);
 void geom_meshio_buffer_free(void *data, size_t size, const geom_allocator *alloc);
+geom_meshio_format geom_meshio_format_sniff(const void *data, size_t size);
 """,
     "curve": """
 typedef struct geom_nurbs_curve {
@@ -518,6 +554,20 @@ typedef struct geom_kb_params {
 geom_status geom_curve_kochanek_bartels_to_bezier(size_t dim, size_t n, const double *points,
     const geom_kb_params *tcb, size_t ntcb, geom_curve_end ends, double *bezier,
     geom_diag *diag);
+geom_status geom_curve_bezier_split(int degree, size_t dim, const double *ctrl, double t, double *left, double *right);
+geom_status geom_curve_bezier_elevate(int degree, size_t dim, const double *ctrl, int times, double *out);
+geom_status geom_curve_bezier_bbox(int degree, size_t dim, const double *ctrl, double *min, double *max);
+geom_status geom_curve_bezier_bbox_tight(int degree, size_t dim, const double *ctrl, double *min, double *max);
+geom_status geom_curve_hermite_to_bezier(size_t dim, const double *p0, const double *m0, const double *p1, const double *m1, double *bezier);
+geom_status geom_curve_hermite_eval(size_t dim, const double *p0, const double *m0, const double *p1, const double *m1, double t, int nderiv, double *ders);
+geom_status geom_curve_catmull_rom_eval(size_t dim, const double *p0, const double *p1, const double *p2, const double *p3, double alpha, double s, double *out);
+geom_status geom_curve_nurbs_periodic(int degree, size_t m, size_t dim, const double *points, const double *weights, double *knots, double *points_out, double *weights_out, geom_nurbs_curve *out);
+geom_status geom_curve_nurbs_clamp(const geom_nurbs_curve *c, double *knots, double *points, double *weights, geom_nurbs_curve *out, geom_diag *diag);
+geom_status geom_curve_nurbs_segments(const geom_nurbs_curve *c, size_t *nseg);
+geom_status geom_curve_nurbs_decompose(const geom_nurbs_curve *c, double *bezier_points, double *bezier_weights, double *breaks, geom_diag *diag);
+geom_status geom_curve_nurbs_ellipse_arc(size_t dim, const double *center, const double *xaxis, const double *yaxis, double start, double end, double *knots, double *points, double *weights, geom_nurbs_curve *out, geom_diag *diag);
+geom_status geom_curve_nurbs_conic(size_t dim, const double *p0, const double *t0, const double *p2, const double *t2, const double *point, double weight, double *knots, double *points, double *weights, geom_nurbs_curve *out, geom_diag *diag);
+double geom_curve_segment_distance(size_t dim, const double *a, const double *b, const double *q);
 """,
     "surface": """
 typedef struct geom_nurbs_surface {
@@ -604,6 +654,12 @@ geom_status geom_surface_tessellate(const geom_nurbs_surface *surfaces, size_t n
 geom_status geom_surface_eval_many(const geom_nurbs_surface *s, size_t n, const double *uv,
                                             unsigned flags, int normals, double *out,
                                             int32_t *status, size_t *n_failed);
+geom_status geom_surface_extrude(const geom_nurbs_curve *c, const double d[3], double *knots_u, double *knots_v, double *points, double *weights, geom_nurbs_surface *out, geom_diag *diag);
+geom_status geom_surface_ruled_bound(const geom_nurbs_curve *c0, const geom_nurbs_curve *c1, size_t *nu, size_t *nknots_u);
+geom_status geom_surface_ruled(const geom_nurbs_curve *c0, const geom_nurbs_curve *c1, double *knots_u, double *knots_v, double *points, double *weights, geom_nurbs_surface *out, geom_diag *diag);
+geom_status geom_surface_revolve_bound(double angle, size_t *nu, size_t *nknots_u);
+geom_status geom_surface_revolve(const geom_nurbs_curve *c, const double origin[3], const double axis[3], const double *xaxis, double angle, double *knots_u, double *knots_v, double *points, double *weights, geom_nurbs_surface *out, geom_diag *diag);
+geom_status geom_surface_tess_estimate(const geom_nurbs_surface *s, size_t n, const geom_surface_tess_options *opt, double *triangles);
 """,
     "step": """
 typedef enum geom_brep_curve_type {
@@ -822,6 +878,45 @@ typedef struct geom_subdiv_report {
 } geom_subdiv_report;
 geom_status geom_subdiv_mesh(const geom_mesh *m, const geom_subdiv_options *opt, int levels,
     unsigned flags, geom_mesh **out, geom_subdiv_report *report, geom_diag *diag);
+typedef struct geom_subdiv_refiner geom_subdiv_refiner;
+geom_status geom_subdiv_refiner_create(const geom_mesh *m, const geom_subdiv_options *opt, geom_subdiv_refiner **out, geom_diag *diag);
+geom_status geom_subdiv_refiner_create_soup(size_t nverts, size_t nfaces, const uint32_t *face_sizes, const uint32_t *indices, const geom_subdiv_options *opt, geom_subdiv_refiner **out, geom_diag *diag);
+void geom_subdiv_refiner_destroy(geom_subdiv_refiner *r);
+geom_status geom_subdiv_refiner_add_fvar(geom_subdiv_refiner *r, size_t n_values, const uint32_t *face_values, uint32_t *channel);
+size_t geom_subdiv_refiner_fvar_count(const geom_subdiv_refiner *r);
+uint32_t geom_subdiv_refiner_fvar_mesh_channel(const geom_subdiv_refiner *r, uint32_t channel);
+geom_status geom_subdiv_refiner_refine(geom_subdiv_refiner *r, int levels);
+int geom_subdiv_refiner_max_level(const geom_subdiv_refiner *r);
+geom_subdiv_scheme geom_subdiv_refiner_scheme(const geom_subdiv_refiner *r);
+geom_subdiv_options geom_subdiv_refiner_options(const geom_subdiv_refiner *r);
+typedef struct geom_subdiv_level_info {
+    size_t vertices, edges, faces;
+    size_t face_vertices;
+    size_t max_valence;
+    size_t sharp_edges;
+    size_t hole_faces;
+} geom_subdiv_level_info;
+geom_status geom_subdiv_refiner_level_info(const geom_subdiv_refiner *r, int level, geom_subdiv_level_info *info);
+geom_status geom_subdiv_refiner_faces(const geom_subdiv_refiner *r, int level, uint32_t *face_sizes, uint32_t *indices, uint8_t *is_hole);
+const uint32_t *geom_subdiv_refiner_face_indices(const geom_subdiv_refiner *r, int level);
+geom_status geom_subdiv_refiner_edges(const geom_subdiv_refiner *r, int level, uint32_t *verts, float *sharpness);
+geom_status geom_subdiv_refiner_vertex_rules(const geom_subdiv_refiner *r, int level, float *sharpness, uint8_t *rule);
+typedef enum geom_subdiv_origin {
+    GEOM_SUBDIV_FROM_FACE = 0, GEOM_SUBDIV_FROM_EDGE = 1, GEOM_SUBDIV_FROM_VERTEX = 2} geom_subdiv_origin;
+uint32_t geom_subdiv_refiner_child_vertex(const geom_subdiv_refiner *r, int level, geom_subdiv_origin kind, uint32_t index);
+geom_status geom_subdiv_refiner_vertex_parent(const geom_subdiv_refiner *r, int level, uint32_t v, geom_subdiv_origin *kind, uint32_t *parent);
+uint32_t geom_subdiv_refiner_face_parent(const geom_subdiv_refiner *r, int level, uint32_t f);
+geom_status geom_subdiv_interpolate(const geom_subdiv_refiner *r, int level, size_t ncomp, const double *src, double *dst);
+geom_status geom_subdiv_interpolate_varying(const geom_subdiv_refiner *r, int level, size_t ncomp, const double *src, double *dst);
+geom_status geom_subdiv_interpolate_face(const geom_subdiv_refiner *r, int level, size_t ncomp, const double *src, double *dst);
+size_t geom_subdiv_fvar_size(const geom_subdiv_refiner *r, uint32_t channel, int level);
+geom_status geom_subdiv_fvar_face_values(const geom_subdiv_refiner *r, uint32_t channel, int level, uint32_t *face_values);
+geom_status geom_subdiv_interpolate_fvar(const geom_subdiv_refiner *r, uint32_t channel, int level, size_t ncomp, const double *src, double *dst);
+geom_status geom_subdiv_limit(const geom_subdiv_refiner *r, size_t ncomp, const double *src, double *pos, double *tan1, double *tan2);
+geom_status geom_subdiv_limit_normals(const geom_subdiv_refiner *r, const double *src, double *normals, size_t *n_degenerate);
+geom_status geom_subdiv_limit_fvar(const geom_subdiv_refiner *r, uint32_t channel, size_t ncomp, const double *src, double *dst);
+geom_status geom_subdiv_build_mesh(const geom_subdiv_refiner *r, int level, const double *positions, const double *normals, const geom_mesh *like, geom_mesh **out, size_t *hole_faces, geom_diag *diag);
+int geom_subdiv_level_is_plain(const geom_subdiv_refiner *r, int level, const double *positions, int with_normals, const geom_mesh *like);
 """,
     "iso": """
 typedef struct geom_implicit_field geom_iso_field;
@@ -898,6 +993,9 @@ geom_status geom_iso_extract_stream(const geom_implicit_field *field, const doub
 void geom_iso_surface_free(geom_iso_surface *s);
 geom_status geom_iso_surface_to_mesh(const geom_iso_surface *s, geom_mesh *m, geom_diag *diag);
 geom_status geom_iso_field_from_expr(const geom_implicit_expr *e, geom_implicit_field *out);
+geom_status geom_iso_estimate_triangles(const geom_implicit_field *f, const double bounds[6], const size_t res[3], double iso, double *triangles);
+geom_status geom_iso_grid_estimate_triangles(const geom_implicit_grid *g, double iso, double *triangles);
+geom_status geom_iso_measure_error(const geom_implicit_field *field, double iso, size_t n_vertices, const double *xyz, size_t n_triangles, const uint32_t *tris, geom_error_report *vertex_error, geom_error_report *sample_error, size_t *unmeasured);
 """,
     "implicit": """
 typedef struct geom_implicit_expr geom_implicit_expr;
@@ -1049,6 +1147,40 @@ size_t geom_implicit_sample_size(geom_implicit_sample s);
 const char *geom_implicit_volume_format_name(geom_implicit_volume_format f);
 void geom_implicit_volume_eval_many(const geom_implicit_volume *v, size_t n,
                                              const double *p, double *out, double *grad);
+typedef struct geom_implicit_contour_options {
+    double iso;
+    double z;
+    int refine;
+    int max_iterations;
+    const geom_allocator *alloc;
+} geom_implicit_contour_options;
+typedef struct geom_implicit_contour_report {
+    geom_error_report error;
+    size_t unmeasured;
+    double seconds;
+    size_t cells;
+    size_t saddles;
+    size_t skipped_cells;
+    size_t refined;
+    size_t nan_nodes;
+    size_t nan_first[2];
+    double nan_point[2];
+} geom_implicit_contour_report;
+typedef struct geom_implicit_isolines {
+    size_t n_vertices;
+    double *xy;
+    size_t n_polylines;
+    size_t *start;
+    uint32_t *indices;
+    unsigned char *closed;
+    geom_implicit_contour_report report;
+    geom_allocator alloc;
+} geom_implicit_isolines;
+geom_status geom_implicit_contour(const geom_implicit_field *field, const double bounds[4], size_t nx, size_t ny, const geom_implicit_contour_options *opt, geom_implicit_isolines *out, geom_diag *diag);
+geom_status geom_implicit_contour_estimate(const geom_implicit_field *field, const double bounds[4], size_t nx, size_t ny, const geom_implicit_contour_options *opt, double *vertices);
+geom_status geom_implicit_contour_estimate_cells(const geom_implicit_field *field, const double bounds[4], size_t nx, size_t ny, const geom_implicit_contour_options *opt, double *cells);
+void geom_implicit_isolines_free(geom_implicit_isolines *c);
+geom_status geom_implicit_isolines_to_mesh(const geom_implicit_isolines *c, double z, geom_mesh *m);
 """,
     "ray": """
 typedef struct geom_ray_hit {
@@ -1103,6 +1235,34 @@ geom_status geom_ray_scene_closest(const geom_ray_scene *s, const geom_ray *r,
 geom_status geom_ray_scene_any(const geom_ray_scene *s, const geom_ray *r, int *found);
 geom_status geom_ray_scene_all(const geom_ray_scene *s, const geom_ray *r,
     geom_ray_hit *hits, size_t cap, size_t *n);
+typedef enum geom_ray_kind {
+    GEOM_RAY_PLANE = 1, GEOM_RAY_DISK, GEOM_RAY_BOX, GEOM_RAY_OBOX, GEOM_RAY_SPHERE, GEOM_RAY_QUADRIC, GEOM_RAY_TORUS, GEOM_RAY_TRIANGLE, GEOM_RAY_POLYGON, GEOM_RAY_MESH, GEOM_RAY_SURFACE, GEOM_RAY_SUBDIV, GEOM_RAY_IMPLICIT, GEOM_RAY_VOLUME, GEOM_RAY_CSG, GEOM_RAY_INSTANCE, GEOM_RAY_GROUP} geom_ray_kind;
+typedef enum geom_ray_csg_op {
+    GEOM_RAY_CSG_UNION = 1, GEOM_RAY_CSG_INTERSECTION, GEOM_RAY_CSG_DIFFERENCE} geom_ray_csg_op;
+const char *geom_ray_kind_name(geom_ray_kind k);
+geom_status geom_ray_scene_add_disk(geom_ray_scene *s, const double center[3], const double n[3], double radius, uint32_t *id);
+geom_status geom_ray_scene_add_obox(geom_ray_scene *s, const double center[3], const double axes[9], const double half[3], uint32_t *id);
+geom_status geom_ray_scene_add_triangle(geom_ray_scene *s, const double v[9], uint32_t *id);
+geom_status geom_ray_scene_add_polygon(geom_ray_scene *s, const double *v, size_t n, uint32_t *id);
+geom_status geom_ray_scene_add_mesh(geom_ray_scene *s, const geom_mesh *m, uint32_t *id);
+geom_status geom_ray_scene_add_surface(geom_ray_scene *s, const geom_nurbs_surface *surf, uint32_t *id, geom_diag *diag);
+geom_status geom_ray_scene_add_subdiv(geom_ray_scene *s, const geom_mesh *m, int scheme, int levels, uint32_t *id, geom_diag *diag);
+geom_status geom_ray_scene_add_implicit(geom_ray_scene *s, const geom_implicit_expr *e, const double bounds[6], double lipschitz, uint32_t *id);
+geom_status geom_ray_scene_add_volume(geom_ray_scene *s, const geom_implicit_volume *v, double iso, uint32_t *id);
+geom_status geom_ray_scene_add_csg(geom_ray_scene *s, geom_ray_csg_op op, uint32_t a, uint32_t b, uint32_t *id);
+geom_status geom_ray_scene_add_group(geom_ray_scene *s, const uint32_t *ids, size_t n, uint32_t *id);
+geom_status geom_ray_scene_add_instance(geom_ray_scene *s, uint32_t of, const double m[16], uint32_t *id);
+geom_status geom_ray_scene_set_name(geom_ray_scene *s, uint32_t id, const char *name);
+uint32_t geom_ray_scene_find(const geom_ray_scene *s, const char *name);
+geom_status geom_ray_scene_set_objects(geom_ray_scene *s, const uint32_t *ids, size_t n);
+size_t geom_ray_scene_node_count(const geom_ray_scene *s);
+size_t geom_ray_scene_object_count(const geom_ray_scene *s);
+uint32_t geom_ray_scene_object_node(const geom_ray_scene *s, size_t i);
+geom_ray_kind geom_ray_scene_node_kind(const geom_ray_scene *s, uint32_t id);
+geom_status geom_ray_scene_object_error(const geom_ray_scene *s, uint32_t id, geom_error_report *out);
+typedef enum geom_ray_quadric_shape {
+    GEOM_RAY_QUADRIC_ELLIPSOID = 1, GEOM_RAY_QUADRIC_CYLINDER, GEOM_RAY_QUADRIC_CONE, GEOM_RAY_QUADRIC_PARABOLOID, GEOM_RAY_QUADRIC_HYPERBOLOID1, GEOM_RAY_QUADRIC_HYPERBOLOID2} geom_ray_quadric_shape;
+geom_status geom_ray_quadric_make(geom_ray_quadric_shape shape, const double *p, double q[10]);
 """,
     "scene": """
 typedef enum geom_projection {
@@ -1168,6 +1328,156 @@ typedef struct geom_render_options {
     void (*progress)(void *user, double fraction);
     void *progress_user;
 } geom_render_options;
+typedef struct geom_texture geom_texture;
+typedef enum geom_shading {
+    GEOM_SHADING_PHONG = 0, GEOM_SHADING_GOURAUD = 1, GEOM_SHADING_FLAT = 2} geom_shading;
+typedef enum geom_specular {
+    GEOM_SPECULAR_BLINN = 0, GEOM_SPECULAR_PHONG = 1} geom_specular;
+typedef enum geom_style {
+    GEOM_STYLE_STANDARD = 0, GEOM_STYLE_COOL_TO_WARM = 1} geom_style;
+typedef struct geom_material {
+    geom_vec3 ka, kd, ks;
+    double ns;
+    geom_specular specular;
+    double reflect;
+    double transmit;
+    double ior;
+    const geom_texture *texture;
+    const geom_texture *bump;
+    double bump_scale;
+    const geom_texture *normal_map;
+    const geom_texture *displace;
+    double displace_scale;
+    geom_shading shading;
+    geom_style style;
+    double gooch_b, gooch_y, gooch_alpha, gooch_beta;
+    double line_width;
+    double crease_degrees;
+} geom_material;
+geom_material geom_scene_material_default(void);
+unsigned geom_scene_material_needs(const geom_material *m);
+typedef enum geom_shape_kind {
+    GEOM_SHAPE_SPHERE = 1, GEOM_SHAPE_BOX, GEOM_SHAPE_PLANE, GEOM_SHAPE_DISK, GEOM_SHAPE_TORUS, GEOM_SHAPE_QUADRIC, GEOM_SHAPE_POLYGON, GEOM_SHAPE_MESH, GEOM_SHAPE_SURFACE, GEOM_SHAPE_SUBDIV, GEOM_SHAPE_IMPLICIT, GEOM_SHAPE_VOLUME, GEOM_SHAPE_CSG, GEOM_SHAPE_GROUP} geom_shape_kind;
+typedef struct geom_shape {
+    geom_shape_kind kind;
+    const char *name;
+    double p[3], n[3], radius;
+    double min[3], max[3];
+    double major, minor;
+    double q[10];
+    const double *clip;
+    int capped;
+    const double *vertices;
+    size_t n_vertices;
+    const geom_mesh *mesh;
+    int scheme;
+    const geom_nurbs_surface *surfaces;
+    size_t n_surfaces;
+    const geom_implicit_expr *expr;
+    double bounds[6];
+    const geom_implicit_volume *volume;
+    double iso;
+    int csg_op;
+    const struct geom_shape *a, *b;
+    const struct geom_shape *const *members;
+    size_t n_members;
+    const geom_mat4 *transform;
+} geom_shape;
+typedef struct geom_scene_shapes geom_scene_shapes;
+geom_status geom_scene_shapes_from_ray(const geom_ray_scene *rs, geom_scene_shapes **out, geom_diag *diag);
+size_t geom_scene_shapes_count(const geom_scene_shapes *s);
+const geom_shape *geom_scene_shapes_get(const geom_scene_shapes *s, size_t i);
+const char *geom_scene_shapes_kind_name(const geom_scene_shapes *s, size_t i);
+void geom_scene_shapes_destroy(geom_scene_shapes *s);
+typedef struct geom_tess_request {
+    double tol;
+    unsigned attributes;
+    geom_aabb extent;
+} geom_tess_request;
+typedef struct geom_tess_info {
+    geom_error_report error;
+    size_t triangles;
+    double seconds;
+    const char *method;
+} geom_tess_info;
+geom_status geom_scene_tessellate(const geom_shape *s, const geom_tess_request *rq, geom_mesh *out, geom_tess_info *info, geom_diag *diag);
+geom_status geom_scene_tessellate_estimate(const geom_shape *s, const geom_tess_request *rq, double *triangles);
+typedef struct geom_scene_object {
+    const geom_shape *shape;
+    uint32_t material;
+} geom_scene_object;
+typedef struct geom_export_options {
+    double tolerance;
+    double pixel_error;
+    geom_mat4 world;
+} geom_export_options;
+typedef struct geom_export_object_report {
+    double tolerance;
+    geom_tess_info tess;
+    unsigned attributes;
+} geom_export_object_report;
+geom_status geom_scene_export(const geom_camera *cam, const geom_material *materials, size_t n_materials, const geom_scene_object *objects, size_t n, const char *const *names, const geom_export_options *opt, geom_mesh *out, geom_export_object_report *reports, geom_diag *diag);
+geom_status geom_scene_export_estimate(const geom_camera *cam, const geom_material *materials, size_t n_materials, const geom_scene_object *objects, size_t n, const geom_export_options *opt, double *per_object, double *triangles, geom_diag *diag);
+geom_aabb geom_scene_shape_bounds(const geom_shape *s);
+geom_status geom_scene_mesh_transform(geom_mesh *m, geom_mat4 M);
+typedef struct geom_image {
+    uint32_t width, height, channels;
+    double *data;
+} geom_image;
+geom_status geom_scene_image_init(geom_image *img, uint32_t width, uint32_t height, uint32_t channels, const geom_allocator *alloc);
+void geom_scene_image_free(geom_image *img, const geom_allocator *alloc);
+typedef enum geom_light_kind {
+    GEOM_LIGHT_POINT = 0, GEOM_LIGHT_DIRECTIONAL = 1, GEOM_LIGHT_AMBIENT = 2} geom_light_kind;
+typedef struct geom_light {
+    geom_light_kind kind;
+    geom_vec3 position;
+    geom_vec3 direction;
+    geom_vec3 color;
+} geom_light;
+typedef struct geom_trace_report {
+    size_t primary_rays;
+    size_t shadow_rays;
+    size_t reflection_rays;
+    size_t refraction_rays;
+    size_t total_internal_reflections;
+    size_t cut_by_depth;
+    size_t cut_by_weight;
+    uint32_t max_samples_per_pixel;
+    double mean_samples_per_pixel;
+    geom_error_report image_error;
+    double seconds;
+} geom_trace_report;
+geom_status geom_scene_trace(const geom_ray_scene *rs, const uint32_t *object_material, size_t n_objects, const geom_camera *cam, const geom_light *lights, size_t n_lights, const geom_material *materials, size_t n_materials, const geom_trace_options *opt, geom_image *out, geom_trace_report *report);
+typedef struct geom_raster_report {
+    size_t triangles_in;
+    size_t triangles_clipped;
+    size_t fragments;
+    size_t shadow_maps;
+    uint32_t samples_per_pixel;
+    double seconds_clip, seconds_raster, seconds_shade, seconds_shadow;
+} geom_raster_report;
+typedef struct geom_render_object_report {
+    int visible;
+    int needed;
+    int acceleration;
+    size_t accel_triangles;
+    int tessellated;
+    double tolerance;
+    geom_tess_info tess;
+    int normals, uvs, tangents;
+    int displaced;
+} geom_render_object_report;
+typedef struct geom_render_report {
+    double seconds_build;
+    double seconds_render;
+    size_t objects_needed;
+    int refraction;
+    int reflection;
+    geom_ray_build_info ray_build;
+    geom_trace_report trace;
+    geom_raster_report raster;
+} geom_render_report;
+geom_status geom_scene_render(const geom_camera *cam, const geom_light *lights, size_t n_lights, const geom_material *materials, size_t n_materials, const geom_scene_object *objects, size_t n_objects, const geom_render_options *opt, geom_image *out, geom_render_report *report, geom_render_object_report *object_reports, geom_diag *diag);
 """,
     "spatial": """
 typedef struct geom_bvh geom_bvh;
@@ -1306,6 +1616,7 @@ geom_status geom_meshdist_signed_distance(const geom_meshdist *m, const double *
     size_t nq, double *sd,
     geom_error_report *report, int threads,
     geom_diag *diag);
+geom_status geom_octree_ray(const geom_octree *t, const geom_ray *ray, geom_neighbors *out);
 """,
 }
 

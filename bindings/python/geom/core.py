@@ -122,6 +122,17 @@ def error_report(rep):
     }
 
 
+def flag_bits(table, names, what):
+    """The OR of table[name] for names (an unknown name: ValueError naming
+    the choices)."""
+    bits = 0
+    for a in names:
+        if a not in table:
+            raise ValueError("%s are %s, got %r" % (what, ", ".join(repr(k) for k in table), a))
+        bits |= table[a]
+    return bits
+
+
 def struct_dict(cdata, ctype):
     """The scalar fields of a C struct as a dict (numbers as Python ints or
     floats, bools as bool, nested structs recursively, arrays as lists)."""

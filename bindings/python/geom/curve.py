@@ -282,6 +282,34 @@ class NurbsCurve:
               diag, context="elevate")
         return NurbsCurve._from_c(out, int(out.n) + int(out.degree) + 1)
 
+    def clamp(self):
+        """The same curve on the same domain with a clamped knot vector
+        (end knots of multiplicity p + 1); a clamped curve is copied."""
+        p, n, dim = self.degree, self.n, self.dim
+        knots, pts = np.zeros(n + 3 * p + 1), np.zeros((n + 2 * p) * dim)
+        w = np.zeros(n + 2 * p) if self.rational else None
+        out = ffi.new("geom_nurbs_curve *")
+        diag = new_diag()
+        check(lib.geom_curve_nurbs_clamp(self._c, dptr(knots), dptr(pts),
+                                         dptr(w) if w is not None else ffi.NULL, out, diag),
+              diag, context="clamp")
+        return NurbsCurve._from_c(out, int(out.n) + p + 1)
+
+    def bezier_segments(self):
+        """(points (nseg, p+1, dim), weights (nseg, p+1) or None, breaks
+        (nseg+1,)): the Bezier segment of every non-empty knot span (A5.6;
+        segment s covers [breaks[s], breaks[s+1]] mapped onto [0, 1])."""
+        ns = ffi.new("size_t *")
+        check(lib.geom_curve_nurbs_segments(self._c, ns), context="bezier_segments")
+        nseg, p, dim = int(ns[0]), self.degree, self.dim
+        pts = np.zeros((nseg, p + 1, dim))
+        w = np.zeros((nseg, p + 1)) if self.rational else None
+        br = np.zeros(nseg + 1)
+        diag = new_diag()
+        check(lib.geom_curve_nurbs_decompose(self._c, dptr(pts), dptr(w) if w is not None else ffi.NULL,
+                                             dptr(br), diag), diag, context="bezier_segments")
+        return pts, w, br
+
     # ------------------------------------------------------ constructors
 
     @classmethod
@@ -314,6 +342,61 @@ class NurbsCurve:
               context="arc")
         return cls._from_c(out, int(nk[0]))
 
+
+    @classmethod
+    def ellipse_arc(cls, center, xaxis, yaxis, start=0.0, end=2 * np.pi):
+        """Exact arc of the ellipse center + cos(t) xaxis + sin(t) yaxis
+        from t = start to end (radians; A7.1, pieces of at most 90 degrees)."""
+        c, xa, ya = _frame(center, xaxis, yaxis)
+        n, nk = ffi.new("size_t *"), ffi.new("size_t *")
+        check(lib.geom_curve_nurbs_arc_bound(start, end, n, nk), context="ellipse_arc")
+        knots, pts, w = np.zeros(nk[0]), np.zeros(n[0] * c.size), np.zeros(n[0])
+        out = ffi.new("geom_nurbs_curve *")
+        diag = new_diag()
+        check(lib.geom_curve_nurbs_ellipse_arc(c.size, dptr(c), dptr(xa), dptr(ya), float(start),
+                                               float(end), dptr(knots), dptr(pts), dptr(w), out,
+                                               diag), diag, context="ellipse_arc")
+        return cls._from_c(out, int(nk[0]))
+
+    @classmethod
+    def conic(cls, p0, t0, p2, t2, point=None, weight=1.0):
+        """One conic arc (rational quadratic Bezier) from p0 (tangent t0) to
+        p2 (tangent t2), through `point` if given (A7.2), else with middle
+        weight `weight` (< 1 ellipse, 1 parabola, > 1 hyperbola)."""
+        a = [np.ascontiguousarray(v, dtype=np.float64).reshape(-1) for v in (p0, t0, p2, t2)]
+        dim = a[0].size
+        if any(v.size != dim for v in a):
+            raise ValueError("p0, t0, p2, t2 must have the same dimension")
+        q = None if point is None else np.ascontiguousarray(point, dtype=np.float64).reshape(dim)
+        knots, pts, w = np.zeros(6), np.zeros(3 * dim), np.zeros(3)
+        out = ffi.new("geom_nurbs_curve *")
+        diag = new_diag()
+        check(lib.geom_curve_nurbs_conic(dim, *[dptr(v) for v in a],
+                                         dptr(q) if q is not None else ffi.NULL, float(weight),
+                                         dptr(knots), dptr(pts), dptr(w), out, diag), diag,
+              context="conic")
+        return cls._from_c(out, 6)
+
+    @classmethod
+    def periodic(cls, degree, points, weights=None):
+        """Closed periodic curve of `degree` through the m > degree distinct
+        control points (m, dim) (the first `degree` repeated at the end,
+        uniform knots, domain [0, 1], C^(p-1) at u = 0 == 1; evaluate with
+        wrap=True for any parameter)."""
+        P = np.ascontiguousarray(points, dtype=np.float64)
+        if P.ndim != 2:
+            raise ValueError("points must be (m, dim)")
+        m, dim = P.shape
+        p = int(degree)
+        wi = None if weights is None else np.ascontiguousarray(weights, dtype=np.float64).reshape(m)
+        knots, pts = np.zeros(m + 2 * p + 1), np.zeros((m + p) * dim)
+        wo = np.zeros(m + p) if wi is not None else None
+        out = ffi.new("geom_nurbs_curve *")
+        check(lib.geom_curve_nurbs_periodic(p, m, dim, dptr(P), dptr(wi) if wi is not None else ffi.NULL,
+                                            dptr(knots), dptr(pts),
+                                            dptr(wo) if wo is not None else ffi.NULL, out),
+              context="periodic")
+        return cls._from_c(out, m + 2 * p + 1)
 
 def _frame(center, xaxis, yaxis):
     c = np.ascontiguousarray(center, dtype=np.float64).reshape(-1)
@@ -396,3 +479,88 @@ def bezier_derivs(ctrl, t, n=1):
 
 
 __all__ = ["NurbsCurve", "uniform_knots", "bezier_eval", "bezier_derivs"]
+
+
+# ------------------------------------------------- Bezier, Hermite, Catmull-Rom
+
+def _ctrl(ctrl):
+    c = np.ascontiguousarray(ctrl, dtype=np.float64)
+    if c.ndim == 1:
+        c = c.reshape(-1, 1)
+    if c.ndim != 2 or c.shape[0] < 1:
+        raise ValueError("control points must be (degree + 1, dim)")
+    return c, c.shape[0] - 1, c.shape[1]
+
+
+def bezier_split(ctrl, t):
+    """(left, right) control points of the Bezier curve ctrl (p+1, dim) cut
+    at t in [0, 1] (de Casteljau; the shared point is bit-identical)."""
+    c, p, dim = _ctrl(ctrl)
+    left, right = np.zeros_like(c), np.zeros_like(c)
+    check(lib.geom_curve_bezier_split(p, dim, dptr(c), float(t), dptr(left), dptr(right)),
+          context="bezier_split")
+    return left, right
+
+
+def bezier_elevate(ctrl, times=1):
+    """Control points (p+times+1, dim) of the same Bezier curve, degree
+    raised by `times`."""
+    c, p, dim = _ctrl(ctrl)
+    out = np.zeros((p + int(times) + 1, dim))
+    check(lib.geom_curve_bezier_elevate(p, dim, dptr(c), int(times), dptr(out)),
+          context="bezier_elevate")
+    return out
+
+
+def bezier_bbox(ctrl, tight=True):
+    """(min, max) of the Bezier curve over [0, 1]: tight (within 1e-15 of
+    the coordinate's extent, containing the curve) or the control polygon's
+    box (tight=False)."""
+    c, p, dim = _ctrl(ctrl)
+    lo, hi = np.zeros(dim), np.zeros(dim)
+    fn = lib.geom_curve_bezier_bbox_tight if tight else lib.geom_curve_bezier_bbox
+    check(fn(p, dim, dptr(c), dptr(lo), dptr(hi)), context="bezier_bbox")
+    return lo, hi
+
+
+def _same_dim(*vs):
+    a = [np.ascontiguousarray(v, dtype=np.float64).reshape(-1) for v in vs]
+    if any(v.size != a[0].size for v in a):
+        raise ValueError("the points must have the same dimension")
+    return a
+
+
+def hermite_to_bezier(p0, m0, p1, m1):
+    """Bezier control points (4, dim) of the cubic Hermite segment."""
+    a = _same_dim(p0, m0, p1, m1)
+    out = np.zeros((4, a[0].size))
+    check(lib.geom_curve_hermite_to_bezier(a[0].size, *[dptr(v) for v in a], dptr(out)),
+          context="hermite_to_bezier")
+    return out
+
+
+def hermite_eval(p0, m0, p1, m1, t, nderiv=0):
+    """Point and derivatives 0..nderiv (nderiv+1, dim) of the cubic Hermite
+    segment at t."""
+    a = _same_dim(p0, m0, p1, m1)
+    out = np.zeros((int(nderiv) + 1, a[0].size))
+    check(lib.geom_curve_hermite_eval(a[0].size, *[dptr(v) for v in a], float(t), int(nderiv),
+                                      dptr(out)), context="hermite_eval")
+    return out
+
+
+def catmull_rom_eval(p0, p1, p2, p3, s, alpha=0.5):
+    """The Catmull-Rom segment from p1 to p2 at s in [0, 1] (Barry-Goldman;
+    alpha 0 uniform, 0.5 centripetal, 1 chordal)."""
+    a = _same_dim(p0, p1, p2, p3)
+    out = np.zeros(a[0].size)
+    check(lib.geom_curve_catmull_rom_eval(a[0].size, *[dptr(v) for v in a], float(alpha), float(s),
+                                          dptr(out)), context="catmull_rom_eval")
+    return out
+
+
+def segment_distance(a, b, q):
+    """Distance from q to the segment [a, b], accurate for coordinates
+    anywhere in the range of double."""
+    a, b, q = _same_dim(a, b, q)
+    return float(lib.geom_curve_segment_distance(a.size, dptr(a), dptr(b), dptr(q)))

@@ -123,6 +123,102 @@ class Expression:
         return float(out[0]), float(out[1])
 
 
+def _iso_options(iso, refine, normals, caps, error, threads):
+    """A geom_iso_options * from marching_cubes' arguments."""
+    opt = ffi.new("geom_iso_options *")
+    opt.iso = float(iso)
+    opt.refine = lib.GEOM_IMPLICIT_REFINE_AUTO if refine else lib.GEOM_IMPLICIT_REFINE_NEVER
+    opt.normals = 1 if normals else 0
+    opt.caps = 1 if caps else 0
+    opt.error = _ISO_ERROR[error]
+    threads = int(threads)
+    if threads < 0:
+        raise ValueError("threads must be >= 0 (0: all cores), got %d" % threads)
+    opt.threads = min(threads, os.cpu_count() or 1)  # capped to the machine
+    return opt
+
+
+def _grid_field(field, spacing, origin, keep):
+    """A geom_iso_grid * over a 3-D numpy array or a Volume (as
+    marching_cubes takes them), its buffers appended to keep; None for
+    other fields."""
+    if isinstance(field, Volume):
+        spacing = field.spacing if spacing is None else spacing
+        origin = field.origin if origin is None else origin
+        field = field.samples
+    if not isinstance(field, np.ndarray):
+        return None
+    if field.ndim != 3:
+        raise ValueError("a volume must be a 3-D array")
+    dtype = volume_dtype(field.dtype)
+    vol = np.asfortranarray(field, dtype=dtype)  # i (x) fastest in memory
+    grid = ffi.new("geom_iso_grid *")
+    grid.dims = list(vol.shape)
+    grid.type = (lib.GEOM_IMPLICIT_SCALAR_F32 if dtype == np.float32
+                 else lib.GEOM_IMPLICIT_SCALAR_F64)
+    buf = ffi.from_buffer(vol.reshape(-1, order="F"))
+    keep += [vol, buf]
+    grid.data = buf
+    sp = [1.0, 1.0, 1.0] if spacing is None else [float(s) for s in spacing]
+    org = [0.0, 0.0, 0.0] if origin is None else [float(s) for s in origin]
+    # validated here: C reads a zero spacing as its default 1, which from
+    # Python would silently hide a caller's bug
+    if len(sp) != 3 or not all(np.isfinite(v) and v > 0 for v in sp):
+        raise ValueError("spacing must be three finite numbers > 0, got %r" % (spacing,))
+    if len(org) != 3 or not all(np.isfinite(v) for v in org):
+        raise ValueError("origin must be three finite numbers, got %r" % (origin,))
+    grid.spacing = sp
+    grid.origin = org
+    return grid
+
+
+def _function_field(field, bounds, resolution, keep, error_box):
+    """(geom_iso_field *, bounds (6,), size_t[3] resolution, single_thread)
+    for an expression string, an Expression or a Python callable (as
+    marching_cubes takes them); what C must not free goes to keep, the first
+    exception a callable raises to error_box."""
+    if bounds is None or resolution is None:
+        raise ValueError("bounds and resolution are needed for a function field")
+    b = np.ascontiguousarray(bounds, dtype=np.float64).reshape(6)
+    res = ffi.new("size_t[3]", [int(r) for r in resolution])
+    f = ffi.new("geom_iso_field *")
+    keep.append(b)
+    if isinstance(field, str):
+        field = Expression(field)
+    if isinstance(field, Expression):
+        check(lib.geom_iso_field_from_expr(field._ptr, f), context="marching_cubes")
+        keep.append(field)
+        return f, b, res, False
+    if not callable(field):
+        raise TypeError("field must be an expression string, an Expression, a 3-D array "
+                        "or a callable")
+    fn = field
+
+    def on_error(exc_type, exc_value, tb):
+        if not error_box:
+            error_box.append(exc_value)
+
+    @ffi.callback("double(void *, const double *)", onerror=on_error, error=float("nan"))
+    def value_cb(user, p):
+        pts = np.frombuffer(ffi.buffer(p, 24), dtype=np.float64).reshape(1, 3)
+        return float(np.asarray(fn(pts.copy()), dtype=np.float64).reshape(-1)[0])
+
+    @ffi.callback("void(void *, size_t, const double *, double *)", onerror=on_error)
+    def values_cb(user, n, p, out):
+        pts = np.frombuffer(ffi.buffer(p, 24 * n), dtype=np.float64).reshape(n, 3)
+        res_v = np.asarray(fn(pts.copy()), dtype=np.float64).reshape(-1)
+        if res_v.shape != (n,):
+            raise ValueError("the field function returned shape %s for %d points"
+                             % (res_v.shape, n))
+        ffi.memmove(out, ffi.from_buffer(np.ascontiguousarray(res_v)), 8 * n)
+
+    keep += [value_cb, values_cb]
+    f.value = value_cb
+    f.values = values_cb
+    f.exact = 1
+    return f, b, res, True
+
+
 def marching_cubes(field, bounds=None, resolution=None, iso=0.0, refine=False, normals=False,
                    caps=False, error="auto", threads=0, spacing=None, origin=None,
                    progress=None):
@@ -150,90 +246,20 @@ def marching_cubes(field, bounds=None, resolution=None, iso=0.0, refine=False, n
     caps=True) and the extraction report (vertex_error, sample_error,
     seconds, active_cells, tunnels, ...).
     """
-    opt = ffi.new("geom_iso_options *")
-    opt.iso = float(iso)
-    opt.refine = lib.GEOM_IMPLICIT_REFINE_AUTO if refine else lib.GEOM_IMPLICIT_REFINE_NEVER
-    opt.normals = 1 if normals else 0
-    opt.caps = 1 if caps else 0
-    opt.error = _ISO_ERROR[error]
-    threads = int(threads)
-    if threads < 0:
-        raise ValueError("threads must be >= 0 (0: all cores), got %d" % threads)
-    opt.threads = min(threads, os.cpu_count() or 1)  # capped to the machine
+    opt = _iso_options(iso, refine, normals, caps, error, threads)
     prog = Progress(progress)
     prog.install(opt)
     surf = ffi.new("geom_iso_surface *")
     diag = new_diag()
     keep = []
     error_box = []
-    if isinstance(field, Volume):
-        spacing = field.spacing if spacing is None else spacing
-        origin = field.origin if origin is None else origin
-        field = field.samples
-    if isinstance(field, np.ndarray):
-        if field.ndim != 3:
-            raise ValueError("a volume must be a 3-D array")
-        dtype = volume_dtype(field.dtype)
-        vol = np.asfortranarray(field, dtype=dtype)  # i (x) fastest in memory
-        grid = ffi.new("geom_iso_grid *")
-        grid.dims = list(vol.shape)
-        grid.type = (lib.GEOM_IMPLICIT_SCALAR_F32 if dtype == np.float32
-                     else lib.GEOM_IMPLICIT_SCALAR_F64)
-        buf = ffi.from_buffer(vol.reshape(-1, order="F"))
-        keep += [vol, buf]
-        grid.data = buf
-        sp = [1.0, 1.0, 1.0] if spacing is None else [float(s) for s in spacing]
-        org = [0.0, 0.0, 0.0] if origin is None else [float(s) for s in origin]
-        # validated here: C reads a zero spacing as its default 1, which from
-        # Python would silently hide a caller's bug
-        if len(sp) != 3 or not all(np.isfinite(v) and v > 0 for v in sp):
-            raise ValueError("spacing must be three finite numbers > 0, got %r" % (spacing,))
-        if len(org) != 3 or not all(np.isfinite(v) for v in org):
-            raise ValueError("origin must be three finite numbers, got %r" % (origin,))
-        grid.spacing = sp
-        grid.origin = org
+    grid = _grid_field(field, spacing, origin, keep)
+    if grid is not None:
         st = lib.geom_iso_extract_grid(grid, opt, surf, diag)
     else:
-        if bounds is None or resolution is None:
-            raise ValueError("bounds and resolution are needed for a function field")
-        b = np.ascontiguousarray(bounds, dtype=np.float64).reshape(6)
-        res = ffi.new("size_t[3]", [int(r) for r in resolution])
-        f = ffi.new("geom_iso_field *")
-        if isinstance(field, str):
-            field = Expression(field)
-            keep.append(field)
-        if isinstance(field, Expression):
-            check(lib.geom_iso_field_from_expr(field._ptr, f), context="marching_cubes")
-            keep.append(field)
-        elif callable(field):
-            fn = field
-
-            def on_error(exc_type, exc_value, tb):
-                if not error_box:
-                    error_box.append(exc_value)
-
-            @ffi.callback("double(void *, const double *)", onerror=on_error, error=float("nan"))
-            def value_cb(user, p):
-                pts = np.frombuffer(ffi.buffer(p, 24), dtype=np.float64).reshape(1, 3)
-                return float(np.asarray(fn(pts.copy()), dtype=np.float64).reshape(-1)[0])
-
-            @ffi.callback("void(void *, size_t, const double *, double *)", onerror=on_error)
-            def values_cb(user, n, p, out):
-                pts = np.frombuffer(ffi.buffer(p, 24 * n), dtype=np.float64).reshape(n, 3)
-                res_v = np.asarray(fn(pts.copy()), dtype=np.float64).reshape(-1)
-                if res_v.shape != (n,):
-                    raise ValueError("the field function returned shape %s for %d points"
-                                     % (res_v.shape, n))
-                ffi.memmove(out, ffi.from_buffer(np.ascontiguousarray(res_v)), 8 * n)
-
-            keep += [value_cb, values_cb]
-            f.value = value_cb
-            f.values = values_cb
-            f.exact = 1
+        f, b, res, single = _function_field(field, bounds, resolution, keep, error_box)
+        if single:
             opt.threads = 1
-        else:
-            raise TypeError("field must be an expression string, an Expression, a 3-D array "
-                            "or a callable")
         st = lib.geom_iso_extract(f, dptr(b), res, opt, surf, diag)
     try:
         if error_box:
@@ -253,6 +279,75 @@ def marching_cubes(field, bounds=None, resolution=None, iso=0.0, refine=False, n
         lib.geom_iso_surface_free(surf)
         del keep
 
+
+def _contour_args(field, bounds, resolution, iso, z, keep, error_box):
+    """(field *, bounds (4,), nx, ny, geom_implicit_contour_options *) of
+    contour()'s arguments (what C must not free goes to keep)."""
+    b4 = np.ascontiguousarray(bounds, dtype=np.float64).reshape(4)
+    nx, ny = (int(r) for r in resolution)
+    f, _, _, _ = _function_field(field, (b4[0], b4[1], 0, b4[2], b4[3], 1), (nx, ny, 1),
+                                 keep, error_box)
+    opt = ffi.new("geom_implicit_contour_options *")
+    opt.iso, opt.z = float(iso), float(z)
+    return f, b4, nx, ny, opt
+
+
+def contour(field, bounds, resolution, iso=0.0, z=0.0, refine=None):
+    """Isolines f(x, y, z) = iso of a 2-D slice by marching squares with the
+    asymptotic decider (geom_implicit_contour): field an expression string,
+    an Expression or a Python function of (n, 3) points; bounds (x0, y0,
+    x1, y1) split into resolution (nx, ny) cells. refine: None (the
+    default: refine exact fields), True or False.
+
+    Returns (xy (n, 2), polylines, closed, report): polylines a list of
+    vertex-index arrays (closed loops list each vertex once, inside f <= iso
+    on the left), closed a bool array, report the achieved error (distance
+    estimate |f - iso| / |grad f| at the vertices) and the counts."""
+    keep, error_box = [], []
+    f, b4, nx, ny, opt = _contour_args(field, bounds, resolution, iso, z, keep, error_box)
+    opt.refine = (lib.GEOM_IMPLICIT_REFINE_AUTO if refine is None else
+                  lib.GEOM_IMPLICIT_REFINE_ALWAYS if refine else lib.GEOM_IMPLICIT_REFINE_NEVER)
+    out = ffi.new("geom_implicit_isolines *")
+    diag = new_diag()
+    st = lib.geom_implicit_contour(f, dptr(b4), nx, ny, opt, out, diag)
+    try:
+        if error_box:
+            raise error_box[0]
+        check(st, diag, context="contour")
+        nv, npl = int(out.n_vertices), int(out.n_polylines)
+        xy = (np.frombuffer(ffi.buffer(out.xy, 16 * nv), dtype=np.float64).reshape(nv, 2).copy()
+              if nv else np.empty((0, 2)))
+        start = np.frombuffer(ffi.buffer(out.start, ffi.sizeof("size_t") * (npl + 1)),
+                              dtype=np.uintp).astype(np.int64)
+        idx = (np.frombuffer(ffi.buffer(out.indices, 4 * int(start[-1])), dtype=np.uint32).copy()
+               if start[-1] else np.empty(0, dtype=np.uint32))
+        lines = [idx[start[k]:start[k + 1]] for k in range(npl)]
+        closed = (np.frombuffer(ffi.buffer(out.closed, npl), dtype=np.uint8).astype(bool)
+                  if npl else np.empty(0, dtype=bool))
+        r = out.report
+        report = {"error": error_report(r.error), "unmeasured": int(r.unmeasured),
+                  "seconds": float(r.seconds), "cells": int(r.cells), "saddles": int(r.saddles),
+                  "refined": int(r.refined), "nan_nodes": int(r.nan_nodes)}
+        return xy, lines, closed, report
+    finally:
+        lib.geom_implicit_isolines_free(out)
+        del keep
+
+
+def contour_estimate(field, bounds, resolution, iso=0.0, z=0.0):
+    """(vertices, cells): the vertices contour() would make, estimated from
+    at most 65^2 samples (features thinner than a coarse cell are missed),
+    and the grid cells it would sample (exact)."""
+    keep, error_box = [], []
+    f, b4, nx, ny, opt = _contour_args(field, bounds, resolution, iso, z, keep, error_box)
+    v, c = ffi.new("double *"), ffi.new("double *")
+    st = lib.geom_implicit_contour_estimate(f, dptr(b4), nx, ny, opt, v)
+    if st == 0:
+        st = lib.geom_implicit_contour_estimate_cells(f, dptr(b4), nx, ny, opt, c)
+    if error_box:
+        raise error_box[0]
+    check(st, context="contour_estimate")
+    return float(v[0]), float(c[0])
 
 def _iso_report(r):
     return {

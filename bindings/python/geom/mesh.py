@@ -307,6 +307,16 @@ class Mesh:
         return int(lib.geom_mesh_n_edges(self._ptr))
 
     @property
+    def n_live_vertices(self):
+        """Vertices not marked deleted."""
+        return int(lib.geom_mesh_n_live_vertices(self._ptr))
+
+    @property
+    def n_live_edges(self):
+        """Edges not marked deleted."""
+        return int(lib.geom_mesh_n_live_edges(self._ptr))
+
+    @property
     def n_halfedges(self):
         return int(lib.geom_mesh_n_halfedges(self._ptr))
 
@@ -704,6 +714,161 @@ class Mesh:
             out.append(from_c_uint32(verts[0], n[0]).astype(np.int64))
         return out
 
+    # ------------------------------------------------------------- editing
+
+    def add_vertex(self, p):
+        """Append a vertex at p (3 numbers); returns its index."""
+        a = np.ascontiguousarray(p, dtype=np.float64).reshape(3)
+        out = ffi.new("uint32_t *")
+        check(lib.geom_mesh_add_vertex(self._ptr, dptr(a), out), context="add_vertex")
+        return int(out[0])
+
+    def add_face(self, verts):
+        """Append a face over existing vertices (counter-clockwise from
+        outside); returns its index. GeomError ERR_NONMANIFOLD when it would
+        make the mesh non-manifold (nothing is changed)."""
+        v = np.ascontiguousarray(np.asarray(verts).reshape(-1), dtype=np.uint32)
+        out = ffi.new("uint32_t *")
+        check(lib.geom_mesh_add_face(self._ptr, v.size, _u32ptr(v), out), context="add_face")
+        return int(out[0])
+
+    def add_polyline(self, verts):
+        """Append a polyline (OBJ l) over existing vertices."""
+        v = np.ascontiguousarray(np.asarray(verts).reshape(-1), dtype=np.uint32)
+        check(lib.geom_mesh_polyline_add(self._ptr, v.size, _u32ptr(v)), context="add_polyline")
+
+    def delete_face(self, f):
+        """Mark face f deleted (its edges and vertices left unused are
+        deleted too); compact() removes them."""
+        check(lib.geom_mesh_delete_face(self._ptr, int(f)), context="delete_face")
+
+    def delete_vertex(self, v):
+        """Delete vertex v and every face around it (marks; see compact)."""
+        check(lib.geom_mesh_delete_vertex(self._ptr, int(v)), context="delete_vertex")
+
+    def is_deleted(self, kind, i):
+        """Whether vertex/face/edge i (kind "vertex", "face", "edge") is
+        marked deleted."""
+        fn = {"vertex": lib.geom_mesh_vertex_is_deleted, "face": lib.geom_mesh_face_is_deleted,
+              "edge": lib.geom_mesh_edge_is_deleted}[kind]
+        return bool(fn(self._ptr, int(i)))
+
+    def compact(self):
+        """Remove what is marked deleted; returns (vertex_map, face_map):
+        the new index of every old vertex and face (-1 when deleted)."""
+        nv, nf = self.n_vertices, self.n_faces
+        vm = np.empty(max(nv, 1), dtype=np.uint32)
+        fm = np.empty(max(nf, 1), dtype=np.uint32)
+        check(lib.geom_mesh_compact(self._ptr, _u32ptr(vm), _u32ptr(fm)), context="compact")
+        conv = lambda a, n: np.where(a[:n] == 0xFFFFFFFF, -1, a[:n].astype(np.int64))  # noqa: E731
+        return conv(vm, nv), conv(fm, nf)
+
+    def clear(self):
+        """Remove every element, channel (but "position"), tag and polyline."""
+        lib.geom_mesh_clear(self._ptr)
+
+    def find_halfedge(self, a, b):
+        """The halfedge from vertex a to vertex b, or None."""
+        h = lib.geom_mesh_find_halfedge(self._ptr, int(a), int(b))
+        return None if h == 0xFFFFFFFF else int(h)
+
+    def find_edge(self, a, b):
+        """The edge between vertices a and b, or None."""
+        e = lib.geom_mesh_find_edge(self._ptr, int(a), int(b))
+        return None if e == 0xFFFFFFFF else int(e)
+
+    def vertex_valences(self):
+        """Edges at every vertex (n_vertices,) int64."""
+        p = self._ptr
+        return np.array([lib.geom_mesh_vertex_valence(p, v) for v in range(self.n_vertices)],
+                        dtype=np.int64)
+
+    def degenerate_faces(self):
+        """Indices of the degenerate faces: two coincident vertices, or an
+        area at most 1e-14 times the square of the longest edge."""
+        p = self._ptr
+        return np.array([f for f in range(self.n_faces) if lib.geom_mesh_face_is_degenerate(p, f)],
+                        dtype=np.int64)
+
+    @property
+    def mtllibs(self):
+        """The material libraries (OBJ mtllib) the mesh names."""
+        p = self._ptr
+        return [ffi.string(lib.geom_mesh_mtllib_get(p, i)).decode()
+                for i in range(lib.geom_mesh_mtllib_count(p))]
+
+    def add_mtllib(self, name):
+        check(lib.geom_mesh_mtllib_add(self._ptr, str(name).encode()), context="add_mtllib")
+
+    @property
+    def tags(self):
+        """The subdivision tags (OBJ t lines) as a list of (name, ints,
+        floats, strings)."""
+        p = self._ptr
+        t = ffi.new("geom_mesh_tag *")
+        out = []
+        for i in range(lib.geom_mesh_tag_count(p)):
+            check(lib.geom_mesh_tag_get(p, i, t), context="tags")
+            out.append((ffi.string(t.name).decode(), [int(t.ints[k]) for k in range(t.nint)],
+                        [float(t.floats[k]) for k in range(t.nfloat)],
+                        [ffi.string(t.strings[k]).decode() for k in range(t.nstring)]))
+        return out
+
+    def add_tag(self, name, ints=(), floats=(), strings=()):
+        """Append a tag, e.g. add_tag("crease", [0, 1], [2.0])."""
+        ia = ffi.new("int64_t[]", [int(x) for x in ints] or [0])
+        fa = ffi.new("double[]", [float(x) for x in floats] or [0.0])
+        keep = [ffi.new("char[]", str(x).encode()) for x in strings]
+        sa = ffi.new("char *[]", keep or [ffi.NULL])
+        nm = ffi.new("char[]", str(name).encode())
+        t = ffi.new("geom_mesh_tag *")
+        t.name, t.nint, t.nfloat, t.nstring = nm, len(ints), len(floats), len(strings)
+        t.ints, t.floats, t.strings = ia, fa, sa
+        check(lib.geom_mesh_tag_add(self._ptr, t), context="add_tag")
+
+    @property
+    def groups(self):
+        """The face groups (OBJ g/o/usemtl/s) as dicts of group, object,
+        material, smoothing (None when unset)."""
+        p = self._ptr
+        g = ffi.new("geom_mesh_group *")
+        out = []
+        for i in range(lib.geom_mesh_group_count(p)):
+            check(lib.geom_mesh_group_get(p, i, g), context="groups")
+            out.append({k: (None if getattr(g, k) == ffi.NULL else ffi.string(getattr(g, k)).decode())
+                        for k in ("group", "object", "material", "smoothing")})
+        return out
+
+    def face_groups(self):
+        """The group id of every face (n_faces,) int64, -1 for none."""
+        p = self._ptr
+        ids = lib.geom_mesh_face_cgroups(p)
+        if ids == ffi.NULL:
+            return np.full(self.n_faces, -1, dtype=np.int64)
+        a = from_c_uint32(ids, self.n_faces).astype(np.int64)
+        a[a == 0xFFFFFFFF] = -1
+        return a
+
+    def set_face_groups(self, group, faces):
+        """Add a group (dict with any of group, object, material, smoothing)
+        and put the faces (indices) in it; returns its id."""
+        g = ffi.new("geom_mesh_group *")
+        keep = []
+        for k in ("group", "object", "material", "smoothing"):
+            if group.get(k) is not None:
+                keep.append(ffi.new("char[]", str(group[k]).encode()))
+                setattr(g, k, keep[-1])
+        gid = ffi.new("uint32_t *")
+        check(lib.geom_mesh_group_add(self._ptr, g, gid), context="set_face_groups")
+        ids = lib.geom_mesh_face_groups(self._ptr)
+        if ids == ffi.NULL:
+            raise MemoryError("geom_mesh_face_groups")
+        for f in np.asarray(faces).reshape(-1):
+            if not 0 <= int(f) < self.n_faces:
+                raise IndexError("face %d out of range" % int(f))
+            ids[int(f)] = gid[0]
+        return int(gid[0])
+
     # ---------------------------------------------------------- operations
 
     def triangulate(self):
@@ -845,42 +1010,8 @@ class Mesh:
         sharpness (k,)); holes: face indices. The result's subdiv_report
         holds what was done and the distance of the vertices to the limit
         surface."""
-        if not has_module("subdiv"):
-            raise NotImplementedError("libgeom was built without the subdiv module")
-        opt = ffi.new("geom_subdiv_options *")
-        sch = ffi.new("geom_subdiv_scheme *")
-        check(lib.geom_subdiv_scheme_from_name(str(scheme).encode(), sch),
-              context="subdivide: unknown scheme %r" % (scheme,))
-        opt.scheme = sch[0]
-        opt.boundary = _choice(_SUBDIV_BOUNDARY, boundary, "boundary")
-        opt.fvar_boundary = _choice(_SUBDIV_FVAR, fvar_boundary, "fvar_boundary")
-        opt.crease_method = _choice(_SUBDIV_CREASE, crease_method, "crease_method")
-        opt.triangles = _choice(_SUBDIV_TRIANGLES, triangles, "triangles")
-        opt.ignore_tags = 1 if ignore_tags else 0
-        keep = []
-        if creases is not None:
-            pairs = np.ascontiguousarray(np.asarray(creases[0]).reshape(-1, 2), dtype=np.uint32)
-            sharp = np.ascontiguousarray(creases[1], dtype=np.float64).reshape(-1)
-            if sharp.size != pairs.shape[0]:
-                raise ValueError("creases: one sharpness per vertex pair")
-            keep += [pairs, sharp]
-            opt.n_creases = pairs.shape[0]
-            opt.crease_verts = _u32ptr(pairs)
-            opt.crease_sharpness = dptr(sharp)
-        if corners is not None:
-            verts = np.ascontiguousarray(np.asarray(corners[0]).reshape(-1), dtype=np.uint32)
-            sharp = np.ascontiguousarray(corners[1], dtype=np.float64).reshape(-1)
-            if sharp.size != verts.size:
-                raise ValueError("corners: one sharpness per vertex")
-            keep += [verts, sharp]
-            opt.n_corners = verts.size
-            opt.corner_verts = _u32ptr(verts)
-            opt.corner_sharpness = dptr(sharp)
-        if holes is not None:
-            hf = np.ascontiguousarray(np.asarray(holes).reshape(-1), dtype=np.uint32)
-            keep.append(hf)
-            opt.n_holes = hf.size
-            opt.hole_faces = _u32ptr(hf)
+        opt, keep = subdiv_options(scheme, boundary, fvar_boundary, crease_method, triangles,
+                                   ignore_tags, creases, corners, holes)
         flags = (1 if limit else 0) | (2 if normals else 0)
         out = ffi.new("geom_mesh **")
         rep = ffi.new("geom_subdiv_report *")
@@ -890,6 +1021,56 @@ class Mesh:
         m = Mesh._wrap(out[0])
         m.subdiv_report = struct_dict(rep[0], "geom_subdiv_report")
         return m
+
+
+def sniff_format(data):
+    """The mesh format geom_meshio_format_sniff guesses from file content
+    (bytes): "ply", "glb", "stl", "off", else "obj"."""
+    b = bytes(data)
+    return _format_name(lib.geom_meshio_format_sniff(ffi.from_buffer(b) if b else ffi.NULL, len(b)))
+
+
+def subdiv_options(scheme="catmull-clark", boundary=None, fvar_boundary=None, crease_method=None,
+                   triangles=None, ignore_tags=False, creases=None, corners=None, holes=None):
+    """(geom_subdiv_options *, arrays to keep alive while it is used) from
+    the arguments of Mesh.subdivide (also used by geom.subdiv.Refiner)."""
+    if not has_module("subdiv"):
+        raise NotImplementedError("libgeom was built without the subdiv module")
+    opt = ffi.new("geom_subdiv_options *")
+    sch = ffi.new("geom_subdiv_scheme *")
+    check(lib.geom_subdiv_scheme_from_name(str(scheme).encode(), sch),
+          context="subdivide: unknown scheme %r" % (scheme,))
+    opt.scheme = sch[0]
+    opt.boundary = _choice(_SUBDIV_BOUNDARY, boundary, "boundary")
+    opt.fvar_boundary = _choice(_SUBDIV_FVAR, fvar_boundary, "fvar_boundary")
+    opt.crease_method = _choice(_SUBDIV_CREASE, crease_method, "crease_method")
+    opt.triangles = _choice(_SUBDIV_TRIANGLES, triangles, "triangles")
+    opt.ignore_tags = 1 if ignore_tags else 0
+    keep = []
+    if creases is not None:
+        pairs = np.ascontiguousarray(np.asarray(creases[0]).reshape(-1, 2), dtype=np.uint32)
+        sharp = np.ascontiguousarray(creases[1], dtype=np.float64).reshape(-1)
+        if sharp.size != pairs.shape[0]:
+            raise ValueError("creases: one sharpness per vertex pair")
+        keep += [pairs, sharp]
+        opt.n_creases = pairs.shape[0]
+        opt.crease_verts = _u32ptr(pairs)
+        opt.crease_sharpness = dptr(sharp)
+    if corners is not None:
+        verts = np.ascontiguousarray(np.asarray(corners[0]).reshape(-1), dtype=np.uint32)
+        sharp = np.ascontiguousarray(corners[1], dtype=np.float64).reshape(-1)
+        if sharp.size != verts.size:
+            raise ValueError("corners: one sharpness per vertex")
+        keep += [verts, sharp]
+        opt.n_corners = verts.size
+        opt.corner_verts = _u32ptr(verts)
+        opt.corner_sharpness = dptr(sharp)
+    if holes is not None:
+        hf = np.ascontiguousarray(np.asarray(holes).reshape(-1), dtype=np.uint32)
+        keep.append(hf)
+        opt.n_holes = hf.size
+        opt.hole_faces = _u32ptr(hf)
+    return opt, keep
 
 
 def polygon_triangulate(points):

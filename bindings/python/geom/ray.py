@@ -1,5 +1,6 @@
-"""Ray intersection (geom/ray.h): a RayScene of analytic shapes and triangle
-meshes, queried with numpy arrays of rays.
+"""Ray intersection (geom/ray.h): a RayScene of analytic shapes, triangle
+meshes, NURBS surfaces, subdivision surfaces, implicit surfaces, volumes,
+CSG, groups and instances, queried with numpy arrays of rays.
 
     s = RayScene()
     s.add_sphere([0, 0, 0], 1.0)
@@ -91,6 +92,159 @@ class RayScene:
         return self._id(lib.geom_ray_scene_add_triangles(
             self._s, ffi.from_buffer("double[]", p), p.shape[0], ffi.from_buffer("uint32_t[]", t),
             t.shape[0], npp, idp), idp, "add_triangles")
+
+    def _vec(self, v, n, what):
+        a = np.ascontiguousarray(v, dtype=np.float64).reshape(-1)
+        if a.size != n:
+            raise ValueError("%s: expected %d numbers" % (what, n))
+        self._keep.append(a)
+        return ffi.from_buffer("double[]", a)
+
+    def add_disk(self, center, normal, radius):
+        idp = ffi.new("uint32_t *")
+        return self._id(lib.geom_ray_scene_add_disk(self._s, self._vec(center, 3, "center"),
+                                                    self._vec(normal, 3, "normal"), float(radius),
+                                                    idp), idp, "add_disk")
+
+    def add_obox(self, center, axes, half):
+        """Oriented box: center, three orthogonal axes (3, 3) (lengths
+        ignored), half-extents along them."""
+        idp = ffi.new("uint32_t *")
+        return self._id(lib.geom_ray_scene_add_obox(self._s, self._vec(center, 3, "center"),
+                                                    self._vec(axes, 9, "axes"),
+                                                    self._vec(half, 3, "half"), idp), idp, "add_obox")
+
+    def add_triangle(self, vertices):
+        idp = ffi.new("uint32_t *")
+        return self._id(lib.geom_ray_scene_add_triangle(self._s, self._vec(vertices, 9, "vertices"),
+                                                        idp), idp, "add_triangle")
+
+    def add_polygon(self, vertices):
+        """Planar polygon of n >= 3 vertices (n, 3)."""
+        idp = ffi.new("uint32_t *")
+        v, _ = as_points(vertices, 3, "vertices")
+        self._keep.append(v)
+        return self._id(lib.geom_ray_scene_add_polygon(self._s, ffi.from_buffer("double[]", v),
+                                                       v.shape[0], idp), idp, "add_polygon")
+
+    def add_mesh(self, mesh):
+        """A geom.Mesh (faces fan-triangulated, its normals for shading;
+        copied)."""
+        idp = ffi.new("uint32_t *")
+        return self._id(lib.geom_ray_scene_add_mesh(self._s, mesh._ptr, idp), idp, "add_mesh")
+
+    def add_surface(self, surface):
+        """A geom.NurbsSurface (kept referenced: the scene borrows it)."""
+        idp = ffi.new("uint32_t *")
+        diag = new_diag()
+        self._keep.append(surface)
+        st = lib.geom_ray_scene_add_surface(self._s, surface._s, idp, diag)
+        check(st, diag, "add_surface")
+        return self._id(st, idp, "add_surface")
+
+    def add_subdiv(self, mesh, scheme="catmull-clark", levels=0):
+        """Subdivision surface of a geom.Mesh (levels 0: from the scene's
+        tolerance)."""
+        idp = ffi.new("uint32_t *")
+        sch = ffi.new("geom_subdiv_scheme *")
+        check(lib.geom_subdiv_scheme_from_name(str(scheme).encode(), sch),
+              context="add_subdiv: unknown scheme %r" % (scheme,))
+        diag = new_diag()
+        st = lib.geom_ray_scene_add_subdiv(self._s, mesh._ptr, int(sch[0]), int(levels), idp, diag)
+        check(st, diag, "add_subdiv")
+        return self._id(st, idp, "add_subdiv")
+
+    def add_implicit(self, expr, bounds, lipschitz=0.0):
+        """Implicit surface f = 0 (f < 0 inside) of an expression string or
+        geom.Expression within bounds (x0, y0, z0, x1, y1, z1); lipschitz >
+        0 (a true bound on |grad f|) enables sphere tracing."""
+        from .implicit import Expression
+        if isinstance(expr, str):
+            expr = Expression(expr)
+        self._keep.append(expr)
+        idp = ffi.new("uint32_t *")
+        return self._id(lib.geom_ray_scene_add_implicit(self._s, expr._ptr,
+                                                        self._vec(bounds, 6, "bounds"),
+                                                        float(lipschitz), idp), idp, "add_implicit")
+
+    def add_volume(self, volume, iso):
+        """Iso-surface f = iso (inside below) of the trilinear interpolant of
+        a geom.Volume (from read_volume or Volume(samples, spacing,
+        origin))."""
+        v = volume._c()
+        self._keep += [volume, v]
+        idp = ffi.new("uint32_t *")
+        return self._id(lib.geom_ray_scene_add_volume(self._s, v, float(iso), idp), idp,
+                        "add_volume")
+
+    def add_csg(self, op, a, b):
+        """CSG node "union", "intersection" or "difference" (a - b) over two
+        closed nodes (ids), which stop being top-level objects."""
+        ops = {"union": lib.GEOM_RAY_CSG_UNION, "intersection": lib.GEOM_RAY_CSG_INTERSECTION,
+               "difference": lib.GEOM_RAY_CSG_DIFFERENCE}
+        if op not in ops:
+            raise ValueError("op must be one of %s, got %r" % (sorted(ops), op))
+        idp = ffi.new("uint32_t *")
+        return self._id(lib.geom_ray_scene_add_csg(self._s, ops[op], int(a), int(b), idp), idp,
+                        "add_csg")
+
+    def add_group(self, ids):
+        """One object answering for the nodes ids."""
+        a = np.ascontiguousarray(np.asarray(ids).reshape(-1), dtype=np.uint32)
+        idp = ffi.new("uint32_t *")
+        return self._id(lib.geom_ray_scene_add_group(self._s, ffi.from_buffer("uint32_t[]", a),
+                                                     a.size, idp), idp, "add_group")
+
+    def add_instance(self, of, matrix):
+        """Instance of node `of` under a 4x4 object-to-world matrix (numpy
+        row-major (4, 4), or 16 numbers column-major)."""
+        m = np.asarray(matrix, dtype=np.float64)
+        if m.shape == (4, 4):
+            m = m.T
+        idp = ffi.new("uint32_t *")
+        return self._id(lib.geom_ray_scene_add_instance(self._s, int(of), self._vec(m, 16, "matrix"),
+                                                        idp), idp, "add_instance")
+
+    def set_name(self, node, name):
+        check(lib.geom_ray_scene_set_name(self._s, int(node), str(name).encode()),
+              context="set_name")
+
+    def find(self, name):
+        """Node id of the named node, or None."""
+        i = lib.geom_ray_scene_find(self._s, str(name).encode())
+        return None if i == 0xFFFFFFFF else int(i)
+
+    def set_objects(self, ids):
+        """The top-level objects, in order (hit "object" indexes this list)."""
+        a = np.ascontiguousarray(np.asarray(ids).reshape(-1), dtype=np.uint32)
+        check(lib.geom_ray_scene_set_objects(self._s, ffi.from_buffer("uint32_t[]", a), a.size),
+              context="set_objects")
+        self._built = False
+
+    @property
+    def node_count(self):
+        return int(lib.geom_ray_scene_node_count(self._s))
+
+    @property
+    def object_count(self):
+        """Top-level objects (after build)."""
+        return int(lib.geom_ray_scene_object_count(self._s))
+
+    def object_node(self, i):
+        n = lib.geom_ray_scene_object_node(self._s, int(i))
+        return None if n == 0xFFFFFFFF else int(n)
+
+    def node_kind(self, node):
+        """Kind name of node ("sphere", "mesh", ...; "unknown" out of range)."""
+        return ffi.string(lib.geom_ray_kind_name(lib.geom_ray_scene_node_kind(self._s, int(node)))).decode()
+
+    def object_error(self, node):
+        """The geometric error report of an approximated node (meshes of
+        subdivision surfaces, ...), after build."""
+        from .core import error_report
+        rep = ffi.new("geom_error_report *")
+        check(lib.geom_ray_scene_object_error(self._s, int(node), rep), context="object_error")
+        return error_report(rep[0])
 
     def set_transform(self, node, matrix):
         m = np.asarray(matrix, dtype=np.float64)
@@ -203,3 +357,20 @@ class RayScene:
                  "normal": (hits[i].ng.x, hits[i].ng.y, hits[i].ng.z), "uv": (hits[i].u, hits[i].v),
                  "prim": int(hits[i].prim), "object": int(hits[i].object), "enter": bool(hits[i].enter)}
                 for i in range(int(cnt[0]))]
+
+
+_QUADRICS = {"ellipsoid": 1, "cylinder": 2, "cone": 3, "paraboloid": 4, "hyperboloid1": 5,
+             "hyperboloid2": 6}
+
+
+def quadric(shape, *params):
+    """Coefficients (10,) of a standard quadric about the z axis for
+    RayScene.add_quadric (geom_ray_quadric_make): "ellipsoid" (rx, ry, rz),
+    "cylinder" (r), "cone" (k: x^2 + y^2 = (k z)^2), "paraboloid" (k),
+    "hyperboloid1" / "hyperboloid2" (a, c); inside F < 0 is the solid."""
+    if shape not in _QUADRICS:
+        raise ValueError("shape must be one of %s, got %r" % (sorted(_QUADRICS), shape))
+    p = ffi.new("double[3]", [float(x) for x in params[:3]])
+    q = ffi.new("double[10]")
+    check(lib.geom_ray_quadric_make(_QUADRICS[shape], p, q), context="quadric")
+    return np.array(list(q))

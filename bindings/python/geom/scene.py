@@ -1,9 +1,10 @@
-"""geom.scene: cameras (the rest of the scene module is reached through the
+"""geom.scene: cameras, and the tessellation of a RayScene's objects with its
+triangle estimates (Shapes, export_estimate; rendering is reached through the
 geom-render and geom-scene tools)."""
 import numpy as np
 
 from ._ffi import ffi, lib
-from .core import check
+from .core import check, flag_bits, new_diag
 
 
 def camera(eye, center, up=(0, 1, 0), fovy=45.0, width=320, height=240, orthographic=False,
@@ -35,3 +36,316 @@ def project(cam, p):
     v = ffi.new("geom_vec3 *", list(map(float, p)))
     check(lib.geom_scene_camera_project(cam, v[0], out))
     return np.array([out[0], out[1], out[2]])
+
+
+def camera_matrices(cam, near, far):
+    """(view, projection) numpy (4, 4) matrices M[row, col] (OpenGL
+    convention) of the camera with these near and far distances."""
+    from .core import from_mat4
+    v, p = ffi.new("geom_mat4 *"), ffi.new("geom_mat4 *")
+    check(lib.geom_scene_camera_matrices(cam, float(near), float(far), v, p),
+          context="camera_matrices")
+    return from_mat4(v[0]), from_mat4(p[0])
+
+
+def pixel_size(cam, depth):
+    """World size of one pixel at view depth `depth`."""
+    return float(lib.geom_scene_camera_pixel_size(cam, float(depth)))
+
+
+def pixel_tolerance(cam, lo, hi, pixel_error=0.5):
+    """(chordal tolerance, visible) that keeps the projected error of an
+    object with world box [lo, hi] below pixel_error pixels
+    (geom_scene_pixel_tolerance)."""
+    box = ffi.new("geom_aabb *")
+    box.min.x, box.min.y, box.min.z = (float(v) for v in lo)
+    box.max.x, box.max.y, box.max.z = (float(v) for v in hi)
+    vis = ffi.new("int *")
+    t = lib.geom_scene_pixel_tolerance(cam, box[0], float(pixel_error), vis)
+    return float(t), bool(vis[0])
+
+
+def mesh_transform(mesh, matrix):
+    """Apply a (4, 4) affine matrix to a Mesh in place: positions, normals
+    (inverse transpose, renormalised) and tangents."""
+    from .core import to_mat4
+    check(lib.geom_scene_mesh_transform(mesh._ptr, to_mat4(matrix)), context="mesh_transform")
+
+
+# ------------------------------------------------------------ tessellation
+
+_NEEDS = {"uv": 1, "tangent": 2, "normal": 4}  # GEOM_NEEDS_* (scene.h, an anonymous enum)
+
+
+def _request(tol, attributes, extent):
+    rq = ffi.new("geom_tess_request *")
+    tol = float(tol)
+    if not (tol > 0 and np.isfinite(tol)):
+        raise ValueError("tol must be a finite number > 0, got %r" % (tol,))
+    rq.tol = tol
+    rq.attributes = flag_bits(_NEEDS, attributes, "attributes")
+    if extent is not None:
+        e = np.asarray(extent, dtype=np.float64).reshape(6)
+        rq.extent.min.x, rq.extent.min.y, rq.extent.min.z = (float(v) for v in e[:3])
+        rq.extent.max.x, rq.extent.max.y, rq.extent.max.z = (float(v) for v in e[3:])
+    return rq
+
+
+class Shapes:
+    """The top-level objects of a geom.ray.RayScene as shapes to tessellate
+    (geom_scene_shapes_from_ray): len(), kind(i), and per object the
+    triangle estimate and the tessellation geom-scene --export and the
+    rasteriser use. The RayScene must stay alive (it is kept referenced)."""
+
+    def __init__(self, ray_scene):
+        out = ffi.new("geom_scene_shapes **")
+        diag = new_diag()
+        check(lib.geom_scene_shapes_from_ray(ray_scene._s, out, diag), diag, "Shapes")
+        self._p = ffi.gc(out[0], lib.geom_scene_shapes_destroy)
+        self._scene = ray_scene
+
+    def __len__(self):
+        return int(lib.geom_scene_shapes_count(self._p))
+
+    def _get(self, i):
+        i = int(i)
+        if not 0 <= i < len(self):
+            raise IndexError("shape %d out of 0..%d" % (i, len(self) - 1))
+        return lib.geom_scene_shapes_get(self._p, i)
+
+    def bounds(self, i):
+        """(lo, hi): the world box of object i (its transform applied;
+        infinite for unbounded shapes)."""
+        b = lib.geom_scene_shape_bounds(self._get(i))
+        return (np.array([b.min.x, b.min.y, b.min.z]), np.array([b.max.x, b.max.y, b.max.z]))
+
+    def kind(self, i):
+        """The ray-module kind name of object i ("sphere", "mesh", ...)."""
+        self._get(i)
+        return ffi.string(lib.geom_scene_shapes_kind_name(self._p, int(i))).decode()
+
+    def estimate(self, i, tol, attributes=(), extent=None):
+        """Triangles tessellate(i, tol, ...) would make, estimated before the
+        work (geom_scene_tessellate_estimate: exact for boxes, planes,
+        polygons, disks and meshes; within about 2x for spheres, tori and
+        surfaces; marching cubes' estimate for implicit kinds)."""
+        out = ffi.new("double *")
+        check(lib.geom_scene_tessellate_estimate(self._get(i), _request(tol, attributes, extent),
+                                                 out), context="estimate")
+        return float(out[0])
+
+    def tessellate(self, i, tol, attributes=(), extent=None):
+        """(Mesh, info) of object i in its own frame (its transform not
+        applied), to chordal tolerance tol; attributes: any of "normal",
+        "uv", "tangent" (CORNER channels where the method makes them);
+        extent (x0, y0, z0, x1, y1, z1) cuts unbounded shapes. info: the
+        achieved error report, triangles, seconds, method."""
+        from .core import error_report
+        from .mesh import Mesh
+        m = Mesh()
+        info = ffi.new("geom_tess_info *")
+        diag = new_diag()
+        st = lib.geom_scene_tessellate(self._get(i), _request(tol, attributes, extent), m._ptr,
+                                       info, diag)
+        if st != 0:
+            m.close()
+            check(st, diag, "tessellate")
+        return m, {"error": error_report(info.error), "triangles": int(info.triangles),
+                   "seconds": float(info.seconds),
+                   "method": ffi.string(info.method).decode() if info.method != ffi.NULL else ""}
+
+
+def export_estimate(shapes, tolerance=0.0, camera=None, pixel_error=0.0):
+    """(total, per_object array) of the triangles geom-scene --export would
+    make for every object of shapes with the default material (normals
+    only): a world tolerance, or the camera's pixel-error tolerance per
+    object (geom_scene_export_estimate; an estimate, not a bound)."""
+    n = len(shapes)
+    objs = ffi.new("geom_scene_object[]", max(n, 1))
+    for i in range(n):
+        objs[i].shape = shapes._get(i)
+        objs[i].material = 0
+    mat = ffi.new("geom_material *", lib.geom_scene_material_default())
+    opt = ffi.new("geom_export_options *")
+    opt.tolerance = float(tolerance)
+    opt.pixel_error = float(pixel_error)
+    per = np.zeros(n, dtype=np.float64)
+    tot = ffi.new("double *")
+    diag = new_diag()
+    check(lib.geom_scene_export_estimate(camera if camera is not None else ffi.NULL, mat, 1, objs, n,
+                                         opt, ffi.from_buffer("double[]", per) if n else ffi.NULL,
+                                         tot, diag), diag, "export_estimate")
+    return float(tot[0]), per
+
+
+
+def export(shapes, tolerance=0.0, camera=None, pixel_error=0.0, world=None, names=None,
+           materials=({},), object_material=None):
+    """(Mesh, reports): every object tessellated (geom_scene_export, as
+    geom-scene --export: normals always, UVs/tangents where its material
+    needs them) to a world tolerance or the camera's pixel-error
+    tolerance, transformed, times world (a (4, 4) matrix, e.g. Z-up to
+    glTF's Y-up) and joined, one face group per object (its "object" name from names)."""
+    from .core import struct_dict, to_mat4
+    from .mesh import Mesh
+    n = len(shapes)
+    objs = ffi.new("geom_scene_object[]", max(n, 1))
+    om = [0] * n if object_material is None else [int(x) for x in object_material]
+    for i in range(n):
+        objs[i].shape = shapes._get(i)
+        objs[i].material = om[i]
+    M, nm = _materials(materials)
+    opt = ffi.new("geom_export_options *")
+    opt.tolerance, opt.pixel_error = float(tolerance), float(pixel_error)
+    if world is not None:
+        opt.world = to_mat4(world)
+    keep = [ffi.new("char[]", str(x).encode()) for x in names] if names is not None else []
+    nms = ffi.new("char *[]", keep) if keep else ffi.NULL
+    reps = ffi.new("geom_export_object_report[]", max(n, 1))
+    m = Mesh()
+    diag = new_diag()
+    st = lib.geom_scene_export(camera if camera is not None else ffi.NULL, M, nm, objs, n, nms,
+                               opt, m._ptr, reps, diag)
+    if st != 0:
+        m.close()
+        check(st, diag, "export")
+    return m, [struct_dict(reps[i], "geom_export_object_report") for i in range(n)]
+
+# ---------------------------------------------------------------- rendering
+
+_AOV = {"color": 0, "depth": 1, "normal": 2, "object": 3}
+_LIGHT = {"point": 0, "directional": 1, "ambient": 2}
+_SHADING = {"phong": 0, "gouraud": 1, "flat": 2}
+_SPECULAR = {"blinn": 0, "phong": 1}
+_STYLE = {"standard": 0, "cool-to-warm": 1}
+
+
+def _vec(v, what):
+    a = np.broadcast_to(np.asarray(v, dtype=np.float64), (3,)) if np.ndim(v) == 0 else \
+        np.asarray(v, dtype=np.float64).reshape(3)
+    if not np.isfinite(a).all():
+        raise ValueError("%s must be finite" % what)
+    return [float(x) for x in a]
+
+
+def _lights(lights):
+    n = len(lights)
+    arr = ffi.new("geom_light[]", max(n, 1))
+    for i, d in enumerate(lights):
+        kind = d.get("kind", "point")
+        if kind not in _LIGHT:
+            raise ValueError("light kind must be point, directional or ambient, got %r" % (kind,))
+        arr[i].kind = _LIGHT[kind]
+        for k in ("position", "direction"):
+            if k in d:
+                x, y, z = _vec(d[k], k)
+                setattr(arr[i], k, {"x": x, "y": y, "z": z})
+        x, y, z = _vec(d.get("color", 1.0), "color")
+        arr[i].color = {"x": x, "y": y, "z": z}
+    return arr, n
+
+
+def _materials(materials):
+    """geom_material[] from dicts (keys as the scene JSON's "materials":
+    ka, kd, ks (number or RGB), ns, specular, reflect, transmit, ior,
+    shading, style, line_width, crease_degrees, gooch_b/y/alpha/beta);
+    missing keys keep geom_scene_material_default's values."""
+    mats = list(materials) or [{}]
+    arr = ffi.new("geom_material[]", len(mats))
+    for i, d in enumerate(mats):
+        m = lib.geom_scene_material_default()
+        for k, v in d.items():
+            if k in ("ka", "kd", "ks"):
+                x, y, z = _vec(v, k)
+                setattr(m, k, {"x": x, "y": y, "z": z})
+            elif k == "specular":
+                m.specular = _SPECULAR[v]
+            elif k == "shading":
+                m.shading = _SHADING[v]
+            elif k == "style":
+                m.style = _STYLE[v]
+            elif k in ("ns", "reflect", "transmit", "ior", "line_width", "crease_degrees",
+                       "gooch_b", "gooch_y", "gooch_alpha", "gooch_beta"):
+                setattr(m, k, float(v))
+            else:
+                raise ValueError("unknown material key %r (textures are not bound in Python: use "
+                                 "geom-render with a scene file)" % (k,))
+        arr[i] = m
+    return arr, len(mats)
+
+
+def _image(img):
+    try:
+        w, h, c = int(img.width), int(img.height), int(img.channels)
+        return np.frombuffer(ffi.buffer(img.data, 8 * w * h * c), dtype=np.float64).reshape(h, w, c).copy()
+    finally:
+        lib.geom_scene_image_free(img, ffi.NULL)
+
+
+def render(shapes, camera, lights=({"kind": "directional", "direction": (0, 0, -1)},),
+           materials=({},), object_material=None, method="ray", aov="color", background=0.0,
+           pixel_error=0.0, tolerance=0.0, max_depth=0, no_shadows=False):
+    """Render the objects of a Shapes with the camera (camera()) and lights
+    (dicts: kind "point" (position), "directional" (direction) or
+    "ambient", color) by ray tracing (method "ray") or rasterization
+    ("raster", tessellating each object to pixel_error pixels or a world
+    tolerance), doing only the work the picture needs
+    (geom_scene_render). object_material: a material index per object
+    (default 0). aov: "color" (RGB), "depth", "normal" (xyz) or "object"
+    (index, -1 for the background). Returns (image (height, width,
+    channels), report dict with the per-object reports under "objects")."""
+    from .core import struct_dict
+    n = len(shapes)
+    objs = ffi.new("geom_scene_object[]", max(n, 1))
+    om = [0] * n if object_material is None else [int(x) for x in object_material]
+    if len(om) != n:
+        raise ValueError("object_material: one index per object (%d)" % n)
+    for i in range(n):
+        objs[i].shape = shapes._get(i)
+        objs[i].material = om[i]
+    L, nl = _lights(lights)
+    M, nm = _materials(materials)
+    opt = ffi.new("geom_render_options *")
+    opt.method = {"ray": 0, "raster": 1}[method]
+    opt.aov = _AOV[aov]
+    x, y, z = _vec(background, "background")
+    opt.background = {"x": x, "y": y, "z": z}
+    opt.pixel_error, opt.tolerance = float(pixel_error), float(tolerance)
+    opt.max_depth = int(max_depth)
+    opt.no_shadows = 1 if no_shadows else 0
+    img = ffi.new("geom_image *")
+    rep = ffi.new("geom_render_report *")
+    orep = ffi.new("geom_render_object_report[]", max(n, 1))
+    diag = new_diag()
+    check(lib.geom_scene_render(camera, L, nl, M, nm, objs, n, opt, img, rep, orep, diag), diag,
+          "render")
+    image = _image(img)
+    report = struct_dict(rep[0], "geom_render_report")
+    report["objects"] = [struct_dict(orep[i], "geom_render_object_report") for i in range(n)]
+    return image, report
+
+
+def trace(ray_scene, camera, lights=({"kind": "directional", "direction": (0, 0, -1)},),
+          materials=({},), object_material=None, aov="color", background=0.0, max_depth=0,
+          no_shadows=False):
+    """Whitted ray tracing of a built RayScene (geom_scene_trace): hit
+    object i gets materials[object_material[i]] (default 0). Returns
+    (image (height, width, channels), report dict)."""
+    from .core import struct_dict
+    n = ray_scene.object_count
+    om = np.zeros(max(n, 1), dtype=np.uint32)
+    if object_material is not None:
+        om[:n] = np.asarray(object_material, dtype=np.uint32).reshape(n)
+    L, nl = _lights(lights)
+    M, nm = _materials(materials)
+    opt = ffi.new("geom_trace_options *")
+    opt.aov = _AOV[aov]
+    x, y, z = _vec(background, "background")
+    opt.background = {"x": x, "y": y, "z": z}
+    opt.max_depth = int(max_depth)
+    opt.no_shadows = 1 if no_shadows else 0
+    img = ffi.new("geom_image *")
+    rep = ffi.new("geom_trace_report *")
+    check(lib.geom_scene_trace(ray_scene._s, ffi.cast("uint32_t *", ffi.from_buffer("uint32_t[]", om)),
+                               n, camera, L, nl, M, nm, opt, img, rep), context="trace")
+    return _image(img), struct_dict(rep[0], "geom_trace_report")

@@ -200,6 +200,22 @@ class Octree(_PointIndex):
         lib.geom_octree_nodes(self._ptr, n)
         return int(n[0])
 
+    def ray(self, origin, direction, tmin=0.0, tmax=np.inf):
+        """The items whose box the ray origin + t direction meets within
+        [tmin, tmax], front to back (geom_octree_ray: a conservative slab
+        test, nothing missed at shared faces): (index, entry t) arrays."""
+        r = ffi.new("geom_ray *")
+        o = np.asarray(origin, dtype=np.float64).reshape(-1)
+        d = np.asarray(direction, dtype=np.float64).reshape(-1)
+        o3, d3 = np.zeros(3), np.zeros(3)
+        o3[:o.size], d3[:d.size] = o, d
+        r.origin.x, r.origin.y, r.origin.z = (float(v) for v in o3)
+        r.dir.x, r.dir.y, r.dir.z = (float(v) for v in d3)
+        r.tmin, r.tmax = float(tmin), float(tmax)
+        nb = ffi.new("geom_neighbors *")
+        check(lib.geom_octree_ray(self._ptr, r, nb), None, "ray")
+        _, index, dist = _rows(nb, True)
+        return index, dist
 
 class MeshDistance:
     """Closest points, winding numbers and signed distances to a triangle

@@ -207,6 +207,58 @@ class NurbsSurface:
                             center, zaxis, xaxis, "torus")
 
     @classmethod
+    def extrude(cls, curve, direction):
+        """The extrusion of a NurbsCurve (dim 3) along direction: S(u, v) =
+        C(u) + v d, v in [0, 1] (exact; rational when the curve is)."""
+        d = np.ascontiguousarray(direction, dtype=np.float64).reshape(3)
+        n = curve.n
+        ku, kv = np.zeros(curve.knots.size), np.zeros(4)
+        pts, w = np.zeros(n * 2 * 3), (np.zeros(n * 2) if curve.rational else None)
+        out = ffi.new("geom_nurbs_surface *")
+        diag = new_diag()
+        check(lib.geom_surface_extrude(curve._c, dptr(d), dptr(ku), dptr(kv), dptr(pts),
+                                       dptr(w) if w is not None else ffi.NULL, out, diag), diag,
+              context="extrude")
+        return cls._from_c(out)
+
+    @classmethod
+    def ruled(cls, c0, c1):
+        """The ruled surface (1-v) C0(u) + v C1(u) between two NurbsCurves
+        (made compatible: same degree and knots; u normalised to [0, 1])."""
+        nu, nk = ffi.new("size_t *"), ffi.new("size_t *")
+        check(lib.geom_surface_ruled_bound(c0._c, c1._c, nu, nk), context="ruled")
+        ku, kv = np.zeros(nk[0]), np.zeros(4)
+        pts = np.zeros(nu[0] * 2 * 3)
+        w = np.zeros(nu[0] * 2) if (c0.rational or c1.rational) else None
+        out = ffi.new("geom_nurbs_surface *")
+        diag = new_diag()
+        check(lib.geom_surface_ruled(c0._c, c1._c, dptr(ku), dptr(kv), dptr(pts),
+                                     dptr(w) if w is not None else ffi.NULL, out, diag), diag,
+              context="ruled")
+        return cls._from_c(out)
+
+    @classmethod
+    def revolve(cls, profile, origin=(0, 0, 0), axis=(0, 0, 1), angle=2 * np.pi, xaxis=None):
+        """The exact surface of revolution (A8.1) of a profile NurbsCurve
+        (2-D: (radius, height) in the half-plane of xaxis and axis; or 3-D)
+        about the axis through origin, sweeping angle radians."""
+        o = np.ascontiguousarray(origin, dtype=np.float64).reshape(3)
+        a = np.ascontiguousarray(axis, dtype=np.float64).reshape(3)
+        xa = None if xaxis is None else np.ascontiguousarray(xaxis, dtype=np.float64).reshape(3)
+        nu, nk = ffi.new("size_t *"), ffi.new("size_t *")
+        check(lib.geom_surface_revolve_bound(float(angle), nu, nk), context="revolve")
+        n = profile.n
+        ku, kv = np.zeros(nk[0]), np.zeros(n + profile.degree + 1)
+        pts, w = np.zeros(nu[0] * n * 3), np.zeros(nu[0] * n)
+        out = ffi.new("geom_nurbs_surface *")
+        diag = new_diag()
+        check(lib.geom_surface_revolve(profile._c, dptr(o), dptr(a),
+                                       dptr(xa) if xa is not None else ffi.NULL, float(angle),
+                                       dptr(ku), dptr(kv), dptr(pts), dptr(w), out, diag), diag,
+              context="revolve")
+        return cls._from_c(out)
+
+    @classmethod
     def _quadric(cls, fn, args, nu, nv, nku, nkv, center, zaxis, xaxis, what):
         frame = ffi.new("geom_surface_frame *")
         frame.center = [float(x) for x in np.asarray(center, dtype=np.float64).reshape(3)]
@@ -490,6 +542,51 @@ def read_json(path_or_text, source_name=None):
     return out
 
 
+def _surface_array(surfaces):
+    if isinstance(surfaces, NurbsSurface):
+        surfaces = [surfaces]
+    surfaces = list(surfaces)
+    arr = ffi.new("geom_nurbs_surface[]", len(surfaces))
+    for i, s in enumerate(surfaces):
+        arr[i] = s._s[0]
+    return surfaces, arr
+
+
+def _tess_options(tolerance, mode, grid, per_surface, angle_degrees, attributes, uv_normalized,
+                  no_weld, keep_orientation, check_subdivisions, max_triangles,
+                  normal_weld_degrees):
+    opt = ffi.new("geom_surface_tess_options *")
+    opt.mode = {"adaptive": 0, "uniform": 1}[mode]
+    opt.tolerance = tolerance
+    opt.angle_degrees = angle_degrees
+    opt.grid_u, opt.grid_v = int(grid[0]), int(grid[1])
+    opt.per_surface = 1 if per_surface else 0
+    bits = 0
+    for a in attributes:
+        bits |= _ATTRS[a]
+    opt.attributes = bits
+    opt.uv_normalized = 1 if uv_normalized else 0
+    opt.no_weld = 1 if no_weld else 0
+    opt.keep_orientation = 1 if keep_orientation else 0
+    opt.check_subdivisions = int(check_subdivisions)
+    opt.max_triangles = int(max_triangles)
+    opt.normal_weld_degrees = float(normal_weld_degrees)
+    return opt
+
+
+def tess_estimate(surfaces, tolerance=0.0, mode="adaptive", grid=(8, 8), per_surface=False,
+                  angle_degrees=0.0):
+    """The triangles tessellate(surfaces, ...) would make with these
+    options, before the work (geom_surface_tess_estimate): exact in uniform
+    mode, within about a factor 2 in adaptive mode (not a bound)."""
+    surfaces, arr = _surface_array(surfaces)
+    opt = _tess_options(tolerance, mode, grid, per_surface, angle_degrees, (), False, False,
+                        False, 0, 0, 0.0)
+    out = ffi.new("double *")
+    check(lib.geom_surface_tess_estimate(arr, len(surfaces), opt, out), context="tess_estimate")
+    return float(out[0])
+
+
 def tessellate(surfaces, tolerance=0.0, mode="adaptive", grid=(8, 8), per_surface=False,
                angle_degrees=0.0, attributes=("normal", "uv"), uv_normalized=False,
                no_weld=False, keep_orientation=False, check_subdivisions=0, max_triangles=0,
@@ -513,28 +610,10 @@ def tessellate(surfaces, tolerance=0.0, mode="adaptive", grid=(8, 8), per_surfac
     surfaces (max_error, mean_error, method, evaluations) and the
     tessellation statistics under "stats".
     """
-    if isinstance(surfaces, NurbsSurface):
-        surfaces = [surfaces]
-    surfaces = list(surfaces)
-    arr = ffi.new("geom_nurbs_surface[]", len(surfaces))
-    for i, s in enumerate(surfaces):
-        arr[i] = s._s[0]
-    opt = ffi.new("geom_surface_tess_options *")
-    opt.mode = {"adaptive": 0, "uniform": 1}[mode]
-    opt.tolerance = tolerance
-    opt.angle_degrees = angle_degrees
-    opt.grid_u, opt.grid_v = int(grid[0]), int(grid[1])
-    opt.per_surface = 1 if per_surface else 0
-    bits = 0
-    for a in attributes:
-        bits |= _ATTRS[a]
-    opt.attributes = bits
-    opt.uv_normalized = 1 if uv_normalized else 0
-    opt.no_weld = 1 if no_weld else 0
-    opt.keep_orientation = 1 if keep_orientation else 0
-    opt.check_subdivisions = int(check_subdivisions)
-    opt.max_triangles = int(max_triangles)
-    opt.normal_weld_degrees = float(normal_weld_degrees)
+    surfaces, arr = _surface_array(surfaces)
+    opt = _tess_options(tolerance, mode, grid, per_surface, angle_degrees, attributes,
+                        uv_normalized, no_weld, keep_orientation, check_subdivisions,
+                        max_triangles, normal_weld_degrees)
     prog = Progress(progress)
     prog.install(opt)
     mesh = Mesh()
@@ -554,4 +633,5 @@ def tessellate(surfaces, tolerance=0.0, mode="adaptive", grid=(8, 8), per_surfac
     return mesh, report
 
 
-__all__ = ["NurbsSurface", "SurfaceJSONError", "read_bpt", "read_json", "tessellate"]
+__all__ = ["NurbsSurface", "SurfaceJSONError", "read_bpt", "read_json", "tessellate",
+           "tess_estimate"]
