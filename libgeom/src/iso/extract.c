@@ -96,6 +96,9 @@ typedef struct layer {
     double *buf;    /* values, when they are not read from the grid itself */
     const double *v; /* the layer's raw values (buf, or the grid's samples) */
     uint8_t *s;
+    /* per row: its signs, s + j * (nx + 1) or, for a row of one sign
+     * (skipped blocks only), the work's row of that sign (no copy) */
+    const uint8_t **sr;
     uint32_t *rlo, *rhi; /* per row: first cell with a sign change, last + 1 */
     uint32_t *xv, *yv, *nv;
     uint32_t epoch;
@@ -110,6 +113,7 @@ typedef struct work {
     uint32_t *zv;
     uint32_t zepoch;
     uint32_t base;
+    uint8_t *ones, *zeros; /* rows of nx + 1 signs, outside and inside */
     double *pts;
     /* the sparse path: a node row's runs of sampled nodes ([2q], [2q+1])
      * and, for an expression, their x coordinates and values gathered */
@@ -451,7 +455,7 @@ static void eval_layer(slab *s, const ctx *c, work *w, size_t k, layer *L, int c
         uint8_t u = c->blk ? uniform_row(c, j, k) : ROW_MIXED;
         if (u != ROW_MIXED) {
             /* as sparse_row makes it, without a sign change */
-            memset(L->s + j * nx1, u == BLK_OUT ? 1 : 0, nx1);
+            L->sr[j] = u == BLK_OUT ? w->ones : w->zeros;
             if (c->caps && L->buf == L->v) {
                 double fill = u == BLK_OUT ? HUGE_VAL : -HUGE_VAL, *vr = L->buf + j * nx1;
                 for (size_t i = 0; i < nx1; i++)
@@ -461,13 +465,14 @@ static void eval_layer(slab *s, const ctx *c, work *w, size_t k, layer *L, int c
             L->rhi[j] = 0;
             continue;
         }
+        L->sr[j] = L->s + j * nx1;
         if (c->blk)
             sparse_row(s, c, w, k, L, j, &niso, &nnan);
         else {
             eval_values(s, c, w, k, L, j, 0, nx1);
             eval_signs(s, c, k, L, j, 0, nx1, &niso, &nnan);
         }
-        const uint8_t *sr = L->s + j * nx1;
+        const uint8_t *sr = L->sr[j];
         /* first and last sign change, 8 bytes at a time */
         uint32_t lo = (uint32_t)nx, hi = 0;
         size_t i = 0;
@@ -838,6 +843,7 @@ static void work_free(const ctx *c, work *w)
     for (int l = 0; l < 2; l++) {
         geom__free(al, w->L[l].buf, nn * sizeof(double));
         geom__free(al, w->L[l].s, nn);
+        geom__free(al, (void *)w->L[l].sr, ny1 * sizeof(uint8_t *));
         geom__free(al, w->L[l].rlo, ny1 * sizeof(uint32_t));
         geom__free(al, w->L[l].rhi, ny1 * sizeof(uint32_t));
         geom__free(al, w->L[l].xv, nx * ny1 * sizeof(uint32_t));
@@ -845,6 +851,8 @@ static void work_free(const ctx *c, work *w)
         geom__free(al, w->L[l].nv, nn * sizeof(uint32_t));
     }
     geom__free(al, w->zv, nn * sizeof(uint32_t));
+    geom__free(al, w->ones, nx1);
+    geom__free(al, w->zeros, nx1);
     geom__free(al, w->pts, 3 * nx1 * sizeof(double));
     geom__free(al, w->runs, 2 * (c->nb[0] + 1) * sizeof(size_t));
     geom__free(al, w->gx, nx1 * sizeof(double));
@@ -874,15 +882,23 @@ static void work_init(const ctx *c, work *w)
     for (int l = 0; l < 2; l++) {
         w->L[l].buf = geom__alloc(al, nn * sizeof(double));
         w->L[l].s = geom__alloc(al, nn);
+        w->L[l].sr = geom__alloc(al, ny1 * sizeof(uint8_t *));
         w->L[l].rlo = geom__alloc(al, ny1 * sizeof(uint32_t));
         w->L[l].rhi = geom__alloc(al, ny1 * sizeof(uint32_t));
         w->L[l].xv = geom__alloc(al, nx * ny1 * sizeof(uint32_t));
         w->L[l].yv = geom__alloc(al, nx1 * ny * sizeof(uint32_t));
         w->L[l].nv = c->caps ? geom__alloc(al, nn * sizeof(uint32_t)) : NULL;
-        ok = ok && w->L[l].buf && w->L[l].s && w->L[l].rlo && w->L[l].rhi && w->L[l].xv &&
+        ok = ok && w->L[l].buf && w->L[l].s && w->L[l].sr && w->L[l].rlo && w->L[l].rhi && w->L[l].xv &&
              w->L[l].yv && (!c->caps || w->L[l].nv);
     }
     w->zv = geom__alloc(al, nn * sizeof(uint32_t));
+    w->ones = geom__alloc(al, nx1);
+    w->zeros = geom__alloc(al, nx1);
+    ok = ok && w->ones && w->zeros;
+    if (ok) {
+        memset(w->ones, 1, nx1);
+        memset(w->zeros, 0, nx1);
+    }
     if (!c->grid && c->field->values && !c->expr) {
         w->pts = geom__alloc(al, 3 * nx1 * sizeof(double));
         ok = ok && w->pts;
@@ -936,7 +952,6 @@ static void run_slab(const ctx *c, slab *s, work *wp)
             /* Flying-edges-style trimming: the four node rows of this cell
              * row are constant outside [L, R) and agree there. */
             const layer *lb = w->lb, *lt = w->lt;
-            size_t q0 = j * nx1, q1 = q0 + nx1;
             size_t L = lb->rlo[j], R = lb->rhi[j];
             const uint32_t los[3] = {lb->rlo[j + 1], lt->rlo[j], lt->rlo[j + 1]};
             const uint32_t his[3] = {lb->rhi[j + 1], lt->rhi[j], lt->rhi[j + 1]};
@@ -946,11 +961,13 @@ static void run_slab(const ctx *c, slab *s, work *wp)
                 if (his[q] > R)
                     R = his[q];
             }
-            uint8_t f0 = lb->s[q0], f1 = lb->s[q1], f2 = lt->s[q0], f3 = lt->s[q1];
+            /* the signs of the four node rows */
+            const uint8_t *b0 = lb->sr[j], *b1 = lb->sr[j + 1], *t0 = lt->sr[j],
+                          *t1 = lt->sr[j + 1];
+            uint8_t f0 = b0[0], f1 = b1[0], f2 = t0[0], f3 = t1[0];
             if (f0 != f1 || f0 != f2 || f0 != f3)
                 L = 0;
-            uint8_t e0 = lb->s[q0 + nx], e1 = lb->s[q1 + nx], e2 = lt->s[q0 + nx],
-                    e3 = lt->s[q1 + nx];
+            uint8_t e0 = b0[nx], e1 = b1[nx], e2 = t0[nx], e3 = t1[nx];
             if (e0 != e1 || e0 != e2 || e0 != e3)
                 R = nx;
             if (j + 1 < ny) {
@@ -984,11 +1001,26 @@ static void run_slab(const ctx *c, slab *s, work *wp)
                 visit_cell(s, c, w, 0, j, 1);
             if (L < R) {
                 /* outside masks from the sign bytes, one x column at a time */
-                const uint8_t *b0 = lb->s + q0, *b1 = lb->s + q1, *t0 = lt->s + q0,
-                              *t1 = lt->s + q1;
                 unsigned prev = (unsigned)b0[L] | (unsigned)b1[L] << 2 | (unsigned)t0[L] << 4 |
                                 (unsigned)t1[L] << 6;
                 for (size_t i = L; i < R; i++) {
+                    if ((prev == 0 || prev == 0x55u) && !c->caps) {
+                        /* node column i of one sign: skip 8 cells at a time
+                         * while the next 8 columns have it too (no surface) */
+                        const uint64_t one = prev ? UINT64_C(0x0101010101010101) : 0;
+                        while (i + 8 <= R) {
+                            uint64_t a0, a1, a2, a3;
+                            memcpy(&a0, b0 + i + 1, 8);
+                            memcpy(&a1, b1 + i + 1, 8);
+                            memcpy(&a2, t0 + i + 1, 8);
+                            memcpy(&a3, t1 + i + 1, 8);
+                            if ((a0 ^ one) | (a1 ^ one) | (a2 ^ one) | (a3 ^ one))
+                                break;
+                            i += 8;
+                        }
+                        if (i >= R)
+                            break;
+                    }
                     unsigned nxt = (unsigned)b0[i + 1] | (unsigned)b1[i + 1] << 2 |
                                    (unsigned)t0[i + 1] << 4 | (unsigned)t1[i + 1] << 6;
                     unsigned mask = prev | nxt << 1;
