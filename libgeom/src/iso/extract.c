@@ -60,6 +60,8 @@ typedef struct ctx {
      * instead of the output arrays; NULL = arrays. */
     geom_iso_chunk_fn sink;
     void *sink_user;
+    /* the stream path: slab arrays handed back, for later slabs */
+    struct slab_pool *pool;
 } ctx;
 
 /* Block classes of the sparse path. */
@@ -114,6 +116,8 @@ typedef struct work {
     uint32_t zepoch;
     uint32_t base;
     uint8_t *ones, *zeros; /* rows of nx + 1 signs, outside and inside */
+    uint32_t *act;         /* a cell row's active cells (nx) */
+    uint8_t *amask;        /* and their sign masks */
     double *pts;
     /* the sparse path: a node row's runs of sampled nodes ([2q], [2q+1])
      * and, for an expression, their x coordinates and values gathered */
@@ -146,6 +150,53 @@ static void slab_free(const geom_allocator *a, slab *s)
     s->tri = s->cap = NULL;
     s->bot = s->top = NULL;
     s->capv = s->capn = s->captri = s->capcap = s->capbot = s->captop = 0;
+}
+
+/* The stream path's spare slab arrays: a slab handed over gives back its
+ * vertex, normal and triangle arrays, and a slab starting takes a set,
+ * so their pages are faulted in (and cached) once, not per slab. */
+typedef struct slab_pool {
+    slab *spare; /* only xyz, nrm, tri and their capacities */
+    size_t n;
+} slab_pool;
+
+static void pool_take(const ctx *c, slab *s)
+{
+    if (!c->pool)
+        return;
+#ifdef GEOM_ISO_OPENMP
+#pragma omp critical(geom_iso_pool)
+#endif
+    {
+        if (c->pool->n > 0) {
+            const slab *p = &c->pool->spare[--c->pool->n];
+            s->xyz = p->xyz;
+            s->capv = p->capv;
+            s->nrm = p->nrm;
+            s->capn = p->capn;
+            s->tri = p->tri;
+            s->captri = p->captri;
+        }
+    }
+}
+
+static void pool_put(const ctx *c, slab *s)
+{
+#ifdef GEOM_ISO_OPENMP
+#pragma omp critical(geom_iso_pool)
+#endif
+    {
+        slab *p = &c->pool->spare[c->pool->n++];
+        p->xyz = s->xyz;
+        p->capv = s->capv;
+        p->nrm = s->nrm;
+        p->capn = s->capn;
+        p->tri = s->tri;
+        p->captri = s->captri;
+    }
+    s->xyz = s->nrm = NULL;
+    s->tri = NULL;
+    s->capv = s->capn = s->captri = 0;
 }
 
 /* ---------------------------------------------------------- vertices */
@@ -349,6 +400,18 @@ static void row_blocks(const ctx *c, size_t j, size_t k, size_t bys[2], int *ny_
         bzs[(*nz_)++] = k / B - 1;
 }
 
+/* Nodes [i0, i1) of a row (signs sr, values vr or NULL) in skipped blocks
+ * of class cls. */
+static void skipped_nodes(uint8_t *sr, double *vr, size_t i0, size_t i1, uint8_t cls)
+{
+    memset(sr + i0, cls == BLK_OUT ? 1 : 0, i1 - i0);
+    if (vr) {
+        double fill = cls == BLK_OUT ? HUGE_VAL : -HUGE_VAL;
+        for (size_t i = i0; i < i1; i++)
+            vr[i] = fill;
+    }
+}
+
 /* Row j of node layer k on the sparse path: the nodes of sampled blocks
  * are evaluated; the others lie in skipped blocks only, all of one class,
  * and get its sign (and, with caps, a value of that sign: caps read the
@@ -365,6 +428,9 @@ static void sparse_row(slab *s, const ctx *c, work *w, size_t k, layer *L, size_
     double *vr = (c->caps && L->buf == L->v) ? L->buf + j * nx1 : NULL;
     size_t run0 = SIZE_MAX; /* first block of the current run of sampled blocks */
     size_t nruns = 0;
+    /* nodes [f0, f1) of skipped blocks of class fcls, set in one go */
+    size_t f0 = 0, f1 = 0;
+    uint8_t fcls = BLK_OUT;
     for (size_t bx = 0; bx <= nbx; bx++) {
         int need = 0;
         uint8_t cls = BLK_SAMPLE;
@@ -394,14 +460,19 @@ static void sparse_row(slab *s, const ctx *c, work *w, size_t k, layer *L, size_
             i0++;
         }
         if (i0 <= i1) {
-            memset(sr + i0, cls == BLK_OUT ? 1 : 0, i1 + 1 - i0);
-            if (vr) {
-                double fill = cls == BLK_OUT ? HUGE_VAL : -HUGE_VAL;
-                for (size_t i = i0; i <= i1; i++)
-                    vr[i] = fill;
+            if (f0 < f1 && (i0 != f1 || cls != fcls)) {
+                skipped_nodes(sr, vr, f0, f1, fcls);
+                f0 = f1;
             }
+            if (f0 == f1) {
+                f0 = i0;
+                fcls = cls;
+            }
+            f1 = i1 + 1;
         }
     }
+    if (f0 < f1)
+        skipped_nodes(sr, vr, f0, f1, fcls);
     const size_t *rn = w->runs;
     if (c->expr && nruns > 1) {
         /* the runs' nodes in one call: x gathered, values scattered */
@@ -852,6 +923,8 @@ static void work_free(const ctx *c, work *w)
     }
     geom__free(al, w->zv, nn * sizeof(uint32_t));
     geom__free(al, w->ones, nx1);
+    geom__free(al, w->act, nx * sizeof(uint32_t));
+    geom__free(al, w->amask, nx);
     geom__free(al, w->zeros, nx1);
     geom__free(al, w->pts, 3 * nx1 * sizeof(double));
     geom__free(al, w->runs, 2 * (c->nb[0] + 1) * sizeof(size_t));
@@ -894,7 +967,9 @@ static void work_init(const ctx *c, work *w)
     w->zv = geom__alloc(al, nn * sizeof(uint32_t));
     w->ones = geom__alloc(al, nx1);
     w->zeros = geom__alloc(al, nx1);
-    ok = ok && w->ones && w->zeros;
+    w->act = geom__alloc(al, nx * sizeof(uint32_t));
+    w->amask = geom__alloc(al, nx);
+    ok = ok && w->ones && w->zeros && w->act && w->amask;
     if (ok) {
         memset(w->ones, 1, nx1);
         memset(w->zeros, 0, nx1);
@@ -932,6 +1007,7 @@ static void run_slab(const ctx *c, slab *s, work *wp)
     if (wp->base > UINT32_MAX / 2)
         work_clear_slots(c, wp);
     work *w = wp;
+    pool_take(c, s);
     if (w->hint_nv &&
         (!grow(c->alloc, (void **)&s->xyz, &s->capv, w->hint_nv, 3 * sizeof(double)) ||
          (c->normals &&
@@ -1003,6 +1079,7 @@ static void run_slab(const ctx *c, slab *s, work *wp)
                 /* outside masks from the sign bytes, one x column at a time */
                 unsigned prev = (unsigned)b0[L] | (unsigned)b1[L] << 2 | (unsigned)t0[L] << 4 |
                                 (unsigned)t1[L] << 6;
+                size_t na = 0; /* the row's cells with a surface or a cap */
                 for (size_t i = L; i < R; i++) {
                     if ((prev == 0 || prev == 0x55u) && !c->caps) {
                         /* node column i of one sign: skip 8 cells at a time
@@ -1025,12 +1102,36 @@ static void run_slab(const ctx *c, slab *s, work *wp)
                                    (unsigned)t0[i + 1] << 4 | (unsigned)t1[i + 1] << 6;
                     unsigned mask = prev | nxt << 1;
                     prev = nxt;
-                    int capcell = c->caps && (i == 0 || i + 1 == nx);
-                    if (capcell)
+                    if ((mask != 0 && mask != 0xFFu) || (c->caps && (i == 0 || i + 1 == nx))) {
+                        w->act[na] = (uint32_t)i;
+                        w->amask[na++] = (uint8_t)mask;
+                    }
+                }
+                /* the id slots and values the row's active cells read,
+                 * fetched together rather than one miss after another */
+                for (size_t q = 0; q < na; q++) {
+                    size_t i = w->act[q], r0 = j * nx1 + i, r1 = r0 + nx1;
+                    ISO_PREFETCH(&lb->xv[j * nx + i]);
+                    ISO_PREFETCH(&lb->xv[(j + 1) * nx + i]);
+                    ISO_PREFETCH(&lt->xv[j * nx + i]);
+                    ISO_PREFETCH(&lt->xv[(j + 1) * nx + i]);
+                    ISO_PREFETCH(&lb->yv[r0]);
+                    ISO_PREFETCH(&lt->yv[r0]);
+                    ISO_PREFETCH(&w->zv[r0]);
+                    ISO_PREFETCH(&w->zv[r1]);
+                    ISO_PREFETCH(&lb->v[r0]);
+                    ISO_PREFETCH(&lb->v[r1]);
+                    ISO_PREFETCH(&lt->v[r0]);
+                    ISO_PREFETCH(&lt->v[r1]);
+                }
+                for (size_t q = 0; q < na; q++) {
+                    size_t i = w->act[q];
+                    unsigned mask = w->amask[q];
+                    if (c->caps && (i == 0 || i + 1 == nx))
                         visit_cell(s, c, w, i, j, 1);
                     else if (c->cases->cases[mask].simple)
                         simple_cell(s, c, w, i, j, &c->cases->cases[mask]);
-                    else if (mask != 0 && mask != 0xFFu)
+                    else
                         visit_cell(s, c, w, i, j, 0);
                 }
             }
@@ -1423,6 +1524,7 @@ static void emit_slab(const ctx *c, emitter *em, slab *sl, size_t q)
     if (em->measure)
         emit_thin(em);
 done:;
+    pool_put(c, s);
     /* keep this slab's last-layer keys and numbering for the next one */
     iso_key *top = s->top;
     size_t ntop = s->ntop, captop = s->captop;
@@ -1605,16 +1707,22 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
     /* the stream path hands slabs over as they are done */
     emitter em;
     uint8_t *done_flags = NULL, halt = 0;
+    slab_pool pool = {NULL, 0};
     if (c.sink) {
         emit_init(&c, opt, &em);
         done_flags = geom__alloc(al, nslabs);
-        if (!done_flags) {
+        pool.spare = geom__alloc(al, nslabs * sizeof(slab));
+        c.pool = &pool;
+        if (!done_flags || !pool.spare) {
+            geom__free(al, done_flags, nslabs);
+            geom__free(al, pool.spare, nslabs * sizeof(slab));
             geom__free(al, sl, nslabs * sizeof(slab));
             geom__free(al, blk, nblk ? nblk : 1);
             geom__free(al, rowcls, c.nb[1] * c.nb[2]);
             return geom__diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "geom_iso: out of memory");
         }
         memset(done_flags, 0, nslabs);
+        memset(pool.spare, 0, nslabs * sizeof(slab));
     }
     void (*progress)(void *, double) = opt ? opt->progress : NULL;
     void *progress_user = opt ? opt->progress_user : NULL;
@@ -1684,6 +1792,10 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
         st = emit_finish(&c, &em, threads, out);
         emit_free(&c, &em);
         geom__free(al, done_flags, nslabs);
+        for (size_t q = 0; q < pool.n; q++)
+            slab_free(al, &pool.spare[q]);
+        geom__free(al, pool.spare, nslabs * sizeof(slab));
+        c.pool = NULL;
     } else {
         for (size_t q = 0; q < nslabs; q++)
             if (sl[q].status != GEOM_OK && st == GEOM_OK)
