@@ -160,6 +160,21 @@ typedef struct slab_pool {
     size_t n;
 } slab_pool;
 
+/* Move from's vertex, normal and triangle arrays to `to` (whose own are
+ * NULL), leaving from without them. */
+static void move_arrays(slab *to, slab *from)
+{
+    to->xyz = from->xyz;
+    to->capv = from->capv;
+    to->nrm = from->nrm;
+    to->capn = from->capn;
+    to->tri = from->tri;
+    to->captri = from->captri;
+    from->xyz = from->nrm = NULL;
+    from->tri = NULL;
+    from->capv = from->capn = from->captri = 0;
+}
+
 static void pool_take(const ctx *c, slab *s)
 {
     if (!c->pool)
@@ -168,15 +183,8 @@ static void pool_take(const ctx *c, slab *s)
 #pragma omp critical(geom_iso_pool)
 #endif
     {
-        if (c->pool->n > 0) {
-            const slab *p = &c->pool->spare[--c->pool->n];
-            s->xyz = p->xyz;
-            s->capv = p->capv;
-            s->nrm = p->nrm;
-            s->capn = p->capn;
-            s->tri = p->tri;
-            s->captri = p->captri;
-        }
+        if (c->pool->n > 0)
+            move_arrays(s, &c->pool->spare[--c->pool->n]);
     }
 }
 
@@ -185,18 +193,7 @@ static void pool_put(const ctx *c, slab *s)
 #ifdef GEOM_ISO_OPENMP
 #pragma omp critical(geom_iso_pool)
 #endif
-    {
-        slab *p = &c->pool->spare[c->pool->n++];
-        p->xyz = s->xyz;
-        p->capv = s->capv;
-        p->nrm = s->nrm;
-        p->capn = s->capn;
-        p->tri = s->tri;
-        p->captri = s->captri;
-    }
-    s->xyz = s->nrm = NULL;
-    s->tri = NULL;
-    s->capv = s->capn = s->captri = 0;
+    move_arrays(&c->pool->spare[c->pool->n++], s);
 }
 
 /* ---------------------------------------------------------- vertices */
