@@ -289,6 +289,10 @@ static void test_iso_error_sampling(void **state)
     assert_true(s > 1);
     size_t expect = (all.n_vertices + s - 1) / s + 4 * ((all.n_triangles + s - 1) / s);
     assert_true(expect <= 1000);
+    /* the smallest power of two within the budget */
+    assert_int_equal(s & (s - 1), 0);
+    size_t h = s / 2;
+    assert_true((all.n_vertices + h - 1) / h + 4 * ((all.n_triangles + h - 1) / h) > 1000);
     assert_int_equal(some.report.error.pieces + some.report.unmeasured, expect);
     /* a subset: its max cannot exceed the full max, and for this smooth
      * field it is close to it */

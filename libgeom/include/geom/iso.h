@@ -201,8 +201,9 @@ typedef struct geom_iso_options {
     /** Largest number of points (vertices plus triangle samples) the
      *  error report measures (at least 5); 0 = 65536, SIZE_MAX = all. When there are
      *  more, every s-th vertex and every s-th surface triangle (by index,
-     *  the first one included) is measured, with the smallest stride s
-     *  that keeps the count within the budget: vertices are numbered in
+     *  the first one included) is measured, s the smallest power of two
+     *  that keeps the count within the budget (a power of two, so that
+     *  geom_iso_extract_stream can sample as it goes): vertices are numbered in
      *  scan order, so the subset is spread evenly over the surface. The
      *  stride is in geom_iso_report::error_stride. */
     size_t error_samples;
@@ -400,14 +401,17 @@ typedef geom_status (*geom_iso_chunk_fn)(void *user, const geom_iso_chunk *chunk
  * concatenated are its xyz, their triangles its tris; the report's mean
  * errors may differ in the last bits, summed in another order), without
  * the arrays of the whole surface (for writing a large isosurface, e.g.
- * with geom_meshio_write_soup_part). Memory: every slab is computed first
- * (as by geom_iso_extract), then each is renumbered, handed over and freed,
- * so the peak is the slabs' own arrays without the whole-surface copy
- * (104 MiB instead of 163 for geom-iso at 512^3 on two tori). fn is
- * called on the calling thread only, in order (empty chunks are skipped). out receives the counts (n_vertices,
+ * with geom_meshio_write_soup_part). Memory: each slab is renumbered,
+ * handed over and its arrays reused by a later slab as soon as it and
+ * every slab before it are done, while the other threads go on with later
+ * slabs, so the peak is a few slabs' arrays (about 45 MiB for geom-iso at
+ * 512^3 on two tori, 104 MiB when every slab was computed first). fn is
+ * called on the calling thread only, in order (empty chunks are skipped),
+ * possibly while other threads compute later slabs. out receives the counts (n_vertices,
  * n_triangles, n_cap_triangles) and the report; its arrays stay NULL.
  * Statuses: as geom_iso_extract, GEOM_ERR_INVALID_ARG for a NULL fn, and
- * fn's own status when it fails (the chunks given so far stay given).
+ * fn's own status when it fails (on any error, the chunks given so far stay
+ * given).
  */
 GEOM_API geom_status geom_iso_extract_stream(const geom_implicit_field *field,
                                              const double bounds[6], const size_t res[3],

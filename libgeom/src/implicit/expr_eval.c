@@ -1053,3 +1053,210 @@ void geom_implicit_field_from_expr(const geom_implicit_expr *e, geom_implicit_fi
     out->user = (void *)(uintptr_t)e;
     out->exact = 1;
 }
+
+/* ============================================================ grid rows */
+
+/* Appended by the iso module's helper (session 6) for marching cubes'
+ * sampling of an expression (iso/extract.c): the nodes of a grid row share
+ * y and z. As d_run_blocks, blocks of XB points with operands in place,
+ * but y and z are constants, so an operation on y, z and constants alone
+ * is done once per block on the scalars, x is read in place, and the
+ * primitives whose arguments are constants run as one lane loop each
+ * (row_prim), their y and z terms computed once. Every lane does exactly
+ * d_run's operations on the same operands: bitwise d_run. */
+
+#define ROW_LANES(EXPR)                                                                        \
+    for (int l = 0; l < XB; l++)                                                               \
+    r[l] = (EXPR)
+
+/* r[l] = d_prim(op, x[l], y, z, a) for XB lanes, a the constant arguments. */
+GEOM__CLONE_INLINE void row_prim(int op, double *restrict r, const double *restrict x, double y,
+                                 double z, const double *a)
+{
+    switch ((expr_op)op) {
+    case OP_SPHERE1: ROW_LANES(d_sub(d_len3(x[l], y, z), a[0])); break;
+    case OP_SPHERE4: {
+        double qy = d_sub(y, a[1]), qz = d_sub(z, a[2]);
+        ROW_LANES(d_sub(d_len3(d_sub(x[l], a[0]), qy, qz), a[3]));
+        break;
+    }
+    case OP_ELLIPSOID3: ROW_LANES(d_ellipsoid(x[l], y, z, a[0], a[1], a[2])); break;
+    case OP_ELLIPSOID6: {
+        double qy = d_sub(y, a[1]), qz = d_sub(z, a[2]);
+        ROW_LANES(d_ellipsoid(d_sub(x[l], a[0]), qy, qz, a[3], a[4], a[5]));
+        break;
+    }
+    case OP_TORUS2: ROW_LANES(d_torus(x[l], y, z, a[0], a[1])); break;
+    case OP_TORUS5: {
+        double qy = d_sub(y, a[1]), qz = d_sub(z, a[2]);
+        ROW_LANES(d_torus(d_sub(x[l], a[0]), qy, qz, a[3], a[4]));
+        break;
+    }
+    case OP_BOX3: ROW_LANES(d_box(x[l], y, z, a[0], a[1], a[2])); break;
+    case OP_BOX6: {
+        double qy = d_sub(y, a[1]), qz = d_sub(z, a[2]);
+        ROW_LANES(d_box(d_sub(x[l], a[0]), qy, qz, a[3], a[4], a[5]));
+        break;
+    }
+    case OP_CYLINDER2: ROW_LANES(d_cylinder(x[l], y, z, a[0], a[1])); break;
+    case OP_CYLINDER5: {
+        double qy = d_sub(y, a[1]), qz = d_sub(z, a[2]);
+        ROW_LANES(d_cylinder(d_sub(x[l], a[0]), qy, qz, a[3], a[4]));
+        break;
+    }
+    case OP_PLANE4: ROW_LANES(d_plane(x[l], y, z, a[0], a[1], a[2], a[3])); break;
+    default: ROW_LANES(d_prim(op, x[l], y, z, a)); break; /* capsule, gyroids */
+    }
+}
+#undef ROW_LANES
+
+/* Blocks of XB points (x[b], y, z) for b from 0 to n - 1, n >= XB, into
+ * out; the last block overlaps the one before when XB does not divide n
+ * (its lanes are recomputed, to the same values). max_stack <= XSTACK. */
+GEOM_SIMD_CLONES
+static void d_run_row(const expr_ins *code, size_t ncode, size_t n, const double *x, double y,
+                      double z, double t, double *out)
+{
+    double buf[XSTACK][2][XB];
+    const double *v[XSTACK]; /* lanes of a slot, NULL: the constant c[slot] */
+    double c[XSTACK];
+    for (size_t b0 = 0;; b0 += XB) {
+        if (b0 + XB > n)
+            b0 = n - XB;
+        const double *X = x + b0;
+        double *o = out + b0;
+        size_t sp = 0;
+        v[0] = NULL;
+        c[0] = NAN;
+#define DST_LAST(q, other) (i + 1 == ncode && (q) == 0 ? o : (other))
+#define DST(q) DST_LAST(q, buf[q][v[q] == buf[q][0]])
+        for (size_t i = 0; i < ncode; i++) {
+            const expr_ins *in = &code[i];
+            switch ((expr_op)in->op) {
+            case OP_CONST: v[sp] = NULL; c[sp++] = in->c; break;
+            case OP_T: v[sp] = NULL; c[sp++] = t; break;
+            case OP_X: v[sp++] = X; break;
+            case OP_Y: v[sp] = NULL; c[sp++] = y; break;
+            case OP_Z: v[sp] = NULL; c[sp++] = z; break;
+            case OP_ADD: case OP_SUB: case OP_MUL: case OP_DIV: case OP_POW: case OP_MIN:
+            case OP_MAX: case OP_ATAN2: {
+                size_t a = sp - 2, b = sp - 1;
+                if (!v[a] && !v[b]) {
+                    c[a] = d_scalar_binary(in->op, c[a], c[b]);
+                } else if (in->op == OP_MUL && i + 1 < ncode && is_addsub(code[i + 1].op) &&
+                           sp >= 3 && v[sp - 3]) {
+                    size_t f = sp - 3; /* fused with the next add/sub */
+                    i++;
+                    double *r = DST(f);
+                    x_mul_addsub(code[i].op == OP_SUB, r, v[f], v[a], c[a], v[b], c[b]);
+                    v[f] = r;
+                    sp--;
+                } else {
+                    double *r = DST(a);
+                    x_binary(in->op, r, v[a], c[a], v[b], c[b]);
+                    v[a] = r;
+                }
+                sp--;
+                break;
+            }
+            case OP_NEG: case OP_SQRT: case OP_ABS: case OP_SIN: case OP_COS: case OP_TAN:
+            case OP_EXP: case OP_LOG: case OP_POWI: {
+                size_t a = sp - 1;
+                if (!v[a]) {
+                    c[a] = d_scalar_unary(in, c[a]);
+                } else if ((in->op == OP_SQRT || in->op == OP_ABS) && i + 2 < ncode &&
+                           code[i + 1].op == OP_CONST && is_arith(code[i + 2].op)) {
+                    i += 2; /* fused with "constant, operation" */
+                    double *r = DST(a);
+                    x_unary_const(in->op, code[i].op, r, v[a], code[i - 1].c);
+                    v[a] = r;
+                } else {
+                    double *r = DST(a);
+                    x_unary(in, r, v[a]);
+                    v[a] = r;
+                }
+                break;
+            }
+            case OP_COUNT:
+                break;
+            default: { /* clamp, smin, smax and the primitives */
+                size_t k = (size_t)geom__implicit_op_arity(in->op);
+                size_t first = sp - k;
+                int lanes = 0;
+                for (size_t q = first; q < sp; q++)
+                    lanes |= v[q] != NULL;
+                if (!lanes && k > 0 && (in->op == OP_CLAMP || in->op == OP_SMIN ||
+                                        in->op == OP_SMAX)) {
+                    double a0 = c[first], a1 = c[first + 1], a2 = c[first + 2];
+                    c[first] = in->op == OP_CLAMP  ? d_clamp(a0, a1, a2)
+                               : in->op == OP_SMIN ? d_smin(a0, a1, a2)
+                                                   : d_neg(d_smin(d_neg(a0), d_neg(a1), a2));
+                    sp = first + 1;
+                    break;
+                }
+                double *r;
+                if (!lanes) {
+                    r = k == 0 ? DST_LAST(first, buf[first][1]) : DST(first);
+                    row_prim(in->op, r, X, y, z, k ? &c[first] : NULL);
+                } else {
+                    for (size_t q = first; q < sp; q++)
+                        if (!v[q]) {
+                            for (int l = 0; l < XB; l++)
+                                buf[q][0][l] = c[q];
+                            v[q] = buf[q][0];
+                        }
+                    r = DST(first);
+                    for (int l = 0; l < XB; l++) {
+                        double args[8];
+                        for (size_t q = 0; q < k; q++)
+                            args[q] = v[first + q][l];
+                        if (in->op == OP_CLAMP)
+                            r[l] = d_clamp(args[0], args[1], args[2]);
+                        else if (in->op == OP_SMIN)
+                            r[l] = d_smin(args[0], args[1], args[2]);
+                        else if (in->op == OP_SMAX)
+                            r[l] = d_neg(d_smin(d_neg(args[0]), d_neg(args[1]), args[2]));
+                        else
+                            r[l] = d_prim(in->op, X[l], y, z, k ? args : NULL);
+                    }
+                }
+                v[first] = r;
+                sp = first + 1;
+                break;
+            }
+            }
+        }
+#undef DST
+#undef DST_LAST
+        if (v[0] != o) {
+            if (v[0])
+                memcpy(o, v[0], XB * sizeof(double));
+            else
+                for (int l = 0; l < XB; l++)
+                    o[l] = c[0];
+        }
+        if (b0 + XB >= n)
+            break;
+    }
+}
+
+void geom__implicit_expr_row(const geom_implicit_expr *e, size_t n, const double *x, double y,
+                             double z, double *out)
+{
+    if (n == 0)
+        return;
+    if (e->max_stack > XSTACK) {
+        for (size_t i = 0; i < n; i++)
+            out[i] = d_run(e->code, e->n, x[i], y, z, e->t);
+        return;
+    }
+    if (n >= XB) {
+        d_run_row(e->code, e->n, n, x, y, z, e->t, out);
+        return;
+    }
+    double xs[XB], os[XB]; /* a short row, padded with its last point */
+    for (size_t i = 0; i < XB; i++)
+        xs[i] = x[i < n ? i : n - 1];
+    d_run_row(e->code, e->n, XB, xs, y, z, e->t, os);
+    memcpy(out, os, n * sizeof(double));
+}

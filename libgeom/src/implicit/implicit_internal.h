@@ -79,4 +79,11 @@ static inline double geom__contour_coord(double a, double b, size_t n, size_t i)
 void geom__implicit_samples_values(const geom_implicit_grid *d, size_t n, const double *p,
                                    double *out);
 
+/* Values of e at the n points (x[i], y, z) of a grid row into out (n
+ * doubles), bitwise geom_implicit_expr_eval at each point: y, z and the
+ * primitives' y and z terms are computed once per block of points
+ * (expr_eval.c, for marching cubes' sampling). e non-NULL. */
+void geom__implicit_expr_row(const geom_implicit_expr *e, size_t n, const double *x, double y,
+                             double z, double *out);
+
 #endif

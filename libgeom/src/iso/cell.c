@@ -523,22 +523,20 @@ static double dist2(const double *a, const double *b)
 }
 
 /*
- * A tube between the loops a (na refs) and b (nb refs), both oriented as
- * boundaries of the tube: a is walked forward and b backward, from the
- * closest pair. A zipper first pairs them: each step advances along a or b
+ * The zipper between the loops a (na refs, walked forward) and b (nb refs,
+ * walked backward), both oriented as boundaries of the band between them,
+ * from the closest pair (a[0], b[*j0]): each step advances along a or b
  * over the shorter new diagonal; a step sequence is a monotone lattice path
  * from (0, 0) to (na, nb), and the band is an annulus (no diagonal used
  * twice) exactly when the steps along a do not all happen at one position
- * on b and vice versa, which the choice enforces. Each diagonal then gets
- * an inner vertex (its midpoint moved onto the interpolant's level set), and
- * each zipper triangle is split along the segment between the inner
- * vertices of its two diagonals: the tube passes through this ring, and no
- * edge of it lies in a cell face.
+ * on b and vice versa, which the choice enforces. steps[s] = 1 (advance a)
+ * or 0 (advance b); returns the number of steps (na + nb, at most
+ * ZIPPER_MAX: a cell's loops have at most 12 refs each, and a ring 10).
  */
-static void tri_tube(const int *a, int na, const int *b, int nb, const cell_ctx *cc,
-                     iso_cell_result *out)
+#define ZIPPER_MAX 24
+static int zipper_walk(const int *a, int na, const int *b, int nb, const double (*vpos)[3],
+                       const iso_cell_result *out, int steps[ZIPPER_MAX], int *j0_out)
 {
-    const double(*vpos)[3] = cc->vpos;
     int j0 = 0;
     double best = HUGE_VAL;
     for (int j = 0; j < nb; j++) {
@@ -548,11 +546,9 @@ static void tri_tube(const int *a, int na, const int *b, int nb, const cell_ctx 
             j0 = j;
         }
     }
-    /* the zipper: steps[s] = 1 (advance a) or 0 (advance b) */
-    int steps[24], ns = 0;
-    int ia = 0, ib = 0;
+    int ns = 0, ia = 0, ib = 0;
     int first_a = -1, first_b = -1; /* ib at the first a-step, ia at the first b-step */
-    while ((ia < na || ib < nb) && ns < 24) {
+    while ((ia < na || ib < nb) && ns < ZIPPER_MAX) {
         int i = ia % na, i1 = (ia + 1) % na;
         int j = ((j0 - ib) % nb + nb) % nb, j1 = ((j0 - ib - 1) % nb + nb) % nb;
         int can_a = ia < na && !(ia == na - 1 && first_a == ib);
@@ -576,10 +572,27 @@ static void tri_tube(const int *a, int na, const int *b, int nb, const cell_ctx 
             ib++;
         }
     }
+    *j0_out = j0;
+    return ns;
+}
+
+/*
+ * A tube between the loops a and b (as zipper_walk's): each diagonal of
+ * the zipper gets an inner vertex (its midpoint moved onto the
+ * interpolant's level set), and each zipper triangle is split along the
+ * segment between the inner vertices of its two diagonals: the tube passes
+ * through this ring, and no edge of it lies in a cell face.
+ */
+static void tri_tube(const int *a, int na, const int *b, int nb, const cell_ctx *cc,
+                     iso_cell_result *out)
+{
+    const double(*vpos)[3] = cc->vpos;
+    int steps[ZIPPER_MAX], j0;
+    int ns = zipper_walk(a, na, b, nb, vpos, out, steps, &j0);
     /* the ring: one inner vertex per diagonal, diagonal s joining the
      * pair before step s (the last step closes onto diagonal 0) */
-    int ring[24];
-    ia = ib = 0;
+    int ring[ZIPPER_MAX];
+    int ia = 0, ib = 0;
     for (int q = 0; q < ns; q++) {
         const double *pa = ref_pos(out, vpos, a[ia % na]);
         const double *pb = ref_pos(out, vpos, b[((j0 - ib) % nb + nb) % nb]);
@@ -616,42 +629,21 @@ static void tri_tube(const int *a, int na, const int *b, int nb, const cell_ctx 
 }
 
 /* The plain zipper band between loops a (forward) and b (backward), both
- * oriented as boundaries of the band (see tri_tube for the rules). */
+ * oriented as boundaries of the band (zipper_walk). */
 static void zipper_band(const int *a, int na, const int *b, int nb, const double (*vpos)[3],
                         iso_cell_result *out)
 {
-    int j0 = 0;
-    double best = HUGE_VAL;
-    for (int j = 0; j < nb; j++) {
-        double d = dist2(ref_pos(out, vpos, a[0]), ref_pos(out, vpos, b[j]));
-        if (d < best) {
-            best = d;
-            j0 = j;
-        }
-    }
-    int ia = 0, ib = 0, first_a = -1, first_b = -1;
-    while (ia < na || ib < nb) {
+    int steps[ZIPPER_MAX], j0;
+    int ns = zipper_walk(a, na, b, nb, vpos, out, steps, &j0);
+    int ia = 0, ib = 0;
+    for (int q = 0; q < ns; q++) {
         int i = ia % na, i1 = (ia + 1) % na;
         int j = ((j0 - ib) % nb + nb) % nb, j1 = ((j0 - ib - 1) % nb + nb) % nb;
-        int can_a = ia < na && !(ia == na - 1 && first_a == ib);
-        int can_b = ib < nb && !(ib == nb - 1 && first_b == ia);
-        int adv_a;
-        if (can_a && can_b)
-            adv_a = dist2(ref_pos(out, vpos, a[i1]), ref_pos(out, vpos, b[j])) <=
-                    dist2(ref_pos(out, vpos, a[i]), ref_pos(out, vpos, b[j1]));
-        else if (can_a || can_b)
-            adv_a = can_a;
-        else
-            break;
-        if (adv_a) {
+        if (steps[q]) {
             emit(out, a[i], a[i1], b[j]);
-            if (first_a < 0)
-                first_a = ib;
             ia++;
         } else {
             emit(out, b[j1], b[j], a[i]);
-            if (first_b < 0)
-                first_b = ia;
             ib++;
         }
     }

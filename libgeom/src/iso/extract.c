@@ -11,6 +11,7 @@
  * depend on the number of threads.
  */
 #include "iso/iso_internal.h"
+#include "implicit/implicit_internal.h"
 
 #include <stdint.h>
 
@@ -36,6 +37,9 @@ typedef struct iso_key {
 typedef struct ctx {
     const geom_iso_field *field; /* refinement, normals (never NULL) */
     const geom_iso_grid *grid;   /* samples, or NULL: evaluate field */
+    /* the field's compiled expression (field->value is the expression's
+     * callback): rows are sampled by geom__implicit_expr_row */
+    const geom_implicit_expr *expr;
     size_t n[3];                 /* cells per axis */
     const double *coord[3];      /* node coordinates, n + 1 each */
     double iso;
@@ -56,6 +60,8 @@ typedef struct ctx {
      * instead of the output arrays; NULL = arrays. */
     geom_iso_chunk_fn sink;
     void *sink_user;
+    /* the stream path: slab arrays handed back, for later slabs */
+    struct slab_pool *pool;
 } ctx;
 
 /* Block classes of the sparse path. */
@@ -92,6 +98,9 @@ typedef struct layer {
     double *buf;    /* values, when they are not read from the grid itself */
     const double *v; /* the layer's raw values (buf, or the grid's samples) */
     uint8_t *s;
+    /* per row: its signs, s + j * (nx + 1) or, for a row of one sign
+     * (skipped blocks only), the work's row of that sign (no copy) */
+    const uint8_t **sr;
     uint32_t *rlo, *rhi; /* per row: first cell with a sign change, last + 1 */
     uint32_t *xv, *yv, *nv;
     uint32_t epoch;
@@ -106,7 +115,14 @@ typedef struct work {
     uint32_t *zv;
     uint32_t zepoch;
     uint32_t base;
+    uint8_t *ones, *zeros; /* rows of nx + 1 signs, outside and inside */
+    uint32_t *act;         /* a cell row's active cells (nx) */
+    uint8_t *amask;        /* and their sign masks */
     double *pts;
+    /* the sparse path: a node row's runs of sampled nodes ([2q], [2q+1])
+     * and, for an expression, their x coordinates and values gathered */
+    size_t *runs;
+    double *gx, *gv;
     size_t k; /* current cell layer */
     layer *lb, *lt;
     int ok;
@@ -134,6 +150,50 @@ static void slab_free(const geom_allocator *a, slab *s)
     s->tri = s->cap = NULL;
     s->bot = s->top = NULL;
     s->capv = s->capn = s->captri = s->capcap = s->capbot = s->captop = 0;
+}
+
+/* The stream path's spare slab arrays: a slab handed over gives back its
+ * vertex, normal and triangle arrays, and a slab starting takes a set,
+ * so their pages are faulted in (and cached) once, not per slab. */
+typedef struct slab_pool {
+    slab *spare; /* only xyz, nrm, tri and their capacities */
+    size_t n;
+} slab_pool;
+
+/* Move from's vertex, normal and triangle arrays to `to` (whose own are
+ * NULL), leaving from without them. */
+static void move_arrays(slab *to, slab *from)
+{
+    to->xyz = from->xyz;
+    to->capv = from->capv;
+    to->nrm = from->nrm;
+    to->capn = from->capn;
+    to->tri = from->tri;
+    to->captri = from->captri;
+    from->xyz = from->nrm = NULL;
+    from->tri = NULL;
+    from->capv = from->capn = from->captri = 0;
+}
+
+static void pool_take(const ctx *c, slab *s)
+{
+    if (!c->pool)
+        return;
+#ifdef GEOM_ISO_OPENMP
+#pragma omp critical(geom_iso_pool)
+#endif
+    {
+        if (c->pool->n > 0)
+            move_arrays(s, &c->pool->spare[--c->pool->n]);
+    }
+}
+
+static void pool_put(const ctx *c, slab *s)
+{
+#ifdef GEOM_ISO_OPENMP
+#pragma omp critical(geom_iso_pool)
+#endif
+    move_arrays(&c->pool->spare[c->pool->n++], s);
 }
 
 /* ---------------------------------------------------------- vertices */
@@ -254,39 +314,48 @@ static uint32_t edge_vertex(slab *s, const ctx *c, size_t i, size_t j, size_t k,
 /* ------------------------------------------------------------- layers */
 
 /* Values of nodes [i0, i1) of row j of node layer k into L (nothing to do
- * for a double grid, read in place), then their signs; counts f == iso and
- * NaN nodes into *niso and *nnan. */
-static void eval_range(slab *s, const ctx *c, work *w, size_t k, layer *L, size_t j, size_t i0,
-                       size_t i1, size_t *niso, size_t *nnan)
+ * for a double grid, read in place). */
+static void eval_values(slab *s, const ctx *c, work *w, size_t k, layer *L, size_t j, size_t i0,
+                        size_t i1)
 {
     size_t nx1 = c->n[0] + 1, ny1 = c->n[1] + 1;
-    const double iso = c->iso;
-    if (!(c->grid && c->grid->type == GEOM_ISO_SCALAR_F64)) {
-        double *row = L->buf + j * nx1;
-        if (c->grid) {
-            const float *src = (const float *)c->grid->data + nx1 * (j + ny1 * k);
-            for (size_t i = i0; i < i1; i++)
-                row[i] = (double)src[i];
-        } else {
-            const geom_iso_field *f = c->field;
-            double y = c->coord[1][j], z = c->coord[2][k];
-            if (f->values) {
-                for (size_t i = i0; i < i1; i++) {
-                    w->pts[3 * i] = c->coord[0][i];
-                    w->pts[3 * i + 1] = y;
-                    w->pts[3 * i + 2] = z;
-                }
-                f->values(f->user, i1 - i0, w->pts + 3 * i0, row + i0);
-            } else {
-                double p[3] = {0, y, z};
-                for (size_t i = i0; i < i1; i++) {
-                    p[0] = c->coord[0][i];
-                    row[i] = f->value(f->user, p);
-                }
-            }
-            s->evaluations += i1 - i0;
+    if (c->grid && c->grid->type == GEOM_ISO_SCALAR_F64)
+        return;
+    double *row = L->buf + j * nx1;
+    if (c->grid) {
+        const float *src = (const float *)c->grid->data + nx1 * (j + ny1 * k);
+        for (size_t i = i0; i < i1; i++)
+            row[i] = (double)src[i];
+        return;
+    }
+    const geom_iso_field *f = c->field;
+    double y = c->coord[1][j], z = c->coord[2][k];
+    if (c->expr) {
+        geom__implicit_expr_row(c->expr, i1 - i0, c->coord[0] + i0, y, z, row + i0);
+    } else if (f->values) {
+        for (size_t i = i0; i < i1; i++) {
+            w->pts[3 * i] = c->coord[0][i];
+            w->pts[3 * i + 1] = y;
+            w->pts[3 * i + 2] = z;
+        }
+        f->values(f->user, i1 - i0, w->pts + 3 * i0, row + i0);
+    } else {
+        double p[3] = {0, y, z};
+        for (size_t i = i0; i < i1; i++) {
+            p[0] = c->coord[0][i];
+            row[i] = f->value(f->user, p);
         }
     }
+    s->evaluations += i1 - i0;
+}
+
+/* Signs of nodes [i0, i1) of row j of node layer k (values in L); counts
+ * f == iso and NaN nodes into *niso and *nnan. */
+static void eval_signs(slab *s, const ctx *c, size_t k, layer *L, size_t j, size_t i0,
+                       size_t i1, size_t *niso, size_t *nnan)
+{
+    size_t nx1 = c->n[0] + 1;
+    const double iso = c->iso;
     const double *row = L->v + j * nx1;
     uint8_t *sr = L->s + j * nx1;
     /* outside: v - iso > 0, or NaN; zeros and NaN counted on a second
@@ -328,6 +397,18 @@ static void row_blocks(const ctx *c, size_t j, size_t k, size_t bys[2], int *ny_
         bzs[(*nz_)++] = k / B - 1;
 }
 
+/* Nodes [i0, i1) of a row (signs sr, values vr or NULL) in skipped blocks
+ * of class cls. */
+static void skipped_nodes(uint8_t *sr, double *vr, size_t i0, size_t i1, uint8_t cls)
+{
+    memset(sr + i0, cls == BLK_OUT ? 1 : 0, i1 - i0);
+    if (vr) {
+        double fill = cls == BLK_OUT ? HUGE_VAL : -HUGE_VAL;
+        for (size_t i = i0; i < i1; i++)
+            vr[i] = fill;
+    }
+}
+
 /* Row j of node layer k on the sparse path: the nodes of sampled blocks
  * are evaluated; the others lie in skipped blocks only, all of one class,
  * and get its sign (and, with caps, a value of that sign: caps read the
@@ -343,6 +424,10 @@ static void sparse_row(slab *s, const ctx *c, work *w, size_t k, layer *L, size_
     uint8_t *sr = L->s + j * nx1;
     double *vr = (c->caps && L->buf == L->v) ? L->buf + j * nx1 : NULL;
     size_t run0 = SIZE_MAX; /* first block of the current run of sampled blocks */
+    size_t nruns = 0;
+    /* nodes [f0, f1) of skipped blocks of class fcls, set in one go */
+    size_t f0 = 0, f1 = 0;
+    uint8_t fcls = BLK_OUT;
     for (size_t bx = 0; bx <= nbx; bx++) {
         int need = 0;
         uint8_t cls = BLK_SAMPLE;
@@ -358,8 +443,9 @@ static void sparse_row(slab *s, const ctx *c, work *w, size_t k, layer *L, size_
             continue;
         }
         if (run0 != SIZE_MAX) {
-            size_t i1 = bx * B + 1 < nx1 ? bx * B + 1 : nx1;
-            eval_range(s, c, w, k, L, j, run0 * B, i1, niso, nnan);
+            w->runs[2 * nruns] = run0 * B;
+            w->runs[2 * nruns + 1] = bx * B + 1 < nx1 ? bx * B + 1 : nx1;
+            nruns++;
             run0 = SIZE_MAX;
         }
         if (bx == nbx)
@@ -371,14 +457,40 @@ static void sparse_row(slab *s, const ctx *c, work *w, size_t k, layer *L, size_
             i0++;
         }
         if (i0 <= i1) {
-            memset(sr + i0, cls == BLK_OUT ? 1 : 0, i1 + 1 - i0);
-            if (vr) {
-                double fill = cls == BLK_OUT ? HUGE_VAL : -HUGE_VAL;
-                for (size_t i = i0; i <= i1; i++)
-                    vr[i] = fill;
+            if (f0 < f1 && (i0 != f1 || cls != fcls)) {
+                skipped_nodes(sr, vr, f0, f1, fcls);
+                f0 = f1;
             }
+            if (f0 == f1) {
+                f0 = i0;
+                fcls = cls;
+            }
+            f1 = i1 + 1;
         }
     }
+    if (f0 < f1)
+        skipped_nodes(sr, vr, f0, f1, fcls);
+    const size_t *rn = w->runs;
+    if (c->expr && nruns > 1) {
+        /* the runs' nodes in one call: x gathered, values scattered */
+        size_t m = 0;
+        for (size_t q = 0; q < nruns; q++)
+            for (size_t i = rn[2 * q]; i < rn[2 * q + 1]; i++)
+                w->gx[m++] = c->coord[0][i];
+        geom__implicit_expr_row(c->expr, m, w->gx, c->coord[1][j], c->coord[2][k], w->gv);
+        s->evaluations += m;
+        double *row = L->buf + j * nx1;
+        m = 0;
+        for (size_t q = 0; q < nruns; q++) {
+            size_t n = rn[2 * q + 1] - rn[2 * q];
+            memcpy(row + rn[2 * q], w->gv + m, n * sizeof(double));
+            m += n;
+        }
+    } else
+        for (size_t q = 0; q < nruns; q++)
+            eval_values(s, c, w, k, L, j, rn[2 * q], rn[2 * q + 1]);
+    for (size_t q = 0; q < nruns; q++)
+        eval_signs(s, c, k, L, j, rn[2 * q], rn[2 * q + 1], niso, nnan);
 }
 
 /* The class of every block containing node row j of node layer k when
@@ -411,7 +523,7 @@ static void eval_layer(slab *s, const ctx *c, work *w, size_t k, layer *L, int c
         uint8_t u = c->blk ? uniform_row(c, j, k) : ROW_MIXED;
         if (u != ROW_MIXED) {
             /* as sparse_row makes it, without a sign change */
-            memset(L->s + j * nx1, u == BLK_OUT ? 1 : 0, nx1);
+            L->sr[j] = u == BLK_OUT ? w->ones : w->zeros;
             if (c->caps && L->buf == L->v) {
                 double fill = u == BLK_OUT ? HUGE_VAL : -HUGE_VAL, *vr = L->buf + j * nx1;
                 for (size_t i = 0; i < nx1; i++)
@@ -421,11 +533,14 @@ static void eval_layer(slab *s, const ctx *c, work *w, size_t k, layer *L, int c
             L->rhi[j] = 0;
             continue;
         }
+        L->sr[j] = L->s + j * nx1;
         if (c->blk)
             sparse_row(s, c, w, k, L, j, &niso, &nnan);
-        else
-            eval_range(s, c, w, k, L, j, 0, nx1, &niso, &nnan);
-        const uint8_t *sr = L->s + j * nx1;
+        else {
+            eval_values(s, c, w, k, L, j, 0, nx1);
+            eval_signs(s, c, k, L, j, 0, nx1, &niso, &nnan);
+        }
+        const uint8_t *sr = L->sr[j];
         /* first and last sign change, 8 bytes at a time */
         uint32_t lo = (uint32_t)nx, hi = 0;
         size_t i = 0;
@@ -586,37 +701,53 @@ static void push_tri(slab *s, const ctx *c, uint32_t **arr, size_t *n, size_t *c
     (*n)++;
 }
 
+/* A cell whose case is simple (one contour, nothing ambiguous): its
+ * polygon, triangulated directly; g: the corner values, or NULL to load
+ * them only when a vertex must be made. Returns 0, making no triangle,
+ * when every triangulation has a chord in a cell face (the general path
+ * then adds an inner vertex); 1 otherwise. */
+static int simple_polygon(slab *s, const ctx *c, work *w, size_t i, size_t j, const iso_case *cs,
+                          const double *g)
+{
+    int n = cs->n;
+    uint32_t vid[12];
+    for (int q = 0; q < n; q++)
+        vid[q] = cell_edge_vertex(s, c, w, i, j, cs->edges[q], g);
+    if (s->status != GEOM_OK)
+        return 1;
+    const double *p[12];
+    unsigned fm[12];
+    for (int q = 0; q < n; q++) {
+        p[q] = s->xyz + 3 * (size_t)vid[q];
+        fm[q] = iso_edge_faces(cs->edges[q]);
+    }
+    uint8_t t[12][3];
+    int forced;
+    int nt = geom__iso_polygon_tris(n, p, fm, t, &forced);
+    if (forced)
+        return 0;
+    if (!grow(c->alloc, (void **)&s->tri, &s->captri, s->ntri + (size_t)nt,
+              3 * sizeof(uint32_t))) {
+        s->status = GEOM_ERR_NOMEM;
+        return 1;
+    }
+    uint32_t *o = s->tri + 3 * s->ntri;
+    for (int q = 0; q < nt; q++) {
+        o[3 * q] = vid[t[q][0]];
+        o[3 * q + 1] = vid[t[q][1]];
+        o[3 * q + 2] = vid[t[q][2]];
+    }
+    s->ntri += (size_t)nt;
+    s->active++;
+    return 1;
+}
+
 static void do_cell(slab *s, const ctx *c, work *w, size_t i, size_t j, const double g[8],
                     unsigned mask)
 {
     const iso_case *cs = &c->cases->cases[mask];
-    if (cs->simple) {
-        /* one contour, nothing ambiguous: triangulate it directly */
-        int n = cs->n;
-        uint32_t vid[12];
-        for (int q = 0; q < n; q++) {
-            vid[q] = cell_edge_vertex(s, c, w, i, j, cs->edges[q], g);
-            if (s->status != GEOM_OK)
-                return;
-        }
-        const double *p[12];
-        unsigned fm[12];
-        for (int q = 0; q < n; q++) {
-            p[q] = s->xyz + 3 * (size_t)vid[q];
-            fm[q] = iso_edge_faces(cs->edges[q]);
-        }
-        uint8_t t[12][3];
-        int forced;
-        int nt = geom__iso_polygon_tris(n, p, fm, t, &forced);
-        if (forced)
-            goto general;
-        for (int q = 0; q < nt; q++)
-            push_tri(s, c, &s->tri, &s->ntri, &s->captri, vid[t[q][0]], vid[t[q][1]],
-                     vid[t[q][2]]);
-        s->active++;
+    if (cs->simple && simple_polygon(s, c, w, i, j, cs, g))
         return;
-    }
-general:;
     double vpos[12][3];
     uint32_t vid[12];
     for (int e = 0; e < 12; e++) {
@@ -730,43 +861,12 @@ static int cmp_key(const void *a, const void *b)
 
 static void visit_cell(slab *s, const ctx *c, work *w, size_t i, size_t j, int capcell);
 
-/* A cell whose case is simple (one contour, no ambiguity): its polygon,
- * triangulated, without loading the corner values unless a vertex must be
- * made. */
+/* A simple cell of the row loop, without loading the corner values
+ * unless a vertex must be made. */
 static void simple_cell(slab *s, const ctx *c, work *w, size_t i, size_t j, const iso_case *cs)
 {
-    int n = cs->n;
-    uint32_t vid[12];
-    for (int q = 0; q < n; q++)
-        vid[q] = cell_edge_vertex(s, c, w, i, j, cs->edges[q], NULL);
-    if (s->status != GEOM_OK)
-        return;
-    const double *p[12];
-    unsigned fm[12];
-    for (int q = 0; q < n; q++) {
-        p[q] = s->xyz + 3 * (size_t)vid[q];
-        fm[q] = iso_edge_faces(cs->edges[q]);
-    }
-    uint8_t t[12][3];
-    int forced;
-    int nt = geom__iso_polygon_tris(n, p, fm, t, &forced);
-    if (forced) {
+    if (!simple_polygon(s, c, w, i, j, cs, NULL))
         visit_cell(s, c, w, i, j, 0); /* the general path adds an inner vertex */
-        return;
-    }
-    if (!grow(c->alloc, (void **)&s->tri, &s->captri, s->ntri + (size_t)nt,
-              3 * sizeof(uint32_t))) {
-        s->status = GEOM_ERR_NOMEM;
-        return;
-    }
-    uint32_t *o = s->tri + 3 * s->ntri;
-    for (int q = 0; q < nt; q++) {
-        o[3 * q] = vid[t[q][0]];
-        o[3 * q + 1] = vid[t[q][1]];
-        o[3 * q + 2] = vid[t[q][2]];
-    }
-    s->ntri += (size_t)nt;
-    s->active++;
 }
 
 /* Cell (i, j) of the current cell layer: its surface and, on the box
@@ -811,6 +911,7 @@ static void work_free(const ctx *c, work *w)
     for (int l = 0; l < 2; l++) {
         geom__free(al, w->L[l].buf, nn * sizeof(double));
         geom__free(al, w->L[l].s, nn);
+        geom__free(al, (void *)w->L[l].sr, ny1 * sizeof(uint8_t *));
         geom__free(al, w->L[l].rlo, ny1 * sizeof(uint32_t));
         geom__free(al, w->L[l].rhi, ny1 * sizeof(uint32_t));
         geom__free(al, w->L[l].xv, nx * ny1 * sizeof(uint32_t));
@@ -818,7 +919,14 @@ static void work_free(const ctx *c, work *w)
         geom__free(al, w->L[l].nv, nn * sizeof(uint32_t));
     }
     geom__free(al, w->zv, nn * sizeof(uint32_t));
+    geom__free(al, w->ones, nx1);
+    geom__free(al, w->act, nx * sizeof(uint32_t));
+    geom__free(al, w->amask, nx);
+    geom__free(al, w->zeros, nx1);
     geom__free(al, w->pts, 3 * nx1 * sizeof(double));
+    geom__free(al, w->runs, 2 * (c->nb[0] + 1) * sizeof(size_t));
+    geom__free(al, w->gx, nx1 * sizeof(double));
+    geom__free(al, w->gv, nx1 * sizeof(double));
     memset(w, 0, sizeof *w);
 }
 
@@ -844,18 +952,37 @@ static void work_init(const ctx *c, work *w)
     for (int l = 0; l < 2; l++) {
         w->L[l].buf = geom__alloc(al, nn * sizeof(double));
         w->L[l].s = geom__alloc(al, nn);
+        w->L[l].sr = geom__alloc(al, ny1 * sizeof(uint8_t *));
         w->L[l].rlo = geom__alloc(al, ny1 * sizeof(uint32_t));
         w->L[l].rhi = geom__alloc(al, ny1 * sizeof(uint32_t));
         w->L[l].xv = geom__alloc(al, nx * ny1 * sizeof(uint32_t));
         w->L[l].yv = geom__alloc(al, nx1 * ny * sizeof(uint32_t));
         w->L[l].nv = c->caps ? geom__alloc(al, nn * sizeof(uint32_t)) : NULL;
-        ok = ok && w->L[l].buf && w->L[l].s && w->L[l].rlo && w->L[l].rhi && w->L[l].xv &&
+        ok = ok && w->L[l].buf && w->L[l].s && w->L[l].sr && w->L[l].rlo && w->L[l].rhi && w->L[l].xv &&
              w->L[l].yv && (!c->caps || w->L[l].nv);
     }
     w->zv = geom__alloc(al, nn * sizeof(uint32_t));
-    if (!c->grid && c->field->values) {
+    w->ones = geom__alloc(al, nx1);
+    w->zeros = geom__alloc(al, nx1);
+    w->act = geom__alloc(al, nx * sizeof(uint32_t));
+    w->amask = geom__alloc(al, nx);
+    ok = ok && w->ones && w->zeros && w->act && w->amask;
+    if (ok) {
+        memset(w->ones, 1, nx1);
+        memset(w->zeros, 0, nx1);
+    }
+    if (!c->grid && c->field->values && !c->expr) {
         w->pts = geom__alloc(al, 3 * nx1 * sizeof(double));
         ok = ok && w->pts;
+    }
+    if (c->blk) {
+        w->runs = geom__alloc(al, 2 * (c->nb[0] + 1) * sizeof(size_t));
+        ok = ok && w->runs;
+        if (c->expr) {
+            w->gx = geom__alloc(al, nx1 * sizeof(double));
+            w->gv = geom__alloc(al, nx1 * sizeof(double));
+            ok = ok && w->gx && w->gv;
+        }
     }
     ok = ok && w->zv;
     if (!ok) {
@@ -877,6 +1004,7 @@ static void run_slab(const ctx *c, slab *s, work *wp)
     if (wp->base > UINT32_MAX / 2)
         work_clear_slots(c, wp);
     work *w = wp;
+    pool_take(c, s);
     if (w->hint_nv &&
         (!grow(c->alloc, (void **)&s->xyz, &s->capv, w->hint_nv, 3 * sizeof(double)) ||
          (c->normals &&
@@ -897,7 +1025,6 @@ static void run_slab(const ctx *c, slab *s, work *wp)
             /* Flying-edges-style trimming: the four node rows of this cell
              * row are constant outside [L, R) and agree there. */
             const layer *lb = w->lb, *lt = w->lt;
-            size_t q0 = j * nx1, q1 = q0 + nx1;
             size_t L = lb->rlo[j], R = lb->rhi[j];
             const uint32_t los[3] = {lb->rlo[j + 1], lt->rlo[j], lt->rlo[j + 1]};
             const uint32_t his[3] = {lb->rhi[j + 1], lt->rhi[j], lt->rhi[j + 1]};
@@ -907,11 +1034,13 @@ static void run_slab(const ctx *c, slab *s, work *wp)
                 if (his[q] > R)
                     R = his[q];
             }
-            uint8_t f0 = lb->s[q0], f1 = lb->s[q1], f2 = lt->s[q0], f3 = lt->s[q1];
+            /* the signs of the four node rows */
+            const uint8_t *b0 = lb->sr[j], *b1 = lb->sr[j + 1], *t0 = lt->sr[j],
+                          *t1 = lt->sr[j + 1];
+            uint8_t f0 = b0[0], f1 = b1[0], f2 = t0[0], f3 = t1[0];
             if (f0 != f1 || f0 != f2 || f0 != f3)
                 L = 0;
-            uint8_t e0 = lb->s[q0 + nx], e1 = lb->s[q1 + nx], e2 = lt->s[q0 + nx],
-                    e3 = lt->s[q1 + nx];
+            uint8_t e0 = b0[nx], e1 = b1[nx], e2 = t0[nx], e3 = t1[nx];
             if (e0 != e1 || e0 != e2 || e0 != e3)
                 R = nx;
             if (j + 1 < ny) {
@@ -945,21 +1074,61 @@ static void run_slab(const ctx *c, slab *s, work *wp)
                 visit_cell(s, c, w, 0, j, 1);
             if (L < R) {
                 /* outside masks from the sign bytes, one x column at a time */
-                const uint8_t *b0 = lb->s + q0, *b1 = lb->s + q1, *t0 = lt->s + q0,
-                              *t1 = lt->s + q1;
                 unsigned prev = (unsigned)b0[L] | (unsigned)b1[L] << 2 | (unsigned)t0[L] << 4 |
                                 (unsigned)t1[L] << 6;
+                size_t na = 0; /* the row's cells with a surface or a cap */
                 for (size_t i = L; i < R; i++) {
+                    if ((prev == 0 || prev == 0x55u) && !c->caps) {
+                        /* node column i of one sign: skip 8 cells at a time
+                         * while the next 8 columns have it too (no surface) */
+                        const uint64_t one = prev ? UINT64_C(0x0101010101010101) : 0;
+                        while (i + 8 <= R) {
+                            uint64_t a0, a1, a2, a3;
+                            memcpy(&a0, b0 + i + 1, 8);
+                            memcpy(&a1, b1 + i + 1, 8);
+                            memcpy(&a2, t0 + i + 1, 8);
+                            memcpy(&a3, t1 + i + 1, 8);
+                            if ((a0 ^ one) | (a1 ^ one) | (a2 ^ one) | (a3 ^ one))
+                                break;
+                            i += 8;
+                        }
+                        if (i >= R)
+                            break;
+                    }
                     unsigned nxt = (unsigned)b0[i + 1] | (unsigned)b1[i + 1] << 2 |
                                    (unsigned)t0[i + 1] << 4 | (unsigned)t1[i + 1] << 6;
                     unsigned mask = prev | nxt << 1;
                     prev = nxt;
-                    int capcell = c->caps && (i == 0 || i + 1 == nx);
-                    if (capcell)
+                    if ((mask != 0 && mask != 0xFFu) || (c->caps && (i == 0 || i + 1 == nx))) {
+                        w->act[na] = (uint32_t)i;
+                        w->amask[na++] = (uint8_t)mask;
+                    }
+                }
+                /* the id slots and values the row's active cells read,
+                 * fetched together rather than one miss after another */
+                for (size_t q = 0; q < na; q++) {
+                    size_t i = w->act[q], r0 = j * nx1 + i, r1 = r0 + nx1;
+                    ISO_PREFETCH(&lb->xv[j * nx + i]);
+                    ISO_PREFETCH(&lb->xv[(j + 1) * nx + i]);
+                    ISO_PREFETCH(&lt->xv[j * nx + i]);
+                    ISO_PREFETCH(&lt->xv[(j + 1) * nx + i]);
+                    ISO_PREFETCH(&lb->yv[r0]);
+                    ISO_PREFETCH(&lt->yv[r0]);
+                    ISO_PREFETCH(&w->zv[r0]);
+                    ISO_PREFETCH(&w->zv[r1]);
+                    ISO_PREFETCH(&lb->v[r0]);
+                    ISO_PREFETCH(&lb->v[r1]);
+                    ISO_PREFETCH(&lt->v[r0]);
+                    ISO_PREFETCH(&lt->v[r1]);
+                }
+                for (size_t q = 0; q < na; q++) {
+                    size_t i = w->act[q];
+                    unsigned mask = w->amask[q];
+                    if (c->caps && (i == 0 || i + 1 == nx))
                         visit_cell(s, c, w, i, j, 1);
                     else if (c->cases->cases[mask].simple)
                         simple_cell(s, c, w, i, j, &c->cases->cases[mask]);
-                    else if (mask != 0 && mask != 0xFFu)
+                    else
                         visit_cell(s, c, w, i, j, 0);
                 }
             }
@@ -1103,21 +1272,28 @@ static inline double tri_volume6(const double *a, const double *b, const double 
            a[2] * (b[0] * c[1] - b[1] * c[0]);
 }
 
-/* The error sampling rule: every s-th vertex and surface triangle, the
- * smallest s keeping the points within the budget. */
-static size_t error_stride(const geom_iso_options *opt, size_t nv, size_t nst)
+/* The error sampling rule: every s-th vertex and surface triangle (by
+ * index, the first one included), s the smallest power of two keeping the
+ * points within the budget. A power of two, so that the stream path can
+ * sample while the counts grow and halve its samples when the stride
+ * doubles (emit_thin). */
+static size_t error_budget(const geom_iso_options *opt)
 {
     size_t budget = opt && opt->error_samples ? opt->error_samples : 65536;
-    if (budget < 5)
-        budget = 5; /* one vertex and one triangle's 4 samples */
-    size_t stride = 1;
-    if (budget != SIZE_MAX && nv + 4 * nst > budget) {
-        stride = (nv + 4 * nst) / budget;
-        if (stride < 1)
-            stride = 1;
-        while ((nv + stride - 1) / stride + 4 * ((nst + stride - 1) / stride) > budget)
-            stride++;
-    }
+    return budget < 5 ? 5 : budget; /* one vertex and one triangle's 4 samples */
+}
+
+static int over_budget(size_t budget, size_t nv, size_t nst, size_t stride)
+{
+    return budget != SIZE_MAX &&
+           (nv + stride - 1) / stride + 4 * ((nst + stride - 1) / stride) > budget;
+}
+
+static size_t error_stride(const geom_iso_options *opt, size_t nv, size_t nst)
+{
+    size_t budget = error_budget(opt), stride = 1;
+    while (over_budget(budget, nv, nst, stride))
+        stride *= 2;
     return stride;
 }
 
@@ -1159,123 +1335,276 @@ static int push_doubles(const geom_allocator *al, double **p, size_t *len, size_
     return 1;
 }
 
-/* The stream path's output, after the slabs' renumbering (remap): slab by
- * slab, its new vertices (those not mapped onto the previous slab's) and
- * its triangles, renumbered, go to the sink, then the caps. On the way:
- * the signed volume (the same terms in the same order as signed_volume)
- * and the error sample points (those the array path measures: the
- * vertices and surface triangles whose number is a multiple of the
- * stride), measured at the end. Each slab's arrays are freed once sent. */
-static geom_status stream_slabs(const ctx *c, const geom_iso_options *opt, slab *sl,
-                                size_t nslabs, uint32_t *const *remap, size_t nv, size_t nt,
-                                size_t ncap, int threads, geom_iso_surface *out)
+/* Renumber slab s's vertices into rm (s->nv entries): those of its first
+ * node layer found among the previous slab's last-layer keys (top, ntop,
+ * numbered by prm) take their numbers, the others the next numbers from
+ * *nv on, in order. GEOM_ERR_LIMIT past 2^32 - 2 vertices in all. */
+static geom_status renumber(const slab *s, const iso_key *top, size_t ntop, const uint32_t *prm,
+                            uint32_t *rm, size_t *nv)
+{
+    for (size_t v = 0; v < s->nv; v++)
+        rm[v] = NONE;
+    size_t a = 0, b = 0;
+    while (a < s->nbot && b < ntop) {
+        if (s->bot[a].key < top[b].key)
+            a++;
+        else if (s->bot[a].key > top[b].key)
+            b++;
+        else {
+            rm[s->bot[a].id] = prm[top[b].id];
+            a++;
+            b++;
+        }
+    }
+    for (size_t v = 0; v < s->nv; v++) {
+        if (rm[v] != NONE)
+            continue;
+        if (*nv >= (size_t)UINT32_MAX - 1)
+            return GEOM_ERR_LIMIT;
+        rm[v] = (uint32_t)(*nv)++;
+    }
+    return GEOM_OK;
+}
+
+/* The stream path (geom_iso_extract_stream): each slab, once it and all
+ * the slabs before it are done, is renumbered against the previous one,
+ * handed to the sink (its new vertices and its triangles) and freed, by
+ * the calling thread, while the other threads go on with later slabs; the
+ * cap triangles follow at the end. On the way: the signed volume (the
+ * same terms in the same order as signed_volume) and the error sample
+ * points (those the array path measures: the vertices and surface
+ * triangles whose number is a multiple of the stride, vertices with caps
+ * only when a surface triangle uses them), measured at the end. */
+typedef struct emitter {
+    size_t next;           /* the next slab to hand over */
+    uint32_t *rm, *prm;    /* the numbering of that slab and of the one before */
+    size_t caprm, capprm;
+    size_t nv, nt;         /* vertices and surface triangles handed over */
+    double vol;            /* sum of the surface triangles' volume terms */
+    double *cx, *cn;       /* a chunk's new vertices and normals */
+    uint32_t *ct;          /* a chunk's triangles, renumbered */
+    size_t capx, capn, capt;
+    uint32_t *cap;         /* the cap triangles, renumbered */
+    double *cvol;          /* and their volume terms */
+    size_t ncap, capcap, capcvol;
+    int measure;
+    size_t budget, stride;
+    double *ev;            /* every stride-th vertex (3 doubles each) */
+    uint8_t *evu;          /* 1: a surface triangle uses it */
+    double *et;            /* every stride-th surface triangle's corners (9 doubles) */
+    size_t nev, capev, nevu, capevu, net, capet;
+    geom_status st;
+} emitter;
+
+static void emit_init(const ctx *c, const geom_iso_options *opt, emitter *em)
+{
+    memset(em, 0, sizeof *em);
+    em->measure = error_wanted(c, opt);
+    em->budget = error_budget(opt);
+    em->stride = 1;
+}
+
+static void emit_free(const ctx *c, emitter *em)
+{
+    const geom_allocator *al = c->alloc;
+    geom__free(al, em->rm, em->caprm * sizeof(uint32_t));
+    geom__free(al, em->prm, em->capprm * sizeof(uint32_t));
+    geom__free(al, em->cx, em->capx * 3 * sizeof(double));
+    geom__free(al, em->cn, em->capn * 3 * sizeof(double));
+    geom__free(al, em->ct, em->capt * 3 * sizeof(uint32_t));
+    geom__free(al, em->cap, em->capcap * 3 * sizeof(uint32_t));
+    geom__free(al, em->cvol, em->capcvol * sizeof(double));
+    geom__free(al, em->ev, em->capev * sizeof(double));
+    geom__free(al, em->evu, em->capevu);
+    geom__free(al, em->et, em->capet * sizeof(double));
+    memset(em, 0, sizeof *em);
+}
+
+/* Double the stride while the counts so far exceed the budget, keeping
+ * the samples whose number is a multiple of the new stride (every other
+ * one: sample k is number k * stride). */
+static void emit_thin(emitter *em)
+{
+    while (over_budget(em->budget, em->nv, em->nt, em->stride)) {
+        em->stride *= 2;
+        size_t nv = (em->nevu + 1) / 2, nt = (em->net / 9 + 1) / 2;
+        for (size_t k = 0; k < nv; k++) {
+            memmove(em->ev + 3 * k, em->ev + 6 * k, 3 * sizeof(double));
+            em->evu[k] = em->evu[2 * k];
+        }
+        for (size_t k = 0; k < nt; k++)
+            memmove(em->et + 9 * k, em->et + 18 * k, 9 * sizeof(double));
+        em->nev = 3 * nv;
+        em->nevu = nv;
+        em->net = 9 * nt;
+    }
+}
+
+/* Hand over slab q (all slabs before it handed over) and free it. */
+static void emit_slab(const ctx *c, emitter *em, slab *sl, size_t q)
+{
+    const geom_allocator *al = c->alloc;
+    slab *s = &sl[q];
+    if (em->st == GEOM_OK && s->status != GEOM_OK)
+        em->st = s->status;
+    if (em->st != GEOM_OK)
+        goto done;
+    if (!grow(al, (void **)&em->rm, &em->caprm, s->nv, sizeof(uint32_t)) ||
+        !grow(al, (void **)&em->cx, &em->capx, s->nv, 3 * sizeof(double)) ||
+        (c->normals && !grow(al, (void **)&em->cn, &em->capn, s->nv, 3 * sizeof(double))) ||
+        !grow(al, (void **)&em->ct, &em->capt, s->ntri, 3 * sizeof(uint32_t)) ||
+        !grow(al, (void **)&em->cap, &em->capcap, em->ncap + s->ncap, 3 * sizeof(uint32_t)) ||
+        !grow(al, (void **)&em->cvol, &em->capcvol, em->ncap + s->ncap, sizeof(double))) {
+        em->st = GEOM_ERR_NOMEM;
+        goto done;
+    }
+    size_t vbase = em->nv;
+    em->st = renumber(s, q ? sl[q - 1].top : NULL, q ? sl[q - 1].ntop : 0, em->prm, em->rm,
+                      &em->nv);
+    if (em->st != GEOM_OK)
+        goto done;
+    const uint32_t *rm = em->rm;
+    const size_t stride = em->stride;
+    const int marks = em->measure && c->caps; /* vertices sampled only when used */
+    size_t nnew = 0;
+    for (size_t v = 0; v < s->nv && em->st == GEOM_OK; v++) {
+        if (rm[v] < vbase)
+            continue; /* a copy of the previous slab's vertex */
+        memcpy(em->cx + 3 * nnew, s->xyz + 3 * v, 3 * sizeof(double));
+        if (c->normals)
+            memcpy(em->cn + 3 * nnew, s->nrm + 3 * v, 3 * sizeof(double));
+        if (em->measure && (vbase + nnew) % stride == 0) {
+            uint8_t used = !marks;
+            if (!push_doubles(al, &em->ev, &em->nev, &em->capev, s->xyz + 3 * v, 3) ||
+                !grow(al, (void **)&em->evu, &em->capevu, em->nevu + 1, 1))
+                em->st = GEOM_ERR_NOMEM;
+            else
+                em->evu[em->nevu++] = used;
+        }
+        nnew++;
+    }
+    for (size_t t = 0; t < s->ntri && em->st == GEOM_OK; t++) {
+        const uint32_t *lt = s->tri + 3 * t;
+        const double *a = s->xyz + 3 * (size_t)lt[0], *b = s->xyz + 3 * (size_t)lt[1],
+                     *d = s->xyz + 3 * (size_t)lt[2];
+        em->vol += tri_volume6(a, b, d);
+        uint32_t *o = em->ct + 3 * t;
+        o[0] = rm[lt[0]];
+        o[1] = rm[lt[1]];
+        o[2] = rm[lt[2]];
+        if (marks)
+            for (int k = 0; k < 3; k++)
+                if (o[k] % stride == 0)
+                    em->evu[o[k] / stride] = 1;
+        if (em->measure && (em->nt + t) % stride == 0) {
+            double p9[9];
+            memcpy(p9, a, 3 * sizeof(double));
+            memcpy(p9 + 3, b, 3 * sizeof(double));
+            memcpy(p9 + 6, d, 3 * sizeof(double));
+            if (!push_doubles(al, &em->et, &em->net, &em->capet, p9, 9))
+                em->st = GEOM_ERR_NOMEM;
+        }
+    }
+    for (size_t t = 0; t < s->ncap; t++) {
+        const uint32_t *lt = s->cap + 3 * t;
+        em->cvol[em->ncap] = tri_volume6(s->xyz + 3 * (size_t)lt[0],
+                                         s->xyz + 3 * (size_t)lt[1], s->xyz + 3 * (size_t)lt[2]);
+        for (int k = 0; k < 3; k++)
+            em->cap[3 * em->ncap + (size_t)k] = rm[lt[k]];
+        em->ncap++;
+    }
+    if (em->st == GEOM_OK && (nnew || s->ntri)) {
+        geom_iso_chunk ch = {vbase, nnew, em->cx, c->normals ? em->cn : NULL, s->ntri, em->ct, 0};
+        em->st = c->sink(c->sink_user, &ch);
+    }
+    em->nt += s->ntri;
+    if (em->measure)
+        emit_thin(em);
+done:;
+    pool_put(c, s);
+    /* keep this slab's last-layer keys and numbering for the next one */
+    iso_key *top = s->top;
+    size_t ntop = s->ntop, captop = s->captop;
+    s->top = NULL;
+    s->captop = 0;
+    slab_free(al, s);
+    s->top = top;
+    s->ntop = ntop;
+    s->captop = captop;
+    if (q > 0)
+        slab_free(al, &sl[q - 1]);
+    uint32_t *t = em->rm;
+    size_t ct = em->caprm;
+    em->rm = em->prm;
+    em->caprm = em->capprm;
+    em->prm = t;
+    em->capprm = ct;
+}
+
+/* Flags shared between the threads of the stream path. */
+static inline uint8_t flag_load(const uint8_t *p)
+{
+    uint8_t v;
+#ifdef GEOM_ISO_OPENMP
+#pragma omp atomic read seq_cst
+#endif
+    v = *p;
+    return v;
+}
+
+static inline void flag_set(uint8_t *p)
+{
+#ifdef GEOM_ISO_OPENMP
+#pragma omp atomic write seq_cst
+#endif
+    *p = 1;
+}
+
+/* Hand over the slabs that are done, in order, from em->next on; sets
+ * *halt when the stream has failed (the other slabs are then skipped). */
+static void emit_ready(const ctx *c, emitter *em, slab *sl, size_t nslabs, const uint8_t *done,
+                       uint8_t *halt)
+{
+    while (em->next < nslabs && flag_load(&done[em->next])) {
+        emit_slab(c, em, sl, em->next);
+        em->next++;
+        if (em->st != GEOM_OK)
+            flag_set(halt);
+    }
+}
+
+/* After the last slab: the cap triangles, the counts, the signed volume
+ * and the error measure. */
+static geom_status emit_finish(const ctx *c, emitter *em, int threads, geom_iso_surface *out)
 {
     const geom_allocator *al = c->alloc;
     geom_iso_report *r = &out->report;
-    out->n_vertices = nv;
-    out->n_triangles = nt + ncap;
-    out->n_cap_triangles = ncap;
-    int measure = error_wanted(c, opt);
-    size_t stride = measure ? error_stride(opt, nv, nt) : 1;
-    geom_status st = GEOM_OK;
-    uint8_t *mask = NULL; /* with caps: vertices of a surface triangle */
-    if (measure && ncap) {
-        mask = geom__alloc(al, nv ? nv : 1);
-        if (!mask)
-            return GEOM_ERR_NOMEM;
-        memset(mask, 0, nv);
-        for (size_t q = 0; q < nslabs; q++)
-            for (size_t t = 0; t < 3 * sl[q].ntri; t++)
-                mask[remap[q][sl[q].tri[t]]] = 1;
-    }
-    double *cx = NULL, *cn = NULL, *ev = NULL, *et = NULL, *cvol = NULL;
-    uint32_t *ct = NULL, *cap = NULL;
-    size_t capx = 0, capn = 0, capt = 0, nev = 0, capev = 0, net = 0, capet = 0;
-    if (ncap) {
-        cap = geom__alloc(al, 3 * ncap * sizeof(uint32_t));
-        cvol = geom__alloc(al, ncap * sizeof(double));
-        if (!cap || !cvol)
-            st = GEOM_ERR_NOMEM;
-    }
-    double vol = 0.0;
-    size_t vbase = 0, tbase = 0, cbase = 0;
-    for (size_t q = 0; q < nslabs && st == GEOM_OK; q++) {
-        slab *s = &sl[q];
-        const uint32_t *rm = remap[q];
-        if (!grow(al, (void **)&cx, &capx, s->nv, 3 * sizeof(double)) ||
-            (c->normals && !grow(al, (void **)&cn, &capn, s->nv, 3 * sizeof(double))) ||
-            !grow(al, (void **)&ct, &capt, s->ntri, 3 * sizeof(uint32_t))) {
-            st = GEOM_ERR_NOMEM;
-            break;
-        }
-        size_t nnew = 0;
-        for (size_t v = 0; v < s->nv; v++) {
-            if (rm[v] < vbase)
-                continue; /* a copy of the previous slab's vertex */
-            memcpy(cx + 3 * nnew, s->xyz + 3 * v, 3 * sizeof(double));
-            if (c->normals)
-                memcpy(cn + 3 * nnew, s->nrm + 3 * v, 3 * sizeof(double));
-            size_t g = vbase + nnew;
-            if (measure && g % stride == 0 && (!mask || mask[g]) &&
-                !push_doubles(al, &ev, &nev, &capev, s->xyz + 3 * v, 3))
-                st = GEOM_ERR_NOMEM;
-            nnew++;
-        }
-        for (size_t t = 0; t < s->ntri; t++) {
-            const uint32_t *lt = s->tri + 3 * t;
-            const double *a = s->xyz + 3 * (size_t)lt[0], *b = s->xyz + 3 * (size_t)lt[1],
-                         *d = s->xyz + 3 * (size_t)lt[2];
-            vol += tri_volume6(a, b, d);
-            ct[3 * t] = rm[lt[0]];
-            ct[3 * t + 1] = rm[lt[1]];
-            ct[3 * t + 2] = rm[lt[2]];
-            if (measure && (tbase + t) % stride == 0) {
-                double p9[9];
-                memcpy(p9, a, 3 * sizeof(double));
-                memcpy(p9 + 3, b, 3 * sizeof(double));
-                memcpy(p9 + 6, d, 3 * sizeof(double));
-                if (!push_doubles(al, &et, &net, &capet, p9, 9))
-                    st = GEOM_ERR_NOMEM;
-            }
-        }
-        for (size_t t = 0; t < s->ncap && st == GEOM_OK; t++) {
-            const uint32_t *lt = s->cap + 3 * t;
-            cvol[cbase + t] = tri_volume6(s->xyz + 3 * (size_t)lt[0], s->xyz + 3 * (size_t)lt[1],
-                                          s->xyz + 3 * (size_t)lt[2]);
-            for (int k = 0; k < 3; k++)
-                cap[3 * (cbase + t) + (size_t)k] = rm[lt[k]];
-        }
-        if (st == GEOM_OK && (nnew || s->ntri)) {
-            geom_iso_chunk ch = {vbase, nnew, cx, c->normals ? cn : NULL, s->ntri, ct, 0};
-            st = c->sink(c->sink_user, &ch);
-        }
-        vbase += nnew;
-        tbase += s->ntri;
-        cbase += s->ncap;
-        slab_free(al, s);
-    }
-    if (st == GEOM_OK && ncap) {
-        for (size_t t = 0; t < ncap; t++)
-            vol += cvol[t];
+    out->n_vertices = em->nv;
+    out->n_triangles = em->nt + em->ncap;
+    out->n_cap_triangles = em->ncap;
+    geom_status st = em->st;
+    double vol = em->vol;
+    if (st == GEOM_OK && em->ncap) {
+        for (size_t t = 0; t < em->ncap; t++)
+            vol += em->cvol[t];
         /* normals given (with no vertices) when there are: the faces
          * then name theirs */
-        geom_iso_chunk ch = {nv, 0, NULL, c->normals ? cn : NULL, ncap, cap, 1};
+        geom_iso_chunk ch = {em->nv, 0, NULL, c->normals ? em->cn : NULL, em->ncap, em->cap, 1};
         st = c->sink(c->sink_user, &ch);
     }
     r->signed_volume = vol / 6.0;
-    geom__free(al, cx, capx * 3 * sizeof(double));
-    geom__free(al, cn, capn * 3 * sizeof(double));
-    geom__free(al, ct, capt * 3 * sizeof(uint32_t));
-    geom__free(al, cap, 3 * ncap * sizeof(uint32_t));
-    geom__free(al, cvol, ncap * sizeof(double));
-    geom__free(al, mask, nv ? nv : 1);
-    if (st == GEOM_OK && measure) {
-        /* the sample points gathered: vertices, then triangle corners */
+    if (st == GEOM_OK && em->measure) {
+        /* the sample points: the vertices used, then triangle corners */
         double te = now_seconds();
-        size_t nvs = nev / 3, nts = net / 9, npts = nvs + 3 * nts;
+        size_t nvs = 0, nts = em->net / 9;
+        for (size_t k = 0; k < em->nevu; k++)
+            if (em->evu[k])
+                memmove(em->ev + 3 * nvs++, em->ev + 3 * k, 3 * sizeof(double));
+        em->nev = 3 * nvs;
+        size_t npts = nvs + 3 * nts;
         uint8_t *vm = geom__alloc(al, npts ? npts : 1);
         uint32_t *ti = geom__alloc(al, (nts ? 3 * nts : 1) * sizeof(uint32_t));
-        if (!vm || !ti || !push_doubles(al, &ev, &nev, &capev, et, net))
+        if (!vm || !ti || !push_doubles(al, &em->ev, &em->nev, &em->capev, em->et, em->net))
             st = GEOM_ERR_NOMEM;
         else {
             memset(vm, 1, nvs);
@@ -1283,18 +1612,16 @@ static geom_status stream_slabs(const ctx *c, const geom_iso_options *opt, slab 
             for (size_t q = 0; q < 3 * nts; q++)
                 ti[q] = (uint32_t)(nvs + q);
             iso_err_acc acc;
-            st = geom__iso_measure(c->field, c->iso, npts, ev, vm, nts, ti, 1, c->dstep, threads,
-                                   al, &acc);
+            st = geom__iso_measure(c->field, c->iso, npts, em->ev, vm, nts, ti, 1, c->dstep,
+                                   threads, al, &acc);
             if (st == GEOM_OK)
                 error_report(r, &acc);
         }
         geom__free(al, vm, npts ? npts : 1);
         geom__free(al, ti, (nts ? 3 * nts : 1) * sizeof(uint32_t));
-        r->error_stride = stride;
+        r->error_stride = em->stride;
         r->error_seconds = now_seconds() - te;
     }
-    geom__free(al, ev, capev * sizeof(double));
-    geom__free(al, et, capet * sizeof(double));
     return st;
 }
 
@@ -1374,6 +1701,26 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
     }
     int threads = opt ? opt->threads : 0;
     int used = 1;
+    /* the stream path hands slabs over as they are done */
+    emitter em;
+    uint8_t *done_flags = NULL, halt = 0;
+    slab_pool pool = {NULL, 0};
+    if (c.sink) {
+        emit_init(&c, opt, &em);
+        done_flags = geom__alloc(al, nslabs);
+        pool.spare = geom__alloc(al, nslabs * sizeof(slab));
+        c.pool = &pool;
+        if (!done_flags || !pool.spare) {
+            geom__free(al, done_flags, nslabs);
+            geom__free(al, pool.spare, nslabs * sizeof(slab));
+            geom__free(al, sl, nslabs * sizeof(slab));
+            geom__free(al, blk, nblk ? nblk : 1);
+            geom__free(al, rowcls, c.nb[1] * c.nb[2]);
+            return geom__diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "geom_iso: out of memory");
+        }
+        memset(done_flags, 0, nslabs);
+        memset(pool.spare, 0, nslabs * sizeof(slab));
+    }
     void (*progress)(void *, double) = opt ? opt->progress : NULL;
     void *progress_user = opt ? opt->progress_user : NULL;
 #ifdef GEOM_ISO_OPENMP
@@ -1400,13 +1747,19 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
         work_init(&c, &w);
 #pragma omp for schedule(dynamic, 1)
         for (long long q = 0; q < ns; q++) {
-            run_slab(&c, &sl[q], &w);
+            if (!flag_load(&halt))
+                run_slab(&c, &sl[q], &w);
             long long d;
 #pragma omp atomic capture
             d = ++done;
-            /* the callback only ever runs on the calling thread */
+            /* the callback and the sink only ever run on the calling thread */
             if (progress && omp_get_thread_num() == 0)
                 progress(progress_user, (double)d / (double)ns);
+            if (c.sink) {
+                flag_set(&done_flags[q]);
+                if (omp_get_thread_num() == 0)
+                    emit_ready(&c, &em, sl, nslabs, done_flags, &halt);
+            }
         }
         work_free(&c, &w);
     }
@@ -1415,67 +1768,57 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
         work w;
         work_init(&c, &w);
         for (size_t q = 0; q < nslabs; q++) {
-            run_slab(&c, &sl[q], &w);
+            if (!halt)
+                run_slab(&c, &sl[q], &w);
             if (progress)
                 progress(progress_user, (double)(q + 1) / (double)nslabs);
+            if (c.sink) {
+                done_flags[q] = 1;
+                emit_ready(&c, &em, sl, nslabs, done_flags, &halt);
+            }
         }
         work_free(&c, &w);
     }
 #endif
     geom_status st = GEOM_OK;
-    for (size_t q = 0; q < nslabs; q++)
-        if (sl[q].status != GEOM_OK && st == GEOM_OK)
-            st = sl[q].status;
-
-    /* Merge in order. */
     uint32_t **remap = NULL;
     size_t nv = 0, nt = 0, ncap = 0;
-    if (st == GEOM_OK) {
-        remap = geom__alloc(al, nslabs * sizeof(uint32_t *));
-        if (!remap)
-            st = GEOM_ERR_NOMEM;
-        else
-            memset(remap, 0, nslabs * sizeof(uint32_t *));
-    }
-    for (size_t q = 0; q < nslabs && st == GEOM_OK; q++) {
-        slab *s = &sl[q];
-        remap[q] = geom__alloc(al, (s->nv ? s->nv : 1) * sizeof(uint32_t));
-        if (!remap[q]) {
-            st = GEOM_ERR_NOMEM;
-            break;
+    if (c.sink) {
+        /* the rest (all done), then the caps and the report */
+        emit_ready(&c, &em, sl, nslabs, done_flags, &halt);
+        st = emit_finish(&c, &em, threads, out);
+        emit_free(&c, &em);
+        geom__free(al, done_flags, nslabs);
+        for (size_t q = 0; q < pool.n; q++)
+            slab_free(al, &pool.spare[q]);
+        geom__free(al, pool.spare, nslabs * sizeof(slab));
+        c.pool = NULL;
+    } else {
+        for (size_t q = 0; q < nslabs; q++)
+            if (sl[q].status != GEOM_OK && st == GEOM_OK)
+                st = sl[q].status;
+        /* Merge in order. */
+        if (st == GEOM_OK) {
+            remap = geom__alloc(al, nslabs * sizeof(uint32_t *));
+            if (!remap)
+                st = GEOM_ERR_NOMEM;
+            else
+                memset(remap, 0, nslabs * sizeof(uint32_t *));
         }
-        for (size_t v = 0; v < s->nv; v++)
-            remap[q][v] = NONE;
-        if (q > 0) {
-            slab *p = &sl[q - 1];
-            size_t a = 0, b = 0;
-            while (a < s->nbot && b < p->ntop) {
-                if (s->bot[a].key < p->top[b].key)
-                    a++;
-                else if (s->bot[a].key > p->top[b].key)
-                    b++;
-                else {
-                    remap[q][s->bot[a].id] = remap[q - 1][p->top[b].id];
-                    a++;
-                    b++;
-                }
-            }
-        }
-        for (size_t v = 0; v < s->nv; v++) {
-            if (remap[q][v] != NONE)
-                continue;
-            if (nv >= (size_t)UINT32_MAX - 1) {
-                st = GEOM_ERR_LIMIT;
+        for (size_t q = 0; q < nslabs && st == GEOM_OK; q++) {
+            slab *s = &sl[q];
+            remap[q] = geom__alloc(al, (s->nv ? s->nv : 1) * sizeof(uint32_t));
+            if (!remap[q]) {
+                st = GEOM_ERR_NOMEM;
                 break;
             }
-            remap[q][v] = (uint32_t)nv++;
+            st = renumber(s, q ? sl[q - 1].top : NULL, q ? sl[q - 1].ntop : 0,
+                          q ? remap[q - 1] : NULL, remap[q], &nv);
+            nt += s->ntri;
+            ncap += s->ncap;
         }
-        nt += s->ntri;
-        ncap += s->ncap;
     }
-    if (st == GEOM_OK && c.sink)
-        st = stream_slabs(&c, opt, sl, nslabs, remap, nv, nt, ncap, threads, out);
-    else if (st == GEOM_OK) {
+    if (st == GEOM_OK && !c.sink) {
         size_t tb;
         if (geom__size_mul(nt + ncap, 3 * sizeof(uint32_t), &tb) != GEOM_OK ||
             nv > SIZE_MAX / (3 * sizeof(double)))
@@ -1651,6 +1994,8 @@ static geom_status extract_field(const geom_iso_field *field, const double bound
         memset(&c, 0, sizeof c);
         c.field = field;
         c.grid = NULL;
+        if (field->value == geom_implicit_expr_value_cb && field->user)
+            c.expr = (const geom_implicit_expr *)field->user;
         c.sink = sink;
         c.sink_user = sink_user;
         for (int a = 0; a < 3; a++) {
