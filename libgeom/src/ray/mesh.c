@@ -3,20 +3,21 @@
  * 2 gamma(3), the near one narrowed alike) with ordered traversal, and the
  * watertight triangle test (wbw.h).
  *
- * The binary BVH is collapsed once, at build time, into a 4-wide BVH owned
+ * The binary BVH is collapsed once, at build time, into an 8-wide BVH owned
  * by this module (Wald, Benthin and Boulos, "Getting Rid of Packets", 2008;
  * Dammertz et al., "Shallow Bounding Volume Hierarchies", 2008): the wide
  * node repeatedly opens the child of largest surface area, and holds its
- * four children's boxes in structure-of-arrays floats rounded outward (each
+ * eight children's boxes in structure-of-arrays floats rounded outward (each
  * float box contains the exact double box, so the tree stays conservative).
- * The four slabs are computed at once in float SSE2 with bounds that cover
- * the float arithmetic and the ray's rounding to float (w4f_node), or in
- * double from the floats exactly converted with Ize's bounds (w4d_node: rays
- * or boxes beyond 2^60, targets without SSE2). A node is 128 bytes, two
- * cache lines. When rounding to
+ * The eight slabs are computed in float SSE2, four lanes at a time, with
+ * bounds that cover the float arithmetic and the ray's rounding to float
+ * (w4f_node), or in double from the floats exactly converted with Ize's
+ * bounds (w4d_node: rays or boxes beyond 2^60, targets without SSE2). A node
+ * is 256 bytes, four cache lines (W4_W lanes; 8 measured faster than 4 in
+ * bench_ray, the tree being about half as deep). When rounding to
  * float would grow the boxes' total surface by more than 5 % (a mesh far
  * from the origin for its size) the wide tree is not built and the binary
- * double-precision tree is traversed. A ray tests the four boxes of a node
+ * double-precision tree is traversed. A ray tests the eight boxes of a node
  * in one pass with its precomputed reciprocal direction and per-axis
  * near/far planes chosen by the direction's sign, visits the hit children
  * nearest first, and skips a popped child whose entry distance is beyond the
@@ -43,14 +44,17 @@
 #define W4_SSE 0
 #endif
 
-/* One 4-wide node: lane j is a child box [lo[.][j], hi[.][j]]; count[j] > 0
+/* One wide node (W4_W lanes): lane j is a child box [lo[.][j], hi[.][j]]; count[j] > 0
  * is a leaf holding the triangle slots child[j] .. child[j] + count[j],
  * count[j] == 0 an inner node child[j] (GEOM_INVALID_INDEX: empty lane,
  * whose box is empty so that no ray hits it). */
+/* Lanes per node (a multiple of 4: the SSE2 test takes four at a time). */
+#define W4_W 8
+
 typedef struct geom__rnode4 {
-    float lo[3][4], hi[3][4];
-    uint32_t child[4];
-    uint32_t count[4];
+    float lo[3][W4_W], hi[3][W4_W];
+    uint32_t child[W4_W];
+    uint32_t count[W4_W];
 } geom__rnode4;
 
 /* A leaf's triangles in float for the conservative pre-test (pk_filter):
@@ -97,7 +101,7 @@ struct geom__rbvh4 {
  * and any leaf, and 4 KiB pages then miss the TLB on most of them. Advice
  * only; a caller's allocator is left alone. */
 /* Traversal stack entries per query; a wide tree deeper than
- * (W4_STACK - 4) / 3 levels is not built (the binary traversal is used). */
+ * (W4_STACK - W4_W) / (W4_W - 1) levels is not built (the binary traversal is used). */
 #define W4_STACK 256
 
 static double half_area(const geom_aabb *b)
@@ -241,20 +245,20 @@ static geom_status wide_build(const geom_bvh *b, const double *tv, const geom_al
         pk = pack_leaf(w, tv, bn[0].index, bn[0].count);
         if (pk < 0) { st = GEOM_ERR_LIMIT; goto done; } /* cannot happen */
         lane_set(w, &w->node[0], 0, &bn[0].box, bn[0].index, W4_LEAF(bn[0].count, pk));
-        for (j = 1; j < 4; j++) lane_set(w, &w->node[0], j, &empty, GEOM_INVALID_INDEX, 0);
+        for (j = 1; j < W4_W; j++) lane_set(w, &w->node[0], j, &empty, GEOM_INVALID_INDEX, 0);
         maxd = 1;
     } else {
         qb[tail] = 0; qw[tail] = 0; qd[tail] = 1; tail++;
     }
     while (head < tail) {
         uint32_t bi = qb[head], wi = qw[head], d = qd[head];
-        uint32_t list[4];
+        uint32_t list[W4_W];
         int nl = 2, j;
         head++;
         if (d > maxd) maxd = d;
         list[0] = bi + 1;
         list[1] = bn[bi].index;
-        while (nl < 4) {
+        while (nl < W4_W) {
             int best = -1;
             double ba = -1;
             for (j = 0; j < nl; j++) {
@@ -270,7 +274,7 @@ static geom_status wide_build(const geom_bvh *b, const double *tv, const geom_al
                 list[nl++] = bn[c].index;
             }
         }
-        for (j = 0; j < 4; j++) {
+        for (j = 0; j < W4_W; j++) {
             geom__rnode4 *q = &w->node[wi];
             if (j >= nl) { lane_set(w, q, j, &empty, GEOM_INVALID_INDEX, 0); continue; }
             if (bn[list[j]].count > 0) {
@@ -287,7 +291,7 @@ static geom_status wide_build(const geom_bvh *b, const double *tv, const geom_al
     }
 done:
     geom__free(alloc, qb, 3 * nn * sizeof(uint32_t));
-    if (st != GEOM_OK || 3 * maxd + 4 > W4_STACK || !(w->area_f <= 1.05 * w->area_d) || !(w->mag <= W4_FMAX)) {
+    if (st != GEOM_OK || (W4_W - 1) * maxd + W4_W > W4_STACK || !(w->area_f <= 1.05 * w->area_d) || !(w->mag <= W4_FMAX)) {
         wide_free(w, alloc);
         return st;
     }
@@ -435,7 +439,7 @@ static void fill(const geom__tmesh *m, const geom_ray *r, uint32_t slot, double 
     }
 }
 
-/* The 4-wide traversal. */
+/* The wide traversal. */
 typedef struct w4entry {
     double tn;
     uint32_t child, count;
@@ -493,7 +497,7 @@ static int leaf_hits(const geom__tmesh *m, const geom_ray *r, const geom__wbw *w
 #undef LEAF_K
 }
 
-/* Per-ray state of the float slab test of a 4-wide node (Ize, "Robust BVH
+/* Per-ray state of the float slab test of a wide node (Ize, "Robust BVH
  * Ray Traversal", JCGT 2013, in float). For an axis with direction d != 0,
  * the exact slab distance (L - o) / d of a plane L (a float: the boxes are
  * stored rounded outward) is computed as fl(fl(L - of) * inv) with of the
@@ -532,8 +536,8 @@ static int w4f_setup(const struct geom__rbvh4 *W, const double o[3], const doubl
         if (!(fabs(o[k]) <= W4_FMAX)) return 0;
         f->of[k] = (float)o[k];
         f->nhi[k] = signbit(d[k]) != 0;
-        f->noff[k] = (f->nhi[k] ? offsetof(geom__rnode4, hi) : offsetof(geom__rnode4, lo)) + sizeof(float[4]) * (size_t)k;
-        f->foff[k] = (f->nhi[k] ? offsetof(geom__rnode4, lo) : offsetof(geom__rnode4, hi)) + sizeof(float[4]) * (size_t)k;
+        f->noff[k] = (f->nhi[k] ? offsetof(geom__rnode4, hi) : offsetof(geom__rnode4, lo)) + sizeof(float[W4_W]) * (size_t)k;
+        f->foff[k] = (f->nhi[k] ? offsetof(geom__rnode4, lo) : offsetof(geom__rnode4, hi)) + sizeof(float[W4_W]) * (size_t)k;
         if (d[k] == 0) {
             f->inv[k] = f->nhi[k] ? -INFINITY : INFINITY;
             continue;
@@ -549,30 +553,35 @@ static int w4f_setup(const struct geom__rbvh4 *W, const double o[3], const doubl
 }
 
 #if W4_SSE
-/* The four children of q against the ray: a bit mask of the lanes hit and
+/* The W4_W children of q against the ray: a bit mask of the lanes hit and
  * their (conservative, never later than exact) entry distances. */
 static inline int w4f_node(const geom__rnode4 *q, const w4f *f, const __m128 vo[3], const __m128 vi[3],
-                           __m128 vtmin, __m128 vtmax, float tn_out[4])
+                           __m128 vtmin, __m128 vtmax, float tn_out[W4_W])
 {
     const __m128 absmask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
     const __m128 vc = _mm_set1_ps(0x1p-20f), ve = _mm_set1_ps(f->e);
-    __m128 tn = vtmin, tf = vtmax;
-    int k;
-    for (k = 0; k < 3; k++) {
-        const float *np = (const float *)((const char *)q + f->noff[k]);
-        const float *fp = (const float *)((const char *)q + f->foff[k]);
-        __m128 a = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(np), vo[k]), vi[k]);
-        __m128 c = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(fp), vo[k]), vi[k]);
-        /* maxps/minps return the second operand when either is NaN */
-        tn = _mm_max_ps(a, tn);
-        tf = _mm_min_ps(c, tf);
+    int h, mask = 0;
+    for (h = 0; h < W4_W; h += 4) {
+        __m128 tn = vtmin, tf = vtmax;
+        int k;
+        for (k = 0; k < 3; k++) {
+            const float *np = (const float *)((const char *)q + f->noff[k]) + h;
+            const float *fp = (const float *)((const char *)q + f->foff[k]) + h;
+            __m128 a = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(np), vo[k]), vi[k]);
+            __m128 c = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(fp), vo[k]), vi[k]);
+            /* maxps/minps return the second operand when either is NaN */
+            tn = _mm_max_ps(a, tn);
+            tf = _mm_min_ps(c, tf);
+        }
+        tn = _mm_sub_ps(_mm_sub_ps(tn, _mm_mul_ps(_mm_and_ps(tn, absmask), vc)), ve);
+        tf = _mm_add_ps(_mm_add_ps(tf, _mm_mul_ps(_mm_and_ps(tf, absmask), vc)), ve);
+        _mm_storeu_ps(tn_out + h, tn);
+        mask |= (_mm_movemask_ps(_mm_cmple_ps(tn, tf)) &
+                 ~_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(_mm_load_si128((const __m128i *)(q->child + h)),
+                                                                   _mm_set1_epi32(-1)))))
+                << h;
     }
-    tn = _mm_sub_ps(_mm_sub_ps(tn, _mm_mul_ps(_mm_and_ps(tn, absmask), vc)), ve);
-    tf = _mm_add_ps(_mm_add_ps(tf, _mm_mul_ps(_mm_and_ps(tf, absmask), vc)), ve);
-    _mm_storeu_ps(tn_out, tn);
-    return _mm_movemask_ps(_mm_cmple_ps(tn, tf)) &
-           ~_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(_mm_load_si128((const __m128i *)q->child),
-                                                             _mm_set1_epi32(-1))));
+    return mask;
 }
 #endif
 
@@ -674,23 +683,23 @@ static inline int pk_filter(const geom__rpack4 *q, const pkray *p)
  * (2 gamma(3)): the path of rays the float test cannot take, and of targets
  * without SSE2. */
 static inline int w4d_node(const geom__rnode4 *q, const double o[3], const double inv[3], const int neg[3],
-                           double tmin, double tmax, double tn_out[4])
+                           double tmin, double tmax, double tn_out[W4_W])
 {
     const double wid = 2 * geom__gamma(3);
-    double tn[4], tf[4];
+    double tn[W4_W], tf[W4_W];
     int j, k, mask = 0;
-    for (j = 0; j < 4; j++) { tn[j] = -INFINITY; tf[j] = INFINITY; }
+    for (j = 0; j < W4_W; j++) { tn[j] = -INFINITY; tf[j] = INFINITY; }
     for (k = 0; k < 3; k++) {
         const float *np = neg[k] ? q->hi[k] : q->lo[k];
         const float *fp = neg[k] ? q->lo[k] : q->hi[k];
         const double ok = o[k], iv = inv[k];
-        for (j = 0; j < 4; j++) {
+        for (j = 0; j < W4_W; j++) {
             double a = ((double)np[j] - ok) * iv, c = ((double)fp[j] - ok) * iv;
             tn[j] = a > tn[j] ? a : tn[j];
             tf[j] = c < tf[j] ? c : tf[j];
         }
     }
-    for (j = 0; j < 4; j++) {
+    for (j = 0; j < W4_W; j++) {
         double a = tn[j] - fabs(tn[j]) * wid, c = tf[j] + fabs(tf[j]) * wid;
         tn_out[j] = a;
         mask |= ((a <= c) & (c >= tmin) & (a <= tmax) & (q->child[j] != GEOM_INVALID_INDEX)) << j;
@@ -766,13 +775,13 @@ static geom_status trace_wide(const geom__tmesh *m, const geom_ray *r, const geo
     for (;;) {
         if (cur.count == 0) {
             const geom__rnode4 *q = &W->node[cur.child];
-            double tn[4];
+            double tn[W4_W];
             int j, base = sp, mask;
 #if W4_SSE
             if (use_f) {
-                float tf4[4];
+                float tf4[W4_W];
                 mask = w4f_node(q, &f, vo, vi, vtmin, vtmax, tf4);
-                for (j = 0; j < 4; j++) tn[j] = (double)tf4[j];
+                for (j = 0; j < W4_W; j++) tn[j] = (double)tf4[j];
             } else
 #endif
             {
@@ -786,7 +795,7 @@ static geom_status trace_wide(const geom__tmesh *m, const geom_ray *r, const geo
                 cur.count = q->count[j];
                 continue;
             }
-            if (sp + 4 > W4_STACK) return GEOM_ERR_LIMIT; /* cannot happen: depth checked at build */
+            if (sp + W4_W > W4_STACK) return GEOM_ERR_LIMIT; /* cannot happen: depth checked at build */
             /* The children hit, pushed in place by decreasing entry distance
              * (the nearest is popped first); no copy through a buffer, which
              * the compiler would make a block move that stalls the next pop. */
