@@ -1,4 +1,6 @@
-/* Test meshes for the ray tests: an outward icosphere. */
+/* Test helpers for the ray tests: an outward icosphere, a uniform random
+ * number in [0, 1) from a xorshift64 state, and a ray from origin and
+ * direction over [0, inf]. */
 #ifndef GEOM_TESTS_RAY_TESTUTIL_H
 #define GEOM_TESTS_RAY_TESTUTIL_H
 
@@ -6,6 +8,26 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "geom/ray.h"
+
+static inline double ray_urand(uint64_t *rng)
+{
+    *rng ^= *rng << 13;
+    *rng ^= *rng >> 7;
+    *rng ^= *rng << 17;
+    return (double)(*rng >> 11) * 0x1p-53;
+}
+
+static inline geom_ray mkray(double ox, double oy, double oz, double dx, double dy, double dz)
+{
+    geom_ray r;
+    r.origin = geom_vec3_make(ox, oy, oz);
+    r.dir = geom_vec3_make(dx, dy, dz);
+    r.tmin = 0;
+    r.tmax = INFINITY;
+    return r;
+}
 
 typedef struct tmesh {
     double *p;

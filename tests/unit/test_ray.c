@@ -18,24 +18,12 @@
 #include <string.h>
 
 #include "geom/ray.h"
+#include "unit/ray_testutil.h"
 
 static uint64_t rng = 0x2545f4914f6cdd1dull;
 static double urand(void)
 {
-    rng ^= rng << 13;
-    rng ^= rng >> 7;
-    rng ^= rng << 17;
-    return (double)(rng >> 11) * 0x1p-53;
-}
-
-static geom_ray mkray(double ox, double oy, double oz, double dx, double dy, double dz)
-{
-    geom_ray r;
-    r.origin = geom_vec3_make(ox, oy, oz);
-    r.dir = geom_vec3_make(dx, dy, dz);
-    r.tmin = 0;
-    r.tmax = INFINITY;
-    return r;
+    return ray_urand(&rng);
 }
 
 static geom_ray_scene *built(geom_ray_scene *s)
@@ -252,8 +240,6 @@ static void test_torus(void **state)
 }
 
 /* ------------------------------------------------------------ triangles */
-
-#include "unit/ray_testutil.h"
 
 /* Rays from inside a closed mesh exactly through every vertex and every edge
  * midpoint: exactly one hit each (no leak, no double hit), in closest and in

@@ -33,10 +33,7 @@
 static uint64_t rng = 0x2545f4914f6cdd1dull;
 static double urand(void)
 {
-    rng ^= rng << 13;
-    rng ^= rng >> 7;
-    rng ^= rng << 17;
-    return (double)(rng >> 11) * 0x1p-53;
+    return ray_urand(&rng);
 }
 
 /* Hits by brute force: count, and the closest (t, triangle). */
@@ -90,12 +87,7 @@ static size_t check(geom_ray_scene *s, const double *p, const uint32_t *t, size_
 
 static geom_ray mk(const double o[3], const double tgt[3])
 {
-    geom_ray r;
-    r.origin.x = o[0]; r.origin.y = o[1]; r.origin.z = o[2];
-    r.dir.x = tgt[0] - o[0]; r.dir.y = tgt[1] - o[1]; r.dir.z = tgt[2] - o[2];
-    r.tmin = 0;
-    r.tmax = INFINITY;
-    return r;
+    return mkray(o[0], o[1], o[2], tgt[0] - o[0], tgt[1] - o[1], tgt[2] - o[2]);
 }
 
 static void sphere_case(double off, double size)
