@@ -77,7 +77,8 @@ struct geom__rbvh4 {
     geom__rpack4 *pk;   /* one packet per leaf, 64-byte aligned, inside pkmem */
     void *pkmem;
     size_t npk, pkcap;
-    double mag;         /* largest |coordinate| of a vertex (a float: rounded up) */
+    double mag;         /* largest |coordinate| of a vertex (a float: rounded up; at most
+                           2^60 when fbox, the only case the packets are read) */
     double area_d, area_f; /* total half-area of the lanes' boxes: exact, rounded to float */
     int fbox;              /* every float box coordinate within +-W4_FMAX: the float slab test may run */
 };
@@ -192,7 +193,9 @@ static long pack_leaf(struct geom__rbvh4 *w, const double *tv, uint32_t first, u
         for (a = 0; a < 3; a++)
             for (k = 0; k < 3; k++) {
                 double x = tv[9 * ((size_t)first + i) + 3 * (size_t)a + (size_t)k];
-                p->v[a][k][i] = (float)x;
+                /* beyond 2^60 the float boxes are too (fbox == 0): the
+                 * packets are then never read */
+                p->v[a][k][i] = fabs(x) <= W4_FMAX ? (float)x : 0.0f;
                 if (!(fabs(x) <= w->mag)) w->mag = (double)f_up(fabs(x));
             }
     return (long)w->npk++;
@@ -291,7 +294,7 @@ static geom_status wide_build(const geom_bvh *b, const double *tv, const geom_al
     }
 done:
     geom__free(alloc, qb, 3 * nn * sizeof(uint32_t));
-    if (st != GEOM_OK || (W4_W - 1) * maxd + W4_W > W4_STACK || !(w->area_f <= 1.05 * w->area_d) || !(w->mag <= W4_FMAX)) {
+    if (st != GEOM_OK || (W4_W - 1) * maxd + W4_W > W4_STACK || !(w->area_f <= 1.05 * w->area_d)) {
         wide_free(w, alloc);
         return st;
     }
