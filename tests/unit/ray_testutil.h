@@ -35,6 +35,20 @@ typedef struct tmesh {
     size_t nv, nt;
 } tmesh;
 
+/* Target i of the watertightness rays: vertex i for i < nv, else the
+ * midpoint of edge (i - nv) % 3 of triangle (i - nv) / 3. */
+static inline void tmesh_target(const tmesh *m, size_t i, double tgt[3])
+{
+    if (i < m->nv) {
+        memcpy(tgt, m->p + 3 * i, 3 * sizeof(double));
+    } else {
+        size_t t = (i - m->nv) / 3, e = (i - m->nv) % 3;
+        const double *a = m->p + 3 * m->t[3 * t + e], *b = m->p + 3 * m->t[3 * t + (e + 1) % 3];
+        int k;
+        for (k = 0; k < 3; k++) tgt[k] = 0.5 * (a[k] + b[k]);
+    }
+}
+
 static inline uint32_t midpoint(tmesh *m, uint32_t a, uint32_t b, uint32_t *cache, size_t cap)
 {
     /* cache: pairs (a, b, v) linear search (small meshes) */

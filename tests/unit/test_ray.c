@@ -261,14 +261,7 @@ static void test_watertight(void **state)
             double tgt[3];
             size_t n;
             geom_ray_hit hc;
-            if (i < m.nv) {
-                memcpy(tgt, m.p + 3 * i, sizeof tgt);
-            } else {
-                size_t t = (i - m.nv) / 3, e = (i - m.nv) % 3;
-                const double *a = m.p + 3 * m.t[3 * t + e], *b = m.p + 3 * m.t[3 * t + (e + 1) % 3];
-                int k;
-                for (k = 0; k < 3; k++) tgt[k] = 0.5 * (a[k] + b[k]);
-            }
+            tmesh_target(&m, i, tgt);
             {
                 geom_ray r = mkray(o[0], o[1], o[2], tgt[0] - o[0], tgt[1] - o[1], tgt[2] - o[2]);
                 n = all(s, r, h, 8);

@@ -103,14 +103,7 @@ static void sphere_case(double off, double size)
     rays = malloc((m.nv + 3 * m.nt) * sizeof *rays);
     for (i = 0; i < m.nv + 3 * m.nt; i++) {
         double tgt[3];
-        if (i < m.nv) {
-            memcpy(tgt, m.p + 3 * i, sizeof tgt);
-        } else {
-            size_t tr = (i - m.nv) / 3, e = (i - m.nv) % 3;
-            const double *a = m.p + 3 * m.t[3 * tr + e], *b = m.p + 3 * m.t[3 * tr + (e + 1) % 3];
-            int k;
-            for (k = 0; k < 3; k++) tgt[k] = 0.5 * (a[k] + b[k]);
-        }
+        tmesh_target(&m, i, tgt);
         rays[nr++] = mk(o, tgt);
     }
     nedge = check(s, m.p, m.t, m.nt, rays, nr);
