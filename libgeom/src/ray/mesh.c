@@ -103,7 +103,7 @@ struct geom__rbvh4 {
  * only; a caller's allocator is left alone. */
 /* Traversal stack entries per query; a wide tree deeper than
  * (W4_STACK - W4_W) / (W4_W - 1) levels is not built (the binary traversal is used). */
-#define W4_STACK 256
+#define W4_STACK 512
 
 static double half_area(const geom_aabb *b)
 {
