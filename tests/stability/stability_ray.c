@@ -17,16 +17,7 @@
 #include <string.h>
 
 #include "geom/ray.h"
-
-static geom_ray mkray(double ox, double oy, double oz, double dx, double dy, double dz)
-{
-    geom_ray r;
-    r.origin = geom_vec3_make(ox, oy, oz);
-    r.dir = geom_vec3_make(dx, dy, dz);
-    r.tmin = 0;
-    r.tmax = INFINITY;
-    return r;
-}
+#include "unit/ray_testutil.h" /* mkray */
 
 static size_t all(const geom_ray_scene *s, geom_ray r, geom_ray_hit *h, size_t cap)
 {

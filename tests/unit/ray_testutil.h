@@ -1,4 +1,6 @@
-/* Test meshes for the ray tests: an outward icosphere. */
+/* Test helpers for the ray tests: an outward icosphere, a uniform random
+ * number in [0, 1) from a xorshift64 state, and a ray from origin and
+ * direction over [0, inf]. */
 #ifndef GEOM_TESTS_RAY_TESTUTIL_H
 #define GEOM_TESTS_RAY_TESTUTIL_H
 
@@ -7,11 +9,45 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "geom/ray.h"
+
+static inline double ray_urand(uint64_t *rng)
+{
+    *rng ^= *rng << 13;
+    *rng ^= *rng >> 7;
+    *rng ^= *rng << 17;
+    return (double)(*rng >> 11) * 0x1p-53;
+}
+
+static inline geom_ray mkray(double ox, double oy, double oz, double dx, double dy, double dz)
+{
+    geom_ray r;
+    r.origin = geom_vec3_make(ox, oy, oz);
+    r.dir = geom_vec3_make(dx, dy, dz);
+    r.tmin = 0;
+    r.tmax = INFINITY;
+    return r;
+}
+
 typedef struct tmesh {
     double *p;
     uint32_t *t;
     size_t nv, nt;
 } tmesh;
+
+/* Target i of the watertightness rays: vertex i for i < nv, else the
+ * midpoint of edge (i - nv) % 3 of triangle (i - nv) / 3. */
+static inline void tmesh_target(const tmesh *m, size_t i, double tgt[3])
+{
+    if (i < m->nv) {
+        memcpy(tgt, m->p + 3 * i, 3 * sizeof(double));
+    } else {
+        size_t t = (i - m->nv) / 3, e = (i - m->nv) % 3;
+        const double *a = m->p + 3 * m->t[3 * t + e], *b = m->p + 3 * m->t[3 * t + (e + 1) % 3];
+        int k;
+        for (k = 0; k < 3; k++) tgt[k] = 0.5 * (a[k] + b[k]);
+    }
+}
 
 static inline uint32_t midpoint(tmesh *m, uint32_t a, uint32_t b, uint32_t *cache, size_t cap)
 {

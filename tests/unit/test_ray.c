@@ -18,24 +18,12 @@
 #include <string.h>
 
 #include "geom/ray.h"
+#include "unit/ray_testutil.h"
 
 static uint64_t rng = 0x2545f4914f6cdd1dull;
 static double urand(void)
 {
-    rng ^= rng << 13;
-    rng ^= rng >> 7;
-    rng ^= rng << 17;
-    return (double)(rng >> 11) * 0x1p-53;
-}
-
-static geom_ray mkray(double ox, double oy, double oz, double dx, double dy, double dz)
-{
-    geom_ray r;
-    r.origin = geom_vec3_make(ox, oy, oz);
-    r.dir = geom_vec3_make(dx, dy, dz);
-    r.tmin = 0;
-    r.tmax = INFINITY;
-    return r;
+    return ray_urand(&rng);
 }
 
 static geom_ray_scene *built(geom_ray_scene *s)
@@ -253,8 +241,6 @@ static void test_torus(void **state)
 
 /* ------------------------------------------------------------ triangles */
 
-#include "unit/ray_testutil.h"
-
 /* Rays from inside a closed mesh exactly through every vertex and every edge
  * midpoint: exactly one hit each (no leak, no double hit), in closest and in
  * all-hits mode, from the centre and from off-centre origins. */
@@ -275,14 +261,7 @@ static void test_watertight(void **state)
             double tgt[3];
             size_t n;
             geom_ray_hit hc;
-            if (i < m.nv) {
-                memcpy(tgt, m.p + 3 * i, sizeof tgt);
-            } else {
-                size_t t = (i - m.nv) / 3, e = (i - m.nv) % 3;
-                const double *a = m.p + 3 * m.t[3 * t + e], *b = m.p + 3 * m.t[3 * t + (e + 1) % 3];
-                int k;
-                for (k = 0; k < 3; k++) tgt[k] = 0.5 * (a[k] + b[k]);
-            }
+            tmesh_target(&m, i, tgt);
             {
                 geom_ray r = mkray(o[0], o[1], o[2], tgt[0] - o[0], tgt[1] - o[1], tgt[2] - o[2]);
                 n = all(s, r, h, 8);

@@ -12,7 +12,11 @@
  *   - one object (the scene tests its box before the mesh);
  *   - the same cube among eight far objects (the scene's top-level BVH);
  *   - the same with the cube translated by a non-float offset through an
- *     instance (the object's box in the parent frame).
+ *     instance (the object's box in the parent frame);
+ *   - the box object [0, S]^3 itself (ray/box.c's own slab test, which must
+ *     widen as the cull does) instead of the cube mesh: every grazing ray
+ *     touches the closed box, so every one must hit it (the mesh may answer
+ *     0 or 2 crossings for a ray that only touches it, the box one hit).
  * The test counts the rays whose unwidened slab test (the same reciprocal
  * arithmetic without Ize's 2 gamma(3) widening, on the untranslated ray)
  * would skip the box while brute force hits, and requires some: the first
@@ -122,7 +126,7 @@ static geom_ray grazing(void)
 /* Every grazing ray against scene s (the cube's object translated by off,
  * which the rays are too): the scene finds a hit exactly when brute force
  * does. Returns the number of rays the unwidened test would lose. */
-static int check_scene(geom_ray_scene *s, const double off[3], int nrays, int *nhits)
+static int check_scene(geom_ray_scene *s, const double off[3], int nrays, int *nhits, int box_object)
 {
     int i, lost = 0;
     *nhits = 0;
@@ -131,7 +135,7 @@ static int check_scene(geom_ray_scene *s, const double off[3], int nrays, int *n
         geom_ray_hit h;
         int found = 0, bf;
         rl = r;
-        bf = brute(&rl);
+        bf = box_object ? 1 : brute(&rl);
         r.origin.x += off[0]; r.origin.y += off[1]; r.origin.z += off[2];
         assert_int_equal(geom_ray_scene_any(s, &r, &found), GEOM_OK);
         if (found != bf)
@@ -147,13 +151,19 @@ static int check_scene(geom_ray_scene *s, const double off[3], int nrays, int *n
     return lost;
 }
 
-static geom_ray_scene *cube_scene(int far_objects, const double off[3])
+static geom_ray_scene *cube_scene(int far_objects, const double off[3], int box_object)
 {
     geom_ray_scene *s = geom_ray_scene_create(NULL);
     uint32_t id;
     int i;
     assert_non_null(s);
-    assert_int_equal(geom_ray_scene_add_triangles(s, &cube_p[0][0], 8, &cube_t[0][0], 12, NULL, &id), GEOM_OK);
+    if (box_object) {
+        const double lo[3] = {0, 0, 0}, hi[3] = {S, S, S};
+        assert_int_equal(geom_ray_scene_add_box(s, lo, hi, &id), GEOM_OK);
+    } else {
+        assert_int_equal(geom_ray_scene_add_triangles(s, &cube_p[0][0], 8, &cube_t[0][0], 12, NULL, &id),
+                         GEOM_OK);
+    }
     if (off) {
         double m[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, off[0], off[1], off[2], 1};
         uint32_t ins, ids[16];
@@ -176,13 +186,13 @@ static geom_ray_scene *cube_scene(int far_objects, const double off[3])
     return s;
 }
 
-static void run_case(int far_objects, const double *off)
+static void run_case(int far_objects, const double *off, int box_object)
 {
     const double zero[3] = {0, 0, 0};
-    geom_ray_scene *s = cube_scene(far_objects, off);
-    int nhits = 0, lost = check_scene(s, off ? off : zero, 20000, &nhits);
-    print_message("far objects %d%s: %d of 20000 grazing rays hit; the unwidened cull would lose %d\n",
-                  far_objects, off ? ", instance" : "", nhits, lost);
+    geom_ray_scene *s = cube_scene(far_objects, off, box_object);
+    int nhits = 0, lost = check_scene(s, off ? off : zero, 20000, &nhits, box_object);
+    print_message("far objects %d%s%s: %d of 20000 grazing rays hit; the unwidened cull would lose %d\n",
+                  far_objects, off ? ", instance" : "", box_object ? ", box object" : "", nhits, lost);
     assert_true(nhits > 1000);
     assert_true(lost > 0); /* the rays do reach the rounding the widening covers */
     geom_ray_scene_destroy(s);
@@ -191,13 +201,13 @@ static void run_case(int far_objects, const double *off)
 static void test_single_object(void **state)
 {
     (void)state;
-    run_case(0, NULL);
+    run_case(0, NULL, 0);
 }
 
 static void test_top_level_bvh(void **state)
 {
     (void)state;
-    run_case(8, NULL);
+    run_case(8, NULL, 0);
 }
 
 static void test_instance_offset(void **state)
@@ -205,7 +215,20 @@ static void test_instance_offset(void **state)
     /* An integer offset keeps the translated rays exact. */
     const double off[3] = {1048576, -3, 77};
     (void)state;
-    run_case(8, off);
+    run_case(8, off, 0);
+}
+
+static void test_box_object(void **state)
+{
+    /* Fails when box.c's slab test is not widened (ray/box.c). */
+    (void)state;
+    run_case(0, NULL, 1);
+}
+
+static void test_box_object_top_level(void **state)
+{
+    (void)state;
+    run_case(8, NULL, 1);
 }
 
 int main(void)
@@ -214,6 +237,8 @@ int main(void)
         cmocka_unit_test(test_single_object),
         cmocka_unit_test(test_top_level_bvh),
         cmocka_unit_test(test_instance_offset),
+        cmocka_unit_test(test_box_object),
+        cmocka_unit_test(test_box_object_top_level),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,5 +1,5 @@
 /*
- * The float (SSE) slab test of the ray module's 4-wide BVH must be
+ * The float (SSE) slab test of the ray module's wide (8-lane) BVH must be
  * conservative: a box the ray touches is never skipped, whatever the
  * rounding of the ray to float. Checked through the public scene queries
  * against brute force (geom_ray_triangle, the same watertight test, on

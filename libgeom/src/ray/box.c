@@ -1,5 +1,14 @@
 /* Axis-aligned and oriented boxes by the slab method (Kay and Kajiya 1986),
- * exact per-face entry/exit. prm (box): min (0..2), max (3..5).
+ * exact per-face entry/exit, made conservative as the BVH's box tests (Ize,
+ * "Robust BVH Ray Traversal", JCGT 2013): a slab distance
+ * fl(fl(L - o) * fl(1/d)) is within gamma(3) relative of the exact (L - o)/d,
+ * so the entry (the largest near distance) and the exit (the smallest far
+ * one) are each moved out by 2 gamma(3) of their magnitude before they are
+ * compared. A ray through a corner or along an edge of the box, where the
+ * rounded distances of two axes meet, is then never lost to rounding; when
+ * only the widening makes the interval non-empty the two distances are
+ * within rounding of each other and are reported in order.
+ * prm (box): min (0..2), max (3..5).
  * prm (obox): centre (0..2), unit axes (3..11), half extents (12..14). */
 #include "ray/ray_internal.h"
 
@@ -27,7 +36,15 @@ static int slab(const double *o, const double *d, const double *lo, const double
             if (tf < b) { b = tf; fb = ff; }
         }
     }
-    if (!(a <= b)) return 0;
+    {
+        const double w = 2 * geom__gamma(3);
+        /* an infinite a or b (a reciprocal overflowed) gives inf - inf: NaN,
+         * a miss (the exact distance is then beyond any finite t) */
+        if (!(a - fabs(a) * w <= b + fabs(b) * w)) return 0;
+    }
+    if (a > b) { /* touched at a corner or an edge: a and b are the same point but for rounding */
+        double tt = a; a = b; b = tt;
+    }
     *t0 = a; *t1 = b; *f0 = fa; *f1 = fb;
     return 1;
 }

@@ -3,26 +3,34 @@
  * 2 gamma(3), the near one narrowed alike) with ordered traversal, and the
  * watertight triangle test (wbw.h).
  *
- * The binary BVH is collapsed once, at build time, into a 4-wide BVH owned
+ * The binary BVH is collapsed once, at build time, into an 8-wide BVH owned
  * by this module (Wald, Benthin and Boulos, "Getting Rid of Packets", 2008;
  * Dammertz et al., "Shallow Bounding Volume Hierarchies", 2008): the wide
  * node repeatedly opens the child of largest surface area, and holds its
- * four children's boxes in structure-of-arrays floats rounded outward (each
+ * eight children's boxes in structure-of-arrays floats rounded outward (each
  * float box contains the exact double box, so the tree stays conservative).
- * The four slabs are computed at once in float SSE2 with bounds that cover
- * the float arithmetic and the ray's rounding to float (w4f_node), or in
- * double from the floats exactly converted with Ize's bounds (w4d_node: rays
- * or boxes beyond 2^60, targets without SSE2). A node is 128 bytes, two
- * cache lines. When rounding to
+ * The eight slabs are computed in float SSE2, four lanes at a time, with
+ * bounds that cover the float arithmetic and the ray's rounding to float
+ * (w4f_node), or in double from the floats exactly converted with Ize's
+ * bounds (w4d_node: rays or boxes beyond 2^60, targets without SSE2). A node
+ * is 256 bytes, four cache lines (W4_W lanes; 8 measured faster than 4 in
+ * bench_ray, the tree being about half as deep). When rounding to
  * float would grow the boxes' total surface by more than 5 % (a mesh far
  * from the origin for its size) the wide tree is not built and the binary
- * double-precision tree is traversed. A ray tests the four boxes of a node
+ * double-precision tree is traversed. A ray tests the eight boxes of a node
  * in one pass with its precomputed reciprocal direction and per-axis
  * near/far planes chosen by the direction's sign, visits the hit children
  * nearest first, and skips a popped child whose entry distance is beyond the
  * closest hit so far; a single hit child is visited next without the
  * stack. Triangles are stored in leaf order (9 doubles each), so a leaf is
- * one contiguous run, and a hit is filled from that copy. */
+ * one contiguous run, and a hit is filled from that copy. Each leaf (at most
+ * 4 triangles; the wide tree is not built otherwise) also has a packet of
+ * its vertices in float (geom__rpack4, 144 bytes: half the bytes of the
+ * doubles): on float-path rays a conservative SSE2 pre-test of the four
+ * triangles at once (pk_filter, Woop's shear in float with a proven bound on
+ * the difference to the double edge functions) drops the triangles it
+ * proves missed, and only the others (about one per leaf a ray really
+ * crosses) go through the exact watertight test, which alone decides. */
 #include "ray/ray_internal.h"
 #include "ray/wbw.h"
 #include "geom/spatial.h"
@@ -36,20 +44,41 @@
 #define W4_SSE 0
 #endif
 
-/* One 4-wide node: lane j is a child box [lo[.][j], hi[.][j]]; count[j] > 0
+/* One wide node (W4_W lanes): lane j is a child box [lo[.][j], hi[.][j]]; count[j] > 0
  * is a leaf holding the triangle slots child[j] .. child[j] + count[j],
  * count[j] == 0 an inner node child[j] (GEOM_INVALID_INDEX: empty lane,
  * whose box is empty so that no ray hits it). */
+/* Lanes per node (a multiple of 4: the SSE2 test takes four at a time). */
+#define W4_W 8
+
 typedef struct geom__rnode4 {
-    float lo[3][4], hi[3][4];
-    uint32_t child[4];
-    uint32_t count[4];
+    float lo[3][W4_W], hi[3][W4_W];
+    uint32_t child[W4_W];
+    uint32_t count[W4_W];
 } geom__rnode4;
+
+/* A leaf's triangles in float for the conservative pre-test (pk_filter):
+ * v[vertex][axis][lane], each coordinate rounded to nearest; lanes past the
+ * leaf's count are zero (masked off). 144 bytes, 16-byte aligned. */
+typedef struct geom__rpack4 {
+    float v[3][3][4];
+} geom__rpack4;
+
+/* A leaf lane's count[j]: the triangle count (1..4) in the low 3 bits and
+ * its packet's index above them. */
+#define W4_LEAF(cnt, pk) ((uint32_t)(cnt) | ((uint32_t)(pk) << 3))
+#define W4_CNT(c) ((c) & 7u)
+#define W4_PK(c) ((c) >> 3)
 
 struct geom__rbvh4 {
     geom__rnode4 *node; /* 64-byte aligned, inside mem */
     void *mem;
     size_t n, cap;
+    geom__rpack4 *pk;   /* one packet per leaf, 64-byte aligned, inside pkmem */
+    void *pkmem;
+    size_t npk, pkcap;
+    double mag;         /* largest |coordinate| of a vertex (a float: rounded up; at most
+                           2^60 when fbox, the only case the packets are read) */
     double area_d, area_f; /* total half-area of the lanes' boxes: exact, rounded to float */
     int fbox;              /* every float box coordinate within +-W4_FMAX: the float slab test may run */
 };
@@ -73,8 +102,8 @@ struct geom__rbvh4 {
  * and any leaf, and 4 KiB pages then miss the TLB on most of them. Advice
  * only; a caller's allocator is left alone. */
 /* Traversal stack entries per query; a wide tree deeper than
- * (W4_STACK - 4) / 3 levels is not built (the binary traversal is used). */
-#define W4_STACK 256
+ * (W4_STACK - W4_W) / (W4_W - 1) levels is not built (the binary traversal is used). */
+#define W4_STACK 512
 
 static double half_area(const geom_aabb *b)
 {
@@ -86,6 +115,7 @@ static void wide_free(struct geom__rbvh4 *w, const geom_allocator *alloc)
 {
     if (!w) return;
     if (w->mem) geom__free(alloc, w->mem, (w->cap + 1) * sizeof *w->node);
+    if (w->pkmem) geom__free(alloc, w->pkmem, w->pkcap * sizeof *w->pk + 64);
     geom__free(alloc, w, sizeof *w);
 }
 
@@ -149,11 +179,35 @@ static void lane_set(struct geom__rbvh4 *w, geom__rnode4 *q, int j, const geom_a
     }
 }
 
-/* Collapse the binary BVH into *out (NULL when the wide tree would be too
- * deep for the traversal stack). */
-static geom_status wide_build(const geom_bvh *b, const geom_allocator *alloc, struct geom__rbvh4 **out)
+/* The packet of the leaf holding slots first .. first + count - 1 of m->tv
+ * (count <= 4): its index, or -1 when there is no room (cannot happen). */
+static long pack_leaf(struct geom__rbvh4 *w, const double *tv, uint32_t first, uint32_t count)
 {
-    size_t nn = 0, head = 0, tail = 0, maxd = 0;
+    geom__rpack4 *p;
+    uint32_t i;
+    int a, k;
+    if (w->npk >= w->pkcap || count > 4) return -1;
+    p = &w->pk[w->npk];
+    memset(p, 0, sizeof *p);
+    for (i = 0; i < count; i++)
+        for (a = 0; a < 3; a++)
+            for (k = 0; k < 3; k++) {
+                double x = tv[9 * ((size_t)first + i) + 3 * (size_t)a + (size_t)k];
+                /* beyond 2^60 the float boxes are too (fbox == 0): the
+                 * packets are then never read */
+                p->v[a][k][i] = fabs(x) <= W4_FMAX ? (float)x : 0.0f;
+                if (!(fabs(x) <= w->mag)) w->mag = (double)f_up(fabs(x));
+            }
+    return (long)w->npk++;
+}
+
+/* Collapse the binary BVH into *out (NULL when the wide tree would be too
+ * deep for the traversal stack, or a leaf holds more than 4 triangles). */
+static geom_status wide_build(const geom_bvh *b, const double *tv, const geom_allocator *alloc,
+                              struct geom__rbvh4 **out)
+{
+    size_t nn = 0, head = 0, tail = 0, maxd = 0, i, nleaf = 0;
+    long pk;
     const geom_bvh_node *bn = geom_bvh_nodes(b, &nn);
     struct geom__rbvh4 *w;
     uint32_t *qb, *qw, *qd;
@@ -161,6 +215,10 @@ static geom_status wide_build(const geom_bvh *b, const geom_allocator *alloc, st
     geom_status st = GEOM_OK;
     *out = NULL;
     if (nn == 0) return GEOM_OK;
+    for (i = 0; i < nn; i++) {
+        if (bn[i].count > 4) return GEOM_OK; /* no packet for it: the binary tree is traversed */
+        nleaf += bn[i].count > 0;
+    }
     empty.min.x = empty.min.y = empty.min.z = INFINITY;
     empty.max.x = empty.max.y = empty.max.z = -INFINITY;
     w = geom__alloc(alloc, sizeof *w);
@@ -171,8 +229,14 @@ static geom_status wide_build(const geom_bvh *b, const geom_allocator *alloc, st
     w->n = 1;
     w->mem = geom__alloc(alloc, (w->cap + 1) * sizeof *w->node);
     if (w->mem) w->node = (geom__rnode4 *)(((uintptr_t)w->mem + 63) & ~(uintptr_t)63);
+    w->pkcap = nleaf;
+    w->pkmem = geom__alloc(alloc, w->pkcap * sizeof *w->pk + 64);
+    if (w->pkmem) {
+        w->pk = (geom__rpack4 *)(((uintptr_t)w->pkmem + 63) & ~(uintptr_t)63);
+        geom__advise_huge(alloc, w->pkmem, w->pkcap * sizeof *w->pk + 64, (size_t)2 << 20);
+    }
     qb = geom__alloc(alloc, 3 * nn * sizeof(uint32_t));
-    if (!w->mem || !qb) {
+    if (!w->mem || !w->pkmem || !qb) {
         if (qb) geom__free(alloc, qb, 3 * nn * sizeof(uint32_t));
         wide_free(w, alloc);
         return GEOM_ERR_NOMEM;
@@ -181,21 +245,23 @@ static geom_status wide_build(const geom_bvh *b, const geom_allocator *alloc, st
     qd = qw + nn;
     if (bn[0].count > 0) { /* a single leaf */
         int j;
-        lane_set(w, &w->node[0], 0, &bn[0].box, bn[0].index, bn[0].count);
-        for (j = 1; j < 4; j++) lane_set(w, &w->node[0], j, &empty, GEOM_INVALID_INDEX, 0);
+        pk = pack_leaf(w, tv, bn[0].index, bn[0].count);
+        if (pk < 0) { st = GEOM_ERR_LIMIT; goto done; } /* cannot happen */
+        lane_set(w, &w->node[0], 0, &bn[0].box, bn[0].index, W4_LEAF(bn[0].count, pk));
+        for (j = 1; j < W4_W; j++) lane_set(w, &w->node[0], j, &empty, GEOM_INVALID_INDEX, 0);
         maxd = 1;
     } else {
         qb[tail] = 0; qw[tail] = 0; qd[tail] = 1; tail++;
     }
     while (head < tail) {
         uint32_t bi = qb[head], wi = qw[head], d = qd[head];
-        uint32_t list[4];
+        uint32_t list[W4_W];
         int nl = 2, j;
         head++;
         if (d > maxd) maxd = d;
         list[0] = bi + 1;
         list[1] = bn[bi].index;
-        while (nl < 4) {
+        while (nl < W4_W) {
             int best = -1;
             double ba = -1;
             for (j = 0; j < nl; j++) {
@@ -211,11 +277,13 @@ static geom_status wide_build(const geom_bvh *b, const geom_allocator *alloc, st
                 list[nl++] = bn[c].index;
             }
         }
-        for (j = 0; j < 4; j++) {
+        for (j = 0; j < W4_W; j++) {
             geom__rnode4 *q = &w->node[wi];
             if (j >= nl) { lane_set(w, q, j, &empty, GEOM_INVALID_INDEX, 0); continue; }
             if (bn[list[j]].count > 0) {
-                lane_set(w, q, j, &bn[list[j]].box, bn[list[j]].index, bn[list[j]].count);
+                pk = pack_leaf(w, tv, bn[list[j]].index, bn[list[j]].count);
+                if (pk < 0 || (size_t)pk >= ((size_t)1 << 29)) { st = GEOM_ERR_LIMIT; goto done; } /* cannot happen */
+                lane_set(w, q, j, &bn[list[j]].box, bn[list[j]].index, W4_LEAF(bn[list[j]].count, pk));
             } else {
                 if (w->n >= w->cap || tail >= nn) { st = GEOM_ERR_LIMIT; goto done; } /* cannot happen */
                 lane_set(w, q, j, &bn[list[j]].box, (uint32_t)w->n, 0);
@@ -226,7 +294,7 @@ static geom_status wide_build(const geom_bvh *b, const geom_allocator *alloc, st
     }
 done:
     geom__free(alloc, qb, 3 * nn * sizeof(uint32_t));
-    if (st != GEOM_OK || 3 * maxd + 4 > W4_STACK || !(w->area_f <= 1.05 * w->area_d)) {
+    if (st != GEOM_OK || (W4_W - 1) * maxd + W4_W > W4_STACK || !(w->area_f <= 1.05 * w->area_d)) {
         wide_free(w, alloc);
         return st;
     }
@@ -278,7 +346,7 @@ geom_status geom__ray_mesh_build(geom__tmesh *m, const geom_ray_build_options *o
             m->tid[i] = pr[i];
         }
     }
-    return wide_build(b, alloc, &m->wide);
+    return wide_build(b, m->tv, alloc, &m->wide);
 }
 
 void geom__ray_mesh_free(geom__tmesh *m, const geom_allocator *alloc)
@@ -304,7 +372,9 @@ size_t geom__ray_mesh_bvh_nodes(const geom__tmesh *m, size_t *bytes)
     size_t n = 0;
     if (!m->bvh) { if (bytes) *bytes = 0; return 0; }
     geom_bvh_nodes(m->bvh, &n);
-    if (bytes) *bytes = geom_bvh_bytes(m->bvh) + (m->wide ? (m->wide->cap + 1) * sizeof(geom__rnode4) : 0);
+    if (bytes)
+        *bytes = geom_bvh_bytes(m->bvh) +
+                 (m->wide ? (m->wide->cap + 1) * sizeof(geom__rnode4) + m->wide->pkcap * sizeof(geom__rpack4) : 0);
     return n;
 }
 
@@ -372,7 +442,7 @@ static void fill(const geom__tmesh *m, const geom_ray *r, uint32_t slot, double 
     }
 }
 
-/* The 4-wide traversal. */
+/* The wide traversal. */
 typedef struct w4entry {
     double tn;
     uint32_t child, count;
@@ -430,7 +500,7 @@ static int leaf_hits(const geom__tmesh *m, const geom_ray *r, const geom__wbw *w
 #undef LEAF_K
 }
 
-/* Per-ray state of the float slab test of a 4-wide node (Ize, "Robust BVH
+/* Per-ray state of the float slab test of a wide node (Ize, "Robust BVH
  * Ray Traversal", JCGT 2013, in float). For an axis with direction d != 0,
  * the exact slab distance (L - o) / d of a plane L (a float: the boxes are
  * stored rounded outward) is computed as fl(fl(L - of) * inv) with of the
@@ -469,8 +539,8 @@ static int w4f_setup(const struct geom__rbvh4 *W, const double o[3], const doubl
         if (!(fabs(o[k]) <= W4_FMAX)) return 0;
         f->of[k] = (float)o[k];
         f->nhi[k] = signbit(d[k]) != 0;
-        f->noff[k] = (f->nhi[k] ? offsetof(geom__rnode4, hi) : offsetof(geom__rnode4, lo)) + sizeof(float[4]) * (size_t)k;
-        f->foff[k] = (f->nhi[k] ? offsetof(geom__rnode4, lo) : offsetof(geom__rnode4, hi)) + sizeof(float[4]) * (size_t)k;
+        f->noff[k] = (f->nhi[k] ? offsetof(geom__rnode4, hi) : offsetof(geom__rnode4, lo)) + sizeof(float[W4_W]) * (size_t)k;
+        f->foff[k] = (f->nhi[k] ? offsetof(geom__rnode4, lo) : offsetof(geom__rnode4, hi)) + sizeof(float[W4_W]) * (size_t)k;
         if (d[k] == 0) {
             f->inv[k] = f->nhi[k] ? -INFINITY : INFINITY;
             continue;
@@ -486,30 +556,129 @@ static int w4f_setup(const struct geom__rbvh4 *W, const double o[3], const doubl
 }
 
 #if W4_SSE
-/* The four children of q against the ray: a bit mask of the lanes hit and
+/* The W4_W children of q against the ray: a bit mask of the lanes hit and
  * their (conservative, never later than exact) entry distances. */
 static inline int w4f_node(const geom__rnode4 *q, const w4f *f, const __m128 vo[3], const __m128 vi[3],
-                           __m128 vtmin, __m128 vtmax, float tn_out[4])
+                           __m128 vtmin, __m128 vtmax, float tn_out[W4_W])
 {
     const __m128 absmask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
     const __m128 vc = _mm_set1_ps(0x1p-20f), ve = _mm_set1_ps(f->e);
-    __m128 tn = vtmin, tf = vtmax;
-    int k;
-    for (k = 0; k < 3; k++) {
-        const float *np = (const float *)((const char *)q + f->noff[k]);
-        const float *fp = (const float *)((const char *)q + f->foff[k]);
-        __m128 a = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(np), vo[k]), vi[k]);
-        __m128 c = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(fp), vo[k]), vi[k]);
-        /* maxps/minps return the second operand when either is NaN */
-        tn = _mm_max_ps(a, tn);
-        tf = _mm_min_ps(c, tf);
+    int h, mask = 0;
+    for (h = 0; h < W4_W; h += 4) {
+        __m128 tn = vtmin, tf = vtmax;
+        int k;
+        for (k = 0; k < 3; k++) {
+            const float *np = (const float *)((const char *)q + f->noff[k]) + h;
+            const float *fp = (const float *)((const char *)q + f->foff[k]) + h;
+            __m128 a = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(np), vo[k]), vi[k]);
+            __m128 c = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(fp), vo[k]), vi[k]);
+            /* maxps/minps return the second operand when either is NaN */
+            tn = _mm_max_ps(a, tn);
+            tf = _mm_min_ps(c, tf);
+        }
+        tn = _mm_sub_ps(_mm_sub_ps(tn, _mm_mul_ps(_mm_and_ps(tn, absmask), vc)), ve);
+        tf = _mm_add_ps(_mm_add_ps(tf, _mm_mul_ps(_mm_and_ps(tf, absmask), vc)), ve);
+        _mm_storeu_ps(tn_out + h, tn);
+        mask |= (_mm_movemask_ps(_mm_cmple_ps(tn, tf)) &
+                 ~_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(_mm_load_si128((const __m128i *)(q->child + h)),
+                                                                   _mm_set1_epi32(-1)))))
+                << h;
     }
-    tn = _mm_sub_ps(_mm_sub_ps(tn, _mm_mul_ps(_mm_and_ps(tn, absmask), vc)), ve);
-    tf = _mm_add_ps(_mm_add_ps(tf, _mm_mul_ps(_mm_and_ps(tf, absmask), vc)), ve);
-    _mm_storeu_ps(tn_out, tn);
-    return _mm_movemask_ps(_mm_cmple_ps(tn, tf)) &
-           ~_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(_mm_load_si128((const __m128i *)q->child),
-                                                             _mm_set1_epi32(-1))));
+    return mask;
+}
+#endif
+
+#if W4_SSE
+/* The conservative float pre-test of a leaf's triangles (pk_filter): per ray,
+ * the origin and the shear of the watertight test (wbw.h) in float, and the
+ * bound on the error of a sheared float coordinate.
+ *
+ * Why it never drops a triangle the exact test hits. The double test
+ * computes a sheared coordinate X_d = fl(fl(vx - ox) - fl(sx fl(vz - oz)))
+ * (x standing for kx or ky) with sx = fl(dx / dz), |sx| <= 1, and decides
+ * from the exact signs of the edge functions e = bx_d cy_d - by_d cx_d,
+ * rejecting the triangle whenever one is < 0 and another > 0. Let X* be the
+ * exact (vx - ox) - sx (vz - oz) and M = |vx| + |ox| + |sx| (|vz| + |oz|)
+ * <= 2 (mag + |o|max) with mag the largest vertex coordinate. Then
+ * |X_d - X*| <= gamma_d(3) M, and the same expression evaluated in float
+ * from the rounded vertex, origin and sx (relative errors 2^-24 each, then
+ * three float operations) gives |X_f - X*| <= gamma_f(5) M + 2^-120 M + 2^-100
+ * (the last terms: an sx below the float range, and underflow or
+ * flush-to-zero of the vertex, origin or results; fused multiply-adds only
+ * remove roundings), so |X_f - X_d| <= delta = 2^-20 (mag + |o|max) +
+ * 2^-100, as 2 (gamma_f(5) + gamma_d(3) + 2^-120) < 2^-20.
+ * For an edge function, |bx_f cy_f - bx_d cy_d| <= delta (|bx_f| + |cy_f| +
+ * delta), and the float evaluation adds at most gamma_f(2) (|bx_f cy_f| +
+ * |by_f cx_f|) <= 2^-22 sb sc (sb = |bx_f| + |by_f|, sc = |cx_f| + |cy_f|)
+ * plus 2^-100 of underflow. So with
+ *     B = delta (sb + sc + 2 delta) + 2^-22 sb sc + 2^-99,
+ * e_f < -B proves e < 0 and e_f > B proves e > 0: a lane is dropped only
+ * when one edge function is proven negative and another positive, which the
+ * exact test rejects too. B is computed in float from constants enlarged by
+ * 2^-18 relative, more than the at most 6 roundings of the expression can
+ * take away. NaN (an overflow cannot occur: every coordinate and |o| are
+ * below 2^60, so the products stay below 2^126) fails both comparisons and
+ * keeps the lane. */
+/* Index of the lowest set bit of a nonzero 4-bit mask. */
+static inline int lane_first(int m)
+{
+    return (m & 1) ? 0 : (m & 2) ? 1 : (m & 4) ? 2 : 3;
+}
+
+typedef struct pkray {
+    __m128 o[3];          /* origin in float, by axis kx, ky, kz */
+    __m128 sx, sy;        /* the shear in float */
+    __m128 d1, d2, c2, eta; /* delta, 2 delta, 2^-22, 2^-99, each enlarged */
+    int kx, ky, kz;
+} pkray;
+
+static void pk_setup(pkray *p, const geom__wbw *w, const struct geom__rbvh4 *W)
+{
+    const double e = 1 + 0x1p-18;
+    double om = fabs(w->o[0]), delta;
+    if (fabs(w->o[1]) > om) om = fabs(w->o[1]);
+    if (fabs(w->o[2]) > om) om = fabs(w->o[2]);
+    delta = (0x1p-20 * (W->mag + om) + 0x1p-100) * e;
+    p->kx = w->kx; p->ky = w->ky; p->kz = w->kz;
+    p->o[0] = _mm_set1_ps((float)w->o[w->kx]);
+    p->o[1] = _mm_set1_ps((float)w->o[w->ky]);
+    p->o[2] = _mm_set1_ps((float)w->o[w->kz]);
+    p->sx = _mm_set1_ps((float)w->sx);
+    p->sy = _mm_set1_ps((float)w->sy);
+    p->d1 = _mm_set1_ps(f_up_fast(delta));
+    p->d2 = _mm_set1_ps(f_up_fast(2 * delta));
+    p->c2 = _mm_set1_ps((float)(0x1p-22 * e));
+    p->eta = _mm_set1_ps((float)(0x1p-99 * e));
+}
+
+/* The lanes (bit i: triangle i of the packet) the exact test must still
+ * see: those not proven missed (see pkray). */
+static inline int pk_filter(const geom__rpack4 *q, const pkray *p)
+{
+    const __m128 absmask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+    const __m128 sgn = _mm_castsi128_ps(_mm_set1_epi32((int)0x80000000u));
+    __m128 x[3], y[3], sa[3], e[3], neg, pos;
+    int i;
+    for (i = 0; i < 3; i++) {
+        __m128 z = _mm_sub_ps(_mm_load_ps(q->v[i][p->kz]), p->o[2]);
+        x[i] = _mm_sub_ps(_mm_sub_ps(_mm_load_ps(q->v[i][p->kx]), p->o[0]), _mm_mul_ps(p->sx, z));
+        y[i] = _mm_sub_ps(_mm_sub_ps(_mm_load_ps(q->v[i][p->ky]), p->o[1]), _mm_mul_ps(p->sy, z));
+        sa[i] = _mm_add_ps(_mm_and_ps(x[i], absmask), _mm_and_ps(y[i], absmask));
+    }
+    neg = _mm_setzero_ps();
+    pos = _mm_setzero_ps();
+    for (i = 0; i < 3; i++) {
+        /* e[0]: edge v1 -> v2, e[1]: v2 -> v0, e[2]: v0 -> v1 (wbw.h) */
+        const int a = (i + 1) % 3, b = (i + 2) % 3;
+        __m128 bnd;
+        e[i] = _mm_sub_ps(_mm_mul_ps(x[a], y[b]), _mm_mul_ps(y[a], x[b]));
+        bnd = _mm_add_ps(_mm_add_ps(_mm_mul_ps(p->d1, _mm_add_ps(_mm_add_ps(sa[a], sa[b]), p->d2)),
+                                    _mm_mul_ps(p->c2, _mm_mul_ps(sa[a], sa[b]))),
+                         p->eta);
+        neg = _mm_or_ps(neg, _mm_cmplt_ps(e[i], _mm_xor_ps(bnd, sgn)));
+        pos = _mm_or_ps(pos, _mm_cmpgt_ps(e[i], bnd));
+    }
+    return ~_mm_movemask_ps(_mm_and_ps(neg, pos)) & 15;
 }
 #endif
 
@@ -517,23 +686,23 @@ static inline int w4f_node(const geom__rnode4 *q, const w4f *f, const __m128 vo[
  * (2 gamma(3)): the path of rays the float test cannot take, and of targets
  * without SSE2. */
 static inline int w4d_node(const geom__rnode4 *q, const double o[3], const double inv[3], const int neg[3],
-                           double tmin, double tmax, double tn_out[4])
+                           double tmin, double tmax, double tn_out[W4_W])
 {
     const double wid = 2 * geom__gamma(3);
-    double tn[4], tf[4];
+    double tn[W4_W], tf[W4_W];
     int j, k, mask = 0;
-    for (j = 0; j < 4; j++) { tn[j] = -INFINITY; tf[j] = INFINITY; }
+    for (j = 0; j < W4_W; j++) { tn[j] = -INFINITY; tf[j] = INFINITY; }
     for (k = 0; k < 3; k++) {
         const float *np = neg[k] ? q->hi[k] : q->lo[k];
         const float *fp = neg[k] ? q->lo[k] : q->hi[k];
         const double ok = o[k], iv = inv[k];
-        for (j = 0; j < 4; j++) {
+        for (j = 0; j < W4_W; j++) {
             double a = ((double)np[j] - ok) * iv, c = ((double)fp[j] - ok) * iv;
             tn[j] = a > tn[j] ? a : tn[j];
             tf[j] = c < tf[j] ? c : tf[j];
         }
     }
-    for (j = 0; j < 4; j++) {
+    for (j = 0; j < W4_W; j++) {
         double a = tn[j] - fabs(tn[j]) * wid, c = tf[j] + fabs(tf[j]) * wid;
         tn_out[j] = a;
         mask |= ((a <= c) & (c >= tmin) & (a <= tmax) & (q->child[j] != GEOM_INVALID_INDEX)) << j;
@@ -565,6 +734,9 @@ static geom_status trace_wide(const geom__tmesh *m, const geom_ray *r, const geo
     int neg[3];
     geom__wbw w;
     w4f f;
+#if W4_SSE
+    pkray pk;
+#endif
     const double tmin = r->tmin;
     double tmax = r->tmax, best_b[3] = {0, 0, 0}, best_t = 0;
     uint32_t best = GEOM_INVALID_INDEX;
@@ -606,13 +778,13 @@ static geom_status trace_wide(const geom__tmesh *m, const geom_ray *r, const geo
     for (;;) {
         if (cur.count == 0) {
             const geom__rnode4 *q = &W->node[cur.child];
-            double tn[4];
+            double tn[W4_W];
             int j, base = sp, mask;
 #if W4_SSE
             if (use_f) {
-                float tf4[4];
+                float tf4[W4_W];
                 mask = w4f_node(q, &f, vo, vi, vtmin, vtmax, tf4);
-                for (j = 0; j < 4; j++) tn[j] = (double)tf4[j];
+                for (j = 0; j < W4_W; j++) tn[j] = (double)tf4[j];
             } else
 #endif
             {
@@ -626,7 +798,7 @@ static geom_status trace_wide(const geom__tmesh *m, const geom_ray *r, const geo
                 cur.count = q->count[j];
                 continue;
             }
-            if (sp + 4 > W4_STACK) return GEOM_ERR_LIMIT; /* cannot happen: depth checked at build */
+            if (sp + W4_W > W4_STACK) return GEOM_ERR_LIMIT; /* cannot happen: depth checked at build */
             /* The children hit, pushed in place by decreasing entry distance
              * (the nearest is popped first); no copy through a buffer, which
              * the compiler would make a block move that stalls the next pop. */
@@ -643,7 +815,7 @@ static geom_status trace_wide(const geom__tmesh *m, const geom_ray *r, const geo
                     W4_PREFETCH(c);
                     W4_PREFETCH(c + 64);
                 } else {
-                    const char *c = (const char *)(m->tv + 9 * (size_t)q->child[j]);
+                    const char *c = (const char *)&W->pk[W4_PK(q->count[j])];
                     W4_PREFETCH(c);
                     W4_PREFETCH(c + 64);
                     W4_PREFETCH(c + 128);
@@ -651,10 +823,30 @@ static geom_status trace_wide(const geom__tmesh *m, const geom_ray *r, const geo
             }
         } else {
             double tmax0 = tmax;
-            int lr;
-            if (w.kz < 0) geom__wbw_setup(&w, r);
-            lr = leaf_hits(m, r, &w, cur.child, cur.count, tmin, &tmax, mode, &best, &best_t,
-                               best_b, out);
+            int lr = 0;
+            uint32_t cnt = W4_CNT(cur.count);
+            if (w.kz < 0) {
+                geom__wbw_setup(&w, r);
+#if W4_SSE
+                if (use_f) pk_setup(&pk, &w, W);
+#endif
+            }
+#if W4_SSE
+            if (use_f) {
+                /* Only the triangles the float pre-test cannot rule out. */
+                int lanes = pk_filter(&W->pk[W4_PK(cur.count)], &pk) & ((1 << cnt) - 1);
+                while (lanes) {
+                    int j = lane_first(lanes);
+                    lanes &= lanes - 1;
+                    lr = leaf_hits(m, r, &w, cur.child + (uint32_t)j, 1, tmin, &tmax, mode, &best, &best_t,
+                                   best_b, out);
+                    if (lr != 0) break;
+                }
+            } else
+#endif
+            {
+                lr = leaf_hits(m, r, &w, cur.child, cnt, tmin, &tmax, mode, &best, &best_t, best_b, out);
+            }
             if (lr < 0) return GEOM_ERR_NOMEM;
             if (lr > 0) goto done;
 #if W4_SSE

@@ -110,7 +110,7 @@ typedef struct geom__tmesh {
     void *bvh;         /* geom_bvh * */
     double *tv;        /* 9 doubles per triangle in BVH leaf order (v0, v1, v2) */
     uint32_t *tid;     /* triangle index of each tv slot */
-    struct geom__rbvh4 *wide; /* 4-wide copy of bvh for traversal (mesh.c), or NULL */
+    struct geom__rbvh4 *wide; /* 8-wide copy of bvh for traversal (mesh.c), or NULL */
     double *cuv;       /* 6*nt corner UVs per triangle (its corner order) or NULL (walk.c) */
     double *cnrm;      /* 9*nt corner normals per triangle or NULL (walk.c) */
 } geom__tmesh;
