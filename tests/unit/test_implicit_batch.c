@@ -49,6 +49,12 @@ static const char *const exprs[] = {
     "smooth_difference(box(1, 1, 1), sphere(1.2), 0.3)", "x - x", "(x + 1e16) - 1e16",
     "1e300 * x * y", "x / (y*y)", "sqrt(x) + sqrt(-x)", "pow(x, 0)", "pow(0, x)",
     "x^(y*2)", "x*(y*(z*(x*(y*(z*(x*(y+1)+2)+3)+4)+5)+6)+7)",
+    /* sums of products fused into one step, with and without the tail */
+    "x*x + y*y", "x*y - z*z", "2*x + 3*y - z*0.5", "x*2 - y*t + z*z", "x*y - z*x - y*y",
+    "sqrt(x*x + y*y) - 0.5", "abs(x*y - z*3) * 2", "sqrt(x*x - y*y + z*z) / 3",
+    "sqrt(x*x + y*y + z*z) + 1e-300", "x + sqrt(x*x + y*y + z*z) - 1",
+    "sqrt(1*x*x + 2*y*y + 3*z*z) - 1", "(x*x + y*y + z*z) * (x*y + y*z + z*x)",
+    "sqrt((x-0.1)*(x-0.1) + (y+0.2)*(y+0.2) + z*z) - 0.7",
 };
 
 /* A program n levels deep: x+(x+(...(x)...)). */
@@ -99,6 +105,27 @@ static void test_expr_batch_bitwise(void **state)
         }
         geom_implicit_expr_destroy(e);
     }
+    /* every alignment of the points and of the output: the blocks start at
+     * a cache line of p after a few single points */
+    char *raw = malloc(3 * 4099 * sizeof(double) + 64), *rawo = malloc(4099 * sizeof(double) + 64);
+    assert_non_null(raw);
+    assert_non_null(rawo);
+    static const char *few[] = {"sqrt(x*x + y*y + z*z) - 1", "sphere(0.5) + x", "x*y - z"};
+    for (size_t k = 0; k < sizeof few / sizeof few[0]; k++) {
+        geom_implicit_expr *e = NULL;
+        assert_int_equal(geom_implicit_expr_compile(few[k], strlen(few[k]), NULL, &e, NULL),
+                         GEOM_OK);
+        for (size_t off = 0; off < 64; off += 8)
+            for (size_t ooff = 0; ooff < 64; ooff += 8 + 16 * (off > 0)) {
+                double *q = (double *)(void *)(raw + off), *o = (double *)(void *)(rawo + ooff);
+                memcpy(q, p, 3 * 4099 * sizeof(double));
+                for (size_t c = 0; c < sizeof counts / sizeof counts[0]; c++)
+                    check_expr(e, few[k], counts[c], q, o);
+            }
+        geom_implicit_expr_destroy(e);
+    }
+    free(raw);
+    free(rawo);
     /* stacks around the block evaluator's depth and beyond */
     static const int depths[] = {20, 23, 24, 25, 40, 70};
     for (size_t d = 0; d < sizeof depths / sizeof depths[0]; d++) {
