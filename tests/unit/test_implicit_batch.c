@@ -126,6 +126,22 @@ static void test_expr_batch_bitwise(void **state)
     }
     free(raw);
     free(rawo);
+    /* outputs large enough to be written with non-temporal stores, with a
+     * tail and misaligned outputs */
+    size_t big = (1u << 19) + 77;
+    double *pb = points(big, -3.0, 3.0), *ob = malloc((big + 1) * sizeof(double));
+    assert_non_null(ob);
+    static const char *bigs[] = {"sqrt(x*x + y*y + z*z) - 1", "x*y - z", "sin(x) + y", "2"};
+    for (size_t k = 0; k < sizeof bigs / sizeof bigs[0]; k++) {
+        geom_implicit_expr *e = NULL;
+        assert_int_equal(geom_implicit_expr_compile(bigs[k], strlen(bigs[k]), NULL, &e, NULL),
+                         GEOM_OK);
+        check_expr(e, bigs[k], big, pb, ob);
+        check_expr(e, bigs[k], big - 3, pb + 3, ob + 1);
+        geom_implicit_expr_destroy(e);
+    }
+    free(pb);
+    free(ob);
     /* stacks around the block evaluator's depth and beyond */
     static const int depths[] = {20, 23, 24, 25, 40, 70};
     for (size_t d = 0; d < sizeof depths / sizeof depths[0]; d++) {

@@ -9,6 +9,9 @@
 #include <float.h>
 #include <math.h>
 #include <string.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 /* ================================================================ doubles */
 
@@ -101,8 +104,11 @@ static void d_run_batch(const expr_ins *code, size_t ncode, size_t n, const doub
  * arrays (AVX2/AVX-512 clones). An operation on constants only is done
  * once on the scalars: the same d_* function, the same value. Every lane
  * does exactly d_run's operations, so the results are bitwise d_run's. */
-/* XPLAN: the steps of a plan on the stack (longer programs allocate it). */
-enum { XB = 64, XSTACK = 24, XPLAN = 48, XKC = 8 };
+/* XPLAN: the steps of a plan on the stack (longer programs allocate it);
+ * XSTREAM: from this many points (4 MiB of values) on, the values are
+ * written with non-temporal stores (measured: 0.8 instead of 1.3 ms for
+ * 10^6 distances into a new numpy array). */
+enum { XB = 64, XSTACK = 24, XPLAN = 48, XKC = 8, XSTREAM = 1 << 19 };
 
 /* The lane loop of a binary operation for each operand kind. */
 #define XB_BINARY(FN)                                                                          \
@@ -370,6 +376,22 @@ static size_t x_plan(const expr_ins *code, size_t ncode, double t, xwork *w, xst
         default: { /* clamp, smin, smax and the primitives, lane by lane */
             size_t k = (size_t)geom__implicit_op_arity(in->op);
             size_t first = sp - k;
+            if (in->op == OP_SPHERE1 && !v[first]) {
+                /* sphere(r): sqrt((x*x + y*y) + z*z) - r, d_len3's operations */
+                memset(s, 0, sizeof *s);
+                s->kind = XK_DOT;
+                s->k = 3;
+                s->args[0] = s->args[1] = w->X;
+                s->args[2] = s->args[3] = w->Y;
+                s->args[4] = s->args[5] = w->Z;
+                s->op = OP_SQRT;
+                s->op2 = OP_SUB;
+                s->cb = c[first];
+                s->r = DST(first);
+                v[first] = s->r;
+                ns++;
+                break;
+            }
             for (size_t q = first; q < sp; q++)
                 if (!v[q]) {
                     s->kind = XK_FILL;
@@ -508,6 +530,84 @@ GEOM__CLONE_INLINE void x_dot(const xstep *s, double *restrict r)
 }
 #undef XB_LANES
 
+/* XB values r into out: plainly, or (nt) with non-temporal stores, which
+ * write whole lines without reading them first and leave the caches to the
+ * rest (out 16-byte aligned). */
+GEOM__CLONE_INLINE void x_store(double *restrict out, const double *restrict r, int nt)
+{
+#if defined(__SSE2__)
+    if (nt) {
+        for (int l = 0; l < XB; l += 2)
+            _mm_stream_pd(out + l, _mm_load_pd(r + l));
+        return;
+    }
+#else
+    (void)nt;
+#endif
+    memcpy(out, r, XB * sizeof(double));
+}
+
+GEOM__CLONE_INLINE void x_store_done(int nt)
+{
+#if defined(__SSE2__)
+    if (nt)
+        _mm_sfence();
+#else
+    (void)nt;
+#endif
+}
+
+/* The distance-like programs U((x*x + y*y) + z*z) B c (U sqrt or abs, B one
+ * of + - * /, or none: uop 0), sphere(c) among them, straight from the
+ * points: nb blocks of XB points p into out (nt: as x_store), no lanes in
+ * between. Each point gets x_dot's operations in x_dot's order. */
+#define XL_LOOP(EXPR)                                                                          \
+    for (int l = 0; l < XB; l++) {                                                             \
+        double x = p[3 * l], y = p[3 * l + 1], z = p[3 * l + 2];                               \
+        double s = d_add(d_add(d_mul(x, x), d_mul(y, y)), d_mul(z, z));                        \
+        r[l] = (EXPR);                                                                         \
+    }
+#define XL_TAIL(U)                                                                             \
+    do {                                                                                       \
+        if (bop == OP_ADD)                                                                     \
+            XL_LOOP(d_add(U(s), c))                                                            \
+        else if (bop == OP_SUB)                                                                \
+            XL_LOOP(d_sub(U(s), c))                                                            \
+        else if (bop == OP_MUL)                                                                \
+            XL_LOOP(d_mul(U(s), c))                                                            \
+        else                                                                                   \
+            XL_LOOP(d_div(U(s), c))                                                            \
+    } while (0)
+GEOM_SIMD_CLONES
+static void d_run_len(int uop, int bop, double c, size_t nb, const double *restrict p,
+                      double *restrict out, int nt)
+{
+    _Alignas(64) double tmp[XB];
+    for (size_t blk = 0; blk < nb; blk++, p += 3 * XB, out += XB) {
+        double *restrict r = nt ? tmp : out;
+        if (uop == OP_SQRT)
+            XL_TAIL(d_sqrt);
+        else if (uop == OP_ABS)
+            XL_TAIL(d_abs);
+        else
+            XL_LOOP(s)
+        if (nt)
+            x_store(out, tmp, 1);
+    }
+    x_store_done(nt);
+}
+#undef XL_TAIL
+#undef XL_LOOP
+
+/* Is the plan (ns steps over w) one step U((x*x + y*y) + z*z) [B c]? */
+static int x_is_len(const xstep *plan, size_t ns, const xwork *w)
+{
+    const xstep *s = plan;
+    return ns == 1 && s->kind == XK_DOT && s->k == 3 && !s->sub[0] && !s->sub[1] &&
+           s->args[0] == w->X && s->args[1] == w->X && s->args[2] == w->Y &&
+           s->args[3] == w->Y && s->args[4] == w->Z && s->args[5] == w->Z;
+}
+
 /* The coordinates of XB points p (3 doubles each) into X, Y and Z. */
 GEOM__CLONE_INLINE void x_gather(double *restrict X, double *restrict Y, double *restrict Z,
                                  const double *restrict p)
@@ -519,14 +619,15 @@ GEOM__CLONE_INLINE void x_gather(double *restrict X, double *restrict Y, double 
     }
 }
 
-/* nb blocks of XB points p (3 doubles each) into out through the plan (ns
- * steps over w, result res or the constant res_c). The last step writes
- * its lanes into out directly when they are the result. */
+/* nb blocks of XB points p (3 doubles each) into out (nt: as x_store)
+ * through the plan (ns steps over w, result res or the constant res_c).
+ * Without nt, the last step writes its lanes into out directly when they
+ * are the result. */
 GEOM_SIMD_CLONES
 static void d_run_blocks(const xstep *plan, size_t ns, xwork *w, const double *res, double res_c,
-                         size_t nb, const double *p, double *out)
+                         size_t nb, const double *p, double *out, int nt)
 {
-    size_t last = ns > 0 && plan[ns - 1].r == res ? ns - 1 : ns;
+    size_t last = ns > 0 && plan[ns - 1].r == res && !nt ? ns - 1 : ns;
     for (size_t blk = 0; blk < nb; blk++, p += 3 * XB, out += XB) {
         x_gather(w->X, w->Y, w->Z, p);
         for (size_t j = 0; j < ns; j++) {
@@ -547,12 +648,14 @@ static void d_run_blocks(const xstep *plan, size_t ns, xwork *w, const double *r
         }
         if (last < ns)
             continue;
-        if (res)
-            memcpy(out, res, XB * sizeof(double));
-        else
+        if (res) {
+            x_store(out, res, nt);
+        } else {
             for (int l = 0; l < XB; l++)
                 out[l] = res_c;
+        }
     }
+    x_store_done(nt);
 }
 
 /* ================================================================== duals */
@@ -1087,7 +1190,13 @@ void geom_implicit_expr_eval_many(const geom_implicit_expr *e, size_t n, const d
             double res_c;
             size_t ns = x_plan(e->code, e->n, e->t, &w, plan, &res, &res_c);
             ns = x_fuse(plan, ns, &w);
-            d_run_blocks(plan, ns, &w, res, res_c, (n - head) / XB, p + 3 * head, out + head);
+            int nt = n >= XSTREAM && (uintptr_t)(out + head) % 16 == 0;
+            if (x_is_len(plan, ns, &w) && res == plan[0].r)
+                d_run_len(plan[0].op, plan[0].op2, plan[0].cb, (n - head) / XB, p + 3 * head,
+                          out + head, nt);
+            else
+                d_run_blocks(plan, ns, &w, res, res_c, (n - head) / XB, p + 3 * head,
+                             out + head, nt);
             if (plan != small)
                 geom__free(&e->alloc, plan, e->n * sizeof *plan);
         } else {
