@@ -225,6 +225,32 @@ static void test_volume_batch_bitwise(void **state)
                                      dm[0], dm[1], dm[2], type, p[3 * i], p[3 * i + 1],
                                      p[3 * i + 2], out[i], w);
                     }
+                    /* values and gradients, bitwise geom_implicit_volume_eval_grad */
+                    double *gr = malloc(3 * n * sizeof(double));
+                    assert_non_null(gr);
+                    geom_implicit_volume_eval_many(v, n, p, out, gr);
+                    for (size_t i = 0; i < n; i++) {
+                        double g1[3];
+                        double w = geom_implicit_volume_eval_grad(v, &p[3 * i], g1);
+                        int same = same_bits_or_nan(w, out[i]);
+                        for (int a = 0; a < 3; a++)
+                            same &= same_bits_or_nan(g1[a], gr[3 * i + a]);
+                        if (!same)
+                            fail_msg("volume %zux%zux%zu type %d at (%.17g, %.17g, %.17g): "
+                                     "batch %.17g (%.17g, %.17g, %.17g), single %.17g (%.17g, "
+                                     "%.17g, %.17g)",
+                                     dm[0], dm[1], dm[2], type, p[3 * i], p[3 * i + 1],
+                                     p[3 * i + 2], out[i], gr[3 * i], gr[3 * i + 1],
+                                     gr[3 * i + 2], w, g1[0], g1[1], g1[2]);
+                    }
+                    geom_implicit_volume_eval_many(v, 70, p + 3, out, gr);
+                    for (size_t i = 0; i < 70; i++) {
+                        double g1[3];
+                        geom_implicit_volume_eval_grad(v, &p[3 + 3 * i], g1);
+                        for (int a = 0; a < 3; a++)
+                            assert_true(same_bits_or_nan(g1[a], gr[3 * i + a]));
+                    }
+                    free(gr);
                     /* the tail after the last full block, and n = 0 */
                     geom_implicit_volume_eval_many(v, 70, p + 3, out, NULL);
                     for (size_t i = 0; i < 70; i++)
