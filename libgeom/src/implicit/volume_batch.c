@@ -8,20 +8,24 @@
 
 /* geom_implicit_samples_gradient at GB points p (3 doubles each) of a grid
  * with every dims in [2, 2^31) into grad (3 doubles each): gathered into
- * lanes and located as the values are (geom__locate_lanes), then for each
- * of the 8 corners in order and each axis, the corner's weight times the
- * central difference there (one-sided on the border) added lane by lane
- * without branches (a zero weight adds nothing, as the single-point
- * function skips the corner). Every lane does exactly the single-point
- * function's operations in its order; samples of type T. */
+ * lanes and located as the values are (geom__locate_lanes); the 8 corner
+ * samples of each lane's cell loaded once; then for each corner in order
+ * and each axis, the corner's weight times the central difference there
+ * added lane by lane without branches (a zero weight adds nothing, as the
+ * single-point function skips the corner). One end of each difference is
+ * the neighbouring corner of the cell, the other the one sample outside
+ * the cell along that axis (the node itself on the border, where the
+ * difference is one-sided), so a lane loads 32 samples, not 48 pairs.
+ * Every lane does exactly the single-point function's operations in its
+ * order; samples of type T. */
 #define GRAD_BLOCK(name, T)                                                                    \
     GEOM__CLONE_INLINE void name(const double *o, const double *s, const double *um,         \
                                  const int64_t *stride, const T *restrict S,                  \
                                  const double *restrict p, double *restrict grad)             \
     {                                                                                          \
-        double c[3][GB], f[3][GB], g[3][GB], w[GB];                                            \
+        double c[3][GB], f[3][GB], g[3][GB], w[GB], V[8][GB], x[GB];                           \
         int32_t i0[3][GB];                                                                     \
-        int64_t b[GB];                                                                         \
+        int64_t b[GB], off[8];                                                                 \
         for (int l = 0; l < GB; l++) {                                                         \
             c[0][l] = p[3 * l];                                                                \
             c[1][l] = p[3 * l + 1];                                                            \
@@ -32,27 +36,42 @@
         for (int l = 0; l < GB; l++)                                                           \
             b[l] = (int64_t)i0[0][l] + stride[1] * (int64_t)i0[1][l] +                         \
                    stride[2] * (int64_t)i0[2][l];                                              \
+        for (int corner = 0; corner < 8; corner++) {                                           \
+            off[corner] = (corner & 1) + ((corner & 2) ? stride[1] : 0) +                      \
+                          ((corner & 4) ? stride[2] : 0);                                      \
+            for (int l = 0; l < GB; l++)                                                       \
+                V[corner][l] = (double)S[b[l] + off[corner]];                                  \
+        }                                                                                      \
         for (int a = 0; a < 3; a++)                                                            \
             for (int l = 0; l < GB; l++)                                                       \
                 g[a][l] = 0.0;                                                                 \
         for (int corner = 0; corner < 8; corner++) {                                           \
             int bx = corner & 1, by = (corner >> 1) & 1, bz = (corner >> 2) & 1;               \
-            int64_t off = bx + (by ? stride[1] : 0) + (bz ? stride[2] : 0);                    \
             for (int l = 0; l < GB; l++)                                                       \
                 w[l] = (bx ? f[0][l] : 1.0 - f[0][l]) * (by ? f[1][l] : 1.0 - f[1][l]) *       \
                        (bz ? f[2][l] : 1.0 - f[2][l]);                                         \
             for (int a = 0; a < 3; a++) {                                                      \
-                int64_t st = stride[a], last = (int64_t)um[a];                                 \
                 int bit = (corner >> a) & 1;                                                   \
+                int64_t edge = bit ? (int64_t)um[a] : 0, out = bit ? stride[a] : -stride[a];   \
+                const double *nb = V[corner ^ (1 << a)];                                       \
                 double sp = s[a], sp2 = 2.0 * s[a];                                            \
-                for (int l = 0; l < GB; l++) {                                                 \
-                    int64_t idx = b[l] + off, i = (int64_t)i0[a][l] + bit;                     \
-                    int64_t hi = i == last ? idx : idx + st;                                   \
-                    int64_t lo = i == 0 ? idx : idx - st;                                      \
-                    double den = i == 0 || i == last ? sp : sp2;                               \
-                    double dd = ((double)S[hi] - (double)S[lo]) / den;                         \
-                    g[a][l] = w[l] == 0.0 ? g[a][l] : g[a][l] + w[l] * dd;                     \
-                }                                                                              \
+                const int32_t *ia = i0[a];                                                     \
+                double *ga = g[a];                                                             \
+                int64_t oc = off[corner], e0 = edge - bit;                                     \
+                for (int l = 0; l < GB; l++) /* the gathers: their own loop */               \
+                    x[l] = (double)S[b[l] + oc + (ia[l] == e0 ? 0 : out)];                     \
+                if (bit)                                                                       \
+                    for (int l = 0; l < GB; l++) {                                             \
+                        double dd = (x[l] - nb[l]) / (ia[l] == e0 ? sp : sp2);                 \
+                        double sum = ga[l] + w[l] * dd; /* computed either way */              \
+                        ga[l] = w[l] == 0.0 ? ga[l] : sum;                                     \
+                    }                                                                          \
+                else                                                                           \
+                    for (int l = 0; l < GB; l++) {                                             \
+                        double dd = (nb[l] - x[l]) / (ia[l] == e0 ? sp : sp2);                 \
+                        double sum = ga[l] + w[l] * dd;                                        \
+                        ga[l] = w[l] == 0.0 ? ga[l] : sum;                                     \
+                    }                                                                          \
             }                                                                                  \
         }                                                                                      \
         for (int l = 0; l < GB; l++) {                                                         \
