@@ -269,16 +269,16 @@ def np_tri_grad(vp):
     g = 1 - f
     sy, sx = S.shape[2], S.shape[1] * S.shape[2]
     base = i0 @ np.array([sx, sy, 1], dtype=np.intp)
-    out = np.zeros((vp.shape[0], 3))
+    acc = [np.zeros(vp.shape[0]) for _ in range(3)]   # contiguous, stacked at the end
     for dx in (0, 1):
         wx = f[:, 0] if dx else g[:, 0]
         for dy in (0, 1):
             wxy = wx * (f[:, 1] if dy else g[:, 1])
-            off = dx * sx + dy * sy
+            i0, i1 = base + (dx * sx + dy * sy), base + (dx * sx + dy * sy + 1)
             w0, w1 = wxy * g[:, 2], wxy * f[:, 2]
             for a in range(3):
-                out[:, a] += w0 * G[a].take(base + off) + w1 * G[a].take(base + off + 1)
-    return out
+                acc[a] += w0 * G[a].take(i0) + w1 * G[a].take(i1)
+    return np.stack(acc, axis=1)
 
 
 run("Volume.eval(grad)", lambda: vol.eval(vp, gradient=True)[1],
