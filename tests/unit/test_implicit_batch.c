@@ -49,6 +49,12 @@ static const char *const exprs[] = {
     "smooth_difference(box(1, 1, 1), sphere(1.2), 0.3)", "x - x", "(x + 1e16) - 1e16",
     "1e300 * x * y", "x / (y*y)", "sqrt(x) + sqrt(-x)", "pow(x, 0)", "pow(0, x)",
     "x^(y*2)", "x*(y*(z*(x*(y*(z*(x*(y+1)+2)+3)+4)+5)+6)+7)",
+    /* sums of products fused into one step, with and without the tail */
+    "x*x + y*y", "x*y - z*z", "2*x + 3*y - z*0.5", "x*2 - y*t + z*z", "x*y - z*x - y*y",
+    "sqrt(x*x + y*y) - 0.5", "abs(x*y - z*3) * 2", "sqrt(x*x - y*y + z*z) / 3",
+    "sqrt(x*x + y*y + z*z) + 1e-300", "x + sqrt(x*x + y*y + z*z) - 1",
+    "sqrt(1*x*x + 2*y*y + 3*z*z) - 1", "(x*x + y*y + z*z) * (x*y + y*z + z*x)",
+    "sqrt((x-0.1)*(x-0.1) + (y+0.2)*(y+0.2) + z*z) - 0.7",
 };
 
 /* A program n levels deep: x+(x+(...(x)...)). */
@@ -99,6 +105,43 @@ static void test_expr_batch_bitwise(void **state)
         }
         geom_implicit_expr_destroy(e);
     }
+    /* every alignment of the points and of the output: the blocks start at
+     * a cache line of p after a few single points */
+    char *raw = malloc(3 * 4099 * sizeof(double) + 64), *rawo = malloc(4099 * sizeof(double) + 64);
+    assert_non_null(raw);
+    assert_non_null(rawo);
+    static const char *few[] = {"sqrt(x*x + y*y + z*z) - 1", "sphere(0.5) + x", "x*y - z"};
+    for (size_t k = 0; k < sizeof few / sizeof few[0]; k++) {
+        geom_implicit_expr *e = NULL;
+        assert_int_equal(geom_implicit_expr_compile(few[k], strlen(few[k]), NULL, &e, NULL),
+                         GEOM_OK);
+        for (size_t off = 0; off < 64; off += 8)
+            for (size_t ooff = 0; ooff < 64; ooff += 8 + 16 * (off > 0)) {
+                double *q = (double *)(void *)(raw + off), *o = (double *)(void *)(rawo + ooff);
+                memcpy(q, p, 3 * 4099 * sizeof(double));
+                for (size_t c = 0; c < sizeof counts / sizeof counts[0]; c++)
+                    check_expr(e, few[k], counts[c], q, o);
+            }
+        geom_implicit_expr_destroy(e);
+    }
+    free(raw);
+    free(rawo);
+    /* outputs large enough to be written with non-temporal stores, with a
+     * tail and misaligned outputs */
+    size_t big = (1u << 19) + 77;
+    double *pb = points(big, -3.0, 3.0), *ob = malloc((big + 1) * sizeof(double));
+    assert_non_null(ob);
+    static const char *bigs[] = {"sqrt(x*x + y*y + z*z) - 1", "x*y - z", "sin(x) + y", "2"};
+    for (size_t k = 0; k < sizeof bigs / sizeof bigs[0]; k++) {
+        geom_implicit_expr *e = NULL;
+        assert_int_equal(geom_implicit_expr_compile(bigs[k], strlen(bigs[k]), NULL, &e, NULL),
+                         GEOM_OK);
+        check_expr(e, bigs[k], big, pb, ob);
+        check_expr(e, bigs[k], big - 3, pb + 3, ob + 1);
+        geom_implicit_expr_destroy(e);
+    }
+    free(pb);
+    free(ob);
     /* stacks around the block evaluator's depth and beyond */
     static const int depths[] = {20, 23, 24, 25, 40, 70};
     for (size_t d = 0; d < sizeof depths / sizeof depths[0]; d++) {
@@ -182,6 +225,32 @@ static void test_volume_batch_bitwise(void **state)
                                      dm[0], dm[1], dm[2], type, p[3 * i], p[3 * i + 1],
                                      p[3 * i + 2], out[i], w);
                     }
+                    /* values and gradients, bitwise geom_implicit_volume_eval_grad */
+                    double *gr = malloc(3 * n * sizeof(double));
+                    assert_non_null(gr);
+                    geom_implicit_volume_eval_many(v, n, p, out, gr);
+                    for (size_t i = 0; i < n; i++) {
+                        double g1[3];
+                        double w = geom_implicit_volume_eval_grad(v, &p[3 * i], g1);
+                        int same = same_bits_or_nan(w, out[i]);
+                        for (int a = 0; a < 3; a++)
+                            same &= same_bits_or_nan(g1[a], gr[3 * i + a]);
+                        if (!same)
+                            fail_msg("volume %zux%zux%zu type %d at (%.17g, %.17g, %.17g): "
+                                     "batch %.17g (%.17g, %.17g, %.17g), single %.17g (%.17g, "
+                                     "%.17g, %.17g)",
+                                     dm[0], dm[1], dm[2], type, p[3 * i], p[3 * i + 1],
+                                     p[3 * i + 2], out[i], gr[3 * i], gr[3 * i + 1],
+                                     gr[3 * i + 2], w, g1[0], g1[1], g1[2]);
+                    }
+                    geom_implicit_volume_eval_many(v, 70, p + 3, out, gr);
+                    for (size_t i = 0; i < 70; i++) {
+                        double g1[3];
+                        geom_implicit_volume_eval_grad(v, &p[3 + 3 * i], g1);
+                        for (int a = 0; a < 3; a++)
+                            assert_true(same_bits_or_nan(g1[a], gr[3 * i + a]));
+                    }
+                    free(gr);
                     /* the tail after the last full block, and n = 0 */
                     geom_implicit_volume_eval_many(v, 70, p + 3, out, NULL);
                     for (size_t i = 0; i < 70; i++)

@@ -210,9 +210,11 @@ GEOM_API double geom_implicit_expr_eval(const geom_implicit_expr *e, const doubl
 /**
  * f at n points: p holds 3*n doubles (point i at p[3i..3i+2]), out receives
  * n doubles, each exactly what geom_implicit_expr_eval gives (the program
- * runs over 32 points at a time, which amortises the interpreter's
+ * runs over blocks of 64 points, which amortises the interpreter's
  * dispatch: several times faster than n single evaluations for long
- * programs). NULL e or p (n > 0) fills out with NaN; NULL out is a no-op.
+ * programs). From 2^19 points on, out is written with non-temporal stores
+ * (it is not left in the caches). NULL e or p (n > 0) fills out with NaN;
+ * NULL out is a no-op.
  */
 GEOM_API void geom_implicit_expr_eval_many(const geom_implicit_expr *e, size_t n, const double *p,
                                   double *out);

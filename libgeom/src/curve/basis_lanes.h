@@ -30,12 +30,23 @@ GEOM__CLONE_INLINE void geom__bs_basis_lanes(int p, const double *U, const size_
     enum { B = GEOM__BS_LANES };
     double L[GEOM__BS_LANES_MAXP + 1][B], R[GEOM__BS_LANES_MAXP + 1][B], saved[B];
     double ua[B], ub[B];
+    int same = 1; /* one span for every lane (the common case): no gathers */
+    for (int i = 1; i < B; ++i)
+        same &= k[i] == k[0];
     for (int i = 0; i < B; ++i)
         N[0][i] = 1.0;
     for (int j = 1; j <= p; ++j) {
-        for (int i = 0; i < B; ++i) {
-            ua[i] = U[k[i] + 1 - (size_t)j];
-            ub[i] = U[k[i] + (size_t)j];
+        if (same) {
+            double a = U[k[0] + 1 - (size_t)j], b = U[k[0] + (size_t)j];
+            for (int i = 0; i < B; ++i) {
+                ua[i] = a;
+                ub[i] = b;
+            }
+        } else {
+            for (int i = 0; i < B; ++i) {
+                ua[i] = U[k[i] + 1 - (size_t)j];
+                ub[i] = U[k[i] + (size_t)j];
+            }
         }
         for (int i = 0; i < B; ++i) {
             L[j][i] = ue[i] - ua[i];

@@ -73,7 +73,13 @@ static void eval_block(const geom_nurbs_curve *c, const size_t *k, const double 
             for (int i = 0; i < B; ++i)
                 acc[d][i] += Rj[i] * Pj[d][i];
     }
-    if (dim == 3) {
+    if (dim == 3 && m == B) { /* a fixed count: the interleave vectorises */
+        for (int i = 0; i < B; ++i) {
+            out[3 * i] = acc[0][i];
+            out[3 * i + 1] = acc[1][i];
+            out[3 * i + 2] = acc[2][i];
+        }
+    } else if (dim == 3) {
         for (size_t i = 0; i < m; ++i) {
             out[3 * i] = acc[0][i];
             out[3 * i + 1] = acc[1][i];
@@ -89,6 +95,15 @@ static void eval_block(const geom_nurbs_curve *c, const size_t *k, const double 
             for (size_t d = 0; d < dim; ++d)
                 out[i * dim + d] = acc[d][i];
     }
+}
+
+/* Do the EM_BLOCK parameters u all lie strictly between a and b? */
+static int in_span(const double *u, double a, double b)
+{
+    int in = 1;
+    for (int i = 0; i < EM_BLOCK; ++i)
+        in &= (a < u[i]) & (u[i] < b);
+    return in;
 }
 
 static void fail_row(double *o, size_t dim, geom_status st, int32_t *status, size_t i,
@@ -133,6 +148,18 @@ geom_status geom_curve_nurbs_eval_many(const geom_nurbs_curve *c, size_t n, cons
         size_t m = n - i0 < EM_BLOCK ? n - i0 : EM_BLOCK, nv = 0;
         double ue[EM_BLOCK];
         size_t k[EM_BLOCK], row[EM_BLOCK];
+        if (m == EM_BLOCK && kc != SIZE_MAX && !(flags & GEOM_CURVE_WRAP) &&
+            in_span(u + i0, c->knots[kc], c->knots[kc + 1])) {
+            /* the whole block strictly inside the last span (and so inside
+             * the domain): every row's reduction is the identity and its
+             * span kc, as the row-by-row path below finds */
+            for (size_t j = 0; j < EM_BLOCK; ++j)
+                k[j] = kc;
+            if (status)
+                memset(status + i0, 0, EM_BLOCK * sizeof *status);
+            eval_block(c, k, u + i0, m, out + dim * i0);
+            continue;
+        }
         for (size_t j = 0; j < m; ++j) {
             int left;
             double e;

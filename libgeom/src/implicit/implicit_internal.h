@@ -85,5 +85,25 @@ void geom__implicit_samples_values(const geom_implicit_grid *d, size_t n, const 
  * (expr_eval.c, for marching cubes' sampling). e non-NULL. */
 void geom__implicit_expr_row(const geom_implicit_expr *e, size_t n, const double *x, double y,
                              double z, double *out);
+/* Lanes per block of the batch interpolators (trilinear.c, volume_batch.c). */
+#define GEOM__TRI_BLOCK 64
+/* geom_implicit_samples_value's cell location along an axis with n >= 2
+ * samples (umax = n - 1, origin o, spacing s) for GEOM__TRI_BLOCK
+ * coordinates c, without branches: the same operations in the same order,
+ * so the same cells i0 and fractions f. */
+GEOM__CLONE_INLINE void geom__locate_lanes(const double *restrict c, double o, double s,
+                                           double umax, int32_t *restrict i0,
+                                           double *restrict f)
+{
+    for (int l = 0; l < GEOM__TRI_BLOCK; l++) {
+        double u = (c[l] - o) / s;
+        u = u > 0.0 ? u : 0.0;
+        u = u > umax ? umax : u;
+        double fl = (double)(int32_t)u; /* floor(u): 0 <= u < 2^31 */
+        fl = fl >= umax ? umax - 1.0 : fl;
+        f[l] = u - fl;
+        i0[l] = (int32_t)fl;
+    }
+}
 
 #endif

@@ -132,24 +132,7 @@ void geom_implicit_samples_gradient(const geom_implicit_grid *d, const void *dat
 
 
 /* Lanes per block of the batch interpolator. */
-#define TRI_BLOCK 64
-
-/* geom_implicit_samples_value's locate() for TRI_BLOCK coordinates c along
- * an axis with n >= 2 samples (umax = n - 1), without branches: the same
- * operations in the same order, so the same cells and fractions. */
-GEOM__CLONE_INLINE void locate_lanes(const double *restrict c, double o, double s, double umax,
-                                int32_t *restrict i0, double *restrict f)
-{
-    for (int l = 0; l < TRI_BLOCK; l++) {
-        double u = (c[l] - o) / s;
-        u = u > 0.0 ? u : 0.0;
-        u = u > umax ? umax : u;
-        double fl = (double)(int32_t)u; /* floor(u): 0 <= u < 2^31 */
-        fl = fl >= umax ? umax - 1.0 : fl;
-        f[l] = u - fl;
-        i0[l] = (int32_t)fl;
-    }
-}
+#define TRI_BLOCK GEOM__TRI_BLOCK
 
 /* lerp() of TRI_BLOCK lanes: out = (1 - t) a + t b, exactly a at t = 0 and
  * b at t = 1. */
@@ -180,9 +163,9 @@ GEOM__CLONE_INLINE void lerp_lanes(const double *restrict a, const double *restr
             c[1][l] = p[3 * l + 1];                                                            \
             c[2][l] = p[3 * l + 2];                                                            \
         }                                                                                      \
-        locate_lanes(c[0], o[0], s[0], um[0], i0[0], t[0]);                                    \
-        locate_lanes(c[1], o[1], s[1], um[1], i0[1], t[1]);                                    \
-        locate_lanes(c[2], o[2], s[2], um[2], i0[2], t[2]);                                    \
+        geom__locate_lanes(c[0], o[0], s[0], um[0], i0[0], t[0]);                                    \
+        geom__locate_lanes(c[1], o[1], s[1], um[1], i0[1], t[1]);                                    \
+        geom__locate_lanes(c[2], o[2], s[2], um[2], i0[2], t[2]);                                    \
         for (int l = 0; l < TRI_BLOCK; l++)                                                    \
             b[l] = (int64_t)i0[0][l] + nx * (int64_t)i0[1][l] + nxy * (int64_t)i0[2][l];       \
         for (int l = 0; l < TRI_BLOCK; l++) {                                                  \
