@@ -280,8 +280,8 @@ static size_t uni_run(const shape *sh, int gu, int gv, double *err)
 
 /* The uniform gu x gv grid per span with the fewest triangles whose error
  * meets tol: the smallest passing square g x g, then for every gu in
- * [g/2, 2g] the smallest passing gv (walked from its neighbour's, assuming
- * the error falls as gv grows). */
+ * [g/2, 2g] the smallest passing gv up to 4g (walked from its neighbour's,
+ * assuming the error falls as gv grows). */
 static void vs_uniform(const shape *sh, double tol)
 {
     geom_surface_tess_options o;
@@ -316,10 +316,12 @@ static void vs_uniform(const shape *sh, double tol)
     int bu = 0, bv = 0;
     double be = 0.0, tu = 0.0;
     int gv = g;
-    for (int gu = g; gu >= (g + 1) / 2; --gu) { /* down: gv grows */
+    for (int gu = g; gu >= (g + 1) / 2; --gu) { /* down: gv grows (up to 4g) */
         size_t c;
-        while ((c = uni_run(sh, gu, gv, &e)) != SIZE_MAX && !(e <= tol))
+        while ((c = uni_run(sh, gu, gv, &e)) != SIZE_MAX && !(e <= tol) && gv < 4 * g)
             ++gv;
+        if (!(e <= tol))
+            break; /* no gv up to 4g passes: smaller gu will not either */
         while (gv > 1) {
             double e2;
             size_t c2 = uni_run(sh, gu, gv - 1, &e2);
