@@ -21,6 +21,13 @@
  * Output: Markdown tables. Usage: bench_tessellate [DATA_DIR] (default: the
  * environment's GEOM_TEST_DATA, else GEOM_BENCH_DATA as compiled in, else
  * ./data).
+ *
+ * bench_tessellate DATA_DIR --uniform [NTOL]: instead, adaptive against the
+ * best uniform grid per span (issue 14): for the sphere, torus and teapot,
+ * at tolerances 1e-2, 1e-3, 1e-4
+ * (the first NTOL of them), the adaptive triangles and error against the
+ * uniform gu x gv grid with the fewest triangles that meets the tolerance
+ * (searched: see vs_uniform), their ratio and each one's time.
  */
 #define _POSIX_C_SOURCE 199309L
 
@@ -33,6 +40,7 @@
 #include <time.h>
 
 #include "geom/surface.h"
+#include "tess_shapes.h"
 #include "validate/geom_validate_sisl.h"
 
 #ifndef GEOM_BENCH_DATA
@@ -248,17 +256,112 @@ static void throughput(const char *name, const geom_nurbs_surface *s, size_t n)
     gv_sisl_surface_destroy(ss);
 }
 
+/* ---------------------------------------------- adaptive against uniform */
+
+static size_t uni_run(const shape *sh, int gu, int gv, double *err)
+{
+    geom_surface_tess_options o;
+    memset(&o, 0, sizeof o);
+    o.mode = GEOM_SURFACE_TESS_UNIFORM;
+    o.grid_u = gu;
+    o.grid_v = gv;
+    geom_error_report rep;
+    geom_surface_tess_stats st;
+    geom_mesh *m = geom_mesh_create(NULL);
+    if (geom_surface_tessellate(sh->s, sh->n, &o, m, &rep, &st, NULL) != GEOM_OK) {
+        geom_mesh_destroy(m);
+        *err = INFINITY;
+        return SIZE_MAX;
+    }
+    geom_mesh_destroy(m);
+    *err = rep.max_error;
+    return st.triangles;
+}
+
+/* The uniform gu x gv grid per span with the fewest triangles whose error
+ * meets tol: the smallest passing square g x g, then for every gu in
+ * [g/2, 2g] the smallest passing gv up to 4g (walked from its neighbour's,
+ * assuming the error falls as gv grows). */
+static void vs_uniform(const shape *sh, double tol)
+{
+    geom_surface_tess_options o;
+    memset(&o, 0, sizeof o);
+    o.tolerance = tol;
+    geom_error_report rep;
+    geom_surface_tess_stats st;
+    geom_mesh *m = geom_mesh_create(NULL);
+    double t0 = now_s();
+    if (geom_surface_tessellate(sh->s, sh->n, &o, m, &rep, &st, NULL) != GEOM_OK) {
+        printf("| %s | %g | failed | | | | |\n", sh->name, tol);
+        geom_mesh_destroy(m);
+        return;
+    }
+    double ta = now_s() - t0;
+    geom_mesh_destroy(m);
+    double e;
+    int g = 1;
+    while (uni_run(sh, g, g, &e) != SIZE_MAX && !(e <= tol))
+        g *= 2;
+    int lo = g / 2, hi = g; /* lo fails (or is 0), hi passes */
+    while (hi - lo > 1) {
+        int mid = lo + (hi - lo) / 2;
+        uni_run(sh, mid, mid, &e);
+        if (e <= tol)
+            hi = mid;
+        else
+            lo = mid;
+    }
+    g = hi;
+    size_t best = SIZE_MAX;
+    int bu = 0, bv = 0;
+    double be = 0.0, tu = 0.0;
+    int gv = g;
+    for (int gu = g; gu >= (g + 1) / 2; --gu) { /* down: gv grows (up to 4g) */
+        size_t c;
+        while ((c = uni_run(sh, gu, gv, &e)) != SIZE_MAX && !(e <= tol) && gv < 4 * g)
+            ++gv;
+        if (!(e <= tol))
+            break; /* no gv up to 4g passes: smaller gu will not either */
+        while (gv > 1) {
+            double e2;
+            size_t c2 = uni_run(sh, gu, gv - 1, &e2);
+            if (!(e2 <= tol))
+                break;
+            --gv, c = c2, e = e2;
+        }
+        if (c < best)
+            best = c, bu = gu, bv = gv, be = e;
+    }
+    gv = g;
+    for (int gu = g + 1; gu <= 2 * g; ++gu) { /* up: gv falls */
+        double e2;
+        size_t c = uni_run(sh, gu, gv, &e);
+        while (gv > 1) {
+            size_t c2 = uni_run(sh, gu, gv - 1, &e2);
+            if (!(e2 <= tol))
+                break;
+            --gv, c = c2, e = e2;
+        }
+        if (e <= tol && c < best)
+            best = c, bu = gu, bv = gv, be = e;
+    }
+    t0 = now_s();
+    uni_run(sh, bu, bv, &e);
+    tu = now_s() - t0;
+    printf("| %s | %g | %zu (%.4g) | %d x %d: %zu (%.4g) | %.3f | %.3f | %.3f |\n", sh->name, tol,
+           st.triangles, rep.max_error, bu, bv, best, be, (double)st.triangles / (double)best, ta,
+           tu);
+}
+
 int main(int argc, char **argv)
 {
     const char *dir = argc > 1 ? argv[1] : getenv("GEOM_TEST_DATA");
     if (!dir)
         dir = GEOM_BENCH_DATA;
-    char path[1024];
-    snprintf(path, sizeof path, "%s/teapot.bpt", dir);
-    geom_surface_set *set = NULL;
     geom_diag d;
-    if (geom_surface_read_bpt(path, NULL, &set, &d) != GEOM_OK) {
-        fprintf(stderr, "bench_tessellate: %s: %s\n", path, d.message);
+    geom_surface_set *set = tess_load_teapot(dir, &d);
+    if (!set) {
+        fprintf(stderr, "bench_tessellate: %s/teapot.bpt: %s\n", dir, d.message);
         return 1;
     }
     double tku[12], tkv[12], TP[243], TW[81], sku[12], skv[8], SP[135], SW[45];
@@ -268,6 +371,20 @@ int main(int argc, char **argv)
     shape shapes[3] = {{"teapot", geom_surface_set_data(set), 32, 0, 0, 0},
                        {"torus", &torus, 1, 2, 2.0, 0.5},
                        {"sphere", &sphere, 1, 1, 1.0, 0}};
+    if (argc > 2 && strcmp(argv[2], "--uniform") == 0) {
+        /* adaptive against the best uniform grid per span (issue 14) */
+        shape more[3] = {shapes[2], shapes[1], shapes[0]};
+        printf("## Adaptive against the best uniform grid per span\n\n| surface | tol | adaptive "
+               "(error) | best uniform meeting tol (error) | ratio | adaptive s | uniform s "
+               "|\n|---|---|---|---|---|---|---|\n");
+        const double ut[3] = {1e-2, 1e-3, 1e-4};
+        int nt = argc > 3 ? atoi(argv[3]) : 3;
+        for (int k = 0; k < 3; ++k)
+            for (int t = 0; t < nt && t < 3; ++t)
+                vs_uniform(&more[k], ut[t]);
+        geom_surface_set_destroy(set);
+        return 0;
+    }
     printf("## Tessellation: achieved chordal error against time\n\n");
     printf("Error: the tessellator's own sampled maximum; exact: the largest distance "
            "from the exact sphere/torus at 10 other points per triangle. Time: best of 3, "

@@ -12,6 +12,7 @@
 
 #include <cmocka.h>
 
+#include "bench/tess_shapes.h"
 #include "geom/surface.h"
 
 #include <float.h>
@@ -24,13 +25,10 @@
 
 static geom_surface_set *load_teapot(void)
 {
-    const char *dir = getenv("GEOM_TEST_DATA");
-    char path[1024];
-    snprintf(path, sizeof path, "%s/teapot.bpt", dir ? dir : "data");
-    geom_surface_set *set = NULL;
     geom_diag d;
-    if (geom_surface_read_bpt(path, NULL, &set, &d) != GEOM_OK)
-        fail_msg("cannot read %s: %s", path, d.message);
+    geom_surface_set *set = tess_load_teapot(getenv("GEOM_TEST_DATA"), &d);
+    if (!set)
+        fail_msg("cannot read the teapot: %s", d.message);
     return set;
 }
 

@@ -504,7 +504,15 @@ typedef struct geom_surface_tess_stats {
  * until all pass; GEOM_ERR_LIMIT if the triangle limit (or 65536 quads
  * along a cell) would be exceeded. If the passes run out first (a
  * tolerance below what the input's rounding allows), the result is
- * returned with the error it achieved in the report.
+ * returned with the error it achieved in the report. When all pass (and
+ * angle_degrees is 0), each cell's grid is replaced by the M x N grid with
+ * the fewest quads whose triangles pass the same check (searched over M
+ * within 4x of the current aspect ratio, the smallest passing N of each
+ * by bisection), and the result is checked again as stitched: a uniform
+ * u x v grid per knot span that meets the tolerance is one such choice
+ * per cell, so it never needs fewer triangles than the adaptive result
+ * (up to the triangles that stitching neighbours of different grids
+ * adds). This search costs about 2-3x the evaluations of the passes.
  *
  * Error check (both modes). Every triangle is compared with the exact
  * surface at its parameter-space position: at each barycentric sample b
