@@ -12,7 +12,10 @@
  *   - soups of slivers (one vertex within 1e-12 relative of an edge) and
  *     needles, with rays aimed at points of their edges and vertices and at
  *     random points near them;
- *   - rays nearly parallel to a triangle's plane (grazing).
+ *   - rays nearly parallel to a triangle's plane (grazing);
+ *   - the wide tree's quantized boxes: axis-parallel rays through every
+ *     vertex of triangles of sizes 1e-4 to 1 (in the planes of the leaf
+ *     boxes: a box rounded inward drops them) and rays aimed at vertices.
  * Zero misses and zero extra hits are required; the test also counts the
  * rays whose answer has a hit within a relative 1e-6 of an edge (where a
  * plain float test without the bound would err) and requires many.
@@ -192,12 +195,70 @@ static void test_slivers(void **state)
     free(rays);
 }
 
+/* The wide tree's quantized boxes (8-bit planes relative to the parent)
+ * must contain every triangle: rays parallel to an axis through each vertex
+ * lie exactly in the planes of the leaf boxes the vertex bounds, so a box
+ * rounded inward anywhere drops them (the tree would then miss hits brute
+ * force finds), and rays from random directions aimed at the vertices.
+ * Triangles of sizes 1e-4 to 1 in a unit box, so that a node's children
+ * differ in size by orders of magnitude (coarse 8-bit steps next to small
+ * boxes), at offsets where the float rounding is coarse too. */
+static void test_quantized_boxes(void **state)
+{
+    const size_t nt = 1500;
+    double *p = malloc(9 * nt * sizeof(double));
+    uint32_t *t = malloc(3 * nt * sizeof(uint32_t));
+    geom_ray *rays = malloc(3 * nt * 8 * sizeof *rays);
+    const double cs[3] = {0, 1000.3, -33333.7};
+    int ci;
+    (void)state;
+    for (ci = 0; ci < 3; ci++) {
+        const double c = cs[ci];
+        geom_ray_scene *s = geom_ray_scene_create(NULL);
+        size_t i, nr = 0;
+        for (i = 0; i < nt; i++) {
+            double sz = pow(10, -4 * urand()), b[3];
+            int k, v;
+            for (k = 0; k < 3; k++) b[k] = c + urand();
+            for (v = 0; v < 3; v++)
+                for (k = 0; k < 3; k++) p[9 * i + 3 * v + k] = b[k] + sz * (urand() - 0.5);
+            t[3 * i] = (uint32_t)(3 * i);
+            t[3 * i + 1] = (uint32_t)(3 * i + 1);
+            t[3 * i + 2] = (uint32_t)(3 * i + 2);
+        }
+        assert_int_equal(geom_ray_scene_add_triangles(s, p, 3 * nt, t, nt, NULL, NULL), GEOM_OK);
+        assert_int_equal(geom_ray_scene_build(s, NULL, NULL, NULL), GEOM_OK);
+        for (i = 0; i < 3 * nt; i++) {
+            const double *v = p + 3 * i;
+            int a;
+            for (a = 0; a < 6; a++) {
+                double o[3] = {v[0], v[1], v[2]}, d[3] = {0, 0, 0};
+                d[a / 2] = a % 2 ? -1 : 1;
+                o[a / 2] -= 3 * d[a / 2];
+                rays[nr++] = mkray(o[0], o[1], o[2], d[0], d[1], d[2]);
+            }
+            for (a = 0; a < 2; a++) {
+                double o[3];
+                int k;
+                for (k = 0; k < 3; k++) o[k] = c + 0.5 + 3 * (urand() - 0.5);
+                rays[nr++] = mk(o, v);
+            }
+        }
+        check(s, p, t, nt, rays, nr);
+        geom_ray_scene_destroy(s);
+    }
+    free(p);
+    free(t);
+    free(rays);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sphere_unit),
         cmocka_unit_test(test_sphere_offsets),
         cmocka_unit_test(test_slivers),
+        cmocka_unit_test(test_quantized_boxes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

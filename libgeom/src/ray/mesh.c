@@ -7,14 +7,22 @@
  * by this module (Wald, Benthin and Boulos, "Getting Rid of Packets", 2008;
  * Dammertz et al., "Shallow Bounding Volume Hierarchies", 2008): the wide
  * node repeatedly opens the child of largest surface area, and holds its
- * eight children's boxes in structure-of-arrays floats rounded outward (each
- * float box contains the exact double box, so the tree stays conservative).
- * The eight slabs are computed in float SSE2, four lanes at a time, with
- * bounds that cover the float arithmetic and the ray's rounding to float
- * (w4f_node), or in double from the floats exactly converted with Ize's
- * bounds (w4d_node: rays or boxes beyond 2^60, targets without SSE2). A node
- * is 256 bytes, four cache lines (W4_W lanes; 8 measured faster than 4 in
- * bench_ray, the tree being about half as deep). When rounding to
+ * eight children's boxes quantized to 8 bits per plane relative to the
+ * node's own box (Ylitie, Karras and Laine 2017), each plane rounded outward
+ * from a float box itself rounded outward from the exact double box, and
+ * checked at build in the traversal's own float arithmetic: every decoded
+ * box contains the exact one, so the tree stays conservative
+ * (test_ray_mesh_prefilter: test_quantized_boxes fails otherwise). The eight
+ * slabs are computed in float SSE2 from the decoded planes, four lanes at a
+ * time, with bounds that cover the float arithmetic and the ray's rounding
+ * to float (w4f_node), or in double from the decoded floats exactly
+ * converted with Ize's bounds (w4d_node: rays or boxes beyond 2^60, targets
+ * without SSE2). A node is 128 bytes, two cache lines: the boxes in the
+ * first, the children in the second (W4_W lanes; 8 measured faster than 4
+ * in bench_ray, the tree being about half as deep; the quantized node of
+ * half the bytes of the float one it replaced). A box beyond the float
+ * range (a vertex beyond about 3.4e38) cannot be quantized: the binary tree
+ * is then traversed. When rounding to
  * float would grow the boxes' total surface by more than 5 % (a mesh far
  * from the origin for its size) the wide tree is not built and the binary
  * double-precision tree is traversed. A ray tests the eight boxes of a node
@@ -51,11 +59,32 @@
 /* Lanes per node (a multiple of 4: the SSE2 test takes four at a time). */
 #define W4_W 8
 
+/* The boxes are quantized (Ylitie, Karras and Laine, "Efficient Incoherent
+ * Ray Traversal on GPUs Through Compressed Wide BVHs", HPG 2017): on axis k
+ * lane j spans [px[k] + qlo[k][j] 2^ex[k], px[k] + qhi[k][j] 2^ex[k]], each
+ * bound decoded in float exactly as the traversal does it (w4_dec: the
+ * product is exact, 8 bits times a power of two not below 2^-100, so one
+ * rounding, fused or not). The builder rounds each bound outward and checks
+ * the decoded float against the float box (itself rounded outward from the
+ * exact double box), stepping the 8-bit code outward until it contains it:
+ * the decoded box always contains the exact one (test_ray_mesh_quant). The
+ * first cache line holds the boxes, the second the children: 128 bytes. */
 typedef struct geom__rnode4 {
-    float lo[3][W4_W], hi[3][W4_W];
+    float px[3];
+    int8_t ex[3];
+    uint8_t pad;
+    uint8_t qlo[3][W4_W], qhi[3][W4_W];
     uint32_t child[W4_W];
     uint32_t count[W4_W];
 } geom__rnode4;
+
+/* w4f_node decodes two halves of four lanes. */
+typedef char w4_width_is_8[W4_W == 8 ? 1 : -1];
+
+/* A node's boxes in float while it is built (rounded outward). */
+typedef struct w4fbox {
+    float lo[3][W4_W], hi[3][W4_W];
+} w4fbox;
 
 /* A leaf's triangles in float for the conservative pre-test (pk_filter):
  * v[vertex][axis][lane], each coordinate rounded to nearest; lanes past the
@@ -85,7 +114,10 @@ struct geom__rbvh4 {
 
 /* The float slab test (w4_sse) runs for a ray when the boxes, the origin and
  * the reciprocal direction are all within +-2^60 (zero direction components
- * excepted): no product or difference can then overflow a float. */
+ * excepted): no product or difference can then overflow a float (a decoded
+ * quantized plane lies at most a few 8-bit steps, each below 2^60 / 32,
+ * outside its float box: within 2^61, differences within 2^62, products
+ * within 2^122). */
 #define W4_FMAX 1152921504606846976.0 /* 2^60 */
 
 /* Start loading a node or a leaf's triangles before they are needed: the
@@ -157,26 +189,90 @@ static inline float f_down_fast(double x)
     return x == 0 ? 0.0f : f_down(x);
 }
 
-static void lane_set(struct geom__rbvh4 *w, geom__rnode4 *q, int j, const geom_aabb *b, uint32_t child,
-                     uint32_t count)
+static void lane_set(struct geom__rbvh4 *w, geom__rnode4 *q, w4fbox *fq, int j, const geom_aabb *b,
+                     uint32_t child, uint32_t count)
 {
     const double *lo = &b->min.x, *hi = &b->max.x;
     int k;
     for (k = 0; k < 3; k++) {
-        q->lo[k][j] = f_down(lo[k]);
-        q->hi[k][j] = f_up(hi[k]);
+        fq->lo[k][j] = f_down(lo[k]);
+        fq->hi[k][j] = f_up(hi[k]);
     }
     q->child[j] = child;
     q->count[j] = count;
     if (child != GEOM_INVALID_INDEX) {
         for (k = 0; k < 3; k++)
-            if (!(q->lo[k][j] >= -W4_FMAX && q->hi[k][j] <= W4_FMAX)) w->fbox = 0;
+            if (!(fq->lo[k][j] >= -W4_FMAX && fq->hi[k][j] <= W4_FMAX)) w->fbox = 0;
         geom_aabb fb;
-        fb.min.x = q->lo[0][j]; fb.min.y = q->lo[1][j]; fb.min.z = q->lo[2][j];
-        fb.max.x = q->hi[0][j]; fb.max.y = q->hi[1][j]; fb.max.z = q->hi[2][j];
+        fb.min.x = fq->lo[0][j]; fb.min.y = fq->lo[1][j]; fb.min.z = fq->lo[2][j];
+        fb.max.x = fq->hi[0][j]; fb.max.y = fq->hi[1][j]; fb.max.z = fq->hi[2][j];
         w->area_d += half_area(b);
         w->area_f += half_area(&fb);
     }
+}
+
+/* 2^e as a float, e in [-100, 119]. */
+static inline float w4_pow2(int e)
+{
+    union { uint32_t u; float f; } c;
+    c.u = (uint32_t)(e + 127) << 23;
+    return c.f;
+}
+
+/* The decoded bound px + q 2^e, as the traversal computes it. */
+static inline float w4_dec(float px, float s, unsigned q)
+{
+#if W4_SSE
+    return _mm_cvtss_f32(_mm_add_ss(_mm_set_ss(px), _mm_mul_ss(_mm_set_ss((float)q), _mm_set_ss(s))));
+#else
+    volatile float r = px + (float)q * s; /* stored: no excess precision */
+    return r;
+#endif
+}
+
+/* Quantize node q's float boxes fq (lanes with a child); 0 when a bound is
+ * not finite or needs a scale beyond 2^119 (the wide tree is then not
+ * built). */
+static int quantize(geom__rnode4 *q, const w4fbox *fq)
+{
+    int k, j;
+    for (k = 0; k < 3; k++) {
+        float plo = INFINITY, phi = -INFINITY, s;
+        int e;
+        for (j = 0; j < W4_W; j++) {
+            q->qlo[k][j] = 0;
+            q->qhi[k][j] = 0;
+            if (q->child[j] == GEOM_INVALID_INDEX) continue;
+            if (fq->lo[k][j] < plo) plo = fq->lo[k][j];
+            if (fq->hi[k][j] > phi) phi = fq->hi[k][j];
+        }
+        if (plo > phi) { plo = phi = 0; } /* no child (cannot happen) */
+        if (!(fabsf(plo) <= FLT_MAX && fabsf(phi) <= FLT_MAX)) return 0;
+        frexp(((double)phi - (double)plo) / 255, &e);
+        if (e < -100) e = -100;
+        for (;; e++) {
+            if (e > 119) return 0;
+            if (w4_dec(plo, w4_pow2(e), 255) >= phi) break;
+        }
+        s = w4_pow2(e);
+        q->px[k] = plo;
+        q->ex[k] = (int8_t)e;
+        for (j = 0; j < W4_W; j++) {
+            double a, b;
+            unsigned ql, qh;
+            if (q->child[j] == GEOM_INVALID_INDEX) continue;
+            a = floor(((double)fq->lo[k][j] - plo) / s);
+            b = ceil(((double)fq->hi[k][j] - plo) / s);
+            ql = a < 0 ? 0u : a > 255 ? 255u : (unsigned)a;
+            qh = b < 0 ? 0u : b > 255 ? 255u : (unsigned)b;
+            while (ql > 0 && w4_dec(plo, s, ql) > fq->lo[k][j]) ql--;
+            while (qh < 255 && w4_dec(plo, s, qh) < fq->hi[k][j]) qh++;
+            if (!(w4_dec(plo, s, ql) <= fq->lo[k][j] && w4_dec(plo, s, qh) >= fq->hi[k][j])) return 0;
+            q->qlo[k][j] = (uint8_t)ql;
+            q->qhi[k][j] = (uint8_t)qh;
+        }
+    }
+    return 1;
 }
 
 /* The packet of the leaf holding slots first .. first + count - 1 of m->tv
@@ -213,6 +309,7 @@ static geom_status wide_build(const geom_bvh *b, const double *tv, const geom_al
     uint32_t *qb, *qw, *qd;
     geom_aabb empty;
     geom_status st = GEOM_OK;
+    int qfail = 0; /* a node's boxes cannot be quantized: the binary tree is traversed */
     *out = NULL;
     if (nn == 0) return GEOM_OK;
     for (i = 0; i < nn; i++) {
@@ -247,8 +344,10 @@ static geom_status wide_build(const geom_bvh *b, const double *tv, const geom_al
         int j;
         pk = pack_leaf(w, tv, bn[0].index, bn[0].count);
         if (pk < 0) { st = GEOM_ERR_LIMIT; goto done; } /* cannot happen */
-        lane_set(w, &w->node[0], 0, &bn[0].box, bn[0].index, W4_LEAF(bn[0].count, pk));
-        for (j = 1; j < W4_W; j++) lane_set(w, &w->node[0], j, &empty, GEOM_INVALID_INDEX, 0);
+        w4fbox fq;
+        lane_set(w, &w->node[0], &fq, 0, &bn[0].box, bn[0].index, W4_LEAF(bn[0].count, pk));
+        for (j = 1; j < W4_W; j++) lane_set(w, &w->node[0], &fq, j, &empty, GEOM_INVALID_INDEX, 0);
+        if (!quantize(&w->node[0], &fq)) { qfail = 1; goto done; }
         maxd = 1;
     } else {
         qb[tail] = 0; qw[tail] = 0; qd[tail] = 1; tail++;
@@ -256,6 +355,7 @@ static geom_status wide_build(const geom_bvh *b, const double *tv, const geom_al
     while (head < tail) {
         uint32_t bi = qb[head], wi = qw[head], d = qd[head];
         uint32_t list[W4_W];
+        w4fbox fq;
         int nl = 2, j;
         head++;
         if (d > maxd) maxd = d;
@@ -279,22 +379,23 @@ static geom_status wide_build(const geom_bvh *b, const double *tv, const geom_al
         }
         for (j = 0; j < W4_W; j++) {
             geom__rnode4 *q = &w->node[wi];
-            if (j >= nl) { lane_set(w, q, j, &empty, GEOM_INVALID_INDEX, 0); continue; }
+            if (j >= nl) { lane_set(w, q, &fq, j, &empty, GEOM_INVALID_INDEX, 0); continue; }
             if (bn[list[j]].count > 0) {
                 pk = pack_leaf(w, tv, bn[list[j]].index, bn[list[j]].count);
                 if (pk < 0 || (size_t)pk >= ((size_t)1 << 29)) { st = GEOM_ERR_LIMIT; goto done; } /* cannot happen */
-                lane_set(w, q, j, &bn[list[j]].box, bn[list[j]].index, W4_LEAF(bn[list[j]].count, pk));
+                lane_set(w, q, &fq, j, &bn[list[j]].box, bn[list[j]].index, W4_LEAF(bn[list[j]].count, pk));
             } else {
                 if (w->n >= w->cap || tail >= nn) { st = GEOM_ERR_LIMIT; goto done; } /* cannot happen */
-                lane_set(w, q, j, &bn[list[j]].box, (uint32_t)w->n, 0);
+                lane_set(w, q, &fq, j, &bn[list[j]].box, (uint32_t)w->n, 0);
                 qb[tail] = list[j]; qw[tail] = (uint32_t)w->n; qd[tail] = d + 1; tail++;
                 w->n++;
             }
         }
+        if (!quantize(&w->node[wi], &fq)) { qfail = 1; goto done; }
     }
 done:
     geom__free(alloc, qb, 3 * nn * sizeof(uint32_t));
-    if (st != GEOM_OK || (W4_W - 1) * maxd + W4_W > W4_STACK || !(w->area_f <= 1.05 * w->area_d)) {
+    if (st != GEOM_OK || qfail || (W4_W - 1) * maxd + W4_W > W4_STACK || !(w->area_f <= 1.05 * w->area_d)) {
         wide_free(w, alloc);
         return st;
     }
@@ -522,7 +623,7 @@ typedef struct w4f {
     float of[3], inv[3];
     float e;
     int nhi[3];          /* 1: the near plane of axis k is the box's hi (direction < 0) */
-    size_t noff[3], foff[3]; /* byte offsets in a node of axis k's near and far planes */
+    size_t noff[3], foff[3]; /* byte offsets in a node of axis k's near and far plane codes */
 } w4f;
 
 /* Fill f for the ray (o, d); 0 when the float test cannot be used for it
@@ -539,8 +640,8 @@ static int w4f_setup(const struct geom__rbvh4 *W, const double o[3], const doubl
         if (!(fabs(o[k]) <= W4_FMAX)) return 0;
         f->of[k] = (float)o[k];
         f->nhi[k] = signbit(d[k]) != 0;
-        f->noff[k] = (f->nhi[k] ? offsetof(geom__rnode4, hi) : offsetof(geom__rnode4, lo)) + sizeof(float[W4_W]) * (size_t)k;
-        f->foff[k] = (f->nhi[k] ? offsetof(geom__rnode4, lo) : offsetof(geom__rnode4, hi)) + sizeof(float[W4_W]) * (size_t)k;
+        f->noff[k] = (f->nhi[k] ? offsetof(geom__rnode4, qhi) : offsetof(geom__rnode4, qlo)) + W4_W * (size_t)k;
+        f->foff[k] = (f->nhi[k] ? offsetof(geom__rnode4, qlo) : offsetof(geom__rnode4, qhi)) + W4_W * (size_t)k;
         if (d[k] == 0) {
             f->inv[k] = f->nhi[k] ? -INFINITY : INFINITY;
             continue;
@@ -556,34 +657,50 @@ static int w4f_setup(const struct geom__rbvh4 *W, const double o[3], const doubl
 }
 
 #if W4_SSE
+/* Eight 8-bit plane codes decoded (w4_dec) into lanes 0-3 and 4-7. */
+static inline void w4_dec8(const uint8_t *qb, __m128 px, __m128 s, __m128 *a, __m128 *b)
+{
+    const __m128i z = _mm_setzero_si128();
+    __m128i v = _mm_unpacklo_epi8(_mm_loadl_epi64((const __m128i *)qb), z);
+    *a = _mm_add_ps(px, _mm_mul_ps(_mm_cvtepi32_ps(_mm_unpacklo_epi16(v, z)), s));
+    *b = _mm_add_ps(px, _mm_mul_ps(_mm_cvtepi32_ps(_mm_unpackhi_epi16(v, z)), s));
+}
+
 /* The W4_W children of q against the ray: a bit mask of the lanes hit and
- * their (conservative, never later than exact) entry distances. */
+ * their (conservative, never later than exact) entry distances. The planes
+ * are the decoded floats (each containing the exact box), so the bounds
+ * above hold unchanged. */
 static inline int w4f_node(const geom__rnode4 *q, const w4f *f, const __m128 vo[3], const __m128 vi[3],
                            __m128 vtmin, __m128 vtmax, float tn_out[W4_W])
 {
     const __m128 absmask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
     const __m128 vc = _mm_set1_ps(0x1p-20f), ve = _mm_set1_ps(f->e);
-    int h, mask = 0;
-    for (h = 0; h < W4_W; h += 4) {
-        __m128 tn = vtmin, tf = vtmax;
-        int k;
-        for (k = 0; k < 3; k++) {
-            const float *np = (const float *)((const char *)q + f->noff[k]) + h;
-            const float *fp = (const float *)((const char *)q + f->foff[k]) + h;
-            __m128 a = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(np), vo[k]), vi[k]);
-            __m128 c = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(fp), vo[k]), vi[k]);
-            /* maxps/minps return the second operand when either is NaN */
-            tn = _mm_max_ps(a, tn);
-            tf = _mm_min_ps(c, tf);
-        }
-        tn = _mm_sub_ps(_mm_sub_ps(tn, _mm_mul_ps(_mm_and_ps(tn, absmask), vc)), ve);
-        tf = _mm_add_ps(_mm_add_ps(tf, _mm_mul_ps(_mm_and_ps(tf, absmask), vc)), ve);
-        _mm_storeu_ps(tn_out + h, tn);
-        mask |= (_mm_movemask_ps(_mm_cmple_ps(tn, tf)) &
-                 ~_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(_mm_load_si128((const __m128i *)(q->child + h)),
-                                                                   _mm_set1_epi32(-1)))))
-                << h;
+    const __m128i none = _mm_set1_epi32(-1);
+    __m128 tn0 = vtmin, tf0 = vtmax, tn1 = vtmin, tf1 = vtmax;
+    int k, mask;
+    for (k = 0; k < 3; k++) {
+        const __m128 px = _mm_set1_ps(q->px[k]);
+        const __m128 sc = _mm_castsi128_ps(_mm_set1_epi32(((int)q->ex[k] + 127) << 23));
+        __m128 n0, n1, f0, f1;
+        w4_dec8((const uint8_t *)q + f->noff[k], px, sc, &n0, &n1);
+        w4_dec8((const uint8_t *)q + f->foff[k], px, sc, &f0, &f1);
+        /* maxps/minps return the second operand when either is NaN */
+        tn0 = _mm_max_ps(_mm_mul_ps(_mm_sub_ps(n0, vo[k]), vi[k]), tn0);
+        tn1 = _mm_max_ps(_mm_mul_ps(_mm_sub_ps(n1, vo[k]), vi[k]), tn1);
+        tf0 = _mm_min_ps(_mm_mul_ps(_mm_sub_ps(f0, vo[k]), vi[k]), tf0);
+        tf1 = _mm_min_ps(_mm_mul_ps(_mm_sub_ps(f1, vo[k]), vi[k]), tf1);
     }
+    tn0 = _mm_sub_ps(_mm_sub_ps(tn0, _mm_mul_ps(_mm_and_ps(tn0, absmask), vc)), ve);
+    tn1 = _mm_sub_ps(_mm_sub_ps(tn1, _mm_mul_ps(_mm_and_ps(tn1, absmask), vc)), ve);
+    tf0 = _mm_add_ps(_mm_add_ps(tf0, _mm_mul_ps(_mm_and_ps(tf0, absmask), vc)), ve);
+    tf1 = _mm_add_ps(_mm_add_ps(tf1, _mm_mul_ps(_mm_and_ps(tf1, absmask), vc)), ve);
+    _mm_storeu_ps(tn_out, tn0);
+    _mm_storeu_ps(tn_out + 4, tn1);
+    mask = (_mm_movemask_ps(_mm_cmple_ps(tn0, tf0)) &
+            ~_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(_mm_load_si128((const __m128i *)q->child), none)))) |
+           ((_mm_movemask_ps(_mm_cmple_ps(tn1, tf1)) &
+             ~_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(_mm_load_si128((const __m128i *)(q->child + 4)), none))))
+            << 4);
     return mask;
 }
 #endif
@@ -693,11 +810,12 @@ static inline int w4d_node(const geom__rnode4 *q, const double o[3], const doubl
     int j, k, mask = 0;
     for (j = 0; j < W4_W; j++) { tn[j] = -INFINITY; tf[j] = INFINITY; }
     for (k = 0; k < 3; k++) {
-        const float *np = neg[k] ? q->hi[k] : q->lo[k];
-        const float *fp = neg[k] ? q->lo[k] : q->hi[k];
+        const uint8_t *np = neg[k] ? q->qhi[k] : q->qlo[k];
+        const uint8_t *fp = neg[k] ? q->qlo[k] : q->qhi[k];
         const double ok = o[k], iv = inv[k];
+        const float px = q->px[k], sc = w4_pow2(q->ex[k]);
         for (j = 0; j < W4_W; j++) {
-            double a = ((double)np[j] - ok) * iv, c = ((double)fp[j] - ok) * iv;
+            double a = ((double)w4_dec(px, sc, np[j]) - ok) * iv, c = ((double)w4_dec(px, sc, fp[j]) - ok) * iv;
             tn[j] = a > tn[j] ? a : tn[j];
             tf[j] = c < tf[j] ? c : tf[j];
         }
