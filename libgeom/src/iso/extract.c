@@ -235,23 +235,21 @@ static uint32_t add_vertex(slab *s, const ctx *c, const double p[3], int axis, d
 
 static void add_key(slab *s, const ctx *c, size_t layer_k, uint64_t key, uint32_t id)
 {
-    if (layer_k == s->k0 && s->k0 > 0) {
-        if (!grow(c->alloc, (void **)&s->bot, &s->capbot, s->nbot + 1, sizeof(iso_key))) {
-            s->status = GEOM_ERR_NOMEM;
-            return;
-        }
-        s->bot[s->nbot].key = key;
-        s->bot[s->nbot].id = id;
-        s->nbot++;
-    } else if (layer_k == s->k1 && s->k1 < c->n[2]) {
-        if (!grow(c->alloc, (void **)&s->top, &s->captop, s->ntop + 1, sizeof(iso_key))) {
-            s->status = GEOM_ERR_NOMEM;
-            return;
-        }
-        s->top[s->ntop].key = key;
-        s->top[s->ntop].id = id;
-        s->ntop++;
+    iso_key **keys;
+    size_t *n, *cap;
+    if (layer_k == s->k0 && s->k0 > 0)
+        keys = &s->bot, n = &s->nbot, cap = &s->capbot;
+    else if (layer_k == s->k1 && s->k1 < c->n[2])
+        keys = &s->top, n = &s->ntop, cap = &s->captop;
+    else
+        return;
+    if (!grow(c->alloc, (void **)keys, cap, *n + 1, sizeof(iso_key))) {
+        s->status = GEOM_ERR_NOMEM;
+        return;
     }
+    (*keys)[*n].key = key;
+    (*keys)[*n].id = id;
+    (*n)++;
 }
 
 /* The field minus iso along an edge: p with p[axis] = x. */
