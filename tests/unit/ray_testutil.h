@@ -1,6 +1,6 @@
 /* Test helpers for the ray tests: an outward icosphere, a uniform random
  * number in [0, 1) from a xorshift64 state, and a ray from origin and
- * direction over [0, inf]. */
+ * direction over [0, inf] (mkray) or [0, tmax] (mkray_to). */
 #ifndef GEOM_TESTS_RAY_TESTUTIL_H
 #define GEOM_TESTS_RAY_TESTUTIL_H
 
@@ -19,14 +19,21 @@ static inline double ray_urand(uint64_t *rng)
     return (double)(*rng >> 11) * 0x1p-53;
 }
 
-static inline geom_ray mkray(double ox, double oy, double oz, double dx, double dy, double dz)
+/* A ray from origin o and direction d over [0, tmax]. */
+static inline geom_ray mkray_to(double ox, double oy, double oz, double dx, double dy, double dz,
+                                double tmax)
 {
     geom_ray r;
     r.origin = geom_vec3_make(ox, oy, oz);
     r.dir = geom_vec3_make(dx, dy, dz);
     r.tmin = 0;
-    r.tmax = INFINITY;
+    r.tmax = tmax;
     return r;
+}
+
+static inline geom_ray mkray(double ox, double oy, double oz, double dx, double dy, double dz)
+{
+    return mkray_to(ox, oy, oz, dx, dy, dz, INFINITY);
 }
 
 typedef struct tmesh {

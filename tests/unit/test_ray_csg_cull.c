@@ -16,16 +16,7 @@
 #include <string.h>
 
 #include "geom/ray.h"
-
-static geom_ray mkray(double ox, double oy, double oz, double dx, double dy, double dz, double tmax)
-{
-    geom_ray r;
-    r.origin = geom_vec3_make(ox, oy, oz);
-    r.dir = geom_vec3_make(dx, dy, dz);
-    r.tmin = 0;
-    r.tmax = tmax;
-    return r;
-}
+#include "unit/ray_testutil.h"
 
 /* big sphere r=1 at the origin op small sphere r=0.25 at (0, 0, 2) (b) */
 static geom_ray_scene *two_spheres(geom_ray_csg_op op)
@@ -57,7 +48,7 @@ static void test_missed_child(void **state)
     (void)state;
     /* a ray along x at height 0.6 misses the small sphere's box (z in [1.75, 2.25]) */
     double x = sqrt(1 - 0.36);
-    geom_ray r = mkray(-5, 0, 0.6, 1, 0, 0, INFINITY);
+    geom_ray r = mkray(-5, 0, 0.6, 1, 0, 0);
     geom_ray_scene *s = two_spheres(GEOM_RAY_CSG_UNION);
     closest(s, r, 1, 5 - x, 0.6);
     geom_ray_scene_destroy(s);
@@ -75,15 +66,15 @@ static void test_missed_child(void **state)
     /* down the z axis both children are met (disjoint): the difference
      * starts at the big sphere's top, the union at the small one's */
     s = two_spheres(GEOM_RAY_CSG_DIFFERENCE);
-    closest(s, mkray(0, 0, 5, 0, 0, -1, INFINITY), 1, 4, 1);
+    closest(s, mkray(0, 0, 5, 0, 0, -1), 1, 4, 1);
     geom_ray_scene_destroy(s);
     s = two_spheres(GEOM_RAY_CSG_UNION);
-    closest(s, mkray(0, 0, 5, 0, 0, -1, INFINITY), 1, 2.75, 1);
+    closest(s, mkray(0, 0, 5, 0, 0, -1), 1, 2.75, 1);
     /* the same with tmax before the big sphere: the small one only */
-    closest(s, mkray(0, 0, 5, 0, 0, -1, 3.5), 1, 2.75, 1);
+    closest(s, mkray_to(0, 0, 5, 0, 0, -1, 3.5), 1, 2.75, 1);
     /* tmax between the small sphere's two hits, from inside it */
-    closest(s, mkray(0, 0, 2, 0, 0, -1, 0.2), 0, 0, 0);
-    closest(s, mkray(0, 0, 2, 0, 0, -1, 0.3), 1, 0.25, -1);
+    closest(s, mkray_to(0, 0, 2, 0, 0, -1, 0.2), 0, 0, 0);
+    closest(s, mkray_to(0, 0, 2, 0, 0, -1, 0.3), 1, 0.25, -1);
     geom_ray_scene_destroy(s);
 }
 
@@ -101,17 +92,17 @@ static void test_halfspace_after_tmax(void **state)
     assert_int_equal(geom_ray_scene_add_plane(s, p, nrm, &b), GEOM_OK);
     assert_int_equal(geom_ray_scene_add_csg(s, GEOM_RAY_CSG_DIFFERENCE, a, b, &id), GEOM_OK);
     assert_int_equal(geom_ray_scene_build(s, NULL, NULL, NULL), GEOM_OK);
-    closest(s, mkray(0.2, 0.3, -5, 0, 0, 1, INFINITY), 1, 5, -1);
+    closest(s, mkray(0.2, 0.3, -5, 0, 0, 1), 1, 5, -1);
     /* tmax before the plane (z = -0.5): the box's bottom face at z = -1 is
      * inside the half-space, so nothing is hit although the plane's own
      * crossing lies beyond tmax */
-    closest(s, mkray(0.2, 0.3, -5, 0, 0, 1, 4.5), 0, 0, 0);
+    closest(s, mkray_to(0.2, 0.3, -5, 0, 0, 1, 4.5), 0, 0, 0);
     int found = -1;
-    geom_ray r = mkray(0.2, 0.3, -5, 0, 0, 1, 4.5);
+    geom_ray r = mkray_to(0.2, 0.3, -5, 0, 0, 1, 4.5);
     assert_int_equal(geom_ray_scene_any(s, &r, &found), GEOM_OK);
     assert_int_equal(found, 0);
     /* from above: the top face */
-    closest(s, mkray(0.2, 0.3, 5, 0, 0, -1, INFINITY), 1, 4, 1);
+    closest(s, mkray(0.2, 0.3, 5, 0, 0, -1), 1, 4, 1);
     geom_ray_scene_destroy(s);
 }
 

@@ -33,15 +33,6 @@ typedef struct shape {
     size_t n;
 } shape;
 
-static geom_surface_set *load_teapot(void)
-{
-    geom_diag d;
-    geom_surface_set *set = tess_load_teapot(getenv("GEOM_TEST_DATA"), &d);
-    if (!set)
-        fail_msg("cannot read the teapot: %s", d.message);
-    return set;
-}
-
 /* One run: triangles, reported error and (if asked) boundary edges. */
 static size_t run(const shape *sh, const geom_surface_tess_options *o, double *err,
                   size_t *open_edges)
@@ -201,7 +192,7 @@ static void test_torus(void **state)
 static void test_teapot(void **state)
 {
     (void)state;
-    geom_surface_set *set = load_teapot();
+    geom_surface_set *set = tess_test_teapot();
     shape sh = {"teapot", geom_surface_set_data(set), geom_surface_set_count(set)};
     for (int t = 0; t < 2; ++t) /* 1e-3: the box takes minutes */
         check_shape(&sh, tols[t]);

@@ -23,15 +23,6 @@
 
 #define PI 3.14159265358979323846
 
-static geom_surface_set *load_teapot(void)
-{
-    geom_diag d;
-    geom_surface_set *set = tess_load_teapot(getenv("GEOM_TEST_DATA"), &d);
-    if (!set)
-        fail_msg("cannot read the teapot: %s", d.message);
-    return set;
-}
-
 static geom_mesh_topology topo(const geom_mesh *m)
 {
     geom_mesh_topology t;
@@ -57,7 +48,7 @@ static geom_mesh *tess(const geom_nurbs_surface *s, size_t n, const geom_surface
 static void test_teapot(void **state)
 {
     (void)state;
-    geom_surface_set *set = load_teapot();
+    geom_surface_set *set = tess_test_teapot();
     assert_int_equal((int)geom_surface_set_count(set), 32);
     const geom_nurbs_surface *S = geom_surface_set_data(set);
     geom_surface_tess_options o;
@@ -121,7 +112,7 @@ static void test_teapot(void **state)
 static void test_teapot_uniform_counts(void **state)
 {
     (void)state;
-    geom_surface_set *set = load_teapot();
+    geom_surface_set *set = tess_test_teapot();
     geom_surface_tess_options o;
     memset(&o, 0, sizeof o);
     o.mode = GEOM_SURFACE_TESS_UNIFORM;

@@ -112,34 +112,21 @@ static int may_cross(blkctx *k, const size_t b0[2], const size_t b1[2])
     return !(out[0] - k->iso > 0.0 || out[1] - k->iso < 0.0);
 }
 
-/* Quadtree over the blocks: a box proven on one side is left unset, others
- * are halved along each side longer than one block down to single blocks. */
-static void classify(blkctx *k, const size_t b0[2], const size_t b1[2])
+/* Quadtree over the blocks (geom__block_split): a box proven on one side
+ * is left unset, others are halved along each side longer than one block
+ * down to single blocks, which are set. */
+static int classify(void *user, const size_t *b0, const size_t *b1, int single)
 {
+    blkctx *k = user;
     if (!may_cross(k, b0, b1))
-        return;
-    if (b1[0] - b0[0] == 1 && b1[1] - b0[1] == 1) {
+        return 0;
+    if (single) {
         k->bits[b0[1] * k->wpr + b0[0] / 64] |= (uint64_t)1 << (b0[0] % 64);
         size_t w = (b0[0] + 1) * k->B < k->nx ? k->B : k->nx - b0[0] * k->B;
         size_t h = (b0[1] + 1) * k->B < k->ny ? k->B : k->ny - b0[1] * k->B;
         k->cells += (double)w * (double)h;
-        return;
     }
-    size_t mid[2];
-    for (int a = 0; a < 2; a++)
-        mid[a] = b1[a] - b0[a] > 1 ? b0[a] + (b1[a] - b0[a]) / 2 : b1[a];
-    for (int q = 0; q < 4; q++) {
-        size_t c0[2], c1[2];
-        int empty = 0;
-        for (int a = 0; a < 2; a++) {
-            int up = (q >> a) & 1;
-            c0[a] = up ? mid[a] : b0[a];
-            c1[a] = up ? b1[a] : mid[a];
-            empty |= c0[a] >= c1[a];
-        }
-        if (!empty)
-            classify(k, c0, c1);
-    }
+    return 1;
 }
 
 geom_status geom__contour_blocks(const geom_implicit_field *field, const double bounds[4],
@@ -175,7 +162,7 @@ geom_status geom__contour_blocks(const geom_implicit_field *field, const double 
         return GEOM_ERR_NOMEM;
     memset(k.bits, 0, k.wpr * k.nby * sizeof(uint64_t));
     size_t b0[2] = {0, 0}, b1[2] = {k.nbx, k.nby};
-    classify(&k, b0, b1);
+    geom__block_split(2, b0, b1, classify, &k);
     *bits = k.bits;
     *words_per_row = k.wpr;
     *block = k.B;

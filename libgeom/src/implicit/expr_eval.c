@@ -274,6 +274,7 @@ enum {
     XK_UNARY_CONST, /* r = op(a) op2 cb, op sqrt or abs */
     XK_FILL,       /* r = ca in every lane */
     XK_LANEWISE,   /* clamp, smin, smax or a primitive, lane by lane */
+    XK_ROW_PRIM,   /* a grid row's primitive of constant arguments a (y ca, z cb) */
     XK_DOT         /* r = ((args0 args1) +- args2 args3) [+- args4 args5], then
                       optionally r = op(r) op2 cb (sqrt or abs, then + - * /) */
 };
@@ -284,7 +285,8 @@ typedef struct xstep {
     const double *va, *vb, *vf;
     double ca, cb;
     const double *args[8];
-    int sub[2]; /* XK_DOT: the second and third terms are subtracted */
+    double a[8]; /* XK_ROW_PRIM: the constant arguments */
+    int sub[2];  /* XK_DOT: the second and third terms are subtracted */
 } xstep;
 
 /* The lanes of one block: coordinates and two buffers per stack slot. */
@@ -298,9 +300,12 @@ typedef struct xwork {
 /* The plan of the program over w's buffers into plan (ncode steps at
  * most): the number of steps; *res gets the result's lanes, or NULL and
  * *res_c its constant value. The program's max_stack must be at most
- * XSTACK. */
-static size_t x_plan(const expr_ins *code, size_t ncode, double t, xwork *w, xstep *plan,
-                     const double **res, double *res_c)
+ * XSTACK. yz NULL: blocks of points (x, y, z in w's X, Y, Z); else the
+ * nodes of a grid row (x in w->X, y = yz[0] and z = yz[1] constants), where
+ * an operation on y, z and constants alone is done once on the scalars and
+ * a primitive of constant arguments is one XK_ROW_PRIM step (row_prim). */
+static size_t x_plan(const expr_ins *code, size_t ncode, double t, const double *yz, xwork *w,
+                     xstep *plan, const double **res, double *res_c)
 {
     const double *v[XSTACK]; /* lanes of a slot, NULL: the constant c[slot] */
     double c[XSTACK];
@@ -316,8 +321,14 @@ static size_t x_plan(const expr_ins *code, size_t ncode, double t, xwork *w, xst
         case OP_CONST: v[sp] = NULL; c[sp++] = in->c; break;
         case OP_T: v[sp] = NULL; c[sp++] = t; break;
         case OP_X: v[sp++] = w->X; break;
-        case OP_Y: v[sp++] = w->Y; break;
-        case OP_Z: v[sp++] = w->Z; break;
+        case OP_Y:
+            v[sp] = yz ? NULL : w->Y;
+            c[sp++] = yz ? yz[0] : NAN;
+            break;
+        case OP_Z:
+            v[sp] = yz ? NULL : w->Z;
+            c[sp++] = yz ? yz[1] : NAN;
+            break;
         case OP_ADD: case OP_SUB: case OP_MUL: case OP_DIV: case OP_POW: case OP_MIN:
         case OP_MAX: case OP_ATAN2: {
             size_t a = sp - 2, b = sp - 1;
@@ -376,7 +387,38 @@ static size_t x_plan(const expr_ins *code, size_t ncode, double t, xwork *w, xst
         default: { /* clamp, smin, smax and the primitives, lane by lane */
             size_t k = (size_t)geom__implicit_op_arity(in->op);
             size_t first = sp - k;
-            if (in->op == OP_SPHERE1 && !v[first]) {
+            int lanes = 0;
+            for (size_t q = first; q < sp; q++)
+                lanes |= v[q] != NULL;
+            if (!lanes && k > 0 &&
+                (in->op == OP_CLAMP || in->op == OP_SMIN || in->op == OP_SMAX)) {
+                double a0 = c[first], a1 = c[first + 1], a2 = c[first + 2];
+                c[first] = in->op == OP_CLAMP  ? d_clamp(a0, a1, a2)
+                           : in->op == OP_SMIN ? d_smin(a0, a1, a2)
+                                               : d_neg(d_smin(d_neg(a0), d_neg(a1), a2));
+                sp = first + 1;
+                break;
+            }
+            if (yz && !lanes) {
+                s->kind = XK_ROW_PRIM;
+                s->op = in->op;
+                s->k = (int)k;
+                for (size_t q = 0; q < k; q++)
+                    s->a[q] = c[first + q];
+                s->ca = yz[0];
+                s->cb = yz[1];
+                s->r = k == 0 ? w->buf[first][1] : DST(first);
+                v[first] = s->r;
+                ns++;
+                sp = first + 1;
+                break;
+            }
+            if (yz && in->op != OP_CLAMP && in->op != OP_SMIN && in->op != OP_SMAX)
+                for (int l = 0; l < XB; l++) { /* the primitive reads y and z lanes */
+                    w->Y[l] = yz[0];
+                    w->Z[l] = yz[1];
+                }
+            if (!yz && in->op == OP_SPHERE1 && !v[first]) {
                 /* sphere(r): sqrt((x*x + y*y) + z*z) - r, d_len3's operations */
                 memset(s, 0, sizeof *s);
                 s->kind = XK_DOT;
@@ -619,20 +661,74 @@ GEOM__CLONE_INLINE void x_gather(double *restrict X, double *restrict Y, double 
     }
 }
 
-/* nb blocks of XB points p (3 doubles each) into out (nt: as x_store)
- * through the plan (ns steps over w, result res or the constant res_c).
- * Without nt, the last step writes its lanes into out directly when they
- * are the result. */
+#define ROW_LANES(EXPR)                                                                        \
+    for (int l = 0; l < XB; l++)                                                               \
+    r[l] = (EXPR)
+
+/* r[l] = d_prim(op, x[l], y, z, a) for XB lanes, a the constant arguments. */
+GEOM__CLONE_INLINE void row_prim(int op, double *restrict r, const double *restrict x, double y,
+                                 double z, const double *a)
+{
+    switch ((expr_op)op) {
+    case OP_SPHERE1: ROW_LANES(d_sub(d_len3(x[l], y, z), a[0])); break;
+    case OP_SPHERE4: {
+        double qy = d_sub(y, a[1]), qz = d_sub(z, a[2]);
+        ROW_LANES(d_sub(d_len3(d_sub(x[l], a[0]), qy, qz), a[3]));
+        break;
+    }
+    case OP_ELLIPSOID3: ROW_LANES(d_ellipsoid(x[l], y, z, a[0], a[1], a[2])); break;
+    case OP_ELLIPSOID6: {
+        double qy = d_sub(y, a[1]), qz = d_sub(z, a[2]);
+        ROW_LANES(d_ellipsoid(d_sub(x[l], a[0]), qy, qz, a[3], a[4], a[5]));
+        break;
+    }
+    case OP_TORUS2: ROW_LANES(d_torus(x[l], y, z, a[0], a[1])); break;
+    case OP_TORUS5: {
+        double qy = d_sub(y, a[1]), qz = d_sub(z, a[2]);
+        ROW_LANES(d_torus(d_sub(x[l], a[0]), qy, qz, a[3], a[4]));
+        break;
+    }
+    case OP_BOX3: ROW_LANES(d_box(x[l], y, z, a[0], a[1], a[2])); break;
+    case OP_BOX6: {
+        double qy = d_sub(y, a[1]), qz = d_sub(z, a[2]);
+        ROW_LANES(d_box(d_sub(x[l], a[0]), qy, qz, a[3], a[4], a[5]));
+        break;
+    }
+    case OP_CYLINDER2: ROW_LANES(d_cylinder(x[l], y, z, a[0], a[1])); break;
+    case OP_CYLINDER5: {
+        double qy = d_sub(y, a[1]), qz = d_sub(z, a[2]);
+        ROW_LANES(d_cylinder(d_sub(x[l], a[0]), qy, qz, a[3], a[4]));
+        break;
+    }
+    case OP_PLANE4: ROW_LANES(d_plane(x[l], y, z, a[0], a[1], a[2], a[3])); break;
+    default: ROW_LANES(d_prim(op, x[l], y, z, a)); break; /* capsule, gyroids */
+    }
+}
+#undef ROW_LANES
+
+/* Blocks of XB points into out (nt: as x_store) through the plan (ns
+ * steps over w, result res or the constant res_c). row 0: n points p (3
+ * doubles each), XB divides n; row 1: the n >= XB nodes (p[b], y, z) of a
+ * grid row (the plan's, x_plan with yz), where the last block overlaps
+ * the one before when XB does not divide n (its lanes are recomputed, to
+ * the same values). Without nt, the last step writes its lanes into out
+ * directly when they are the result. */
 GEOM_SIMD_CLONES
 static void d_run_blocks(const xstep *plan, size_t ns, xwork *w, const double *res, double res_c,
-                         size_t nb, const double *p, double *out, int nt)
+                         size_t n, const double *p, int row, double *out, int nt)
 {
     size_t last = ns > 0 && plan[ns - 1].r == res && !nt ? ns - 1 : ns;
-    for (size_t blk = 0; blk < nb; blk++, p += 3 * XB, out += XB) {
-        x_gather(w->X, w->Y, w->Z, p);
+    for (size_t b0 = 0; b0 < n; b0 += XB) {
+        if (b0 + XB > n)
+            b0 = n - XB;
+        double *o = out + b0;
+        if (row)
+            memcpy(w->X, p + b0, sizeof w->X);
+        else
+            x_gather(w->X, w->Y, w->Z, p + 3 * b0);
         for (size_t j = 0; j < ns; j++) {
             const xstep *s = &plan[j];
-            double *r = j == last ? out : s->r;
+            double *r = j == last ? o : s->r;
             switch (s->kind) {
             case XK_BINARY: x_binary(s->op, r, s->va, s->ca, s->vb, s->cb); break;
             case XK_MULADDSUB: x_mul_addsub(s->op2, r, s->vf, s->va, s->ca, s->vb, s->cb); break;
@@ -643,19 +739,46 @@ static void d_run_blocks(const xstep *plan, size_t ns, xwork *w, const double *r
                     r[l] = s->ca;
                 break;
             case XK_DOT: x_dot(s, r); break;
+            case XK_ROW_PRIM: row_prim(s->op, r, w->X, s->ca, s->cb, s->k ? s->a : NULL); break;
             default: x_lanewise(s, r, w); break;
             }
         }
         if (last < ns)
             continue;
         if (res) {
-            x_store(out, res, nt);
+            x_store(o, res, nt);
         } else {
             for (int l = 0; l < XB; l++)
-                out[l] = res_c;
+                o[l] = res_c;
         }
     }
     x_store_done(nt);
+}
+
+/* The program of e over n >= XB points p (yz NULL: 3 doubles each, XB
+ * divides n; else the grid row's nodes (p[b], yz[0], yz[1])) into out (nt:
+ * as x_store), through a plan made for this call. e->max_stack <= XSTACK.
+ * Returns 0 (out untouched) when a long program's plan cannot be
+ * allocated. */
+static int x_run(const geom_implicit_expr *e, const double *yz, size_t n, const double *p,
+                 double *out, int nt)
+{
+    xwork w;
+    xstep small[XPLAN];
+    xstep *plan = e->n <= XPLAN ? small : geom__alloc(&e->alloc, e->n * sizeof *plan);
+    if (!plan)
+        return 0;
+    const double *res;
+    double res_c;
+    size_t ns = x_plan(e->code, e->n, e->t, yz, &w, plan, &res, &res_c);
+    ns = x_fuse(plan, ns, &w);
+    if (!yz && x_is_len(plan, ns, &w) && res == plan[0].r)
+        d_run_len(plan[0].op, plan[0].op2, plan[0].cb, n / XB, p, out, nt);
+    else
+        d_run_blocks(plan, ns, &w, res, res_c, n, p, yz != NULL, out, nt);
+    if (plan != small)
+        geom__free(&e->alloc, plan, e->n * sizeof *plan);
+    return 1;
 }
 
 /* ================================================================== duals */
@@ -1180,28 +1303,11 @@ void geom_implicit_expr_eval_many(const geom_implicit_expr *e, size_t n, const d
     if (head == 8)
         head = 0;
     if (e->max_stack <= XSTACK && n >= head + XB) {
-        xwork w;
-        xstep small[XPLAN];
         size_t done = head + (n - head) / XB * XB;
         d_run_batch(e->code, e->n, head, p, e->t, out);
-        xstep *plan = e->n <= XPLAN ? small : geom__alloc(&e->alloc, e->n * sizeof *plan);
-        if (plan) {
-            const double *res;
-            double res_c;
-            size_t ns = x_plan(e->code, e->n, e->t, &w, plan, &res, &res_c);
-            ns = x_fuse(plan, ns, &w);
-            int nt = n >= XSTREAM && (uintptr_t)(out + head) % 16 == 0;
-            if (x_is_len(plan, ns, &w) && res == plan[0].r)
-                d_run_len(plan[0].op, plan[0].op2, plan[0].cb, (n - head) / XB, p + 3 * head,
-                          out + head, nt);
-            else
-                d_run_blocks(plan, ns, &w, res, res_c, (n - head) / XB, p + 3 * head,
-                             out + head, nt);
-            if (plan != small)
-                geom__free(&e->alloc, plan, e->n * sizeof *plan);
-        } else {
+        int nt = n >= XSTREAM && (uintptr_t)(out + head) % 16 == 0;
+        if (!x_run(e, NULL, done - head, p + 3 * head, out + head, nt))
             done = head;
-        }
         d_run_batch(e->code, e->n, n - done, p + 3 * done, e->t, out + done);
         return;
     }
@@ -1382,207 +1488,30 @@ void geom_implicit_field_from_expr(const geom_implicit_expr *e, geom_implicit_fi
 
 /* ============================================================ grid rows */
 
-/* Appended by the iso module's helper (session 6) for marching cubes'
- * sampling of an expression (iso/extract.c): the nodes of a grid row share
- * y and z. As d_run_blocks, blocks of XB points with operands in place,
- * but y and z are constants, so an operation on y, z and constants alone
- * is done once per block on the scalars, x is read in place, and the
- * primitives whose arguments are constants run as one lane loop each
- * (row_prim), their y and z terms computed once. Every lane does exactly
- * d_run's operations on the same operands: bitwise d_run. */
-
-#define ROW_LANES(EXPR)                                                                        \
-    for (int l = 0; l < XB; l++)                                                               \
-    r[l] = (EXPR)
-
-/* r[l] = d_prim(op, x[l], y, z, a) for XB lanes, a the constant arguments. */
-GEOM__CLONE_INLINE void row_prim(int op, double *restrict r, const double *restrict x, double y,
-                                 double z, const double *a)
-{
-    switch ((expr_op)op) {
-    case OP_SPHERE1: ROW_LANES(d_sub(d_len3(x[l], y, z), a[0])); break;
-    case OP_SPHERE4: {
-        double qy = d_sub(y, a[1]), qz = d_sub(z, a[2]);
-        ROW_LANES(d_sub(d_len3(d_sub(x[l], a[0]), qy, qz), a[3]));
-        break;
-    }
-    case OP_ELLIPSOID3: ROW_LANES(d_ellipsoid(x[l], y, z, a[0], a[1], a[2])); break;
-    case OP_ELLIPSOID6: {
-        double qy = d_sub(y, a[1]), qz = d_sub(z, a[2]);
-        ROW_LANES(d_ellipsoid(d_sub(x[l], a[0]), qy, qz, a[3], a[4], a[5]));
-        break;
-    }
-    case OP_TORUS2: ROW_LANES(d_torus(x[l], y, z, a[0], a[1])); break;
-    case OP_TORUS5: {
-        double qy = d_sub(y, a[1]), qz = d_sub(z, a[2]);
-        ROW_LANES(d_torus(d_sub(x[l], a[0]), qy, qz, a[3], a[4]));
-        break;
-    }
-    case OP_BOX3: ROW_LANES(d_box(x[l], y, z, a[0], a[1], a[2])); break;
-    case OP_BOX6: {
-        double qy = d_sub(y, a[1]), qz = d_sub(z, a[2]);
-        ROW_LANES(d_box(d_sub(x[l], a[0]), qy, qz, a[3], a[4], a[5]));
-        break;
-    }
-    case OP_CYLINDER2: ROW_LANES(d_cylinder(x[l], y, z, a[0], a[1])); break;
-    case OP_CYLINDER5: {
-        double qy = d_sub(y, a[1]), qz = d_sub(z, a[2]);
-        ROW_LANES(d_cylinder(d_sub(x[l], a[0]), qy, qz, a[3], a[4]));
-        break;
-    }
-    case OP_PLANE4: ROW_LANES(d_plane(x[l], y, z, a[0], a[1], a[2], a[3])); break;
-    default: ROW_LANES(d_prim(op, x[l], y, z, a)); break; /* capsule, gyroids */
-    }
-}
-#undef ROW_LANES
-
-/* Blocks of XB points (x[b], y, z) for b from 0 to n - 1, n >= XB, into
- * out; the last block overlaps the one before when XB does not divide n
- * (its lanes are recomputed, to the same values). max_stack <= XSTACK. */
-GEOM_SIMD_CLONES
-static void d_run_row(const expr_ins *code, size_t ncode, size_t n, const double *x, double y,
-                      double z, double t, double *out)
-{
-    double buf[XSTACK][2][XB];
-    const double *v[XSTACK]; /* lanes of a slot, NULL: the constant c[slot] */
-    double c[XSTACK];
-    for (size_t b0 = 0;; b0 += XB) {
-        if (b0 + XB > n)
-            b0 = n - XB;
-        const double *X = x + b0;
-        double *o = out + b0;
-        size_t sp = 0;
-        v[0] = NULL;
-        c[0] = NAN;
-#define DST_LAST(q, other) (i + 1 == ncode && (q) == 0 ? o : (other))
-#define DST(q) DST_LAST(q, buf[q][v[q] == buf[q][0]])
-        for (size_t i = 0; i < ncode; i++) {
-            const expr_ins *in = &code[i];
-            switch ((expr_op)in->op) {
-            case OP_CONST: v[sp] = NULL; c[sp++] = in->c; break;
-            case OP_T: v[sp] = NULL; c[sp++] = t; break;
-            case OP_X: v[sp++] = X; break;
-            case OP_Y: v[sp] = NULL; c[sp++] = y; break;
-            case OP_Z: v[sp] = NULL; c[sp++] = z; break;
-            case OP_ADD: case OP_SUB: case OP_MUL: case OP_DIV: case OP_POW: case OP_MIN:
-            case OP_MAX: case OP_ATAN2: {
-                size_t a = sp - 2, b = sp - 1;
-                if (!v[a] && !v[b]) {
-                    c[a] = d_scalar_binary(in->op, c[a], c[b]);
-                } else if (in->op == OP_MUL && i + 1 < ncode && is_addsub(code[i + 1].op) &&
-                           sp >= 3 && v[sp - 3]) {
-                    size_t f = sp - 3; /* fused with the next add/sub */
-                    i++;
-                    double *r = DST(f);
-                    x_mul_addsub(code[i].op == OP_SUB, r, v[f], v[a], c[a], v[b], c[b]);
-                    v[f] = r;
-                    sp--;
-                } else {
-                    double *r = DST(a);
-                    x_binary(in->op, r, v[a], c[a], v[b], c[b]);
-                    v[a] = r;
-                }
-                sp--;
-                break;
-            }
-            case OP_NEG: case OP_SQRT: case OP_ABS: case OP_SIN: case OP_COS: case OP_TAN:
-            case OP_EXP: case OP_LOG: case OP_POWI: {
-                size_t a = sp - 1;
-                if (!v[a]) {
-                    c[a] = d_scalar_unary(in, c[a]);
-                } else if ((in->op == OP_SQRT || in->op == OP_ABS) && i + 2 < ncode &&
-                           code[i + 1].op == OP_CONST && is_arith(code[i + 2].op)) {
-                    i += 2; /* fused with "constant, operation" */
-                    double *r = DST(a);
-                    x_unary_const(in->op, code[i].op, r, v[a], code[i - 1].c);
-                    v[a] = r;
-                } else {
-                    double *r = DST(a);
-                    x_unary(in, r, v[a]);
-                    v[a] = r;
-                }
-                break;
-            }
-            case OP_COUNT:
-                break;
-            default: { /* clamp, smin, smax and the primitives */
-                size_t k = (size_t)geom__implicit_op_arity(in->op);
-                size_t first = sp - k;
-                int lanes = 0;
-                for (size_t q = first; q < sp; q++)
-                    lanes |= v[q] != NULL;
-                if (!lanes && k > 0 && (in->op == OP_CLAMP || in->op == OP_SMIN ||
-                                        in->op == OP_SMAX)) {
-                    double a0 = c[first], a1 = c[first + 1], a2 = c[first + 2];
-                    c[first] = in->op == OP_CLAMP  ? d_clamp(a0, a1, a2)
-                               : in->op == OP_SMIN ? d_smin(a0, a1, a2)
-                                                   : d_neg(d_smin(d_neg(a0), d_neg(a1), a2));
-                    sp = first + 1;
-                    break;
-                }
-                double *r;
-                if (!lanes) {
-                    r = k == 0 ? DST_LAST(first, buf[first][1]) : DST(first);
-                    row_prim(in->op, r, X, y, z, k ? &c[first] : NULL);
-                } else {
-                    for (size_t q = first; q < sp; q++)
-                        if (!v[q]) {
-                            for (int l = 0; l < XB; l++)
-                                buf[q][0][l] = c[q];
-                            v[q] = buf[q][0];
-                        }
-                    r = DST(first);
-                    for (int l = 0; l < XB; l++) {
-                        double args[8];
-                        for (size_t q = 0; q < k; q++)
-                            args[q] = v[first + q][l];
-                        if (in->op == OP_CLAMP)
-                            r[l] = d_clamp(args[0], args[1], args[2]);
-                        else if (in->op == OP_SMIN)
-                            r[l] = d_smin(args[0], args[1], args[2]);
-                        else if (in->op == OP_SMAX)
-                            r[l] = d_neg(d_smin(d_neg(args[0]), d_neg(args[1]), args[2]));
-                        else
-                            r[l] = d_prim(in->op, X[l], y, z, k ? args : NULL);
-                    }
-                }
-                v[first] = r;
-                sp = first + 1;
-                break;
-            }
-            }
-        }
-#undef DST
-#undef DST_LAST
-        if (v[0] != o) {
-            if (v[0])
-                memcpy(o, v[0], XB * sizeof(double));
-            else
-                for (int l = 0; l < XB; l++)
-                    o[l] = c[0];
-        }
-        if (b0 + XB >= n)
-            break;
-    }
-}
-
+/* For marching cubes' sampling of an expression (iso/extract.c): the nodes
+ * of a grid row share y and z, so the block evaluator runs a plan made
+ * with y and z constants (x_plan with yz): an operation on y, z and
+ * constants alone is done once per row on the scalars, and the primitives
+ * whose arguments are constants run as one lane loop each (row_prim),
+ * their y and z terms computed once. Every lane does exactly d_run's
+ * operations on the same operands: bitwise d_run. */
 void geom__implicit_expr_row(const geom_implicit_expr *e, size_t n, const double *x, double y,
                              double z, double *out)
 {
     if (n == 0)
         return;
-    if (e->max_stack > XSTACK) {
-        for (size_t i = 0; i < n; i++)
-            out[i] = d_run(e->code, e->n, x[i], y, z, e->t);
-        return;
+    const double yz[2] = {y, z};
+    if (e->max_stack <= XSTACK) {
+        if (n >= XB && x_run(e, yz, n, x, out, 0))
+            return;
+        double xs[XB], os[XB]; /* a short row, padded with its last point */
+        for (size_t i = 0; i < XB; i++)
+            xs[i] = x[i < n ? i : n - 1];
+        if (n < XB && x_run(e, yz, XB, xs, os, 0)) {
+            memcpy(out, os, n * sizeof(double));
+            return;
+        }
     }
-    if (n >= XB) {
-        d_run_row(e->code, e->n, n, x, y, z, e->t, out);
-        return;
-    }
-    double xs[XB], os[XB]; /* a short row, padded with its last point */
-    for (size_t i = 0; i < XB; i++)
-        xs[i] = x[i < n ? i : n - 1];
-    d_run_row(e->code, e->n, XB, xs, y, z, e->t, os);
-    memcpy(out, os, n * sizeof(double));
+    for (size_t i = 0; i < n; i++)
+        out[i] = d_run(e->code, e->n, x[i], y, z, e->t);
 }

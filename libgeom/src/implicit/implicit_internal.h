@@ -85,6 +85,15 @@ void geom__implicit_samples_values(const geom_implicit_grid *d, size_t n, const 
  * (expr_eval.c, for marching cubes' sampling). e non-NULL. */
 void geom__implicit_expr_row(const geom_implicit_expr *e, size_t n, const double *x, double y,
                              double z, double *out);
+/* A box of blocks b0..b1 - 1 (dim axes; single: one block on every axis)
+ * seen by geom__block_split: 1 to split it, 0 when it is done. */
+typedef int (*geom__block_visit)(void *user, const size_t *b0, const size_t *b1, int single);
+/* Recursive subdivision of the box of blocks b0..b1 - 1 (dim 2 or 3): visit
+ * the box; unless it is done or single, halve every axis longer than one
+ * block and split the 2^dim non-empty children in turn (block_split.c; the
+ * block pruning of contour_estimate.c and iso/extract.c). */
+void geom__block_split(int dim, const size_t *b0, const size_t *b1, geom__block_visit visit,
+                       void *user);
 /* Lanes per block of the batch interpolators (trilinear.c, volume_batch.c). */
 #define GEOM__TRI_BLOCK 64
 /* geom_implicit_samples_value's cell location along an axis with n >= 2

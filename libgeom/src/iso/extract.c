@@ -235,23 +235,21 @@ static uint32_t add_vertex(slab *s, const ctx *c, const double p[3], int axis, d
 
 static void add_key(slab *s, const ctx *c, size_t layer_k, uint64_t key, uint32_t id)
 {
-    if (layer_k == s->k0 && s->k0 > 0) {
-        if (!grow(c->alloc, (void **)&s->bot, &s->capbot, s->nbot + 1, sizeof(iso_key))) {
-            s->status = GEOM_ERR_NOMEM;
-            return;
-        }
-        s->bot[s->nbot].key = key;
-        s->bot[s->nbot].id = id;
-        s->nbot++;
-    } else if (layer_k == s->k1 && s->k1 < c->n[2]) {
-        if (!grow(c->alloc, (void **)&s->top, &s->captop, s->ntop + 1, sizeof(iso_key))) {
-            s->status = GEOM_ERR_NOMEM;
-            return;
-        }
-        s->top[s->ntop].key = key;
-        s->top[s->ntop].id = id;
-        s->ntop++;
+    iso_key **keys;
+    size_t *n, *cap;
+    if (layer_k == s->k0 && s->k0 > 0)
+        keys = &s->bot, n = &s->nbot, cap = &s->capbot;
+    else if (layer_k == s->k1 && s->k1 < c->n[2])
+        keys = &s->top, n = &s->ntop, cap = &s->captop;
+    else
+        return;
+    if (!grow(c->alloc, (void **)keys, cap, *n + 1, sizeof(iso_key))) {
+        s->status = GEOM_ERR_NOMEM;
+        return;
     }
+    (*keys)[*n].key = key;
+    (*keys)[*n].id = id;
+    (*n)++;
 }
 
 /* The field minus iso along an edge: p with p[axis] = x. */
@@ -1233,36 +1231,29 @@ static uint8_t box_class(const ctx *c, const size_t b0[3], const size_t b1[3])
     return BLK_SAMPLE;
 }
 
+/* classify_blocks' context: the grid and the block classes. */
+typedef struct blkvisit {
+    const ctx *c;
+    uint8_t *blk;
+} blkvisit;
+
 /* Classify the blocks b0..b1 - 1 by recursive subdivision (an octree over
- * the blocks): a box proven on one side of iso is classified whole, others
- * are halved along every axis longer than one block, down to single blocks,
- * which are sampled when not proven. */
-static void classify_blocks(const ctx *c, uint8_t *blk, const size_t b0[3], const size_t b1[3])
+ * the blocks, geom__block_split): a box proven on one side of iso is
+ * classified whole, others are halved along every axis longer than one
+ * block, down to single blocks, which are sampled when not proven. */
+static int classify_blocks(void *user, const size_t *b0, const size_t *b1, int single)
 {
-    int single = b1[0] - b0[0] == 1 && b1[1] - b0[1] == 1 && b1[2] - b0[2] == 1;
+    const blkvisit *v = user;
+    const ctx *c = v->c;
     /* a grid's single blocks only: its min and max cost a pass anyway */
     uint8_t cls = (c->grid && !single) ? BLK_SAMPLE : box_class(c, b0, b1);
     if (cls != BLK_SAMPLE || single) {
         for (size_t bz = b0[2]; bz < b1[2]; bz++)
             for (size_t by = b0[1]; by < b1[1]; by++)
-                memset(blk + b0[0] + c->nb[0] * (by + c->nb[1] * bz), cls, b1[0] - b0[0]);
-        return;
+                memset(v->blk + b0[0] + c->nb[0] * (by + c->nb[1] * bz), cls, b1[0] - b0[0]);
+        return 0;
     }
-    size_t mid[3];
-    for (int a = 0; a < 3; a++)
-        mid[a] = b1[a] - b0[a] > 1 ? b0[a] + (b1[a] - b0[a]) / 2 : b1[a];
-    for (int q = 0; q < 8; q++) {
-        size_t c0[3], c1[3];
-        int empty = 0;
-        for (int a = 0; a < 3; a++) {
-            int up = (q >> a) & 1;
-            c0[a] = up ? mid[a] : b0[a];
-            c1[a] = up ? b1[a] : mid[a];
-            empty |= c0[a] >= c1[a];
-        }
-        if (!empty)
-            classify_blocks(c, blk, c0, c1);
-    }
+    return 1;
 }
 
 /* Six times the signed volume of the tetrahedron (origin, a, b, c). */
@@ -1649,7 +1640,8 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
         if (!blk)
             return geom__diag_set(diag, GEOM_ERR_NOMEM, "", 0, 0, "geom_iso: out of memory");
         size_t b0[3] = {0, 0, 0};
-        classify_blocks(&c, blk, b0, c.nb);
+        blkvisit bv = {&c, blk};
+        geom__block_split(3, b0, c.nb, classify_blocks, &bv);
         c.blk = blk;
         rowcls = geom__alloc(al, c.nb[1] * c.nb[2]);
         if (!rowcls) {
