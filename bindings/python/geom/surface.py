@@ -577,8 +577,10 @@ def _tess_options(tolerance, mode, grid, per_surface, angle_degrees, attributes,
 def tess_estimate(surfaces, tolerance=0.0, mode="adaptive", grid=(8, 8), per_surface=False,
                   angle_degrees=0.0):
     """The triangles tessellate(surfaces, ...) would make with these
-    options, before the work (geom_surface_tess_estimate): exact in uniform
-    mode, within about a factor 2 in adaptive mode (not a bound)."""
+    options, before the work (geom_surface_tess_estimate): in uniform mode
+    an upper bound, exact unless cells collapse (a sphere's pole triangles
+    are counted but not made); within about a factor 2 in adaptive mode
+    (not a bound)."""
     surfaces, arr = _surface_array(surfaces)
     opt = _tess_options(tolerance, mode, grid, per_surface, angle_degrees, (), False, False,
                         False, 0, 0, 0.0)
