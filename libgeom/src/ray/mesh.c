@@ -52,6 +52,23 @@
 #define W4_SSE 0
 #endif
 
+/* An AVX2 + FMA copy of the wide traversal (all eight lanes of a node in
+ * one 256-bit test), compiled with a target attribute in this file and
+ * chosen once per tree at build time from the CPU (W4_ISA_AVX2 in
+ * geom__rbvh4.isa); the SSE2 traversal stays for other CPUs. Both compute
+ * the very same float values (below: the decode's fused multiply-add is
+ * exact), so they visit the same nodes and give the same hits
+ * (test_ray_simd_paths forces each path and compares bit for bit). */
+#if W4_SSE && defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#define W4_AVX2 1
+#define W4_TGT __attribute__((target("avx2,fma")))
+#else
+#define W4_AVX2 0
+#endif
+#define W4_ISA_SSE2 0
+#define W4_ISA_AVX2 1
+
 /* One wide node (W4_W lanes): lane j is a child box [lo[.][j], hi[.][j]]; count[j] > 0
  * is a leaf holding the triangle slots child[j] .. child[j] + count[j],
  * count[j] == 0 an inner node child[j] (GEOM_INVALID_INDEX: empty lane,
@@ -110,6 +127,7 @@ struct geom__rbvh4 {
                            2^60 when fbox, the only case the packets are read) */
     double area_d, area_f; /* total half-area of the lanes' boxes: exact, rounded to float */
     int fbox;              /* every float box coordinate within +-W4_FMAX: the float slab test may run */
+    int isa;               /* W4_ISA_AVX2: the AVX2 traversal (the CPU has AVX2 and FMA), else SSE2 */
 };
 
 /* The float slab test (w4_sse) runs for a ray when the boxes, the origin and
@@ -297,6 +315,16 @@ static long pack_leaf(struct geom__rbvh4 *w, const double *tv, uint32_t first, u
     return (long)w->npk++;
 }
 
+/* The fastest traversal this CPU runs (W4_ISA_*). */
+static int isa_best(void)
+{
+#if W4_AVX2
+    __builtin_cpu_init();
+    if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) return W4_ISA_AVX2;
+#endif
+    return W4_ISA_SSE2;
+}
+
 /* Collapse the binary BVH into *out (NULL when the wide tree would be too
  * deep for the traversal stack, or a leaf holds more than 4 triangles). */
 static geom_status wide_build(const geom_bvh *b, const double *tv, const geom_allocator *alloc,
@@ -412,6 +440,7 @@ done:
             w->cap = w->n;
         }
     }
+    w->isa = isa_best();
     *out = w;
     return GEOM_OK;
 }
@@ -799,6 +828,78 @@ static inline int pk_filter(const geom__rpack4 *q, const pkray *p)
 }
 #endif
 
+#if W4_AVX2
+/* w4f_node with all eight lanes in one AVX2 register: the same float
+ * operations in the same order, so the same distances bit for bit and the
+ * same bounds (w4f). The decode px + q 2^e is one fused multiply-add, equal
+ * to w4_dec's multiply then add: the product of the 8-bit code and the
+ * power of two is exact (w4_dec), so the fused and the unfused sum are the
+ * same single rounding. */
+W4_TGT static inline int w8_node(const geom__rnode4 *q, const w4f *f, float tmin, float tmax,
+                                 float tn_out[W4_W])
+{
+    const __m256 absmask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
+    const __m256 vc = _mm256_set1_ps(0x1p-20f), ve = _mm256_set1_ps(f->e);
+    __m256 tn = _mm256_set1_ps(tmin), tf = _mm256_set1_ps(tmax);
+    __m256i none;
+    int k;
+    for (k = 0; k < 3; k++) {
+        const __m256 px = _mm256_broadcast_ss(&q->px[k]);
+        const __m256 sc = _mm256_castsi256_ps(_mm256_set1_epi32(((int)q->ex[k] + 127) << 23));
+        const __m256 vo = _mm256_broadcast_ss(&f->of[k]), vi = _mm256_broadcast_ss(&f->inv[k]);
+        __m256 n = _mm256_cvtepi32_ps(
+            _mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)((const uint8_t *)q + f->noff[k]))));
+        __m256 c = _mm256_cvtepi32_ps(
+            _mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)((const uint8_t *)q + f->foff[k]))));
+        n = _mm256_fmadd_ps(n, sc, px);
+        c = _mm256_fmadd_ps(c, sc, px);
+        /* maxps/minps return the second operand when either is NaN */
+        tn = _mm256_max_ps(_mm256_mul_ps(_mm256_sub_ps(n, vo), vi), tn);
+        tf = _mm256_min_ps(_mm256_mul_ps(_mm256_sub_ps(c, vo), vi), tf);
+    }
+    tn = _mm256_sub_ps(_mm256_sub_ps(tn, _mm256_mul_ps(_mm256_and_ps(tn, absmask), vc)), ve);
+    tf = _mm256_add_ps(_mm256_add_ps(tf, _mm256_mul_ps(_mm256_and_ps(tf, absmask), vc)), ve);
+    _mm256_storeu_ps(tn_out, tn);
+    none = _mm256_cmpeq_epi32(_mm256_load_si256((const __m256i *)q->child), _mm256_set1_epi32(-1));
+    return _mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ)) & ~_mm256_movemask_ps(_mm256_castsi256_ps(none));
+}
+
+/* pk_filter with the sheared x and y of the four triangles in one AVX2
+ * register (x in lanes 0-3, y in 4-7): the same float operations in the
+ * same order (no fused multiply-add), so the same lanes bit for bit and
+ * the same proof (pkray). */
+W4_TGT static inline int pk_filter8(const geom__rpack4 *q, const pkray *p)
+{
+    const __m256 absmask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
+    const __m128 sgn = _mm_castsi128_ps(_mm_set1_epi32((int)0x80000000u));
+    const __m256 oxy = _mm256_insertf128_ps(_mm256_castps128_ps256(p->o[0]), p->o[1], 1);
+    const __m256 sxy = _mm256_insertf128_ps(_mm256_castps128_ps256(p->sx), p->sy, 1);
+    __m128 x[3], y[3], sa[3], neg = _mm_setzero_ps(), pos = _mm_setzero_ps();
+    int i;
+    for (i = 0; i < 3; i++) {
+        __m128 z = _mm_sub_ps(_mm_load_ps(q->v[i][p->kz]), p->o[2]);
+        __m256 v = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_load_ps(q->v[i][p->kx])),
+                                        _mm_load_ps(q->v[i][p->ky]), 1);
+        __m256 zz = _mm256_insertf128_ps(_mm256_castps128_ps256(z), z, 1);
+        __m256 xy = _mm256_sub_ps(_mm256_sub_ps(v, oxy), _mm256_mul_ps(sxy, zz));
+        __m256 ab = _mm256_and_ps(xy, absmask);
+        x[i] = _mm256_castps256_ps128(xy);
+        y[i] = _mm256_extractf128_ps(xy, 1);
+        sa[i] = _mm_add_ps(_mm256_castps256_ps128(ab), _mm256_extractf128_ps(ab, 1));
+    }
+    for (i = 0; i < 3; i++) {
+        const int a = (i + 1) % 3, b = (i + 2) % 3;
+        __m128 e = _mm_sub_ps(_mm_mul_ps(x[a], y[b]), _mm_mul_ps(y[a], x[b]));
+        __m128 bnd = _mm_add_ps(_mm_add_ps(_mm_mul_ps(p->d1, _mm_add_ps(_mm_add_ps(sa[a], sa[b]), p->d2)),
+                                           _mm_mul_ps(p->c2, _mm_mul_ps(sa[a], sa[b]))),
+                                p->eta);
+        neg = _mm_or_ps(neg, _mm_cmplt_ps(e, _mm_xor_ps(bnd, sgn)));
+        pos = _mm_or_ps(pos, _mm_cmpgt_ps(e, bnd));
+    }
+    return ~_mm_movemask_ps(_mm_and_ps(neg, pos)) & 15;
+}
+#endif
+
 /* The same in double from the floats exactly converted, with Ize's bounds
  * (2 gamma(3)): the path of rays the float test cannot take, and of targets
  * without SSE2. */
@@ -842,8 +943,10 @@ static inline geom_status finish(const geom__tmesh *m, const geom_ray *r, int mo
     return GEOM_OK;
 }
 
-static geom_status trace_wide(const geom__tmesh *m, const geom_ray *r, const geom__rslab *sl, int mode,
-                              geom__rhits *out)
+/* The wide traversal; isa (a constant in each copy below) picks the node
+ * and leaf pre-tests. */
+GEOM__WBW_INLINE geom_status trace_wide_t(const geom__tmesh *m, const geom_ray *r, const geom__rslab *sl,
+                                          int mode, geom__rhits *out, const int isa)
 {
     const struct geom__rbvh4 *W = m->wide;
     w4entry stack[W4_STACK], cur;
@@ -901,7 +1004,12 @@ static geom_status trace_wide(const geom__tmesh *m, const geom_ray *r, const geo
 #if W4_SSE
             if (use_f) {
                 float tf4[W4_W];
-                mask = w4f_node(q, &f, vo, vi, vtmin, vtmax, tf4);
+#if W4_AVX2
+                if (isa == W4_ISA_AVX2)
+                    mask = w8_node(q, &f, _mm_cvtss_f32(vtmin), _mm_cvtss_f32(vtmax), tf4);
+                else
+#endif
+                    mask = w4f_node(q, &f, vo, vi, vtmin, vtmax, tf4);
                 for (j = 0; j < W4_W; j++) tn[j] = (double)tf4[j];
             } else
 #endif
@@ -952,7 +1060,13 @@ static geom_status trace_wide(const geom__tmesh *m, const geom_ray *r, const geo
 #if W4_SSE
             if (use_f) {
                 /* Only the triangles the float pre-test cannot rule out. */
-                int lanes = pk_filter(&W->pk[W4_PK(cur.count)], &pk) & ((1 << cnt) - 1);
+                int lanes;
+#if W4_AVX2
+                if (isa == W4_ISA_AVX2)
+                    lanes = pk_filter8(&W->pk[W4_PK(cur.count)], &pk) & ((1 << cnt) - 1);
+                else
+#endif
+                    lanes = pk_filter(&W->pk[W4_PK(cur.count)], &pk) & ((1 << cnt) - 1);
                 while (lanes) {
                     int j = lane_first(lanes);
                     lanes &= lanes - 1;
@@ -984,6 +1098,42 @@ static geom_status trace_wide(const geom__tmesh *m, const geom_ray *r, const geo
     }
 done:
     return finish(m, r, mode, best, best_t, best_b, out);
+}
+
+static geom_status trace_wide_sse2(const geom__tmesh *m, const geom_ray *r, const geom__rslab *sl, int mode,
+                                   geom__rhits *out)
+{
+    return trace_wide_t(m, r, sl, mode, out, W4_ISA_SSE2);
+}
+
+#if W4_AVX2
+W4_TGT static geom_status trace_wide_avx2(const geom__tmesh *m, const geom_ray *r, const geom__rslab *sl,
+                                          int mode, geom__rhits *out)
+{
+    return trace_wide_t(m, r, sl, mode, out, W4_ISA_AVX2);
+}
+#endif
+
+static geom_status trace_wide(const geom__tmesh *m, const geom_ray *r, const geom__rslab *sl, int mode,
+                              geom__rhits *out)
+{
+#if W4_AVX2
+    if (m->wide->isa == W4_ISA_AVX2) return trace_wide_avx2(m, r, sl, mode, out);
+#endif
+    return trace_wide_sse2(m, r, sl, mode, out);
+}
+
+int geom__ray_scene_simd(geom_ray_scene *s, int isa)
+{
+    size_t i;
+    int prev = -1;
+    for (i = 0; i < s->n; i++) {
+        struct geom__rbvh4 *w = s->nodes[i].mesh ? s->nodes[i].mesh->wide : NULL;
+        if (!w) continue;
+        if (prev < 0) prev = w->isa;
+        if (isa == W4_ISA_SSE2 || (isa == W4_ISA_AVX2 && isa_best() == W4_ISA_AVX2)) w->isa = isa;
+    }
+    return prev;
 }
 
 geom_status geom__ray_mesh(const geom__tmesh *m, const geom_ray *r, int mode, geom__rhits *out)
