@@ -55,10 +55,11 @@
 /* An AVX2 + FMA copy of the wide traversal (all eight lanes of a node in
  * one 256-bit test), compiled with a target attribute in this file and
  * chosen once per tree at build time from the CPU (W4_ISA_AVX2 in
- * geom__rbvh4.isa); the SSE2 traversal stays for other CPUs. Both compute
- * the very same float values (below: the decode's fused multiply-add is
- * exact), so they visit the same nodes and give the same hits
- * (test_ray_simd_paths forces each path and compares bit for bit). */
+ * geom__rbvh4.isa); the SSE2 traversal stays for other CPUs. Both are
+ * conservative (the AVX2 node test in the ray-side form, w8_node_rs, with
+ * its own bound) and the exact watertight test alone decides, so they give
+ * the same hits (test_ray_simd_paths forces each path and compares them bit
+ * for bit, and with brute force). */
 #if W4_SSE && defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
 #define W4_AVX2 1
@@ -128,6 +129,7 @@ struct geom__rbvh4 {
     double area_d, area_f; /* total half-area of the lanes' boxes: exact, rounded to float */
     int fbox;              /* every float box coordinate within +-W4_FMAX: the float slab test may run */
     int isa;               /* W4_ISA_AVX2: the AVX2 traversal (the CPU has AVX2 and FMA), else SSE2 */
+    double pmax;           /* largest |px + q 2^ex| over the nodes' planes (q in 0..255), exact */
 };
 
 /* The float slab test (w4_sse) runs for a ray when the boxes, the origin and
@@ -293,6 +295,19 @@ static int quantize(geom__rnode4 *q, const w4fbox *fq)
     return 1;
 }
 
+/* w->pmax covers the planes of node q, every code 0..255 (exact: px and
+ * 255 2^ex are floats, their sum rounded up in magnitude below is an upper
+ * bound). */
+static void note_planes(struct geom__rbvh4 *w, const geom__rnode4 *q)
+{
+    int k;
+    for (k = 0; k < 3; k++) {
+        double a = fabs((double)q->px[k]), b = fabs((double)q->px[k] + 255.0 * ldexp(1.0, q->ex[k]));
+        double m = (a > b ? a : b) * (1 + 0x1p-50);
+        if (m > w->pmax) w->pmax = m;
+    }
+}
+
 /* The packet of the leaf holding slots first .. first + count - 1 of m->tv
  * (count <= 4): its index, or -1 when there is no room (cannot happen). */
 static long pack_leaf(struct geom__rbvh4 *w, const double *tv, uint32_t first, uint32_t count)
@@ -376,6 +391,7 @@ static geom_status wide_build(const geom_bvh *b, const double *tv, const geom_al
         lane_set(w, &w->node[0], &fq, 0, &bn[0].box, bn[0].index, W4_LEAF(bn[0].count, pk));
         for (j = 1; j < W4_W; j++) lane_set(w, &w->node[0], &fq, j, &empty, GEOM_INVALID_INDEX, 0);
         if (!quantize(&w->node[0], &fq)) { qfail = 1; goto done; }
+        note_planes(w, &w->node[0]);
         maxd = 1;
     } else {
         qb[tail] = 0; qw[tail] = 0; qd[tail] = 1; tail++;
@@ -420,6 +436,7 @@ static geom_status wide_build(const geom_bvh *b, const double *tv, const geom_al
             }
         }
         if (!quantize(&w->node[wi], &fq)) { qfail = 1; goto done; }
+        note_planes(w, &w->node[wi]);
     }
 done:
     geom__free(alloc, qb, 3 * nn * sizeof(uint32_t));
@@ -651,6 +668,12 @@ static int leaf_hits(const geom__tmesh *m, const geom_ray *r, const geom__wbw *w
 typedef struct w4f {
     float of[3], inv[3];
     float e;
+    /* The ray-side form (w8_node_rs): the origin and reciprocal again with
+     * a zero fourth lane, and its bound; rs = 0 when a direction component
+     * is zero (the decoding form w8_node is used). */
+    float of4[4], inv4[4];
+    float ers;
+    int rs;
     int nhi[3];          /* 1: the near plane of axis k is the box's hi (direction < 0) */
     size_t noff[3], foff[3]; /* byte offsets in a node of axis k's near and far plane codes */
 } w4f;
@@ -682,6 +705,19 @@ static int w4f_setup(const struct geom__rbvh4 *W, const double o[3], const doubl
         if (ek > e) e = ek;
     }
     f->e = f_up_fast(2 * e * (1 + 0x1p-40) + 0x1p-60);
+    /* The ray-side form's extra term (w8_node_rs): 2^-21 (pmax + |of|) |inv|. */
+    f->rs = d[0] != 0 && d[1] != 0 && d[2] != 0;
+    {
+        double fr = 0;
+        for (k = 0; k < 3; k++) {
+            double a = 0x1p-21 * (W->pmax + fabs((double)f->of[k])) * fabs((double)f->inv[k]);
+            if (a > fr) fr = a;
+            f->of4[k] = f->of[k];
+            f->inv4[k] = f->inv[k];
+        }
+        f->of4[3] = f->inv4[3] = 0;
+        f->ers = f_up_fast((2 * e + fr) * (1 + 0x1p-40) + 0x1p-60);
+    }
     return 1;
 }
 
@@ -864,6 +900,68 @@ W4_TGT static inline int w8_node(const geom__rnode4 *q, const w4f *f, float tmin
     return _mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ)) & ~_mm256_movemask_ps(_mm256_castsi256_ps(none));
 }
 
+/* Ylitie, Karras and Laine's ray-side form of the quantized slab test: the
+ * node's origin px and scale 2^ex folded into the ray, once per node,
+ * A = 2^ex inv and B = (px - of) inv, so that a plane of code q is at
+ * distance fma(q, A, B), one fused multiply-add per plane with no decode.
+ * For rays with no zero direction component (f->rs).
+ *
+ * Why it is still conservative. Let n = fl(px + q 2^ex) be the decoded
+ * plane the builder checked (it contains the exact box: w4_dec) and
+ * P = px + q 2^ex the real sum, |P - n| <= 2^-24 |n| <= 2^-24 pmax. A is
+ * exact (a power of two times a float, |A| <= 2^115: no overflow; an
+ * underflow below 2^-126 costs at most 255 2^-149), B =
+ * (px - of) inv (1 + d1)(1 + d2) with |di| <= 2^-24, so
+ *     fma(q, A, B) = ((P - of) inv + r)(1 + d3),
+ *     |r| <= gamma(2) |px - of| |inv| <= gamma(2) (pmax + |of|) |inv|,
+ * and (P - of) inv = (n - of) inv + (P - n) inv with
+ * |(P - n) inv| <= 2^-24 pmax |inv|. So the computed distance is
+ * (n - of) inv (1 + d3) plus at most 3.01 2^-24 (pmax + |of|) |inv|
+ * < 2^-21 (pmax + |of|) |inv| (and 2^-140 of underflow): the relative part
+ * is one rounding, within w4f's c = 2^-20 which covers three, and the
+ * absolute part is added to w4f's E (f->ers = E + that term, rounded up).
+ * The distances differ from w8_node's by rounding, so the nodes a ray
+ * visits may differ, never the hits: both contain every box the ray
+ * touches, and the exact test alone decides. */
+W4_TGT static inline __m256 w8_lane(__m128 v, int k)
+{
+    return _mm256_broadcastss_ps(k == 0 ? v : k == 1 ? _mm_movehdup_ps(v) : _mm_movehl_ps(v, v));
+}
+
+W4_TGT static inline int w8_node_rs(const geom__rnode4 *q, const w4f *f, float tmin, float tmax,
+                                    float tn_out[W4_W])
+{
+    const __m256 absmask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
+    const __m256 vc = _mm256_set1_ps(0x1p-20f), ve = _mm256_set1_ps(f->ers);
+    const __m128 m3 = _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0));
+    const __m128 vinv = _mm_loadu_ps(f->inv4);
+    int32_t exw;
+    __m128 px, sc, A, B;
+    __m256 tn = _mm256_set1_ps(tmin), tf = _mm256_set1_ps(tmax);
+    __m256i none;
+    int k;
+    memcpy(&exw, q->ex, sizeof exw); /* ex[0..2], pad (0) */
+    px = _mm_and_ps(_mm_loadu_ps(q->px), m3); /* the fourth lane (ex bytes) zeroed */
+    sc = _mm_castsi128_ps(_mm_slli_epi32(_mm_add_epi32(_mm_cvtepi8_epi32(_mm_cvtsi32_si128(exw)),
+                                                       _mm_set1_epi32(127)), 23));
+    A = _mm_mul_ps(sc, vinv);
+    B = _mm_mul_ps(_mm_sub_ps(px, _mm_loadu_ps(f->of4)), vinv);
+    for (k = 0; k < 3; k++) {
+        const __m256 a = w8_lane(A, k), b = w8_lane(B, k);
+        __m256 n = _mm256_cvtepi32_ps(
+            _mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)((const uint8_t *)q + f->noff[k]))));
+        __m256 c = _mm256_cvtepi32_ps(
+            _mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)((const uint8_t *)q + f->foff[k]))));
+        tn = _mm256_max_ps(_mm256_fmadd_ps(n, a, b), tn);
+        tf = _mm256_min_ps(_mm256_fmadd_ps(c, a, b), tf);
+    }
+    tn = _mm256_sub_ps(_mm256_sub_ps(tn, _mm256_mul_ps(_mm256_and_ps(tn, absmask), vc)), ve);
+    tf = _mm256_add_ps(_mm256_add_ps(tf, _mm256_mul_ps(_mm256_and_ps(tf, absmask), vc)), ve);
+    _mm256_storeu_ps(tn_out, tn);
+    none = _mm256_cmpeq_epi32(_mm256_load_si256((const __m256i *)q->child), _mm256_set1_epi32(-1));
+    return _mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ)) & ~_mm256_movemask_ps(_mm256_castsi256_ps(none));
+}
+
 /* pk_filter with the sheared x and y of the four triangles in one AVX2
  * register (x in lanes 0-3, y in 4-7): the same float operations in the
  * same order (no fused multiply-add), so the same lanes bit for bit and
@@ -1006,7 +1104,8 @@ GEOM__WBW_INLINE geom_status trace_wide_t(const geom__tmesh *m, const geom_ray *
                 float tf4[W4_W];
 #if W4_AVX2
                 if (isa == W4_ISA_AVX2)
-                    mask = w8_node(q, &f, _mm_cvtss_f32(vtmin), _mm_cvtss_f32(vtmax), tf4);
+                    mask = f.rs ? w8_node_rs(q, &f, _mm_cvtss_f32(vtmin), _mm_cvtss_f32(vtmax), tf4)
+                                : w8_node(q, &f, _mm_cvtss_f32(vtmin), _mm_cvtss_f32(vtmax), tf4);
                 else
 #endif
                     mask = w4f_node(q, &f, vo, vi, vtmin, vtmax, tf4);
