@@ -157,6 +157,67 @@ static void pd(FILE *fp, double v)
     cli_print_double(fp, v);
 }
 
+/* Closest mode reads rays in batches of BATCH and answers them with one
+ * geom_ray_scene_closest_many call (the traversals of a mesh's rays
+ * interleaved), printing the answers in input order. */
+#define BATCH 4096
+
+typedef struct batch {
+    geom_ray *r;
+    geom_ray_hit *h;
+    int *found;
+    size_t n;
+} batch;
+
+static geom_status batch_alloc(batch *b)
+{
+    b->r = malloc(BATCH * sizeof *b->r);
+    b->h = malloc(BATCH * sizeof *b->h);
+    b->found = malloc(BATCH * sizeof *b->found);
+    b->n = 0;
+    return b->r && b->h && b->found ? GEOM_OK : GEOM_ERR_NOMEM;
+}
+
+static void batch_free(batch *b)
+{
+    free(b->r);
+    free(b->h);
+    free(b->found);
+}
+
+/* Answer and print the batch's rays (invalid ones: miss), then empty it. */
+static geom_status flush_closest(const geom_ray_scene *scene, FILE *fp, batch *b, size_t *nhit, double *trace_s)
+{
+    cli_timer tt;
+    geom_status st;
+    size_t i;
+    cli_timer_start(&tt);
+    st = geom_ray_scene_closest_many(scene, b->r, b->n, b->h, b->found);
+    *trace_s += cli_timer_elapsed(&tt);
+    if (st == GEOM_ERR_INVALID_ARG) st = GEOM_OK; /* some ray invalid: found 0, counted by the caller */
+    if (st != GEOM_OK) return st;
+    for (i = 0; i < b->n; i++) {
+        const geom_ray_hit *h = &b->h[i];
+        if (!b->found[i]) {
+            fputs("miss\n", fp);
+            continue;
+        }
+        (*nhit)++;
+        pd(fp, h->t); fputc(' ', fp);
+        pd(fp, h->point.x); fputc(' ', fp);
+        pd(fp, h->point.y); fputc(' ', fp);
+        pd(fp, h->point.z); fputc(' ', fp);
+        pd(fp, h->ng.x); fputc(' ', fp);
+        pd(fp, h->ng.y); fputc(' ', fp);
+        pd(fp, h->ng.z); fputc(' ', fp);
+        pd(fp, h->u); fputc(' ', fp);
+        pd(fp, h->v);
+        fprintf(fp, " %u %u\n", (unsigned)h->object, (unsigned)h->prim);
+    }
+    b->n = 0;
+    return GEOM_OK;
+}
+
 int main(int argc, char **argv)
 {
     static const struct option longopts[] = {{"rays", required_argument, NULL, 'r'},
@@ -180,6 +241,7 @@ int main(int argc, char **argv)
     size_t nrays = 0, ninvalid = 0, nhit = 0, nhits_total = 0;
     geom_ray_hit *hits = NULL;
     size_t hcap = 0;
+    batch bat = {0};
     rc = cli_parse_args(&tool, argc, argv, "r:", longopts, on_opt, &o, &common, &first);
     if (rc != CLI_CONTINUE) return rc;
     if (first >= argc) return cli_usage_error(&tool, "missing input file (scene, mesh or surface)");
@@ -211,6 +273,17 @@ int main(int argc, char **argv)
     }
     cli_lines_init(&lines, in.fp, in.name);
     rc = CLI_EXIT_OK;
+    if (o.mode == 0 && batch_alloc(&bat) != GEOM_OK) {
+        geom_diag_clear(&diag);
+        diag.status = GEOM_ERR_NOMEM;
+        snprintf(diag.message, sizeof diag.message, "out of memory");
+        rc = cli_print_diag(&tool, &diag);
+        cli_lines_free(&lines);
+        cli_input_close(&in);
+        cli_output_abort(&out);
+        unload(scene, keep);
+        return rc;
+    }
     for (;;) {
         char *line;
         size_t len, cnt = 0;
@@ -240,34 +313,20 @@ int main(int argc, char **argv)
         r.tmin = cnt > 6 ? v[6] : 0;
         r.tmax = cnt > 7 ? v[7] : INFINITY;
         nrays++;
+        if (o.mode == 0) { /* closest: batched (an invalid ray answers miss there too) */
+            ninvalid += geom_ray_check(&r) != GEOM_OK;
+            bat.r[bat.n++] = r;
+            if (bat.n == BATCH && (st = flush_closest(scene, out.fp, &bat, &nhit, &trace_s)) != GEOM_OK)
+                goto trace_fail;
+            continue;
+        }
         cli_timer_start(&tt);
         if (geom_ray_check(&r) != GEOM_OK) {
             ninvalid++;
             fputs("miss\n", out.fp);
             continue;
         }
-        if (o.mode == 0) {
-            geom_ray_hit h;
-            int found = 0;
-            st = geom_ray_scene_closest(scene, &r, &h, &found);
-            trace_s += cli_timer_elapsed(&tt);
-            if (st != GEOM_OK) goto trace_fail;
-            if (!found) {
-                fputs("miss\n", out.fp);
-                continue;
-            }
-            nhit++;
-            pd(out.fp, h.t); fputc(' ', out.fp);
-            pd(out.fp, h.point.x); fputc(' ', out.fp);
-            pd(out.fp, h.point.y); fputc(' ', out.fp);
-            pd(out.fp, h.point.z); fputc(' ', out.fp);
-            pd(out.fp, h.ng.x); fputc(' ', out.fp);
-            pd(out.fp, h.ng.y); fputc(' ', out.fp);
-            pd(out.fp, h.ng.z); fputc(' ', out.fp);
-            pd(out.fp, h.u); fputc(' ', out.fp);
-            pd(out.fp, h.v);
-            fprintf(out.fp, " %u %u\n", (unsigned)h.object, (unsigned)h.prim);
-        } else if (o.mode == 1) {
+        if (o.mode == 1) {
             int found = 0;
             st = geom_ray_scene_any(scene, &r, &found);
             trace_s += cli_timer_elapsed(&tt);
@@ -311,6 +370,13 @@ int main(int argc, char **argv)
         rc = cli_print_diag(&tool, &diag);
         break;
     }
+    if (rc == CLI_EXIT_OK && bat.n > 0 && (st = flush_closest(scene, out.fp, &bat, &nhit, &trace_s)) != GEOM_OK) {
+        geom_diag_clear(&diag);
+        diag.status = st;
+        snprintf(diag.message, sizeof diag.message, "ray failed: %s", geom_status_str(st));
+        cli_diag_locate(&diag, in.name, lines.lineno);
+        rc = cli_print_diag(&tool, &diag);
+    }
     cli_lines_free(&lines);
     cli_input_close(&in);
     if (rc == CLI_EXIT_OK) {
@@ -348,6 +414,7 @@ int main(int argc, char **argv)
         fprintf(e, "]}\n");
     }
     free(hits);
+    batch_free(&bat);
     unload(scene, keep);
     return rc;
 }

@@ -19,6 +19,7 @@
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Simple_cartesian.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -84,6 +85,100 @@ static Result run_geom(const geom_ray_scene *s, const std::vector<Ray> &rays)
         int found = 0;
         geom_ray_scene_closest(s, &q, &h, &found);
         r.t[i] = found ? h.t : NAN;
+    }
+    r.seconds = cpu_now() - t0;
+    return r;
+}
+
+// The batch entry point: all rays in one call (the traversals of eight
+// interleaved), the geom_ray array filled inside the timing as above.
+static Result run_geom_many(const geom_ray_scene *s, const std::vector<Ray> &rays)
+{
+    Result r;
+    r.t.resize(rays.size());
+    std::vector<geom_ray> q(rays.size());
+    std::vector<geom_ray_hit> h(rays.size());
+    std::vector<int> found(rays.size());
+    double t0 = cpu_now();
+    for (size_t i = 0; i < rays.size(); i++) {
+        q[i].origin = geom_vec3_make(rays[i].o[0], rays[i].o[1], rays[i].o[2]);
+        q[i].dir = geom_vec3_make(rays[i].d[0], rays[i].d[1], rays[i].d[2]);
+        q[i].tmin = 0;
+        q[i].tmax = INFINITY;
+    }
+    geom_ray_scene_closest_many(s, q.data(), q.size(), h.data(), found.data());
+    for (size_t i = 0; i < rays.size(); i++) r.t[i] = found[i] ? h[i].t : NAN;
+    r.seconds = cpu_now() - t0;
+    return r;
+}
+
+static void embree_ray(RTCRayHit &rh, const Ray &ray)
+{
+    rh.ray.org_x = (float)ray.o[0];
+    rh.ray.org_y = (float)ray.o[1];
+    rh.ray.org_z = (float)ray.o[2];
+    rh.ray.dir_x = (float)ray.d[0];
+    rh.ray.dir_y = (float)ray.d[1];
+    rh.ray.dir_z = (float)ray.d[2];
+    rh.ray.tnear = 0;
+    rh.ray.tfar = INFINITY;
+    rh.ray.mask = 0xffffffffu;
+    rh.ray.flags = 0;
+    rh.ray.time = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+}
+
+// Embree's stream API: every ray in one rtcIntersect1M call.
+static Result run_embree_1M(RTCScene sc, const std::vector<Ray> &rays)
+{
+    Result r;
+    r.t.resize(rays.size());
+    std::vector<RTCRayHit> rh(rays.size());
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    double t0 = cpu_now();
+    for (size_t i = 0; i < rays.size(); i++) embree_ray(rh[i], rays[i]);
+    rtcIntersect1M(sc, &ctx, rh.data(), (unsigned)rh.size(), sizeof(RTCRayHit));
+    for (size_t i = 0; i < rays.size(); i++)
+        r.t[i] = rh[i].hit.geomID != RTC_INVALID_GEOMETRY_ID ? (double)rh[i].ray.tfar : NAN;
+    r.seconds = cpu_now() - t0;
+    return r;
+}
+
+// Embree's packets of eight (rtcIntersect8), consecutive rays in a packet.
+static Result run_embree_8(RTCScene sc, const std::vector<Ray> &rays)
+{
+    Result r;
+    r.t.resize(rays.size());
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    alignas(32) RTCRayHit8 p;
+    alignas(32) int valid[8];
+    double t0 = cpu_now();
+    for (size_t b = 0; b < rays.size(); b += 8) {
+        for (int j = 0; j < 8; j++) {
+            size_t i = b + (size_t)j;
+            valid[j] = i < rays.size() ? -1 : 0;
+            const Ray &ray = rays[i < rays.size() ? i : b];
+            p.ray.org_x[j] = (float)ray.o[0];
+            p.ray.org_y[j] = (float)ray.o[1];
+            p.ray.org_z[j] = (float)ray.o[2];
+            p.ray.dir_x[j] = (float)ray.d[0];
+            p.ray.dir_y[j] = (float)ray.d[1];
+            p.ray.dir_z[j] = (float)ray.d[2];
+            p.ray.tnear[j] = 0;
+            p.ray.tfar[j] = INFINITY;
+            p.ray.mask[j] = 0xffffffffu;
+            p.ray.flags[j] = 0;
+            p.ray.time[j] = 0;
+            p.ray.id[j] = (unsigned)j;
+            p.hit.geomID[j] = RTC_INVALID_GEOMETRY_ID;
+            p.hit.instID[0][j] = RTC_INVALID_GEOMETRY_ID;
+        }
+        rtcIntersect8(valid, sc, &ctx, &p);
+        for (int j = 0; j < 8 && b + (size_t)j < rays.size(); j++)
+            r.t[b + (size_t)j] = p.hit.geomID[j] != RTC_INVALID_GEOMETRY_ID ? (double)p.ray.tfar[j] : NAN;
     }
     r.seconds = cpu_now() - t0;
     return r;
@@ -303,13 +398,20 @@ static void bench_mesh(const std::string &label, const std::vector<double> &pos,
     for (int si = 0; si < 2; si++) {
         const std::vector<Ray> &rays = *sets[si];
         // Best of three runs each (interleaved): the machine may be shared.
-        Result rg, re, rr, rc, rs;
+        Result rg, re, rr, rc, rs, gm, em[2], e8[2];
         for (int rep = 0; rep < 3; rep++) {
             geom__ray_scene_simd(gs, 0);
             Result s2 = run_geom(gs, rays);
             geom__ray_scene_simd(gs, isa);
             Result a = run_geom(gs, rays), b = run_embree(esc[0], rays), c2 = run_embree(esc[1], rays),
                    d = run_cgal(tree, rays, cstride);
+            Result g2 = run_geom_many(gs, rays);
+            for (int md = 0; md < 2; md++) {
+                Result x = run_embree_1M(esc[md], rays), y = run_embree_8(esc[md], rays);
+                if (rep == 0 || x.seconds < em[md].seconds) em[md] = x;
+                if (rep == 0 || y.seconds < e8[md].seconds) e8[md] = y;
+            }
+            if (rep == 0 || g2.seconds < gm.seconds) gm = g2;
             if (rep == 0 || s2.seconds < rs.seconds) rs = s2;
             if (rep == 0 || a.seconds < rg.seconds) rg = a;
             if (rep == 0 || b.seconds < re.seconds) re = b;
@@ -327,6 +429,21 @@ static void bench_mesh(const std::string &label, const std::vector<double> &pos,
         std::printf("  libgeom path %s; the SSE2 path in the same run: %.4g rays/s, ratio to embree %.3f, "
                     "embree-robust %.3f\n",
                     isa == 1 ? "AVX2" : "SSE2", n / rs.seconds, re.seconds / rs.seconds, rr.seconds / rs.seconds);
+        {
+            // The goal is judged against Embree's best API in each mode.
+            double eb[2] = {std::min(re.seconds, std::min(em[0].seconds, e8[0].seconds)),
+                            std::min(rr.seconds, std::min(em[1].seconds, e8[1].seconds))};
+            double gb = std::min(rg.seconds, gm.seconds);
+            std::printf("  batch rays/s: libgeom closest_many %.4g  embree 1M %.4g  embree 8 %.4g  "
+                        "embree-robust 1M %.4g  embree-robust 8 %.4g\n",
+                        n / gm.seconds, n / em[0].seconds, n / e8[0].seconds, n / em[1].seconds, n / e8[1].seconds);
+            std::printf("  best of each: libgeom %.4g  embree %.4g  embree-robust %.4g rays/s; "
+                        "ratio libgeom/embree %.3f  libgeom/embree-robust %.3f\n",
+                        n / gb, n / eb[0], n / eb[1], eb[0] / gb, eb[1] / gb);
+        }
+        compare("libgeom batch vs embree", gm, re, 1);
+        compare("embree 1M vs embree", em[0], re, 1);
+        compare("embree 8 vs embree", e8[0], re, 1);
         compare("libgeom vs embree", rg, re, 1);
         compare("libgeom sse2 vs embree", rs, re, 1);
         compare("libgeom vs embree-rob", rg, rr, 1);

@@ -1232,6 +1232,8 @@ geom_status geom_ray_scene_build(geom_ray_scene *s, const geom_ray_build_options
     geom_ray_build_info *info, geom_diag *diag);
 geom_status geom_ray_scene_closest(const geom_ray_scene *s, const geom_ray *r,
     geom_ray_hit *hit, int *found);
+geom_status geom_ray_scene_closest_many(const geom_ray_scene *s, const geom_ray *rays, size_t n,
+    geom_ray_hit *hits, int *found);
 geom_status geom_ray_scene_any(const geom_ray_scene *s, const geom_ray *r, int *found);
 geom_status geom_ray_scene_all(const geom_ray_scene *s, const geom_ray *r,
     geom_ray_hit *hits, size_t cap, size_t *n);

@@ -1222,6 +1222,270 @@ static geom_status trace_wide(const geom__tmesh *m, const geom_ray *r, const geo
     return trace_wide_sse2(m, r, sl, mode, out);
 }
 
+/* ---------------------------------------------------------------------
+ * Closest hits of many rays, their traversals interleaved (the batch entry
+ * point geom_ray_scene_closest_many). A random ray's traversal waits on
+ * memory at almost every node and leaf (a first load of a node or a leaf
+ * packet: about a third of the single-ray traversal's time). Here W8_K rays
+ * are traversed at once, round robin, one step each (a node test, or a
+ * leaf): each step ends by choosing the ray's next node or leaf and asking
+ * for it (prefetch), and the W8_K - 1 other rays' steps run while it comes
+ * from memory (the latency hiding of Aila and Laine's persistent threads,
+ * "Understanding the Efficiency of Ray Traversal on GPUs", HPG 2009, done
+ * in software on one core). Each ray's own traversal is trace_wide's, step
+ * for step (the same node order, pruning and tie rule), so every answer is
+ * bit for bit geom_ray_scene_closest's (test_ray_batch). */
+#if W4_SSE
+/* Rays in flight per batch. */
+#define W8_K 8
+
+typedef struct w8slot {
+    pkray pk;              /* first: 16-byte aligned */
+    w4f f;
+    geom__wbw w;
+    const geom_ray *r;
+    size_t idx;            /* the ray's index in the batch */
+    double tmin, tmax, best_t, best_b[3];
+    float ftmin, ftmax;
+    uint32_t best;
+    int sp;
+    w4entry cur;
+    w4entry *stack;        /* W4_STACK entries */
+    __m128 vo[3], vi[3];
+} w8slot;
+
+/* Start ray r in slot t; 0 when the float node test cannot take it (the
+ * caller then traces it alone). */
+static int w8_start(const geom__tmesh *m, w8slot *t, const geom_ray *r, size_t idx)
+{
+    const struct geom__rbvh4 *W = m->wide;
+    double o[3] = {r->origin.x, r->origin.y, r->origin.z}, d[3] = {r->dir.x, r->dir.y, r->dir.z}, inv[3];
+    int k;
+    for (k = 0; k < 3; k++) inv[k] = d[k] != 0 ? 1.0 / d[k] : (signbit(d[k]) ? -INFINITY : INFINITY);
+    if (!w4f_setup(W, o, d, inv, &t->f)) return 0;
+    for (k = 0; k < 3; k++) {
+        t->vo[k] = _mm_set1_ps(t->f.of[k]);
+        t->vi[k] = _mm_set1_ps(t->f.inv[k]);
+    }
+    t->r = r;
+    t->idx = idx;
+    t->tmin = r->tmin;
+    t->tmax = r->tmax;
+    t->ftmin = f_down_fast(r->tmin);
+    t->ftmax = f_up_fast(r->tmax);
+    t->best = GEOM_INVALID_INDEX;
+    t->best_t = 0;
+    t->best_b[0] = t->best_b[1] = t->best_b[2] = 0;
+    t->w.kz = -1;
+    t->sp = 0;
+    t->cur.tn = r->tmin;
+    t->cur.child = 0;
+    t->cur.count = 0;
+    return 1;
+}
+
+/* Ask for the memory of the slot's current node or leaf packet. */
+static inline void w8_fetch(const struct geom__rbvh4 *W, const w8slot *t)
+{
+    const char *c;
+    if (t->cur.count == 0) {
+        c = (const char *)&W->node[t->cur.child];
+        W4_PREFETCH(c);
+        W4_PREFETCH(c + 64);
+    } else {
+        c = (const char *)&W->pk[W4_PK(t->cur.count)];
+        W4_PREFETCH(c);
+        W4_PREFETCH(c + 64);
+        W4_PREFETCH(c + 128);
+    }
+}
+
+/* One step of slot t's traversal (trace_wide's loop body, closest mode):
+ * 1 while the ray goes on (its next node or leaf asked for), 0 when it is
+ * done. */
+GEOM__WBW_INLINE int w8_step(const geom__tmesh *m, w8slot *t, const int isa)
+{
+    const struct geom__rbvh4 *W = m->wide;
+    w4entry *stack = t->stack;
+    int sp = t->sp;
+    if (t->cur.count == 0) {
+        const geom__rnode4 *q = &W->node[t->cur.child];
+        float tn[W4_W];
+        int j, base = sp, mask;
+#if W4_AVX2
+        if (isa == W4_ISA_AVX2)
+            mask = t->f.rs ? w8_node_rs(q, &t->f, t->ftmin, t->ftmax, tn) : w8_node(q, &t->f, t->ftmin, t->ftmax, tn);
+        else
+#endif
+            mask = w4f_node(q, &t->f, t->vo, t->vi, _mm_set1_ps(t->ftmin), _mm_set1_ps(t->ftmax), tn);
+        if (mask == 0) goto pop;
+        if ((mask & (mask - 1)) == 0) { /* one child: next */
+            for (j = 0; !(mask & 1); j++, mask >>= 1) {}
+            t->cur.tn = (double)tn[j];
+            t->cur.child = q->child[j];
+            t->cur.count = q->count[j];
+            w8_fetch(W, t);
+            return 1;
+        }
+        /* sp + W4_W <= W4_STACK: the depth is checked at build */
+        for (j = 0; mask; j++, mask >>= 1) {
+            int i;
+            if (!(mask & 1)) continue;
+            i = sp++;
+            while (i > base && stack[i - 1].tn < (double)tn[j]) { stack[i] = stack[i - 1]; i--; }
+            stack[i].tn = (double)tn[j];
+            stack[i].child = q->child[j];
+            stack[i].count = q->count[j];
+            if (q->count[j] == 0) {
+                const char *c = (const char *)&W->node[q->child[j]];
+                W4_PREFETCH(c);
+                W4_PREFETCH(c + 64);
+            } else {
+                const char *c = (const char *)&W->pk[W4_PK(q->count[j])];
+                W4_PREFETCH(c);
+                W4_PREFETCH(c + 64);
+                W4_PREFETCH(c + 128);
+            }
+        }
+    } else {
+        double tmax0 = t->tmax;
+        uint32_t cnt = W4_CNT(t->cur.count);
+        int lanes;
+        if (t->w.kz < 0) {
+            geom__wbw_setup(&t->w, t->r);
+            pk_setup(&t->pk, &t->w, W);
+        }
+#if W4_AVX2
+        if (isa == W4_ISA_AVX2)
+            lanes = pk_filter8(&W->pk[W4_PK(t->cur.count)], &t->pk) & ((1 << cnt) - 1);
+        else
+#endif
+            lanes = pk_filter(&W->pk[W4_PK(t->cur.count)], &t->pk) & ((1 << cnt) - 1);
+        while (lanes) {
+            int j = lane_first(lanes);
+            lanes &= lanes - 1;
+            /* closest mode: never -1 (no list) nor 1 (not any-hit) */
+            (void)leaf_hits(m, t->r, &t->w, t->cur.child + (uint32_t)j, 1, t->tmin, &t->tmax, GEOM__RAY_CLOSEST,
+                            &t->best, &t->best_t, t->best_b, NULL);
+        }
+        if (t->tmax != tmax0) t->ftmax = f_up_fast(t->tmax);
+    }
+pop:
+    do {
+        if (sp == 0) {
+            t->sp = 0;
+            return 0;
+        }
+        sp--;
+        t->cur = stack[sp];
+    } while (t->cur.tn > t->tmax);
+    t->sp = sp;
+    w8_fetch(W, t);
+    return 1;
+}
+
+/* The batch (rays idx[0 .. n), each valid with tmin <= tmax): hits[idx[i]]
+ * and found[idx[i]] as geom__ray_mesh in closest mode would give them. */
+GEOM__WBW_INLINE geom_status w8_many_t(const geom__tmesh *m, const geom_ray *rays, const size_t *idx, size_t n,
+                                       geom_ray_hit *hits, int *found, w8slot *slot,
+                                       const geom_allocator *alloc, const int isa)
+{
+    size_t next = 0;
+    int live = 0, k;
+    for (k = 0; k < W8_K; k++) slot[k].r = NULL;
+    for (;;) {
+        for (k = 0; k < W8_K; k++) {
+            w8slot *t = &slot[k];
+            if (!t->r) { /* refill: the next ray the float test takes */
+                while (next < n) {
+                    size_t i = idx[next++];
+                    if (w8_start(m, t, &rays[i], i)) {
+                        live++;
+                        w8_fetch(m->wide, t);
+                        break;
+                    } else {
+                        geom__rhits l;
+                        geom_status st;
+                        geom__rhits_init(&l, alloc);
+                        st = trace_wide(m, &rays[i], NULL, GEOM__RAY_CLOSEST, &l);
+                        if (st == GEOM_OK && l.n > 0) {
+                            hits[i] = l.h[0];
+                            found[i] = 1;
+                        }
+                        geom__rhits_free(&l);
+                        if (st != GEOM_OK) return st;
+                    }
+                }
+                if (!t->r) continue;
+            }
+            if (!w8_step(m, t, isa)) {
+                if (t->best != GEOM_INVALID_INDEX) {
+                    fill(m, t->r, t->best, t->best_t, t->best_b, &hits[t->idx]);
+                    found[t->idx] = 1;
+                }
+                t->r = NULL;
+                live--;
+            }
+        }
+        if (live == 0 && next >= n) return GEOM_OK;
+    }
+}
+
+static geom_status w8_many_sse2(const geom__tmesh *m, const geom_ray *rays, const size_t *idx, size_t n,
+                                geom_ray_hit *hits, int *found, w8slot *slot, const geom_allocator *alloc)
+{
+    return w8_many_t(m, rays, idx, n, hits, found, slot, alloc, W4_ISA_SSE2);
+}
+
+#if W4_AVX2
+W4_TGT static geom_status w8_many_avx2(const geom__tmesh *m, const geom_ray *rays, const size_t *idx, size_t n,
+                                       geom_ray_hit *hits, int *found, w8slot *slot, const geom_allocator *alloc)
+{
+    return w8_many_t(m, rays, idx, n, hits, found, slot, alloc, W4_ISA_AVX2);
+}
+#endif
+#endif
+
+geom_status geom__ray_mesh_closest_many(const geom__tmesh *m, const geom_ray *rays, const size_t *idx, size_t n,
+                                        geom_ray_hit *hits, int *found, const geom_allocator *alloc)
+{
+    size_t i;
+    if (!m->bvh) return GEOM_OK;
+#if W4_SSE
+    if (m->wide) {
+        w8slot *slot;
+        void *mem;
+        size_t bytes = W8_K * sizeof(w8slot) + 64 + (size_t)W8_K * W4_STACK * sizeof(w4entry);
+        geom_status st;
+        mem = geom__alloc(alloc, bytes);
+        if (!mem) return GEOM_ERR_NOMEM;
+        slot = (w8slot *)(((uintptr_t)mem + 63) & ~(uintptr_t)63);
+        for (i = 0; i < W8_K; i++) slot[i].stack = (w4entry *)(slot + W8_K) + i * W4_STACK;
+#if W4_AVX2
+        if (m->wide->isa == W4_ISA_AVX2)
+            st = w8_many_avx2(m, rays, idx, n, hits, found, slot, alloc);
+        else
+#endif
+            st = w8_many_sse2(m, rays, idx, n, hits, found, slot, alloc);
+        geom__free(alloc, mem, bytes);
+        return st;
+    }
+#endif
+    for (i = 0; i < n; i++) {
+        geom__rhits l;
+        geom_status st;
+        geom__rhits_init(&l, alloc);
+        st = geom__ray_mesh(m, &rays[idx[i]], GEOM__RAY_CLOSEST, &l);
+        if (st == GEOM_OK && l.n > 0) {
+            hits[idx[i]] = l.h[0];
+            found[idx[i]] = 1;
+        }
+        geom__rhits_free(&l);
+        if (st != GEOM_OK) return st;
+    }
+    return GEOM_OK;
+}
+
 int geom__ray_scene_simd(geom_ray_scene *s, int isa)
 {
     size_t i;
@@ -1296,4 +1560,37 @@ geom_status geom__ray_mesh_sl(const geom__tmesh *m, const geom_ray *r, const geo
     }
 done:
     return finish(m, r, mode, best, best_t, best_b, out);
+}
+
+geom_status geom_ray_scene_closest_many(const geom_ray_scene *s, const geom_ray *rays, size_t n,
+                                        geom_ray_hit *hits, int *found)
+{
+    const geom__ray_node *nd;
+    size_t i, nv = 0, *idx;
+    int bad = 0;
+    geom_status st;
+    if (!s || (n && (!rays || !hits || !found))) return GEOM_ERR_INVALID_ARG;
+    for (i = 0; i < n; i++) found[i] = 0;
+    if (!s->built) return GEOM_ERR_INVALID_ARG;
+    nd = s->nroots == 1 ? &s->nodes[s->roots[0]] : NULL;
+    if (!nd || (nd->kind != GEOM_RAY_MESH && nd->kind != GEOM_RAY_SUBDIV) || nd->has_xf || !nd->mesh ||
+        !nd->mesh->wide) {
+        /* not a single mesh: one ray at a time */
+        for (i = 0; i < n; i++) {
+            st = geom_ray_scene_closest(s, &rays[i], &hits[i], &found[i]);
+            if (st == GEOM_ERR_INVALID_ARG) bad = 1;
+            else if (st != GEOM_OK) return st;
+        }
+        return bad ? GEOM_ERR_INVALID_ARG : GEOM_OK;
+    }
+    idx = geom__alloc(s->alloc, (n ? n : 1) * sizeof *idx);
+    if (!idx) return GEOM_ERR_NOMEM;
+    for (i = 0; i < n; i++) {
+        if (!geom__ray_valid(&rays[i])) { bad = 1; continue; }
+        if (rays[i].tmin <= rays[i].tmax) idx[nv++] = i;
+    }
+    st = geom__ray_mesh_closest_many(nd->mesh, rays, idx, nv, hits, found, s->alloc);
+    geom__free(s->alloc, idx, (n ? n : 1) * sizeof *idx);
+    if (st != GEOM_OK) return st;
+    return bad ? GEOM_ERR_INVALID_ARG : GEOM_OK;
 }

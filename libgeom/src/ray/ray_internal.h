@@ -207,6 +207,12 @@ geom_status geom__ray_mesh_build(geom__tmesh *m, const geom_ray_build_options *o
 void geom__ray_mesh_free(geom__tmesh *m, const geom_allocator *alloc);
 size_t geom__ray_mesh_bvh_nodes(const geom__tmesh *m, size_t *bytes);
 geom_aabb geom__ray_mesh_bounds(const geom__tmesh *m);
+/* Closest hits of rays idx[0 .. n) (each valid, tmin <= tmax) against the
+ * mesh, their traversals interleaved (mesh.c): hits[idx[i]] and
+ * found[idx[i]] set as geom__ray_mesh in closest mode gives them (found
+ * left alone on a miss). */
+geom_status geom__ray_mesh_closest_many(const geom__tmesh *m, const geom_ray *rays, const size_t *idx, size_t n,
+                                        geom_ray_hit *hits, int *found, const geom_allocator *alloc);
 /* Tests only: the wide mesh traversal of every mesh object of s forced to
  * isa (0: SSE2, 1: AVX2 + FMA when the CPU has them; otherwise, and for -1,
  * unchanged).
