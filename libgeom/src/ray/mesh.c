@@ -1237,7 +1237,9 @@ static geom_status trace_wide(const geom__tmesh *m, const geom_ray *r, const geo
  * bit for bit geom_ray_scene_closest's (test_ray_batch). */
 #if W4_SSE
 /* Rays in flight per batch. */
+#ifndef W8_K
 #define W8_K 8
+#endif
 
 typedef struct w8slot {
     pkray pk;              /* first: 16-byte aligned */
@@ -1249,6 +1251,7 @@ typedef struct w8slot {
     float ftmin, ftmax;
     uint32_t best;
     int sp;
+    int pend;              /* lanes of the current leaf the exact test is still to see */
     w4entry cur;
     w4entry *stack;        /* W4_STACK entries */
     __m128 vo[3], vi[3];
@@ -1278,6 +1281,7 @@ static int w8_start(const geom__tmesh *m, w8slot *t, const geom_ray *r, size_t i
     t->best_b[0] = t->best_b[1] = t->best_b[2] = 0;
     t->w.kz = -1;
     t->sp = 0;
+    t->pend = 0;
     t->cur.tn = r->tmin;
     t->cur.child = 0;
     t->cur.count = 0;
@@ -1347,8 +1351,19 @@ GEOM__WBW_INLINE int w8_step(const geom__tmesh *m, w8slot *t, const int isa)
                 W4_PREFETCH(c + 128);
             }
         }
-    } else {
+    } else if (t->pend) { /* the exact test of the lanes kept (their triangles asked for) */
         double tmax0 = t->tmax;
+        int lanes = t->pend;
+        t->pend = 0;
+        while (lanes) {
+            int j = lane_first(lanes);
+            lanes &= lanes - 1;
+            /* closest mode: never -1 (no list) nor 1 (not any-hit) */
+            (void)leaf_hits(m, t->r, &t->w, t->cur.child + (uint32_t)j, 1, t->tmin, &t->tmax, GEOM__RAY_CLOSEST,
+                            &t->best, &t->best_t, t->best_b, NULL);
+        }
+        if (t->tmax != tmax0) t->ftmax = f_up_fast(t->tmax);
+    } else { /* the float pre-test; the exact test of the lanes kept at the slot's next turn */
         uint32_t cnt = W4_CNT(t->cur.count);
         int lanes;
         if (t->w.kz < 0) {
@@ -1361,14 +1376,17 @@ GEOM__WBW_INLINE int w8_step(const geom__tmesh *m, w8slot *t, const int isa)
         else
 #endif
             lanes = pk_filter(&W->pk[W4_PK(t->cur.count)], &t->pk) & ((1 << cnt) - 1);
-        while (lanes) {
-            int j = lane_first(lanes);
-            lanes &= lanes - 1;
-            /* closest mode: never -1 (no list) nor 1 (not any-hit) */
-            (void)leaf_hits(m, t->r, &t->w, t->cur.child + (uint32_t)j, 1, t->tmin, &t->tmax, GEOM__RAY_CLOSEST,
-                            &t->best, &t->best_t, t->best_b, NULL);
+        if (lanes) {
+            int l = lanes;
+            while (l) { /* 72 bytes a triangle: at most two cache lines each */
+                const char *c = (const char *)(m->tv + 9 * (size_t)(t->cur.child + (uint32_t)lane_first(l)));
+                l &= l - 1;
+                W4_PREFETCH(c);
+                W4_PREFETCH(c + 71);
+            }
+            t->pend = lanes;
+            return 1;
         }
-        if (t->tmax != tmax0) t->ftmax = f_up_fast(t->tmax);
     }
 pop:
     do {
