@@ -206,19 +206,7 @@ static Result run_embree(RTCScene sc, const std::vector<Ray> &rays)
     double t0 = cpu_now();
     for (size_t i = 0; i < rays.size(); i++) {
         RTCRayHit rh;
-        rh.ray.org_x = (float)rays[i].o[0];
-        rh.ray.org_y = (float)rays[i].o[1];
-        rh.ray.org_z = (float)rays[i].o[2];
-        rh.ray.dir_x = (float)rays[i].d[0];
-        rh.ray.dir_y = (float)rays[i].d[1];
-        rh.ray.dir_z = (float)rays[i].d[2];
-        rh.ray.tnear = 0;
-        rh.ray.tfar = INFINITY;
-        rh.ray.mask = 0xffffffffu;
-        rh.ray.flags = 0;
-        rh.ray.time = 0;
-        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        embree_ray(rh, rays[i]);
         rtcIntersect1(sc, &ctx, &rh);
         r.t[i] = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID ? (double)rh.ray.tfar : NAN;
     }

@@ -1,6 +1,7 @@
 /* Test helpers for the ray tests: an outward icosphere, a uniform random
- * number in [0, 1) from a xorshift64 state, and a ray from origin and
- * direction over [0, inf] (mkray) or [0, tmax] (mkray_to). */
+ * number in [0, 1) from a xorshift64 state, a ray from origin and
+ * direction over [0, inf] (mkray) or [0, tmax] (mkray_to), and bitwise
+ * equality of hits (ray_same_hit). */
 #ifndef GEOM_TESTS_RAY_TESTUTIL_H
 #define GEOM_TESTS_RAY_TESTUTIL_H
 
@@ -34,6 +35,17 @@ static inline geom_ray mkray_to(double ox, double oy, double oz, double dx, doub
 static inline geom_ray mkray(double ox, double oy, double oz, double dx, double dy, double dz)
 {
     return mkray_to(ox, oy, oz, dx, dy, dz, INFINITY);
+}
+
+/* Two hits equal bit for bit, field by field (no padding compared). */
+static inline int ray_same_hit(const geom_ray_hit *a, const geom_ray_hit *b)
+{
+    return memcmp(&a->t, &b->t, sizeof a->t) == 0 && memcmp(&a->point, &b->point, sizeof a->point) == 0 &&
+           memcmp(&a->ng, &b->ng, sizeof a->ng) == 0 && memcmp(&a->ns, &b->ns, sizeof a->ns) == 0 &&
+           memcmp(&a->u, &b->u, sizeof a->u) == 0 && memcmp(&a->v, &b->v, sizeof a->v) == 0 &&
+           a->prim == b->prim && a->object == b->object && a->enter == b->enter &&
+           memcmp(&a->t_error, &b->t_error, sizeof a->t_error) == 0 &&
+           memcmp(&a->p_error, &b->p_error, sizeof a->p_error) == 0;
 }
 
 typedef struct tmesh {

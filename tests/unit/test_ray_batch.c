@@ -38,16 +38,6 @@ static double urand(void)
     return ray_urand(&rng);
 }
 
-static int same_hit(const geom_ray_hit *a, const geom_ray_hit *b)
-{
-    return memcmp(&a->t, &b->t, sizeof a->t) == 0 && memcmp(&a->point, &b->point, sizeof a->point) == 0 &&
-           memcmp(&a->ng, &b->ng, sizeof a->ng) == 0 && memcmp(&a->ns, &b->ns, sizeof a->ns) == 0 &&
-           memcmp(&a->u, &b->u, sizeof a->u) == 0 && memcmp(&a->v, &b->v, sizeof a->v) == 0 &&
-           a->prim == b->prim && a->object == b->object && a->enter == b->enter &&
-           memcmp(&a->t_error, &b->t_error, sizeof a->t_error) == 0 &&
-           memcmp(&a->p_error, &b->p_error, sizeof a->p_error) == 0;
-}
-
 /* The closest t by brute force (INFINITY: none) over [tmin, tmax]. */
 static double brute(const tmesh *m, const geom_ray *r)
 {
@@ -87,7 +77,7 @@ static size_t check_batch(geom_ray_scene *s, const tmesh *m, const geom_ray *ray
                          path, i, rays[i].origin.x, rays[i].origin.y, rays[i].origin.z, rays[i].dir.x,
                          rays[i].dir.y, rays[i].dir.z, fb[i], f1);
             if (f1) {
-                assert_true(same_hit(&hb[i], &h1));
+                assert_true(ray_same_hit(&hb[i], &h1));
                 nhit++;
             }
             if (m && s1 == GEOM_OK) {

@@ -39,16 +39,6 @@ static double urand(void)
     return ray_urand(&rng);
 }
 
-static int same_hit(const geom_ray_hit *a, const geom_ray_hit *b)
-{
-    return memcmp(&a->t, &b->t, sizeof a->t) == 0 && memcmp(&a->point, &b->point, sizeof a->point) == 0 &&
-           memcmp(&a->ng, &b->ng, sizeof a->ng) == 0 && memcmp(&a->ns, &b->ns, sizeof a->ns) == 0 &&
-           memcmp(&a->u, &b->u, sizeof a->u) == 0 && memcmp(&a->v, &b->v, sizeof a->v) == 0 &&
-           a->prim == b->prim && a->object == b->object && a->enter == b->enter &&
-           memcmp(&a->t_error, &b->t_error, sizeof a->t_error) == 0 &&
-           memcmp(&a->p_error, &b->p_error, sizeof a->p_error) == 0;
-}
-
 /* Number of triangles the exact test hits. */
 static size_t brute(const double *p, const uint32_t *t, size_t nt, const geom_ray *r)
 {
@@ -107,8 +97,8 @@ static size_t both_paths(geom_ray_scene *s, const double *p, const uint32_t *t, 
         assert_int_equal(fc[1], nb > 0);
         assert_int_equal(fa[0], nb > 0);
         assert_int_equal(fa[1], nb > 0);
-        if (fc[0]) assert_true(same_hit(&hc[0], &hc[1]));
-        for (j = 0; j < na[0] && j < MAXH; j++) assert_true(same_hit(&ha[0][j], &ha[1][j]));
+        if (fc[0]) assert_true(ray_same_hit(&hc[0], &hc[1]));
+        for (j = 0; j < na[0] && j < MAXH; j++) assert_true(ray_same_hit(&ha[0][j], &ha[1][j]));
         nhit += nb > 0;
     }
     return nhit;

@@ -1041,6 +1041,44 @@ static inline geom_status finish(const geom__tmesh *m, const geom_ray *r, int mo
     return GEOM_OK;
 }
 
+/* Ask for the memory of a child (count 0: node child, else a leaf's packet). */
+static inline void fetch_child(const struct geom__rbvh4 *W, uint32_t child, uint32_t count)
+{
+    const char *c;
+    if (count == 0) {
+        c = (const char *)&W->node[child];
+        W4_PREFETCH(c);
+        W4_PREFETCH(c + 64);
+    } else {
+        c = (const char *)&W->pk[W4_PK(count)];
+        W4_PREFETCH(c);
+        W4_PREFETCH(c + 64);
+        W4_PREFETCH(c + 128);
+    }
+}
+
+/* The children of q in mask pushed on stack[sp..] in place by decreasing
+ * entry distance tn (the nearest is popped first; no copy through a buffer,
+ * which the compiler would make a block move that stalls the next pop),
+ * each asked for; returns the new sp. */
+static inline int push_hit(const struct geom__rbvh4 *W, const geom__rnode4 *q, int mask, const double tn[W4_W],
+                           w4entry *stack, int sp)
+{
+    const int base = sp;
+    int j;
+    for (j = 0; mask; j++, mask >>= 1) {
+        int i;
+        if (!(mask & 1)) continue;
+        i = sp++;
+        while (i > base && stack[i - 1].tn < tn[j]) { stack[i] = stack[i - 1]; i--; }
+        stack[i].tn = tn[j];
+        stack[i].child = q->child[j];
+        stack[i].count = q->count[j];
+        fetch_child(W, q->child[j], q->count[j]);
+    }
+    return sp;
+}
+
 /* The wide traversal; isa (a constant in each copy below) picks the node
  * and leaf pre-tests. */
 GEOM__WBW_INLINE geom_status trace_wide_t(const geom__tmesh *m, const geom_ray *r, const geom__rslab *sl,
@@ -1098,7 +1136,7 @@ GEOM__WBW_INLINE geom_status trace_wide_t(const geom__tmesh *m, const geom_ray *
         if (cur.count == 0) {
             const geom__rnode4 *q = &W->node[cur.child];
             double tn[W4_W];
-            int j, base = sp, mask;
+            int j, mask;
 #if W4_SSE
             if (use_f) {
                 float tf4[W4_W];
@@ -1124,28 +1162,7 @@ GEOM__WBW_INLINE geom_status trace_wide_t(const geom__tmesh *m, const geom_ray *
                 continue;
             }
             if (sp + W4_W > W4_STACK) return GEOM_ERR_LIMIT; /* cannot happen: depth checked at build */
-            /* The children hit, pushed in place by decreasing entry distance
-             * (the nearest is popped first); no copy through a buffer, which
-             * the compiler would make a block move that stalls the next pop. */
-            for (j = 0; mask; j++, mask >>= 1) {
-                int i;
-                if (!(mask & 1)) continue;
-                i = sp++;
-                while (i > base && stack[i - 1].tn < tn[j]) { stack[i] = stack[i - 1]; i--; }
-                stack[i].tn = tn[j];
-                stack[i].child = q->child[j];
-                stack[i].count = q->count[j];
-                if (q->count[j] == 0) {
-                    const char *c = (const char *)&W->node[q->child[j]];
-                    W4_PREFETCH(c);
-                    W4_PREFETCH(c + 64);
-                } else {
-                    const char *c = (const char *)&W->pk[W4_PK(q->count[j])];
-                    W4_PREFETCH(c);
-                    W4_PREFETCH(c + 64);
-                    W4_PREFETCH(c + 128);
-                }
-            }
+            sp = push_hit(W, q, mask, tn, stack, sp); /* the children hit, nearest on top */
         } else {
             double tmax0 = tmax;
             int lr = 0;
@@ -1291,17 +1308,7 @@ static int w8_start(const geom__tmesh *m, w8slot *t, const geom_ray *r, size_t i
 /* Ask for the memory of the slot's current node or leaf packet. */
 static inline void w8_fetch(const struct geom__rbvh4 *W, const w8slot *t)
 {
-    const char *c;
-    if (t->cur.count == 0) {
-        c = (const char *)&W->node[t->cur.child];
-        W4_PREFETCH(c);
-        W4_PREFETCH(c + 64);
-    } else {
-        c = (const char *)&W->pk[W4_PK(t->cur.count)];
-        W4_PREFETCH(c);
-        W4_PREFETCH(c + 64);
-        W4_PREFETCH(c + 128);
-    }
+    fetch_child(W, t->cur.child, t->cur.count);
 }
 
 /* One step of slot t's traversal (trace_wide's loop body, closest mode):
@@ -1315,7 +1322,7 @@ GEOM__WBW_INLINE int w8_step(const geom__tmesh *m, w8slot *t, const int isa)
     if (t->cur.count == 0) {
         const geom__rnode4 *q = &W->node[t->cur.child];
         float tn[W4_W];
-        int j, base = sp, mask;
+        int j, mask;
 #if W4_AVX2
         if (isa == W4_ISA_AVX2)
             mask = t->f.rs ? w8_node_rs(q, &t->f, t->ftmin, t->ftmax, tn) : w8_node(q, &t->f, t->ftmin, t->ftmax, tn);
@@ -1332,24 +1339,10 @@ GEOM__WBW_INLINE int w8_step(const geom__tmesh *m, w8slot *t, const int isa)
             return 1;
         }
         /* sp + W4_W <= W4_STACK: the depth is checked at build */
-        for (j = 0; mask; j++, mask >>= 1) {
-            int i;
-            if (!(mask & 1)) continue;
-            i = sp++;
-            while (i > base && stack[i - 1].tn < (double)tn[j]) { stack[i] = stack[i - 1]; i--; }
-            stack[i].tn = (double)tn[j];
-            stack[i].child = q->child[j];
-            stack[i].count = q->count[j];
-            if (q->count[j] == 0) {
-                const char *c = (const char *)&W->node[q->child[j]];
-                W4_PREFETCH(c);
-                W4_PREFETCH(c + 64);
-            } else {
-                const char *c = (const char *)&W->pk[W4_PK(q->count[j])];
-                W4_PREFETCH(c);
-                W4_PREFETCH(c + 64);
-                W4_PREFETCH(c + 128);
-            }
+        {
+            double tnd[W4_W];
+            for (j = 0; j < W4_W; j++) tnd[j] = (double)tn[j];
+            sp = push_hit(W, q, mask, tnd, stack, sp);
         }
     } else if (t->pend) { /* the exact test of the lanes kept (their triangles asked for) */
         double tmax0 = t->tmax;
