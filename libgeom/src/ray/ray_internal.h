@@ -213,10 +213,10 @@ geom_aabb geom__ray_mesh_bounds(const geom__tmesh *m);
  * left alone on a miss). */
 geom_status geom__ray_mesh_closest_many(const geom__tmesh *m, const geom_ray *rays, const size_t *idx, size_t n,
                                         geom_ray_hit *hits, int *found, const geom_allocator *alloc);
-/* Tests only: the wide mesh traversal of every mesh object of s forced to
- * isa (0: SSE2, 1: AVX2 + FMA when the CPU has them; otherwise, and for -1,
- * unchanged).
- * Returns the first mesh's previous isa, or -1 when s has no wide tree. */
+/* Tests and bench_ray only: the wide mesh traversal of every mesh object of
+ * s forced to isa (0: SSE2, 1: AVX2 + FMA when the CPU has them; otherwise,
+ * and for -1, unchanged). Returns the first mesh's previous isa, or -1 when
+ * s has no wide tree. */
 int geom__ray_scene_simd(geom_ray_scene *s, int isa);
 geom_status geom__ray_surface_build(geom__tsurf *sf, const geom_allocator *alloc, geom_diag *diag);
 void geom__ray_surface_free(geom__tsurf *sf, const geom_allocator *alloc);
