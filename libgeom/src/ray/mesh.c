@@ -202,12 +202,14 @@ static inline float f_up_fast(double x)
     if (x <= -0x1p-100 && x >= -0x1p100) return (float)(x * (1 - 0x1p-22));
     return x == 0 ? 0.0f : f_up(x);
 }
+#if W4_SSE /* read by the float traversal only */
 static inline float f_down_fast(double x)
 {
     if (x >= 0x1p-100 && x <= 0x1p100) return (float)(x * (1 - 0x1p-22));
     if (x <= -0x1p-100 && x >= -0x1p100) return (float)(x * (1 + 0x1p-22));
     return x == 0 ? 0.0f : f_down(x);
 }
+#endif
 
 static void lane_set(struct geom__rbvh4 *w, geom__rnode4 *q, w4fbox *fq, int j, const geom_aabb *b,
                      uint32_t child, uint32_t count)
@@ -1118,6 +1120,8 @@ GEOM__WBW_INLINE geom_status trace_wide_t(const geom__tmesh *m, const geom_ray *
         }
         use_f = W4_SSE && w4f_setup(W, o, d, inv, &f);
     }
+    (void)use_f; /* read only where SSE2 is compiled */
+    (void)isa;   /* read only where the AVX2 path is compiled */
 #if W4_SSE
     if (use_f) {
         for (k = 0; k < 3; k++) {
@@ -1316,6 +1320,7 @@ static inline void w8_fetch(const struct geom__rbvh4 *W, const w8slot *t)
  * done. */
 GEOM__WBW_INLINE int w8_step(const geom__tmesh *m, w8slot *t, const int isa)
 {
+    (void)isa;
     const struct geom__rbvh4 *W = m->wide;
     w4entry *stack = t->stack;
     int sp = t->sp;
