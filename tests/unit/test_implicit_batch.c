@@ -55,6 +55,12 @@ static const char *const exprs[] = {
     "sqrt(x*x + y*y + z*z) + 1e-300", "x + sqrt(x*x + y*y + z*z) - 1",
     "sqrt(1*x*x + 2*y*y + 3*z*z) - 1", "(x*x + y*y + z*z) * (x*y + y*z + z*x)",
     "sqrt((x-0.1)*(x-0.1) + (y+0.2)*(y+0.2) + z*z) - 0.7",
+    /* squares written x^2 and pow(x, 2), fused as x*x; distance shapes */
+    "x^2 + y^2 + z^2", "sqrt(x^2 + y^2 + z^2) - 1", "sqrt(pow(x, 2) + y*y + z^2) * 3",
+    "x*x + y*y + z*z", "sqrt(x*x + y*y + z*z)", "sqrt(x*x + y*y + z*z) / 0.3",
+    "sqrt(x*x + y*y + z*z) + 1", "(x*x + y*y + z*z) - 1e-300", "x^2 - y^2", "x^2*3 + y",
+    "sqrt(x^2 + y^2) - 0.5", "(x - 0.5)^2 + (y + 1)^2 + z^2 - 1", "x^2 + y*y + z^2 - 1",
+    "sqrt(z*z + y*y + x*x) - 1", "sqrt(x*x + y*y + z*z) - t", "sphere(0.7)",
 };
 
 /* A program n levels deep: x+(x+(...(x)...)). */
@@ -155,6 +161,77 @@ static void test_expr_batch_bitwise(void **state)
     }
     free(p);
     free(out);
+}
+
+/* geom_implicit_expr_eval_grad_many against geom_implicit_expr_eval_grad,
+ * values and gradients bit for bit (NaN where it gives NaN), and with the
+ * gradients not wanted, over every expression above. */
+static void check_grad(geom_implicit_expr *e, const char *text, size_t n, const double *p,
+                       double *val, double *grd)
+{
+    geom_implicit_expr_eval_grad_many(e, n, p, val, grd);
+    for (size_t i = 0; i < n; i++) {
+        double g[3];
+        double v = geom_implicit_expr_eval_grad(e, &p[3 * i], g);
+        int same = same_bits_or_nan(v, val[i]);
+        for (int a = 0; a < 3; a++)
+            same &= same_bits_or_nan(g[a], grd[3 * i + a]);
+        if (!same)
+            fail_msg("%s at point %zu (%g, %g, %g): batch %.17g (%.17g, %.17g, %.17g), "
+                     "single %.17g (%.17g, %.17g, %.17g)",
+                     text, i, p[3 * i], p[3 * i + 1], p[3 * i + 2], val[i], grd[3 * i],
+                     grd[3 * i + 1], grd[3 * i + 2], v, g[0], g[1], g[2]);
+    }
+    geom_implicit_expr_eval_grad_many(e, n, p, val, NULL);
+    for (size_t i = 0; i < n; i++) {
+        double g[3];
+        if (!same_bits_or_nan(geom_implicit_expr_eval_grad(e, &p[3 * i], g), val[i]))
+            fail_msg("%s at point %zu: value without gradients %.17g", text, i, val[i]);
+    }
+}
+
+static void test_expr_grad_batch_bitwise(void **state)
+{
+    (void)state;
+    static const size_t counts[] = {1, 15, 16, 17, 63, 64, 65, 127, 1000, 4099};
+    double *p = points(4099, -2.5, 2.5), *val = malloc(4099 * sizeof(double));
+    double *grd = malloc(3 * 4099 * sizeof(double));
+    assert_non_null(val);
+    assert_non_null(grd);
+    /* zeros of every sign in every coordinate: the derivatives' zero signs */
+    static const double zs[] = {0.0, -0.0, 1e-310, -1e-310, 1e200, -1e200};
+    for (size_t i = 0; i < 216; i++) {
+        p[3 * i] = zs[i % 6];
+        p[3 * i + 1] = zs[(i / 6) % 6];
+        p[3 * i + 2] = zs[(i / 36) % 6];
+    }
+    for (size_t k = 0; k < sizeof exprs / sizeof exprs[0]; k++) {
+        geom_implicit_expr *e = NULL;
+        assert_int_equal(geom_implicit_expr_compile(exprs[k], strlen(exprs[k]), NULL, &e, NULL),
+                         GEOM_OK);
+        static const double times[] = {0.25, -1.5, NAN};
+        for (size_t ti = 0; ti < 3; ti++) {
+            geom_implicit_expr_set_time(e, times[ti]);
+            for (size_t c = 0; c < sizeof counts / sizeof counts[0]; c++)
+                check_grad(e, exprs[k], counts[c], p, val, grd);
+            check_grad(e, exprs[k], 999, p + 3, val + 1, grd + 5); /* unaligned */
+        }
+        geom_implicit_expr_destroy(e);
+    }
+    /* programs deeper than the block stack */
+    static const int depths[] = {20, 23, 24, 25, 40, 70};
+    for (size_t d = 0; d < sizeof depths / sizeof depths[0]; d++) {
+        char *s = nested(depths[d]);
+        geom_implicit_expr_options opt = {NULL, 0, 200};
+        geom_implicit_expr *e = NULL;
+        assert_int_equal(geom_implicit_expr_compile(s, strlen(s), &opt, &e, NULL), GEOM_OK);
+        check_grad(e, s, 1000, p, val, grd);
+        geom_implicit_expr_destroy(e);
+        free(s);
+    }
+    free(p);
+    free(val);
+    free(grd);
 }
 
 static geom_implicit_volume *random_volume(size_t nx, size_t ny, size_t nz,
@@ -271,6 +348,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_expr_batch_bitwise),
+        cmocka_unit_test(test_expr_grad_batch_bitwise),
         cmocka_unit_test(test_volume_batch_bitwise),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

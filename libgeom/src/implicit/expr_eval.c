@@ -1373,6 +1373,141 @@ static void g_run_batch(const expr_ins *code, size_t ncode, size_t n, const doub
     }
 }
 
+/* The distance-shaped programs for gradients: U((x*x + y*y) + z*z) [B c]
+ * with each square x*x or x^2, U sqrt or none (uop 0), B one of + - * / or
+ * none (bop 0); sphere(c) is sqrt((x^2 + y^2) + z^2) - c. *uop, *bop, *c
+ * receive U, B and c. */
+static int g_is_len(const geom_implicit_expr *e, int *uop, int *bop, double *c)
+{
+    const expr_ins *k = e->code;
+    size_t n = e->n, i = 0;
+    *uop = 0;
+    *bop = 0;
+    *c = 0.0;
+    if (n == 2 && k[0].op == OP_CONST && k[1].op == OP_SPHERE1) {
+        *uop = OP_SQRT;
+        *bop = OP_SUB;
+        *c = k[0].c;
+        return 1;
+    }
+    for (int axis = 0; axis < 3; axis++) {
+        int v = OP_X + axis;
+        if (i + 2 <= n && k[i].op == v && k[i + 1].op == OP_POWI && k[i + 1].n == 2)
+            i += 2;
+        else if (i + 3 <= n && k[i].op == v && k[i + 1].op == v && k[i + 2].op == OP_MUL)
+            i += 3;
+        else
+            return 0;
+        if (axis > 0 && !(i < n && k[i++].op == OP_ADD))
+            return 0;
+    }
+    if (i < n && k[i].op == OP_SQRT) {
+        *uop = OP_SQRT;
+        i++;
+    }
+    if (i + 2 == n && k[i].op == OP_CONST && is_arith(k[i + 1].op)) {
+        *bop = k[i + 1].op;
+        *c = k[i].c;
+        i += 2;
+    }
+    return i == n;
+}
+
+/* chain(fp, dx) without a branch: the product, its bits cleared (+0) where
+ * dx is zero. */
+GEOM__CLONE_INLINE double gl_chain(double fp, double dx)
+{
+    double m = fp * dx;
+    uint64_t b;
+    memcpy(&b, &m, sizeof b);
+    b &= (uint64_t)0 - (uint64_t)(dx != 0.0);
+    memcpy(&m, &b, sizeof m);
+    return m;
+}
+
+/* A program of g_is_len over n points p into values and grads (3*n; NULL:
+ * not wanted), straight from the points, in loops the compiler vectorises.
+ * Each point gets g_run's dual operations with the seeds' constant
+ * derivatives worked out by hand: x*x (or x^2: g_powi's 2x * 1 is x + x)
+ * has the derivatives (x + x, 0 + 0, 0 + 0) and the two additions of the
+ * sum of squares leave (x + x) + 0, (y + y) + 0, (z + z) + 0 (a second
+ * "+ 0" changes nothing once the first has made a -0 a +0); sqrt(s) gives
+ * chain(0.5 / sqrt(s), d); the tail against a constant c: "+ c" adds 0 to
+ * each derivative, "- c" subtracts 0 (no change), "* c" is chain(c, d) +
+ * chain(v, 0) = chain(c, d) + 0, "/ c" is chain(1 / c, d) - 0. The same
+ * operations on the same operands: the same bits (test_implicit_batch). */
+#define GL_LOOP(SQRT, EXPR_V, EXPR_D)                                                          \
+    for (size_t l = 0; l < XB; l++) {                                                          \
+        double x = P[3 * l], y = P[3 * l + 1], z = P[3 * l + 2];                               \
+        double v = d_add(d_add(d_mul(x, x), d_mul(y, y)), d_mul(z, z));                        \
+        double d0 = d_add(d_add(x, x), 0.0), d1 = d_add(d_add(y, y), 0.0);                     \
+        double d2 = d_add(d_add(z, z), 0.0);                                                   \
+        if (SQRT) {                                                                            \
+            v = d_sqrt(v);                                                                     \
+            double fp = d_div(0.5, v);                                                         \
+            d0 = gl_chain(fp, d0);                                                             \
+            d1 = gl_chain(fp, d1);                                                             \
+            d2 = gl_chain(fp, d2);                                                             \
+        }                                                                                      \
+        V[l] = (EXPR_V);                                                                       \
+        G[3 * l] = EXPR_D(d0);                                                                 \
+        G[3 * l + 1] = EXPR_D(d1);                                                             \
+        G[3 * l + 2] = EXPR_D(d2);                                                             \
+    }
+#define GL_ADD(d) d_add(d, 0.0)
+#define GL_SAME(d) (d)
+#define GL_MUL(d) d_add(gl_chain(c, d), 0.0)
+#define GL_DIV(d) gl_chain(ic, d)
+#define GL_TAIL(SQRT)                                                                          \
+    do {                                                                                       \
+        if (bop == OP_ADD)                                                                     \
+            GL_LOOP(SQRT, d_add(v, c), GL_ADD)                                                 \
+        else if (bop == OP_SUB)                                                                \
+            GL_LOOP(SQRT, d_sub(v, c), GL_SAME)                                                \
+        else if (bop == OP_MUL)                                                                \
+            GL_LOOP(SQRT, d_mul(v, c), GL_MUL)                                                 \
+        else if (bop == OP_DIV)                                                                \
+            GL_LOOP(SQRT, d_div(v, c), GL_DIV)                                                 \
+        else                                                                                   \
+            GL_LOOP(SQRT, v, GL_SAME)                                                          \
+    } while (0)
+/* One block of XB points P into V and G (a constant trip count: the loops
+ * vectorise). */
+GEOM__CLONE_INLINE void g_len_block(int uop, int bop, double c, double ic,
+                                    const double *restrict P, double *restrict V,
+                                    double *restrict G)
+{
+    if (uop == OP_SQRT)
+        GL_TAIL(1);
+    else
+        GL_TAIL(0);
+}
+GEOM_SIMD_CLONES
+static void g_run_len(int uop, int bop, double c, size_t n, const double *restrict p,
+                      double *restrict values, double *restrict grads)
+{
+    _Alignas(64) double gt[3 * XB], pt[3 * XB], vt[XB];
+    double ic = d_div(1.0, c);
+    size_t full = n / XB * XB;
+    for (size_t b0 = 0; b0 < full; b0 += XB)
+        g_len_block(uop, bop, c, ic, p + 3 * b0, values + b0, grads ? grads + 3 * b0 : gt);
+    if (full == n)
+        return;
+    size_t L = n - full; /* the tail, padded with zeros */
+    memset(pt, 0, sizeof pt);
+    memcpy(pt, p + 3 * full, 3 * L * sizeof(double));
+    g_len_block(uop, bop, c, ic, pt, vt, gt);
+    memcpy(values + full, vt, L * sizeof(double));
+    if (grads)
+        memcpy(grads + 3 * full, gt, 3 * L * sizeof(double));
+}
+#undef GL_TAIL
+#undef GL_DIV
+#undef GL_MUL
+#undef GL_SAME
+#undef GL_ADD
+#undef GL_LOOP
+
 void geom_implicit_expr_eval_grad_many(const geom_implicit_expr *e, size_t n, const double *p,
                                        double *values, double *grads)
 {
@@ -1384,6 +1519,12 @@ void geom_implicit_expr_eval_grad_many(const geom_implicit_expr *e, size_t n, co
             if (grads)
                 grads[3 * i] = grads[3 * i + 1] = grads[3 * i + 2] = NAN;
         }
+        return;
+    }
+    int uop, bop;
+    double c;
+    if (g_is_len(e, &uop, &bop, &c)) {
+        g_run_len(uop, bop, c, n, p, values, grads);
         return;
     }
     if (e->max_stack <= BATCH_STACK) {
