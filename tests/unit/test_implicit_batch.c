@@ -10,6 +10,7 @@
  */
 #include "unit/test_util.h"
 
+#include <float.h>
 #include <string.h>
 
 #include "geom/implicit.h"
@@ -234,6 +235,72 @@ static void test_expr_grad_batch_bitwise(void **state)
     free(grd);
 }
 
+/* x^2 and pow(x, 2) are x*x: the single-point evaluator, the batch (where
+ * the square fuses into sums of squares like x*x) and the C library's
+ * pow(x, 2) agree bit for bit over edge values (signed zeros, subnormals,
+ * squares that overflow or underflow, infinities, NaN) and random values,
+ * 27-bit ones among them (exact squares) and the sum of three squares. */
+static void test_square_is_product(void **state)
+{
+    (void)state;
+    enum { N = 4096 };
+    double *p = malloc(3 * N * sizeof(double)), *out = malloc(N * sizeof(double));
+    assert_non_null(p);
+    assert_non_null(out);
+    static const double edge[] = {0.0, -0.0, DBL_TRUE_MIN, -DBL_TRUE_MIN, 1e-310, -1e-310,
+                                  DBL_MIN, 1e-160, 1.5e-154, 1e154, 1.34e154, 1e200, -1e200,
+                                  DBL_MAX, -DBL_MAX, INFINITY, -INFINITY, NAN, -NAN, 1.0,
+                                  -1.0, 0.1, 3.0, 1.0 + DBL_EPSILON, 1.0 - DBL_EPSILON / 2};
+    size_t ne = sizeof edge / sizeof edge[0];
+    for (size_t i = 0; i < 3 * N; i++) {
+        double u = 4.0 * urand() - 2.0;
+        if (i % 3 == 1)
+            u = ldexp(floor(ldexp(u, 26)), -26); /* 27 bits: exact squares */
+        p[i] = i < 3 * ne ? edge[(i / 3 + i % 3 * 7) % ne] : u * pow(10.0, floor(urand() * 40 - 20));
+    }
+    static const char *const sq[] = {"x^2", "pow(x, 2)", "x*x", "y^2", "z^2"};
+    for (size_t k = 0; k < sizeof sq / sizeof sq[0]; k++) {
+        geom_implicit_expr *e = NULL;
+        assert_int_equal(geom_implicit_expr_compile(sq[k], strlen(sq[k]), NULL, &e, NULL),
+                         GEOM_OK);
+        int axis = sq[k][0] == 'y' ? 1 : sq[k][0] == 'z' ? 2 : 0;
+        geom_implicit_expr_eval_many(e, N, p, out);
+        for (size_t i = 0; i < N; i++) {
+            double a = p[3 * i + axis], prod = a * a, pw = pow(a, 2.0);
+            double v = geom_implicit_expr_eval(e, &p[3 * i]);
+            if (!same_bits_or_nan(v, prod) || !same_bits_or_nan(out[i], prod) ||
+                !same_bits_or_nan(pw, prod))
+                fail_msg("%s at %.17g: single %.17g, batch %.17g, a*a %.17g, pow %.17g", sq[k],
+                         a, v, out[i], prod, pw);
+        }
+        geom_implicit_expr_destroy(e);
+    }
+    /* sums of squares written with ^, *, pow: the same bits as one another */
+    static const char *const sums[] = {"x^2 + y^2 + z^2", "x*x + y*y + z*z",
+                                       "pow(x, 2) + y^2 + z*z"};
+    double *ref = malloc(N * sizeof(double));
+    assert_non_null(ref);
+    for (size_t k = 0; k < sizeof sums / sizeof sums[0]; k++) {
+        geom_implicit_expr *e = NULL;
+        assert_int_equal(geom_implicit_expr_compile(sums[k], strlen(sums[k]), NULL, &e, NULL),
+                         GEOM_OK);
+        geom_implicit_expr_eval_many(e, N, p, out);
+        for (size_t i = 0; i < N; i++) {
+            const double *q = &p[3 * i];
+            double want = (q[0] * q[0] + q[1] * q[1]) + q[2] * q[2];
+            if (k == 0)
+                ref[i] = out[i];
+            if (!same_bits_or_nan(out[i], want) || !same_bits_or_nan(out[i], ref[i]) ||
+                !same_bits_or_nan(geom_implicit_expr_eval(e, q), want))
+                fail_msg("%s at point %zu: batch %.17g, want %.17g", sums[k], i, out[i], want);
+        }
+        geom_implicit_expr_destroy(e);
+    }
+    free(ref);
+    free(p);
+    free(out);
+}
+
 static geom_implicit_volume *random_volume(size_t nx, size_t ny, size_t nz,
                                            geom_implicit_scalar type, const double sp[3],
                                            const double org[3])
@@ -349,6 +416,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_expr_batch_bitwise),
         cmocka_unit_test(test_expr_grad_batch_bitwise),
+        cmocka_unit_test(test_square_is_product),
         cmocka_unit_test(test_volume_batch_bitwise),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

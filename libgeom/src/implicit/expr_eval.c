@@ -317,7 +317,17 @@ static size_t x_plan(const expr_ins *code, size_t ncode, double t, const double 
     for (size_t i = 0; i < ncode; i++) {
         const expr_ins *in = &code[i];
         xstep *s = &plan[ns];
-        switch ((expr_op)in->op) {
+        int op = in->op;
+        if (op == OP_POWI && in->n == 2 && v[sp - 1] && sp < XSTACK) {
+            /* a^2 on lanes is a*a (d_powi's value but for the NaN it passes
+             * on, a NaN either way): the product of the slot and a copy, so
+             * that it fuses into sums of squares like x*x */
+            v[sp] = v[sp - 1];
+            c[sp] = c[sp - 1];
+            sp++;
+            op = OP_MUL;
+        }
+        switch ((expr_op)op) {
         case OP_CONST: v[sp] = NULL; c[sp++] = in->c; break;
         case OP_T: v[sp] = NULL; c[sp++] = t; break;
         case OP_X: v[sp++] = w->X; break;
@@ -333,12 +343,12 @@ static size_t x_plan(const expr_ins *code, size_t ncode, double t, const double 
         case OP_MAX: case OP_ATAN2: {
             size_t a = sp - 2, b = sp - 1;
             if (!v[a] && !v[b]) {
-                c[a] = d_scalar_binary(in->op, c[a], c[b]);
+                c[a] = d_scalar_binary(op, c[a], c[b]);
                 sp--;
                 break;
             }
             s->va = v[a], s->ca = c[a], s->vb = v[b], s->cb = c[b];
-            if (in->op == OP_MUL && i + 1 < ncode && is_addsub(code[i + 1].op) && sp >= 3 &&
+            if (op == OP_MUL && i + 1 < ncode && is_addsub(code[i + 1].op) && sp >= 3 &&
                 v[sp - 3]) {
                 size_t f = sp - 3; /* fused with the next add/sub */
                 i++;
@@ -350,7 +360,7 @@ static size_t x_plan(const expr_ins *code, size_t ncode, double t, const double 
                 sp--;
             } else {
                 s->kind = XK_BINARY;
-                s->op = in->op;
+                s->op = op;
                 s->r = DST(a);
                 v[a] = s->r;
             }
