@@ -287,7 +287,57 @@ typedef struct xstep {
     const double *args[8];
     double a[8]; /* XK_ROW_PRIM: the constant arguments */
     int sub[2];  /* XK_DOT: the second and third terms are subtracted */
+    /* a row plan's constants of the row (x_rec): ca, cb and a[q] are u[t -
+     * 1] of the row when the tag t is not 0 */
+    int ta, tb, at[8];
 } xstep;
+
+/* A constant worked out from the row's y and z (x_plan with a record): u[0]
+ * is y, u[1] z, u[2 + i] the tape's step i, an operation on earlier u or
+ * literal constants, redone for every row. */
+typedef struct xtape {
+    int kind; /* 1, 2 or 3 operands: d_scalar_unary, d_scalar_binary, x_fold3 */
+    int op;
+    const expr_ins *in;
+    int t[3];    /* operand tags (u index + 1), 0: the literal c */
+    double c[3];
+} xtape;
+/* What a row plan redoes for each row: the tape, and where its values go
+ * besides the steps' tags. */
+typedef struct xrec {
+    xtape *tape;
+    size_t ntape;
+    int kc_tag[XKC]; /* w->kc rows filled with a constant of the row */
+    size_t nkc;
+    int fill_yz;     /* w->Y, w->Z hold y and z (a lane-by-lane primitive) */
+    int res_tag;
+} xrec;
+
+/* The tag of an operation's folded result (0 when every operand is a
+ * literal constant): the operation goes on rec's tape. */
+static int x_tape(xrec *rec, int kind, int op, const expr_ins *in, const int *tg,
+                  const double *c)
+{
+    if (!rec || !(tg[0] || (kind > 1 && tg[1]) || (kind > 2 && tg[2])))
+        return 0;
+    xtape *t = &rec->tape[rec->ntape];
+    t->kind = kind;
+    t->op = op;
+    t->in = in;
+    for (int q = 0; q < kind; q++) {
+        t->t[q] = tg[q];
+        t->c[q] = c[q];
+    }
+    return (int)(2 + rec->ntape++) + 1;
+}
+
+/* clamp, smin or smax of constants. */
+static double x_fold3(int op, double a0, double a1, double a2)
+{
+    return op == OP_CLAMP  ? d_clamp(a0, a1, a2)
+           : op == OP_SMIN ? d_smin(a0, a1, a2)
+                           : d_neg(d_smin(d_neg(a0), d_neg(a1), a2));
+}
 
 /* The lanes of one block: coordinates and two buffers per stack slot. */
 typedef struct xwork {
@@ -305,19 +355,22 @@ typedef struct xwork {
  * an operation on y, z and constants alone is done once on the scalars and
  * a primitive of constant arguments is one XK_ROW_PRIM step (row_prim). */
 static size_t x_plan(const expr_ins *code, size_t ncode, double t, const double *yz, xwork *w,
-                     xstep *plan, const double **res, double *res_c)
+                     xstep *plan, const double **res, double *res_c, xrec *rec)
 {
     const double *v[XSTACK]; /* lanes of a slot, NULL: the constant c[slot] */
     double c[XSTACK];
+    int tg[XSTACK]; /* the constant's tag (rec) */
     size_t sp = 0, ns = 0;
     v[0] = NULL;
     c[0] = NAN;
+    tg[0] = 0;
     /* The buffer an operation writes into slot q: not the slot's operand. */
 #define DST(q) w->buf[q][v[q] == w->buf[q][0]]
     for (size_t i = 0; i < ncode; i++) {
         const expr_ins *in = &code[i];
         xstep *s = &plan[ns];
         int op = in->op;
+        s->ta = s->tb = 0;
         if (op == OP_POWI && in->n == 2 && v[sp - 1] && sp < XSTACK) {
             /* a^2 on lanes is a*a (d_powi's value but for the NaN it passes
              * on, a NaN either way): the product of the slot and a copy, so
@@ -328,26 +381,30 @@ static size_t x_plan(const expr_ins *code, size_t ncode, double t, const double 
             op = OP_MUL;
         }
         switch ((expr_op)op) {
-        case OP_CONST: v[sp] = NULL; c[sp++] = in->c; break;
-        case OP_T: v[sp] = NULL; c[sp++] = t; break;
+        case OP_CONST: v[sp] = NULL; tg[sp] = 0; c[sp++] = in->c; break;
+        case OP_T: v[sp] = NULL; tg[sp] = 0; c[sp++] = t; break;
         case OP_X: v[sp++] = w->X; break;
         case OP_Y:
             v[sp] = yz ? NULL : w->Y;
+            tg[sp] = 1;
             c[sp++] = yz ? yz[0] : NAN;
             break;
         case OP_Z:
             v[sp] = yz ? NULL : w->Z;
+            tg[sp] = 2;
             c[sp++] = yz ? yz[1] : NAN;
             break;
         case OP_ADD: case OP_SUB: case OP_MUL: case OP_DIV: case OP_POW: case OP_MIN:
         case OP_MAX: case OP_ATAN2: {
             size_t a = sp - 2, b = sp - 1;
             if (!v[a] && !v[b]) {
+                tg[a] = x_tape(rec, 2, op, in, &tg[a], &c[a]);
                 c[a] = d_scalar_binary(op, c[a], c[b]);
                 sp--;
                 break;
             }
             s->va = v[a], s->ca = c[a], s->vb = v[b], s->cb = c[b];
+            s->ta = v[a] ? 0 : tg[a], s->tb = v[b] ? 0 : tg[b];
             if (op == OP_MUL && i + 1 < ncode && is_addsub(code[i + 1].op) && sp >= 3 &&
                 v[sp - 3]) {
                 size_t f = sp - 3; /* fused with the next add/sub */
@@ -372,6 +429,7 @@ static size_t x_plan(const expr_ins *code, size_t ncode, double t, const double 
         case OP_EXP: case OP_LOG: case OP_POWI: {
             size_t a = sp - 1;
             if (!v[a]) {
+                tg[a] = x_tape(rec, 1, op, in, &tg[a], &c[a]);
                 c[a] = d_scalar_unary(in, c[a]);
                 break;
             }
@@ -402,10 +460,8 @@ static size_t x_plan(const expr_ins *code, size_t ncode, double t, const double 
                 lanes |= v[q] != NULL;
             if (!lanes && k > 0 &&
                 (in->op == OP_CLAMP || in->op == OP_SMIN || in->op == OP_SMAX)) {
-                double a0 = c[first], a1 = c[first + 1], a2 = c[first + 2];
-                c[first] = in->op == OP_CLAMP  ? d_clamp(a0, a1, a2)
-                           : in->op == OP_SMIN ? d_smin(a0, a1, a2)
-                                               : d_neg(d_smin(d_neg(a0), d_neg(a1), a2));
+                tg[first] = x_tape(rec, 3, in->op, in, &tg[first], &c[first]);
+                c[first] = x_fold3(in->op, c[first], c[first + 1], c[first + 2]);
                 sp = first + 1;
                 break;
             }
@@ -413,21 +469,28 @@ static size_t x_plan(const expr_ins *code, size_t ncode, double t, const double 
                 s->kind = XK_ROW_PRIM;
                 s->op = in->op;
                 s->k = (int)k;
-                for (size_t q = 0; q < k; q++)
+                for (size_t q = 0; q < k; q++) {
                     s->a[q] = c[first + q];
+                    s->at[q] = tg[first + q];
+                }
                 s->ca = yz[0];
                 s->cb = yz[1];
+                s->ta = 1;
+                s->tb = 2;
                 s->r = k == 0 ? w->buf[first][1] : DST(first);
                 v[first] = s->r;
                 ns++;
                 sp = first + 1;
                 break;
             }
-            if (yz && in->op != OP_CLAMP && in->op != OP_SMIN && in->op != OP_SMAX)
+            if (yz && in->op != OP_CLAMP && in->op != OP_SMIN && in->op != OP_SMAX) {
                 for (int l = 0; l < XB; l++) { /* the primitive reads y and z lanes */
                     w->Y[l] = yz[0];
                     w->Z[l] = yz[1];
                 }
+                if (rec)
+                    rec->fill_yz = 1;
+            }
             if (!yz && in->op == OP_SPHERE1 && !v[first]) {
                 /* sphere(r): sqrt((x*x + y*y) + z*z) - r, d_len3's operations */
                 memset(s, 0, sizeof *s);
@@ -449,8 +512,10 @@ static size_t x_plan(const expr_ins *code, size_t ncode, double t, const double 
                     s->kind = XK_FILL;
                     s->r = w->buf[q][0];
                     s->ca = c[q];
+                    s->ta = tg[q];
                     v[q] = s->r;
                     s = &plan[++ns];
+                    s->ta = s->tb = 0;
                 }
             s->kind = XK_LANEWISE;
             s->op = in->op;
@@ -468,17 +533,22 @@ static size_t x_plan(const expr_ins *code, size_t ncode, double t, const double 
 #undef DST
     *res = v[0];
     *res_c = c[0];
+    if (rec)
+        rec->res_tag = v[0] ? 0 : tg[0];
     return ns;
 }
 
 /* The lanes of operand v (NULL: the constant c) for XK_DOT: v, or a row of
  * w->kc filled with c (*nk rows used); NULL when the rows are used up. */
-static const double *x_lanes(xwork *w, size_t *nk, const double *v, double c)
+static const double *x_lanes(xwork *w, size_t *nk, const double *v, double c, int tag,
+                             xrec *rec)
 {
     if (v)
         return v;
     if (*nk == XKC)
         return NULL;
+    if (rec)
+        rec->kc_tag[*nk] = tag;
     double *r = w->kc[(*nk)++];
     for (int l = 0; l < XB; l++)
         r[l] = c;
@@ -491,7 +561,7 @@ static const double *x_lanes(xwork *w, size_t *nk, const double *v, double c)
  * constant operation" step on the sum, become one XK_DOT step: one lane
  * loop with the same operations in the same order. Returns the new number
  * of steps. */
-static size_t x_fuse(xstep *plan, size_t ns, xwork *w)
+static size_t x_fuse(xstep *plan, size_t ns, xwork *w, xrec *rec)
 {
     size_t nk = 0, m = 0;
     for (size_t j = 0; j < ns; j++) {
@@ -512,8 +582,8 @@ static size_t x_fuse(xstep *plan, size_t ns, xwork *w)
         int ok = 1;
         for (size_t q = 0; q < terms; q++) {
             const xstep *t = &plan[j + q];
-            d.args[2 * q] = x_lanes(w, &nk, t->va, t->ca);
-            d.args[2 * q + 1] = x_lanes(w, &nk, t->vb, t->cb);
+            d.args[2 * q] = x_lanes(w, &nk, t->va, t->ca, t->ta, rec);
+            d.args[2 * q + 1] = x_lanes(w, &nk, t->vb, t->cb, t->tb, rec);
             ok = ok && d.args[2 * q] && d.args[2 * q + 1];
             if (q > 0)
                 d.sub[q - 1] = t->op2;
@@ -534,6 +604,8 @@ static size_t x_fuse(xstep *plan, size_t ns, xwork *w)
         }
         plan[m++] = d;
     }
+    if (rec)
+        rec->nkc = nk;
     return m;
 }
 
@@ -765,13 +837,11 @@ static void d_run_blocks(const xstep *plan, size_t ns, xwork *w, const double *r
     x_store_done(nt);
 }
 
-/* The program of e over n >= XB points p (yz NULL: 3 doubles each, XB
- * divides n; else the grid row's nodes (p[b], yz[0], yz[1])) into out (nt:
- * as x_store), through a plan made for this call. e->max_stack <= XSTACK.
- * Returns 0 (out untouched) when a long program's plan cannot be
- * allocated. */
-static int x_run(const geom_implicit_expr *e, const double *yz, size_t n, const double *p,
-                 double *out, int nt)
+/* The program of e over n >= XB points p (3 doubles each, XB divides n)
+ * into out (nt: as x_store), through a plan made for this call.
+ * e->max_stack <= XSTACK. Returns 0 (out untouched) when a long program's
+ * plan cannot be allocated. */
+static int x_run(const geom_implicit_expr *e, size_t n, const double *p, double *out, int nt)
 {
     xwork w;
     xstep small[XPLAN];
@@ -780,12 +850,12 @@ static int x_run(const geom_implicit_expr *e, const double *yz, size_t n, const 
         return 0;
     const double *res;
     double res_c;
-    size_t ns = x_plan(e->code, e->n, e->t, yz, &w, plan, &res, &res_c);
-    ns = x_fuse(plan, ns, &w);
-    if (!yz && x_is_len(plan, ns, &w) && res == plan[0].r)
+    size_t ns = x_plan(e->code, e->n, e->t, NULL, &w, plan, &res, &res_c, NULL);
+    ns = x_fuse(plan, ns, &w, NULL);
+    if (x_is_len(plan, ns, &w) && res == plan[0].r)
         d_run_len(plan[0].op, plan[0].op2, plan[0].cb, n / XB, p, out, nt);
     else
-        d_run_blocks(plan, ns, &w, res, res_c, n, p, yz != NULL, out, nt);
+        d_run_blocks(plan, ns, &w, res, res_c, n, p, 0, out, nt);
     if (plan != small)
         geom__free(&e->alloc, plan, e->n * sizeof *plan);
     return 1;
@@ -1316,7 +1386,7 @@ void geom_implicit_expr_eval_many(const geom_implicit_expr *e, size_t n, const d
         size_t done = head + (n - head) / XB * XB;
         d_run_batch(e->code, e->n, head, p, e->t, out);
         int nt = n >= XSTREAM && (uintptr_t)(out + head) % 16 == 0;
-        if (!x_run(e, NULL, done - head, p + 3 * head, out + head, nt))
+        if (!x_run(e, done - head, p + 3 * head, out + head, nt))
             done = head;
         d_run_batch(e->code, e->n, n - done, p + 3 * done, e->t, out + done);
         return;
@@ -1644,24 +1714,141 @@ void geom_implicit_field_from_expr(const geom_implicit_expr *e, geom_implicit_fi
  * with y and z constants (x_plan with yz): an operation on y, z and
  * constants alone is done once per row on the scalars, and the primitives
  * whose arguments are constants run as one lane loop each (row_prim),
- * their y and z terms computed once. Every lane does exactly d_run's
- * operations on the same operands: bitwise d_run. */
-void geom__implicit_expr_row(const geom_implicit_expr *e, size_t n, const double *x, double y,
-                             double z, double *out)
+ * their y and z terms computed once. The plan is made once (its shape
+ * does not depend on y and z); x_plan records on a tape the operations
+ * that fold constants of the row, and which steps, constant lanes and
+ * result take them; each row replays the tape (x_bind: the same d_*
+ * operations on the same operands as a plan made for that row) and runs
+ * the steps. Every lane does exactly d_run's operations on the same
+ * operands: bitwise d_run. */
+struct geom__expr_rows {
+    const geom_implicit_expr *e;
+    const geom_allocator *alloc;
+    void *raw;
+    size_t bytes;
+    int planned; /* 0: the program is deeper than the block stack */
+    xwork *w;
+    xstep *plan;
+    size_t ns;
+    xrec rec;
+    double *u; /* the row's constants: y, z, then the tape's values */
+    const double *res;
+    double res_c;
+};
+
+geom_status geom__implicit_expr_rows_create(const geom_implicit_expr *e,
+                                            const geom_allocator *a, geom__expr_rows **out)
+{
+    *out = NULL;
+    size_t m = e->n ? e->n : 1;
+    size_t off_w = (sizeof(geom__expr_rows) + 63) / 64 * 64;
+    size_t off_plan = off_w + sizeof(xwork);
+    size_t off_tape = off_plan + m * sizeof(xstep);
+    size_t off_u = off_tape + m * sizeof(xtape);
+    size_t bytes = off_u + (m + 2) * sizeof(double) + 64;
+    char *raw = geom__alloc(a, bytes);
+    if (!raw)
+        return GEOM_ERR_NOMEM;
+    char *base = raw + (64 - (uintptr_t)raw % 64) % 64;
+    geom__expr_rows *r = (geom__expr_rows *)(void *)base;
+    memset(r, 0, sizeof *r);
+    r->e = e;
+    r->alloc = a;
+    r->raw = raw;
+    r->bytes = bytes;
+    r->w = (xwork *)(void *)(base + off_w);
+    r->plan = (xstep *)(void *)(base + off_plan);
+    r->rec.tape = (xtape *)(void *)(base + off_tape);
+    r->u = (double *)(void *)(base + off_u);
+    if (e->max_stack <= XSTACK) {
+        const double yz[2] = {0.0, 0.0};
+        r->ns = x_plan(e->code, e->n, e->t, yz, r->w, r->plan, &r->res, &r->res_c, &r->rec);
+        r->ns = x_fuse(r->plan, r->ns, r->w, &r->rec);
+        r->planned = 1;
+    }
+    *out = r;
+    return GEOM_OK;
+}
+
+void geom__implicit_expr_rows_destroy(geom__expr_rows *r)
+{
+    if (r)
+        geom__free(r->alloc, r->raw, r->bytes);
+}
+
+/* The constants of the row (y, z) into the plan: the tape replayed, then
+ * the steps' tagged constants, the constant lanes, y and z lanes and the
+ * constant result. */
+static void x_bind(geom__expr_rows *r, double y, double z)
+{
+    double *u = r->u;
+    const xrec *rec = &r->rec;
+    u[0] = y;
+    u[1] = z;
+    for (size_t i = 0; i < rec->ntape; i++) {
+        const xtape *t = &rec->tape[i];
+        double a[3] = {0.0, 0.0, 0.0};
+        for (int q = 0; q < t->kind; q++)
+            a[q] = t->t[q] ? u[t->t[q] - 1] : t->c[q];
+        u[2 + i] = t->kind == 1   ? d_scalar_unary(t->in, a[0])
+                   : t->kind == 2 ? d_scalar_binary(t->op, a[0], a[1])
+                                  : x_fold3(t->op, a[0], a[1], a[2]);
+    }
+    for (size_t j = 0; j < r->ns; j++) {
+        xstep *s = &r->plan[j];
+        if (s->ta)
+            s->ca = u[s->ta - 1];
+        if (s->tb)
+            s->cb = u[s->tb - 1];
+        if (s->kind == XK_ROW_PRIM)
+            for (int q = 0; q < s->k; q++)
+                if (s->at[q])
+                    s->a[q] = u[s->at[q] - 1];
+    }
+    for (size_t q = 0; q < rec->nkc; q++)
+        if (rec->kc_tag[q])
+            for (int l = 0; l < XB; l++)
+                r->w->kc[q][l] = u[rec->kc_tag[q] - 1];
+    if (rec->fill_yz)
+        for (int l = 0; l < XB; l++) {
+            r->w->Y[l] = y;
+            r->w->Z[l] = z;
+        }
+    if (rec->res_tag)
+        r->res_c = u[rec->res_tag - 1];
+}
+
+void geom__implicit_expr_rows(geom__expr_rows *r, size_t n, const double *x, double y, double z,
+                              double *out)
 {
     if (n == 0)
         return;
-    const double yz[2] = {y, z};
-    if (e->max_stack <= XSTACK) {
-        if (n >= XB && x_run(e, yz, n, x, out, 0))
-            return;
-        double xs[XB], os[XB]; /* a short row, padded with its last point */
-        for (size_t i = 0; i < XB; i++)
-            xs[i] = x[i < n ? i : n - 1];
-        if (n < XB && x_run(e, yz, XB, xs, os, 0)) {
-            memcpy(out, os, n * sizeof(double));
-            return;
-        }
+    const geom_implicit_expr *e = r->e;
+    if (!r->planned) {
+        for (size_t i = 0; i < n; i++)
+            out[i] = d_run(e->code, e->n, x[i], y, z, e->t);
+        return;
+    }
+    x_bind(r, y, z);
+    if (n >= XB) {
+        d_run_blocks(r->plan, r->ns, r->w, r->res, r->res_c, n, x, 1, out, 0);
+        return;
+    }
+    double xs[XB], os[XB]; /* a short row, padded with its last point */
+    for (size_t i = 0; i < XB; i++)
+        xs[i] = x[i < n ? i : n - 1];
+    d_run_blocks(r->plan, r->ns, r->w, r->res, r->res_c, XB, xs, 1, os, 0);
+    memcpy(out, os, n * sizeof(double));
+}
+
+void geom__implicit_expr_row(const geom_implicit_expr *e, size_t n, const double *x, double y,
+                             double z, double *out)
+{
+    geom__expr_rows *r = NULL;
+    if (geom__implicit_expr_rows_create(e, NULL, &r) == GEOM_OK) {
+        geom__implicit_expr_rows(r, n, x, y, z, out);
+        geom__implicit_expr_rows_destroy(r);
+        return;
     }
     for (size_t i = 0; i < n; i++)
         out[i] = d_run(e->code, e->n, x[i], y, z, e->t);

@@ -38,7 +38,7 @@ typedef struct ctx {
     const geom_iso_field *field; /* refinement, normals (never NULL) */
     const geom_iso_grid *grid;   /* samples, or NULL: evaluate field */
     /* the field's compiled expression (field->value is the expression's
-     * callback): rows are sampled by geom__implicit_expr_row */
+     * callback): rows are sampled by geom__implicit_expr_rows */
     const geom_implicit_expr *expr;
     size_t n[3];                 /* cells per axis */
     const double *coord[3];      /* node coordinates, n + 1 each */
@@ -123,6 +123,7 @@ typedef struct work {
      * and, for an expression, their x coordinates and values gathered */
     size_t *runs;
     double *gx, *gv;
+    geom__expr_rows *rows; /* c->expr's row plan, made once per thread */
     size_t k; /* current cell layer */
     layer *lb, *lt;
     int ok;
@@ -329,7 +330,7 @@ static void eval_values(slab *s, const ctx *c, work *w, size_t k, layer *L, size
     const geom_iso_field *f = c->field;
     double y = c->coord[1][j], z = c->coord[2][k];
     if (c->expr) {
-        geom__implicit_expr_row(c->expr, i1 - i0, c->coord[0] + i0, y, z, row + i0);
+        geom__implicit_expr_rows(w->rows, i1 - i0, c->coord[0] + i0, y, z, row + i0);
     } else if (f->values) {
         for (size_t i = i0; i < i1; i++) {
             w->pts[3 * i] = c->coord[0][i];
@@ -475,7 +476,7 @@ static void sparse_row(slab *s, const ctx *c, work *w, size_t k, layer *L, size_
         for (size_t q = 0; q < nruns; q++)
             for (size_t i = rn[2 * q]; i < rn[2 * q + 1]; i++)
                 w->gx[m++] = c->coord[0][i];
-        geom__implicit_expr_row(c->expr, m, w->gx, c->coord[1][j], c->coord[2][k], w->gv);
+        geom__implicit_expr_rows(w->rows, m, w->gx, c->coord[1][j], c->coord[2][k], w->gv);
         s->evaluations += m;
         double *row = L->buf + j * nx1;
         m = 0;
@@ -925,6 +926,7 @@ static void work_free(const ctx *c, work *w)
     geom__free(al, w->runs, 2 * (c->nb[0] + 1) * sizeof(size_t));
     geom__free(al, w->gx, nx1 * sizeof(double));
     geom__free(al, w->gv, nx1 * sizeof(double));
+    geom__implicit_expr_rows_destroy(w->rows);
     memset(w, 0, sizeof *w);
 }
 
@@ -969,6 +971,8 @@ static void work_init(const ctx *c, work *w)
         memset(w->ones, 1, nx1);
         memset(w->zeros, 0, nx1);
     }
+    if (c->expr)
+        ok = ok && geom__implicit_expr_rows_create(c->expr, al, &w->rows) == GEOM_OK;
     if (!c->grid && c->field->values && !c->expr) {
         w->pts = geom__alloc(al, 3 * nx1 * sizeof(double));
         ok = ok && w->pts;
