@@ -10,6 +10,7 @@
  * slab partition depends only on the grid size, so the output does not
  * depend on the number of threads.
  */
+#define _POSIX_C_SOURCE 200809L /* nanosleep */
 #include "iso/iso_internal.h"
 #include "implicit/implicit_internal.h"
 
@@ -1562,11 +1563,36 @@ static void emit_ready(const ctx *c, emitter *em, slab *sl, size_t nslabs, const
 {
     while (em->next < nslabs && flag_load(&done[em->next])) {
         emit_slab(c, em, sl, em->next);
+#ifdef GEOM_ISO_OPENMP
+#pragma omp atomic update seq_cst
+#endif
         em->next++;
         if (em->st != GEOM_OK)
             flag_set(halt);
     }
 }
+
+#ifdef GEOM_ISO_OPENMP
+/* The stream path's backpressure: a thread other than the calling one
+ * (which hands the slabs over) starts slab q only when at most `ahead`
+ * slabs before it wait to be handed over, napping meanwhile (0.1 ms at a
+ * time: a nap costs no CPU time), so that slabs done far ahead of the
+ * writing do not pile up in memory (sparse extraction is cheaper than
+ * writing its output). The calling thread never waits here and, after
+ * its last slab, hands over the rest as they come, so every wait ends. */
+static void wait_turn(const emitter *em, size_t q, size_t ahead, const uint8_t *halt)
+{
+    for (;;) {
+        size_t next;
+#pragma omp atomic read seq_cst
+        next = em->next;
+        if (q <= next + ahead || flag_load(halt))
+            return;
+        struct timespec ts = {0, 100000};
+        nanosleep(&ts, NULL);
+    }
+}
+#endif
 
 /* After the last slab: the cap triangles, the counts, the signed volume
  * and the error measure. */
@@ -1741,8 +1767,10 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
     {
         work w;
         work_init(&c, &w);
-#pragma omp for schedule(dynamic, 1)
+#pragma omp for schedule(dynamic, 1) nowait
         for (long long q = 0; q < ns; q++) {
+            if (c.sink && omp_get_thread_num() != 0)
+                wait_turn(&em, (size_t)q, (size_t)nth, &halt);
             if (!flag_load(&halt))
                 run_slab(&c, &sl[q], &w);
             long long d;
@@ -1758,6 +1786,15 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
             }
         }
         work_free(&c, &w);
+        /* the calling thread hands over the slabs the others finish */
+        if (c.sink && omp_get_thread_num() == 0)
+            for (;;) {
+                emit_ready(&c, &em, sl, nslabs, done_flags, &halt);
+                if (em.next == nslabs || flag_load(&halt))
+                    break;
+                struct timespec ts = {0, 100000};
+                nanosleep(&ts, NULL);
+            }
     }
 #else
     {
