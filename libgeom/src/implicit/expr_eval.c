@@ -869,17 +869,24 @@ typedef struct dual {
 } dual;
 
 /* f'(x) * dx where a zero dx absorbs an infinite or NaN f'(x). */
-static inline double chain(double fp, double dx)
+GEOM__CLONE_INLINE double chain(double fp, double dx)
 {
-    return dx == 0.0 ? 0.0 : fp * dx;
+    /* the product, its bits cleared (+0) where dx is zero: a select the
+     * compiler vectorises, not a branch */
+    double m = fp * dx;
+    uint64_t b;
+    memcpy(&b, &m, sizeof b);
+    b &= (uint64_t)0 - (uint64_t)(dx != 0.0);
+    memcpy(&m, &b, sizeof m);
+    return m;
 }
 
-static inline dual g_cst(double c)
+GEOM__CLONE_INLINE dual g_cst(double c)
 {
     dual r = {c, {0.0, 0.0, 0.0}};
     return r;
 }
-static inline dual g_unary(double v, double fp, dual a)
+GEOM__CLONE_INLINE dual g_unary(double v, double fp, dual a)
 {
     dual r;
     r.v = v;
@@ -887,7 +894,7 @@ static inline dual g_unary(double v, double fp, dual a)
         r.d[i] = chain(fp, a.d[i]);
     return r;
 }
-static inline dual g_add(dual a, dual b)
+GEOM__CLONE_INLINE dual g_add(dual a, dual b)
 {
     dual r;
     r.v = a.v + b.v;
@@ -895,7 +902,7 @@ static inline dual g_add(dual a, dual b)
         r.d[i] = a.d[i] + b.d[i];
     return r;
 }
-static inline dual g_sub(dual a, dual b)
+GEOM__CLONE_INLINE dual g_sub(dual a, dual b)
 {
     dual r;
     r.v = a.v - b.v;
@@ -903,7 +910,7 @@ static inline dual g_sub(dual a, dual b)
         r.d[i] = a.d[i] - b.d[i];
     return r;
 }
-static inline dual g_mul(dual a, dual b)
+GEOM__CLONE_INLINE dual g_mul(dual a, dual b)
 {
     dual r;
     r.v = a.v * b.v;
@@ -911,7 +918,7 @@ static inline dual g_mul(dual a, dual b)
         r.d[i] = chain(b.v, a.d[i]) + chain(a.v, b.d[i]);
     return r;
 }
-static inline dual g_div(dual a, dual b)
+GEOM__CLONE_INLINE dual g_div(dual a, dual b)
 {
     dual r;
     r.v = a.v / b.v;
@@ -919,7 +926,7 @@ static inline dual g_div(dual a, dual b)
         r.d[i] = chain(1.0 / b.v, a.d[i]) - chain(r.v / b.v, b.d[i]);
     return r;
 }
-static inline dual g_neg(dual a)
+GEOM__CLONE_INLINE dual g_neg(dual a)
 {
     dual r;
     r.v = -a.v;
@@ -927,15 +934,15 @@ static inline dual g_neg(dual a)
         r.d[i] = -a.d[i];
     return r;
 }
-static inline dual g_sqr(dual a) { return g_unary(a.v * a.v, 2.0 * a.v, a); }
-static inline dual g_powi(dual a, int n)
+GEOM__CLONE_INLINE dual g_sqr(dual a) { return g_unary(a.v * a.v, 2.0 * a.v, a); }
+GEOM__CLONE_INLINE dual g_powi(dual a, int n)
 {
     if (n == 0)
         return g_cst(d_powi(a.v, 0));
     double fp = (double)n * (n == 2 ? a.v : pow(a.v, (double)(n - 1)));
     return g_unary(d_powi(a.v, n), fp, a);
 }
-static inline dual g_pow(dual a, dual b)
+GEOM__CLONE_INLINE dual g_pow(dual a, dual b)
 {
     dual r;
     r.v = d_pow(a.v, b.v);
@@ -945,47 +952,47 @@ static inline dual g_pow(dual a, dual b)
         r.d[i] = chain(fa, a.d[i]) + chain(fb, b.d[i]);
     return r;
 }
-static inline dual g_sqrt(dual a)
+GEOM__CLONE_INLINE dual g_sqrt(dual a)
 {
     double v = sqrt(a.v);
     return g_unary(v, 0.5 / v, a);
 }
-static inline dual g_abs(dual a)
+GEOM__CLONE_INLINE dual g_abs(dual a)
 {
     double s = a.v > 0.0 ? 1.0 : a.v < 0.0 ? -1.0 : a.v == 0.0 ? 0.0 : NAN;
     return g_unary(fabs(a.v), s, a);
 }
-static inline dual g_sin(dual a) { return g_unary(sin(a.v), cos(a.v), a); }
-static inline dual g_cos(dual a) { return g_unary(cos(a.v), -sin(a.v), a); }
-static inline dual g_tan(dual a)
+GEOM__CLONE_INLINE dual g_sin(dual a) { return g_unary(sin(a.v), cos(a.v), a); }
+GEOM__CLONE_INLINE dual g_cos(dual a) { return g_unary(cos(a.v), -sin(a.v), a); }
+GEOM__CLONE_INLINE dual g_tan(dual a)
 {
     double v = tan(a.v);
     return g_unary(v, 1.0 + v * v, a);
 }
-static inline dual g_exp(dual a)
+GEOM__CLONE_INLINE dual g_exp(dual a)
 {
     double v = exp(a.v);
     return g_unary(v, v, a);
 }
-static inline dual g_log(dual a) { return g_unary(log(a.v), 1.0 / a.v, a); }
-static inline dual g_nan(void)
+GEOM__CLONE_INLINE dual g_log(dual a) { return g_unary(log(a.v), 1.0 / a.v, a); }
+GEOM__CLONE_INLINE dual g_nan(void)
 {
     dual r = {NAN, {NAN, NAN, NAN}};
     return r;
 }
-static inline dual g_min(dual a, dual b)
+GEOM__CLONE_INLINE dual g_min(dual a, dual b)
 {
     if (isnan(a.v) || isnan(b.v))
         return g_nan();
     return a.v <= b.v ? a : b;
 }
-static inline dual g_max(dual a, dual b)
+GEOM__CLONE_INLINE dual g_max(dual a, dual b)
 {
     if (isnan(a.v) || isnan(b.v))
         return g_nan();
     return a.v >= b.v ? a : b;
 }
-static inline dual g_atan2(dual y, dual x)
+GEOM__CLONE_INLINE dual g_atan2(dual y, dual x)
 {
     dual r;
     r.v = atan2(y.v, x.v);
@@ -1493,18 +1500,6 @@ static int g_is_len(const geom_implicit_expr *e, int *uop, int *bop, double *c)
     return i == n;
 }
 
-/* chain(fp, dx) without a branch: the product, its bits cleared (+0) where
- * dx is zero. */
-GEOM__CLONE_INLINE double gl_chain(double fp, double dx)
-{
-    double m = fp * dx;
-    uint64_t b;
-    memcpy(&b, &m, sizeof b);
-    b &= (uint64_t)0 - (uint64_t)(dx != 0.0);
-    memcpy(&m, &b, sizeof m);
-    return m;
-}
-
 /* A program of g_is_len over n points p into values and grads (3*n; NULL:
  * not wanted), straight from the points, in loops the compiler vectorises.
  * Each point gets g_run's dual operations with the seeds' constant
@@ -1525,9 +1520,9 @@ GEOM__CLONE_INLINE double gl_chain(double fp, double dx)
         if (SQRT) {                                                                            \
             v = d_sqrt(v);                                                                     \
             double fp = d_div(0.5, v);                                                         \
-            d0 = gl_chain(fp, d0);                                                             \
-            d1 = gl_chain(fp, d1);                                                             \
-            d2 = gl_chain(fp, d2);                                                             \
+            d0 = chain(fp, d0);                                                             \
+            d1 = chain(fp, d1);                                                             \
+            d2 = chain(fp, d2);                                                             \
         }                                                                                      \
         V[l] = (EXPR_V);                                                                       \
         G[3 * l] = EXPR_D(d0);                                                                 \
@@ -1536,8 +1531,8 @@ GEOM__CLONE_INLINE double gl_chain(double fp, double dx)
     }
 #define GL_ADD(d) d_add(d, 0.0)
 #define GL_SAME(d) (d)
-#define GL_MUL(d) d_add(gl_chain(c, d), 0.0)
-#define GL_DIV(d) gl_chain(ic, d)
+#define GL_MUL(d) d_add(chain(c, d), 0.0)
+#define GL_DIV(d) chain(ic, d)
 #define GL_TAIL(SQRT)                                                                          \
     do {                                                                                       \
         if (bop == OP_ADD)                                                                     \
@@ -1588,6 +1583,262 @@ static void g_run_len(int uop, int bop, double c, size_t n, const double *restri
 #undef GL_ADD
 #undef GL_LOOP
 
+/* Blocks of GB points for the other programs, as the value blocks: a plan
+ * per call (g_plan) in which every stack slot holds GB lanes of each of
+ * the dual number's four components (value, d/dx, d/dy, d/dz) or one dual
+ * constant; an operation on constants only is done once on them (the same
+ * g_* function), x, y and z push their seeds (unit and zero lanes), and
+ * each other operation is one step: a lane loop applying its g_* function
+ * to the lanes of its operands (constants given as filled lanes). Every
+ * lane does exactly g_run's operations: bitwise g_run. */
+enum { GB = 32 };
+typedef struct gstep {
+    int op, k;
+    const expr_ins *in;
+    const double *a[8][4]; /* operand q's component lanes */
+    double *r[4];
+} gstep;
+typedef struct gwork {
+    _Alignas(64) double X[GB];
+    double Y[GB], Z[GB], one[GB], zero[GB];
+    double buf[XSTACK][2][4][GB];
+} gwork;
+
+/* The plan of e over w (max_stack <= XSTACK) into plan (e->n steps at
+ * most), constants' lanes in kc (4 * e->n rows of GB): the number of
+ * steps; res gets the result's lanes, or res[0] NULL and *res_c its
+ * value. */
+static size_t g_plan(const geom_implicit_expr *e, gwork *w, double (*kc)[GB], gstep *plan,
+                     const double **res, dual *res_c)
+{
+    const double *v[XSTACK][4]; /* a slot's lanes, v[q][0] NULL: the constant c[q] */
+    dual c[XSTACK];
+    size_t sp = 0, ns = 0, nk = 0;
+    v[0][0] = NULL;
+    c[0] = g_cst(NAN);
+    for (int l = 0; l < GB; l++) {
+        w->one[l] = 1.0;
+        w->zero[l] = 0.0;
+    }
+    for (size_t i = 0; i < e->n; i++) {
+        const expr_ins *in = &e->code[i];
+        const double *seed[3][4] = {{w->X, w->one, w->zero, w->zero},
+                                    {w->Y, w->zero, w->one, w->zero},
+                                    {w->Z, w->zero, w->zero, w->one}};
+        switch ((expr_op)in->op) {
+        case OP_CONST: v[sp][0] = NULL; c[sp++] = g_cst(in->c); continue;
+        case OP_T: v[sp][0] = NULL; c[sp++] = g_cst(e->t); continue;
+        case OP_X: case OP_Y: case OP_Z:
+            memcpy(v[sp++], seed[in->op - OP_X], sizeof v[0]);
+            continue;
+        case OP_COUNT: continue;
+        default: break;
+        }
+        int op = in->op, prim = op >= OP_SPHERE1;
+        size_t k = (size_t)geom__implicit_op_arity(op), first = sp - k;
+        int lanes = prim;
+        for (size_t q = first; q < sp; q++)
+            lanes |= v[q][0] != NULL;
+        if (!lanes) { /* constants only: folded, as g_run does it */
+            dual *a = &c[first], r;
+            switch ((expr_op)op) {
+            case OP_ADD: r = g_add(a[0], a[1]); break;
+            case OP_SUB: r = g_sub(a[0], a[1]); break;
+            case OP_MUL: r = g_mul(a[0], a[1]); break;
+            case OP_DIV: r = g_div(a[0], a[1]); break;
+            case OP_POW: r = g_pow(a[0], a[1]); break;
+            case OP_MIN: r = g_min(a[0], a[1]); break;
+            case OP_MAX: r = g_max(a[0], a[1]); break;
+            case OP_ATAN2: r = g_atan2(a[0], a[1]); break;
+            case OP_NEG: r = g_neg(a[0]); break;
+            case OP_POWI: r = g_powi(a[0], in->n); break;
+            case OP_SQRT: r = g_sqrt(a[0]); break;
+            case OP_ABS: r = g_abs(a[0]); break;
+            case OP_SIN: r = g_sin(a[0]); break;
+            case OP_COS: r = g_cos(a[0]); break;
+            case OP_TAN: r = g_tan(a[0]); break;
+            case OP_EXP: r = g_exp(a[0]); break;
+            case OP_LOG: r = g_log(a[0]); break;
+            case OP_CLAMP: r = g_clamp(a[0], a[1], a[2]); break;
+            case OP_SMIN: r = g_smin(a[0], a[1], a[2]); break;
+            default: r = g_neg(g_smin(g_neg(a[0]), g_neg(a[1]), a[2])); break; /* OP_SMAX */
+            }
+            c[first] = r;
+            sp = first + 1;
+            continue;
+        }
+        gstep *s = &plan[ns++];
+        s->op = op;
+        s->k = (int)k;
+        s->in = in;
+        for (size_t q = 0; q < k; q++) {
+            if (v[first + q][0]) {
+                memcpy(s->a[q], v[first + q], sizeof s->a[q]);
+                continue;
+            }
+            const dual *cq = &c[first + q]; /* a constant: its four lanes */
+            double comp[4] = {cq->v, cq->d[0], cq->d[1], cq->d[2]};
+            for (int m = 0; m < 4; m++) {
+                for (int l = 0; l < GB; l++)
+                    kc[nk][l] = comp[m];
+                s->a[q][m] = kc[nk++];
+            }
+        }
+        /* the slot's other buffer (k == 0: a push, the unused one) */
+        int b = k > 0 && v[first][0] == w->buf[first][0][0];
+        if (k == 0)
+            b = 1;
+        for (int m = 0; m < 4; m++)
+            v[first][m] = s->r[m] = w->buf[first][b][m];
+        sp = first + 1;
+    }
+    memcpy(res, v[0], sizeof v[0]);
+    *res_c = c[0];
+    return ns;
+}
+
+/* One step over GB lanes: operand q's components through restrict
+ * pointers Aq0..Aq3, the result's R0..R3 (a slot buffer no operand uses). */
+#define G_PTRS(q)                                                                              \
+    const double *restrict A##q##0 = s->a[q][0], *restrict A##q##1 = s->a[q][1];               \
+    const double *restrict A##q##2 = s->a[q][2], *restrict A##q##3 = s->a[q][3]
+#define G_LOAD(q, l)                                                                           \
+    {                                                                                          \
+        A##q##0[l], { A##q##1[l], A##q##2[l], A##q##3[l] }                                     \
+    }
+#define G_STORE(R, l)                                                                          \
+    do {                                                                                       \
+        dual r_ = (R);                                                                         \
+        R0[l] = r_.v;                                                                          \
+        R1[l] = r_.d[0];                                                                       \
+        R2[l] = r_.d[1];                                                                       \
+        R3[l] = r_.d[2];                                                                       \
+    } while (0)
+#define G_LOOP1(EXPR)                                                                          \
+    do {                                                                                       \
+        G_PTRS(0);                                                                             \
+        for (int l = 0; l < GB; l++) {                                                         \
+            dual A = G_LOAD(0, l);                                                             \
+            G_STORE((EXPR), l);                                                                \
+        }                                                                                      \
+    } while (0)
+#define G_LOOP2(FN)                                                                            \
+    do {                                                                                       \
+        G_PTRS(0);                                                                             \
+        G_PTRS(1);                                                                             \
+        for (int l = 0; l < GB; l++) {                                                         \
+            dual A = G_LOAD(0, l), B = G_LOAD(1, l);                                           \
+            G_STORE(FN(A, B), l);                                                              \
+        }                                                                                      \
+    } while (0)
+#define G_LOOP3(EXPR)                                                                          \
+    do {                                                                                       \
+        G_PTRS(0);                                                                             \
+        G_PTRS(1);                                                                             \
+        G_PTRS(2);                                                                             \
+        for (int l = 0; l < GB; l++) {                                                         \
+            dual A = G_LOAD(0, l), B = G_LOAD(1, l), C = G_LOAD(2, l);                         \
+            G_STORE((EXPR), l);                                                                \
+        }                                                                                      \
+    } while (0)
+GEOM_SIMD_CLONES
+static void g_step(const gstep *s, const gwork *w)
+{
+    double *restrict R0 = s->r[0], *restrict R1 = s->r[1];
+    double *restrict R2 = s->r[2], *restrict R3 = s->r[3];
+    switch ((expr_op)s->op) {
+    case OP_ADD: G_LOOP2(g_add); break;
+    case OP_SUB: G_LOOP2(g_sub); break;
+    case OP_MUL: G_LOOP2(g_mul); break;
+    case OP_DIV: G_LOOP2(g_div); break;
+    case OP_POW: G_LOOP2(g_pow); break;
+    case OP_MIN: G_LOOP2(g_min); break;
+    case OP_MAX: G_LOOP2(g_max); break;
+    case OP_ATAN2: G_LOOP2(g_atan2); break;
+    case OP_NEG: G_LOOP1(g_neg(A)); break;
+    case OP_POWI:
+        if (s->in->n == 2)
+            G_LOOP1(g_powi(A, 2));
+        else
+            G_LOOP1(g_powi(A, s->in->n));
+        break;
+    case OP_SQRT: G_LOOP1(g_sqrt(A)); break;
+    case OP_ABS: G_LOOP1(g_abs(A)); break;
+    case OP_SIN: G_LOOP1(g_sin(A)); break;
+    case OP_COS: G_LOOP1(g_cos(A)); break;
+    case OP_TAN: G_LOOP1(g_tan(A)); break;
+    case OP_EXP: G_LOOP1(g_exp(A)); break;
+    case OP_LOG: G_LOOP1(g_log(A)); break;
+    case OP_CLAMP: G_LOOP3(g_clamp(A, B, C)); break;
+    case OP_SMIN: G_LOOP3(g_smin(A, B, C)); break;
+    case OP_SMAX: G_LOOP3(g_neg(g_smin(g_neg(A), g_neg(B), C))); break;
+    default: /* a primitive at the point's seeds */
+        for (int l = 0; l < GB; l++) {
+            dual args[8];
+            for (int q = 0; q < s->k; q++) {
+                args[q].v = s->a[q][0][l];
+                for (int m = 0; m < 3; m++)
+                    args[q].d[m] = s->a[q][1 + m][l];
+            }
+            dual x = {w->X[l], {1.0, 0.0, 0.0}};
+            dual y = {w->Y[l], {0.0, 1.0, 0.0}};
+            dual z = {w->Z[l], {0.0, 0.0, 1.0}};
+            G_STORE(g_prim(s->op, x, y, z, s->k ? args : NULL), l);
+        }
+        break;
+    }
+}
+#undef G_LOOP3
+#undef G_LOOP2
+#undef G_LOOP1
+#undef G_STORE
+#undef G_LOAD
+#undef G_PTRS
+
+/* The program of e (max_stack <= XSTACK) over n points p into values and
+ * grads (NULL: not wanted) through a plan made for this call; 0 when the
+ * plan's memory cannot be allocated (nothing written). */
+static int g_run_blocks(const geom_implicit_expr *e, size_t n, const double *p, double *values,
+                        double *grads)
+{
+    size_t m = e->n ? e->n : 1;
+    size_t bytes = sizeof(gwork) + 64 + m * sizeof(gstep) + 4 * m * GB * sizeof(double);
+    char *raw = geom__alloc(&e->alloc, bytes);
+    if (!raw)
+        return 0;
+    gwork *w = (gwork *)(void *)(raw + (64 - (uintptr_t)raw % 64) % 64);
+    double(*kc)[GB] = (double(*)[GB])(void *)(w + 1);
+    gstep *plan = (gstep *)(void *)(kc + 4 * m);
+    const double *res[4];
+    dual res_c;
+    size_t ns = g_plan(e, w, kc, plan, res, &res_c);
+    double pt[3 * GB];
+    for (size_t b0 = 0; b0 < n; b0 += GB) {
+        size_t L = n - b0 < GB ? n - b0 : GB;
+        const double *P = p + 3 * b0;
+        if (L < GB) { /* the tail, padded with zeros */
+            memset(pt, 0, sizeof pt);
+            memcpy(pt, P, 3 * L * sizeof(double));
+            P = pt;
+        }
+        for (int l = 0; l < GB; l++) {
+            w->X[l] = P[3 * l];
+            w->Y[l] = P[3 * l + 1];
+            w->Z[l] = P[3 * l + 2];
+        }
+        for (size_t j = 0; j < ns; j++)
+            g_step(&plan[j], w);
+        for (size_t l = 0; l < L; l++) {
+            values[b0 + l] = res[0] ? res[0][l] : res_c.v;
+            if (grads)
+                for (int q = 0; q < 3; q++)
+                    grads[3 * (b0 + l) + (size_t)q] = res[0] ? res[1 + q][l] : res_c.d[q];
+        }
+    }
+    geom__free(&e->alloc, raw, bytes);
+    return 1;
+}
+
 void geom_implicit_expr_eval_grad_many(const geom_implicit_expr *e, size_t n, const double *p,
                                        double *values, double *grads)
 {
@@ -1607,6 +1858,8 @@ void geom_implicit_expr_eval_grad_many(const geom_implicit_expr *e, size_t n, co
         g_run_len(uop, bop, c, n, p, values, grads);
         return;
     }
+    if (e->max_stack <= XSTACK && n > 0 && g_run_blocks(e, n, p, values, grads))
+        return;
     if (e->max_stack <= BATCH_STACK) {
         g_run_batch(e->code, e->n, n, p, e->t, values, grads);
         return;
