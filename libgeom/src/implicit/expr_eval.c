@@ -1796,11 +1796,18 @@ static void g_step(const gstep *s, const gwork *w)
 #undef G_PTRS
 
 /* The program of e (max_stack <= XSTACK) over n points p into values and
- * grads (NULL: not wanted) through a plan made for this call; 0 when the
- * plan's memory cannot be allocated (nothing written). */
+ * grads (NULL: not wanted) through a plan made for this call; 0 (nothing
+ * written) for a program with a primitive or when the plan's memory
+ * cannot be allocated. */
 static int g_run_blocks(const geom_implicit_expr *e, size_t n, const double *p, double *values,
                         double *grads)
 {
+    /* primitives: lane by lane through g_prim either way, and measured
+     * faster in g_run_batch's lanes (torus(1, 0.3): 17 against 21 ms over
+     * 2e5 points) */
+    for (size_t i = 0; i < e->n; i++)
+        if (e->code[i].op >= OP_SPHERE1 && e->code[i].op < OP_COUNT)
+            return 0;
     size_t m = e->n ? e->n : 1;
     size_t bytes = sizeof(gwork) + 64 + m * sizeof(gstep) + 4 * m * GB * sizeof(double);
     char *raw = geom__alloc(&e->alloc, bytes);
