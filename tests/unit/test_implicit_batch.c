@@ -62,6 +62,14 @@ static const char *const exprs[] = {
     "sqrt(x*x + y*y + z*z) + 1", "(x*x + y*y + z*z) - 1e-300", "x^2 - y^2", "x^2*3 + y",
     "sqrt(x^2 + y^2) - 0.5", "(x - 0.5)^2 + (y + 1)^2 + z^2 - 1", "x^2 + y*y + z^2 - 1",
     "sqrt(z*z + y*y + x*x) - 1", "sqrt(x*x + y*y + z*z) - t", "sphere(0.7)",
+    /* the primitives with a lane loop of their own in the gradient batch:
+     * centred (the torus's centre and axis among the points below),
+     * arguments of t, arguments that vary from point to point */
+    "torus(0.3, 0.1, -0.2, 1, 0.3)", "torus(t, 0.3)", "torus(1 + x*y, z)", "torus(0, 0)",
+    "sphere(x*0.5)", "sphere(0.3, 0.1, -0.2, t)", "ellipsoid(0.3, 0.1, -0.2, 1, 0.5, 2)",
+    "ellipsoid(x, 1, 0)", "box(0.3, 0.1, -0.2, 0.5, 0.7, 0.2)", "box(x, 0.5, y)",
+    "cylinder(0.3, 0.1, -0.2, 0.5, 0.8)", "cylinder(z, x)", "plane(x, 0, 1, y)",
+    "min(torus(1, 0.3), box(0.5, 0.5, 0.5)) + sphere(0.3, 0.1, -0.2, 0.4)",
 };
 
 /* A program n levels deep: x+(x+(...(x)...)). */
@@ -206,6 +214,14 @@ static void test_expr_grad_batch_bitwise(void **state)
         p[3 * i + 1] = zs[(i / 6) % 6];
         p[3 * i + 2] = zs[(i / 36) % 6];
     }
+    /* the offset primitives' centre (0.3, 0.1, -0.2) and axis, and
+     * non-finite coordinates */
+    static const double ed[][3] = {{0.3, 0.1, -0.2}, {0.3, 0.1, 0.5}, {0.3, 0.1, -1e200},
+                                   {NAN, 0, 0}, {0, NAN, 0}, {0, 0, NAN}, {INFINITY, 0, 0},
+                                   {0, -INFINITY, 0}, {0, 0, INFINITY}, {INFINITY, INFINITY, 1},
+                                   {0, 0, 1}, {0, 0, -1e-310}, {1, 0, 0}, {-1, 0, 0.3}};
+    for (size_t i = 0; i < sizeof ed / sizeof ed[0]; i++)
+        memcpy(&p[3 * (216 + i)], ed[i], sizeof ed[i]);
     for (size_t k = 0; k < sizeof exprs / sizeof exprs[0]; k++) {
         geom_implicit_expr *e = NULL;
         assert_int_equal(geom_implicit_expr_compile(exprs[k], strlen(exprs[k]), NULL, &e, NULL),

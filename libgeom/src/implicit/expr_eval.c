@@ -1741,6 +1741,23 @@ static size_t g_plan(const geom_implicit_expr *e, gwork *w, double (*kc)[GB], gs
             G_STORE((EXPR), l);                                                                \
         }                                                                                      \
     } while (0)
+#define G_PRIM(K, EXPR)                                                                        \
+    do {                                                                                       \
+        const double *restrict WX = w->X, *restrict WY = w->Y, *restrict WZ = w->Z;            \
+        for (int l = 0; l < GB; l++) {                                                         \
+            dual a[K];                                                                         \
+            for (int q = 0; q < (K); q++) {                                                    \
+                a[q].v = s->a[q][0][l];                                                        \
+                a[q].d[0] = s->a[q][1][l];                                                     \
+                a[q].d[1] = s->a[q][2][l];                                                     \
+                a[q].d[2] = s->a[q][3][l];                                                     \
+            }                                                                                  \
+            dual x = {WX[l], {1.0, 0.0, 0.0}};                                                 \
+            dual y = {WY[l], {0.0, 1.0, 0.0}};                                                 \
+            dual z = {WZ[l], {0.0, 0.0, 1.0}};                                                 \
+            G_STORE((EXPR), l);                                                                \
+        }                                                                                      \
+    } while (0)
 GEOM_SIMD_CLONES
 static void g_step(const gstep *s, const gwork *w)
 {
@@ -1772,6 +1789,30 @@ static void g_step(const gstep *s, const gwork *w)
     case OP_CLAMP: G_LOOP3(g_clamp(A, B, C)); break;
     case OP_SMIN: G_LOOP3(g_smin(A, B, C)); break;
     case OP_SMAX: G_LOOP3(g_neg(g_smin(g_neg(A), g_neg(B), C))); break;
+    /* the primitives of fixed shape: one lane loop each over the seeds
+     * and the arguments' lanes, g_prim's case inlined (the same g_*
+     * operations in the same order: bitwise g_prim) */
+    case OP_TORUS2: G_PRIM(2, g_torus(x, y, z, a[0], a[1])); break;
+    case OP_TORUS5:
+        G_PRIM(5, g_torus(g_sub(x, a[0]), g_sub(y, a[1]), g_sub(z, a[2]), a[3], a[4]));
+        break;
+    case OP_SPHERE1: G_PRIM(1, g_sub(g_len3(x, y, z), a[0])); break;
+    case OP_SPHERE4:
+        G_PRIM(4, g_sub(g_len3(g_sub(x, a[0]), g_sub(y, a[1]), g_sub(z, a[2])), a[3]));
+        break;
+    case OP_BOX3: G_PRIM(3, g_box(x, y, z, a[0], a[1], a[2])); break;
+    case OP_BOX6:
+        G_PRIM(6, g_box(g_sub(x, a[0]), g_sub(y, a[1]), g_sub(z, a[2]), a[3], a[4], a[5]));
+        break;
+    case OP_CYLINDER2: G_PRIM(2, g_cylinder(x, y, z, a[0], a[1])); break;
+    case OP_CYLINDER5:
+        G_PRIM(5, g_cylinder(g_sub(x, a[0]), g_sub(y, a[1]), g_sub(z, a[2]), a[3], a[4]));
+        break;
+    case OP_ELLIPSOID3: G_PRIM(3, g_ellipsoid(x, y, z, a[0], a[1], a[2])); break;
+    case OP_ELLIPSOID6:
+        G_PRIM(6, g_ellipsoid(g_sub(x, a[0]), g_sub(y, a[1]), g_sub(z, a[2]), a[3], a[4], a[5]));
+        break;
+    case OP_PLANE4: G_PRIM(4, g_plane(x, y, z, a[0], a[1], a[2], a[3])); break;
     default: /* a primitive at the point's seeds */
         for (int l = 0; l < GB; l++) {
             dual args[8];
@@ -1788,6 +1829,7 @@ static void g_step(const gstep *s, const gwork *w)
         break;
     }
 }
+#undef G_PRIM
 #undef G_LOOP3
 #undef G_LOOP2
 #undef G_LOOP1
@@ -1797,16 +1839,17 @@ static void g_step(const gstep *s, const gwork *w)
 
 /* The program of e (max_stack <= XSTACK) over n points p into values and
  * grads (NULL: not wanted) through a plan made for this call; 0 (nothing
- * written) for a program with a primitive or when the plan's memory
+ * written) for a program with a capsule or gyroid, or when the plan's memory
  * cannot be allocated. */
 static int g_run_blocks(const geom_implicit_expr *e, size_t n, const double *p, double *values,
                         double *grads)
 {
-    /* primitives: lane by lane through g_prim either way, and measured
-     * faster in g_run_batch's lanes (torus(1, 0.3): 17 against 21 ms over
-     * 2e5 points) */
+    /* the primitives g_step has no lane loop of (capsule, gyroids): lane
+     * by lane through g_prim either way, and measured faster in
+     * g_run_batch's lanes (torus(1, 0.3) through g_prim: 17 against 21 ms
+     * over 2e5 points) */
     for (size_t i = 0; i < e->n; i++)
-        if (e->code[i].op >= OP_SPHERE1 && e->code[i].op < OP_COUNT)
+        if (e->code[i].op >= OP_CAPSULE7 && e->code[i].op < OP_COUNT)
             return 0;
     size_t m = e->n ? e->n : 1;
     size_t bytes = sizeof(gwork) + 64 + m * sizeof(gstep) + 4 * m * GB * sizeof(double);
