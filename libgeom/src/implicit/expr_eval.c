@@ -890,6 +890,7 @@ GEOM__CLONE_INLINE dual g_unary(double v, double fp, dual a)
 {
     dual r;
     r.v = v;
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
         r.d[i] = chain(fp, a.d[i]);
     return r;
@@ -898,6 +899,7 @@ GEOM__CLONE_INLINE dual g_add(dual a, dual b)
 {
     dual r;
     r.v = a.v + b.v;
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
         r.d[i] = a.d[i] + b.d[i];
     return r;
@@ -906,6 +908,7 @@ GEOM__CLONE_INLINE dual g_sub(dual a, dual b)
 {
     dual r;
     r.v = a.v - b.v;
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
         r.d[i] = a.d[i] - b.d[i];
     return r;
@@ -914,6 +917,7 @@ GEOM__CLONE_INLINE dual g_mul(dual a, dual b)
 {
     dual r;
     r.v = a.v * b.v;
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
         r.d[i] = chain(b.v, a.d[i]) + chain(a.v, b.d[i]);
     return r;
@@ -922,6 +926,7 @@ GEOM__CLONE_INLINE dual g_div(dual a, dual b)
 {
     dual r;
     r.v = a.v / b.v;
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
         r.d[i] = chain(1.0 / b.v, a.d[i]) - chain(r.v / b.v, b.d[i]);
     return r;
@@ -930,6 +935,7 @@ GEOM__CLONE_INLINE dual g_neg(dual a)
 {
     dual r;
     r.v = -a.v;
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
         r.d[i] = -a.d[i];
     return r;
@@ -948,6 +954,7 @@ GEOM__CLONE_INLINE dual g_pow(dual a, dual b)
     r.v = d_pow(a.v, b.v);
     double fa = b.v * pow(a.v, b.v - 1.0);
     double fb = r.v * log(a.v);
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
         r.d[i] = chain(fa, a.d[i]) + chain(fb, b.d[i]);
     return r;
@@ -997,6 +1004,7 @@ GEOM__CLONE_INLINE dual g_atan2(dual y, dual x)
     dual r;
     r.v = atan2(y.v, x.v);
     double r2 = x.v * x.v + y.v * y.v;
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
         r.d[i] = r2 == 0.0 ? 0.0 : chain(x.v / r2, y.d[i]) - chain(y.v / r2, x.d[i]);
     return r;
@@ -1004,7 +1012,9 @@ GEOM__CLONE_INLINE dual g_atan2(dual y, dual x)
 
 #define NUM dual
 #define F(name) g_##name
+#define F_INLINE GEOM__CLONE_INLINE /* one lane loop per primitive in g_step */
 #include "implicit/expr_template.h"
+#undef F_INLINE
 #undef NUM
 #undef F
 
@@ -1744,13 +1754,16 @@ static size_t g_plan(const geom_implicit_expr *e, gwork *w, double (*kc)[GB], gs
 #define G_PRIM(K, EXPR)                                                                        \
     do {                                                                                       \
         const double *restrict WX = w->X, *restrict WY = w->Y, *restrict WZ = w->Z;            \
+        const double *AP[K][4];                                                                \
+        memcpy(AP, s->a, sizeof AP);                                                           \
         for (int l = 0; l < GB; l++) {                                                         \
             dual a[K];                                                                         \
-            for (int q = 0; q < (K); q++) {                                                    \
-                a[q].v = s->a[q][0][l];                                                        \
-                a[q].d[0] = s->a[q][1][l];                                                     \
-                a[q].d[1] = s->a[q][2][l];                                                     \
-                a[q].d[2] = s->a[q][3][l];                                                     \
+            _Pragma("GCC unroll 8") for (int q = 0; q < (K); q++)                              \
+            {                                                                                  \
+                a[q].v = AP[q][0][l];                                                          \
+                a[q].d[0] = AP[q][1][l];                                                       \
+                a[q].d[1] = AP[q][2][l];                                                       \
+                a[q].d[2] = AP[q][3][l];                                                       \
             }                                                                                  \
             dual x = {WX[l], {1.0, 0.0, 0.0}};                                                 \
             dual y = {WY[l], {0.0, 1.0, 0.0}};                                                 \
