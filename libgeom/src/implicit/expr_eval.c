@@ -1751,20 +1751,27 @@ static size_t g_plan(const geom_implicit_expr *e, gwork *w, double (*kc)[GB], gs
             G_STORE((EXPR), l);                                                                \
         }                                                                                      \
     } while (0)
+/* A primitive of K arguments (1..6) over GB lanes: EXPR of the seeds x, y,
+ * z and the arguments a[0..K-1] (each argument's lanes through its own
+ * restrict pointers, so that the loop vectorises). */
+#define G_PTRS_1 G_PTRS(0)
+#define G_PTRS_2 G_PTRS_1; G_PTRS(1)
+#define G_PTRS_3 G_PTRS_2; G_PTRS(2)
+#define G_PTRS_4 G_PTRS_3; G_PTRS(3)
+#define G_PTRS_5 G_PTRS_4; G_PTRS(4)
+#define G_PTRS_6 G_PTRS_5; G_PTRS(5)
+#define G_ARGS_1 G_LOAD(0, l)
+#define G_ARGS_2 G_ARGS_1, G_LOAD(1, l)
+#define G_ARGS_3 G_ARGS_2, G_LOAD(2, l)
+#define G_ARGS_4 G_ARGS_3, G_LOAD(3, l)
+#define G_ARGS_5 G_ARGS_4, G_LOAD(4, l)
+#define G_ARGS_6 G_ARGS_5, G_LOAD(5, l)
 #define G_PRIM(K, EXPR)                                                                        \
     do {                                                                                       \
         const double *restrict WX = w->X, *restrict WY = w->Y, *restrict WZ = w->Z;            \
-        const double *AP[K][4];                                                                \
-        memcpy(AP, s->a, sizeof AP);                                                           \
+        G_PTRS_##K;                                                                            \
         for (int l = 0; l < GB; l++) {                                                         \
-            dual a[K];                                                                         \
-            _Pragma("GCC unroll 8") for (int q = 0; q < (K); q++)                              \
-            {                                                                                  \
-                a[q].v = AP[q][0][l];                                                          \
-                a[q].d[0] = AP[q][1][l];                                                       \
-                a[q].d[1] = AP[q][2][l];                                                       \
-                a[q].d[2] = AP[q][3][l];                                                       \
-            }                                                                                  \
+            dual a[K] = {G_ARGS_##K};                                                          \
             dual x = {WX[l], {1.0, 0.0, 0.0}};                                                 \
             dual y = {WY[l], {0.0, 1.0, 0.0}};                                                 \
             dual z = {WZ[l], {0.0, 0.0, 1.0}};                                                 \
@@ -1843,6 +1850,18 @@ static void g_step(const gstep *s, const gwork *w)
     }
 }
 #undef G_PRIM
+#undef G_ARGS_6
+#undef G_ARGS_5
+#undef G_ARGS_4
+#undef G_ARGS_3
+#undef G_ARGS_2
+#undef G_ARGS_1
+#undef G_PTRS_6
+#undef G_PTRS_5
+#undef G_PTRS_4
+#undef G_PTRS_3
+#undef G_PTRS_2
+#undef G_PTRS_1
 #undef G_LOOP3
 #undef G_LOOP2
 #undef G_LOOP1
