@@ -54,6 +54,13 @@ def best(fn, reps=REPS):
     return min(wall), min(cpu), r
 
 
+def maxdiff(a, b):
+    """Largest difference between results (arrays, or tuples of arrays)."""
+    if isinstance(a, tuple):
+        return max(maxdiff(x, y) for x, y in zip(a, b))
+    return float(np.abs(np.asarray(a) - np.asarray(b)).max())
+
+
 def run(name, ours, refs, loop):
     """refs: (label, fn) numpy formulations; loop: per-point fn over NLOOP points."""
     w_o, c_o, r_o = best(ours)
@@ -62,7 +69,7 @@ def run(name, ours, refs, loop):
     bw, bc = float("inf"), float("inf")
     for label, fn in refs:
         w, c, r = best(fn)
-        diff = max(diff, float(np.abs(np.asarray(r_o) - np.asarray(r)).max()))
+        diff = max(diff, maxdiff(r_o, r))
         cols.append("%s %.4f/%.4f" % (label, w, c))
         bw, bc = min(bw, w), min(bc, c)
     lp = ""
@@ -215,6 +222,52 @@ run("Expression(points)", lambda: e(pts),
     [("plain", lambda: np.sqrt((pts * pts).sum(axis=1)) - 1),
      ("tuned", lambda: np_sphere_tuned(pts)), ("matmul", lambda: np_sphere_matmul(pts))],
     lambda: [np.sqrt((x * x).sum()) - 1 for x in pts[:NLOOP]])
+
+# implicit: value and exact gradient over points ------------------------------
+# numpy's hand-written gradient of the same sphere: (|p| - 1, p / |p|), the
+# row sums as in np_sphere_matmul, one division per component.
+
+
+def np_sphere_grad_plain(pts):
+    r = np.sqrt((pts * pts).sum(axis=1))
+    return r - 1, pts / r[:, None]
+
+
+def np_sphere_grad(pts):
+    r = (pts * pts) @ ones3
+    np.sqrt(r, out=r)
+    g = pts / r[:, None]
+    r -= 1
+    return r, g
+
+
+run("Expression.gradient", lambda: e.gradient(pts),
+    [("plain", lambda: np_sphere_grad_plain(pts)), ("tuned", lambda: np_sphere_grad(pts))],
+    lambda: [np_sphere_grad_plain(x.reshape(1, 3)) for x in pts[:NLOOP]])
+
+# a torus: a program the distance-shaped kernel does not take (the general
+# batch); numpy: q = |(x, y)|, d = |(q - R, z)|, f = d - r, grad = ((q - R)/d
+# (x, y)/q, z/d)
+et = geom.Expression("torus(1, 0.3)")
+
+
+def np_torus_grad(pts):
+    x, y, z = pts[:, 0], pts[:, 1], pts[:, 2]
+    q = np.sqrt(x * x + y * y)
+    a = q - 1.0
+    d = np.sqrt(a * a + z * z)
+    s = a / d / q
+    g = np.empty_like(pts)
+    np.multiply(x, s, out=g[:, 0])
+    np.multiply(y, s, out=g[:, 1])
+    np.divide(z, d, out=g[:, 2])
+    d -= 0.3
+    return d, g
+
+
+run("Expression.gradient(torus)", lambda: et.gradient(pts),
+    [("tuned", lambda: np_torus_grad(pts))],
+    lambda: [np_torus_grad(x.reshape(1, 3)) for x in pts[:NLOOP]])
 
 # volume: trilinear interpolation ------------------------------------------
 vol = geom.Volume(rng.uniform(0, 1, (32, 32, 32)).astype(np.float32))

@@ -10,6 +10,7 @@
  */
 #include "unit/test_util.h"
 
+#include <float.h>
 #include <string.h>
 
 #include "geom/implicit.h"
@@ -55,6 +56,20 @@ static const char *const exprs[] = {
     "sqrt(x*x + y*y + z*z) + 1e-300", "x + sqrt(x*x + y*y + z*z) - 1",
     "sqrt(1*x*x + 2*y*y + 3*z*z) - 1", "(x*x + y*y + z*z) * (x*y + y*z + z*x)",
     "sqrt((x-0.1)*(x-0.1) + (y+0.2)*(y+0.2) + z*z) - 0.7",
+    /* squares written x^2 and pow(x, 2), fused as x*x; distance shapes */
+    "x^2 + y^2 + z^2", "sqrt(x^2 + y^2 + z^2) - 1", "sqrt(pow(x, 2) + y*y + z^2) * 3",
+    "x*x + y*y + z*z", "sqrt(x*x + y*y + z*z)", "sqrt(x*x + y*y + z*z) / 0.3",
+    "sqrt(x*x + y*y + z*z) + 1", "(x*x + y*y + z*z) - 1e-300", "x^2 - y^2", "x^2*3 + y",
+    "sqrt(x^2 + y^2) - 0.5", "(x - 0.5)^2 + (y + 1)^2 + z^2 - 1", "x^2 + y*y + z^2 - 1",
+    "sqrt(z*z + y*y + x*x) - 1", "sqrt(x*x + y*y + z*z) - t", "sphere(0.7)",
+    /* the primitives with a lane loop of their own in the gradient batch:
+     * centred (the torus's centre and axis among the points below),
+     * arguments of t, arguments that vary from point to point */
+    "torus(0.3, 0.1, -0.2, 1, 0.3)", "torus(t, 0.3)", "torus(1 + x*y, z)", "torus(0, 0)",
+    "sphere(x*0.5)", "sphere(0.3, 0.1, -0.2, t)", "ellipsoid(0.3, 0.1, -0.2, 1, 0.5, 2)",
+    "ellipsoid(x, 1, 0)", "box(0.3, 0.1, -0.2, 0.5, 0.7, 0.2)", "box(x, 0.5, y)",
+    "cylinder(0.3, 0.1, -0.2, 0.5, 0.8)", "cylinder(z, x)", "plane(x, 0, 1, y)",
+    "min(torus(1, 0.3), box(0.5, 0.5, 0.5)) + sphere(0.3, 0.1, -0.2, 0.4)",
 };
 
 /* A program n levels deep: x+(x+(...(x)...)). */
@@ -153,6 +168,151 @@ static void test_expr_batch_bitwise(void **state)
         geom_implicit_expr_destroy(e);
         free(s);
     }
+    free(p);
+    free(out);
+}
+
+/* geom_implicit_expr_eval_grad_many against geom_implicit_expr_eval_grad,
+ * values and gradients bit for bit (NaN where it gives NaN), and with the
+ * gradients not wanted, over every expression above. */
+static void check_grad(geom_implicit_expr *e, const char *text, size_t n, const double *p,
+                       double *val, double *grd)
+{
+    geom_implicit_expr_eval_grad_many(e, n, p, val, grd);
+    for (size_t i = 0; i < n; i++) {
+        double g[3];
+        double v = geom_implicit_expr_eval_grad(e, &p[3 * i], g);
+        int same = same_bits_or_nan(v, val[i]);
+        for (int a = 0; a < 3; a++)
+            same &= same_bits_or_nan(g[a], grd[3 * i + a]);
+        if (!same)
+            fail_msg("%s at point %zu (%g, %g, %g): batch %.17g (%.17g, %.17g, %.17g), "
+                     "single %.17g (%.17g, %.17g, %.17g)",
+                     text, i, p[3 * i], p[3 * i + 1], p[3 * i + 2], val[i], grd[3 * i],
+                     grd[3 * i + 1], grd[3 * i + 2], v, g[0], g[1], g[2]);
+    }
+    geom_implicit_expr_eval_grad_many(e, n, p, val, NULL);
+    for (size_t i = 0; i < n; i++) {
+        double g[3];
+        if (!same_bits_or_nan(geom_implicit_expr_eval_grad(e, &p[3 * i], g), val[i]))
+            fail_msg("%s at point %zu: value without gradients %.17g", text, i, val[i]);
+    }
+}
+
+static void test_expr_grad_batch_bitwise(void **state)
+{
+    (void)state;
+    static const size_t counts[] = {1, 15, 16, 17, 63, 64, 65, 127, 1000, 4099};
+    double *p = points(4099, -2.5, 2.5), *val = malloc(4099 * sizeof(double));
+    double *grd = malloc(3 * 4099 * sizeof(double));
+    assert_non_null(val);
+    assert_non_null(grd);
+    /* zeros of every sign in every coordinate: the derivatives' zero signs */
+    static const double zs[] = {0.0, -0.0, 1e-310, -1e-310, 1e200, -1e200};
+    for (size_t i = 0; i < 216; i++) {
+        p[3 * i] = zs[i % 6];
+        p[3 * i + 1] = zs[(i / 6) % 6];
+        p[3 * i + 2] = zs[(i / 36) % 6];
+    }
+    /* the offset primitives' centre (0.3, 0.1, -0.2) and axis, and
+     * non-finite coordinates */
+    static const double ed[][3] = {{0.3, 0.1, -0.2}, {0.3, 0.1, 0.5}, {0.3, 0.1, -1e200},
+                                   {NAN, 0, 0}, {0, NAN, 0}, {0, 0, NAN}, {INFINITY, 0, 0},
+                                   {0, -INFINITY, 0}, {0, 0, INFINITY}, {INFINITY, INFINITY, 1},
+                                   {0, 0, 1}, {0, 0, -1e-310}, {1, 0, 0}, {-1, 0, 0.3}};
+    for (size_t i = 0; i < sizeof ed / sizeof ed[0]; i++)
+        memcpy(&p[3 * (216 + i)], ed[i], sizeof ed[i]);
+    for (size_t k = 0; k < sizeof exprs / sizeof exprs[0]; k++) {
+        geom_implicit_expr *e = NULL;
+        assert_int_equal(geom_implicit_expr_compile(exprs[k], strlen(exprs[k]), NULL, &e, NULL),
+                         GEOM_OK);
+        static const double times[] = {0.25, -1.5, NAN};
+        for (size_t ti = 0; ti < 3; ti++) {
+            geom_implicit_expr_set_time(e, times[ti]);
+            for (size_t c = 0; c < sizeof counts / sizeof counts[0]; c++)
+                check_grad(e, exprs[k], counts[c], p, val, grd);
+            check_grad(e, exprs[k], 999, p + 3, val + 1, grd + 5); /* unaligned */
+        }
+        geom_implicit_expr_destroy(e);
+    }
+    /* programs deeper than the block stack */
+    static const int depths[] = {20, 23, 24, 25, 40, 70};
+    for (size_t d = 0; d < sizeof depths / sizeof depths[0]; d++) {
+        char *s = nested(depths[d]);
+        geom_implicit_expr_options opt = {NULL, 0, 200};
+        geom_implicit_expr *e = NULL;
+        assert_int_equal(geom_implicit_expr_compile(s, strlen(s), &opt, &e, NULL), GEOM_OK);
+        check_grad(e, s, 1000, p, val, grd);
+        geom_implicit_expr_destroy(e);
+        free(s);
+    }
+    free(p);
+    free(val);
+    free(grd);
+}
+
+/* x^2 and pow(x, 2) are x*x: the single-point evaluator, the batch (where
+ * the square fuses into sums of squares like x*x) and the C library's
+ * pow(x, 2) agree bit for bit over edge values (signed zeros, subnormals,
+ * squares that overflow or underflow, infinities, NaN) and random values,
+ * 27-bit ones among them (exact squares) and the sum of three squares. */
+static void test_square_is_product(void **state)
+{
+    (void)state;
+    enum { N = 4096 };
+    double *p = malloc(3 * N * sizeof(double)), *out = malloc(N * sizeof(double));
+    assert_non_null(p);
+    assert_non_null(out);
+    static const double edge[] = {0.0, -0.0, DBL_TRUE_MIN, -DBL_TRUE_MIN, 1e-310, -1e-310,
+                                  DBL_MIN, 1e-160, 1.5e-154, 1e154, 1.34e154, 1e200, -1e200,
+                                  DBL_MAX, -DBL_MAX, INFINITY, -INFINITY, NAN, -NAN, 1.0,
+                                  -1.0, 0.1, 3.0, 1.0 + DBL_EPSILON, 1.0 - DBL_EPSILON / 2};
+    size_t ne = sizeof edge / sizeof edge[0];
+    for (size_t i = 0; i < 3 * N; i++) {
+        double u = 4.0 * urand() - 2.0;
+        if (i % 3 == 1)
+            u = ldexp(floor(ldexp(u, 26)), -26); /* 27 bits: exact squares */
+        p[i] = i < 3 * ne ? edge[(i / 3 + i % 3 * 7) % ne] : u * pow(10.0, floor(urand() * 40 - 20));
+    }
+    static const char *const sq[] = {"x^2", "pow(x, 2)", "x*x", "y^2", "z^2"};
+    for (size_t k = 0; k < sizeof sq / sizeof sq[0]; k++) {
+        geom_implicit_expr *e = NULL;
+        assert_int_equal(geom_implicit_expr_compile(sq[k], strlen(sq[k]), NULL, &e, NULL),
+                         GEOM_OK);
+        int axis = sq[k][0] == 'y' ? 1 : sq[k][0] == 'z' ? 2 : 0;
+        geom_implicit_expr_eval_many(e, N, p, out);
+        for (size_t i = 0; i < N; i++) {
+            double a = p[3 * i + axis], prod = a * a, pw = pow(a, 2.0);
+            double v = geom_implicit_expr_eval(e, &p[3 * i]);
+            if (!same_bits_or_nan(v, prod) || !same_bits_or_nan(out[i], prod) ||
+                !same_bits_or_nan(pw, prod))
+                fail_msg("%s at %.17g: single %.17g, batch %.17g, a*a %.17g, pow %.17g", sq[k],
+                         a, v, out[i], prod, pw);
+        }
+        geom_implicit_expr_destroy(e);
+    }
+    /* sums of squares written with ^, *, pow: the same bits as one another */
+    static const char *const sums[] = {"x^2 + y^2 + z^2", "x*x + y*y + z*z",
+                                       "pow(x, 2) + y^2 + z*z"};
+    double *ref = malloc(N * sizeof(double));
+    assert_non_null(ref);
+    for (size_t k = 0; k < sizeof sums / sizeof sums[0]; k++) {
+        geom_implicit_expr *e = NULL;
+        assert_int_equal(geom_implicit_expr_compile(sums[k], strlen(sums[k]), NULL, &e, NULL),
+                         GEOM_OK);
+        geom_implicit_expr_eval_many(e, N, p, out);
+        for (size_t i = 0; i < N; i++) {
+            const double *q = &p[3 * i];
+            double want = (q[0] * q[0] + q[1] * q[1]) + q[2] * q[2];
+            if (k == 0)
+                ref[i] = out[i];
+            if (!same_bits_or_nan(out[i], want) || !same_bits_or_nan(out[i], ref[i]) ||
+                !same_bits_or_nan(geom_implicit_expr_eval(e, q), want))
+                fail_msg("%s at point %zu: batch %.17g, want %.17g", sums[k], i, out[i], want);
+        }
+        geom_implicit_expr_destroy(e);
+    }
+    free(ref);
     free(p);
     free(out);
 }
@@ -271,6 +431,8 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_expr_batch_bitwise),
+        cmocka_unit_test(test_expr_grad_batch_bitwise),
+        cmocka_unit_test(test_square_is_product),
         cmocka_unit_test(test_volume_batch_bitwise),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -18,6 +18,12 @@
  * include path); the static library the tests link exports it. */
 void geom__implicit_expr_row(const geom_implicit_expr *e, size_t n, const double *x, double y,
                              double z, double *out);
+typedef struct geom__expr_rows geom__expr_rows;
+geom_status geom__implicit_expr_rows_create(const geom_implicit_expr *e,
+                                            const geom_allocator *a, geom__expr_rows **out);
+void geom__implicit_expr_rows(geom__expr_rows *r, size_t n, const double *x, double y, double z,
+                              double *out);
+void geom__implicit_expr_rows_destroy(geom__expr_rows *r);
 
 static uint64_t rng_state = 0x2545F4914F6CDD1Dull;
 
@@ -47,6 +53,12 @@ static const char *const row_exprs[] = {
     "x^3 + y^2", "pow(y, z) + pow(x, y)", "atan2(y, x) + atan2(z, y)", "exp(y) * sin(x)",
     "log(z) - cos(x) + tan(y)", "min(x, y, z)", "max(y, z) - x", "-y + x", "t * 2 + y",
     "1e300 * x * y", "(x + 1e16) - 1e16",
+    /* constants of the row folded through several operations, into sums of
+     * products, constant lanes, primitive arguments and the result */
+    "x*y + z*x - y*z", "x*(y*y + 1) + (z - y)*x", "sqrt(x*x + y*y + z*z) - 1",
+    "x^2 + y^2 + z^2 - 1", "sqrt(x^2 + (y - 0.5)^2) - z", "y*z", "sin(y) * cos(z) + 2",
+    "sphere(sin(y), cos(z) * 0.5, y*z, 1 + y^2)", "clamp(x, min(y, z), max(y, z) + 1)",
+    "smooth_union(x - y, torus(y*z, 0.2), abs(z) + 0.1)", "exp(-(y*y + z*z)) * x + y",
 };
 
 /* Row points: some special coordinates among random ones. */
@@ -67,20 +79,29 @@ static void check_rows(geom_implicit_expr *e, const char *text)
     static const double ys[] = {0.25, -1.75, 0.0, -0.0, NAN, INFINITY, 1e8, 1e-310};
     static const double zs[] = {0.5, -0.125, 1e300, -INFINITY};
     double x[513], out[513];
+    /* one row plan for every row, in a changing order of y and z */
+    geom__expr_rows *plan = NULL;
+    assert_int_equal(geom__implicit_expr_rows_create(e, NULL, &plan), GEOM_OK);
     for (size_t c = 0; c < sizeof counts / sizeof counts[0]; c++)
         for (size_t yi = 0; yi < sizeof ys / sizeof ys[0]; yi++)
             for (size_t zi = 0; zi < sizeof zs / sizeof zs[0]; zi++) {
                 size_t n = counts[c];
                 fill_x(x, n);
-                memset(out, 0xA5, sizeof out);
-                geom__implicit_expr_row(e, n, x, ys[yi], zs[zi], out);
-                for (size_t i = 0; i < n; i++) {
-                    double p[3] = {x[i], ys[yi], zs[zi]};
-                    double v = geom_implicit_expr_eval(e, p);
-                    if (!same_bits_or_nan(v, out[i]))
-                        fail_msg("%s, row of %zu, point %zu (%g, %g, %g): row %.17g, single "
-                                 "%.17g",
-                                 text, n, i, p[0], p[1], p[2], out[i], v);
+                for (int way = 0; way < 2; way++) {
+                    memset(out, 0xA5, sizeof out);
+                    if (way == 0)
+                        geom__implicit_expr_row(e, n, x, ys[yi], zs[zi], out);
+                    else
+                        geom__implicit_expr_rows(plan, n, x, ys[yi], zs[zi], out);
+                    for (size_t i = 0; i < n; i++) {
+                        double p[3] = {x[i], ys[yi], zs[zi]};
+                        double v = geom_implicit_expr_eval(e, p);
+                        if (!same_bits_or_nan(v, out[i]))
+                            fail_msg("%s, row of %zu (%s), point %zu (%g, %g, %g): row %.17g, "
+                                     "single %.17g",
+                                     text, n, way ? "one plan" : "own plan", i, p[0], p[1],
+                                     p[2], out[i], v);
+                    }
                 }
                 /* nothing written past the row */
                 for (size_t i = n; i < 513; i++) {
@@ -89,6 +110,7 @@ static void check_rows(geom_implicit_expr *e, const char *text)
                     assert_true(bits == 0xA5A5A5A5A5A5A5A5ull);
                 }
             }
+    geom__implicit_expr_rows_destroy(plan);
 }
 
 static void test_rows_bitwise(void **state)

@@ -230,9 +230,12 @@ GEOM_API double geom_implicit_expr_eval_grad(const geom_implicit_expr *e, const 
 /**
  * Values and exact gradients at n points: p holds 3*n doubles, values
  * receives n doubles and grads (may be NULL) 3*n, each exactly what
- * geom_implicit_expr_eval_grad gives (the program runs over 16 points at a
- * time, as geom_implicit_expr_eval_many). NULL e or p (n > 0) fills the
- * outputs with NaN; NULL values is a no-op.
+ * geom_implicit_expr_eval_grad gives: distance-shaped programs
+ * (sqrt(x*x + y*y + z*z) - r, x^2 + y^2 + z^2, sphere(r), ...) straight
+ * from the points in vectorised loops, other programs without primitives
+ * in blocks of 32 points through a plan made once per call, the rest 16
+ * points at a time. NULL e or p (n > 0) fills the outputs with NaN; NULL
+ * values is a no-op.
  */
 GEOM_API void geom_implicit_expr_eval_grad_many(const geom_implicit_expr *e, size_t n,
                                                 const double *p, double *values, double *grads);

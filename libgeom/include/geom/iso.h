@@ -404,8 +404,10 @@ typedef geom_status (*geom_iso_chunk_fn)(void *user, const geom_iso_chunk *chunk
  * with geom_meshio_write_soup_part). Memory: each slab is renumbered,
  * handed over and its arrays reused by a later slab as soon as it and
  * every slab before it are done, while the other threads go on with later
- * slabs, so the peak is a few slabs' arrays (about 45 MiB for geom-iso at
- * 512^3 on two tori, 104 MiB when every slab was computed first). fn is
+ * slabs, at most as many slabs ahead of the hand-over as there are threads
+ * (a thread that would go further waits, without using the CPU), so the
+ * peak is a few slabs' arrays (about 38 MiB for geom-iso at 512^3 on two
+ * tori with 2 threads, 104 MiB when every slab was computed first). fn is
  * called on the calling thread only, in order (empty chunks are skipped),
  * possibly while other threads compute later slabs. out receives the counts (n_vertices,
  * n_triangles, n_cap_triangles) and the report; its arrays stay NULL.

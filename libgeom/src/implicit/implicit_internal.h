@@ -82,7 +82,18 @@ void geom__implicit_samples_values(const geom_implicit_grid *d, size_t n, const 
 /* Values of e at the n points (x[i], y, z) of a grid row into out (n
  * doubles), bitwise geom_implicit_expr_eval at each point: y, z and the
  * primitives' y and z terms are computed once per block of points
- * (expr_eval.c, for marching cubes' sampling). e non-NULL. */
+ * (expr_eval.c, for marching cubes' sampling). e non-NULL. A row plan
+ * (geom__implicit_expr_rows_create, with the allocator a, NULL: malloc)
+ * is made once and serves every row of a grid (one thread at a time: it
+ * holds the lanes); geom__implicit_expr_row makes one for its call (then
+ * point by point when that fails). _create: GEOM_OK or GEOM_ERR_NOMEM; e
+ * must outlive the plan. */
+typedef struct geom__expr_rows geom__expr_rows;
+geom_status geom__implicit_expr_rows_create(const geom_implicit_expr *e,
+                                            const geom_allocator *a, geom__expr_rows **out);
+void geom__implicit_expr_rows(geom__expr_rows *r, size_t n, const double *x, double y, double z,
+                              double *out);
+void geom__implicit_expr_rows_destroy(geom__expr_rows *r);
 void geom__implicit_expr_row(const geom_implicit_expr *e, size_t n, const double *x, double y,
                              double z, double *out);
 /* A box of blocks b0..b1 - 1 (dim axes; single: one block on every axis)

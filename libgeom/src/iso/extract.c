@@ -10,6 +10,7 @@
  * slab partition depends only on the grid size, so the output does not
  * depend on the number of threads.
  */
+#define _POSIX_C_SOURCE 200809L /* nanosleep */
 #include "iso/iso_internal.h"
 #include "implicit/implicit_internal.h"
 
@@ -38,7 +39,7 @@ typedef struct ctx {
     const geom_iso_field *field; /* refinement, normals (never NULL) */
     const geom_iso_grid *grid;   /* samples, or NULL: evaluate field */
     /* the field's compiled expression (field->value is the expression's
-     * callback): rows are sampled by geom__implicit_expr_row */
+     * callback): rows are sampled by geom__implicit_expr_rows */
     const geom_implicit_expr *expr;
     size_t n[3];                 /* cells per axis */
     const double *coord[3];      /* node coordinates, n + 1 each */
@@ -123,6 +124,7 @@ typedef struct work {
      * and, for an expression, their x coordinates and values gathered */
     size_t *runs;
     double *gx, *gv;
+    geom__expr_rows *rows; /* c->expr's row plan, made once per thread */
     size_t k; /* current cell layer */
     layer *lb, *lt;
     int ok;
@@ -329,7 +331,7 @@ static void eval_values(slab *s, const ctx *c, work *w, size_t k, layer *L, size
     const geom_iso_field *f = c->field;
     double y = c->coord[1][j], z = c->coord[2][k];
     if (c->expr) {
-        geom__implicit_expr_row(c->expr, i1 - i0, c->coord[0] + i0, y, z, row + i0);
+        geom__implicit_expr_rows(w->rows, i1 - i0, c->coord[0] + i0, y, z, row + i0);
     } else if (f->values) {
         for (size_t i = i0; i < i1; i++) {
             w->pts[3 * i] = c->coord[0][i];
@@ -475,7 +477,7 @@ static void sparse_row(slab *s, const ctx *c, work *w, size_t k, layer *L, size_
         for (size_t q = 0; q < nruns; q++)
             for (size_t i = rn[2 * q]; i < rn[2 * q + 1]; i++)
                 w->gx[m++] = c->coord[0][i];
-        geom__implicit_expr_row(c->expr, m, w->gx, c->coord[1][j], c->coord[2][k], w->gv);
+        geom__implicit_expr_rows(w->rows, m, w->gx, c->coord[1][j], c->coord[2][k], w->gv);
         s->evaluations += m;
         double *row = L->buf + j * nx1;
         m = 0;
@@ -925,6 +927,7 @@ static void work_free(const ctx *c, work *w)
     geom__free(al, w->runs, 2 * (c->nb[0] + 1) * sizeof(size_t));
     geom__free(al, w->gx, nx1 * sizeof(double));
     geom__free(al, w->gv, nx1 * sizeof(double));
+    geom__implicit_expr_rows_destroy(w->rows);
     memset(w, 0, sizeof *w);
 }
 
@@ -969,6 +972,8 @@ static void work_init(const ctx *c, work *w)
         memset(w->ones, 1, nx1);
         memset(w->zeros, 0, nx1);
     }
+    if (c->expr)
+        ok = ok && geom__implicit_expr_rows_create(c->expr, al, &w->rows) == GEOM_OK;
     if (!c->grid && c->field->values && !c->expr) {
         w->pts = geom__alloc(al, 3 * nx1 * sizeof(double));
         ok = ok && w->pts;
@@ -1558,11 +1563,36 @@ static void emit_ready(const ctx *c, emitter *em, slab *sl, size_t nslabs, const
 {
     while (em->next < nslabs && flag_load(&done[em->next])) {
         emit_slab(c, em, sl, em->next);
+#ifdef GEOM_ISO_OPENMP
+#pragma omp atomic update seq_cst
+#endif
         em->next++;
         if (em->st != GEOM_OK)
             flag_set(halt);
     }
 }
+
+#ifdef GEOM_ISO_OPENMP
+/* The stream path's backpressure: a thread other than the calling one
+ * (which hands the slabs over) starts slab q only when at most `ahead`
+ * slabs before it wait to be handed over, napping meanwhile (0.1 ms at a
+ * time: a nap costs no CPU time), so that slabs done far ahead of the
+ * writing do not pile up in memory (sparse extraction is cheaper than
+ * writing its output). The calling thread never waits here and, after
+ * its last slab, hands over the rest as they come, so every wait ends. */
+static void wait_turn(const emitter *em, size_t q, size_t ahead, const uint8_t *halt)
+{
+    for (;;) {
+        size_t next;
+#pragma omp atomic read seq_cst
+        next = em->next;
+        if (q <= next + ahead || flag_load(halt))
+            return;
+        struct timespec ts = {0, 100000};
+        nanosleep(&ts, NULL);
+    }
+}
+#endif
 
 /* After the last slab: the cap triangles, the counts, the signed volume
  * and the error measure. */
@@ -1737,8 +1767,10 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
     {
         work w;
         work_init(&c, &w);
-#pragma omp for schedule(dynamic, 1)
+#pragma omp for schedule(dynamic, 1) nowait
         for (long long q = 0; q < ns; q++) {
+            if (c.sink && omp_get_thread_num() != 0)
+                wait_turn(&em, (size_t)q, (size_t)nth, &halt);
             if (!flag_load(&halt))
                 run_slab(&c, &sl[q], &w);
             long long d;
@@ -1754,6 +1786,15 @@ static geom_status extract(const ctx *c0, const geom_iso_options *opt, geom_iso_
             }
         }
         work_free(&c, &w);
+        /* the calling thread hands over the slabs the others finish */
+        if (c.sink && omp_get_thread_num() == 0)
+            for (;;) {
+                emit_ready(&c, &em, sl, nslabs, done_flags, &halt);
+                if (em.next == nslabs || flag_load(&halt))
+                    break;
+                struct timespec ts = {0, 100000};
+                nanosleep(&ts, NULL);
+            }
     }
 #else
     {
