@@ -468,6 +468,8 @@ typedef struct geom_surface_tess_stats {
     size_t limit_normals;     /**< vertex normals taken as a limit (degenerate points) */
     size_t welded_normals;    /**< corners given another patch's normal within
                                    normal_weld_degrees */
+    uint32_t uniform_u, uniform_v; /**< adaptive: the gu x gv per-span uniform grid
+                                        output instead (it had fewer triangles), or 0 */
 } geom_surface_tess_stats;
 
 /**
