@@ -4,7 +4,10 @@
  * against every uniform gu x gv grid per knot span (geom_surface_tessellate
  * in uniform mode, the same sampled error measure) with fewer than A
  * triangles: none may reach the tolerance. The search is brute force over a
- * box of (gu, gv), made here, not read from saved numbers; the box's sides
+ * box of (gu, gv), made here, not read from saved numbers (the tessellator
+ * now searches these grids itself and returns one that has fewer
+ * triangles, test_uniform_chosen; this search is the independent check);
+ * the box's sides
  * come from two facts: a grid's triangle count grows with gu and with gv
  * (counted by a uniform run with no error samples), and its error does not
  * grow when gu or gv grows (used only to bound the box: gv below v_lb fails
@@ -199,12 +202,50 @@ static void test_teapot(void **state)
     geom_surface_set_destroy(set);
 }
 
+/* Where a per-span uniform grid has fewer triangles than the adaptive
+ * result (found by the scan in the commit that added the search), the
+ * tessellator returns it: stats name the grid, and the result is exactly
+ * uniform mode's at that grid (same triangles, same error), within the
+ * tolerance. */
+static void check_chosen(const shape *sh, double tol)
+{
+    geom_surface_tess_options o;
+    memset(&o, 0, sizeof o);
+    o.tolerance = tol;
+    geom_mesh *m = geom_mesh_create(NULL);
+    assert_non_null(m);
+    geom_error_report rep;
+    geom_surface_tess_stats st;
+    assert_int_equal(geom_surface_tessellate(sh->s, sh->n, &o, m, &rep, &st, NULL), GEOM_OK);
+    geom_mesh_destroy(m);
+    if (!st.uniform_u || !st.uniform_v)
+        fail_msg("%s tol %g: no uniform grid chosen (%zu triangles)", sh->name, tol, st.triangles);
+    double e;
+    size_t n = uniform(sh, st.uniform_u, st.uniform_v, &e);
+    print_message("%s tol %g: uniform %u x %u chosen, %zu triangles, error %g\n", sh->name, tol,
+                  st.uniform_u, st.uniform_v, st.triangles, rep.max_error);
+    assert_int_equal(n, st.triangles);
+    assert_true(e == rep.max_error && e <= tol);
+}
+
+static void test_uniform_chosen(void **state)
+{
+    (void)state;
+    double ku[12], kv[12], P[243], W[81];
+    geom_nurbs_surface s;
+    assert_int_equal(geom_surface_torus(NULL, 2.0, 0.5, ku, kv, P, W, &s), GEOM_OK);
+    shape sh = {"torus", &s, 1};
+    check_chosen(&sh, 0.012);
+    check_chosen(&sh, 0.008);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sphere),
         cmocka_unit_test(test_torus),
         cmocka_unit_test(test_teapot),
+        cmocka_unit_test(test_uniform_chosen),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
