@@ -121,8 +121,10 @@ typedef struct ts {
     size_t nloc, cap_lu, cap_lv, cap_lvert, cap_lnorm;
     /* triangles of the current cell (local sample indices) */
     uint32_t *ltri;
-    uint32_t *lmate; /* per local triangle: the other triangle of its quad, or NONE32 */
-    int8_t *ldiag;   /* per local triangle: its side on the quad's diagonal, or -1 */
+    uint32_t *lmate; /* 2 per local triangle: the triangles across its inner
+                        sides (a quad's other half; a strip's neighbours), or NONE32 */
+    uint8_t *ldiag;  /* per local triangle: bit s set for each inner side s
+                        (0 X1X2, 1 X0X2, 2 X0X1; see tri_error) */
     size_t nltri, cap_ltri, cap_lmate, cap_ldiag;
     /* output */
     uint32_t *tri;    /* 3 per triangle: global vertex ids */
@@ -981,6 +983,17 @@ static uint32_t edge_vertex(ts *T, const ts_edge *e, uint32_t k)
 
 /* ----------------------------------------------------- cell triangulation */
 
+/* Side of triangle L (0: L1L2, 1: L0L2, 2: L0L1) shared with triangle M
+ * (local or grid corner ids): the one opposite L's corner not in M. */
+static int shared_side(const uint32_t *L, const uint32_t *M)
+{
+    int side = -1, out = 0;
+    for (int k = 0; k < 3; ++k)
+        if (L[k] != M[0] && L[k] != M[1] && L[k] != M[2])
+            side = k, out++;
+    return out == 1 ? side : -1;
+}
+
 static geom_status local_add(ts *T, double u, double v, uint32_t vert, uint32_t *idx)
 {
     size_t need = T->nloc + 1;
@@ -1009,14 +1022,14 @@ static geom_status local_tri(ts *T, uint32_t a, uint32_t b, uint32_t c)
     geom_status st = geom__grow(T->alloc, (void **)&T->ltri, &T->cap_ltri, 3 * (T->nltri + 1),
                              sizeof(uint32_t));
     if (st == GEOM_OK)
-        st = geom__grow(T->alloc, (void **)&T->lmate, &T->cap_lmate, T->nltri + 1,
+        st = geom__grow(T->alloc, (void **)&T->lmate, &T->cap_lmate, 2 * (T->nltri + 1),
                         sizeof(uint32_t));
     if (st == GEOM_OK)
         st = geom__grow(T->alloc, (void **)&T->ldiag, &T->cap_ldiag, T->nltri + 1, 1);
     if (st != GEOM_OK)
         return st;
-    T->lmate[T->nltri] = NONE32;
-    T->ldiag[T->nltri] = -1;
+    T->lmate[2 * T->nltri] = T->lmate[2 * T->nltri + 1] = NONE32;
+    T->ldiag[T->nltri] = 0;
     T->ltri[3 * T->nltri] = a;
     T->ltri[3 * T->nltri + 1] = b;
     T->ltri[3 * T->nltri + 2] = c;
@@ -1049,24 +1062,24 @@ static geom_status local_quad(ts *T, uint32_t a, uint32_t b, uint32_t c, uint32_
         st = local_tri(T, a, b, c);
         t1 = T->nltri;
         if (st == GEOM_OK && t1 > t0)
-            T->ldiag[t0] = 1;
+            T->ldiag[t0] = 2;
         if (st == GEOM_OK)
             st = local_tri(T, a, c, d);
         if (st == GEOM_OK && T->nltri > t1)
-            T->ldiag[t1] = 2;
+            T->ldiag[t1] = 4;
     } else {
         st = local_tri(T, a, b, d);
         t1 = T->nltri;
         if (st == GEOM_OK && t1 > t0)
-            T->ldiag[t0] = 0;
+            T->ldiag[t0] = 1;
         if (st == GEOM_OK)
             st = local_tri(T, b, c, d);
         if (st == GEOM_OK && T->nltri > t1)
-            T->ldiag[t1] = 1;
+            T->ldiag[t1] = 2;
     }
     if (st == GEOM_OK && T->nltri == t0 + 2) {
-        T->lmate[t0] = (uint32_t)t0 + 1;
-        T->lmate[t0 + 1] = (uint32_t)t0;
+        T->lmate[2 * t0] = (uint32_t)t0 + 1;
+        T->lmate[2 * (t0 + 1)] = (uint32_t)t0;
     }
     return st;
 }
@@ -1077,7 +1090,7 @@ static geom_status local_quad(ts *T, uint32_t a, uint32_t b, uint32_t c, uint32_
 static geom_status stitch(ts *T, const uint32_t *o, const double *fo, size_t no, const uint32_t *in,
                           const double *fi, size_t ni)
 {
-    size_t a = 0, b = 0;
+    size_t a = 0, b = 0, prev = SIZE_MAX;
     while (a + 1 < no || b + 1 < ni) {
         int outer;
         if (a + 1 >= no)
@@ -1087,6 +1100,7 @@ static geom_status stitch(ts *T, const uint32_t *o, const double *fo, size_t no,
         else
             outer = fo[a + 1] <= fi[b + 1];
         geom_status st;
+        size_t t = T->nltri;
         if (outer) {
             st = local_tri(T, o[a], o[a + 1], in[b]);
             ++a;
@@ -1096,6 +1110,22 @@ static geom_status stitch(ts *T, const uint32_t *o, const double *fo, size_t no,
         }
         if (st != GEOM_OK)
             return st;
+        if (T->nltri == t) { /* dropped at a pole: the chain breaks */
+            prev = SIZE_MAX;
+            continue;
+        }
+        /* consecutive triangles of a strip share the rung between them */
+        if (prev != SIZE_MAX) {
+            int sp = shared_side(T->ltri + 3 * prev, T->ltri + 3 * t);
+            int st2 = shared_side(T->ltri + 3 * t, T->ltri + 3 * prev);
+            if (sp >= 0 && st2 >= 0) {
+                T->lmate[2 * prev + 1] = (uint32_t)t;
+                T->lmate[2 * t] = (uint32_t)prev;
+                T->ldiag[prev] |= (uint8_t)(1u << sp);
+                T->ldiag[t] |= (uint8_t)(1u << st2);
+            }
+        }
+        prev = t;
     }
     return GEOM_OK;
 }
@@ -1248,12 +1278,13 @@ static double angle_between(const double *a, const double *b)
  * parameters U, V). The surface is sampled at the K-lattice points of the
  * triangle's parameter-space image, S(sum b_i (u_i, v_i)) for b_i = k_i/K,
  * other than the corners, and each sample's error is its distance to the
- * mesh there: to the 3D triangle or, when the triangle is half of a grid
- * quad, to the nearer of the quad's two triangles (Y: the other one's
- * corners, NULL if none or dropped at a pole; side `diag` is the quad's
- * diagonal, -1 if none: 0 X1X2, 1 X0X2, 2 X0X1), since the image of the
- * parameter-space diagonal is no straight line; samples on the other
- * sides (the quad's or strip's outer
+ * mesh there: to the nearest of the 3D triangle and its ny neighbours
+ * across its inner sides (Y: 3 corners each; a grid quad's other half, a
+ * strip triangle's neighbours in the strip), since the image of a
+ * parameter-space diagonal or rung is no straight line. Bit s of `inner`
+ * marks side s (0 X1X2, 1 X0X2, 2 X0X1) as inner (a quad's diagonal, also
+ * when its other half was dropped at a pole; a strip's rungs); samples on
+ * the other sides (the quad's or strip's outer
  * sides, which lie on grid lines or cell edges) are measured to that side
  * only, so that mesh edges follow the surface's curves there. This is a
  * one-sided Hausdorff distance at the samples, never larger than the
@@ -1268,7 +1299,8 @@ static double angle_between(const double *a, const double *b)
  *
  * The worst sample's parameters go to *wu, *wv (when it is over 0). */
 static double tri_error(ts *T, const ts_cell *c, const double *const X[3], const double *U,
-                        const double *V, const double *const *Y, int diag, double *wu, double *wv)
+                        const double *V, const double *const *Y, int ny, unsigned inner,
+                        double *wu, double *wv)
 {
     int K = T->ksub;
     double *S = T->lat;
@@ -1325,16 +1357,16 @@ static double tri_error(ts *T, const ts_cell *c, const double *const X[3], const
             if (!folded) {
                 int side = i == 0 ? 0 : j == 0 ? 1 : k == 0 ? 2 : -1;
                 double h;
-                if (side == 0 && diag != 0)
+                if (side == 0 && !(inner & 1u))
                     h = geom__closest_seg_d2(P, X[1], X[2]);
-                else if (side == 1 && diag != 1)
+                else if (side == 1 && !(inner & 2u))
                     h = geom__closest_seg_d2(P, X[0], X[2]);
-                else if (side == 2 && diag != 2)
+                else if (side == 2 && !(inner & 4u))
                     h = geom__closest_seg_d2(P, X[0], X[1]);
                 else {
                     h = geom__closest_tri_d2(P, X[0], X[1], X[2]);
-                    if (Y)
-                        h = fmin(h, geom__closest_tri_d2(P, Y[0], Y[1], Y[2]));
+                    for (int q = 0; q < ny; ++q)
+                        h = fmin(h, geom__closest_tri_d2(P, Y[3 * q], Y[3 * q + 1], Y[3 * q + 2]));
                 }
                 e = fmin(e, sqrt(h));
             }
@@ -1348,15 +1380,6 @@ static double tri_error(ts *T, const ts_cell *c, const double *const X[3], const
     return tmax;
 }
 
-/* Side of triangle L (0: L1L2, 1: L0L2, 2: L0L1) shared with triangle M
- * (local or grid corner ids): the one opposite L's corner not in M. */
-static int shared_side(const uint32_t *L, const uint32_t *M)
-{
-    for (int k = 0; k < 3; ++k)
-        if (L[k] != M[0] && L[k] != M[1] && L[k] != M[2])
-            return k;
-    return -1;
-}
 
 /* Chordal error (and normal angle) of the cell's local triangles. */
 static void check_cell(ts *T, ts_cell *c)
@@ -1376,14 +1399,18 @@ static void check_cell(ts *T, ts_cell *c)
             U[k] = T->lu[L[k]];
             V[k] = T->lv[L[k]];
         }
-        const double *Y[3] = {NULL, NULL, NULL};
-        if (T->lmate[t] != NONE32) {
-            const uint32_t *M = T->ltri + 3 * (size_t)T->lmate[t];
+        const double *Y[6];
+        int ny = 0;
+        for (int q = 0; q < 2; ++q) {
+            uint32_t nb = T->lmate[2 * t + (size_t)q];
+            if (nb == NONE32)
+                continue;
+            const uint32_t *M = T->ltri + 3 * (size_t)nb;
             for (int k = 0; k < 3; ++k)
-                Y[k] = T->pos + 3 * (size_t)T->lvert[M[k]];
+                Y[3 * ny + k] = T->pos + 3 * (size_t)T->lvert[M[k]];
+            ny++;
         }
-        double tmax = tri_error(T, c, X, U, V, T->lmate[t] != NONE32 ? Y : NULL, T->ldiag[t], &wu,
-                                &wv);
+        double tmax = tri_error(T, c, X, U, V, Y, ny, T->ldiag[t], &wu, &wv);
         if (tmax > cell_max) {
             cell_max = tmax;
             c->wu = wu;
@@ -1536,9 +1563,10 @@ static int quad_passes(ts *T, ts_cell *c, uint32_t M, uint32_t N, uint32_t i, ui
             const uint32_t L[3] = {(uint32_t)q[0], (uint32_t)q[1], (uint32_t)q[2]};
             const uint32_t M[3] = {(uint32_t)o[0], (uint32_t)o[1], (uint32_t)o[2]};
             int diag = shared_side(L, M);
+            unsigned mask = diag >= 0 ? 1u << diag : 0u;
             double TU[3] = {U[q[0]], U[q[1]], U[q[2]]}, TV[3] = {V[q[0]], V[q[1]], V[q[2]]};
             double wu = 0.0, wv = 0.0;
-            if (!(tri_error(T, c, TX, TU, TV, live[1 - t] ? Y : NULL, diag, &wu, &wv) <= tol)) {
+            if (!(tri_error(T, c, TX, TU, TV, Y, live[1 - t], mask, &wu, &wv) <= tol)) {
                 c->wu = wu;
                 c->wv = wv;
                 ok = 0;
