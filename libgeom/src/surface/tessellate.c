@@ -1971,15 +1971,21 @@ static geom_status uniform_search(ts *T, size_t A, int *chosen, uint32_t *pgu, u
         if (!g0[d])
             goto done; /* no count along d passes under A triangles */
     }
+    /* beyond the smallest counts the lines are checked only up to twice
+     * them (a passing count costs a walk along every line, and the grids'
+     * own check covers the lines' chords as well) */
     for (uint32_t gu = g0[0]; gu <= MAX_GRID && LB(gu, g0[1]) < (double)best; ++gu) {
-        int ok;
-        st = uni_lines(T, &U, 0, gu, &ok);
+        int ok = 1;
+        if (gu <= 2 * g0[0])
+            st = uni_lines(T, &U, 0, gu, &ok);
         if (st != GEOM_OK)
             goto done;
         if (!ok)
             continue;
         for (uint32_t gv = g0[1]; gv <= MAX_GRID && LB(gu, gv) < (double)best; ++gv) {
-            st = uni_lines(T, &U, 1, gv, &ok);
+            ok = 1;
+            if (gv <= 2 * g0[1])
+                st = uni_lines(T, &U, 1, gv, &ok);
             if (st == GEOM_OK && ok)
                 st = uni_grids(T, &U, gu, gv, &R, &ok);
             if (st != GEOM_OK)
