@@ -1596,7 +1596,21 @@ static uint32_t grid_index(double a, double b, double t, uint32_t n)
 typedef struct grid_rows {
     double *row;
     size_t cap;
+    const double *spots; /* nspots (u, v): where other grids failed, tried early */
+    int nspots;
 } grid_rows;
+
+/* Does quad (i, j) of the direct M x N grid of cell c pass tol? */
+static int grid_quad_passes(ts *T, ts_cell *c, uint32_t M, uint32_t N, uint32_t i, uint32_t j,
+                            double tol)
+{
+    double P[4][3];
+    const uint32_t ii[4] = {i, i + 1, i + 1, i}, jj[4] = {j, j, j + 1, j + 1};
+    for (int k = 0; k < 4; ++k)
+        grid_point(T, c, M, N, ii[k], jj[k], P[k]);
+    const double *X[4] = {P[0], P[1], P[2], P[3]};
+    return quad_passes(T, c, M, N, i, j, X, tol);
+}
 
 /* Does the direct M x N grid of cell c (inner: its quads off the cell's
  * boundary) pass tol? */
@@ -1612,18 +1626,25 @@ static geom_status grid_passes_in(ts *T, ts_cell *c, uint32_t M, uint32_t N, dou
         *pass = 1;
         return GEOM_OK;
     }
-    /* first the 3 x 3 quads around the last worst point */
+    /* first the quad at the last worst point, then those at the places
+     * where other grids failed, then the 3 x 3 quads around the first */
     uint32_t i0 = grid_index(c->u0, c->u1, c->wu, M), j0 = grid_index(c->v0, c->v1, c->wv, N);
+    uint32_t ic = i0 < ilo ? ilo : i0 >= ihi ? ihi - 1 : i0;
+    uint32_t jc = j0 < jlo ? jlo : j0 >= jhi ? jhi - 1 : j0;
+    if (!grid_quad_passes(T, c, M, N, ic, jc, tol))
+        return GEOM_OK;
+    for (int k = 0; k < R->nspots; ++k) {
+        uint32_t i = grid_index(c->u0, c->u1, R->spots[2 * k], M);
+        uint32_t j = grid_index(c->v0, c->v1, R->spots[2 * k + 1], N);
+        i = i < ilo ? ilo : i >= ihi ? ihi - 1 : i;
+        j = j < jlo ? jlo : j >= jhi ? jhi - 1 : j;
+        if (!grid_quad_passes(T, c, M, N, i, j, tol))
+            return GEOM_OK;
+    }
     for (uint32_t i = i0 > ilo ? i0 - 1 : ilo; i <= i0 + 1 && i < ihi; ++i)
-        for (uint32_t j = j0 > jlo ? j0 - 1 : jlo; j <= j0 + 1 && j < jhi; ++j) {
-            double P[4][3];
-            const uint32_t ii[4] = {i, i + 1, i + 1, i}, jj[4] = {j, j, j + 1, j + 1};
-            for (int k = 0; k < 4; ++k)
-                grid_point(T, c, M, N, ii[k], jj[k], P[k]);
-            const double *X[4] = {P[0], P[1], P[2], P[3]};
-            if (!quad_passes(T, c, M, N, i, j, X, tol))
+        for (uint32_t j = j0 > jlo ? j0 - 1 : jlo; j <= j0 + 1 && j < jhi; ++j)
+            if ((i != ic || j != jc) && !grid_quad_passes(T, c, M, N, i, j, tol))
                 return GEOM_OK;
-        }
     /* then all of them, a row of quads at a time */
     size_t need = 6 * ((size_t)M + 1);
     if (need > R->cap) {
@@ -1737,7 +1758,7 @@ static geom_status grid_search(ts *T, ts_cell *c, double tol, uint32_t mfirst, u
  * each check costs a sixteenth or less. */
 static geom_status optimise_cell(ts *T, ts_cell *c)
 {
-    grid_rows R = {NULL, 0};
+    grid_rows R = {NULL, 0, NULL, 0};
     uint32_t M = c->M, N = c->N, mfirst = M;
     uint32_t sc = (M < N ? M : N) / 12;
     geom_status st = GEOM_OK;
@@ -1813,11 +1834,15 @@ static geom_status retriangulate(ts *T, ts_cell *c)
  * code), in increasing gu, each gu's gv upward until one passes.
  */
 
+#define NSPOT 8
+
 /* Saved adaptive grid of every cell. */
 typedef struct uni_state {
     uint32_t *mn;    /* 2 per cell */
     uint8_t *stitch; /* per cell: an edge welded to one running the other way */
     double *hint;    /* 2 per cell: lines' last failing parameter */
+    double *spots;    /* per cell NSPOT (u, v): where its grids failed */
+    uint32_t *nspot;  /* per cell: spots written (a ring of NSPOT) */
     uint8_t *feas[2]; /* per count: 0 unknown, 1 lines pass, 2 fail */
     size_t fcap[2];
     uint32_t lastfail[2]; /* the cell whose lines failed last, per direction */
@@ -1865,12 +1890,26 @@ static geom_status uni_grids(ts *T, uni_state *U, uint32_t gu, uint32_t gv, grid
         ts_cell *c = &T->cells[i];
         double wu = c->wu, wv = c->wv;
         int pass;
+        double *sp = U->spots + 2 * NSPOT * (size_t)i;
+        R->spots = sp;
+        R->nspots = U->nspot[i] < NSPOT ? (int)U->nspot[i] : NSPOT;
         geom_status st = grid_passes_in(T, c, gu, gv, ptol, U->stitch[i] && gu != gv, R, &pass);
+        R->nspots = 0;
         if (st != GEOM_OK)
             return st;
         if (!pass) {
             *ok = 0;
             U->lastgrid = i;
+            /* remember where, unless a remembered place is that close */
+            int near = 0, held = U->nspot[i] < NSPOT ? (int)U->nspot[i] : NSPOT;
+            for (int k = 0; k < held; ++k)
+                near |= fabs(sp[2 * k] - c->wu) <= 0.02 * (c->u1 - c->u0) &&
+                        fabs(sp[2 * k + 1] - c->wv) <= 0.02 * (c->v1 - c->v0);
+            if (!near) {
+                size_t k = U->nspot[i] % NSPOT;
+                sp[2 * k] = c->wu, sp[2 * k + 1] = c->wv;
+                U->nspot[i] = U->nspot[i] % NSPOT + NSPOT * (U->nspot[i] >= NSPOT) + 1;
+            }
         } else {
             c->wu = wu;
             c->wv = wv;
@@ -1908,6 +1947,10 @@ static void uni_free(ts *T, uni_state *U)
         ts_free(T, U->stitch, T->ncells, 1);
     if (U->hint)
         ts_free(T, U->hint, 2 * T->ncells, sizeof(double));
+    if (U->spots)
+        ts_free(T, U->spots, 2 * NSPOT * T->ncells, sizeof(double));
+    if (U->nspot)
+        ts_free(T, U->nspot, T->ncells, sizeof(uint32_t));
     for (int d = 0; d < 2; ++d)
         if (U->feas[d])
             ts_free(T, U->feas[d], U->fcap[d], 1);
@@ -1926,12 +1969,14 @@ static geom_status uniform_search(ts *T, size_t A, int *chosen, uint32_t *pgu, u
     U.mn = ts_alloc(T, 2 * nc, sizeof(uint32_t));
     U.stitch = ts_alloc(T, nc, 1);
     U.hint = ts_alloc(T, 2 * nc, sizeof(double));
-    grid_rows R = {NULL, 0};
+    U.spots = ts_alloc(T, 2 * NSPOT * nc, sizeof(double));
+    U.nspot = ts_alloc(T, nc, sizeof(uint32_t));
+    grid_rows R = {NULL, 0, NULL, 0};
     geom_status st = GEOM_OK;
     size_t best = A;
     uint32_t bu = 0, bv = 0;
     double CU = 0.0, CV = 0.0;
-    if (!U.mn || !U.stitch || !U.hint) {
+    if (!U.mn || !U.stitch || !U.hint || !U.spots || !U.nspot) {
         st = GEOM_ERR_NOMEM;
         goto done;
     }
@@ -1939,6 +1984,7 @@ static geom_status uniform_search(ts *T, size_t A, int *chosen, uint32_t *pgu, u
         const ts_cell *c = &T->cells[i];
         U.mn[2 * i] = c->M, U.mn[2 * i + 1] = c->N;
         U.hint[2 * i] = U.hint[2 * i + 1] = NAN;
+        U.nspot[i] = 0;
         const uint32_t es[4] = {c->eb, c->et, c->el, c->er};
         U.stitch[i] = 0;
         for (int k = 0; k < 4; ++k) {
