@@ -531,7 +531,7 @@ typedef struct geom_surface_tess_stats {
  * that part elsewhere). Cost (BENCHMARKS.md): 4-10 % of the evaluations
  * for the NURBS sphere and the teapot at 1e-3 and 1e-4; most where many
  * grids are cheap and nothing bounds them from below, e.g. a single patch
- * with straight boundary lines (a bicubic bump: 0.37M evaluations on top
+ * with straight boundary lines (a bicubic bump: 0.27M evaluations on top
  * of 0.5M at 1e-3).
  *
  * Error check (both modes). Every triangle is compared with the exact
