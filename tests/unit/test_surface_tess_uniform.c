@@ -4,7 +4,10 @@
  * against every uniform gu x gv grid per knot span (geom_surface_tessellate
  * in uniform mode, the same sampled error measure) with fewer than A
  * triangles: none may reach the tolerance. The search is brute force over a
- * box of (gu, gv), made here, not read from saved numbers; the box's sides
+ * box of (gu, gv), made here, not read from saved numbers (the tessellator
+ * now searches these grids itself and returns one that has fewer
+ * triangles, test_uniform_chosen; this search is the independent check);
+ * the box's sides
  * come from two facts: a grid's triangle count grows with gu and with gv
  * (counted by a uniform run with no error samples), and its error does not
  * grow when gu or gv grows (used only to bound the box: gv below v_lb fails
@@ -199,12 +202,71 @@ static void test_teapot(void **state)
     geom_surface_set_destroy(set);
 }
 
+/* Where a per-span uniform grid has fewer triangles than the adaptive
+ * result, the tessellator returns it: stats name the grid, and the result
+ * is exactly uniform mode's at that grid (same triangles, same error),
+ * within the tolerance. Returns 1 if a uniform grid was chosen. */
+static int check_chosen(const shape *sh, double tol)
+{
+    geom_surface_tess_options o;
+    memset(&o, 0, sizeof o);
+    o.tolerance = tol;
+    geom_mesh *m = geom_mesh_create(NULL);
+    assert_non_null(m);
+    geom_error_report rep;
+    geom_surface_tess_stats st;
+    assert_int_equal(geom_surface_tessellate(sh->s, sh->n, &o, m, &rep, &st, NULL), GEOM_OK);
+    geom_mesh_destroy(m);
+    assert_true(rep.max_error <= tol);
+    if (!st.uniform_u)
+        return 0;
+    double e;
+    size_t n = uniform(sh, st.uniform_u, st.uniform_v, &e);
+    print_message("%s tol %g: uniform %u x %u chosen, %zu triangles, error %g\n", sh->name, tol,
+                  st.uniform_u, st.uniform_v, st.triangles, rep.max_error);
+    assert_int_equal(n, st.triangles);
+    assert_true(e == rep.max_error);
+    return 1;
+}
+
+/* data/surfaces.json's "hill": bicubic B-spline, 3 x 2 spans. */
+static const double hill_ku[10] = {0, 0, 0, 0, 1, 2, 3, 3, 3, 3};
+static const double hill_kv[9] = {0, 0, 0, 0, 1, 2, 2, 2, 2};
+static const double hill_z[6][5] = {{0, 0.2, 0.4, 0.2, 0},     {0.1, 0.8, 1.2, 0.8, 0.1},
+                                    {0.2, 1.1, 2, 1.1, 0.2},   {0.1, 0.9, 1.5, 0.9, 0.1},
+                                    {0, 0.3, 0.6, 0.3, 0},     {0, 0, 0.1, 0, 0}};
+
+static void test_uniform_chosen(void **state)
+{
+    (void)state;
+    double P[90];
+    for (int i = 0; i < 6; ++i)
+        for (int j = 0; j < 5; ++j) {
+            P[3 * (i * 5 + j)] = 4.0 + i;
+            P[3 * (i * 5 + j) + 1] = j;
+            P[3 * (i * 5 + j) + 2] = hill_z[i][j];
+        }
+    geom_nurbs_surface hill = {3, 3, 6, 5, hill_ku, hill_kv, P, NULL};
+    double ku[12], kv[12], TP[243], W[81];
+    geom_nurbs_surface torus;
+    assert_int_equal(geom_surface_torus(NULL, 2.0, 0.5, ku, kv, TP, W, &torus), GEOM_OK);
+    shape sh[2] = {{"hill", &hill, 1}, {"torus", &torus, 1}};
+    static const double tl[6] = {0.05, 0.04, 0.03, 0.012, 0.008, 0.005};
+    int chosen = 0;
+    for (int k = 0; k < 2; ++k)
+        for (int t = 0; t < 6; ++t)
+            chosen += check_chosen(&sh[k], tl[t]);
+    /* the hill at 0.05 takes 2 x 6 per span (144 triangles) */
+    assert_true(chosen >= 1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sphere),
         cmocka_unit_test(test_torus),
         cmocka_unit_test(test_teapot),
+        cmocka_unit_test(test_uniform_chosen),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -647,6 +647,7 @@ typedef struct geom_surface_tess_stats {
     size_t refinements;
     size_t limit_normals;
     size_t welded_normals;
+    uint32_t uniform_u, uniform_v;
 } geom_surface_tess_stats;
 geom_status geom_surface_tessellate(const geom_nurbs_surface *surfaces, size_t n, const
     geom_surface_tess_options *options, geom_mesh *out, geom_error_report *report,

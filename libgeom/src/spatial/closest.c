@@ -116,6 +116,20 @@ static inline double closest_tri(const double p[3], const double a[3], const dou
     return geom__d2(out, p);
 }
 
+/* Shared with the surface tessellator's error check (spatial_internal.h). */
+double geom__closest_tri_d2(const double p[3], const double a[3], const double b[3],
+                            const double c[3])
+{
+    double out[3], bary[3];
+    return closest_tri(p, a, b, c, out, bary);
+}
+
+double geom__closest_seg_d2(const double p[3], const double a[3], const double b[3])
+{
+    double t;
+    return seg_closest(p, a, b, &t);
+}
+
 /* Prune margin: the computed closest point can sit a rounding error outside
  * its triangle's box. */
 #define PRUNE(d2) ((d2) * (1.0 + 0x1p-40) + 0x1p-1000)

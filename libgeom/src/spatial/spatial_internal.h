@@ -155,6 +155,12 @@ static inline double geom__d2(const double *p, const double *q)
     return dx * dx + dy * dy + dz * dz;
 }
 
+/* Squared distance from p to triangle a b c (Ericson 5.1.5; a degenerate
+ * triangle: to its nearest edge) and to segment a b (closest.c). */
+double geom__closest_tri_d2(const double p[3], const double a[3], const double b[3],
+                            const double c[3]);
+double geom__closest_seg_d2(const double p[3], const double a[3], const double b[3]);
+
 /* Bound on the squared distance a point within radius r can have
  * (sqrt(d2) <= r implies d2 <= this), for conservative pruning. */
 static inline double geom__r2_bound(double r)

@@ -74,4 +74,20 @@ typedef int (*geom__second_derivs_fn)(void *user, double u, double v, double out
 double geom__tess_estimate_grid(geom__second_derivs_fn fn, void *user, const double dom[4],
                                 size_t gu, size_t gv, double tol, double floor_count);
 
+/* Lines of constant parameter for the tessellator's segment-count bounds
+ * (tess_lines.c): fn(user, l, t, out) is the point of line l (0..nlines-1)
+ * at parameter t in [a, b]. geom__tess_lines_pass: does every segment of
+ * the n-segment polylines (uniform in t) keep its K-1 side samples (at
+ * fractions m/K of the segment's parameter range) within tol of its chord,
+ * as point-segment distances? *hint (NAN: none) is a parameter whose
+ * segment is tested first; it receives the parameter of a failing sample.
+ * geom__tess_lines_bound: the smallest n in [1, cap) that passes, else cap:
+ * the answer of testing n = 1, 2, ... in turn (no monotonicity assumed),
+ * each failing n usually shown by one segment. */
+typedef void (*geom__tess_line_fn)(void *user, int line, double t, double out[3]);
+int geom__tess_lines_pass(geom__tess_line_fn fn, void *user, int nlines, double a, double b, int K,
+                          uint32_t n, double tol, double *hint);
+uint32_t geom__tess_lines_bound(geom__tess_line_fn fn, void *user, int nlines, double a, double b,
+                                int K, uint32_t cap, double tol);
+
 #endif

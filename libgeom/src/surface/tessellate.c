@@ -22,6 +22,7 @@
  * fewer triangles; the cells it changed are checked again as stitched.
  */
 #include "surface/surface_internal.h"
+#include "spatial/spatial_internal.h"
 
 #include <float.h>
 #include <string.h>
@@ -120,7 +121,11 @@ typedef struct ts {
     size_t nloc, cap_lu, cap_lv, cap_lvert, cap_lnorm;
     /* triangles of the current cell (local sample indices) */
     uint32_t *ltri;
-    size_t nltri, cap_ltri;
+    uint32_t *lmate; /* 2 per local triangle: the triangles across its inner
+                        sides (a quad's other half; a strip's neighbours), or NONE32 */
+    uint8_t *ldiag;  /* per local triangle: bit s set for each inner side s
+                        (0 X1X2, 1 X0X2, 2 X0X1; see tri_error) */
+    size_t nltri, cap_ltri, cap_lmate, cap_ldiag;
     /* output */
     uint32_t *tri;    /* 3 per triangle: global vertex ids */
     uint32_t *tcorn;  /* 9 per triangle: normal, uv, tangent pool indices */
@@ -130,11 +135,14 @@ typedef struct ts {
     ts_pool pn, puv, pt;
     /* scratch for evaluation */
     geom__scratch sc;
+    double *lat; /* the error check's lattice samples: 3 (K+1)(K+2)/2 */
     size_t evals;
     size_t limit_normals;
     double normal_weld;    /* radians; 0: corner normals not welded */
     size_t welded_normals; /* corners whose normal was welded */
     int counting; /* count limit normals (the output pass) */
+    double prune; /* > 0 while pruning uniform grids: the margin their
+                     positions may differ by (see uniform_search) */
 } ts;
 
 /* --------------------------------------------------------------- memory */
@@ -267,6 +275,13 @@ static double dist3(const double *a, const double *b)
         return INFINITY;
     d[0] /= m, d[1] /= m, d[2] /= m;
     return 2.0 * m * sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+}
+
+static void cross3(const double *a, const double *b, double *o)
+{
+    o[0] = a[1] * b[2] - a[2] * b[1];
+    o[1] = a[2] * b[0] - a[0] * b[2];
+    o[2] = a[0] * b[1] - a[1] * b[0];
 }
 
 /* The cell an edge is evaluated through. */
@@ -968,6 +983,17 @@ static uint32_t edge_vertex(ts *T, const ts_edge *e, uint32_t k)
 
 /* ----------------------------------------------------- cell triangulation */
 
+/* Side of triangle L (0: L1L2, 1: L0L2, 2: L0L1) shared with triangle M
+ * (local or grid corner ids): the one opposite L's corner not in M. */
+static int shared_side(const uint32_t *L, const uint32_t *M)
+{
+    int side = -1, out = 0;
+    for (int k = 0; k < 3; ++k)
+        if (L[k] != M[0] && L[k] != M[1] && L[k] != M[2])
+            side = k, out++;
+    return out == 1 ? side : -1;
+}
+
 static geom_status local_add(ts *T, double u, double v, uint32_t vert, uint32_t *idx)
 {
     size_t need = T->nloc + 1;
@@ -995,8 +1021,15 @@ static geom_status local_tri(ts *T, uint32_t a, uint32_t b, uint32_t c)
         return GEOM_OK; /* on a collapsed edge */
     geom_status st = geom__grow(T->alloc, (void **)&T->ltri, &T->cap_ltri, 3 * (T->nltri + 1),
                              sizeof(uint32_t));
+    if (st == GEOM_OK)
+        st = geom__grow(T->alloc, (void **)&T->lmate, &T->cap_lmate, 2 * (T->nltri + 1),
+                        sizeof(uint32_t));
+    if (st == GEOM_OK)
+        st = geom__grow(T->alloc, (void **)&T->ldiag, &T->cap_ldiag, T->nltri + 1, 1);
     if (st != GEOM_OK)
         return st;
+    T->lmate[2 * T->nltri] = T->lmate[2 * T->nltri + 1] = NONE32;
+    T->ldiag[T->nltri] = 0;
     T->ltri[3 * T->nltri] = a;
     T->ltri[3 * T->nltri + 1] = b;
     T->ltri[3 * T->nltri + 2] = c;
@@ -1004,21 +1037,49 @@ static geom_status local_tri(ts *T, uint32_t a, uint32_t b, uint32_t c)
     return GEOM_OK;
 }
 
+/* Does a quad with diagonals ac and bd split along ac? Along the shorter
+ * diagonal; a near tie (bd shorter by at most 8 weld tolerances, as every
+ * quad of a surface of revolution between two meridians is a tie in exact
+ * arithmetic) takes ac, so that the choice does not hang on the last bits
+ * of the positions (see uniform_search). */
+static int split_ac(const ts *T, double ac, double bd)
+{
+    return ac <= bd + 8.0 * T->weld_tol;
+}
+
 /* Quad a b c d (counter-clockwise) as two triangles along the shorter
- * diagonal. */
+ * diagonal (split_ac). */
 static geom_status local_quad(ts *T, uint32_t a, uint32_t b, uint32_t c, uint32_t d)
 {
     double ac = dist3(T->pos + 3 * (size_t)T->lvert[a], T->pos + 3 * (size_t)T->lvert[c]);
     double bd = dist3(T->pos + 3 * (size_t)T->lvert[b], T->pos + 3 * (size_t)T->lvert[d]);
     geom_status st;
-    if (ac <= bd) {
+    size_t t0 = T->nltri, t1;
+    int sac = split_ac(T, ac, bd);
+    /* the diagonal is side 1 (X0X2) of a b c, 2 (X0X1) of a c d, 0 (X1X2)
+     * of a b d and 1 of b c d */
+    if (sac) {
         st = local_tri(T, a, b, c);
+        t1 = T->nltri;
+        if (st == GEOM_OK && t1 > t0)
+            T->ldiag[t0] = 2;
         if (st == GEOM_OK)
             st = local_tri(T, a, c, d);
+        if (st == GEOM_OK && T->nltri > t1)
+            T->ldiag[t1] = 4;
     } else {
         st = local_tri(T, a, b, d);
+        t1 = T->nltri;
+        if (st == GEOM_OK && t1 > t0)
+            T->ldiag[t0] = 1;
         if (st == GEOM_OK)
             st = local_tri(T, b, c, d);
+        if (st == GEOM_OK && T->nltri > t1)
+            T->ldiag[t1] = 2;
+    }
+    if (st == GEOM_OK && T->nltri == t0 + 2) {
+        T->lmate[2 * t0] = (uint32_t)t0 + 1;
+        T->lmate[2 * (t0 + 1)] = (uint32_t)t0;
     }
     return st;
 }
@@ -1029,7 +1090,7 @@ static geom_status local_quad(ts *T, uint32_t a, uint32_t b, uint32_t c, uint32_
 static geom_status stitch(ts *T, const uint32_t *o, const double *fo, size_t no, const uint32_t *in,
                           const double *fi, size_t ni)
 {
-    size_t a = 0, b = 0;
+    size_t a = 0, b = 0, prev = SIZE_MAX;
     while (a + 1 < no || b + 1 < ni) {
         int outer;
         if (a + 1 >= no)
@@ -1039,6 +1100,7 @@ static geom_status stitch(ts *T, const uint32_t *o, const double *fo, size_t no,
         else
             outer = fo[a + 1] <= fi[b + 1];
         geom_status st;
+        size_t t = T->nltri;
         if (outer) {
             st = local_tri(T, o[a], o[a + 1], in[b]);
             ++a;
@@ -1048,6 +1110,22 @@ static geom_status stitch(ts *T, const uint32_t *o, const double *fo, size_t no,
         }
         if (st != GEOM_OK)
             return st;
+        if (T->nltri == t) { /* dropped at a pole: the chain breaks */
+            prev = SIZE_MAX;
+            continue;
+        }
+        /* consecutive triangles of a strip share the rung between them */
+        if (prev != SIZE_MAX) {
+            int sp = shared_side(T->ltri + 3 * prev, T->ltri + 3 * t);
+            int st2 = shared_side(T->ltri + 3 * t, T->ltri + 3 * prev);
+            if (sp >= 0 && st2 >= 0) {
+                T->lmate[2 * prev + 1] = (uint32_t)t;
+                T->lmate[2 * t] = (uint32_t)prev;
+                T->ldiag[prev] |= (uint8_t)(1u << sp);
+                T->ldiag[t] |= (uint8_t)(1u << st2);
+            }
+        }
+        prev = t;
     }
     return GEOM_OK;
 }
@@ -1197,14 +1275,73 @@ static double angle_between(const double *a, const double *b)
 }
 
 /* Largest sampled chordal error of one triangle of cell c (corners X with
- * parameters U, V): the distance between the triangle's point and the
- * surface's point at the same barycentric combination of the corners'
- * parameters, at the K-lattice points other than the corners. The worst
- * sample's parameters go to *wu, *wv (when it is over 0). */
+ * parameters U, V). The surface is sampled at the K-lattice points of the
+ * triangle's parameter-space image, S(sum b_i (u_i, v_i)) for b_i = k_i/K,
+ * other than the corners, and each sample's error is its distance to the
+ * mesh there: to the nearest of the 3D triangle and its ny neighbours
+ * across its inner sides (Y: 3 corners each; a grid quad's other half, a
+ * strip triangle's neighbours in the strip), since the image of a
+ * parameter-space diagonal or rung is no straight line. Bit s of `inner`
+ * marks side s (0 X1X2, 1 X0X2, 2 X0X1) as inner (a quad's diagonal, also
+ * when its other half was dropped at a pole; a strip's rungs); samples on
+ * the other sides (the quad's or strip's outer
+ * sides, which lie on grid lines or cell edges) are measured to that side
+ * only, so that mesh edges follow the surface's curves there. This is a
+ * one-sided Hausdorff distance at the samples, never larger than the
+ * distance to the triangle's point at the same barycentric combination
+ * (taken as the minimum with it, so rounding cannot make it larger).
+ *
+ * Fold guard: the images of the lattice's small triangles (counter-
+ * clockwise in parameter space, like the triangle) must not face against
+ * the triangle's normal. Where one does, the surface turns back over the
+ * triangle, which a distance to the mesh would not see; the triangle's
+ * error is then the equal-parameter distance at every sample.
+ *
+ * The worst sample's parameters go to *wu, *wv (when it is over 0). */
 static double tri_error(ts *T, const ts_cell *c, const double *const X[3], const double *U,
-                        const double *V, double *wu, double *wv)
+                        const double *V, const double *const *Y, int ny, unsigned inner,
+                        double *wu, double *wv)
 {
     int K = T->ksub;
+    double *S = T->lat;
+#define LI(i, j) (3 * ((size_t)(i) * (2 * (size_t)K + 3 - (size_t)(i)) / 2 + (size_t)(j)))
+    for (int i = 0; i <= K; ++i)
+        for (int j = 0; i + j <= K; ++j) {
+            int k = K - i - j;
+            double *p = S + LI(i, j);
+            const double *corner = i == K ? X[0] : j == K ? X[1] : k == K ? X[2] : NULL;
+            if (corner) {
+                p[0] = corner[0], p[1] = corner[1], p[2] = corner[2];
+                continue;
+            }
+            double b0 = (double)i / K, b1 = (double)j / K, b2 = (double)k / K;
+            cell_point(T, c, b0 * U[0] + b1 * U[1] + b2 * U[2], b0 * V[0] + b1 * V[1] + b2 * V[2],
+                       p);
+        }
+    /* fold guard */
+    double e1[3], e2[3], nt[3];
+    for (int d = 0; d < 3; ++d)
+        e1[d] = X[1][d] - X[0][d], e2[d] = X[2][d] - X[0][d];
+    cross3(e1, e2, nt);
+    double ntl = sqrt(nt[0] * nt[0] + nt[1] * nt[1] + nt[2] * nt[2]);
+    int folded = 0;
+    if (ntl > 0.0 && isfinite(ntl))
+        for (int i = 0; i < K && !folded; ++i)
+            for (int j = 0; i + j < K && !folded; ++j)
+                for (int up = 0; up < 2 && !folded; ++up) {
+                    if (up == 1 && i + j + 2 > K)
+                        break;
+                    const double *A = up ? S + LI(i + 1, j) : S + LI(i, j);
+                    const double *B = up ? S + LI(i + 1, j + 1) : S + LI(i + 1, j);
+                    const double *C = S + LI(i, j + 1);
+                    double a[3], b[3], ns[3];
+                    for (int d = 0; d < 3; ++d)
+                        a[d] = B[d] - A[d], b[d] = C[d] - A[d];
+                    cross3(a, b, ns);
+                    double dot = ns[0] * nt[0] + ns[1] * nt[1] + ns[2] * nt[2];
+                    double nsl = sqrt(ns[0] * ns[0] + ns[1] * ns[1] + ns[2] * ns[2]);
+                    folded = dot < -1e-3 * nsl * ntl;
+                }
     double tmax = 0.0;
     for (int i = 0; i <= K; ++i)
         for (int j = 0; i + j <= K; ++j) {
@@ -1212,21 +1349,37 @@ static double tri_error(ts *T, const ts_cell *c, const double *const X[3], const
             if (i == K || j == K || k == K)
                 continue;
             double b0 = (double)i / K, b1 = (double)j / K, b2 = (double)k / K;
-            double u = b0 * U[0] + b1 * U[1] + b2 * U[2];
-            double v = b0 * V[0] + b1 * V[1] + b2 * V[2];
-            double L3[3], S3[3];
+            const double *P = S + LI(i, j);
+            double L3[3];
             for (int d = 0; d < 3; ++d)
                 L3[d] = b0 * X[0][d] + b1 * X[1][d] + b2 * X[2][d];
-            cell_point(T, c, u, v, S3);
-            double e = dist3(L3, S3);
+            double e = dist3(L3, P);
+            if (!folded) {
+                int side = i == 0 ? 0 : j == 0 ? 1 : k == 0 ? 2 : -1;
+                double h;
+                if (side == 0 && !(inner & 1u))
+                    h = geom__closest_seg_d2(P, X[1], X[2]);
+                else if (side == 1 && !(inner & 2u))
+                    h = geom__closest_seg_d2(P, X[0], X[2]);
+                else if (side == 2 && !(inner & 4u))
+                    h = geom__closest_seg_d2(P, X[0], X[1]);
+                else {
+                    h = geom__closest_tri_d2(P, X[0], X[1], X[2]);
+                    for (int q = 0; q < ny; ++q)
+                        h = fmin(h, geom__closest_tri_d2(P, Y[3 * q], Y[3 * q + 1], Y[3 * q + 2]));
+                }
+                e = fmin(e, sqrt(h));
+            }
             if (e > tmax) {
                 tmax = e;
-                *wu = u;
-                *wv = v;
+                *wu = b0 * U[0] + b1 * U[1] + b2 * U[2];
+                *wv = b0 * V[0] + b1 * V[1] + b2 * V[2];
             }
         }
+#undef LI
     return tmax;
 }
+
 
 /* Chordal error (and normal angle) of the cell's local triangles. */
 static void check_cell(ts *T, ts_cell *c)
@@ -1246,7 +1399,18 @@ static void check_cell(ts *T, ts_cell *c)
             U[k] = T->lu[L[k]];
             V[k] = T->lv[L[k]];
         }
-        double tmax = tri_error(T, c, X, U, V, &wu, &wv);
+        const double *Y[6];
+        int ny = 0;
+        for (int q = 0; q < 2; ++q) {
+            uint32_t nb = T->lmate[2 * t + (size_t)q];
+            if (nb == NONE32)
+                continue;
+            const uint32_t *M = T->ltri + 3 * (size_t)nb;
+            for (int k = 0; k < 3; ++k)
+                Y[3 * ny + k] = T->pos + 3 * (size_t)T->lvert[M[k]];
+            ny++;
+        }
+        double tmax = tri_error(T, c, X, U, V, Y, ny, T->ldiag[t], &wu, &wv);
         if (tmax > cell_max) {
             cell_max = tmax;
             c->wu = wu;
@@ -1298,46 +1462,49 @@ static double grid_t(double a, double b, uint32_t i, uint32_t n)
     return i == n ? b : a + (b - a) * (double)i / (double)n;
 }
 
-/* Does every segment of the n-segment polylines along the cell's two
- * boundary lines of direction dir (0: constant v, segments along u) keep
- * its chord within tol at the check's K-1 side samples? Collapsed lines
- * pass. */
-static int lines_pass(ts *T, const ts_cell *c, int dir, uint32_t n, double tol)
+/* The cell's two boundary lines of direction dir (0: constant v, t = u)
+ * that are not collapsed, as curves for tess_lines.c. */
+typedef struct cell_lines {
+    ts *T;
+    const ts_cell *c;
+    int dir, n;
+    double k[2];
+} cell_lines;
+
+static void cell_line_point(void *user, int l, double t, double out[3])
 {
-    int K = T->ksub;
+    cell_lines *L = user;
+    cell_point(L->T, L->c, L->dir == 0 ? t : L->k[l], L->dir == 0 ? L->k[l] : t, out);
+}
+
+static cell_lines lines_of(ts *T, const ts_cell *c, int dir)
+{
+    cell_lines L = {T, c, dir, 0, {0.0, 0.0}};
     for (int side = 0; side < 2; ++side) {
         const ts_edge *e = &T->edges[dir == 0 ? (side ? c->et : c->eb) : (side ? c->er : c->el)];
-        if (e->collapsed)
-            continue;
-        double a = dir == 0 ? c->u0 : c->v0, b = dir == 0 ? c->u1 : c->v1;
-        double k = dir == 0 ? (side ? c->v1 : c->v0) : (side ? c->u1 : c->u0);
-        double P0[3], P1[3];
-        cell_point(T, c, dir == 0 ? a : k, dir == 0 ? k : a, P0);
-        for (uint32_t i = 0; i < n; ++i) {
-            double t0 = grid_t(a, b, i, n), t1 = grid_t(a, b, i + 1, n);
-            cell_point(T, c, dir == 0 ? t1 : k, dir == 0 ? k : t1, P1);
-            for (int m = 1; m < K; ++m) {
-                double f = (double)m / K, L[3], S[3], t = (1.0 - f) * t0 + f * t1;
-                for (int d = 0; d < 3; ++d)
-                    L[d] = (1.0 - f) * P0[d] + f * P1[d];
-                cell_point(T, c, dir == 0 ? t : k, dir == 0 ? k : t, S);
-                if (!(dist3(L, S) <= tol))
-                    return 0;
-            }
-            memcpy(P0, P1, sizeof P0);
-        }
+        if (!e->collapsed)
+            L.k[L.n++] = dir == 0 ? (side ? c->v1 : c->v0) : (side ? c->u1 : c->u0);
     }
-    return 1;
+    return L;
+}
+
+/* Do the n-segment polylines along the cell's boundary lines of direction
+ * dir pass tol (see geom__tess_lines_pass; *hint: where to look first)?
+ * Collapsed lines pass. */
+static int lines_pass(ts *T, const ts_cell *c, int dir, uint32_t n, double tol, double *hint)
+{
+    cell_lines L = lines_of(T, c, dir);
+    return geom__tess_lines_pass(cell_line_point, &L, L.n, dir == 0 ? c->u0 : c->v0,
+                                 dir == 0 ? c->u1 : c->v1, T->ksub, n, tol, hint);
 }
 
 /* Smallest segment count (at most cap) with which the boundary lines of
- * direction dir pass. */
+ * direction dir pass: every grid with fewer lines along dir fails. */
 static uint32_t lines_bound(ts *T, const ts_cell *c, int dir, uint32_t cap, double tol)
 {
-    for (uint32_t n = 1; n < cap; ++n)
-        if (lines_pass(T, c, dir, n, tol))
-            return n;
-    return cap;
+    cell_lines L = lines_of(T, c, dir);
+    return geom__tess_lines_bound(cell_line_point, &L, L.n, dir == 0 ? c->u0 : c->v0,
+                                  dir == 0 ? c->u1 : c->v1, T->ksub, cap, tol);
 }
 
 /* Which collapsed cell edge grid corner (i, j) lies on (1 bottom, 2 top,
@@ -1372,22 +1539,43 @@ static int quad_passes(ts *T, ts_cell *c, uint32_t M, uint32_t N, uint32_t i, ui
         pole[k] = grid_pole(T, c, M, N, ii[k], jj[k]);
     }
     static const int split[2][6] = {{0, 1, 2, 0, 2, 3}, {0, 1, 3, 1, 2, 3}};
-    const int *s = split[dist3(X[0], X[2]) <= dist3(X[1], X[3]) ? 0 : 1];
-    for (int t = 0; t < 2; ++t) {
-        const int *q = s + 3 * t;
-        if ((pole[q[0]] && pole[q[0]] == pole[q[1]]) || (pole[q[1]] && pole[q[1]] == pole[q[2]]) ||
-            (pole[q[0]] && pole[q[0]] == pole[q[2]]))
-            continue;
-        const double *TX[3] = {X[q[0]], X[q[1]], X[q[2]]};
-        double TU[3] = {U[q[0]], U[q[1]], U[q[2]]}, TV[3] = {V[q[0]], V[q[1]], V[q[2]]};
-        double wu = 0.0, wv = 0.0;
-        if (!(tri_error(T, c, TX, TU, TV, &wu, &wv) <= tol)) {
-            c->wu = wu;
-            c->wv = wv;
-            return 0;
+    double ac = dist3(X[0], X[2]), bd = dist3(X[1], X[3]);
+    int first = split_ac(T, ac, bd) ? 0 : 1;
+    /* pruning a uniform grid (T->prune > 0): its positions may differ from
+     * these by T->prune, so where that can change the split, the quad fails
+     * only if both splits fail */
+    int nsplit = T->prune > 0.0 && fabs(ac - bd - 8.0 * T->weld_tol) <= 4.0 * T->prune ? 2 : 1;
+    for (int sp = 0; sp < nsplit; ++sp) {
+        const int *s = split[sp ? 1 - first : first];
+        int ok = 1, live[2];
+        for (int t = 0; t < 2; ++t) {
+            const int *q = s + 3 * t;
+            live[t] = !((pole[q[0]] && pole[q[0]] == pole[q[1]]) ||
+                        (pole[q[1]] && pole[q[1]] == pole[q[2]]) ||
+                        (pole[q[0]] && pole[q[0]] == pole[q[2]]));
         }
+        for (int t = 0; t < 2 && ok; ++t) {
+            const int *q = s + 3 * t, *o = s + 3 * (1 - t);
+            if (!live[t])
+                continue;
+            const double *TX[3] = {X[q[0]], X[q[1]], X[q[2]]};
+            const double *Y[3] = {X[o[0]], X[o[1]], X[o[2]]};
+            const uint32_t L[3] = {(uint32_t)q[0], (uint32_t)q[1], (uint32_t)q[2]};
+            const uint32_t M[3] = {(uint32_t)o[0], (uint32_t)o[1], (uint32_t)o[2]};
+            int diag = shared_side(L, M);
+            unsigned mask = diag >= 0 ? 1u << diag : 0u;
+            double TU[3] = {U[q[0]], U[q[1]], U[q[2]]}, TV[3] = {V[q[0]], V[q[1]], V[q[2]]};
+            double wu = 0.0, wv = 0.0;
+            if (!(tri_error(T, c, TX, TU, TV, Y, live[1 - t], mask, &wu, &wv) <= tol)) {
+                c->wu = wu;
+                c->wv = wv;
+                ok = 0;
+            }
+        }
+        if (ok)
+            return 1;
     }
-    return 1;
+    return 0;
 }
 
 static void grid_point(ts *T, const ts_cell *c, uint32_t M, uint32_t N, uint32_t i, uint32_t j,
@@ -1408,25 +1596,55 @@ static uint32_t grid_index(double a, double b, double t, uint32_t n)
 typedef struct grid_rows {
     double *row;
     size_t cap;
+    const double *spots; /* nspots (u, v): where other grids failed, tried early */
+    int nspots;
 } grid_rows;
 
-/* Does the direct M x N grid of cell c pass tol? */
-static geom_status grid_passes(ts *T, ts_cell *c, uint32_t M, uint32_t N, double tol,
-                               grid_rows *R, int *pass)
+/* Does quad (i, j) of the direct M x N grid of cell c pass tol? */
+static int grid_quad_passes(ts *T, ts_cell *c, uint32_t M, uint32_t N, uint32_t i, uint32_t j,
+                            double tol)
+{
+    double P[4][3];
+    const uint32_t ii[4] = {i, i + 1, i + 1, i}, jj[4] = {j, j, j + 1, j + 1};
+    for (int k = 0; k < 4; ++k)
+        grid_point(T, c, M, N, ii[k], jj[k], P[k]);
+    const double *X[4] = {P[0], P[1], P[2], P[3]};
+    return quad_passes(T, c, M, N, i, j, X, tol);
+}
+
+/* Does the direct M x N grid of cell c (inner: its quads off the cell's
+ * boundary) pass tol? */
+static geom_status grid_passes_in(ts *T, ts_cell *c, uint32_t M, uint32_t N, double tol,
+                                  int inner, grid_rows *R, int *pass)
 {
     *pass = 0;
-    /* first the 3 x 3 quads around the last worst point */
+    /* inner: only the quads not touching the cell's boundary (a stitched
+     * cell has exactly these in common with the direct grid) */
+    uint32_t ilo = inner ? 1 : 0, ihi = inner ? (M > 1 ? M - 1 : 0) : M;
+    uint32_t jlo = inner ? 1 : 0, jhi = inner ? (N > 1 ? N - 1 : 0) : N;
+    if (ilo >= ihi || jlo >= jhi) {
+        *pass = 1;
+        return GEOM_OK;
+    }
+    /* first the quad at the last worst point, then those at the places
+     * where other grids failed, then the 3 x 3 quads around the first */
     uint32_t i0 = grid_index(c->u0, c->u1, c->wu, M), j0 = grid_index(c->v0, c->v1, c->wv, N);
-    for (uint32_t i = i0 > 0 ? i0 - 1 : 0; i <= i0 + 1 && i < M; ++i)
-        for (uint32_t j = j0 > 0 ? j0 - 1 : 0; j <= j0 + 1 && j < N; ++j) {
-            double P[4][3];
-            const uint32_t ii[4] = {i, i + 1, i + 1, i}, jj[4] = {j, j, j + 1, j + 1};
-            for (int k = 0; k < 4; ++k)
-                grid_point(T, c, M, N, ii[k], jj[k], P[k]);
-            const double *X[4] = {P[0], P[1], P[2], P[3]};
-            if (!quad_passes(T, c, M, N, i, j, X, tol))
+    uint32_t ic = i0 < ilo ? ilo : i0 >= ihi ? ihi - 1 : i0;
+    uint32_t jc = j0 < jlo ? jlo : j0 >= jhi ? jhi - 1 : j0;
+    if (!grid_quad_passes(T, c, M, N, ic, jc, tol))
+        return GEOM_OK;
+    for (int k = 0; k < R->nspots; ++k) {
+        uint32_t i = grid_index(c->u0, c->u1, R->spots[2 * k], M);
+        uint32_t j = grid_index(c->v0, c->v1, R->spots[2 * k + 1], N);
+        i = i < ilo ? ilo : i >= ihi ? ihi - 1 : i;
+        j = j < jlo ? jlo : j >= jhi ? jhi - 1 : j;
+        if (!grid_quad_passes(T, c, M, N, i, j, tol))
+            return GEOM_OK;
+    }
+    for (uint32_t i = i0 > ilo ? i0 - 1 : ilo; i <= i0 + 1 && i < ihi; ++i)
+        for (uint32_t j = j0 > jlo ? j0 - 1 : jlo; j <= j0 + 1 && j < jhi; ++j)
+            if ((i != ic || j != jc) && !grid_quad_passes(T, c, M, N, i, j, tol))
                 return GEOM_OK;
-        }
     /* then all of them, a row of quads at a time */
     size_t need = 6 * ((size_t)M + 1);
     if (need > R->cap) {
@@ -1441,16 +1659,18 @@ static geom_status grid_passes(ts *T, ts_cell *c, uint32_t M, uint32_t N, double
     }
     /* rows from just below the worst point up, then the rest: a grid that
      * fails usually fails near where the last one did */
-    uint32_t js = j0 > 2 ? j0 - 2 : 0;
+    uint32_t nr = jhi - jlo, js = j0 > jlo + 2 ? j0 - 2 : jlo;
+    if (js >= jhi)
+        js = jlo;
     double *lo = R->row, *hi = R->row + 3 * ((size_t)M + 1);
-    for (uint32_t r = 0; r < N; ++r) {
-        uint32_t j = js + r < N ? js + r : js + r - N;
-        if (r == 0 || j == 0)
-            for (uint32_t i = 0; i <= M; ++i)
+    for (uint32_t r = 0; r < nr; ++r) {
+        uint32_t j = js + r < jhi ? js + r : js + r - nr;
+        if (r == 0 || j == jlo)
+            for (uint32_t i = ilo; i <= ihi; ++i)
                 grid_point(T, c, M, N, i, j, lo + 3 * (size_t)i);
-        for (uint32_t i = 0; i <= M; ++i)
+        for (uint32_t i = ilo; i <= ihi; ++i)
             grid_point(T, c, M, N, i, j + 1, hi + 3 * (size_t)i);
-        for (uint32_t i = 0; i < M; ++i) {
+        for (uint32_t i = ilo; i < ihi; ++i) {
             const double *X[4] = {lo + 3 * (size_t)i, lo + 3 * ((size_t)i + 1),
                                   hi + 3 * ((size_t)i + 1), hi + 3 * (size_t)i};
             if (!quad_passes(T, c, M, N, i, j, X, tol)) {
@@ -1463,6 +1683,13 @@ static geom_status grid_passes(ts *T, ts_cell *c, uint32_t M, uint32_t N, double
     }
     *pass = 1;
     return GEOM_OK;
+}
+
+/* Does the direct M x N grid of cell c pass tol? */
+static geom_status grid_passes(ts *T, ts_cell *c, uint32_t M, uint32_t N, double tol,
+                               grid_rows *R, int *pass)
+{
+    return grid_passes_in(T, c, M, N, tol, 0, R, pass);
 }
 
 /* The staircase walk under tol: *pm x *pn (taken to pass) is replaced by
@@ -1531,7 +1758,7 @@ static geom_status grid_search(ts *T, ts_cell *c, double tol, uint32_t mfirst, u
  * each check costs a sixteenth or less. */
 static geom_status optimise_cell(ts *T, ts_cell *c)
 {
-    grid_rows R = {NULL, 0};
+    grid_rows R = {NULL, 0, NULL, 0};
     uint32_t M = c->M, N = c->N, mfirst = M;
     uint32_t sc = (M < N ? M : N) / 12;
     geom_status st = GEOM_OK;
@@ -1549,6 +1776,296 @@ static geom_status optimise_cell(ts *T, ts_cell *c)
         ts_free(T, R.row, R.cap, sizeof(double));
     c->M = M;
     c->N = N;
+    return st;
+}
+
+static int sig_changed(const ts_cell *c, const uint32_t *old)
+{
+    for (int k = 0; k < 6; ++k)
+        if (c->sig[k] != old[k])
+            return 1;
+    return 0;
+}
+
+/* Triangulate c again, and check it again when its signature changed (or
+ * it was never checked). */
+static geom_status retriangulate(ts *T, ts_cell *c)
+{
+    uint32_t old[6];
+    memcpy(old, c->sig, sizeof old);
+    geom_status st = triangulate_cell(T, c);
+    if (st == GEOM_OK && (!c->checked || sig_changed(c, old)))
+        check_cell(T, c);
+    return st;
+}
+
+/* ------------------------------------------------- the uniform alternative */
+
+/*
+ * Never more triangles than a uniform grid, by construction. The uniform
+ * family: every knot-span cell of every surface gets the same gu x gv grid
+ * (what uniform mode makes with grid_u = gu, grid_v = gv, per_surface 0,
+ * the same check_subdivisions). After the adaptive result (A triangles,
+ * every cell within tol) is known, every (gu, gv) whose triangle count can
+ * be below A is either shown to fail or tessellated as uniform mode would
+ * and checked; the fewest-triangle one that passes with fewer than A
+ * triangles is taken instead of the adaptive result.
+ *
+ * Counts: a cell's gu x gv grid has at least 2 gu gv triangles, minus gu
+ * (gv) for each collapsed side along u (v): the direct grid drops at most
+ * one triangle per quad along a collapsed side, a stitched one (edges with
+ * more samples) has 2 gu gv - 2 gu - 2 gv + the sides' samples. So pairs
+ * with 2 n gu gv - gu CU - gv CV >= A are skipped.
+ *
+ * Showing a pair fails uses only checks of triangles that uniform mode
+ * makes: (1) lines: a cell whose edges all carry its own grid in uniform
+ * mode (no edge is welded to an edge running the other way, or gu == gv)
+ * is triangulated as the direct grid, so the chords along its two boundary
+ * lines of each direction are triangle sides with the same side samples:
+ * if they fail at gu (or gv), every pair with that gu (gv) fails; (2) the
+ * grid: the direct grid's triangles of such a cell, or, for a cell that is
+ * stitched, its interior quads (those not touching the boundary, which the
+ * stitched triangulation has too). Positions here are evaluated on the
+ * cell, which can differ from uniform mode's welded edge samples by the
+ * weld tolerance and rounding, so a pair is dropped only when a check
+ * fails by more than T->prune = that margin, and a quad whose diagonals
+ * are nearly equal fails only if both splits do. The pairs left are run
+ * as uniform mode runs them (vertices, triangulation, check: the same
+ * code), in increasing gu, each gu's gv upward until one passes.
+ */
+
+#define NSPOT 8
+
+/* Saved adaptive grid of every cell. */
+typedef struct uni_state {
+    uint32_t *mn;    /* 2 per cell */
+    uint8_t *stitch; /* per cell: an edge welded to one running the other way */
+    double *hint;    /* 2 per cell: lines' last failing parameter */
+    double *spots;    /* per cell NSPOT (u, v): where its grids failed */
+    uint32_t *nspot;  /* per cell: spots written (a ring of NSPOT) */
+    uint8_t *feas[2]; /* per count: 0 unknown, 1 lines pass, 2 fail */
+    size_t fcap[2];
+    uint32_t lastfail[2]; /* the cell whose lines failed last, per direction */
+    uint32_t lastgrid;    /* the cell whose grid failed last */
+} uni_state;
+
+/* Do the boundary lines of direction dir of every unstitched cell pass at
+ * count g (tolerance T->tol + T->prune)? Memoised per g. */
+static geom_status uni_lines(ts *T, uni_state *U, int dir, uint32_t g, int *ok)
+{
+    if (g >= U->fcap[dir]) {
+        size_t cap = U->fcap[dir];
+        geom_status st = geom__grow(T->alloc, (void **)&U->feas[dir], &cap, (size_t)g + 1, 1);
+        if (st != GEOM_OK)
+            return st;
+        memset(U->feas[dir] + U->fcap[dir], 0, cap - U->fcap[dir]);
+        U->fcap[dir] = cap;
+    }
+    if (!U->feas[dir][g]) {
+        int pass = 1;
+        double ptol = T->tol + T->prune;
+        for (size_t r = 0; r < T->ncells && pass; ++r) {
+            uint32_t i = (uint32_t)((U->lastfail[dir] + r) % T->ncells);
+            if (U->stitch[i])
+                continue;
+            if (!lines_pass(T, &T->cells[i], dir, g, ptol, &U->hint[2 * (size_t)i + (size_t)dir])) {
+                pass = 0;
+                U->lastfail[dir] = i;
+            }
+        }
+        U->feas[dir][g] = pass ? 1 : 2;
+    }
+    *ok = U->feas[dir][g] == 1;
+    return GEOM_OK;
+}
+
+/* Can uniform gu x gv pass (no cell's grid fails by more than the
+ * margin)? */
+static geom_status uni_grids(ts *T, uni_state *U, uint32_t gu, uint32_t gv, grid_rows *R, int *ok)
+{
+    *ok = 1;
+    double ptol = T->tol + T->prune;
+    for (size_t r = 0; r < T->ncells && *ok; ++r) {
+        uint32_t i = (uint32_t)((U->lastgrid + r) % T->ncells);
+        ts_cell *c = &T->cells[i];
+        double wu = c->wu, wv = c->wv;
+        int pass;
+        double *sp = U->spots + 2 * NSPOT * (size_t)i;
+        R->spots = sp;
+        R->nspots = U->nspot[i] < NSPOT ? (int)U->nspot[i] : NSPOT;
+        geom_status st = grid_passes_in(T, c, gu, gv, ptol, U->stitch[i] && gu != gv, R, &pass);
+        R->nspots = 0;
+        if (st != GEOM_OK)
+            return st;
+        if (!pass) {
+            *ok = 0;
+            U->lastgrid = i;
+            /* remember where, unless a remembered place is that close */
+            int near = 0, held = U->nspot[i] < NSPOT ? (int)U->nspot[i] : NSPOT;
+            for (int k = 0; k < held; ++k)
+                near |= fabs(sp[2 * k] - c->wu) <= 0.02 * (c->u1 - c->u0) &&
+                        fabs(sp[2 * k + 1] - c->wv) <= 0.02 * (c->v1 - c->v0);
+            if (!near) {
+                size_t k = U->nspot[i] % NSPOT;
+                sp[2 * k] = c->wu, sp[2 * k + 1] = c->wv;
+                U->nspot[i] = U->nspot[i] % NSPOT + NSPOT * (U->nspot[i] >= NSPOT) + 1;
+            }
+        } else {
+            c->wu = wu;
+            c->wv = wv;
+        }
+    }
+    return GEOM_OK;
+}
+
+/* Uniform mode's pass for gu x gv: every cell triangulated and checked;
+ * *ok when all pass with fewer than `below` triangles (*count). */
+static geom_status uni_run(ts *T, uint32_t gu, uint32_t gv, size_t below, int *ok, size_t *count)
+{
+    *ok = 0;
+    for (size_t i = 0; i < T->ncells; ++i)
+        T->cells[i].M = gu, T->cells[i].N = gv;
+    geom_status st = assign_vertices(T);
+    size_t n = 0;
+    for (size_t i = 0; i < T->ncells && st == GEOM_OK; ++i) {
+        ts_cell *c = &T->cells[i];
+        st = retriangulate(T, c);
+        n += T->nltri;
+        if (st != GEOM_OK || !(c->err <= T->tol) || n >= below)
+            return st;
+    }
+    *ok = st == GEOM_OK;
+    *count = n;
+    return st;
+}
+
+static void uni_free(ts *T, uni_state *U)
+{
+    if (U->mn)
+        ts_free(T, U->mn, 2 * T->ncells, sizeof(uint32_t));
+    if (U->stitch)
+        ts_free(T, U->stitch, T->ncells, 1);
+    if (U->hint)
+        ts_free(T, U->hint, 2 * T->ncells, sizeof(double));
+    if (U->spots)
+        ts_free(T, U->spots, 2 * NSPOT * T->ncells, sizeof(double));
+    if (U->nspot)
+        ts_free(T, U->nspot, T->ncells, sizeof(uint32_t));
+    for (int d = 0; d < 2; ++d)
+        if (U->feas[d])
+            ts_free(T, U->feas[d], U->fcap[d], 1);
+}
+
+/* The search (see above); A: the adaptive result's triangles. On return
+ * every cell has the grid to output: the best uniform one if it has fewer
+ * than A triangles, the adaptive one otherwise; *chosen = 1 in the first
+ * case (its gu x gv in *pgu, *pgv). */
+static geom_status uniform_search(ts *T, size_t A, int *chosen, uint32_t *pgu, uint32_t *pgv)
+{
+    *chosen = 0;
+    size_t nc = T->ncells;
+    uni_state U;
+    memset(&U, 0, sizeof U);
+    U.mn = ts_alloc(T, 2 * nc, sizeof(uint32_t));
+    U.stitch = ts_alloc(T, nc, 1);
+    U.hint = ts_alloc(T, 2 * nc, sizeof(double));
+    U.spots = ts_alloc(T, 2 * NSPOT * nc, sizeof(double));
+    U.nspot = ts_alloc(T, nc, sizeof(uint32_t));
+    grid_rows R = {NULL, 0, NULL, 0};
+    geom_status st = GEOM_OK;
+    size_t best = A;
+    uint32_t bu = 0, bv = 0;
+    double CU = 0.0, CV = 0.0;
+    if (!U.mn || !U.stitch || !U.hint || !U.spots || !U.nspot) {
+        st = GEOM_ERR_NOMEM;
+        goto done;
+    }
+    for (size_t i = 0; i < nc; ++i) {
+        const ts_cell *c = &T->cells[i];
+        U.mn[2 * i] = c->M, U.mn[2 * i + 1] = c->N;
+        U.hint[2 * i] = U.hint[2 * i + 1] = NAN;
+        U.nspot[i] = 0;
+        const uint32_t es[4] = {c->eb, c->et, c->el, c->er};
+        U.stitch[i] = 0;
+        for (int k = 0; k < 4; ++k) {
+            const ts_edge *e = &T->edges[es[k]];
+            if (e->collapsed)
+                *(k < 2 ? &CU : &CV) += 1.0;
+            if (e->partner != NONE32 && T->edges[e->partner].dir != e->dir)
+                U.stitch[i] = 1;
+        }
+    }
+    double a2 = 2.0 * (double)nc;
+#define LB(gu, gv) (a2 * (double)(gu) * (double)(gv) - (double)(gu) * CU - (double)(gv) * CV)
+    /* a count that does not grow with gu or gv bounds nothing */
+    if (!(a2 > CU && a2 > CV))
+        goto done;
+    T->prune = T->weld_tol > 0.0 ? T->weld_tol : DBL_MIN;
+    /* smallest counts whose lines pass */
+    uint32_t g0[2] = {0, 0};
+    for (int d = 0; d < 2; ++d) {
+        for (uint32_t g = 1; g <= MAX_GRID && LB(d ? 1 : g, d ? g : 1) < (double)best; ++g) {
+            int ok;
+            st = uni_lines(T, &U, d, g, &ok);
+            if (st != GEOM_OK)
+                goto done;
+            if (ok) {
+                g0[d] = g;
+                break;
+            }
+        }
+        if (!g0[d])
+            goto done; /* no count along d passes under A triangles */
+    }
+    /* beyond the smallest counts the lines are checked only up to twice
+     * them (a passing count costs a walk along every line, and the grids'
+     * own check covers the lines' chords as well) */
+    for (uint32_t gu = g0[0]; gu <= MAX_GRID && LB(gu, g0[1]) < (double)best; ++gu) {
+        int ok = 1;
+        if (gu <= 2 * g0[0])
+            st = uni_lines(T, &U, 0, gu, &ok);
+        if (st != GEOM_OK)
+            goto done;
+        if (!ok)
+            continue;
+        for (uint32_t gv = g0[1]; gv <= MAX_GRID && LB(gu, gv) < (double)best; ++gv) {
+            ok = 1;
+            if (gv <= 2 * g0[1])
+                st = uni_lines(T, &U, 1, gv, &ok);
+            if (st == GEOM_OK && ok)
+                st = uni_grids(T, &U, gu, gv, &R, &ok);
+            if (st != GEOM_OK)
+                goto done;
+            if (!ok)
+                continue;
+            size_t count = 0;
+            T->prune = 0.0;
+            st = uni_run(T, gu, gv, best, &ok, &count);
+            T->prune = T->weld_tol > 0.0 ? T->weld_tol : DBL_MIN;
+            if (st != GEOM_OK)
+                goto done;
+            if (ok) {
+                best = count;
+                bu = gu, bv = gv;
+                break; /* a larger gv has more triangles */
+            }
+        }
+    }
+#undef LB
+    if (bu) {
+        *chosen = 1;
+        *pgu = bu, *pgv = bv;
+    }
+done:
+    T->prune = 0.0;
+    if (U.mn)
+        for (size_t i = 0; i < nc; ++i) {
+            T->cells[i].M = *chosen ? *pgu : U.mn[2 * i];
+            T->cells[i].N = *chosen ? *pgv : U.mn[2 * i + 1];
+        }
+    if (R.row)
+        ts_free(T, R.row, R.cap, sizeof(double));
+    uni_free(T, &U);
     return st;
 }
 
@@ -1666,6 +2183,10 @@ static void ts_release(ts *T)
         ts_free(T, T->lnorm, 6 * T->cap_lnorm, sizeof(double));
     if (T->ltri)
         ts_free(T, T->ltri, T->cap_ltri, sizeof(uint32_t));
+    if (T->lmate)
+        ts_free(T, T->lmate, T->cap_lmate, sizeof(uint32_t));
+    if (T->ldiag)
+        ts_free(T, T->ldiag, T->cap_ldiag, 1);
     if (T->tri)
         ts_free(T, T->tri, T->cap_tri, sizeof(uint32_t));
     if (T->tcorn)
@@ -1675,27 +2196,9 @@ static void ts_release(ts *T)
     pool_free(T, &T->pn);
     pool_free(T, &T->puv);
     pool_free(T, &T->pt);
+    if (T->lat)
+        ts_free(T, T->lat, 3 * (size_t)(T->ksub + 1) * (size_t)(T->ksub + 2) / 2, sizeof(double));
     geom__scratch_free(&T->sc);
-}
-
-static int sig_changed(const ts_cell *c, const uint32_t *old)
-{
-    for (int k = 0; k < 6; ++k)
-        if (c->sig[k] != old[k])
-            return 1;
-    return 0;
-}
-
-/* Triangulate c again, and check it again when its signature changed (or
- * it was never checked). */
-static geom_status retriangulate(ts *T, ts_cell *c)
-{
-    uint32_t old[6];
-    memcpy(old, c->sig, sizeof old);
-    geom_status st = triangulate_cell(T, c);
-    if (st == GEOM_OK && (!c->checked || sig_changed(c, old)))
-        check_cell(T, c);
-    return st;
 }
 
 /* Weld the corner normals of each vertex that agree within the angle tol
@@ -2010,9 +2513,13 @@ static geom_status tessellate_unscaled(const geom_nurbs_surface *surfaces, size_
     T.pt.ncomp = 4;
     unsigned attrs = o->attributes &
                      (GEOM_SURFACE_ATTR_NORMAL | GEOM_SURFACE_ATTR_UV | GEOM_SURFACE_ATTR_TANGENT);
+    size_t pass_tris = 0; /* triangles of the last pass */
     geom_status st = geom__scratch_init(&T.sc, work);
+    T.lat = ts_alloc(&T, 3 * (size_t)(T.ksub + 1) * (size_t)(T.ksub + 2) / 2, sizeof(double));
+    if (st == GEOM_OK && !T.lat)
+        st = GEOM_ERR_NOMEM;
     if (st != GEOM_OK)
-        return geom__diag_set(diag, st, NULL, 0, 0, "tessellate: out of memory");
+        goto fail;
     st = build_structure(&T, surfaces, n);
     if (st == GEOM_OK)
         st = weld(&T, stats);
@@ -2032,7 +2539,7 @@ static geom_status tessellate_unscaled(const geom_nurbs_surface *surfaces, size_
         }
     }
     size_t passes = 0;
-    int optimised = 0;
+    int optimised = 0, converged = 0;
     for (;;) {
         double est = 0.0;
         int over = 0;
@@ -2051,11 +2558,13 @@ static geom_status tessellate_unscaled(const geom_nurbs_surface *surfaces, size_
         if (st != GEOM_OK)
             goto fail;
         int failing = 0;
+        pass_tris = 0;
         for (size_t i = 0; i < T.ncells; ++i) {
             ts_cell *c = &T.cells[i];
             st = retriangulate(&T, c);
             if (st != GEOM_OK)
                 goto fail;
+            pass_tris += T.nltri;
             if (T.adaptive && (c->err > T.tol || (T.ang_tol > 0.0 && c->ang > T.ang_tol)))
                 failing = 1;
             if (o->progress)
@@ -2101,7 +2610,8 @@ static geom_status tessellate_unscaled(const geom_nurbs_surface *surfaces, size_
             optimised = 1;
             continue;
         }
-        if ((!failing && !coarsened) || !T.adaptive || passes >= MAX_PASSES)
+        converged = !failing && !coarsened;
+        if (converged || !T.adaptive || passes >= MAX_PASSES)
             break;
         for (size_t i = 0; i < T.ncells; ++i) {
             ts_cell *c = &T.cells[i];
@@ -2123,6 +2633,16 @@ static geom_status tessellate_unscaled(const geom_nurbs_surface *surfaces, size_
             if (stats)
                 stats->refinements++;
         }
+    }
+    /* the best uniform grid instead, when it has fewer triangles */
+    if (T.adaptive && converged && T.ang_tol == 0.0) {
+        int chosen;
+        uint32_t bu, bv;
+        st = uniform_search(&T, pass_tris, &chosen, &bu, &bv);
+        if (st != GEOM_OK)
+            goto fail;
+        if (chosen && stats)
+            stats->uniform_u = bu, stats->uniform_v = bv;
     }
     /* final pass: the same triangulation, with the attributes, and the
      * error summary of exactly these triangles */
