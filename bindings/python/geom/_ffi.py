@@ -1478,6 +1478,56 @@ typedef struct geom_render_report {
     geom_raster_report raster;
 } geom_render_report;
 geom_status geom_scene_render(const geom_camera *cam, const geom_light *lights, size_t n_lights, const geom_material *materials, size_t n_materials, const geom_scene_object *objects, size_t n_objects, const geom_render_options *opt, geom_image *out, geom_render_report *report, geom_render_object_report *object_reports, geom_diag *diag);
+typedef enum geom_wrap {
+    GEOM_WRAP_REPEAT = 0,
+    GEOM_WRAP_CLAMP = 1
+} geom_wrap;
+geom_status geom_scene_texture_create(const geom_image *img, geom_wrap wrap,
+    const geom_allocator *alloc, geom_texture **out);
+void geom_scene_texture_destroy(geom_texture *t);
+uint32_t geom_scene_texture_channels(const geom_texture *t);
+void geom_scene_texture_size(const geom_texture *t, uint32_t *width, uint32_t *height);
+uint32_t geom_scene_texture_levels(const geom_texture *t);
+void geom_scene_texture_sample(const geom_texture *t, double u, double v, double footprint,
+    double *out);
+void geom_scene_texture_gradient(const geom_texture *t, double u, double v, double *dh_du,
+    double *dh_dv);
+typedef struct geom_shade_point {
+    geom_vec3 p;
+    geom_vec3 n;
+    geom_vec3 ng;
+    geom_vec3 v;
+    double uv[2];
+    int has_uv;
+    geom_vec3 tangent;
+    double tangent_sign;
+    int has_tangent;
+    double footprint;
+} geom_shade_point;
+geom_vec3 geom_scene_shade_normal(const geom_material *m, const geom_shade_point *sp);
+void geom_scene_shade(const geom_material *m, const geom_light *lights, size_t n_lights,
+    const double *visibility, const geom_shade_point *sp, geom_vec3 n,
+    geom_vec3 *out);
+typedef struct geom_scene_draw {
+    const geom_mesh *mesh;
+    const geom_mat4 *transform;
+    uint32_t material;
+    uint32_t object_id;
+} geom_scene_draw;
+typedef struct geom_raster_options {
+    geom_aov aov;
+    geom_vec3 background;
+    int shadows;
+    uint32_t shadow_map_size;
+    double near_z, far_z;
+    const geom_allocator *alloc;
+} geom_raster_options;
+geom_status geom_scene_raster(const geom_camera *cam, const geom_light *lights,
+    size_t n_lights, const geom_material *materials,
+    size_t n_materials, const geom_scene_draw *draws,
+    size_t n_draws, const geom_raster_options *opt,
+    geom_image *out, geom_raster_report *report);
+geom_status geom_scene_displace(geom_mesh *m, const geom_texture *height, double scale);
 """,
     "spatial": """
 typedef struct geom_bvh geom_bvh;

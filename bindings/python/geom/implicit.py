@@ -122,6 +122,32 @@ class Expression:
               context="interval")
         return float(out[0]), float(out[1])
 
+    def bounds(self, lo, hi):
+        """(lower, upper, defined): interval bounds of f over the box lo..hi
+        (3 coordinates each, lo <= hi, infinite bounds allowed) with
+        definedness (geom_implicit_expr_eval_bounds). lower <= f(p) <= upper
+        for every p in the box where f(p) is finite, as f(points) computes
+        it; defined is True when, in addition, f is finite everywhere in the
+        box (no NaN, no infinity), so the bounds hold at every point without
+        exception. The test is conservative: defined is False whenever an
+        intermediate interval is unbounded or reaches outside the domain of
+        sqrt, log or a non-integer power. (nan, nan) when f is defined
+        nowhere in the box. The bounds are rigorous, not tight (interval
+        arithmetic overestimates where a variable occurs more than once).
+        Raises GeomError (ERR_INVALID_ARG) for NaN bounds or lo > hi;
+        ValueError for shapes other than (3,). One box per call: libgeom
+        has no batch form."""
+        a = np.ascontiguousarray(lo, dtype=np.float64)
+        b = np.ascontiguousarray(hi, dtype=np.float64)
+        if a.shape != (3,) or b.shape != (3,):
+            raise ValueError("lo and hi: 3 coordinates each, got shapes %s and %s"
+                             % (a.shape, b.shape))
+        out = ffi.new("double[2]")
+        defined = ffi.new("int *")
+        check(lib.geom_implicit_expr_eval_bounds(self._ptr, dptr(a), dptr(b), out, defined),
+              context="bounds")
+        return float(out[0]), float(out[1]), bool(defined[0])
+
 
 def _iso_options(iso, refine, normals, caps, error, threads):
     """A geom_iso_options * from marching_cubes' arguments."""
@@ -576,3 +602,56 @@ def read_volume(path_or_bytes, dims=None, dtype=None, spacing=None, origin=None,
 
 
 __all__ = ["Expression", "Volume", "marching_cubes", "read_volume", "volume_dtype"]
+
+
+# ------------------------------------------------------------ root finding
+
+def bracket_root(fn, a, b, x=None, max_iterations=100, fa=None, fb=None):
+    """A root of the Python function fn (a float -> float) in the open
+    interval (a, b), a < b, with fn(a) and fn(b) of opposite strict signs
+    (geom_implicit_bracket_root: Illinois regula falsi with a bisection step
+    whenever the bracket has not halved over two steps; the stopping rule
+    of the library's contouring). Starts from x (default: the linear
+    interpolation of the end values; moved to the midpoint when not
+    strictly inside). Stops when the bracket ends are adjacent doubles, fn
+    is exactly 0 (that point is returned), fn is NaN, or max_iterations
+    evaluations were made; then returns the end of the final bracket with
+    the smaller |fn| (at a jump of fn, a point next to the jump), always
+    strictly inside (a, b). So for a continuous fn, the result is within
+    one ulp of a root unless max_iterations stopped it first.
+
+    fa, fb: fn(a) and fn(b) if already known (else fn is called at a and
+    b here, not counted in the evaluations). Returns (root, evaluations):
+    the calls the C root finder made. Raises ValueError for a >= b, a NaN
+    end, end values that are not of opposite strict signs, or
+    max_iterations < 1; an exception raised by fn is re-raised (the root
+    finder stops at the NaN it then sees). One root per call: libgeom has
+    no batch form (marching cubes and contour() refine their edges in C)."""
+    a, b = float(a), float(b)
+    if not a < b:
+        raise ValueError("bracket_root needs a < b, got a=%r, b=%r" % (a, b))
+    fa = float(fn(a)) if fa is None else float(fa)
+    fb = float(fn(b)) if fb is None else float(fb)
+    if not ((fa < 0 < fb) or (fb < 0 < fa)):
+        raise ValueError("bracket_root: fn(a)=%r and fn(b)=%r are not of opposite strict signs"
+                         % (fa, fb))
+    if int(max_iterations) < 1:
+        raise ValueError("max_iterations must be >= 1, got %r" % (max_iterations,))
+    if x is None:
+        x = a + (b - a) * fa / (fa - fb)
+    errors = []
+
+    def on_error(exc_type, exc_value, tb):
+        if not errors:
+            errors.append(exc_value)
+
+    @ffi.callback("double(void *, double)", onerror=on_error, error=float("nan"))
+    def cb(user, t):
+        return float(fn(t))
+
+    evals = ffi.new("size_t *")
+    root = lib.geom_implicit_bracket_root(cb, ffi.NULL, a, b, fa, fb, float(x),
+                                          int(max_iterations), evals)
+    if errors:
+        raise errors[0]
+    return float(root), int(evals[0])

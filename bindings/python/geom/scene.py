@@ -1,6 +1,8 @@
-"""geom.scene: cameras, and the tessellation of a RayScene's objects with its
-triangle estimates (Shapes, export_estimate; rendering is reached through the
-geom-render and geom-scene tools)."""
+"""geom.scene: cameras, textures (Texture: MIP-mapped images, UV lookup),
+materials with textures, bump, normal and displacement maps, the
+tessellation of a RayScene's objects with its triangle estimates (Shapes,
+export_estimate, export), whole-scene rendering (render, trace) and the
+z-buffer rasterizer over caller-made draws (raster)."""
 import numpy as np
 
 from ._ffi import ffi, lib
@@ -8,9 +10,11 @@ from .core import check, flag_bits, new_diag
 
 
 def camera(eye, center, up=(0, 1, 0), fovy=45.0, width=320, height=240, orthographic=False,
-           ortho_height=2.0):
-    """A geom_camera (cffi struct) as gluLookAt + gluPerspective or glOrtho."""
+           ortho_height=2.0, samples=1):
+    """A geom_camera (cffi struct) as gluLookAt + gluPerspective or glOrtho;
+    samples per pixel on a regular k x k grid, k = ceil(sqrt(samples))."""
     c = ffi.new("geom_camera *")
+    c.samples = int(samples)
     c.eye = list(map(float, eye))
     c.center = list(map(float, center))
     c.up = list(map(float, up))
@@ -19,6 +23,15 @@ def camera(eye, center, up=(0, 1, 0), fovy=45.0, width=320, height=240, orthogra
     c.ortho_height = ortho_height
     c.width = width
     c.height = height
+    return c
+
+
+def camera_resolved(cam):
+    """A new camera with every 0 field replaced by its default
+    (geom_scene_camera_resolved: 320 x 240 pixels, fovy 45 degrees, ortho
+    height 2, up (0, 1, 0), 1 sample, ...): what render, trace and raster use."""
+    c = ffi.new("geom_camera *")
+    c[0] = lib.geom_scene_camera_resolved(cam)
     return c
 
 
@@ -194,7 +207,7 @@ def export(shapes, tolerance=0.0, camera=None, pixel_error=0.0, world=None, name
     for i in range(n):
         objs[i].shape = shapes._get(i)
         objs[i].material = om[i]
-    M, nm = _materials(materials)
+    M, nm, _textures = _materials(materials)
     opt = ffi.new("geom_export_options *")
     opt.tolerance, opt.pixel_error = float(tolerance), float(pixel_error)
     if world is not None:
@@ -245,17 +258,30 @@ def _lights(lights):
     return arr, n
 
 
+_TEXTURE_KEYS = ("texture", "bump", "normal_map", "displace")
+
+
 def _materials(materials):
-    """geom_material[] from dicts (keys as the scene JSON's "materials":
-    ka, kd, ks (number or RGB), ns, specular, reflect, transmit, ior,
-    shading, style, line_width, crease_degrees, gooch_b/y/alpha/beta);
-    missing keys keep geom_scene_material_default's values."""
+    """(geom_material[], count, textures kept alive) from dicts (keys as the
+    scene JSON's "materials": ka, kd, ks (number or RGB), ns, specular,
+    reflect, transmit, ior, shading, style, line_width, crease_degrees,
+    gooch_b/y/alpha/beta; and Texture objects under texture, bump,
+    normal_map, displace, with bump_scale and displace_scale); missing keys
+    keep geom_scene_material_default's values. The caller holds the third
+    value for as long as the array is used."""
     mats = list(materials) or [{}]
     arr = ffi.new("geom_material[]", len(mats))
+    keep = []
     for i, d in enumerate(mats):
         m = lib.geom_scene_material_default()
         for k, v in d.items():
-            if k in ("ka", "kd", "ks"):
+            if k in _TEXTURE_KEYS:
+                if not isinstance(v, Texture):
+                    raise ValueError("material key %r takes a geom.scene.Texture, got %r"
+                                     % (k, type(v).__name__))
+                keep.append(v)
+                setattr(m, k, v._ptr)
+            elif k in ("ka", "kd", "ks"):
                 x, y, z = _vec(v, k)
                 setattr(m, k, {"x": x, "y": y, "z": z})
             elif k == "specular":
@@ -265,13 +291,25 @@ def _materials(materials):
             elif k == "style":
                 m.style = _STYLE[v]
             elif k in ("ns", "reflect", "transmit", "ior", "line_width", "crease_degrees",
-                       "gooch_b", "gooch_y", "gooch_alpha", "gooch_beta"):
+                       "gooch_b", "gooch_y", "gooch_alpha", "gooch_beta", "bump_scale",
+                       "displace_scale"):
                 setattr(m, k, float(v))
             else:
-                raise ValueError("unknown material key %r (textures are not bound in Python: use "
-                                 "geom-render with a scene file)" % (k,))
+                raise ValueError("unknown material key %r" % (k,))
         arr[i] = m
-    return arr, len(mats)
+    return arr, len(mats), keep
+
+
+def material_needs(material):
+    """What a material (a dict as in render's materials) needs from the
+    geometry (geom_scene_material_needs): a set of "uv" (a texture, bump,
+    normal or displacement map), "tangent" (normal or bump map), "normal",
+    "reflection" (reflect > 0) and "refraction" (transmit > 0)."""
+    M, _, keep = _materials([material])
+    bits = int(lib.geom_scene_material_needs(M))
+    del keep
+    return {name for name, bit in (("uv", 1), ("tangent", 2), ("normal", 4), ("reflection", 8),
+                                   ("refraction", 16)) if bits & bit}
 
 
 def _image(img):
@@ -304,7 +342,7 @@ def render(shapes, camera, lights=({"kind": "directional", "direction": (0, 0, -
         objs[i].shape = shapes._get(i)
         objs[i].material = om[i]
     L, nl = _lights(lights)
-    M, nm = _materials(materials)
+    M, nm, _textures = _materials(materials)
     opt = ffi.new("geom_render_options *")
     opt.method = {"ray": 0, "raster": 1}[method]
     opt.aov = _AOV[aov]
@@ -337,7 +375,7 @@ def trace(ray_scene, camera, lights=({"kind": "directional", "direction": (0, 0,
     if object_material is not None:
         om[:n] = np.asarray(object_material, dtype=np.uint32).reshape(n)
     L, nl = _lights(lights)
-    M, nm = _materials(materials)
+    M, nm, _textures = _materials(materials)
     opt = ffi.new("geom_trace_options *")
     opt.aov = _AOV[aov]
     x, y, z = _vec(background, "background")
@@ -349,3 +387,179 @@ def trace(ray_scene, camera, lights=({"kind": "directional", "direction": (0, 0,
     check(lib.geom_scene_trace(ray_scene._s, ffi.cast("uint32_t *", ffi.from_buffer("uint32_t[]", om)),
                                n, camera, L, nl, M, nm, opt, img, rep), context="trace")
     return _image(img), struct_dict(rep[0], "geom_trace_report")
+
+
+# ----------------------------------------------------------------- textures
+
+_WRAP = {"repeat": 0, "clamp": 1}
+
+
+class Texture:
+    """An image texture with its MIP pyramid (geom_scene_texture_create,
+    Williams 1983), for the texture, bump, normal_map and displace keys of
+    a material and for UV lookups.
+
+    image: (height, width) or (height, width, channels) array, 1 to 4
+    channels, row 0 the TOP row (as images are stored); values are copied.
+    Texture coordinates: (0, 0) is the bottom-left corner and (1, 1) the
+    top-right (OBJ/OpenGL); texel image[y, x] has its centre at
+    ((x + 0.5) / width, 1 - (y + 0.5) / height). wrap: "repeat" (the
+    default: coordinates modulo 1) or "clamp" (to the edge texels). Each
+    MIP level halves each size (rounding down, at least 1) by a box filter
+    (2x2, 2x1, or a 3-tap footprint for odd sizes), down to 1 x 1.
+
+    Raises ValueError for a bad shape or wrap name, GeomError
+    (ERR_INVALID_ARG) for non-finite texels, GeomError (ERR_NOMEM).
+
+    sample() and gradient() take one (u, v): libgeom has no batch texture
+    lookup (see the bindings README), so they are not meant for loops over
+    many points."""
+
+    def __init__(self, image, wrap="repeat"):
+        img = np.ascontiguousarray(image, dtype=np.float64)
+        if img.ndim == 2:
+            img = img.reshape(img.shape[0], img.shape[1], 1)
+        if img.ndim != 3 or not 1 <= img.shape[2] <= 4 or img.shape[0] < 1 or img.shape[1] < 1:
+            raise ValueError("image: expected shape (h, w) or (h, w, 1..4) with h, w >= 1, got %s"
+                             % (np.shape(image),))
+        if wrap not in _WRAP:
+            raise ValueError("wrap is 'repeat' or 'clamp', got %r" % (wrap,))
+        gi = ffi.new("geom_image *")
+        gi.height, gi.width, gi.channels = img.shape
+        gi.data = ffi.cast("double *", ffi.from_buffer("double[]", img))
+        out = ffi.new("geom_texture **")
+        check(lib.geom_scene_texture_create(gi, _WRAP[wrap], ffi.NULL, out), context="Texture")
+        self._ptr = ffi.gc(out[0], lib.geom_scene_texture_destroy)
+        self.wrap = wrap
+
+    def __repr__(self):
+        w, h = self.size
+        return "<geom.scene.Texture %dx%d, %d channels, %d levels, %s>" % (
+            w, h, self.channels, self.levels, self.wrap)
+
+    @property
+    def channels(self):
+        """Channels per texel (1..4)."""
+        return int(lib.geom_scene_texture_channels(self._ptr))
+
+    @property
+    def size(self):
+        """(width, height) of level 0."""
+        w, h = ffi.new("uint32_t *"), ffi.new("uint32_t *")
+        lib.geom_scene_texture_size(self._ptr, w, h)
+        return int(w[0]), int(h[0])
+
+    @property
+    def levels(self):
+        """Number of MIP levels (floor(log2(max(w, h))) + 1; 1 for 1 x 1)."""
+        return int(lib.geom_scene_texture_levels(self._ptr))
+
+    def sample(self, u, v, footprint=0.0):
+        """The texel value at (u, v), a (channels,) array
+        (geom_scene_texture_sample). footprint: the UV size of the screen
+        pixel's footprint; 0 or less means level 0 only (bilinear, exact
+        for data bilinear in the texel centres), otherwise trilinear between
+        the two levels around lod = log2(footprint * max(w, h)). Non-finite
+        (u, v) give texel (0, 0) (the top-left) of level 0."""
+        out = ffi.new("double[4]")
+        lib.geom_scene_texture_sample(self._ptr, float(u), float(v), float(footprint), out)
+        return np.array([out[i] for i in range(self.channels)])
+
+    def gradient(self, u, v):
+        """(dh/du, dh/dv): the partial derivatives of channel 0 of level
+        0's bilinear interpolant at (u, v), in channel units per UV unit
+        (the slopes bump mapping uses; geom_scene_texture_gradient)."""
+        du, dv = ffi.new("double *"), ffi.new("double *")
+        lib.geom_scene_texture_gradient(self._ptr, float(u), float(v), du, dv)
+        return float(du[0]), float(dv[0])
+
+
+def displace(mesh, height, scale=1.0):
+    """Displacement mapping in place (geom_scene_displace): every vertex of
+    mesh moves along its angle-weighted vertex normal by scale times
+    channel 0 of the Texture `height` at the vertex's UV (its "uv" vertex
+    channel, else its first corner's), then the "normal" channels are
+    replaced by the displaced surface's vertex normals. Sampled at the
+    vertices only. scale 0 means 1 (the C default). GeomError
+    (ERR_INVALID_ARG) for a mesh without UVs."""
+    if not isinstance(height, Texture):
+        raise ValueError("height must be a geom.scene.Texture, got %r" % (type(height).__name__,))
+    check(lib.geom_scene_displace(mesh._ptr, height._ptr, float(scale)), context="displace")
+
+
+# --------------------------------------------------------------- rasterizer
+
+def _draws(draws):
+    from .core import to_mat4
+    from .mesh import Mesh
+    items = list(draws)
+    arr = ffi.new("geom_scene_draw[]", max(len(items), 1))
+    keep = []
+    for i, d in enumerate(items):
+        if isinstance(d, Mesh):
+            d = {"mesh": d}
+        if not isinstance(d, dict) or not isinstance(d.get("mesh"), Mesh):
+            raise ValueError("draw %d: a Mesh or a dict with a Mesh under 'mesh'" % i)
+        for k in d:
+            if k not in ("mesh", "transform", "material", "object_id"):
+                raise ValueError("draw %d: unknown key %r" % (i, k))
+        arr[i].mesh = d["mesh"]._ptr
+        keep.append(d["mesh"])
+        if d.get("transform") is not None:
+            t = ffi.new("geom_mat4 *", to_mat4(d["transform"]))
+            keep.append(t)
+            arr[i].transform = t
+        material = int(d.get("material", 0))
+        object_id = int(d.get("object_id", i))
+        if material < 0 or object_id < 0:
+            raise ValueError("draw %d: material and object_id are >= 0" % i)
+        arr[i].material = material
+        arr[i].object_id = object_id
+    return arr, len(items), keep
+
+
+def raster(draws, camera, lights=({"kind": "directional", "direction": (0, 0, -1)},),
+           materials=({},), aov="color", background=0.0, shadows=False, shadow_map_size=0,
+           near=0.0, far=0.0):
+    """Z-buffer rasterization of caller-made draws (geom_scene_raster,
+    Catmull 1974): each draw is a Mesh or a dict {"mesh": Mesh,
+    "transform": (4, 4) object-to-world matrix (default identity),
+    "material": index into materials (default 0), "object_id": written to
+    the "object" AOV (default the draw's position)}. Triangles and polygons
+    (fan-triangulated) are clipped to the view frustum, scan-converted at
+    the sample positions (top-left fill rule: a shared edge covers each
+    sample once), attributes ("normal" vertex or corner, "uv", "tangent")
+    interpolated perspective-correctly and shaded once per visible sample
+    (flat, Gouraud or Phong as the material says; textures MIP-mapped with
+    the pixel's UV footprint). camera.samples gives a k x k supersampling
+    grid, box filtered. shadows: shadow maps (shadow_map_size per face,
+    0 = 1024) for point and directional lights. near, far: clip distances
+    (0 = from the draws' bounding box). lights and materials as in
+    render. aov: "color" (RGB), "depth" (view distance, inf on the
+    background), "normal" (world xyz, 0 on the background), "object" (the
+    object_id, -1 on the background).
+
+    Returns (image (height, width, channels), report dict: triangles_in,
+    triangles_clipped, fragments, shadow_maps, samples_per_pixel and the
+    seconds of each step). Raises GeomError (ERR_INVALID_ARG) for a
+    material index out of range or non-finite positions, camera statuses
+    (ERR_DEGENERATE, ERR_DOMAIN) as camera_ray; ValueError for bad Python
+    arguments."""
+    from .core import struct_dict
+    if aov not in _AOV:
+        raise ValueError("aov is one of %s, got %r" % (", ".join(_AOV), aov))
+    D, nd, keep = _draws(draws)
+    L, nl = _lights(lights)
+    M, nm, textures = _materials(materials)
+    opt = ffi.new("geom_raster_options *")
+    opt.aov = _AOV[aov]
+    x, y, z = _vec(background, "background")
+    opt.background = {"x": x, "y": y, "z": z}
+    opt.shadows = 1 if shadows else 0
+    opt.shadow_map_size = int(shadow_map_size)
+    opt.near_z, opt.far_z = float(near), float(far)
+    img = ffi.new("geom_image *")
+    rep = ffi.new("geom_raster_report *")
+    check(lib.geom_scene_raster(camera, L, nl, M, nm, D, nd, opt, img, rep), context="raster")
+    del keep, textures
+    return _image(img), struct_dict(rep[0], "geom_raster_report")

@@ -9,7 +9,9 @@ answers do not depend on the thread count), never a Python loop.
                             radius, box, frustum; Octree.triangles(...) and
                             Octree.segments(...) over elements: box, frustum
   MeshDistance(pos, tris)   closest point, winding number, signed distance
-  Bvh(pos, tris)            the flat BVH (nodes and primitive order)
+  Bvh(pos, tris)            the flat BVH (nodes and primitive order), refit
+                            after moving vertices; Bvh.from_boxes(lo, hi)
+                            over caller boxes; overlap(lo, hi) box queries
 
 Answers follow the C contracts: neighbours sorted by distance then index, a
 point at exactly the radius is inside, boxes include their boundary, a
@@ -270,40 +272,186 @@ class MeshDistance:
         return self._scalar(lib.geom_meshdist_signed_distance, queries, threads, "signed_distance")
 
 
-class Bvh:
-    """A BVH over triangles (method 'sah' or 'lbvh'): nodes as numpy arrays."""
+def _bvh_options(method, max_leaf_size, bins, threads):
+    if method not in ("sah", "lbvh"):
+        raise ValueError("method is 'sah' or 'lbvh', got %r" % (method,))
+    opt = ffi.new("geom_bvh_options *")
+    opt.method = {"sah": lib.GEOM_BVH_SAH, "lbvh": lib.GEOM_BVH_LBVH}[method]
+    opt.max_leaf_size = max_leaf_size
+    opt.bins = bins
+    opt.threads = threads
+    return opt
 
-    def __init__(self, positions, tris, method="sah", max_leaf_size=0, threads=0):
+
+_NODE_DTYPE = np.dtype([("min", "<f8", 3), ("max", "<f8", 3), ("index", "<u4"), ("count", "<u4"),
+                        ("axis", "<u4"), ("pad", "<u4")])
+
+
+def _box_pairs(lo, hi, what):
+    """(lo, hi) as C-contiguous (n, 3) float64 arrays, and whether one box
+    was given; hi None means lo is (n, 6) (min xyz, max xyz)."""
+    if hi is None:
+        b = np.asarray(lo, dtype=np.float64)
+        if b.ndim not in (1, 2) or b.shape[-1] != 6:
+            raise ValueError("%s: expected shape (6,) or (n, 6) (min xyz, max xyz), or lo and hi, "
+                             "got %s" % (what, b.shape))
+        single = b.ndim == 1
+        b = b.reshape(-1, 6)
+        lo, hi = b[:, :3], b[:, 3:]
+    else:
+        lo, single = as_points(lo, 3, what + " lo")
+        hi, single_hi = as_points(hi, 3, what + " hi")
+        if single != single_hi or lo.shape != hi.shape:
+            raise ValueError("%s: lo %s and hi %s differ in shape" % (what, lo.shape, hi.shape))
+    return np.ascontiguousarray(lo), np.ascontiguousarray(hi), single
+
+
+class Bvh:
+    """A BVH (bounding volume hierarchy) over triangles (positions (nv, 3),
+    tris (nt, 3)) or, with Bvh.from_boxes, over caller boxes: method 'sah'
+    (binned surface area heuristic, Wald 2007; the default) or 'lbvh'
+    (Morton codes, Lauterbach et al. 2009). The tree is deterministic
+    (the same for any thread count) and its boxes are exact: each contains
+    its primitives' bounds, computed with min/max only.
+
+    nodes() and prim_indices() give the flat depth-first layout;
+    overlap(lo, hi) answers box queries; refit(positions) recomputes the
+    boxes of a triangle BVH after its vertices moved (same topology)."""
+
+    def __init__(self, positions, tris, method="sah", max_leaf_size=0, threads=0, bins=0):
         pos = np.ascontiguousarray(positions, dtype=np.float64).reshape(-1, 3)
-        t = np.ascontiguousarray(tris, dtype=np.uint32).reshape(-1, 3)
-        opt = ffi.new("geom_bvh_options *")
-        opt.method = {"sah": lib.GEOM_BVH_SAH, "lbvh": lib.GEOM_BVH_LBVH}[method]
-        opt.max_leaf_size = max_leaf_size
-        opt.threads = threads
+        t = np.ascontiguousarray(tris, dtype=np.uint32).reshape(-1, 3).copy()
         out = ffi.new("geom_bvh **")
         d = _diag()
-        check(lib.geom_bvh_build_triangles(dptr(pos), pos.shape[0], _u32(t), t.shape[0], opt, out,
+        check(lib.geom_bvh_build_triangles(dptr(pos), pos.shape[0], _u32(t), t.shape[0],
+                                           _bvh_options(method, max_leaf_size, bins, threads), out,
                                            d), d, "Bvh")
         self._ptr = ffi.gc(out[0], lib.geom_bvh_destroy)
+        self._tris = t
+        self._boxes = self._triangle_boxes(pos)
+
+    def _triangle_boxes(self, pos):
+        if self._tris.shape[0] == 0:
+            return np.empty((0, 3)), np.empty((0, 3))
+        v = pos[self._tris.astype(np.int64)]
+        return v.min(axis=1), v.max(axis=1)
+
+    @classmethod
+    def from_boxes(cls, lo, hi=None, method="sah", max_leaf_size=0, threads=0, bins=0):
+        """A BVH over n caller boxes (geom_bvh_build_boxes): lo and hi
+        (n, 3) arrays, or lo alone as (n, 6) (min xyz, max xyz); primitive
+        i is box i. Raises GeomError (ERR_INVALID_ARG, the message naming
+        the first bad box) for an empty box (min > max on an axis) or a
+        NaN/Inf bound; ValueError for bad shapes."""
+        lo, hi, _ = _box_pairs(lo, hi, "boxes")
+        boxes = np.ascontiguousarray(np.hstack([lo, hi]))   # geom_aabb: min xyz, max xyz
+        assert ffi.sizeof("geom_aabb") == 48
+        out = ffi.new("geom_bvh **")
+        d = _diag()
+        ptr = ffi.cast("geom_aabb *", ffi.from_buffer("double[]", boxes))
+        check(lib.geom_bvh_build_boxes(ptr, boxes.shape[0],
+                                       _bvh_options(method, max_leaf_size, bins, threads), out, d),
+              d, "Bvh.from_boxes")
+        self = cls.__new__(cls)
+        self._ptr = ffi.gc(out[0], lib.geom_bvh_destroy)
+        self._tris = None
+        self._boxes = (lo.copy(), hi.copy())
+        return self
+
+    def refit(self, positions, tris=None):
+        """Recompute every box bottom-up after the vertices moved
+        (geom_bvh_refit_triangles), keeping the tree's topology: queries
+        then answer as a fresh build over the new positions would (the
+        tree may be less tight than a fresh build's). positions (nv, 3);
+        tris defaults to the triangles the BVH was built with (same count
+        required). Raises GeomError (ERR_INVALID_ARG: triangle count
+        mismatch, a vertex index >= nv, NaN/Inf; the BVH is then left
+        unchanged); ValueError for a BVH built from boxes without tris."""
+        if tris is None:
+            if self._tris is None:
+                raise ValueError("refit: this BVH was built from boxes; pass tris")
+            t = self._tris
+        else:
+            t = np.ascontiguousarray(tris, dtype=np.uint32).reshape(-1, 3).copy()
+        pos = np.ascontiguousarray(positions, dtype=np.float64).reshape(-1, 3)
+        check(lib.geom_bvh_refit_triangles(self._ptr, dptr(pos), pos.shape[0], _u32(t),
+                                           t.shape[0]), None, "Bvh.refit")
+        self._tris = t
+        self._boxes = self._triangle_boxes(pos)
 
     def nodes(self):
-        """dict of arrays: 'min' (m, 3), 'max' (m, 3), 'index', 'count', 'axis'."""
+        """dict of arrays: 'min' (m, 3), 'max' (m, 3), 'index', 'count',
+        'axis'. Interior node i (count 0): left child i + 1, right child
+        index[i]; leaf: primitives prim_indices()[index : index + count]."""
         n = ffi.new("size_t *")
         p = lib.geom_bvh_nodes(self._ptr, n)
         m = int(n[0])
         raw = np.frombuffer(ffi.buffer(p, ffi.sizeof("geom_bvh_node") * m), dtype=np.uint8)
-        rec = np.dtype([("min", "<f8", 3), ("max", "<f8", 3), ("index", "<u4"), ("count", "<u4"),
-                        ("axis", "<u4"), ("pad", "<u4")])
-        arr = raw.view(rec).copy() if m else np.zeros(0, dtype=rec)
+        arr = raw.view(_NODE_DTYPE).copy() if m else np.zeros(0, dtype=_NODE_DTYPE)
         return {k: arr[k] for k in ("min", "max", "index", "count", "axis")}
 
     def prim_indices(self):
+        """The primitive indices the leaves reference (a permutation of
+        0..n-1)."""
         n = ffi.new("size_t *")
         p = lib.geom_bvh_prim_indices(self._ptr, n)
         m = int(n[0])
         return (np.frombuffer(ffi.buffer(p, 4 * m), dtype=np.uint32).astype(np.int64)
                 if m else np.empty(0, dtype=np.int64))
 
+    def overlap(self, lo, hi=None):
+        """Primitives whose bounding box meets the closed query box [lo, hi]
+        (boxes touching at a face, edge or corner count), in increasing
+        order: one array for one box (lo, hi of shape (3,), or lo (6,)), a
+        list of arrays for n boxes ((n, 3) each, or lo (n, 6)). The
+        primitive boxes are the caller's boxes (from_boxes) or the min/max
+        of each triangle's vertices at the last build or refit.
+
+        libgeom has no C query over a geom_bvh: this traverses the flat
+        tree in numpy, one level at a time for all query boxes at once
+        (depth iterations, no loop per query), and answers exactly what a
+        brute-force test of every primitive box gives."""
+        qlo, qhi, single = _box_pairs(lo, hi, "overlap")
+        if np.isnan(qlo).any() or np.isnan(qhi).any():
+            raise ValueError("overlap: NaN in a query box")
+        nq = qlo.shape[0]
+        nodes = self.nodes()
+        prim = self.prim_indices()
+        plo, phi = self._boxes
+        found_q, found_p = [np.empty(0, np.int64)], [np.empty(0, np.int64)]
+        if len(nodes["min"]) and nq:
+            nmin, nmax = nodes["min"], nodes["max"]
+            index = nodes["index"].astype(np.int64)
+            count = nodes["count"].astype(np.int64)
+            q = np.arange(nq)
+            nd = np.zeros(nq, dtype=np.int64)
+            while q.size:
+                meet = np.all((nmin[nd] <= qhi[q]) & (nmax[nd] >= qlo[q]), axis=1)
+                q, nd = q[meet], nd[meet]
+                leaf = count[nd] > 0
+                lq, ln = q[leaf], nd[leaf]
+                if lq.size:
+                    c = count[ln]
+                    first = np.repeat(index[ln] - (np.cumsum(c) - c), c) + np.arange(int(c.sum()))
+                    cq, cp = np.repeat(lq, c), prim[first]
+                    ok = np.all((plo[cp] <= qhi[cq]) & (phi[cp] >= qlo[cq]), axis=1)
+                    found_q.append(cq[ok])
+                    found_p.append(cp[ok])
+                iq, inode = q[~leaf], nd[~leaf]
+                q = np.concatenate([iq, iq])
+                nd = np.concatenate([inode + 1, index[inode]])
+        fq, fp = np.concatenate(found_q), np.concatenate(found_p)
+        order = np.lexsort((fp, fq))
+        fq, fp = fq[order], fp[order]
+        offsets = np.searchsorted(fq, np.arange(nq + 1))
+        out = _split(offsets, fp)
+        return out[0] if single else out
+
     @property
     def depth(self):
         return int(lib.geom_bvh_depth(self._ptr))
+
+    @property
+    def nbytes(self):
+        """Bytes held by the BVH (geom_bvh_bytes)."""
+        return int(lib.geom_bvh_bytes(self._ptr))
