@@ -401,8 +401,8 @@ class Bvh:
 
     def overlap(self, lo, hi=None):
         """Primitives whose bounding box meets the closed query box [lo, hi]
-        (boxes touching at a face, edge or corner count), in increasing
-        order: one array for one box (lo, hi of shape (3,), or lo (6,)), a
+        (boxes touching at a face, edge or corner count; lo > hi on an axis
+        is an empty box that meets nothing), in increasing order: one array for one box (lo, hi of shape (3,), or lo (6,)), a
         list of arrays for n boxes ((n, 3) each, or lo (n, 6)). The
         primitive boxes are the caller's boxes (from_boxes) or the min/max
         of each triangle's vertices at the last build or refit.
@@ -423,8 +423,8 @@ class Bvh:
             nmin, nmax = nodes["min"], nodes["max"]
             index = nodes["index"].astype(np.int64)
             count = nodes["count"].astype(np.int64)
-            q = np.arange(nq)
-            nd = np.zeros(nq, dtype=np.int64)
+            q = np.flatnonzero(np.all(qlo <= qhi, axis=1))      # lo > hi: empty
+            nd = np.zeros(q.size, dtype=np.int64)
             while q.size:
                 meet = np.all((nmin[nd] <= qhi[q]) & (nmax[nd] >= qlo[q]), axis=1)
                 q, nd = q[meet], nd[meet]
