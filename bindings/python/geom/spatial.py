@@ -127,6 +127,11 @@ class KdTree(_PointIndex):
     def nbytes(self):
         return int(lib.geom_kdtree_bytes(self._ptr))
 
+    @property
+    def node_count(self):
+        """Nodes of the tree (geom_kdtree_node_count)."""
+        return int(lib.geom_kdtree_node_count(self._ptr))
+
 
 def _octree_options(bucket_size, max_depth, balance, threads):
     opt = ffi.new("geom_octree_options *")
@@ -144,7 +149,8 @@ class Octree(_PointIndex):
     def __init__(self, points=None, bucket_size=0, max_depth=0, balance=False, threads=0,
                  _ptr=None, _dim=None):
         if _ptr is not None:
-            self._ptr, self.dim = _ptr, _dim
+            self._ptr = _ptr
+            self.dim = int(lib.geom_octree_dim(_ptr))
         else:
             pts = np.ascontiguousarray(points, dtype=np.float64)
             if pts.ndim != 2 or pts.shape[1] not in (2, 3):
@@ -202,6 +208,42 @@ class Octree(_PointIndex):
         lib.geom_octree_nodes(self._ptr, n)
         return int(n[0])
 
+    @property
+    def nbytes(self):
+        """Bytes held by the tree (geom_octree_bytes)."""
+        return int(lib.geom_octree_bytes(self._ptr))
+
+    def nodes(self):
+        """The flat node array as a dict of arrays (geom_octree_nodes):
+        'cell_min', 'cell_max' (m, 3) (the node's square or cube, z extent
+        0 in 2D), 'bounds_min', 'bounds_max' (m, 3) (the tight box of the
+        subtree's items, empty (min > max) without items), 'first_child'
+        (-1 for a leaf; the children are contiguous from there, in
+        increasing octant order for the bits of child_mask: bit 0 = +x
+        half, bit 1 = +y, bit 2 = +z), 'child_mask', 'item_start',
+        'item_total' (the subtree's items are items()[item_start :
+        item_start + item_total]), 'own_count' (the first own_count of them
+        are stored at the node itself), 'level' (root 0)."""
+        n = ffi.new("size_t *")
+        p = lib.geom_octree_nodes(self._ptr, n)
+        m = int(n[0])
+        raw = np.frombuffer(ffi.buffer(p, ffi.sizeof("geom_octree_node") * m), dtype=np.uint8)
+        arr = raw.view(_OCTREE_NODE_DTYPE).copy() if m else np.zeros(0, dtype=_OCTREE_NODE_DTYPE)
+        out = {k: arr[k] for k in _OCTREE_NODE_DTYPE.names}
+        fc = out["first_child"].astype(np.int64)
+        fc[fc == _INVALID] = -1
+        out["first_child"] = fc
+        return out
+
+    def items(self):
+        """Item (point, segment or triangle) indices in tree order
+        (geom_octree_items), which nodes() index into."""
+        n = ffi.new("size_t *")
+        p = lib.geom_octree_items(self._ptr, n)
+        m = int(n[0])
+        return (np.frombuffer(ffi.buffer(p, 4 * m), dtype=np.uint32).astype(np.int64)
+                if m else np.empty(0, dtype=np.int64))
+
     def ray(self, origin, direction, tmin=0.0, tmax=np.inf):
         """The items whose box the ray origin + t direction meets within
         [tmin, tmax], front to back (geom_octree_ray: a conservative slab
@@ -219,6 +261,13 @@ class Octree(_PointIndex):
         _, index, dist = _rows(nb, True)
         return index, dist
 
+_OCTREE_NODE_DTYPE = np.dtype([("cell_min", "<f8", 3), ("cell_max", "<f8", 3),
+                               ("bounds_min", "<f8", 3), ("bounds_max", "<f8", 3),
+                               ("first_child", "<u4"), ("child_mask", "<u4"),
+                               ("item_start", "<u4"), ("item_total", "<u4"),
+                               ("own_count", "<u4"), ("level", "<u4")])
+
+
 class MeshDistance:
     """Closest points, winding numbers and signed distances to a triangle
     mesh (positions (nv, 3), tris (nt, 3))."""
@@ -235,6 +284,20 @@ class MeshDistance:
         check(lib.geom_meshdist_create(dptr(pos), pos.shape[0], _u32(t), t.shape[0], opt, out, d),
               d, "MeshDistance")
         self._ptr = ffi.gc(out[0], lib.geom_meshdist_destroy)
+        self._pos, self._tris = pos.copy(), t.copy()
+
+    @property
+    def nbytes(self):
+        """Bytes held (geom_meshdist_bytes: the BVH, the triangle data and
+        the winding-number moments)."""
+        return int(lib.geom_meshdist_bytes(self._ptr))
+
+    @property
+    def bvh(self):
+        """The BVH over the triangles the queries use (geom_meshdist_bvh),
+        as a read-only Bvh (nodes, prim_indices, overlap; refit raises
+        ValueError). It keeps this MeshDistance alive."""
+        return Bvh._view(lib.geom_meshdist_bvh(self._ptr), self, self._pos, self._tris)
 
     def closest(self, queries, threads=0):
         """dict with 'point' (n, 3), 'triangle' (n,), 'bary' (n, 3),
@@ -358,6 +421,15 @@ class Bvh:
         self._boxes = (lo.copy(), hi.copy())
         return self
 
+    @classmethod
+    def _view(cls, ptr, owner, pos, tris):
+        self = cls.__new__(cls)
+        self._ptr = ptr
+        self._owner = owner
+        self._tris = tris
+        self._boxes = self._triangle_boxes(pos)
+        return self
+
     def refit(self, positions, tris=None):
         """Recompute every box bottom-up after the vertices moved
         (geom_bvh_refit_triangles), keeping the tree's topology: queries
@@ -367,6 +439,8 @@ class Bvh:
         required). Raises GeomError (ERR_INVALID_ARG: triangle count
         mismatch, a vertex index >= nv, NaN/Inf; the BVH is then left
         unchanged); ValueError for a BVH built from boxes without tris."""
+        if getattr(self, "_owner", None) is not None:
+            raise ValueError("refit: this BVH belongs to a MeshDistance and is read-only")
         if tris is None:
             if self._tris is None:
                 raise ValueError("refit: this BVH was built from boxes; pass tris")

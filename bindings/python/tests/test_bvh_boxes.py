@@ -183,3 +183,65 @@ def test_refit_bad_input_leaves_the_bvh_unchanged():
     q = rng.uniform(-1, 1, (20, 3))
     for g, w in zip(b.overlap(q - 0.2, q + 0.2), brute(*tri_boxes(pos, tris), q - 0.2, q + 0.2)):
         assert np.array_equal(g, w)
+
+
+# ------------------------------------------ trees' arrays and memory counters
+
+def test_meshdistance_bvh_view():
+    rng = np.random.default_rng(4)
+    pos, tris = soup(rng, 200, 300)
+    md = spatial.MeshDistance(pos, tris)
+    b = md.bvh
+    del md                                           # the view keeps its owner alive
+    import gc
+    gc.collect()
+    plo, phi = tri_boxes(pos, tris)
+    check_nodes(b, plo, phi)
+    q = rng.uniform(-1, 1, (20, 3))
+    for g, w in zip(b.overlap(q - 0.2, q + 0.2), brute(plo, phi, q - 0.2, q + 0.2)):
+        assert np.array_equal(g, w)
+    with pytest.raises(ValueError):
+        b.refit(pos)
+    small = spatial.MeshDistance(pos, tris[:10])
+    assert 0 < small.nbytes < spatial.MeshDistance(pos, tris).nbytes
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_octree_nodes_and_items(dim):
+    rng = np.random.default_rng(9)
+    P = rng.random((900, dim))
+    P[::5] = P[1::5]                                       # duplicates
+    t = spatial.Octree(P, bucket_size=8)
+    assert t.dim == dim and t.nbytes > 0
+    nd, items = t.nodes(), t.items()
+    assert len(nd["level"]) == t.node_count
+    assert np.array_equal(np.sort(items), np.arange(len(P)))
+    assert nd["item_total"][0] == len(P) and nd["level"][0] == 0
+    P3 = np.zeros((len(P), 3))
+    P3[:, :dim] = P
+    for i in range(t.node_count):
+        s, n = int(nd["item_start"][i]), int(nd["item_total"][i])
+        sub = P3[items[s:s + n]]
+        if n:   # the tight box of the subtree's items
+            assert np.array_equal(nd["bounds_min"][i], sub.min(axis=0))
+            assert np.array_equal(nd["bounds_max"][i], sub.max(axis=0))
+        fc, mask = int(nd["first_child"][i]), int(nd["child_mask"][i])
+        if fc < 0:
+            assert mask == 0 and nd["own_count"][i] == n
+            continue
+        k = bin(mask).count("1")
+        kids = range(fc, fc + k)
+        assert all(nd["level"][c] == nd["level"][i] + 1 for c in kids)
+        assert sum(int(nd["item_total"][c]) for c in kids) + int(nd["own_count"][i]) == n
+        assert np.all(nd["cell_min"][list(kids)] >= nd["cell_min"][i])
+        assert np.all(nd["cell_max"][list(kids)] <= nd["cell_max"][i])
+    segs = spatial.Octree.segments(P[:, :2], np.arange(40).reshape(-1, 2))
+    assert segs.dim == 2 and len(segs.items()) == 20
+
+
+def test_kdtree_node_count():
+    rng = np.random.default_rng(1)
+    for n, leaf in ((1, 10), (100, 10), (1000, 4)):
+        t = spatial.KdTree(rng.random((n, 3)), leaf_size=leaf)
+        c = t.node_count
+        assert c >= 2 * -(-n // leaf) - 1 and c % 2 == 1   # a full binary tree
