@@ -318,17 +318,8 @@ def _contour_args(field, bounds, resolution, iso, z, keep, error_box):
     return f, b4, nx, ny, opt
 
 
-def contour(field, bounds, resolution, iso=0.0, z=0.0, refine=None):
-    """Isolines f(x, y, z) = iso of a 2-D slice by marching squares with the
-    asymptotic decider (geom_implicit_contour): field an expression string,
-    an Expression or a Python function of (n, 3) points; bounds (x0, y0,
-    x1, y1) split into resolution (nx, ny) cells. refine: None (the
-    default: refine exact fields), True or False.
-
-    Returns (xy (n, 2), polylines, closed, report): polylines a list of
-    vertex-index arrays (closed loops list each vertex once, inside f <= iso
-    on the left), closed a bool array, report the achieved error (distance
-    estimate |f - iso| / |grad f| at the vertices) and the counts."""
+def _contour(field, bounds, resolution, iso, z, refine, take):
+    """Run geom_implicit_contour and return take(isolines) (then freed)."""
     keep, error_box = [], []
     f, b4, nx, ny, opt = _contour_args(field, bounds, resolution, iso, z, keep, error_box)
     opt.refine = (lib.GEOM_IMPLICIT_REFINE_AUTO if refine is None else
@@ -340,24 +331,61 @@ def contour(field, bounds, resolution, iso=0.0, z=0.0, refine=None):
         if error_box:
             raise error_box[0]
         check(st, diag, context="contour")
-        nv, npl = int(out.n_vertices), int(out.n_polylines)
-        xy = (np.frombuffer(ffi.buffer(out.xy, 16 * nv), dtype=np.float64).reshape(nv, 2).copy()
-              if nv else np.empty((0, 2)))
-        start = np.frombuffer(ffi.buffer(out.start, ffi.sizeof("size_t") * (npl + 1)),
-                              dtype=np.uintp).astype(np.int64)
-        idx = (np.frombuffer(ffi.buffer(out.indices, 4 * int(start[-1])), dtype=np.uint32).copy()
-               if start[-1] else np.empty(0, dtype=np.uint32))
-        lines = [idx[start[k]:start[k + 1]] for k in range(npl)]
-        closed = (np.frombuffer(ffi.buffer(out.closed, npl), dtype=np.uint8).astype(bool)
-                  if npl else np.empty(0, dtype=bool))
-        r = out.report
-        report = {"error": error_report(r.error), "unmeasured": int(r.unmeasured),
-                  "seconds": float(r.seconds), "cells": int(r.cells), "saddles": int(r.saddles),
-                  "refined": int(r.refined), "nan_nodes": int(r.nan_nodes)}
-        return xy, lines, closed, report
+        return take(out)
     finally:
         lib.geom_implicit_isolines_free(out)
         del keep
+
+
+def _contour_report(out):
+    r = out.report
+    return {"error": error_report(r.error), "unmeasured": int(r.unmeasured),
+            "seconds": float(r.seconds), "cells": int(r.cells), "saddles": int(r.saddles),
+            "refined": int(r.refined), "nan_nodes": int(r.nan_nodes)}
+
+
+def _isoline_arrays(out):
+    nv, npl = int(out.n_vertices), int(out.n_polylines)
+    xy = (np.frombuffer(ffi.buffer(out.xy, 16 * nv), dtype=np.float64).reshape(nv, 2).copy()
+          if nv else np.empty((0, 2)))
+    start = np.frombuffer(ffi.buffer(out.start, ffi.sizeof("size_t") * (npl + 1)),
+                          dtype=np.uintp).astype(np.int64)
+    idx = (np.frombuffer(ffi.buffer(out.indices, 4 * int(start[-1])), dtype=np.uint32).copy()
+           if start[-1] else np.empty(0, dtype=np.uint32))
+    lines = [idx[start[k]:start[k + 1]] for k in range(npl)]
+    closed = (np.frombuffer(ffi.buffer(out.closed, npl), dtype=np.uint8).astype(bool)
+              if npl else np.empty(0, dtype=bool))
+    return xy, lines, closed, _contour_report(out)
+
+
+def contour(field, bounds, resolution, iso=0.0, z=0.0, refine=None):
+    """Isolines f(x, y, z) = iso of a 2-D slice by marching squares with the
+    asymptotic decider (geom_implicit_contour): field an expression string,
+    an Expression or a Python function of (n, 3) points; bounds (x0, y0,
+    x1, y1) split into resolution (nx, ny) cells. refine: None (the
+    default: refine exact fields), True or False.
+
+    Returns (xy (n, 2), polylines, closed, report): polylines a list of
+    vertex-index arrays (closed loops list each vertex once, inside f <= iso
+    on the left), closed a bool array, report the achieved error (distance
+    estimate |f - iso| / |grad f| at the vertices) and the counts."""
+    return _contour(field, bounds, resolution, iso, z, refine, _isoline_arrays)
+
+
+def contour_mesh(field, bounds, resolution, iso=0.0, z=0.0, refine=None):
+    """contour() as a Mesh of polylines, ready for Mesh.write (OBJ `l`
+    lines): vertices (x, y, z) at the slice height z, one polyline per
+    isoline, a closed loop repeating its first vertex at the end
+    (geom_implicit_isolines_to_mesh). Returns (Mesh, report); arguments,
+    report and errors as contour()."""
+    def take(out):
+        m = Mesh()
+        st = lib.geom_implicit_isolines_to_mesh(out, float(z), m._ptr)
+        if st != 0:
+            m.close()
+            check(st, context="contour_mesh")
+        return m, _contour_report(out)
+    return _contour(field, bounds, resolution, iso, z, refine, take)
 
 
 def contour_estimate(field, bounds, resolution, iso=0.0, z=0.0):
