@@ -524,6 +524,13 @@ class Volume:
         ffi.memmove(lib.geom_implicit_volume_data(v), ffi.from_buffer(flat), flat.nbytes)
         return v
 
+    @property
+    def bounds(self):
+        """(lo, hi): the box the samples span, origin .. origin + (dims - 1)
+        * spacing (geom_implicit_volume_bounds), where eval interpolates."""
+        b = lib.geom_implicit_volume_bounds(self._c())
+        return (np.array([b.min.x, b.min.y, b.min.z]), np.array([b.max.x, b.max.y, b.max.z]))
+
     def eval(self, points, gradient=False):
         """Trilinear values at points ((3,) or (n, 3)); with gradient=True
         also the interpolated central-difference gradients ((n, 3))."""
