@@ -320,6 +320,21 @@ def _image(img):
         lib.geom_scene_image_free(img, ffi.NULL)
 
 
+def _picture_setup(ctype, aov, background, lights, materials):
+    """(options of ctype with aov and background set, lights, n_lights,
+    materials, n_materials, textures to keep alive) for render, trace and
+    raster."""
+    if aov not in _AOV:
+        raise ValueError("aov is one of %s, got %r" % (", ".join(_AOV), aov))
+    opt = ffi.new(ctype)
+    opt.aov = _AOV[aov]
+    x, y, z = _vec(background, "background")
+    opt.background = {"x": x, "y": y, "z": z}
+    L, nl = _lights(lights)
+    M, nm, keep = _materials(materials)
+    return opt, L, nl, M, nm, keep
+
+
 def render(shapes, camera, lights=({"kind": "directional", "direction": (0, 0, -1)},),
            materials=({},), object_material=None, method="ray", aov="color", background=0.0,
            pixel_error=0.0, tolerance=0.0, max_depth=0, no_shadows=False):
@@ -341,13 +356,9 @@ def render(shapes, camera, lights=({"kind": "directional", "direction": (0, 0, -
     for i in range(n):
         objs[i].shape = shapes._get(i)
         objs[i].material = om[i]
-    L, nl = _lights(lights)
-    M, nm, _textures = _materials(materials)
-    opt = ffi.new("geom_render_options *")
+    opt, L, nl, M, nm, _textures = _picture_setup("geom_render_options *", aov, background,
+                                                  lights, materials)
     opt.method = {"ray": 0, "raster": 1}[method]
-    opt.aov = _AOV[aov]
-    x, y, z = _vec(background, "background")
-    opt.background = {"x": x, "y": y, "z": z}
     opt.pixel_error, opt.tolerance = float(pixel_error), float(tolerance)
     opt.max_depth = int(max_depth)
     opt.no_shadows = 1 if no_shadows else 0
@@ -374,12 +385,8 @@ def trace(ray_scene, camera, lights=({"kind": "directional", "direction": (0, 0,
     om = np.zeros(max(n, 1), dtype=np.uint32)
     if object_material is not None:
         om[:n] = np.asarray(object_material, dtype=np.uint32).reshape(n)
-    L, nl = _lights(lights)
-    M, nm, _textures = _materials(materials)
-    opt = ffi.new("geom_trace_options *")
-    opt.aov = _AOV[aov]
-    x, y, z = _vec(background, "background")
-    opt.background = {"x": x, "y": y, "z": z}
+    opt, L, nl, M, nm, _textures = _picture_setup("geom_trace_options *", aov, background,
+                                                  lights, materials)
     opt.max_depth = int(max_depth)
     opt.no_shadows = 1 if no_shadows else 0
     img = ffi.new("geom_image *")
@@ -546,15 +553,9 @@ def raster(draws, camera, lights=({"kind": "directional", "direction": (0, 0, -1
     (ERR_DEGENERATE, ERR_DOMAIN) as camera_ray; ValueError for bad Python
     arguments."""
     from .core import struct_dict
-    if aov not in _AOV:
-        raise ValueError("aov is one of %s, got %r" % (", ".join(_AOV), aov))
     D, nd, keep = _draws(draws)
-    L, nl = _lights(lights)
-    M, nm, textures = _materials(materials)
-    opt = ffi.new("geom_raster_options *")
-    opt.aov = _AOV[aov]
-    x, y, z = _vec(background, "background")
-    opt.background = {"x": x, "y": y, "z": z}
+    opt, L, nl, M, nm, textures = _picture_setup("geom_raster_options *", aov, background,
+                                                 lights, materials)
     opt.shadows = 1 if shadows else 0
     opt.shadow_map_size = int(shadow_map_size)
     opt.near_z, opt.far_z = float(near), float(far)
