@@ -359,3 +359,50 @@ def test_raster_bad_input():
     # no draws: the background
     img, rep = scene.raster([], ortho_camera(), background=0.25)
     assert np.all(img == 0.25) and rep["triangles_in"] == 0
+
+
+def test_raster_supersampling_and_shadow_maps():
+    m = geom.Mesh.from_soup(TRI, [[0, 1, 2]])
+    x, y = pixel_centres()
+    inside, _ = inside_triangle(TRI, x, y)
+    one, r1 = scene.raster([m], ortho_camera(1), materials=[{"kd": 0.8, "shading": "flat"}])
+    four, r4 = scene.raster([m], ortho_camera(4), materials=[{"kd": 0.8, "shading": "flat"}])
+    assert r1["samples_per_pixel"] == 1 and r4["samples_per_pixel"] == 4
+    # box filter of 2 x 2 samples: pixels far from the edges keep their colour
+    # (0.8 inside, 0 outside), edge pixels get 0.8 times the covered quarter
+    s = OH / H
+
+    def far_from_edges(tri, d):
+        e = []
+        for k in range(3):
+            (x0, y0), (x1, y1) = tri[k, :2], tri[(k + 1) % 3, :2]
+            e.append(np.abs((x1 - x0) * (y - y0) - (y1 - y0) * (x - x0)) / np.hypot(x1 - x0, y1 - y0))
+        return np.min(e, axis=0) > d
+    away = far_from_edges(TRI, s)
+    np.testing.assert_array_equal(four[:, :, 0][away], one[:, :, 0][away])
+    edge = ~away
+    quarters = four[:, :, 0] / 0.2
+    np.testing.assert_allclose(quarters, np.round(quarters), atol=1e-9)
+    assert np.any((four[:, :, 0][edge] > 0.1) & (four[:, :, 0][edge] < 0.7))
+
+    # shadow maps: a small triangle at height 2 over a large ground triangle,
+    # light travelling along (1, 0, -1): the shadow is the small triangle moved by +2 in x
+    ground = np.array([[-3.0, -2.5, 0.0], [3.0, -2.5, 0.0], [0.0, 3.0, 0.0]])
+    small = TRI * 0.6 + [-1.5, 0, 2]
+    draws = [geom.Mesh.from_soup(ground, [[0, 1, 2]]), geom.Mesh.from_soup(small, [[0, 1, 2]])]
+    lights = ({"kind": "directional", "direction": (1, 0, -1)}, {"kind": "ambient", "color": 1.0})
+    mats = [{"kd": 1.0, "ka": 0.1, "shading": "flat"}]
+    lit, rep = scene.raster(draws, ortho_camera(), lights=lights, materials=mats, shadows=True)
+    assert rep["shadow_maps"] >= 1
+    on_ground = inside_triangle(ground, x, y)[0] & ~inside_triangle(small, x, y)[0]
+    shadow = inside_triangle(small + [2, 0, -2], x, y)[0]
+    d = 1.5 * s                                          # 1.5 pixels from every edge
+    sure_shadow = on_ground & shadow & far_from_edges(small + [2, 0, -2], d) & \
+        far_from_edges(small, d)
+    sure_lit = on_ground & ~shadow & far_from_edges(small + [2, 0, -2], d) & \
+        far_from_edges(ground, d)
+    assert sure_shadow.sum() > 20 and sure_lit.sum() > 100
+    np.testing.assert_allclose(lit[sure_shadow], 0.1, atol=1e-12)          # ambient only
+    np.testing.assert_allclose(lit[sure_lit], 0.1 + np.sqrt(0.5), atol=1e-12)
+    plain, _ = scene.raster(draws, ortho_camera(), lights=lights, materials=mats)
+    np.testing.assert_allclose(plain[sure_shadow], 0.1 + np.sqrt(0.5), atol=1e-12)
