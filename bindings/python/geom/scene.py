@@ -343,10 +343,17 @@ def render(shapes, camera, lights=({"kind": "directional", "direction": (0, 0, -
     "ambient", color) by ray tracing (method "ray") or rasterization
     ("raster", tessellating each object to pixel_error pixels or a world
     tolerance), doing only the work the picture needs
-    (geom_scene_render). object_material: a material index per object
-    (default 0). aov: "color" (RGB), "depth", "normal" (xyz) or "object"
-    (index, -1 for the background). Returns (image (height, width,
-    channels), report dict with the per-object reports under "objects")."""
+    (geom_scene_render). materials: dicts with the scene JSON's material
+    keys (ka, kd, ks, ns, specular, reflect, transmit, ior, shading, style,
+    ...) and Texture objects under "texture" (multiplies kd and ka by the
+    UVs), "bump" (height map, with "bump_scale"), "normal_map" (tangent
+    space, RGB in [0, 1]) and "displace" (moves the tessellated vertices,
+    with "displace_scale"); UVs and tangents are made only for the objects
+    whose material needs them. object_material: a material index per
+    object (default 0). aov: "color" (RGB), "depth", "normal" (xyz) or
+    "object" (index, -1 for the background). Returns (image (height,
+    width, channels), report dict with the per-object reports under
+    "objects")."""
     from .core import struct_dict
     n = len(shapes)
     objs = ffi.new("geom_scene_object[]", max(n, 1))
@@ -378,8 +385,12 @@ def trace(ray_scene, camera, lights=({"kind": "directional", "direction": (0, 0,
           materials=({},), object_material=None, aov="color", background=0.0, max_depth=0,
           no_shadows=False):
     """Whitted ray tracing of a built RayScene (geom_scene_trace): hit
-    object i gets materials[object_material[i]] (default 0). Returns
-    (image (height, width, channels), report dict)."""
+    object i gets materials[object_material[i]] (default 0; materials as
+    in render). Texture coordinates are the hit's (u, v): the surface
+    parameters or per-shape coordinates of the ray module, barycentric for
+    meshes, so textured meshes should go through render, which
+    interpolates their "uv" channel. Returns (image (height, width,
+    channels), report dict)."""
     from .core import struct_dict
     n = ray_scene.object_count
     om = np.zeros(max(n, 1), dtype=np.uint32)

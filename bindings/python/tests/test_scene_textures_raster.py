@@ -406,3 +406,17 @@ def test_raster_supersampling_and_shadow_maps():
     np.testing.assert_allclose(lit[sure_lit], 0.1 + np.sqrt(0.5), atol=1e-12)
     plain, _ = scene.raster(draws, ortho_camera(), lights=lights, materials=mats)
     np.testing.assert_allclose(plain[sure_shadow], 0.1 + np.sqrt(0.5), atol=1e-12)
+
+
+def test_export_makes_uvs_and_tangents_for_textured_materials():
+    sh = scene.Shapes(_sphere_scene())
+    t = scene.Texture(np.ones((2, 2)))
+    plain, reps = scene.export(sh, tolerance=1e-2)
+    assert not plain.has_channel("uv", "corner") and all(r["attributes"] & 1 == 0 for r in reps)
+    tex, reps = scene.export(sh, tolerance=1e-2, materials=[{"texture": t}, {}],
+                             object_material=[0, 1])
+    assert tex.has_channel("uv", "corner") and not tex.has_channel("tangent", "corner")
+    assert reps[0]["attributes"] & 1 and not reps[1]["attributes"] & 1
+    nm, reps = scene.export(sh, tolerance=1e-2, materials=[{"normal_map": t}])
+    assert nm.has_channel("uv", "corner") and nm.has_channel("tangent", "corner")
+    assert reps[0]["attributes"] & 2
