@@ -261,6 +261,7 @@ class Octree(_PointIndex):
         _, index, dist = _rows(nb, True)
         return index, dist
 
+
 _OCTREE_NODE_DTYPE = np.dtype([("cell_min", "<f8", 3), ("cell_max", "<f8", 3),
                                ("bounds_min", "<f8", 3), ("bounds_max", "<f8", 3),
                                ("first_child", "<u4"), ("child_mask", "<u4"),
