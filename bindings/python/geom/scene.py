@@ -418,7 +418,9 @@ class Texture:
     a material and for UV lookups.
 
     image: (height, width) or (height, width, channels) array, 1 to 4
-    channels, row 0 the TOP row (as images are stored); values are copied.
+    channels, row 0 the TOP row (as images are stored); values are copied
+    as doubles and used as given (linear colour: convert 8-bit sRGB data to
+    linear [0, 1] first; normal maps hold RGB in [0, 1]).
     Texture coordinates: (0, 0) is the bottom-left corner and (1, 1) the
     top-right (OBJ/OpenGL); texel image[y, x] has its centre at
     ((x + 0.5) / width, 1 - (y + 0.5) / height). wrap: "repeat" (the
