@@ -552,7 +552,11 @@ def raster(draws, camera, lights=({"kind": "directional", "direction": (0, 0, -1
     interpolated perspective-correctly and shaded once per visible sample
     (flat, Gouraud or Phong as the material says; textures MIP-mapped with
     the pixel's UV footprint). camera.samples gives a k x k supersampling
-    grid, box filtered. shadows: shadow maps (shadow_map_size per face,
+    grid: "color" and "normal" are box filtered over it, "depth" and
+    "object" take its sample (k/2, k/2) (for even k not the pixel centre).
+    Vertices are snapped to 1/256 pixel before scan conversion, so
+    interpolated attributes are those of the snapped triangle (a UV error
+    up to |dUV/dpixel| / 512 per axis). shadows: shadow maps (shadow_map_size per face,
     0 = 1024) for point and directional lights. near, far: clip distances
     (0 = from the draws' bounding box). lights and materials as in
     render. aov: "color" (RGB), "depth" (view distance, inf on the
