@@ -119,6 +119,15 @@ double geom_incircle(const double a[2], const double b[2], const double c[2], co
 double geom_orient2d_exact(const double a[2], const double b[2], const double c[2]);
 double geom_orient3d_exact(const double a[3], const double b[3], const double c[3], const double
     d[3]);
+typedef enum geom_predicate {
+    GEOM_PREDICATE_ORIENT2D = 1,
+    GEOM_PREDICATE_ORIENT3D = 2,
+    GEOM_PREDICATE_INCIRCLE = 3,
+    GEOM_PREDICATE_ORIENT2D_EXACT = 4,
+    GEOM_PREDICATE_ORIENT3D_EXACT = 5
+} geom_predicate;
+geom_status geom_predicate_many(geom_predicate kind, size_t n, const double *const pts[4],
+    const size_t strides[4], double *out);
 typedef struct geom_aabb {
     geom_vec3 min;
     geom_vec3 max;
@@ -166,6 +175,10 @@ geom_status geom_bary_simplex_many(geom_bary_simplex kind, size_t n,
 geom_status geom_bary_polygon_many(int wachspress, size_t nv, const double *poly,
                                             size_t n, const double *p, double *w,
                                             int32_t *status, size_t *n_failed);
+geom_status geom_bary_perspective_many(size_t n, const double *l, size_t sl, const double *w,
+    size_t sw, double *lp, int32_t *status, size_t *n_failed);
+geom_status geom_bary_interpolate_many(size_t n, size_t k, const double *l, size_t ncomp,
+    const double *attr, double *out);
 """,
     "mesh": """
 typedef struct geom_mesh geom_mesh;
