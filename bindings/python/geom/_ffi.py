@@ -1589,6 +1589,8 @@ typedef struct geom_neighbors {
     const geom_allocator *alloc;
 } geom_neighbors;
 void geom_neighbors_free(geom_neighbors *nb);
+geom_status geom_bvh_query_boxes(const geom_bvh *b, const geom_aabb *prim_boxes,
+    const geom_aabb *queries, size_t m, geom_neighbors *out, int threads, geom_diag *diag);
 typedef struct geom_kdtree geom_kdtree;
 typedef struct geom_kdtree_options {
     uint32_t leaf_size;
