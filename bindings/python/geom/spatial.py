@@ -351,6 +351,11 @@ _NODE_DTYPE = np.dtype([("min", "<f8", 3), ("max", "<f8", 3), ("index", "<u4"), 
                         ("axis", "<u4"), ("pad", "<u4")])
 
 
+def _aabbs(boxes):
+    """A `geom_aabb *` over a C-contiguous (n, 6) float64 array."""
+    return ffi.cast("geom_aabb *", ffi.from_buffer("double[]", boxes))
+
+
 def _box_pairs(lo, hi, what):
     """(lo, hi) as C-contiguous (n, 3) float64 arrays, and whether one box
     was given; hi None means lo is (n, 6) (min xyz, max xyz)."""
@@ -395,10 +400,12 @@ class Bvh:
         self._boxes = self._triangle_boxes(pos)
 
     def _triangle_boxes(self, pos):
+        """The primitive boxes as an (nt, 6) geom_aabb array (min xyz, max
+        xyz), the min/max of each triangle's vertices."""
         if self._tris.shape[0] == 0:
-            return np.empty((0, 3)), np.empty((0, 3))
+            return np.empty((0, 6))
         v = pos[self._tris.astype(np.int64)]
-        return v.min(axis=1), v.max(axis=1)
+        return np.ascontiguousarray(np.hstack([v.min(axis=1), v.max(axis=1)]))
 
     @classmethod
     def from_boxes(cls, lo, hi=None, method="sah", max_leaf_size=0, threads=0, bins=0):
@@ -412,14 +419,13 @@ class Bvh:
         assert ffi.sizeof("geom_aabb") == 48
         out = ffi.new("geom_bvh **")
         d = _diag()
-        ptr = ffi.cast("geom_aabb *", ffi.from_buffer("double[]", boxes))
-        check(lib.geom_bvh_build_boxes(ptr, boxes.shape[0],
+        check(lib.geom_bvh_build_boxes(_aabbs(boxes), boxes.shape[0],
                                        _bvh_options(method, max_leaf_size, bins, threads), out, d),
               d, "Bvh.from_boxes")
         self = cls.__new__(cls)
         self._ptr = ffi.gc(out[0], lib.geom_bvh_destroy)
         self._tris = None
-        self._boxes = (lo.copy(), hi.copy())
+        self._boxes = boxes
         return self
 
     @classmethod
@@ -474,52 +480,27 @@ class Bvh:
         return (np.frombuffer(ffi.buffer(p, 4 * m), dtype=np.uint32).astype(np.int64)
                 if m else np.empty(0, dtype=np.int64))
 
-    def overlap(self, lo, hi=None):
+    def overlap(self, lo, hi=None, threads=0):
         """Primitives whose bounding box meets the closed query box [lo, hi]
         (boxes touching at a face, edge or corner count; lo > hi on an axis
-        is an empty box that meets nothing), in increasing order: one array for one box (lo, hi of shape (3,), or lo (6,)), a
-        list of arrays for n boxes ((n, 3) each, or lo (n, 6)). The
-        primitive boxes are the caller's boxes (from_boxes) or the min/max
-        of each triangle's vertices at the last build or refit.
-
-        libgeom has no C query over a geom_bvh: this traverses the flat
-        tree in numpy, one level at a time for all query boxes at once
-        (depth iterations, no loop per query), and answers exactly what a
-        brute-force test of every primitive box gives."""
+        is an empty box that meets nothing), in increasing order: one array
+        for one box (lo, hi of shape (3,), or lo (6,)), a list of arrays
+        for n boxes ((n, 3) each, or lo (n, 6)). The primitive boxes are the
+        caller's boxes (from_boxes) or the min/max of each triangle's
+        vertices at the last build or refit. One C call over every query
+        box (geom_bvh_query_boxes: a pruned walk of the tree per query, in
+        parallel chunks), exactly what a brute-force test of every
+        primitive box gives. ValueError for a NaN bound."""
         qlo, qhi, single = _box_pairs(lo, hi, "overlap")
         if np.isnan(qlo).any() or np.isnan(qhi).any():
             raise ValueError("overlap: NaN in a query box")
-        nq = qlo.shape[0]
-        nodes = self.nodes()
-        prim = self.prim_indices()
-        plo, phi = self._boxes
-        found_q, found_p = [np.empty(0, np.int64)], [np.empty(0, np.int64)]
-        if len(nodes["min"]) and nq:
-            nmin, nmax = nodes["min"], nodes["max"]
-            index = nodes["index"].astype(np.int64)
-            count = nodes["count"].astype(np.int64)
-            q = np.flatnonzero(np.all(qlo <= qhi, axis=1))      # lo > hi: empty
-            nd = np.zeros(q.size, dtype=np.int64)
-            while q.size:
-                meet = np.all((nmin[nd] <= qhi[q]) & (nmax[nd] >= qlo[q]), axis=1)
-                q, nd = q[meet], nd[meet]
-                leaf = count[nd] > 0
-                lq, ln = q[leaf], nd[leaf]
-                if lq.size:
-                    c = count[ln]
-                    first = np.repeat(index[ln] - (np.cumsum(c) - c), c) + np.arange(int(c.sum()))
-                    cq, cp = np.repeat(lq, c), prim[first]
-                    ok = np.all((plo[cp] <= qhi[cq]) & (phi[cp] >= qlo[cq]), axis=1)
-                    found_q.append(cq[ok])
-                    found_p.append(cp[ok])
-                iq, inode = q[~leaf], nd[~leaf]
-                q = np.concatenate([iq, iq])
-                nd = np.concatenate([inode + 1, index[inode]])
-        fq, fp = np.concatenate(found_q), np.concatenate(found_p)
-        order = np.lexsort((fp, fq))
-        fq, fp = fq[order], fp[order]
-        offsets = np.searchsorted(fq, np.arange(nq + 1))
-        out = _split(offsets, fp)
+        q = np.ascontiguousarray(np.hstack([qlo, qhi]))
+        nb = ffi.new("geom_neighbors *")
+        d = _diag()
+        check(lib.geom_bvh_query_boxes(self._ptr, _aabbs(self._boxes), _aabbs(q), q.shape[0], nb,
+                                       threads, d), d, "overlap")
+        offsets, index, _ = _rows(nb, False)
+        out = _split(offsets, index)
         return out[0] if single else out
 
     @property

@@ -245,3 +245,26 @@ def test_kdtree_node_count():
         t = spatial.KdTree(rng.random((n, 3)), leaf_size=leaf)
         c = t.node_count
         assert c >= 2 * -(-n // leaf) - 1 and c % 2 == 1   # a full binary tree
+
+
+@pytest.mark.parametrize("method", ["sah", "lbvh"])
+def test_overlap_in_c_grid_points_offsets_threads(method):
+    """Bvh.overlap (geom_bvh_query_boxes) on boxes snapped to a coarse grid
+    at a 1e8 offset (faces, edges and corners coincide), point queries and
+    point primitives, against brute force; 1 and 4 threads answer alike."""
+    rng = np.random.default_rng(23)
+    n, m = 900, 400
+    plo = 1e8 + np.floor(rng.uniform(0, 32, (n, 3))) / 8
+    phi = plo + np.floor(rng.uniform(0, 8, (n, 3))) / 8
+    phi[::5] = plo[::5]                                   # point primitives
+    qlo = 1e8 + np.floor(rng.uniform(0, 32, (m, 3))) / 8
+    qhi = qlo + np.floor(rng.uniform(0, 8, (m, 3))) / 8
+    qhi[::3] = qlo[::3]                                   # point queries
+    b = spatial.Bvh.from_boxes(plo, phi, method=method, max_leaf_size=3)
+    want = brute(plo, phi, qlo, qhi)
+    got1 = b.overlap(qlo, qhi, threads=1)
+    got4 = b.overlap(np.hstack([qlo, qhi]), threads=4)
+    assert sum(len(w) for w in want) > m
+    for g1, g4, w in zip(got1, got4, want):
+        assert np.array_equal(g1, w) and np.array_equal(g4, w)
+    assert b.overlap(np.empty((0, 3)), np.empty((0, 3))) == []
