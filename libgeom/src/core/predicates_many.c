@@ -3,7 +3,9 @@
  * rows, each argument one point per row or the same point for every row
  * (stride 0), so bindings pay the call overhead once. Every row is the
  * single-point predicate's own evaluation (same filter, same exact
- * fallback), so the results are bitwise those of the single functions.
+ * fallback), so the results are bitwise those of the single functions;
+ * orient2d runs its filter over blocks of rows without branches
+ * (geom__orient2d_many in predicates.c).
  */
 #include "core/internal.h"
 
@@ -35,8 +37,7 @@ geom_status geom_predicate_many(geom_predicate kind, size_t n, const double *con
     size_t sa = strides[0], sb = strides[1], sc = strides[2], sd = np == 4 ? strides[3] : 0;
     switch (kind) {
     case GEOM_PREDICATE_ORIENT2D:
-        for (size_t i = 0; i < n; i++)
-            out[i] = geom_orient2d(a + i * sa, b + i * sb, c + i * sc);
+        geom__orient2d_many(n, a, sa, b, sb, c, sc, out);
         break;
     case GEOM_PREDICATE_ORIENT2D_EXACT:
         for (size_t i = 0; i < n; i++)
