@@ -1505,6 +1505,8 @@ void geom_scene_texture_sample(const geom_texture *t, double u, double v, double
     double *out);
 void geom_scene_texture_gradient(const geom_texture *t, double u, double v, double *dh_du,
     double *dh_dv);
+geom_status geom_scene_texture_sample_many(const geom_texture *t, size_t n, const double *uv,
+    const double *footprint, size_t footprint_stride, double *out, double *grad);
 typedef struct geom_shade_point {
     geom_vec3 p;
     geom_vec3 n;

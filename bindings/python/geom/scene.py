@@ -431,9 +431,8 @@ class Texture:
     Raises ValueError for a bad shape or wrap name, GeomError
     (ERR_INVALID_ARG) for non-finite texels, GeomError (ERR_NOMEM).
 
-    sample() and gradient() take one (u, v): libgeom has no batch texture
-    lookup (see the bindings README), so they are not meant for loops over
-    many points."""
+    sample() and gradient() take one (u, v) or 1-D arrays of them (one C
+    call over all points, geom_scene_texture_sample_many)."""
 
     def __init__(self, image, wrap="repeat"):
         img = np.ascontiguousarray(image, dtype=np.float64)
@@ -474,24 +473,54 @@ class Texture:
         """Number of MIP levels (floor(log2(max(w, h))) + 1; 1 for 1 x 1)."""
         return int(lib.geom_scene_texture_levels(self._ptr))
 
+    def _many(self, u, v, footprint, what):
+        """One C call (geom_scene_texture_sample_many) over the broadcast
+        u, v (and footprint); returns (n, scalar, uv, fp) buffers ready."""
+        uu, vv = np.broadcast_arrays(np.asarray(u, dtype=np.float64),
+                                     np.asarray(v, dtype=np.float64))
+        if uu.ndim > 1:
+            raise ValueError("%s: u and v must be numbers or 1-D arrays, got shape %s"
+                             % (what, uu.shape))
+        scalar = uu.ndim == 0
+        uv = np.ascontiguousarray(np.stack([uu.ravel(), vv.ravel()], axis=1))
+        fp = np.ascontiguousarray(np.asarray(footprint, dtype=np.float64).ravel())
+        n = uv.shape[0]
+        if fp.size not in (1, n):
+            raise ValueError("%s: footprint has %d values for %d points" % (what, fp.size, n))
+        return n, scalar, uv, fp
+
     def sample(self, u, v, footprint=0.0):
-        """The texel value at (u, v), a (channels,) array
-        (geom_scene_texture_sample). footprint: the UV size of the screen
-        pixel's footprint; 0 or less means level 0 only (bilinear, exact
-        for data bilinear in the texel centres), otherwise trilinear between
-        the two levels around lod = log2(footprint * max(w, h)). Non-finite
-        (u, v) give texel (0, 0) (the top-left) of level 0."""
-        out = ffi.new("double[4]")
-        lib.geom_scene_texture_sample(self._ptr, float(u), float(v), float(footprint), out)
-        return np.array([out[i] for i in range(self.channels)])
+        """The texel value at (u, v), a (channels,) array, or (n, channels)
+        for 1-D arrays u, v (broadcast; one C call,
+        geom_scene_texture_sample_many, bitwise geom_scene_texture_sample
+        per point). footprint (a number or one per point): the UV size of
+        the screen pixel's footprint; 0 or less means level 0 only
+        (bilinear, exact for data bilinear in the texel centres), otherwise
+        trilinear between the two levels around lod = log2(footprint *
+        max(w, h)). Non-finite (u, v) give texel (0, 0) (the top-left) of
+        level 0."""
+        n, scalar, uv, fp = self._many(u, v, footprint, "sample")
+        out = np.empty((n, self.channels), dtype=np.float64)
+        check(lib.geom_scene_texture_sample_many(
+            self._ptr, n, ffi.from_buffer("double[]", uv), ffi.from_buffer("double[]", fp),
+            0 if fp.size == 1 else 1, ffi.from_buffer("double[]", out), ffi.NULL),
+            context="Texture.sample")
+        return out[0] if scalar else out
 
     def gradient(self, u, v):
         """(dh/du, dh/dv): the partial derivatives of channel 0 of level
         0's bilinear interpolant at (u, v), in channel units per UV unit
-        (the slopes bump mapping uses; geom_scene_texture_gradient)."""
-        du, dv = ffi.new("double *"), ffi.new("double *")
-        lib.geom_scene_texture_gradient(self._ptr, float(u), float(v), du, dv)
-        return float(du[0]), float(dv[0])
+        (the slopes bump mapping uses; geom_scene_texture_gradient): two
+        floats, or two (n,) arrays for 1-D arrays u, v (one C call,
+        geom_scene_texture_sample_many)."""
+        n, scalar, uv, _ = self._many(u, v, 0.0, "gradient")
+        g = np.empty((n, 2), dtype=np.float64)
+        check(lib.geom_scene_texture_sample_many(
+            self._ptr, n, ffi.from_buffer("double[]", uv), ffi.NULL, 0, ffi.NULL,
+            ffi.from_buffer("double[]", g)), context="Texture.gradient")
+        if scalar:
+            return float(g[0, 0]), float(g[0, 1])
+        return g[:, 0].copy(), g[:, 1].copy()
 
 
 def displace(mesh, height, scale=1.0):

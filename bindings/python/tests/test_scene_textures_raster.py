@@ -420,3 +420,45 @@ def test_export_makes_uvs_and_tangents_for_textured_materials():
     nm, reps = scene.export(sh, tolerance=1e-2, materials=[{"normal_map": t}])
     assert nm.has_channel("uv", "corner") and nm.has_channel("tangent", "corner")
     assert reps[0]["attributes"] & 2
+
+
+@pytest.mark.parametrize("wrap", ["repeat", "clamp"])
+def test_texture_sample_many_bitwise_single_calls(wrap):
+    """Texture.sample / gradient over arrays (geom_scene_texture_sample_many)
+    give bitwise the single-point C functions, for points inside, on texel
+    centres and edges, outside [0, 1], NaN/Inf, with per-point and shared
+    footprints (level 0, between levels, beyond the last level)."""
+    from geom._ffi import ffi, lib
+    rng = np.random.default_rng(9)
+    img = rng.uniform(-1, 1, (13, 10, 3))
+    t = scene.Texture(img, wrap=wrap)
+    n = 500
+    u = rng.uniform(-1.5, 2.5, n)
+    v = rng.uniform(-1.5, 2.5, n)
+    u[:10], v[:10] = (np.arange(10) + 0.5) / 10, 1 - (np.arange(10) + 0.5) / 13
+    u[10:14] = [0.0, 1.0, np.nan, np.inf]
+    v[14:17] = [-np.inf, 0.0, 1.0]
+    fp = rng.choice([0.0, -1.0, 0.01, 0.07, 0.3, 5.0], n)
+    got = t.sample(u, v, fp)
+    got_shared = t.sample(u, v, 0.07)
+    gu, gv = t.gradient(u, v)
+    assert got.shape == (n, 3) and gu.shape == (n,)
+    out = ffi.new("double[4]")
+    du, dv = ffi.new("double *"), ffi.new("double *")
+    for i in range(n):
+        lib.geom_scene_texture_sample(t._ptr, u[i], v[i], fp[i], out)
+        assert np.array_equal(np.frombuffer(ffi.buffer(out, 24)).view(np.uint64),
+                              got[i].view(np.uint64)), i
+        lib.geom_scene_texture_sample(t._ptr, u[i], v[i], 0.07, out)
+        assert np.array_equal(np.frombuffer(ffi.buffer(out, 24)), got_shared[i]), i
+        lib.geom_scene_texture_gradient(t._ptr, u[i], v[i], du, dv)
+        assert (du[0], dv[0]) == (gu[i], gv[i]), i
+    # texel centres on level 0 give the texels (up to the rounding of the centres)
+    c0 = fp[:10] <= 0
+    assert c0.any()
+    assert np.allclose(got[:10][c0], img[np.arange(10), np.arange(10)][c0], rtol=0, atol=1e-12)
+    # scalars keep their old shapes; a bad footprint count is refused
+    assert t.sample(0.3, 0.6).shape == (3,)
+    assert isinstance(t.gradient(0.3, 0.6)[0], float)
+    with pytest.raises(ValueError):
+        t.sample(u, v, fp[:3])
