@@ -175,6 +175,30 @@ run("core.incircle", lambda: geom.incircle(*p2),
     [("float", lambda: np_incircle(*p2))],
     lambda: [np_incircle(*[x[i:i + 1] for x in p2]) for i in range(NLOOP)])
 
+# scene.Texture.sample: bilinear on level 0, repeat wrap --------------------
+timg = rng.uniform(0, 1, (256, 256, 3))
+tex = geom.scene.Texture(timg) if geom.has_module("scene") else None
+tu, tv = rng.uniform(-1, 2, N), rng.uniform(-1, 2, N)
+
+
+def np_bilinear(u, v):
+    h, w = timg.shape[:2]
+    x = (u - np.floor(u)) * w - 0.5
+    y = (1.0 - (v - np.floor(v))) * h - 0.5
+    fx, fy = np.floor(x), np.floor(y)
+    ax, ay = (x - fx)[:, None], (y - fy)[:, None]
+    x0, y0 = fx.astype(np.int64) % w, fy.astype(np.int64) % h
+    x1, y1 = (x0 + 1) % w, (y0 + 1) % h
+    top = (1 - ax) * timg[y0, x0] + ax * timg[y0, x1]
+    bot = (1 - ax) * timg[y1, x0] + ax * timg[y1, x1]
+    return (1 - ay) * top + ay * bot
+
+
+if tex is not None:
+    run("Texture.sample", lambda: tex.sample(tu, tv),
+        [("plain", lambda: np_bilinear(tu, tv))],
+        lambda: [np_bilinear(tu[i:i + 1], tv[i:i + 1]) for i in range(NLOOP)])
+
 # curve eval: a cubic Bezier as a NURBS curve ------------------------------
 P = np.array([[0, 0, 0], [1, 2, 0], [3, 2, 1], [4, 0, 0]], dtype=float)
 crv = geom.curve.NurbsCurve(3, [0, 0, 0, 0, 1, 1, 1, 1], P)
