@@ -506,11 +506,6 @@ static void test_extreme_range(void **state)
 /* geom_predicate_many: bitwise the single predicates on random, nearly
  * degenerate, 1e8-offset and non-finite rows, one point per row and one
  * point shared by every row (stride 0). */
-static int same_bits(double x, double y)
-{
-    return (isnan(x) && isnan(y)) || memcmp(&x, &y, sizeof x) == 0;
-}
-
 static void test_predicate_many(void **state)
 {
     (void)state;
@@ -551,14 +546,15 @@ static void test_predicate_many(void **state)
                 case GEOM_PREDICATE_ORIENT2D_EXACT: want = geom_orient2d_exact(a, b, c); break;
                 default: want = geom_orient3d_exact(a, b, c, d); break;
                 }
-                assert_true(same_bits(out[i], want));
+                assert_true(same_bits_or_nan(out[i], want));
             }
         }
     }
-    /* the NaN rows are NaN, exact zeros stay zeros */
+    /* a NaN row is NaN (pts[1][15] is row 7's y with 2D strides) */
     const double *p[4] = {pts[0], pts[1], pts[2], pts[3]};
     const size_t st[4] = {2, 2, 2, 2};
     assert_int_equal(geom_predicate_many(GEOM_PREDICATE_ORIENT2D, M, p, st, out), GEOM_OK);
+    assert_true(isnan(out[7]) && !isnan(out[6]) && !isnan(out[8]));
     /* bad arguments: nothing written */
     out[0] = 7.0;
     const double *bad[4] = {pts[0], NULL, pts[2], pts[3]};
@@ -570,7 +566,7 @@ static void test_predicate_many(void **state)
                      GEOM_ERR_INVALID_ARG);
     assert_true(out[0] == 7.0);
     assert_int_equal(geom_predicate_many(GEOM_PREDICATE_ORIENT2D, 0, NULL, NULL, NULL), GEOM_OK);
-    /* orient3d ignores pts[3] for a 3-point predicate only */
+    /* pts[3] is ignored by the 3-point predicates only */
     const double *three[4] = {pts[0], pts[1], pts[2], NULL};
     assert_int_equal(geom_predicate_many(GEOM_PREDICATE_ORIENT2D, 2, three, st, out), GEOM_OK);
     assert_int_equal(geom_predicate_many(GEOM_PREDICATE_INCIRCLE, 2, three, st, out),

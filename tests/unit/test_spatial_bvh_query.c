@@ -6,25 +6,14 @@
  * 4 (same output), a triangle BVH with its vertex boxes, an empty BVH, and
  * the argument errors.
  */
-#include <stdarg.h>
-#include <stddef.h>
-#include <setjmp.h>
-#include <stdint.h>
-#include <cmocka.h>
-
-#include <math.h>
-#include <stdlib.h>
-#include <string.h>
+#include "unit/test_util.h"
 
 #include "geom/spatial.h"
 
 static uint64_t rng_state = 0x2545f4914f6cdd1dull;
 static double urand(void)
 {
-    rng_state ^= rng_state << 13;
-    rng_state ^= rng_state >> 7;
-    rng_state ^= rng_state << 17;
-    return (double)(rng_state >> 11) * 0x1p-53;
+    return test_urand(&rng_state);
 }
 
 /* A box on the grid of step 1/8 in [off, off + 4]^3 (point boxes when

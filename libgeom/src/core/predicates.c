@@ -122,8 +122,8 @@ double geom_incircle(const double a[2], const double b[2], const double c[2], co
  * filter cannot certify goes through geom_orient2d (the same bits). */
 #define ORIENT2D_BLOCK 64
 GEOM_SIMD_CLONES
-void geom__orient2d_many(size_t n, const double *a, size_t sa, const double *b, size_t sb,
-                         const double *c, size_t sc, double *out)
+static void orient2d_blocks(size_t n, const double *a, size_t sa, const double *b, size_t sb,
+                            const double *c, size_t sc, double *out)
 {
     for (size_t i0 = 0; i0 < n; i0 += ORIENT2D_BLOCK) {
         size_t m = n - i0 < ORIENT2D_BLOCK ? n - i0 : ORIENT2D_BLOCK;
@@ -152,4 +152,12 @@ void geom__orient2d_many(size_t n, const double *a, size_t sa, const double *b, 
                                        : geom_orient2d(a + (i0 + j) * sa, b + (i0 + j) * sb,
                                                        c + (i0 + j) * sc);
     }
+}
+
+/* Not a clone itself: a target_clones function with external linkage gets an
+ * exported resolver despite -fvisibility=hidden. */
+void geom__orient2d_many(size_t n, const double *a, size_t sa, const double *b, size_t sb,
+                         const double *c, size_t sc, double *out)
+{
+    orient2d_blocks(n, a, sa, b, sb, c, sc, out);
 }
