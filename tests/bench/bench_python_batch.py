@@ -133,6 +133,79 @@ run("bary.tet", lambda: geom.bary.tet(A[0], A[1], A[2], A[3], q),
     [("plain", lambda: np_tet(q)), ("tuned", lambda: np_tet_tuned(q))],
     lambda: [np_tet(x.reshape(1, 3)) for x in q[:NLOOP]])
 
+# bary.perspective, bary.interpolate ----------------------------------------
+lw = rng.uniform(0, 1, (N, 3))
+lw /= lw.sum(axis=1, keepdims=True)
+ww = rng.uniform(0.5, 20, (N, 3))
+attr = rng.uniform(-1, 1, (3, 4))
+
+
+def np_persp(l, w):
+    qq = l / w
+    return qq / qq.sum(axis=1, keepdims=True)
+
+
+run("bary.perspective", lambda: geom.bary.perspective(lw, ww),
+    [("plain", lambda: np_persp(lw, ww))],
+    lambda: [np_persp(lw[i:i + 1], ww[i:i + 1]) for i in range(NLOOP)])
+run("bary.interpolate", lambda: geom.bary.interpolate(lw, attr),
+    [("plain", lambda: lw @ attr)],
+    lambda: [lw[i] @ attr for i in range(NLOOP)])
+
+# predicates: libgeom's are exact in sign; numpy has no exact predicate, so
+# the peer is the float determinant (not robust: wrong signs near zero) ----
+p2 = [rng.uniform(-1, 1, (N, 2)) for _ in range(4)]
+p3 = [rng.uniform(-1, 1, (N, 3)) for _ in range(4)]
+
+
+def np_orient2d(a, b, c):
+    return (a[:, 0] - c[:, 0]) * (b[:, 1] - c[:, 1]) - (a[:, 1] - c[:, 1]) * (b[:, 0] - c[:, 0])
+
+
+def np_orient3d(a, b, c, d):
+    return np.einsum("ij,ij->i", a - d, np.cross(b - d, c - d))
+
+
+def np_incircle(a, b, c, d):
+    m = np.stack([a - d, b - d, c - d], axis=1)
+    m = np.concatenate([m, (m * m).sum(axis=2, keepdims=True)], axis=2)
+    return np.linalg.det(m)
+
+
+run("core.orient2d", lambda: geom.orient2d(*p2[:3]),
+    [("float", lambda: np_orient2d(*p2[:3]))],
+    lambda: [np_orient2d(*[x[i:i + 1] for x in p2[:3]]) for i in range(NLOOP)])
+run("core.orient3d", lambda: geom.orient3d(*p3),
+    [("float", lambda: np_orient3d(*p3))],
+    lambda: [np_orient3d(*[x[i:i + 1] for x in p3]) for i in range(NLOOP)])
+run("core.incircle", lambda: geom.incircle(*p2),
+    [("float", lambda: np_incircle(*p2))],
+    lambda: [np_incircle(*[x[i:i + 1] for x in p2]) for i in range(NLOOP)])
+
+# scene.Texture.sample: bilinear on level 0, repeat wrap --------------------
+timg = rng.uniform(0, 1, (256, 256, 3))
+tex = geom.scene.Texture(timg) if geom.has_module("scene") else None
+tu, tv = rng.uniform(-1, 2, N), rng.uniform(-1, 2, N)
+
+
+def np_bilinear(u, v):
+    h, w = timg.shape[:2]
+    x = (u - np.floor(u)) * w - 0.5
+    y = (1.0 - (v - np.floor(v))) * h - 0.5
+    fx, fy = np.floor(x), np.floor(y)
+    ax, ay = (x - fx)[:, None], (y - fy)[:, None]
+    x0, y0 = fx.astype(np.int64) % w, fy.astype(np.int64) % h
+    x1, y1 = (x0 + 1) % w, (y0 + 1) % h
+    top = (1 - ax) * timg[y0, x0] + ax * timg[y0, x1]
+    bot = (1 - ax) * timg[y1, x0] + ax * timg[y1, x1]
+    return (1 - ay) * top + ay * bot
+
+
+if tex is not None:
+    run("Texture.sample", lambda: tex.sample(tu, tv),
+        [("plain", lambda: np_bilinear(tu, tv))],
+        lambda: [np_bilinear(tu[i:i + 1], tv[i:i + 1]) for i in range(NLOOP)])
+
 # curve eval: a cubic Bezier as a NURBS curve ------------------------------
 P = np.array([[0, 0, 0], [1, 2, 0], [3, 2, 1], [4, 0, 0]], dtype=float)
 crv = geom.curve.NurbsCurve(3, [0, 0, 0, 0, 1, 1, 1, 1], P)

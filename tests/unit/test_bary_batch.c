@@ -173,6 +173,93 @@ static void test_tet_general_strides(void **state)
     check_rows(64, 4, got, gst, want, wst, 0.0);
 }
 
+static int same_bits(double x, double y)
+{
+    return memcmp(&x, &y, sizeof x) == 0;
+}
+
+/* geom_bary_perspective_many against geom_bary_perspective: random rows,
+ * zero w, a vanishing sum, huge and tiny w (the rescaled path), NaN/Inf;
+ * one w per row and one shared w (stride 0). */
+static void test_perspective_many(void **state)
+{
+    (void)state;
+    enum { M = 1000 };
+    static double l[3 * M], w[3 * M], got[3 * M];
+    static int32_t gst[M];
+    for (size_t i = 0; i < 3 * M; i++) {
+        l[i] = urand();
+        w[i] = 0.1 + 10.0 * urand();
+    }
+    w[3 * 1 + 2] = 0.0;                              /* zero w */
+    l[3 * 2] = 1.0, l[3 * 2 + 1] = -1.0, l[3 * 2 + 2] = 0.0; /* sum vanishes */
+    w[3 * 2] = w[3 * 2 + 1] = 2.0;
+    w[3 * 3] = 1e-300, w[3 * 3 + 1] = 1e300, w[3 * 3 + 2] = -1e-310; /* rescaled */
+    l[3 * 4 + 1] = NAN;
+    w[3 * 5] = INFINITY;
+    w[3 * 6] = -1.0; /* mixed signs */
+    l[3 * 7] = 1.0, l[3 * 7 + 1] = 0.0, l[3 * 7 + 2] = 0.0; /* a vertex */
+    for (int shared = 0; shared < 2; shared++) {
+        size_t sw = shared ? 0 : 3, failed = 99, want_failed = 0;
+        assert_int_equal(geom_bary_perspective_many(M, l, 3, w, sw, got, gst, &failed), GEOM_OK);
+        for (size_t i = 0; i < M; i++) {
+            double want[3];
+            geom_status st = geom_bary_perspective(l + 3 * i, w + i * sw, want);
+            assert_int_equal(gst[i], st);
+            for (size_t k = 0; k < 3; k++)
+                assert_true(st == GEOM_OK ? same_bits(got[3 * i + k], want[k])
+                                          : isnan(got[3 * i + k]));
+            want_failed += st != GEOM_OK;
+        }
+        assert_int_equal(failed, want_failed);
+        if (!shared) {
+            assert_int_equal(want_failed, 4);
+            assert_int_equal(gst[1], GEOM_ERR_DEGENERATE);
+            assert_int_equal(gst[2], GEOM_ERR_DEGENERATE);
+            assert_int_equal(gst[3], GEOM_OK);
+            assert_int_equal(gst[4], GEOM_ERR_INVALID_ARG);
+            assert_int_equal(gst[5], GEOM_ERR_INVALID_ARG);
+        }
+    }
+    /* NULL status is fine; NULL arrays are refused with n > 0 only */
+    assert_int_equal(geom_bary_perspective_many(M, l, 3, w, 3, got, NULL, NULL), GEOM_OK);
+    assert_int_equal(geom_bary_perspective_many(1, NULL, 3, w, 3, got, NULL, NULL),
+                     GEOM_ERR_INVALID_ARG);
+    assert_int_equal(geom_bary_perspective_many(0, NULL, 3, NULL, 3, NULL, NULL, NULL), GEOM_OK);
+}
+
+/* geom_bary_interpolate_many against geom_bary_interpolate, bitwise, and
+ * against a closed form: interpolating the vertex positions gives p. */
+static void test_interpolate_many(void **state)
+{
+    (void)state;
+    enum { M = 500, K = 4, C = 5 };
+    static double l[K * M], attr[K * C], got[C * M];
+    for (size_t i = 0; i < K * M; i++)
+        l[i] = 2.0 * urand() - 0.5;
+    for (size_t i = 0; i < K * C; i++)
+        attr[i] = 1e8 + urand();
+    l[K * 3 + 1] = NAN;
+    l[K * 4 + 2] = INFINITY;
+    assert_int_equal(geom_bary_interpolate_many(M, K, l, C, attr, got), GEOM_OK);
+    for (size_t i = 0; i < M; i++) {
+        double want[C];
+        assert_int_equal(geom_bary_interpolate(K, l + K * i, C, attr, want), GEOM_OK);
+        for (size_t j = 0; j < C; j++)
+            assert_true(isnan(want[j]) ? isnan(got[C * i + j]) : same_bits(got[C * i + j], want[j]));
+    }
+    assert_true(isnan(got[C * 3]));
+    /* tri2 weights reproduce the point */
+    const double tri[6] = {0, 0, 4, 0, 0, 2}, p[2] = {1, 0.5};
+    double w[3], q[2];
+    assert_int_equal(geom_bary_tri2(tri, tri + 2, tri + 4, p, w), GEOM_OK);
+    assert_int_equal(geom_bary_interpolate_many(1, 3, w, 2, tri, q), GEOM_OK);
+    assert_true(q[0] == 1.0 && q[1] == 0.5);
+    assert_int_equal(geom_bary_interpolate_many(1, 0, l, C, attr, got), GEOM_ERR_INVALID_ARG);
+    assert_int_equal(geom_bary_interpolate_many(1, K, l, C, NULL, got), GEOM_ERR_INVALID_ARG);
+    assert_int_equal(geom_bary_interpolate_many(0, 0, NULL, 0, NULL, NULL), GEOM_OK);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -180,6 +267,8 @@ int main(void)
         cmocka_unit_test(test_tri2_degenerate_shared),
         cmocka_unit_test(test_tet_shared),
         cmocka_unit_test(test_tet_general_strides),
+        cmocka_unit_test(test_perspective_many),
+        cmocka_unit_test(test_interpolate_many),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

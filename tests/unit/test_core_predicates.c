@@ -503,6 +503,76 @@ static void test_extreme_range(void **state)
     assert_true(geom_incircle(ia, ib, ic, id_in) > 0.0);
 }
 
+/* geom_predicate_many: bitwise the single predicates on random, nearly
+ * degenerate, 1e8-offset and non-finite rows, one point per row and one
+ * point shared by every row (stride 0). */
+static void test_predicate_many(void **state)
+{
+    (void)state;
+    enum { M = 3000 };
+    static double pts[4][3 * M], out[M];
+    for (int j = 0; j < 4; j++)
+        for (int i = 0; i < 3 * M; i++)
+            pts[j][i] = rnd_dyadic();
+    for (int i = 0; i < M; i += 3) { /* nearly collinear / coplanar rows */
+        double t = ldexp((double)(rng() % 1024), -10);
+        for (int k = 0; k < 3; k++)
+            pts[2][3 * i + k] = pts[0][3 * i + k] + (pts[1][3 * i + k] - pts[0][3 * i + k]) * t;
+    }
+    for (int i = 1; i < M; i += 7) /* 1e8 offsets with tiny spread */
+        for (int j = 0; j < 4; j++)
+            for (int k = 0; k < 3; k++)
+                pts[j][3 * i + k] = 1e8 + ldexp((double)(rng() % 8), -26);
+    pts[1][3 * 5] = NAN;
+    pts[3][3 * 11 + 1] = INFINITY;
+    pts[0][3 * 17 + 2] = -INFINITY;
+    for (int kind = GEOM_PREDICATE_ORIENT2D; kind <= GEOM_PREDICATE_ORIENT3D_EXACT; kind++) {
+        size_t dim = (kind == GEOM_PREDICATE_ORIENT3D || kind == GEOM_PREDICATE_ORIENT3D_EXACT)
+                         ? 3 : 2;
+        for (int shared = 0; shared < 2; shared++) {
+            const double *p[4] = {pts[0], pts[1], pts[2], pts[3]};
+            size_t st[4] = {dim, dim, dim, dim};
+            if (shared) /* the first two points in every row */
+                st[0] = st[1] = 0;
+            assert_int_equal(geom_predicate_many((geom_predicate)kind, M, p, st, out), GEOM_OK);
+            for (size_t i = 0; i < M; i++) {
+                const double *a = p[0] + i * st[0], *b = p[1] + i * st[1],
+                             *c = p[2] + i * st[2], *d = p[3] + i * st[3];
+                double want;
+                switch (kind) {
+                case GEOM_PREDICATE_ORIENT2D: want = geom_orient2d(a, b, c); break;
+                case GEOM_PREDICATE_ORIENT3D: want = geom_orient3d(a, b, c, d); break;
+                case GEOM_PREDICATE_INCIRCLE: want = geom_incircle(a, b, c, d); break;
+                case GEOM_PREDICATE_ORIENT2D_EXACT: want = geom_orient2d_exact(a, b, c); break;
+                default: want = geom_orient3d_exact(a, b, c, d); break;
+                }
+                assert_true(same_bits_or_nan(out[i], want));
+            }
+        }
+    }
+    /* a NaN row is NaN (pts[1][15] is row 7's y with 2D strides) */
+    const double *p[4] = {pts[0], pts[1], pts[2], pts[3]};
+    const size_t st[4] = {2, 2, 2, 2};
+    assert_int_equal(geom_predicate_many(GEOM_PREDICATE_ORIENT2D, M, p, st, out), GEOM_OK);
+    assert_true(isnan(out[7]) && !isnan(out[6]) && !isnan(out[8]));
+    /* bad arguments: nothing written */
+    out[0] = 7.0;
+    const double *bad[4] = {pts[0], NULL, pts[2], pts[3]};
+    assert_int_equal(geom_predicate_many(GEOM_PREDICATE_ORIENT2D, 1, bad, st, out),
+                     GEOM_ERR_INVALID_ARG);
+    assert_int_equal(geom_predicate_many((geom_predicate)0, 1, p, st, out), GEOM_ERR_INVALID_ARG);
+    assert_int_equal(geom_predicate_many((geom_predicate)6, 1, p, st, out), GEOM_ERR_INVALID_ARG);
+    assert_int_equal(geom_predicate_many(GEOM_PREDICATE_ORIENT2D, 1, NULL, st, out),
+                     GEOM_ERR_INVALID_ARG);
+    assert_true(out[0] == 7.0);
+    assert_int_equal(geom_predicate_many(GEOM_PREDICATE_ORIENT2D, 0, NULL, NULL, NULL), GEOM_OK);
+    /* pts[3] is ignored by the 3-point predicates only */
+    const double *three[4] = {pts[0], pts[1], pts[2], NULL};
+    assert_int_equal(geom_predicate_many(GEOM_PREDICATE_ORIENT2D, 2, three, st, out), GEOM_OK);
+    assert_int_equal(geom_predicate_many(GEOM_PREDICATE_INCIRCLE, 2, three, st, out),
+                     GEOM_ERR_INVALID_ARG);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -514,6 +584,7 @@ int main(void)
         cmocka_unit_test(test_exact_values),
         cmocka_unit_test(test_nonfinite),
         cmocka_unit_test(test_extreme_range),
+        cmocka_unit_test(test_predicate_many),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

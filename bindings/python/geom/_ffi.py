@@ -119,6 +119,15 @@ double geom_incircle(const double a[2], const double b[2], const double c[2], co
 double geom_orient2d_exact(const double a[2], const double b[2], const double c[2]);
 double geom_orient3d_exact(const double a[3], const double b[3], const double c[3], const double
     d[3]);
+typedef enum geom_predicate {
+    GEOM_PREDICATE_ORIENT2D = 1,
+    GEOM_PREDICATE_ORIENT3D = 2,
+    GEOM_PREDICATE_INCIRCLE = 3,
+    GEOM_PREDICATE_ORIENT2D_EXACT = 4,
+    GEOM_PREDICATE_ORIENT3D_EXACT = 5
+} geom_predicate;
+geom_status geom_predicate_many(geom_predicate kind, size_t n, const double *const pts[4],
+    const size_t strides[4], double *out);
 typedef struct geom_aabb {
     geom_vec3 min;
     geom_vec3 max;
@@ -166,6 +175,10 @@ geom_status geom_bary_simplex_many(geom_bary_simplex kind, size_t n,
 geom_status geom_bary_polygon_many(int wachspress, size_t nv, const double *poly,
                                             size_t n, const double *p, double *w,
                                             int32_t *status, size_t *n_failed);
+geom_status geom_bary_perspective_many(size_t n, const double *l, size_t sl, const double *w,
+    size_t sw, double *lp, int32_t *status, size_t *n_failed);
+geom_status geom_bary_interpolate_many(size_t n, size_t k, const double *l, size_t ncomp,
+    const double *attr, double *out);
 """,
     "mesh": """
 typedef struct geom_mesh geom_mesh;
@@ -1481,6 +1494,58 @@ typedef struct geom_render_report {
     geom_raster_report raster;
 } geom_render_report;
 geom_status geom_scene_render(const geom_camera *cam, const geom_light *lights, size_t n_lights, const geom_material *materials, size_t n_materials, const geom_scene_object *objects, size_t n_objects, const geom_render_options *opt, geom_image *out, geom_render_report *report, geom_render_object_report *object_reports, geom_diag *diag);
+typedef enum geom_wrap {
+    GEOM_WRAP_REPEAT = 0,
+    GEOM_WRAP_CLAMP = 1
+} geom_wrap;
+geom_status geom_scene_texture_create(const geom_image *img, geom_wrap wrap,
+    const geom_allocator *alloc, geom_texture **out);
+void geom_scene_texture_destroy(geom_texture *t);
+uint32_t geom_scene_texture_channels(const geom_texture *t);
+void geom_scene_texture_size(const geom_texture *t, uint32_t *width, uint32_t *height);
+uint32_t geom_scene_texture_levels(const geom_texture *t);
+void geom_scene_texture_sample(const geom_texture *t, double u, double v, double footprint,
+    double *out);
+void geom_scene_texture_gradient(const geom_texture *t, double u, double v, double *dh_du,
+    double *dh_dv);
+geom_status geom_scene_texture_sample_many(const geom_texture *t, size_t n, const double *uv,
+    const double *footprint, size_t footprint_stride, double *out, double *grad);
+typedef struct geom_shade_point {
+    geom_vec3 p;
+    geom_vec3 n;
+    geom_vec3 ng;
+    geom_vec3 v;
+    double uv[2];
+    int has_uv;
+    geom_vec3 tangent;
+    double tangent_sign;
+    int has_tangent;
+    double footprint;
+} geom_shade_point;
+geom_vec3 geom_scene_shade_normal(const geom_material *m, const geom_shade_point *sp);
+void geom_scene_shade(const geom_material *m, const geom_light *lights, size_t n_lights,
+    const double *visibility, const geom_shade_point *sp, geom_vec3 n,
+    geom_vec3 *out);
+typedef struct geom_scene_draw {
+    const geom_mesh *mesh;
+    const geom_mat4 *transform;
+    uint32_t material;
+    uint32_t object_id;
+} geom_scene_draw;
+typedef struct geom_raster_options {
+    geom_aov aov;
+    geom_vec3 background;
+    int shadows;
+    uint32_t shadow_map_size;
+    double near_z, far_z;
+    const geom_allocator *alloc;
+} geom_raster_options;
+geom_status geom_scene_raster(const geom_camera *cam, const geom_light *lights,
+    size_t n_lights, const geom_material *materials,
+    size_t n_materials, const geom_scene_draw *draws,
+    size_t n_draws, const geom_raster_options *opt,
+    geom_image *out, geom_raster_report *report);
+geom_status geom_scene_displace(geom_mesh *m, const geom_texture *height, double scale);
 """,
     "spatial": """
 typedef struct geom_bvh geom_bvh;
@@ -1529,6 +1594,8 @@ typedef struct geom_neighbors {
     const geom_allocator *alloc;
 } geom_neighbors;
 void geom_neighbors_free(geom_neighbors *nb);
+geom_status geom_bvh_query_boxes(const geom_bvh *b, const geom_aabb *prim_boxes,
+    const geom_aabb *queries, size_t m, geom_neighbors *out, int threads, geom_diag *diag);
 typedef struct geom_kdtree geom_kdtree;
 typedef struct geom_kdtree_options {
     uint32_t leaf_size;

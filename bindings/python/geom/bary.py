@@ -6,8 +6,8 @@ guarantees: exact signs (a point on an edge gets exactly 0, a vertex exactly
 (1, 0, 0)) and a relative error of at most about 4.6e-13 per coordinate.
 
 Vectorised calls run in C over the whole array in one call (the batch entry
-points geom_bary_simplex_many and geom_bary_polygon_many); perspective and
-interpolate still loop in Python. Arguments
+points geom_bary_simplex_many, geom_bary_polygon_many,
+geom_bary_perspective_many and geom_bary_interpolate_many). Arguments
 broadcast: a single triangle with an (n, 2) array of points, or (n, 2)
 arrays for every vertex and point.
 
@@ -21,7 +21,7 @@ failing rows are NaN instead and no exception is raised.
 import numpy as np
 
 from ._ffi import ffi, lib
-from .core import GeomError, as_points, point_args, row_view
+from .core import GeomError, as_points, stride_args
 
 _ERRORS = ("raise", "nan")
 
@@ -42,42 +42,11 @@ def _finish(out, statuses, single, errors, what):
     return out[0] if single else out
 
 
-def _rows(x, dim, name):
-    """x as (array (m, dim), m) with m = 1 for a single point."""
-    arr = np.ascontiguousarray(x, dtype=np.float64)
-    if arr.ndim == 1:
-        if arr.shape[0] != dim:
-            raise ValueError("%s: expected %d coordinates, got shape %s" % (name, dim, arr.shape))
-        return arr.reshape(1, dim), True
-    if arr.ndim != 2 or arr.shape[1] != dim:
-        raise ValueError("%s: expected shape (%d,) or (n, %d), got %s"
-                         % (name, dim, dim, arr.shape))
-    return arr, False
-
-
 def _simplex(kind, dim, k, names, args, errors, what):
     """One C call over every row (geom_bary_simplex_many): single points
     are passed with stride 0 (broadcast without copying)."""
     _check_errors(errors)
-    n = None
-    arrs = []
-    for nm, a in zip(names, args):
-        arr, one = _rows(a, dim, nm)
-        if not one:
-            if n is not None and n != arr.shape[0]:
-                raise ValueError("%s: %d rows, others have %d" % (nm, arr.shape[0], n))
-            n = arr.shape[0]
-        arrs.append((arr, one))
-    single = n is None
-    n = 1 if single else n
-    pts = ffi.new("const double *[5]")
-    strides = ffi.new("size_t[5]")
-    keep = []
-    for j, (arr, one) in enumerate(arrs):
-        buf = ffi.from_buffer("double[]", arr)
-        keep.append(buf)
-        pts[j] = buf
-        strides[j] = 0 if one else dim
+    n, single, pts, strides, keep = stride_args(dim, names, args, 5)
     out = np.empty((n, k), dtype=np.float64)
     pout = ffi.from_buffer("double[]", out)
     nfail = ffi.new("size_t *")
@@ -156,21 +125,26 @@ def perspective(l, w, errors="raise"):
     """Perspective-correct interpolation weights (geom_bary_perspective):
     lp_i = (l_i / w_i) / sum_j (l_j / w_j) from screen-space barycentrics l
     ((3,) or (n, 3)) and the clip-space w of the vertices ((3,) or
-    (n, 3))."""
-    n, single, rows, keep = point_args(3, l=l, w=w)
+    (n, 3)). Arrays run in C in one call (geom_bary_perspective_many),
+    bitwise the single-point results."""
     _check_errors(errors)
-    out = np.zeros((n, 3), dtype=np.float64)
-    L, W, O = rows["l"], rows["w"], row_view(out, 3)
-    fn = lib.geom_bary_perspective
-    st = np.array([fn(L[i], W[i], O[i]) for i in range(n)], dtype=np.int32)
+    n, single, pts, strides, keep = stride_args(3, ("l", "w"), (l, w), 2)
+    out = np.empty((n, 3), dtype=np.float64)
+    status = np.empty(n, dtype=np.int32)
+    st = lib.geom_bary_perspective_many(n, pts[0], strides[0], pts[1], strides[1],
+                                        ffi.from_buffer("double[]", out),
+                                        ffi.from_buffer("int32_t[]", status), ffi.NULL)
     del keep
-    return _finish(out, st, single, errors, "perspective")
+    if st != 0:
+        raise GeomError(int(st), context="perspective")
+    return _finish(out, status, single, errors, "perspective")
 
 
 def interpolate(weights, attributes):
     """sum_i weights[i] * attributes[i] (geom_bary_interpolate): weights
     (k,) and attributes (k, ncomp) give (ncomp,); weights (n, k) give
-    (n, ncomp)."""
+    (n, ncomp). Arrays run in C in one call (geom_bary_interpolate_many),
+    bitwise the single-point results."""
     A = np.ascontiguousarray(attributes, dtype=np.float64)
     if A.ndim == 1:
         A = A.reshape(-1, 1)
@@ -178,9 +152,9 @@ def interpolate(weights, attributes):
     W, single = as_points(weights, k, "weights")
     n = W.shape[0]
     out = np.zeros((n, ncomp), dtype=np.float64)
-    pw, pa, po = (ffi.from_buffer("double[]", a) for a in (W, A, out))
-    for i in range(n):
-        st = lib.geom_bary_interpolate(k, pw + k * i, ncomp, pa, po + ncomp * i)
-        if st != 0:
-            raise GeomError(st, context="interpolate")
+    st = lib.geom_bary_interpolate_many(n, k, ffi.from_buffer("double[]", W), ncomp,
+                                        ffi.from_buffer("double[]", A),
+                                        ffi.from_buffer("double[]", out))
+    if st != 0:
+        raise GeomError(int(st), context="interpolate")
     return out[0] if single else out

@@ -168,41 +168,6 @@ def as_points(x, dim, name="points"):
     return arr, False
 
 
-def point_args(dim, **arrays):
-    """Row pointers for a loop over n rows: each argument, a point (dim,) or
-    an (n, dim) array, becomes a cdata `double (*)[dim]` R whose R[i] is a
-    pointer to row i (single points are broadcast, i.e. repeated). Returns
-    (n, single, {name: R}, keep) where single says that every argument was
-    one point and keep holds the arrays alive."""
-    n = None
-    parsed = {}
-    for name, value in arrays.items():
-        arr, one = as_points(value, dim, name)
-        parsed[name] = (arr, one)
-        if not one:
-            if n is not None and n != arr.shape[0]:
-                raise ValueError("%s: %d rows, others have %d" % (name, arr.shape[0], n))
-            n = arr.shape[0]
-    single = n is None
-    if single:
-        n = 1
-    rows = {}
-    keep = []
-    for name, (arr, one) in parsed.items():
-        if one and n != 1:
-            arr = np.ascontiguousarray(np.broadcast_to(arr, (n, dim)))
-        keep.append(arr)
-        rows[name] = row_view(arr, dim)
-    return n, single, rows, keep
-
-
-def row_view(arr, ncol):
-    """A cdata `double (*)[ncol]` over a C-contiguous float64 array: R[i]
-    is row i (the cheapest per-row argument for a Python loop over a C
-    function)."""
-    return ffi.cast("double(*)[%d]" % ncol, ffi.from_buffer("double[]", arr))
-
-
 def dptr(arr):
     """A `double *` into a C-contiguous float64 numpy array (no copy; the
     array must outlive the pointer's use)."""
@@ -225,19 +190,43 @@ def from_c_uint32(ptr, count):
 
 # ----------------------------------------------------------- predicates
 
-def _predicate(fn, dim, names, args):
-    n, single, rows, keep = point_args(dim, **dict(zip(names, args)))
-    rs = [rows[k] for k in names]
-    if single:
-        return float(fn(*[r[0] for r in rs]))
-    if len(rs) == 3:
-        A, B, C = rs
-        out = np.array([fn(A[i], B[i], C[i]) for i in range(n)], dtype=np.float64)
-    else:
-        A, B, C, D = rs
-        out = np.array([fn(A[i], B[i], C[i], D[i]) for i in range(n)], dtype=np.float64)
+def stride_args(dim, names, args, nslots):
+    """Pointers and strides for a C batch entry point over n rows (the
+    `const double *const pts[k], const size_t strides[k]` convention of
+    geom_predicate_many and geom_bary_simplex_many): each argument is a
+    point (dim,) (stride 0: broadcast without copying) or an (n, dim) array
+    (stride dim). Returns (n, single, pts, strides, keep) where single says
+    that every argument was one point and keep holds the buffers alive."""
+    n = None
+    parsed = []
+    for name, value in zip(names, args):
+        arr, one = as_points(value, dim, name)
+        if not one:
+            if n is not None and n != arr.shape[0]:
+                raise ValueError("%s: %d rows, others have %d" % (name, arr.shape[0], n))
+            n = arr.shape[0]
+        parsed.append((arr, one))
+    single = n is None
+    pts = ffi.new("const double *[%d]" % nslots)
+    strides = ffi.new("size_t[%d]" % nslots)
+    keep = []
+    for j, (arr, one) in enumerate(parsed):
+        buf = ffi.from_buffer("double[]", arr)
+        keep.append(buf)
+        pts[j] = buf
+        strides[j] = 0 if one else dim
+    return (1 if single else n), single, pts, strides, keep
+
+
+def _predicate(kind, dim, names, args):
+    """One C call over every row (geom_predicate_many)."""
+    n, single, pts, strides, keep = stride_args(dim, names, args, 4)
+    out = np.empty(n, dtype=np.float64)
+    st = lib.geom_predicate_many(kind, n, pts, strides, ffi.from_buffer("double[]", out))
     del keep
-    return out
+    if st != 0:
+        raise GeomError(int(st), context="predicate")
+    return float(out[0]) if single else out
 
 
 def orient2d(a, b, c):
@@ -245,34 +234,34 @@ def orient2d(a, b, c):
     collinear, with an exact sign (geom_orient2d); the magnitude
     approximates twice the signed area. Each argument is a point (2,) or
     an (n, 2) array (single points broadcast); returns a float or an (n,)
-    array. NaN where an input is not finite. Arrays cost a few tenths of a
-    microsecond per point (a Python loop over the C call; see README)."""
-    return _predicate(lib.geom_orient2d, 2, ("a", "b", "c"), (a, b, c))
+    array. NaN where an input is not finite. Arrays run in C in one call
+    (geom_predicate_many), bitwise the single-point results."""
+    return _predicate(lib.GEOM_PREDICATE_ORIENT2D, 2, ("a", "b", "c"), (a, b, c))
 
 
 def orient3d(a, b, c, d):
     """Sign of det[a-d; b-d; c-d], exact (geom_orient3d): > 0 when d lies
     below the plane of a, b, c seen counter-clockwise from above. Points
     (3,) or (n, 3) arrays."""
-    return _predicate(lib.geom_orient3d, 3, ("a", "b", "c", "d"), (a, b, c, d))
+    return _predicate(lib.GEOM_PREDICATE_ORIENT3D, 3, ("a", "b", "c", "d"), (a, b, c, d))
 
 
 def incircle(a, b, c, d):
     """> 0 if d is inside the circle through a, b, c (counter-clockwise),
     < 0 outside, 0 on it; exact sign (geom_incircle). Points (2,) or
     (n, 2)."""
-    return _predicate(lib.geom_incircle, 2, ("a", "b", "c", "d"), (a, b, c, d))
+    return _predicate(lib.GEOM_PREDICATE_INCIRCLE, 2, ("a", "b", "c", "d"), (a, b, c, d))
 
 
 def orient2d_exact(a, b, c):
     """orient2d's determinant rounded once to the nearest double
     (geom_orient2d_exact)."""
-    return _predicate(lib.geom_orient2d_exact, 2, ("a", "b", "c"), (a, b, c))
+    return _predicate(lib.GEOM_PREDICATE_ORIENT2D_EXACT, 2, ("a", "b", "c"), (a, b, c))
 
 
 def orient3d_exact(a, b, c, d):
     """orient3d's determinant rounded once to the nearest double."""
-    return _predicate(lib.geom_orient3d_exact, 3, ("a", "b", "c", "d"), (a, b, c, d))
+    return _predicate(lib.GEOM_PREDICATE_ORIENT3D_EXACT, 3, ("a", "b", "c", "d"), (a, b, c, d))
 
 
 # ------------------------------------------------------------- matrices

@@ -122,6 +122,32 @@ class Expression:
               context="interval")
         return float(out[0]), float(out[1])
 
+    def bounds(self, lo, hi):
+        """(lower, upper, defined): interval bounds of f over the box lo..hi
+        (3 coordinates each, lo <= hi, infinite bounds allowed) with
+        definedness (geom_implicit_expr_eval_bounds). lower <= f(p) <= upper
+        for every p in the box where f(p) is finite, as f(points) computes
+        it; defined is True when, in addition, f is finite everywhere in the
+        box (no NaN, no infinity), so the bounds hold at every point without
+        exception. The test is conservative: defined is False whenever an
+        intermediate interval is unbounded or reaches outside the domain of
+        sqrt, log or a non-integer power. (nan, nan) when f is defined
+        nowhere in the box. The bounds are rigorous, not tight (interval
+        arithmetic overestimates where a variable occurs more than once).
+        Raises GeomError (ERR_INVALID_ARG) for NaN bounds or lo > hi;
+        ValueError for shapes other than (3,). One box per call: libgeom
+        has no batch form."""
+        a = np.ascontiguousarray(lo, dtype=np.float64)
+        b = np.ascontiguousarray(hi, dtype=np.float64)
+        if a.shape != (3,) or b.shape != (3,):
+            raise ValueError("lo and hi: 3 coordinates each, got shapes %s and %s"
+                             % (a.shape, b.shape))
+        out = ffi.new("double[2]")
+        defined = ffi.new("int *")
+        check(lib.geom_implicit_expr_eval_bounds(self._ptr, dptr(a), dptr(b), out, defined),
+              context="bounds")
+        return float(out[0]), float(out[1]), bool(defined[0])
+
 
 def _iso_options(iso, refine, normals, caps, error, threads):
     """A geom_iso_options * from marching_cubes' arguments."""
@@ -292,17 +318,8 @@ def _contour_args(field, bounds, resolution, iso, z, keep, error_box):
     return f, b4, nx, ny, opt
 
 
-def contour(field, bounds, resolution, iso=0.0, z=0.0, refine=None):
-    """Isolines f(x, y, z) = iso of a 2-D slice by marching squares with the
-    asymptotic decider (geom_implicit_contour): field an expression string,
-    an Expression or a Python function of (n, 3) points; bounds (x0, y0,
-    x1, y1) split into resolution (nx, ny) cells. refine: None (the
-    default: refine exact fields), True or False.
-
-    Returns (xy (n, 2), polylines, closed, report): polylines a list of
-    vertex-index arrays (closed loops list each vertex once, inside f <= iso
-    on the left), closed a bool array, report the achieved error (distance
-    estimate |f - iso| / |grad f| at the vertices) and the counts."""
+def _contour(field, bounds, resolution, iso, z, refine, take):
+    """Run geom_implicit_contour and return take(isolines) (then freed)."""
     keep, error_box = [], []
     f, b4, nx, ny, opt = _contour_args(field, bounds, resolution, iso, z, keep, error_box)
     opt.refine = (lib.GEOM_IMPLICIT_REFINE_AUTO if refine is None else
@@ -314,24 +331,61 @@ def contour(field, bounds, resolution, iso=0.0, z=0.0, refine=None):
         if error_box:
             raise error_box[0]
         check(st, diag, context="contour")
-        nv, npl = int(out.n_vertices), int(out.n_polylines)
-        xy = (np.frombuffer(ffi.buffer(out.xy, 16 * nv), dtype=np.float64).reshape(nv, 2).copy()
-              if nv else np.empty((0, 2)))
-        start = np.frombuffer(ffi.buffer(out.start, ffi.sizeof("size_t") * (npl + 1)),
-                              dtype=np.uintp).astype(np.int64)
-        idx = (np.frombuffer(ffi.buffer(out.indices, 4 * int(start[-1])), dtype=np.uint32).copy()
-               if start[-1] else np.empty(0, dtype=np.uint32))
-        lines = [idx[start[k]:start[k + 1]] for k in range(npl)]
-        closed = (np.frombuffer(ffi.buffer(out.closed, npl), dtype=np.uint8).astype(bool)
-                  if npl else np.empty(0, dtype=bool))
-        r = out.report
-        report = {"error": error_report(r.error), "unmeasured": int(r.unmeasured),
-                  "seconds": float(r.seconds), "cells": int(r.cells), "saddles": int(r.saddles),
-                  "refined": int(r.refined), "nan_nodes": int(r.nan_nodes)}
-        return xy, lines, closed, report
+        return take(out)
     finally:
         lib.geom_implicit_isolines_free(out)
         del keep
+
+
+def _contour_report(out):
+    r = out.report
+    return {"error": error_report(r.error), "unmeasured": int(r.unmeasured),
+            "seconds": float(r.seconds), "cells": int(r.cells), "saddles": int(r.saddles),
+            "refined": int(r.refined), "nan_nodes": int(r.nan_nodes)}
+
+
+def _isoline_arrays(out):
+    nv, npl = int(out.n_vertices), int(out.n_polylines)
+    xy = (np.frombuffer(ffi.buffer(out.xy, 16 * nv), dtype=np.float64).reshape(nv, 2).copy()
+          if nv else np.empty((0, 2)))
+    start = np.frombuffer(ffi.buffer(out.start, ffi.sizeof("size_t") * (npl + 1)),
+                          dtype=np.uintp).astype(np.int64)
+    idx = (np.frombuffer(ffi.buffer(out.indices, 4 * int(start[-1])), dtype=np.uint32).copy()
+           if start[-1] else np.empty(0, dtype=np.uint32))
+    lines = [idx[start[k]:start[k + 1]] for k in range(npl)]
+    closed = (np.frombuffer(ffi.buffer(out.closed, npl), dtype=np.uint8).astype(bool)
+              if npl else np.empty(0, dtype=bool))
+    return xy, lines, closed, _contour_report(out)
+
+
+def contour(field, bounds, resolution, iso=0.0, z=0.0, refine=None):
+    """Isolines f(x, y, z) = iso of a 2-D slice by marching squares with the
+    asymptotic decider (geom_implicit_contour): field an expression string,
+    an Expression or a Python function of (n, 3) points; bounds (x0, y0,
+    x1, y1) split into resolution (nx, ny) cells. refine: None (the
+    default: refine exact fields), True or False.
+
+    Returns (xy (n, 2), polylines, closed, report): polylines a list of
+    vertex-index arrays (closed loops list each vertex once, inside f <= iso
+    on the left), closed a bool array, report the achieved error (distance
+    estimate |f - iso| / |grad f| at the vertices) and the counts."""
+    return _contour(field, bounds, resolution, iso, z, refine, _isoline_arrays)
+
+
+def contour_mesh(field, bounds, resolution, iso=0.0, z=0.0, refine=None):
+    """contour() as a Mesh of polylines, ready for Mesh.write (OBJ `l`
+    lines): vertices (x, y, z) at the slice height z, one polyline per
+    isoline, a closed loop repeating its first vertex at the end
+    (geom_implicit_isolines_to_mesh). Returns (Mesh, report); arguments,
+    report and errors as contour()."""
+    def take(out):
+        m = Mesh()
+        st = lib.geom_implicit_isolines_to_mesh(out, float(z), m._ptr)
+        if st != 0:
+            m.close()
+            check(st, context="contour_mesh")
+        return m, _contour_report(out)
+    return _contour(field, bounds, resolution, iso, z, refine, take)
 
 
 def contour_estimate(field, bounds, resolution, iso=0.0, z=0.0):
@@ -470,6 +524,13 @@ class Volume:
         ffi.memmove(lib.geom_implicit_volume_data(v), ffi.from_buffer(flat), flat.nbytes)
         return v
 
+    @property
+    def bounds(self):
+        """(lo, hi): the box the samples span, origin .. origin + (dims - 1)
+        * spacing (geom_implicit_volume_bounds), where eval interpolates."""
+        b = lib.geom_implicit_volume_bounds(self._c())
+        return (np.array([b.min.x, b.min.y, b.min.z]), np.array([b.max.x, b.max.y, b.max.z]))
+
     def eval(self, points, gradient=False):
         """Trilinear values at points ((3,) or (n, 3)); with gradient=True
         also the interpolated central-difference gradients ((n, 3))."""
@@ -576,3 +637,56 @@ def read_volume(path_or_bytes, dims=None, dtype=None, spacing=None, origin=None,
 
 
 __all__ = ["Expression", "Volume", "marching_cubes", "read_volume", "volume_dtype"]
+
+
+# ------------------------------------------------------------ root finding
+
+def bracket_root(fn, a, b, x=None, max_iterations=100, fa=None, fb=None):
+    """A root of the Python function fn (a float -> float) in the open
+    interval (a, b), a < b, with fn(a) and fn(b) of opposite strict signs
+    (geom_implicit_bracket_root: Illinois regula falsi with a bisection step
+    whenever the bracket has not halved over two steps; the stopping rule
+    of the library's contouring). Starts from x (default: the linear
+    interpolation of the end values; moved to the midpoint when not
+    strictly inside). Stops when the bracket ends are adjacent doubles, fn
+    is exactly 0 (that point is returned), fn is NaN, or max_iterations
+    evaluations were made; then returns the end of the final bracket with
+    the smaller |fn| (at a jump of fn, a point next to the jump), always
+    strictly inside (a, b). So for a continuous fn, the result is within
+    one ulp of a root unless max_iterations stopped it first.
+
+    fa, fb: fn(a) and fn(b) if already known (else fn is called at a and
+    b here, not counted in the evaluations). Returns (root, evaluations):
+    the calls the C root finder made. Raises ValueError for a >= b, a NaN
+    end, end values that are not of opposite strict signs, or
+    max_iterations < 1; an exception raised by fn is re-raised (the root
+    finder stops at the NaN it then sees). One root per call: libgeom has
+    no batch form (marching cubes and contour() refine their edges in C)."""
+    a, b = float(a), float(b)
+    if not a < b:
+        raise ValueError("bracket_root needs a < b, got a=%r, b=%r" % (a, b))
+    fa = float(fn(a)) if fa is None else float(fa)
+    fb = float(fn(b)) if fb is None else float(fb)
+    if not ((fa < 0 < fb) or (fb < 0 < fa)):
+        raise ValueError("bracket_root: fn(a)=%r and fn(b)=%r are not of opposite strict signs"
+                         % (fa, fb))
+    if int(max_iterations) < 1:
+        raise ValueError("max_iterations must be >= 1, got %r" % (max_iterations,))
+    if x is None:
+        x = a + (b - a) * fa / (fa - fb)
+    errors = []
+
+    def on_error(exc_type, exc_value, tb):
+        if not errors:
+            errors.append(exc_value)
+
+    @ffi.callback("double(void *, double)", onerror=on_error, error=float("nan"))
+    def cb(user, t):
+        return float(fn(t))
+
+    evals = ffi.new("size_t *")
+    root = lib.geom_implicit_bracket_root(cb, ffi.NULL, a, b, fa, fb, float(x),
+                                          int(max_iterations), evals)
+    if errors:
+        raise errors[0]
+    return float(root), int(evals[0])

@@ -374,3 +374,32 @@ def quadric(shape, *params):
     q = ffi.new("double[10]")
     check(lib.geom_ray_quadric_make(_QUADRICS[shape], p, q), context="quadric")
     return np.array(list(q))
+
+
+def poly_roots(coeffs, lo, hi):
+    """The real roots in [lo, hi] (finite) of the polynomial
+    coeffs[0] + coeffs[1] x + ... + coeffs[d] x^d, degree d <= 8, sorted,
+    a double root (a tangency) listed twice (geom_ray_poly_roots, the
+    solver behind the ray module's tori and quadrics): the roots of the
+    derivative split [lo, hi] into monotone pieces, a piece whose ends have
+    opposite signs holds one root, found by safeguarded Newton/bisection to
+    full double precision; a critical point where |p| is within Horner's
+    running error bound (Higham 5.1) is a double root. No root with a sign
+    change is missed and none is reported where |p| exceeds its error
+    bound. Unlike numpy.roots (eigenvalues of the companion matrix), no
+    complex roots and no loss of accuracy near multiple roots beyond what
+    the coefficients determine. Raises ValueError for a degree above 8,
+    non-finite coefficients or bounds, or lo > hi."""
+    c = np.ascontiguousarray(coeffs, dtype=np.float64).reshape(-1)
+    lo, hi = float(lo), float(hi)
+    if c.size < 1 or c.size > 9:
+        raise ValueError("poly_roots: 1 to 9 coefficients (degree <= 8), got %d" % c.size)
+    if not (np.isfinite(c).all() and np.isfinite(lo) and np.isfinite(hi)):
+        raise ValueError("poly_roots: coefficients and bounds must be finite")
+    if lo > hi:
+        raise ValueError("poly_roots: lo > hi (%r > %r)" % (lo, hi))
+    deg = c.size - 1
+    roots = np.zeros(max(deg, 1))
+    n = lib.geom_ray_poly_roots(ffi.cast("double *", ffi.from_buffer("double[]", c)), deg, lo, hi,
+                                ffi.cast("double *", ffi.from_buffer("double[]", roots)))
+    return roots[:int(n)].copy()

@@ -83,6 +83,27 @@ class Refiner:
     def scheme(self):
         return ffi.string(lib.geom_subdiv_scheme_name(lib.geom_subdiv_refiner_scheme(self._r))).decode()
 
+    def options(self):
+        """The effective options (geom_subdiv_refiner_options: after the
+        mesh's tags were read) as a dict with the names Mesh.subdivide
+        takes: scheme, boundary, fvar_boundary, crease_method, triangles
+        (None where the option is 0, the scheme's default), ignore_tags,
+        partial_last_level. The crease, corner and hole arrays are not
+        kept by the refiner (its sharpness is per level: level_info)."""
+        from .mesh import _SUBDIV_BOUNDARY, _SUBDIV_CREASE, _SUBDIV_FVAR, _SUBDIV_TRIANGLES
+        o = lib.geom_subdiv_refiner_options(self._r)
+
+        def name(table, value):
+            inv = {v: k for k, v in table.items()}
+            return inv.get(int(value), int(value))
+        return {"scheme": ffi.string(lib.geom_subdiv_scheme_name(o.scheme)).decode(),
+                "boundary": name(_SUBDIV_BOUNDARY, o.boundary),
+                "fvar_boundary": name(_SUBDIV_FVAR, o.fvar_boundary),
+                "crease_method": name(_SUBDIV_CREASE, o.crease_method),
+                "triangles": name(_SUBDIV_TRIANGLES, o.triangles),
+                "ignore_tags": bool(o.ignore_tags),
+                "partial_last_level": int(o.partial_last_level)}
+
     def _level(self, level, lo=0):
         level = int(level)
         if not lo <= level <= self.max_level:

@@ -194,3 +194,62 @@ def test_shared_simplex_batch_edges():
     with pytest.raises(geom.GeomError) as info:
         bary.tet(T[0], T[1], T[2], T[0] + T[1] - T[2], x)   # coplanar
     assert info.value.code == "ERR_DEGENERATE"
+
+
+def _bits(a):
+    return np.ascontiguousarray(a, dtype=np.float64).view(np.uint64)
+
+
+def test_perspective_batch_bitwise_single_rows_and_edges():
+    """bary.perspective over arrays (geom_bary_perspective_many) gives
+    bitwise each row's single-point result, and the failing rows of the
+    single function (zero w, vanishing sum, NaN/Inf) fail with its status."""
+    rng = np.random.default_rng(5)
+    l = rng.random((300, 3))
+    w = 0.1 + 10 * rng.random((300, 3))
+    w[1, 2] = 0.0                                  # zero w
+    l[2], w[2] = [1, -1, 0], [2, 2, 3]             # the sum vanishes
+    w[3] = [1e-300, 1e300, -1e-310]                # the rescaled path
+    l[4, 1] = np.nan
+    w[5, 0] = np.inf
+    w[6, 0] = -1.0                                 # mixed signs
+    got = bary.perspective(l, w, errors="nan")
+    bad = []
+    for i in range(300):
+        try:
+            want = bary.perspective(l[i], w[i])
+        except geom.GeomError as e:
+            bad.append((i, e.status))
+            assert np.isnan(got[i]).all()
+            continue
+        assert (_bits(got[i]) == _bits(want)).all(), i
+    assert [i for i, _ in bad] == [1, 2, 4, 5]
+    assert bad[0][1] == geom.STATUS["ERR_DEGENERATE"]
+    assert bad[2][1] == geom.STATUS["ERR_INVALID_ARG"]
+    with pytest.raises(geom.GeomError, match=r"row 1"):
+        bary.perspective(l, w)
+    # a shared w (broadcast, stride 0) is each row with that w
+    shared = bary.perspective(l[7:], w[0])
+    assert (_bits(shared) == _bits(bary.perspective(l[7:], np.tile(w[0], (293, 1))))).all()
+    # the closed form on the ordinary rows (numpy overflows on row 3)
+    ok = np.setdiff1d(np.arange(300), [1, 2, 3, 4, 5])
+    q = l[ok] / w[ok]
+    assert np.allclose(got[ok], q / q.sum(axis=1, keepdims=True), rtol=1e-12, atol=0)
+
+
+def test_interpolate_batch_bitwise_single_rows():
+    rng = np.random.default_rng(6)
+    W = rng.random((200, 4)) * 2 - 0.5
+    A = 1e8 + rng.random((4, 5))
+    W[3, 1] = np.nan
+    got = bary.interpolate(W, A)
+    for i in range(200):
+        want = bary.interpolate(W[i], A)
+        assert (np.isnan(got[i]) == np.isnan(want)).all()
+        fin = ~np.isnan(want)
+        assert (_bits(got[i][fin]) == _bits(want[fin])).all()
+    assert np.isnan(got[3]).all()
+    assert np.allclose(np.delete(got, 3, 0), np.delete(W, 3, 0) @ A, rtol=1e-15)
+    assert bary.interpolate(np.empty((0, 4)), A).shape == (0, 5)
+    with pytest.raises(ValueError):
+        bary.interpolate(np.ones((3, 2)), A)

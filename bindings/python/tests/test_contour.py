@@ -54,3 +54,20 @@ def test_estimates_and_errors():
     assert 0.8 <= v / len(xy) <= 1.25 and cells < 400 * 400   # far blocks skipped
     with pytest.raises(geom.GeomError):
         geom.implicit.contour("x", (0, 0, 0, 1), (4, 4))
+
+
+def test_contour_mesh_matches_the_arrays():
+    f = "min(sqrt((x-1)^2 + y^2), sqrt((x+1)^2 + y^2)) - 0.5"
+    xy, lines, closed, rep = geom.implicit.contour(f, (-2, -1, 2, 1), (80, 40))
+    m, rep2 = geom.implicit.contour_mesh(f, (-2, -1, 2, 1), (80, 40), z=0.25)
+    assert rep2["cells"] == rep["cells"] and m.n_faces == 0
+    p = m.positions
+    np.testing.assert_array_equal(p[:, :2], xy)
+    assert np.all(p[:, 2] == 0.25)
+    pl = m.polylines
+    assert len(pl) == len(lines)
+    for got, want, c in zip(pl, lines, closed):      # closed loops repeat their first vertex
+        assert c and np.array_equal(got, np.r_[want, want[0]])
+    assert b"\nl " in m.to_bytes("obj")
+    with pytest.raises(geom.GeomError):
+        geom.implicit.contour_mesh(f, (-2, -1, 2, 1), (8, 4), z=float("nan"))

@@ -183,3 +183,40 @@ def test_inverse_and_storage_order():
     # Round trip through the C layout.
     M = rng.normal(size=(4, 4))
     assert np.array_equal(core.from_mat4(core.to_mat4(M)), M)
+
+
+def test_predicates_batch_bitwise_single_rows():
+    """The predicates over arrays (geom_predicate_many) give bitwise each
+    row's single-point result: random, nearly collinear, 1e8 offsets,
+    NaN/Inf rows, one point broadcast."""
+    rng = np.random.default_rng(7)
+    n = 400
+    P = [rng.integers(-2**20, 2**20, (n, 3)) * 2.0**-20 for _ in range(4)]
+    t = rng.integers(0, 1024, n)[:, None] * 2.0**-10
+    P[2][::3] = (P[0] + (P[1] - P[0]) * t)[::3]
+    P[0][1::5] += 1e8
+    P[1][1::5] += 1e8
+    P[2][1::5] += 1e8
+    P[3][1::5] += 1e8
+    P[1][5, 0] = np.nan
+    P[3][11, 1] = np.inf
+    fns = [(core.orient2d, 2, 3), (core.orient3d, 3, 4), (core.incircle, 2, 4),
+           (core.orient2d_exact, 2, 3), (core.orient3d_exact, 3, 4)]
+    for fn, dim, k in fns:
+        args = [p[:, :dim] for p in P[:k]]
+        got = fn(*args)
+        assert got.shape == (n,)
+        want = np.array([fn(*[a[i] for a in args]) for i in range(n)])
+        assert ((got.view(np.uint64) == want.view(np.uint64)) |
+                (np.isnan(got) & np.isnan(want))).all(), fn.__name__
+        assert np.isnan(got[5])
+        shared = fn(args[0][0], *args[1:])
+        want = np.array([fn(args[0][0], *[a[i] for a in args[1:]]) for i in range(n)])
+        assert ((shared.view(np.uint64) == want.view(np.uint64)) |
+                (np.isnan(shared) & np.isnan(want))).all(), fn.__name__
+    # exact zeros on the collinear rows (orient2d of c = a + (b - a) t in exact dyadics)
+    z = core.orient2d(P[0][::3, :2], P[1][::3, :2], P[2][::3, :2])
+    assert z.size and np.isfinite(z).all()
+    assert core.orient2d(np.empty((0, 2)), [0, 0], [1, 1]).shape == (0,)
+    with pytest.raises(ValueError):
+        core.orient2d(np.zeros((3, 2)), np.zeros((4, 2)), [0, 0])

@@ -1,6 +1,6 @@
 """Repeated create/use/free cycles keep the process size flat: every C
 object the bindings create (meshes, expressions, surfaces, surface sets,
-write buffers, iso surfaces) is freed."""
+write buffers, iso surfaces, textures, raster images, BVHs) is freed."""
 
 import gc
 import os
@@ -47,6 +47,18 @@ def _cycle(pts, faces):
     if geom.has_module("surface"):
         s, _ = geom.tessellate(geom.NurbsSurface.sphere(1.0), mode="uniform", grid=(3, 3))
         s.close()
+    if geom.has_module("scene"):
+        # a 256 x 256 RGB texture (about 2 MiB with its MIP pyramid) per cycle
+        t = geom.scene.Texture(np.ones((256, 256, 3)))
+        with geom.Mesh.from_soup(pts, faces) as m2:
+            m2.set_channel("uv", pts[:, :2] * 0.1)
+            geom.scene.raster([m2], geom.scene.camera((0, 0, 6), (0, 0, 0), width=16, height=12),
+                              materials=[{"texture": t}])
+        del t
+    if geom.has_module("spatial"):
+        b = geom.spatial.Bvh.from_boxes(pts, pts + 0.1)
+        b.overlap(pts[:4], pts[:4] + 1)
+        del b
     try:
         geom.Mesh.from_bytes(b"v 0 0 0\nf 1 2 x\n", format="obj")
     except geom.GeomError:

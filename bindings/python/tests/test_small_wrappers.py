@@ -1,4 +1,6 @@
-"""Small bindings of session 6 against closed forms: Octree.ray (front to
+"""Small bindings of sessions 6 and 7 against closed forms: geom.ray.poly_roots
+(products of known roots, a double root twice, Wilkinson's degree 8, numpy.roots on
+separated roots), Octree.ray (front to
 back, brute-force slab test over the items), geom.ray.quadric (the
 coefficients' equations at points of the shape, and hits of a RayScene),
 geom.iso.measure_error (refined vertices give marching_cubes' own vertex error, a scaled
@@ -79,3 +81,39 @@ def test_sniff_format():
     assert geom.mesh.sniff_format(b"v 0 0 0\n") == "obj"
     assert geom.mesh.sniff_format(b"") == "obj"
     assert geom.mesh.sniff_format(b"\0" * 80 + (1).to_bytes(4, "little") + b"\0" * 50) == "stl"
+
+
+# ------------------------------------------------------ geom.ray.poly_roots
+
+@pytest.mark.skipif(not geom.has_module("ray"), reason="ray module not built")
+def test_poly_roots_against_closed_forms():
+    P = np.polynomial.polynomial
+    pr = geom.ray.poly_roots
+    np.testing.assert_allclose(pr(P.polyfromroots([1, 2, 3]), 0, 4), [1, 2, 3], rtol=5e-16)
+    np.testing.assert_allclose(pr(P.polyfromroots([1, 2, 3]), 1.5, 2.5), [2], rtol=5e-16)
+    np.testing.assert_allclose(pr(P.polyfromroots([1, 1, 3]), 0, 4), [1, 1, 3], rtol=1e-8)  # twice
+    np.testing.assert_array_equal(pr([0, 0, 1], -1, 1), [0, 0])
+    assert pr([1, 0, 1], -10, 10).size == 0                                     # x^2 + 1
+    assert pr([5.0], 0, 1).size == 0
+    w = pr(P.polyfromroots(np.arange(1, 9)), 0, 9)                             # Wilkinson, degree 8
+    np.testing.assert_allclose(w, np.arange(1, 9), rtol=0, atol=1e-10)
+    # a torus-like quartic (x^2 + 0.91)^2 - 4 x^2 (R = 1, r = 0.3 along a ray through the axis)
+    q = pr([0.91 ** 2, 0, 2 * 0.91 - 4, 0, 1], -2, 2)
+    np.testing.assert_allclose(q, [-1.3, -0.7, 0.7, 1.3], rtol=0, atol=1e-14)
+    rng = np.random.default_rng(6)
+    for _ in range(50):                  # well separated real roots: numpy.roots agrees
+        r = np.sort(rng.choice(np.arange(-20, 20), 4, replace=False) / 4 + rng.uniform(0, 0.01))
+        c = P.polyfromroots(r) * rng.uniform(0.5, 2)
+        np.testing.assert_allclose(pr(c, -6, 6), r, rtol=0, atol=1e-12)
+
+
+@pytest.mark.skipif(not geom.has_module("ray"), reason="ray module not built")
+def test_poly_roots_bad_input():
+    with pytest.raises(ValueError):
+        geom.ray.poly_roots(np.ones(10), 0, 1)
+    with pytest.raises(ValueError):
+        geom.ray.poly_roots([1, np.nan], 0, 1)
+    with pytest.raises(ValueError):
+        geom.ray.poly_roots([1, 1], 0, np.inf)
+    with pytest.raises(ValueError):
+        geom.ray.poly_roots([1, 1], 1, 0)

@@ -173,3 +173,17 @@ def test_errors():
         geom.subdiv.Refiner(cube(), scheme="loop")   # quads
     with pytest.raises(ValueError):
         r.add_fvar(3, [0, 1, 2])
+
+
+def test_effective_options():
+    pts = np.array([[x, y, z] for z in (0, 1) for y in (0, 1) for x in (0, 1)], float)
+    faces = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]]
+    m = geom.Mesh.from_soup(pts, faces)
+    r = geom.subdiv.Refiner(m, scheme="bilinear", boundary="edge_and_corner", crease_method="chaikin",
+                            fvar_boundary="corners_only")
+    o = r.options()
+    assert o["scheme"] == "bilinear" and o["boundary"] == "edge_and_corner"
+    assert o["crease_method"] == "chaikin" and o["fvar_boundary"] == "corners_only"
+    assert not o["ignore_tags"]
+    d = geom.subdiv.Refiner(m).options()          # 0s resolved to the scheme's defaults
+    assert d["scheme"] == "catmull-clark" and None not in d.values()

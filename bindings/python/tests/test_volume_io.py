@@ -350,3 +350,13 @@ def _flat_normals(mesh):
         idx += [f] * int(n)
         k += int(n)
     return np.array(normals), np.array(idx)
+
+
+def test_volume_bounds_are_the_sampled_box():
+    v = geom.implicit.Volume(np.zeros((4, 3, 2), dtype=np.float32), spacing=(0.5, 2, 3),
+                             origin=(1e8, -1, 0.25))
+    lo, hi = v.bounds
+    np.testing.assert_array_equal(lo, [1e8, -1, 0.25])
+    np.testing.assert_array_equal(hi, [1e8 + 1.5, 3, 3.25])
+    # eval is defined on that box: its corners interpolate, just outside is NaN or clamped
+    assert np.isfinite(v.eval(hi)) and np.isfinite(v.eval(lo))

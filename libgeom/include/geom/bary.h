@@ -144,6 +144,32 @@ GEOM_API geom_status geom_bary_polygon_many(int wachspress, size_t nv, const dou
                                             size_t n, const double *p, double *w,
                                             int32_t *status, size_t *n_failed);
 
+/**
+ * geom_bary_perspective over n rows: row i uses l + i*sl and w + i*sw
+ * (3 doubles each; a stride is 3 for one row per query, 0 for the same
+ * values in every row) and writes lp[3*i .. 3*i+2]. Each row is computed by
+ * geom_bary_perspective itself, so the weights are bitwise its results.
+ * status / n_failed as geom_bary_simplex_many (a failing row's weights are
+ * NaN: GEOM_ERR_DEGENERATE for a zero w or a vanishing sum,
+ * GEOM_ERR_INVALID_ARG for non-finite input). Returns GEOM_OK, or
+ * GEOM_ERR_INVALID_ARG for a NULL array with n > 0 (nothing written).
+ */
+GEOM_API geom_status geom_bary_perspective_many(size_t n, const double *l, size_t sl,
+                                                const double *w, size_t sw, double *lp,
+                                                int32_t *status, size_t *n_failed);
+
+/**
+ * geom_bary_interpolate over n rows of k weights (l: k*n doubles, row by
+ * row) with one attribute table attr (k*ncomp doubles) shared by every row:
+ * out (ncomp*n doubles) row i = sum_j l[k*i + j] * attr[j*ncomp + ...],
+ * summed in the order of geom_bary_interpolate (bitwise its results).
+ * GEOM_ERR_INVALID_ARG for NULL arrays or k == 0 with n > 0 (nothing
+ * written); GEOM_OK otherwise (non-finite weights propagate as in IEEE
+ * arithmetic, as in the single function).
+ */
+GEOM_API geom_status geom_bary_interpolate_many(size_t n, size_t k, const double *l,
+                                                size_t ncomp, const double *attr, double *out);
+
 #ifdef __cplusplus
 }
 #endif

@@ -472,6 +472,30 @@ GEOM_API double geom_orient2d_exact(const double a[2], const double b[2], const 
 GEOM_API double geom_orient3d_exact(const double a[3], const double b[3], const double c[3],
                            const double d[3]);
 
+/** Which predicate geom_predicate_many applies. */
+typedef enum geom_predicate {
+    GEOM_PREDICATE_ORIENT2D = 1,       /**< geom_orient2d: 3 points of 2 doubles */
+    GEOM_PREDICATE_ORIENT3D = 2,       /**< geom_orient3d: 4 points of 3 doubles */
+    GEOM_PREDICATE_INCIRCLE = 3,       /**< geom_incircle: 4 points of 2 doubles */
+    GEOM_PREDICATE_ORIENT2D_EXACT = 4, /**< geom_orient2d_exact: 3 points of 2 doubles */
+    GEOM_PREDICATE_ORIENT3D_EXACT = 5  /**< geom_orient3d_exact: 4 points of 3 doubles */
+} geom_predicate;
+
+/**
+ * The predicate `kind` over n rows in one call (for bindings and loops over
+ * arrays). pts: the point arrays in the single function's argument order
+ * (3 or 4 of them; pts[3] is ignored for the 3-point predicates); row i of
+ * argument j starts at pts[j] + i * strides[j] (strides in doubles: the
+ * point size for one point per row, 0 for the same point in every row).
+ * out: n doubles, each exactly the single function's result for that row
+ * (bitwise, sign exact; NaN for a row with NaN/Inf input).
+ * Returns GEOM_OK, or GEOM_ERR_INVALID_ARG for a NULL array or a bad kind
+ * with n > 0 (nothing written).
+ */
+GEOM_API geom_status geom_predicate_many(geom_predicate kind, size_t n,
+                                         const double *const pts[4], const size_t strides[4],
+                                         double *out);
+
 /* ------------------------------------------------------------ rays and boxes */
 
 /** A ray origin + t*dir for t in [tmin, tmax]. dir need not be unit length. */

@@ -96,6 +96,21 @@ GEOM_API void geom_scene_texture_sample(const geom_texture *t, double u, double 
 GEOM_API void geom_scene_texture_gradient(const geom_texture *t, double u, double v, double *dh_du,
                                     double *dh_dv);
 
+/**
+ * geom_scene_texture_sample and geom_scene_texture_gradient over n points in
+ * one call (bitwise their results): uv holds 2*n doubles (u, v per point);
+ * footprint[i * footprint_stride] is point i's footprint (stride 1 for one
+ * per point, 0 for one shared by all; footprint NULL means 0 for every
+ * point). out (channels*n doubles, point by point) receives the samples and
+ * grad (2*n doubles: dh/du, dh/dv per point) the gradients; either may be
+ * NULL to skip that part. GEOM_ERR_INVALID_ARG for NULL t or uv with n > 0
+ * (nothing written); GEOM_OK otherwise.
+ */
+GEOM_API geom_status geom_scene_texture_sample_many(const geom_texture *t, size_t n,
+                                                    const double *uv, const double *footprint,
+                                                    size_t footprint_stride, double *out,
+                                                    double *grad);
+
 /* ------------------------------------------------------------------ camera */
 
 typedef enum geom_projection {

@@ -142,6 +142,31 @@ typedef struct geom_neighbors {
 /** Free the arrays of `nb` and zero it. NULL is a no-op. */
 GEOM_API void geom_neighbors_free(geom_neighbors *nb);
 
+/**
+ * Box queries over a BVH: for each of the m closed query boxes queries[q],
+ * the primitives whose box meets it (boxes touching at a face, edge or
+ * corner count), as row q of `out` in increasing primitive order (distance
+ * NULL; CSR: out->offsets has m + 1 entries). prim_boxes holds the box of
+ * every primitive (the BVH's primitive count of them, indexed by primitive
+ * id): the boxes given to geom_bvh_build_boxes, or for a triangle BVH the
+ * min/max of each triangle's vertices at the last build or refit. The node
+ * boxes must contain them (as the builders make them); the answer is then
+ * exactly the brute-force test of every primitive box, by comparisons only
+ * (no rounding). A query with min > max on an axis is empty and meets
+ * nothing; infinite bounds are allowed. Traversal: depth first from the
+ * root, pruning nodes whose box misses the query; the queries run in
+ * parallel chunks (`threads`, 0 = all available) and the output does not
+ * depend on the thread count.
+ * Returns GEOM_OK; GEOM_ERR_INVALID_ARG for NULL b/out, NULL queries with
+ * m > 0, NULL prim_boxes with primitives, or a NaN bound (diag names the
+ * query); GEOM_ERR_NOMEM (out is then empty); GEOM_ERR_LIMIT if the walk
+ * outgrows the depth the BVH reports (not with the library's builders).
+ */
+GEOM_API geom_status geom_bvh_query_boxes(const geom_bvh *b, const geom_aabb *prim_boxes,
+                                          const geom_aabb *queries, size_t m,
+                                          geom_neighbors *out, int threads,
+                                          geom_diag *diag);
+
 /* ================================================================== kd-tree */
 
 /** Opaque kd-tree over points in 2D or 3D. */

@@ -266,3 +266,34 @@ geom_status geom_bary_polygon_many(int wachspress, size_t nv, const double *poly
         *n_failed = failed;
     return GEOM_OK;
 }
+
+geom_status geom_bary_perspective_many(size_t n, const double *l, size_t sl, const double *w,
+                                       size_t sw, double *lp, int32_t *status, size_t *n_failed)
+{
+    size_t failed = 0;
+    if (n_failed)
+        *n_failed = 0;
+    if (n == 0)
+        return GEOM_OK;
+    if (!l || !w || !lp)
+        return GEOM_ERR_INVALID_ARG;
+    for (size_t i = 0; i < n; i++) {
+        double *o = lp + 3 * i;
+        finish_row(geom_bary_perspective(l + i * sl, w + i * sw, o), o, 3, status, i, &failed);
+    }
+    if (n_failed)
+        *n_failed = failed;
+    return GEOM_OK;
+}
+
+geom_status geom_bary_interpolate_many(size_t n, size_t k, const double *l, size_t ncomp,
+                                       const double *attr, double *out)
+{
+    if (n == 0)
+        return GEOM_OK;
+    if (!l || !attr || !out || k == 0)
+        return GEOM_ERR_INVALID_ARG;
+    for (size_t i = 0; i < n; i++)
+        (void)geom_bary_interpolate(k, l + k * i, ncomp, attr, out + ncomp * i);
+    return GEOM_OK;
+}

@@ -115,3 +115,49 @@ double geom_incircle(const double a[2], const double b[2], const double c[2], co
         return NAN;
     return xval_result(geom__xeval_incircle(a, b, c, d));
 }
+
+/* orient2d over n rows (row i of a at a + i*sa, ...): geom_orient2d's own
+ * filter, lane by lane in blocks without branches (the loop the compiler
+ * vectorises), so every certified row gets its very value; each row the
+ * filter cannot certify goes through geom_orient2d (the same bits). */
+#define ORIENT2D_BLOCK 64
+GEOM_SIMD_CLONES
+static void orient2d_blocks(size_t n, const double *a, size_t sa, const double *b, size_t sb,
+                            const double *c, size_t sc, double *out)
+{
+    for (size_t i0 = 0; i0 < n; i0 += ORIENT2D_BLOCK) {
+        size_t m = n - i0 < ORIENT2D_BLOCK ? n - i0 : ORIENT2D_BLOCK;
+        double v[6][ORIENT2D_BLOCK];
+        int64_t ok[ORIENT2D_BLOCK], all = 1;
+        for (size_t j = 0; j < ORIENT2D_BLOCK; j++) {
+            size_t i = i0 + (j < m ? j : 0);
+            v[0][j] = a[i * sa], v[1][j] = a[i * sa + 1];
+            v[2][j] = b[i * sb], v[3][j] = b[i * sb + 1];
+            v[4][j] = c[i * sc], v[5][j] = c[i * sc + 1];
+        }
+        for (size_t j = 0; j < ORIENT2D_BLOCK; j++) {
+            double acx = v[0][j] - v[4][j], bcx = v[2][j] - v[4][j];
+            double acy = v[1][j] - v[5][j], bcy = v[3][j] - v[5][j];
+            double detleft = acx * bcy;
+            double detright = acy * bcx;
+            double det = detleft - detright;
+            double errbound =
+                ccw_errbound_a * (fabs(detleft) + fabs(detright)) + GEOM_UNDERFLOW_TINY;
+            ok[j] = (det > errbound) | (-det > errbound);
+            all &= ok[j];
+            v[0][j] = det;
+        }
+        for (size_t j = 0; j < m; j++)
+            out[i0 + j] = all || ok[j] ? v[0][j]
+                                       : geom_orient2d(a + (i0 + j) * sa, b + (i0 + j) * sb,
+                                                       c + (i0 + j) * sc);
+    }
+}
+
+/* Not a clone itself: a target_clones function with external linkage gets an
+ * exported resolver despite -fvisibility=hidden. */
+void geom__orient2d_many(size_t n, const double *a, size_t sa, const double *b, size_t sb,
+                         const double *c, size_t sc, double *out)
+{
+    orient2d_blocks(n, a, sa, b, sb, c, sc, out);
+}

@@ -279,3 +279,23 @@ void geom_scene_texture_gradient(const geom_texture *t, double u, double v, doub
     if (dh_dv)
         *dh_dv = gv;
 }
+
+geom_status geom_scene_texture_sample_many(const geom_texture *t, size_t n, const double *uv,
+                                           const double *footprint, size_t footprint_stride,
+                                           double *out, double *grad)
+{
+    if (n == 0)
+        return GEOM_OK;
+    if (!t || !uv)
+        return GEOM_ERR_INVALID_ARG;
+    size_t c = t->channels;
+    for (size_t i = 0; i < n; i++) {
+        double u = uv[2 * i], v = uv[2 * i + 1];
+        if (out)
+            geom_scene_texture_sample(t, u, v, footprint ? footprint[i * footprint_stride] : 0.0,
+                                      out + c * i);
+        if (grad)
+            geom_scene_texture_gradient(t, u, v, grad + 2 * i, grad + 2 * i + 1);
+    }
+    return GEOM_OK;
+}
