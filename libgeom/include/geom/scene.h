@@ -364,7 +364,7 @@ typedef enum geom_shape_kind {
     GEOM_SHAPE_SURFACE,      /**< surfaces[n_surfaces] (B-spline/NURBS) */
     GEOM_SHAPE_SUBDIV,       /**< mesh refined toward the limit, scheme (geom_subdiv_scheme) */
     GEOM_SHAPE_IMPLICIT,     /**< expr, inside < 0, within bounds */
-    GEOM_SHAPE_VOLUME,       /**< volume, iso */
+    GEOM_SHAPE_VOLUME,       /**< volume, iso, inside */
     GEOM_SHAPE_CSG,          /**< csg_op (1 union, 2 intersection, 3 difference a - b) of a, b */
     GEOM_SHAPE_GROUP         /**< members[n_members], answered as one object */
 } geom_shape_kind;
@@ -399,6 +399,9 @@ typedef struct geom_shape {
     const struct geom_shape *const *members;
     size_t n_members;
     const geom_mat4 *transform;    /**< local to parent; NULL = identity */
+    int inside;                    /**< volume: which side of iso is inside, as
+                                        geom_ray_volume_options::inside (0: f < iso,
+                                        the default; 1: f > iso, e.g. CT) */
 } geom_shape;
 
 /** The shapes of a ray-module scene (the one representation the scene JSON

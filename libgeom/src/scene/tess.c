@@ -258,7 +258,8 @@ static double shape_f(const geom_shape *s, geom_vec3 p)
     }
     case GEOM_SHAPE_VOLUME: {
         double a[3] = {q.x, q.y, q.z};
-        return geom_implicit_volume_eval(s->volume, a) - s->iso;
+        double f = geom_implicit_volume_eval(s->volume, a) - s->iso;
+        return s->inside ? -f : f; /* negative inside either way */
     }
     case GEOM_SHAPE_GROUP: {
         double f = INFINITY;
