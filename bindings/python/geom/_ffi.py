@@ -416,6 +416,7 @@ typedef struct geom_meshio_read_options {
     size_t max_elements;
     const geom_allocator *alloc;
     geom_meshio_read_stats *stats;
+    int gltf_z_up;
 } geom_meshio_read_options;
 geom_status geom_meshio_read(const char *path, const geom_meshio_read_options *opt, geom_mesh
     **out, geom_mesh_build_report *report, geom_diag *diag);
