@@ -11,6 +11,7 @@
 #include <time.h>
 
 #include "core/internal.h"
+#include "mesh/mesh_internal.h"
 
 static double now(void)
 {
@@ -578,21 +579,21 @@ static geom_status tess_iso(const geom_shape *s, const geom_tess_request *rq, ge
     return st;
 }
 
-/* m as a polygon soup (geom_mesh_to_soup) in arrays allocated here:
- * *sizes (nf + 1 entries, nf >= m's live faces) and *idx (*ni + 1); both
- * are allocated (or NULL) whatever the status: free them with those sizes. */
-static geom_status mesh_soup(const geom_mesh *m, size_t nf, uint32_t **sizes, uint32_t **idx,
-                             size_t *ni)
+/* Keep only the channels named in keep[n] (VERTEX, and CORNER when corner)
+ * besides positions, and no groups, tags, mtllibs or polylines: the
+ * attributes a tessellation hands on. */
+static void keep_channels(geom_mesh *m, const char *const *keep, size_t n, int corner)
 {
-    *ni = 0;
-    geom_status st = geom_mesh_to_soup(m, NULL, NULL, ni);
-    *sizes = geom__alloc(NULL, (nf + 1) * sizeof(uint32_t));
-    *idx = geom__alloc(NULL, (*ni + 1) * sizeof(uint32_t));
-    if (!*sizes || !*idx)
-        st = GEOM_ERR_NOMEM;
-    if (st == GEOM_OK)
-        st = geom_mesh_to_soup(m, *sizes, *idx, ni);
-    return st;
+    for (uint32_t id = (uint32_t)geom_mesh_channel_count(m); id-- > 1;) {
+        geom_mesh_domain d = geom_mesh_channel_domain(m, id);
+        int kept = 0;
+        for (size_t k = 0; k < n && !kept; k++)
+            kept = strcmp(geom_mesh_channel_name(m, id), keep[k]) == 0 &&
+                   (d == GEOM_MESH_DOMAIN_VERTEX || (corner && d == GEOM_MESH_DOMAIN_CORNER));
+        if (!kept)
+            geom_mesh_channel_remove(m, id);
+    }
+    geom__mesh_drop_meta(m);
 }
 
 static geom_status tess_subdiv(const geom_shape *s, const geom_tess_request *rq, geom_mesh *out,
@@ -623,27 +624,11 @@ static geom_status tess_subdiv(const geom_shape *s, const geom_tess_request *rq,
     geom_status st = geom_subdiv_mesh(s->mesh, &o, level, flags, &res, NULL, diag);
     if (st != GEOM_OK)
         return st;
-    /* move the result into out */
-    geom_mesh_clear(out);
-    size_t nf = geom_mesh_n_faces(res), ni = 0;
-    uint32_t *sizes, *idx;
-    st = mesh_soup(res, nf, &sizes, &idx, &ni);
-    if (st == GEOM_OK) {
-        geom_mesh_build_options bo;
-        memset(&bo, 0, sizeof bo);
-        bo.keep_orientation = 1;
-        st = geom_mesh_build(out, geom_mesh_n_vertices(res), geom_mesh_cpositions(res),
-                             geom_mesh_n_live_faces(res), sizes, idx, &bo, NULL, diag);
-    }
-    uint32_t nid = geom_mesh_channel_find(res, "normal", GEOM_MESH_DOMAIN_VERTEX), oid;
-    if (st == GEOM_OK && nid != GEOM_INVALID_INDEX &&
-        geom_mesh_n_vertices(out) == geom_mesh_n_vertices(res) &&
-        (st = geom_mesh_channel_add(out, "normal", GEOM_MESH_DOMAIN_VERTEX, 3, &oid)) == GEOM_OK)
-        memcpy(geom_mesh_channel_data(out, oid), geom_mesh_channel_cdata(res, nid),
-               3 * geom_mesh_n_vertices(res) * sizeof(double));
-    geom__free(NULL, sizes, (nf + 1) * sizeof(uint32_t));
-    geom__free(NULL, idx, (ni + 1) * sizeof(uint32_t));
-    geom_mesh_destroy(res);
+    /* the result becomes out, with its limit normals (VERTEX "normal") only */
+    static const char *const keep[1] = {"normal"};
+    st = geom__mesh_take(out, res);
+    if (st == GEOM_OK)
+        keep_channels(out, keep, 1, 0);
     return st;
 }
 
@@ -825,71 +810,12 @@ geom_status geom_scene_tessellate(const geom_shape *s, const geom_tess_request *
             break;
         }
         {
-            geom_mesh *c = NULL;
-            st = geom_mesh_clone(s->mesh, &c);
-            if (st == GEOM_OK) {
-                /* replace out's contents: swap through a soup-free copy */
-                geom_mesh_clear(out);
-                size_t ni = 0, nf = geom_mesh_n_live_faces(c);
-                uint32_t *sz, *ix;
-                st = mesh_soup(c, nf, &sz, &ix, &ni);
-                /* the attribute channels the renderers read travel along:
-                 * VERTEX values as they are, CORNER values in the soup's
-                 * corner order (h = face_he, next, ...: the corner at
-                 * vertex(h) is h's) */
-                static const char *const keep[3] = {"uv", "normal", "tangent"};
-                geom_mesh_build_channel ch[6];
-                uint32_t *cix[6] = {0};
-                size_t nch = 0;
-                for (int k = 0; k < 3 && st == GEOM_OK; k++)
-                    for (int dom = 0; dom < 2 && st == GEOM_OK; dom++) {
-                        geom_mesh_domain d = dom ? GEOM_MESH_DOMAIN_CORNER : GEOM_MESH_DOMAIN_VERTEX;
-                        uint32_t id = geom_mesh_channel_find(c, keep[k], d);
-                        if (id == GEOM_INVALID_INDEX)
-                            continue;
-                        memset(&ch[nch], 0, sizeof ch[nch]);
-                        ch[nch].name = keep[k];
-                        ch[nch].domain = d;
-                        ch[nch].ncomp = geom_mesh_channel_ncomp(c, id);
-                        ch[nch].values = geom_mesh_channel_cdata(c, id);
-                        ch[nch].n_values = geom_mesh_channel_size(c, id);
-                        if (dom) {
-                            const uint32_t *ci = geom_mesh_corner_cindices(c, id);
-                            cix[nch] = geom__alloc(NULL, (ni + 1) * sizeof(uint32_t));
-                            if (!cix[nch]) {
-                                st = GEOM_ERR_NOMEM;
-                                break;
-                            }
-                            size_t q = 0;
-                            for (size_t f = 0; f < geom_mesh_n_faces(c) && q < ni; f++) {
-                                if (geom_mesh_face_is_deleted(c, (uint32_t)f))
-                                    continue;
-                                uint32_t h0 = geom_mesh_face_he(c, (uint32_t)f), h = h0;
-                                do {
-                                    cix[nch][q++] = ci[h];
-                                    h = geom_mesh_he_next(c, h);
-                                } while (h != h0 && q < ni);
-                            }
-                            ch[nch].indices = cix[nch];
-                        }
-                        nch++;
-                    }
-                if (st == GEOM_OK) {
-                    geom_mesh_build_options bo;
-                    memset(&bo, 0, sizeof bo);
-                    bo.keep_orientation = 1;
-                    bo.channels = nch ? ch : NULL;
-                    bo.n_channels = nch;
-                    st = geom_mesh_build(out, geom_mesh_n_vertices(c), geom_mesh_cpositions(c), nf,
-                                         sz, ix, &bo, NULL, diag);
-                }
-                for (size_t k = 0; k < nch; k++)
-                    if (cix[k])
-                        geom__free(NULL, cix[k], (ni + 1) * sizeof(uint32_t));
-                geom__free(NULL, sz, (nf + 1) * sizeof(uint32_t));
-                geom__free(NULL, ix, (ni + 1) * sizeof(uint32_t));
-                geom_mesh_destroy(c);
-            }
+            /* a copy of the mesh into out with the attribute channels the
+             * renderers read (VERTEX and CORNER "uv", "normal", "tangent") */
+            static const char *const keep[3] = {"uv", "normal", "tangent"};
+            st = geom__mesh_copy(out, s->mesh);
+            if (st == GEOM_OK)
+                keep_channels(out, keep, 3, 1);
             info.method = "mesh";
             info.error.method = GEOM_ERROR_NONE;
         }
