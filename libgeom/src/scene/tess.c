@@ -521,6 +521,34 @@ static void iso_res(const double bounds[6], double h, size_t res[3])
     }
 }
 
+/* The marching-cubes options of every pass (normals when asked). */
+static void iso_options(geom_iso_options *o, int normals)
+{
+    memset(o, 0, sizeof *o);
+    o->refine = GEOM_IMPLICIT_REFINE_AUTO; /* the field is exact: refined */
+    o->normals = normals;
+    o->caps = 1;
+    o->error = GEOM_ISO_ERROR_ALWAYS;
+    o->threads = 1;
+}
+
+/* A pass's achieved error: the larger of the sampled and vertex errors. */
+static geom_error_report iso_error(const geom_iso_surface *surf)
+{
+    geom_error_report e = surf->report.sample_error;
+    if (surf->report.vertex_error.max_error > e.max_error)
+        e.max_error = surf->report.vertex_error.max_error;
+    return e;
+}
+
+/* Whether pass `pass` (0-based) on a grid of res cells is the last one
+ * whatever its error: sharp CSG edges converge slowly in this measure, so
+ * at most three passes and 256 cells per axis. */
+static int iso_last_pass(const size_t res[3], int pass)
+{
+    return res[0] >= 256 || res[1] >= 256 || res[2] >= 256 || pass == 2;
+}
+
 static geom_status tess_iso(const geom_shape *s, const geom_tess_request *rq, geom_mesh *out,
                             geom_tess_info *info, geom_diag *diag)
 {
@@ -543,12 +571,7 @@ static geom_status tess_iso(const geom_shape *s, const geom_tess_request *rq, ge
     f.user = root;
     f.exact = 1;
     geom_iso_options o;
-    memset(&o, 0, sizeof o);
-    o.refine = GEOM_IMPLICIT_REFINE_AUTO; /* the field is exact: refined */
-    o.normals = (rq->attributes & (GEOM_NEEDS_NORMAL | GEOM_NEEDS_TANGENT)) != 0;
-    o.caps = 1;
-    o.error = GEOM_ISO_ERROR_ALWAYS;
-    o.threads = 1;
+    iso_options(&o, (rq->attributes & (GEOM_NEEDS_NORMAL | GEOM_NEEDS_TANGENT)) != 0);
     geom_iso_surface surf;
     geom_status st = GEOM_OK;
     info->method = "iso";
@@ -561,14 +584,8 @@ static geom_status tess_iso(const geom_shape *s, const geom_tess_request *rq, ge
             inode_free(root);
             return st;
         }
-        info->error = surf.report.sample_error;
-        if (surf.report.vertex_error.max_error > info->error.max_error)
-            info->error.max_error = surf.report.vertex_error.max_error;
-        /* sharp CSG edges converge slowly in this measure: at most three
-         * passes and 256 cells per axis */
-        int done = info->error.max_error <= rq->tol ||
-                   (res[0] >= 256 || res[1] >= 256 || res[2] >= 256) || pass == 2;
-        if (done)
+        info->error = iso_error(&surf);
+        if (info->error.max_error <= rq->tol || iso_last_pass(res, pass))
             break;
         geom_iso_surface_free(&surf);
         h *= 0.5;
@@ -577,6 +594,79 @@ static geom_status tess_iso(const geom_shape *s, const geom_tess_request *rq, ge
     st = geom_iso_surface_to_mesh(&surf, out, diag);
     geom_iso_surface_free(&surf);
     return st;
+}
+
+/* Grids of at most this many cells (161^3) are extracted by the estimate. */
+#define ISO_TRIAL_CELLS ((size_t)1 << 22)
+
+static double iso_cells(const size_t res[3])
+{
+    return (double)res[0] * (double)res[1] * (double)res[2];
+}
+
+/* One trial extraction for the estimate: its error and triangle count. */
+static geom_status iso_trial(const geom_implicit_field *f, const double bounds[6], const size_t res[3],
+                             double *err, double *tris)
+{
+    geom_iso_options o;
+    iso_options(&o, 0);
+    geom_iso_surface surf;
+    memset(&surf, 0, sizeof surf);
+    geom_status st = geom_iso_extract(f, bounds, res, &o, &surf, NULL);
+    if (st == GEOM_OK) {
+        *err = iso_error(&surf).max_error;
+        *tris = (double)surf.n_triangles;
+    }
+    geom_iso_surface_free(&surf);
+    return st;
+}
+
+/*
+ * tess_iso's triangle count, estimated: tess_iso extracts at cell size h0,
+ * h0/2, h0/4 until the error is within tol (iso_last_pass ends it sooner).
+ * The passes whose grid has at most ISO_TRIAL_CELLS cells are extracted
+ * here as tess_iso does them (without normals): when one is within tol or
+ * the last, its count is the answer, exact. When the next pass is larger,
+ * its error cannot be known without doing it: the last pass is taken (an
+ * upper bound), its count the largest trial's (a pass tried, else a grid
+ * of at most ISO_TRIAL_CELLS cells) scaled by the cells' ratio to the 2/3
+ * (triangles grow with the surface's area, 1/h^2; caps included) plus 10 %.
+ */
+static geom_status iso_estimate(const geom_implicit_field *f, const double bounds[6], double h0,
+                                double tol, double *t)
+{
+    size_t res[3][3];
+    int last = 0;
+    for (int k = 0; k < 3; k++) {
+        iso_res(bounds, ldexp(h0, -k), res[k]);
+        last = k;
+        if (iso_last_pass(res[k], k))
+            break;
+    }
+    geom_status st = GEOM_OK;
+    double e = 0, n = 0, cells = 0;
+    for (int k = 0; k <= last && iso_cells(res[k]) <= (double)ISO_TRIAL_CELLS; k++) {
+        if ((st = iso_trial(f, bounds, res[k], &e, &n)) != GEOM_OK)
+            return st;
+        if (e <= tol || k == last) {
+            *t = n;
+            return GEOM_OK;
+        }
+        cells = iso_cells(res[k]);
+    }
+    if (cells == 0) { /* no pass tried: a coarser grid that fits */
+        size_t r[3];
+        double h = h0;
+        do {
+            h *= 1.25;
+            iso_res(bounds, h, r);
+        } while (iso_cells(r) > (double)ISO_TRIAL_CELLS);
+        if ((st = iso_trial(f, bounds, r, &e, &n)) != GEOM_OK)
+            return st;
+        cells = iso_cells(r);
+    }
+    *t = 1.1 * n * pow(iso_cells(res[last]) / cells, 2.0 / 3.0);
+    return GEOM_OK;
 }
 
 /* Keep only the channels named in keep[n] (VERTEX, and CORNER when corner)
@@ -976,12 +1066,8 @@ geom_status geom_scene_tessellate_estimate(const geom_shape *s, const geom_tess_
         if (geom_aabb_is_empty(b) || !isfinite(b.min.x) || !isfinite(b.max.x) ||
             !isfinite(b.min.y) || !isfinite(b.max.y) || !isfinite(b.min.z) || !isfinite(b.max.z))
             return GEOM_ERR_INVALID_ARG;
-        /* the iso module's estimate at the finest grid tess_iso can reach
-         * (the cell size halved twice, at most 256 cells per axis) */
         double bounds[6];
-        double h = iso_grid(b, rq->tol, bounds) / 4;
-        size_t res[3];
-        iso_res(bounds, h, res);
+        double h = iso_grid(b, rq->tol, bounds);
         inode *root = inode_make(&local, 1);
         if (!root)
             return GEOM_ERR_NOMEM;
@@ -990,7 +1076,7 @@ geom_status geom_scene_tessellate_estimate(const geom_shape *s, const geom_tess_
         f.value = iso_value_cb;
         f.user = root;
         f.exact = 1;
-        st = geom_iso_estimate_triangles(&f, bounds, res, 0.0, &t);
+        st = iso_estimate(&f, bounds, h, rq->tol, &t);
         inode_free(root);
         break;
     }
