@@ -153,14 +153,17 @@ for l, r in zip(lines, rays):
 PYEOF
 }
 
-"$TOOL" "$T/s_raw.nrrd.json" --rays "$T/rays.txt" >"$T/ref.out" 2>"$T/err"
-rc=$?
-checks=$((checks + 1))
-if [ $rc -ne 0 ]; then
-    fail "raw NRRD scene: exit $rc: $(cat "$T/err")"
-else
-    check_hits "$T/ref.out" || fail "raw NRRD scene: hits"
-fi
+run_hits() { # SCENE OUT WHAT: geom-raycast SCENE, then check_hits on OUT
+    "$TOOL" "$1" --rays "$T/rays.txt" >"$2" 2>"$T/err"
+    local rc=$?
+    checks=$((checks + 1))
+    if [ $rc -ne 0 ]; then
+        fail "$3: exit $rc: $(cat "$T/err")"
+    else
+        check_hits "$2" || fail "$3: hits or normals"
+    fi
+}
+run_hits "$T/s_raw.nrrd.json" "$T/ref.out" "raw NRRD scene"
 while read -r f; do
     checks=$((checks + 1))
     "$TOOL" "$T/s_$f.json" --rays "$T/rays.txt" >"$T/o.out" 2>"$T/err"
@@ -212,14 +215,7 @@ bad_keys ', "dims": [24, 20, 16], "sample": "i16", "big_endian": 1' '"big_endian
 bad_keys ', "dims": [24, 20, 16], "sample": "i16"' 'le.bin: byte 15373: data has 15373 bytes but 24x20x16 i16 samples need 15360'
 
 # CT-like volume: inside detected (above), outward normals, enter then leave
-"$TOOL" "$T/s_ct.json" --rays "$T/rays.txt" >"$T/ct.out" 2>"$T/err"
-rc=$?
-checks=$((checks + 1))
-if [ $rc -ne 0 ]; then
-    fail "CT scene: exit $rc: $(cat "$T/err")"
-else
-    check_hits "$T/ct.out" || fail "CT scene (inside detected): hits or normals"
-fi
+run_hits "$T/s_ct.json" "$T/ct.out" "CT scene (inside detected)"
 "$TOOL" "$T/s_ct_above.json" --rays "$T/rays.txt" >"$T/ct_above.out" 2>"$T/err"
 checks=$((checks + 1))
 cmp -s "$T/ct.out" "$T/ct_above.out" || fail "CT scene: \"inside\": \"above\" differs from the detected side"

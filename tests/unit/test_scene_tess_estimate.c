@@ -17,16 +17,7 @@
 #include <time.h>
 #include <string.h>
 
-#include "geom/scene.h"
-
-static size_t tri_count(const geom_mesh *m)
-{
-    size_t n = 0;
-    for (uint32_t f = 0; f < geom_mesh_n_faces(m); f++)
-        if (!geom_mesh_face_is_deleted(m, f))
-            n += geom_mesh_face_valence(m, f) - 2;
-    return n;
-}
+#include "unit/scene_testutil.h"
 
 static double worst = 0, best = 1e300;
 
