@@ -20,6 +20,26 @@
 #include "unit/scene_testutil.h"
 
 static double worst = 0, best = 1e300;
+/* the cheap bound (geom_scene_export_estimate with max_triangles): its
+ * range over made and its largest cost relative to the tessellation */
+static double cheap_worst = 0, cheap_best = 1e300, cheap_cost = 0;
+
+/* geom_scene_export_estimate of s alone at tol, cheap (max_triangles
+ * large) or exact (max_triangles 0). */
+static double export_estimate(const geom_shape *s, double tol, double max_triangles)
+{
+    geom_material mat;
+    memset(&mat, 0, sizeof mat);
+    geom_scene_object obj = {s, 0};
+    geom_export_options o;
+    memset(&o, 0, sizeof o);
+    o.tolerance = tol;
+    o.max_triangles = max_triangles;
+    double t = -1;
+    assert_int_equal(geom_scene_export_estimate(NULL, &mat, 1, &obj, 1, &o, NULL, &t, NULL),
+                     GEOM_OK);
+    return t;
+}
 
 static void check(const geom_shape *s, double tol)
 {
@@ -38,6 +58,25 @@ static void check(const geom_shape *s, double tol)
     double c2 = (double)clock();
     double made = (double)tri_count(m);
     geom_mesh_destroy(m);
+    double c3 = (double)clock();
+    double cheap = export_estimate(s, tol, 1e15);
+    double c4 = (double)clock();
+    /* max_triangles below the cheap bound: the exact trials' answer */
+    assert_true(export_estimate(s, tol, 0.5 * cheap) == est);
+    assert_true(export_estimate(s, tol, 0) == est);
+    double cost = (c4 - c3) / fmax(c2 - c1, 1.0);
+    print_message("%-10s tol %-6g cheap bound %10.0f ratio %.3f (CPU %.4f s, %.3f of the "
+                  "tessellation's)\n",
+                  s->name, tol, cheap, cheap / made, (c4 - c3) / CLOCKS_PER_SEC, cost);
+    if (cheap / made > cheap_worst)
+        cheap_worst = cheap / made;
+    if (cheap / made < cheap_best)
+        cheap_best = cheap / made;
+    /* the cost over tessellations of at least 20 ms (clock()'s resolution) */
+    if ((c2 - c1) / CLOCKS_PER_SEC >= 0.02 && cost > cheap_cost)
+        cheap_cost = cost;
+    if (!(cheap >= made))
+        fail_msg("%s tol %g: cheap bound %g below made %g", s->name, tol, cheap, made);
     print_message("%-10s tol %-6g made %8.0f estimate %10.0f ratio %.3f (CPU: estimate %.3f s, "
                   "tessellate %.3f s)\n",
                   s->name, tol, made, est, est / made, (c1 - c0) / CLOCKS_PER_SEC,
@@ -132,6 +171,8 @@ static void test_implicit_shapes(void **state)
         check(&vs, tol);
     geom_implicit_volume_destroy(v);
     print_message("estimate / made: %.3f .. %.3f\n", best, worst);
+    print_message("cheap bound / made: %.3f .. %.3f, its CPU at most %.3f of the tessellation's\n",
+                  cheap_best, cheap_worst, cheap_cost);
 }
 
 int main(void)

@@ -1418,6 +1418,7 @@ typedef struct geom_export_options {
     double tolerance;
     double pixel_error;
     geom_mat4 world;
+    double max_triangles;
 } geom_export_options;
 typedef struct geom_export_object_report {
     double tolerance;

@@ -12,6 +12,7 @@
 
 #include "core/internal.h"
 #include "mesh/mesh_internal.h"
+#include "scene/scene_internal.h"
 
 static double now(void)
 {
@@ -632,8 +633,17 @@ static geom_status iso_trial(const geom_implicit_field *f, const double bounds[6
  * of at most ISO_TRIAL_CELLS cells) scaled by the cells' ratio to the 2/3
  * (triangles grow with the surface's area, 1/h^2; caps included) plus 10 %.
  */
+/* The cheap bound's trial grid: at most this many cells (32^3) and at most
+ * a sixteenth of tess_iso's first pass (so it costs about 1/16 of the
+ * tessellation), but at least ISO_CHEAP_MIN cells (8^3: below that
+ * the count does not scale with the area). */
+#define ISO_CHEAP_CELLS ((double)((size_t)1 << 15))
+#define ISO_CHEAP_MIN ((double)((size_t)1 << 9))
+/* The cheap bound's margin over the scaled count (measured: see scene.h). */
+#define ISO_CHEAP_MARGIN 1.5
+
 static geom_status iso_estimate(const geom_implicit_field *f, const double bounds[6], double h0,
-                                double tol, double *t)
+                                double tol, int cheap, double *t)
 {
     size_t res[3][3];
     int last = 0;
@@ -645,6 +655,21 @@ static geom_status iso_estimate(const geom_implicit_field *f, const double bound
     }
     geom_status st = GEOM_OK;
     double e = 0, n = 0, cells = 0;
+    if (cheap) {
+        /* no pass of tess_iso's: the last one assumed, its count scaled from
+         * a coarse grid's */
+        double cap = fmin(ISO_CHEAP_CELLS, fmax(iso_cells(res[0]) / 16, ISO_CHEAP_MIN));
+        size_t r[3];
+        double h = h0;
+        do {
+            h *= 1.25;
+            iso_res(bounds, h, r);
+        } while (iso_cells(r) > cap);
+        if ((st = iso_trial(f, bounds, r, &e, &n)) != GEOM_OK)
+            return st;
+        *t = ISO_CHEAP_MARGIN * fmax(n, 1) * pow(iso_cells(res[last]) / iso_cells(r), 2.0 / 3.0);
+        return GEOM_OK;
+    }
     for (int k = 0; k <= last && iso_cells(res[k]) <= (double)ISO_TRIAL_CELLS; k++) {
         if ((st = iso_trial(f, bounds, res[k], &e, &n)) != GEOM_OK)
             return st;
@@ -963,6 +988,12 @@ geom_status geom_scene_tessellate(const geom_shape *s, const geom_tess_request *
 geom_status geom_scene_tessellate_estimate(const geom_shape *s, const geom_tess_request *rq,
                                            double *triangles)
 {
+    return geom__scene_tessellate_estimate(s, rq, 0, triangles);
+}
+
+geom_status geom__scene_tessellate_estimate(const geom_shape *s, const geom_tess_request *rq,
+                                            int cheap, double *triangles)
+{
     if (!triangles)
         return GEOM_ERR_INVALID_ARG;
     *triangles = 0;
@@ -1050,7 +1081,7 @@ geom_status geom_scene_tessellate_estimate(const geom_shape *s, const geom_tess_
             double m = 0;
             geom_tess_request r2 = *rq;
             r2.attributes = 0;
-            st = geom_scene_tessellate_estimate(s->members[k], &r2, &m);
+            st = geom__scene_tessellate_estimate(s->members[k], &r2, cheap, &m);
             t += m;
         }
         break;
@@ -1076,7 +1107,7 @@ geom_status geom_scene_tessellate_estimate(const geom_shape *s, const geom_tess_
         f.value = iso_value_cb;
         f.user = root;
         f.exact = 1;
-        st = iso_estimate(&f, bounds, h, rq->tol, &t);
+        st = iso_estimate(&f, bounds, h, rq->tol, cheap, &t);
         inode_free(root);
         break;
     }
