@@ -32,6 +32,14 @@ static const struct option common_longopts[] = {
 };
 #define N_COMMON_LONGOPTS (sizeof common_longopts / sizeof common_longopts[0])
 
+/* --up of this process (one cli_parse_args per tool run), for the readers. */
+static bool process_up_z;
+
+bool cli_up_z(void)
+{
+    return process_up_z;
+}
+
 void cli_print_usage(const cli_tool *tool, FILE *fp)
 {
     fprintf(fp, "Usage: %s %s\n", tool->name, tool->synopsis ? tool->synopsis : "[OPTION]...");
@@ -43,8 +51,9 @@ void cli_print_usage(const cli_tool *tool, FILE *fp)
           "                     renamed on success, so a failed run leaves no FILE\n"
           "      --json         machine-readable JSON output\n"
           "      --quiet        no progress display on standard error\n"
-          "      --up=y|z       .glb output: the data's up axis (default y, written\n"
-          "                     as is; z is rotated into glTF's Y-up frame)\n",
+          "      --up=y|z       the data's up axis for .glb files (default y: as\n"
+          "                     stored; z: .glb output is rotated into glTF's Y-up\n"
+          "                     frame and .glb input back from it to Z-up)\n",
           fp);
     if (tool->options_help)
         fputs(tool->options_help, fp);
@@ -147,6 +156,7 @@ int cli_parse_args(const cli_tool *tool, int argc, char **argv, const char *shor
     common->json = false;
     common->quiet = false;
     common->up_z = false;
+    process_up_z = false;
 
     /* getopt reports unknown options itself, prefixed with argv[0]; show the
      * tool's name there rather than however it was invoked. */
@@ -187,6 +197,7 @@ int cli_parse_args(const cli_tool *tool, int argc, char **argv, const char *shor
                 common->up_z = true;
             else
                 rc = cli_usage_error(tool, "--up takes y or z, not '%s'", optarg);
+            process_up_z = common->up_z;
             break;
         case '?':
             usage_hint(tool);

@@ -90,8 +90,14 @@ typedef struct cli_common {
     const char *output; /**< -o/--output argument; NULL when not given (stdout) */
     bool json;          /**< --json was given */
     bool quiet;         /**< --quiet was given: no progress display */
-    bool up_z;          /**< --up z: the data is Z-up (GLB output is rotated to Y-up) */
+    bool up_z;          /**< --up z: the data is Z-up (GLB output is rotated to Y-up,
+                             GLB input from Y-up: cli_up_z) */
 } cli_common;
+
+/** The last cli_parse_args' --up z, for the mesh readers of tools/cli_mesh.c
+ *  (and scene files' mesh objects): a .glb read while it is set is rotated
+ *  from glTF's Y-up frame back to Z-up, undoing a write with --up z. */
+bool cli_up_z(void);
 
 /** getopt_long values of the common options. A tool's own short options must
  *  not use h, V or o; its long-only options should use values from

@@ -29,6 +29,7 @@ geom_status cli_mesh_read_kept(const char *tool_name, const char *path, geom_mes
     geom_meshio_read_options ro;
     memset(&ro, 0, sizeof ro);
     ro.format = fmt;
+    ro.gltf_z_up = cli_up_z();
     geom_mesh_build_report r;
     st = geom_meshio_read_file(&file, in.name, &ro, m, &r, diag);
     if (kept && st == GEOM_OK)
@@ -291,6 +292,7 @@ geom_status cli_mesh_read_input(const char *path, geom_meshio_format fmt, bool s
     geom_meshio_read_options ro;
     memset(&ro, 0, sizeof ro);
     ro.format = fmt;
+    ro.gltf_z_up = cli_up_z();
     ro.build.skip_invalid_faces = skip_invalid;
     ro.stats = stats;
     st = geom_meshio_read_file(&file, *name, &ro, m, report, diag);

@@ -18,7 +18,9 @@ extern "C" {
  * format fmt (GEOM_MESHIO_FORMAT_AUTO: from the name or the content) into
  * *m. The repairs geom_mesh_build made are printed to stderr as
  * "<tool_name>: <file>: repaired: N <what>", an empty result as
- * "<tool_name>: <file>: warning: ..." (cli_mesh_empty_warning). Returns the reader's status
+ * "<tool_name>: <file>: warning: ..." (cli_mesh_empty_warning). A .glb is
+ * rotated from glTF's Y-up frame to Z-up when the tool was given --up z
+ * (cli_up_z), as cli_mesh_read_input does. Returns the reader's status
  * (diag filled), GEOM_ERR_NOMEM or GEOM_ERR_IO.
  */
 geom_status cli_mesh_read(const char *tool_name, const char *path, geom_meshio_format fmt,

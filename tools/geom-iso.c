@@ -348,30 +348,6 @@ static geom_status write_surface(const geom_iso_surface *s, const char *path, bo
 }
 
 /* Samples on the volume's boundary (its six faces) below iso, and in all. */
-static void boundary_below(const geom_implicit_volume *vol, double iso, size_t *below,
-                           size_t *total)
-{
-    geom_implicit_volume_desc d;
-    geom_implicit_volume_get_desc(vol, &d);
-    const void *data = geom_implicit_volume_cdata(vol);
-    size_t nx = d.dims[0], ny = d.dims[1], nz = d.dims[2];
-    *below = *total = 0;
-    for (size_t k = 0; k < nz; k++)
-        for (size_t j = 0; j < ny; j++)
-            for (size_t i = 0; i < nx; i++) {
-                if (!(i == 0 || j == 0 || k == 0 || i + 1 == nx || j + 1 == ny || k + 1 == nz)) {
-                    i = nx - 2; /* jump to the last column of this row */
-                    continue;
-                }
-                size_t at = i + nx * (j + ny * k);
-                double v = d.type == GEOM_IMPLICIT_SCALAR_F32 ? (double)((const float *)data)[at]
-                                                              : ((const double *)data)[at];
-                (*total)++;
-                if (v < iso)
-                    (*below)++;
-            }
-}
-
 static void iso_progress(void *user, double fraction)
 {
     cli_progress_update(user, fraction);
@@ -502,9 +478,10 @@ int main(int argc, char **argv)
             fprintf(stderr, "%s: warning: %s: %s\n", tool.name, a.volume, spacing_warning);
         }
         if (a.inside < 0) {
-            boundary_below(vol, a.iso, &nb_below, &nb_total);
+            int above = 0;
+            geom_implicit_volume_detect_inside(vol, a.iso, &above, &nb_below, &nb_total);
             detected = 1;
-            o.inside = 2 * nb_below > nb_total ? GEOM_ISO_INSIDE_ABOVE : GEOM_ISO_INSIDE_BELOW;
+            o.inside = above ? GEOM_ISO_INSIDE_ABOVE : GEOM_ISO_INSIDE_BELOW;
         }
         if (a.have_bounds) {
             geom_iso_field f;

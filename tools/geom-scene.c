@@ -133,6 +133,11 @@ int main(int argc, char **argv)
         srj_file_free(&f);
         return cli_error(&tool, "out of memory");
     }
+    /* the limits as triangles: the exact marching-cubes trials run only
+     * when the cheap bounds could be above them */
+    size_t lim_t = o.lim.max_triangles ? o.lim.max_triangles : CLI_MAX_TRIANGLES_DEFAULT;
+    size_t lim_m = o.lim.max_memory ? o.lim.max_memory : CLI_MAX_MEMORY_DEFAULT;
+    o.e.max_triangles = fmin((double)lim_t, (double)lim_m / EXPORT_BYTES_PER_TRIANGLE);
     if (geom_scene_export_estimate(&f.render.camera, f.render.materials, f.render.n_materials,
                                    f.objects, f.n_objects, &o.e, per, &est, NULL) == GEOM_OK) {
         size_t worst = 0;

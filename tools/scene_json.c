@@ -499,13 +499,23 @@ static geom_status parse_body(sc_ctx *x, const cJSON *o, const char *type, uint3
     }
     if (!strcmp(type, "volume")) {
         geom_implicit_volume *v = NULL;
+        geom_ray_volume_options vo;
+        const char *side;
+        memset(&vo, 0, sizeof vo);
         if ((st = num(x, o, "iso", 1, 0, &r)) != GEOM_OK) return st;
+        if ((st = str(x, o, "inside", 0, &side)) != GEOM_OK) return st;
+        if (side && strcmp(side, "below") && strcmp(side, "above"))
+            return fail(x, GEOM_ERR_PARSE, "\"inside\": expected \"below\" or \"above\", got \"%s\"", side);
         if ((st = read_volume(x, o, &v)) != GEOM_OK) return st;
         if ((st = own(x, v, 1)) != GEOM_OK) {
             geom_implicit_volume_destroy(v);
             return st;
         }
-        return lib(x, geom_ray_scene_add_volume(sc, v, r, id), "volume");
+        if (side) /* absent: detected from the boundary samples, as geom-iso */
+            vo.inside = side[0] == 'a';
+        else if ((st = geom_implicit_volume_detect_inside(v, r, &vo.inside, NULL, NULL)) != GEOM_OK)
+            return lib(x, st, "volume");
+        return lib(x, geom_ray_scene_add_volume_opt(sc, v, r, &vo, id), "volume");
     }
     if (!strcmp(type, "csg")) {
         const char *op;

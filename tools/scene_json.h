@@ -20,9 +20,11 @@
  *   {"type": "bezier"|"bspline"|"nurbs", ...}           (inline surface, surface JSON keys)
  *   {"type": "subdivision", "file": "x.obj", "scheme": "catmull-clark"|"loop", "levels": n}
  *   {"type": "implicit", "expr": "...", "bounds": [x0,y0,z0,x1,y1,z1], "lipschitz": L}
- *   {"type": "volume", "file": "v.nrrd", "iso": v}     (every format geom-iso
- *        --volume reads; raw: "dims": [x,y,z], "sample": "u16", optional
- *        "skip", "spacing", "origin", "big_endian")
+ *   {"type": "volume", "file": "v.nrrd", "iso": v, "inside": "below"|"above"}
+ *        (every format geom-iso --volume reads; raw: "dims": [x,y,z],
+ *        "sample": "u16", optional "skip", "spacing", "origin",
+ *        "big_endian"; "inside": f <= iso or f >= iso is inside, absent:
+ *        detected from the boundary samples as geom-iso --volume does)
  *   {"type": "csg", "op": "union"|"intersection"|"difference", "children": [obj, obj, ...]}
  *        (more than two children fold from the left)
  *   {"type": "instance", "of": "name"}

@@ -18,9 +18,11 @@ failures=0
 checks=0
 fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
 
-"$PY" - "$T" <<'PYEOF' || { echo "FAIL: cannot make the test volumes" >&2; exit 1; }
+"$PY" - "$T" "$(dirname "$0")" <<'PYEOF' || { echo "FAIL: cannot make the test volumes" >&2; exit 1; }
 import sys, gzip, struct, zlib, numpy as np
 T = sys.argv[1]
+sys.path.insert(0, sys.argv[2])
+import volume_files
 n = (24, 20, 16); sp = (0.5, 0.6, 0.75); org = (-3.0, 10.0, 100.0)
 c = (org[0] + 11.5 * sp[0], org[1] + 9.5 * sp[1], org[2] + 7.5 * sp[2])
 k, j, i = np.meshgrid(np.arange(n[2]), np.arange(n[1]), np.arange(n[0]), indexing='ij')
@@ -88,24 +90,11 @@ case(T + '/v.inr', 'u16')
 open(T + '/v.inr.gz', 'wb').write(gzip.compress(inr('f64', False)))
 case(T + '/v.inr.gz', 'f64')
 # NIfTI-1: sform with a negative x axis (file x runs from +x to -x)
-def nifti(t, code, flip):
-    h = bytearray(352)
-    struct.pack_into('<i', h, 0, 348)
-    struct.pack_into('<8h', h, 40, 3, n[0], n[1], n[2], 1, 1, 1, 1)
-    struct.pack_into('<hh', h, 70, code, int(t[1:]))
-    struct.pack_into('<8f', h, 76, 1, sp[0], sp[1], sp[2], 1, 1, 1, 1)
-    struct.pack_into('<f', h, 108, 352)
-    struct.pack_into('<hh', h, 252, 0, 1)
-    ox = org[0] + (n[0] - 1) * sp[0] if flip else org[0]
-    struct.pack_into('<4f', h, 280, -sp[0] if flip else sp[0], 0, 0, ox)
-    struct.pack_into('<4f', h, 296, 0, sp[1], 0, org[1])
-    struct.pack_into('<4f', h, 312, 0, 0, sp[2], org[2])
-    h[344:348] = b'n+1\0'
-    a = vals[t][:, :, ::-1] if flip else vals[t]
-    return bytes(h) + a.astype('<' + dt[t]).tobytes()
-open(T + '/v.nii', 'wb').write(nifti('i16', 4, True))
+def nifti(t, flip):
+    return volume_files.nifti(vals[t].astype('<' + dt[t]), sp, org, flip)
+open(T + '/v.nii', 'wb').write(nifti('i16', True))
 case(T + '/v.nii', 'i16')
-open(T + '/v.nii.gz', 'wb').write(gzip.compress(nifti('f32', 16, False)))
+open(T + '/v.nii.gz', 'wb').write(gzip.compress(nifti('f32', False)))
 case(T + '/v.nii.gz', 'f32')
 # bzip2: the NRRD encoding and a whole .nii.bz2 (Python's bz2: the same
 # samples as v_i16.nrrd and v.nii.gz, which must read identically); a
@@ -113,7 +102,7 @@ case(T + '/v.nii.gz', 'f32')
 import bz2
 open(T + '/bz.nrrd', 'wb').write(nrrd_head('i16', 'bzip2').encode() + bz2.compress(arr('i16', True)))
 case(T + '/bz.nrrd', 'i16')
-open(T + '/v.nii.bz2', 'wb').write(bz2.compress(nifti('f32', 16, False)))
+open(T + '/v.nii.bz2', 'wb').write(bz2.compress(nifti('f32', False)))
 case(T + '/v.nii.bz2', 'f32')
 bzd = nrrd_head('i16', 'bzip2').encode() + bz2.compress(arr('i16', True))
 open(T + '/cut_bz.nrrd', 'wb').write(bzd[:len(bzd) - 40])
@@ -123,7 +112,7 @@ open(T + '/corrupt_bz.nrrd', 'wb').write(bytes(bad))
 # warning), MetaImage and INRIMAGE zero spacing (errors)
 open(T + '/nan.nrrd', 'wb').write(('NRRD0004\ntype: float\ndimension: 3\nsizes: %d %d %d\n'
     'encoding: raw\nendian: little\nspacings: nan 1 nan\n\n' % n).encode() + arr('f32'))
-h = bytearray(nifti('f32', 16, False)); struct.pack_into('<hh', h, 252, 0, 0)
+h = bytearray(nifti('f32', False)); struct.pack_into('<hh', h, 252, 0, 0)
 struct.pack_into('<f', h, 80, 0.0)
 open(T + '/pix0.nii', 'wb').write(bytes(h))
 open(T + '/zero.mha', 'wb').write(mhead('u8', 'LOCAL').replace(b'ElementSpacing = 0.5', b'ElementSpacing = 0') + arr('u8'))

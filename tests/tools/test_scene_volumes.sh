@@ -15,17 +15,30 @@
 # warns naming the file; bad volume files (truncated gzip, corrupt bzip2,
 # malformed header, wrong size, missing file) exit 1 with a message naming
 # the scene, the object, the key and the volume file; misused raw keys too.
-# Usage: test_scene_volumes.sh /path/to/geom-raycast   (env PYTHON3)
+# A CT-like volume (5000 - that field: dense inside, NIfTI int16) at iso 3000,
+# the same sphere: without "inside" it is detected as above (as geom-iso
+# does), so the normals face outward (d.n < 0 from outside) and --all gives
+# enter then leave; "inside": "above" gives the same bytes, "below" the
+# inward normals; a bad "inside" names the object and the key. With
+# geom-scene and geom-iso given, the CT scene's export and geom-iso's
+# isosurface of the same file both have a positive signed volume (outward
+# normals), equal within 2 %.
+# Usage: test_scene_volumes.sh /path/to/geom-raycast [geom-scene geom-iso]
+#        (env PYTHON3)
 set -u
 TOOL=$1
+SCENE_TOOL=${2:-}
+ISO_TOOL=${3:-}
 PY=${PYTHON3:-/usr/bin/python3}
 T=$(mktemp -d "${TMPDIR:-/tmp}/geom-scenevol-test.XXXXXX") || exit 1
 trap 'rm -rf "$T"' EXIT
 . "$(dirname "$0")/testlib.sh"
 
-"$PY" - "$T" <<'PYEOF' || { echo "FAIL: cannot make the test volumes" >&2; exit 1; }
+"$PY" - "$T" "$(dirname "$0")" <<'PYEOF' || { echo "FAIL: cannot make the test volumes" >&2; exit 1; }
 import sys, gzip, bz2, struct, zlib, numpy as np
 T = sys.argv[1]
+sys.path.insert(0, sys.argv[2])
+import volume_files
 n = (24, 20, 16); sp = (0.5, 0.6, 0.75); org = (-3.0, 10.0, 100.0)
 c = (org[0] + 11.5 * sp[0], org[1] + 9.5 * sp[1], org[2] + 7.5 * sp[2])
 k, j, i = np.meshgrid(np.arange(n[2]), np.arange(n[1]), np.arange(n[0]), indexing='ij')
@@ -61,19 +74,7 @@ def inr(big):
 w('v.inr', inr(True)); same.append('v.inr')
 w('v.inr.gz', gzip.compress(inr(False))); same.append('v.inr.gz')
 def nifti(flip):
-    h = bytearray(352)
-    struct.pack_into('<i', h, 0, 348)
-    struct.pack_into('<8h', h, 40, 3, n[0], n[1], n[2], 1, 1, 1, 1)
-    struct.pack_into('<hh', h, 70, 4, 16)
-    struct.pack_into('<8f', h, 76, 1, sp[0], sp[1], sp[2], 1, 1, 1, 1)
-    struct.pack_into('<f', h, 108, 352)
-    struct.pack_into('<hh', h, 252, 0, 1)
-    ox = org[0] + (n[0] - 1) * sp[0] if flip else org[0]
-    struct.pack_into('<4f', h, 280, -sp[0] if flip else sp[0], 0, 0, ox)
-    struct.pack_into('<4f', h, 296, 0, sp[1], 0, org[1])
-    struct.pack_into('<4f', h, 312, 0, 0, sp[2], org[2])
-    h[344:348] = b'n+1\0'
-    return bytes(h) + (d[:, :, ::-1] if flip else d).astype('<i2').tobytes()
+    return volume_files.nifti(d.astype('i2'), sp, org, flip)
 w('v.nii', nifti(False)); other.append('v.nii')
 w('flip.nii', nifti(True)); other.append('flip.nii')
 w('v.nii.gz', gzip.compress(nifti(False))); other.append('v.nii.gz')
@@ -111,6 +112,14 @@ for f in ('cut_gz.nrrd', 'corrupt_bz.nrrd', 'badhead.nrrd', 'short.mha', 'cut.ni
     open(T + '/bad_' + f + '.json', 'w').write(scene(f))
 open(T + '/centre', 'w').write('%.17g %.17g %.17g\n' % c)
 np.save(T + '/d.npy', d)
+# CT-like: dense inside, the same sphere at iso 3000
+w('ct.nii', volume_files.nifti((5000 - d).astype('i2'), sp, org))
+for name, extra in (('ct', ''), ('ct_above', ', "inside": "above"'), ('ct_below', ', "inside": "below"'),
+                    ('ct_bad', ', "inside": "up"'), ('ct_num', ', "inside": 1')):
+    open(T + '/s_' + name + '.json', 'w').write(
+        '{"camera": {"eye": [%r, %r, %r], "center": [%r, %r, %r], "up": [0, 0, 1]},\n'
+        ' "objects": [{"type": "volume", "name": "scan", "file": "ct.nii", "iso": 3000%s}]}\n'
+        % ((c[0], c[1] - 10, c[2]) + c + (extra,)))
 PYEOF
 
 check_hits() { # geom-raycast output: 8 hits on the interpolant's iso 2000, near t = 8
@@ -144,14 +153,17 @@ for l, r in zip(lines, rays):
 PYEOF
 }
 
-"$TOOL" "$T/s_raw.nrrd.json" --rays "$T/rays.txt" >"$T/ref.out" 2>"$T/err"
-rc=$?
-checks=$((checks + 1))
-if [ $rc -ne 0 ]; then
-    fail "raw NRRD scene: exit $rc: $(cat "$T/err")"
-else
-    check_hits "$T/ref.out" || fail "raw NRRD scene: hits"
-fi
+run_hits() { # SCENE OUT WHAT: geom-raycast SCENE, then check_hits on OUT
+    "$TOOL" "$1" --rays "$T/rays.txt" >"$2" 2>"$T/err"
+    local rc=$?
+    checks=$((checks + 1))
+    if [ $rc -ne 0 ]; then
+        fail "$3: exit $rc: $(cat "$T/err")"
+    else
+        check_hits "$2" || fail "$3: hits or normals"
+    fi
+}
+run_hits "$T/s_raw.nrrd.json" "$T/ref.out" "raw NRRD scene"
 while read -r f; do
     checks=$((checks + 1))
     "$TOOL" "$T/s_$f.json" --rays "$T/rays.txt" >"$T/o.out" 2>"$T/err"
@@ -201,5 +213,81 @@ bad_keys ', "dims": [24, 20, 16], "sample": "i16", "skip": -1' '"skip": expected
 bad_keys ', "dims": [24, 20, 16], "sample": "i16", "spacing": [1, 0, 1]' '"spacing": expected numbers > 0'
 bad_keys ', "dims": [24, 20, 16], "sample": "i16", "big_endian": 1' '"big_endian": expected true or false'
 bad_keys ', "dims": [24, 20, 16], "sample": "i16"' 'le.bin: byte 15373: data has 15373 bytes but 24x20x16 i16 samples need 15360'
+
+# CT-like volume: inside detected (above), outward normals, enter then leave
+run_hits "$T/s_ct.json" "$T/ct.out" "CT scene (inside detected)"
+"$TOOL" "$T/s_ct_above.json" --rays "$T/rays.txt" >"$T/ct_above.out" 2>"$T/err"
+checks=$((checks + 1))
+cmp -s "$T/ct.out" "$T/ct_above.out" || fail "CT scene: \"inside\": \"above\" differs from the detected side"
+"$TOOL" "$T/s_ct_below.json" --rays "$T/rays.txt" >"$T/ct_below.out" 2>"$T/err"
+pycheck "CT scene with \"inside\": \"below\": inward normals" "$T/ct_below.out" "$T/rays.txt" <<'PYEOF'
+import sys
+rays = [[float(v) for v in l.split()] for l in open(sys.argv[2])]
+lines = open(sys.argv[1]).read().split('\n')[:-1]
+assert len(lines) == len(rays), lines
+for l, r in zip(lines, rays):
+    h = [float(v) for v in l.split()]
+    dot = sum(h[4 + k] * r[3 + k] for k in range(3))
+    assert dot > 0.99, ('normal', dot, l)
+print('ok')
+PYEOF
+for f in ct ct_below d; do
+    scene=$T/s_$f.json
+    [ "$f" = d ] && scene=$T/s_raw.nrrd.json
+    "$TOOL" "$scene" --rays "$T/rays.txt" --all >"$T/all_$f.out" 2>"$T/err"
+    pycheck "--all on $f: two hits, enter then leave (leave then enter when inside is wrong)" \
+        "$T/all_$f.out" "$f" <<'PYEOF'
+import sys
+want = ['leave', 'enter'] if sys.argv[2] == 'ct_below' else ['enter', 'leave']
+lines = open(sys.argv[1]).read().split('\n')[:-1]
+assert len(lines) == 8, lines
+for l in lines:
+    w = l.split()
+    assert len(w) == 4 and [w[1], w[3]] == want, l
+    assert 7.9 < float(w[0]) < 8.1 and 11.9 < float(w[2]) < 12.1, l
+print('ok')
+PYEOF
+done
+for f in ct_bad ct_num; do
+    run "$T/s_$f.json" --rays "$T/rays.txt"
+    expect_rc 1 "$f"
+    expect_err 'objects[0] ("scan"): "inside": expected' "$f"
+done
+
+# the CT scene exported by geom-scene and geom-iso's surface of the file:
+# both outward (positive signed volume), the same volume within 2 %
+if [ -n "$SCENE_TOOL" ] && [ -n "$ISO_TOOL" ]; then
+    "$SCENE_TOOL" "$T/s_ct.json" --export "$T/ct_scene.obj" --tol 0.01 >"$T/so" 2>"$T/err" ||
+        fail "geom-scene on the CT scene: $(cat "$T/err")"
+    "$ISO_TOOL" --volume "$T/ct.nii" --iso 3000 -o "$T/ct_iso.obj" >"$T/so" 2>"$T/err" ||
+        fail "geom-iso on the CT volume: $(cat "$T/err")"
+    pycheck "CT: geom-scene export and geom-iso agree (outward, same volume)" \
+        "$T/ct_scene.obj" "$T/ct_iso.obj" <<'PYEOF'
+import sys
+def signed_volume(path):
+    v, vol = [], 0.0
+    for l in open(path):
+        w = l.split()
+        if not w:
+            continue
+        if w[0] == 'v':
+            v.append([float(x) for x in w[1:4]])
+        elif w[0] == 'f':
+            idx = [int(x.split('/')[0]) for x in w[1:]]
+            idx = [i - 1 if i > 0 else len(v) + i for i in idx]
+            a = v[idx[0]]
+            for b, c in zip(idx[1:-1], idx[2:]):
+                b, c = v[b], v[c]
+                vol += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+                        + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6
+    return vol
+vs, vi = signed_volume(sys.argv[1]), signed_volume(sys.argv[2])
+sphere = 4 / 3 * 3.141592653589793 * 8
+assert vs > 0 and vi > 0, (vs, vi)
+assert abs(vs - vi) <= 0.02 * vi, (vs, vi)
+assert abs(vi - sphere) <= 0.08 * sphere, (vi, sphere)  # the interpolant lies inside the sphere
+print('ok')
+PYEOF
+fi
 
 testlib_summary

@@ -6,6 +6,16 @@
 
 #include "geom/scene.h"
 
+/* Triangles of m's live faces (valence - 2 each). */
+static inline size_t tri_count(const geom_mesh *m)
+{
+    size_t n = 0;
+    for (uint32_t f = 0; f < geom_mesh_n_faces(m); f++)
+        if (!geom_mesh_face_is_deleted(m, f))
+            n += geom_mesh_face_valence(m, f) - 2;
+    return n;
+}
+
 /* The 64x64 uv texture's texel (x, y), channel c: its own uv centre (v up). */
 static inline double uv_of(uint32_t x, uint32_t y, uint32_t c)
 {

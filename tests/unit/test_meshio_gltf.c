@@ -8,7 +8,11 @@
  * unwelds to 24 vertices whose positions, normals and flipped uvs are those
  * of the OBJ corners, every triangle facing along its corners' normal;
  * 16-bit indices for small meshes and 32-bit ones past 65535 vertices;
- * tangents with w = +-1; an empty mesh; polygons triangulated.
+ * tangents with w = +-1; an empty mesh; polygons triangulated. The Z-up
+ * round trip: written with gltf_z_up and read with it, the cube comes back
+ * in its own frame exactly (positions, normals and tangents are the Y-up
+ * read's rotated by (x, y, z) -> (x, -z, y), the same corners, normals
+ * still along their faces); read without it, the Y-up frame.
  */
 #define _XOPEN_SOURCE 700
 
@@ -591,6 +595,86 @@ static void test_glb_file(void **state)
     geom_mesh_destroy(m);
 }
 
+/* (x, y, z) -> (x, -z, y): glTF's Y-up frame back to Z-up */
+static void assert_z_up_of(const double *zup, const double *yup, size_t n, size_t stride)
+{
+    for (size_t i = 0; i < n; i++) {
+        const double *a = zup + i * stride, *b = yup + i * stride;
+        assert_true(a[0] == b[0] && a[1] == -b[2] && a[2] == b[1]);
+        for (size_t k = 3; k < stride; k++)
+            assert_true(a[k] == b[k]);
+    }
+}
+
+static void test_z_up_round_trip(void **state)
+{
+    (void)state;
+    geom_mesh *m = read_cube();
+    uint32_t tid;
+    assert_int_equal(geom_mesh_tangents(m, &tid), GEOM_OK);
+    /* move it off the origin so that a swapped axis shows */
+    for (size_t v = 0; v < geom_mesh_n_vertices(m); v++) {
+        geom_mesh_positions(m)[3 * v] += 4;
+        geom_mesh_positions(m)[3 * v + 1] += 8;
+        geom_mesh_positions(m)[3 * v + 2] -= 16;
+    }
+    geom_meshio_write_options w;
+    memset(&w, 0, sizeof w);
+    w.format = GEOM_MESHIO_FORMAT_GLB;
+    w.gltf_z_up = 1;
+    void *buf = NULL;
+    size_t size = 0;
+    assert_int_equal(geom_meshio_write_memory(m, &w, &buf, &size, NULL), GEOM_OK);
+    geom_meshio_read_options r;
+    memset(&r, 0, sizeof r);
+    geom_mesh *yup = NULL, *zup = NULL;
+    assert_int_equal(geom_meshio_read_memory(buf, size, "c.glb", &r, &yup, NULL, NULL), GEOM_OK);
+    r.gltf_z_up = 1;
+    assert_int_equal(geom_meshio_read_memory(buf, size, "c.glb", &r, &zup, NULL, NULL), GEOM_OK);
+    free(buf);
+    /* the cube's 8 corners, in its own frame, exactly */
+    size_t nv = geom_mesh_n_vertices(zup);
+    assert_int_equal(nv, 8);
+    assert_int_equal(geom_mesh_n_vertices(yup), 8);
+    const double *pz = geom_mesh_cpositions(zup), *p0 = geom_mesh_cpositions(m);
+    for (size_t v = 0; v < nv; v++) {
+        int found = 0;
+        for (size_t u = 0; u < geom_mesh_n_vertices(m); u++)
+            found |= memcmp(pz + 3 * v, p0 + 3 * u, 3 * sizeof(double)) == 0;
+        assert_true(found);
+    }
+    assert_z_up_of(pz, geom_mesh_cpositions(yup), nv, 3);
+    static const char *const names[] = {"normal", "tangent", "uv"};
+    for (int c = 0; c < 3; c++) {
+        uint32_t a = geom_mesh_channel_find(zup, names[c], GEOM_MESH_DOMAIN_CORNER);
+        uint32_t b = geom_mesh_channel_find(yup, names[c], GEOM_MESH_DOMAIN_CORNER);
+        assert_true(a != GEOM_INVALID_INDEX && b != GEOM_INVALID_INDEX);
+        size_t n = geom_mesh_channel_size(zup, a), nc = geom_mesh_channel_ncomp(zup, a);
+        assert_int_equal(n, geom_mesh_channel_size(yup, b));
+        if (c < 2) {
+            assert_z_up_of(geom_mesh_channel_cdata(zup, a), geom_mesh_channel_cdata(yup, b), n, nc);
+        } else {
+            assert_memory_equal(geom_mesh_channel_cdata(zup, a), geom_mesh_channel_cdata(yup, b),
+                                n * nc * sizeof(double));
+        }
+        assert_memory_equal(geom_mesh_corner_cindices(zup, a), geom_mesh_corner_cindices(yup, b),
+                            geom_mesh_n_halfedges(zup) * sizeof(uint32_t));
+    }
+    /* normals along their faces' normals in the Z-up frame */
+    uint32_t na = geom_mesh_channel_find(zup, "normal", GEOM_MESH_DOMAIN_CORNER);
+    const uint32_t *ci = geom_mesh_corner_cindices(zup, na);
+    const double *nv3 = geom_mesh_channel_cdata(zup, na);
+    for (uint32_t f = 0; f < geom_mesh_n_faces(zup); f++) {
+        double fn[3];
+        assert_int_equal(geom_mesh_face_normal(zup, f, fn), GEOM_OK);
+        const double *n = nv3 + 3 * ci[geom_mesh_face_he(zup, f)];
+        assert_true(fn[0] * n[0] + fn[1] * n[1] + fn[2] * n[2] > 0.99);
+    }
+    geom_mesh_destroy(yup);
+    geom_mesh_destroy(zup);
+    geom_mesh_destroy(m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -598,6 +682,7 @@ int main(void)
         cmocka_unit_test(test_tangents),
         cmocka_unit_test(test_large_and_empty),
         cmocka_unit_test(test_glb_file),
+        cmocka_unit_test(test_z_up_round_trip),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

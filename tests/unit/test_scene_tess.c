@@ -16,16 +16,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "geom/scene.h"
-
-static size_t tri_count(const geom_mesh *m)
-{
-    size_t n = 0;
-    for (uint32_t f = 0; f < geom_mesh_n_faces(m); f++)
-        if (!geom_mesh_face_is_deleted(m, f))
-            n += geom_mesh_face_valence(m, f) - 2;
-    return n;
-}
+#include "unit/scene_testutil.h"
 
 static void test_sphere_torus(void **state)
 {

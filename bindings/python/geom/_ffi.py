@@ -429,6 +429,7 @@ typedef struct geom_meshio_read_options {
     size_t max_elements;
     const geom_allocator *alloc;
     geom_meshio_read_stats *stats;
+    int gltf_z_up;
 } geom_meshio_read_options;
 geom_status geom_meshio_read(const char *path, const geom_meshio_read_options *opt, geom_mesh
     **out, geom_mesh_build_report *report, geom_diag *diag);
@@ -1100,6 +1101,8 @@ double geom_implicit_volume_eval_grad(const geom_implicit_volume *v, const doubl
                                       double grad[3]);
 double geom_implicit_volume_value_cb(void *user, const double p[3]);
 double geom_implicit_volume_grad_cb(void *user, const double p[3], double grad[3]);
+geom_status geom_implicit_volume_detect_inside(const geom_implicit_volume *v, double iso,
+                                                        int *above, size_t *below, size_t *total);
 typedef enum geom_implicit_sample {
     GEOM_IMPLICIT_SAMPLE_U8 = 1,
     GEOM_IMPLICIT_SAMPLE_I8 = 2,
@@ -1265,6 +1268,10 @@ geom_status geom_ray_scene_add_surface(geom_ray_scene *s, const geom_nurbs_surfa
 geom_status geom_ray_scene_add_subdiv(geom_ray_scene *s, const geom_mesh *m, int scheme, int levels, uint32_t *id, geom_diag *diag);
 geom_status geom_ray_scene_add_implicit(geom_ray_scene *s, const geom_implicit_expr *e, const double bounds[6], double lipschitz, uint32_t *id);
 geom_status geom_ray_scene_add_volume(geom_ray_scene *s, const geom_implicit_volume *v, double iso, uint32_t *id);
+typedef struct geom_ray_volume_options {
+    int inside;
+} geom_ray_volume_options;
+geom_status geom_ray_scene_add_volume_opt(geom_ray_scene *s, const geom_implicit_volume *v, double iso, const geom_ray_volume_options *opt, uint32_t *id);
 geom_status geom_ray_scene_add_csg(geom_ray_scene *s, geom_ray_csg_op op, uint32_t a, uint32_t b, uint32_t *id);
 geom_status geom_ray_scene_add_group(geom_ray_scene *s, const uint32_t *ids, size_t n, uint32_t *id);
 geom_status geom_ray_scene_add_instance(geom_ray_scene *s, uint32_t of, const double m[16], uint32_t *id);
@@ -1398,6 +1405,7 @@ typedef struct geom_shape {
     const struct geom_shape *const *members;
     size_t n_members;
     const geom_mat4 *transform;
+    int inside;
 } geom_shape;
 typedef struct geom_scene_shapes geom_scene_shapes;
 geom_status geom_scene_shapes_from_ray(const geom_ray_scene *rs, geom_scene_shapes **out, geom_diag *diag);
@@ -1426,6 +1434,7 @@ typedef struct geom_export_options {
     double tolerance;
     double pixel_error;
     geom_mat4 world;
+    double max_triangles;
 } geom_export_options;
 typedef struct geom_export_object_report {
     double tolerance;

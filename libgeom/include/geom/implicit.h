@@ -513,6 +513,19 @@ GEOM_API double geom_implicit_volume_grad_cb(void *user, const double p[3], doub
 /** Fill *out with v's callbacks (exact = 0). v must outlive the field. */
 GEOM_API void geom_implicit_field_from_volume(const geom_implicit_volume *v, geom_implicit_field *out);
 
+/**
+ * Which side of iso is v's inside, detected from the samples on the grid's
+ * six faces (taken to lie outside): *above = 1 (f >= iso is inside, the
+ * value GEOM_ISO_INSIDE_ABOVE of iso.h: a CT volume, dense inside) when
+ * more than half of them are < iso, else 0 (f <= iso inside,
+ * GEOM_ISO_INSIDE_BELOW: a distance field, negative inside). below and
+ * total (each may be NULL) receive the number of face samples < iso and of
+ * face samples. The one detection behind geom-iso's and the scene files'
+ * default. GEOM_ERR_INVALID_ARG for NULL v or a NaN iso.
+ */
+GEOM_API geom_status geom_implicit_volume_detect_inside(const geom_implicit_volume *v, double iso,
+                                                        int *above, size_t *below, size_t *total);
+
 /* ---------------------------------------------------- volume file formats */
 
 /** Sample type of a volume file. On reading, 8- and 16-bit integers and

@@ -143,6 +143,12 @@ typedef struct geom_meshio_read_options {
     const geom_allocator *alloc;
     /** Optional output: filled with what was skipped (may be NULL). */
     geom_meshio_read_stats *stats;
+    /** GLB input: nonzero says the mesh is wanted Z-up (as it was before
+     *  a write with geom_meshio_write_options.gltf_z_up): it is rotated
+     *  from glTF's Y-up frame, (x, y, z) -> (x, -z, y), positions, normals
+     *  and tangents alike, undoing that write exactly. Other formats and 0
+     *  (the default): read as stored. */
+    int gltf_z_up;
 } geom_meshio_read_options;
 
 /**

@@ -24,7 +24,8 @@
  *    dP/dv for parametric surfaces, the winding's normal (v1-v0) x (v2-v0)
  *    for triangles and polygons, +normal for planes and disks, the gradient
  *    direction (outward = increasing f) for implicit surfaces and volumes
- *    with inside f < iso. `enter` is d.ng < 0; for solids with a tangent
+ *    with inside f < iso (a volume's inside may be f > iso instead:
+ *    geom_ray_volume_options). `enter` is d.ng < 0; for solids with a tangent
  *    (double) root the two coincident hits are reported enter then leave.
  *  - (u, v): the barycentric weights of vertices 1 and 2 for triangles (and
  *    for the fan triangle (v0, v_i, v_i+1) of a polygon or mesh face, prim
@@ -332,7 +333,8 @@ GEOM_API geom_status geom_ray_scene_add_implicit(geom_ray_scene *s, const geom_i
                                                  uint32_t *id);
 /**
  * Iso-surface f = iso of a sampled volume's trilinear interpolant (volume
- * borrowed), inside f < iso. Cells are walked with the 3D-DDA of Amanatides
+ * borrowed), inside f < iso (as geom_ray_scene_add_volume_opt with
+ * inside below). Cells are walked with the 3D-DDA of Amanatides
  * and Woo (1987); in each cell the interpolant along the ray is a cubic in
  * t, whose roots in the cell's t-range are found exactly
  * (geom_ray_poly_roots). ng: the interpolant's gradient direction. prim:
@@ -340,6 +342,27 @@ GEOM_API geom_status geom_ray_scene_add_implicit(geom_ray_scene *s, const geom_i
  */
 GEOM_API geom_status geom_ray_scene_add_volume(geom_ray_scene *s, const geom_implicit_volume *v,
                                                double iso, uint32_t *id);
+
+/** Options of geom_ray_scene_add_volume_opt; zero-initialised = defaults. */
+typedef struct geom_ray_volume_options {
+    /** Which side of iso is inside: 0 (the default) f < iso, the normal
+     *  along the gradient; 1 f > iso (a CT volume, dense inside), the
+     *  normal against the gradient. The values of iso.h's
+     *  GEOM_ISO_INSIDE_BELOW / GEOM_ISO_INSIDE_ABOVE;
+     *  geom_implicit_volume_detect_inside finds it from the volume. */
+    int inside;
+} geom_ray_volume_options;
+
+/**
+ * As geom_ray_scene_add_volume with options (NULL: defaults): the same
+ * roots, ng the outward normal (away from the inside: -gradient when
+ * inside is 1), so `enter` (d.ng < 0) and CSG intervals follow the chosen
+ * inside. GEOM_ERR_INVALID_ARG for NULL s or v, a non-finite iso or an
+ * inside other than 0 or 1; GEOM_ERR_NOMEM.
+ */
+GEOM_API geom_status geom_ray_scene_add_volume_opt(geom_ray_scene *s, const geom_implicit_volume *v,
+                                                   double iso, const geom_ray_volume_options *opt,
+                                                   uint32_t *id);
 /** CSG node over two closed children (ids), which stop being top-level
  *  objects. Hits: the boundary points of the combined intervals (Roth 1982)
  *  with their children's data; the second child's normals are reversed in

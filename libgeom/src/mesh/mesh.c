@@ -442,14 +442,9 @@ void geom_mesh_clear(geom_mesh *m)
         geom__mesh_clear_all(m);
 }
 
-geom_status geom_mesh_clone(const geom_mesh *m, geom_mesh **out)
+geom_status geom__mesh_copy(geom_mesh *c, const geom_mesh *m)
 {
-    if (!m || !out)
-        return GEOM_ERR_INVALID_ARG;
-    *out = NULL;
-    geom_mesh *c = geom_mesh_create(&m->alloc);
-    if (!c)
-        return GEOM_ERR_NOMEM;
+    geom__mesh_clear_all(c);
     geom_status s = GEOM_OK;
     for (size_t i = 1; i < m->n_channels && s == GEOM_OK; ++i)
         s = geom_mesh_channel_add(c, m->channels[i].name, m->channels[i].domain,
@@ -463,7 +458,7 @@ geom_status geom_mesh_clone(const geom_mesh *m, geom_mesh **out)
     if (s == GEOM_OK)
         s = geom__mesh_meta_copy(c, m);
     if (s != GEOM_OK) {
-        geom_mesh_destroy(c);
+        geom__mesh_clear_all(c);
         return s;
     }
     size_t nv = m->nv, nh = m->nh, nf = m->nf;
@@ -498,7 +493,7 @@ geom_status geom_mesh_clone(const geom_mesh *m, geom_mesh **out)
         case GEOM_MESH_DOMAIN_CORNER:
             n = src->pool;
             if (geom_mesh_corner_pool_resize(c, (uint32_t)i, n) != GEOM_OK) {
-                geom_mesh_destroy(c);
+                geom__mesh_clear_all(c);
                 return GEOM_ERR_NOMEM;
             }
             memcpy(dst->corner, src->corner, nh * 4);
@@ -507,8 +502,47 @@ geom_status geom_mesh_clone(const geom_mesh *m, geom_mesh **out)
         if (n)
             memcpy(dst->data, src->data, n * src->ncomp * sizeof(double));
     }
+    return GEOM_OK;
+}
+
+geom_status geom_mesh_clone(const geom_mesh *m, geom_mesh **out)
+{
+    if (!m || !out)
+        return GEOM_ERR_INVALID_ARG;
+    *out = NULL;
+    geom_mesh *c = geom_mesh_create(&m->alloc);
+    if (!c)
+        return GEOM_ERR_NOMEM;
+    geom_status s = geom__mesh_copy(c, m);
+    if (s != GEOM_OK) {
+        geom_mesh_destroy(c);
+        return s;
+    }
     *out = c;
     return GEOM_OK;
+}
+
+geom_status geom__mesh_take(geom_mesh *dst, geom_mesh *src)
+{
+    const geom_allocator *a = &dst->alloc, *b = &src->alloc;
+    geom_status s = GEOM_OK;
+    if (a->alloc_fn == b->alloc_fn && a->realloc_fn == b->realloc_fn && a->free_fn == b->free_fn &&
+        a->user == b->user) {
+        geom_mesh t = *dst; /* the same allocator: swap the contents */
+        *dst = *src;
+        *src = t;
+    } else {
+        s = geom__mesh_copy(dst, src);
+    }
+    geom_mesh_destroy(src);
+    return s;
+}
+
+void geom__mesh_drop_meta(geom_mesh *m)
+{
+    geom__free(&m->alloc, m->face_group, m->cap_f * sizeof(uint32_t));
+    m->face_group = NULL;
+    geom__mesh_meta_free(m);
 }
 
 /* -------------------------------------------------------------- counts */

@@ -181,6 +181,16 @@ geom_status geom__mesh_resize(geom_mesh *m, size_t nv, size_t nh, size_t nf);
 /* Free every element, channel except position (emptied), origin maps and
  * metadata; capacities are kept for position only. */
 void geom__mesh_clear_all(geom_mesh *m);
+/* dst (cleared first, its allocator kept) becomes a deep copy of src: what
+ * geom_mesh_clone copies. On failure dst is left cleared. */
+geom_status geom__mesh_copy(geom_mesh *dst, const geom_mesh *src);
+/* dst takes src's contents and src is destroyed: in O(1) by swapping when
+ * both use the same allocator, else by geom__mesh_copy (a failure leaves
+ * dst cleared; src is destroyed either way). For a result made as a new
+ * mesh that belongs in a caller's mesh, without a soup-and-rebuild. */
+geom_status geom__mesh_take(geom_mesh *dst, geom_mesh *src);
+/* Drop groups (and the face group map), tags, mtllibs and polylines. */
+void geom__mesh_drop_meta(geom_mesh *m);
 
 /* Set v_he[v] to a boundary outgoing halfedge if v has one (pmp's
  * adjust_outgoing_halfedge). v must not be isolated. */

@@ -9,6 +9,9 @@
  * channels ("normal", "uv", "tangent", "color") whose pools are the glTF
  * vertex arrays, so seams round-trip exactly. TEXCOORD_0's v and TANGENT's
  * w are flipped back (1 - v, -w), undoing the writer's convention change.
+ * With the read option gltf_z_up, positions, normals and tangents are
+ * rotated from glTF's Y-up frame to Z-up, (x, y, z) -> (x, -z, y): the
+ * inverse of the writer's gltf_z_up, exact (a sign and a swap).
  * Layout per the glTF 2.0 specification; every offset, stride and count is
  * checked against the chunk sizes before it is used.
  */
@@ -278,6 +281,15 @@ static float rdf(const unsigned char *b)
     return f;
 }
 
+/* glTF's Y-up frame to Z-up: (x, y, z) -> (x, -z, y), the inverse of the
+ * writer's (x, y, z) -> (x, z, -y). */
+static void z_up(double *v)
+{
+    double y = v[1];
+    v[1] = -v[2];
+    v[2] = y;
+}
+
 static uint32_t rd_index(const glb_acc *a, size_t i)
 {
     const unsigned char *b = a->base + i * a->stride;
@@ -419,6 +431,8 @@ geom_status geom__meshio_read_glb(mio_ctx *c, mio_soup *s)
             double v[3];
             for (int j = 0; j < 3; j++)
                 v[j] = (double)rdf(pos.base + i * pos.stride + 4 * (size_t)j);
+            if (c->gltf_z_up)
+                z_up(v);
             uint64_t h = pos_hash(v);
             size_t it = 0;
             uint32_t cand;
@@ -468,6 +482,9 @@ geom_status geom__meshio_read_glb(mio_ctx *c, mio_soup *s)
                         x = -x;
                     ch[a]->val.p[ch[a]->val.n++] = x;
                 }
+            if (c->gltf_z_up && (a == 0 || a == 2)) /* normal, tangent xyz */
+                for (size_t i = 0; i < pos.count; i++)
+                    z_up(ch[a]->val.p + ch[a]->val.n - (pos.count - i) * cnc);
         }
         /* faces */
         for (size_t t = 0; t < nidx / 3 && st == GEOM_OK; t++) {

@@ -247,6 +247,7 @@ static geom_status read_data(const void *data, size_t size, geom_file *file,
         c.max_elements = UINT32_MAX - 1;
     c.skip_invalid = opt ? opt->build.skip_invalid_faces : 0;
     c.stats = opt && opt->stats ? opt->stats : &local_stats;
+    c.gltf_z_up = opt ? opt->gltf_z_up : 0;
     memset(c.stats, 0, sizeof *c.stats);
     c.data = data;
     c.size = size;

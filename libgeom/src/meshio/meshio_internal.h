@@ -67,6 +67,7 @@ typedef struct mio_ctx {
     size_t max_elements;          /* resolved (<= UINT32_MAX - 1) */
     int skip_invalid;             /* build.skip_invalid_faces */
     geom_meshio_read_stats *stats; /* never NULL */
+    int gltf_z_up;                /* GLB: rotate from glTF's Y-up to Z-up */
     const unsigned char *data;
     size_t size;
 } mio_ctx;

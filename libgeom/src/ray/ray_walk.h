@@ -39,6 +39,7 @@ typedef struct geom__ray_node_info {
     double bounds[6];             /* implicit: min, max */
     const geom_implicit_volume *volume;
     double iso;
+    int inside;                   /* volume: 1 when f > iso is inside */
     /* CSG, instances, groups */
     int op;                       /* geom_ray_csg_op */
     uint32_t a, b;                /* CSG children; a = instance target */

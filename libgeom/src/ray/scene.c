@@ -481,11 +481,20 @@ geom_status geom_ray_scene_add_implicit(geom_ray_scene *s, const geom_implicit_e
 geom_status geom_ray_scene_add_volume(geom_ray_scene *s, const geom_implicit_volume *v, double iso,
                                       uint32_t *id)
 {
+    return geom_ray_scene_add_volume_opt(s, v, iso, NULL, id);
+}
+
+geom_status geom_ray_scene_add_volume_opt(geom_ray_scene *s, const geom_implicit_volume *v,
+                                          double iso, const geom_ray_volume_options *opt,
+                                          uint32_t *id)
+{
     geom__ray_node *nd;
-    if (!s || !v || !isfinite(iso)) return GEOM_ERR_INVALID_ARG;
+    int above = opt ? opt->inside : 0;
+    if (!s || !v || !isfinite(iso) || (above != 0 && above != 1)) return GEOM_ERR_INVALID_ARG;
     if (!(nd = node_new(s, GEOM_RAY_VOLUME, id))) return GEOM_ERR_NOMEM;
     nd->vol = v;
     nd->prm[0] = iso;
+    nd->prm[1] = above; /* 1: inside f > iso, normals against the gradient */
     return GEOM_OK;
 }
 

@@ -2,7 +2,8 @@
  * Woo, "A Fast Voxel Traversal Algorithm for Ray Tracing", Eurographics
  * 1987) and, per cell, the exact roots of the trilinear interpolant along
  * the ray, a cubic in t (Parker et al. 1998; Marmitt et al. 2004).
- * prm: iso (0). */
+ * prm: iso (0), inside (1: 0 f < iso, 1 f > iso, the normal then against the
+ * gradient so that it faces away from the inside). */
 #include "ray/ray_internal.h"
 
 /* (a0 + a1 s) (b...) product helpers on polynomials of degree <= 3. */
@@ -22,6 +23,7 @@ geom_status geom__ray_volume(const geom__ray_node *nd, const geom_ray *r, int mo
     geom_implicit_volume_desc dsc;
     geom_aabb bb;
     double t0, t1, iso = nd->prm[0];
+    int above = nd->prm[1] != 0;
     double o[3] = {r->origin.x, r->origin.y, r->origin.z}, d[3] = {r->dir.x, r->dir.y, r->dir.z};
     double sp[3];
     long cell[3], ncell[3], step[3];
@@ -103,6 +105,8 @@ geom_status geom__ray_volume(const geom__ray_node *nd, const geom_ray *r, int mo
                     for (k = 0; k < 3; k++) p[k] = o[k] + t * d[k];
                     geom_implicit_volume_eval_grad(nd->vol, p, g);
                     h->point = geom__v3(p);
+                    if (above)
+                        for (k = 0; k < 3; k++) g[k] = -g[k];
                     h->ng = h->ns = geom__unit(geom__v3(g));
                     if (g[0] == 0 && g[1] == 0 && g[2] == 0) h->ng = h->ns = geom__unit(geom_vec3_neg(r->dir));
                     h->enter = geom__dot(h->ng, r->dir) < 0;

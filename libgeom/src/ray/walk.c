@@ -162,6 +162,7 @@ geom_status geom__ray_scene_node_info(const geom_ray_scene *s, uint32_t id, geom
     case GEOM_RAY_VOLUME:
         o->volume = nd->vol;
         o->iso = nd->prm[0];
+        o->inside = nd->prm[1] != 0;
         break;
     case GEOM_RAY_CSG:
     case GEOM_RAY_INSTANCE:

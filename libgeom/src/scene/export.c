@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "core/internal.h"
+#include "scene/scene_internal.h"
 
 static const char *const CH[3] = {"normal", "uv", "tangent"};
 static const size_t NC[3] = {3, 2, 4};
@@ -123,17 +124,24 @@ geom_status geom_scene_export_estimate(const geom_camera *cam, const geom_materi
     geom_aabb all;
     geom_status st = export_extent(cam, n_materials, objects, n, &all, diag);
     double total = 0;
-    for (size_t i = 0; i < n && st == GEOM_OK; i++) {
-        geom_tess_request rq;
-        double tol, sc, t = 0;
-        export_request(cam, materials, &objects[i], &opt, all, &rq, &tol, &sc);
-        st = geom_scene_tessellate_estimate(objects[i].shape, &rq, &t);
-        if (st != GEOM_OK)
-            geom__diag_set(diag, st, NULL, 0, 0, "object %zu: no estimate: %s", i,
-                          geom_status_str(st));
-        if (per_object)
-            per_object[i] = t;
-        total += t;
+    /* with max_triangles: the cheap bounds first, the exact trials only when
+     * their sum is above it */
+    for (int cheap = opt.max_triangles > 0; cheap >= 0 && st == GEOM_OK; cheap--) {
+        total = 0;
+        for (size_t i = 0; i < n && st == GEOM_OK; i++) {
+            geom_tess_request rq;
+            double tol, sc, t = 0;
+            export_request(cam, materials, &objects[i], &opt, all, &rq, &tol, &sc);
+            st = geom__scene_tessellate_estimate(objects[i].shape, &rq, cheap, &t);
+            if (st != GEOM_OK)
+                geom__diag_set(diag, st, NULL, 0, 0, "object %zu: no estimate: %s", i,
+                              geom_status_str(st));
+            if (per_object)
+                per_object[i] = t;
+            total += t;
+        }
+        if (total <= opt.max_triangles)
+            break;
     }
     *triangles = st == GEOM_OK ? total : 0;
     return st;

@@ -282,6 +282,7 @@ static geom_status shape_of(geom_scene_shapes *h, uint32_t id, const geom_mat4 *
         s->kind = GEOM_SHAPE_VOLUME;
         s->volume = nd->volume;
         s->iso = nd->iso;
+        s->inside = nd->inside;
         break;
     case GEOM_RAY_CSG:
         s->kind = GEOM_SHAPE_CSG;

@@ -261,7 +261,12 @@ static geom_status add_one(geom_ray_scene *rs, const geom_shape *s, uint32_t *id
                      : GEOM_ERR_INVALID_ARG;
         break;
     case GEOM_SHAPE_VOLUME:
-        st = s->volume ? geom_ray_scene_add_volume(rs, s->volume, s->iso, &id) : GEOM_ERR_INVALID_ARG;
+        if (s->volume) {
+            geom_ray_volume_options vo = {s->inside};
+            st = geom_ray_scene_add_volume_opt(rs, s->volume, s->iso, &vo, &id);
+        } else {
+            st = GEOM_ERR_INVALID_ARG;
+        }
         break;
     case GEOM_SHAPE_SURFACE:
         if (!s->surfaces || !s->n_surfaces)

@@ -104,4 +104,11 @@ geom_status geom__scene_trace(const geom__tracer *tr, const geom_camera *cam,
                               const geom_trace_options *opt, geom_image *out,
                               geom_trace_report *report);
 
+/* geom_scene_tessellate_estimate; cheap: for marching-cubes shapes, no
+ * pass of geom_scene_tessellate's tried, the last one assumed and its count
+ * scaled from a coarse grid's (an upper bound costing at most about 1/8 of
+ * the tessellation; see geom_export_options.max_triangles). */
+geom_status geom__scene_tessellate_estimate(const geom_shape *s, const geom_tess_request *rq,
+                                            int cheap, double *triangles);
+
 #endif

@@ -11,6 +11,8 @@
 #include <time.h>
 
 #include "core/internal.h"
+#include "mesh/mesh_internal.h"
+#include "scene/scene_internal.h"
 
 static double now(void)
 {
@@ -258,7 +260,8 @@ static double shape_f(const geom_shape *s, geom_vec3 p)
     }
     case GEOM_SHAPE_VOLUME: {
         double a[3] = {q.x, q.y, q.z};
-        return geom_implicit_volume_eval(s->volume, a) - s->iso;
+        double f = geom_implicit_volume_eval(s->volume, a) - s->iso;
+        return s->inside ? -f : f; /* negative inside either way */
     }
     case GEOM_SHAPE_GROUP: {
         double f = INFINITY;
@@ -519,6 +522,34 @@ static void iso_res(const double bounds[6], double h, size_t res[3])
     }
 }
 
+/* The marching-cubes options of every pass (normals when asked). */
+static void iso_options(geom_iso_options *o, int normals)
+{
+    memset(o, 0, sizeof *o);
+    o->refine = GEOM_IMPLICIT_REFINE_AUTO; /* the field is exact: refined */
+    o->normals = normals;
+    o->caps = 1;
+    o->error = GEOM_ISO_ERROR_ALWAYS;
+    o->threads = 1;
+}
+
+/* A pass's achieved error: the larger of the sampled and vertex errors. */
+static geom_error_report iso_error(const geom_iso_surface *surf)
+{
+    geom_error_report e = surf->report.sample_error;
+    if (surf->report.vertex_error.max_error > e.max_error)
+        e.max_error = surf->report.vertex_error.max_error;
+    return e;
+}
+
+/* Whether pass `pass` (0-based) on a grid of res cells is the last one
+ * whatever its error: sharp CSG edges converge slowly in this measure, so
+ * at most three passes and 256 cells per axis. */
+static int iso_last_pass(const size_t res[3], int pass)
+{
+    return res[0] >= 256 || res[1] >= 256 || res[2] >= 256 || pass == 2;
+}
+
 static geom_status tess_iso(const geom_shape *s, const geom_tess_request *rq, geom_mesh *out,
                             geom_tess_info *info, geom_diag *diag)
 {
@@ -541,12 +572,7 @@ static geom_status tess_iso(const geom_shape *s, const geom_tess_request *rq, ge
     f.user = root;
     f.exact = 1;
     geom_iso_options o;
-    memset(&o, 0, sizeof o);
-    o.refine = GEOM_IMPLICIT_REFINE_AUTO; /* the field is exact: refined */
-    o.normals = (rq->attributes & (GEOM_NEEDS_NORMAL | GEOM_NEEDS_TANGENT)) != 0;
-    o.caps = 1;
-    o.error = GEOM_ISO_ERROR_ALWAYS;
-    o.threads = 1;
+    iso_options(&o, (rq->attributes & (GEOM_NEEDS_NORMAL | GEOM_NEEDS_TANGENT)) != 0);
     geom_iso_surface surf;
     geom_status st = GEOM_OK;
     info->method = "iso";
@@ -559,14 +585,8 @@ static geom_status tess_iso(const geom_shape *s, const geom_tess_request *rq, ge
             inode_free(root);
             return st;
         }
-        info->error = surf.report.sample_error;
-        if (surf.report.vertex_error.max_error > info->error.max_error)
-            info->error.max_error = surf.report.vertex_error.max_error;
-        /* sharp CSG edges converge slowly in this measure: at most three
-         * passes and 256 cells per axis */
-        int done = info->error.max_error <= rq->tol ||
-                   (res[0] >= 256 || res[1] >= 256 || res[2] >= 256) || pass == 2;
-        if (done)
+        info->error = iso_error(&surf);
+        if (info->error.max_error <= rq->tol || iso_last_pass(res, pass))
             break;
         geom_iso_surface_free(&surf);
         h *= 0.5;
@@ -577,21 +597,118 @@ static geom_status tess_iso(const geom_shape *s, const geom_tess_request *rq, ge
     return st;
 }
 
-/* m as a polygon soup (geom_mesh_to_soup) in arrays allocated here:
- * *sizes (nf + 1 entries, nf >= m's live faces) and *idx (*ni + 1); both
- * are allocated (or NULL) whatever the status: free them with those sizes. */
-static geom_status mesh_soup(const geom_mesh *m, size_t nf, uint32_t **sizes, uint32_t **idx,
-                             size_t *ni)
+/* Grids of at most this many cells (161^3) are extracted by the estimate. */
+#define ISO_TRIAL_CELLS ((size_t)1 << 22)
+
+static double iso_cells(const size_t res[3])
 {
-    *ni = 0;
-    geom_status st = geom_mesh_to_soup(m, NULL, NULL, ni);
-    *sizes = geom__alloc(NULL, (nf + 1) * sizeof(uint32_t));
-    *idx = geom__alloc(NULL, (*ni + 1) * sizeof(uint32_t));
-    if (!*sizes || !*idx)
-        st = GEOM_ERR_NOMEM;
-    if (st == GEOM_OK)
-        st = geom_mesh_to_soup(m, *sizes, *idx, ni);
+    return (double)res[0] * (double)res[1] * (double)res[2];
+}
+
+/* One trial extraction for the estimate: its error and triangle count. */
+static geom_status iso_trial(const geom_implicit_field *f, const double bounds[6], const size_t res[3],
+                             double *err, double *tris)
+{
+    geom_iso_options o;
+    iso_options(&o, 0);
+    geom_iso_surface surf;
+    memset(&surf, 0, sizeof surf);
+    geom_status st = geom_iso_extract(f, bounds, res, &o, &surf, NULL);
+    if (st == GEOM_OK) {
+        *err = iso_error(&surf).max_error;
+        *tris = (double)surf.n_triangles;
+    }
+    geom_iso_surface_free(&surf);
     return st;
+}
+
+/*
+ * tess_iso's triangle count, estimated: tess_iso extracts at cell size h0,
+ * h0/2, h0/4 until the error is within tol (iso_last_pass ends it sooner).
+ * The passes whose grid has at most ISO_TRIAL_CELLS cells are extracted
+ * here as tess_iso does them (without normals): when one is within tol or
+ * the last, its count is the answer, exact. When the next pass is larger,
+ * its error cannot be known without doing it: the last pass is taken (an
+ * upper bound), its count the largest trial's (a pass tried, else a grid
+ * of at most ISO_TRIAL_CELLS cells) scaled by the cells' ratio to the 2/3
+ * (triangles grow with the surface's area, 1/h^2; caps included) plus 10 %.
+ */
+/* The cheap bound's trial grid: at most this many cells (32^3) and at most
+ * a sixteenth of tess_iso's first pass (so it costs about 1/16 of the
+ * tessellation), but at least ISO_CHEAP_MIN cells (8^3: below that
+ * the count does not scale with the area). */
+#define ISO_CHEAP_CELLS ((double)((size_t)1 << 15))
+#define ISO_CHEAP_MIN ((double)((size_t)1 << 9))
+/* The cheap bound's margin over the scaled count (measured: see scene.h). */
+#define ISO_CHEAP_MARGIN 1.5
+
+static geom_status iso_estimate(const geom_implicit_field *f, const double bounds[6], double h0,
+                                double tol, int cheap, double *t)
+{
+    size_t res[3][3];
+    int last = 0;
+    for (int k = 0; k < 3; k++) {
+        iso_res(bounds, ldexp(h0, -k), res[k]);
+        last = k;
+        if (iso_last_pass(res[k], k))
+            break;
+    }
+    geom_status st = GEOM_OK;
+    double e = 0, n = 0, cells = 0;
+    if (cheap) {
+        /* no pass of tess_iso's: the last one assumed, its count scaled from
+         * a coarse grid's */
+        double cap = fmin(ISO_CHEAP_CELLS, fmax(iso_cells(res[0]) / 16, ISO_CHEAP_MIN));
+        size_t r[3];
+        double h = h0;
+        do {
+            h *= 1.25;
+            iso_res(bounds, h, r);
+        } while (iso_cells(r) > cap);
+        if ((st = iso_trial(f, bounds, r, &e, &n)) != GEOM_OK)
+            return st;
+        *t = ISO_CHEAP_MARGIN * fmax(n, 1) * pow(iso_cells(res[last]) / iso_cells(r), 2.0 / 3.0);
+        return GEOM_OK;
+    }
+    for (int k = 0; k <= last && iso_cells(res[k]) <= (double)ISO_TRIAL_CELLS; k++) {
+        if ((st = iso_trial(f, bounds, res[k], &e, &n)) != GEOM_OK)
+            return st;
+        if (e <= tol || k == last) {
+            *t = n;
+            return GEOM_OK;
+        }
+        cells = iso_cells(res[k]);
+    }
+    if (cells == 0) { /* no pass tried: a coarser grid that fits */
+        size_t r[3];
+        double h = h0;
+        do {
+            h *= 1.25;
+            iso_res(bounds, h, r);
+        } while (iso_cells(r) > (double)ISO_TRIAL_CELLS);
+        if ((st = iso_trial(f, bounds, r, &e, &n)) != GEOM_OK)
+            return st;
+        cells = iso_cells(r);
+    }
+    *t = 1.1 * n * pow(iso_cells(res[last]) / cells, 2.0 / 3.0);
+    return GEOM_OK;
+}
+
+/* Keep only the channels named in keep[n] (VERTEX, and CORNER when corner)
+ * besides positions, and no groups, tags, mtllibs or polylines: the
+ * attributes a tessellation hands on. */
+static void keep_channels(geom_mesh *m, const char *const *keep, size_t n, int corner)
+{
+    for (uint32_t id = (uint32_t)geom_mesh_channel_count(m); id-- > 1;) {
+        geom_mesh_domain d = geom_mesh_channel_domain(m, id);
+        int kept = 0;
+        for (size_t k = 0; k < n && !kept; k++)
+            kept = strcmp(geom_mesh_channel_name(m, id), keep[k]) == 0 &&
+                   (d == GEOM_MESH_DOMAIN_VERTEX || (corner && d == GEOM_MESH_DOMAIN_CORNER));
+        if (!kept)
+            geom_mesh_channel_remove(m, id);
+    }
+    geom__mesh_drop_meta(m);
 }
 
 static geom_status tess_subdiv(const geom_shape *s, const geom_tess_request *rq, geom_mesh *out,
@@ -622,27 +739,11 @@ static geom_status tess_subdiv(const geom_shape *s, const geom_tess_request *rq,
     geom_status st = geom_subdiv_mesh(s->mesh, &o, level, flags, &res, NULL, diag);
     if (st != GEOM_OK)
         return st;
-    /* move the result into out */
-    geom_mesh_clear(out);
-    size_t nf = geom_mesh_n_faces(res), ni = 0;
-    uint32_t *sizes, *idx;
-    st = mesh_soup(res, nf, &sizes, &idx, &ni);
-    if (st == GEOM_OK) {
-        geom_mesh_build_options bo;
-        memset(&bo, 0, sizeof bo);
-        bo.keep_orientation = 1;
-        st = geom_mesh_build(out, geom_mesh_n_vertices(res), geom_mesh_cpositions(res),
-                             geom_mesh_n_live_faces(res), sizes, idx, &bo, NULL, diag);
-    }
-    uint32_t nid = geom_mesh_channel_find(res, "normal", GEOM_MESH_DOMAIN_VERTEX), oid;
-    if (st == GEOM_OK && nid != GEOM_INVALID_INDEX &&
-        geom_mesh_n_vertices(out) == geom_mesh_n_vertices(res) &&
-        (st = geom_mesh_channel_add(out, "normal", GEOM_MESH_DOMAIN_VERTEX, 3, &oid)) == GEOM_OK)
-        memcpy(geom_mesh_channel_data(out, oid), geom_mesh_channel_cdata(res, nid),
-               3 * geom_mesh_n_vertices(res) * sizeof(double));
-    geom__free(NULL, sizes, (nf + 1) * sizeof(uint32_t));
-    geom__free(NULL, idx, (ni + 1) * sizeof(uint32_t));
-    geom_mesh_destroy(res);
+    /* the result becomes out, with its limit normals (VERTEX "normal") only */
+    static const char *const keep[1] = {"normal"};
+    st = geom__mesh_take(out, res);
+    if (st == GEOM_OK)
+        keep_channels(out, keep, 1, 0);
     return st;
 }
 
@@ -824,71 +925,12 @@ geom_status geom_scene_tessellate(const geom_shape *s, const geom_tess_request *
             break;
         }
         {
-            geom_mesh *c = NULL;
-            st = geom_mesh_clone(s->mesh, &c);
-            if (st == GEOM_OK) {
-                /* replace out's contents: swap through a soup-free copy */
-                geom_mesh_clear(out);
-                size_t ni = 0, nf = geom_mesh_n_live_faces(c);
-                uint32_t *sz, *ix;
-                st = mesh_soup(c, nf, &sz, &ix, &ni);
-                /* the attribute channels the renderers read travel along:
-                 * VERTEX values as they are, CORNER values in the soup's
-                 * corner order (h = face_he, next, ...: the corner at
-                 * vertex(h) is h's) */
-                static const char *const keep[3] = {"uv", "normal", "tangent"};
-                geom_mesh_build_channel ch[6];
-                uint32_t *cix[6] = {0};
-                size_t nch = 0;
-                for (int k = 0; k < 3 && st == GEOM_OK; k++)
-                    for (int dom = 0; dom < 2 && st == GEOM_OK; dom++) {
-                        geom_mesh_domain d = dom ? GEOM_MESH_DOMAIN_CORNER : GEOM_MESH_DOMAIN_VERTEX;
-                        uint32_t id = geom_mesh_channel_find(c, keep[k], d);
-                        if (id == GEOM_INVALID_INDEX)
-                            continue;
-                        memset(&ch[nch], 0, sizeof ch[nch]);
-                        ch[nch].name = keep[k];
-                        ch[nch].domain = d;
-                        ch[nch].ncomp = geom_mesh_channel_ncomp(c, id);
-                        ch[nch].values = geom_mesh_channel_cdata(c, id);
-                        ch[nch].n_values = geom_mesh_channel_size(c, id);
-                        if (dom) {
-                            const uint32_t *ci = geom_mesh_corner_cindices(c, id);
-                            cix[nch] = geom__alloc(NULL, (ni + 1) * sizeof(uint32_t));
-                            if (!cix[nch]) {
-                                st = GEOM_ERR_NOMEM;
-                                break;
-                            }
-                            size_t q = 0;
-                            for (size_t f = 0; f < geom_mesh_n_faces(c) && q < ni; f++) {
-                                if (geom_mesh_face_is_deleted(c, (uint32_t)f))
-                                    continue;
-                                uint32_t h0 = geom_mesh_face_he(c, (uint32_t)f), h = h0;
-                                do {
-                                    cix[nch][q++] = ci[h];
-                                    h = geom_mesh_he_next(c, h);
-                                } while (h != h0 && q < ni);
-                            }
-                            ch[nch].indices = cix[nch];
-                        }
-                        nch++;
-                    }
-                if (st == GEOM_OK) {
-                    geom_mesh_build_options bo;
-                    memset(&bo, 0, sizeof bo);
-                    bo.keep_orientation = 1;
-                    bo.channels = nch ? ch : NULL;
-                    bo.n_channels = nch;
-                    st = geom_mesh_build(out, geom_mesh_n_vertices(c), geom_mesh_cpositions(c), nf,
-                                         sz, ix, &bo, NULL, diag);
-                }
-                for (size_t k = 0; k < nch; k++)
-                    if (cix[k])
-                        geom__free(NULL, cix[k], (ni + 1) * sizeof(uint32_t));
-                geom__free(NULL, sz, (nf + 1) * sizeof(uint32_t));
-                geom__free(NULL, ix, (ni + 1) * sizeof(uint32_t));
-                geom_mesh_destroy(c);
-            }
+            /* a copy of the mesh into out with the attribute channels the
+             * renderers read (VERTEX and CORNER "uv", "normal", "tangent") */
+            static const char *const keep[3] = {"uv", "normal", "tangent"};
+            st = geom__mesh_copy(out, s->mesh);
+            if (st == GEOM_OK)
+                keep_channels(out, keep, 3, 1);
             info.method = "mesh";
             info.error.method = GEOM_ERROR_NONE;
         }
@@ -945,6 +987,12 @@ geom_status geom_scene_tessellate(const geom_shape *s, const geom_tess_request *
 
 geom_status geom_scene_tessellate_estimate(const geom_shape *s, const geom_tess_request *rq,
                                            double *triangles)
+{
+    return geom__scene_tessellate_estimate(s, rq, 0, triangles);
+}
+
+geom_status geom__scene_tessellate_estimate(const geom_shape *s, const geom_tess_request *rq,
+                                            int cheap, double *triangles)
 {
     if (!triangles)
         return GEOM_ERR_INVALID_ARG;
@@ -1033,7 +1081,7 @@ geom_status geom_scene_tessellate_estimate(const geom_shape *s, const geom_tess_
             double m = 0;
             geom_tess_request r2 = *rq;
             r2.attributes = 0;
-            st = geom_scene_tessellate_estimate(s->members[k], &r2, &m);
+            st = geom__scene_tessellate_estimate(s->members[k], &r2, cheap, &m);
             t += m;
         }
         break;
@@ -1049,12 +1097,8 @@ geom_status geom_scene_tessellate_estimate(const geom_shape *s, const geom_tess_
         if (geom_aabb_is_empty(b) || !isfinite(b.min.x) || !isfinite(b.max.x) ||
             !isfinite(b.min.y) || !isfinite(b.max.y) || !isfinite(b.min.z) || !isfinite(b.max.z))
             return GEOM_ERR_INVALID_ARG;
-        /* the iso module's estimate at the finest grid tess_iso can reach
-         * (the cell size halved twice, at most 256 cells per axis) */
         double bounds[6];
-        double h = iso_grid(b, rq->tol, bounds) / 4;
-        size_t res[3];
-        iso_res(bounds, h, res);
+        double h = iso_grid(b, rq->tol, bounds);
         inode *root = inode_make(&local, 1);
         if (!root)
             return GEOM_ERR_NOMEM;
@@ -1063,7 +1107,7 @@ geom_status geom_scene_tessellate_estimate(const geom_shape *s, const geom_tess_
         f.value = iso_value_cb;
         f.user = root;
         f.exact = 1;
-        st = geom_iso_estimate_triangles(&f, bounds, res, 0.0, &t);
+        st = iso_estimate(&f, bounds, h, rq->tol, cheap, &t);
         inode_free(root);
         break;
     }
