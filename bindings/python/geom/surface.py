@@ -610,7 +610,15 @@ def tessellate(surfaces, tolerance=0.0, mode="adaptive", grid=(8, 8), per_surfac
 
     Returns (mesh, report): report has the sampled error against the exact
     surfaces (max_error, mean_error, method, evaluations) and the
-    tessellation statistics under "stats".
+    tessellation statistics under "stats". The error is the distance from
+    surface points sampled over each triangle's parameter image to the mesh
+    there (a one-sided Hausdorff distance at the samples, never more than
+    the distance at equal parameters), so an uneven parametrisation (e.g.
+    extreme rational weights) is not counted as error. Adaptive mode never
+    returns more triangles than the per-span uniform grid (gu x gv on every
+    knot span) with the fewest triangles that meets the tolerance: when one
+    has fewer, it is returned, and stats "uniform_u", "uniform_v" name it
+    (0 otherwise). See geom_surface_tessellate in geom/surface.h.
     """
     surfaces, arr = _surface_array(surfaces)
     opt = _tess_options(tolerance, mode, grid, per_surface, angle_degrees, attributes,
