@@ -531,6 +531,19 @@ class Volume:
         b = lib.geom_implicit_volume_bounds(self._c())
         return (np.array([b.min.x, b.min.y, b.min.z]), np.array([b.max.x, b.max.y, b.max.z]))
 
+    def detect_inside(self, iso):
+        """Which side of iso is the inside, from the samples on the grid's six
+        faces (taken to lie outside; geom_implicit_volume_detect_inside, the
+        detection geom-iso and scene files use): "above" (f >= iso inside, a
+        CT volume, dense inside) when more than half of them are < iso, else
+        "below". Returns (side, face samples < iso, face samples)."""
+        above = ffi.new("int *")
+        below = ffi.new("size_t *")
+        total = ffi.new("size_t *")
+        check(lib.geom_implicit_volume_detect_inside(self._c(), float(iso), above, below, total),
+              context="detect_inside")
+        return ("above" if above[0] else "below", int(below[0]), int(total[0]))
+
     def eval(self, points, gradient=False):
         """Trilinear values at points ((3,) or (n, 3)); with gradient=True
         also the interpolated central-difference gradients ((n, 3))."""

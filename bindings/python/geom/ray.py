@@ -24,6 +24,17 @@ from ._ffi import ffi, lib
 from .core import as_points, check, new_diag
 
 
+def _hit_dtype():
+    """numpy view of geom_ray_hit, laid out by cffi's offsets."""
+    off = lambda f: ffi.offsetof("geom_ray_hit", f)
+    v3 = ("<f8", (3,))
+    return np.dtype({"names": ["t", "point", "ng", "ns", "u", "v", "prim", "object", "t_error", "enter"],
+                     "formats": ["<f8", v3, v3, v3, "<f8", "<f8", "<u4", "<u4", "<f8", "<i4"],
+                     "offsets": [off(k) for k in ("t", "point", "ng", "ns", "u", "v", "prim", "object",
+                                                  "t_error", "enter")],
+                     "itemsize": ffi.sizeof("geom_ray_hit")})
+
+
 class RayScene:
     """A geom_ray_scene: add objects, build(), then query."""
 
@@ -167,14 +178,22 @@ class RayScene:
                                                         self._vec(bounds, 6, "bounds"),
                                                         float(lipschitz), idp), idp, "add_implicit")
 
-    def add_volume(self, volume, iso):
-        """Iso-surface f = iso (inside below) of the trilinear interpolant of
-        a geom.Volume (from read_volume or Volume(samples, spacing,
-        origin))."""
+    def add_volume(self, volume, iso, inside="below"):
+        """Iso-surface f = iso of the trilinear interpolant of a geom.Volume
+        (from read_volume or Volume(samples, spacing, origin)). inside:
+        "below" (f < iso inside, a distance field), "above" (f > iso inside,
+        a CT volume, dense inside) or "detect" (Volume.detect_inside); the
+        normal points away from the inside (geom_ray_scene_add_volume_opt)."""
+        if inside == "detect":
+            inside = volume.detect_inside(iso)[0]
+        if inside not in ("below", "above"):
+            raise ValueError("inside: expected 'below', 'above' or 'detect', got %r" % (inside,))
         v = volume._c()
         self._keep += [volume, v]
+        opt = ffi.new("geom_ray_volume_options *")
+        opt.inside = 1 if inside == "above" else 0
         idp = ffi.new("uint32_t *")
-        return self._id(lib.geom_ray_scene_add_volume(self._s, v, float(iso), idp), idp,
+        return self._id(lib.geom_ray_scene_add_volume_opt(self._s, v, float(iso), opt, idp), idp,
                         "add_volume")
 
     def add_csg(self, op, a, b):
@@ -294,28 +313,37 @@ class RayScene:
                "shading_normal": np.full((n, 3), np.nan), "uv": np.full((n, 2), np.nan),
                "prim": np.zeros(n, np.int64), "object": np.full(n, -1, np.int64),
                "t_error": np.full(n, np.nan), "enter": np.zeros(n, bool)}
-        r = ffi.new("geom_ray *")
-        h = ffi.new("geom_ray_hit *")
-        found = ffi.new("int *")
-        for i in range(n):
-            self._ray(r, o[i], d[i], t0[i], t1[i])
-            st = lib.geom_ray_scene_closest(self._s, r, h, found)
-            if st == lib.GEOM_ERR_INVALID_ARG:
-                out["valid"][i] = False
-                continue
+        # one C call over all rays (geom_ray_scene_closest_many: bit for bit
+        # geom_ray_scene_closest, a mesh's traversals interleaved)
+        rays = np.empty((n, 8))
+        rays[:, 0:3] = o
+        rays[:, 3:6] = d
+        rays[:, 6] = t0
+        rays[:, 7] = t1
+        hits = ffi.new("geom_ray_hit[]", max(n, 1))
+        found = np.zeros(n, dtype=np.intc)
+        st = lib.geom_ray_scene_closest_many(self._s, ffi.cast("geom_ray *", ffi.from_buffer(rays)), n,
+                                             hits, ffi.cast("int *", ffi.from_buffer(found)))
+        if st == lib.GEOM_ERR_INVALID_ARG:  # some rays invalid: which (among the misses)
+            r = ffi.new("geom_ray *")
+            for i in np.flatnonzero(found == 0):
+                self._ray(r, o[i], d[i], t0[i], t1[i])
+                out["valid"][i] = lib.geom_ray_check(r) == 0
+        else:
             check(st, context="closest")
-            if not found[0]:
-                continue
-            out["hit"][i] = True
-            out["t"][i] = h.t
-            out["point"][i] = (h.point.x, h.point.y, h.point.z)
-            out["normal"][i] = (h.ng.x, h.ng.y, h.ng.z)
-            out["shading_normal"][i] = (h.ns.x, h.ns.y, h.ns.z)
-            out["uv"][i] = (h.u, h.v)
-            out["prim"][i] = h.prim
-            out["object"][i] = h.object
-            out["t_error"][i] = h.t_error
-            out["enter"][i] = bool(h.enter)
+        h = np.frombuffer(ffi.buffer(hits), dtype=_hit_dtype())[:n]
+        f = found != 0
+        out["hit"] = f
+        out["t"][f] = h["t"][f]
+        out["point"][f] = h["point"][f]
+        out["normal"][f] = h["ng"][f]
+        out["shading_normal"][f] = h["ns"][f]
+        out["uv"][f, 0] = h["u"][f]
+        out["uv"][f, 1] = h["v"][f]
+        out["prim"][f] = h["prim"][f]
+        out["object"][f] = h["object"][f]
+        out["t_error"][f] = h["t_error"][f]
+        out["enter"][f] = h["enter"][f] != 0
         if single:
             out = {k: v[0] for k, v in out.items()}
         return out
