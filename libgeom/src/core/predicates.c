@@ -45,16 +45,24 @@ static double orient2d_slow(const double a[2], const double b[2], const double c
     return xval_result(geom__xeval_orient2d(a, b, c));
 }
 
+/* Shewchuk's first orient2d stage: *det, and whether its sign is certain
+ * (Inf/NaN anywhere makes errbound Inf or NaN and the test fails). Branch
+ * free, so the batch below vectorises it. */
+static inline int orient2d_filter(double acx, double bcx, double acy, double bcy, double *det)
+{
+    double detleft = acx * bcy;
+    double detright = acy * bcx;
+    double errbound = ccw_errbound_a * (fabs(detleft) + fabs(detright)) + GEOM_UNDERFLOW_TINY;
+    *det = detleft - detright;
+    return (*det > errbound) | (-*det > errbound);
+}
+
 double geom_orient2d(const double a[2], const double b[2], const double c[2])
 {
     double acx = a[0] - c[0], bcx = b[0] - c[0];
     double acy = a[1] - c[1], bcy = b[1] - c[1];
-    double detleft = acx * bcy;
-    double detright = acy * bcx;
-    double det = detleft - detright;
-    double errbound = ccw_errbound_a * (fabs(detleft) + fabs(detright)) + GEOM_UNDERFLOW_TINY;
-    /* Inf/NaN anywhere makes errbound Inf or NaN and the tests fail. */
-    if (det > errbound || -det > errbound)
+    double det;
+    if (orient2d_filter(acx, bcx, acy, bcy, &det))
         return det;
     return orient2d_slow(a, b, c, acx, bcy, acy, bcx);
 }
@@ -136,14 +144,9 @@ static void orient2d_blocks(size_t n, const double *a, size_t sa, const double *
             v[4][j] = c[i * sc], v[5][j] = c[i * sc + 1];
         }
         for (size_t j = 0; j < ORIENT2D_BLOCK; j++) {
-            double acx = v[0][j] - v[4][j], bcx = v[2][j] - v[4][j];
-            double acy = v[1][j] - v[5][j], bcy = v[3][j] - v[5][j];
-            double detleft = acx * bcy;
-            double detright = acy * bcx;
-            double det = detleft - detright;
-            double errbound =
-                ccw_errbound_a * (fabs(detleft) + fabs(detright)) + GEOM_UNDERFLOW_TINY;
-            ok[j] = (det > errbound) | (-det > errbound);
+            double det;
+            ok[j] = orient2d_filter(v[0][j] - v[4][j], v[2][j] - v[4][j], v[1][j] - v[5][j],
+                                    v[3][j] - v[5][j], &det);
             all &= ok[j];
             v[0][j] = det;
         }
