@@ -218,6 +218,16 @@ static geom_status flush_closest(const geom_ray_scene *scene, FILE *fp, batch *b
     return GEOM_OK;
 }
 
+/* A failed query: the status, located at the input line last read. */
+static int ray_failed(const cli_tool *tool, geom_diag *diag, geom_status st, const char *name, size_t line)
+{
+    geom_diag_clear(diag);
+    diag->status = st;
+    snprintf(diag->message, sizeof diag->message, "ray failed: %s", geom_status_str(st));
+    cli_diag_locate(diag, name, line);
+    return cli_print_diag(tool, diag);
+}
+
 int main(int argc, char **argv)
 {
     static const struct option longopts[] = {{"rays", required_argument, NULL, 'r'},
@@ -363,20 +373,11 @@ int main(int argc, char **argv)
         }
         continue;
     trace_fail:
-        geom_diag_clear(&diag);
-        diag.status = st;
-        snprintf(diag.message, sizeof diag.message, "ray failed: %s", geom_status_str(st));
-        cli_diag_locate(&diag, in.name, lines.lineno);
-        rc = cli_print_diag(&tool, &diag);
+        rc = ray_failed(&tool, &diag, st, in.name, lines.lineno);
         break;
     }
-    if (rc == CLI_EXIT_OK && bat.n > 0 && (st = flush_closest(scene, out.fp, &bat, &nhit, &trace_s)) != GEOM_OK) {
-        geom_diag_clear(&diag);
-        diag.status = st;
-        snprintf(diag.message, sizeof diag.message, "ray failed: %s", geom_status_str(st));
-        cli_diag_locate(&diag, in.name, lines.lineno);
-        rc = cli_print_diag(&tool, &diag);
-    }
+    if (rc == CLI_EXIT_OK && bat.n > 0 && (st = flush_closest(scene, out.fp, &bat, &nhit, &trace_s)) != GEOM_OK)
+        rc = ray_failed(&tool, &diag, st, in.name, lines.lineno);
     cli_lines_free(&lines);
     cli_input_close(&in);
     if (rc == CLI_EXIT_OK) {
