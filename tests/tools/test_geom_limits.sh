@@ -1,6 +1,6 @@
 #!/bin/bash
 # Output limits of geom-tessellate and geom-iso: an output estimated past
-# --max-triangles stops before the work (exit 1, fast, the estimate in the
+# --max-triangles stops before the work (exit 1, the estimate in the
 # message, no output file); the estimate is checked against the count the
 # run then makes (within a factor 1.5 either way); bad limit values are
 # usage errors; --quiet is accepted.
@@ -43,13 +43,12 @@ estimate_vs_made "sphere res 60" "$ISO" --expr "sphere(1)" --bounds -2,-2,-2,2,2
 estimate_vs_made "torus res 90" "$ISO" --expr "torus(1, 0.3)" --bounds -2,-2,-2,2,2,2 --res 90,80,70
 
 # the issue's case: --tol 1e-5 on the teapot (10M triangles, 2.3 GB) stops
-# at a 1M limit in well under a second, and a 5000^3 isosurface at the default
+# before the work at a 1M limit (the estimate's message, no file), and a
+# 5000^3 isosurface at the default
 check
-start=$(date +%s%N)
 "$TESS" --tol 1e-5 "$TEAPOT" --max-triangles 1M -o "$T/o.obj" 2>"$T/err"; rc=$?
-ms=$(( ($(date +%s%N) - start) / 1000000 ))
-[ $rc -eq 1 ] && grep -q "more than --max-triangles 1000000" "$T/err" && [ $ms -lt 3000 ] ||
-    fail "teapot 1e-5: exit $rc after $ms ms: $(cat "$T/err")"
+[ $rc -eq 1 ] && grep -q "triangles (estimate), more than --max-triangles 1000000" "$T/err" &&
+    [ ! -e "$T/o.obj" ] || fail "teapot 1e-5: exit $rc: $(cat "$T/err")"
 check
 "$ISO" --expr "sphere(1)" --bounds -2,-2,-2,2,2,2 --res 5000 -o "$T/o.obj" 2>"$T/err"; rc=$?
 [ $rc -eq 1 ] && grep -q "max-triangles 50000000" "$T/err" || fail "iso res 5000: exit $rc: $(cat "$T/err")"
