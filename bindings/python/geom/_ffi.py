@@ -1254,6 +1254,10 @@ geom_status geom_ray_scene_closest_many(const geom_ray_scene *s, const geom_ray 
 geom_status geom_ray_scene_any(const geom_ray_scene *s, const geom_ray *r, int *found);
 geom_status geom_ray_scene_all(const geom_ray_scene *s, const geom_ray *r,
     geom_ray_hit *hits, size_t cap, size_t *n);
+geom_status geom_ray_scene_any_many(const geom_ray_scene *s, const geom_ray *rays, size_t n,
+    int *found);
+geom_status geom_ray_scene_all_many(const geom_ray_scene *s, const geom_ray *rays, size_t n,
+    size_t *offsets, geom_ray_hit *hits, size_t cap, size_t *count);
 typedef enum geom_ray_kind {
     GEOM_RAY_PLANE = 1, GEOM_RAY_DISK, GEOM_RAY_BOX, GEOM_RAY_OBOX, GEOM_RAY_SPHERE, GEOM_RAY_QUADRIC, GEOM_RAY_TORUS, GEOM_RAY_TRIANGLE, GEOM_RAY_POLYGON, GEOM_RAY_MESH, GEOM_RAY_SURFACE, GEOM_RAY_SUBDIV, GEOM_RAY_IMPLICIT, GEOM_RAY_VOLUME, GEOM_RAY_CSG, GEOM_RAY_INSTANCE, GEOM_RAY_GROUP} geom_ray_kind;
 typedef enum geom_ray_csg_op {
