@@ -1008,8 +1008,8 @@ geom_status geom_iso_extract_stream(const geom_implicit_field *field, const doub
 void geom_iso_surface_free(geom_iso_surface *s);
 geom_status geom_iso_surface_to_mesh(const geom_iso_surface *s, geom_mesh *m, geom_diag *diag);
 geom_status geom_iso_field_from_expr(const geom_implicit_expr *e, geom_implicit_field *out);
-geom_status geom_iso_estimate_triangles(const geom_implicit_field *f, const double bounds[6], const size_t res[3], double iso, double *triangles);
-geom_status geom_iso_grid_estimate_triangles(const geom_implicit_grid *g, double iso, double *triangles);
+geom_status geom_iso_estimate_triangles(const geom_implicit_field *f, const double bounds[6], const size_t res[3], const geom_iso_options *opt, double *triangles);
+geom_status geom_iso_grid_estimate_triangles(const geom_implicit_grid *g, const geom_iso_options *opt, double *triangles);
 geom_status geom_iso_measure_error(const geom_implicit_field *field, double iso, size_t n_vertices, const double *xyz, size_t n_triangles, const uint32_t *tris, geom_error_report *vertex_error, geom_error_report *sample_error, size_t *unmeasured);
 """,
     "implicit": """
