@@ -1116,10 +1116,18 @@ geom_status geom_ray_scene_all(const geom_ray_scene *s, const geom_ray *r, geom_
 /* Batches: each ray answered by run() as the single-ray functions do, one
  * hit list reused (emptied before each ray: its inline buffer or the heap
  * array the previous rays grew). */
-static void rhits_reset(geom__rhits *l)
+static geom_status run_one(const geom_ray_scene *s, const geom_ray *r, int mode, geom__rhits *l, int *bad)
 {
+    geom_status st;
     l->n = 0;
     l->failed = 0;
+    st = run(s, r, mode, l);
+    if (st == GEOM_ERR_INVALID_ARG) { /* an invalid ray: no hit, the batch goes on */
+        *bad = 1;
+        l->n = 0;
+        st = GEOM_OK;
+    }
+    return st;
 }
 
 geom_status geom_ray_scene_any_many(const geom_ray_scene *s, const geom_ray *rays, size_t n, int *found)
@@ -1134,14 +1142,7 @@ geom_status geom_ray_scene_any_many(const geom_ray_scene *s, const geom_ray *ray
     if (!s->built) return GEOM_ERR_INVALID_ARG;
     geom__rhits_init(&l, s->alloc);
     for (i = 0; i < n; i++) {
-        rhits_reset(&l);
-        st = run(s, &rays[i], GEOM__RAY_ANY, &l);
-        if (st == GEOM_ERR_INVALID_ARG) {
-            bad = 1;
-            st = GEOM_OK;
-            continue;
-        }
-        if (st != GEOM_OK) break;
+        if ((st = run_one(s, &rays[i], GEOM__RAY_ANY, &l, &bad)) != GEOM_OK) break;
         found[i] = l.n > 0;
     }
     geom__rhits_free(&l);
@@ -1163,14 +1164,7 @@ geom_status geom_ray_scene_all_many(const geom_ray_scene *s, const geom_ray *ray
     if (!s->built) return GEOM_ERR_INVALID_ARG;
     geom__rhits_init(&l, s->alloc);
     for (i = 0; i < n; i++) {
-        rhits_reset(&l);
-        st = run(s, &rays[i], GEOM__RAY_ALL, &l);
-        if (st == GEOM_ERR_INVALID_ARG) {
-            bad = 1;
-            st = GEOM_OK;
-            l.n = 0;
-        }
-        if (st != GEOM_OK) break;
+        if ((st = run_one(s, &rays[i], GEOM__RAY_ALL, &l, &bad)) != GEOM_OK) break;
         geom__rhits_sort(&l, 0);
         if (total < cap) memcpy(hits + total, l.h, (l.n < cap - total ? l.n : cap - total) * sizeof *hits);
         total += l.n;
