@@ -39,17 +39,10 @@ static int cell_crossed(const double g[8])
  * separated diagonal corners (the face decider), one triangle each. */
 static int cap_tris(int f, const double g[8], int *nin)
 {
-    const uint8_t *p = geom__iso_face_corners[f];
-    int in[4], n = 0, changes = 0;
-    for (int k = 0; k < 4; k++) {
-        in[k] = !(g[p[k]] > 0);
-        n += in[k];
-    }
+    int in[4], changes, n = geom__iso_face_inside(f, g, in, &changes);
     *nin = n;
     if (n == 0)
         return 0;
-    for (int k = 0; k < 4; k++)
-        changes += in[k] != in[(k + 1) & 3];
     if (changes == 4) {
         int jn[2];
         if (!geom__iso_face_join(f, g, jn))
