@@ -442,7 +442,7 @@ int main(int argc, char **argv)
         geom_iso_field f;
         st = geom_iso_field_from_expr(expr, &f);
         double est = 0.0;
-        if (st == GEOM_OK && geom_iso_estimate_triangles(&f, a.bounds, a.res, a.iso, &est) ==
+        if (st == GEOM_OK && geom_iso_estimate_triangles(&f, a.bounds, a.res, &o, &est) ==
                                  GEOM_OK &&
             cli_limits_check(&tool, &a.lim, "the isosurface", est, est * ISO_PEAK_BYTES_PER_TRIANGLE) != CLI_CONTINUE) {
             geom_implicit_expr_destroy(expr);
@@ -487,7 +487,7 @@ int main(int argc, char **argv)
             geom_iso_field f;
             st = geom_iso_field_from_volume(vol, &f);
             double est = 0.0;
-            if (st == GEOM_OK && geom_iso_estimate_triangles(&f, a.bounds, a.res, a.iso, &est) ==
+            if (st == GEOM_OK && geom_iso_estimate_triangles(&f, a.bounds, a.res, &o, &est) ==
                                      GEOM_OK &&
                 cli_limits_check(&tool, &a.lim, "the isosurface", est, est * ISO_PEAK_BYTES_PER_TRIANGLE) !=
                     CLI_CONTINUE) {
@@ -500,7 +500,7 @@ int main(int argc, char **argv)
             geom_iso_grid g;
             st = geom_iso_grid_from_volume(vol, &g);
             double est = 0.0;
-            if (st == GEOM_OK && geom_iso_grid_estimate_triangles(&g, a.iso, &est) == GEOM_OK &&
+            if (st == GEOM_OK && geom_iso_grid_estimate_triangles(&g, &o, &est) == GEOM_OK &&
                 cli_limits_check(&tool, &a.lim, "the isosurface", est, est * ISO_PEAK_BYTES_PER_TRIANGLE) !=
                     CLI_CONTINUE) {
                 geom_implicit_volume_destroy(vol);

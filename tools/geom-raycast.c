@@ -157,25 +157,29 @@ static void pd(FILE *fp, double v)
     cli_print_double(fp, v);
 }
 
-/* Closest mode reads rays in batches of BATCH and answers them with one
- * geom_ray_scene_closest_many call (the traversals of a mesh's rays
- * interleaved), printing the answers in input order. */
+/* Every mode reads rays in batches of BATCH and answers them with one
+ * batch call (geom_ray_scene_closest_many: the traversals of a mesh's rays
+ * interleaved; geom_ray_scene_any_many; geom_ray_scene_all_many), printing
+ * the answers in input order. */
 #define BATCH 4096
 
 typedef struct batch {
     geom_ray *r;
-    geom_ray_hit *h;
+    geom_ray_hit *h; /* closest: BATCH hits; all: hcap hits, grown as needed */
     int *found;
-    size_t n;
+    size_t *off;     /* all: BATCH + 1 row offsets */
+    size_t n, hcap;
 } batch;
 
 static geom_status batch_alloc(batch *b)
 {
     b->r = malloc(BATCH * sizeof *b->r);
-    b->h = malloc(BATCH * sizeof *b->h);
+    b->hcap = BATCH;
+    b->h = malloc(b->hcap * sizeof *b->h);
     b->found = malloc(BATCH * sizeof *b->found);
+    b->off = malloc((BATCH + 1) * sizeof *b->off);
     b->n = 0;
-    return b->r && b->h && b->found ? GEOM_OK : GEOM_ERR_NOMEM;
+    return b->r && b->h && b->found && b->off ? GEOM_OK : GEOM_ERR_NOMEM;
 }
 
 static void batch_free(batch *b)
@@ -183,36 +187,79 @@ static void batch_free(batch *b)
     free(b->r);
     free(b->h);
     free(b->found);
+    free(b->off);
 }
 
-/* Answer and print the batch's rays (invalid ones: miss), then empty it. */
-static geom_status flush_closest(const geom_ray_scene *scene, FILE *fp, batch *b, size_t *nhit, double *trace_s)
+static void print_closest(FILE *fp, const geom_ray_hit *h)
+{
+    pd(fp, h->t); fputc(' ', fp);
+    pd(fp, h->point.x); fputc(' ', fp);
+    pd(fp, h->point.y); fputc(' ', fp);
+    pd(fp, h->point.z); fputc(' ', fp);
+    pd(fp, h->ng.x); fputc(' ', fp);
+    pd(fp, h->ng.y); fputc(' ', fp);
+    pd(fp, h->ng.z); fputc(' ', fp);
+    pd(fp, h->u); fputc(' ', fp);
+    pd(fp, h->v);
+    fprintf(fp, " %u %u\n", (unsigned)h->object, (unsigned)h->prim);
+}
+
+/* geom_ray_scene_all_many into b->h, grown to the batch's hit count when
+ * it does not fit (then asked again). */
+static geom_status all_many(const geom_ray_scene *scene, batch *b, size_t *count)
+{
+    geom_status st = geom_ray_scene_all_many(scene, b->r, b->n, b->off, b->h, b->hcap, count);
+    if (st == GEOM_ERR_LIMIT) {
+        size_t cap = *count + *count / 2;
+        geom_ray_hit *nh = malloc(cap * sizeof *nh);
+        if (!nh) return GEOM_ERR_NOMEM;
+        free(b->h);
+        b->h = nh;
+        b->hcap = cap;
+        st = geom_ray_scene_all_many(scene, b->r, b->n, b->off, b->h, b->hcap, count);
+    }
+    return st;
+}
+
+/* Answer and print the batch's rays in mode (0 closest, 1 any, 2 all;
+ * invalid rays: miss), then empty it. */
+static geom_status flush_batch(const geom_ray_scene *scene, int mode, FILE *fp, batch *b, size_t *nhit,
+                               size_t *nhits_total, double *trace_s)
 {
     cli_timer tt;
     geom_status st;
-    size_t i;
+    size_t i, count = 0;
     cli_timer_start(&tt);
-    st = geom_ray_scene_closest_many(scene, b->r, b->n, b->h, b->found);
+    if (mode == 0) st = geom_ray_scene_closest_many(scene, b->r, b->n, b->h, b->found);
+    else if (mode == 1) st = geom_ray_scene_any_many(scene, b->r, b->n, b->found);
+    else st = all_many(scene, b, &count);
     *trace_s += cli_timer_elapsed(&tt);
-    if (st == GEOM_ERR_INVALID_ARG) st = GEOM_OK; /* some ray invalid: found 0, counted by the caller */
+    if (st == GEOM_ERR_INVALID_ARG) st = GEOM_OK; /* some ray invalid: no hit, counted by the caller */
     if (st != GEOM_OK) return st;
     for (i = 0; i < b->n; i++) {
-        const geom_ray_hit *h = &b->h[i];
+        if (mode == 2) {
+            size_t j, k0 = b->off[i], k1 = b->off[i + 1];
+            if (k0 == k1) {
+                fputs("miss\n", fp);
+                continue;
+            }
+            (*nhit)++;
+            *nhits_total += k1 - k0;
+            for (j = k0; j < k1; j++) {
+                if (j > k0) fputc(' ', fp);
+                pd(fp, b->h[j].t);
+                fputs(b->h[j].enter ? " enter" : " leave", fp);
+            }
+            fputc('\n', fp);
+            continue;
+        }
         if (!b->found[i]) {
             fputs("miss\n", fp);
             continue;
         }
         (*nhit)++;
-        pd(fp, h->t); fputc(' ', fp);
-        pd(fp, h->point.x); fputc(' ', fp);
-        pd(fp, h->point.y); fputc(' ', fp);
-        pd(fp, h->point.z); fputc(' ', fp);
-        pd(fp, h->ng.x); fputc(' ', fp);
-        pd(fp, h->ng.y); fputc(' ', fp);
-        pd(fp, h->ng.z); fputc(' ', fp);
-        pd(fp, h->u); fputc(' ', fp);
-        pd(fp, h->v);
-        fprintf(fp, " %u %u\n", (unsigned)h->object, (unsigned)h->prim);
+        if (mode == 1) fputs("hit\n", fp);
+        else print_closest(fp, &b->h[i]);
     }
     b->n = 0;
     return GEOM_OK;
@@ -243,14 +290,12 @@ int main(int argc, char **argv)
     geom_diag diag;
     geom_status st;
     geom_ray_build_info info;
-    cli_timer tb, tt;
+    cli_timer tb;
     double build_s, trace_s = 0;
     cli_input in = {0};
     cli_output out = {0};
     cli_lines lines;
     size_t nrays = 0, ninvalid = 0, nhit = 0, nhits_total = 0;
-    geom_ray_hit *hits = NULL;
-    size_t hcap = 0;
     batch bat = {0};
     rc = cli_parse_args(&tool, argc, argv, "r:", longopts, on_opt, &o, &common, &first);
     if (rc != CLI_CONTINUE) return rc;
@@ -283,7 +328,7 @@ int main(int argc, char **argv)
     }
     cli_lines_init(&lines, in.fp, in.name);
     rc = CLI_EXIT_OK;
-    if (o.mode == 0 && batch_alloc(&bat) != GEOM_OK) {
+    if (batch_alloc(&bat) != GEOM_OK) {
         geom_diag_clear(&diag);
         diag.status = GEOM_ERR_NOMEM;
         snprintf(diag.message, sizeof diag.message, "out of memory");
@@ -323,60 +368,19 @@ int main(int argc, char **argv)
         r.tmin = cnt > 6 ? v[6] : 0;
         r.tmax = cnt > 7 ? v[7] : INFINITY;
         nrays++;
-        if (o.mode == 0) { /* closest: batched (an invalid ray answers miss there too) */
-            ninvalid += geom_ray_check(&r) != GEOM_OK;
-            bat.r[bat.n++] = r;
-            if (bat.n == BATCH && (st = flush_closest(scene, out.fp, &bat, &nhit, &trace_s)) != GEOM_OK)
-                goto trace_fail;
-            continue;
-        }
-        cli_timer_start(&tt);
-        if (geom_ray_check(&r) != GEOM_OK) {
-            ninvalid++;
-            fputs("miss\n", out.fp);
-            continue;
-        }
-        if (o.mode == 1) {
-            int found = 0;
-            st = geom_ray_scene_any(scene, &r, &found);
-            trace_s += cli_timer_elapsed(&tt);
-            if (st != GEOM_OK) goto trace_fail;
-            nhit += found != 0;
-            fputs(found ? "hit\n" : "miss\n", out.fp);
-        } else {
-            size_t n = 0, i;
-            st = geom_ray_scene_all(scene, &r, hits, hcap, &n);
-            if (st == GEOM_ERR_LIMIT) {
-                geom_ray_hit *nh = realloc(hits, n * sizeof *nh);
-                if (!nh) {
-                    st = GEOM_ERR_NOMEM;
-                } else {
-                    hits = nh;
-                    hcap = n;
-                    st = geom_ray_scene_all(scene, &r, hits, hcap, &n);
-                }
-            }
-            trace_s += cli_timer_elapsed(&tt);
-            if (st != GEOM_OK) goto trace_fail;
-            if (n == 0) {
-                fputs("miss\n", out.fp);
-                continue;
-            }
-            nhit++;
-            nhits_total += n;
-            for (i = 0; i < n; i++) {
-                if (i) fputc(' ', out.fp);
-                pd(out.fp, hits[i].t);
-                fputs(hits[i].enter ? " enter" : " leave", out.fp);
-            }
-            fputc('\n', out.fp);
-        }
+        /* batched (an invalid ray answers miss there) */
+        ninvalid += geom_ray_check(&r) != GEOM_OK;
+        bat.r[bat.n++] = r;
+        if (bat.n == BATCH &&
+            (st = flush_batch(scene, o.mode, out.fp, &bat, &nhit, &nhits_total, &trace_s)) != GEOM_OK)
+            goto trace_fail;
         continue;
     trace_fail:
         rc = ray_failed(&tool, &diag, st, in.name, lines.lineno);
         break;
     }
-    if (rc == CLI_EXIT_OK && bat.n > 0 && (st = flush_closest(scene, out.fp, &bat, &nhit, &trace_s)) != GEOM_OK)
+    if (rc == CLI_EXIT_OK && bat.n > 0 &&
+        (st = flush_batch(scene, o.mode, out.fp, &bat, &nhit, &nhits_total, &trace_s)) != GEOM_OK)
         rc = ray_failed(&tool, &diag, st, in.name, lines.lineno);
     cli_lines_free(&lines);
     cli_input_close(&in);
@@ -414,7 +418,6 @@ int main(int argc, char **argv)
         }
         fprintf(e, "]}\n");
     }
-    free(hits);
     batch_free(&bat);
     unload(scene, keep);
     return rc;

@@ -4,9 +4,10 @@
  * (`ox oy oz dx dy dz [tmin [tmax]]` a line), traces every ray with Embree 3
  * (float, rtcNewDevice("threads=1"), robust mode with --robust) and prints
  * the same closest-hit lines as geom-raycast (t px py pz nx ny nz u v
- * object primitive, 17 significant digits, or miss).
+ * object primitive, 17 significant digits, or miss), or with --any the
+ * lines of geom-raycast --any (hit or miss, rtcOccluded1).
  *
- *   bench_ray_embree_file MESH RAYS [--robust] > out.txt
+ *   bench_ray_embree_file MESH RAYS [--robust] [--any] > out.txt
  *
  * Compare: farm-bench or `time` on both commands with the same files, e.g.
  *   time build/tools/geom-raycast bunny00.off --rays rays.txt > a.txt
@@ -37,10 +38,18 @@ int main(int argc, char **argv)
     char *line = NULL;
     size_t cap = 0;
     struct RTCIntersectContext ctx;
-    int robust = argc > 3 && strcmp(argv[3], "--robust") == 0;
+    int robust = 0, any = 0, a;
     if (argc < 3) {
-        fprintf(stderr, "usage: %s MESH RAYS [--robust]\n", argv[0]);
+        fprintf(stderr, "usage: %s MESH RAYS [--robust] [--any]\n", argv[0]);
         return 2;
+    }
+    for (a = 3; a < argc; a++) {
+        if (strcmp(argv[a], "--robust") == 0) robust = 1;
+        else if (strcmp(argv[a], "--any") == 0) any = 1;
+        else {
+            fprintf(stderr, "usage: %s MESH RAYS [--robust] [--any]\n", argv[0]);
+            return 2;
+        }
     }
     geom_diag_clear(&diag);
     if (geom_meshio_read(argv[1], NULL, &m, NULL, &diag) != GEOM_OK) {
@@ -114,6 +123,12 @@ int main(int argc, char **argv)
         rh.ray.time = 0;
         rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
         rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        if (any) {
+            /* occlusion: tfar becomes -inf on a hit */
+            rtcOccluded1(sc, &ctx, &rh.ray);
+            fputs(rh.ray.tfar == -INFINITY ? "hit\n" : "miss\n", stdout);
+            continue;
+        }
         rtcIntersect1(sc, &ctx, &rh);
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
             fputs("miss\n", stdout);

@@ -5,7 +5,8 @@
 # invalid rays answer miss and are counted in --json (last line of stderr);
 # tmin/tmax; a mesh given directly; errors naming the object and the key
 # (exit 1), JSON syntax errors with line and column, bad ray lines with
-# their line, usage errors (exit 2).
+# their line, usage errors (exit 2); over several batches of rays, --any
+# and --all agree with --closest ray by ray.
 # Usage: test_geom_raycast.sh /path/to/geom-raycast VERSION   (env PYTHON3)
 set -u
 if [ $# -ne 2 ]; then
@@ -175,6 +176,63 @@ PYEOF
 run "$T/scene.json" --rays "$T/rays.txt" --any
 expect_rc 0 "--any"
 expect_out "$(printf 'hit\nhit\nhit\nhit\nhit\nhit\nhit\nhit\nhit\nhit\nmiss\nmiss\nhit\nmiss')" "--any answers"
+
+# more rays than one batch (4096): --any and --all agree ray by ray with
+# --closest (hit iff not miss; the first --all t is the closest t), and the
+# --json counts add up over the batches; invalid rays in every batch
+"$PY" - "$T/many.txt" <<'PYEOF'
+import random, sys
+rng = random.Random(5)
+with open(sys.argv[1], "w") as f:
+    for i in range(9500):
+        tx = rng.choice([0, 4, 10, -10, 20.3, 30.2, 40.5, 0]) + rng.uniform(-1.2, 1.2)
+        ty = rng.choice([0, 0, 10, -10]) + rng.uniform(-1.5, 1.5)
+        o = [rng.uniform(-60, 60), rng.uniform(-60, 60), rng.uniform(-40, 40)]
+        d = [tx - o[0], ty - o[1], rng.uniform(-1, 1) - o[2]]
+        if i % 997 == 3:
+            o[1] = float("nan")
+        elif i % 991 == 5:
+            d = [0, 0, 0]
+        extra = " 0 %r" % rng.uniform(10, 80) if i % 7 == 0 else ""
+        f.write("%r %r %r %r %r %r%s\n" % (o[0], o[1], o[2], d[0], d[1], d[2], extra))
+PYEOF
+run "$T/scene.json" --rays "$T/many.txt" --closest --json
+expect_rc 0 "many rays --closest"
+cp "$T/stdout" "$T/many_closest"
+tail -n 1 "$T/stderr" >"$T/many_closest.json"
+run "$T/scene.json" --rays "$T/many.txt" --any --json
+expect_rc 0 "many rays --any"
+cp "$T/stdout" "$T/many_any"
+tail -n 1 "$T/stderr" >"$T/many_any.json"
+run "$T/scene.json" --rays "$T/many.txt" --all --json
+expect_rc 0 "many rays --all"
+cp "$T/stdout" "$T/many_all"
+tail -n 1 "$T/stderr" >"$T/many_all.json"
+checks=$((checks + 1))
+"$PY" - "$T" <<'PYEOF' || fail "--any / --all / --closest disagree over several batches"
+import json, sys
+d = sys.argv[1]
+c = open(d + "/many_closest").read().split("\n")[:-1]
+a = open(d + "/many_any").read().split("\n")[:-1]
+l = open(d + "/many_all").read().split("\n")[:-1]
+assert len(c) == len(a) == len(l) == 9500, (len(c), len(a), len(l))
+nhit = nhits = 0
+for i, (ci, ai, li) in enumerate(zip(c, a, l)):
+    if ci == "miss":
+        assert ai == "miss" and li == "miss", (i, ci, ai, li)
+        continue
+    nhit += 1
+    w = li.split()
+    assert ai == "hit" and len(w) % 2 == 0 and w[1] in ("enter", "leave"), (i, ci, ai, li)
+    ts = [float(x) for x in w[0::2]]
+    assert ts == sorted(ts) and ts[0] == float(ci.split()[0]), (i, ci, li)
+    nhits += len(ts)
+assert 2000 < nhit < 9000, nhit
+jc, ja, jl = (json.load(open(d + "/many_%s.json" % m)) for m in ("closest", "any", "all"))
+for j in (jc, ja, jl):
+    assert j["rays"] == 9500 and j["invalid_rays"] == 20 and j["rays_hit"] == nhit, j
+assert jl["hits"] == nhits, (jl["hits"], nhits)
+PYEOF
 
 # rays from standard input, a mesh given directly
 printf '0.2 0.2 -1 0 0 1\n5 5 5 1 0 0\n' | "$TOOL" "$T/sub/tet.off" --all >"$T/stdout" 2>"$T/stderr"

@@ -1008,8 +1008,8 @@ geom_status geom_iso_extract_stream(const geom_implicit_field *field, const doub
 void geom_iso_surface_free(geom_iso_surface *s);
 geom_status geom_iso_surface_to_mesh(const geom_iso_surface *s, geom_mesh *m, geom_diag *diag);
 geom_status geom_iso_field_from_expr(const geom_implicit_expr *e, geom_implicit_field *out);
-geom_status geom_iso_estimate_triangles(const geom_implicit_field *f, const double bounds[6], const size_t res[3], double iso, double *triangles);
-geom_status geom_iso_grid_estimate_triangles(const geom_implicit_grid *g, double iso, double *triangles);
+geom_status geom_iso_estimate_triangles(const geom_implicit_field *f, const double bounds[6], const size_t res[3], const geom_iso_options *opt, double *triangles);
+geom_status geom_iso_grid_estimate_triangles(const geom_implicit_grid *g, const geom_iso_options *opt, double *triangles);
 geom_status geom_iso_measure_error(const geom_implicit_field *field, double iso, size_t n_vertices, const double *xyz, size_t n_triangles, const uint32_t *tris, geom_error_report *vertex_error, geom_error_report *sample_error, size_t *unmeasured);
 """,
     "implicit": """
@@ -1254,6 +1254,10 @@ geom_status geom_ray_scene_closest_many(const geom_ray_scene *s, const geom_ray 
 geom_status geom_ray_scene_any(const geom_ray_scene *s, const geom_ray *r, int *found);
 geom_status geom_ray_scene_all(const geom_ray_scene *s, const geom_ray *r,
     geom_ray_hit *hits, size_t cap, size_t *n);
+geom_status geom_ray_scene_any_many(const geom_ray_scene *s, const geom_ray *rays, size_t n,
+    int *found);
+geom_status geom_ray_scene_all_many(const geom_ray_scene *s, const geom_ray *rays, size_t n,
+    size_t *offsets, geom_ray_hit *hits, size_t cap, size_t *count);
 typedef enum geom_ray_kind {
     GEOM_RAY_PLANE = 1, GEOM_RAY_DISK, GEOM_RAY_BOX, GEOM_RAY_OBOX, GEOM_RAY_SPHERE, GEOM_RAY_QUADRIC, GEOM_RAY_TORUS, GEOM_RAY_TRIANGLE, GEOM_RAY_POLYGON, GEOM_RAY_MESH, GEOM_RAY_SURFACE, GEOM_RAY_SUBDIV, GEOM_RAY_IMPLICIT, GEOM_RAY_VOLUME, GEOM_RAY_CSG, GEOM_RAY_INSTANCE, GEOM_RAY_GROUP} geom_ray_kind;
 typedef enum geom_ray_csg_op {

@@ -140,22 +140,25 @@ def chunks(field, bounds, resolution, **options):
         t.join()
 
 
-def estimate_triangles(field, bounds=None, resolution=None, iso=0.0, spacing=None, origin=None):
-    """Triangles marching_cubes(field, ...) would make, estimated before the
-    work: for an expression, Expression or function over bounds and
-    resolution, from at most 41^3 samples (geom_iso_estimate_triangles:
+def estimate_triangles(field, bounds=None, resolution=None, iso=0.0, spacing=None, origin=None,
+                       caps=False):
+    """Triangles marching_cubes(field, ..., caps=caps) would make, estimated
+    before the work: for an expression, Expression or function over bounds
+    and resolution, from at most 41^3 samples (geom_iso_estimate_triangles:
     features thinner than a coarse cell are missed); for a 3-D array or a
     Volume, from its crossed cells (geom_iso_grid_estimate_triangles, 2 a
-    cell)."""
+    cell). With caps=True the cap triangles on the box faces are included
+    (counted exactly for an array or Volume)."""
     keep, error_box = [], []
     out = ffi.new("double *")
+    opt = _iso_options(iso, False, False, caps, "auto", 0)
     grid = _grid_field(field, spacing, origin, keep)
     if grid is not None:
-        check(lib.geom_iso_grid_estimate_triangles(grid, float(iso), out),
+        check(lib.geom_iso_grid_estimate_triangles(grid, opt, out),
               context="estimate_triangles")
     else:
         f, b, res, _ = _function_field(field, bounds, resolution, keep, error_box)
-        st = lib.geom_iso_estimate_triangles(f, dptr(b), res, float(iso), out)
+        st = lib.geom_iso_estimate_triangles(f, dptr(b), res, opt, out)
         if error_box:
             raise error_box[0]
         check(st, context="estimate_triangles")

@@ -10,12 +10,14 @@ CSG, groups and instances, queried with numpy arrays of rays.
 
 closest() returns a dict of arrays: "hit" (bool), "t" (NaN on a miss),
 "point", "normal" (geometric, stored orientation), "shading_normal", "uv",
-"prim", "object", "t_error", "enter". all() returns the list of hits of one
-ray as dicts, sorted by t. t is in units of the direction as given; tmin
-and tmax (scalars or arrays) default to 0 and +inf. Invalid rays (NaN/Inf,
-zero direction) are misses with "valid" False, as geom-raycast reports them.
-Queries loop in Python over the C function (about a microsecond of overhead
-per ray).
+"prim", "object", "t_error", "enter". any() returns a boolean array. all()
+returns every hit sorted by t: for one ray a list of dicts, for many rays
+flat arrays in compressed rows ("offsets"). t is in units of the direction
+as given; tmin and tmax (scalars or arrays) default to 0 and +inf. Invalid
+rays (NaN/Inf, zero direction) are misses with "valid" False, as
+geom-raycast reports them. Each query is one C call over all the rays
+(geom_ray_scene_closest_many, _any_many, _all_many), bit for bit the
+single-ray functions' answers.
 """
 
 import numpy as np
@@ -299,13 +301,6 @@ class RayScene:
         t1 = np.broadcast_to(np.asarray(tmax, dtype=np.float64), (n,))
         return n, one_o and one_d, o, d, t0, t1
 
-    @staticmethod
-    def _ray(r, o, d, t0, t1):
-        r.origin.x, r.origin.y, r.origin.z = o
-        r.dir.x, r.dir.y, r.dir.z = d
-        r.tmin = t0
-        r.tmax = t1
-
     def closest(self, origins, directions, tmin=0.0, tmax=np.inf):
         n, single, o, d, t0, t1 = self._rays(origins, directions, tmin, tmax)
         out = {"hit": np.zeros(n, bool), "valid": np.ones(n, bool), "t": np.full(n, np.nan),
@@ -315,20 +310,13 @@ class RayScene:
                "t_error": np.full(n, np.nan), "enter": np.zeros(n, bool)}
         # one C call over all rays (geom_ray_scene_closest_many: bit for bit
         # geom_ray_scene_closest, a mesh's traversals interleaved)
-        rays = np.empty((n, 8))
-        rays[:, 0:3] = o
-        rays[:, 3:6] = d
-        rays[:, 6] = t0
-        rays[:, 7] = t1
+        rays = self._ray_array(n, o, d, t0, t1)
         hits = ffi.new("geom_ray_hit[]", max(n, 1))
         found = np.zeros(n, dtype=np.intc)
         st = lib.geom_ray_scene_closest_many(self._s, ffi.cast("geom_ray *", ffi.from_buffer(rays)), n,
                                              hits, ffi.cast("int *", ffi.from_buffer(found)))
         if st == lib.GEOM_ERR_INVALID_ARG:  # some rays invalid: which (among the misses)
-            r = ffi.new("geom_ray *")
-            for i in np.flatnonzero(found == 0):
-                self._ray(r, o[i], d[i], t0[i], t1[i])
-                out["valid"][i] = lib.geom_ray_check(r) == 0
+            out["valid"] = self._valid(rays, np.flatnonzero(found == 0))
         else:
             check(st, context="closest")
         h = np.frombuffer(ffi.buffer(hits), dtype=_hit_dtype())[:n]
@@ -348,43 +336,83 @@ class RayScene:
             out = {k: v[0] for k, v in out.items()}
         return out
 
+    @staticmethod
+    def _ray_array(n, o, d, t0, t1):
+        """(n, 8) doubles laid out as n geom_ray (origin, dir, tmin, tmax)."""
+        rays = np.empty((n, 8))
+        rays[:, 0:3] = o
+        rays[:, 3:6] = d
+        rays[:, 6] = t0
+        rays[:, 7] = t1
+        return rays
+
+    def _valid(self, rays, idx):
+        """geom_ray_check of the rays idx (the ones a batch left empty)."""
+        valid = np.ones(rays.shape[0], bool)
+        r = ffi.cast("geom_ray *", ffi.from_buffer(rays))
+        for i in idx:
+            valid[i] = lib.geom_ray_check(r + int(i)) == 0
+        return valid
+
     def any(self, origins, directions, tmin=0.0, tmax=np.inf):
-        """Boolean array: does each ray hit anything in [tmin, tmax]?"""
+        """Boolean array: does each ray hit anything in [tmin, tmax]? One C
+        call over all rays (geom_ray_scene_any_many: bit for bit
+        geom_ray_scene_any); an invalid ray is False."""
         n, single, o, d, t0, t1 = self._rays(origins, directions, tmin, tmax)
-        res = np.zeros(n, bool)
-        r = ffi.new("geom_ray *")
-        found = ffi.new("int *")
-        for i in range(n):
-            self._ray(r, o[i], d[i], t0[i], t1[i])
-            st = lib.geom_ray_scene_any(self._s, r, found)
-            if st == lib.GEOM_ERR_INVALID_ARG:
-                continue
+        rays = self._ray_array(n, o, d, t0, t1)
+        found = np.zeros(n, dtype=np.intc)
+        st = lib.geom_ray_scene_any_many(self._s, ffi.cast("geom_ray *", ffi.from_buffer(rays)), n,
+                                         ffi.cast("int *", ffi.from_buffer(found)))
+        if st != lib.GEOM_ERR_INVALID_ARG:  # INVALID_ARG: some rays invalid (found 0)
             check(st, context="any")
-            res[i] = bool(found[0])
+        res = found != 0
         return bool(res[0]) if single else res
 
-    def all(self, origin, direction, tmin=0.0, tmax=np.inf):
-        """Every hit of one ray, sorted by t: a list of dicts (t, point,
-        normal, uv, prim, object, enter)."""
-        n, _, o, d, t0, t1 = self._rays(origin, direction, tmin, tmax)
-        if n != 1:
-            raise ValueError("all(): one ray at a time")
-        r = ffi.new("geom_ray *")
-        self._ray(r, o[0], d[0], t0[0], t1[0])
+    def all(self, origins, directions, tmin=0.0, tmax=np.inf):
+        """Every hit of each ray, sorted by t (entering first on ties), in
+        one C call (geom_ray_scene_all_many: bit for bit geom_ray_scene_all).
+
+        One ray (1-D origin and direction): a list of dicts (t, point,
+        normal, uv, prim, object, enter). Many rays ((k, 3) arrays): a dict
+        of flat arrays in compressed rows, the hits of ray i being
+        [offsets[i], offsets[i+1]): "offsets" (k+1,), "ray" (the ray of each
+        hit), "t", "point", "normal", "shading_normal", "uv", "prim",
+        "object", "t_error", "enter", and "valid" (k,) (an invalid ray has
+        no hit and valid False)."""
+        n, single, o, d, t0, t1 = self._rays(origins, directions, tmin, tmax)
+        rays = self._ray_array(n, o, d, t0, t1)
+        rp = ffi.cast("geom_ray *", ffi.from_buffer(rays))
+        offsets = np.zeros(n + 1, dtype=np.uintp)
+        op = ffi.cast("size_t *", ffi.from_buffer(offsets))
         cnt = ffi.new("size_t *")
-        cap = 16
+        cap = max(2 * n, 16)
         while True:
             hits = ffi.new("geom_ray_hit[]", cap)
-            st = lib.geom_ray_scene_all(self._s, r, hits, cap, cnt)
+            st = lib.geom_ray_scene_all_many(self._s, rp, n, op, hits, cap, cnt)
             if st == lib.GEOM_ERR_LIMIT:
                 cap = int(cnt[0])
                 continue
-            check(st, context="all")
             break
-        return [{"t": hits[i].t, "point": (hits[i].point.x, hits[i].point.y, hits[i].point.z),
-                 "normal": (hits[i].ng.x, hits[i].ng.y, hits[i].ng.z), "uv": (hits[i].u, hits[i].v),
-                 "prim": int(hits[i].prim), "object": int(hits[i].object), "enter": bool(hits[i].enter)}
-                for i in range(int(cnt[0]))]
+        if st != lib.GEOM_ERR_INVALID_ARG:
+            check(st, context="all")
+        total = int(cnt[0])
+        h = np.frombuffer(ffi.buffer(hits), dtype=_hit_dtype())[:total]
+        offsets = offsets.astype(np.int64)
+        if single:
+            return [{"t": float(h["t"][i]), "point": tuple(float(x) for x in h["point"][i]),
+                     "normal": tuple(float(x) for x in h["ng"][i]),
+                     "uv": (float(h["u"][i]), float(h["v"][i])),
+                     "prim": int(h["prim"][i]), "object": int(h["object"][i]),
+                     "enter": bool(h["enter"][i])}
+                    for i in range(total)]
+        counts = np.diff(offsets)
+        valid = (self._valid(rays, np.flatnonzero(counts == 0)) if st == lib.GEOM_ERR_INVALID_ARG
+                 else np.ones(n, bool))
+        return {"offsets": offsets, "ray": np.repeat(np.arange(n), counts), "valid": valid,
+                "t": h["t"].copy(), "point": h["point"].copy(), "normal": h["ng"].copy(),
+                "shading_normal": h["ns"].copy(), "uv": np.stack([h["u"], h["v"]], axis=1),
+                "prim": h["prim"].astype(np.int64), "object": h["object"].astype(np.int64),
+                "t_error": h["t_error"].copy(), "enter": h["enter"] != 0}
 
 
 _QUADRICS = {"ellipsoid": 1, "cylinder": 2, "cone": 3, "paraboloid": 4, "hyperboloid1": 5,

@@ -461,6 +461,42 @@ GEOM_API geom_status geom_ray_scene_any(const geom_ray_scene *s, const geom_ray 
  */
 GEOM_API geom_status geom_ray_scene_all(const geom_ray_scene *s, const geom_ray *r,
                                         geom_ray_hit *hits, size_t cap, size_t *n);
+/**
+ * Any-hit answers of n rays (shadow rays): found[i] exactly as
+ * geom_ray_scene_any(s, &rays[i], &found[i]) gives it. The rays are
+ * answered one after the other by the single-ray query (no per-ray setup
+ * beyond it: one hit list reused by the whole batch). rays: n rays; found:
+ * n ints. Every ray is answered: GEOM_ERR_INVALID_ARG when some ray is
+ * invalid (see geom_ray_check; its found[i] = 0, the others answered), for
+ * NULL arguments (with n > 0) or an unbuilt scene (every found[i] = 0);
+ * GEOM_ERR_NOMEM (CSG lists) stops the batch. Reentrant: any number of
+ * threads may call it on one scene.
+ */
+GEOM_API geom_status geom_ray_scene_any_many(const geom_ray_scene *s, const geom_ray *rays, size_t n,
+                                             int *found);
+/**
+ * Every hit of each of n rays, in compressed rows (as geom_mesh_vertex_rings
+ * and geom_neighbors): the hits of ray i are hits[offsets[i] ..
+ * offsets[i+1]), exactly (bit for bit, same order) the *n hits
+ * geom_ray_scene_all(s, &rays[i], ...) gives, sorted by t, entering first
+ * on ties. rays: n rays; offsets: n + 1 size_t (offsets[0] = 0); hits: cap
+ * hits (NULL allowed when cap is 0). *count receives the total,
+ * offsets[n]. The caller sizes hits: with cap < *count the status is
+ * GEOM_ERR_LIMIT, offsets and *count are still complete and hits[0 .. cap)
+ * holds the first cap hits (rows i with offsets[i+1] <= cap are whole), so
+ * the caller can call again with room for *count, or resume at the first
+ * incomplete row. An invalid ray (see geom_ray_check) has an empty row;
+ * the status is then GEOM_ERR_INVALID_ARG (unless GEOM_ERR_LIMIT), the
+ * other rays answered; tmin > tmax gives an empty row. GEOM_ERR_INVALID_ARG
+ * for NULL s, offsets or count, NULL rays with n > 0, NULL hits with
+ * cap > 0, or an unbuilt scene (every row empty when offsets is given).
+ * GEOM_ERR_NOMEM (hit lists) stops the batch (offsets and *count then
+ * undefined). Each ray is answered by the single-ray query, one hit list
+ * reused by the whole batch. Reentrant.
+ */
+GEOM_API geom_status geom_ray_scene_all_many(const geom_ray_scene *s, const geom_ray *rays, size_t n,
+                                             size_t *offsets, geom_ray_hit *hits, size_t cap,
+                                             size_t *count);
 
 #ifdef __cplusplus
 }

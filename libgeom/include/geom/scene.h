@@ -345,14 +345,25 @@ typedef struct geom_raster_report {
  * edge functions at the sample positions (top-left fill rule, so a shared
  * edge covers each sample once), attributes interpolated perspective-correctly
  * with geom_bary_perspective, then shaded once per visible sample with
- * geom_scene_shade (flat, Gouraud or Phong as each material says). Textures are
+ * geom_scene_shade (flat, Gouraud or Phong as each material says). The
+ * projected vertices are snapped to a grid of 1/256 of the sample spacing
+ * before the edge functions (so coverage and the fill rule are exact: a
+ * vertex moves by at most 1/512 of a sample spacing on each axis, and the
+ * barycentric weights, hence the interpolated attributes and depth, are
+ * those of the snapped triangle). Textures are
  * MIP-mapped with the pixel's UV footprint. With opt->shadows, each point
  * light gets a cube shadow map and each directional light an orthographic one
  * over the scene's bounding box (Williams 1978), depth-biased by the map's
- * texel size. cam->samples gives a regular k x k supersampling grid, box
- * filtered. COOL_TO_WARM materials get silhouette and crease lines where the
- * visibility buffer changes object or the normal turns by more than the
- * crease angle between neighbouring samples.
+ * texel size. Samples: a regular k x k grid per pixel at the centres of its
+ * k x k sub-pixels, k = ceil(sqrt(cam->samples)) clamped to 1..16 (always
+ * regular: cam->sampling is not used here). Colour and normal outputs are
+ * box filtered: the plain mean of the pixel's k*k samples (background
+ * samples included; the mean normal is not renormalised). Depth and object
+ * id are not filtered: each pixel takes the one sample at sub-pixel (k/2,
+ * k/2) (integer division: the pixel centre for odd k, the sample below and
+ * right of the centre for even k). COOL_TO_WARM materials get silhouette
+ * and crease lines where the visibility buffer changes object or the
+ * normal turns by more than the crease angle between neighbouring samples.
  * out receives a fresh image (3 channels for colour, 1 for depth/object, 3 for
  * normal) that the caller frees with geom_scene_image_free(out, opt->alloc).
  * Returns GEOM_ERR_INVALID_ARG for NULL arguments, a material index out of

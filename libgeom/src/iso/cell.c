@@ -79,6 +79,20 @@ int geom__iso_face_decider(double g00, double g10, double g01, double g11)
     return ((g00 + g11) - (g10 + g01)) < 0;
 }
 
+int geom__iso_face_inside(int f, const double g[8], int in[4], int *changes)
+{
+    const uint8_t *p = geom__iso_face_corners[f];
+    int n = 0, c = 0;
+    for (int k = 0; k < 4; k++) {
+        in[k] = !(g[p[k]] > 0);
+        n += in[k];
+    }
+    for (int k = 0; k < 4; k++)
+        c += in[k] != in[(k + 1) & 3];
+    *changes = c;
+    return n;
+}
+
 int geom__iso_face_join(int f, const double g[8], int joined[2])
 {
     int axis = f >> 1, side = f & 1;

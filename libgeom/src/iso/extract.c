@@ -798,15 +798,9 @@ static void do_cell(slab *s, const ctx *c, work *w, size_t i, size_t j, const do
 static void do_cap(slab *s, const ctx *c, work *w, size_t i, size_t j, int f, const double g[8])
 {
     const uint8_t *p = geom__iso_face_corners[f];
-    int in[4], nin = 0, changes = 0;
-    for (int k = 0; k < 4; k++) {
-        in[k] = !(g[p[k]] > 0);
-        nin += in[k];
-    }
-    if (nin == 0)
+    int in[4], changes;
+    if (geom__iso_face_inside(f, g, in, &changes) == 0)
         return;
-    for (int k = 0; k < 4; k++)
-        changes += in[k] != in[(k + 1) & 3];
     if (changes == 4) {
         int jn[2];
         if (!geom__iso_face_join(f, g, jn)) {

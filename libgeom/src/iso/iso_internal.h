@@ -105,6 +105,13 @@ int geom__iso_face_decider(double g00, double g10, double g01, double g11);
  *  0 if outside ones. The same answer in both cells sharing the face. */
 int geom__iso_face_join(int f, const double g[8], int joined[2]);
 
+/** The inside corners of face f of a cell with corner values g (g <= 0
+ *  inside): in[k] for the face's corners in geom__iso_face_corners order;
+ *  returns their number, *changes the inside/outside changes around the
+ *  face (4: an ambiguous face). The caps' rule (extract.c) and their count
+ *  (estimate.c) start from it. */
+int geom__iso_face_inside(int f, const double g[8], int in[4], int *changes);
+
 /** Error accumulation. */
 typedef struct iso_err_acc {
     double vmax, vsum;

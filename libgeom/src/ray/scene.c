@@ -1112,3 +1112,67 @@ geom_status geom_ray_scene_all(const geom_ray_scene *s, const geom_ray *r, geom_
     geom__rhits_free(&l);
     return st;
 }
+
+/* Batches: each ray answered by run() as the single-ray functions do, one
+ * hit list reused (emptied before each ray: its inline buffer or the heap
+ * array the previous rays grew). */
+static geom_status run_one(const geom_ray_scene *s, const geom_ray *r, int mode, geom__rhits *l, int *bad)
+{
+    geom_status st;
+    l->n = 0;
+    l->failed = 0;
+    st = run(s, r, mode, l);
+    if (st == GEOM_ERR_INVALID_ARG) { /* an invalid ray: no hit, the batch goes on */
+        *bad = 1;
+        l->n = 0;
+        st = GEOM_OK;
+    }
+    return st;
+}
+
+geom_status geom_ray_scene_any_many(const geom_ray_scene *s, const geom_ray *rays, size_t n, int *found)
+{
+    geom__rhits l;
+    geom_status st = GEOM_OK;
+    size_t i;
+    int bad = 0;
+    if (found)
+        for (i = 0; i < n; i++) found[i] = 0;
+    if (!s || (n && (!rays || !found))) return GEOM_ERR_INVALID_ARG;
+    if (!s->built) return GEOM_ERR_INVALID_ARG;
+    geom__rhits_init(&l, s->alloc);
+    for (i = 0; i < n; i++) {
+        if ((st = run_one(s, &rays[i], GEOM__RAY_ANY, &l, &bad)) != GEOM_OK) break;
+        found[i] = l.n > 0;
+    }
+    geom__rhits_free(&l);
+    if (st != GEOM_OK) return st;
+    return bad ? GEOM_ERR_INVALID_ARG : GEOM_OK;
+}
+
+geom_status geom_ray_scene_all_many(const geom_ray_scene *s, const geom_ray *rays, size_t n, size_t *offsets,
+                                   geom_ray_hit *hits, size_t cap, size_t *count)
+{
+    geom__rhits l;
+    geom_status st = GEOM_OK;
+    size_t i, total = 0;
+    int bad = 0;
+    if (count) *count = 0;
+    if (offsets)
+        for (i = 0; i <= n; i++) offsets[i] = 0;
+    if (!s || !offsets || !count || (n && !rays) || (cap && !hits)) return GEOM_ERR_INVALID_ARG;
+    if (!s->built) return GEOM_ERR_INVALID_ARG;
+    geom__rhits_init(&l, s->alloc);
+    for (i = 0; i < n; i++) {
+        if ((st = run_one(s, &rays[i], GEOM__RAY_ALL, &l, &bad)) != GEOM_OK) break;
+        geom__rhits_sort(&l, 0);
+        if (total < cap) memcpy(hits + total, l.h, (l.n < cap - total ? l.n : cap - total) * sizeof *hits);
+        total += l.n;
+        offsets[i + 1] = total;
+    }
+    geom__rhits_free(&l);
+    if (st != GEOM_OK) return st;
+    *count = total;
+    if (total > cap) return GEOM_ERR_LIMIT;
+    return bad ? GEOM_ERR_INVALID_ARG : GEOM_OK;
+}
