@@ -1462,6 +1462,375 @@ W4_TGT static geom_status w8_many_avx2(const geom__tmesh *m, const geom_ray *ray
 #endif
 #endif
 
+/* ---------------------------------------------------------------------
+ * Packets of coherent rays (the batch's AVX2 path): eight rays of the same
+ * direction octant, close in origin and direction (camera rays of one image
+ * row), traverse the wide tree together on one node stack (Wald, Slusallek,
+ * Benthin and Wagner, "Interactive Rendering with Coherent Ray Tracing",
+ * 2001; with wide nodes, Dammertz et al. 2008). A node's planes are decoded
+ * once for the packet (w8_node's decode), then each child is tested against
+ * the eight rays at once, one ray per AVX2 lane: the same float operations
+ * as w8_node's for each ray (fl(fl(L - of) inv), then widened by c |t| and
+ * the ray's own E), so the same proof makes each lane conservative (w4f).
+ * Each stack entry carries the rays that enter the child and their entry
+ * distances; a ray whose closest hit so far is nearer than its entry is
+ * dropped from the entry when it is popped. At a leaf each ray of the entry
+ * runs its own float pre-test (pk_filter8) and the exact watertight test,
+ * as in trace_wide. The boxes being conservative and the exact test alone
+ * deciding (ties by the smaller triangle index, whatever the order), each
+ * ray's answer is bit for bit trace_wide's (test_ray_batch). The rays the
+ * grouping cannot take (another octant, spread too wide, a ray the float
+ * test cannot take) go through the interleaved path (w8_many_t). */
+#if W4_AVX2
+#define PK8_N 8
+
+typedef struct pk8entry {
+    __m256 tn;          /* each ray's entry distance (conservative) */
+    uint32_t child, count;
+    int mask;           /* the rays that enter it */
+    float key;          /* the order on the stack: the entry distance of its first ray */
+} pk8entry;
+
+typedef struct pk8ray {
+    pkray pk;           /* first: 16-byte aligned */
+    geom__wbw w;
+    const geom_ray *r;
+    size_t idx;
+    double tmin, tmax, best_t, best_b[3];
+    uint32_t best;
+} pk8ray;
+
+typedef struct pk8 {
+    __m256 o[3], inv[3], e, tmin; /* lane i: ray i's w4f origin, reciprocal, bound, and tmin rounded down */
+    __m256 ers;                   /* lane i: ray i's bound of the ray-side form (w4f ers) */
+    int rs;                       /* every ray takes the ray-side form (no zero direction component) */
+    float tmaxf[PK8_N];           /* ray i's tmax rounded up */
+    size_t noff[3], foff[3];      /* the packet's near and far plane codes (one octant) */
+    int n, wset;                  /* rays; those whose shear is set up */
+    pk8ray ray[PK8_N];
+} pk8;
+
+/* The decoded planes of q's eight children, per axis (w8_node's decode),
+ * then each valid child against the packet's rays: cm[j] the rays in
+ * `active` that enter child j, tnv[j] their entry distances. Returns the
+ * children entered by some ray. */
+W4_TGT static inline int pk8_node(const geom__rnode4 *q, const pk8 *P, int active, __m256 tmaxv, int cm[W4_W],
+                                  __m256 tnv[W4_W])
+{
+    const __m256 absmask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
+    const __m256 vc = _mm256_set1_ps(0x1p-20f);
+    __m256 nv[3], fv[3], A[3], B[3];
+    int k, valid, hit = 0;
+    for (k = 0; k < 3; k++) {
+        const __m256 px = _mm256_broadcast_ss(&q->px[k]);
+        const __m256 sc = _mm256_castsi256_ps(_mm256_set1_epi32(((int)q->ex[k] + 127) << 23));
+        nv[k] = _mm256_cvtepi32_ps(
+            _mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)((const uint8_t *)q + P->noff[k]))));
+        fv[k] = _mm256_cvtepi32_ps(
+            _mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)((const uint8_t *)q + P->foff[k]))));
+        if (P->rs) { /* w8_node_rs's A and B, lane i for ray i */
+            A[k] = _mm256_mul_ps(sc, P->inv[k]);
+            B[k] = _mm256_mul_ps(_mm256_sub_ps(px, P->o[k]), P->inv[k]);
+        } else { /* the planes decoded (w8_node) */
+            nv[k] = _mm256_fmadd_ps(nv[k], sc, px);
+            fv[k] = _mm256_fmadd_ps(fv[k], sc, px);
+        }
+    }
+    valid = ~_mm256_movemask_ps(_mm256_castsi256_ps(
+                _mm256_cmpeq_epi32(_mm256_load_si256((const __m256i *)q->child), _mm256_set1_epi32(-1)))) &
+            0xff;
+    if (P->rs) {
+        while (valid) {
+            const int j = __builtin_ctz((unsigned)valid);
+            const __m256i ix = _mm256_set1_epi32(j);
+            __m256 tn = P->tmin, tf = tmaxv;
+            int mj;
+            valid &= valid - 1;
+            for (k = 0; k < 3; k++) {
+                tn = _mm256_max_ps(_mm256_fmadd_ps(_mm256_permutevar8x32_ps(nv[k], ix), A[k], B[k]), tn);
+                tf = _mm256_min_ps(_mm256_fmadd_ps(_mm256_permutevar8x32_ps(fv[k], ix), A[k], B[k]), tf);
+            }
+            tn = _mm256_sub_ps(_mm256_sub_ps(tn, _mm256_mul_ps(_mm256_and_ps(tn, absmask), vc)), P->ers);
+            tf = _mm256_add_ps(_mm256_add_ps(tf, _mm256_mul_ps(_mm256_and_ps(tf, absmask), vc)), P->ers);
+            mj = _mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ)) & active;
+            cm[j] = mj;
+            tnv[j] = tn;
+            hit |= (mj != 0) << j;
+        }
+        return hit;
+    }
+    while (valid) {
+        const int j = __builtin_ctz((unsigned)valid);
+        const __m256i ix = _mm256_set1_epi32(j);
+        __m256 tn = P->tmin, tf = tmaxv;
+        int mj;
+        valid &= valid - 1;
+        for (k = 0; k < 3; k++) {
+            /* maxps/minps return the second operand when either is NaN */
+            tn = _mm256_max_ps(_mm256_mul_ps(_mm256_sub_ps(_mm256_permutevar8x32_ps(nv[k], ix), P->o[k]), P->inv[k]),
+                               tn);
+            tf = _mm256_min_ps(_mm256_mul_ps(_mm256_sub_ps(_mm256_permutevar8x32_ps(fv[k], ix), P->o[k]), P->inv[k]),
+                               tf);
+        }
+        tn = _mm256_sub_ps(_mm256_sub_ps(tn, _mm256_mul_ps(_mm256_and_ps(tn, absmask), vc)), P->e);
+        tf = _mm256_add_ps(_mm256_add_ps(tf, _mm256_mul_ps(_mm256_and_ps(tf, absmask), vc)), P->e);
+        mj = _mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ)) & active;
+        cm[j] = mj;
+        tnv[j] = tn;
+        hit |= (mj != 0) << j;
+    }
+    return hit;
+}
+
+/* The packet's traversal (closest mode): each ray's best hit in P->ray[i]. */
+W4_TGT static void pk8_trace(const geom__tmesh *m, pk8 *P, pk8entry *stack)
+{
+    const struct geom__rbvh4 *W = m->wide;
+    pk8entry cur;
+    __m256 tmaxv = _mm256_loadu_ps(P->tmaxf);
+    int sp = 0;
+    cur.tn = P->tmin;
+    cur.child = 0;
+    cur.count = 0;
+    cur.mask = (1 << P->n) - 1;
+    for (;;) {
+        if (cur.count == 0) {
+            const geom__rnode4 *q = &W->node[cur.child];
+            int cm[W4_W], hit, base, j;
+            __m256 tnv[W4_W];
+            hit = pk8_node(q, P, cur.mask, tmaxv, cm, tnv);
+            if (hit == 0) goto pop;
+            if ((hit & (hit - 1)) == 0) { /* one child entered: next, no stack traffic */
+                j = __builtin_ctz((unsigned)hit);
+                cur.tn = tnv[j];
+                cur.child = q->child[j];
+                cur.count = q->count[j];
+                cur.mask = cm[j];
+                continue;
+            }
+            /* pushed by decreasing entry distance of the child's first ray
+             * (an order only: any order gives the same answers);
+             * sp + W4_W <= W4_STACK: the depth is checked at build */
+            base = sp;
+            while (hit) {
+                float key[PK8_N], ki;
+                int i;
+                j = __builtin_ctz((unsigned)hit);
+                hit &= hit - 1;
+                _mm256_storeu_ps(key, tnv[j]);
+                ki = key[__builtin_ctz((unsigned)cm[j])];
+                i = sp++;
+                while (i > base && stack[i - 1].key < ki) {
+                    stack[i] = stack[i - 1];
+                    i--;
+                }
+                stack[i].tn = tnv[j];
+                stack[i].child = q->child[j];
+                stack[i].count = q->count[j];
+                stack[i].mask = cm[j];
+                stack[i].key = ki;
+                fetch_child(W, q->child[j], q->count[j]);
+            }
+        } else {
+            const geom__rpack4 *pq = &W->pk[W4_PK(cur.count)];
+            const int cl = (1 << W4_CNT(cur.count)) - 1;
+            int rm = cur.mask, changed = 0;
+            while (rm) {
+                const int i = __builtin_ctz((unsigned)rm);
+                pk8ray *R = &P->ray[i];
+                double tmax0 = R->tmax;
+                int lanes;
+                rm &= rm - 1;
+                if (!(P->wset & (1 << i))) {
+                    geom__wbw_setup(&R->w, R->r);
+                    pk_setup(&R->pk, &R->w, W);
+                    P->wset |= 1 << i;
+                }
+                lanes = pk_filter8(pq, &R->pk) & cl;
+                while (lanes) {
+                    const int j = lane_first(lanes);
+                    lanes &= lanes - 1;
+                    (void)leaf_hits(m, R->r, &R->w, cur.child + (uint32_t)j, 1, R->tmin, &R->tmax,
+                                    GEOM__RAY_CLOSEST, &R->best, &R->best_t, R->best_b, NULL);
+                }
+                if (R->tmax != tmax0) {
+                    P->tmaxf[i] = f_up_fast(R->tmax);
+                    changed = 1;
+                }
+            }
+            if (changed) tmaxv = _mm256_loadu_ps(P->tmaxf);
+        }
+    pop:
+        for (;;) { /* the rays whose closest hit so far is nearer than the entry dropped */
+            int mk;
+            if (sp == 0) return;
+            sp--;
+            mk = stack[sp].mask & _mm256_movemask_ps(_mm256_cmp_ps(stack[sp].tn, tmaxv, _CMP_LE_OQ));
+            if (mk) {
+                cur = stack[sp];
+                cur.mask = mk;
+                break;
+            }
+        }
+    }
+}
+
+/* Rays spread (origin, plus direction times the distance across the mesh)
+ * up to this fraction of the mesh's largest half extent make a packet. */
+#ifndef PK8_SPREAD
+#define PK8_SPREAD 0.5
+#endif
+
+/* Set P up for rays idx[0 .. n) (2 <= n <= 8) when they make a packet:
+ * each taken by the float node test, one direction octant, and close
+ * (PK8_SPREAD) for a mesh of centre c and largest half extent hd. */
+W4_TGT static int pk8_setup(const struct geom__rbvh4 *W, pk8 *P, const geom_ray *rays, const size_t *idx, int n,
+                            const double c[3], double hd)
+{
+    float of[3][PK8_N], iv[3][PK8_N], e[PK8_N], ers[PK8_N], tmin[PK8_N];
+    double o0[3], u0[3], reach = 0;
+    int i, k, rs = 1;
+    for (i = 0; i < n; i++) {
+        const geom_ray *r = &rays[idx[i]];
+        const double o[3] = {r->origin.x, r->origin.y, r->origin.z}, d[3] = {r->dir.x, r->dir.y, r->dir.z};
+        double inv[3], u[3], l = 0;
+        w4f f;
+        for (k = 0; k < 3; k++) inv[k] = d[k] != 0 ? 1.0 / d[k] : (signbit(d[k]) ? -INFINITY : INFINITY);
+        if (!w4f_setup(W, o, d, inv, &f)) return 0;
+        for (k = 0; k < 3; k++) l = fabs(d[k]) > l ? fabs(d[k]) : l;
+        l = 1 / l;
+        for (k = 0; k < 3; k++) u[k] = d[k] * l;
+        if (i == 0) {
+            for (k = 0; k < 3; k++) {
+                P->noff[k] = f.noff[k];
+                P->foff[k] = f.foff[k];
+                o0[k] = o[k];
+                u0[k] = u[k];
+                reach = fabs(c[k] - o[k]) > reach ? fabs(c[k] - o[k]) : reach;
+            }
+            reach += hd;
+        } else {
+            double s = 0, du = 0;
+            for (k = 0; k < 3; k++) {
+                if (f.noff[k] != P->noff[k]) return 0; /* another octant */
+                s = fabs(o[k] - o0[k]) > s ? fabs(o[k] - o0[k]) : s;
+                du = fabs(u[k] - u0[k]) > du ? fabs(u[k] - u0[k]) : du;
+            }
+            s += du * reach;
+            if (!(s <= PK8_SPREAD * hd)) return 0;
+        }
+        for (k = 0; k < 3; k++) {
+            of[k][i] = f.of[k];
+            iv[k][i] = f.inv[k];
+        }
+        e[i] = f.e;
+        ers[i] = f.ers;
+        rs &= f.rs;
+        tmin[i] = f_down_fast(r->tmin);
+        P->tmaxf[i] = f_up_fast(r->tmax);
+        P->ray[i].r = r;
+        P->ray[i].idx = idx[i];
+        P->ray[i].tmin = r->tmin;
+        P->ray[i].tmax = r->tmax;
+        P->ray[i].best = GEOM_INVALID_INDEX;
+        P->ray[i].best_t = 0;
+        P->ray[i].best_b[0] = P->ray[i].best_b[1] = P->ray[i].best_b[2] = 0;
+    }
+    for (i = n; i < PK8_N; i++) { /* lanes without a ray: masked off */
+        for (k = 0; k < 3; k++) of[k][i] = iv[k][i] = 0;
+        e[i] = ers[i] = 0;
+        tmin[i] = INFINITY;
+        P->tmaxf[i] = -INFINITY;
+    }
+    for (k = 0; k < 3; k++) {
+        P->o[k] = _mm256_loadu_ps(of[k]);
+        P->inv[k] = _mm256_loadu_ps(iv[k]);
+    }
+    P->e = _mm256_loadu_ps(e);
+    P->ers = _mm256_loadu_ps(ers);
+    P->rs = rs;
+    P->tmin = _mm256_loadu_ps(tmin);
+    P->n = n;
+    P->wset = 0;
+    return 1;
+}
+
+/* The packets among rays idx[0 .. n), in runs of eight consecutive rays:
+ * each answered (hits and found as trace_wide gives them); the rays of the
+ * runs that make no packet appended to rest (returns their number). */
+/* The centre c and largest half extent *hd of m's root box. */
+static void pk8_bounds(const geom__tmesh *m, double c[3], double *hd)
+{
+    size_t nn = 0;
+    const geom_bvh_node *bn = geom_bvh_nodes(m->bvh, &nn);
+    int k;
+    *hd = 0;
+    for (k = 0; k < 3; k++) {
+        const double lo = (&bn[0].box.min.x)[k], hi = (&bn[0].box.max.x)[k];
+        c[k] = 0.5 * (lo + hi);
+        *hd = 0.5 * (hi - lo) > *hd ? 0.5 * (hi - lo) : *hd;
+    }
+}
+
+/* The packets among rays idx[0 .. n), in runs of eight consecutive rays:
+ * each answered (hits and found as trace_wide gives them); the rays of the
+ * runs that make no packet appended to rest (returns their number). With
+ * hits NULL, only the packets counted (returned; rest unused). */
+W4_TGT static size_t pk8_many(const geom__tmesh *m, const geom_ray *rays, const size_t *idx, size_t n,
+                              geom_ray_hit *hits, int *found, pk8 *P, pk8entry *stack, size_t *rest)
+{
+    const struct geom__rbvh4 *W = m->wide;
+    size_t g, nrest = 0, npk = 0;
+    double c[3], hd;
+    pk8_bounds(m, c, &hd);
+    for (g = 0; g < n; g += PK8_N) {
+        const int cnt = n - g < PK8_N ? (int)(n - g) : PK8_N;
+        int i;
+        if (cnt < 2 || !pk8_setup(W, P, rays, idx + g, cnt, c, hd)) {
+            if (hits)
+                for (i = 0; i < cnt; i++) rest[nrest++] = idx[g + (size_t)i];
+            continue;
+        }
+        npk++;
+        if (!hits) continue;
+        pk8_trace(m, P, stack);
+        for (i = 0; i < cnt; i++) {
+            const pk8ray *R = &P->ray[i];
+            if (R->best != GEOM_INVALID_INDEX) {
+                fill(m, R->r, R->best, R->best_t, R->best_b, &hits[R->idx]);
+                found[R->idx] = 1;
+            }
+        }
+    }
+    return hits ? nrest : npk;
+}
+#endif
+
+#if W4_SSE
+/* The interleaved traversal of rays idx[0 .. n) (w8_many_t). */
+static geom_status w8_many(const geom__tmesh *m, const geom_ray *rays, const size_t *idx, size_t n,
+                           geom_ray_hit *hits, int *found, const geom_allocator *alloc)
+{
+    const size_t bytes = W8_K * sizeof(w8slot) + 64 + (size_t)W8_K * W4_STACK * sizeof(w4entry);
+    w8slot *slot;
+    void *mem;
+    geom_status st;
+    size_t i;
+    mem = geom__alloc(alloc, bytes);
+    if (!mem) return GEOM_ERR_NOMEM;
+    slot = (w8slot *)(((uintptr_t)mem + 63) & ~(uintptr_t)63);
+    for (i = 0; i < W8_K; i++) slot[i].stack = (w4entry *)(slot + W8_K) + i * W4_STACK;
+#if W4_AVX2
+    if (m->wide->isa == W4_ISA_AVX2)
+        st = w8_many_avx2(m, rays, idx, n, hits, found, slot, alloc);
+    else
+#endif
+        st = w8_many_sse2(m, rays, idx, n, hits, found, slot, alloc);
+    geom__free(alloc, mem, bytes);
+    return st;
+}
+#endif
+
 geom_status geom__ray_mesh_closest_many(const geom__tmesh *m, const geom_ray *rays, const size_t *idx, size_t n,
                                         geom_ray_hit *hits, int *found, const geom_allocator *alloc)
 {
@@ -1469,22 +1838,26 @@ geom_status geom__ray_mesh_closest_many(const geom__tmesh *m, const geom_ray *ra
     if (!m->bvh) return GEOM_OK;
 #if W4_SSE
     if (m->wide) {
-        w8slot *slot;
-        void *mem;
-        size_t bytes = W8_K * sizeof(w8slot) + 64 + (size_t)W8_K * W4_STACK * sizeof(w4entry);
-        geom_status st;
-        mem = geom__alloc(alloc, bytes);
-        if (!mem) return GEOM_ERR_NOMEM;
-        slot = (w8slot *)(((uintptr_t)mem + 63) & ~(uintptr_t)63);
-        for (i = 0; i < W8_K; i++) slot[i].stack = (w4entry *)(slot + W8_K) + i * W4_STACK;
 #if W4_AVX2
-        if (m->wide->isa == W4_ISA_AVX2)
-            st = w8_many_avx2(m, rays, idx, n, hits, found, slot, alloc);
-        else
+        if (m->wide->isa == W4_ISA_AVX2 && m->wide->fbox && n >= 2) {
+            /* the packets first, then the rays they leave, interleaved */
+            const size_t bytes = sizeof(pk8) + W4_STACK * sizeof(pk8entry) + n * sizeof(size_t) + 64;
+            void *mem = geom__alloc(alloc, bytes);
+            pk8 *P;
+            pk8entry *stack;
+            size_t *rest, nrest;
+            geom_status st = GEOM_OK;
+            if (!mem) return GEOM_ERR_NOMEM;
+            P = (pk8 *)(((uintptr_t)mem + 63) & ~(uintptr_t)63);
+            stack = (pk8entry *)(P + 1);
+            rest = (size_t *)(stack + W4_STACK);
+            nrest = pk8_many(m, rays, idx, n, hits, found, P, stack, rest);
+            if (nrest > 0) st = w8_many(m, rays, rest, nrest, hits, found, alloc);
+            geom__free(alloc, mem, bytes);
+            return st;
+        }
 #endif
-            st = w8_many_sse2(m, rays, idx, n, hits, found, slot, alloc);
-        geom__free(alloc, mem, bytes);
-        return st;
+        return w8_many(m, rays, idx, n, hits, found, alloc);
     }
 #endif
     for (i = 0; i < n; i++) {
@@ -1500,6 +1873,52 @@ geom_status geom__ray_mesh_closest_many(const geom__tmesh *m, const geom_ray *ra
         if (st != GEOM_OK) return st;
     }
     return GEOM_OK;
+}
+
+/* The valid rays of rays[0 .. n) with tmin <= tmax into idx (their
+ * number); *bad = 1 when some ray is invalid. */
+static size_t valid_rays(const geom_ray *rays, size_t n, size_t *idx, int *bad)
+{
+    size_t i, nv = 0;
+    for (i = 0; i < n; i++) {
+        if (!geom__ray_valid(&rays[i])) { *bad = 1; continue; }
+        if (rays[i].tmin <= rays[i].tmax) idx[nv++] = i;
+    }
+    return nv;
+}
+
+/* The single mesh closest_many traverses for s, or NULL. */
+static const geom__tmesh *single_mesh(const geom_ray_scene *s)
+{
+    const geom__ray_node *nd = s->nroots == 1 ? &s->nodes[s->roots[0]] : NULL;
+    if (!nd || (nd->kind != GEOM_RAY_MESH && nd->kind != GEOM_RAY_SUBDIV) || nd->has_xf || !nd->mesh ||
+        !nd->mesh->wide)
+        return NULL;
+    return nd->mesh;
+}
+
+size_t geom__ray_scene_packets(const geom_ray_scene *s, const geom_ray *rays, size_t n)
+{
+    size_t npk = 0;
+#if W4_AVX2
+    const geom__tmesh *m = s && s->built ? single_mesh(s) : NULL;
+    if (m && m->wide->isa == W4_ISA_AVX2 && m->wide->fbox && n > 0) {
+        const size_t bytes = sizeof(pk8) + n * sizeof(size_t) + 64;
+        void *mem = geom__alloc(s->alloc, bytes);
+        pk8 *P;
+        size_t *idx, nv;
+        int bad = 0;
+        if (!mem) return 0;
+        P = (pk8 *)(((uintptr_t)mem + 63) & ~(uintptr_t)63);
+        idx = (size_t *)(P + 1);
+        nv = valid_rays(rays, n, idx, &bad);
+        npk = pk8_many(m, rays, idx, nv, NULL, NULL, P, NULL, NULL);
+        geom__free(s->alloc, mem, bytes);
+    }
+#else
+    (void)s; (void)rays; (void)n;
+#endif
+    return npk;
 }
 
 int geom__ray_scene_simd(geom_ray_scene *s, int isa)
@@ -1581,16 +2000,15 @@ done:
 geom_status geom_ray_scene_closest_many(const geom_ray_scene *s, const geom_ray *rays, size_t n,
                                         geom_ray_hit *hits, int *found)
 {
-    const geom__ray_node *nd;
+    const geom__tmesh *m;
     size_t i, nv = 0, *idx;
     int bad = 0;
     geom_status st;
     if (!s || (n && (!rays || !hits || !found))) return GEOM_ERR_INVALID_ARG;
     for (i = 0; i < n; i++) found[i] = 0;
     if (!s->built) return GEOM_ERR_INVALID_ARG;
-    nd = s->nroots == 1 ? &s->nodes[s->roots[0]] : NULL;
-    if (!nd || (nd->kind != GEOM_RAY_MESH && nd->kind != GEOM_RAY_SUBDIV) || nd->has_xf || !nd->mesh ||
-        !nd->mesh->wide) {
+    m = single_mesh(s);
+    if (!m) {
         /* not a single mesh: one ray at a time */
         for (i = 0; i < n; i++) {
             st = geom_ray_scene_closest(s, &rays[i], &hits[i], &found[i]);
@@ -1601,11 +2019,8 @@ geom_status geom_ray_scene_closest_many(const geom_ray_scene *s, const geom_ray 
     }
     idx = geom__alloc(s->alloc, (n ? n : 1) * sizeof *idx);
     if (!idx) return GEOM_ERR_NOMEM;
-    for (i = 0; i < n; i++) {
-        if (!geom__ray_valid(&rays[i])) { bad = 1; continue; }
-        if (rays[i].tmin <= rays[i].tmax) idx[nv++] = i;
-    }
-    st = geom__ray_mesh_closest_many(nd->mesh, rays, idx, nv, hits, found, s->alloc);
+    nv = valid_rays(rays, n, idx, &bad);
+    st = geom__ray_mesh_closest_many(m, rays, idx, nv, hits, found, s->alloc);
     geom__free(s->alloc, idx, (n ? n : 1) * sizeof *idx);
     if (st != GEOM_OK) return st;
     return bad ? GEOM_ERR_INVALID_ARG : GEOM_OK;
