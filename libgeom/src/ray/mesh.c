@@ -1043,6 +1043,14 @@ static inline geom_status finish(const geom__tmesh *m, const geom_ray *r, int mo
     return GEOM_OK;
 }
 
+/* Ask for the memory of the triangles slot .. slot + cnt - 1 (72 bytes each). */
+static inline void fetch_tris(const geom__tmesh *m, uint32_t slot, uint32_t cnt)
+{
+    const char *c = (const char *)(m->tv + 9 * (size_t)slot), *e = c + 72 * (size_t)cnt;
+    for (; c < e; c += 64) W4_PREFETCH(c);
+    W4_PREFETCH(e - 1);
+}
+
 /* Ask for the memory of a child (count 0: node child, else a leaf's packet). */
 static inline void fetch_child(const struct geom__rbvh4 *W, uint32_t child, uint32_t count)
 {
@@ -1171,6 +1179,10 @@ GEOM__WBW_INLINE geom_status trace_wide_t(const geom__tmesh *m, const geom_ray *
             double tmax0 = tmax;
             int lr = 0;
             uint32_t cnt = W4_CNT(cur.count);
+            /* the leaf's triangles asked for now, while its packet comes:
+             * the two loads overlap instead of following each other (a
+             * random ray waits on both) */
+            fetch_tris(m, cur.child, cnt);
             if (w.kz < 0) {
                 geom__wbw_setup(&w, r);
 #if W4_SSE
