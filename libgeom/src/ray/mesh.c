@@ -1700,44 +1700,101 @@ W4_TGT static int pk8_setup(const struct geom__rbvh4 *W, pk8 *P, const geom_ray 
                             const double c[3], double hd)
 {
     float of[3][PK8_N], iv[3][PK8_N], e[PK8_N], ers[PK8_N], tmin[PK8_N];
-    double o0[3], u0[3], reach = 0;
-    int i, k, rs = 1;
+    double O[3][PK8_N], D[3][PK8_N], INV[3][PK8_N], U[3][PK8_N], reach = 0;
+    int i, k, rs = 1, h;
+    /* The rays' origins and directions by axis (the lanes past n: ray 0's). */
+    for (i = 0; i < PK8_N; i++) {
+        const geom_ray *r = &rays[idx[i < n ? i : 0]];
+        O[0][i] = r->origin.x; O[1][i] = r->origin.y; O[2][i] = r->origin.z;
+        D[0][i] = r->dir.x; D[1][i] = r->dir.y; D[2][i] = r->dir.z;
+    }
+    /* One octant: the direction's sign bits all ray 0's. */
+    for (k = 0; k < 3; k++)
+        for (i = 1; i < n; i++)
+            if ((signbit(D[k][i]) != 0) != (signbit(D[k][0]) != 0)) return 0;
+    /* The reciprocals (1 / +-0 = +-inf: trace_wide_t's definition, the
+     * same correctly rounded quotients) and the directions scaled to a
+     * largest component of 1, four rays at a time. */
+    for (h = 0; h < PK8_N; h += 4) {
+        const __m256d one = _mm256_set1_pd(1.0), abs = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffffLL));
+        __m256d d[3], l;
+        for (k = 0; k < 3; k++) {
+            d[k] = _mm256_loadu_pd(&D[k][h]);
+            _mm256_storeu_pd(&INV[k][h], _mm256_div_pd(one, d[k]));
+        }
+        l = _mm256_max_pd(_mm256_and_pd(d[0], abs), _mm256_max_pd(_mm256_and_pd(d[1], abs), _mm256_and_pd(d[2], abs)));
+        l = _mm256_div_pd(one, l);
+        for (k = 0; k < 3; k++) _mm256_storeu_pd(&U[k][h], _mm256_mul_pd(d[k], l));
+    }
+    /* Close: origin spread plus direction spread times the way across the mesh. */
+    for (k = 0; k < 3; k++) reach = fabs(c[k] - O[k][0]) > reach ? fabs(c[k] - O[k][0]) : reach;
+    reach += hd;
+    for (i = 1; i < n; i++) {
+        double sp = 0, du = 0;
+        for (k = 0; k < 3; k++) {
+            sp = fabs(O[k][i] - O[k][0]) > sp ? fabs(O[k][i] - O[k][0]) : sp;
+            du = fabs(U[k][i] - U[k][0]) > du ? fabs(U[k][i] - U[k][0]) : du;
+        }
+        if (!(sp + du * reach <= PK8_SPREAD * hd)) return 0;
+    }
+    /* Each ray's float node-test state: w4f_setup's, four rays at a time,
+     * the same double operations in the same order and the same roundings
+     * to float (f_up_fast's in its fast range, below 2^100). A ray the
+     * float test cannot take, or a bound beyond 2^100, and the run makes
+     * no packet (its rays go the interleaved way). */
+    for (h = 0; h < PK8_N; h += 4) {
+        const __m256d abs = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffffLL));
+        const __m256d zero = _mm256_setzero_pd(), lim = _mm256_set1_pd(W4_FMAX);
+        const __m256d c40 = _mm256_set1_pd(1 + 0x1p-40), c60 = _mm256_set1_pd(0x1p-60);
+        const __m256d c22 = _mm256_set1_pd(1 + 0x1p-22), big = _mm256_set1_pd(0x1p100);
+        __m256d ok = _mm256_castsi256_pd(_mm256_set1_epi64x(-1)), nzall = ok, ev = zero, fr = zero, x, y;
+        float ef[4], ersf[4];
+        int lanes = n - h >= 4 ? 15 : n - h <= 0 ? 0 : (1 << (n - h)) - 1, m;
+        for (k = 0; k < 3; k++) {
+            const __m256d o = _mm256_loadu_pd(&O[k][h]), d = _mm256_loadu_pd(&D[k][h]);
+            const __m256d iv2 = _mm256_loadu_pd(&INV[k][h]);
+            const __m256d nz = _mm256_cmp_pd(d, zero, _CMP_NEQ_OQ);
+            const __m128 of4 = _mm256_cvtpd_ps(o), iv4 = _mm256_cvtpd_ps(iv2); /* d == 0: +-inf */
+            const __m256d ofd = _mm256_cvtps_pd(of4);
+            ok = _mm256_and_pd(ok, _mm256_cmp_pd(_mm256_and_pd(o, abs), lim, _CMP_LE_OQ));
+            ok = _mm256_and_pd(ok, _mm256_or_pd(_mm256_cmp_pd(d, zero, _CMP_EQ_OQ),
+                                                _mm256_cmp_pd(_mm256_and_pd(iv2, abs), lim, _CMP_LE_OQ)));
+            nzall = _mm256_and_pd(nzall, nz);
+            /* e: the largest |o - of| |inv| over the axes with d != 0 */
+            ev = _mm256_max_pd(_mm256_and_pd(_mm256_mul_pd(_mm256_and_pd(_mm256_sub_pd(o, ofd), abs),
+                                                           _mm256_and_pd(iv2, abs)),
+                                             nz),
+                               ev);
+            /* fr: the largest 2^-21 (pmax + |of|) |inv| (NaN ignored, as the scalar test does) */
+            fr = _mm256_max_pd(_mm256_mul_pd(_mm256_mul_pd(_mm256_set1_pd(0x1p-21),
+                                                           _mm256_add_pd(_mm256_set1_pd(W->pmax),
+                                                                         _mm256_and_pd(ofd, abs))),
+                                             _mm256_and_pd(_mm256_cvtps_pd(iv4), abs)),
+                               fr);
+            _mm_storeu_ps(&of[k][h], of4);
+            _mm_storeu_ps(&iv[k][h], iv4);
+        }
+        x = _mm256_add_pd(_mm256_mul_pd(_mm256_mul_pd(_mm256_set1_pd(2), ev), c40), c60);
+        y = _mm256_add_pd(_mm256_mul_pd(_mm256_add_pd(_mm256_mul_pd(_mm256_set1_pd(2), ev), fr), c40), c60);
+        ok = _mm256_and_pd(ok, _mm256_cmp_pd(x, big, _CMP_LE_OQ));
+        m = _mm256_movemask_pd(nzall) & lanes;
+        if (m != lanes) rs = 0;
+        if ((_mm256_movemask_pd(ok) & lanes) != lanes) return 0;
+        if (rs && (_mm256_movemask_pd(_mm256_cmp_pd(y, big, _CMP_LE_OQ)) & lanes) != lanes) return 0;
+        _mm_storeu_ps(ef, _mm256_cvtpd_ps(_mm256_mul_pd(x, c22)));
+        _mm_storeu_ps(ersf, _mm256_cvtpd_ps(_mm256_mul_pd(y, c22)));
+        for (i = 0; i < 4; i++) {
+            e[h + i] = ef[i];
+            ers[h + i] = ersf[i];
+        }
+    }
+    for (k = 0; k < 3; k++) {
+        const int nhi = signbit(D[k][0]) != 0;
+        P->noff[k] = (nhi ? offsetof(geom__rnode4, qhi) : offsetof(geom__rnode4, qlo)) + W4_W * (size_t)k;
+        P->foff[k] = (nhi ? offsetof(geom__rnode4, qlo) : offsetof(geom__rnode4, qhi)) + W4_W * (size_t)k;
+    }
     for (i = 0; i < n; i++) {
         const geom_ray *r = &rays[idx[i]];
-        const double o[3] = {r->origin.x, r->origin.y, r->origin.z}, d[3] = {r->dir.x, r->dir.y, r->dir.z};
-        double inv[3], u[3], l = 0;
-        w4f f;
-        for (k = 0; k < 3; k++) inv[k] = d[k] != 0 ? 1.0 / d[k] : (signbit(d[k]) ? -INFINITY : INFINITY);
-        if (!w4f_setup(W, o, d, inv, &f)) return 0;
-        for (k = 0; k < 3; k++) l = fabs(d[k]) > l ? fabs(d[k]) : l;
-        l = 1 / l;
-        for (k = 0; k < 3; k++) u[k] = d[k] * l;
-        if (i == 0) {
-            for (k = 0; k < 3; k++) {
-                P->noff[k] = f.noff[k];
-                P->foff[k] = f.foff[k];
-                o0[k] = o[k];
-                u0[k] = u[k];
-                reach = fabs(c[k] - o[k]) > reach ? fabs(c[k] - o[k]) : reach;
-            }
-            reach += hd;
-        } else {
-            double s = 0, du = 0;
-            for (k = 0; k < 3; k++) {
-                if (f.noff[k] != P->noff[k]) return 0; /* another octant */
-                s = fabs(o[k] - o0[k]) > s ? fabs(o[k] - o0[k]) : s;
-                du = fabs(u[k] - u0[k]) > du ? fabs(u[k] - u0[k]) : du;
-            }
-            s += du * reach;
-            if (!(s <= PK8_SPREAD * hd)) return 0;
-        }
-        for (k = 0; k < 3; k++) {
-            of[k][i] = f.of[k];
-            iv[k][i] = f.inv[k];
-        }
-        e[i] = f.e;
-        ers[i] = f.ers;
-        rs &= f.rs;
         tmin[i] = f_down_fast(r->tmin);
         P->tmaxf[i] = f_up_fast(r->tmax);
         P->ray[i].r = r;
@@ -1767,9 +1824,6 @@ W4_TGT static int pk8_setup(const struct geom__rbvh4 *W, pk8 *P, const geom_ray 
     return 1;
 }
 
-/* The packets among rays idx[0 .. n), in runs of eight consecutive rays:
- * each answered (hits and found as trace_wide gives them); the rays of the
- * runs that make no packet appended to rest (returns their number). */
 /* The centre c and largest half extent *hd of m's root box. */
 static void pk8_bounds(const geom__tmesh *m, double c[3], double *hd)
 {
