@@ -208,17 +208,6 @@ static void test_two_objects_and_args(void **state)
     geom_ray_scene_destroy(s);
 }
 
-/* The CPU has AVX2 and FMA (the packets' path). */
-static int cpu_avx2(void)
-{
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-#else
-    return 0;
-#endif
-}
-
 /* Camera rays, row by row (w x h), from eye e towards c over a field of
  * half width fov (in units of the distance), every ray with [tmin, tmax]
  * = [0, inf]. */
@@ -277,7 +266,7 @@ static void packet_check(geom_ray_scene *s, const tmesh *m, const geom_ray *rays
     avx = geom__ray_scene_simd(s, 1) == 1;
     npk = geom__ray_scene_packets(s, rays, n);
     print_message("%s: %zu rays, %zu packets of eight on the %s path\n", what, n, npk, avx ? "AVX2" : "SSE2");
-    if (avx && cpu_avx2()) assert_true(npk >= minpk);
+    if (avx && ray_cpu_avx2()) assert_true(npk >= minpk);
     else assert_int_equal(npk, 0);
     nhit = check_batch(s, m, rays, n, invalid);
     print_message("    %zu with a hit\n", nhit);

@@ -1526,8 +1526,8 @@ typedef struct pk8 {
  * then each valid child against the packet's rays: cm[j] the rays in
  * `active` that enter child j, tnv[j] their entry distances. Returns the
  * children entered by some ray. */
-W4_TGT static inline int pk8_node(const geom__rnode4 *q, const pk8 *P, int active, __m256 tmaxv, int cm[W4_W],
-                                  __m256 tnv[W4_W])
+W4_TGT GEOM__WBW_INLINE int pk8_node_t(const geom__rnode4 *q, const pk8 *P, int active, __m256 tmaxv,
+                                        int cm[W4_W], __m256 tnv[W4_W], const int rs)
 {
     const __m256 absmask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
     const __m256 vc = _mm256_set1_ps(0x1p-20f);
@@ -1540,7 +1540,7 @@ W4_TGT static inline int pk8_node(const geom__rnode4 *q, const pk8 *P, int activ
             _mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)((const uint8_t *)q + P->noff[k]))));
         fv[k] = _mm256_cvtepi32_ps(
             _mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)((const uint8_t *)q + P->foff[k]))));
-        if (P->rs) { /* w8_node_rs's A and B, lane i for ray i */
+        if (rs) { /* w8_node_rs's A and B, lane i for ray i */
             A[k] = _mm256_mul_ps(sc, P->inv[k]);
             B[k] = _mm256_mul_ps(_mm256_sub_ps(px, P->o[k]), P->inv[k]);
         } else { /* the planes decoded (w8_node) */
@@ -1551,47 +1551,43 @@ W4_TGT static inline int pk8_node(const geom__rnode4 *q, const pk8 *P, int activ
     valid = ~_mm256_movemask_ps(_mm256_castsi256_ps(
                 _mm256_cmpeq_epi32(_mm256_load_si256((const __m256i *)q->child), _mm256_set1_epi32(-1)))) &
             0xff;
-    if (P->rs) {
-        while (valid) {
-            const int j = __builtin_ctz((unsigned)valid);
-            const __m256i ix = _mm256_set1_epi32(j);
-            __m256 tn = P->tmin, tf = tmaxv;
-            int mj;
-            valid &= valid - 1;
+    while (valid) {
+        const int j = __builtin_ctz((unsigned)valid);
+        const __m256i ix = _mm256_set1_epi32(j);
+        __m256 tn = P->tmin, tf = tmaxv, e;
+        int mj;
+        valid &= valid - 1;
+        /* maxps/minps return the second operand when either is NaN */
+        if (rs) {
             for (k = 0; k < 3; k++) {
                 tn = _mm256_max_ps(_mm256_fmadd_ps(_mm256_permutevar8x32_ps(nv[k], ix), A[k], B[k]), tn);
                 tf = _mm256_min_ps(_mm256_fmadd_ps(_mm256_permutevar8x32_ps(fv[k], ix), A[k], B[k]), tf);
             }
-            tn = _mm256_sub_ps(_mm256_sub_ps(tn, _mm256_mul_ps(_mm256_and_ps(tn, absmask), vc)), P->ers);
-            tf = _mm256_add_ps(_mm256_add_ps(tf, _mm256_mul_ps(_mm256_and_ps(tf, absmask), vc)), P->ers);
-            mj = _mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ)) & active;
-            cm[j] = mj;
-            tnv[j] = tn;
-            hit |= (mj != 0) << j;
+            e = P->ers;
+        } else {
+            for (k = 0; k < 3; k++) {
+                tn = _mm256_max_ps(
+                    _mm256_mul_ps(_mm256_sub_ps(_mm256_permutevar8x32_ps(nv[k], ix), P->o[k]), P->inv[k]), tn);
+                tf = _mm256_min_ps(
+                    _mm256_mul_ps(_mm256_sub_ps(_mm256_permutevar8x32_ps(fv[k], ix), P->o[k]), P->inv[k]), tf);
+            }
+            e = P->e;
         }
-        return hit;
-    }
-    while (valid) {
-        const int j = __builtin_ctz((unsigned)valid);
-        const __m256i ix = _mm256_set1_epi32(j);
-        __m256 tn = P->tmin, tf = tmaxv;
-        int mj;
-        valid &= valid - 1;
-        for (k = 0; k < 3; k++) {
-            /* maxps/minps return the second operand when either is NaN */
-            tn = _mm256_max_ps(_mm256_mul_ps(_mm256_sub_ps(_mm256_permutevar8x32_ps(nv[k], ix), P->o[k]), P->inv[k]),
-                               tn);
-            tf = _mm256_min_ps(_mm256_mul_ps(_mm256_sub_ps(_mm256_permutevar8x32_ps(fv[k], ix), P->o[k]), P->inv[k]),
-                               tf);
-        }
-        tn = _mm256_sub_ps(_mm256_sub_ps(tn, _mm256_mul_ps(_mm256_and_ps(tn, absmask), vc)), P->e);
-        tf = _mm256_add_ps(_mm256_add_ps(tf, _mm256_mul_ps(_mm256_and_ps(tf, absmask), vc)), P->e);
+        tn = _mm256_sub_ps(_mm256_sub_ps(tn, _mm256_mul_ps(_mm256_and_ps(tn, absmask), vc)), e);
+        tf = _mm256_add_ps(_mm256_add_ps(tf, _mm256_mul_ps(_mm256_and_ps(tf, absmask), vc)), e);
         mj = _mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ)) & active;
         cm[j] = mj;
         tnv[j] = tn;
         hit |= (mj != 0) << j;
     }
     return hit;
+}
+
+/* pk8_node_t in the packet's form (rs a constant in each copy). */
+W4_TGT static inline int pk8_node(const geom__rnode4 *q, const pk8 *P, int active, __m256 tmaxv, int cm[W4_W],
+                                  __m256 tnv[W4_W])
+{
+    return P->rs ? pk8_node_t(q, P, active, tmaxv, cm, tnv, 1) : pk8_node_t(q, P, active, tmaxv, cm, tnv, 0);
 }
 
 /* The packet's traversal (closest mode): each ray's best hit in P->ray[i]. */
