@@ -1643,6 +1643,7 @@ W4_TGT static void pk8_trace(const geom__tmesh *m, pk8 *P, pk8entry *stack)
             const geom__rpack4 *pq = &W->pk[W4_PK(cur.count)];
             const int cl = (1 << W4_CNT(cur.count)) - 1;
             int rm = cur.mask, changed = 0;
+            fetch_tris(m, cur.child, W4_CNT(cur.count)); /* with the packet (trace_wide_t) */
             while (rm) {
                 const int i = __builtin_ctz((unsigned)rm);
                 pk8ray *R = &P->ray[i];
