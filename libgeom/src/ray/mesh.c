@@ -1479,11 +1479,14 @@ W4_TGT static geom_status w8_many_avx2(const geom__tmesh *m, const geom_ray *ray
  * direction octant, close in origin and direction (camera rays of one image
  * row), traverse the wide tree together on one node stack (Wald, Slusallek,
  * Benthin and Wagner, "Interactive Rendering with Coherent Ray Tracing",
- * 2001; with wide nodes, Dammertz et al. 2008). A node's planes are decoded
- * once for the packet (w8_node's decode), then each child is tested against
- * the eight rays at once, one ray per AVX2 lane: the same float operations
- * as w8_node's for each ray (fl(fl(L - of) inv), then widened by c |t| and
- * the ray's own E), so the same proof makes each lane conservative (w4f).
+ * 2001; with wide nodes, Dammertz et al. 2008). A node's plane codes are
+ * read once for the packet, then each child is tested against the eight
+ * rays at once, one ray per AVX2 lane, with the same float operations as
+ * the single-ray test for each ray: w8_node_rs's ray-side form (A and B per
+ * lane, one fused multiply-add per plane, widened by c |t| and the ray's
+ * ers) when no ray of the packet has a zero direction component, else
+ * w8_node's (the planes decoded, fl(fl(L - of) inv), widened by c |t| and
+ * the ray's e); so the same proofs make each lane conservative (w4f, w8_node_rs).
  * Each stack entry carries the rays that enter the child and their entry
  * distances; a ray whose closest hit so far is nearer than its entry is
  * dropped from the entry when it is popped. At a leaf each ray of the entry
@@ -1522,10 +1525,11 @@ typedef struct pk8 {
     pk8ray ray[PK8_N];
 } pk8;
 
-/* The decoded planes of q's eight children, per axis (w8_node's decode),
- * then each valid child against the packet's rays: cm[j] the rays in
- * `active` that enter child j, tnv[j] their entry distances. Returns the
- * children entered by some ray. */
+/* q's eight children's plane codes, per axis, as floats (rs: with each
+ * ray's A and B of the ray-side form; else decoded into planes), then each
+ * valid child against the packet's rays: cm[j] the rays in `active` that
+ * enter child j, tnv[j] their entry distances. Returns the children entered
+ * by some ray. */
 W4_TGT GEOM__WBW_INLINE int pk8_node_t(const geom__rnode4 *q, const pk8 *P, int active, __m256 tmaxv,
                                         int cm[W4_W], __m256 tnv[W4_W], const int rs)
 {
