@@ -1,7 +1,8 @@
 /* Test helpers for the ray tests: an outward icosphere, a uniform random
- * number in [0, 1) from a xorshift64 state, a ray from origin and
- * direction over [0, inf] (mkray) or [0, tmax] (mkray_to), and bitwise
- * equality of hits (ray_same_hit). */
+ * number in [0, 1) from a xorshift64 state, whether the CPU has AVX2 and
+ * FMA (ray_cpu_avx2), a ray from origin and direction over [0, inf]
+ * (mkray) or [0, tmax] (mkray_to), and bitwise equality of hits
+ * (ray_same_hit). */
 #ifndef GEOM_TESTS_RAY_TESTUTIL_H
 #define GEOM_TESTS_RAY_TESTUTIL_H
 
@@ -11,6 +12,17 @@
 #include <string.h>
 
 #include "geom/ray.h"
+
+/* The CPU has AVX2 and FMA (the mesh traversal's AVX2 path and packets). */
+static inline int ray_cpu_avx2(void)
+{
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+#else
+    return 0;
+#endif
+}
 
 static inline double ray_urand(uint64_t *rng)
 {

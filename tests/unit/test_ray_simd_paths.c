@@ -54,18 +54,6 @@ static size_t brute(const double *p, const uint32_t *t, size_t nt, const geom_ra
 
 static int last_avx; /* both_paths's last scene ran the AVX2 path */
 
-/* The CPU has AVX2 and FMA: the wide tree of a mesh near the origin must
- * then take the AVX2 path when forced to it. */
-static int cpu_avx2(void)
-{
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-#else
-    return 0;
-#endif
-}
-
 /* Every ray through both paths: the same answers bit for bit, and the
  * brute-force number of hits. Returns the number of rays with a hit. */
 static size_t both_paths(geom_ray_scene *s, const double *p, const uint32_t *t, size_t nt, const geom_ray *rays,
@@ -141,7 +129,7 @@ static void test_sphere_unit(void **state)
 {
     (void)state;
     sphere_case(0, 1);
-    assert_int_equal(last_avx, cpu_avx2());
+    assert_int_equal(last_avx, ray_cpu_avx2());
 }
 
 static void test_sphere_offsets(void **state)
@@ -205,7 +193,7 @@ static void test_soup(void **state)
     }
     nhit = both_paths(s, p, t, nt, rays, nr);
     print_message("soup: %zu rays, %zu with a hit\n", nr, nhit);
-    assert_int_equal(last_avx, cpu_avx2());
+    assert_int_equal(last_avx, ray_cpu_avx2());
     assert_true(nhit > nr / 3);
     geom_ray_scene_destroy(s);
     free(p);

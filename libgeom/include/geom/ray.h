@@ -443,7 +443,11 @@ GEOM_API geom_status geom_ray_scene_closest(const geom_ray_scene *s, const geom_
  * rays at a time are interleaved, round robin, one node or leaf each, so
  * that the memory latency of one ray's next node overlaps the others' work
  * (Aila and Laine, "Understanding the Efficiency of Ray Traversal on GPUs",
- * HPG 2009, in software); any other scene is queried one ray at a time.
+ * HPG 2009, in software); on a CPU with AVX2, runs of eight consecutive
+ * rays of one direction octant, close in origin and direction (camera rays
+ * along an image row), are traced as packets instead: one traversal, each
+ * child box tested against the eight rays at once (Wald et al. 2001). Any
+ * other scene is queried one ray at a time.
  * rays: n rays; hits: n hits (hits[i] written only when found[i] = 1);
  * found: n ints. Every ray is answered: GEOM_ERR_INVALID_ARG when some ray
  * is invalid (see geom_ray_check; its found[i] = 0, the others answered),

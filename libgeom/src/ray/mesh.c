@@ -1043,6 +1043,14 @@ static inline geom_status finish(const geom__tmesh *m, const geom_ray *r, int mo
     return GEOM_OK;
 }
 
+/* Ask for the memory of the triangles slot .. slot + cnt - 1 (72 bytes each). */
+static inline void fetch_tris(const geom__tmesh *m, uint32_t slot, uint32_t cnt)
+{
+    const char *c = (const char *)(m->tv + 9 * (size_t)slot), *e = c + 72 * (size_t)cnt;
+    for (; c < e; c += 64) W4_PREFETCH(c);
+    W4_PREFETCH(e - 1);
+}
+
 /* Ask for the memory of a child (count 0: node child, else a leaf's packet). */
 static inline void fetch_child(const struct geom__rbvh4 *W, uint32_t child, uint32_t count)
 {
@@ -1171,6 +1179,10 @@ GEOM__WBW_INLINE geom_status trace_wide_t(const geom__tmesh *m, const geom_ray *
             double tmax0 = tmax;
             int lr = 0;
             uint32_t cnt = W4_CNT(cur.count);
+            /* the leaf's triangles asked for now, while its packet comes:
+             * the two loads overlap instead of following each other (a
+             * random ray waits on both) */
+            fetch_tris(m, cur.child, cnt);
             if (w.kz < 0) {
                 geom__wbw_setup(&w, r);
 #if W4_SSE
@@ -1462,6 +1474,430 @@ W4_TGT static geom_status w8_many_avx2(const geom__tmesh *m, const geom_ray *ray
 #endif
 #endif
 
+/* ---------------------------------------------------------------------
+ * Packets of coherent rays (the batch's AVX2 path): eight rays of the same
+ * direction octant, close in origin and direction (camera rays of one image
+ * row), traverse the wide tree together on one node stack (Wald, Slusallek,
+ * Benthin and Wagner, "Interactive Rendering with Coherent Ray Tracing",
+ * 2001; with wide nodes, Dammertz et al. 2008). A node's plane codes are
+ * read once for the packet, then each child is tested against the eight
+ * rays at once, one ray per AVX2 lane, with the same float operations as
+ * the single-ray test for each ray: w8_node_rs's ray-side form (A and B per
+ * lane, one fused multiply-add per plane, widened by c |t| and the ray's
+ * ers) when no ray of the packet has a zero direction component, else
+ * w8_node's (the planes decoded, fl(fl(L - of) inv), widened by c |t| and
+ * the ray's e); so the same proofs make each lane conservative (w4f, w8_node_rs).
+ * Each stack entry carries the rays that enter the child and their entry
+ * distances; a ray whose closest hit so far is nearer than its entry is
+ * dropped from the entry when it is popped. At a leaf each ray of the entry
+ * runs its own float pre-test (pk_filter8) and the exact watertight test,
+ * as in trace_wide. The boxes being conservative and the exact test alone
+ * deciding (ties by the smaller triangle index, whatever the order), each
+ * ray's answer is bit for bit trace_wide's (test_ray_batch). The rays the
+ * grouping cannot take (another octant, spread too wide, a ray the float
+ * test cannot take) go through the interleaved path (w8_many_t). */
+#if W4_AVX2
+#define PK8_N 8
+
+typedef struct pk8entry {
+    __m256 tn;          /* each ray's entry distance (conservative) */
+    uint32_t child, count;
+    int mask;           /* the rays that enter it */
+    float key;          /* the order on the stack: the entry distance of its first ray */
+} pk8entry;
+
+typedef struct pk8ray {
+    pkray pk;           /* first: 16-byte aligned */
+    geom__wbw w;
+    const geom_ray *r;
+    size_t idx;
+    double tmin, tmax, best_t, best_b[3];
+    uint32_t best;
+} pk8ray;
+
+typedef struct pk8 {
+    __m256 o[3], inv[3], e, tmin; /* lane i: ray i's w4f origin, reciprocal, bound, and tmin rounded down */
+    __m256 ers;                   /* lane i: ray i's bound of the ray-side form (w4f ers) */
+    int rs;                       /* every ray takes the ray-side form (no zero direction component) */
+    float tmaxf[PK8_N];           /* ray i's tmax rounded up */
+    size_t noff[3], foff[3];      /* the packet's near and far plane codes (one octant) */
+    int n, wset;                  /* rays; those whose shear is set up */
+    pk8ray ray[PK8_N];
+} pk8;
+
+/* q's eight children's plane codes, per axis, as floats (rs: with each
+ * ray's A and B of the ray-side form; else decoded into planes), then each
+ * valid child against the packet's rays: cm[j] the rays in `active` that
+ * enter child j, tnv[j] their entry distances. Returns the children entered
+ * by some ray. */
+W4_TGT GEOM__WBW_INLINE int pk8_node_t(const geom__rnode4 *q, const pk8 *P, int active, __m256 tmaxv,
+                                        int cm[W4_W], __m256 tnv[W4_W], const int rs)
+{
+    const __m256 absmask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
+    const __m256 vc = _mm256_set1_ps(0x1p-20f);
+    __m256 nv[3], fv[3], A[3], B[3];
+    int k, valid, hit = 0;
+    for (k = 0; k < 3; k++) {
+        const __m256 px = _mm256_broadcast_ss(&q->px[k]);
+        const __m256 sc = _mm256_castsi256_ps(_mm256_set1_epi32(((int)q->ex[k] + 127) << 23));
+        nv[k] = _mm256_cvtepi32_ps(
+            _mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)((const uint8_t *)q + P->noff[k]))));
+        fv[k] = _mm256_cvtepi32_ps(
+            _mm256_cvtepu8_epi32(_mm_loadl_epi64((const __m128i *)((const uint8_t *)q + P->foff[k]))));
+        if (rs) { /* w8_node_rs's A and B, lane i for ray i */
+            A[k] = _mm256_mul_ps(sc, P->inv[k]);
+            B[k] = _mm256_mul_ps(_mm256_sub_ps(px, P->o[k]), P->inv[k]);
+        } else { /* the planes decoded (w8_node) */
+            nv[k] = _mm256_fmadd_ps(nv[k], sc, px);
+            fv[k] = _mm256_fmadd_ps(fv[k], sc, px);
+        }
+    }
+    valid = ~_mm256_movemask_ps(_mm256_castsi256_ps(
+                _mm256_cmpeq_epi32(_mm256_load_si256((const __m256i *)q->child), _mm256_set1_epi32(-1)))) &
+            0xff;
+    while (valid) {
+        const int j = __builtin_ctz((unsigned)valid);
+        const __m256i ix = _mm256_set1_epi32(j);
+        __m256 tn = P->tmin, tf = tmaxv, e;
+        int mj;
+        valid &= valid - 1;
+        /* maxps/minps return the second operand when either is NaN */
+        if (rs) {
+            for (k = 0; k < 3; k++) {
+                tn = _mm256_max_ps(_mm256_fmadd_ps(_mm256_permutevar8x32_ps(nv[k], ix), A[k], B[k]), tn);
+                tf = _mm256_min_ps(_mm256_fmadd_ps(_mm256_permutevar8x32_ps(fv[k], ix), A[k], B[k]), tf);
+            }
+            e = P->ers;
+        } else {
+            for (k = 0; k < 3; k++) {
+                tn = _mm256_max_ps(
+                    _mm256_mul_ps(_mm256_sub_ps(_mm256_permutevar8x32_ps(nv[k], ix), P->o[k]), P->inv[k]), tn);
+                tf = _mm256_min_ps(
+                    _mm256_mul_ps(_mm256_sub_ps(_mm256_permutevar8x32_ps(fv[k], ix), P->o[k]), P->inv[k]), tf);
+            }
+            e = P->e;
+        }
+        tn = _mm256_sub_ps(_mm256_sub_ps(tn, _mm256_mul_ps(_mm256_and_ps(tn, absmask), vc)), e);
+        tf = _mm256_add_ps(_mm256_add_ps(tf, _mm256_mul_ps(_mm256_and_ps(tf, absmask), vc)), e);
+        mj = _mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ)) & active;
+        cm[j] = mj;
+        tnv[j] = tn;
+        hit |= (mj != 0) << j;
+    }
+    return hit;
+}
+
+/* pk8_node_t in the packet's form (rs a constant in each copy). */
+W4_TGT static inline int pk8_node(const geom__rnode4 *q, const pk8 *P, int active, __m256 tmaxv, int cm[W4_W],
+                                  __m256 tnv[W4_W])
+{
+    return P->rs ? pk8_node_t(q, P, active, tmaxv, cm, tnv, 1) : pk8_node_t(q, P, active, tmaxv, cm, tnv, 0);
+}
+
+/* The packet's traversal (closest mode): each ray's best hit in P->ray[i]. */
+W4_TGT static void pk8_trace(const geom__tmesh *m, pk8 *P, pk8entry *stack)
+{
+    const struct geom__rbvh4 *W = m->wide;
+    pk8entry cur;
+    __m256 tmaxv = _mm256_loadu_ps(P->tmaxf);
+    int sp = 0;
+    cur.tn = P->tmin;
+    cur.child = 0;
+    cur.count = 0;
+    cur.mask = (1 << P->n) - 1;
+    for (;;) {
+        if (cur.count == 0) {
+            const geom__rnode4 *q = &W->node[cur.child];
+            int cm[W4_W], hit, base, j;
+            __m256 tnv[W4_W];
+            hit = pk8_node(q, P, cur.mask, tmaxv, cm, tnv);
+            if (hit == 0) goto pop;
+            if ((hit & (hit - 1)) == 0) { /* one child entered: next, no stack traffic */
+                j = __builtin_ctz((unsigned)hit);
+                cur.tn = tnv[j];
+                cur.child = q->child[j];
+                cur.count = q->count[j];
+                cur.mask = cm[j];
+                continue;
+            }
+            /* pushed by decreasing entry distance of the child's first ray
+             * (an order only: any order gives the same answers);
+             * sp + W4_W <= W4_STACK: the depth is checked at build */
+            base = sp;
+            while (hit) {
+                float key[PK8_N], ki;
+                int i;
+                j = __builtin_ctz((unsigned)hit);
+                hit &= hit - 1;
+                _mm256_storeu_ps(key, tnv[j]);
+                ki = key[__builtin_ctz((unsigned)cm[j])];
+                i = sp++;
+                while (i > base && stack[i - 1].key < ki) {
+                    stack[i] = stack[i - 1];
+                    i--;
+                }
+                stack[i].tn = tnv[j];
+                stack[i].child = q->child[j];
+                stack[i].count = q->count[j];
+                stack[i].mask = cm[j];
+                stack[i].key = ki;
+                fetch_child(W, q->child[j], q->count[j]);
+            }
+        } else {
+            const geom__rpack4 *pq = &W->pk[W4_PK(cur.count)];
+            const int cl = (1 << W4_CNT(cur.count)) - 1;
+            int rm = cur.mask, changed = 0;
+            fetch_tris(m, cur.child, W4_CNT(cur.count)); /* with the packet (trace_wide_t) */
+            while (rm) {
+                const int i = __builtin_ctz((unsigned)rm);
+                pk8ray *R = &P->ray[i];
+                double tmax0 = R->tmax;
+                int lanes;
+                rm &= rm - 1;
+                if (!(P->wset & (1 << i))) {
+                    geom__wbw_setup(&R->w, R->r);
+                    pk_setup(&R->pk, &R->w, W);
+                    P->wset |= 1 << i;
+                }
+                lanes = pk_filter8(pq, &R->pk) & cl;
+                while (lanes) {
+                    const int j = lane_first(lanes);
+                    lanes &= lanes - 1;
+                    (void)leaf_hits(m, R->r, &R->w, cur.child + (uint32_t)j, 1, R->tmin, &R->tmax,
+                                    GEOM__RAY_CLOSEST, &R->best, &R->best_t, R->best_b, NULL);
+                }
+                if (R->tmax != tmax0) {
+                    P->tmaxf[i] = f_up_fast(R->tmax);
+                    changed = 1;
+                }
+            }
+            if (changed) tmaxv = _mm256_loadu_ps(P->tmaxf);
+        }
+    pop:
+        for (;;) { /* the rays whose closest hit so far is nearer than the entry dropped */
+            int mk;
+            if (sp == 0) return;
+            sp--;
+            mk = stack[sp].mask & _mm256_movemask_ps(_mm256_cmp_ps(stack[sp].tn, tmaxv, _CMP_LE_OQ));
+            if (mk) {
+                cur = stack[sp];
+                cur.mask = mk;
+                break;
+            }
+        }
+    }
+}
+
+/* Rays spread (origin, plus direction times the distance across the mesh)
+ * up to this fraction of the mesh's largest half extent make a packet. */
+#ifndef PK8_SPREAD
+#define PK8_SPREAD 0.5
+#endif
+
+/* Set P up for rays idx[0 .. n) (2 <= n <= 8) when they make a packet:
+ * each taken by the float node test, one direction octant, and close
+ * (PK8_SPREAD) for a mesh of centre c and largest half extent hd. */
+W4_TGT static int pk8_setup(const struct geom__rbvh4 *W, pk8 *P, const geom_ray *rays, const size_t *idx, int n,
+                            const double c[3], double hd)
+{
+    float of[3][PK8_N], iv[3][PK8_N], e[PK8_N], ers[PK8_N], tmin[PK8_N];
+    double O[3][PK8_N], D[3][PK8_N], INV[3][PK8_N], U[3][PK8_N], reach = 0;
+    int i, k, rs = 1, h;
+    /* The rays' origins and directions by axis (the lanes past n: ray 0's). */
+    for (i = 0; i < PK8_N; i++) {
+        const geom_ray *r = &rays[idx[i < n ? i : 0]];
+        O[0][i] = r->origin.x; O[1][i] = r->origin.y; O[2][i] = r->origin.z;
+        D[0][i] = r->dir.x; D[1][i] = r->dir.y; D[2][i] = r->dir.z;
+    }
+    /* One octant: the direction's sign bits all ray 0's. */
+    for (k = 0; k < 3; k++)
+        for (i = 1; i < n; i++)
+            if ((signbit(D[k][i]) != 0) != (signbit(D[k][0]) != 0)) return 0;
+    /* The reciprocals (1 / +-0 = +-inf: trace_wide_t's definition, the
+     * same correctly rounded quotients) and the directions scaled to a
+     * largest component of 1, four rays at a time. */
+    for (h = 0; h < PK8_N; h += 4) {
+        const __m256d one = _mm256_set1_pd(1.0), abs = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffffLL));
+        __m256d d[3], l;
+        for (k = 0; k < 3; k++) {
+            d[k] = _mm256_loadu_pd(&D[k][h]);
+            _mm256_storeu_pd(&INV[k][h], _mm256_div_pd(one, d[k]));
+        }
+        l = _mm256_max_pd(_mm256_and_pd(d[0], abs), _mm256_max_pd(_mm256_and_pd(d[1], abs), _mm256_and_pd(d[2], abs)));
+        l = _mm256_div_pd(one, l);
+        for (k = 0; k < 3; k++) _mm256_storeu_pd(&U[k][h], _mm256_mul_pd(d[k], l));
+    }
+    /* Close: origin spread plus direction spread times the way across the mesh. */
+    for (k = 0; k < 3; k++) reach = fabs(c[k] - O[k][0]) > reach ? fabs(c[k] - O[k][0]) : reach;
+    reach += hd;
+    for (i = 1; i < n; i++) {
+        double sp = 0, du = 0;
+        for (k = 0; k < 3; k++) {
+            sp = fabs(O[k][i] - O[k][0]) > sp ? fabs(O[k][i] - O[k][0]) : sp;
+            du = fabs(U[k][i] - U[k][0]) > du ? fabs(U[k][i] - U[k][0]) : du;
+        }
+        if (!(sp + du * reach <= PK8_SPREAD * hd)) return 0;
+    }
+    /* Each ray's float node-test state: w4f_setup's, four rays at a time,
+     * the same double operations in the same order and the same roundings
+     * to float (f_up_fast's in its fast range, below 2^100). A ray the
+     * float test cannot take, or a bound beyond 2^100, and the run makes
+     * no packet (its rays go the interleaved way). */
+    for (h = 0; h < PK8_N; h += 4) {
+        const __m256d abs = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffffLL));
+        const __m256d zero = _mm256_setzero_pd(), lim = _mm256_set1_pd(W4_FMAX);
+        const __m256d c40 = _mm256_set1_pd(1 + 0x1p-40), c60 = _mm256_set1_pd(0x1p-60);
+        const __m256d c22 = _mm256_set1_pd(1 + 0x1p-22), big = _mm256_set1_pd(0x1p100);
+        __m256d ok = _mm256_castsi256_pd(_mm256_set1_epi64x(-1)), nzall = ok, ev = zero, fr = zero, x, y;
+        float ef[4], ersf[4];
+        int lanes = n - h >= 4 ? 15 : n - h <= 0 ? 0 : (1 << (n - h)) - 1, m;
+        for (k = 0; k < 3; k++) {
+            const __m256d o = _mm256_loadu_pd(&O[k][h]), d = _mm256_loadu_pd(&D[k][h]);
+            const __m256d iv2 = _mm256_loadu_pd(&INV[k][h]);
+            const __m256d nz = _mm256_cmp_pd(d, zero, _CMP_NEQ_OQ);
+            const __m128 of4 = _mm256_cvtpd_ps(o), iv4 = _mm256_cvtpd_ps(iv2); /* d == 0: +-inf */
+            const __m256d ofd = _mm256_cvtps_pd(of4);
+            ok = _mm256_and_pd(ok, _mm256_cmp_pd(_mm256_and_pd(o, abs), lim, _CMP_LE_OQ));
+            ok = _mm256_and_pd(ok, _mm256_or_pd(_mm256_cmp_pd(d, zero, _CMP_EQ_OQ),
+                                                _mm256_cmp_pd(_mm256_and_pd(iv2, abs), lim, _CMP_LE_OQ)));
+            nzall = _mm256_and_pd(nzall, nz);
+            /* e: the largest |o - of| |inv| over the axes with d != 0 */
+            ev = _mm256_max_pd(_mm256_and_pd(_mm256_mul_pd(_mm256_and_pd(_mm256_sub_pd(o, ofd), abs),
+                                                           _mm256_and_pd(iv2, abs)),
+                                             nz),
+                               ev);
+            /* fr: the largest 2^-21 (pmax + |of|) |inv| (NaN ignored, as the scalar test does) */
+            fr = _mm256_max_pd(_mm256_mul_pd(_mm256_mul_pd(_mm256_set1_pd(0x1p-21),
+                                                           _mm256_add_pd(_mm256_set1_pd(W->pmax),
+                                                                         _mm256_and_pd(ofd, abs))),
+                                             _mm256_and_pd(_mm256_cvtps_pd(iv4), abs)),
+                               fr);
+            _mm_storeu_ps(&of[k][h], of4);
+            _mm_storeu_ps(&iv[k][h], iv4);
+        }
+        x = _mm256_add_pd(_mm256_mul_pd(_mm256_mul_pd(_mm256_set1_pd(2), ev), c40), c60);
+        y = _mm256_add_pd(_mm256_mul_pd(_mm256_add_pd(_mm256_mul_pd(_mm256_set1_pd(2), ev), fr), c40), c60);
+        ok = _mm256_and_pd(ok, _mm256_cmp_pd(x, big, _CMP_LE_OQ));
+        m = _mm256_movemask_pd(nzall) & lanes;
+        if (m != lanes) rs = 0;
+        if ((_mm256_movemask_pd(ok) & lanes) != lanes) return 0;
+        if (rs && (_mm256_movemask_pd(_mm256_cmp_pd(y, big, _CMP_LE_OQ)) & lanes) != lanes) return 0;
+        _mm_storeu_ps(ef, _mm256_cvtpd_ps(_mm256_mul_pd(x, c22)));
+        _mm_storeu_ps(ersf, _mm256_cvtpd_ps(_mm256_mul_pd(y, c22)));
+        for (i = 0; i < 4; i++) {
+            e[h + i] = ef[i];
+            ers[h + i] = ersf[i];
+        }
+    }
+    for (k = 0; k < 3; k++) {
+        const int nhi = signbit(D[k][0]) != 0;
+        P->noff[k] = (nhi ? offsetof(geom__rnode4, qhi) : offsetof(geom__rnode4, qlo)) + W4_W * (size_t)k;
+        P->foff[k] = (nhi ? offsetof(geom__rnode4, qlo) : offsetof(geom__rnode4, qhi)) + W4_W * (size_t)k;
+    }
+    for (i = 0; i < n; i++) {
+        const geom_ray *r = &rays[idx[i]];
+        tmin[i] = f_down_fast(r->tmin);
+        P->tmaxf[i] = f_up_fast(r->tmax);
+        P->ray[i].r = r;
+        P->ray[i].idx = idx[i];
+        P->ray[i].tmin = r->tmin;
+        P->ray[i].tmax = r->tmax;
+        P->ray[i].best = GEOM_INVALID_INDEX;
+        P->ray[i].best_t = 0;
+        P->ray[i].best_b[0] = P->ray[i].best_b[1] = P->ray[i].best_b[2] = 0;
+    }
+    for (i = n; i < PK8_N; i++) { /* lanes without a ray: masked off */
+        for (k = 0; k < 3; k++) of[k][i] = iv[k][i] = 0;
+        e[i] = ers[i] = 0;
+        tmin[i] = INFINITY;
+        P->tmaxf[i] = -INFINITY;
+    }
+    for (k = 0; k < 3; k++) {
+        P->o[k] = _mm256_loadu_ps(of[k]);
+        P->inv[k] = _mm256_loadu_ps(iv[k]);
+    }
+    P->e = _mm256_loadu_ps(e);
+    P->ers = _mm256_loadu_ps(ers);
+    P->rs = rs;
+    P->tmin = _mm256_loadu_ps(tmin);
+    P->n = n;
+    P->wset = 0;
+    return 1;
+}
+
+/* The centre c and largest half extent *hd of m's root box. */
+static void pk8_bounds(const geom__tmesh *m, double c[3], double *hd)
+{
+    size_t nn = 0;
+    const geom_bvh_node *bn = geom_bvh_nodes(m->bvh, &nn);
+    int k;
+    *hd = 0;
+    for (k = 0; k < 3; k++) {
+        const double lo = (&bn[0].box.min.x)[k], hi = (&bn[0].box.max.x)[k];
+        c[k] = 0.5 * (lo + hi);
+        *hd = 0.5 * (hi - lo) > *hd ? 0.5 * (hi - lo) : *hd;
+    }
+}
+
+/* The packets among rays idx[0 .. n), in runs of eight consecutive rays:
+ * each answered (hits and found as trace_wide gives them); the rays of the
+ * runs that make no packet appended to rest (returns their number). With
+ * hits NULL, only the packets counted (returned; rest unused). */
+W4_TGT static size_t pk8_many(const geom__tmesh *m, const geom_ray *rays, const size_t *idx, size_t n,
+                              geom_ray_hit *hits, int *found, pk8 *P, pk8entry *stack, size_t *rest)
+{
+    const struct geom__rbvh4 *W = m->wide;
+    size_t g, nrest = 0, npk = 0;
+    double c[3], hd;
+    pk8_bounds(m, c, &hd);
+    for (g = 0; g < n; g += PK8_N) {
+        const int cnt = n - g < PK8_N ? (int)(n - g) : PK8_N;
+        int i;
+        if (cnt < 2 || !pk8_setup(W, P, rays, idx + g, cnt, c, hd)) {
+            if (hits)
+                for (i = 0; i < cnt; i++) rest[nrest++] = idx[g + (size_t)i];
+            continue;
+        }
+        npk++;
+        if (!hits) continue;
+        pk8_trace(m, P, stack);
+        for (i = 0; i < cnt; i++) {
+            const pk8ray *R = &P->ray[i];
+            if (R->best != GEOM_INVALID_INDEX) {
+                fill(m, R->r, R->best, R->best_t, R->best_b, &hits[R->idx]);
+                found[R->idx] = 1;
+            }
+        }
+    }
+    return hits ? nrest : npk;
+}
+#endif
+
+#if W4_SSE
+/* The interleaved traversal of rays idx[0 .. n) (w8_many_t). */
+static geom_status w8_many(const geom__tmesh *m, const geom_ray *rays, const size_t *idx, size_t n,
+                           geom_ray_hit *hits, int *found, const geom_allocator *alloc)
+{
+    const size_t bytes = W8_K * sizeof(w8slot) + 64 + (size_t)W8_K * W4_STACK * sizeof(w4entry);
+    w8slot *slot;
+    void *mem;
+    geom_status st;
+    size_t i;
+    mem = geom__alloc(alloc, bytes);
+    if (!mem) return GEOM_ERR_NOMEM;
+    slot = (w8slot *)(((uintptr_t)mem + 63) & ~(uintptr_t)63);
+    for (i = 0; i < W8_K; i++) slot[i].stack = (w4entry *)(slot + W8_K) + i * W4_STACK;
+#if W4_AVX2
+    if (m->wide->isa == W4_ISA_AVX2)
+        st = w8_many_avx2(m, rays, idx, n, hits, found, slot, alloc);
+    else
+#endif
+        st = w8_many_sse2(m, rays, idx, n, hits, found, slot, alloc);
+    geom__free(alloc, mem, bytes);
+    return st;
+}
+#endif
+
 geom_status geom__ray_mesh_closest_many(const geom__tmesh *m, const geom_ray *rays, const size_t *idx, size_t n,
                                         geom_ray_hit *hits, int *found, const geom_allocator *alloc)
 {
@@ -1469,22 +1905,26 @@ geom_status geom__ray_mesh_closest_many(const geom__tmesh *m, const geom_ray *ra
     if (!m->bvh) return GEOM_OK;
 #if W4_SSE
     if (m->wide) {
-        w8slot *slot;
-        void *mem;
-        size_t bytes = W8_K * sizeof(w8slot) + 64 + (size_t)W8_K * W4_STACK * sizeof(w4entry);
-        geom_status st;
-        mem = geom__alloc(alloc, bytes);
-        if (!mem) return GEOM_ERR_NOMEM;
-        slot = (w8slot *)(((uintptr_t)mem + 63) & ~(uintptr_t)63);
-        for (i = 0; i < W8_K; i++) slot[i].stack = (w4entry *)(slot + W8_K) + i * W4_STACK;
 #if W4_AVX2
-        if (m->wide->isa == W4_ISA_AVX2)
-            st = w8_many_avx2(m, rays, idx, n, hits, found, slot, alloc);
-        else
+        if (m->wide->isa == W4_ISA_AVX2 && m->wide->fbox && n >= 2) {
+            /* the packets first, then the rays they leave, interleaved */
+            const size_t bytes = sizeof(pk8) + W4_STACK * sizeof(pk8entry) + n * sizeof(size_t) + 64;
+            void *mem = geom__alloc(alloc, bytes);
+            pk8 *P;
+            pk8entry *stack;
+            size_t *rest, nrest;
+            geom_status st = GEOM_OK;
+            if (!mem) return GEOM_ERR_NOMEM;
+            P = (pk8 *)(((uintptr_t)mem + 63) & ~(uintptr_t)63);
+            stack = (pk8entry *)(P + 1);
+            rest = (size_t *)(stack + W4_STACK);
+            nrest = pk8_many(m, rays, idx, n, hits, found, P, stack, rest);
+            if (nrest > 0) st = w8_many(m, rays, rest, nrest, hits, found, alloc);
+            geom__free(alloc, mem, bytes);
+            return st;
+        }
 #endif
-            st = w8_many_sse2(m, rays, idx, n, hits, found, slot, alloc);
-        geom__free(alloc, mem, bytes);
-        return st;
+        return w8_many(m, rays, idx, n, hits, found, alloc);
     }
 #endif
     for (i = 0; i < n; i++) {
@@ -1500,6 +1940,52 @@ geom_status geom__ray_mesh_closest_many(const geom__tmesh *m, const geom_ray *ra
         if (st != GEOM_OK) return st;
     }
     return GEOM_OK;
+}
+
+/* The valid rays of rays[0 .. n) with tmin <= tmax into idx (their
+ * number); *bad = 1 when some ray is invalid. */
+static size_t valid_rays(const geom_ray *rays, size_t n, size_t *idx, int *bad)
+{
+    size_t i, nv = 0;
+    for (i = 0; i < n; i++) {
+        if (!geom__ray_valid(&rays[i])) { *bad = 1; continue; }
+        if (rays[i].tmin <= rays[i].tmax) idx[nv++] = i;
+    }
+    return nv;
+}
+
+/* The single mesh closest_many traverses for s, or NULL. */
+static const geom__tmesh *single_mesh(const geom_ray_scene *s)
+{
+    const geom__ray_node *nd = s->nroots == 1 ? &s->nodes[s->roots[0]] : NULL;
+    if (!nd || (nd->kind != GEOM_RAY_MESH && nd->kind != GEOM_RAY_SUBDIV) || nd->has_xf || !nd->mesh ||
+        !nd->mesh->wide)
+        return NULL;
+    return nd->mesh;
+}
+
+size_t geom__ray_scene_packets(const geom_ray_scene *s, const geom_ray *rays, size_t n)
+{
+    size_t npk = 0;
+#if W4_AVX2
+    const geom__tmesh *m = s && s->built ? single_mesh(s) : NULL;
+    if (m && m->wide->isa == W4_ISA_AVX2 && m->wide->fbox && n > 0) {
+        const size_t bytes = sizeof(pk8) + n * sizeof(size_t) + 64;
+        void *mem = geom__alloc(s->alloc, bytes);
+        pk8 *P;
+        size_t *idx, nv;
+        int bad = 0;
+        if (!mem) return 0;
+        P = (pk8 *)(((uintptr_t)mem + 63) & ~(uintptr_t)63);
+        idx = (size_t *)(P + 1);
+        nv = valid_rays(rays, n, idx, &bad);
+        npk = pk8_many(m, rays, idx, nv, NULL, NULL, P, NULL, NULL);
+        geom__free(s->alloc, mem, bytes);
+    }
+#else
+    (void)s; (void)rays; (void)n;
+#endif
+    return npk;
 }
 
 int geom__ray_scene_simd(geom_ray_scene *s, int isa)
@@ -1581,16 +2067,15 @@ done:
 geom_status geom_ray_scene_closest_many(const geom_ray_scene *s, const geom_ray *rays, size_t n,
                                         geom_ray_hit *hits, int *found)
 {
-    const geom__ray_node *nd;
+    const geom__tmesh *m;
     size_t i, nv = 0, *idx;
     int bad = 0;
     geom_status st;
     if (!s || (n && (!rays || !hits || !found))) return GEOM_ERR_INVALID_ARG;
     for (i = 0; i < n; i++) found[i] = 0;
     if (!s->built) return GEOM_ERR_INVALID_ARG;
-    nd = s->nroots == 1 ? &s->nodes[s->roots[0]] : NULL;
-    if (!nd || (nd->kind != GEOM_RAY_MESH && nd->kind != GEOM_RAY_SUBDIV) || nd->has_xf || !nd->mesh ||
-        !nd->mesh->wide) {
+    m = single_mesh(s);
+    if (!m) {
         /* not a single mesh: one ray at a time */
         for (i = 0; i < n; i++) {
             st = geom_ray_scene_closest(s, &rays[i], &hits[i], &found[i]);
@@ -1601,11 +2086,8 @@ geom_status geom_ray_scene_closest_many(const geom_ray_scene *s, const geom_ray 
     }
     idx = geom__alloc(s->alloc, (n ? n : 1) * sizeof *idx);
     if (!idx) return GEOM_ERR_NOMEM;
-    for (i = 0; i < n; i++) {
-        if (!geom__ray_valid(&rays[i])) { bad = 1; continue; }
-        if (rays[i].tmin <= rays[i].tmax) idx[nv++] = i;
-    }
-    st = geom__ray_mesh_closest_many(nd->mesh, rays, idx, nv, hits, found, s->alloc);
+    nv = valid_rays(rays, n, idx, &bad);
+    st = geom__ray_mesh_closest_many(m, rays, idx, nv, hits, found, s->alloc);
     geom__free(s->alloc, idx, (n ? n : 1) * sizeof *idx);
     if (st != GEOM_OK) return st;
     return bad ? GEOM_ERR_INVALID_ARG : GEOM_OK;

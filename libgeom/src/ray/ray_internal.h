@@ -218,6 +218,11 @@ geom_status geom__ray_mesh_closest_many(const geom__tmesh *m, const geom_ray *ra
  * and for -1, unchanged). Returns the first mesh's previous isa, or -1 when
  * s has no wide tree. */
 int geom__ray_scene_simd(geom_ray_scene *s, int isa);
+/* Tests only: how many runs of eight rays (of the valid ones of rays[0 ..
+ * n), with tmin <= tmax, in order) geom_ray_scene_closest_many traces as
+ * packets on s as it is (0 when it takes no packets: not a single mesh
+ * with a wide tree on the AVX2 path). */
+size_t geom__ray_scene_packets(const geom_ray_scene *s, const geom_ray *rays, size_t n);
 geom_status geom__ray_surface_build(geom__tsurf *sf, const geom_allocator *alloc, geom_diag *diag);
 void geom__ray_surface_free(geom__tsurf *sf, const geom_allocator *alloc);
 
