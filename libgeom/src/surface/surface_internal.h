@@ -90,4 +90,17 @@ int geom__tess_lines_pass(geom__tess_line_fn fn, void *user, int nlines, double 
 uint32_t geom__tess_lines_bound(geom__tess_line_fn fn, void *user, int nlines, double a, double b,
                                 int K, uint32_t cap, double tol);
 
+/* Non-uniform grid lines of a tessellation cell (tess_warp.c): from rho,
+ * sqrt of the second derivative normal to the lines' tangent sampled on n
+ * equal parameter intervals, F (n+1 doubles): the line density's integral
+ * at the interval ends, normalised to F[0] = 0, F[n] = 1, each interval's
+ * density at least floor_frac times the mean. Returns 0 (F unset: keep the
+ * lines uniform) when rho is not finite, all zero, or its largest value is
+ * at most ratio times its smallest. geom__tess_warp_y: the parameter
+ * fraction y of grid fraction f (the inverse of F, piecewise linear, exact
+ * 0 and 1 at the ends); geom__tess_warp_f: F at parameter fraction y. */
+int geom__tess_warp_build(const double *rho, int n, double ratio, double floor_frac, double *F);
+double geom__tess_warp_y(const double *F, int n, double f);
+double geom__tess_warp_f(const double *F, int n, double y);
+
 #endif

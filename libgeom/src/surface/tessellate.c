@@ -34,6 +34,11 @@
 /* adaptive: a cell far under the tolerance is coarsened toward this fraction
  * of it (then checked again) */
 #define COARSEN_TARGET 0.95
+/* grid-line warps: intervals of the density samples, and the smallest
+ * ratio of the largest to the smallest density that warps the lines */
+#define WARP_N 32
+#define WARP_RATIO 1.5
+#define WARP_FLOOR 0.05
 
 /* ------------------------------------------------------------ structures */
 
@@ -47,6 +52,10 @@ typedef struct ts_surf {
     size_t cell0, node0, uedge0, vedge0;
     double dom[4];
     int flip;
+    /* grid-line warps (tess_warp.c) per cell column (dir 0, along u) and
+     * row (dir 1): WARP_N + 1 values of F each, used where won[dir][a] */
+    double *wF[2];
+    uint8_t *won[2];
 } ts_surf;
 
 typedef struct ts_cell {
@@ -143,6 +152,8 @@ typedef struct ts {
     int counting; /* count limit normals (the output pass) */
     double prune; /* > 0 while pruning uniform grids: the margin their
                      positions may differ by (see uniform_search) */
+    int warp_on;  /* the cells' grid lines follow their warps (adaptive
+                     mode, not while running uniform grids) */
 } ts;
 
 /* --------------------------------------------------------------- memory */
@@ -307,6 +318,28 @@ static void edge_point(ts *T, const ts_edge *e, double t, double *out)
     double u, v;
     edge_uv(e, t, &u, &v);
     cell_point(T, edge_cell(T, e), u, v, out);
+}
+
+/* The warp of cell c's grid lines along dir (0: u), or NULL: uniform. */
+static const double *cell_warp(const ts *T, const ts_cell *c, int dir)
+{
+    if (!T->warp_on)
+        return NULL;
+    const ts_surf *ss = &T->surf[c->surf];
+    size_t k = dir == 0 ? c->a : c->b;
+    if (!ss->won[dir] || !ss->won[dir][k])
+        return NULL;
+    return ss->wF[dir] + k * (WARP_N + 1);
+}
+
+/* Parameter at grid fraction f over [a, b] under warp F (exact ends). */
+static double warp_t(const double *F, double a, double b, double f)
+{
+    if (f >= 1.0)
+        return b;
+    if (!(f > 0.0))
+        return a;
+    return a + geom__tess_warp_y(F, WARP_N, f) * (b - a);
 }
 
 /* ---------------------------------------------------------- union-find */
@@ -895,6 +928,110 @@ static void size_cell(ts *T, ts_cell *c)
     c->N = grid_count(dv, hv);
 }
 
+/*
+ * Grid-line warps (tess_warp.c): per cell column of a piece, the lines of
+ * constant u are placed where sqrt(k) has equal integrals, k the largest
+ * |S_uu normal to S_u| over the column (sampled at 4 values of v per
+ * cell), so that rational weights that make the parametric speed vary
+ * across a cell (the chord error with it) do not force the whole cell's
+ * grid to the step of its fastest part. Rows likewise along v. A column
+ * and its cells' edges share one warp, so neighbouring cells keep using
+ * the very same edge samples; welded edges must have the same warp as
+ * their partner (reversed where they run the other way), else both
+ * columns keep uniform lines.
+ */
+static double warp_density(ts *T, const ts_surf *ss, int dir, size_t k, double y)
+{
+    size_t nacross = dir == 0 ? ss->nbv : ss->nbu;
+    double t = dir == 0 ? ss->ub[k] + y * (ss->ub[k + 1] - ss->ub[k])
+                        : ss->vb[k] + y * (ss->vb[k + 1] - ss->vb[k]);
+    double kmax = 0.0, D[27];
+    for (size_t o = 0; o < nacross; ++o) {
+        const ts_cell *c =
+            &T->cells[ss->cell0 + (dir == 0 ? k * ss->nbv + o : o * ss->nbv + k)];
+        for (int q = 0; q < 4; ++q) {
+            double x = (q + 0.5) / 4.0;
+            double u = dir == 0 ? t : c->u0 + x * (c->u1 - c->u0);
+            double v = dir == 0 ? c->v0 + x * (c->v1 - c->v0) : t;
+            cell_derivs(T, c, u, v, 2, D);
+            /* d = 2: (k,l) at 3*(3k + l) */
+            const double *d1 = dir == 0 ? D + 9 : D + 3, *d2 = dir == 0 ? D + 18 : D + 6;
+            double n1 = d1[0] * d1[0] + d1[1] * d1[1] + d1[2] * d1[2];
+            if (!(n1 > 0.0) || !isfinite(n1))
+                continue; /* degenerate (a pole): no tangent */
+            double a = (d2[0] * d1[0] + d2[1] * d1[1] + d2[2] * d1[2]) / n1, r[3];
+            for (int e = 0; e < 3; ++e)
+                r[e] = d2[e] - a * d1[e];
+            double h = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+            if (isfinite(h))
+                kmax = fmax(kmax, h);
+        }
+    }
+    return sqrt(kmax);
+}
+
+/* Do edges e and its partner p see the same warp (as fractions)? */
+static int warps_agree(const ts *T, const ts_edge *e, const ts_edge *p)
+{
+    const double *Fe = cell_warp(T, edge_cell(T, e), e->dir);
+    const double *Fp = cell_warp(T, edge_cell(T, p), p->dir);
+    if (!Fe && !Fp)
+        return 1;
+    int rev = e->reversed || p->reversed;
+    for (int i = 1; i < 64; ++i) {
+        double f = (double)i / 64.0;
+        double ye = Fe ? geom__tess_warp_y(Fe, WARP_N, f) : f;
+        double yp = Fp ? geom__tess_warp_y(Fp, WARP_N, rev ? 1.0 - f : f) : (rev ? 1.0 - f : f);
+        if (!(fabs(ye - (rev ? 1.0 - yp : yp)) <= 1e-12))
+            return 0;
+    }
+    return 1;
+}
+
+static void warp_off(const ts *T, const ts_edge *e)
+{
+    const ts_cell *c = edge_cell(T, e);
+    T->surf[c->surf].won[e->dir][e->dir == 0 ? c->a : c->b] = 0;
+}
+
+static geom_status build_warps(ts *T)
+{
+    double rho[WARP_N];
+    for (size_t k = 0; k < T->nsurf; ++k) {
+        ts_surf *ss = &T->surf[k];
+        for (int d = 0; d < 2; ++d) {
+            size_t nb = d ? ss->nbv : ss->nbu;
+            ss->wF[d] = ts_alloc(T, nb * (WARP_N + 1), sizeof(double));
+            ss->won[d] = ts_alloc(T, nb, 1);
+            if (!ss->wF[d] || !ss->won[d])
+                return GEOM_ERR_NOMEM;
+            for (size_t a = 0; a < nb; ++a) {
+                for (int i = 0; i < WARP_N; ++i)
+                    rho[i] = warp_density(T, ss, d, a, (i + 0.5) / WARP_N);
+                ss->won[d][a] = (uint8_t)geom__tess_warp_build(rho, WARP_N, WARP_RATIO, WARP_FLOOR,
+                                                              ss->wF[d] + a * (WARP_N + 1));
+            }
+        }
+    }
+    T->warp_on = 1;
+    /* welded edges: both sides' warps agree, else both uniform */
+    for (int changed = 1; changed;) {
+        changed = 0;
+        for (size_t i = 0; i < T->nedges; ++i) {
+            const ts_edge *e = &T->edges[i];
+            if (e->partner == NONE32 || e->collapsed)
+                continue;
+            const ts_edge *p = &T->edges[e->partner];
+            if (!warps_agree(T, e, p)) {
+                warp_off(T, e);
+                warp_off(T, p);
+                changed = 1;
+            }
+        }
+    }
+    return GEOM_OK;
+}
+
 /* ---------------------------------------------------- per-pass vertices */
 
 static geom_status add_vertex(ts *T, const double *p, uint32_t *id)
@@ -956,9 +1093,10 @@ static geom_status assign_vertices(ts *T)
         if (e->collapsed || d < 2)
             continue;
         e->vbase = (uint32_t)T->nverts;
+        const double *F = cell_warp(T, edge_cell(T, e), e->dir);
         for (uint32_t k = 1; k < d; ++k) {
-            double p[3];
-            edge_point(T, e, (double)k / (double)d, p);
+            double p[3], f = (double)k / (double)d;
+            edge_point(T, e, F ? geom__tess_warp_y(F, WARP_N, f) : f, p);
             uint32_t id;
             st = add_vertex(T, p, &id);
             if (st != GEOM_OK)
@@ -1149,6 +1287,7 @@ static geom_status triangulate_cell(ts *T, ts_cell *c)
     }
     c->sig[0] = M, c->sig[1] = N, c->sig[2] = nb, c->sig[3] = nr, c->sig[4] = nt, c->sig[5] = nl;
     double du = c->u1 - c->u0, dv = c->v1 - c->v0;
+    const double *Fu = cell_warp(T, c, 0), *Fv = cell_warp(T, c, 1);
     /* edge samples, each in its own parameter direction */
     uint32_t first[4];
     const uint32_t cnt[4] = {nb, nr, nt, nl};
@@ -1159,10 +1298,10 @@ static geom_status triangulate_cell(ts *T, ts_cell *c)
             double f = (double)i / (double)cnt[k];
             double u, v;
             if (k == 0 || k == 2) {
-                u = i == cnt[k] ? c->u1 : c->u0 + f * du;
+                u = Fu ? warp_t(Fu, c->u0, c->u1, f) : i == cnt[k] ? c->u1 : c->u0 + f * du;
                 v = k == 0 ? c->v0 : c->v1;
             } else {
-                v = i == cnt[k] ? c->v1 : c->v0 + f * dv;
+                v = Fv ? warp_t(Fv, c->v0, c->v1, f) : i == cnt[k] ? c->v1 : c->v0 + f * dv;
                 u = k == 3 ? c->u0 : c->u1;
             }
             uint32_t idx;
@@ -1176,8 +1315,10 @@ static geom_status triangulate_cell(ts *T, ts_cell *c)
     c->vbase = (uint32_t)T->nverts;
     for (uint32_t i = 1; i < M; ++i)
         for (uint32_t j = 1; j < N; ++j) {
-            double u = c->u0 + du * (double)i / (double)M;
-            double v = c->v0 + dv * (double)j / (double)N;
+            double u = Fu ? warp_t(Fu, c->u0, c->u1, (double)i / (double)M)
+                          : c->u0 + du * (double)i / (double)M;
+            double v = Fv ? warp_t(Fv, c->v0, c->v1, (double)j / (double)N)
+                          : c->v0 + dv * (double)j / (double)N;
             double p[3];
             cell_point(T, c, u, v, p);
             uint32_t vid, idx;
@@ -1456,9 +1597,11 @@ static void check_cell(ts *T, ts_cell *c)
  * whose chords pass the same sampled check (N likewise).
  */
 
-/* Parameter of grid line i of n over [a, b]. */
-static double grid_t(double a, double b, uint32_t i, uint32_t n)
+/* Parameter of grid line i of n over [a, b] (warp F, NULL: uniform). */
+static double grid_t(const double *F, double a, double b, uint32_t i, uint32_t n)
 {
+    if (F)
+        return warp_t(F, a, b, (double)i / (double)n);
     return i == n ? b : a + (b - a) * (double)i / (double)n;
 }
 
@@ -1469,17 +1612,25 @@ typedef struct cell_lines {
     const ts_cell *c;
     int dir, n;
     double k[2];
+    const double *F; /* warp: the lines' t is the grid fraction */
+    double a, b;     /* the range of t */
 } cell_lines;
 
 static void cell_line_point(void *user, int l, double t, double out[3])
 {
     cell_lines *L = user;
+    if (L->F) {
+        const ts_cell *c = L->c;
+        t = L->dir == 0 ? warp_t(L->F, c->u0, c->u1, t) : warp_t(L->F, c->v0, c->v1, t);
+    }
     cell_point(L->T, L->c, L->dir == 0 ? t : L->k[l], L->dir == 0 ? L->k[l] : t, out);
 }
 
 static cell_lines lines_of(ts *T, const ts_cell *c, int dir)
 {
-    cell_lines L = {T, c, dir, 0, {0.0, 0.0}};
+    cell_lines L = {T, c, dir, 0, {0.0, 0.0}, cell_warp(T, c, dir), 0.0, 1.0};
+    if (!L.F)
+        L.a = dir == 0 ? c->u0 : c->v0, L.b = dir == 0 ? c->u1 : c->v1;
     for (int side = 0; side < 2; ++side) {
         const ts_edge *e = &T->edges[dir == 0 ? (side ? c->et : c->eb) : (side ? c->er : c->el)];
         if (!e->collapsed)
@@ -1494,8 +1645,7 @@ static cell_lines lines_of(ts *T, const ts_cell *c, int dir)
 static int lines_pass(ts *T, const ts_cell *c, int dir, uint32_t n, double tol, double *hint)
 {
     cell_lines L = lines_of(T, c, dir);
-    return geom__tess_lines_pass(cell_line_point, &L, L.n, dir == 0 ? c->u0 : c->v0,
-                                 dir == 0 ? c->u1 : c->v1, T->ksub, n, tol, hint);
+    return geom__tess_lines_pass(cell_line_point, &L, L.n, L.a, L.b, T->ksub, n, tol, hint);
 }
 
 /* Smallest segment count (at most cap) with which the boundary lines of
@@ -1503,8 +1653,7 @@ static int lines_pass(ts *T, const ts_cell *c, int dir, uint32_t n, double tol, 
 static uint32_t lines_bound(ts *T, const ts_cell *c, int dir, uint32_t cap, double tol)
 {
     cell_lines L = lines_of(T, c, dir);
-    return geom__tess_lines_bound(cell_line_point, &L, L.n, dir == 0 ? c->u0 : c->v0,
-                                  dir == 0 ? c->u1 : c->v1, T->ksub, cap, tol);
+    return geom__tess_lines_bound(cell_line_point, &L, L.n, L.a, L.b, T->ksub, cap, tol);
 }
 
 /* Which collapsed cell edge grid corner (i, j) lies on (1 bottom, 2 top,
@@ -1533,9 +1682,10 @@ static int quad_passes(ts *T, ts_cell *c, uint32_t M, uint32_t N, uint32_t i, ui
     const uint32_t ii[4] = {i, i + 1, i + 1, i}, jj[4] = {j, j, j + 1, j + 1};
     double U[4], V[4];
     int pole[4];
+    const double *Fu = cell_warp(T, c, 0), *Fv = cell_warp(T, c, 1);
     for (int k = 0; k < 4; ++k) {
-        U[k] = grid_t(c->u0, c->u1, ii[k], M);
-        V[k] = grid_t(c->v0, c->v1, jj[k], N);
+        U[k] = grid_t(Fu, c->u0, c->u1, ii[k], M);
+        V[k] = grid_t(Fv, c->v0, c->v1, jj[k], N);
         pole[k] = grid_pole(T, c, M, N, ii[k], jj[k]);
     }
     static const int split[2][6] = {{0, 1, 2, 0, 2, 3}, {0, 1, 3, 1, 2, 3}};
@@ -1581,12 +1731,16 @@ static int quad_passes(ts *T, ts_cell *c, uint32_t M, uint32_t N, uint32_t i, ui
 static void grid_point(ts *T, const ts_cell *c, uint32_t M, uint32_t N, uint32_t i, uint32_t j,
                        double *p)
 {
-    cell_point(T, c, grid_t(c->u0, c->u1, i, M), grid_t(c->v0, c->v1, j, N), p);
+    cell_point(T, c, grid_t(cell_warp(T, c, 0), c->u0, c->u1, i, M),
+               grid_t(cell_warp(T, c, 1), c->v0, c->v1, j, N), p);
 }
 
-static uint32_t grid_index(double a, double b, double t, uint32_t n)
+static uint32_t grid_index(const double *F, double a, double b, double t, uint32_t n)
 {
-    double f = (t - a) / (b - a) * (double)n;
+    double f = (t - a) / (b - a);
+    if (F)
+        f = geom__tess_warp_f(F, WARP_N, f);
+    f *= (double)n;
     if (!(f >= 0.0))
         return 0;
     return f >= (double)n ? n - 1 : (uint32_t)f;
@@ -1628,14 +1782,16 @@ static geom_status grid_passes_in(ts *T, ts_cell *c, uint32_t M, uint32_t N, dou
     }
     /* first the quad at the last worst point, then those at the places
      * where other grids failed, then the 3 x 3 quads around the first */
-    uint32_t i0 = grid_index(c->u0, c->u1, c->wu, M), j0 = grid_index(c->v0, c->v1, c->wv, N);
+    const double *Fu = cell_warp(T, c, 0), *Fv = cell_warp(T, c, 1);
+    uint32_t i0 = grid_index(Fu, c->u0, c->u1, c->wu, M);
+    uint32_t j0 = grid_index(Fv, c->v0, c->v1, c->wv, N);
     uint32_t ic = i0 < ilo ? ilo : i0 >= ihi ? ihi - 1 : i0;
     uint32_t jc = j0 < jlo ? jlo : j0 >= jhi ? jhi - 1 : j0;
     if (!grid_quad_passes(T, c, M, N, ic, jc, tol))
         return GEOM_OK;
     for (int k = 0; k < R->nspots; ++k) {
-        uint32_t i = grid_index(c->u0, c->u1, R->spots[2 * k], M);
-        uint32_t j = grid_index(c->v0, c->v1, R->spots[2 * k + 1], N);
+        uint32_t i = grid_index(Fu, c->u0, c->u1, R->spots[2 * k], M);
+        uint32_t j = grid_index(Fv, c->v0, c->v1, R->spots[2 * k + 1], N);
         i = i < ilo ? ilo : i >= ihi ? ihi - 1 : i;
         j = j < jlo ? jlo : j >= jhi ? jhi - 1 : j;
         if (!grid_quad_passes(T, c, M, N, i, j, tol))
@@ -1964,6 +2120,7 @@ static geom_status uniform_search(ts *T, size_t A, int *chosen, uint32_t *pgu, u
 {
     *chosen = 0;
     size_t nc = T->ncells;
+    int warp = T->warp_on;
     uni_state U;
     memset(&U, 0, sizeof U);
     U.mn = ts_alloc(T, 2 * nc, sizeof(uint32_t));
@@ -1995,6 +2152,7 @@ static geom_status uniform_search(ts *T, size_t A, int *chosen, uint32_t *pgu, u
                 U.stitch[i] = 1;
         }
     }
+    T->warp_on = 0; /* uniform grids: uniform lines */
     double a2 = 2.0 * (double)nc;
 #define LB(gu, gv) (a2 * (double)(gu) * (double)(gv) - (double)(gu) * CU - (double)(gv) * CV)
     /* a count that does not grow with gu or gv bounds nothing */
@@ -2058,6 +2216,7 @@ static geom_status uniform_search(ts *T, size_t A, int *chosen, uint32_t *pgu, u
     }
 done:
     T->prune = 0.0;
+    T->warp_on = warp && !*chosen;
     if (U.mn)
         for (size_t i = 0; i < nc; ++i) {
             T->cells[i].M = *chosen ? *pgu : U.mn[2 * i];
@@ -2160,6 +2319,13 @@ static void ts_release(ts *T)
             ts_free(T, s->ku, s->nbu, sizeof(size_t));
         if (s->kv)
             ts_free(T, s->kv, s->nbv, sizeof(size_t));
+        for (int d = 0; d < 2; ++d) {
+            size_t nb = d ? s->nbv : s->nbu;
+            if (s->wF[d])
+                ts_free(T, s->wF[d], nb * (WARP_N + 1), sizeof(double));
+            if (s->won[d])
+                ts_free(T, s->won[d], nb, 1);
+        }
     }
     if (T->surf)
         ts_free(T, T->surf, T->nsurf, sizeof(ts_surf));
@@ -2527,6 +2693,11 @@ static geom_status tessellate_unscaled(const geom_nurbs_surface *surfaces, size_
         st = orient(&T, stats);
     if (st != GEOM_OK)
         goto fail;
+    if (T.adaptive && T.ang_tol == 0.0) {
+        st = build_warps(&T);
+        if (st != GEOM_OK)
+            goto fail;
+    }
     /* initial demands */
     uint32_t gu = o->grid_u ? (uint32_t)o->grid_u : 8, gv = o->grid_v ? (uint32_t)o->grid_v : 8;
     for (size_t i = 0; i < T.ncells; ++i) {
