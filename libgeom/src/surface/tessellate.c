@@ -1445,13 +1445,14 @@ static double angle_between(const double *a, const double *b)
  * error is then the equal-parameter distance at every sample.
  *
  * The worst sample's parameters go to *wu, *wv (when it is over 0). */
-static double tri_error(ts *T, const ts_cell *c, const double *const X[3], const double *U,
-                        const double *V, const double *const *Y, int ny, unsigned inner,
-                        double *wu, double *wv)
+#define LI(i, j) (3 * ((size_t)(i) * (2 * (size_t)K + 3 - (size_t)(i)) / 2 + (size_t)(j)))
+
+/* The lattice samples of tri_error into T->lat. */
+static void tri_lattice(ts *T, const ts_cell *c, const double *const X[3], const double *U,
+                        const double *V)
 {
     int K = T->ksub;
     double *S = T->lat;
-#define LI(i, j) (3 * ((size_t)(i) * (2 * (size_t)K + 3 - (size_t)(i)) / 2 + (size_t)(j)))
     for (int i = 0; i <= K; ++i)
         for (int j = 0; i + j <= K; ++j) {
             int k = K - i - j;
@@ -1465,6 +1466,15 @@ static double tri_error(ts *T, const ts_cell *c, const double *const X[3], const
             cell_point(T, c, b0 * U[0] + b1 * U[1] + b2 * U[2], b0 * V[0] + b1 * V[1] + b2 * V[2],
                        p);
         }
+}
+
+/* tri_error on the lattice samples already in T->lat. */
+static double tri_error_lat(ts *T, const double *const X[3], const double *U, const double *V,
+                            const double *const *Y, int ny, unsigned inner, double *wu,
+                            double *wv)
+{
+    int K = T->ksub;
+    const double *S = T->lat;
     /* fold guard */
     double e1[3], e2[3], nt[3];
     for (int d = 0; d < 3; ++d)
@@ -1486,6 +1496,8 @@ static double tri_error(ts *T, const ts_cell *c, const double *const X[3], const
                         a[d] = B[d] - A[d], b[d] = C[d] - A[d];
                     cross3(a, b, ns);
                     double dot = ns[0] * nt[0] + ns[1] * nt[1] + ns[2] * nt[2];
+                    if (!(dot < 0.0))
+                        continue; /* cannot be below -1e-3 |ns| |nt| <= 0 */
                     double nsl = sqrt(ns[0] * ns[0] + ns[1] * ns[1] + ns[2] * ns[2]);
                     folded = dot < -1e-3 * nsl * ntl;
                 }
@@ -1527,8 +1539,15 @@ static double tri_error(ts *T, const ts_cell *c, const double *const X[3], const
                 *wv = b0 * V[0] + b1 * V[1] + b2 * V[2];
             }
         }
-#undef LI
     return tmax;
+}
+
+static double tri_error(ts *T, const ts_cell *c, const double *const X[3], const double *U,
+                        const double *V, const double *const *Y, int ny, unsigned inner,
+                        double *wu, double *wv)
+{
+    tri_lattice(T, c, X, U, V);
+    return tri_error_lat(T, X, U, V, Y, ny, inner, wu, wv);
 }
 
 
@@ -1685,9 +1704,12 @@ static int grid_pole(const ts *T, const ts_cell *c, uint32_t M, uint32_t N, uint
 
 /* Quad (i, j) of the M x N grid of cell c, corners X (counter-clockwise
  * from (i, j)), split as local_quad splits it: do its triangles pass tol?
- * The worst sample of a failing quad goes to c->wu, c->wv. */
+ * The worst sample of a failing quad goes to c->wu, c->wv. rect (NULL:
+ * evaluate them): the quad's samples, its (K+1) x (K+1) lattice (both
+ * triangles' lattices lie on it; rows of `stride` points, rect at the
+ * quad's corner (i, j)). */
 static int quad_passes(ts *T, ts_cell *c, uint32_t M, uint32_t N, uint32_t i, uint32_t j,
-                       const double *const X[4], double tol)
+                       const double *const X[4], double tol, const double *rect, size_t stride)
 {
     const uint32_t ii[4] = {i, i + 1, i + 1, i}, jj[4] = {j, j, j + 1, j + 1};
     double U[4], V[4];
@@ -1726,7 +1748,22 @@ static int quad_passes(ts *T, ts_cell *c, uint32_t M, uint32_t N, uint32_t i, ui
             unsigned mask = diag >= 0 ? 1u << diag : 0u;
             double TU[3] = {U[q[0]], U[q[1]], U[q[2]]}, TV[3] = {V[q[0]], V[q[1]], V[q[2]]};
             double wu = 0.0, wv = 0.0;
-            if (!(tri_error(T, c, TX, TU, TV, Y, live[1 - t], mask, &wu, &wv) <= tol)) {
+            if (rect) {
+                /* corner k of the quad at lattice (K cu[k], K cv[k]) */
+                static const int cu[4] = {0, 1, 1, 0}, cv[4] = {0, 0, 1, 1};
+                int K = T->ksub;
+                for (int a = 0; a <= K; ++a)
+                    for (int b = 0; a + b <= K; ++b) {
+                        int k = K - a - b;
+                        size_t px = (size_t)(a * cu[q[0]] + b * cu[q[1]] + k * cu[q[2]]);
+                        size_t py = (size_t)(a * cv[q[0]] + b * cv[q[1]] + k * cv[q[2]]);
+                        memcpy(T->lat + LI(a, b), rect + 3 * (py * stride + px),
+                               3 * sizeof(double));
+                    }
+            } else {
+                tri_lattice(T, c, TX, TU, TV);
+            }
+            if (!(tri_error_lat(T, TX, TU, TV, Y, live[1 - t], mask, &wu, &wv) <= tol)) {
                 c->wu = wu;
                 c->wv = wv;
                 ok = 0;
@@ -1773,7 +1810,7 @@ static int grid_quad_passes(ts *T, ts_cell *c, uint32_t M, uint32_t N, uint32_t 
     for (int k = 0; k < 4; ++k)
         grid_point(T, c, M, N, ii[k], jj[k], P[k]);
     const double *X[4] = {P[0], P[1], P[2], P[3]};
-    return quad_passes(T, c, M, N, i, j, X, tol);
+    return quad_passes(T, c, M, N, i, j, X, tol, NULL, 0);
 }
 
 /* Does the direct M x N grid of cell c (inner: its quads off the cell's
@@ -1811,8 +1848,22 @@ static geom_status grid_passes_in(ts *T, ts_cell *c, uint32_t M, uint32_t N, dou
         for (uint32_t j = j0 > jlo ? j0 - 1 : jlo; j <= j0 + 1 && j < jhi; ++j)
             if ((i != ic || j != jc) && !grid_quad_passes(T, c, M, N, i, j, tol))
                 return GEOM_OK;
-    /* then all of them, a row of quads at a time */
-    size_t need = 6 * ((size_t)M + 1);
+    /* then all of them, a row of quads at a time, on the row's sample
+     * lattice ((K+1) rows of samples, K per quad and row, at the same
+     * parameters as the triangles' lattices): each sample evaluated once,
+     * a quad's new columns just before it is checked, a row's first
+     * samples taken from the row below it */
+    int K = T->ksub;
+    size_t W = (size_t)(ihi - ilo) * (size_t)K + 1;
+    size_t need = 3 * W * ((size_t)K + 1);
+    if (need > ((size_t)1 << 22)) { /* over 32 MB (many quads and samples): quad by quad */
+        for (uint32_t j = jlo; j < jhi; ++j)
+            for (uint32_t i = ilo; i < ihi; ++i)
+                if (!grid_quad_passes(T, c, M, N, i, j, tol))
+                    return GEOM_OK;
+        *pass = 1;
+        return GEOM_OK;
+    }
     if (need > R->cap) {
         if (R->row)
             ts_free(T, R->row, R->cap, sizeof(double));
@@ -1823,29 +1874,39 @@ static geom_status grid_passes_in(ts *T, ts_cell *c, uint32_t M, uint32_t N, dou
             return GEOM_ERR_NOMEM;
         }
     }
+    double *lat = R->row;
     /* rows from just below the worst point up, then the rest: a grid that
      * fails usually fails near where the last one did */
     uint32_t nr = jhi - jlo, js = j0 > jlo + 2 ? j0 - 2 : jlo;
     if (js >= jhi)
         js = jlo;
-    double *lo = R->row, *hi = R->row + 3 * ((size_t)M + 1);
+    uint32_t prev = UINT32_MAX; /* the row whose samples are all in lat */
     for (uint32_t r = 0; r < nr; ++r) {
         uint32_t j = js + r < jhi ? js + r : js + r - nr;
-        if (r == 0 || j == jlo)
-            for (uint32_t i = ilo; i <= ihi; ++i)
-                grid_point(T, c, M, N, i, j, lo + 3 * (size_t)i);
-        for (uint32_t i = ilo; i <= ihi; ++i)
-            grid_point(T, c, M, N, i, j + 1, hi + 3 * (size_t)i);
-        for (uint32_t i = ilo; i < ihi; ++i) {
-            const double *X[4] = {lo + 3 * (size_t)i, lo + 3 * ((size_t)i + 1),
-                                  hi + 3 * ((size_t)i + 1), hi + 3 * (size_t)i};
-            if (!quad_passes(T, c, M, N, i, j, X, tol)) {
-                return GEOM_OK;
-            }
+        double va = grid_t(Fv, c->v0, c->v1, j, N), vb = grid_t(Fv, c->v0, c->v1, j + 1, N);
+        int q0 = 0;
+        if (prev != UINT32_MAX && j == prev + 1) {
+            memcpy(lat, lat + 3 * W * (size_t)K, 3 * W * sizeof(double));
+            q0 = 1;
         }
-        double *x = lo;
-        lo = hi;
-        hi = x;
+        prev = UINT32_MAX;
+        for (uint32_t i = ilo; i < ihi; ++i) {
+            double ua = grid_t(Fu, c->u0, c->u1, i, M), ub = grid_t(Fu, c->u0, c->u1, i + 1, M);
+            size_t x0 = (size_t)(i - ilo) * (size_t)K;
+            for (int p = i == ilo ? 0 : 1; p <= K; ++p) {
+                double u = p == 0 ? ua : p == K ? ub : ua + (ub - ua) * (double)p / (double)K;
+                for (int q = q0; q <= K; ++q) {
+                    double v = q == 0 ? va : q == K ? vb : va + (vb - va) * (double)q / (double)K;
+                    cell_point(T, c, u, v, lat + 3 * ((size_t)q * W + x0 + (size_t)p));
+                }
+            }
+            const double *base = lat + 3 * x0;
+            size_t top = 3 * W * (size_t)K, k3 = 3 * (size_t)K;
+            const double *X[4] = {base, base + k3, base + top + k3, base + top};
+            if (!quad_passes(T, c, M, N, i, j, X, tol, base, W))
+                return GEOM_OK;
+        }
+        prev = j;
     }
     *pass = 1;
     return GEOM_OK;
