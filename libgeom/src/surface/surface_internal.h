@@ -37,6 +37,12 @@ size_t geom__surface_point_work(const geom_nurbs_surface *s);
 void geom__surface_span_point(const geom_nurbs_surface *s, size_t ku, size_t kv, double u,
                              double v, double out[3], double *work);
 
+/** The point of geom__surface_span_point from its basis values (Nu: p+1,
+ *  Nv: q+1, from geom__bs_basis on spans ku, kv): the same result, for
+ *  callers that evaluate a lattice and reuse each direction's basis. */
+void geom__surface_span_combine(const geom_nurbs_surface *s, size_t ku, size_t kv, const double *Nu,
+                               const double *Nv, double out[3]);
+
 /** Doubles of work for geom__surface_span_derivs with order d. */
 size_t geom__surface_derivs_work(const geom_nurbs_surface *s, int d);
 

@@ -1797,6 +1797,8 @@ static uint32_t grid_index(const double *F, double a, double b, double t, uint32
 typedef struct grid_rows {
     double *row;
     size_t cap;
+    double *basis; /* a row's v basis values (K+1 sets), a column's u basis, work */
+    size_t bcap;
     const double *spots; /* nspots (u, v): where other grids failed, tried early */
     int nspots;
 } grid_rows;
@@ -1875,6 +1877,25 @@ static geom_status grid_passes_in(ts *T, ts_cell *c, uint32_t M, uint32_t N, dou
         }
     }
     double *lat = R->row;
+    /* the samples' basis values: v per row (K+1 sets), u per column, each
+     * computed once (geom__surface_span_point's point, bitwise) */
+    const geom_nurbs_surface *sf = T->surf[c->surf].s;
+    int pu = sf->degree_u, pv = sf->degree_v;
+    int direct = c->ku != LOCATE;
+    size_t bneed = ((size_t)K + 1) * ((size_t)pv + 1) + (size_t)pu + 1 +
+                   geom__bs_basis_work(pu > pv ? pu : pv);
+    if (direct && bneed > R->bcap) {
+        if (R->basis)
+            ts_free(T, R->basis, R->bcap, sizeof(double));
+        R->bcap = bneed;
+        R->basis = ts_alloc(T, R->bcap, sizeof(double));
+        if (!R->basis) {
+            R->bcap = 0;
+            return GEOM_ERR_NOMEM;
+        }
+    }
+    double *Nv = R->basis, *Nu = direct ? Nv + ((size_t)K + 1) * ((size_t)pv + 1) : NULL;
+    double *bw = direct ? Nu + pu + 1 : NULL;
     /* rows from just below the worst point up, then the rest: a grid that
      * fails usually fails near where the last one did */
     uint32_t nr = jhi - jlo, js = j0 > jlo + 2 ? j0 - 2 : jlo;
@@ -1884,6 +1905,11 @@ static geom_status grid_passes_in(ts *T, ts_cell *c, uint32_t M, uint32_t N, dou
     for (uint32_t r = 0; r < nr; ++r) {
         uint32_t j = js + r < jhi ? js + r : js + r - nr;
         double va = grid_t(Fv, c->v0, c->v1, j, N), vb = grid_t(Fv, c->v0, c->v1, j + 1, N);
+        if (direct)
+            for (int q = 0; q <= K; ++q) {
+                double v = q == 0 ? va : q == K ? vb : va + (vb - va) * (double)q / (double)K;
+                geom__bs_basis(pv, sf->knots_v, c->kv, v, Nv + (size_t)q * ((size_t)pv + 1), bw);
+            }
         int q0 = 0;
         if (prev != UINT32_MAX && j == prev + 1) {
             memcpy(lat, lat + 3 * W * (size_t)K, 3 * W * sizeof(double));
@@ -1895,6 +1921,15 @@ static geom_status grid_passes_in(ts *T, ts_cell *c, uint32_t M, uint32_t N, dou
             size_t x0 = (size_t)(i - ilo) * (size_t)K;
             for (int p = i == ilo ? 0 : 1; p <= K; ++p) {
                 double u = p == 0 ? ua : p == K ? ub : ua + (ub - ua) * (double)p / (double)K;
+                if (direct) {
+                    geom__bs_basis(pu, sf->knots_u, c->ku, u, Nu, bw);
+                    for (int q = q0; q <= K; ++q)
+                        geom__surface_span_combine(sf, c->ku, c->kv, Nu,
+                                                   Nv + (size_t)q * ((size_t)pv + 1),
+                                                   lat + 3 * ((size_t)q * W + x0 + (size_t)p));
+                    T->evals += (size_t)(K + 1 - q0);
+                    continue;
+                }
                 for (int q = q0; q <= K; ++q) {
                     double v = q == 0 ? va : q == K ? vb : va + (vb - va) * (double)q / (double)K;
                     cell_point(T, c, u, v, lat + 3 * ((size_t)q * W + x0 + (size_t)p));
@@ -1985,7 +2020,7 @@ static geom_status grid_search(ts *T, ts_cell *c, double tol, uint32_t mfirst, u
  * each check costs a sixteenth or less. */
 static geom_status optimise_cell(ts *T, ts_cell *c)
 {
-    grid_rows R = {NULL, 0, NULL, 0};
+    grid_rows R = {NULL, 0, NULL, 0, NULL, 0};
     uint32_t M = c->M, N = c->N, mfirst = M;
     uint32_t sc = (M < N ? M : N) / 12;
     geom_status st = GEOM_OK;
@@ -2001,6 +2036,8 @@ static geom_status optimise_cell(ts *T, ts_cell *c)
         st = grid_search(T, c, T->tol, mfirst, &M, &N, &R);
     if (R.row)
         ts_free(T, R.row, R.cap, sizeof(double));
+    if (R.basis)
+        ts_free(T, R.basis, R.bcap, sizeof(double));
     c->M = M;
     c->N = N;
     return st;
@@ -2199,7 +2236,7 @@ static geom_status uniform_search(ts *T, size_t A, int *chosen, uint32_t *pgu, u
     U.hint = ts_alloc(T, 2 * nc, sizeof(double));
     U.spots = ts_alloc(T, 2 * NSPOT * nc, sizeof(double));
     U.nspot = ts_alloc(T, nc, sizeof(uint32_t));
-    grid_rows R = {NULL, 0, NULL, 0};
+    grid_rows R = {NULL, 0, NULL, 0, NULL, 0};
     geom_status st = GEOM_OK;
     size_t best = A;
     uint32_t bu = 0, bv = 0;
@@ -2295,6 +2332,8 @@ done:
         }
     if (R.row)
         ts_free(T, R.row, R.cap, sizeof(double));
+    if (R.basis)
+        ts_free(T, R.basis, R.bcap, sizeof(double));
     uni_free(T, &U);
     return st;
 }
