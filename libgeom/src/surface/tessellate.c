@@ -160,7 +160,20 @@ typedef struct ts {
                      positions may differ by (see uniform_search) */
     int warp_on;  /* the cells' grid lines follow their warps (adaptive
                      mode, not while running uniform grids) */
+    /* the error check's samples of the cell being checked, by their exact
+     * (u, v) (direct-mapped; neighbouring triangles compute the samples of
+     * their shared sides with the very same parameters) */
+    struct ts_memo *memo; /* MEMO_SIZE entries, or NULL */
+    uint32_t memo_gen;    /* entries of other checks are stale */
+    int memo_on;          /* in check_cell */
 } ts;
+
+#define MEMO_BITS 15
+#define MEMO_SIZE ((size_t)1 << MEMO_BITS)
+typedef struct ts_memo {
+    double u, v, p[3];
+    uint32_t gen;
+} ts_memo;
 
 /* --------------------------------------------------------------- memory */
 
@@ -1463,8 +1476,24 @@ static void tri_lattice(ts *T, const ts_cell *c, const double *const X[3], const
                 continue;
             }
             double b0 = (double)i / K, b1 = (double)j / K, b2 = (double)k / K;
-            cell_point(T, c, b0 * U[0] + b1 * U[1] + b2 * U[2], b0 * V[0] + b1 * V[1] + b2 * V[2],
-                       p);
+            double u = b0 * U[0] + b1 * U[1] + b2 * U[2], v = b0 * V[0] + b1 * V[1] + b2 * V[2];
+            if (!T->memo_on) {
+                cell_point(T, c, u, v, p);
+                continue;
+            }
+            uint64_t bu, bv;
+            memcpy(&bu, &u, sizeof bu);
+            memcpy(&bv, &v, sizeof bv);
+            uint64_t h = (bu * 0x9e3779b97f4a7c15ull) ^ (bv * 0xc2b2ae3d27d4eb4full);
+            ts_memo *m = &T->memo[(h ^ (h >> 29)) >> (64 - MEMO_BITS)];
+            if (m->gen == T->memo_gen && memcmp(&m->u, &u, sizeof u) == 0 &&
+                memcmp(&m->v, &v, sizeof v) == 0) {
+                p[0] = m->p[0], p[1] = m->p[1], p[2] = m->p[2];
+                continue;
+            }
+            cell_point(T, c, u, v, p);
+            m->u = u, m->v = v, m->gen = T->memo_gen;
+            m->p[0] = p[0], m->p[1] = p[1], m->p[2] = p[2];
         }
 }
 
@@ -1554,6 +1583,13 @@ static double tri_error(ts *T, const ts_cell *c, const double *const X[3], const
 /* Chordal error (and normal angle) of the cell's local triangles. */
 static void check_cell(ts *T, ts_cell *c)
 {
+    /* samples are shared within this check only (a point depends on the
+     * cell through its spans) */
+    if (T->memo && ++T->memo_gen == 0) {
+        memset(T->memo, 0, MEMO_SIZE * sizeof(ts_memo));
+        T->memo_gen = 1;
+    }
+    T->memo_on = T->memo != NULL;
     double cell_max = 0.0, ang_max = 0.0, esum = 0.0;
     if (T->ang_tol > 0.0)
         for (size_t k = 0; k < T->nloc; ++k)
@@ -1596,6 +1632,7 @@ static void check_cell(ts *T, ts_cell *c)
                 }
         }
     }
+    T->memo_on = 0;
     c->err = cell_max;
     c->ang = ang_max;
     c->esum = esum;
@@ -2474,6 +2511,8 @@ static void ts_release(ts *T)
     pool_free(T, &T->pt);
     if (T->lat)
         ts_free(T, T->lat, 3 * (size_t)(T->ksub + 1) * (size_t)(T->ksub + 2) / 2, sizeof(double));
+    if (T->memo)
+        ts_free(T, T->memo, MEMO_SIZE, sizeof(ts_memo));
     geom__scratch_free(&T->sc);
 }
 
@@ -2792,6 +2831,9 @@ static geom_status tessellate_unscaled(const geom_nurbs_surface *surfaces, size_
     size_t pass_tris = 0; /* triangles of the last pass */
     geom_status st = geom__scratch_init(&T.sc, work);
     T.lat = ts_alloc(&T, 3 * (size_t)(T.ksub + 1) * (size_t)(T.ksub + 2) / 2, sizeof(double));
+    T.memo = ts_alloc(&T, MEMO_SIZE, sizeof(ts_memo)); /* optional: NULL evaluates every sample */
+    if (T.memo)
+        memset(T.memo, 0, MEMO_SIZE * sizeof(ts_memo));
     if (st == GEOM_OK && !T.lat)
         st = GEOM_ERR_NOMEM;
     if (st != GEOM_OK)
