@@ -19,12 +19,15 @@
  *    0.01..100, the grid lines placed by the chord error, not uniformly in
  *    the parameter), and the reported error is checked against the closed
  *    form: a triangle with its corners on the unit sphere is farthest from
- *    the sphere at its point nearest the centre, 1 - that distance;
+ *    the sphere at its point nearest the centre, 1 - that distance; the
+ *    upper hemisphere as four weighted octants welded along their
+ *    meridians stays one watertight disc with the same bounds;
  *  - fold guard: a plane patch whose parametrisation folds over itself
  *    (x(u) goes back and forth) lies on its two triangles, but the sample
  *    lattice's triangles face against them, so the error there is the
  *    equal-parameter one and the fold is refined, not hidden.
- * Then geom__tess_lines_bound (the smallest segment count whose chords pass
+ * The grid-line placement (geom__tess_warp_*) against the density's
+ * integral summed here. Then geom__tess_lines_bound (the smallest segment count whose chords pass
  * along given curves) against a linear scan written here, on curves whose
  * check is not monotone in the count (kinks at rational parameters). */
 #include <setjmp.h>
@@ -50,6 +53,9 @@ int geom__tess_lines_pass(geom__tess_line_fn fn, void *user, int nlines, double 
                           uint32_t n, double tol, double *hint);
 uint32_t geom__tess_lines_bound(geom__tess_line_fn fn, void *user, int nlines, double a, double b,
                                 int K, uint32_t cap, double tol);
+int geom__tess_warp_build(const double *rho, int n, double ratio, double floor_frac, double *F);
+double geom__tess_warp_y(const double *F, int n, double f);
+double geom__tess_warp_f(const double *F, int n, double y);
 
 static size_t tess(const geom_nurbs_surface *s, size_t n, const geom_surface_tess_options *o,
                    double *err, geom_mesh **keep)
@@ -188,14 +194,14 @@ static double origin_tri(const double *a, const double *b, const double *c)
 /* An adaptive mesh of a part of the unit sphere: corners on the sphere,
  * one manifold disc; its distance from the sphere (closed form, see the
  * top) and its area to *dist, *area; returns the triangles. */
-static size_t sphere_patch(const geom_nurbs_surface *s, double tol, double *err, double *dist,
-                           double *area)
+static size_t sphere_patches(const geom_nurbs_surface *s, size_t ns, double tol, double *err,
+                             double *dist, double *area)
 {
     geom_surface_tess_options o;
     memset(&o, 0, sizeof o);
     o.tolerance = tol;
     geom_mesh *m = NULL;
-    size_t n = tess(s, 1, &o, err, &m);
+    size_t n = tess(s, ns, &o, err, &m);
     geom_mesh_topology t;
     assert_int_equal(geom_mesh_topology_summary(m, &t), GEOM_OK);
     assert_true(t.manifold);
@@ -223,6 +229,12 @@ static size_t sphere_patch(const geom_nurbs_surface *s, double tol, double *err,
     }
     geom_mesh_destroy(m);
     return n;
+}
+
+static size_t sphere_patch(const geom_nurbs_surface *s, double tol, double *err, double *dist,
+                           double *area)
+{
+    return sphere_patches(s, 1, tol, err, dist, area);
 }
 
 static void test_sphere_weights(void **state)
@@ -270,6 +282,84 @@ static void test_sphere_weights(void **state)
     assert_int_equal(uniform(&s1, 1, 1, 64, &e), 1);
     print_message("octant as one triangle: %.9f, closed form %.9f\n", e, closed);
     assert_true(e <= closed + 1e-12 && e >= closed * (1.0 - 1e-3));
+}
+
+/* The upper hemisphere as four octants (u quarter q of geom_surface_sphere),
+ * weights times a^i b^j / c each: the octants' shared meridians are the
+ * same curves with the same parametrisation (their weights differ by a
+ * constant factor), so they are welded, and their rows' grid lines must
+ * agree for the mesh to stay one watertight disc. */
+static void test_hemisphere_weights(void **state)
+{
+    (void)state;
+    double sku[12], skv[8], SP[135], SW[45];
+    geom_nurbs_surface sph;
+    assert_int_equal(geom_surface_sphere(NULL, 1.0, sku, skv, SP, SW, &sph), GEOM_OK);
+    double P[2][4][27], W[2][4][9], ku[2][4][6], kv[2][4][6];
+    geom_nurbs_surface s[2][4];
+    const double ab[2] = {1.0, sqrt(10.0)};
+    size_t n[2];
+    for (int c = 0; c < 2; ++c) {
+        for (int q = 0; q < 4; ++q) {
+            for (int i = 0; i < 3; ++i)
+                for (int j = 0; j < 3; ++j) {
+                    size_t k = (size_t)(2 * q + i) * 5 + (size_t)j + 2;
+                    memcpy(P[c][q] + 3 * (i * 3 + j), SP + 3 * k, 3 * sizeof(double));
+                    W[c][q][i * 3 + j] = SW[k] * pow(ab[c], i) * pow(ab[c], j) / (ab[c] * ab[c]);
+                }
+            assert_int_equal(geom_surface_bezier(2, 2, P[c][q], W[c][q], ku[c][q], kv[c][q],
+                                                 &s[c][q]),
+                             GEOM_OK);
+        }
+        double e, d, a;
+        n[c] = sphere_patches(s[c], 4, 1e-3, &e, &d, &a);
+        print_message("hemisphere, 4 octants, weights x %.3g..%.3g: %zu triangles (error %g, "
+                      "closed form %g, area %.6f)\n",
+                      1.0 / (ab[c] * ab[c]), ab[c] * ab[c], n[c], e, d, a);
+        assert_true(e <= 1e-3 && e <= d + 1e-12 && d <= 1.05e-3 && e >= 0.95 * d);
+        assert_true(a <= 2.0 * PI && a >= 2.0 * PI * pow(1.0 - d, 3.0)); /* the area 2 pi */
+    }
+    assert_true(n[1] <= 2 * n[0]);
+}
+
+/* The grid-line placement (tess_warp.c): F is the normalised integral of
+ * the floored density, warp_y its inverse; equal steps in f are equal
+ * integrals of the density (checked by summing it here). */
+static void test_warp(void **state)
+{
+    (void)state;
+    enum { n = 32 };
+    double rho[n], F[n + 1];
+    for (int i = 0; i < n; ++i)
+        rho[i] = 1.0;
+    assert_int_equal(geom__tess_warp_build(rho, n, 1.8, 0.3, F), 0); /* even: none */
+    rho[3] = NAN;
+    assert_int_equal(geom__tess_warp_build(rho, n, 1.8, 0.3, F), 0);
+    for (int i = 0; i < n; ++i)
+        rho[i] = 0.0;
+    assert_int_equal(geom__tess_warp_build(rho, n, 1.8, 0.3, F), 0);
+    double sum = 0.0;
+    for (int i = 0; i < n; ++i) {
+        rho[i] = i < 8 ? 0.0 : 1.0 + 10.0 * (double)i / n; /* a flat part: the floor */
+        sum += rho[i];
+    }
+    assert_int_equal(geom__tess_warp_build(rho, n, 1.8, 0.3, F), 1);
+    assert_true(F[0] == 0.0 && F[n] == 1.0);
+    double fl = 0.3 * sum / n, tot = 0.0;
+    for (int i = 0; i < n; ++i) {
+        assert_true(F[i + 1] > F[i]);
+        tot += fmax(rho[i], fl);
+    }
+    assert_true(geom__tess_warp_y(F, n, 0.0) == 0.0 && geom__tess_warp_y(F, n, 1.0) == 1.0);
+    for (int k = 0; k <= 1000; ++k) {
+        double y = k / 1000.0, f = geom__tess_warp_f(F, n, y);
+        assert_true(fabs(geom__tess_warp_y(F, n, f) - y) <= 1e-14);
+        /* the integral of the floored density up to y, over the total */
+        double x = y * n, acc = 0.0;
+        for (int i = 0; i < n && i < x; ++i)
+            acc += fmax(rho[i], fl) * fmin(1.0, x - i);
+        assert_true(fabs(f - acc / tot) <= 1e-14);
+    }
 }
 
 static void test_cylinder_closed_form(void **state)
@@ -456,6 +546,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_plane_weights),     cmocka_unit_test(test_sphere_weights),
+        cmocka_unit_test(test_hemisphere_weights), cmocka_unit_test(test_warp),
         cmocka_unit_test(test_cylinder_closed_form), cmocka_unit_test(test_fold_guard),
         cmocka_unit_test(test_lines_bound),
     };
