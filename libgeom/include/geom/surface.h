@@ -496,6 +496,21 @@ typedef struct geom_surface_tess_stats {
  * interior grid is joined to the edge samples by strips, in parameter
  * space. Triangles with two corners on one collapsed vertex are dropped.
  *
+ * Grid lines (adaptive, angle_degrees 0). Within a cell the lines of
+ * constant u need not be evenly spaced: per column of cells of a piece,
+ * sqrt of the largest |S_uu| normal to S_u across the column is sampled on
+ * 32 equal parameter intervals, and where its largest value is more than
+ * 1.8x its smallest, the lines are placed so that its integral is equal
+ * between neighbouring lines (de Boor's equidistribution: every chord then
+ * deviates about equally), each interval's density at least 0.3 of the
+ * mean; rows along v likewise. The cells of a column and their edges
+ * share the placement, so neighbours keep sharing edge samples; an edge
+ * welded to an edge of another column keeps even lines on both unless
+ * their placements agree. Rational weights that make the parametric speed
+ * vary across a cell then no longer force the whole cell to the step of
+ * its fastest part. Uniform mode, and the uniform grids below, use even
+ * lines.
+ *
  * Adaptive resolution. A cell whose second derivatives are bounded by
  * Muu, Muv, Mvv (the largest values sampled on a grid over the cell) gets
  * quads of hu x hv with the largest area that keeps Filip et al.'s bound
@@ -546,9 +561,9 @@ typedef struct geom_surface_tess_stats {
  * larger than the distance to the triangle's point at the same
  * parameters: an uneven parametrisation (extreme rational weights) is no
  * longer counted as chordal error (a plane with weights 0.1..10: 0, two
- * triangles; a sphere octant with weights 0.1..10: 7.8x the triangles of
- * the ordinary octant at 1e-3, as every cell has one uniform grid and the
- * parametric speed varies 10x across it). Fold guard: where the images of
+ * triangles; a sphere octant with weights 0.1..10: 1.04x the triangles of
+ * the ordinary octant at 1e-3, with weights 0.01..100 1.59x, through the
+ * grid lines above; 7.8x with even lines). Fold guard: where the images of
  * the lattice's small triangles face against the triangle (the surface
  * turns back over it, which a distance to the mesh would hide), that
  * triangle's error is the equal-parameter distance. Triangles dropped at a

@@ -157,6 +157,12 @@ void geom__surface_span_point(const geom_nurbs_surface *s, size_t ku, size_t kv,
     combine_point(s, ku, kv, Nu, Nv, out);
 }
 
+void geom__surface_span_combine(const geom_nurbs_surface *s, size_t ku, size_t kv, const double *Nu,
+                               const double *Nv, double out[3])
+{
+    combine_point(s, ku, kv, Nu, Nv, out);
+}
+
 size_t geom__surface_derivs_work(const geom_nurbs_surface *s, int d)
 {
     size_t p1 = (size_t)s->degree_u + 1, q1 = (size_t)s->degree_v + 1;

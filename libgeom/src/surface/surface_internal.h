@@ -37,6 +37,12 @@ size_t geom__surface_point_work(const geom_nurbs_surface *s);
 void geom__surface_span_point(const geom_nurbs_surface *s, size_t ku, size_t kv, double u,
                              double v, double out[3], double *work);
 
+/** The point of geom__surface_span_point from its basis values (Nu: p+1,
+ *  Nv: q+1, from geom__bs_basis on spans ku, kv): the same result, for
+ *  callers that evaluate a lattice and reuse each direction's basis. */
+void geom__surface_span_combine(const geom_nurbs_surface *s, size_t ku, size_t kv, const double *Nu,
+                               const double *Nv, double out[3]);
+
 /** Doubles of work for geom__surface_span_derivs with order d. */
 size_t geom__surface_derivs_work(const geom_nurbs_surface *s, int d);
 
@@ -89,5 +95,18 @@ int geom__tess_lines_pass(geom__tess_line_fn fn, void *user, int nlines, double 
                           uint32_t n, double tol, double *hint);
 uint32_t geom__tess_lines_bound(geom__tess_line_fn fn, void *user, int nlines, double a, double b,
                                 int K, uint32_t cap, double tol);
+
+/* Non-uniform grid lines of a tessellation cell (tess_warp.c): from rho,
+ * sqrt of the second derivative normal to the lines' tangent sampled on n
+ * equal parameter intervals, F (n+1 doubles): the line density's integral
+ * at the interval ends, normalised to F[0] = 0, F[n] = 1, each interval's
+ * density at least floor_frac times the mean. Returns 0 (F unset: keep the
+ * lines uniform) when rho is not finite, all zero, or its largest value is
+ * at most ratio times its smallest. geom__tess_warp_y: the parameter
+ * fraction y of grid fraction f (the inverse of F, piecewise linear, exact
+ * 0 and 1 at the ends); geom__tess_warp_f: F at parameter fraction y. */
+int geom__tess_warp_build(const double *rho, int n, double ratio, double floor_frac, double *F);
+double geom__tess_warp_y(const double *F, int n, double f);
+double geom__tess_warp_f(const double *F, int n, double y);
 
 #endif
