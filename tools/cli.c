@@ -884,6 +884,14 @@ void cli_progress_start(cli_progress *p, const cli_tool *tool, const char *label
     p->label = label ? label : "";
     p->start = mono_now();
     p->last = 0.0;
+    p->after = 0.5;
+    const char *env = getenv("GEOM_PROGRESS_AFTER");
+    if (env && *env) {
+        char *end;
+        double v = strtod(env, &end);
+        if (*end == '\0' && v >= 0.0 && v <= 3600.0)
+            p->after = v;
+    }
 }
 
 void cli_progress_update(cli_progress *p, double fraction)
@@ -891,7 +899,7 @@ void cli_progress_update(cli_progress *p, double fraction)
     if (!p || !p->enabled)
         return;
     double now = mono_now(), el = now - p->start;
-    if (el < 0.5 || now - p->last < 0.1)
+    if (el < p->after || now - p->last < 0.1)
         return;
     p->last = now;
     if (!(fraction > 0.0))

@@ -465,7 +465,10 @@ int cli_limits_check(const cli_tool *tool, const cli_limits *lim, const char *wh
  * A progress display on standard error: "tool: label  42%  ETA 3s", redrawn
  * in place at most ten times a second. It is shown only when standard error
  * is a terminal and --quiet was not given, and only once the work has run
- * for half a second (short runs print nothing); cli_progress_done erases it.
+ * for half a second (short runs print nothing; the environment variable
+ * GEOM_PROGRESS_AFTER=S, S seconds from 0 to 3600, changes that delay: the
+ * tests use 0 so that the display does not depend on the machine's speed);
+ * cli_progress_done erases it.
  */
 typedef struct cli_progress {
     bool enabled;
@@ -473,6 +476,7 @@ typedef struct cli_progress {
     const char *prefix; /**< the tool's name */
     const char *label;
     double start, last; /**< seconds (monotonic) */
+    double after;       /**< seconds before the first display */
 } cli_progress;
 
 /** Start a progress display (disabled when quiet or stderr is not a tty). */
