@@ -1906,6 +1906,21 @@ geom_status geom_implicit_expr_eval_bounds(const geom_implicit_expr *e, const do
     return GEOM_OK;
 }
 
+geom_status geom_implicit_expr_eval_bounds_many(const geom_implicit_expr *e, size_t n,
+                                                const double *lo, const double *hi, double *out,
+                                                int *defined)
+{
+    if (n == 0)
+        return GEOM_OK;
+    if (!e || !lo || !hi || !out || !defined)
+        return GEOM_ERR_INVALID_ARG;
+    geom_status st = GEOM_OK;
+    for (size_t i = 0; i < n; i++)
+        if (geom_implicit_expr_eval_bounds(e, lo + 3 * i, hi + 3 * i, out + 2 * i, defined + i))
+            st = GEOM_ERR_INVALID_ARG;
+    return st;
+}
+
 double geom_implicit_expr_value_cb(void *user, const double p[3])
 {
     return geom_implicit_expr_eval((const geom_implicit_expr *)user, p);
