@@ -70,6 +70,12 @@ static const char *const exprs[] = {
     "ellipsoid(x, 1, 0)", "box(0.3, 0.1, -0.2, 0.5, 0.7, 0.2)", "box(x, 0.5, y)",
     "cylinder(0.3, 0.1, -0.2, 0.5, 0.8)", "cylinder(z, x)", "plane(x, 0, 1, y)",
     "min(torus(1, 0.3), box(0.5, 0.5, 0.5)) + sphere(0.3, 0.1, -0.2, 0.4)",
+    /* capsule and the gyroids (the gradient batch unrolls every primitive
+     * into its operations): point-dependent arguments, a zero-length
+     * segment (den = 0), the time */
+    "capsule(x, 0, 0, 1, y, 0, 0.2)", "capsule(0.3, 0.1, -0.2, 0.3, 0.1, -0.2, 0.5)",
+    "capsule(0, 0, 0, 0, 0, t, z)", "gyroid(x + 3)", "gyroid(t, z)", "gyroid(0)",
+    "smooth_union(capsule(-1, 0, 0, 1, 0.5, 0, t), gyroid(4, 0.2), 0.3)",
 };
 
 /* A program n levels deep: x+(x+(...(x)...)). */
