@@ -1566,8 +1566,11 @@ static void g_run_len(int uop, int bop, double c, size_t n, const double *restri
  * arrays (a buffer of glanes), in a loop the compiler vectorises; an
  * operation on constants only is done once, as g_run does it; x, y and z
  * are buffers of the points' coordinates and the seeds' unit and zero
- * derivatives. Every lane does exactly g_run's operations: bitwise g_run. */
-enum { GB = 32, G_SQR = OP_COUNT }; /* G_SQR: g_sqr, not an opcode */
+ * derivatives. Every lane does exactly g_run's operations: bitwise g_run.
+ * The lengths the shapes are made of, sqrt(sqr(a) + sqr(b)) and
+ * sqrt((sqr(a) + sqr(b)) + sqr(c)), are one step each (G_LEN2, G_LEN3:
+ * the same g_* operations, without the memory round trips between them). */
+enum { GB = 32, G_SQR = OP_COUNT, G_LEN2, G_LEN3 }; /* not opcodes */
 typedef double glanes[4][GB];
 
 /* op applied to a (and b): EXPR of a, b and n (OP_POWI's exponent) */
@@ -1590,17 +1593,19 @@ static dual g_apply(int op, int n, dual a, dual b)
 #undef G_APPLY
 }
 
-/* One step over GB lanes: the glanes A and B (B = A for a unary op) into
- * R. */
+/* One step over GB lanes: the glanes A, B and C (B, C = A for a unary op,
+ * C = A for a binary one) into R. */
 GEOM__CLONE_INLINE void g_lanes(int op, int n, const double *restrict A, const double *restrict B,
-                                double *restrict R)
+                                const double *restrict C, double *restrict R)
 {
 #define G_LANES(EXPR)                                                                          \
     for (int l = 0; l < GB; l++) {                                                             \
         dual a = {A[l], {A[GB + l], A[2 * GB + l], A[3 * GB + l]}};                            \
         dual b = {B[l], {B[GB + l], B[2 * GB + l], B[3 * GB + l]}};                            \
+        dual c = {C[l], {C[GB + l], C[2 * GB + l], C[3 * GB + l]}};                            \
         dual r = (EXPR);                                                                       \
         (void)b;                                                                               \
+        (void)c;                                                                               \
         R[l] = r.v;                                                                            \
         R[GB + l] = r.d[0];                                                                    \
         R[2 * GB + l] = r.d[1];                                                                \
@@ -1610,6 +1615,8 @@ GEOM__CLONE_INLINE void g_lanes(int op, int n, const double *restrict A, const d
     case OP: G_LANES(EXPR) break;
     switch (op) {
     G_OPS(G_CASE)
+    G_CASE(G_LEN2, g_sqrt(g_add(g_sqr(a), g_sqr(b))))
+    G_CASE(G_LEN3, g_sqrt(g_add(g_add(g_sqr(a), g_sqr(b)), g_sqr(c))))
     case OP_POWI:
         if (n == 2)
             G_LANES(g_powi(a, 2))
@@ -1626,12 +1633,12 @@ GEOM__CLONE_INLINE void g_lanes(int op, int n, const double *restrict A, const d
  * buffer's lanes: 0, 1, 2 the seeds x, y, z, then constants used as lane
  * operands and the steps' results. */
 typedef struct gstep {
-    int op, n, a, b, r;
+    int op, n, a, b, c, r;
 } gstep;
 typedef struct gval {
     dual c;   /* a constant's value (the seeds: 0) */
     int last; /* the last step reading it */
-    int buf;  /* its buffer */
+    int buf;  /* its buffer (-3: an intermediate of a fused step) */
     int free; /* -1 a seed or constant, 1 a step's result freed after its
                * last use, 0 the program's result */
 } gval;
@@ -1665,7 +1672,8 @@ static gsym s_op(int op, int n, gsym a, gsym b)
         return r;
     }
     grec *g = r.g;
-    gstep s = {op, n, s_id(g, a), s_id(g, b), 0};
+    gstep s = {op, n, s_id(g, a), s_id(g, b), 0, 0};
+    s.c = s.a;
     gval v = {g_cst(NAN), -1, 0, 1};
     if (g->fail || geom__push(g->alloc, (void **)&g->val, &g->nv, &g->cv, sizeof v, &v) != GEOM_OK)
         g->fail = 1;
@@ -1693,7 +1701,6 @@ S_BINARY(max, OP_MAX)
 S_BINARY(atan2, OP_ATAN2)
 S_UNARY(neg, OP_NEG)
 S_UNARY(sqr, G_SQR)
-S_UNARY(sqrt, OP_SQRT)
 S_UNARY(abs, OP_ABS)
 S_UNARY(sin, OP_SIN)
 S_UNARY(cos, OP_COS)
@@ -1703,6 +1710,51 @@ S_UNARY(log, OP_LOG)
 #undef S_UNARY
 #undef S_BINARY
 static gsym s_powi(gsym a, int n) { return s_op(OP_POWI, n, a, a); }
+
+/* The step among g's steps from on whose result is id, or NULL. */
+static gstep *s_producer(grec *g, int id, size_t from)
+{
+    for (size_t j = from; j < g->ns; j++)
+        if (g->step[j].r == id)
+            return &g->step[j];
+    return NULL;
+}
+/* sqrt(a), and when the steps just before it are the squares and sums of
+ * a length (len2, len3: their results used by nothing else, as in the
+ * template), those steps and the sqrt become one G_LEN2 or G_LEN3 step. */
+static gsym s_sqrt(gsym a)
+{
+    gsym r = s_op(OP_SQRT, 0, a, a);
+    grec *g = r.g;
+    if (!g || g->fail)
+        return r;
+    for (size_t m = 3; m <= 5; m += 2) { /* the steps before the sqrt */
+        if (g->ns < m + 1)
+            break;
+        size_t from = g->ns - 1 - m;
+        gstep *sq = &g->step[g->ns - 1], *add = s_producer(g, sq->a, from), *in = add;
+        if (!add || add->op != OP_ADD)
+            break;
+        gstep *s3 = NULL;
+        if (m == 5) {
+            in = s_producer(g, add->a, from);
+            s3 = s_producer(g, add->b, from);
+            if (!in || in->op != OP_ADD || !s3 || s3->op != G_SQR)
+                continue;
+        }
+        gstep *s1 = s_producer(g, in->a, from), *s2 = s_producer(g, in->b, from);
+        if (!s1 || !s2 || s1 == s2 || s1->op != G_SQR || s2->op != G_SQR)
+            continue;
+        gstep f = {m == 3 ? G_LEN2 : G_LEN3, 0, s1->a, s2->a, s3 ? s3->a : s1->a, sq->r};
+        gstep *dead[] = {s1, s2, add, in, s3};
+        for (size_t k = 0; k < m; k++)
+            g->val[dead[k]->r].buf = -3;
+        g->ns -= m + 1;
+        g->step[g->ns++] = f;
+        break;
+    }
+    return r;
+}
 
 #define NUM gsym
 #define F(name) s_##name
@@ -1752,7 +1804,7 @@ static void g_blocks(const gstep *step, size_t ns, glanes *buf, int res, size_t 
         }
         for (size_t j = 0; j < ns; j++) {
             const gstep *s = &step[j];
-            g_lanes(s->op, s->n, buf[s->a][0], buf[s->b][0], buf[s->r][0]);
+            g_lanes(s->op, s->n, buf[s->a][0], buf[s->b][0], buf[s->c][0], buf[s->r][0]);
         }
         double *G = grads ? grads + 3 * b0 : NULL;
         if (L == GB)
@@ -1789,6 +1841,7 @@ static int g_run_blocks(const geom_implicit_expr *e, size_t n, const double *p, 
     for (size_t j = 0; j < g.ns; j++) {
         g.val[g.step[j].a].last = (int)j;
         g.val[g.step[j].b].last = (int)j;
+        g.val[g.step[j].c].last = (int)j;
     }
     for (size_t i = 0; i < g.nv; i++)
         if (g.val[i].buf == 0)
@@ -1798,9 +1851,11 @@ static int g_run_blocks(const geom_implicit_expr *e, size_t n, const double *p, 
         gval *v = &g.val[s->r];
         v->buf = nfree ? free_buf[--nfree] : nb++;
         v->free = !r.g || s->r != r.id;
-        for (int q = 0; q < 2; q++) {
-            gval *o = &g.val[q ? s->b : s->a];
-            if (o->free == 1 && o->last == (int)j && (q == 0 || s->b != s->a))
+        int ops[3] = {s->a, s->b, s->c};
+        for (int q = 0; q < 3; q++) {
+            gval *o = &g.val[ops[q]];
+            if (o->free == 1 && o->last == (int)j && (q < 1 || ops[q] != ops[0]) &&
+                (q < 2 || ops[q] != ops[1]))
                 free_buf[nfree++] = o->buf;
         }
     }
@@ -1823,6 +1878,7 @@ static int g_run_blocks(const geom_implicit_expr *e, size_t n, const double *p, 
         gstep *s = &g.step[j];
         s->a = g.val[s->a].buf;
         s->b = g.val[s->b].buf;
+        s->c = g.val[s->c].buf;
         s->r = g.val[s->r].buf;
     }
     g_blocks(g.step, g.ns, buf, g.val[r.id].buf, n, p, values, grads);
