@@ -76,6 +76,8 @@ static const char *const exprs[] = {
     "capsule(x, 0, 0, 1, y, 0, 0.2)", "capsule(0.3, 0.1, -0.2, 0.3, 0.1, -0.2, 0.5)",
     "capsule(0, 0, 0, 0, 0, t, z)", "gyroid(x + 3)", "gyroid(t, z)", "gyroid(0)",
     "smooth_union(capsule(-1, 0, 0, 1, 0.5, 0, t), gyroid(4, 0.2), 0.3)",
+    /* the sine and cosine of one operand in one step, either first */
+    "sin(x) * cos(x)", "cos(y) - sin(y) + sin(y)", "sin(z) + cos(z + 1) + cos(z)",
 };
 
 /* A program n levels deep: x+(x+(...(x)...)). */

@@ -1569,8 +1569,10 @@ static void g_run_len(int uop, int bop, double c, size_t n, const double *restri
  * derivatives. Every lane does exactly g_run's operations: bitwise g_run.
  * The lengths the shapes are made of, sqrt(sqr(a) + sqr(b)) and
  * sqrt((sqr(a) + sqr(b)) + sqr(c)), are one step each (G_LEN2, G_LEN3:
- * the same g_* operations, without the memory round trips between them). */
-enum { GB = 32, G_SQR = OP_COUNT, G_LEN2, G_LEN3 }; /* not opcodes */
+ * the same g_* operations, without the memory round trips between them);
+ * the sine and the cosine of the same operand (the gyroids) are one step
+ * with two results (G_SINCOS), so each lane calls sincos once for both. */
+enum { GB = 32, G_SQR = OP_COUNT, G_LEN2, G_LEN3, G_SINCOS }; /* not opcodes */
 typedef double glanes[4][GB];
 
 /* op applied to a (and b): EXPR of a, b and n (OP_POWI's exponent) */
@@ -1594,22 +1596,28 @@ static dual g_apply(int op, int n, dual a, dual b)
 }
 
 /* One step over GB lanes: the glanes A, B and C (B, C = A for a unary op,
- * C = A for a binary one) into R. */
+ * C = A for a binary one) into R (and R2, G_SINCOS's cosine). */
 GEOM__CLONE_INLINE void g_lanes(int op, int n, const double *restrict A, const double *restrict B,
-                                const double *restrict C, double *restrict R)
+                                const double *restrict C, double *restrict R,
+                                double *restrict R2)
 {
+#define G_LOAD(X, x) dual x = {X[l], {X[GB + l], X[2 * GB + l], X[3 * GB + l]}}
+#define G_STORE(X, x)                                                                          \
+    do {                                                                                       \
+        X[l] = x.v;                                                                            \
+        X[GB + l] = x.d[0];                                                                    \
+        X[2 * GB + l] = x.d[1];                                                                \
+        X[3 * GB + l] = x.d[2];                                                                \
+    } while (0)
 #define G_LANES(EXPR)                                                                          \
     for (int l = 0; l < GB; l++) {                                                             \
-        dual a = {A[l], {A[GB + l], A[2 * GB + l], A[3 * GB + l]}};                            \
-        dual b = {B[l], {B[GB + l], B[2 * GB + l], B[3 * GB + l]}};                            \
-        dual c = {C[l], {C[GB + l], C[2 * GB + l], C[3 * GB + l]}};                            \
+        G_LOAD(A, a);                                                                          \
+        G_LOAD(B, b);                                                                          \
+        G_LOAD(C, c);                                                                          \
         dual r = (EXPR);                                                                       \
         (void)b;                                                                               \
         (void)c;                                                                               \
-        R[l] = r.v;                                                                            \
-        R[GB + l] = r.d[0];                                                                    \
-        R[2 * GB + l] = r.d[1];                                                                \
-        R[3 * GB + l] = r.d[2];                                                                \
+        G_STORE(R, r);                                                                         \
     }
 #define G_CASE(OP, EXPR)                                                                       \
     case OP: G_LANES(EXPR) break;
@@ -1623,17 +1631,27 @@ GEOM__CLONE_INLINE void g_lanes(int op, int n, const double *restrict A, const d
         else
             G_LANES(g_powi(a, n))
         break;
+    case G_SINCOS:
+        for (int l = 0; l < GB; l++) {
+            G_LOAD(A, a);
+            dual r = g_sin(a), r2 = g_cos(a);
+            G_STORE(R, r);
+            G_STORE(R2, r2);
+        }
+        break;
     default: break;
     }
 #undef G_CASE
 #undef G_LANES
+#undef G_STORE
+#undef G_LOAD
 }
 
 /* The recorder: a value is a constant (id < 0, its dual c) or the id of a
  * buffer's lanes: 0, 1, 2 the seeds x, y, z, then constants used as lane
  * operands and the steps' results. */
 typedef struct gstep {
-    int op, n, a, b, c, r;
+    int op, n, a, b, c, r, r2; /* r2: G_SINCOS's cosine, else -1 */
 } gstep;
 typedef struct gval {
     dual c;   /* a constant's value (the seeds: 0) */
@@ -1672,7 +1690,7 @@ static gsym s_op(int op, int n, gsym a, gsym b)
         return r;
     }
     grec *g = r.g;
-    gstep s = {op, n, s_id(g, a), s_id(g, b), 0, 0};
+    gstep s = {op, n, s_id(g, a), s_id(g, b), 0, 0, -1};
     s.c = s.a;
     gval v = {g_cst(NAN), -1, 0, 1};
     if (g->fail || geom__push(g->alloc, (void **)&g->val, &g->nv, &g->cv, sizeof v, &v) != GEOM_OK)
@@ -1702,14 +1720,37 @@ S_BINARY(atan2, OP_ATAN2)
 S_UNARY(neg, OP_NEG)
 S_UNARY(sqr, G_SQR)
 S_UNARY(abs, OP_ABS)
-S_UNARY(sin, OP_SIN)
-S_UNARY(cos, OP_COS)
 S_UNARY(tan, OP_TAN)
 S_UNARY(exp, OP_EXP)
 S_UNARY(log, OP_LOG)
 #undef S_UNARY
 #undef S_BINARY
 static gsym s_powi(gsym a, int n) { return s_op(OP_POWI, n, a, a); }
+
+/* sin(a) or cos(a) (op): when a step already takes the other of a, it
+ * becomes G_SINCOS and gives this one as well. */
+static gsym s_trig(int op, gsym a)
+{
+    grec *g = a.g;
+    for (size_t j = g && !g->fail ? g->ns : 0; j-- > 0;) {
+        if (g->step[j].op != (op == OP_SIN ? OP_COS : OP_SIN) || g->step[j].a != a.id)
+            continue;
+        gval v = {g_cst(NAN), -1, 0, 1};
+        if (geom__push(g->alloc, (void **)&g->val, &g->nv, &g->cv, sizeof v, &v) != GEOM_OK) {
+            g->fail = 1;
+            break;
+        }
+        gstep *s = &g->step[j];
+        gsym r = {g, (int)g->nv - 1, g_cst(NAN)};
+        s->r2 = op == OP_COS ? r.id : s->r;
+        s->r = op == OP_COS ? s->r : r.id;
+        s->op = G_SINCOS;
+        return r;
+    }
+    return s_op(op, 0, a, a);
+}
+static gsym s_sin(gsym a) { return s_trig(OP_SIN, a); }
+static gsym s_cos(gsym a) { return s_trig(OP_COS, a); }
 
 /* The step among g's steps from on whose result is id, or NULL. */
 static gstep *s_producer(grec *g, int id, size_t from)
@@ -1745,7 +1786,7 @@ static gsym s_sqrt(gsym a)
         gstep *s1 = s_producer(g, in->a, from), *s2 = s_producer(g, in->b, from);
         if (!s1 || !s2 || s1 == s2 || s1->op != G_SQR || s2->op != G_SQR)
             continue;
-        gstep f = {m == 3 ? G_LEN2 : G_LEN3, 0, s1->a, s2->a, s3 ? s3->a : s1->a, sq->r};
+        gstep f = {m == 3 ? G_LEN2 : G_LEN3, 0, s1->a, s2->a, s3 ? s3->a : s1->a, sq->r, -1};
         gstep *dead[] = {s1, s2, add, in, s3};
         for (size_t k = 0; k < m; k++)
             g->val[dead[k]->r].buf = -3;
@@ -1804,7 +1845,8 @@ static void g_blocks(const gstep *step, size_t ns, glanes *buf, int res, size_t 
         }
         for (size_t j = 0; j < ns; j++) {
             const gstep *s = &step[j];
-            g_lanes(s->op, s->n, buf[s->a][0], buf[s->b][0], buf[s->c][0], buf[s->r][0]);
+            g_lanes(s->op, s->n, buf[s->a][0], buf[s->b][0], buf[s->c][0], buf[s->r][0],
+                    buf[s->r2 >= 0 ? s->r2 : s->r][0]);
         }
         double *G = grads ? grads + 3 * b0 : NULL;
         if (L == GB)
@@ -1836,8 +1878,11 @@ static int g_run_blocks(const geom_implicit_expr *e, size_t n, const double *p, 
     /* buffers: the seeds and the constants have their own; a step's result
      * takes a free one (none its operands use: the lanes are restrict) and
      * the step frees its operands' after their last use */
-    for (size_t j = 0; j < g.ns; j++)
+    for (size_t j = 0; j < g.ns; j++) {
         g.val[g.step[j].r].buf = -1;
+        if (g.step[j].r2 >= 0)
+            g.val[g.step[j].r2].buf = -1;
+    }
     for (size_t j = 0; j < g.ns; j++) {
         g.val[g.step[j].a].last = (int)j;
         g.val[g.step[j].b].last = (int)j;
@@ -1850,7 +1895,12 @@ static int g_run_blocks(const geom_implicit_expr *e, size_t n, const double *p, 
         gstep *s = &g.step[j];
         gval *v = &g.val[s->r];
         v->buf = nfree ? free_buf[--nfree] : nb++;
-        v->free = !r.g || s->r != r.id;
+        v->free = s->r != r.id;
+        if (s->r2 >= 0) {
+            gval *v2 = &g.val[s->r2];
+            v2->buf = nfree ? free_buf[--nfree] : nb++;
+            v2->free = s->r2 != r.id;
+        }
         int ops[3] = {s->a, s->b, s->c};
         for (int q = 0; q < 3; q++) {
             gval *o = &g.val[ops[q]];
@@ -1880,6 +1930,8 @@ static int g_run_blocks(const geom_implicit_expr *e, size_t n, const double *p, 
         s->b = g.val[s->b].buf;
         s->c = g.val[s->c].buf;
         s->r = g.val[s->r].buf;
+        if (s->r2 >= 0)
+            s->r2 = g.val[s->r2].buf;
     }
     g_blocks(g.step, g.ns, buf, g.val[r.id].buf, n, p, values, grads);
     ok = 1;
