@@ -259,6 +259,67 @@ static void test_expr_grad_batch_bitwise(void **state)
     free(grd);
 }
 
+/* An allocator that fails once its budget of allocations is spent (armed),
+ * for the gradient batch's unrolling: when it cannot allocate, the points
+ * go one by one, the same bits. */
+static int alloc_armed, alloc_budget, alloc_failed;
+static void *budget_alloc(void *user, size_t size)
+{
+    (void)user;
+    if (alloc_armed && alloc_budget-- <= 0) {
+        alloc_failed = 1;
+        return NULL;
+    }
+    return malloc(size);
+}
+static void *budget_realloc(void *user, void *p, size_t old_size, size_t size)
+{
+    (void)user;
+    (void)old_size;
+    if (alloc_armed && alloc_budget-- <= 0) {
+        alloc_failed = 1;
+        return NULL;
+    }
+    return realloc(p, size);
+}
+static void budget_free(void *user, void *p, size_t size)
+{
+    (void)user;
+    (void)size;
+    free(p);
+}
+
+static void test_expr_grad_batch_nomem(void **state)
+{
+    (void)state;
+    static const geom_allocator al = {budget_alloc, budget_realloc, budget_free, NULL};
+    const char *texts[] = {"smooth_union(capsule(-1, 0, 0, 1, 0.5, 0, 0.2), gyroid(4, 0.2), 0.3)",
+                           "torus(1, 0.3) + sin(x) * cos(x)"};
+    enum { NP = 100 };
+    double *p = points(NP, -2.0, 2.0), val[NP], grd[3 * NP];
+    for (size_t t = 0; t < sizeof texts / sizeof texts[0]; t++) {
+        geom_implicit_expr_options opt = {&al, 0, 0};
+        geom_implicit_expr *e = NULL;
+        assert_int_equal(geom_implicit_expr_compile(texts[t], strlen(texts[t]), &opt, &e, NULL),
+                         GEOM_OK);
+        int failures = 0;
+        for (int budget = 0; budget < 200; budget++) {
+            alloc_armed = 1;
+            alloc_budget = budget;
+            alloc_failed = 0;
+            check_grad(e, texts[t], NP, p, val, grd);
+            alloc_armed = 0;
+            failures += alloc_failed;
+            if (!alloc_failed)
+                break;
+        }
+        assert_true(failures > 3); /* the unrolling allocates several times */
+        assert_false(alloc_failed); /* and succeeds with enough memory */
+        geom_implicit_expr_destroy(e);
+    }
+    free(p);
+}
+
 /* geom_implicit_expr_eval_bounds_many: every box exactly the single call
  * (bounds bitwise, definedness), boxes flat, unbounded, outside a domain
  * and invalid (NaN bound, lo > hi: GEOM_ERR_INVALID_ARG, the other boxes
@@ -499,6 +560,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_expr_batch_bitwise),
         cmocka_unit_test(test_expr_grad_batch_bitwise),
+        cmocka_unit_test(test_expr_grad_batch_nomem),
         cmocka_unit_test(test_expr_bounds_many),
         cmocka_unit_test(test_square_is_product),
         cmocka_unit_test(test_volume_batch_bitwise),

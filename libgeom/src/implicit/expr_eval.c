@@ -1647,7 +1647,7 @@ GEOM__CLONE_INLINE void g_lanes(int op, int n, const double *restrict A, const d
 #undef G_LOAD
 }
 
-/* The recorder: a value is a constant (id < 0, its dual c) or the id of a
+/* The recorder: a value is a constant (g NULL, its dual c) or the id of a
  * buffer's lanes: 0, 1, 2 the seeds x, y, z, then constants used as lane
  * operands and the steps' results. */
 typedef struct gstep {
@@ -1786,6 +1786,10 @@ static gsym s_sqrt(gsym a)
         gstep *s1 = s_producer(g, in->a, from), *s2 = s_producer(g, in->b, from);
         if (!s1 || !s2 || s1 == s2 || s1->op != G_SQR || s2->op != G_SQR)
             continue;
+        /* the squares' operands come from before these steps */
+        if (s_producer(g, s1->a, from) || s_producer(g, s2->a, from) ||
+            (s3 && s_producer(g, s3->a, from)))
+            break;
         gstep f = {m == 3 ? G_LEN2 : G_LEN3, 0, s1->a, s2->a, s3 ? s3->a : s1->a, sq->r, -1};
         gstep *dead[] = {s1, s2, add, in, s3};
         for (size_t k = 0; k < m; k++)
