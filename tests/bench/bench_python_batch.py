@@ -61,8 +61,11 @@ def maxdiff(a, b):
     return float(np.abs(np.asarray(a) - np.asarray(b)).max())
 
 
-def run(name, ours, refs, loop):
-    """refs: (label, fn) numpy formulations; loop: per-point fn over NLOOP points."""
+def run(name, ours, refs, loop, copy=None):
+    """refs: (label, fn) numpy formulations; loop: per-point fn over NLOOP
+    points; copy: a plain numpy copy of the bytes ours reads and writes
+    (fresh output arrays, as the binding allocates them), its memory
+    bound."""
     w_o, c_o, r_o = best(ours)
     cols = []
     diff = 0.0
@@ -73,9 +76,12 @@ def run(name, ours, refs, loop):
         cols.append("%s %.4f/%.4f" % (label, w, c))
         bw, bc = min(bw, w), min(bc, c)
     lp = ""
+    if copy is not None:
+        w, c, _ = best(copy)
+        lp += "  copy %.4f/%.4f (ours/copy x%.2f cpu)" % (w, c, c_o / c)
     if LOOP:
         w, c, _ = best(loop, 1)
-        lp = "  loop %.1f s (x%.0f)" % (w / NLOOP * N, w / NLOOP * N / w_o)
+        lp += "  loop %.1f s (x%.0f)" % (w / NLOOP * N, w / NLOOP * N / w_o)
     print("%-19s ours %.4f/%.4f  numpy %s  ->  x%.2f wall, x%.2f cpu%s  max diff %.2g"
           % (name, w_o, c_o, "  ".join(cols), bw / w_o, bc / c_o, lp, diff))
     sys.stdout.flush()
@@ -148,9 +154,19 @@ def np_persp(l, w):
 run("bary.perspective", lambda: geom.bary.perspective(lw, ww),
     [("plain", lambda: np_persp(lw, ww))],
     lambda: [np_persp(lw[i:i + 1], ww[i:i + 1]) for i in range(NLOOP)])
+
+
+def copy_interp():
+    # read the weights (n, 3), write n x 4 values: 24 + 32 bytes a row
+    o = np.empty(lw.shape[0] * attr.shape[1])
+    o[:lw.size] = lw.reshape(-1)
+    o[lw.size:].fill(0.0)
+    return o
+
+
 run("bary.interpolate", lambda: geom.bary.interpolate(lw, attr),
     [("plain", lambda: lw @ attr)],
-    lambda: [lw[i] @ attr for i in range(NLOOP)])
+    lambda: [lw[i] @ attr for i in range(NLOOP)], copy_interp)
 
 # predicates: libgeom's are exact in sign; numpy has no exact predicate, so
 # the peer is the float determinant (not robust: wrong signs near zero) ----
@@ -172,9 +188,22 @@ def np_incircle(a, b, c, d):
     return np.linalg.det(m)
 
 
+
+
+def copy_orient2d():
+    # the 48 bytes a row orient2d reads (a max reduction: one pass, nothing
+    # written) and the 8 it writes (a fresh array filled)
+    s = 0.0
+    for x in p2[:3]:
+        s += np.maximum.reduce(x.reshape(-1))
+    o = np.empty(N)
+    o.fill(s)
+    return o
+
+
 run("core.orient2d", lambda: geom.orient2d(*p2[:3]),
     [("float", lambda: np_orient2d(*p2[:3]))],
-    lambda: [np_orient2d(*[x[i:i + 1] for x in p2[:3]]) for i in range(NLOOP)])
+    lambda: [np_orient2d(*[x[i:i + 1] for x in p2[:3]]) for i in range(NLOOP)], copy_orient2d)
 run("core.orient3d", lambda: geom.orient3d(*p3),
     [("float", lambda: np_orient3d(*p3))],
     lambda: [np_orient3d(*[x[i:i + 1] for x in p3]) for i in range(NLOOP)])
@@ -314,9 +343,21 @@ def np_sphere_grad(pts):
     return r, g
 
 
+
+
+def copy_grad(pts):
+    # read the points, write values and gradients: 24 + 32 bytes a point
+    g = np.empty_like(pts)
+    np.copyto(g, pts)
+    v = np.empty(pts.shape[0])
+    v.fill(0.0)
+    return v, g
+
+
 run("Expression.gradient", lambda: e.gradient(pts),
     [("plain", lambda: np_sphere_grad_plain(pts)), ("tuned", lambda: np_sphere_grad(pts))],
-    lambda: [np_sphere_grad_plain(x.reshape(1, 3)) for x in pts[:NLOOP]])
+    lambda: [np_sphere_grad_plain(x.reshape(1, 3)) for x in pts[:NLOOP]],
+    lambda: copy_grad(pts))
 
 # a torus: a program the distance-shaped kernel does not take (the general
 # batch); numpy: q = |(x, y)|, d = |(q - R, z)|, f = d - r, grad = ((q - R)/d
@@ -340,7 +381,7 @@ def np_torus_grad(pts):
 
 run("Expression.gradient(torus)", lambda: et.gradient(pts),
     [("tuned", lambda: np_torus_grad(pts))],
-    lambda: [np_torus_grad(x.reshape(1, 3)) for x in pts[:NLOOP]])
+    lambda: [np_torus_grad(x.reshape(1, 3)) for x in pts[:NLOOP]], lambda: copy_grad(pts))
 
 # volume: trilinear interpolation ------------------------------------------
 vol = geom.Volume(rng.uniform(0, 1, (32, 32, 32)).astype(np.float32))
@@ -410,3 +451,21 @@ def np_tri_grad(vp):
 run("Volume.eval(grad)", lambda: vol.eval(vp, gradient=True)[1],
     [("tuned", lambda: np_tri_grad(vp))],
     lambda: [np_tri_grad(x.reshape(1, 3)) for x in vp[:NLOOP]])
+
+# implicit: interval bounds over boxes -----------------------------------------
+# numpy has no interval arithmetic: the peer is the one-box-per-call loop
+# the binding offered before the batch (same C evaluator per box).
+NB = min(N, 100000)
+bc = rng.uniform(-1.5, 1.5, (NB, 3))
+br = rng.uniform(0, 0.2, (NB, 3))
+blo, bhi = bc - br, bc + br
+eb = geom.Expression("min(torus(1, 0.3), box(0.5, 0.5, 0.5))")
+w_s, c_s, _ = best(lambda: [eb.bounds(blo[i], bhi[i]) for i in range(min(NB, 20000))], 1)
+scale = NB / min(NB, 20000)
+try:
+    w_o, c_o, r_o = best(lambda: eb.bounds(blo, bhi), 3)
+except ValueError:      # a binding without the batch (one box per call)
+    w_o, c_o = w_s * scale, c_s * scale
+print("%-19s %d boxes: ours %.4f/%.4f  per-box calls %.4f/%.4f (scaled)  ->  x%.2f wall, "
+      "x%.2f cpu" % ("Expression.bounds", NB, w_o, c_o, w_s * scale, c_s * scale,
+                     w_s * scale / w_o, c_s * scale / c_o))

@@ -229,25 +229,46 @@ static void test_perspective_many(void **state)
 }
 
 /* geom_bary_interpolate_many against geom_bary_interpolate, bitwise, and
- * against a closed form: interpolating the vertex positions gives p. */
+ * against a closed form: interpolating the vertex positions gives p. Every
+ * k and ncomp the batch has a loop of its own (k 3, 4; ncomp 1..4) and
+ * others, with signed zeros (0 + -0 is +0: the sums' order shows), NaN
+ * and infinite weights. */
 static void test_interpolate_many(void **state)
 {
     (void)state;
     enum { M = 500, K = 4, C = 5 };
     static double l[K * M], attr[K * C], got[C * M];
-    for (size_t i = 0; i < K * M; i++)
-        l[i] = 2.0 * urand() - 0.5;
-    for (size_t i = 0; i < K * C; i++)
-        attr[i] = 1e8 + urand();
+    static const double edge[] = {0.0, -0.0, 1e-310, -1e300, 1e300};
+    for (size_t k = 2; k <= K; k++)
+        for (size_t nc = 1; nc <= C; nc++) {
+            for (size_t i = 0; i < K * M; i++)
+                l[i] = i % 7 == 0 ? edge[(i / 7) % 5] : 2.0 * urand() - 0.5;
+            for (size_t i = 0; i < K * C; i++)
+                attr[i] = i % 3 == 0 ? edge[(i / 3 + k) % 5] : 1e8 + urand();
+            l[K * 3 + 1] = NAN;
+            l[K * 4 + 2] = INFINITY;
+            size_t m = M - k - nc; /* odd row counts too */
+            assert_int_equal(geom_bary_interpolate_many(m, k, l, nc, attr, got), GEOM_OK);
+            for (size_t i = 0; i < m; i++) {
+                double want[C];
+                assert_int_equal(geom_bary_interpolate(k, l + k * i, nc, attr, want), GEOM_OK);
+                for (size_t j = 0; j < nc; j++)
+                    assert_true(isnan(want[j]) ? isnan(got[nc * i + j])
+                                               : same_bits(got[nc * i + j], want[j]));
+            }
+        }
+    /* out over the weights (in place, k == ncomp): what the single
+     * function does row by row in place */
+    double ref[3 * 10];
+    for (size_t i = 0; i < 3 * 10; i++)
+        l[i] = ref[i] = urand();
+    for (size_t i = 0; i < 10; i++)
+        assert_int_equal(geom_bary_interpolate(3, ref + 3 * i, 3, attr, ref + 3 * i), GEOM_OK);
+    assert_int_equal(geom_bary_interpolate_many(10, 3, l, 3, attr, l), GEOM_OK);
+    for (size_t i = 0; i < 3 * 10; i++)
+        assert_true(same_bits(l[i], ref[i]));
     l[K * 3 + 1] = NAN;
-    l[K * 4 + 2] = INFINITY;
     assert_int_equal(geom_bary_interpolate_many(M, K, l, C, attr, got), GEOM_OK);
-    for (size_t i = 0; i < M; i++) {
-        double want[C];
-        assert_int_equal(geom_bary_interpolate(K, l + K * i, C, attr, want), GEOM_OK);
-        for (size_t j = 0; j < C; j++)
-            assert_true(isnan(want[j]) ? isnan(got[C * i + j]) : same_bits(got[C * i + j], want[j]));
-    }
     assert_true(isnan(got[C * 3]));
     /* tri2 weights reproduce the point */
     const double tri[6] = {0, 0, 4, 0, 0, 2}, p[2] = {1, 0.5};

@@ -70,6 +70,14 @@ static const char *const exprs[] = {
     "ellipsoid(x, 1, 0)", "box(0.3, 0.1, -0.2, 0.5, 0.7, 0.2)", "box(x, 0.5, y)",
     "cylinder(0.3, 0.1, -0.2, 0.5, 0.8)", "cylinder(z, x)", "plane(x, 0, 1, y)",
     "min(torus(1, 0.3), box(0.5, 0.5, 0.5)) + sphere(0.3, 0.1, -0.2, 0.4)",
+    /* capsule and the gyroids (the gradient batch unrolls every primitive
+     * into its operations): point-dependent arguments, a zero-length
+     * segment (den = 0), the time */
+    "capsule(x, 0, 0, 1, y, 0, 0.2)", "capsule(0.3, 0.1, -0.2, 0.3, 0.1, -0.2, 0.5)",
+    "capsule(0, 0, 0, 0, 0, t, z)", "gyroid(x + 3)", "gyroid(t, z)", "gyroid(0)",
+    "smooth_union(capsule(-1, 0, 0, 1, 0.5, 0, t), gyroid(4, 0.2), 0.3)",
+    /* the sine and cosine of one operand in one step, either first */
+    "sin(x) * cos(x)", "cos(y) - sin(y) + sin(y)", "sin(z) + cos(z + 1) + cos(z)",
 };
 
 /* A program n levels deep: x+(x+(...(x)...)). */
@@ -249,6 +257,125 @@ static void test_expr_grad_batch_bitwise(void **state)
     free(p);
     free(val);
     free(grd);
+}
+
+/* An allocator that fails once its budget of allocations is spent (armed),
+ * for the gradient batch's unrolling: when it cannot allocate, the points
+ * go one by one, the same bits. */
+static int alloc_armed, alloc_budget, alloc_failed;
+static void *budget_alloc(void *user, size_t size)
+{
+    (void)user;
+    if (alloc_armed && alloc_budget-- <= 0) {
+        alloc_failed = 1;
+        return NULL;
+    }
+    return malloc(size);
+}
+static void *budget_realloc(void *user, void *p, size_t old_size, size_t size)
+{
+    (void)user;
+    (void)old_size;
+    if (alloc_armed && alloc_budget-- <= 0) {
+        alloc_failed = 1;
+        return NULL;
+    }
+    return realloc(p, size);
+}
+static void budget_free(void *user, void *p, size_t size)
+{
+    (void)user;
+    (void)size;
+    free(p);
+}
+
+static void test_expr_grad_batch_nomem(void **state)
+{
+    (void)state;
+    static const geom_allocator al = {budget_alloc, budget_realloc, budget_free, NULL};
+    const char *texts[] = {"smooth_union(capsule(-1, 0, 0, 1, 0.5, 0, 0.2), gyroid(4, 0.2), 0.3)",
+                           "torus(1, 0.3) + sin(x) * cos(x)"};
+    enum { NP = 100 };
+    double *p = points(NP, -2.0, 2.0), val[NP], grd[3 * NP];
+    for (size_t t = 0; t < sizeof texts / sizeof texts[0]; t++) {
+        geom_implicit_expr_options opt = {&al, 0, 0};
+        geom_implicit_expr *e = NULL;
+        assert_int_equal(geom_implicit_expr_compile(texts[t], strlen(texts[t]), &opt, &e, NULL),
+                         GEOM_OK);
+        int failures = 0;
+        for (int budget = 0; budget < 200; budget++) {
+            alloc_armed = 1;
+            alloc_budget = budget;
+            alloc_failed = 0;
+            check_grad(e, texts[t], NP, p, val, grd);
+            alloc_armed = 0;
+            failures += alloc_failed;
+            if (!alloc_failed)
+                break;
+        }
+        assert_true(failures > 3); /* the unrolling allocates several times */
+        assert_false(alloc_failed); /* and succeeds with enough memory */
+        geom_implicit_expr_destroy(e);
+    }
+    free(p);
+}
+
+/* geom_implicit_expr_eval_bounds_many: every box exactly the single call
+ * (bounds bitwise, definedness), boxes flat, unbounded, outside a domain
+ * and invalid (NaN bound, lo > hi: GEOM_ERR_INVALID_ARG, the other boxes
+ * still written). */
+static void test_expr_bounds_many(void **state)
+{
+    (void)state;
+    enum { NB = 300 };
+    static double lo[3 * NB], hi[3 * NB], out[2 * NB];
+    static int defined[NB];
+    const char *texts[] = {"torus(1, 0.3)", "sqrt(x) - y", "log(x + y) * z",
+                           "smooth_union(sphere(0.5), capsule(0, 0, 0, 1, 1, 1, 0.1), 0.2)",
+                           "gyroid(4, 0.2) + t"};
+    static double p[3 * NB], w[3 * NB];
+    for (size_t i = 0; i < 3 * NB; i++) {
+        p[i] = 4.0 * urand() - 2.0;
+        w[i] = 0.7 * urand();
+        lo[i] = p[i] - (i % 11 == 0 ? 0.0 : fabs(w[i]));
+        hi[i] = p[i] + (i % 13 == 0 ? INFINITY : fabs(w[i]));
+    }
+    lo[3 * 7] = -INFINITY;
+    for (size_t t = 0; t < sizeof texts / sizeof texts[0]; t++) {
+        geom_implicit_expr *e = NULL;
+        assert_int_equal(geom_implicit_expr_compile(texts[t], strlen(texts[t]), NULL, &e, NULL),
+                         GEOM_OK);
+        for (int bad = 0; bad < 2; bad++) {
+            double keep = lo[3 * 5 + 1];
+            if (bad)
+                lo[3 * 5 + 1] = hi[3 * 5 + 1] + 1.0; /* lo > hi in box 5 */
+            memset(defined, 0x55, sizeof defined);
+            assert_int_equal(geom_implicit_expr_eval_bounds_many(e, NB, lo, hi, out, defined),
+                             bad ? GEOM_ERR_INVALID_ARG : GEOM_OK);
+            for (size_t i = 0; i < NB; i++) {
+                double want[2];
+                int wd = -1;
+                geom_status st = geom_implicit_expr_eval_bounds(e, lo + 3 * i, hi + 3 * i, want, &wd);
+                assert_int_equal(st, bad && i == 5 ? GEOM_ERR_INVALID_ARG : GEOM_OK);
+                assert_true(same_bits_or_nan(out[2 * i], want[0]));
+                assert_true(same_bits_or_nan(out[2 * i + 1], want[1]));
+                assert_int_equal(defined[i], wd);
+            }
+            lo[3 * 5 + 1] = keep;
+        }
+        lo[3 * 9] = NAN;
+        assert_int_equal(geom_implicit_expr_eval_bounds_many(e, NB, lo, hi, out, defined),
+                         GEOM_ERR_INVALID_ARG);
+        assert_true(isnan(out[18]) && isnan(out[19]) && defined[9] == 0);
+        lo[3 * 9] = p[3 * 9] - fabs(w[3 * 9]);
+        assert_int_equal(geom_implicit_expr_eval_bounds_many(e, 0, NULL, NULL, NULL, NULL),
+                         GEOM_OK);
+        assert_int_equal(geom_implicit_expr_eval_bounds_many(e, 1, lo, hi, NULL, defined),
+                         GEOM_ERR_INVALID_ARG);
+        geom_implicit_expr_destroy(e);
+    }
+    assert_int_equal(geom_implicit_expr_eval_bounds_many(NULL, 1, lo, hi, out, defined),
+                     GEOM_ERR_INVALID_ARG);
 }
 
 /* x^2 and pow(x, 2) are x*x (the correctly rounded square; the C library's
@@ -433,6 +560,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_expr_batch_bitwise),
         cmocka_unit_test(test_expr_grad_batch_bitwise),
+        cmocka_unit_test(test_expr_grad_batch_nomem),
+        cmocka_unit_test(test_expr_bounds_many),
         cmocka_unit_test(test_square_is_product),
         cmocka_unit_test(test_volume_batch_bitwise),
     };

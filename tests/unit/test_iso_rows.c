@@ -13,17 +13,9 @@
 #include <string.h>
 
 #include "geom/iso.h"
-
-/* implicit_internal.h's declaration (that header needs the library's own
- * include path); the static library the tests link exports it. */
-void geom__implicit_expr_row(const geom_implicit_expr *e, size_t n, const double *x, double y,
-                             double z, double *out);
-typedef struct geom__expr_rows geom__expr_rows;
-geom_status geom__implicit_expr_rows_create(const geom_implicit_expr *e,
-                                            const geom_allocator *a, geom__expr_rows **out);
-void geom__implicit_expr_rows(geom__expr_rows *r, size_t n, const double *x, double y, double z,
-                              double *out);
-void geom__implicit_expr_rows_destroy(geom__expr_rows *r);
+/* the row evaluator (the static library the tests link exports it; the
+ * library's include path is this test's, tests/CMakeLists.txt) */
+#include "implicit/implicit_internal.h"
 
 static uint64_t rng_state = 0x2545F4914F6CDD1Dull;
 

@@ -1039,6 +1039,8 @@ double geom_implicit_bracket_root(geom_implicit_root_fn fn, void *user, double a
     fa, double fb, double x, int max_iterations, size_t *evaluations);
 geom_status geom_implicit_expr_eval_bounds(const geom_implicit_expr *e, const double lo[3],
     const double hi[3], double out[2], int *defined);
+geom_status geom_implicit_expr_eval_bounds_many(const geom_implicit_expr *e, size_t n, const
+    double *lo, const double *hi, double *out, int *defined);
 typedef double (*geom_implicit_value_fn)(void *user, const double p[3]);
 typedef double (*geom_implicit_grad_fn)(void *user, const double p[3], double grad[3]);
 typedef void (*geom_implicit_values_fn)(void *user, size_t n, const double *p, double *out);

@@ -151,7 +151,7 @@ def interpolate(weights, attributes):
     k, ncomp = A.shape
     W, single = as_points(weights, k, "weights")
     n = W.shape[0]
-    out = np.zeros((n, ncomp), dtype=np.float64)
+    out = np.empty((n, ncomp), dtype=np.float64)  # every element written
     st = lib.geom_bary_interpolate_many(n, k, ffi.from_buffer("double[]", W), ncomp,
                                         ffi.from_buffer("double[]", A),
                                         ffi.from_buffer("double[]", out))

@@ -134,19 +134,37 @@ class Expression:
         sqrt, log or a non-integer power. (nan, nan) when f is defined
         nowhere in the box. The bounds are rigorous, not tight (interval
         arithmetic overestimates where a variable occurs more than once).
-        Raises GeomError (ERR_INVALID_ARG) for NaN bounds or lo > hi;
-        ValueError for shapes other than (3,). One box per call: libgeom
-        has no batch form."""
-        a = np.ascontiguousarray(lo, dtype=np.float64)
-        b = np.ascontiguousarray(hi, dtype=np.float64)
-        if a.shape != (3,) or b.shape != (3,):
+        Many boxes: lo and hi (..., 3) arrays (broadcast against each
+        other) give lower, upper (float arrays) and defined (a bool array)
+        of shape (...), in one C call (geom_implicit_expr_eval_bounds_many),
+        each box exactly what the single call gives.
+        Raises GeomError (ERR_INVALID_ARG) for NaN bounds or lo > hi (in
+        any box); ValueError when the last axis is not 3."""
+        a = np.asarray(lo, dtype=np.float64)
+        b = np.asarray(hi, dtype=np.float64)
+        if a.shape[-1:] != (3,) or b.shape[-1:] != (3,):
             raise ValueError("lo and hi: 3 coordinates each, got shapes %s and %s"
                              % (a.shape, b.shape))
-        out = ffi.new("double[2]")
-        defined = ffi.new("int *")
-        check(lib.geom_implicit_expr_eval_bounds(self._ptr, dptr(a), dptr(b), out, defined),
-              context="bounds")
-        return float(out[0]), float(out[1]), bool(defined[0])
+        if a.shape == (3,) and b.shape == (3,):
+            a, b = np.ascontiguousarray(a), np.ascontiguousarray(b)
+            out = ffi.new("double[2]")
+            defined = ffi.new("int *")
+            check(lib.geom_implicit_expr_eval_bounds(self._ptr, dptr(a), dptr(b), out, defined),
+                  context="bounds")
+            return float(out[0]), float(out[1]), bool(defined[0])
+        a, b = np.broadcast_arrays(a, b)
+        shape = a.shape[:-1]
+        a = np.ascontiguousarray(a.reshape(-1, 3))
+        b = np.ascontiguousarray(b.reshape(-1, 3))
+        n = a.shape[0]
+        out = np.empty((n, 2))
+        defined = np.empty(n, dtype=np.intc)
+        if n:
+            check(lib.geom_implicit_expr_eval_bounds_many(
+                self._ptr, n, dptr(a), dptr(b), dptr(out),
+                ffi.from_buffer("int[]", defined)), context="bounds")
+        return (out[:, 0].reshape(shape), out[:, 1].reshape(shape),
+                defined.astype(bool).reshape(shape))
 
 
 def _iso_options(iso, refine, normals, caps, error, threads):

@@ -160,3 +160,37 @@ def test_bounds_bad_input():
         e.bounds([np.nan, 0, 0], [1, 1, 1])
     with pytest.raises(ValueError):
         e.bounds([0, 0], [1, 1])
+
+
+@pytest.mark.parametrize("text", EXPRS + ["sqrt(x) + log(y)"])
+def test_bounds_of_many_boxes_are_the_single_calls(text):
+    e = geom.Expression(text)
+    rng = np.random.default_rng(5)
+    c = rng.uniform(-1.5, 1.5, (4, 50, 3))
+    r = rng.uniform(0, 0.8, (4, 50, 3))
+    r[0, :7, 1] = 0.0                                         # flat boxes
+    r[1, 3, 2] = np.inf                                       # unbounded
+    lo, hi = c - r, c + r
+    low, up, defined = e.bounds(lo, hi)
+    assert low.shape == up.shape == defined.shape == (4, 50) and defined.dtype == bool
+    for idx in np.ndindex(4, 50):
+        one = e.bounds(lo[idx], hi[idx])
+        assert np.array_equal([low[idx], up[idx]], one[:2], equal_nan=True)
+        assert defined[idx] == one[2]
+    # one corner broadcast against many
+    corner = np.full(3, -3.0)
+    low2, up2, _ = e.bounds(corner, hi)
+    one = e.bounds(corner, hi[2, 9])
+    assert np.array_equal([low2[2, 9], up2[2, 9]], one[:2], equal_nan=True)
+    assert e.bounds(np.zeros((0, 3)), np.zeros((0, 3)))[0].shape == (0,)
+
+
+def test_bounds_of_many_boxes_bad_input():
+    e = geom.Expression("x + y")
+    lo, hi = np.zeros((5, 3)), np.ones((5, 3))
+    lo[3, 1] = 2.0                                            # lo > hi in one box
+    with pytest.raises(geom.GeomError) as err:
+        e.bounds(lo, hi)
+    assert err.value.code == "ERR_INVALID_ARG"
+    with pytest.raises(ValueError):
+        e.bounds(np.zeros((5, 2)), np.ones((5, 2)))

@@ -268,6 +268,20 @@ GEOM_API geom_status geom_implicit_expr_eval_interval(const geom_implicit_expr *
 GEOM_API geom_status geom_implicit_expr_eval_bounds(const geom_implicit_expr *e, const double lo[3],
                                                    const double hi[3], double out[2], int *defined);
 
+/**
+ * geom_implicit_expr_eval_bounds over n boxes: box i is lo[3i..3i+2] ..
+ * hi[3i..3i+2] (lo and hi 3*n doubles); out receives 2*n doubles (box i's
+ * lower and upper bound at 2i, 2i+1) and defined n ints, each exactly what
+ * geom_implicit_expr_eval_bounds gives for the box (an invalid box, with a
+ * NaN bound or lo > hi, gets {NaN, NaN} and 0). One call for many boxes:
+ * bindings pay the call overhead once. Reentrant.
+ * Statuses: GEOM_OK; GEOM_ERR_INVALID_ARG for NULL pointers with n > 0
+ * (nothing written) or when some box is invalid (every box written).
+ */
+GEOM_API geom_status geom_implicit_expr_eval_bounds_many(const geom_implicit_expr *e, size_t n,
+                                                        const double *lo, const double *hi,
+                                                        double *out, int *defined);
+
 /* ------------------------------------------------------------------ fields */
 
 /** Value of a field at p (3 doubles). */

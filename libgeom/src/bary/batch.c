@@ -286,6 +286,35 @@ geom_status geom_bary_perspective_many(size_t n, const double *l, size_t sl, con
     return GEOM_OK;
 }
 
+/* n rows of k weights l into out (ncomp per row), each output the sum of
+ * geom_bary_interpolate in its order; with k and ncomp constants (the
+ * callers below) the row's sums become vector operations. */
+GEOM__CLONE_INLINE void interp_rows(size_t n, size_t k, const double *restrict l, size_t ncomp,
+                                    const double *restrict attr, double *restrict out)
+{
+    for (size_t r = 0; r < n; r++)
+        for (size_t j = 0; j < ncomp; j++) {
+            double s = 0.0;
+            for (size_t i = 0; i < k; i++)
+                s += l[k * r + i] * attr[i * ncomp + j];
+            out[ncomp * r + j] = s;
+        }
+}
+GEOM_SIMD_CLONES
+static void interp_many(size_t n, size_t k, const double *l, size_t ncomp, const double *attr,
+                        double *out)
+{
+#define INTERP_CASE(K, C)                                                                      \
+    if (k == K && ncomp == C) {                                                                \
+        interp_rows(n, K, l, C, attr, out);                                                    \
+        return;                                                                                \
+    }
+    INTERP_CASE(3, 1) INTERP_CASE(3, 2) INTERP_CASE(3, 3) INTERP_CASE(3, 4)
+    INTERP_CASE(4, 1) INTERP_CASE(4, 2) INTERP_CASE(4, 3) INTERP_CASE(4, 4)
+#undef INTERP_CASE
+    interp_rows(n, k, l, ncomp, attr, out);
+}
+
 geom_status geom_bary_interpolate_many(size_t n, size_t k, const double *l, size_t ncomp,
                                        const double *attr, double *out)
 {
@@ -293,7 +322,15 @@ geom_status geom_bary_interpolate_many(size_t n, size_t k, const double *l, size
         return GEOM_OK;
     if (!l || !attr || !out || k == 0)
         return GEOM_ERR_INVALID_ARG;
-    for (size_t i = 0; i < n; i++)
-        (void)geom_bary_interpolate(k, l + k * i, ncomp, attr, out + ncomp * i);
+    /* out over l or attr: row by row, as the single function does it */
+    uintptr_t o0 = (uintptr_t)out, o1 = (uintptr_t)(out + ncomp * n);
+    uintptr_t l0 = (uintptr_t)l, l1 = (uintptr_t)(l + k * n);
+    uintptr_t a0 = (uintptr_t)attr, a1 = (uintptr_t)(attr + k * ncomp);
+    if ((o0 < l1 && l0 < o1) || (o0 < a1 && a0 < o1)) {
+        for (size_t i = 0; i < n; i++)
+            (void)geom_bary_interpolate(k, l + k * i, ncomp, attr, out + ncomp * i);
+        return GEOM_OK;
+    }
+    interp_many(n, k, l, ncomp, attr, out);
     return GEOM_OK;
 }

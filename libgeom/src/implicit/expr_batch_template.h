@@ -1,7 +1,7 @@
 /*
  * The batch interpreter, written once over a numeric type like
- * expr_template.h and instantiated for double (values) and dual numbers
- * (values and gradients) by expr_eval.c: the program runs over up to
+ * expr_template.h and instantiated for double (values) by expr_eval.c (the
+ * gradients have blocks of their own): the program runs over up to
  * BATCH_LANES points at a time, so the dispatch is paid once per
  * instruction and lane group, and simple operations become loops the
  * compiler vectorises. Each lane does exactly what F(run) does, so the

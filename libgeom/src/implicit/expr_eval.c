@@ -70,7 +70,7 @@ static inline double d_atan2(double a, double b) { return atan2(a, b); }
 #undef F
 
 /* Batch evaluation (expr_batch_template.h): LANES points at a time. */
-enum { LANES = 32, GLANES = 16, BATCH_STACK = 64 };
+enum { LANES = 32, BATCH_STACK = 64 };
 
 #define NUM double
 #define F(name) d_##name
@@ -1012,9 +1012,7 @@ GEOM__CLONE_INLINE dual g_atan2(dual y, dual x)
 
 #define NUM dual
 #define F(name) g_##name
-#define F_INLINE GEOM__CLONE_INLINE /* one lane loop per primitive in g_step */
 #include "implicit/expr_template.h"
-#undef F_INLINE
 #undef NUM
 #undef F
 
@@ -1436,40 +1434,6 @@ double geom_implicit_expr_eval_grad(const geom_implicit_expr *e, const double p[
     return r.v;
 }
 
-/* Batch of value-and-gradient evaluations: as d_run_batch, over GLANES
- * points at a time with dual numbers; identical to g_run per point. */
-#define NUM dual
-#define F(name) g_##name
-#define BATCH_LANES GLANES
-#include "implicit/expr_batch_template.h"
-#undef BATCH_LANES
-#undef NUM
-#undef F
-
-static void g_run_batch(const expr_ins *code, size_t ncode, size_t n, const double *p, double t,
-                        double *vals, double *grads)
-{
-    dual X[GLANES], Y[GLANES], Z[GLANES], R[GLANES];
-    for (size_t base = 0; base < n; base += GLANES) {
-        size_t L = n - base < GLANES ? n - base : GLANES;
-        const double *P = p + 3 * base;
-        for (size_t l = 0; l < L; l++) {
-            dual x = {P[3 * l], {1.0, 0.0, 0.0}};
-            dual y = {P[3 * l + 1], {0.0, 1.0, 0.0}};
-            dual z = {P[3 * l + 2], {0.0, 0.0, 1.0}};
-            X[l] = x;
-            Y[l] = y;
-            Z[l] = z;
-        }
-        g_run_lanes(code, ncode, L, X, Y, Z, g_cst(t), R);
-        for (size_t l = 0; l < L; l++) {
-            vals[base + l] = R[l].v;
-            if (grads)
-                memcpy(grads + 3 * (base + l), R[l].d, 3 * sizeof(double));
-        }
-    }
-}
-
 /* The distance-shaped programs for gradients: U((x*x + y*y) + z*z) [B c]
  * with each square x*x or x^2, U sqrt or none (uop 0), B one of + - * / or
  * none (bop 0); sphere(c) is sqrt((x^2 + y^2) + z^2) - c. *uop, *bop, *c
@@ -1593,332 +1557,394 @@ static void g_run_len(int uop, int bop, double c, size_t n, const double *restri
 #undef GL_ADD
 #undef GL_LOOP
 
-/* Blocks of GB points for the other programs, as the value blocks: a plan
- * per call (g_plan) in which every stack slot holds GB lanes of each of
- * the dual number's four components (value, d/dx, d/dy, d/dz) or one dual
- * constant; an operation on constants only is done once on them (the same
- * g_* function), x, y and z push their seeds (unit and zero lanes), and
- * each other operation is one step: a lane loop applying its g_* function
- * to the lanes of its operands (constants given as filled lanes). Every
- * lane does exactly g_run's operations: bitwise g_run. */
-enum { GB = 32 };
-typedef struct gstep {
-    int op, k;
-    const expr_ins *in;
-    const double *a[8][4]; /* operand q's component lanes */
-    double *r[4];
-} gstep;
-typedef struct gwork {
-    _Alignas(64) double X[GB];
-    double Y[GB], Z[GB], one[GB], zero[GB];
-    double buf[XSTACK][2][4][GB];
-} gwork;
+/* Blocks of GB points for the other programs: the program is unrolled once
+ * per call into steps of the elementary dual operations (expr_template.h
+ * instantiated over s_*, a type that records instead of computing: the
+ * primitives, smin and clamp become their g_* operations in the order g_run
+ * does them). Each step applies one g_* function lane by lane over GB
+ * points whose four components (value, d/dx, d/dy, d/dz) lie in separate
+ * arrays (a buffer of glanes), in a loop the compiler vectorises; an
+ * operation on constants only is done once, as g_run does it; x, y and z
+ * are buffers of the points' coordinates and the seeds' unit and zero
+ * derivatives. Every lane does exactly g_run's operations: bitwise g_run.
+ * The lengths the shapes are made of, sqrt(sqr(a) + sqr(b)) and
+ * sqrt((sqr(a) + sqr(b)) + sqr(c)), are one step each (G_LEN2, G_LEN3:
+ * the same g_* operations, without the memory round trips between them);
+ * the sine and the cosine of the same operand (the gyroids) are one step
+ * with two results (G_SINCOS), so each lane calls sincos once for both. */
+enum { GB = 32, G_SQR = OP_COUNT, G_LEN2, G_LEN3, G_SINCOS }; /* not opcodes */
+typedef double glanes[4][GB];
 
-/* The plan of e over w (max_stack <= XSTACK) into plan (e->n steps at
- * most), constants' lanes in kc (4 * e->n rows of GB): the number of
- * steps; res gets the result's lanes, or res[0] NULL and *res_c its
- * value. */
-static size_t g_plan(const geom_implicit_expr *e, gwork *w, double (*kc)[GB], gstep *plan,
-                     const double **res, dual *res_c)
+/* op applied to a (and b): EXPR of a, b and n (OP_POWI's exponent) */
+#define G_OPS(X)                                                                               \
+    X(OP_ADD, g_add(a, b)) X(OP_SUB, g_sub(a, b)) X(OP_MUL, g_mul(a, b))                       \
+    X(OP_DIV, g_div(a, b)) X(OP_POW, g_pow(a, b)) X(OP_MIN, g_min(a, b))                       \
+    X(OP_MAX, g_max(a, b)) X(OP_ATAN2, g_atan2(a, b)) X(OP_NEG, g_neg(a))                      \
+    X(G_SQR, g_sqr(a)) X(OP_SQRT, g_sqrt(a)) X(OP_ABS, g_abs(a)) X(OP_SIN, g_sin(a))           \
+    X(OP_COS, g_cos(a)) X(OP_TAN, g_tan(a)) X(OP_EXP, g_exp(a)) X(OP_LOG, g_log(a))
+
+static dual g_apply(int op, int n, dual a, dual b)
 {
-    const double *v[XSTACK][4]; /* a slot's lanes, v[q][0] NULL: the constant c[q] */
-    dual c[XSTACK];
-    size_t sp = 0, ns = 0, nk = 0;
-    v[0][0] = NULL;
-    c[0] = g_cst(NAN);
-    for (int l = 0; l < GB; l++) {
-        w->one[l] = 1.0;
-        w->zero[l] = 0.0;
+#define G_APPLY(OP, EXPR)                                                                      \
+    case OP: return EXPR;
+    switch (op) {
+    G_OPS(G_APPLY)
+    case OP_POWI: return g_powi(a, n);
+    default: return g_nan();
     }
-    for (size_t i = 0; i < e->n; i++) {
-        const expr_ins *in = &e->code[i];
-        const double *seed[3][4] = {{w->X, w->one, w->zero, w->zero},
-                                    {w->Y, w->zero, w->one, w->zero},
-                                    {w->Z, w->zero, w->zero, w->one}};
-        switch ((expr_op)in->op) {
-        case OP_CONST: v[sp][0] = NULL; c[sp++] = g_cst(in->c); continue;
-        case OP_T: v[sp][0] = NULL; c[sp++] = g_cst(e->t); continue;
-        case OP_X: case OP_Y: case OP_Z:
-            memcpy(v[sp++], seed[in->op - OP_X], sizeof v[0]);
-            continue;
-        case OP_COUNT: continue;
-        default: break;
-        }
-        int op = in->op, prim = op >= OP_SPHERE1;
-        size_t k = (size_t)geom__implicit_op_arity(op), first = sp - k;
-        int lanes = prim;
-        for (size_t q = first; q < sp; q++)
-            lanes |= v[q][0] != NULL;
-        if (!lanes) { /* constants only: folded, as g_run does it */
-            dual *a = &c[first], r;
-            switch ((expr_op)op) {
-            case OP_ADD: r = g_add(a[0], a[1]); break;
-            case OP_SUB: r = g_sub(a[0], a[1]); break;
-            case OP_MUL: r = g_mul(a[0], a[1]); break;
-            case OP_DIV: r = g_div(a[0], a[1]); break;
-            case OP_POW: r = g_pow(a[0], a[1]); break;
-            case OP_MIN: r = g_min(a[0], a[1]); break;
-            case OP_MAX: r = g_max(a[0], a[1]); break;
-            case OP_ATAN2: r = g_atan2(a[0], a[1]); break;
-            case OP_NEG: r = g_neg(a[0]); break;
-            case OP_POWI: r = g_powi(a[0], in->n); break;
-            case OP_SQRT: r = g_sqrt(a[0]); break;
-            case OP_ABS: r = g_abs(a[0]); break;
-            case OP_SIN: r = g_sin(a[0]); break;
-            case OP_COS: r = g_cos(a[0]); break;
-            case OP_TAN: r = g_tan(a[0]); break;
-            case OP_EXP: r = g_exp(a[0]); break;
-            case OP_LOG: r = g_log(a[0]); break;
-            case OP_CLAMP: r = g_clamp(a[0], a[1], a[2]); break;
-            case OP_SMIN: r = g_smin(a[0], a[1], a[2]); break;
-            default: r = g_neg(g_smin(g_neg(a[0]), g_neg(a[1]), a[2])); break; /* OP_SMAX */
-            }
-            c[first] = r;
-            sp = first + 1;
-            continue;
-        }
-        gstep *s = &plan[ns++];
-        s->op = op;
-        s->k = (int)k;
-        s->in = in;
-        for (size_t q = 0; q < k; q++) {
-            if (v[first + q][0]) {
-                memcpy(s->a[q], v[first + q], sizeof s->a[q]);
-                continue;
-            }
-            const dual *cq = &c[first + q]; /* a constant: its four lanes */
-            double comp[4] = {cq->v, cq->d[0], cq->d[1], cq->d[2]};
-            for (int m = 0; m < 4; m++) {
-                for (int l = 0; l < GB; l++)
-                    kc[nk][l] = comp[m];
-                s->a[q][m] = kc[nk++];
-            }
-        }
-        /* the slot's other buffer (k == 0: a push, the unused one) */
-        int b = k > 0 && v[first][0] == w->buf[first][0][0];
-        if (k == 0)
-            b = 1;
-        for (int m = 0; m < 4; m++)
-            v[first][m] = s->r[m] = w->buf[first][b][m];
-        sp = first + 1;
-    }
-    memcpy(res, v[0], sizeof v[0]);
-    *res_c = c[0];
-    return ns;
+#undef G_APPLY
 }
 
-/* One step over GB lanes: operand q's components through restrict
- * pointers Aq0..Aq3, the result's R0..R3 (a slot buffer no operand uses). */
-#define G_PTRS(q)                                                                              \
-    const double *restrict A##q##0 = s->a[q][0], *restrict A##q##1 = s->a[q][1];               \
-    const double *restrict A##q##2 = s->a[q][2], *restrict A##q##3 = s->a[q][3]
-#define G_LOAD(q, l)                                                                           \
-    {                                                                                          \
-        A##q##0[l], { A##q##1[l], A##q##2[l], A##q##3[l] }                                     \
-    }
-#define G_STORE(R, l)                                                                          \
-    do {                                                                                       \
-        dual r_ = (R);                                                                         \
-        R0[l] = r_.v;                                                                          \
-        R1[l] = r_.d[0];                                                                       \
-        R2[l] = r_.d[1];                                                                       \
-        R3[l] = r_.d[2];                                                                       \
-    } while (0)
-#define G_LOOP1(EXPR)                                                                          \
-    do {                                                                                       \
-        G_PTRS(0);                                                                             \
-        for (int l = 0; l < GB; l++) {                                                         \
-            dual A = G_LOAD(0, l);                                                             \
-            G_STORE((EXPR), l);                                                                \
-        }                                                                                      \
-    } while (0)
-#define G_LOOP2(FN)                                                                            \
-    do {                                                                                       \
-        G_PTRS(0);                                                                             \
-        G_PTRS(1);                                                                             \
-        for (int l = 0; l < GB; l++) {                                                         \
-            dual A = G_LOAD(0, l), B = G_LOAD(1, l);                                           \
-            G_STORE(FN(A, B), l);                                                              \
-        }                                                                                      \
-    } while (0)
-#define G_LOOP3(EXPR)                                                                          \
-    do {                                                                                       \
-        G_PTRS(0);                                                                             \
-        G_PTRS(1);                                                                             \
-        G_PTRS(2);                                                                             \
-        for (int l = 0; l < GB; l++) {                                                         \
-            dual A = G_LOAD(0, l), B = G_LOAD(1, l), C = G_LOAD(2, l);                         \
-            G_STORE((EXPR), l);                                                                \
-        }                                                                                      \
-    } while (0)
-/* A primitive of K arguments (1..6) over GB lanes: EXPR of the seeds x, y,
- * z and the arguments a[0..K-1] (each argument's lanes through its own
- * restrict pointers, so that the loop vectorises). */
-#define G_PTRS_1 G_PTRS(0)
-#define G_PTRS_2 G_PTRS_1; G_PTRS(1)
-#define G_PTRS_3 G_PTRS_2; G_PTRS(2)
-#define G_PTRS_4 G_PTRS_3; G_PTRS(3)
-#define G_PTRS_5 G_PTRS_4; G_PTRS(4)
-#define G_PTRS_6 G_PTRS_5; G_PTRS(5)
-#define G_ARGS_1 G_LOAD(0, l)
-#define G_ARGS_2 G_ARGS_1, G_LOAD(1, l)
-#define G_ARGS_3 G_ARGS_2, G_LOAD(2, l)
-#define G_ARGS_4 G_ARGS_3, G_LOAD(3, l)
-#define G_ARGS_5 G_ARGS_4, G_LOAD(4, l)
-#define G_ARGS_6 G_ARGS_5, G_LOAD(5, l)
-#define G_PRIM(K, EXPR)                                                                        \
-    do {                                                                                       \
-        const double *restrict WX = w->X, *restrict WY = w->Y, *restrict WZ = w->Z;            \
-        G_PTRS_##K;                                                                            \
-        for (int l = 0; l < GB; l++) {                                                         \
-            dual a[K] = {G_ARGS_##K};                                                          \
-            dual x = {WX[l], {1.0, 0.0, 0.0}};                                                 \
-            dual y = {WY[l], {0.0, 1.0, 0.0}};                                                 \
-            dual z = {WZ[l], {0.0, 0.0, 1.0}};                                                 \
-            G_STORE((EXPR), l);                                                                \
-        }                                                                                      \
-    } while (0)
-GEOM_SIMD_CLONES
-static void g_step(const gstep *s, const gwork *w)
+/* One step over GB lanes: the glanes A, B and C (B, C = A for a unary op,
+ * C = A for a binary one) into R (and R2, G_SINCOS's cosine). */
+GEOM__CLONE_INLINE void g_lanes(int op, int n, const double *restrict A, const double *restrict B,
+                                const double *restrict C, double *restrict R,
+                                double *restrict R2)
 {
-    double *restrict R0 = s->r[0], *restrict R1 = s->r[1];
-    double *restrict R2 = s->r[2], *restrict R3 = s->r[3];
-    switch ((expr_op)s->op) {
-    case OP_ADD: G_LOOP2(g_add); break;
-    case OP_SUB: G_LOOP2(g_sub); break;
-    case OP_MUL: G_LOOP2(g_mul); break;
-    case OP_DIV: G_LOOP2(g_div); break;
-    case OP_POW: G_LOOP2(g_pow); break;
-    case OP_MIN: G_LOOP2(g_min); break;
-    case OP_MAX: G_LOOP2(g_max); break;
-    case OP_ATAN2: G_LOOP2(g_atan2); break;
-    case OP_NEG: G_LOOP1(g_neg(A)); break;
+#define G_LOAD(X, x) dual x = {X[l], {X[GB + l], X[2 * GB + l], X[3 * GB + l]}}
+#define G_STORE(X, x)                                                                          \
+    do {                                                                                       \
+        X[l] = x.v;                                                                            \
+        X[GB + l] = x.d[0];                                                                    \
+        X[2 * GB + l] = x.d[1];                                                                \
+        X[3 * GB + l] = x.d[2];                                                                \
+    } while (0)
+#define G_LANES(EXPR)                                                                          \
+    for (int l = 0; l < GB; l++) {                                                             \
+        G_LOAD(A, a);                                                                          \
+        G_LOAD(B, b);                                                                          \
+        G_LOAD(C, c);                                                                          \
+        dual r = (EXPR);                                                                       \
+        (void)b;                                                                               \
+        (void)c;                                                                               \
+        G_STORE(R, r);                                                                         \
+    }
+#define G_CASE(OP, EXPR)                                                                       \
+    case OP: G_LANES(EXPR) break;
+    switch (op) {
+    G_OPS(G_CASE)
+    G_CASE(G_LEN2, g_sqrt(g_add(g_sqr(a), g_sqr(b))))
+    G_CASE(G_LEN3, g_sqrt(g_add(g_add(g_sqr(a), g_sqr(b)), g_sqr(c))))
     case OP_POWI:
-        if (s->in->n == 2)
-            G_LOOP1(g_powi(A, 2));
+        if (n == 2)
+            G_LANES(g_powi(a, 2))
         else
-            G_LOOP1(g_powi(A, s->in->n));
+            G_LANES(g_powi(a, n))
         break;
-    case OP_SQRT: G_LOOP1(g_sqrt(A)); break;
-    case OP_ABS: G_LOOP1(g_abs(A)); break;
-    case OP_SIN: G_LOOP1(g_sin(A)); break;
-    case OP_COS: G_LOOP1(g_cos(A)); break;
-    case OP_TAN: G_LOOP1(g_tan(A)); break;
-    case OP_EXP: G_LOOP1(g_exp(A)); break;
-    case OP_LOG: G_LOOP1(g_log(A)); break;
-    case OP_CLAMP: G_LOOP3(g_clamp(A, B, C)); break;
-    case OP_SMIN: G_LOOP3(g_smin(A, B, C)); break;
-    case OP_SMAX: G_LOOP3(g_neg(g_smin(g_neg(A), g_neg(B), C))); break;
-    /* the primitives of fixed shape: one lane loop each over the seeds
-     * and the arguments' lanes, g_prim's case inlined (the same g_*
-     * operations in the same order: bitwise g_prim) */
-    case OP_TORUS2: G_PRIM(2, g_torus(x, y, z, a[0], a[1])); break;
-    case OP_TORUS5:
-        G_PRIM(5, g_torus(g_sub(x, a[0]), g_sub(y, a[1]), g_sub(z, a[2]), a[3], a[4]));
-        break;
-    case OP_SPHERE1: G_PRIM(1, g_sub(g_len3(x, y, z), a[0])); break;
-    case OP_SPHERE4:
-        G_PRIM(4, g_sub(g_len3(g_sub(x, a[0]), g_sub(y, a[1]), g_sub(z, a[2])), a[3]));
-        break;
-    case OP_BOX3: G_PRIM(3, g_box(x, y, z, a[0], a[1], a[2])); break;
-    case OP_BOX6:
-        G_PRIM(6, g_box(g_sub(x, a[0]), g_sub(y, a[1]), g_sub(z, a[2]), a[3], a[4], a[5]));
-        break;
-    case OP_CYLINDER2: G_PRIM(2, g_cylinder(x, y, z, a[0], a[1])); break;
-    case OP_CYLINDER5:
-        G_PRIM(5, g_cylinder(g_sub(x, a[0]), g_sub(y, a[1]), g_sub(z, a[2]), a[3], a[4]));
-        break;
-    case OP_ELLIPSOID3: G_PRIM(3, g_ellipsoid(x, y, z, a[0], a[1], a[2])); break;
-    case OP_ELLIPSOID6:
-        G_PRIM(6, g_ellipsoid(g_sub(x, a[0]), g_sub(y, a[1]), g_sub(z, a[2]), a[3], a[4], a[5]));
-        break;
-    case OP_PLANE4: G_PRIM(4, g_plane(x, y, z, a[0], a[1], a[2], a[3])); break;
-    default: /* a primitive at the point's seeds */
+    case G_SINCOS:
         for (int l = 0; l < GB; l++) {
-            dual args[8];
-            for (int q = 0; q < s->k; q++) {
-                args[q].v = s->a[q][0][l];
-                for (int m = 0; m < 3; m++)
-                    args[q].d[m] = s->a[q][1 + m][l];
-            }
-            dual x = {w->X[l], {1.0, 0.0, 0.0}};
-            dual y = {w->Y[l], {0.0, 1.0, 0.0}};
-            dual z = {w->Z[l], {0.0, 0.0, 1.0}};
-            G_STORE(g_prim(s->op, x, y, z, s->k ? args : NULL), l);
+            G_LOAD(A, a);
+            dual r = g_sin(a), r2 = g_cos(a);
+            G_STORE(R, r);
+            G_STORE(R2, r2);
         }
         break;
+    default: break;
     }
-}
-#undef G_PRIM
-#undef G_ARGS_6
-#undef G_ARGS_5
-#undef G_ARGS_4
-#undef G_ARGS_3
-#undef G_ARGS_2
-#undef G_ARGS_1
-#undef G_PTRS_6
-#undef G_PTRS_5
-#undef G_PTRS_4
-#undef G_PTRS_3
-#undef G_PTRS_2
-#undef G_PTRS_1
-#undef G_LOOP3
-#undef G_LOOP2
-#undef G_LOOP1
+#undef G_CASE
+#undef G_LANES
 #undef G_STORE
 #undef G_LOAD
-#undef G_PTRS
+}
 
-/* The program of e (max_stack <= XSTACK) over n points p into values and
- * grads (NULL: not wanted) through a plan made for this call; 0 (nothing
- * written) for a program with a capsule or gyroid, or when the plan's memory
- * cannot be allocated. */
+/* The recorder: a value is a constant (g NULL, its dual c) or the id of a
+ * buffer's lanes: 0, 1, 2 the seeds x, y, z, then constants used as lane
+ * operands and the steps' results. */
+typedef struct gstep {
+    int op, n, a, b, c, r, r2; /* r2: G_SINCOS's cosine, else -1 */
+} gstep;
+typedef struct gval {
+    dual c;   /* a constant's value (the seeds: 0) */
+    int last; /* the last step reading it */
+    int buf;  /* its buffer (-3: an intermediate of a fused step) */
+    int free; /* -1 a seed or constant, 1 a step's result freed after its
+               * last use, 0 the program's result */
+} gval;
+typedef struct grec {
+    const geom_allocator *alloc;
+    gstep *step;
+    gval *val;
+    size_t ns, cs, nv, cv;
+    int fail;
+} grec;
+typedef struct gsym {
+    grec *g; /* NULL: the constant c */
+    int id;
+    dual c;
+} gsym;
+
+static int s_id(grec *g, gsym a)
+{
+    if (a.g)
+        return a.id;
+    gval v = {a.c, -1, 0, -1};
+    if (geom__push(g->alloc, (void **)&g->val, &g->nv, &g->cv, sizeof v, &v) != GEOM_OK)
+        g->fail = 1;
+    return (int)g->nv - 1;
+}
+static gsym s_op(int op, int n, gsym a, gsym b)
+{
+    gsym r = {a.g ? a.g : b.g, 0, g_cst(NAN)};
+    if (!r.g) { /* constants only */
+        r.c = g_apply(op, n, a.c, b.c);
+        return r;
+    }
+    grec *g = r.g;
+    gstep s = {op, n, s_id(g, a), s_id(g, b), 0, 0, -1};
+    s.c = s.a;
+    gval v = {g_cst(NAN), -1, 0, 1};
+    if (g->fail || geom__push(g->alloc, (void **)&g->val, &g->nv, &g->cv, sizeof v, &v) != GEOM_OK)
+        g->fail = 1;
+    s.r = r.id = (int)g->nv - 1;
+    if (g->fail || geom__push(g->alloc, (void **)&g->step, &g->ns, &g->cs, sizeof s, &s) != GEOM_OK)
+        g->fail = 1;
+    return r;
+}
+static gsym s_cst(double c)
+{
+    gsym r = {NULL, 0, g_cst(c)};
+    return r;
+}
+#define S_BINARY(name, OP)                                                                     \
+    static gsym s_##name(gsym a, gsym b) { return s_op(OP, 0, a, b); }
+#define S_UNARY(name, OP)                                                                      \
+    static gsym s_##name(gsym a) { return s_op(OP, 0, a, a); }
+S_BINARY(add, OP_ADD)
+S_BINARY(sub, OP_SUB)
+S_BINARY(mul, OP_MUL)
+S_BINARY(div, OP_DIV)
+S_BINARY(pow, OP_POW)
+S_BINARY(min, OP_MIN)
+S_BINARY(max, OP_MAX)
+S_BINARY(atan2, OP_ATAN2)
+S_UNARY(neg, OP_NEG)
+S_UNARY(sqr, G_SQR)
+S_UNARY(abs, OP_ABS)
+S_UNARY(tan, OP_TAN)
+S_UNARY(exp, OP_EXP)
+S_UNARY(log, OP_LOG)
+#undef S_UNARY
+#undef S_BINARY
+static gsym s_powi(gsym a, int n) { return s_op(OP_POWI, n, a, a); }
+
+/* sin(a) or cos(a) (op): when a step already takes the other of a, it
+ * becomes G_SINCOS and gives this one as well. */
+static gsym s_trig(int op, gsym a)
+{
+    grec *g = a.g;
+    for (size_t j = g && !g->fail ? g->ns : 0; j-- > 0;) {
+        if (g->step[j].op != (op == OP_SIN ? OP_COS : OP_SIN) || g->step[j].a != a.id)
+            continue;
+        gval v = {g_cst(NAN), -1, 0, 1};
+        if (geom__push(g->alloc, (void **)&g->val, &g->nv, &g->cv, sizeof v, &v) != GEOM_OK) {
+            g->fail = 1;
+            break;
+        }
+        gstep *s = &g->step[j];
+        gsym r = {g, (int)g->nv - 1, g_cst(NAN)};
+        s->r2 = op == OP_COS ? r.id : s->r;
+        s->r = op == OP_COS ? s->r : r.id;
+        s->op = G_SINCOS;
+        return r;
+    }
+    return s_op(op, 0, a, a);
+}
+static gsym s_sin(gsym a) { return s_trig(OP_SIN, a); }
+static gsym s_cos(gsym a) { return s_trig(OP_COS, a); }
+
+/* The step among g's steps from on whose result is id, or NULL. */
+static gstep *s_producer(grec *g, int id, size_t from)
+{
+    for (size_t j = from; j < g->ns; j++)
+        if (g->step[j].r == id)
+            return &g->step[j];
+    return NULL;
+}
+/* sqrt(a), and when the steps just before it are the squares and sums of
+ * a length (len2, len3: their results used by nothing else, as in the
+ * template), those steps and the sqrt become one G_LEN2 or G_LEN3 step. */
+static gsym s_sqrt(gsym a)
+{
+    gsym r = s_op(OP_SQRT, 0, a, a);
+    grec *g = r.g;
+    if (!g || g->fail)
+        return r;
+    for (size_t m = 3; m <= 5; m += 2) { /* the steps before the sqrt */
+        if (g->ns < m + 1)
+            break;
+        size_t from = g->ns - 1 - m;
+        gstep *sq = &g->step[g->ns - 1], *add = s_producer(g, sq->a, from), *in = add;
+        if (!add || add->op != OP_ADD)
+            break;
+        gstep *s3 = NULL;
+        if (m == 5) {
+            in = s_producer(g, add->a, from);
+            s3 = s_producer(g, add->b, from);
+            if (!in || in->op != OP_ADD || !s3 || s3->op != G_SQR)
+                continue;
+        }
+        gstep *s1 = s_producer(g, in->a, from), *s2 = s_producer(g, in->b, from);
+        if (!s1 || !s2 || s1 == s2 || s1->op != G_SQR || s2->op != G_SQR)
+            continue;
+        /* the squares' operands come from before these steps */
+        if (s_producer(g, s1->a, from) || s_producer(g, s2->a, from) ||
+            (s3 && s_producer(g, s3->a, from)))
+            break;
+        gstep f = {m == 3 ? G_LEN2 : G_LEN3, 0, s1->a, s2->a, s3 ? s3->a : s1->a, sq->r, -1};
+        gstep *dead[] = {s1, s2, add, in, s3};
+        for (size_t k = 0; k < m; k++)
+            g->val[dead[k]->r].buf = -3;
+        g->ns -= m + 1;
+        g->step[g->ns++] = f;
+        break;
+    }
+    return r;
+}
+
+#define NUM gsym
+#define F(name) s_##name
+#include "implicit/expr_template.h"
+#undef NUM
+#undef F
+
+/* L points P (3*L doubles) into the lanes X, Y, Z; L lanes of R (glanes)
+ * into V and G (3*L doubles, NULL: not wanted). */
+GEOM__CLONE_INLINE void g_load(size_t L, const double *restrict P, double *restrict X,
+                               double *restrict Y, double *restrict Z)
+{
+    for (size_t l = 0; l < L; l++) {
+        X[l] = P[3 * l];
+        Y[l] = P[3 * l + 1];
+        Z[l] = P[3 * l + 2];
+    }
+}
+GEOM__CLONE_INLINE void g_store(size_t L, const double *restrict R, double *restrict V,
+                                double *restrict G)
+{
+    for (size_t l = 0; l < L; l++)
+        V[l] = R[l];
+    if (G)
+        for (size_t l = 0; l < L; l++) {
+            G[3 * l] = R[GB + l];
+            G[3 * l + 1] = R[2 * GB + l];
+            G[3 * l + 2] = R[3 * GB + l];
+        }
+}
+
+/* GB points at a time: the seeds' coordinates into buffers 0, 1, 2 (the
+ * tail's missing points are zeros), the steps, the result's buffer res out
+ * (the program has at least one step). */
+GEOM_SIMD_CLONES
+static void g_blocks(const gstep *step, size_t ns, glanes *buf, int res, size_t n,
+                     const double *p, double *values, double *grads)
+{
+    for (size_t b0 = 0; b0 < n; b0 += GB) {
+        size_t L = n - b0 < GB ? n - b0 : GB;
+        if (L == GB) {
+            g_load(GB, p + 3 * b0, buf[0][0], buf[1][0], buf[2][0]);
+        } else {
+            for (int q = 0; q < 3; q++)
+                memset(buf[q][0], 0, sizeof buf[q][0]);
+            g_load(L, p + 3 * b0, buf[0][0], buf[1][0], buf[2][0]);
+        }
+        for (size_t j = 0; j < ns; j++) {
+            const gstep *s = &step[j];
+            g_lanes(s->op, s->n, buf[s->a][0], buf[s->b][0], buf[s->c][0], buf[s->r][0],
+                    buf[s->r2 >= 0 ? s->r2 : s->r][0]);
+        }
+        double *G = grads ? grads + 3 * b0 : NULL;
+        if (L == GB)
+            g_store(GB, buf[res][0], values + b0, G);
+        else
+            g_store(L, buf[res][0], values + b0, G);
+    }
+}
+
+/* The program of e over n points p into values and grads (NULL: not
+ * wanted); 0 (nothing written) when the memory cannot be allocated. */
 static int g_run_blocks(const geom_implicit_expr *e, size_t n, const double *p, double *values,
                         double *grads)
 {
-    /* the primitives g_step has no lane loop of (capsule, gyroids): lane
-     * by lane through g_prim either way, and measured faster in
-     * g_run_batch's lanes (torus(1, 0.3) through g_prim: 17 against 21 ms
-     * over 2e5 points) */
-    for (size_t i = 0; i < e->n; i++)
-        if (e->code[i].op >= OP_CAPSULE7 && e->code[i].op < OP_COUNT)
-            return 0;
-    size_t m = e->n ? e->n : 1;
-    size_t bytes = sizeof(gwork) + 64 + m * sizeof(gstep) + 4 * m * GB * sizeof(double);
-    char *raw = geom__alloc(&e->alloc, bytes);
-    if (!raw)
-        return 0;
-    gwork *w = (gwork *)(void *)(raw + (64 - (uintptr_t)raw % 64) % 64);
-    double(*kc)[GB] = (double(*)[GB])(void *)(w + 1);
-    gstep *plan = (gstep *)(void *)(kc + 4 * m);
-    const double *res[4];
-    dual res_c;
-    size_t ns = g_plan(e, w, kc, plan, res, &res_c);
-    double pt[3 * GB];
-    for (size_t b0 = 0; b0 < n; b0 += GB) {
-        size_t L = n - b0 < GB ? n - b0 : GB;
-        const double *P = p + 3 * b0;
-        if (L < GB) { /* the tail, padded with zeros */
-            memset(pt, 0, sizeof pt);
-            memcpy(pt, P, 3 * L * sizeof(double));
-            P = pt;
+    grec g = {&e->alloc, NULL, NULL, 0, 0, 0, 0, 0};
+    gsym seed[3];
+    for (int i = 0; i < 3; i++) {
+        gsym s = {&g, s_id(&g, s_cst(0.0)), g_cst(0.0)};
+        seed[i] = s;
+    }
+    gsym r = s_run(e->code, e->n, seed[0], seed[1], seed[2], s_cst(e->t));
+    int ok = 0, *free_buf = NULL, nb = 0, nfree = 0;
+    size_t bytes = 0;
+    char *raw = NULL;
+    if (!r.g || !g.ns) /* a constant or x, y, z: no steps, done point by point */
+        goto done;
+    if (g.fail || !(free_buf = geom__alloc(&e->alloc, (g.nv + 1) * sizeof(int))))
+        goto done;
+    /* buffers: the seeds and the constants have their own; a step's result
+     * takes a free one (none its operands use: the lanes are restrict) and
+     * the step frees its operands' after their last use */
+    for (size_t j = 0; j < g.ns; j++) {
+        g.val[g.step[j].r].buf = -1;
+        if (g.step[j].r2 >= 0)
+            g.val[g.step[j].r2].buf = -1;
+    }
+    for (size_t j = 0; j < g.ns; j++) {
+        g.val[g.step[j].a].last = (int)j;
+        g.val[g.step[j].b].last = (int)j;
+        g.val[g.step[j].c].last = (int)j;
+    }
+    for (size_t i = 0; i < g.nv; i++)
+        if (g.val[i].buf == 0)
+            g.val[i].buf = nb++;
+    for (size_t j = 0; j < g.ns; j++) {
+        gstep *s = &g.step[j];
+        gval *v = &g.val[s->r];
+        v->buf = nfree ? free_buf[--nfree] : nb++;
+        v->free = s->r != r.id;
+        if (s->r2 >= 0) {
+            gval *v2 = &g.val[s->r2];
+            v2->buf = nfree ? free_buf[--nfree] : nb++;
+            v2->free = s->r2 != r.id;
         }
-        for (int l = 0; l < GB; l++) {
-            w->X[l] = P[3 * l];
-            w->Y[l] = P[3 * l + 1];
-            w->Z[l] = P[3 * l + 2];
-        }
-        for (size_t j = 0; j < ns; j++)
-            g_step(&plan[j], w);
-        for (size_t l = 0; l < L; l++) {
-            values[b0 + l] = res[0] ? res[0][l] : res_c.v;
-            if (grads)
-                for (int q = 0; q < 3; q++)
-                    grads[3 * (b0 + l) + (size_t)q] = res[0] ? res[1 + q][l] : res_c.d[q];
+        int ops[3] = {s->a, s->b, s->c};
+        for (int q = 0; q < 3; q++) {
+            gval *o = &g.val[ops[q]];
+            if (o->free == 1 && o->last == (int)j && (q < 1 || ops[q] != ops[0]) &&
+                (q < 2 || ops[q] != ops[1]))
+                free_buf[nfree++] = o->buf;
         }
     }
+    bytes = (size_t)nb * sizeof(glanes) + 64;
+    if (!(raw = geom__alloc(&e->alloc, bytes)))
+        goto done;
+    glanes *buf = (glanes *)(void *)(raw + (64 - (uintptr_t)raw % 64) % 64);
+    for (size_t i = 0; i < g.nv; i++) { /* the seeds' derivatives, the constants */
+        if (g.val[i].free >= 0)
+            continue;
+        const dual *c = &g.val[i].c;
+        double comp[4] = {c->v, c->d[0], c->d[1], c->d[2]};
+        if (i < 3)
+            comp[1 + i] = 1.0;
+        for (int m = 0; m < 4; m++)
+            for (int l = 0; l < GB; l++)
+                buf[g.val[i].buf][m][l] = comp[m];
+    }
+    for (size_t j = 0; j < g.ns; j++) {
+        gstep *s = &g.step[j];
+        s->a = g.val[s->a].buf;
+        s->b = g.val[s->b].buf;
+        s->c = g.val[s->c].buf;
+        s->r = g.val[s->r].buf;
+        if (s->r2 >= 0)
+            s->r2 = g.val[s->r2].buf;
+    }
+    g_blocks(g.step, g.ns, buf, g.val[r.id].buf, n, p, values, grads);
+    ok = 1;
+done:
     geom__free(&e->alloc, raw, bytes);
-    return 1;
+    geom__free(&e->alloc, free_buf, (g.nv + 1) * sizeof(int));
+    geom__free(&e->alloc, g.step, g.cs * sizeof(gstep));
+    geom__free(&e->alloc, g.val, g.cv * sizeof(gval));
+    return ok;
 }
 
 void geom_implicit_expr_eval_grad_many(const geom_implicit_expr *e, size_t n, const double *p,
@@ -1940,12 +1966,8 @@ void geom_implicit_expr_eval_grad_many(const geom_implicit_expr *e, size_t n, co
         g_run_len(uop, bop, c, n, p, values, grads);
         return;
     }
-    if (e->max_stack <= XSTACK && n > 0 && g_run_blocks(e, n, p, values, grads))
+    if (n > 0 && g_run_blocks(e, n, p, values, grads))
         return;
-    if (e->max_stack <= BATCH_STACK) {
-        g_run_batch(e->code, e->n, n, p, e->t, values, grads);
-        return;
-    }
     for (size_t i = 0; i < n; i++) {
         double g[3];
         values[i] = geom_implicit_expr_eval_grad(e, p + 3 * i, g);
@@ -1994,6 +2016,21 @@ geom_status geom_implicit_expr_eval_bounds(const geom_implicit_expr *e, const do
     out[1] = r.v.hi;
     *defined = !r.nan;
     return GEOM_OK;
+}
+
+geom_status geom_implicit_expr_eval_bounds_many(const geom_implicit_expr *e, size_t n,
+                                                const double *lo, const double *hi, double *out,
+                                                int *defined)
+{
+    if (n == 0)
+        return GEOM_OK;
+    if (!e || !lo || !hi || !out || !defined)
+        return GEOM_ERR_INVALID_ARG;
+    geom_status st = GEOM_OK;
+    for (size_t i = 0; i < n; i++)
+        if (geom_implicit_expr_eval_bounds(e, lo + 3 * i, hi + 3 * i, out + 2 * i, defined + i))
+            st = GEOM_ERR_INVALID_ARG;
+    return st;
 }
 
 double geom_implicit_expr_value_cb(void *user, const double p[3])

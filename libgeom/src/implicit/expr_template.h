@@ -7,50 +7,46 @@
  * and provide F(cst) F(add) F(sub) F(mul) F(div) F(neg) F(sqr) F(powi)
  * F(pow) F(sqrt) F(abs) F(sin) F(cos) F(tan) F(exp) F(log) F(min) F(max)
  * F(atan2). Every instantiation evaluates the same sequence of operations,
- * which is what makes the interval bounds enclose the point values.
- * F_INLINE (default static), if defined, qualifies the shapes' helpers.
+ * which is what makes the interval bounds enclose the point values (and
+ * the recorder s_* of the gradient batch record g_run's operations).
  */
-#ifndef F_INLINE
-#define F_INLINE static
-#define F_INLINE_DEFAULTED
-#endif
 
-F_INLINE NUM F(len2)(NUM a, NUM b)
+static NUM F(len2)(NUM a, NUM b)
 {
     return F(sqrt)(F(add)(F(sqr)(a), F(sqr)(b)));
 }
 
-F_INLINE NUM F(len3)(NUM a, NUM b, NUM c)
+static NUM F(len3)(NUM a, NUM b, NUM c)
 {
     return F(sqrt)(F(add)(F(add)(F(sqr)(a), F(sqr)(b)), F(sqr)(c)));
 }
 
 /* Quadratic polynomial smooth minimum (Quilez):
  * min(a, b) - max(k - |a - b|, 0)^2 / (4 max(k, DBL_MIN)). */
-F_INLINE NUM F(smin)(NUM a, NUM b, NUM k)
+static NUM F(smin)(NUM a, NUM b, NUM k)
 {
     NUM h = F(max)(F(sub)(k, F(abs)(F(sub)(a, b))), F(cst)(0.0));
     NUM den = F(mul)(F(cst)(4.0), F(max)(k, F(cst)(DBL_MIN)));
     return F(sub)(F(min)(a, b), F(div)(F(sqr)(h), den));
 }
 
-F_INLINE NUM F(clamp)(NUM v, NUM lo, NUM hi)
+static NUM F(clamp)(NUM v, NUM lo, NUM hi)
 {
     return F(min)(F(max)(v, lo), hi);
 }
 
-F_INLINE NUM F(ellipsoid)(NUM qx, NUM qy, NUM qz, NUM a, NUM b, NUM c)
+static NUM F(ellipsoid)(NUM qx, NUM qy, NUM qz, NUM a, NUM b, NUM c)
 {
     NUM l = F(len3)(F(div)(qx, a), F(div)(qy, b), F(div)(qz, c));
     return F(mul)(F(sub)(l, F(cst)(1.0)), F(min)(F(min)(a, b), c));
 }
 
-F_INLINE NUM F(torus)(NUM qx, NUM qy, NUM qz, NUM R, NUM r)
+static NUM F(torus)(NUM qx, NUM qy, NUM qz, NUM R, NUM r)
 {
     return F(sub)(F(len2)(F(sub)(F(len2)(qx, qy), R), qz), r);
 }
 
-F_INLINE NUM F(box)(NUM qx, NUM qy, NUM qz, NUM hx, NUM hy, NUM hz)
+static NUM F(box)(NUM qx, NUM qy, NUM qz, NUM hx, NUM hy, NUM hz)
 {
     NUM zero = F(cst)(0.0);
     NUM dx = F(sub)(F(abs)(qx), hx);
@@ -61,7 +57,7 @@ F_INLINE NUM F(box)(NUM qx, NUM qy, NUM qz, NUM hx, NUM hy, NUM hz)
     return F(add)(outside, inside);
 }
 
-F_INLINE NUM F(cylinder)(NUM qx, NUM qy, NUM qz, NUM r, NUM h)
+static NUM F(cylinder)(NUM qx, NUM qy, NUM qz, NUM r, NUM h)
 {
     NUM zero = F(cst)(0.0);
     NUM d1 = F(sub)(F(len2)(qx, qy), r);
@@ -70,7 +66,7 @@ F_INLINE NUM F(cylinder)(NUM qx, NUM qy, NUM qz, NUM r, NUM h)
     return F(add)(outside, F(min)(F(max)(d1, d2), zero));
 }
 
-F_INLINE NUM F(plane)(NUM x, NUM y, NUM z, NUM nx, NUM ny, NUM nz, NUM d)
+static NUM F(plane)(NUM x, NUM y, NUM z, NUM nx, NUM ny, NUM nz, NUM d)
 {
     NUM dot = F(add)(F(add)(F(mul)(nx, x), F(mul)(ny, y)), F(mul)(nz, z));
     return F(div)(F(sub)(dot, d), F(len3)(nx, ny, nz));
@@ -204,8 +200,3 @@ static NUM F(run)(const expr_ins *code, size_t n, NUM x, NUM y, NUM z, NUM t)
     }
     return st[0];
 }
-
-#ifdef F_INLINE_DEFAULTED
-#undef F_INLINE
-#undef F_INLINE_DEFAULTED
-#endif
