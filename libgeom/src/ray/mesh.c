@@ -149,6 +149,18 @@ struct geom__rbvh4 {
 #define W4_PREFETCH(p) ((void)(p))
 #endif
 
+/* The lowest set bit of a nonzero lane mask. */
+static inline int w4_ctz(unsigned m)
+{
+#if defined(__GNUC__) || defined(__clang__)
+    return __builtin_ctz(m);
+#else
+    int j = 0;
+    for (; !(m & 1u); m >>= 1) j++;
+    return j;
+#endif
+}
+
 /* Ask for transparent huge pages on a large traversal array from the
  * default allocator, before its first touch: random rays reach any node
  * and any leaf, and 4 KiB pages then miss the TLB on most of them. Advice
@@ -1077,7 +1089,7 @@ GEOM__WBW_INLINE int push_hit(const struct geom__rbvh4 *W, const geom__rnode4 *q
 {
     const int base = sp;
     while (mask) {
-        const int j = __builtin_ctz((unsigned)mask);
+        const int j = w4_ctz((unsigned)mask);
         const double t = tf ? (double)tf[j] : td[j];
         int i = sp++;
         mask &= mask - 1;
@@ -1168,7 +1180,7 @@ GEOM__WBW_INLINE geom_status trace_wide_t(const geom__tmesh *m, const geom_ray *
             }
             if (mask == 0) goto pop;
             if ((mask & (mask - 1)) == 0) { /* one child hit: visit it next, no stack traffic */
-                j = __builtin_ctz((unsigned)mask);
+                j = w4_ctz((unsigned)mask);
                 cur.tn = isf ? (double)tf4[j] : tn[j];
                 cur.child = q->child[j];
                 cur.count = q->count[j];
@@ -1350,7 +1362,7 @@ GEOM__WBW_INLINE int w8_step(const geom__tmesh *m, w8slot *t, const int isa)
             mask = w4f_node(q, &t->f, t->vo, t->vi, _mm_set1_ps(t->ftmin), _mm_set1_ps(t->ftmax), tn);
         if (mask == 0) goto pop;
         if ((mask & (mask - 1)) == 0) { /* one child: next */
-            for (j = 0; !(mask & 1); j++, mask >>= 1) {}
+            j = w4_ctz((unsigned)mask);
             t->cur.tn = (double)tn[j];
             t->cur.child = q->child[j];
             t->cur.count = q->count[j];
@@ -1623,12 +1635,14 @@ W4_TGT static void pk8_trace(const geom__tmesh *m, pk8 *P, pk8entry *stack)
              * sp + W4_W <= W4_STACK: the depth is checked at build */
             base = sp;
             while (hit) {
-                float key[PK8_N], ki;
+                float ki;
                 int i;
                 j = __builtin_ctz((unsigned)hit);
                 hit &= hit - 1;
-                _mm256_storeu_ps(key, tnv[j]);
-                ki = key[__builtin_ctz((unsigned)cm[j])];
+                /* lane ctz(cm[j]) taken in a register (a scalar read of the
+                 * vector just stored would wait for it) */
+                ki = _mm256_cvtss_f32(
+                    _mm256_permutevar8x32_ps(tnv[j], _mm256_set1_epi32(__builtin_ctz((unsigned)cm[j]))));
                 i = sp++;
                 while (i > base && stack[i - 1].key < ki) {
                     stack[i] = stack[i - 1];
