@@ -1055,12 +1055,19 @@ static inline geom_status finish(const geom__tmesh *m, const geom_ray *r, int mo
     return GEOM_OK;
 }
 
-/* Ask for the memory of the triangles slot .. slot + cnt - 1 (72 bytes each). */
+/* Ask for the memory of the triangles slot .. slot + cnt - 1 (72 bytes each,
+ * cnt <= 4: at most six cache lines), without a loop whose trip count a
+ * random ray's branch predictor cannot guess: six requests, each clamped to
+ * the last byte (the same line asked for again when the run is shorter). */
 static inline void fetch_tris(const geom__tmesh *m, uint32_t slot, uint32_t cnt)
 {
-    const char *c = (const char *)(m->tv + 9 * (size_t)slot), *e = c + 72 * (size_t)cnt;
-    for (; c < e; c += 64) W4_PREFETCH(c);
-    W4_PREFETCH(e - 1);
+    const char *c = (const char *)(m->tv + 9 * (size_t)slot), *e = c + 72 * (size_t)cnt - 1;
+    int k;
+    for (k = 0; k < 5; k++) {
+        const char *p = c + 64 * k;
+        W4_PREFETCH(p < e ? p : e);
+    }
+    W4_PREFETCH(e);
 }
 
 /* Ask for the memory of a child (count 0: node child, else a leaf's packet). */
