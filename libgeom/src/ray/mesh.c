@@ -149,6 +149,18 @@ struct geom__rbvh4 {
 #define W4_PREFETCH(p) ((void)(p))
 #endif
 
+/* The lowest set bit of a nonzero lane mask. */
+static inline int w4_ctz(unsigned m)
+{
+#if defined(__GNUC__) || defined(__clang__)
+    return __builtin_ctz(m);
+#else
+    int j = 0;
+    for (; !(m & 1u); m >>= 1) j++;
+    return j;
+#endif
+}
+
 /* Ask for transparent huge pages on a large traversal array from the
  * default allocator, before its first touch: random rays reach any node
  * and any leaf, and 4 KiB pages then miss the TLB on most of them. Advice
@@ -1043,12 +1055,19 @@ static inline geom_status finish(const geom__tmesh *m, const geom_ray *r, int mo
     return GEOM_OK;
 }
 
-/* Ask for the memory of the triangles slot .. slot + cnt - 1 (72 bytes each). */
+/* Ask for the memory of the triangles slot .. slot + cnt - 1 (72 bytes each,
+ * cnt <= 4: at most six cache lines), without a loop whose trip count a
+ * random ray's branch predictor cannot guess: six requests, each clamped to
+ * the last byte (the same line asked for again when the run is shorter). */
 static inline void fetch_tris(const geom__tmesh *m, uint32_t slot, uint32_t cnt)
 {
-    const char *c = (const char *)(m->tv + 9 * (size_t)slot), *e = c + 72 * (size_t)cnt;
-    for (; c < e; c += 64) W4_PREFETCH(c);
-    W4_PREFETCH(e - 1);
+    const char *c = (const char *)(m->tv + 9 * (size_t)slot), *e = c + 72 * (size_t)cnt - 1;
+    int k;
+    for (k = 0; k < 5; k++) {
+        const char *p = c + 64 * k;
+        W4_PREFETCH(p < e ? p : e);
+    }
+    W4_PREFETCH(e);
 }
 
 /* Ask for the memory of a child (count 0: node child, else a leaf's packet). */
@@ -1068,20 +1087,21 @@ static inline void fetch_child(const struct geom__rbvh4 *W, uint32_t child, uint
 }
 
 /* The children of q in mask pushed on stack[sp..] in place by decreasing
- * entry distance tn (the nearest is popped first; no copy through a buffer,
- * which the compiler would make a block move that stalls the next pop),
- * each asked for; returns the new sp. */
-static inline int push_hit(const struct geom__rbvh4 *W, const geom__rnode4 *q, int mask, const double tn[W4_W],
-                           w4entry *stack, int sp)
+ * entry distance (tf[j] when tf is not NULL, the float node test's, else
+ * td[j]; the nearest is popped first; no copy through a buffer, which the
+ * compiler would make a block move that stalls the next pop), each asked
+ * for; returns the new sp. Only the children hit are read and converted. */
+GEOM__WBW_INLINE int push_hit(const struct geom__rbvh4 *W, const geom__rnode4 *q, int mask, const float *tf,
+                              const double *td, w4entry *stack, int sp)
 {
     const int base = sp;
-    int j;
-    for (j = 0; mask; j++, mask >>= 1) {
-        int i;
-        if (!(mask & 1)) continue;
-        i = sp++;
-        while (i > base && stack[i - 1].tn < tn[j]) { stack[i] = stack[i - 1]; i--; }
-        stack[i].tn = tn[j];
+    while (mask) {
+        const int j = w4_ctz((unsigned)mask);
+        const double t = tf ? (double)tf[j] : td[j];
+        int i = sp++;
+        mask &= mask - 1;
+        while (i > base && stack[i - 1].tn < t) { stack[i] = stack[i - 1]; i--; }
+        stack[i].tn = t;
         stack[i].child = q->child[j];
         stack[i].count = q->count[j];
         fetch_child(W, q->child[j], q->count[j]);
@@ -1148,10 +1168,10 @@ GEOM__WBW_INLINE geom_status trace_wide_t(const geom__tmesh *m, const geom_ray *
         if (cur.count == 0) {
             const geom__rnode4 *q = &W->node[cur.child];
             double tn[W4_W];
-            int j, mask;
+            float tf4[W4_W]; /* the float node test's entry distances, read as they are (no copy) */
+            int j, mask, isf = 0;
 #if W4_SSE
             if (use_f) {
-                float tf4[W4_W];
 #if W4_AVX2
                 if (isa == W4_ISA_AVX2)
                     mask = f.rs ? w8_node_rs(q, &f, _mm_cvtss_f32(vtmin), _mm_cvtss_f32(vtmax), tf4)
@@ -1159,7 +1179,7 @@ GEOM__WBW_INLINE geom_status trace_wide_t(const geom__tmesh *m, const geom_ray *
                 else
 #endif
                     mask = w4f_node(q, &f, vo, vi, vtmin, vtmax, tf4);
-                for (j = 0; j < W4_W; j++) tn[j] = (double)tf4[j];
+                isf = 1;
             } else
 #endif
             {
@@ -1167,14 +1187,15 @@ GEOM__WBW_INLINE geom_status trace_wide_t(const geom__tmesh *m, const geom_ray *
             }
             if (mask == 0) goto pop;
             if ((mask & (mask - 1)) == 0) { /* one child hit: visit it next, no stack traffic */
-                for (j = 0; !(mask & 1); j++, mask >>= 1) {}
-                cur.tn = tn[j];
+                j = w4_ctz((unsigned)mask);
+                cur.tn = isf ? (double)tf4[j] : tn[j];
                 cur.child = q->child[j];
                 cur.count = q->count[j];
                 continue;
             }
             if (sp + W4_W > W4_STACK) return GEOM_ERR_LIMIT; /* cannot happen: depth checked at build */
-            sp = push_hit(W, q, mask, tn, stack, sp); /* the children hit, nearest on top */
+            /* the children hit, nearest on top */
+            sp = isf ? push_hit(W, q, mask, tf4, NULL, stack, sp) : push_hit(W, q, mask, NULL, tn, stack, sp);
         } else {
             double tmax0 = tmax;
             int lr = 0;
@@ -1348,7 +1369,7 @@ GEOM__WBW_INLINE int w8_step(const geom__tmesh *m, w8slot *t, const int isa)
             mask = w4f_node(q, &t->f, t->vo, t->vi, _mm_set1_ps(t->ftmin), _mm_set1_ps(t->ftmax), tn);
         if (mask == 0) goto pop;
         if ((mask & (mask - 1)) == 0) { /* one child: next */
-            for (j = 0; !(mask & 1); j++, mask >>= 1) {}
+            j = w4_ctz((unsigned)mask);
             t->cur.tn = (double)tn[j];
             t->cur.child = q->child[j];
             t->cur.count = q->count[j];
@@ -1356,11 +1377,7 @@ GEOM__WBW_INLINE int w8_step(const geom__tmesh *m, w8slot *t, const int isa)
             return 1;
         }
         /* sp + W4_W <= W4_STACK: the depth is checked at build */
-        {
-            double tnd[W4_W];
-            for (j = 0; j < W4_W; j++) tnd[j] = (double)tn[j];
-            sp = push_hit(W, q, mask, tnd, stack, sp);
-        }
+        sp = push_hit(W, q, mask, tn, NULL, stack, sp);
     } else if (t->pend) { /* the exact test of the lanes kept (their triangles asked for) */
         double tmax0 = t->tmax;
         int lanes = t->pend;
@@ -1625,12 +1642,14 @@ W4_TGT static void pk8_trace(const geom__tmesh *m, pk8 *P, pk8entry *stack)
              * sp + W4_W <= W4_STACK: the depth is checked at build */
             base = sp;
             while (hit) {
-                float key[PK8_N], ki;
+                float ki;
                 int i;
                 j = __builtin_ctz((unsigned)hit);
                 hit &= hit - 1;
-                _mm256_storeu_ps(key, tnv[j]);
-                ki = key[__builtin_ctz((unsigned)cm[j])];
+                /* lane ctz(cm[j]) taken in a register (a scalar read of the
+                 * vector just stored would wait for it) */
+                ki = _mm256_cvtss_f32(
+                    _mm256_permutevar8x32_ps(tnv[j], _mm256_set1_epi32(__builtin_ctz((unsigned)cm[j]))));
                 i = sp++;
                 while (i > base && stack[i - 1].key < ki) {
                     stack[i] = stack[i - 1];
