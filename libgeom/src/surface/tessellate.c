@@ -30,6 +30,7 @@
 #define NONE32 UINT32_MAX
 #define LOCATE SIZE_MAX
 #define MAX_GRID 65536u
+#define GRID_MEMO 16 /* grid search answers remembered */
 #define MAX_PASSES 40
 /* adaptive: a cell far under the tolerance is coarsened toward this fraction
  * of it (then checked again) */
@@ -166,6 +167,14 @@ typedef struct ts {
     struct ts_memo *memo; /* MEMO_SIZE entries, or NULL */
     uint32_t memo_gen;    /* entries of other checks are stale */
     int memo_on;          /* in check_cell */
+    /* the grid searches' recent answers, by the walk's start (see
+     * grid_search): congruent cells (the sphere's spans, the teapot's
+     * mirrored patches) start from the answer the last one found */
+    struct ts_grid_memo {
+        double tol;
+        uint32_t mfirst, mlb, nlb, m, n;
+    } grid_memo[GRID_MEMO];
+    unsigned grid_memo_next;
 } ts;
 
 #define MEMO_BITS 15
@@ -2005,6 +2014,41 @@ static geom_status grid_search(ts *T, ts_cell *c, double tol, uint32_t mfirst, u
     uint64_t mlo = mfirst / 4 > mlb ? mfirst / 4 : mlb, mhi = 4 * (uint64_t)mfirst;
     if (mfirst < mlo)
         mfirst = (uint32_t)mlo;
+    /* a cell whose walk starts as a remembered one's did tries that answer
+     * first: when it passes, the walk's other columns then mostly fail at
+     * their first quads instead of each passing in turn with a slightly
+     * smaller product (every passing check evaluates the whole grid) */
+    const struct ts_grid_memo *g = NULL;
+    for (unsigned k = 0; k < GRID_MEMO; ++k) {
+        const struct ts_grid_memo *e = &T->grid_memo[k];
+        if (e->m && e->tol == tol && e->mfirst == mfirst && e->mlb == mlb && e->nlb == nlb)
+            g = e;
+    }
+    uint32_t mskip = 0;
+    if (g && (uint64_t)g->m * g->n < best && g->m >= mlo && g->m <= mhi && g->n >= nlb) {
+        int pass;
+        geom_status st = grid_passes(T, c, g->m, g->n, tol, R, &pass);
+        if (st != GEOM_OK)
+            return st;
+        if (pass) {
+            /* lower N while it passes, trying one less first */
+            uint32_t lo = nlb - 1, hi = g->n;
+            for (int step = 0; hi - lo > 1; ++step) {
+                uint32_t mid = step == 0 ? hi - 1 : lo + (hi - lo) / 2;
+                st = grid_passes(T, c, g->m, mid, tol, R, &pass);
+                if (st != GEOM_OK)
+                    return st;
+                if (pass)
+                    hi = mid;
+                else
+                    lo = mid;
+            }
+            best = (uint64_t)g->m * hi;
+            *pm = g->m;
+            *pn = hi;
+            mskip = g->m; /* hi - 1 failed (or is under the bound) */
+        }
+    }
     for (uint64_t k = 0;; ++k) {
         int any = 0;
         for (int side = 0; side < 2; ++side) {
@@ -2019,6 +2063,8 @@ static geom_status grid_search(ts *T, ts_cell *c, double tol, uint32_t mfirst, u
                 M = mfirst - k;
             }
             any = 1;
+            if (M == mskip)
+                continue;
             uint64_t n = (best - 1) / M;
             if (n < nlb || n > MAX_GRID)
                 continue;
@@ -2047,6 +2093,8 @@ static geom_status grid_search(ts *T, ts_cell *c, double tol, uint32_t mfirst, u
         if (!any)
             break;
     }
+    struct ts_grid_memo *e = &T->grid_memo[T->grid_memo_next++ % GRID_MEMO];
+    e->tol = tol, e->mfirst = mfirst, e->mlb = mlb, e->nlb = nlb, e->m = *pm, e->n = *pn;
     return GEOM_OK;
 }
 
