@@ -1670,6 +1670,17 @@ static void check_cell(ts *T, ts_cell *c)
  * checked first. Lower bounds: a grid holds the cell's boundary lines, so M
  * is at least the smallest segment count along the two lines of constant v
  * whose chords pass the same sampled check (N likewise).
+ *
+ * Every passing check evaluates the whole grid, and a walk from a guess
+ * passes once per improvement it finds (the sphere's spans at 1e-4: five
+ * times, each about the final grid's cost). Congruent cells (the sphere's
+ * spans, the teapot's mirrored patches) start their walks alike (the same
+ * first column and boundary-line bounds), so the last 16 answers are kept
+ * by that start and a cell starting as one of them did tries its answer
+ * first; when it passes, the other columns' tries have a smaller product
+ * and usually fail at their first quads. With the smallest passing N
+ * assumed to fall as M grows (as the walk itself assumes), the walk finds
+ * the same grid either way.
  */
 
 /* Parameter of grid line i of n over [a, b] (warp F, NULL: uniform). */
@@ -2000,6 +2011,28 @@ static geom_status grid_passes(ts *T, ts_cell *c, uint32_t M, uint32_t N, double
     return grid_passes_in(T, c, M, N, tol, 0, R, pass);
 }
 
+/* M x *phi passes: lower *phi to the smallest N that passes by bisection
+ * (nlb - 1 fails along the boundary lines; one_less: try *phi - 1 first).
+ * N - 1 has failed (or is nlb - 1) on return. */
+static geom_status grid_lower(ts *T, ts_cell *c, uint32_t M, uint32_t nlb, int one_less,
+                              double tol, grid_rows *R, uint32_t *phi)
+{
+    uint32_t lo = nlb - 1, hi = *phi;
+    for (int step = 0; hi - lo > 1; ++step) {
+        uint32_t mid = one_less && step == 0 ? hi - 1 : lo + (hi - lo) / 2;
+        int pass;
+        geom_status st = grid_passes(T, c, M, mid, tol, R, &pass);
+        if (st != GEOM_OK)
+            return st;
+        if (pass)
+            hi = mid;
+        else
+            lo = mid;
+    }
+    *phi = hi;
+    return GEOM_OK;
+}
+
 /* The staircase walk under tol: *pm x *pn (taken to pass) is replaced by
  * the passing grid with the fewest quads. M is visited from mfirst
  * outward, so a good guess finds the best product early and the other
@@ -2031,18 +2064,11 @@ static geom_status grid_search(ts *T, ts_cell *c, double tol, uint32_t mfirst, u
         if (st != GEOM_OK)
             return st;
         if (pass) {
-            /* lower N while it passes, trying one less first */
-            uint32_t lo = nlb - 1, hi = g->n;
-            for (int step = 0; hi - lo > 1; ++step) {
-                uint32_t mid = step == 0 ? hi - 1 : lo + (hi - lo) / 2;
-                st = grid_passes(T, c, g->m, mid, tol, R, &pass);
-                if (st != GEOM_OK)
-                    return st;
-                if (pass)
-                    hi = mid;
-                else
-                    lo = mid;
-            }
+            /* the same cell's answer again: one less usually fails */
+            uint32_t hi = g->n;
+            st = grid_lower(T, c, g->m, nlb, 1, tol, R, &hi);
+            if (st != GEOM_OK)
+                return st;
             best = (uint64_t)g->m * hi;
             *pm = g->m;
             *pn = hi;
@@ -2074,18 +2100,10 @@ static geom_status grid_search(ts *T, ts_cell *c, double tol, uint32_t mfirst, u
                 return st;
             if (!pass)
                 continue;
-            /* bisect: lo fails (nlb - 1 fails along the boundary lines) */
-            uint32_t lo = nlb - 1, hi = (uint32_t)n;
-            while (hi - lo > 1) {
-                uint32_t mid = lo + (hi - lo) / 2;
-                st = grid_passes(T, c, (uint32_t)M, mid, tol, R, &pass);
-                if (st != GEOM_OK)
-                    return st;
-                if (pass)
-                    hi = mid;
-                else
-                    lo = mid;
-            }
+            uint32_t hi = (uint32_t)n;
+            st = grid_lower(T, c, (uint32_t)M, nlb, 0, tol, R, &hi);
+            if (st != GEOM_OK)
+                return st;
             best = M * hi;
             *pm = (uint32_t)M;
             *pn = hi;
