@@ -1678,9 +1678,10 @@ static void check_cell(ts *T, ts_cell *c)
  * first column and boundary-line bounds), so the last 16 answers are kept
  * by that start and a cell starting as one of them did tries its answer
  * first; when it passes, the other columns' tries have a smaller product
- * and usually fail at their first quads. With the smallest passing N
- * assumed to fall as M grows (as the walk itself assumes), the walk finds
- * the same grid either way.
+ * and usually fail at their first quads. With a grid's passing assumed
+ * monotone in N (as the bisection assumes), the walk finds the same number
+ * of quads either way; of two grids with that number, the remembered one
+ * may be taken where the walk alone takes the one it meets first.
  */
 
 /* Parameter of grid line i of n over [a, b] (warp F, NULL: uniform). */
