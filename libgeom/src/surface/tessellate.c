@@ -30,6 +30,7 @@
 #define NONE32 UINT32_MAX
 #define LOCATE SIZE_MAX
 #define MAX_GRID 65536u
+#define GRID_MEMO 16 /* grid search answers remembered */
 #define MAX_PASSES 40
 /* adaptive: a cell far under the tolerance is coarsened toward this fraction
  * of it (then checked again) */
@@ -166,6 +167,14 @@ typedef struct ts {
     struct ts_memo *memo; /* MEMO_SIZE entries, or NULL */
     uint32_t memo_gen;    /* entries of other checks are stale */
     int memo_on;          /* in check_cell */
+    /* the grid searches' recent answers, by the walk's start (see
+     * grid_search): congruent cells (the sphere's spans, the teapot's
+     * mirrored patches) start from the answer the last one found */
+    struct ts_grid_memo {
+        double tol;
+        uint32_t mfirst, mlb, nlb, m, n;
+    } grid_memo[GRID_MEMO];
+    unsigned grid_memo_next;
 } ts;
 
 #define MEMO_BITS 15
@@ -1661,6 +1670,18 @@ static void check_cell(ts *T, ts_cell *c)
  * checked first. Lower bounds: a grid holds the cell's boundary lines, so M
  * is at least the smallest segment count along the two lines of constant v
  * whose chords pass the same sampled check (N likewise).
+ *
+ * Every passing check evaluates the whole grid, and a walk from a guess
+ * passes once per improvement it finds (the sphere's spans at 1e-4: five
+ * times, each about the final grid's cost). Congruent cells (the sphere's
+ * spans, the teapot's mirrored patches) start their walks alike (the same
+ * first column and boundary-line bounds), so the last 16 answers are kept
+ * by that start and a cell starting as one of them did tries its answer
+ * first; when it passes, the other columns' tries have a smaller product
+ * and usually fail at their first quads. With a grid's passing assumed
+ * monotone in N (as the bisection assumes), the walk finds the same number
+ * of quads either way; of two grids with that number, the remembered one
+ * may be taken where the walk alone takes the one it meets first.
  */
 
 /* Parameter of grid line i of n over [a, b] (warp F, NULL: uniform). */
@@ -1991,6 +2012,28 @@ static geom_status grid_passes(ts *T, ts_cell *c, uint32_t M, uint32_t N, double
     return grid_passes_in(T, c, M, N, tol, 0, R, pass);
 }
 
+/* M x *phi passes: lower *phi to the smallest N that passes by bisection
+ * (nlb - 1 fails along the boundary lines; one_less: try *phi - 1 first).
+ * N - 1 has failed (or is nlb - 1) on return. */
+static geom_status grid_lower(ts *T, ts_cell *c, uint32_t M, uint32_t nlb, int one_less,
+                              double tol, grid_rows *R, uint32_t *phi)
+{
+    uint32_t lo = nlb - 1, hi = *phi;
+    for (int step = 0; hi - lo > 1; ++step) {
+        uint32_t mid = one_less && step == 0 ? hi - 1 : lo + (hi - lo) / 2;
+        int pass;
+        geom_status st = grid_passes(T, c, M, mid, tol, R, &pass);
+        if (st != GEOM_OK)
+            return st;
+        if (pass)
+            hi = mid;
+        else
+            lo = mid;
+    }
+    *phi = hi;
+    return GEOM_OK;
+}
+
 /* The staircase walk under tol: *pm x *pn (taken to pass) is replaced by
  * the passing grid with the fewest quads. M is visited from mfirst
  * outward, so a good guess finds the best product early and the other
@@ -2005,6 +2048,34 @@ static geom_status grid_search(ts *T, ts_cell *c, double tol, uint32_t mfirst, u
     uint64_t mlo = mfirst / 4 > mlb ? mfirst / 4 : mlb, mhi = 4 * (uint64_t)mfirst;
     if (mfirst < mlo)
         mfirst = (uint32_t)mlo;
+    /* a cell whose walk starts as a remembered one's did tries that answer
+     * first: when it passes, the walk's other columns then mostly fail at
+     * their first quads instead of each passing in turn with a slightly
+     * smaller product (every passing check evaluates the whole grid) */
+    const struct ts_grid_memo *g = NULL;
+    for (unsigned k = 0; k < GRID_MEMO; ++k) {
+        const struct ts_grid_memo *e = &T->grid_memo[k];
+        if (e->m && e->tol == tol && e->mfirst == mfirst && e->mlb == mlb && e->nlb == nlb)
+            g = e;
+    }
+    uint32_t mskip = 0;
+    if (g && (uint64_t)g->m * g->n < best && g->m >= mlo && g->m <= mhi && g->n >= nlb) {
+        int pass;
+        geom_status st = grid_passes(T, c, g->m, g->n, tol, R, &pass);
+        if (st != GEOM_OK)
+            return st;
+        if (pass) {
+            /* the same cell's answer again: one less usually fails */
+            uint32_t hi = g->n;
+            st = grid_lower(T, c, g->m, nlb, 1, tol, R, &hi);
+            if (st != GEOM_OK)
+                return st;
+            best = (uint64_t)g->m * hi;
+            *pm = g->m;
+            *pn = hi;
+            mskip = g->m; /* hi - 1 failed (or is under the bound) */
+        }
+    }
     for (uint64_t k = 0;; ++k) {
         int any = 0;
         for (int side = 0; side < 2; ++side) {
@@ -2019,6 +2090,8 @@ static geom_status grid_search(ts *T, ts_cell *c, double tol, uint32_t mfirst, u
                 M = mfirst - k;
             }
             any = 1;
+            if (M == mskip)
+                continue;
             uint64_t n = (best - 1) / M;
             if (n < nlb || n > MAX_GRID)
                 continue;
@@ -2028,18 +2101,10 @@ static geom_status grid_search(ts *T, ts_cell *c, double tol, uint32_t mfirst, u
                 return st;
             if (!pass)
                 continue;
-            /* bisect: lo fails (nlb - 1 fails along the boundary lines) */
-            uint32_t lo = nlb - 1, hi = (uint32_t)n;
-            while (hi - lo > 1) {
-                uint32_t mid = lo + (hi - lo) / 2;
-                st = grid_passes(T, c, (uint32_t)M, mid, tol, R, &pass);
-                if (st != GEOM_OK)
-                    return st;
-                if (pass)
-                    hi = mid;
-                else
-                    lo = mid;
-            }
+            uint32_t hi = (uint32_t)n;
+            st = grid_lower(T, c, (uint32_t)M, nlb, 0, tol, R, &hi);
+            if (st != GEOM_OK)
+                return st;
             best = M * hi;
             *pm = (uint32_t)M;
             *pn = hi;
@@ -2047,6 +2112,8 @@ static geom_status grid_search(ts *T, ts_cell *c, double tol, uint32_t mfirst, u
         if (!any)
             break;
     }
+    struct ts_grid_memo *e = &T->grid_memo[T->grid_memo_next++ % GRID_MEMO];
+    e->tol = tol, e->mfirst = mfirst, e->mlb = mlb, e->nlb = nlb, e->m = *pm, e->n = *pn;
     return GEOM_OK;
 }
 
