@@ -199,6 +199,12 @@ static void test_perspective_many(void **state)
     w[3 * 5] = INFINITY;
     w[3 * 6] = -1.0; /* mixed signs */
     l[3 * 7] = 1.0, l[3 * 7 + 1] = 0.0, l[3 * 7 + 2] = 0.0; /* a vertex */
+    /* the batch runs blocks of 64 rows: failing and rescaled rows inside a
+     * later block and in the last, partial one */
+    w[3 * 700 + 1] = 0.0;
+    w[3 * 701] = 0x1p-1040, w[3 * 701 + 1] = 0x1p-1050; /* rescaled (huge q) */
+    l[3 * 702] = 0x1p-1030, l[3 * 702 + 1] = 0.0, l[3 * 702 + 2] = 0x1p-1060; /* tiny q */
+    w[3 * (M - 2) + 2] = -INFINITY;
     for (int shared = 0; shared < 2; shared++) {
         size_t sw = shared ? 0 : 3, failed = 99, want_failed = 0;
         assert_int_equal(geom_bary_perspective_many(M, l, 3, w, sw, got, gst, &failed), GEOM_OK);
@@ -213,7 +219,11 @@ static void test_perspective_many(void **state)
         }
         assert_int_equal(failed, want_failed);
         if (!shared) {
-            assert_int_equal(want_failed, 4);
+            assert_int_equal(want_failed, 6);
+            assert_int_equal(gst[700], GEOM_ERR_DEGENERATE);
+            assert_int_equal(gst[701], GEOM_OK);
+            assert_int_equal(gst[702], GEOM_OK);
+            assert_int_equal(gst[M - 2], GEOM_ERR_INVALID_ARG);
             assert_int_equal(gst[1], GEOM_ERR_DEGENERATE);
             assert_int_equal(gst[2], GEOM_ERR_DEGENERATE);
             assert_int_equal(gst[3], GEOM_OK);
@@ -223,6 +233,13 @@ static void test_perspective_many(void **state)
     }
     /* NULL status is fine; NULL arrays are refused with n > 0 only */
     assert_int_equal(geom_bary_perspective_many(M, l, 3, w, 3, got, NULL, NULL), GEOM_OK);
+    /* in place (lp = l): each row as computed from its own input */
+    static double inplace[3 * M];
+    memcpy(inplace, l, sizeof l);
+    assert_int_equal(geom_bary_perspective_many(M, inplace, 3, w, 3, inplace, NULL, NULL),
+                     GEOM_OK);
+    for (size_t i = 0; i < 3 * M; i++)
+        assert_true(same_bits(inplace[i], got[i]) || (isnan(inplace[i]) && isnan(got[i])));
     assert_int_equal(geom_bary_perspective_many(1, NULL, 3, w, 3, got, NULL, NULL),
                      GEOM_ERR_INVALID_ARG);
     assert_int_equal(geom_bary_perspective_many(0, NULL, 3, NULL, 3, NULL, NULL, NULL), GEOM_OK);

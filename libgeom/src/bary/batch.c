@@ -267,6 +267,89 @@ geom_status geom_bary_polygon_many(int wachspress, size_t nv, const double *poly
     return GEOM_OK;
 }
 
+/* geom_bary_perspective over n rows, lane by lane without branches: its
+ * quotients q = l / w, sum s = q0 + q1 + q2 and q / s (divisions and a sum:
+ * no contraction, the same bits), with its conditions as a mask (finite
+ * input, w != 0, max |q| in the range that needs no rescaling, s nonzero
+ * and finite). A row outside the mask (the rescaled and failing cases) goes
+ * through geom_bary_perspective. Packed rows (strides 3) in full blocks
+ * de-interleave with constant strides, which vectorises. */
+GEOM_SIMD_CLONES
+static void perspective_rows(size_t n, const double *l, size_t sl, const double *w, size_t sw,
+                             double *lp, int32_t *status, size_t *failed)
+{
+    for (size_t i0 = 0; i0 < n; i0 += BLOCK) {
+        size_t m = n - i0 < BLOCK ? n - i0 : BLOCK;
+        double L[3][BLOCK], W[3][BLOCK], o[3][BLOCK];
+        int64_t ok[BLOCK];
+        if (sl == 3 && sw == 3 && m == BLOCK) {
+            const double *lb = l + 3 * i0, *wb = w + 3 * i0;
+            for (size_t j = 0; j < BLOCK; j++) {
+                L[0][j] = lb[3 * j];
+                L[1][j] = lb[3 * j + 1];
+                L[2][j] = lb[3 * j + 2];
+            }
+            for (size_t j = 0; j < BLOCK; j++) {
+                W[0][j] = wb[3 * j];
+                W[1][j] = wb[3 * j + 1];
+                W[2][j] = wb[3 * j + 2];
+            }
+        } else {
+            for (size_t j = 0; j < BLOCK; j++) {
+                size_t r = i0 + (j < m ? j : 0);
+                for (size_t k = 0; k < 3; k++) {
+                    L[k][j] = l[r * sl + k];
+                    W[k][j] = w[r * sw + k];
+                }
+            }
+        }
+        int64_t acc = 1;
+        for (size_t j = 0; j < BLOCK; j++) {
+            double q0 = L[0][j] / W[0][j], q1 = L[1][j] / W[1][j], q2 = L[2][j] / W[2][j];
+            double s = q0 + q1 + q2;
+            double a0 = fabs(q0), a1 = fabs(q1), a2 = fabs(q2);
+            double big = a0 > a1 ? a0 : a1;
+            big = big > a2 ? big : a2;
+            ok[j] = (fabs(L[0][j]) <= DBL_MAX) & (fabs(L[1][j]) <= DBL_MAX) &
+                    (fabs(L[2][j]) <= DBL_MAX) & (fabs(W[0][j]) <= DBL_MAX) &
+                    (fabs(W[1][j]) <= DBL_MAX) & (fabs(W[2][j]) <= DBL_MAX) &
+                    (W[0][j] != 0.0) & (W[1][j] != 0.0) & (W[2][j] != 0.0) &
+                    (big < 0x1p1000) & ((big > 0x1p-1000) | (big == 0.0)) & (s != 0.0) &
+                    (fabs(s) <= DBL_MAX);
+            o[0][j] = q0 / s;
+            o[1][j] = q1 / s;
+            o[2][j] = q2 / s;
+            acc &= ok[j];
+        }
+        /* rows outside the mask first (before the block is stored: a row
+         * written over its own input still reads it) */
+        for (size_t j = 0; j < m && !(acc && !status); j++) {
+            size_t i = i0 + j;
+            if (ok[j]) {
+                if (status)
+                    status[i] = GEOM_OK;
+                continue;
+            }
+            double r[3];
+            finish_row(geom_bary_perspective(l + i * sl, w + i * sw, r), r, 3, status, i, failed);
+            for (size_t k = 0; k < 3; k++)
+                o[k][j] = r[k];
+        }
+        double *ob = lp + 3 * i0;
+        if (m == BLOCK) { /* a constant count vectorises (interleaving stores) */
+            for (size_t j = 0; j < BLOCK; j++) {
+                ob[3 * j] = o[0][j];
+                ob[3 * j + 1] = o[1][j];
+                ob[3 * j + 2] = o[2][j];
+            }
+        } else {
+            for (size_t j = 0; j < m; j++)
+                for (size_t k = 0; k < 3; k++)
+                    ob[3 * j + k] = o[k][j];
+        }
+    }
+}
+
 geom_status geom_bary_perspective_many(size_t n, const double *l, size_t sl, const double *w,
                                        size_t sw, double *lp, int32_t *status, size_t *n_failed)
 {
@@ -277,10 +360,7 @@ geom_status geom_bary_perspective_many(size_t n, const double *l, size_t sl, con
         return GEOM_OK;
     if (!l || !w || !lp)
         return GEOM_ERR_INVALID_ARG;
-    for (size_t i = 0; i < n; i++) {
-        double *o = lp + 3 * i;
-        finish_row(geom_bary_perspective(l + i * sl, w + i * sw, o), o, 3, status, i, &failed);
-    }
+    perspective_rows(n, l, sl, w, sw, lp, status, &failed);
     if (n_failed)
         *n_failed = failed;
     return GEOM_OK;
