@@ -119,6 +119,48 @@ static void test_tri2_degenerate_shared(void **state)
     assert_true(isnan(out[0]));
 }
 
+/* tri3 in one shared triangle: bitwise geom_bary_tri3 (points off the
+ * plane, on its edges and vertices, near the vertices: the exact path, NaN
+ * and Inf rows); packed points and a stride of 4 (the gathered path). */
+static void test_tri3_shared(void **state)
+{
+    (void)state;
+    static double p[3 * N], p4[4 * N], got[3 * N], want[3 * N];
+    static int32_t gst[N], wst[N];
+    const double v[9] = {0.3, -0.2, 0.1, 2.0, 0.1, -0.4, 0.2, 1.7, 0.3};
+    size_t n = fill_points(p, 3, v, 3);
+    for (size_t i = 0; i < n; i++)
+        memcpy(p4 + 4 * i, p + 3 * i, 3 * sizeof(double));
+    size_t wfail = 0;
+    for (size_t i = 0; i < n; i++) {
+        wst[i] = geom_bary_tri3(v, v + 3, v + 6, p + 3 * i, want + 3 * i);
+        wfail += wst[i] != GEOM_OK;
+    }
+    assert_int_equal(wfail, 2);
+    for (int packed = 0; packed < 2; packed++) {
+        const double *pts[5] = {v, v + 3, v + 6, packed ? p : p4, NULL};
+        const size_t strides[5] = {0, 0, 0, packed ? 3 : 4, 0};
+        size_t failed = 0;
+        assert_int_equal(
+            geom_bary_simplex_many(GEOM_BARY_TRI3, n, pts, strides, got, gst, &failed), GEOM_OK);
+        assert_int_equal(failed, wfail);
+        check_rows(n, 3, got, gst, want, wst, 0.0); /* bitwise */
+    }
+    /* a vertex gives exactly (1, 0, 0); the weights sum to 1 */
+    assert_true(got[3 * (N - 64)] == 1.0 && got[3 * (N - 64) + 1] == 0.0);
+    for (size_t i = 0; i < n; i++)
+        if (gst[i] == GEOM_OK)
+            assert_true(fabs(got[3 * i] + got[3 * i + 1] + got[3 * i + 2] - 1.0) < 1e-11);
+    /* a degenerate (collinear) shared triangle fails every row as tri3 does */
+    const double w[9] = {0, 0, 0, 1, 1, 1, 2, 2, 2};
+    const double *dpts[5] = {w, w + 3, w + 6, p, NULL};
+    const size_t dstr[5] = {0, 0, 0, 3, 0};
+    assert_int_equal(geom_bary_simplex_many(GEOM_BARY_TRI3, 100, dpts, dstr, got, gst, NULL),
+                     GEOM_OK);
+    for (size_t i = 0; i < 100; i++)
+        assert_int_equal(gst[i], geom_bary_tri3(w, w + 3, w + 6, p + 3 * i, want));
+}
+
 static void test_tet_shared(void **state)
 {
     (void)state;
@@ -303,6 +345,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_tri2_shared),
         cmocka_unit_test(test_tri2_degenerate_shared),
+        cmocka_unit_test(test_tri3_shared),
         cmocka_unit_test(test_tet_shared),
         cmocka_unit_test(test_tet_general_strides),
         cmocka_unit_test(test_perspective_many),

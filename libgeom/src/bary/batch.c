@@ -69,9 +69,9 @@ static void finish_block(geom_bary_simplex kind, const double *const v[4], const
             continue;
         }
         double *o = out + k * i;
-        geom_status st = kind == GEOM_BARY_TET
-                             ? geom_bary_tet(v[0], v[1], v[2], v[3], p + i * sp, o)
-                             : geom_bary_tri2(v[0], v[1], v[2], p + i * sp, o);
+        geom_status st = kind == GEOM_BARY_TET    ? geom_bary_tet(v[0], v[1], v[2], v[3], p + i * sp, o)
+                         : kind == GEOM_BARY_TRI3 ? geom_bary_tri3(v[0], v[1], v[2], p + i * sp, o)
+                                                  : geom_bary_tri2(v[0], v[1], v[2], p + i * sp, o);
         finish_row(st, o, k, status, i, failed);
     }
 }
@@ -134,6 +134,87 @@ static void tri2_shared(const double a[2], const double b[2], const double c[2],
             }
         }
         finish_block(GEOM_BARY_TRI2, v, p, sp, i0, m, fast, all, ok, out, status, failed);
+    }
+}
+
+/* tri3 over n points p (stride sp) projected onto the plane of the one
+ * triangle (a, b, c): geom_bary_tri3's expressions (its cross products and
+ * certified dot products, bitwise the same results) with the triangle's
+ * edges, normal n and denominator n . n computed once; the p-dependent
+ * terms lane by lane without branches. Blocks as tri2_shared; a row the
+ * filter cannot certify goes through geom_bary_tri3. */
+GEOM_SIMD_CLONES
+static void tri3_shared(const double a[3], const double b[3], const double c[3], size_t n,
+                        const double *p, size_t sp, double *out, int32_t *status, size_t *failed)
+{
+    double u[3], v[3], e0[3], e1[3], nn[3], na[3], d = 0.0;
+    for (int k = 0; k < 3; k++) {
+        u[k] = b[k] - a[k];
+        v[k] = c[k] - a[k];
+        e0[k] = c[k] - b[k];
+        e1[k] = a[k] - c[k];
+    }
+    geom__bary_cross_abs(u, v, nn, na);
+    int fast = geom__isfinite3(a) && geom__isfinite3(b) && geom__isfinite3(c) &&
+               geom__bary_dot3_ok(nn, na, nn, na, &d);
+    const double *const vv[4] = {a, b, c, NULL};
+    const double A[3] = {a[0], a[1], a[2]}, B[3] = {b[0], b[1], b[2]}, C[3] = {c[0], c[1], c[2]};
+    for (size_t i0 = 0; i0 < n; i0 += BLOCK) {
+        size_t m = n - i0 < BLOCK ? n - i0 : BLOCK;
+        int64_t ok[BLOCK];
+        int all = fast;
+        if (fast) {
+            double px[BLOCK], py[BLOCK], pz[BLOCK], l[3][BLOCK];
+            if (sp == 3 && m == BLOCK) { /* packed points: a constant stride vectorises */
+                const double *q = p + 3 * i0;
+                for (size_t j = 0; j < BLOCK; j++) {
+                    px[j] = q[3 * j];
+                    py[j] = q[3 * j + 1];
+                    pz[j] = q[3 * j + 2];
+                }
+            } else {
+                for (size_t j = 0; j < BLOCK; j++) {
+                    const double *q = p + (i0 + (j < m ? j : 0)) * sp;
+                    px[j] = q[0];
+                    py[j] = q[1];
+                    pz[j] = q[2];
+                }
+            }
+            int64_t acc = 1;
+            for (size_t j = 0; j < BLOCK; j++) {
+                const double f0[3] = {px[j] - B[0], py[j] - B[1], pz[j] - B[2]};
+                const double f1[3] = {px[j] - C[0], py[j] - C[1], pz[j] - C[2]};
+                const double f2[3] = {px[j] - A[0], py[j] - A[1], pz[j] - A[2]};
+                double mm[3], ma[3], n0, n1, n2;
+                geom__bary_cross_abs(e0, f0, mm, ma);
+                int64_t k0 = geom__bary_dot3_ok(nn, na, mm, ma, &n0);
+                geom__bary_cross_abs(e1, f1, mm, ma);
+                int64_t k1 = geom__bary_dot3_ok(nn, na, mm, ma, &n1);
+                geom__bary_cross_abs(u, f2, mm, ma);
+                int64_t k2 = geom__bary_dot3_ok(nn, na, mm, ma, &n2);
+                ok[j] = k0 & k1 & k2;
+                l[0][j] = keep_tiny(n0 / d);
+                l[1][j] = keep_tiny(n1 / d);
+                l[2][j] = keep_tiny(n2 / d);
+                acc &= ok[j];
+            }
+            all = (int)acc;
+            double *o = out + 3 * i0;
+            if (m == BLOCK) { /* a constant count vectorises (interleaving stores) */
+                for (size_t j = 0; j < BLOCK; j++) {
+                    o[3 * j] = l[0][j];
+                    o[3 * j + 1] = l[1][j];
+                    o[3 * j + 2] = l[2][j];
+                }
+            } else {
+                for (size_t j = 0; j < m; j++) {
+                    o[3 * j] = l[0][j];
+                    o[3 * j + 1] = l[1][j];
+                    o[3 * j + 2] = l[2][j];
+                }
+            }
+        }
+        finish_block(GEOM_BARY_TRI3, vv, p, sp, i0, m, fast, all, ok, out, status, failed);
     }
 }
 
@@ -225,6 +306,9 @@ geom_status geom_bary_simplex_many(geom_bary_simplex kind, size_t n, const doubl
            sp = strides[np - 1];
     if (kind == GEOM_BARY_TRI2 && sa == 0 && sb == 0 && sc == 0) {
         tri2_shared(a, b, c, n, p, sp, out, status, &failed);
+        n = 0;
+    } else if (kind == GEOM_BARY_TRI3 && sa == 0 && sb == 0 && sc == 0) {
+        tri3_shared(a, b, c, n, p, sp, out, status, &failed);
         n = 0;
     } else if (kind == GEOM_BARY_TET && sa == 0 && sb == 0 && sc == 0 && sd == 0) {
         tet_shared(a, b, c, d, n, p, sp, out, status, &failed);
