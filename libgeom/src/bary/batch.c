@@ -99,10 +99,18 @@ static void tri2_shared(const double a[2], const double b[2], const double c[2],
         int all = fast;
         if (fast) {
             double px[BLOCK], py[BLOCK], l0[BLOCK], l1[BLOCK], l2[BLOCK];
-            for (size_t j = 0; j < BLOCK; j++) {
-                const double *q = p + (i0 + (j < m ? j : 0)) * sp;
-                px[j] = q[0];
-                py[j] = q[1];
+            if (sp == 2 && m == BLOCK) { /* packed points: a constant stride vectorises */
+                const double *q = p + 2 * i0;
+                for (size_t j = 0; j < BLOCK; j++) {
+                    px[j] = q[2 * j];
+                    py[j] = q[2 * j + 1];
+                }
+            } else {
+                for (size_t j = 0; j < BLOCK; j++) {
+                    const double *q = p + (i0 + (j < m ? j : 0)) * sp;
+                    px[j] = q[0];
+                    py[j] = q[1];
+                }
             }
             int64_t acc = 1;
             for (size_t j = 0; j < BLOCK; j++) {
