@@ -43,6 +43,48 @@ static inline int64_t det2_ok(double x1, double y2, double y1, double x2, double
  * branches, then its rows are checked only when one was not certified. */
 #define BLOCK 64
 
+/* Rows i0 .. i0+m-1 (m <= BLOCK) of 3 doubles at stride sp into lanes x, y,
+ * z (the lanes past m repeat row i0); packed rows (sp 3) of a full block
+ * de-interleave with a constant stride, which vectorises. */
+GEOM__CLONE_INLINE void gather3(const double *p, size_t sp, size_t i0, size_t m,
+                                double *restrict x, double *restrict y, double *restrict z)
+{
+    if (sp == 3 && m == BLOCK) {
+        const double *q = p + 3 * i0;
+        for (size_t j = 0; j < BLOCK; j++) {
+            x[j] = q[3 * j];
+            y[j] = q[3 * j + 1];
+            z[j] = q[3 * j + 2];
+        }
+    } else {
+        for (size_t j = 0; j < BLOCK; j++) {
+            const double *q = p + (i0 + (j < m ? j : 0)) * sp;
+            x[j] = q[0];
+            y[j] = q[1];
+            z[j] = q[2];
+        }
+    }
+}
+
+/* Lanes l[0..2] of m rows into o (3 doubles a row); a full block with a
+ * constant count vectorises (interleaving stores). */
+GEOM__CLONE_INLINE void store3(double *restrict o, size_t m, double (*l)[BLOCK])
+{
+    if (m == BLOCK) {
+        for (size_t j = 0; j < BLOCK; j++) {
+            o[3 * j] = l[0][j];
+            o[3 * j + 1] = l[1][j];
+            o[3 * j + 2] = l[2][j];
+        }
+    } else {
+        for (size_t j = 0; j < m; j++) {
+            o[3 * j] = l[0][j];
+            o[3 * j + 1] = l[1][j];
+            o[3 * j + 2] = l[2][j];
+        }
+    }
+}
+
 /* A certified N is never 0: a zero quotient underflowed; keep its sign
  * (IEEE gives the zero the quotient's sign). */
 static inline double keep_tiny(double q)
@@ -98,7 +140,7 @@ static void tri2_shared(const double a[2], const double b[2], const double c[2],
         int64_t ok[BLOCK];
         int all = fast;
         if (fast) {
-            double px[BLOCK], py[BLOCK], l0[BLOCK], l1[BLOCK], l2[BLOCK];
+            double px[BLOCK], py[BLOCK], l[3][BLOCK];
             if (sp == 2 && m == BLOCK) { /* packed points: a constant stride vectorises */
                 const double *q = p + 2 * i0;
                 for (size_t j = 0; j < BLOCK; j++) {
@@ -120,26 +162,13 @@ static void tri2_shared(const double a[2], const double b[2], const double c[2],
                 double n0, n1, n2;
                 ok[j] = det2_ok(pcx, bcy, pcy, bcx, &n0) & det2_ok(acx, pcy, acy, pcx, &n1) &
                         det2_ok(apx, bpy, apy, bpx, &n2);
-                l0[j] = keep_tiny(n0 / d);
-                l1[j] = keep_tiny(n1 / d);
-                l2[j] = keep_tiny(n2 / d);
+                l[0][j] = keep_tiny(n0 / d);
+                l[1][j] = keep_tiny(n1 / d);
+                l[2][j] = keep_tiny(n2 / d);
                 acc &= ok[j];
             }
             all = (int)acc;
-            double *o = out + 3 * i0;
-            if (m == BLOCK) { /* a constant count vectorises (interleaving stores) */
-                for (size_t j = 0; j < BLOCK; j++) {
-                    o[3 * j] = l0[j];
-                    o[3 * j + 1] = l1[j];
-                    o[3 * j + 2] = l2[j];
-                }
-            } else {
-                for (size_t j = 0; j < m; j++) {
-                    o[3 * j] = l0[j];
-                    o[3 * j + 1] = l1[j];
-                    o[3 * j + 2] = l2[j];
-                }
-            }
+            store3(out + 3 * i0, m, l);
         }
         finish_block(GEOM_BARY_TRI2, v, p, sp, i0, m, fast, all, ok, out, status, failed);
     }
@@ -173,21 +202,7 @@ static void tri3_shared(const double a[3], const double b[3], const double c[3],
         int all = fast;
         if (fast) {
             double px[BLOCK], py[BLOCK], pz[BLOCK], l[3][BLOCK];
-            if (sp == 3 && m == BLOCK) { /* packed points: a constant stride vectorises */
-                const double *q = p + 3 * i0;
-                for (size_t j = 0; j < BLOCK; j++) {
-                    px[j] = q[3 * j];
-                    py[j] = q[3 * j + 1];
-                    pz[j] = q[3 * j + 2];
-                }
-            } else {
-                for (size_t j = 0; j < BLOCK; j++) {
-                    const double *q = p + (i0 + (j < m ? j : 0)) * sp;
-                    px[j] = q[0];
-                    py[j] = q[1];
-                    pz[j] = q[2];
-                }
-            }
+            gather3(p, sp, i0, m, px, py, pz);
             int64_t acc = 1;
             for (size_t j = 0; j < BLOCK; j++) {
                 const double f0[3] = {px[j] - B[0], py[j] - B[1], pz[j] - B[2]};
@@ -207,20 +222,7 @@ static void tri3_shared(const double a[3], const double b[3], const double c[3],
                 acc &= ok[j];
             }
             all = (int)acc;
-            double *o = out + 3 * i0;
-            if (m == BLOCK) { /* a constant count vectorises (interleaving stores) */
-                for (size_t j = 0; j < BLOCK; j++) {
-                    o[3 * j] = l[0][j];
-                    o[3 * j + 1] = l[1][j];
-                    o[3 * j + 2] = l[2][j];
-                }
-            } else {
-                for (size_t j = 0; j < m; j++) {
-                    o[3 * j] = l[0][j];
-                    o[3 * j + 1] = l[1][j];
-                    o[3 * j + 2] = l[2][j];
-                }
-            }
+            store3(out + 3 * i0, m, l);
         }
         finish_block(GEOM_BARY_TRI3, vv, p, sp, i0, m, fast, all, ok, out, status, failed);
     }
@@ -247,21 +249,7 @@ static void tet_shared(const double a[3], const double b[3], const double c[3],
         int all = fast;
         if (fast) {
             double px[BLOCK], py[BLOCK], pz[BLOCK], l[4][BLOCK];
-            if (sp == 3 && mm == BLOCK) { /* packed points: a constant stride vectorises */
-                const double *q = p + 3 * i0;
-                for (size_t j = 0; j < BLOCK; j++) {
-                    px[j] = q[3 * j];
-                    py[j] = q[3 * j + 1];
-                    pz[j] = q[3 * j + 2];
-                }
-            } else {
-                for (size_t j = 0; j < BLOCK; j++) {
-                    const double *q = p + (i0 + (j < mm ? j : 0)) * sp;
-                    px[j] = q[0];
-                    py[j] = q[1];
-                    pz[j] = q[2];
-                }
-            }
+            gather3(p, sp, i0, mm, px, py, pz);
             int64_t acc = 1;
             for (size_t j = 0; j < BLOCK; j++) {
                 const double q[3] = {px[j], py[j], pz[j]};
@@ -374,27 +362,8 @@ static void perspective_rows(size_t n, const double *l, size_t sl, const double 
         size_t m = n - i0 < BLOCK ? n - i0 : BLOCK;
         double L[3][BLOCK], W[3][BLOCK], o[3][BLOCK];
         int64_t ok[BLOCK];
-        if (sl == 3 && sw == 3 && m == BLOCK) {
-            const double *lb = l + 3 * i0, *wb = w + 3 * i0;
-            for (size_t j = 0; j < BLOCK; j++) {
-                L[0][j] = lb[3 * j];
-                L[1][j] = lb[3 * j + 1];
-                L[2][j] = lb[3 * j + 2];
-            }
-            for (size_t j = 0; j < BLOCK; j++) {
-                W[0][j] = wb[3 * j];
-                W[1][j] = wb[3 * j + 1];
-                W[2][j] = wb[3 * j + 2];
-            }
-        } else {
-            for (size_t j = 0; j < BLOCK; j++) {
-                size_t r = i0 + (j < m ? j : 0);
-                for (size_t k = 0; k < 3; k++) {
-                    L[k][j] = l[r * sl + k];
-                    W[k][j] = w[r * sw + k];
-                }
-            }
-        }
+        gather3(l, sl, i0, m, L[0], L[1], L[2]);
+        gather3(w, sw, i0, m, W[0], W[1], W[2]);
         int64_t acc = 1;
         for (size_t j = 0; j < BLOCK; j++) {
             double q0 = L[0][j] / W[0][j], q1 = L[1][j] / W[1][j], q2 = L[2][j] / W[2][j];
@@ -427,18 +396,7 @@ static void perspective_rows(size_t n, const double *l, size_t sl, const double 
             for (size_t k = 0; k < 3; k++)
                 o[k][j] = r[k];
         }
-        double *ob = lp + 3 * i0;
-        if (m == BLOCK) { /* a constant count vectorises (interleaving stores) */
-            for (size_t j = 0; j < BLOCK; j++) {
-                ob[3 * j] = o[0][j];
-                ob[3 * j + 1] = o[1][j];
-                ob[3 * j + 2] = o[2][j];
-            }
-        } else {
-            for (size_t j = 0; j < m; j++)
-                for (size_t k = 0; k < 3; k++)
-                    ob[3 * j + k] = o[k][j];
-        }
+        store3(lp + 3 * i0, m, o);
     }
 }
 
