@@ -116,6 +116,26 @@ run("bary.tri2", lambda: geom.bary.tri2(a, b, c, p),
     [("plain", lambda: np_tri2(p)), ("tuned", lambda: np_tri2_tuned(p))],
     lambda: np.array([np_tri2(x.reshape(1, 2))[0] for x in p[:NLOOP]]))
 
+# bary.tri3 (the projection onto the plane of a 3D triangle) ---------------
+a3, b3, c3 = np.array([0.1, 0.2, 0.3]), np.array([3.0, 0.5, -0.2]), np.array([1.0, 2.5, 0.7])
+p3t = rng.uniform(-1, 3, (N, 3))
+
+
+def np_tri3(p):
+    # the textbook formula (dot products of the edges, Cramer's rule)
+    e0, e1, v = b3 - a3, c3 - a3, p - a3
+    d00, d01, d11 = e0 @ e0, e0 @ e1, e1 @ e1
+    d20, d21 = v @ e0, v @ e1
+    den = d00 * d11 - d01 * d01
+    l1 = (d11 * d20 - d01 * d21) / den
+    l2 = (d00 * d21 - d01 * d20) / den
+    return np.stack([1 - l1 - l2, l1, l2], axis=1)
+
+
+run("bary.tri3", lambda: geom.bary.tri3(a3, b3, c3, p3t),
+    [("plain", lambda: np_tri3(p3t))],
+    lambda: np.array([np_tri3(x.reshape(1, 3))[0] for x in p3t[:NLOOP]]))
+
 # bary.tet -----------------------------------------------------------------
 A = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=float)
 q = rng.uniform(-0.5, 1, (N, 3))
@@ -151,9 +171,15 @@ def np_persp(l, w):
     return qq / qq.sum(axis=1, keepdims=True)
 
 
+def copy_persp():
+    # read l and w (n, 3) each, write n x 3 values: 48 + 24 bytes a row (one
+    # numpy pass with a fresh output)
+    return np.add(lw, ww, out=np.empty_like(lw))
+
+
 run("bary.perspective", lambda: geom.bary.perspective(lw, ww),
     [("plain", lambda: np_persp(lw, ww))],
-    lambda: [np_persp(lw[i:i + 1], ww[i:i + 1]) for i in range(NLOOP)])
+    lambda: [np_persp(lw[i:i + 1], ww[i:i + 1]) for i in range(NLOOP)], copy_persp)
 
 
 def copy_interp():

@@ -119,6 +119,48 @@ static void test_tri2_degenerate_shared(void **state)
     assert_true(isnan(out[0]));
 }
 
+/* tri3 in one shared triangle: bitwise geom_bary_tri3 (points off the
+ * plane, on its edges and vertices, near the vertices: the exact path, NaN
+ * and Inf rows); packed points and a stride of 4 (the gathered path). */
+static void test_tri3_shared(void **state)
+{
+    (void)state;
+    static double p[3 * N], p4[4 * N], got[3 * N], want[3 * N];
+    static int32_t gst[N], wst[N];
+    const double v[9] = {0.3, -0.2, 0.1, 2.0, 0.1, -0.4, 0.2, 1.7, 0.3};
+    size_t n = fill_points(p, 3, v, 3);
+    for (size_t i = 0; i < n; i++)
+        memcpy(p4 + 4 * i, p + 3 * i, 3 * sizeof(double));
+    size_t wfail = 0;
+    for (size_t i = 0; i < n; i++) {
+        wst[i] = geom_bary_tri3(v, v + 3, v + 6, p + 3 * i, want + 3 * i);
+        wfail += wst[i] != GEOM_OK;
+    }
+    assert_int_equal(wfail, 2);
+    for (int packed = 0; packed < 2; packed++) {
+        const double *pts[5] = {v, v + 3, v + 6, packed ? p : p4, NULL};
+        const size_t strides[5] = {0, 0, 0, packed ? 3 : 4, 0};
+        size_t failed = 0;
+        assert_int_equal(
+            geom_bary_simplex_many(GEOM_BARY_TRI3, n, pts, strides, got, gst, &failed), GEOM_OK);
+        assert_int_equal(failed, wfail);
+        check_rows(n, 3, got, gst, want, wst, 0.0); /* bitwise */
+    }
+    /* a vertex gives exactly (1, 0, 0); the weights sum to 1 */
+    assert_true(got[3 * (N - 64)] == 1.0 && got[3 * (N - 64) + 1] == 0.0);
+    for (size_t i = 0; i < n; i++)
+        if (gst[i] == GEOM_OK)
+            assert_true(fabs(got[3 * i] + got[3 * i + 1] + got[3 * i + 2] - 1.0) < 1e-11);
+    /* a degenerate (collinear) shared triangle fails every row as tri3 does */
+    const double w[9] = {0, 0, 0, 1, 1, 1, 2, 2, 2};
+    const double *dpts[5] = {w, w + 3, w + 6, p, NULL};
+    const size_t dstr[5] = {0, 0, 0, 3, 0};
+    assert_int_equal(geom_bary_simplex_many(GEOM_BARY_TRI3, 100, dpts, dstr, got, gst, NULL),
+                     GEOM_OK);
+    for (size_t i = 0; i < 100; i++)
+        assert_int_equal(gst[i], geom_bary_tri3(w, w + 3, w + 6, p + 3 * i, want));
+}
+
 static void test_tet_shared(void **state)
 {
     (void)state;
@@ -199,6 +241,12 @@ static void test_perspective_many(void **state)
     w[3 * 5] = INFINITY;
     w[3 * 6] = -1.0; /* mixed signs */
     l[3 * 7] = 1.0, l[3 * 7 + 1] = 0.0, l[3 * 7 + 2] = 0.0; /* a vertex */
+    /* the batch runs blocks of 64 rows: failing and rescaled rows inside a
+     * later block and in the last, partial one */
+    w[3 * 700 + 1] = 0.0;
+    w[3 * 701] = 0x1p-1040, w[3 * 701 + 1] = 0x1p-1050; /* rescaled (huge q) */
+    l[3 * 702] = 0x1p-1030, l[3 * 702 + 1] = 0.0, l[3 * 702 + 2] = 0x1p-1060; /* tiny q */
+    w[3 * (M - 2) + 2] = -INFINITY;
     for (int shared = 0; shared < 2; shared++) {
         size_t sw = shared ? 0 : 3, failed = 99, want_failed = 0;
         assert_int_equal(geom_bary_perspective_many(M, l, 3, w, sw, got, gst, &failed), GEOM_OK);
@@ -213,7 +261,11 @@ static void test_perspective_many(void **state)
         }
         assert_int_equal(failed, want_failed);
         if (!shared) {
-            assert_int_equal(want_failed, 4);
+            assert_int_equal(want_failed, 6);
+            assert_int_equal(gst[700], GEOM_ERR_DEGENERATE);
+            assert_int_equal(gst[701], GEOM_OK);
+            assert_int_equal(gst[702], GEOM_OK);
+            assert_int_equal(gst[M - 2], GEOM_ERR_INVALID_ARG);
             assert_int_equal(gst[1], GEOM_ERR_DEGENERATE);
             assert_int_equal(gst[2], GEOM_ERR_DEGENERATE);
             assert_int_equal(gst[3], GEOM_OK);
@@ -223,6 +275,13 @@ static void test_perspective_many(void **state)
     }
     /* NULL status is fine; NULL arrays are refused with n > 0 only */
     assert_int_equal(geom_bary_perspective_many(M, l, 3, w, 3, got, NULL, NULL), GEOM_OK);
+    /* in place (lp = l): each row as computed from its own input */
+    static double inplace[3 * M];
+    memcpy(inplace, l, sizeof l);
+    assert_int_equal(geom_bary_perspective_many(M, inplace, 3, w, 3, inplace, NULL, NULL),
+                     GEOM_OK);
+    for (size_t i = 0; i < 3 * M; i++)
+        assert_true(same_bits(inplace[i], got[i]) || (isnan(inplace[i]) && isnan(got[i])));
     assert_int_equal(geom_bary_perspective_many(1, NULL, 3, w, 3, got, NULL, NULL),
                      GEOM_ERR_INVALID_ARG);
     assert_int_equal(geom_bary_perspective_many(0, NULL, 3, NULL, 3, NULL, NULL, NULL), GEOM_OK);
@@ -286,6 +345,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_tri2_shared),
         cmocka_unit_test(test_tri2_degenerate_shared),
+        cmocka_unit_test(test_tri3_shared),
         cmocka_unit_test(test_tet_shared),
         cmocka_unit_test(test_tet_general_strides),
         cmocka_unit_test(test_perspective_many),

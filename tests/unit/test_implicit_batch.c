@@ -479,7 +479,8 @@ static void test_volume_batch_bitwise(void **state)
 {
     (void)state;
     static const size_t dims[][3] = {{32, 32, 32}, {5, 7, 3}, {2, 2, 2}, {1, 9, 4}, {6, 1, 1}};
-    static const double sps[][3] = {{1, 1, 1}, {0.5, 2.0, 0.3}, {0, 0, 0}, {1e-3, 7, 1}};
+    static const double sps[][3] = {{1, 1, 1}, {0.5, 2.0, 0.3}, {0, 0, 0}, {1e-3, 7, 1},
+                                    {0x1p-30, 0x1p20, 4.0}};
     static const double orgs[][3] = {{0, 0, 0}, {-1.25, 0.5, 3}, {1e8, -1e8, 0.1}};
     size_t n = 2000;
     double *out = malloc(n * sizeof(double));

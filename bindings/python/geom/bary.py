@@ -42,6 +42,24 @@ def _finish(out, statuses, single, errors, what):
     return out[0] if single else out
 
 
+def _rows(call, out, n, single, errors, what):
+    """Run call(status, n_failed), a *_many C call writing out, without a
+    status array on the common path (n int32 writes and a scan saved): the
+    per-row statuses are asked for (a second call) only when some row
+    failed."""
+    nfail = ffi.new("size_t *")
+    st = call(ffi.NULL, nfail)
+    status = None
+    if st == 0 and nfail[0]:
+        status = np.empty(n, dtype=np.int32)
+        st = call(ffi.from_buffer("int32_t[]", status), ffi.NULL)
+    if st != 0:
+        raise GeomError(int(st), context=what)
+    if status is None:
+        return out[0] if single else out
+    return _finish(out, status, single, errors, what)
+
+
 def _simplex(kind, dim, k, names, args, errors, what):
     """One C call over every row (geom_bary_simplex_many): single points
     are passed with stride 0 (broadcast without copying)."""
@@ -49,20 +67,11 @@ def _simplex(kind, dim, k, names, args, errors, what):
     n, single, pts, strides, keep = stride_args(dim, names, args, 5)
     out = np.empty((n, k), dtype=np.float64)
     pout = ffi.from_buffer("double[]", out)
-    nfail = ffi.new("size_t *")
-    # No status array on the common path (n int32 writes and a scan saved):
-    # the per-row statuses are asked for only when some row failed.
-    st = lib.geom_bary_simplex_many(kind, n, pts, strides, pout, ffi.NULL, nfail)
-    if st == 0 and nfail[0]:
-        status = np.empty(n, dtype=np.int32)
-        st = lib.geom_bary_simplex_many(kind, n, pts, strides, pout,
-                                        ffi.from_buffer("int32_t[]", status), ffi.NULL)
+    r = _rows(lambda status, nfail: lib.geom_bary_simplex_many(kind, n, pts, strides, pout,
+                                                               status, nfail),
+              out, n, single, errors, what)
     del keep
-    if st != 0:
-        raise GeomError(int(st), context=what)
-    if not nfail[0]:
-        return out[0] if single else out
-    return _finish(out, status, single, errors, what)
+    return r
 
 
 def tri2(a, b, c, p, errors="raise"):
@@ -130,14 +139,12 @@ def perspective(l, w, errors="raise"):
     _check_errors(errors)
     n, single, pts, strides, keep = stride_args(3, ("l", "w"), (l, w), 2)
     out = np.empty((n, 3), dtype=np.float64)
-    status = np.empty(n, dtype=np.int32)
-    st = lib.geom_bary_perspective_many(n, pts[0], strides[0], pts[1], strides[1],
-                                        ffi.from_buffer("double[]", out),
-                                        ffi.from_buffer("int32_t[]", status), ffi.NULL)
+    pout = ffi.from_buffer("double[]", out)
+    r = _rows(lambda status, nfail: lib.geom_bary_perspective_many(
+        n, pts[0], strides[0], pts[1], strides[1], pout, status, nfail),
+        out, n, single, errors, "perspective")
     del keep
-    if st != 0:
-        raise GeomError(int(st), context="perspective")
-    return _finish(out, status, single, errors, "perspective")
+    return r
 
 
 def interpolate(weights, attributes):

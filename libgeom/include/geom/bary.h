@@ -147,8 +147,10 @@ GEOM_API geom_status geom_bary_polygon_many(int wachspress, size_t nv, const dou
 /**
  * geom_bary_perspective over n rows: row i uses l + i*sl and w + i*sw
  * (3 doubles each; a stride is 3 for one row per query, 0 for the same
- * values in every row) and writes lp[3*i .. 3*i+2]. Each row is computed by
- * geom_bary_perspective itself, so the weights are bitwise its results.
+ * values in every row) and writes lp[3*i .. 3*i+2]. Each row is computed
+ * with geom_bary_perspective's operations (rows by blocks, vectorised; a row
+ * that needs its rescaling or fails goes through it), so the weights are
+ * bitwise its results. lp may be l (sl 3) but must not overlap it otherwise.
  * status / n_failed as geom_bary_simplex_many (a failing row's weights are
  * NaN: GEOM_ERR_DEGENERATE for a zero w or a vanishing sum,
  * GEOM_ERR_INVALID_ARG for non-finite input). Returns GEOM_OK, or

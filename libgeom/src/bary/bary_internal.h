@@ -71,6 +71,43 @@ static inline int geom__bary_det3(const double a[3], const double b[3], const do
            (perm < GEOM_BARY_BIG);
 }
 
+/* geom_bary_tri3's terms (degree-4 polynomials, each through at most 11
+ * roundings: error below 12 eps times the sum of absolute values); 12 eps *
+ * 2^42: the accepted relative error is 2^-42. */
+#define GEOM_BARY_TRI3_K (12.0 * GEOM_BARY_EPS * GEOM_BARY_REL)
+
+/* n = u x v in floating point, with the sums of the absolute products
+ * (inlined into the batch's vector clones). */
+GEOM__CLONE_INLINE void geom__bary_cross_abs(const double u[3], const double v[3], double n[3],
+                                             double na[3])
+{
+    /* component k from i = k + 1, j = k + 2 (mod 3): t1 = u[i] v[j], t2 = u[j] v[i];
+     * written out, so that the batch's lane loop has no inner loop */
+    double t1 = u[1] * v[2], t2 = u[2] * v[1];
+    n[0] = t1 - t2;
+    na[0] = fabs(t1) + fabs(t2);
+    t1 = u[2] * v[0], t2 = u[0] * v[2];
+    n[1] = t1 - t2;
+    na[1] = fabs(t1) + fabs(t2);
+    t1 = u[0] * v[1], t2 = u[1] * v[0];
+    n[2] = t1 - t2;
+    na[2] = fabs(t1) + fabs(t2);
+}
+
+/* x . y with the certification test, without branches; 1 if accepted (a
+ * certified value is never 0). */
+GEOM__CLONE_INLINE int geom__bary_dot3_ok(const double x[3], const double xa[3],
+                                          const double y[3], const double ya[3], double *out)
+{
+    double v = x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
+    double perm = xa[0] * ya[0] + xa[1] * ya[1] + xa[2] * ya[2];
+    /* Products that underflow are off by 2^-1075 and then multiplied by at
+     * most one absolute sum. */
+    double tiny = GEOM_BARY_TINY * (1.0 + xa[0] + xa[1] + xa[2] + ya[0] + ya[1] + ya[2]);
+    *out = v;
+    return (fabs(v) >= GEOM_BARY_TRI3_K * perm + tiny) & (perm < GEOM_BARY_BIG);
+}
+
 /* n doubles of v all finite? */
 static inline int geom__bary_finite(const double *v, size_t n)
 {

@@ -10,33 +10,6 @@
  */
 #include "bary/bary_internal.h"
 
-/* 12 eps * 2^42: the accepted relative error is 2^-42. */
-#define TRI3_K (12.0 * GEOM_BARY_EPS * GEOM_BARY_REL)
-
-/* n = u x v in floating point, with the sums of the absolute products. */
-static void cross_abs(const double u[3], const double v[3], double n[3], double na[3])
-{
-    for (int k = 0; k < 3; k++) {
-        int i = (k + 1) % 3, j = (k + 2) % 3;
-        double t1 = u[i] * v[j], t2 = u[j] * v[i];
-        n[k] = t1 - t2;
-        na[k] = fabs(t1) + fabs(t2);
-    }
-}
-
-/* x . y with the certification test; returns 1 if accepted. */
-static int dot_certified(const double x[3], const double xa[3], const double y[3],
-                         const double ya[3], double *out)
-{
-    double v = x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
-    double perm = xa[0] * ya[0] + xa[1] * ya[1] + xa[2] * ya[2];
-    /* Products that underflow are off by 2^-1075 and then multiplied by at
-     * most one absolute sum. */
-    double tiny = GEOM_BARY_TINY * (1.0 + xa[0] + xa[1] + xa[2] + ya[0] + ya[1] + ya[2]);
-    *out = v;
-    return fabs(v) >= TRI3_K * perm + tiny && perm < GEOM_BARY_BIG;
-}
-
 geom_status geom_bary_tri3(const double a[3], const double b[3], const double c[3],
                            const double p[3], double l[3])
 {
@@ -58,18 +31,18 @@ geom_status geom_bary_tri3(const double a[3], const double b[3], const double c[
         f2[k] = p[k] - a[k];
     }
     double n[3], na[3], m[3], ma[3], d, nv[3];
-    cross_abs(u, v, n, na);
+    geom__bary_cross_abs(u, v, n, na);
     unsigned slow = 0; /* bit i: numerator i uncertified; bit 3: denominator */
-    if (!dot_certified(n, na, n, na, &d))
+    if (!geom__bary_dot3_ok(n, na, n, na, &d))
         slow |= 8u;
-    cross_abs(e0, f0, m, ma);
-    if (!dot_certified(n, na, m, ma, &nv[0]))
+    geom__bary_cross_abs(e0, f0, m, ma);
+    if (!geom__bary_dot3_ok(n, na, m, ma, &nv[0]))
         slow |= 1u;
-    cross_abs(e1, f1, m, ma);
-    if (!dot_certified(n, na, m, ma, &nv[1]))
+    geom__bary_cross_abs(e1, f1, m, ma);
+    if (!geom__bary_dot3_ok(n, na, m, ma, &nv[1]))
         slow |= 2u;
-    cross_abs(u, f2, m, ma);
-    if (!dot_certified(n, na, m, ma, &nv[2]))
+    geom__bary_cross_abs(u, f2, m, ma);
+    if (!geom__bary_dot3_ok(n, na, m, ma, &nv[2]))
         slow |= 4u;
     if (!slow) {
         geom__bary_set3(l, geom__bary_quot(nv[0], d), geom__bary_quot(nv[1], d),

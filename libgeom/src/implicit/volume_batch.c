@@ -19,8 +19,9 @@
  * Every lane does exactly the single-point function's operations in its
  * order; samples of type T. */
 #define GRAD_BLOCK(name, T)                                                                    \
-    GEOM__CLONE_INLINE void name(const double *o, const double *s, const double *um,         \
-                                 const int64_t *stride, const T *restrict S,                  \
+    GEOM__CLONE_INLINE void name(const double *o, const double *s, const double *inv,        \
+                                 const double *um, const int64_t *stride,                     \
+                                 const T *restrict S,                                         \
                                  const double *restrict p, double *restrict grad)             \
     {                                                                                          \
         double c[3][GB], f[3][GB], g[3][GB], w[GB], V[8][GB], x[GB];                           \
@@ -58,17 +59,19 @@
                 const int32_t *ia = i0[a];                                                     \
                 double *ga = g[a];                                                             \
                 int64_t oc = off[corner], e0 = edge - bit;                                     \
-                for (int l = 0; l < GB; l++) /* the gathers: their own loop */               \
+                for (int l = 0; l < GB; l++) /* the gathers: their own loop */                 \
                     x[l] = (double)S[b[l] + oc + (ia[l] == e0 ? 0 : out)];                     \
-                if (bit)                                                                       \
+                for (int l = 0; l < GB; l++) /* the difference, upper minus lower */           \
+                    x[l] = bit ? x[l] - nb[l] : nb[l] - x[l];                                  \
+                if (inv[a] > 0.0) /* x / 2^k is x * 2^-k: the same bits */                     \
                     for (int l = 0; l < GB; l++) {                                             \
-                        double dd = (x[l] - nb[l]) / (ia[l] == e0 ? sp : sp2);                 \
+                        double dd = x[l] * (ia[l] == e0 ? inv[a] : 0.5 * inv[a]);              \
                         double sum = ga[l] + w[l] * dd; /* computed either way */              \
                         ga[l] = w[l] == 0.0 ? ga[l] : sum;                                     \
                     }                                                                          \
                 else                                                                           \
                     for (int l = 0; l < GB; l++) {                                             \
-                        double dd = (nb[l] - x[l]) / (ia[l] == e0 ? sp : sp2);                 \
+                        double dd = x[l] / (ia[l] == e0 ? sp : sp2);                           \
                         double sum = ga[l] + w[l] * dd;                                        \
                         ga[l] = w[l] == 0.0 ? ga[l] : sum;                                     \
                     }                                                                          \
@@ -88,17 +91,24 @@ GRAD_BLOCK(grad_block_f64, double)
 GEOM_SIMD_CLONES
 static void grad_blocks(const geom_implicit_grid *d, size_t nb, const double *p, double *grad)
 {
-    double s[3], um[3];
+    double s[3], um[3], inv[3];
     for (int a = 0; a < 3; a++) {
         s[a] = d->spacing[a] > 0 ? d->spacing[a] : 1.0; /* trilinear.c's spacing_of */
         um[a] = (double)(d->dims[a] - 1);
+        /* 1 / s when s and 2 s are powers of two with exact reciprocals
+         * (dividing by them is multiplying by those), else 0 (divide) */
+        int e;
+        inv[a] = frexp(s[a], &e) == 0.5 && isfinite(2.0 * s[a]) && isfinite(1.0 / s[a]) &&
+                         1.0 / s[a] * s[a] == 1.0
+                     ? 1.0 / s[a]
+                     : 0.0;
     }
     int64_t stride[3] = {1, (int64_t)d->dims[0], (int64_t)(d->dims[0] * d->dims[1])};
     for (size_t i = 0; i < nb; i++, p += 3 * GB, grad += 3 * GB) {
         if (d->type == GEOM_IMPLICIT_SCALAR_F32)
-            grad_block_f32(d->origin, s, um, stride, (const float *)d->data, p, grad);
+            grad_block_f32(d->origin, s, inv, um, stride, (const float *)d->data, p, grad);
         else
-            grad_block_f64(d->origin, s, um, stride, (const double *)d->data, p, grad);
+            grad_block_f64(d->origin, s, inv, um, stride, (const double *)d->data, p, grad);
     }
 }
 
