@@ -121,9 +121,11 @@ static inline int geom__isfinite3(const double p[3])
     return isfinite(p[0]) && isfinite(p[1]) && isfinite(p[2]);
 }
 
-/* geom_orient2d over n rows (strides in doubles), bitwise its results: the
- * fast path of geom_predicate_many (predicates.c). */
+/* geom_orient2d and geom_orient3d over n rows (strides in doubles), bitwise
+ * their results: the fast paths of geom_predicate_many (predicates.c). */
 void geom__orient2d_many(size_t n, const double *a, size_t sa, const double *b, size_t sb,
                          const double *c, size_t sc, double *out);
+void geom__orient3d_many(size_t n, const double *a, size_t sa, const double *b, size_t sb,
+                         const double *c, size_t sc, const double *d, size_t sd, double *out);
 
 #endif

@@ -124,43 +124,81 @@ double geom_incircle(const double a[2], const double b[2], const double c[2], co
     return xval_result(geom__xeval_incircle(a, b, c, d));
 }
 
-/* orient2d over n rows (row i of a at a + i*sa, ...): geom_orient2d's own
- * filter, lane by lane in blocks without branches (the loop the compiler
- * vectorises), so every certified row gets its very value; each row the
- * filter cannot certify goes through geom_orient2d (the same bits). */
-#define ORIENT2D_BLOCK 64
+/* orient2d (three 2D points a, b, c) or orient3d (three = 1: four 3D points
+ * a, b, c, d) over n rows (row i of a at a + i*sa, ...): the single-point
+ * predicate's own filter (orient2d_filter; geom__orient3d_fast and its
+ * errbound), lane by lane in blocks without branches (the loops the
+ * compiler vectorises), so every certified row gets its very value; each row
+ * the filter cannot certify goes through geom_orient2d / geom_orient3d (the
+ * same bits). `three` is a constant at both call sites, so each clone keeps
+ * one branch-free body. */
+#define PREDICATE_BLOCK 64
+GEOM__CLONE_INLINE void predicate_blocks(int three, size_t n, const double *a, size_t sa,
+                                         const double *b, size_t sb, const double *c, size_t sc,
+                                         const double *d, size_t sd, double *out)
+{
+    const int dim = three ? 3 : 2;
+    for (size_t i0 = 0; i0 < n; i0 += PREDICATE_BLOCK) {
+        size_t m = n - i0 < PREDICATE_BLOCK ? n - i0 : PREDICATE_BLOCK;
+        double v[12][PREDICATE_BLOCK], det[PREDICATE_BLOCK];
+        int64_t ok[PREDICATE_BLOCK], all = 1;
+        for (size_t j = 0; j < PREDICATE_BLOCK; j++) {
+            size_t i = i0 + (j < m ? j : 0);
+            for (int k = 0; k < dim; k++) {
+                v[k][j] = a[i * sa + k];
+                v[3 + k][j] = b[i * sb + k];
+                v[6 + k][j] = c[i * sc + k];
+                if (three)
+                    v[9 + k][j] = d[i * sd + k];
+            }
+        }
+        for (size_t j = 0; j < PREDICATE_BLOCK; j++) {
+            if (three) {
+                const double pa[3] = {v[0][j], v[1][j], v[2][j]}, pb[3] = {v[3][j], v[4][j], v[5][j]};
+                const double pc[3] = {v[6][j], v[7][j], v[8][j]}, pd[3] = {v[9][j], v[10][j], v[11][j]};
+                double permanent, zterm;
+                det[j] = geom__orient3d_fast(pa, pb, pc, pd, &permanent, &zterm);
+                double errbound = o3d_errbound_a * permanent + GEOM_UNDERFLOW_TINY * zterm;
+                ok[j] = (det[j] > errbound) | (-det[j] > errbound);
+            } else {
+                ok[j] = orient2d_filter(v[0][j] - v[6][j], v[3][j] - v[6][j], v[1][j] - v[7][j],
+                                        v[4][j] - v[7][j], &det[j]);
+            }
+            all &= ok[j];
+        }
+        for (size_t j = 0; j < m; j++) {
+            size_t i = i0 + j;
+            out[i] = all || ok[j] ? det[j]
+                     : three      ? geom_orient3d(a + i * sa, b + i * sb, c + i * sc, d + i * sd)
+                                  : geom_orient2d(a + i * sa, b + i * sb, c + i * sc);
+        }
+    }
+}
+
 GEOM_SIMD_CLONES
 static void orient2d_blocks(size_t n, const double *a, size_t sa, const double *b, size_t sb,
                             const double *c, size_t sc, double *out)
 {
-    for (size_t i0 = 0; i0 < n; i0 += ORIENT2D_BLOCK) {
-        size_t m = n - i0 < ORIENT2D_BLOCK ? n - i0 : ORIENT2D_BLOCK;
-        double v[6][ORIENT2D_BLOCK];
-        int64_t ok[ORIENT2D_BLOCK], all = 1;
-        for (size_t j = 0; j < ORIENT2D_BLOCK; j++) {
-            size_t i = i0 + (j < m ? j : 0);
-            v[0][j] = a[i * sa], v[1][j] = a[i * sa + 1];
-            v[2][j] = b[i * sb], v[3][j] = b[i * sb + 1];
-            v[4][j] = c[i * sc], v[5][j] = c[i * sc + 1];
-        }
-        for (size_t j = 0; j < ORIENT2D_BLOCK; j++) {
-            double det;
-            ok[j] = orient2d_filter(v[0][j] - v[4][j], v[2][j] - v[4][j], v[1][j] - v[5][j],
-                                    v[3][j] - v[5][j], &det);
-            all &= ok[j];
-            v[0][j] = det;
-        }
-        for (size_t j = 0; j < m; j++)
-            out[i0 + j] = all || ok[j] ? v[0][j]
-                                       : geom_orient2d(a + (i0 + j) * sa, b + (i0 + j) * sb,
-                                                       c + (i0 + j) * sc);
-    }
+    predicate_blocks(0, n, a, sa, b, sb, c, sc, NULL, 0, out);
 }
 
-/* Not a clone itself: a target_clones function with external linkage gets an
- * exported resolver despite -fvisibility=hidden. */
+GEOM_SIMD_CLONES
+static void orient3d_blocks(size_t n, const double *a, size_t sa, const double *b, size_t sb,
+                            const double *c, size_t sc, const double *d, size_t sd, double *out)
+{
+    predicate_blocks(1, n, a, sa, b, sb, c, sc, d, sd, out);
+}
+
+/* Not clones themselves: a target_clones function with external linkage gets
+ * an exported resolver despite -fvisibility=hidden. */
 void geom__orient2d_many(size_t n, const double *a, size_t sa, const double *b, size_t sb,
                          const double *c, size_t sc, double *out)
 {
     orient2d_blocks(n, a, sa, b, sb, c, sc, out);
+}
+
+void geom__orient3d_many(size_t n, const double *a, size_t sa, const double *b, size_t sb,
+                         const double *c, size_t sc, const double *d, size_t sd, double *out)
+{
+    orient3d_blocks(n, a, sa, b, sb, c, sc, d, sd, out);
 }

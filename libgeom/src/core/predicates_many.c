@@ -4,8 +4,8 @@
  * (stride 0), so bindings pay the call overhead once. Every row is the
  * single-point predicate's own evaluation (same filter, same exact
  * fallback), so the results are bitwise those of the single functions;
- * orient2d runs its filter over blocks of rows without branches
- * (geom__orient2d_many in predicates.c).
+ * orient2d and orient3d run their filters over blocks of rows without
+ * branches (geom__orient2d_many, geom__orient3d_many in predicates.c).
  */
 #include "core/internal.h"
 
@@ -44,8 +44,7 @@ geom_status geom_predicate_many(geom_predicate kind, size_t n, const double *con
             out[i] = geom_orient2d_exact(a + i * sa, b + i * sb, c + i * sc);
         break;
     case GEOM_PREDICATE_ORIENT3D:
-        for (size_t i = 0; i < n; i++)
-            out[i] = geom_orient3d(a + i * sa, b + i * sb, c + i * sc, d + i * sd);
+        geom__orient3d_many(n, a, sa, b, sb, c, sc, d, sd, out);
         break;
     case GEOM_PREDICATE_INCIRCLE:
         for (size_t i = 0; i < n; i++)
